@@ -1,0 +1,67 @@
+"""The zuml CLI as users and checks run it: output format, exit codes, no tracebacks."""
+import subprocess
+import sys
+
+import pytest
+
+from helpers import MACROS, seed_text
+from tests_cli_util import run_zuml
+
+
+def test_check_prints_file_line_col_severity_message_code(tmp_path):
+    bad = tmp_path / "bad.zuml"
+    bad.write_text(seed_text("LiPo").replace("CONSTANT_I=1C", "CONSTANT_I=1"))
+    rc, out, err = run_zuml("check", "--no-hints", str(bad), str(MACROS / "NiMh.zuml"))
+    assert rc == 1
+    assert out.splitlines()[0] == f"{bad}:5:16: error: CONSTANT_I needs a unit: 2A or 0.5C [E201]"
+
+
+def test_check_of_the_seed_macros_exits_zero():
+    rc, out, err = run_zuml("check", *[str(p) for p in sorted(MACROS.glob("*.zuml"))])
+    assert rc == 0, out + err
+    assert "error" not in out
+
+
+def test_compile_hex_listing_and_output(tmp_path):
+    rc, out, _ = run_zuml("compile", str(MACROS / "LiPo.zuml"), "--hex")
+    assert rc == 0
+    assert out.strip().startswith("2b 09 16 27 4c 69 50 6f 00") and out.strip().endswith("02 02 5b")
+    target = tmp_path / "lipo.bin"
+    rc, out, _ = run_zuml("compile", str(MACROS / "LiPo.zuml"), "-o", str(target), "--listing")
+    assert rc == 0 and "IF_I_LT" in out
+    assert target.read_bytes().hex(" ") == run_zuml("compile", str(MACROS / "LiPo.zuml"), "--hex")[1].strip()
+
+
+def test_decompile_prints_canonical_text(tmp_path):
+    target = tmp_path / "nimh.bin"
+    run_zuml("compile", str(MACROS / "NiMh.zuml"), "-o", str(target))
+    rc, out, _ = run_zuml("decompile", str(target))
+    assert rc == 0
+    assert "IF(DELTA_PEAK>0.2S) STOP_FAZE" in out and out.startswith("MACRO NiMh\n")
+
+
+def test_image_pack_and_list(tmp_path):
+    image = tmp_path / "eeprom.bin"
+    rc, out, _ = run_zuml("image", *[str(MACROS / f"{n}.zuml") for n in ("Pb", "LiPo")], "-o", str(image),
+                          "--size", "512")
+    assert rc == 0 and image.stat().st_size == 512
+    rc, out, _ = run_zuml("image", "--list", str(image))
+    assert rc == 0
+    lines = out.splitlines()
+    assert lines[1].split()[3:] == ["Pb", "Pb", "ok"] and lines[2].split()[3:] == ["LiPo", "LiPo", "ok"]
+
+
+@pytest.mark.parametrize("args,needle", [
+    (("compile", "/nonexistent.zuml"), "no such file"),
+    (("decompile", "__BIN__"), "not a valid ZUML record"),
+    (("check", "__BINARY_TEXT__"), "not UTF-8"),
+    (("image", "--list", "__BIN__"), "past the end of memory"),
+])
+def test_errors_are_one_line_and_never_a_traceback(tmp_path, args, needle):
+    junk = tmp_path / "junk.bin"
+    junk.write_bytes(bytes([0x30, 1, 2, 3, 0xFF, 0xFE]))
+    args = [str(junk) if a in ("__BIN__", "__BINARY_TEXT__") else a for a in args]
+    rc, out, err = run_zuml(*args)
+    assert rc != 0
+    assert "Traceback" not in err
+    assert needle in err or needle in out

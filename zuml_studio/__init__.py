@@ -1,0 +1,1 @@
+"""ZUML Studio."""

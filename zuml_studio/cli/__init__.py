@@ -1,0 +1,1 @@
+"""The ``zuml`` command line."""

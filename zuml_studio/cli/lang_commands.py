@@ -1,0 +1,153 @@
+"""zuml check / compile / decompile / image."""
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from ..lang.compiler import CompileResult, compile_source
+from ..lang.decoder import decode_record
+from ..lang.eeprom import DEFAULT_SIZE, ImageError, extract, pack, slots
+from ..lang.formatter import format_macro
+from ..lang.listing import format_listing, listing_rows
+from ..lang.opcodes import AKK_TYPE
+from ..lang.record import DecodeError
+from .common import CliError, out, read_bytes, read_text, write_bytes
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("check", help="check macros and print their errors and warnings")
+    p.add_argument("files", nargs="+", metavar="FILE")
+    p.add_argument("--no-hints", action="store_true", help="print only the diagnostic lines")
+    p.set_defaults(run=cmd_check)
+
+    p = sub.add_parser("compile", help="compile a macro to its byte record")
+    p.add_argument("file", metavar="FILE")
+    p.add_argument("-o", "--output", metavar="OUT.bin")
+    p.add_argument("--hex", action="store_true", help="print the record as hex on one line")
+    p.add_argument("--listing", action="store_true", help="print a dis-style listing")
+    p.set_defaults(run=cmd_compile)
+
+    p = sub.add_parser("decompile", help="print the canonical text of a byte record")
+    p.add_argument("file", metavar="FILE.bin")
+    p.set_defaults(run=cmd_decompile)
+
+    p = sub.add_parser("image", help="pack records into an EEPROM image, or list one")
+    p.add_argument("files", nargs="+", metavar="FILE", help=".zuml or .bin files, or the image with --list")
+    p.add_argument("-o", "--output", metavar="eeprom.bin")
+    p.add_argument("--size", type=int, default=DEFAULT_SIZE, help=f"EEPROM size in bytes (default {DEFAULT_SIZE})")
+    p.add_argument("--list", action="store_true", help="list the records in an image")
+    p.add_argument("--extract", type=int, metavar="N", help="write slot N of the image to -o")
+    p.set_defaults(run=cmd_image)
+
+
+def _report(path: str, result: CompileResult, hints: bool = True, stream=sys.stdout) -> None:
+    for d in result.diagnostics:
+        text = d.render(path)
+        stream.write((text if hints else text.split("\n")[0]) + "\n")
+
+
+def cmd_check(args: argparse.Namespace) -> int:
+    failed = False
+    for path in args.files:
+        result = compile_source(read_text(path))
+        _report(path, result, not args.no_hints)
+        failed = failed or not result.ok
+    return 1 if failed else 0
+
+
+def compile_file(path: str) -> bytes:
+    """A .zuml file's record; errors are printed and raise CliError(exit 1)."""
+    result = compile_source(read_text(path))
+    if not result.ok:
+        _report(path, result, stream=sys.stderr)
+        raise CliError(f"{path}: {len(result.errors)} error(s); nothing written", 1)
+    return result.record
+
+
+def cmd_compile(args: argparse.Namespace) -> int:
+    result = compile_source(read_text(args.file))
+    _report(args.file, result, stream=sys.stderr)
+    if not result.ok:
+        raise CliError(f"{args.file}: {len(result.errors)} error(s); nothing written", 1)
+    enc = result.encoded
+    if args.hex:
+        out(enc.record.hex(" "))
+    if args.listing:
+        out(format_listing(listing_rows(enc.record, enc.instructions, enc.nodes)))
+    target = args.output or (None if args.hex or args.listing else str(Path(args.file).with_suffix(".bin")))
+    if target:
+        write_bytes(target, enc.record)
+        if not (args.hex or args.listing):
+            out(f"{target}: {len(enc.record)} bytes")
+    return 0
+
+
+def _decode(path: str, data: bytes):
+    try:
+        return decode_record(data)
+    except DecodeError as exc:
+        raise CliError(f"{path}: not a valid ZUML record: byte {exc.offset}: {exc.message}", 1) from None
+
+
+def cmd_decompile(args: argparse.Namespace) -> int:
+    decoded = _decode(args.file, read_bytes(args.file))
+    sys.stdout.write(format_macro(decoded.macro))
+    return 0
+
+
+def _record_of(path: str) -> bytes:
+    if path.lower().endswith(".bin"):
+        data = read_bytes(path)
+        _decode(path, data)
+        return data
+    return compile_file(path)
+
+
+def cmd_image(args: argparse.Namespace) -> int:
+    if args.list or args.extract is not None:
+        if len(args.files) != 1:
+            raise CliError("give exactly one image file")
+        image = read_bytes(args.files[0])
+        try:
+            found = slots(image)
+        except ImageError as exc:
+            raise CliError(f"{args.files[0]}: {exc}", 1) from None
+        if args.extract is not None:
+            if not 0 <= args.extract < len(found):
+                raise CliError(f"{args.files[0]}: there is no slot {args.extract}; the image has {len(found)}")
+            if not args.output:
+                raise CliError("--extract needs -o FILE.bin")
+            write_bytes(args.output, found[args.extract].record)
+            return 0
+        return _list(args.files[0], image, found)
+    if not args.output:
+        raise CliError("image needs -o eeprom.bin (or --list IMAGE)")
+    if not 16 <= args.size <= 1 << 20:
+        raise CliError(f"--size {args.size} is not an EEPROM size (16 bytes to 1 MiB)")
+    records = [_record_of(path) for path in args.files]
+    try:
+        image = pack(records, args.size)
+    except ImageError as exc:
+        raise CliError(str(exc), 1) from None
+    write_bytes(args.output, image)
+    used = sum(len(r) for r in records)
+    out(f"{args.output}: {len(records)} record(s), {used} of {args.size} bytes used, {args.size - used} free")
+    return 0
+
+
+def _list(path: str, image: bytes, found) -> int:
+    out(f"{'slot':>4}  {'offset':>6}  {'size':>4}  {'name':<16}  {'type':<6}  check")
+    bad = 0
+    for slot in found:
+        if slot.ok:
+            akk = slot.decoded.macro.declared(AKK_TYPE)
+            kind = AKK_TYPE.operands[0].kind.format(akk.args[0].raw) if akk else "-"
+            out(f"{slot.index:>4}  {slot.offset:>6}  {len(slot.record):>4}  {slot.name:<16}  {kind:<6}  ok")
+        else:
+            bad += 1
+            out(f"{slot.index:>4}  {slot.offset:>6}  {len(slot.record):>4}  {'?':<16}  {'?':<6}  "
+                f"BAD: byte {slot.error.offset}: {slot.error.message}")
+    used = sum(len(s.record) for s in found)
+    out(f"{len(found)} record(s), {used} of {len(image)} bytes used, {len(image) - used} free")
+    return 1 if bad else 0

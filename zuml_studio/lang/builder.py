@@ -1,0 +1,278 @@
+"""Flat statements -> typed AST: keywords resolved through the opcode table,
+values converted to their stored form, blocks matched with a stack so that an
+unclosed block is reported where it was opened."""
+from __future__ import annotations
+
+import difflib
+from dataclasses import dataclass
+
+from . import opcodes as ops
+from .ast import Arg, Cycle, Macro, Phase, Section, Span, Statement
+from .diagnostics import Diagnostic, Severity
+from .operands import AKK_TYPE, ValueProblem, parse_akk_type
+from .opcodes import Form, Op
+from .parser import Located, RawMacro, Tok
+
+
+@dataclass
+class _Frame:
+    kind: str                      # "section" | "cycle" | "phase"
+    node: Section | Cycle | Phase
+    keyword: str
+    detached: bool = False         # opened where it may not stand; its contents are still checked
+
+
+class Builder:
+    def __init__(self, raw: RawMacro):
+        self.raw = raw
+        self.diagnostics: list[Diagnostic] = []
+        self.macro = Macro(raw.name, name_span=raw.name_span, span=raw.header_span)
+        self.stack: list[_Frame] = []
+        self.seen_section = False
+        self.after_section: list[Statement] = []
+        self.ended: Span | None = None
+
+    # -- reporting --------------------------------------------------------------
+    def error(self, span: Span, code: str, message: str, hint: str = "",
+              severity: Severity = Severity.ERROR) -> None:
+        self.diagnostics.append(Diagnostic(severity, span.line, span.column, (span.end_line, span.end_column),
+                                           code, message, hint))
+
+    # -- driver -----------------------------------------------------------------
+    def build(self) -> Macro:
+        for st in self.raw.statements:
+            if self.ended is not None:
+                self.error(st.span, "E138", "Text after END_MACRO", "END_MACRO must be the last statement")
+                continue
+            self.statement(st)
+        if self.ended is None:
+            line, col = self.raw.end
+            end = Span(line, col, line, col)
+            self.close_all(end, "the end of the text")
+            self.error(end, "E139", "END_MACRO is missing at the end", "add END_MACRO as the last line")
+        else:
+            self.macro.end_span = self.ended
+        self.macro.conclusion = self.after_section
+        return self.macro
+
+    def statement(self, st: Located) -> None:
+        if st.raw.shape == "condition":
+            node = self.condition(st)
+            if node:
+                self.place(node)
+            else:
+                self.mark_incomplete()
+            return
+        keyword = st.raw.name.value.upper()
+        op = ops.BY_KEYWORD.get(keyword)
+        if op is None:
+            self.unknown(st)
+            self.mark_incomplete()
+            return
+        if op.role is ops.Role.STRUCTURE:
+            self.structure(st, op)
+            return
+        node = self.command(st, op)
+        if node:
+            self.place(node)
+        else:
+            self.mark_incomplete()
+
+    # -- blocks -----------------------------------------------------------------
+    def structure(self, st: Located, op: Op) -> None:
+        if op is ops.MACRO:
+            self.error(st.span, "E106", "MACRO may only start the text", "one macro per file")
+            return
+        if op is ops.CYCLE:
+            if st.raw.shape != "call":
+                self.error(st.span, "E111", "CYCLE needs its count: CYCLE(3)")
+                return
+            self.close_phase(st)
+            arg = self.args(st, op)
+            cycle = Cycle(arg[0] if arg else Arg(1), [], span=st.span)
+            self.open("cycle", cycle, st, "CYCLE")
+            return
+        if st.raw.shape != "bare":
+            self.error(st.span, "E111", f"{op.keyword} takes no value", f"write {op.keyword} alone on its line")
+            return
+        if op in (ops.DISCHARGE_SECTION, ops.CHARGE_SECTION):
+            self.open_section(st, op)
+        elif op is ops.END_SECTION:
+            self.close_until("section", st, "END_SECTION", "E134", "END_SECTION without an open section")
+        elif op is ops.FAZE:
+            self.close_phase(st)
+            self.open("phase", Phase([], span=st.span), st, "FAZE")
+        elif op is ops.END_FAZE:
+            if self.stack and self.stack[-1].kind == "phase":
+                self.stack.pop().node.end_span = st.span
+            else:
+                self.error(st.span, "E136", "END_FAZE without FAZE")
+        elif op is ops.END_CYCLE:
+            self.close_until("cycle", st, "END_CYCLE", "E137", "END_CYCLE without CYCLE", stop_at="section")
+        elif op is ops.END_MACRO:
+            self.close_all(st.span, "END_MACRO")
+            self.ended = st.span
+
+    def open_section(self, st: Located, op: Op) -> None:
+        self.close_all(st.span, op.keyword)
+        kind = "discharge" if op is ops.DISCHARGE_SECTION else "charge"
+        section = getattr(self.macro, kind)
+        detached = False
+        if section.present:
+            self.error(st.span, "E131", f"A second {op.keyword}", f"the first one is at line {section.span.line}")
+            detached = True
+        elif kind == "discharge" and self.macro.charge.present:
+            self.error(st.span, "E132", "DISCHARGE_SECTION must come before CHARGE_SECTION",
+                       "move the discharge section up")
+            detached = True
+        for stray in self.after_section:
+            self.error(stray.span, "E133", f"{stray.op.keyword} stands between sections",
+                       "commands go inside a section or after the last one")
+        self.after_section = []
+        self.seen_section = True
+        if detached:
+            section = Section(kind, [], span=st.span)
+        else:
+            section.present, section.span = True, st.span
+        self.open("section", section, st, op.keyword, detached)
+
+    def open(self, kind: str, node, st: Located, keyword: str, detached: bool = False) -> None:
+        if kind != "section" and not any(f.kind == "section" for f in self.stack):
+            self.error(st.span, "E135", f"{keyword} outside a section",
+                       "phases and cycles belong in DISCHARGE_SECTION or CHARGE_SECTION")
+            detached = True
+        if not detached and self.stack:
+            parent = self.stack[-1].node
+            (parent.items if not isinstance(parent, Phase) else parent.statements).append(node)
+        self.stack.append(_Frame(kind, node, keyword, detached or bool(self.stack and self.stack[-1].detached)))
+
+    def close_phase(self, st: Located) -> None:
+        if self.stack and self.stack[-1].kind == "phase":
+            self.unclosed(self.stack.pop(), st.span, st.raw.name.value.upper())
+
+    def close_until(self, kind: str, st: Located, keyword: str, code: str, message: str,
+                    stop_at: str | None = None) -> None:
+        kinds = [f.kind for f in self.stack]
+        if kind not in kinds or (stop_at and stop_at in kinds and kinds[::-1].index(stop_at) < kinds[::-1].index(kind)):
+            self.error(st.span, code, message)
+            return
+        while self.stack[-1].kind != kind:
+            self.unclosed(self.stack.pop(), st.span, keyword)
+        self.stack.pop().node.end_span = st.span
+
+    def close_all(self, span: Span, before: str) -> None:
+        while self.stack:
+            self.unclosed(self.stack.pop(), span, before)
+
+    def unclosed(self, frame: _Frame, at: Span, before: str) -> None:
+        closer = {"phase": "END_FAZE", "cycle": "END_CYCLE", "section": "END_SECTION"}[frame.kind]
+        where = f"{before} at line {at.line}" if before != "the end of the text" else before
+        self.error(frame.node.span, "E130", f"{frame.keyword} is not closed", f"{closer} expected before {where}")
+
+    def mark_incomplete(self) -> None:
+        if self.stack and isinstance(self.stack[-1].node, Phase):
+            self.stack[-1].node.incomplete = True
+
+    def place(self, node: Statement) -> None:
+        if self.stack:
+            frame = self.stack[-1]
+            if frame.detached:
+                return
+            parent = frame.node
+            (parent.statements if isinstance(parent, Phase) else parent.items).append(node)
+        elif self.seen_section:
+            self.after_section.append(node)
+        else:
+            self.macro.intro.append(node)
+
+    # -- statements -------------------------------------------------------------
+    def unknown(self, st: Located) -> None:
+        word = st.raw.name.value
+        known = list(ops.BY_KEYWORD) + sorted(ops.CONDITION_OUTCOMES)
+        close = difflib.get_close_matches(word.upper(), known, n=1, cutoff=0.6)
+        if word.upper() in ops.CONDITION_OUTCOMES:
+            self.error(st.span, "E104", f"{word} must follow a condition", f"write IF(...) {word.upper()}")
+        else:
+            self.error(st.at(st.raw.name), "E110", f"Unknown command '{word}'",
+                       f"did you mean {close[0]}?" if close else "see Help > Commands for the list")
+
+    def command(self, st: Located, op: Op) -> Statement | None:
+        if op.form is Form.ASSIGN and st.raw.shape != "assign":
+            example = f"{op.keyword}={op.operands[0].kind.example.split(' ')[0]}"
+            self.error(st.span, "E111", f"{op.keyword} needs '=' and a value", f"write {example}")
+            return None
+        if op.form is Form.CALL and st.raw.shape != "call":
+            self.error(st.span, "E111", f"{op.keyword} takes its values in parentheses",
+                       f"write {op.signature()}")
+            return None
+        args = self.args(st, op)
+        return None if args is None else Statement(op, args, span=st.span)
+
+    def args(self, st: Located, op: Op) -> list[Arg] | None:
+        given = st.raw.args
+        required = sum(1 for o in op.operands if o.default is None)
+        if not required <= len(given) <= len(op.operands):
+            count = str(required) if required == len(op.operands) else f"{required} or {len(op.operands)}"
+            noun = "value" if len(op.operands) == 1 else "values"
+            self.error(st.span, "E112", f"{op.keyword} takes {count} {noun}, not {len(given)}",
+                       f"write {op.signature()}")
+            return None
+        out: list[Arg] = []
+        ok = True
+        for operand, tok in zip(op.operands, given):
+            subject = op.keyword if len(op.operands) == 1 else f"{operand.name} of {op.keyword}"
+            raw = self.value(st, tok, operand, subject)
+            ok = ok and raw is not None
+            out.append(Arg(raw if raw is not None else 0, st.at(tok), tok.value))
+        for operand in op.operands[len(given):]:
+            out.append(Arg(operand.default))
+        return out if ok else None
+
+    def value(self, st: Located, tok: Tok, operand: ops.Operand, subject: str) -> int | None:
+        try:
+            if operand.kind is AKK_TYPE:
+                return parse_akk_type(tok.value)
+            return operand.kind.parse(tok.value, operand.lo, operand.hi)
+        except ValueProblem as problem:
+            severity = Severity.WARNING if problem.warning_raw is not None else Severity.ERROR
+            self.error(st.at(tok), problem.code, problem.message.format(subject=subject), problem.hint,
+                       severity)
+            return problem.warning_raw
+
+    def condition(self, st: Located) -> Statement | None:
+        var, cmp = st.raw.name.value, st.raw.cmp.value
+        candidates = ops.find_condition(var)
+        if not candidates:
+            sensitive = [v for o in ops.CONDITIONS for v in o.condition.variables if o.condition.case_sensitive]
+            near = [v for v in sensitive if v.upper() == var.upper()]
+            hint = (f"did you mean {near[0]}? T, t, Tc, tm and tf are case-sensitive" if near
+                    else "conditions test T, V, I, Tc, tm, tf (or t) and DELTA_PEAK")
+            self.error(st.at(st.raw.name), "E120", f"Unknown condition variable '{var}'", hint)
+            return None
+        op = next((o for o in candidates
+                   if cmp == o.condition.comparison or cmp in o.condition.also_accepts), None)
+        if op is None:
+            allowed = " or ".join(o.signature() for o in candidates)
+            self.error(st.at(st.raw.cmp), "E121", f"IF({var}{cmp}x) is not a condition ZUML knows",
+                       f"allowed: {allowed}")
+            return None
+        shown = f"IF({var}{op.condition.comparison}x)"
+        if st.raw.outcome is None:
+            self.error(st.span, "E122", f"{shown} needs what to do when it holds",
+                       f"write {shown.replace('x', st.raw.args[0].value)} {op.condition.outcome}")
+            return None
+        if st.raw.outcome.value.upper() != op.condition.outcome:
+            self.error(st.at(st.raw.outcome), "E123",
+                       f"{shown} can only {op.condition.outcome}, not {st.raw.outcome.value}",
+                       f"write {op.condition.outcome}")
+            return None
+        raw = self.value(st, st.raw.args[0], op.operands[0], f"The limit of {shown}")
+        if raw is None:
+            return None
+        return Statement(op, [Arg(raw, st.at(st.raw.args[0]), st.raw.args[0].value)], span=st.span)
+
+
+def build(raw: RawMacro) -> tuple[Macro, list[Diagnostic]]:
+    builder = Builder(raw)
+    macro = builder.build()
+    return macro, builder.diagnostics

@@ -1,0 +1,148 @@
+"""Rules a macro must keep to be stored, checked on the AST.
+
+Text (nodes with spans) and byte code (nodes with offsets) go through the same
+rules, so the decoder accepts exactly what the compiler can produce.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from . import opcodes as ops
+from .ast import Cycle, Macro, Phase, Section, Statement
+from .diagnostics import Severity
+from .operands import INPUT_U16, RELATIVE_FLAG
+from .opcodes import Place, Role
+from .record import MAX_NAME, MAX_RECORD, RecordTooLarge, encode, encoded_size
+
+FORBIDDEN_NAME_CHARS = set('<>:"/\\|?*')
+
+
+@dataclass(frozen=True)
+class Finding:
+    node: object                  # Statement | Phase | Cycle | Section | Macro | "name"
+    severity: Severity
+    code: str
+    message: str
+    hint: str = ""
+
+
+def name_problem(name: str) -> tuple[str, str, str] | None:
+    """(code, message, hint) when the name cannot be stored and shown, else None."""
+    if not name:
+        return "E140", "The macro needs a name", "write MACRO LiPo"
+    if len(name) > MAX_NAME:
+        return "E141", f"The name '{name}' is {len(name)} characters long; at most {MAX_NAME}", "shorten it"
+    bad = sorted({c for c in name if not " " <= c <= "~" or c in FORBIDDEN_NAME_CHARS})
+    if bad or name != name.strip() or name.startswith("("):
+        shown = " ".join(repr(c) for c in bad) or "spaces at the ends or a leading '('"
+        return ("E142", f"The name '{name}' has characters the charger cannot store: {shown}",
+                "use printable ASCII without < > : \" / \\ | ? *")
+    return None
+
+
+class Checker:
+    def __init__(self, macro: Macro):
+        self.macro = macro
+        self.findings: list[Finding] = []
+
+    def report(self, node: object, code: str, message: str, hint: str = "",
+               severity: Severity = Severity.ERROR) -> None:
+        self.findings.append(Finding(node, severity, code, message, hint))
+
+    def run(self) -> list[Finding]:
+        problem = name_problem(self.macro.name)
+        if problem:
+            self.report("name", *problem)
+        self.intro()
+        for section in self.macro.sections():
+            self.section(section)
+        for st in self.macro.conclusion:
+            self.placed(st, Place.CONCLUSION)
+        if not any(f.severity is Severity.ERROR for f in self.findings):
+            self.size()
+        return self.findings
+
+    def placed(self, st: Statement, place: Place) -> bool:
+        if place in st.op.places:
+            return True
+        where = " or ".join(p.value for p in st.op.places)
+        if st.op.role is Role.CONDITION:
+            shown = st.op.signature()
+        else:
+            shown = st.op.keyword
+        self.report(st, "E150", f"{shown} cannot stand in {place.value}", f"it belongs in {where}")
+        return False
+
+    def intro(self) -> None:
+        seen: dict[int, Statement] = {}
+        for st in self.macro.intro:
+            if not self.placed(st, Place.INTRO):
+                continue
+            if st.op.code in seen:
+                self.report(st, "E151", f"{st.op.signature() if st.op.condition else st.op.keyword} "
+                                        "is declared twice", "keep one")
+            seen[st.op.code] = st
+
+    def section(self, section: Section) -> None:
+        for item in section.items:
+            self.item(item, in_cycle=False)
+
+    def item(self, item: object, in_cycle: bool) -> None:
+        if isinstance(item, Phase):
+            self.phase(item)
+        elif isinstance(item, Cycle):
+            if in_cycle:
+                self.report(item, "E152", "Cycles do not nest", "close the outer CYCLE first, or merge the two")
+            if not any(isinstance(i, (Phase, Cycle)) for i in item.items):
+                self.report(item, "W153", "This CYCLE repeats no phase", "put FAZE … END_FAZE inside it",
+                            Severity.WARNING)
+            for inner in item.items:
+                self.item(inner, in_cycle=True)
+        else:
+            self.placed(item, Place.BETWEEN)
+
+    def phase(self, phase: Phase) -> None:
+        actions: list[Statement] = []
+        conditions: dict[int, Statement] = {}
+        for st in phase.statements:
+            if not self.placed(st, Place.PHASE):
+                continue
+            if st.op.role is Role.ACTION:
+                actions.append(st)
+            elif st.op.code in conditions:
+                self.report(st, "W156", f"A second {st.op.signature()} in this phase",
+                            "only one of them can end it first; keep one", Severity.WARNING)
+            else:
+                conditions[st.op.code] = st
+            if st.op is ops.TRICKLE:
+                self.trickle(st)
+        if not actions and not phase.incomplete:
+            self.report(phase, "E155", "This phase has no action",
+                        "add CONSTANT_I, CONSTANT_V, CHARGE_EX or TRICKLE")
+        kinds = [a.op for a in actions]
+        cc_cv = sorted(op.code for op in kinds) == [ops.CONSTANT_I.code, ops.CONSTANT_V.code]
+        if len(actions) > 1 and not cc_cv:
+            self.report(actions[1], "E154", f"A phase holds one action; this one already has {kinds[0].keyword}",
+                        "CONSTANT_I and CONSTANT_V together make CC-CV; anything else needs its own FAZE")
+
+    def trickle(self, st: Statement) -> None:
+        _, v1, v2 = st.raws()
+        if INPUT_U16 in (v1, v2) or (v1 & RELATIVE_FLAG) != (v2 & RELATIVE_FLAG):
+            return
+        if v1 >= v2:
+            self.report(st, "E157", "TRICKLE switches on at V1 and off at V2, so V1 must be below V2",
+                        "for example TRICKLE(0.1C, 2.3S, 2.4S)")
+
+    def size(self) -> None:
+        if encoded_size(self.macro) <= MAX_RECORD:
+            return
+        try:
+            encode(self.macro)
+        except RecordTooLarge as too_large:
+            self.report(too_large.node, "E160",
+                        f"The macro needs {too_large.size} bytes; a record holds at most {MAX_RECORD}",
+                        "this is where it stops fitting: shorten the macro or split it")
+
+
+def check(macro: Macro) -> list[Finding]:
+    return Checker(macro).run()

@@ -1,0 +1,62 @@
+"""Text -> diagnostics and bytes: the one entry point the CLI, editor and tests use."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from .ast import Macro, Span
+from .builder import build
+from .checker import Finding, check
+from .diagnostics import Diagnostic, sort_key
+from .parser import SyntaxProblem, parse_raw
+from .record import Encoded, encode
+
+
+@dataclass
+class CompileResult:
+    macro: Macro | None
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    encoded: Encoded | None = None
+
+    @property
+    def ok(self) -> bool:
+        return self.encoded is not None
+
+    @property
+    def record(self) -> bytes:
+        if self.encoded is None:
+            raise ValueError("the macro has errors; there are no bytes")
+        return self.encoded.record
+
+    @property
+    def errors(self) -> list[Diagnostic]:
+        return [d for d in self.diagnostics if d.is_error]
+
+
+def node_span(macro: Macro, node: object) -> Span:
+    if node == "name":
+        return macro.name_span or Span(1, 1, 1, 1)
+    span = getattr(node, "span", None)
+    return span or macro.span or Span(1, 1, 1, 1)
+
+
+def to_diagnostic(macro: Macro, finding: Finding) -> Diagnostic:
+    span = node_span(macro, finding.node)
+    return Diagnostic(finding.severity, span.line, span.column, (span.end_line, span.end_column),
+                      finding.code, finding.message, finding.hint)
+
+
+def compile_source(text: str) -> CompileResult:
+    """Never raises for any text: problems come back as diagnostics."""
+    try:
+        raw = parse_raw(text)
+    except SyntaxProblem as problem:
+        return CompileResult(None, [problem.diagnostic])
+    macro, diagnostics = build(raw)
+    from .lint import lint   # the lint reads the checked AST; imported here to keep layers one-way
+    findings = check(macro)
+    if not any(d.is_error for d in diagnostics):
+        findings += lint(macro)
+    diagnostics += [to_diagnostic(macro, f) for f in findings]
+    diagnostics.sort(key=sort_key)
+    encoded = None if any(d.is_error for d in diagnostics) else encode(macro)
+    return CompileResult(macro, diagnostics, encoded)

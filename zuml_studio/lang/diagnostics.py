@@ -1,0 +1,36 @@
+"""Diagnostics: what is wrong, where, and what to do about it."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import Enum
+
+
+class Severity(str, Enum):
+    ERROR = "error"
+    WARNING = "warning"
+
+
+@dataclass(frozen=True)
+class Diagnostic:
+    """``line``/``column`` are 1-based; ``end`` is (line, column) just past the marked text."""
+
+    severity: Severity
+    line: int
+    column: int
+    end: tuple[int, int]
+    code: str
+    message: str
+    hint: str = ""
+
+    @property
+    def is_error(self) -> bool:
+        return self.severity is Severity.ERROR
+
+    def render(self, filename: str) -> str:
+        """``FILE:LINE:COL: error: MESSAGE [CODE]`` as ``zuml check`` prints it."""
+        text = f"{filename}:{self.line}:{self.column}: {self.severity.value}: {self.message} [{self.code}]"
+        return text + (f"\n    hint: {self.hint}" if self.hint else "")
+
+
+def sort_key(d: Diagnostic) -> tuple[int, int, int]:
+    return (d.line, d.column, 0 if d.is_error else 1)

@@ -1,0 +1,46 @@
+"""docs/commands.md, generated from the opcode table (``python -m zuml_studio.lang.docgen``).
+A test keeps the committed file equal to this output, so docs and compiler cannot drift."""
+from __future__ import annotations
+
+import sys
+
+from .opcodes import OPCODES, Place
+
+
+def _operands(op) -> str:
+    if not op.operands:
+        return "—"
+    parts = []
+    for o in op.operands:
+        kind = o.kind
+        width = f"{'i' if kind.signed else 'u'}{kind.size * 8}"
+        optional = f", optional (default {kind.format(o.default)})" if o.default is not None else ""
+        parts.append(f"`{o.name}`: {kind.what}, {width}{optional}")
+    return "; ".join(parts)
+
+
+def _places(op) -> str:
+    if not op.places:
+        return "structure"
+    return ", ".join(p.name.lower() for p in Place if p in op.places)
+
+
+def commands_markdown() -> str:
+    lines = [
+        "# ZUML 2.0 commands",
+        "",
+        "Generated from `zuml_studio/lang/opcodes.py` by `python -m zuml_studio.lang.docgen`; do not edit by hand.",
+        "Operands are stored little-endian right after the code byte. Where: intro = the introduction,",
+        "phase = inside FAZE … END_FAZE, between = in a section outside phases, conclusion = after the sections.",
+        "",
+        "| code | written | mnemonic | operands | where | what it does |",
+        "|---:|---|---|---|---|---|",
+    ]
+    for op in OPCODES:
+        written = op.signature().replace("|", "\\|")
+        lines.append(f"| {op.code} | `{written}` | {op.mnemonic} | {_operands(op)} | {_places(op)} | {op.help} |")
+    return "\n".join(lines) + "\n"
+
+
+if __name__ == "__main__":
+    sys.stdout.write(commands_markdown())

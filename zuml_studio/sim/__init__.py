@@ -1,0 +1,1 @@
+"""Battery and charger physics for the charge-program simulator."""

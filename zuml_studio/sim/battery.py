@@ -1,0 +1,181 @@
+"""Lumped electro-thermal battery pack (battery-models.md §2.2, §3.3, §4).
+
+Per cell (I > 0 = charge, T in °C, s = stored charge / capacity):
+
+    eta   = 1 - exp(-(1 - s) / (w0 * (1 + wT * (T - 25))))      on charge, 1 on discharge
+    ds/dt = eta * I / (3600 * Q)
+    f(T)  = exp(Ea / Rgas * (1 / (T + 273.15) - 1 / 298.15))   scales R0, R1, R2
+    Rpol  = k_c / (1 - s + eps) on charge, k_d / (s + eps) on discharge   (Tremblay)
+    Vk    = Vk * a_k + I * Rk * f * (1 - a_k),   a_k = exp(-dt / tau_k)   (exact for constant I)
+    E     = U(s) - kT * (T - 25)
+    V     = E + (1 - eta) * dV_O2 [charge only] + I * (R0 * f + Rpol) + V1 + V2
+    q     = I * (V - eta * E) + eta * I * q_rev     (all input power not stored as chemistry is heat)
+    Cth * dT/dt = q - hA * (T - T_amb)       (stepped exactly for q held over the step)
+
+`step` is the simulator's hot loop: the constants live in one tuple built in
+``__init__`` (and re-built only when dt changes) so each step is plain float
+arithmetic on locals.
+"""
+from __future__ import annotations
+
+from bisect import bisect_right
+from math import exp
+
+from .chemistry import Chemistry
+
+_GAS_R = 8.314462618          # J/(mol K), physical constant
+_T_REF_K = 298.15             # parameters are given at 25 °C
+_T_REF_C = 25.0
+_KELVIN = 273.15
+_W_FLOOR = 0.05               # keeps the acceptance width positive in deep cold (w_t * (T - 25) -> -1)
+
+
+class Pack:
+    """`series` identical cells in series; parameters scaled to `capacity_mah` (R ∝ 1/capacity, heat capacity and heat-loss ∝ capacity)."""
+
+    def __init__(self, chem: Chemistry, capacity_mah: float, series: int, soc: float = 0.0,
+                 ambient_c: float = 25.0) -> None:
+        if capacity_mah <= 0 or series < 1:
+            raise ValueError("capacity_mah must be > 0 and series >= 1")
+        self.chem = chem
+        self.capacity_mah = float(capacity_mah)
+        self.series = int(series)
+        self.soc = min(1.0, max(0.0, float(soc)))
+        self.ambient_c = float(ambient_c)
+        self.temp_c = float(ambient_c)
+        self.current = 0.0
+        self._v1 = 0.0
+        self._v2 = 0.0
+
+        q_ah = self.capacity_mah / 1000.0
+        scale_r = chem.ref_capacity_ah / q_ah       # R x Ah is constant within a family [N11]
+        scale_th = q_ah / chem.ref_capacity_ah
+        self._q_as = 3600.0 * q_ah
+        self._r0 = chem.r0_ohm * scale_r
+        self._r1 = chem.r1_ohm * scale_r
+        self._r2 = chem.r2_ohm * scale_r
+        self._kc = chem.k_charge_ohm * scale_r
+        self._kd = chem.k_discharge_ohm * scale_r
+        self._cth = chem.cth_j_per_k * scale_th
+        self._ha = chem.ha_w_per_k * scale_th
+        self._xs = chem.ocv_soc
+        self._ys = chem.ocv_v
+        self._slopes = tuple((y1 - y0) / (x1 - x0) for x0, x1, y0, y1
+                             in zip(self._xs, self._xs[1:], self._ys, self._ys[1:]))
+        self._dt = -1.0
+        self._k: tuple = ()
+        self._set_dt(1.0)
+        self.cell_voltage = self._cell_ocv()
+        self.voltage = self.cell_voltage * self.series
+
+    # -- constants -------------------------------------------------------
+    def _set_dt(self, dt: float) -> None:
+        c = self.chem
+        a1 = exp(-dt / c.tau1_s)
+        a2 = exp(-dt / c.tau2_s)
+        self._dt = dt
+        self._k = (
+            self._r0, self._r1 * (1.0 - a1), a1, self._r2 * (1.0 - a2), a2,
+            c.ea_j_per_mol / _GAS_R, c.ea_j_per_mol / _GAS_R / _T_REF_K, self._kc, self._kd, c.pol_eps,
+            1.0 / c.w0, c.w_t_per_k, c.dv_o2_v, c.k_t_v_per_k, c.q_rev_v,
+            dt / self._q_as, exp(-dt * self._ha / self._cth), 1.0 / self._ha,
+            self._xs, self._ys, self._slopes, len(self._xs) - 1, self.series,
+        )
+
+    def _cell_ocv(self) -> float:
+        """U(soc) at the present temperature, per cell."""
+        xs = self._xs
+        j = min(bisect_right(xs, self.soc), len(xs) - 1)
+        u = self._ys[j - 1] + (self.soc - xs[j - 1]) * self._slopes[j - 1]
+        return u - self.chem.k_t_v_per_k * (self.temp_c - _T_REF_C)
+
+    # -- public API ------------------------------------------------------
+    def open_circuit_voltage(self) -> float:
+        """Pack voltage at zero current now: U(s) with its temperature term plus the RC voltages
+        that have not relaxed yet, i.e. what a charger reads when it switches its power stage off."""
+        return (self._cell_ocv() + self._v1 + self._v2) * self.series
+
+    def step(self, current_a: float, dt: float) -> float:
+        """Advance dt seconds at `current_a` (+ = charge); returns the pack terminal voltage."""
+        if dt != self._dt:
+            self._set_dt(dt)
+        (r0, r1b, a1, r2b, a2, ea_r, ea_r_ref, kc, kd, eps, inv_w0, w_t, dv_o2, k_t, q_rev,
+         ds_k, a_th, inv_ha, xs, ys, slopes, last, series) = self._k
+        i = current_a
+        s = self.soc
+        t = self.temp_c
+        f = exp(ea_r / (t + _KELVIN) - ea_r_ref)
+        if i > 0.0:
+            wf = 1.0 + w_t * (t - _T_REF_C)
+            if wf < _W_FLOOR:
+                wf = _W_FLOOR
+            eta = 1.0 - exp((s - 1.0) * inv_w0 / wf)
+            r = r0 * f + kc / (1.0 - s + eps)
+            extra = (1.0 - eta) * dv_o2
+        else:
+            eta = 1.0
+            r = r0 * f + kd / (s + eps)
+            extra = 0.0
+        v1 = self._v1 * a1 + i * r1b * f
+        v2 = self._v2 * a2 + i * r2b * f
+        s += eta * i * ds_k
+        if s > 1.0:
+            s = 1.0
+        elif s < 0.0:
+            s = 0.0
+        j = bisect_right(xs, s)
+        if j > last:
+            j = last
+        e = ys[j - 1] + (s - xs[j - 1]) * slopes[j - 1] - k_t * (t - _T_REF_C)
+        v = e + extra + i * r + v1 + v2
+        q = i * (v - eta * e) + eta * i * q_rev
+        t_final = self.ambient_c + q * inv_ha
+        self.temp_c = t_final + (t - t_final) * a_th
+        self.soc = s
+        self._v1 = v1
+        self._v2 = v2
+        self.current = i
+        self.cell_voltage = v
+        v *= series
+        self.voltage = v
+        return v
+
+    def current_for_voltage(self, v_pack: float, dt: float) -> float:
+        """The current that makes the terminal voltage equal v_pack at the end of a step of dt (algebraic CV solve, see notes §0.2); may be negative."""
+        if dt != self._dt:
+            self._set_dt(dt)
+        (r0, r1b, a1, r2b, a2, ea_r, ea_r_ref, kc, kd, eps, inv_w0, w_t, dv_o2, k_t, q_rev,
+         ds_k, a_th, inv_ha, xs, ys, slopes, last, series) = self._k
+        s = self.soc
+        t = self.temp_c
+        f = exp(ea_r / (t + _KELVIN) - ea_r_ref)
+        # target = U(s + g*i) + rest + r*i, with everything that does not depend on i in `rest`.
+        rest = self._v1 * a1 + self._v2 * a2 - k_t * (t - _T_REF_C)
+        r_ohmic = (r0 + r1b + r2b) * f
+        target = v_pack / series
+        eta = 1.0 - exp((s - 1.0) * inv_w0 / max(_W_FLOOR, 1.0 + w_t * (t - _T_REF_C)))
+        i = self._solve_ocv(target - rest - (1.0 - eta) * dv_o2, r_ohmic + kc / (1.0 - s + eps), eta * ds_k)
+        if i > 0.0:
+            return i
+        i = self._solve_ocv(target - rest, r_ohmic + kd / (s + eps), ds_k)
+        # Between the discharge and charge branches (O2 overvoltage step) no current flows.
+        return i if i < 0.0 else 0.0
+
+    def _solve_ocv(self, rhs: float, r: float, g: float) -> float:
+        """Solve rhs = U(soc + g*i) + r*i for i exactly on the piecewise-linear OCV table.
+
+        The left side rises monotonically with i, so walking from the present segment towards
+        the solution never turns back."""
+        xs, ys, slopes, s = self._xs, self._ys, self._slopes, self.soc
+        last = len(xs) - 1
+        j = min(max(bisect_right(xs, s), 1), last)
+        while True:
+            slope = slopes[j - 1]
+            i = (rhs - ys[j - 1] - (s - xs[j - 1]) * slope) / (r + slope * g)
+            s_end = s + g * i
+            if s_end > xs[j] and j < last:
+                j += 1
+            elif s_end < xs[j - 1] and j > 1:
+                j -= 1
+            else:
+                return i

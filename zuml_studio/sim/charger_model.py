@@ -1,0 +1,100 @@
+"""Power-stage limits and heat-sink temperature of a B6-class charger.
+
+Numbers come from ``resources/chargers/<name>.toml``. The heat sink is one
+first-order thermal node: charging loses (1 - efficiency) of the output power
+in the converter, discharging burns all of V * |I| in the load transistor.
+"""
+from __future__ import annotations
+
+import tomllib
+from dataclasses import dataclass
+from math import exp
+
+from .chemistry import RESOURCES_DIR
+
+CHARGER_DIR = RESOURCES_DIR / "chargers"
+
+
+@dataclass(frozen=True)
+class ChargerLimits:
+    """What the power stage can do; currents in A (magnitudes), powers in W, pack voltage in V."""
+
+    name: str
+    max_charge_a: float
+    max_charge_w: float
+    max_discharge_a: float
+    max_discharge_w: float
+    max_v: float
+    min_charge_a: float
+    min_discharge_a: float
+    charge_efficiency: float
+    heatsink_r_k_per_w: float
+    heatsink_c_j_per_k: float
+
+
+def load_charger(name: str = "imax_b6") -> ChargerLimits:
+    """Load ``resources/chargers/<name>.toml``; KeyError names the chargers there are."""
+    path = CHARGER_DIR / f"{name}.toml"
+    if not path.is_file():
+        known = sorted(p.stem for p in CHARGER_DIR.glob("*.toml"))
+        raise KeyError(f"no charger {name!r}; known chargers: {', '.join(known)}")
+    with path.open("rb") as fh:
+        data = tomllib.load(fh)
+    lim, hs = data["limits"], data["heatsink"]
+    limits = ChargerLimits(
+        name=str(data["name"]),
+        max_charge_a=float(lim["max_charge_a"]),
+        max_charge_w=float(lim["max_charge_w"]),
+        max_discharge_a=float(lim["max_discharge_a"]),
+        max_discharge_w=float(lim["max_discharge_w"]),
+        max_v=float(lim["max_v"]),
+        min_charge_a=float(lim["min_charge_a"]),
+        min_discharge_a=float(lim["min_discharge_a"]),
+        charge_efficiency=float(hs["charge_efficiency"]),
+        heatsink_r_k_per_w=float(hs["r_k_per_w"]),
+        heatsink_c_j_per_k=float(hs["c_j_per_k"]),
+    )
+    if not 0.0 < limits.charge_efficiency <= 1.0 or limits.heatsink_r_k_per_w <= 0 or limits.heatsink_c_j_per_k <= 0:
+        raise ValueError(f"{path}: efficiency must be in (0, 1], heat-sink R and C > 0")
+    return limits
+
+
+class Charger:
+    """Clamps requested currents to the power stage and tracks the heat-sink temperature."""
+
+    def __init__(self, limits: ChargerLimits, ambient_c: float = 25.0) -> None:
+        self.limits = limits
+        self.ambient_c = float(ambient_c)
+        self.heatsink_c = float(ambient_c)
+        self._loss_per_w = 1.0 - limits.charge_efficiency
+        self._r = limits.heatsink_r_k_per_w
+        self._tau = limits.heatsink_r_k_per_w * limits.heatsink_c_j_per_k
+        self._dt = -1.0
+        self._a = 0.0
+
+    def limit_current(self, requested_a: float, pack_v: float) -> float:
+        """Clamp a charge (+) current to max A and max W (P = V*I), a discharge (-) current likewise."""
+        lim = self.limits
+        if requested_a > 0.0:
+            i = min(requested_a, lim.max_charge_a)
+            if pack_v > 0.0:
+                i = min(i, lim.max_charge_w / pack_v)
+            return i
+        if requested_a < 0.0:
+            i = min(-requested_a, lim.max_discharge_a)
+            if pack_v > 0.0:
+                i = min(i, lim.max_discharge_w / pack_v)
+            return -i
+        return 0.0
+
+    def step(self, current_a: float, pack_v: float, dt: float) -> float:
+        """Advance the heat sink dt seconds; returns heatsink_c."""
+        if dt != self._dt:
+            self._dt = dt
+            self._a = exp(-dt / self._tau)
+        power = abs(current_a * pack_v)
+        loss = power * self._loss_per_w if current_a > 0.0 else power
+        t_final = self.ambient_c + loss * self._r
+        # Exact first-order response for a loss held constant over the step.
+        self.heatsink_c = t_final + (self.heatsink_c - t_final) * self._a
+        return self.heatsink_c

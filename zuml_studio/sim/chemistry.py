@@ -1,0 +1,124 @@
+"""Per-cell chemistry parameters, loaded from ``resources/chemistries/<name>.toml``.
+
+The TOML files are the single source of numbers; this module only checks and
+flattens them. Every value is per cell at the file's reference capacity; `Pack`
+scales resistances and thermal values to the real capacity.
+"""
+from __future__ import annotations
+
+import math
+import pathlib
+import tomllib
+from dataclasses import dataclass, fields
+
+RESOURCES_DIR: pathlib.Path = pathlib.Path(__file__).resolve().parents[2] / "resources"
+CHEMISTRY_DIR = RESOURCES_DIR / "chemistries"
+
+# ZUML AKK_TYPE names with a model; LiS/New/Undef deliberately have none (spec §5).
+_NAMES = ("Pb", "NiCd", "NiMh", "LiPo", "LiIon", "LiFe")
+
+
+@dataclass(frozen=True)
+class Chemistry:
+    """One cell of a chemistry at `ref_capacity_ah`; see battery-models.md §2.2 for the equations."""
+
+    name: str
+    # [limits], V per cell (spec §5)
+    nominal_v: float
+    charge_end_v: float
+    max_v: float
+    discharge_end_v: float
+    delta_v_per_cell: float      # typical -dV termination, V per cell (0 = not a -dV chemistry)
+    # [ocv]
+    ocv_soc: tuple[float, ...]   # 0 .. 1, strictly increasing
+    ocv_v: tuple[float, ...]     # OCV at 25 °C, non-decreasing
+    # [resistance]
+    ref_capacity_ah: float
+    r0_ohm: float
+    r1_ohm: float
+    tau1_s: float
+    r2_ohm: float                # slow RC pair; 0 where one pair is enough
+    tau2_s: float
+    ea_j_per_mol: float          # Arrhenius activation energy for R0, R1, R2
+    k_charge_ohm: float          # Tremblay polarisation on charge: k / (1 - soc + eps)
+    k_discharge_ohm: float       # ... and on discharge: k / (soc + eps)
+    pol_eps: float
+    # [acceptance]
+    w0: float                    # eta = 1 - exp(-(1 - soc) / (w0 * (1 + w_t * (T - 25))))
+    w_t_per_k: float
+    dv_o2_v: float               # O2-cycle overvoltage, weighted by (1 - eta)
+    k_t_v_per_k: float           # terminal voltage falls k_t per K above 25 °C
+    q_rev_v: float               # reversible heat per ampere stored (negative = endothermic charge)
+    # [thermal]
+    cth_j_per_k: float
+    ha_w_per_k: float
+
+
+_SECTIONS = ("limits", "ocv", "resistance", "acceptance", "thermal")
+
+
+def chemistry_names() -> list[str]:
+    """The AKK_TYPE names that have a battery model."""
+    return list(_NAMES)
+
+
+def _canonical(name: str) -> str:
+    for known in _NAMES:
+        if known.lower() == name.strip().lower():
+            return known
+    raise KeyError(
+        f"no battery model for chemistry {name!r}; "
+        f"modelled chemistries are {', '.join(_NAMES)} (LiS, New and Undef have no defaults)"
+    )
+
+
+def load_chemistry(name: str) -> Chemistry:
+    """Load one chemistry by its AKK_TYPE name (case-insensitive)."""
+    canonical = _canonical(name)
+    path = CHEMISTRY_DIR / f"{canonical}.toml"
+    with path.open("rb") as fh:
+        data = tomllib.load(fh)
+    return _from_toml(canonical, data, path)
+
+
+def _from_toml(name: str, data: dict, path: pathlib.Path) -> Chemistry:
+    flat: dict[str, object] = {"name": name}
+    for section in _SECTIONS:
+        table = data.get(section)
+        if not isinstance(table, dict):
+            raise ValueError(f"{path}: missing [{section}] table")
+        for key, value in table.items():
+            if key == "sources":
+                continue
+            if key in ("soc", "v"):
+                flat[f"ocv_{key}"] = tuple(float(x) for x in value)
+            else:
+                flat[key] = float(value)
+    wanted = {f.name for f in fields(Chemistry)}
+    missing = wanted - flat.keys()
+    extra = flat.keys() - wanted
+    if missing or extra:
+        raise ValueError(f"{path}: missing keys {sorted(missing)}, unknown keys {sorted(extra)}")
+    chem = Chemistry(**flat)  # type: ignore[arg-type]
+    _check(chem, path)
+    return chem
+
+
+def _check(c: Chemistry, path: pathlib.Path) -> None:
+    soc, v = c.ocv_soc, c.ocv_v
+    if len(soc) != len(v) or len(soc) < 2:
+        raise ValueError(f"{path}: ocv soc and v must have the same length >= 2")
+    if soc[0] != 0.0 or soc[-1] != 1.0 or any(b <= a for a, b in zip(soc, soc[1:])):
+        raise ValueError(f"{path}: ocv soc must rise strictly from 0 to 1")
+    if any(b < a for a, b in zip(v, v[1:])):
+        raise ValueError(f"{path}: ocv v must not fall with soc")
+    positive = ("ref_capacity_ah", "r0_ohm", "tau1_s", "tau2_s", "w0", "cth_j_per_k", "ha_w_per_k", "pol_eps")
+    for key in positive:
+        if not getattr(c, key) > 0.0:
+            raise ValueError(f"{path}: {key} must be > 0")
+    for f in fields(Chemistry):
+        value = getattr(c, f.name)
+        if isinstance(value, float) and not math.isfinite(value):
+            raise ValueError(f"{path}: {f.name} is not finite")
+    if not c.discharge_end_v < c.nominal_v < c.charge_end_v <= c.max_v:
+        raise ValueError(f"{path}: limits must satisfy discharge_end < nominal < charge_end <= max")
