@@ -220,8 +220,16 @@ def test_state_stays_physical_under_abuse():
     for current in (50.0, -50.0, 0.0):
         for _ in range(900):
             pack.step(current, 10.0)
-            assert 0.0 <= pack.soc <= 1.0
+            # Below 0 is the over-discharge (reversal) region, bounded; never above full.
+            assert -0.06 <= pack.soc <= 1.0
     assert pack.temp_c == pytest.approx(pack.ambient_c, abs=1.0)   # cooled back after the rest
+
+
+def test_an_empty_cell_collapses_when_the_discharge_goes_on():
+    pack = Pack(load_chemistry("NiMh"), 2000, 1, soc=0.02)
+    for _ in range(1200):
+        v = pack.step(-0.2, DT)
+    assert pack.soc < 0 and v < 0.9
 
 
 def test_rest_relaxes_to_open_circuit_voltage():

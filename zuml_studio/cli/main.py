@@ -4,10 +4,10 @@ from __future__ import annotations
 import argparse
 import sys
 
-from . import lang_commands
+from . import lang_commands, sim_commands
 from .common import CliError
 
-AREAS = (lang_commands,)
+AREAS = (lang_commands, sim_commands)
 
 
 def build_parser() -> argparse.ArgumentParser:

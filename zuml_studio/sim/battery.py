@@ -5,10 +5,13 @@ Per cell (I > 0 = charge, T in °C, s = stored charge / capacity):
     eta   = 1 - exp(-(1 - s) / (w0 * (1 + wT * (T - 25))))      on charge, 1 on discharge
     ds/dt = eta * I / (3600 * Q)
     f(T)  = exp(Ea / Rgas * (1 / (T + 273.15) - 1 / 298.15))   scales R0, R1, R2
-    Rpol  = k_c / (1 - s + eps) on charge, k_d / (s + eps) on discharge   (Tremblay)
+    Rpol  = k_d / (s + eps) on discharge   (Tremblay knee, instantaneous)
+    Vp    = min(Vp * a_p + I * k_c / (1 - s + eps) * (1 - a_p), Vp_max) on charge, Vp * a_p otherwise
+            (Tremblay charge polarisation through an RC: a lead-acid cell's surface charge relaxes
+             over minutes, and gassing caps it)
     Vk    = Vk * a_k + I * Rk * f * (1 - a_k),   a_k = exp(-dt / tau_k)   (exact for constant I)
     E     = U(s) - kT * (T - 25)
-    V     = E + (1 - eta) * dV_O2 [charge only] + I * (R0 * f + Rpol) + V1 + V2
+    V     = E + (1 - eta) * dV_O2 [charge only] + I * (R0 * f + Rpol) + V1 + V2 + Vp
     q     = I * (V - eta * E) + eta * I * q_rev     (all input power not stored as chemistry is heat)
     Cth * dT/dt = q - hA * (T - T_amb)       (stepped exactly for q held over the step)
 
@@ -28,6 +31,10 @@ _T_REF_K = 298.15             # parameters are given at 25 °C
 _T_REF_C = 25.0
 _KELVIN = 273.15
 _W_FLOOR = 0.05               # keeps the acceptance width positive in deep cold (w_t * (T - 25) -> -1)
+# Past empty a cell's voltage collapses (its reversal region): the OCV falls this much per unit of
+# charge taken beyond s = 0, so a discharge that nothing stops drives the cell towards 0 V.
+_COLLAPSE_V_PER_SOC = 20.0
+_SOC_FLOOR = -0.06
 
 
 class Pack:
@@ -46,6 +53,7 @@ class Pack:
         self.current = 0.0
         self._v1 = 0.0
         self._v2 = 0.0
+        self._vp = 0.0
 
         q_ah = self.capacity_mah / 1000.0
         scale_r = chem.ref_capacity_ah / q_ah       # R x Ah is constant within a family [N11]
@@ -80,41 +88,49 @@ class Pack:
             1.0 / c.w0, c.w_t_per_k, c.dv_o2_v, c.k_t_v_per_k, c.q_rev_v,
             dt / self._q_as, exp(-dt * self._ha / self._cth), 1.0 / self._ha,
             self._xs, self._ys, self._slopes, len(self._xs) - 1, self.series,
+            exp(-dt / c.pol_tau_s), c.pol_max_v,
         )
 
     def _cell_ocv(self) -> float:
         """U(soc) at the present temperature, per cell."""
-        xs = self._xs
-        j = min(bisect_right(xs, self.soc), len(xs) - 1)
-        u = self._ys[j - 1] + (self.soc - xs[j - 1]) * self._slopes[j - 1]
+        xs, s = self._xs, self.soc
+        if s < 0.0:
+            u = self._ys[0] + s * _COLLAPSE_V_PER_SOC
+        else:
+            j = min(bisect_right(xs, s), len(xs) - 1)
+            u = self._ys[j - 1] + (s - xs[j - 1]) * self._slopes[j - 1]
         return u - self.chem.k_t_v_per_k * (self.temp_c - _T_REF_C)
 
     # -- public API ------------------------------------------------------
     def open_circuit_voltage(self) -> float:
         """Pack voltage at zero current now: U(s) with its temperature term plus the RC voltages
         that have not relaxed yet, i.e. what a charger reads when it switches its power stage off."""
-        return (self._cell_ocv() + self._v1 + self._v2) * self.series
+        return (self._cell_ocv() + self._v1 + self._v2 + self._vp) * self.series
 
     def step(self, current_a: float, dt: float) -> float:
         """Advance dt seconds at `current_a` (+ = charge); returns the pack terminal voltage."""
         if dt != self._dt:
             self._set_dt(dt)
         (r0, r1b, a1, r2b, a2, ea_r, ea_r_ref, kc, kd, eps, inv_w0, w_t, dv_o2, k_t, q_rev,
-         ds_k, a_th, inv_ha, xs, ys, slopes, last, series) = self._k
+         ds_k, a_th, inv_ha, xs, ys, slopes, last, series, a_p, vp_max) = self._k
         i = current_a
         s = self.soc
         t = self.temp_c
         f = exp(ea_r / (t + _KELVIN) - ea_r_ref)
+        vp = self._vp * a_p
         if i > 0.0:
             wf = 1.0 + w_t * (t - _T_REF_C)
             if wf < _W_FLOOR:
                 wf = _W_FLOOR
             eta = 1.0 - exp((s - 1.0) * inv_w0 / wf)
-            r = r0 * f + kc / (1.0 - s + eps)
+            r = r0 * f
+            vp += i * kc / (1.0 - s + eps) * (1.0 - a_p)
+            if vp > vp_max:
+                vp = vp_max
             extra = (1.0 - eta) * dv_o2
         else:
             eta = 1.0
-            r = r0 * f + kd / (s + eps)
+            r = r0 * f + kd / ((s if s > 0.0 else 0.0) + eps)
             extra = 0.0
         v1 = self._v1 * a1 + i * r1b * f
         v2 = self._v2 * a2 + i * r2b * f
@@ -122,18 +138,22 @@ class Pack:
         if s > 1.0:
             s = 1.0
         elif s < 0.0:
-            s = 0.0
-        j = bisect_right(xs, s)
-        if j > last:
-            j = last
-        e = ys[j - 1] + (s - xs[j - 1]) * slopes[j - 1] - k_t * (t - _T_REF_C)
-        v = e + extra + i * r + v1 + v2
+            if s < _SOC_FLOOR:
+                s = _SOC_FLOOR
+            e = ys[0] + s * _COLLAPSE_V_PER_SOC - k_t * (t - _T_REF_C)
+        if s >= 0.0:
+            j = bisect_right(xs, s)
+            if j > last:
+                j = last
+            e = ys[j - 1] + (s - xs[j - 1]) * slopes[j - 1] - k_t * (t - _T_REF_C)
+        v = e + extra + i * r + v1 + v2 + vp
         q = i * (v - eta * e) + eta * i * q_rev
         t_final = self.ambient_c + q * inv_ha
         self.temp_c = t_final + (t - t_final) * a_th
         self.soc = s
         self._v1 = v1
         self._v2 = v2
+        self._vp = vp
         self.current = i
         self.cell_voltage = v
         v *= series
@@ -145,19 +165,25 @@ class Pack:
         if dt != self._dt:
             self._set_dt(dt)
         (r0, r1b, a1, r2b, a2, ea_r, ea_r_ref, kc, kd, eps, inv_w0, w_t, dv_o2, k_t, q_rev,
-         ds_k, a_th, inv_ha, xs, ys, slopes, last, series) = self._k
+         ds_k, a_th, inv_ha, xs, ys, slopes, last, series, a_p, vp_max) = self._k
         s = self.soc
         t = self.temp_c
         f = exp(ea_r / (t + _KELVIN) - ea_r_ref)
         # target = U(s + g*i) + rest + r*i, with everything that does not depend on i in `rest`.
-        rest = self._v1 * a1 + self._v2 * a2 - k_t * (t - _T_REF_C)
+        vp = self._vp * a_p
+        rest = self._v1 * a1 + self._v2 * a2 - k_t * (t - _T_REF_C) + vp
         r_ohmic = (r0 + r1b + r2b) * f
         target = v_pack / series
         eta = 1.0 - exp((s - 1.0) * inv_w0 / max(_W_FLOOR, 1.0 + w_t * (t - _T_REF_C)))
-        i = self._solve_ocv(target - rest - (1.0 - eta) * dv_o2, r_ohmic + kc / (1.0 - s + eps), eta * ds_k)
+        r_pol = kc / (1.0 - s + eps) * (1.0 - a_p)
+        charge_rhs = target - rest - (1.0 - eta) * dv_o2
+        i = self._solve_ocv(charge_rhs, r_ohmic + r_pol, eta * ds_k)
+        if i > 0.0 and vp + i * r_pol > vp_max:
+            # The gassing cap holds: polarisation is a constant, not a resistance, for this step.
+            i = self._solve_ocv(charge_rhs + vp - vp_max, r_ohmic, eta * ds_k)
         if i > 0.0:
             return i
-        i = self._solve_ocv(target - rest, r_ohmic + kd / (s + eps), ds_k)
+        i = self._solve_ocv(target - rest, r_ohmic + kd / ((s if s > 0.0 else 0.0) + eps), ds_k)
         # Between the discharge and charge branches (O2 overvoltage step) no current flows.
         return i if i < 0.0 else 0.0
 

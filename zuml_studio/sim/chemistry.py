@@ -41,6 +41,8 @@ class Chemistry:
     tau2_s: float
     ea_j_per_mol: float          # Arrhenius activation energy for R0, R1, R2
     k_charge_ohm: float          # Tremblay polarisation on charge: k / (1 - soc + eps)
+    pol_tau_s: float             # ... reached through an RC of this time constant (surface charge relaxes)
+    pol_max_v: float             # ... and capped here (gassing clamps a lead-acid cell's voltage)
     k_discharge_ohm: float       # ... and on discharge: k / (soc + eps)
     pol_eps: float
     # [acceptance]
@@ -112,7 +114,8 @@ def _check(c: Chemistry, path: pathlib.Path) -> None:
         raise ValueError(f"{path}: ocv soc must rise strictly from 0 to 1")
     if any(b < a for a, b in zip(v, v[1:])):
         raise ValueError(f"{path}: ocv v must not fall with soc")
-    positive = ("ref_capacity_ah", "r0_ohm", "tau1_s", "tau2_s", "w0", "cth_j_per_k", "ha_w_per_k", "pol_eps")
+    positive = ("ref_capacity_ah", "r0_ohm", "tau1_s", "tau2_s", "w0", "cth_j_per_k", "ha_w_per_k", "pol_eps",
+                "pol_tau_s", "pol_max_v")
     for key in positive:
         if not getattr(c, key) > 0.0:
             raise ValueError(f"{path}: {key} must be > 0")

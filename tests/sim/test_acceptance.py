@@ -1,0 +1,136 @@
+"""Issue 3's acceptance points, each on the project's macros."""
+import numpy as np
+import pytest
+
+from simhelp import run
+
+
+def per_cell(result, series):
+    a = result.log.arrays()
+    return a, a["voltage_v"] / series
+
+
+def test_nimh_1c_ends_by_minus_dv_with_a_peak_and_faster_heating_after_it():
+    r = run("NiMh-dV", capacity=2000, series=4, current=2.0, sensor=False)
+    (phase,) = r.phases
+    assert phase.reason == "IF(DELTA_PEAK>0.01S) STOP_FAZE" and not phase.by_default
+    assert 1.0 <= phase.mah_in / 2000 <= 1.15
+    a, v = per_cell(r, 4)
+    peak = int(np.argmax(v))
+    assert 1.42 <= v[peak] <= 1.52
+    t, temp = a["time_s"], a["temp_c"]
+    before = (temp[peak] - temp[peak - 600]) / 10
+    after_end = min(peak + 240, len(temp) - 1)
+    after = (temp[after_end] - temp[peak]) / ((t[after_end] - t[peak]) / 60)
+    assert after > before > 0
+
+
+def test_nimh_with_a_sensor_ends_by_dtdt_first_as_real_chargers_do():
+    r = run("NiMh-dV", capacity=2000, series=4, current=2.0, sensor=True)
+    assert r.phases[0].reason == "default: dT/dt>1C/min"
+    assert 0.9 <= r.phases[0].mah_in / 2000 <= 1.1
+
+
+def test_nimh_at_0_2c_shows_no_minus_dv_and_a_default_ends_it():
+    r = run("NiMh", capacity=2000, series=4, current=0.4, sensor=False)
+    (phase,) = r.phases
+    # The seed's DELTA_PEAK=0.2S never fires: the charger's capacity default ends the charge.
+    assert phase.reason == "default: capacity 1.5x" and phase.by_default
+    a, v = per_cell(r, 4)
+    assert v.max() - v[-1] < 0.005           # a plateau, no dip
+
+
+def test_nimh_at_0_2c_with_a_real_minus_dv_condition_ends_by_its_timer():
+    r = run("NiMh-dV", capacity=2000, series=4, current=0.4, sensor=False)
+    assert r.phases[0].reason == "IF(tf>2h) STOP_FAZE"
+
+
+def test_nicd_1c_ends_by_minus_dv_with_a_larger_dip_than_nimh():
+    nicd = run("NiCd-dV", capacity=1000, series=4, current=1.0, sensor=False)
+    assert nicd.phases[0].reason == "IF(DELTA_PEAK>0.01S) STOP_FAZE"
+    assert 1.0 <= nicd.phases[0].mah_in / 1000 <= 1.15
+    nimh = run("NiMh-dV", capacity=1000, series=4, current=1.0, sensor=False)
+
+    def dip_5min_after_peak(r):
+        a, v = per_cell(r, 4)
+        peak = int(np.argmax(v))
+        return v[peak] - v[min(peak + 300, len(v) - 1)]
+
+    # The charge stops at the threshold, so compare the slope just after the peak instead.
+    a1, v1 = per_cell(nicd, 4)
+    a2, v2 = per_cell(nimh, 4)
+    p1, p2 = int(np.argmax(v1)), int(np.argmax(v2))
+    assert (v1[p1] - v1[-1]) / (len(v1) - p1) > (v2[p2] - v2[-1]) / (len(v2) - p2)
+    assert dip_5min_after_peak(nicd) > 0
+
+
+@pytest.mark.parametrize("name", ["NiCd", "NiMh"])
+def test_seed_nickel_macros_end_by_a_default_and_say_so(name):
+    r = run(name, capacity=2000, series=4, current=2.0, sensor=False)
+    assert r.phases[0].by_default and r.phases[0].reason == "default: capacity 1.5x"
+    assert r.to_json()["phases"][0]["by_default"] is True
+
+
+def test_liion_5ah_cc_cv_to_c50_matches_pybamm_within_15_percent():
+    r = run("LiIon-CCCV", capacity=5000, series=1, current=5.0)
+    cc, cv = r.phases
+    assert cc.reason == "IF(V>4.2S) STOP_FAZE" and cv.reason == "IF(I<0.02C) STOP_FAZE"
+    assert abs(cc.end_s / 3600 - 0.82) / 0.82 < 0.15
+    assert abs(cv.end_s / 3600 - 1.78) / 1.78 < 0.15
+    a = r.log.arrays()
+    in_cv = a["phase"] == 2
+    current = a["current_a"][in_cv]
+    assert current[0] > 4.0 and current[-1] < 0.1 and np.all(np.diff(current[10:]) <= 1e-6)   # tapers
+    assert np.all(np.abs(a["voltage_v"][in_cv][5:] - 4.2) < 0.005)
+
+
+def test_lipo_seed_macro_is_cc_then_cv_tapering_to_its_end():
+    r = run("LiPo", capacity=2000, series=3, current=2.0)
+    assert [p.reason for p in r.phases] == ["IF(V>4.1S) STOP_FAZE", "IF(I<0.1A) STOP_FAZE"]
+    assert r.phases[1].v_end == pytest.approx(12.6, abs=0.01)
+
+
+def test_life_cc_about_an_hour_then_a_short_cv():
+    r = run("LiFe-CCCV", capacity=2300, series=1, current=2.3)
+    a = r.log.arrays()
+    cc_end = a["time_s"][np.argmax(a["current_a"] < 2.29)]
+    assert 0.85 <= cc_end / 3600 <= 1.1
+    assert (r.phases[0].end_s - cc_end) / 3600 < 0.15
+
+
+def test_lead_acid_reaches_2_40_v_at_80_to_90_percent_then_trickle_holds_it_between_its_limits():
+    r = run("Pb-float", capacity=7000, series=6, current=1.75, soc=0.2)
+    bulk, float_ = r.phases
+    assert bulk.reason == "IF(V>2.4S) STOP_FAZE" and 0.80 <= bulk.soc_end <= 0.90
+    a = r.log.arrays()
+    in_float = a["phase"] == 2
+    v = a["voltage_v"][in_float] / 6
+    i = a["current_a"][in_float]
+    assert v.max() <= 2.40 + 0.02 and v.min() >= 2.25 - 0.02
+    switches = np.count_nonzero(np.diff((i > 0).astype(int)))
+    assert switches >= 4                      # the top-up switches on and off
+
+
+def test_training_reports_the_capacity_of_each_discharge():
+    r = run("LiPo", "train", capacity=2000, series=3, current=2.0, repetitions=3)
+    sections = [(p.section, p.repetition) for p in r.phases]
+    assert sections == [("discharge", 1), ("charge", 1), ("charge", 1), ("discharge", 2), ("charge", 2),
+                        ("charge", 2), ("discharge", 3), ("charge", 3), ("charge", 3)]
+    reps = r.repetitions()
+    assert [x["repetition"] for x in reps] == [1, 2, 3]
+    assert all(1800 < x["discharged_mah"] < 2100 for x in reps)
+
+
+def test_battery_overheat_ends_the_phase_by_the_default():
+    r = run("NiMh-dV", capacity=2000, series=4, current=2.0, sensor=True, ambient=58.0)
+    assert r.phases[0].reason == "default: T>60"
+
+
+def test_heatsink_overheat_pauses_and_continues_the_macro():
+    r = run("LiPo", "discharge", capacity=2000, series=3, ambient=40.0)
+    kinds = [e.kind for e in r.interpreter.events]
+    assert "pause" in kinds and "resume" in kinds
+    assert kinds.index("pause") < kinds.index("resume")
+    a = r.log.arrays()
+    assert a["heatsink_c"].max() < 72
+    assert r.phases[0].reason == "IF(V<2.8S) STOP_FAZE"

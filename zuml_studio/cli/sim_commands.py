@@ -1,0 +1,110 @@
+"""zuml simulate."""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+from ..lang.compiler import compile_source
+from ..sim.interpreter import Measurement, StartError, StartParams
+from ..sim.simulate import BatterySetup, SimResult, simulate
+from .common import CliError, out, read_bytes, read_text
+from .lang_commands import compile_file
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("simulate", help="run a macro's byte code against a battery model")
+    p.add_argument("file", metavar="FILE", help="a .zuml macro or a compiled .bin record")
+    p.add_argument("--task", choices=("charge", "discharge", "train"), default="charge")
+    p.add_argument("--cycles", type=int, default=1, metavar="N", help="training: discharge+charge N times")
+    p.add_argument("--capacity", type=float, metavar="MAH", help="capacity entered at start")
+    p.add_argument("--current", type=float, metavar="A", help="current entered at start (INPUT)")
+    p.add_argument("--voltage", type=float, metavar="V", help="voltage entered at start (INPUT)")
+    p.add_argument("--series", type=int, metavar="N", help="cells in series entered at start")
+    p.add_argument("--soc", type=float, metavar="0..1", help="initial state of charge "
+                   "(default: empty for charge, full for discharge and training)")
+    p.add_argument("--ambient", type=float, default=25.0, metavar="C")
+    p.add_argument("--no-sensor", action="store_true", help="no battery temperature sensor connected")
+    p.add_argument("--model", metavar="CHEMISTRY", help="battery model (default: the macro's AKK_TYPE)")
+    p.add_argument("--tick", type=float, default=1.0, metavar="S", help="interpreter tick (default 1 s)")
+    p.add_argument("--noise", type=float, default=0.0, metavar="MV", help="voltage measurement noise, sigma")
+    p.add_argument("--adc-lsb", type=float, default=0.0, metavar="MV", help="voltage ADC step")
+    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--csv", metavar="OUT.csv", help="write every sample")
+    p.add_argument("--json", action="store_true", help="print one JSON object instead of the table")
+    p.set_defaults(run=cmd_simulate)
+
+
+def _record(path: str) -> bytes:
+    return read_bytes(path) if path.lower().endswith(".bin") else compile_file(path)
+
+
+def _check(args: argparse.Namespace) -> None:
+    if args.soc is not None and not 0.0 <= args.soc <= 1.0:
+        raise CliError("--soc is a fraction from 0 to 1")
+    for name in ("cycles", "series"):
+        value = getattr(args, name)
+        if value is not None and not 1 <= value <= 255:
+            raise CliError(f"--{name} must be 1 to 255")
+    for name in ("capacity", "current", "voltage"):
+        value = getattr(args, name)
+        if value is not None and value <= 0:
+            raise CliError(f"--{name} must be positive")
+    if not 0.05 <= args.tick <= 60:
+        raise CliError("--tick must be 0.05 to 60 seconds")
+
+
+def cmd_simulate(args: argparse.Namespace) -> int:
+    _check(args)
+    record = _record(args.file)
+    params = StartParams(args.task, args.cycles, args.capacity, args.current, args.voltage, args.series,
+                         not args.no_sensor)
+    setup = BatterySetup(args.model, args.soc, args.ambient)
+    measurement = Measurement(args.noise / 1000.0, args.adc_lsb / 1000.0, args.seed)
+    try:
+        result = simulate(record, params, setup, tick_s=args.tick, measurement=measurement)
+    except StartError as exc:
+        raise CliError(f"{args.file}: {exc}", 1) from None
+    except KeyError as exc:
+        raise CliError(str(exc.args[0]), 1) from None
+    if args.csv:
+        try:
+            with open(args.csv, "w", encoding="utf-8", newline="") as fh:
+                result.log.write_csv(fh)
+        except OSError as exc:
+            raise CliError(f"{args.csv}: cannot write: {exc.strerror or exc}") from None
+    if args.json:
+        json.dump(result.to_json(), sys.stdout, indent=2)
+        out()
+    else:
+        _table(args, result)
+    return 0
+
+
+def hms(seconds: float) -> str:
+    s = int(round(seconds))
+    return f"{s // 3600}:{s % 3600 // 60:02d}:{s % 60:02d}"
+
+
+def _table(args: argparse.Namespace, result: SimResult) -> None:
+    p = result.interpreter.params
+    out(f"{result.interpreter.program.name}: {p.task}"
+        f"{f' x{p.repetitions}' if p.task == 'train' else ''}, {result.chemistry} model "
+        f"{result.capacity_mah:g} mAh x {result.series} cell(s), {args.ambient:g} °C, "
+        f"sensor {'on' if p.sensor else 'off'}")
+    width = max([len(ph.reason) for ph in result.phases] + [6])
+    out(f"{'#':>3}  {'section':<9} {'phase':>5}  {'start':>8}  {'end':>8}  {'reason':<{width}}  "
+        f"{'in mAh':>8}  {'out mAh':>8}  {'V end':>7}  {'T end':>6}")
+    for ph in result.phases:
+        index = str(ph.index) if ph.index else "dflt"
+        out(f"{ph.run:>3}  {ph.section:<9} {index:>5}  {hms(ph.start_s):>8}  {hms(ph.end_s):>8}  "
+            f"{ph.reason:<{width}}  {ph.mah_in:>8.1f}  {ph.mah_out:>8.1f}  {ph.v_end:>7.3f}  {ph.temp_end:>6.1f}")
+    t = result.totals()
+    out(f"total {hms(t['duration_s'])}, in {t['mah_in']:.1f} mAh, out {t['mah_out']:.1f} mAh; end: {t['end']}")
+    if p.task == "train":
+        for rep in result.repetitions():
+            out(f"repetition {rep['repetition']}: discharged {rep['discharged_mah']:.1f} mAh "
+                f"(measured capacity), charged {rep['charged_mah']:.1f} mAh")
+    for ph in result.phases:
+        if ph.by_default:
+            out(f"note: phase {ph.run} ({ph.section}) ended by {ph.reason}, not by a condition of the macro")

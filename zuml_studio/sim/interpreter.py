@@ -1,0 +1,461 @@
+"""The charger's interpreter, emulated: runs a record's byte code tick by tick
+against a battery pack and a power stage (spec §3).
+
+No wall-clock time and no I/O: ``advance(n)`` runs at most n ticks and returns;
+the simulator calls it until the macro ends, the virtual charger calls it in
+real time. What it measured goes to ``log`` (one sample per tick) and ``events``.
+"""
+from __future__ import annotations
+
+import random
+from dataclasses import dataclass, field
+from typing import Iterator
+
+from ..lang import opcodes as ops
+from ..lang.formatter import format_args
+from ..lang.opcodes import canonical_text
+from ..lang.operands import CAPACITY_AUTO, CAPACITY_INPUT, CURRENT, INPUT_U16, RELATIVE_FLAG, VOLTAGE
+from .battery import Pack
+from .charger_model import Charger
+from .chemistry import load_chemistry
+from .delta_peak import DeltaPeakDetector
+from .program import CommandStep, DefaultDischarge, PhaseCode, Program, SectionStart
+from .samples import SampleLog
+
+# Defaults of spec §3 (a macro's own condition replaces the matching one).
+DEFAULT_TC_PAUSE = 70
+DEFAULT_TC_CONTINUE = 60
+DEFAULT_T_MAX = 60.0
+DEFAULT_DTDT_C_PER_MIN = 1.0
+DEFAULT_CAPACITY_FACTOR = 1.5
+DEFAULT_DISCHARGE_A = 0.1
+# dT/dt as cheali-charger measures it: the temperature change over a 60 s window, not before 2 min.
+DTDT_WINDOW_S = 60.0
+DTDT_HOLDOFF_S = 120.0
+# Not a charger rule: a simulation of a macro that never ends stops here, and says so.
+DEFAULT_LIMIT_S = 48 * 3600.0
+
+_CC, _CV, _CCCV, _PULSE, _TRICKLE = range(5)
+AKK_NAMES = {code: name for name, code in ops.AKK_TYPE.operands[0].kind.names.items()}
+
+
+class StartError(Exception):
+    """The macro cannot start with these parameters (an INPUT value not given, ...)."""
+
+
+@dataclass(frozen=True)
+class StartParams:
+    """What the user enters at start on the charger."""
+
+    task: str = "charge"                # charge | discharge | train
+    repetitions: int = 1                # training: discharge+charge this many times
+    capacity_mah: float | None = None   # for CAPACITY=INPUT/absent and currents in C
+    current_a: float | None = None      # for INPUT currents; limits a CONSTANT_V phase
+    voltage_v: float | None = None      # for INPUT voltages
+    series: int | None = None           # for SERIES absent and voltages in S
+    sensor: bool = True                 # battery temperature sensor connected
+
+
+@dataclass(frozen=True)
+class Measurement:
+    """The charger's ADC: gaussian noise and quantisation of the pack voltage, seeded."""
+
+    noise_v: float = 0.0
+    lsb_v: float = 0.0
+    seed: int = 1
+
+
+@dataclass
+class Event:
+    time_s: float
+    kind: str              # section | phase_start | phase_end | pause | resume | music | light | finish
+    section: str = ""
+    index: int = 0
+    repetition: int = 0
+    offset: int = -1
+    detail: str = ""
+
+
+@dataclass
+class PhaseResult:
+    section: str
+    index: int
+    repetition: int
+    cycle_pass: int
+    offset: int
+    start_s: float
+    end_s: float = 0.0
+    reason: str = ""
+    mah_in: float = 0.0
+    mah_out: float = 0.0
+    v_end: float = 0.0
+    temp_end: float = 0.0
+    soc_end: float = 0.0   # the model's state of charge (a simulator can know it; a charger cannot)
+    run: int = 0           # sequential number of the phase in this run, 1-based
+
+    @property
+    def by_default(self) -> bool:
+        """Ended by one of the charger's default safety conditions, not by the macro's own."""
+        return self.reason.startswith(("default:", "limit:"))
+
+
+@dataclass
+class _Active:
+    """A phase being run, its byte code turned into numbers once at its start."""
+
+    result: PhaseResult
+    mode: int
+    charging: bool
+    i_set: float = 0.0              # signed A
+    v_set: float = 0.0              # pack V
+    i_max: float = 0.0
+    pulse: tuple = ()
+    trickle: tuple = ()
+    trickle_on: bool = True
+    conditions: list = field(default_factory=list)     # (code, threshold, reason)
+    own_t: bool = False
+    detector: DeltaPeakDetector | None = None
+    dpeak: tuple | None = None                          # (threshold, reason)
+    t_phase: float = 0.0
+    q_in: float = 0.0                                   # A·s
+    q_out: float = 0.0
+    measured_v: float = 0.0
+    dtdt_t0: float = 0.0
+    dtdt_next: float = DTDT_WINDOW_S
+    default_end_v: float | None = None                  # empty discharge section
+
+
+class Interpreter:
+    def __init__(self, record: bytes, params: StartParams, pack: Pack, charger: Charger, *,
+                 tick_s: float = 1.0, measurement: Measurement = Measurement(),
+                 limit_s: float = DEFAULT_LIMIT_S):
+        self.program = Program(record)
+        self.params = params
+        self.pack = pack
+        self.charger = charger
+        self.tick_s = float(tick_s)
+        self.limit_s = limit_s
+        self.measurement = measurement
+        self._rng = random.Random(measurement.seed)
+        self.log = SampleLog()
+        self.events: list[Event] = []
+        self.phases: list[PhaseResult] = []
+        self.time_s = 0.0
+        self.q_in = 0.0                     # A·s, whole run
+        self.q_out = 0.0
+        self.paused = False
+        self.finished = False
+        self.end_reason = ""
+        self._resolve_start()
+        self._steps: Iterator[object] = self.program.steps(params.task, params.repetitions)
+        self._active: _Active | None = None
+        self._section = ""
+        self._repetition = 0
+
+    # -- start-up: what the introduction and the start parameters decide -------------------
+    def _resolve_start(self) -> None:
+        decl = self.program.intro.declarations
+        p = self.params
+        cap = decl.get(ops.CAPACITY.code)
+        if cap is None or cap in (CAPACITY_INPUT, CAPACITY_AUTO):
+            self.capacity_ah = p.capacity_mah / 1000.0 if p.capacity_mah else None
+        else:
+            self.capacity_ah = cap / 1000.0
+        self.series = decl.get(ops.SERIES.code) or p.series
+        self.akk_type = decl.get(ops.AKK_TYPE.code, 0)
+        cond = self.program.intro.conditions
+        self.tc_pause = cond[85].raws[0] if 85 in cond else DEFAULT_TC_PAUSE
+        self.tc_continue = cond[86].raws[0] if 86 in cond else DEFAULT_TC_CONTINUE
+        self.tm_stop = (cond[87].raws[0] / 10.0, _reason(cond[87])) if 87 in cond else None
+        if p.repetitions < 1:
+            raise StartError("training needs at least 1 repetition")
+        # As the charger asks for every INPUT value at start: a missing one is an error now, not mid-run.
+        for step in self.program.steps(p.task):
+            for ins in (step.actions + step.conditions) if isinstance(step, PhaseCode) else ():
+                for operand, raw in zip(ins.op.operands, ins.raws):
+                    if operand.kind is CURRENT:
+                        self.current(raw)
+                    elif operand.kind is VOLTAGE:
+                        self.voltage(raw)
+
+    def current(self, raw: int) -> float:
+        if raw == INPUT_U16:
+            if self.params.current_a is None:
+                raise StartError("the macro takes a current at start (INPUT): give the current")
+            return self.params.current_a
+        value = (raw & 0x7FFF) / 100.0
+        if raw & RELATIVE_FLAG:
+            if self.capacity_ah is None:
+                raise StartError("a current in C needs the capacity: declare CAPACITY or give it at start")
+            return value * self.capacity_ah
+        return value
+
+    def voltage(self, raw: int) -> float:
+        if raw == INPUT_U16:
+            if self.params.voltage_v is None:
+                raise StartError("the macro takes a voltage at start (INPUT): give the voltage")
+            return self.params.voltage_v
+        value = (raw & 0x7FFF) / 100.0
+        if raw & RELATIVE_FLAG:
+            if not self.series:
+                raise StartError("a voltage per cell (S) needs the cell count: declare SERIES or give it at start")
+            return value * self.series
+        return value
+
+    # -- running ----------------------------------------------------------------------------
+    def stop(self, reason: str = "stopped") -> None:
+        if self._active:
+            self._end_phase(self._active, reason)
+        self._finish(reason)
+
+    def run(self) -> None:
+        """To the end of the macro (or the simulation limit)."""
+        while not self.finished:
+            self.advance(1 << 30)
+
+    def advance(self, max_ticks: int) -> bool:
+        """Run at most ``max_ticks`` ticks; returns False once the macro has ended."""
+        left = max_ticks
+        while left > 0 and not self.finished:
+            if self._active is None and not self._next_phase():
+                break
+            left -= self._ticks(self._active, left)
+        return not self.finished
+
+    def _next_phase(self) -> bool:
+        for step in self._steps:
+            if isinstance(step, SectionStart):
+                self._section, self._repetition = step.section, step.repetition
+                self._event("section", section=step.section, repetition=step.repetition)
+            elif isinstance(step, CommandStep):
+                kind = "music" if step.op.code == 100 else "light"
+                self._event(kind, offset=step.offset,
+                            detail=canonical_text(step.op, format_args(step.op, step.raws)))
+            elif isinstance(step, (PhaseCode, DefaultDischarge)):
+                self._active = self._start_phase(step)
+                return True
+        self._finish("end of macro")
+        return False
+
+    def _start_phase(self, code: PhaseCode | DefaultDischarge) -> _Active:
+        if isinstance(code, DefaultDischarge):
+            result = PhaseResult("discharge", 0, code.repetition, 0, code.offset, self.time_s)
+        else:
+            result = PhaseResult(code.section, code.index, code.repetition, code.cycle_pass, code.offset,
+                                 self.time_s)
+        result.run = len(self.phases) + 1
+        self.phases.append(result)
+        charging = result.section == "charge"
+        if isinstance(code, DefaultDischarge):
+            end_v = self._chemistry_end_v()
+            active = _Active(result, _CC, False, i_set=-DEFAULT_DISCHARGE_A, default_end_v=end_v * (self.series or 1))
+            active.conditions.append((82, active.default_end_v, f"default: empty discharge section, V<{end_v:.2f}V/cell"))
+        else:
+            active = self._compile(code, result, charging)
+        active.dtdt_t0 = self.pack.temp_c
+        active.measured_v = self.pack.voltage
+        self._event("phase_start", section=result.section, index=result.index, repetition=result.repetition,
+                    offset=result.offset)
+        return active
+
+    def _chemistry_end_v(self) -> float:
+        name = AKK_NAMES.get(self.akk_type, "UNDEF")
+        try:
+            return load_chemistry(name).discharge_end_v
+        except KeyError:
+            # No defaults for Undef/LiS/New: the battery model's own chemistry stands in.
+            return self.pack.chem.discharge_end_v
+
+    def _compile(self, code: PhaseCode, result: PhaseResult, charging: bool) -> _Active:
+        by_code = {a.op.code: a for a in code.actions}
+        sign = 1.0 if charging else -1.0
+        limits = self.charger.limits
+        if 62 in by_code:
+            tch, ich, tdis, idis, tv = by_code[62].raws
+            active = _Active(result, _PULSE, True, pulse=(float(tch), self.current(ich), float(tdis),
+                                                          self.current(idis), tv))
+        elif 63 in by_code:
+            i, v1, v2 = by_code[63].raws
+            active = _Active(result, _TRICKLE, True, trickle=(self.current(i), self.voltage(v1), self.voltage(v2)))
+        elif 60 in by_code and 61 in by_code:
+            i = self.current(by_code[60].raws[0])
+            active = _Active(result, _CCCV, charging, i_set=sign * i, v_set=self.voltage(by_code[61].raws[0]), i_max=i)
+        elif 61 in by_code:
+            fallback = limits.max_charge_a if charging else limits.max_discharge_a
+            i_max = self.params.current_a if self.params.current_a else fallback
+            active = _Active(result, _CV, charging, v_set=self.voltage(by_code[61].raws[0]), i_max=i_max)
+        else:
+            active = _Active(result, _CC, charging, i_set=sign * self.current(by_code[60].raws[0]))
+        for ins in code.conditions:
+            c = ins.op.code
+            raw = ins.raws[0]
+            reason = _reason(ins)
+            if c == 81:
+                active.own_t = True
+                threshold = float(raw)
+            elif c in (82, 83, 89):
+                threshold = self.voltage(raw)
+            elif c == 84:
+                threshold = self.current(raw)
+            else:   # 88: tf, tenths of a second
+                threshold = raw / 10.0
+            if c == 89:
+                active.detector = DeltaPeakDetector()
+                active.dpeak = (threshold, reason)
+            else:
+                active.conditions.append((c, threshold, reason))
+        return active
+
+    def _ticks(self, a: _Active, max_ticks: int) -> int:
+        """The hot loop: one phase, at most max_ticks ticks. Returns the ticks run."""
+        pack, charger, log = self.pack, self.charger, self.log
+        dt = self.tick_s
+        step, hs_step, limit = pack.step, charger.step, charger.limit_current
+        cfv = pack.current_for_voltage
+        mode = a.mode
+        sensor = self.params.sensor
+        noise, lsb = self.measurement.noise_v, self.measurement.lsb_v
+        gauss = self._rng.gauss
+        conds = a.conditions
+        detector = a.detector
+        dpeak = a.dpeak
+        cap_limit = DEFAULT_CAPACITY_FACTOR * self.capacity_ah * 3600.0 if self.capacity_ah else None
+        check_defaults = a.result.section == "charge"
+        t_max_default = not a.own_t
+        tm_stop = self.tm_stop
+        section_code = 1 if a.result.section == "charge" else 0
+        run_no = a.result.run
+        ticks = 0
+        while ticks < max_ticks:
+            ticks += 1
+            hs = charger.heatsink_c
+            if self.paused:
+                if hs < self.tc_continue:
+                    self.paused = False
+                    self._event("resume", detail=f"Tc<{self.tc_continue}")
+                i = 0.0
+            elif hs > self.tc_pause:
+                self.paused = True
+                self._event("pause", detail=f"Tc>{self.tc_pause}")
+                i = 0.0
+            elif mode == _CC:
+                i = a.i_set
+            elif mode == _CCCV:
+                i = cfv(a.v_set, dt)
+                if i > a.i_set:
+                    i = a.i_set
+                elif i < 0.0:
+                    i = 0.0
+            elif mode == _CV:
+                i = cfv(a.v_set, dt)
+                if a.charging:
+                    i = a.i_max if i > a.i_max else (0.0 if i < 0.0 else i)
+                else:
+                    i = -a.i_max if i < -a.i_max else (0.0 if i > 0.0 else i)
+            elif mode == _TRICKLE:
+                ti, v1, v2 = a.trickle
+                if a.trickle_on and a.measured_v >= v2:
+                    a.trickle_on = False
+                elif not a.trickle_on and a.measured_v <= v1:
+                    a.trickle_on = True
+                i = ti if a.trickle_on else 0.0
+            else:
+                tch, ich, tdis, idis, _ = a.pulse
+                i = ich if a.t_phase % (tch + tdis) < tch else -idis
+            if i:
+                i = limit(i, pack.voltage)
+            v = step(i, dt)
+            hs = hs_step(i, v, dt)
+            self.time_s += dt
+            if not self.paused:
+                a.t_phase += dt
+            if i > 0.0:
+                a.q_in += i * dt
+                self.q_in += i * dt
+            else:
+                a.q_out -= i * dt
+                self.q_out -= i * dt
+            if noise:
+                v += gauss(0.0, noise)
+            if lsb:
+                v = round(v / lsb) * lsb
+            if mode == _PULSE:
+                v = self._pulse_measurement(a, v)
+            a.measured_v = v
+            temp = pack.temp_c
+            log.append(self.time_s, section_code, run_no, v, i, temp, hs, self.q_in / 3.6, self.q_out / 3.6)
+            # -- end conditions: the macro's own first, then the defaults ------------------
+            reason = None
+            for c, x, text in conds:
+                if (c == 83 and v > x) or (c == 82 and v < x) or (c == 88 and a.t_phase > x) or \
+                        (c == 84 and abs(i) < x and not self.paused) or (c == 81 and sensor and temp > x):
+                    reason = text
+                    break
+            if reason is None and detector is not None and not self.paused:
+                if detector.update(a.t_phase, v) > dpeak[0]:
+                    reason = dpeak[1]
+            if reason is None:
+                if sensor:
+                    if t_max_default and temp > DEFAULT_T_MAX:
+                        reason = f"default: T>{DEFAULT_T_MAX:g}"
+                    elif check_defaults and a.t_phase >= a.dtdt_next:
+                        rate = (temp - a.dtdt_t0) * 60.0 / DTDT_WINDOW_S
+                        a.dtdt_t0, a.dtdt_next = temp, a.dtdt_next + DTDT_WINDOW_S
+                        if a.t_phase > DTDT_HOLDOFF_S and rate > DEFAULT_DTDT_C_PER_MIN:
+                            reason = f"default: dT/dt>{DEFAULT_DTDT_C_PER_MIN:g}C/min"
+                elif check_defaults and cap_limit is not None and a.q_in > cap_limit:
+                    reason = f"default: capacity {DEFAULT_CAPACITY_FACTOR:g}x"
+            if reason is None and tm_stop is not None and self.time_s > tm_stop[0]:
+                self._end_phase(a, tm_stop[1])
+                self._finish(tm_stop[1])
+                return ticks
+            if reason is None and self.time_s >= self.limit_s:
+                reason = f"limit: simulation stopped after {self.limit_s / 3600:g}h"
+                self._end_phase(a, reason)
+                self._finish(reason)
+                return ticks
+            if reason is not None:
+                self._end_phase(a, reason)
+                return ticks
+        return ticks
+
+    def _pulse_measurement(self, a: _Active, v: float) -> float:
+        """CHARGE_EX measures once a period, at the point tV chooses; in between the last reading holds."""
+        tch, _, tdis, _, tv = a.pulse
+        period = tch + tdis
+        at = a.t_phase % period
+        if tv == 1 and at == tch % period:
+            return v                                         # end of the charge pulse
+        if tv == 2 and at == 0.0:
+            return v                                         # end of the discharge pulse
+        if tv == 0 and at == 0.0:
+            return self.pack.open_circuit_voltage()          # power stage off
+        return a.measured_v
+
+    def _end_phase(self, a: _Active, reason: str) -> None:
+        r = a.result
+        r.end_s = self.time_s
+        r.reason = reason
+        r.mah_in = a.q_in / 3.6
+        r.mah_out = a.q_out / 3.6
+        r.v_end = a.measured_v
+        r.temp_end = self.pack.temp_c
+        r.soc_end = self.pack.soc
+        self._active = None
+        self._event("phase_end", section=r.section, index=r.index, repetition=r.repetition, offset=r.offset,
+                    detail=reason)
+
+    def _finish(self, reason: str) -> None:
+        if not self.finished:
+            self.finished = True
+            self.end_reason = reason
+            self._event("finish", detail=reason)
+
+    def _event(self, kind: str, **fields) -> None:
+        self.events.append(Event(self.time_s, kind, **fields))
+
+
+def _reason(ins) -> str:
+    """A condition's canonical text, the way phase end reasons are reported."""
+    return canonical_text(ins.op, format_args(ins.op, ins.raws))
+

@@ -1,0 +1,107 @@
+"""One call from a record and start parameters to a finished simulation:
+builds the battery and charger models and runs the interpreter on the bytes."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from ..lang import opcodes as ops
+from ..lang.record import DecodeError
+from .battery import Pack
+from .charger_model import Charger, load_charger
+from .chemistry import load_chemistry
+from .interpreter import AKK_NAMES, Interpreter, Measurement, PhaseResult, StartError, StartParams
+from .program import Program
+
+
+@dataclass(frozen=True)
+class BatterySetup:
+    chemistry: str | None = None        # battery model; None: the macro's AKK_TYPE
+    soc: float | None = None            # None: empty for charge, full for discharge and training
+    ambient_c: float = 25.0
+    charger: str = "imax_b6"
+
+
+@dataclass
+class SimResult:
+    interpreter: Interpreter
+    chemistry: str
+    capacity_mah: float
+    series: int
+
+    @property
+    def phases(self) -> list[PhaseResult]:
+        return self.interpreter.phases
+
+    @property
+    def log(self):
+        return self.interpreter.log
+
+    def totals(self) -> dict:
+        it = self.interpreter
+        return {"duration_s": round(it.time_s, 1), "mah_in": round(it.q_in / 3.6, 1),
+                "mah_out": round(it.q_out / 3.6, 1), "end": it.end_reason}
+
+    def repetitions(self) -> list[dict]:
+        """Per training repetition: what the discharge took out (the measured capacity) and the charge put in."""
+        reps: dict[int, dict] = {}
+        for p in self.phases:
+            rep = reps.setdefault(p.repetition, {"repetition": p.repetition, "discharged_mah": 0.0,
+                                                 "charged_mah": 0.0})
+            if p.section == "discharge":
+                rep["discharged_mah"] += p.mah_out
+            else:
+                rep["charged_mah"] += p.mah_in
+        return [{k: round(v, 1) if isinstance(v, float) else v for k, v in r.items()} for r in reps.values()]
+
+    def to_json(self) -> dict:
+        phases = [{"section": p.section, "index": p.index, "repetition": p.repetition, "start_s": round(p.start_s, 1),
+                   "end_s": round(p.end_s, 1), "reason": p.reason, "mah_in": round(p.mah_in, 1),
+                   "mah_out": round(p.mah_out, 1), "v_end": round(p.v_end, 3), "temp_end": round(p.temp_end, 2),
+                   "soc_end": round(p.soc_end, 4), "by_default": p.by_default}
+                  for p in self.phases]
+        return {"macro": self.interpreter.program.name, "battery": {"chemistry": self.chemistry,
+                "capacity_mah": self.capacity_mah, "series": self.series},
+                "phases": phases, "totals": self.totals(), "repetitions": self.repetitions()}
+
+
+def model_chemistry(record: bytes, setup: BatterySetup) -> str:
+    if setup.chemistry:
+        return load_chemistry(setup.chemistry).name
+    akk = Program(record).intro.declarations.get(ops.AKK_TYPE.code, 0)
+    name = AKK_NAMES.get(akk, "UNDEF")
+    try:
+        return load_chemistry(name).name
+    except KeyError:
+        raise StartError(f"AKK_TYPE {ops.AKK_TYPE.operands[0].kind.format(akk)} has no battery model: "
+                         "choose one (Pb, NiCd, NiMh, LiPo, LiIon, LiFe)") from None
+
+
+def prepare(record: bytes, params: StartParams, setup: BatterySetup = BatterySetup(), *,
+            tick_s: float = 1.0, measurement: Measurement = Measurement()) -> SimResult:
+    """Builds everything; the caller runs ``result.interpreter`` (all at once, or tick by tick)."""
+    try:
+        program = Program(record)
+    except DecodeError as exc:
+        raise StartError(f"not a valid record: byte {exc.offset}: {exc.message}") from None
+    chemistry = model_chemistry(record, setup)
+    decl = program.intro.declarations
+    cap = decl.get(ops.CAPACITY.code)
+    capacity = params.capacity_mah or (cap if cap not in (None, 0, 0xFFFF) else None)
+    if not capacity:
+        raise StartError("the battery's capacity is needed: the macro takes it at start (give --capacity MAH)")
+    series = decl.get(ops.SERIES.code) or params.series
+    if not series:
+        raise StartError("the number of cells is needed: the macro takes it at start (give --series N)")
+    params = StartParams(params.task, params.repetitions, params.capacity_mah or capacity, params.current_a,
+                         params.voltage_v, params.series or series, params.sensor)
+    soc = setup.soc if setup.soc is not None else (0.0 if params.task == "charge" else 1.0)
+    pack = Pack(load_chemistry(chemistry), capacity, series, soc, setup.ambient_c)
+    charger = Charger(load_charger(setup.charger), setup.ambient_c)
+    interpreter = Interpreter(record, params, pack, charger, tick_s=tick_s, measurement=measurement)
+    return SimResult(interpreter, chemistry, float(capacity), int(series))
+
+
+def simulate(record: bytes, params: StartParams, setup: BatterySetup = BatterySetup(), **kw) -> SimResult:
+    result = prepare(record, params, setup, **kw)
+    result.interpreter.run()
+    return result
