@@ -1,8 +1,11 @@
 """Test set-up shared by the whole suite."""
 import os
+import tempfile
 
 # Before any Qt import anywhere: the GUI tests render offscreen, with no display.
 os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
+# Settings, recovery files and user macros of the tests never touch the user's own.
+os.environ["ZUML_STUDIO_CONFIG_DIR"] = tempfile.mkdtemp(prefix="zuml-studio-tests-")
 
 from hypothesis import HealthCheck, settings  # noqa: E402
 

@@ -1,0 +1,48 @@
+import json
+
+from zuml_studio.recovery import RecoveryStore, atomic_write
+
+
+def test_saved_text_is_offered_back_until_discarded(tmp_path):
+    store = RecoveryStore(tmp_path)
+    key = store.key_for("/some/macro.zuml", "1")
+    store.save(key, "MACRO X\n", "/some/macro.zuml")
+    (found,) = RecoveryStore(tmp_path).pending()
+    assert (found.key, found.text, found.original) == (key, "MACRO X\n", "/some/macro.zuml")
+    store.discard(key)
+    assert store.pending() == []
+
+
+def test_a_damaged_note_still_gives_the_text_back(tmp_path):
+    store = RecoveryStore(tmp_path)
+    store.save("abc", "MACRO Y\n", None)
+    (tmp_path / "recovery" / "abc.json").write_text("{not json")
+    (found,) = store.pending()
+    assert found.text == "MACRO Y\n" and found.original is None
+
+
+def test_a_window_own_text_and_a_running_instance_are_not_offered(tmp_path):
+    import json
+    import subprocess
+    import sys
+    store = RecoveryStore(tmp_path)
+    store.save("mine", "t", None)
+    assert store.pending(own_key="mine") == []
+    other = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(30)"])
+    try:
+        store.save("theirs", "u", None)
+        note = tmp_path / "recovery" / "theirs.json"
+        note.write_text(json.dumps({"original": None, "saved_at": 1.0, "pid": other.pid}))
+        assert [r.key for r in store.pending(own_key="mine")] == []
+    finally:
+        other.kill()
+        other.wait()
+    assert [r.key for r in store.pending(own_key="mine")] == ["theirs"]
+
+
+def test_atomic_write_replaces_whole_file(tmp_path):
+    target = tmp_path / "a" / "f.bin"
+    atomic_write(target, b"one")
+    atomic_write(target, b"two")
+    assert target.read_bytes() == b"two"
+    assert [p.name for p in target.parent.iterdir()] == ["f.bin"]

@@ -1,0 +1,54 @@
+"""Reading and writing .zuml files so that a save gives back exactly the bytes
+that were opened: line endings and a UTF-8 byte-order mark are kept."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from .recovery import atomic_write
+
+EXTENSION = ".zuml"
+
+
+class MacroFileError(Exception):
+    pass
+
+
+@dataclass(frozen=True)
+class MacroFile:
+    text: str            # "\n" line endings, as the editor holds it
+    newline: str = "\n"
+    bom: bool = False
+
+    def encode(self, text: str | None = None) -> bytes:
+        body = (self.text if text is None else text).replace("\n", self.newline)
+        return ("\ufeff" if self.bom else "").encode("utf-8") + body.encode("utf-8")
+
+
+def read_macro_file(path: str | Path) -> MacroFile:
+    try:
+        data = Path(path).read_bytes()
+    except FileNotFoundError:
+        raise MacroFileError(f"{path}: no such file") from None
+    except IsADirectoryError:
+        raise MacroFileError(f"{path}: is a folder") from None
+    except OSError as exc:
+        raise MacroFileError(f"{path}: {exc.strerror or exc}") from None
+    bom = data.startswith(b"\xef\xbb\xbf")
+    try:
+        text = data[3 if bom else 0:].decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise MacroFileError(f"{path}: not UTF-8 text (byte 0x{data[exc.start]:02x} at offset {exc.start})") from None
+    if "\x00" in text:
+        raise MacroFileError(f"{path}: a binary file, not a macro (a compiled record? open it with Decompile)")
+    newline = "\r\n" if "\r\n" in text else "\n"
+    return MacroFile(text.replace("\r\n", "\n"), newline, bom)
+
+
+def write_macro_file(path: str | Path, text: str, like: MacroFile | None = None) -> MacroFile:
+    saved = MacroFile(text, like.newline if like else "\n", like.bom if like else False)
+    try:
+        atomic_write(Path(path), saved.encode())
+    except OSError as exc:
+        raise MacroFileError(f"{path}: cannot save: {exc.strerror or exc}") from None
+    return saved

@@ -1,0 +1,102 @@
+"""Crash recovery for unsaved editor text, without Qt.
+
+While a document has unsaved changes its text is written every few seconds to
+``<config>/recovery/<key>.zuml`` with a small JSON note beside it (which file it
+belongs to, when). A clean save or close removes both. Whatever is still there
+at the next start was left by a crash and is offered back.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+
+def config_dir() -> Path:
+    """Where settings, recovery files and user macros live (ZUML_STUDIO_CONFIG_DIR overrides it)."""
+    override = os.environ.get("ZUML_STUDIO_CONFIG_DIR")
+    if override:
+        return Path(override)
+    base = os.environ.get("XDG_CONFIG_HOME") or (Path.home() / ".config")
+    if os.name == "nt":
+        base = os.environ.get("APPDATA") or base
+    return Path(base) / "zuml-studio"
+
+
+def atomic_write(path: Path, data: bytes) -> None:
+    """Write beside the target, then rename over it: a crash never leaves half a file."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    with open(tmp, "wb") as fh:
+        fh.write(data)
+        fh.flush()
+        os.fsync(fh.fileno())
+    os.replace(tmp, path)
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (PermissionError, OSError):
+        return True
+    return True
+
+
+@dataclass(frozen=True)
+class Recovered:
+    key: str
+    text: str
+    original: str | None        # the file the text belongs to, None for an untitled document
+    saved_at: float
+
+
+class RecoveryStore:
+    def __init__(self, root: Path | None = None):
+        self.root = (root or config_dir()) / "recovery"
+
+    @staticmethod
+    def key_for(original: str | None, untitled_id: str) -> str:
+        seed = os.path.abspath(original) if original else f"untitled:{untitled_id}"
+        return hashlib.sha1(seed.encode("utf-8")).hexdigest()[:16]
+
+    def save(self, key: str, text: str, original: str | None) -> None:
+        atomic_write(self.root / f"{key}.zuml", text.encode("utf-8"))
+        note = {"original": original, "saved_at": time.time(), "pid": os.getpid()}
+        atomic_write(self.root / f"{key}.json", json.dumps(note).encode("utf-8"))
+
+    def discard(self, key: str) -> None:
+        for suffix in (".zuml", ".json"):
+            try:
+                (self.root / f"{key}{suffix}").unlink()
+            except FileNotFoundError:
+                pass
+
+    def pending(self, own_key: str = "") -> list[Recovered]:
+        """Texts left behind, newest first; a damaged note still gives its text back. Texts of
+        another ZUML Studio still running (its process alive) are not left behind, nor is ``own_key``."""
+        found: list[Recovered] = []
+        if not self.root.is_dir():
+            return found
+        for text_file in self.root.glob("*.zuml"):
+            key = text_file.stem
+            note: dict = {}
+            try:
+                note = json.loads((self.root / f"{key}.json").read_text(encoding="utf-8"))
+            except (OSError, ValueError):
+                pass
+            pid = note.get("pid")
+            if key == own_key or (isinstance(pid, int) and pid != os.getpid() and _alive(pid)):
+                continue
+            try:
+                text = text_file.read_bytes().decode("utf-8", errors="replace")
+            except OSError:
+                continue
+            saved_at = note.get("saved_at")
+            found.append(Recovered(key, text, note.get("original"),
+                                   saved_at if isinstance(saved_at, (int, float)) else text_file.stat().st_mtime))
+        return sorted(found, key=lambda r: -r.saved_at)
