@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 from .ast import Macro, Span
 from .builder import build
 from .checker import Finding, check
-from .diagnostics import Diagnostic, sort_key
+from .diagnostics import Diagnostic, Severity, sort_key
 from .parser import SyntaxProblem, parse_raw
 from .record import Encoded, encode
 
@@ -54,7 +54,8 @@ def compile_source(text: str) -> CompileResult:
     macro, diagnostics = build(raw)
     from .lint import lint   # the lint reads the checked AST; imported here to keep layers one-way
     findings = check(macro)
-    if not any(d.is_error for d in diagnostics):
+    # Safety warnings only make sense for a macro that could be stored.
+    if not any(d.is_error for d in diagnostics) and not any(f.severity is Severity.ERROR for f in findings):
         findings += lint(macro)
     diagnostics += [to_diagnostic(macro, f) for f in findings]
     diagnostics.sort(key=sort_key)
