@@ -1,0 +1,23 @@
+"""Main-window fixtures: each test gets its own window and config folder."""
+import pytest
+
+
+@pytest.fixture
+def make_window(qtbot, tmp_path):
+    from zuml_studio.ui import create_main_window
+
+    made = []
+
+    def make(path=None, config=None):
+        window = create_main_window(path, config or tmp_path / "config")
+        window.ask_unsaved = lambda: "discard"      # never a modal dialog in a test
+        window.ask_recover = lambda found: False
+        qtbot.addWidget(window)
+        window.resize(1400, 900)
+        window.show()
+        made.append(window)
+        return window
+
+    yield make
+    for window in made:
+        window.sim_panel.cancel()

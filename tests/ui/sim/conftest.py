@@ -1,0 +1,49 @@
+"""Simulator-panel fixtures: a shown panel, compiled seed macros."""
+import pytest
+
+from helpers import MACROS
+from zuml_studio.lang.compiler import compile_source
+
+RUN_TIMEOUT_MS = 60_000
+
+
+def _compiled(name_or_text: str) -> bytes:
+    text = name_or_text if "\n" in name_or_text else (MACROS / f"{name_or_text}.zuml").read_text()
+    result = compile_source(text)
+    assert result.ok, result.diagnostics
+    return result.record
+
+
+@pytest.fixture
+def compiled():
+    """name of a seed macro, or a macro's text -> its record"""
+    return _compiled
+
+
+@pytest.fixture
+def panel(qtbot):
+    from zuml_studio.ui.sim import SimulatorPanel
+
+    p = SimulatorPanel()
+    qtbot.addWidget(p)
+    p.resize(1400, 380)
+    p.show()
+    yield p
+    p.cancel()
+    p.wait(10_000)
+
+
+@pytest.fixture
+def run(panel, qtbot):
+    """Simulate a macro with the given form values; returns the SimResult."""
+
+    def run(macro: str, declared=None, **values):
+        panel.form.auto.setChecked(False)
+        panel.set_record(_compiled(macro), macro if "\n" not in macro else "T", declared)
+        if values:
+            panel.form.set_values(**values)
+        with qtbot.waitSignal(panel.simulationFinished, timeout=RUN_TIMEOUT_MS) as blocker:
+            panel.simulate()
+        return blocker.args[0]
+
+    return run

@@ -1,0 +1,63 @@
+"""``zuml-studio [FILE] [--screenshot OUT.png]``: the application entry point."""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+
+
+def _parse(argv: list[str] | None) -> argparse.Namespace:
+    parser = argparse.ArgumentParser(prog="zuml-studio", description="The IDE for ZUML 2.0 charger macros.")
+    parser.add_argument("file", nargs="?", metavar="FILE", help="a .zuml macro to open")
+    parser.add_argument("--screenshot", metavar="OUT.png",
+                        help="render the window offscreen with FILE open, checked and simulated, save it, exit")
+    parser.add_argument("--size", default="1600x1000", metavar="WxH", help="window size for --screenshot")
+    return parser.parse_args(argv)
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = _parse(argv)
+    if args.screenshot:
+        os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
+    from PySide6.QtWidgets import QApplication
+
+    from . import create_main_window
+
+    app = QApplication.instance() or QApplication(sys.argv[:1])
+    app.setApplicationName("ZUML Studio")
+    app.setOrganizationName("ZUML Studio")
+    if args.file and not os.path.isfile(args.file):
+        sys.stderr.write(f"zuml-studio: error: {args.file}: no such file\n")
+        return 2
+    window = create_main_window(args.file)
+    if args.screenshot:
+        return _screenshot(app, window, args.screenshot, args.size)
+    window.show()
+    window.offer_recovery()
+    return app.exec()
+
+
+def _screenshot(app, window, out: str, size: str) -> int:
+    try:
+        width, height = (int(x) for x in size.lower().split("x"))
+    except ValueError:
+        sys.stderr.write(f"zuml-studio: error: --size {size!r} is not WxH\n")
+        return 2
+    window.resize(width, height)
+    window.show()
+    window.validate_now()
+    if window.validator.last and window.validator.last.ok:
+        window.sim_panel.simulate()
+        window.sim_panel.wait(120_000)
+    for _ in range(5):
+        app.processEvents()
+    if not window.grab().save(out):
+        sys.stderr.write(f"zuml-studio: error: cannot write {out}\n")
+        return 2
+    window.editor.document().setModified(False)
+    window.close()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,92 @@
+"""The macro library: the project's standard macros and the user's own folder.
+Each entry says its chemistry and size, read by compiling it (a few ms for all)."""
+from __future__ import annotations
+
+from pathlib import Path
+
+from PySide6.QtCore import QFileSystemWatcher, Qt, Signal
+from PySide6.QtGui import QColor
+from PySide6.QtWidgets import QHeaderView, QTreeWidget, QTreeWidgetItem
+
+from ..lang import opcodes as ops
+from ..lang.compiler import compile_source
+from ..macro_file import EXTENSION, MacroFileError, read_macro_file
+
+_PATH = Qt.ItemDataRole.UserRole
+STANDARD_MACROS = Path(__file__).resolve().parents[2] / "macros"
+
+
+def describe(path: Path) -> tuple[str, str, bool]:
+    """(chemistry, size text, valid) of a macro file."""
+    try:
+        text = read_macro_file(path).text
+    except MacroFileError:
+        return "?", "unreadable", False
+    result = compile_source(text)
+    akk = result.macro.declared(ops.AKK_TYPE) if result.macro else None
+    chemistry = ops.AKK_TYPE.operands[0].kind.format(akk.args[0].raw) if akk else "-"
+    if not result.ok:
+        return chemistry, f"{len(result.errors)} error(s)", False
+    return chemistry, f"{len(result.record)} B", True
+
+
+class LibraryBrowser(QTreeWidget):
+    fileActivated = Signal(str)
+
+    def __init__(self, user_dir: Path, parent=None):
+        super().__init__(parent)
+        self.setObjectName("libraryBrowser")
+        self.user_dir = user_dir
+        self.setColumnCount(3)
+        self.setHeaderLabels(["Macro", "Type", "Size"])
+        header = self.header()
+        header.setSectionResizeMode(0, QHeaderView.ResizeMode.Stretch)
+        header.setSectionResizeMode(1, QHeaderView.ResizeMode.ResizeToContents)
+        header.setSectionResizeMode(2, QHeaderView.ResizeMode.ResizeToContents)
+        header.setStretchLastSection(False)
+        self.itemActivated.connect(self._activated)
+        self.itemDoubleClicked.connect(self._activated)
+        self._watcher = QFileSystemWatcher(self)
+        self._watcher.directoryChanged.connect(lambda _path: self.refresh())
+        self.refresh()
+
+    def folders(self) -> list[tuple[str, Path]]:
+        return [("Standard macros", STANDARD_MACROS), ("My macros", self.user_dir)]
+
+    def refresh(self) -> None:
+        self.clear()
+        for title, folder in self.folders():
+            root = QTreeWidgetItem([title, "", ""])
+            root.setToolTip(0, str(folder))
+            font = root.font(0)
+            font.setBold(True)
+            root.setFont(0, font)
+            self.addTopLevelItem(root)
+            files = sorted(folder.glob(f"*{EXTENSION}"), key=lambda p: p.name.lower()) if folder.is_dir() else []
+            for path in files:
+                chemistry, size, valid = describe(path)
+                item = QTreeWidgetItem([path.stem, chemistry, size])
+                item.setData(0, _PATH, str(path))
+                item.setToolTip(0, str(path))
+                if not valid:
+                    item.setForeground(2, QColor("#b00020"))
+                root.addChild(item)
+            if not files:
+                empty = QTreeWidgetItem(["(no macros yet)" if folder == self.user_dir else "(none)", "", ""])
+                empty.setForeground(0, QColor("#888888"))
+                root.addChild(empty)
+            root.setExpanded(True)
+            if folder.is_dir() and str(folder) not in self._watcher.directories():
+                self._watcher.addPath(str(folder))
+
+    def paths(self) -> list[str]:
+        out = []
+        for i in range(self.topLevelItemCount()):
+            root = self.topLevelItem(i)
+            out += [root.child(j).data(0, _PATH) for j in range(root.childCount()) if root.child(j).data(0, _PATH)]
+        return out
+
+    def _activated(self, item: QTreeWidgetItem, _column: int = 0) -> None:
+        path = item.data(0, _PATH)
+        if path:
+            self.fileActivated.emit(path)

@@ -1,0 +1,50 @@
+"""The problems list: every diagnostic of the open macro; activating one moves the cursor."""
+from __future__ import annotations
+
+from PySide6.QtCore import Qt, Signal
+from PySide6.QtGui import QColor
+from PySide6.QtWidgets import QHeaderView, QStyle, QTreeWidget, QTreeWidgetItem
+
+from ..lang.diagnostics import Diagnostic
+
+_ROLE = Qt.ItemDataRole.UserRole
+
+
+class ProblemsView(QTreeWidget):
+    problemActivated = Signal(int, int)     # line, column (1-based)
+
+    def __init__(self, parent=None):
+        super().__init__(parent)
+        self.setObjectName("problems")
+        self.setRootIsDecorated(False)
+        self.setUniformRowHeights(True)
+        self.setAlternatingRowColors(True)
+        self.setColumnCount(4)
+        self.setHeaderLabels(["", "Line:Col", "Message", "Code"])
+        header = self.header()
+        header.setSectionResizeMode(0, QHeaderView.ResizeMode.ResizeToContents)
+        header.setSectionResizeMode(1, QHeaderView.ResizeMode.ResizeToContents)
+        header.setSectionResizeMode(2, QHeaderView.ResizeMode.Stretch)
+        header.setSectionResizeMode(3, QHeaderView.ResizeMode.ResizeToContents)
+        header.setStretchLastSection(False)
+        self.itemActivated.connect(self._activated)
+        self.itemDoubleClicked.connect(self._activated)
+        style = self.style()
+        self._icons = {True: style.standardIcon(QStyle.StandardPixmap.SP_MessageBoxCritical),
+                       False: style.standardIcon(QStyle.StandardPixmap.SP_MessageBoxWarning)}
+
+    def set_diagnostics(self, diagnostics: list[Diagnostic]) -> None:
+        self.clear()
+        for d in diagnostics:
+            text = d.message + (f" — {d.hint}" if d.hint else "")
+            item = QTreeWidgetItem(["", f"{d.line}:{d.column}", text, d.code])
+            item.setIcon(0, self._icons[d.is_error])
+            item.setToolTip(2, f"{d.message}\n{d.hint}" if d.hint else d.message)
+            item.setData(0, _ROLE, (d.line, d.column))
+            if not d.is_error:
+                item.setForeground(3, QColor("#9a5b00"))
+            self.addTopLevelItem(item)
+
+    def _activated(self, item: QTreeWidgetItem, _column: int = 0) -> None:
+        line, column = item.data(0, _ROLE)
+        self.problemActivated.emit(line, column)

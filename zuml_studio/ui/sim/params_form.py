@@ -1,0 +1,259 @@
+"""What the user enters at start on the charger, and the simulated battery: a compact
+two-column form for the simulator panel's left side, with Simulate/Cancel and the
+progress of the running simulation."""
+from __future__ import annotations
+
+from PySide6.QtCore import Qt, Signal
+from PySide6.QtWidgets import (QAbstractSpinBox, QCheckBox, QComboBox, QDoubleSpinBox, QGridLayout, QHBoxLayout,
+                               QLabel, QProgressBar, QPushButton, QSizePolicy, QSpinBox, QWidget)
+
+from ...sim.chemistry import chemistry_names
+from ...sim.interpreter import StartParams
+from ...sim.simulate import BatterySetup
+from ..timefmt import hmm
+
+TASKS = (("charge", "Charge"), ("discharge", "Discharge"), ("train", "Train"))
+FROM_AKK = "from AKK_TYPE"
+MODEL_TIP = "the battery model; 'from AKK_TYPE' uses the chemistry the macro declares"
+FIELD_WIDTH = 104
+
+DEFAULTS = {"task": "charge", "repetitions": 3, "capacity_mah": 2000, "current_a": 2.0, "series": 4,
+            "voltage_v": None, "chemistry": None, "soc_percent": None, "ambient_c": 25.0, "sensor": True,
+            "auto": True}
+
+
+class ParamsForm(QWidget):
+    simulateRequested = Signal()
+    cancelRequested = Signal()
+    changed = Signal()                  # the user changed a parameter of the run
+    autoToggled = Signal(bool)
+
+    def __init__(self, parent: QWidget | None = None):
+        super().__init__(parent)
+        self.setObjectName("simParams")
+        self._programmatic = False
+        self._edited: set[str] = set()      # fields the user changed: macro hints never override them
+        self._declared_akk = ""
+
+        self.task = QComboBox()
+        for key, text in TASKS:
+            self.task.addItem(text, key)
+        self.task.setToolTip("What the charger is started for: charge, discharge, or training "
+                             "(discharge + charge, repeated)")
+        self.repetitions = self._spin(1, 255, DEFAULTS["repetitions"], "", "training: discharge+charge this many times")
+        self.repetitions.setPrefix("× ")
+        self.capacity = self._spin(10, 65000, DEFAULTS["capacity_mah"], " mAh",
+                                   "the battery's capacity, entered at start (and the model's size)")
+        self.capacity.setSingleStep(100)
+        self.current = self._dspin(0.01, 50.0, DEFAULTS["current_a"], " A", 2, 0.1,
+                                   "the current entered at start (CONSTANT_I=INPUT; the limit of a CONSTANT_V phase)")
+        self.series = self._spin(1, 255, DEFAULTS["series"], "", "cells in series (used when the macro has no SERIES)")
+        self.series.setSuffix(" cells")
+        self.voltage = self._dspin(0.0, 100.0, 0.0, " V", 2, 0.1,
+                                   "the voltage entered at start, for macros that take one (INPUT); — none")
+        self.voltage.setSpecialValueText("—")
+        self.model = QComboBox()
+        self.model.addItem(FROM_AKK, None)
+        for name in chemistry_names():
+            self.model.addItem(name, name)
+        self.model.setToolTip(MODEL_TIP)
+        self._size(self.model).setMaximumWidth(2 * FIELD_WIDTH)
+        self._size(self.task)
+        self.initial = self._spin(-1, 100, -1, " %", "initial state of charge: auto = empty for a charge, "
+                                  "full for a discharge or a training")
+        self.initial.setSpecialValueText("auto")
+        self.ambient = self._dspin(-20.0, 60.0, DEFAULTS["ambient_c"], " °C", 0, 1.0, "ambient temperature")
+        self.sensor = QCheckBox("T sensor")
+        self.sensor.setChecked(DEFAULTS["sensor"])
+        self.sensor.setToolTip("a battery temperature sensor is connected (without one, the default "
+                               "T and dT/dt stops cannot act)")
+        self.auto = QCheckBox("Auto re-simulate")
+        self.auto.setChecked(DEFAULTS["auto"])
+        self.auto.setToolTip("simulate again whenever the macro compiles to a new record or a parameter changes")
+
+        self.simulate_button = QPushButton("Simulate")
+        self.simulate_button.setToolTip("Run the macro against the battery model (F5)")
+        self.simulate_button.setDefault(True)
+        self.cancel_button = QPushButton("Cancel")
+        self.cancel_button.setToolTip("Stop the running simulation (Shift+F5)")
+        self.cancel_button.setEnabled(False)
+        self.progress = QProgressBar()
+        self.progress.setObjectName("simProgress")
+        self.progress.setTextVisible(False)
+        self.progress.setFixedHeight(10)
+        self.progress_label = QLabel("")
+        self.progress_label.setObjectName("simProgressLabel")
+        self.progress_label.setStyleSheet("color:#555;")
+        self.set_running(False)
+
+        grid = QGridLayout(self)
+        grid.setContentsMargins(6, 4, 6, 4)
+        grid.setHorizontalSpacing(6)
+        grid.setVerticalSpacing(3)
+        rows = ((("Task", self.task), ("Reps", self.repetitions)),
+                (("Capacity", self.capacity), ("Current", self.current)),
+                (("Cells", self.series), ("Voltage", self.voltage)),
+                (("Model", self.model),),
+                (("Initial", self.initial), ("Ambient", self.ambient)),
+                ((None, self.sensor), (None, self.auto)))
+        for r, pair in enumerate(rows):
+            for c, (text, widget) in enumerate(pair):
+                span = 2 if len(pair) > 1 else 4
+                if text:
+                    label = QLabel(text)
+                    label.setBuddy(widget)
+                    label.setToolTip(widget.toolTip())
+                    grid.addWidget(label, r, 2 * c)
+                    grid.addWidget(widget, r, 2 * c + 1, 1, span - 1)
+                else:
+                    grid.addWidget(widget, r, 2 * c, 1, span)
+        buttons = QHBoxLayout()
+        buttons.setSpacing(4)
+        buttons.addWidget(self.simulate_button)
+        buttons.addWidget(self.cancel_button)
+        buttons.addStretch(1)
+        grid.addLayout(buttons, len(rows), 0, 1, 4)
+        status = QHBoxLayout()
+        status.setSpacing(6)
+        status.addWidget(self.progress, 1)
+        status.addWidget(self.progress_label)
+        grid.addLayout(status, len(rows) + 1, 0, 1, 4)
+        grid.setRowStretch(len(rows) + 2, 1)
+        grid.setColumnStretch(1, 1)
+        grid.setColumnStretch(3, 1)
+
+        for name, widget in self._fields().items():
+            self._watch(name, widget)
+        self.task.currentIndexChanged.connect(self._task_changed)
+        self.auto.toggled.connect(self.autoToggled)
+        self.simulate_button.clicked.connect(self.simulateRequested)
+        self.cancel_button.clicked.connect(self.cancelRequested)
+        self._task_changed()
+
+    # -- building --------------------------------------------------------------------------
+    @staticmethod
+    def _size(widget):
+        widget.setMaximumWidth(FIELD_WIDTH)
+        widget.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
+        if isinstance(widget, QAbstractSpinBox):
+            widget.setKeyboardTracking(False)       # one change per typed number, not per digit
+            widget.setAlignment(Qt.AlignmentFlag.AlignRight)
+        return widget
+
+    def _spin(self, lo: int, hi: int, value: int, suffix: str, tip: str) -> QSpinBox:
+        box = QSpinBox()
+        box.setRange(lo, hi)
+        box.setValue(value)
+        box.setSuffix(suffix)
+        box.setToolTip(tip)
+        return self._size(box)
+
+    def _dspin(self, lo: float, hi: float, value: float, suffix: str, decimals: int, step: float,
+               tip: str) -> QDoubleSpinBox:
+        box = QDoubleSpinBox()
+        box.setDecimals(decimals)
+        box.setRange(lo, hi)
+        box.setSingleStep(step)
+        box.setValue(value)
+        box.setSuffix(suffix)
+        box.setToolTip(tip)
+        return self._size(box)
+
+    def _fields(self) -> dict[str, QWidget]:
+        return {"task": self.task, "repetitions": self.repetitions, "capacity_mah": self.capacity,
+                "current_a": self.current, "series": self.series, "voltage_v": self.voltage,
+                "chemistry": self.model, "soc_percent": self.initial, "ambient_c": self.ambient,
+                "sensor": self.sensor}
+
+    def _watch(self, name: str, widget: QWidget) -> None:
+        if isinstance(widget, QComboBox):
+            signal = widget.currentIndexChanged
+        elif isinstance(widget, QCheckBox):
+            signal = widget.toggled
+        else:
+            signal = widget.valueChanged
+        signal.connect(lambda *_: self._user_changed(name))
+
+    def _user_changed(self, name: str) -> None:
+        if self._programmatic:
+            return
+        self._edited.add(name)
+        self.changed.emit()
+
+    def _task_changed(self) -> None:
+        self.repetitions.setEnabled(self.task.currentData() == "train")
+
+    # -- values ----------------------------------------------------------------------------
+    def start_params(self) -> StartParams:
+        voltage = self.voltage.value()
+        return StartParams(task=self.task.currentData(), repetitions=self.repetitions.value(),
+                           capacity_mah=float(self.capacity.value()), current_a=self.current.value(),
+                           voltage_v=voltage if voltage > 0 else None, series=self.series.value(),
+                           sensor=self.sensor.isChecked())
+
+    def battery_setup(self) -> BatterySetup:
+        soc = self.initial.value()
+        return BatterySetup(chemistry=self.model.currentData(), soc=None if soc < 0 else soc / 100.0,
+                            ambient_c=self.ambient.value())
+
+    def auto_resimulate(self) -> bool:
+        return self.auto.isChecked()
+
+    def set_values(self, **values) -> None:
+        """Set fields as if the user typed them (keys as in ``DEFAULTS``); emits ``changed`` once."""
+        for name, value in values.items():
+            self._set(name, value)
+            self._edited.add(name)
+        if values:
+            self.changed.emit()
+
+    def _set(self, name: str, value) -> None:
+        widget = self._fields()[name]
+        was, self._programmatic = self._programmatic, True
+        try:
+            if isinstance(widget, QComboBox):
+                index = widget.findData(value)
+                widget.setCurrentIndex(index if index >= 0 else 0)
+            elif isinstance(widget, QCheckBox):
+                widget.setChecked(bool(value))
+            elif name == "soc_percent":
+                widget.setValue(-1 if value is None else int(round(value)))
+            elif name == "voltage_v":
+                widget.setValue(value or 0.0)
+            else:
+                widget.setValue(value)
+        finally:
+            self._programmatic = was
+
+    def apply_declared(self, declared: dict | None) -> bool:
+        """Prefill from the macro's own declarations, leaving alone whatever the user typed.
+        Returns whether a value of the run changed."""
+        declared = declared or {}
+        changed = False
+        for name in ("capacity_mah", "series"):
+            value = declared.get(name)
+            if value and name not in self._edited and self._fields()[name].value() != value:
+                self._set(name, value)
+                changed = True
+        akk = str(declared.get("chemistry") or "")
+        if akk != self._declared_akk:
+            self._declared_akk = akk
+            tip = f"{MODEL_TIP} (this one declares AKK_TYPE={akk})" if akk else MODEL_TIP
+            self.model.setToolTip(tip)
+            self.model.setItemData(0, tip, Qt.ItemDataRole.ToolTipRole)
+        return changed
+
+    def edited(self) -> frozenset[str]:
+        return frozenset(self._edited)
+
+    # -- running ---------------------------------------------------------------------------
+    def set_running(self, running: bool) -> None:
+        self.cancel_button.setEnabled(running)
+        self.progress.setRange(0, 0 if running else 1)   # 0..0: the busy indicator
+        self.progress.setValue(0)
+        self.progress.setVisible(running)
+        if running:
+            self.progress_label.setText("starting…")
+
+    def set_progress(self, seconds: float) -> None:
+        self.progress_label.setText(f"{hmm(seconds)} simulated")

@@ -1,0 +1,156 @@
+"""One row per phase the simulation ran: when, how long, why it ended and what went
+in and out. Phases a default safety condition ended (not the macro) are flagged."""
+from __future__ import annotations
+
+from PySide6.QtCore import Qt, Signal
+from PySide6.QtGui import QBrush, QColor
+from PySide6.QtWidgets import QAbstractItemView, QHeaderView, QStyle, QTableWidget, QTableWidgetItem
+
+from ..timefmt import duration, hmm, hmmss
+
+COLUMNS = ("#", "section", "phase", "start", "end", "duration", "end reason", "mAh in", "mAh out", "V end", "T end")
+REASON_COLUMN = COLUMNS.index("end reason")
+DEFAULT_TIP = "ended by a default safety condition, not by the macro"
+WARN_FG = QColor("#a04000")
+WARN_BG = QColor("#fff3d6")
+SECTION_TINT = {"charge": QColor(74, 134, 232, 60), "discharge": QColor(232, 96, 74, 60)}   # as the plot's bands
+OFFSET_ROLE = Qt.ItemDataRole.UserRole + 1
+
+
+class PhaseTable(QTableWidget):
+    phaseActivated = Signal(int)        # byte offset of the phase's FAZE
+    phaseSelected = Signal(int)         # row (= phase run - 1), -1 for none
+
+    def __init__(self, parent=None):
+        super().__init__(0, len(COLUMNS), parent)
+        self.setObjectName("phaseTable")
+        self.setHorizontalHeaderLabels(COLUMNS)
+        self.setEditTriggers(QAbstractItemView.EditTrigger.NoEditTriggers)
+        self.setSelectionBehavior(QAbstractItemView.SelectionBehavior.SelectRows)
+        self.setSelectionMode(QAbstractItemView.SelectionMode.SingleSelection)
+        self.setAlternatingRowColors(True)
+        self.setWordWrap(False)
+        self.setHorizontalScrollMode(QAbstractItemView.ScrollMode.ScrollPerPixel)
+        font = self.font()
+        font.setPointSizeF(max(7.0, font.pointSizeF() - 1))
+        self.setFont(font)
+        self.horizontalHeader().setFont(font)
+        self.verticalHeader().setVisible(False)
+        self.verticalHeader().setDefaultSectionSize(self.fontMetrics().height() + 6)
+        header = self.horizontalHeader()
+        header.setHighlightSections(False)
+        header.setSectionsMovable(True)
+        header.setSectionResizeMode(QHeaderView.ResizeMode.Interactive)
+        header.setStretchLastSection(False)
+        header.setDefaultAlignment(Qt.AlignmentFlag.AlignLeft | Qt.AlignmentFlag.AlignVCenter)
+        tips = {"phase": "position of the FAZE in its section (and the CYCLE pass)",
+                "end reason": "the condition that ended the phase", "V end": "pack voltage at the end",
+                "T end": "battery temperature at the end (the model's, also without a sensor)"}
+        for col, name in enumerate(COLUMNS):
+            if name in tips:
+                self.horizontalHeaderItem(col).setToolTip(tips[name])
+        self._warn_icon = self.style().standardIcon(QStyle.StandardPixmap.SP_MessageBoxWarning)
+        self.cellDoubleClicked.connect(self._double_clicked)
+        self.itemSelectionChanged.connect(self._selection_changed)
+        self.setToolTip("Double-click a phase to show its FAZE in the editor")
+
+    def set_result(self, result) -> None:
+        """Fill from a SimResult (or clear with None)."""
+        self.setSortingEnabled(False)
+        self.clearContents()
+        phases = list(result.phases) if result is not None else []
+        series = getattr(result, "series", 1) or 1
+        training = any(p.repetition > 1 for p in phases)
+        self.setRowCount(len(phases))
+        for row, p in enumerate(phases):
+            ended = bool(p.reason)
+            section = p.section + (f" · rep {p.repetition}" if training else "")
+            phase = f"{p.index}" + (f" (pass {p.cycle_pass})" if p.cycle_pass else "") if p.index else "default"
+            cells = (str(p.run or row + 1), section, phase, hmmss(p.start_s),
+                     hmmss(p.end_s) if ended else "…", duration(p.end_s - p.start_s) if ended else "",
+                     p.reason or "(running)", f"{p.mah_in:.1f}", f"{p.mah_out:.1f}",
+                     f"{p.v_end:.3f}" if ended else "", f"{p.temp_end:.1f}" if ended else "")
+            for col, text in enumerate(cells):
+                item = QTableWidgetItem(text)
+                item.setData(OFFSET_ROLE, p.offset)
+                if col in (0, 3, 4, 5, 7, 8, 9, 10):
+                    item.setTextAlignment(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
+                if col == 9 and ended:
+                    item.setToolTip(f"{p.v_end:.3f} V pack, {p.v_end / series:.3f} V per cell")
+                elif col == 4 and ended:
+                    item.setToolTip(hmm(p.end_s))
+                self.setItem(row, col, item)
+            tint = SECTION_TINT.get(p.section)
+            if tint is not None:
+                self.item(row, 1).setBackground(QBrush(tint))
+            if p.by_default:
+                self._flag(row)
+            else:
+                self.item(row, REASON_COLUMN).setToolTip(p.reason)
+        self.resizeColumnsToContents()
+        header = self.horizontalHeader()
+        for col in range(len(COLUMNS)):
+            header.resizeSection(col, min(header.sectionSize(col) + 2, 320))
+
+    def _flag(self, row: int) -> None:
+        for col in range(self.columnCount()):
+            item = self.item(row, col)
+            item.setForeground(QBrush(WARN_FG))
+            item.setBackground(QBrush(WARN_BG))
+            item.setToolTip(DEFAULT_TIP)
+        reason = self.item(row, REASON_COLUMN)
+        reason.setIcon(self._warn_icon)
+        reason.setToolTip(f"{reason.text()}: {DEFAULT_TIP}")
+
+    def is_flagged(self, row: int) -> bool:
+        item = self.item(row, REASON_COLUMN)
+        return item is not None and DEFAULT_TIP in (item.toolTip() or "")
+
+    def offset_of(self, row: int) -> int:
+        item = self.item(row, 0)
+        return int(item.data(OFFSET_ROLE)) if item is not None else -1
+
+    def select_phase(self, row: int) -> None:
+        """Select (and show) a row without re-emitting phaseSelected."""
+        self.blockSignals(True)
+        try:
+            if 0 <= row < self.rowCount():
+                self.selectRow(row)
+                self.scrollToItem(self.item(row, 0))
+            else:
+                self.clearSelection()
+        finally:
+            self.blockSignals(False)
+
+    def _double_clicked(self, row: int, _col: int) -> None:
+        offset = self.offset_of(row)
+        if offset >= 0:
+            self.phaseActivated.emit(offset)
+
+    def _selection_changed(self) -> None:
+        rows = {i.row() for i in self.selectedIndexes()}
+        self.phaseSelected.emit(min(rows) if rows else -1)
+
+
+def totals_text(result) -> str:
+    """The run in one line: duration, charge in and out, how it ended; for a training the
+    capacity each discharge measured."""
+    if result is None:
+        return ""
+    t = result.totals()
+    parts = [f"total {hmmss(t['duration_s'])}", f"in {t['mah_in']:.0f} mAh", f"out {t['mah_out']:.0f} mAh",
+             f"end: {t['end'] or '—'}"]
+    defaults = sum(1 for p in result.phases if p.by_default)
+    if defaults:
+        parts.append(f"⚠ {defaults} phase{'s' if defaults > 1 else ''} ended by a default")
+    text = " · ".join(parts)
+    if result.interpreter.params.task == "train":
+        measured = [r["discharged_mah"] for r in result.repetitions() if r["discharged_mah"] > 0]
+        if measured:
+            if len(measured) <= 6:
+                caps = ", ".join(f"{m:.0f}" for m in measured)
+            else:
+                caps = (", ".join(f"{m:.0f}" for m in measured[:3]) + ", … " + f"{measured[-1]:.0f}"
+                        + f" (avg {sum(measured) / len(measured):.0f})")
+            text += f"\nmeasured capacity per discharge: {caps} mAh"
+    return text

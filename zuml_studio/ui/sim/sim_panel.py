@@ -1,0 +1,326 @@
+"""The simulator panel: parameters on the left, the run's plot in the middle and its
+phases on the right. It simulates the latest valid record in a worker thread,
+again on every change if asked to, and keeps showing the last run while the
+macro has errors."""
+from __future__ import annotations
+
+from PySide6.QtCore import QElapsedTimer, QEventLoop, Qt, QTimer, Signal
+from PySide6.QtWidgets import (QApplication, QHBoxLayout, QLabel, QScrollArea, QSizePolicy, QSplitter, QVBoxLayout,
+                               QWidget)
+
+from ..timefmt import hmm
+from .charge_plot import ChargePlot
+from .params_form import ParamsForm
+from .phase_table import PhaseTable, totals_text
+from .worker import SimJob, SimRequest
+
+DEBOUNCE_MS = 300
+STALE_HINT = "showing the last valid version (the macro has errors)"
+OUTDATED_HINT = "the macro or the parameters changed since this run: Simulate (F5)"
+COLORS = {"info": "#6a6a6a", "error": "#b00020", "warn": "#a04000"}
+
+
+class SimulatorPanel(QWidget):
+    simulationFinished = Signal(object)     # the SimResult of a run that reached its end
+    phaseActivated = Signal(int)            # byte offset of the FAZE of a double-clicked phase
+
+    def __init__(self, parent: QWidget | None = None):
+        super().__init__(parent)
+        self.setObjectName("simulatorPanel")
+        self._record: bytes | None = None
+        self._macro_name = ""
+        self._stale = False                 # the text has errors now: what is shown is from before
+        self._outdated = False              # record or parameters changed since the shown run
+        self._job: SimJob | None = None
+        self._result = None
+        self._clock = QElapsedTimer()
+        self._sized = False
+
+        self.form = ParamsForm()
+        self.plot = ChargePlot()
+        self.table = PhaseTable()
+        self.run_label = QLabel("")
+        self.run_label.setObjectName("simRunLabel")
+        self.run_label.setStyleSheet(f"color:{COLORS['info']};")
+        self.run_label.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
+        self.run_label.setVisible(False)
+        self.message = QLabel("")
+        self.message.setObjectName("simMessage")
+        self.message.setWordWrap(True)
+        self.message.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+        self.message.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Preferred)
+        self.message.setAlignment(Qt.AlignmentFlag.AlignLeft | Qt.AlignmentFlag.AlignVCenter)
+        self.hint = QLabel("")
+        self.hint.setObjectName("simHint")
+        self.hint.setStyleSheet(f"color:{COLORS['info']}; font-style:italic;")
+        self.hint.setVisible(False)
+        self.totals = QLabel("")
+        self.totals.setObjectName("simTotals")
+        self.totals.setWordWrap(True)
+        self.totals.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+        self.totals.setContentsMargins(2, 2, 2, 0)
+
+        params_scroll = QScrollArea()
+        params_scroll.setWidget(self.form)
+        params_scroll.setWidgetResizable(True)
+        params_scroll.setFrameShape(QScrollArea.Shape.NoFrame)
+        params_scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        params_scroll.setMinimumWidth(self.form.minimumSizeHint().width() + 4)
+        self.params_scroll = params_scroll
+
+        table_box = QWidget()
+        table_layout = QVBoxLayout(table_box)
+        table_layout.setContentsMargins(0, 0, 0, 0)
+        table_layout.setSpacing(2)
+        table_layout.addWidget(self.table, 1)
+        table_layout.addWidget(self.totals)
+
+        self.splitter = QSplitter(Qt.Orientation.Horizontal)
+        self.splitter.setObjectName("simSplitter")
+        self.splitter.setChildrenCollapsible(False)
+        self.splitter.addWidget(params_scroll)
+        self.splitter.addWidget(self.plot)
+        self.splitter.addWidget(table_box)
+        self.splitter.setStretchFactor(0, 0)
+        self.splitter.setStretchFactor(1, 3)
+        self.splitter.setStretchFactor(2, 2)
+        self.plot.setMinimumWidth(280)
+        table_box.setMinimumWidth(180)
+
+        header_box = QWidget()
+        header_box.setObjectName("simHeader")
+        header_box.setMinimumHeight(self.fontMetrics().height() + 4)     # no jump when a message comes
+        header = QHBoxLayout(header_box)
+        header.setContentsMargins(6, 2, 6, 0)
+        header.setSpacing(12)
+        header.addWidget(self.run_label, 2)
+        header.addWidget(self.hint, 0)
+        header.addWidget(self.message, 3)
+        layout = QVBoxLayout(self)
+        layout.setContentsMargins(0, 0, 0, 0)
+        layout.setSpacing(2)
+        layout.addWidget(header_box)
+        layout.addWidget(self.splitter, 1)
+
+        self._debounce = QTimer(self, singleShot=True, interval=DEBOUNCE_MS)
+        self._debounce.timeout.connect(self.simulate)
+        self.form.simulateRequested.connect(self.simulate)
+        self.form.cancelRequested.connect(self.cancel)
+        self.form.changed.connect(self._params_changed)
+        self.form.autoToggled.connect(self._auto_toggled)
+        self.table.phaseActivated.connect(self.phaseActivated)
+        self.plot.phaseActivated.connect(self.phaseActivated)
+        self.table.phaseSelected.connect(self.plot.highlight)
+        self.plot.phaseClicked.connect(self._band_clicked)
+        self._show_message("no simulation yet: Simulate (F5) runs the macro against a battery model", "info")
+
+    # -- the interface the main window uses ------------------------------------------------
+    def set_record(self, record: bytes | None, macro_name: str = "", declared: dict | None = None) -> None:
+        """The latest valid compiled record, or None while the text has errors."""
+        if record is None:
+            self._stale = True
+            self._refresh_hint()
+            return
+        self._stale = False
+        record = bytes(record)
+        new_record = record != self._record
+        params_changed = self.form.apply_declared(declared)
+        self._record, self._macro_name = record, macro_name or self._macro_name
+        if new_record or params_changed:
+            self._changed()
+        else:
+            self._refresh_hint()
+
+    def simulate(self) -> None:
+        """Start now (the previous run, if any, is dropped)."""
+        self._debounce.stop()
+        if self._record is None:
+            self._show_message("nothing to simulate: the macro has not compiled yet", "error")
+            return
+        self._drop_job()
+        request = SimRequest(self._record, self.form.start_params(), self.form.battery_setup(), self._macro_name)
+        job = SimJob(request)
+        worker = job.worker
+        worker.progress.connect(self._on_progress)
+        worker.done.connect(self._on_done)
+        worker.cancelled.connect(self._on_cancelled)
+        worker.failed.connect(self._on_failed)
+        worker.ended.connect(self._on_ended)
+        self._job = job
+        self._outdated = False
+        self.form.set_running(True)
+        self._show_message("", "")
+        self._refresh_hint()
+        self._clock.start()
+        job.start()
+
+    def cancel(self) -> None:
+        self._debounce.stop()
+        if self._job is not None:
+            self._job.cancel()
+            self._show_message("cancelling…", "warn")
+
+    def result(self):
+        """The SimResult shown (a cancelled run's partial one included), None before any."""
+        return self._result
+
+    def export_csv(self, path: str) -> bool:
+        if self._result is None:
+            self._show_message("nothing to export: simulate first", "error")
+            return False
+        try:
+            with open(path, "w", encoding="utf-8", newline="") as fh:
+                self._result.log.write_csv(fh)
+        except OSError as exc:
+            self._show_message(f"cannot write {path}: {exc.strerror or exc}", "error")
+            return False
+        return True
+
+    def export_png(self, path: str) -> bool:
+        if not self.plot.export_png(path):
+            self._show_message(f"cannot write {path}", "error")
+            return False
+        return True
+
+    # -- extras (tests, screenshots) -------------------------------------------------------
+    def is_running(self) -> bool:
+        return self._job is not None
+
+    def wait(self, msecs: int = 30_000) -> bool:
+        """Run the event loop until the current simulation has been shown; False on timeout."""
+        clock = QElapsedTimer()
+        clock.start()
+        while self._job is not None and clock.elapsed() < msecs:
+            job = self._job
+            job.thread.wait(10)
+            QApplication.processEvents(QEventLoop.ProcessEventsFlag.AllEvents, 50)
+        return self._job is None
+
+    def message_text(self) -> str:
+        """The status line as the user reads it: the hint, then the message."""
+        return " ".join(t for t in (self.hint.text() if self.hint.isVisibleTo(self) else "",
+                                    self.message.text()) if t)
+
+    # -- running ---------------------------------------------------------------------------
+    def _drop_job(self) -> None:
+        """Cancel the current job and forget it: whatever it still reports is ignored."""
+        if self._job is not None:
+            self._job.cancel()
+            self._job = None
+            self.form.set_running(False)
+
+    def _current(self, job_id: int) -> bool:
+        return self._job is not None and self._job.id == job_id
+
+    def _on_progress(self, job_id: int, seconds: float) -> None:
+        if self._current(job_id):
+            self.form.set_progress(seconds)
+
+    def _on_done(self, job_id: int, result) -> None:
+        if not self._current(job_id):
+            return
+        self._show(result)
+        self.form.progress_label.setText(f"{hmm(result.interpreter.time_s)} simulated "
+                                         f"in {self._clock.elapsed() / 1000:.1f} s")
+        self._refresh_hint()
+        self.simulationFinished.emit(result)
+
+    def _on_cancelled(self, job_id: int, result) -> None:
+        if not self._current(job_id):
+            return
+        if result is not None:
+            self._show(result)
+            at = hmm(result.interpreter.time_s)
+            self.form.progress_label.setText(f"cancelled at {at}")
+            self._show_message(f"cancelled at {at} (simulated time): showing the run so far", "warn")
+        else:
+            self.form.progress_label.setText("cancelled")
+            self._show_message("cancelled", "warn")
+
+    def _on_failed(self, job_id: int, message: str) -> None:
+        if not self._current(job_id):
+            return
+        self.form.progress_label.setText("failed")
+        self._show_message(f"cannot simulate: {message}", "error")
+
+    def _on_ended(self, job_id: int) -> None:
+        if self._current(job_id):
+            self._job = None
+            self.form.set_running(False)
+            self._refresh_hint()
+
+    def _show(self, result) -> None:
+        self._result = result
+        self.plot.show_result(result)
+        self.table.set_result(result)
+        self.totals.setText(totals_text(result))
+        self.totals.setToolTip(self._repetitions_tip(result))
+        self.run_label.setText(self._describe(result))
+        self.run_label.setVisible(True)
+        self.run_label.setToolTip(self.run_label.text())
+
+    def _describe(self, result) -> str:
+        it = result.interpreter
+        params = it.params
+        task = params.task + (f" ×{params.repetitions}" if params.task == "train" else "")
+        name = it.program.name or self._macro_name
+        return (f"{name}: {task} · {result.chemistry} model {result.capacity_mah:.0f} mAh × {result.series} "
+                f"cell{'s' if result.series != 1 else ''} · {it.pack.ambient_c:g} °C · "
+                f"sensor {'on' if params.sensor else 'off'}")
+
+    @staticmethod
+    def _repetitions_tip(result) -> str:
+        if result.interpreter.params.task != "train":
+            return ""
+        lines = [f"repetition {r['repetition']}: discharged {r['discharged_mah']:.1f} mAh, "
+                 f"charged {r['charged_mah']:.1f} mAh" for r in result.repetitions()]
+        return "\n".join(lines[:40] + (["…"] if len(lines) > 40 else []))
+
+    # -- changes -----------------------------------------------------------------------------
+    def _changed(self) -> None:
+        if self.form.auto_resimulate():
+            self._debounce.start()
+        else:
+            self._outdated = self._result is not None
+        self._refresh_hint()
+
+    def _params_changed(self) -> None:
+        if self._record is not None:
+            self._changed()
+
+    def _auto_toggled(self, on: bool) -> None:
+        if on and self._record is not None and (self._result is None or self._outdated):
+            self._debounce.start()
+
+    def _band_clicked(self, row: int) -> None:
+        self.table.select_phase(row)
+        self.plot.highlight(row)
+
+    # -- messages ------------------------------------------------------------------------------
+    def _show_message(self, text: str, kind: str) -> None:
+        self.message.setText(text)
+        self.message.setToolTip(text)
+        self.message.setStyleSheet(f"color:{COLORS.get(kind, COLORS['info'])};"
+                                   + ("font-weight:bold;" if kind == "error" else ""))
+        self.message.setVisible(bool(text))
+
+    def _refresh_hint(self) -> None:
+        """The grey hint: what is shown is older than the editor's text."""
+        shown = self._result is not None
+        text = (STALE_HINT if self._stale and shown else
+                OUTDATED_HINT if self._outdated and shown and self._job is None else "")
+        self.hint.setText(text)
+        self.hint.setVisible(bool(text))
+
+    # -- layout ------------------------------------------------------------------------------
+    def showEvent(self, event) -> None:
+        super().showEvent(event)
+        if not self._sized:
+            self._sized = True
+            self._split_sizes()
+
+    def _split_sizes(self) -> None:
+        width = max(self.width(), 800)
+        params = self.params_scroll.minimumWidth() + 8
+        rest = width - params
+        self.splitter.setSizes([params, int(rest * 0.58), rest - int(rest * 0.58)])
