@@ -19,6 +19,8 @@ def test_text_bytes_text_bytes_is_identical(macro):
         assume(False)
     text = format_macro(macro)
     compiled = compile_source(text)
+    # A random macro may be legal yet dangerous: the safety lint's errors (E3xx) are not the subject here.
+    assume(not compiled.errors or not all(d.code.startswith("E3") for d in compiled.errors))
     assert compiled.errors == [], (text, compiled.errors)
     assert compiled.record == first
     again = compile_source(format_macro(decode_record(first).macro))
