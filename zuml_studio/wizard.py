@@ -1,0 +1,106 @@
+"""New macros from a few answers (chemistry, cells, capacity, rate, sensor): the logic behind
+``zuml new`` and the GUI's wizard. Limits come from the chemistry data (spec §5), the choices
+around them from resources/templates.toml. The result is text; it is checked like any macro."""
+from __future__ import annotations
+
+import tomllib
+from dataclasses import dataclass
+from decimal import Decimal
+
+from .sim.chemistry import RESOURCES_DIR, Chemistry, chemistry_names, load_chemistry
+
+TEMPLATES = RESOURCES_DIR / "templates.toml"
+
+
+class WizardError(ValueError):
+    pass
+
+
+@dataclass(frozen=True)
+class Answers:
+    chemistry: str
+    series: int
+    capacity_mah: int
+    rate_c: float | None = None         # charge rate; None: the chemistry's default
+    sensor: bool = False                # a battery temperature sensor is fitted
+
+
+def _num(x: float) -> str:
+    text = format(Decimal(str(round(x, 2))), "f")
+    return text.rstrip("0").rstrip(".") if "." in text else text
+
+
+def _choices(name: str) -> dict:
+    with TEMPLATES.open("rb") as fh:
+        return tomllib.load(fh)[name]
+
+
+def default_name(a: Answers, chem: Chemistry) -> str:
+    return f"{chem.name}-{a.series}S-{a.capacity_mah}"[:16]
+
+
+def new_macro(a: Answers) -> str:
+    try:
+        chem = load_chemistry(a.chemistry)
+    except KeyError:
+        raise WizardError(f"no template for {a.chemistry!r}; choose one of {', '.join(chemistry_names())}") from None
+    if not 1 <= a.series <= 255:
+        raise WizardError("cells in series: 1 to 255")
+    if not 2 <= a.capacity_mah <= 65534:
+        raise WizardError("capacity: 2 to 65534 mAh")
+    c = _choices(chem.name)
+    rate = c["default_rate_c"] if a.rate_c is None else a.rate_c
+    if not 0.01 <= rate <= 5:
+        raise WizardError("charge rate: 0.01C to 5C")
+    head = [f"MACRO {default_name(a, chem)}",
+            f"  // {chem.name}, {a.series} cell(s), {a.capacity_mah} mAh, charge at {_num(rate)}C, "
+            f"temperature sensor {'fitted' if a.sensor else 'not fitted'} (written by zuml new)",
+            f"  AKK_TYPE={chem.name}", f"  SERIES={a.series}", f"  CAPACITY={a.capacity_mah}"]
+    discharge = ["  DISCHARGE_SECTION", "    FAZE", f"      CONSTANT_I={_num(c['discharge_rate_c'])}C",
+                 f"      IF(V<{_num(chem.discharge_end_v)}S) STOP_FAZE", "    END_FAZE", "  END_SECTION"]
+    if chem.name in ("NiMh", "NiCd"):
+        charge = _nickel(chem, c, a, rate)
+    elif chem.name == "Pb":
+        charge = _lead(chem, c, a, rate)
+    else:
+        charge = _lithium(chem, c, a, rate)
+    return "\n".join(head + discharge + ["  CHARGE_SECTION"] + charge + ["  END_SECTION", "  MUSIC(STOP)",
+                                                                        "END_MACRO"]) + "\n"
+
+
+def _sensor(c: dict, a: Answers) -> list[str]:
+    return [f"      IF(T>{c['t_max_c']}) STOP_FAZE"] if a.sensor else []
+
+
+def _nickel(chem: Chemistry, c: dict, a: Answers, rate: float) -> list[str]:
+    timer = round(c["timer_factor"] * 60 / rate)
+    if rate >= c["min_delta_rate_c"]:
+        # Volts for the whole pack keep the -dV close to the per-cell value (the byte code stores 10 mV steps).
+        dv = max(0.01, round(c["delta_v_per_cell"] * a.series, 2))
+        ends = [f"      IF(DELTA_PEAK>{_num(dv)}V) STOP_FAZE", f"      IF(V>{_num(chem.max_v)}S) STOP_FAZE"]
+    elif rate <= c["timed_max_rate_c"]:
+        ends = [f"      IF(V>{_num(chem.max_v)}S) STOP_FAZE"]
+    else:
+        raise WizardError(f"{chem.name} at {_num(rate)}C shows no reliable -dV and is too fast for a timed charge: "
+                          f"choose {c['min_delta_rate_c']}C or more, or {c['timed_max_rate_c']}C or less")
+    main = ["    FAZE", f"      CONSTANT_I={_num(rate)}C"] + ends + _sensor(c, a) + \
+           [f"      IF(tf>{timer}min) STOP_FAZE", "    END_FAZE"]
+    topoff = ["    FAZE", f"      TRICKLE({_num(c['topoff_rate_c'])}C, {_num(c['topoff_v1'])}S, "
+                          f"{_num(c['topoff_v2'])}S)"] + _sensor(c, a) + \
+             [f"      IF(tf>{c['topoff_minutes']}min) STOP_FAZE", "    END_FAZE"]
+    return main + topoff
+
+
+def _lead(chem: Chemistry, c: dict, a: Answers, rate: float) -> list[str]:
+    absorption = ["    FAZE", f"      CONSTANT_I={_num(rate)}C", f"      CONSTANT_V={_num(chem.charge_end_v)}S",
+                  f"      IF(I<{_num(c['absorption_end_c'])}C) STOP_FAZE"] + _sensor(c, a) + \
+                 [f"      IF(tf>{c['absorption_max_minutes']}min) STOP_FAZE", "    END_FAZE"]
+    float_ = ["    FAZE", f"      CONSTANT_I={_num(c['float_rate_c'])}C", f"      CONSTANT_V={_num(c['float_v'])}S"] + \
+        _sensor(c, a) + [f"      IF(tf>{c['float_minutes']}min) STOP_FAZE", "    END_FAZE"]
+    return absorption + float_
+
+
+def _lithium(chem: Chemistry, c: dict, a: Answers, rate: float) -> list[str]:
+    return ["    FAZE", f"      CONSTANT_I={_num(rate)}C", f"      CONSTANT_V={_num(chem.charge_end_v)}S",
+            f"      IF(I<{_num(c['end_rate_c'])}C) STOP_FAZE"] + _sensor(c, a) + \
+           [f"      IF(tf>{c['timer_minutes']}min) STOP_FAZE", "    END_FAZE"]
