@@ -65,3 +65,16 @@ def test_errors_are_one_line_and_never_a_traceback(tmp_path, args, needle):
     assert rc != 0
     assert "Traceback" not in err
     assert needle in err or needle in out
+
+
+def test_new_writes_a_clean_macro(tmp_path):
+    target = tmp_path / "pack.zuml"
+    rc, out, err = run_zuml("new", "--chemistry", "nimh", "--series", "4", "--capacity", "2000", "-o", str(target))
+    assert rc == 0 and err == "" and "NiMh-4S-2000" in out
+    rc, out, _ = run_zuml("check", str(target))
+    assert rc == 0 and out == ""
+
+
+def test_new_refuses_bad_answers_in_one_line():
+    rc, _, err = run_zuml("new", "--chemistry", "NiMh", "--series", "4", "--capacity", "2000", "--rate", "0.25C")
+    assert rc == 2 and "no reliable -dV" in err and "Traceback" not in err

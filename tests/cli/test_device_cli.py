@@ -1,0 +1,233 @@
+"""`zuml` device subcommands against a virtual charger: in-process on a pty, and the
+`zuml virtual-charger` subprocess. Every failure is one line on stderr, never a traceback."""
+import csv
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from tests_cli_util import run_zuml
+from zuml_studio.cli.main import main
+from zuml_studio.device.transport import serve_pty
+from zuml_studio.device.virtual_charger import VirtualCharger
+from zuml_studio.lang.eeprom import slots
+
+pytestmark = pytest.mark.skipif(os.name != "posix", reason="ptys need POSIX")
+
+ROOT = Path(__file__).resolve().parents[2]
+MACROS = ROOT / "macros"
+
+
+@pytest.fixture
+def zuml(capsys):
+    """The command line in-process (fast); the subprocess tests below run it as a user would."""
+    def run(*args):
+        capsys.readouterr()
+        code = main(list(args))
+        captured = capsys.readouterr()
+        return code, captured.out, captured.err
+    return run
+
+
+@pytest.fixture
+def vc():
+    made = []
+
+    def make(**kw):
+        kw.setdefault("speed", 20000)
+        device = VirtualCharger(**kw)
+        port, stop = serve_pty(device, baud=None)
+        made.append((device, stop))
+        return device, port
+
+    yield make
+    for device, stop in made:
+        stop()
+        device.close()
+
+
+def one_error_line(code, out, err):
+    assert code != 0
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1, err
+    assert err.startswith("zuml: error: ")
+
+
+def test_flash_slots_backup_restore(vc, zuml, tmp_path):
+    device, port = vc()
+    code, out, err = zuml("flash", "--port", port, str(MACROS / "NiMh-dV.zuml"))
+    assert code == 0, err
+    assert out.startswith("NiMh-dV: appended as slot 0;") and "verified" in out
+    assert zuml("compile", str(MACROS / "LiPo.zuml"), "-o", str(tmp_path / "LiPo.bin"))[0] == 0
+    assert zuml("flash", "--port", port, str(tmp_path / "LiPo.bin"))[0] == 0
+    code, out, err = zuml("flash", "--port", port, str(MACROS / "NiMh-dV.zuml"))
+    assert "replaced slot 0 (NiMh-dV); 0 byte(s) written" in out
+    code, out, err = zuml("flash", "--port", port, "--slot", "1", str(MACROS / "NiCd.zuml"))
+    assert code == 0 and "replaced slot 1 (LiPo)" in out
+    code, out, err = run_zuml("slots", "--port", port)           # once as a user would
+    assert code == 0, err
+    lines = out.splitlines()
+    assert lines[1].split()[:6] == ["0", "0", "38", "NiMh-dV", "NiMh", "ok"]
+    assert lines[2].split()[3:6] == ["NiCd", "NiCd", "ok"]
+    assert lines[-1].startswith("2 macro(s); free ")
+    code, out, err = zuml("backup", "--port", port, "-o", str(tmp_path / "image.bin"))
+    assert code == 0 and (tmp_path / "image.bin").read_bytes() == device.eeprom_image
+    saved = device.eeprom_image
+    assert zuml("flash", "--port", port, str(MACROS / "Pb.zuml"))[0] == 0
+    assert device.eeprom_image != saved
+    code, out, err = zuml("restore", "--port", port, str(tmp_path / "image.bin"))
+    assert code == 0 and "verified" in out, err
+    assert device.eeprom_image == saved
+    code, out, err = zuml("flash", "--port", port, "--slot", "7", str(MACROS / "Pb.zuml"))
+    assert code == 1 and "--slot 7" in err
+
+
+def test_restore_refuses_bad_images_before_writing(vc, zuml, tmp_path):
+    device, port = vc()
+    (tmp_path / "big.bin").write_bytes(b"\xff" * 2048)
+    (tmp_path / "bad.bin").write_bytes(b"\x0c" + bytes(11))
+    one_error_line(*zuml("restore", "--port", port, str(tmp_path / "big.bin")))
+    code, out, err = zuml("restore", "--port", port, str(tmp_path / "bad.bin"))
+    one_error_line(code, out, err)
+    assert "does not decode" in err and device.commits == 0
+
+
+def test_run_monitor_stop(vc, zuml, tmp_path):
+    device, port = vc(speed=5000)
+    assert zuml("flash", "--port", port, str(MACROS / "NiMh-dV.zuml"))[0] == 0
+    code, out, err = zuml("run", "--port", port, "--slot", "0", "--capacity", "2000", "--current", "2",
+                              "--series", "4", "--no-sensor")
+    assert code == 0 and out.strip() == "started slot 0 (NiMh-dV): charge", err
+    code, out, err = zuml("monitor", "--port", port, "--until-end", "--rate", "20", "--csv",
+                              str(tmp_path / "m.csv"))
+    assert code == 0, err
+    lines = out.splitlines()
+    assert any("charge" in line and " V " in line and "+" in line for line in lines)
+    assert lines[-1].startswith("*") and "finish: end of macro" in lines[-1]
+    assert any("phase_end charge 1 (rep 1): IF(DELTA_PEAK>0.01S) STOP_FAZE" in line for line in lines)
+    rows = list(csv.DictReader((tmp_path / "m.csv").open()))
+    assert rows and any(r["event"].startswith("phase_end") for r in rows)
+    assert any(r["current_a"] and float(r["current_a"]) > 1.9 for r in rows)
+    code, out, err = zuml("stop", "--port", port)
+    assert code == 0 and out.strip() == "stopped (finished)"
+
+
+def test_monitor_for_some_seconds_and_interrupt(vc, zuml, tmp_path):
+    device, port = vc()
+    code, out, err = zuml("monitor", "--port", port, "--seconds", "0.6", "--rate", "10")
+    assert code == 0 and out.count("idle") >= 3, (out, err)
+    # Ctrl+C as in a terminal (a test runner started in the background may have SIGINT ignored,
+    # and Python keeps an inherited SIG_IGN).
+    proc = subprocess.Popen([sys.executable, "-m", "zuml_studio.cli.main", "monitor", "--port", port, "--csv",
+                             str(tmp_path / "c.csv")], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    try:
+        deadline = time.monotonic() + 20
+        while time.monotonic() < deadline and len((tmp_path / "c.csv").read_text().splitlines()
+                                                  if (tmp_path / "c.csv").exists() else []) < 3:
+            time.sleep(0.1)                       # the CSV is flushed while it runs
+        proc.send_signal(signal.SIGINT)
+        out, err = proc.communicate(timeout=10)
+    finally:
+        proc.kill()
+    assert proc.returncode == 0 and "Traceback" not in err, err
+
+
+def test_refusals_and_link_errors_are_one_line(vc, zuml, tmp_path):
+    device, port = vc(passport="LiPo")
+    assert zuml("flash", "--port", port, str(MACROS / "NiMh-dV.zuml"))[0] == 0
+    code, out, err = run_zuml("run", "--port", port, "--slot", "0", "--capacity", "2000", "--current", "2",
+                              "--series", "4")
+    one_error_line(code, out, err)
+    assert "the macro is for NiMh; the battery is LiPo" in err and device.state == "idle"
+    code, out, err = zuml("run", "--port", port, "--slot", "5")
+    one_error_line(code, out, err)
+    assert "there is no slot 5" in err
+    one_error_line(*zuml("slots", "--port", str(tmp_path / "ttyUSB7")))
+    master, slave = os.openpty()
+    try:
+        code, out, err = run_zuml("slots", "--port", os.ttyname(slave), "--timeout", "0.05")
+    finally:
+        os.close(master)
+        os.close(slave)
+    one_error_line(code, out, err)
+    assert "no ZUML charger answered" in err
+
+
+def test_passport_read_and_write(vc, zuml):
+    device, port = vc()
+    code, out, err = zuml("passport", "--port", port, "--write", "serial=PACK-42", "--write", "a_limit=3")
+    assert code == 0, err
+    assert "serial   PACK-42" in out and "a_limit  3 A" in out and "type     NiMh (3)" in out
+    assert device.chip.passport.serial == "PACK-42"
+    one_error_line(*zuml("passport", "--port", port, "--write", "temp=3"))
+    one_error_line(*zuml("passport", "--port", port, "--write", "a_limit=x"))
+
+
+def test_virtual_charger_subprocess_prints_its_port_first(tmp_path):
+    eeprom = tmp_path / "eeprom.bin"
+    proc = subprocess.Popen([sys.executable, "-m", "zuml_studio.cli.main", "virtual-charger", "--speed", "20000",
+                             "--eeprom", str(eeprom), "--battery", "NiMh:2000:4"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        port = proc.stdout.readline().strip()
+        assert port.startswith("/dev/"), port
+        code, out, err = run_zuml("flash", "--port", port, str(MACROS / "NiMh-dV.zuml"))
+        assert code == 0, err
+        assert [s.name for s in slots(eeprom.read_bytes())] == ["NiMh-dV"]        # persisted on commit
+        code, out, err = run_zuml("run", "--port", port, "--slot", "0", "--capacity", "2000", "--current", "2",
+                                  "--series", "4", "--no-sensor")
+        assert code == 0, err
+        proc.send_signal(signal.SIGTERM)
+        out, err = proc.communicate(timeout=10)
+        assert proc.returncode == 0 and "Traceback" not in err, err
+    finally:
+        proc.kill()
+        proc.wait()
+
+
+def test_virtual_charger_on_tcp(tmp_path):
+    proc = subprocess.Popen([sys.executable, "-m", "zuml_studio.cli.main", "virtual-charger", "--tcp",
+                             "127.0.0.1:0", "--speed", "100"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True)
+    try:
+        url = proc.stdout.readline().strip()
+        assert url.startswith("socket://127.0.0.1:")
+        code, out, err = run_zuml("slots", "--port", url)
+        assert code == 0 and out.splitlines()[-1] == "0 macro(s); free 1024 of 1024 bytes", err
+        proc.send_signal(signal.SIGINT)
+        proc.communicate(timeout=10)
+        assert proc.returncode == 0
+    finally:
+        proc.kill()
+        proc.wait()
+    code, out, err = run_zuml("virtual-charger", "--battery", "Foo:1:1")
+    one_error_line(code, out, err)
+    assert code == 2 and "no model for 'Foo'" in err
+
+
+def test_virtual_charger_disconnect_mid_flash_keeps_the_old_image(tmp_path):
+    from zuml_studio.lang.compiler import compile_source
+    eeprom = tmp_path / "eeprom.bin"
+    old = bytearray(b"\xff" * 1024)
+    rec = compile_source((MACROS / "NiMh-dV.zuml").read_text()).record
+    old[:len(rec)] = rec
+    eeprom.write_bytes(bytes(old))
+    proc = subprocess.Popen([sys.executable, "-m", "zuml_studio.cli.main", "virtual-charger", "--eeprom", str(eeprom),
+                             "--disconnect-after", "80", "--baud", "0"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        port = proc.stdout.readline().strip()
+        code, out, err = run_zuml("flash", "--port", port, str(MACROS / "LiIon-CCCV.zuml"))
+        one_error_line(code, out, err)
+        assert "lost" in err or "no answer" in err
+        assert eeprom.read_bytes() == bytes(old)
+        proc.send_signal(signal.SIGTERM)
+        proc.communicate(timeout=10)
+        assert proc.returncode == 0
+    finally:
+        proc.kill()
+        proc.wait()

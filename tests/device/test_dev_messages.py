@@ -1,0 +1,61 @@
+"""The message table: every layout round-trips; telemetry carries a signed current."""
+import pytest
+
+from zuml_studio.device import messages as m
+
+SAMPLES = {
+    "IDENTIFY": ({}, dict(protocol=1, eeprom_size=1024, max_data=240, max_charge_ma=5000, max_charge_dw=500,
+                          max_discharge_ma=1000, max_discharge_dw=50, max_mv=27000, write_us_per_byte=0,
+                          model="iMAX B6 (virtual)", firmware="x 1.0")),
+    "READ_EEPROM": (dict(offset=10, length=240), dict(offset=10, data=bytes(range(240)))),
+    "BEGIN_WRITE": ({}, dict(token=0xDEADBEEF, size=1024)),
+    "WRITE_STAGE": (dict(token=1, offset=1000, data=b"\x00\xff" * 12), dict(offset=1000, length=24)),
+    "COMMIT": (dict(token=5, crc=0x4B37), dict(changed=17, crc=0x4B37)),
+    "ABORT": (dict(token=0), {}),
+    "START": (dict(slot=3, task=2, repetitions=4, capacity_mah=2000, current_ma=1500, voltage_mv=0, series=4,
+                   sensor=1), dict(slot=3, name="NiMh-dV")),
+    "STOP": ({}, dict(state=3)),
+    "STATUS": ({}, dict(state=1, slot=0, task=0, uptime_ms=5, run_ms=3870000, events=5, speed=20000,
+                        name="NiMh-dV", end_reason="")),
+    "SET_TELEMETRY_RATE": (dict(hz=50), dict(hz=50)),
+    "GET_EVENT": (dict(number=7), dict(number=7, time_ms=1, kind=2, section=1, index=1, repetition=1, offset=17,
+                                       detail="IF(V>1.8S) STOP_FAZE")),
+    "PASSPORT": (dict(request=bytes(8)), dict(answer=bytes(32))),
+}
+
+
+def test_one_table_every_request_has_a_sample():
+    requests = {t.name for t in m.MESSAGE_TYPES if t.request is not None}
+    assert requests == set(SAMPLES)
+    codes = [t.code for t in m.MESSAGE_TYPES]
+    assert len(codes) == len(set(codes))
+    assert all(t.response_code not in m.REQUEST_CODES for t in m.MESSAGE_TYPES)
+
+
+@pytest.mark.parametrize("name", sorted(SAMPLES))
+def test_layouts_round_trip(name):
+    req, resp = SAMPLES[name]
+    code = m.BY_NAME[name].code
+    assert m.decode_request(code, m.encode_request(name, **req)) == req
+    assert m.decode_response(code, m.encode_response(name, **resp)) == resp
+
+
+def test_short_or_long_payloads_are_refused():
+    with pytest.raises(m.PayloadError):
+        m.decode_request(m.READ_EEPROM, b"\x00")
+    with pytest.raises(m.PayloadError):
+        m.decode_request(m.READ_EEPROM, b"\x00\x00\x10\x00")
+
+
+def test_telemetry_current_is_signed_and_temperature_may_be_unknown():
+    t = m.Telemetry(3600.5, "discharge", "discharge", 1, 2, 1, 3, True, False, False, 4.812, -0.997, None, 41.25,
+                    0.0, 1234.5)
+    back = m.Telemetry.decode(t.encode())
+    assert back == t
+    assert back.current_a < 0 and back.temp_c is None
+
+
+def test_event_round_trip_and_error_payload():
+    e = m.DeviceEvent(4, 3870.0, "phase_end", "charge", 1, 1, 17, "IF(DELTA_PEAK>0.01S) STOP_FAZE")
+    assert m.DeviceEvent.decode(e.encode()) == e
+    assert m.decode_error(m.encode_error(0x10, m.ErrorCode.PASSPORT_CONFLICT, "a\nb")) == (0x10, 9, "a\nb")

@@ -1,0 +1,647 @@
+"""``ChargerClient``: the host side of the device protocol, for the CLI and the GUI.
+
+One reader thread reads the port, parses frames, completes the pending request and calls
+the telemetry/event callbacks. Requests are one at a time (a lock), each with its own SEQ,
+a timeout derived from the baud rate and the frame sizes, and up to 3 retries with the same
+SEQ (every request is idempotent: the device answers a repeated one without doing it twice).
+When the device NAKs a broken frame, or garbage arrives where the answer should be, the
+request is sent again at once instead of after its timeout.
+
+Thread safety: any thread may call the methods (one request runs at a time); callbacks
+run on the reader thread and must return quickly (a GUI emits a signal there).
+"""
+from __future__ import annotations
+
+import errno
+import logging
+import queue
+import random
+import threading
+import time
+from dataclasses import dataclass
+from typing import Callable
+
+from ..lang.eeprom import ImageError, Slot, slots
+from . import messages as m
+from . import passport as pp
+from .crc import crc16
+from .errors import (DeviceError, DeviceLinkError, DeviceTimeout, Disconnected, ImageTooLarge, InvalidImage,
+                     NotACharger, PermissionDenied, PortBusy, PortNotFound, VerifyFailed)
+from .frames import MAX_FRAME, OVERHEAD, FrameParser, encode_frame
+
+log = logging.getLogger(__name__)
+
+DEFAULT_BAUD = 115200
+RETRIES = 3
+MIN_CHUNK = 32
+TIMEOUT_MARGIN_S = 0.1        # device processing and OS latency on top of the wire time
+READ_POLL_S = 0.02
+
+
+@dataclass(frozen=True)
+class DeviceInfo:
+    protocol: int
+    model: str
+    firmware: str
+    eeprom_size: int
+    max_data: int
+    max_charge_a: float
+    max_charge_w: float
+    max_discharge_a: float
+    max_discharge_w: float
+    max_v: float
+    write_s_per_byte: float
+
+
+@dataclass(frozen=True)
+class Status:
+    state: str                # idle | running | paused | finished
+    slot: int | None
+    task: str
+    name: str                 # the running (or last) macro's name
+    uptime_s: float           # since the device started
+    run_s: float              # the macro's clock
+    events: int               # events of this run so far (numbers 0..events-1)
+    speed: float              # real time × speed (1 on a real charger)
+    end_reason: str
+
+
+@dataclass(frozen=True)
+class WriteResult:
+    size: int                 # EEPROM size
+    changed: int              # bytes that differed
+    sent: int                 # data bytes sent in WRITE_STAGE frames
+    chunks: int
+    seconds: float
+
+
+class _Pending:
+    __slots__ = ("code", "seq", "done", "payload", "error", "suspect", "nak")
+
+    def __init__(self, code: int, seq: int):
+        self.code = code
+        self.seq = seq
+        self.done = False
+        self.payload = b""
+        self.error: tuple[int, int, str] | None = None
+        self.suspect = 0.0      # when garbage or a NAK arrived while waiting (0: none)
+        self.nak = False        # the device said a frame reached it broken: resend at once
+
+
+def open_serial(url: str, baudrate: int = DEFAULT_BAUD, exclusive: bool = True):
+    """``serial.serial_for_url`` with its failures turned into DeviceLinkErrors."""
+    import serial
+    kwargs = dict(baudrate=baudrate, timeout=READ_POLL_S, write_timeout=5)
+    try:
+        try:
+            return serial.serial_for_url(url, exclusive=exclusive, **kwargs)
+        except TypeError:             # a URL handler without the exclusive option
+            return serial.serial_for_url(url, **kwargs)
+    except serial.SerialException as exc:
+        raise _open_error(url, exc) from None
+    except (ValueError, OSError) as exc:
+        raise DeviceLinkError(f"{url}: cannot open: {exc}") from None
+
+
+def _open_error(url: str, exc: Exception) -> DeviceLinkError:
+    code = getattr(exc, "errno", None)
+    text = str(exc)
+    low = text.lower()
+    if "access is denied" in low:                       # Windows: another program has the port
+        return PortBusy(url, text)
+    if code == errno.EACCES or "permission denied" in low or "errno 13" in low:
+        return PermissionDenied(url, text)
+    if code in (errno.EBUSY, errno.EAGAIN) or "busy" in low or "exclusively lock" in low or "errno 16" in low:
+        return PortBusy(url, text)
+    if code == errno.ENOENT or "no such file" in low or "errno 2]" in low or "filenotfound" in low:
+        return PortNotFound(f"{url}: no such port (unplugged? run `zuml ports`)")
+    if "refused" in low or code == errno.ECONNREFUSED:
+        return PortNotFound(f"{url}: nothing listens there (is the virtual charger running?)")
+    return DeviceLinkError(f"{url}: cannot open: {text}")
+
+
+class ChargerClient:
+    """A connection to one charger. Opening it identifies the device (``info``).
+
+    ``timeout``: seconds per attempt; None derives it from the baud rate and frame sizes.
+    Raises PortNotFound, PermissionDenied, PortBusy or NotACharger."""
+
+    def __init__(self, url: str, baudrate: int = DEFAULT_BAUD, timeout: float | None = None, *,
+                 retries: int = RETRIES, exclusive: bool = True):
+        self.url = url
+        self.baudrate = int(baudrate)
+        self.timeout = timeout
+        self.retries = retries
+        self._byte_s = 10.0 / self.baudrate
+        self._serial = open_serial(url, self.baudrate, exclusive)
+        try:
+            self._serial.reset_input_buffer()      # stale frames a previous session left in the port
+        except Exception:   # noqa: BLE001 - not every URL handler has it
+            pass
+        self._parser = FrameParser(m.DEVICE_TYPES)
+        self._req_lock = threading.RLock()
+        self._cv = threading.Condition()
+        self._pending: _Pending | None = None
+        self._seq = random.randrange(256)
+        self._closing = False
+        self._disconnected: DeviceLinkError | None = None
+        self._telemetry_cbs: list[Callable[[m.Telemetry], None]] = []
+        self._event_cbs: list[Callable[[m.DeviceEvent], None]] = []
+        self._disconnect_cbs: list[Callable[[DeviceLinkError], None]] = []
+        self._queues: list[queue.Queue] = []
+        self.last_telemetry: m.Telemetry | None = None
+        self._next_event: int | None = None
+        self.missed_events: list[int] = []      # event numbers seen missing (get_event fetches them)
+        self.stats = {"requests": 0, "retries": 0, "early_resends": 0, "timeouts": 0, "stale": 0,
+                      "naks": 0, "telemetry": 0, "events": 0}
+        self._chunk = m.MAX_DATA
+        self._good_streak = 0
+        self.info: DeviceInfo | None = None
+        self._reader = threading.Thread(target=self._read_loop, name=f"charger-reader {url}", daemon=True)
+        self._reader.start()
+        try:
+            self.info = self.identify()
+        except DeviceTimeout:
+            self.close()
+            raise NotACharger(f"{url}: no ZUML charger answered (wrong port or baud rate? "
+                              f"tried {self.baudrate} baud)") from None
+        except DeviceError as exc:
+            self.close()
+            raise NotACharger(f"{url}: the device refused IDENTIFY ({exc}); not a ZUML charger?") from None
+        except Disconnected:
+            self.close()
+            raise Disconnected(f"{url}: the connection closed before the charger answered "
+                               "(is another program connected to it?)") from None
+        except BaseException:
+            self.close()
+            raise
+        if self.info.protocol != m.PROTOCOL_VERSION:
+            version = self.info.protocol
+            self.close()
+            raise NotACharger(f"{url}: the charger speaks protocol {version}; this ZUML Studio speaks "
+                              f"{m.PROTOCOL_VERSION}")
+        self._chunk = max(MIN_CHUNK, min(self.info.max_data, m.MAX_DATA))
+
+    # -- lifecycle -----------------------------------------------------------------------------
+    def close(self) -> None:
+        """Idempotent. Callbacks are not called after close returns."""
+        self._closing = True
+        try:
+            self._serial.cancel_read()
+        except Exception:   # noqa: BLE001
+            pass
+        if self._reader.is_alive() and self._reader is not threading.current_thread():
+            self._reader.join(timeout=2)
+        try:
+            self._serial.close()
+        except Exception:   # noqa: BLE001
+            pass
+        with self._cv:
+            if self._disconnected is None:
+                self._disconnected = Disconnected(f"{self.url}: closed")
+            self._cv.notify_all()
+
+    def __enter__(self) -> "ChargerClient":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    @property
+    def connected(self) -> bool:
+        return self._disconnected is None
+
+    # -- callbacks -------------------------------------------------------------------------------
+    def on_telemetry(self, callback: Callable[[m.Telemetry], None]) -> None:
+        self._telemetry_cbs.append(callback)
+
+    def on_event(self, callback: Callable[[m.DeviceEvent], None]) -> None:
+        self._event_cbs.append(callback)
+
+    def on_disconnect(self, callback: Callable[[DeviceLinkError], None]) -> None:
+        self._disconnect_cbs.append(callback)
+
+    def subscribe(self, maxsize: int = 10000) -> queue.Queue:
+        """A queue of ("telemetry", Telemetry), ("event", DeviceEvent) and ("disconnected", error).
+        When it is full the oldest item goes (a consumer that stalls loses old samples, not the link)."""
+        q: queue.Queue = queue.Queue(maxsize)
+        self._queues.append(q)
+        return q
+
+    def unsubscribe(self, q: queue.Queue) -> None:
+        if q in self._queues:
+            self._queues.remove(q)
+
+    # -- the reader thread --------------------------------------------------------------------------
+    def _read_loop(self) -> None:
+        ser = self._serial
+        parser = self._parser
+        while not self._closing:
+            try:
+                data = ser.read(ser.in_waiting or 1)
+            except Exception as exc:   # noqa: BLE001 - SerialException, OSError, a closed port
+                if not self._closing:
+                    self._lost(Disconnected(f"{self.url}: the connection was lost ({exc})"))
+                return
+            if not data:
+                if parser.pending:           # the line went quiet inside a frame: its LEN was garbage
+                    frames = parser.flush_stale()
+                    self._suspect()
+                    for frame in frames:
+                        self._dispatch_safely(frame)
+                continue
+            garbage = parser.bad_frames + parser.skipped
+            frames = parser.feed(data)
+            if parser.bad_frames + parser.skipped != garbage:
+                self._suspect()
+            for frame in frames:
+                self._dispatch_safely(frame)
+
+    def _dispatch_safely(self, frame) -> None:
+        try:
+            self._dispatch(frame)
+        except Exception:   # noqa: BLE001 - a callback's bug never kills the link
+            log.exception("charger client: handling a frame failed")
+
+    def _suspect(self) -> None:
+        with self._cv:
+            if self._pending is not None and not self._pending.done:
+                self._pending.suspect = time.monotonic()
+                self._cv.notify_all()
+
+    def _lost(self, exc: DeviceLinkError) -> None:
+        with self._cv:
+            if self._disconnected is None:
+                self._disconnected = exc
+            self._cv.notify_all()
+        for cb in list(self._disconnect_cbs):
+            try:
+                cb(exc)
+            except Exception:   # noqa: BLE001
+                log.exception("charger client: disconnect callback failed")
+        self._publish(("disconnected", exc))
+
+    def _publish(self, item) -> None:
+        for q in list(self._queues):
+            while True:
+                try:
+                    q.put_nowait(item)
+                    break
+                except queue.Full:
+                    try:
+                        q.get_nowait()
+                    except queue.Empty:
+                        pass
+
+    def _dispatch(self, frame) -> None:
+        t = frame.type
+        if t == m.TELEMETRY:
+            try:
+                tel = m.Telemetry.decode(frame.payload)
+            except m.PayloadError:
+                return
+            self.last_telemetry = tel
+            self.stats["telemetry"] += 1
+            for cb in list(self._telemetry_cbs):
+                cb(tel)
+            self._publish(("telemetry", tel))
+        elif t == m.EVENT:
+            try:
+                ev = m.DeviceEvent.decode(frame.payload)
+            except m.PayloadError:
+                return
+            self.stats["events"] += 1
+            expected = self._next_event
+            if expected is not None and ev.number > expected and ev.number - expected < 10000:
+                self.missed_events.extend(range(expected, ev.number))
+            if ev.number == 0 or expected is None or ev.number >= expected:
+                self._next_event = ev.number + 1
+            for cb in list(self._event_cbs):
+                cb(ev)
+            self._publish(("event", ev))
+        elif t == m.ERROR:
+            try:
+                req, code, text = m.decode_error(frame.payload)
+            except m.PayloadError:
+                return
+            with self._cv:
+                p = self._pending
+                if req == 0 and code == m.ErrorCode.BAD_FRAME:
+                    self.stats["naks"] += 1
+                    if p is not None and not p.done:
+                        p.suspect = time.monotonic()
+                        p.nak = True
+                        self._cv.notify_all()
+                elif p is not None and not p.done and frame.seq == p.seq and req == p.code:
+                    p.error = (req, code, text)
+                    p.done = True
+                    self._cv.notify_all()
+                else:
+                    self.stats["stale"] += 1
+        elif t & m.RESPONSE_FLAG:
+            with self._cv:
+                p = self._pending
+                if p is not None and not p.done and frame.seq == p.seq and (t & 0x7F) == p.code:
+                    p.payload = frame.payload
+                    p.done = True
+                    self._cv.notify_all()
+                else:
+                    self.stats["stale"] += 1
+
+    # -- requests -------------------------------------------------------------------------------------
+    def _attempt_timeout(self, request_len: int, response_len: int) -> float:
+        if self.timeout is not None:
+            return self.timeout
+        wire = (request_len + OVERHEAD + response_len + OVERHEAD) * self._byte_s
+        return wire * 1.5 + TIMEOUT_MARGIN_S
+
+    def request(self, name: str, payload: bytes = b"", *, response_len: int = MAX_FRAME,
+                extra_s: float = 0.0) -> bytes:
+        """Send a request by message name, return the response payload.
+
+        Raises DeviceError (the device refused), DeviceTimeout, Disconnected."""
+        code = m.BY_NAME[name].code
+        if threading.current_thread() is self._reader:
+            raise RuntimeError("a request from a telemetry/event callback would wait for its own reader "
+                               "thread; hand the work to another thread")
+        with self._req_lock:
+            if self._disconnected is not None:
+                raise self._disconnected
+            self._seq = (self._seq + 1) & 0xFF
+            seq = self._seq
+            frame = encode_frame(code, seq, payload)
+            per_try = self._attempt_timeout(len(payload), response_len) + extra_s
+            # After garbage where the answer should be, wait a little for the rest of it, then resend.
+            grace = min(per_try, 0.002 + 0.25 * (response_len + OVERHEAD) * self._byte_s)
+            pending = _Pending(code, seq)
+            with self._cv:
+                self._pending = pending
+            self.stats["requests"] += 1
+            timeouts = 0
+            resends = 0
+            deadline_total = time.monotonic() + per_try * (self.retries + 1)
+            try:
+                while True:
+                    self._write(frame)
+                    sent_at = time.monotonic()
+                    with self._cv:
+                        pending.suspect = 0.0
+                        pending.nak = False
+                        while True:
+                            if pending.done or self._disconnected is not None:
+                                break
+                            now = time.monotonic()
+                            if now - sent_at >= per_try:
+                                break
+                            wait_more = 0.0005 if pending.nak else grace
+                            if pending.suspect and now - pending.suspect >= wait_more:
+                                break
+                            wait = per_try - (now - sent_at)
+                            if pending.suspect:
+                                wait = min(wait, wait_more - (now - pending.suspect))
+                            self._cv.wait(max(0.0005, wait))
+                        if pending.done:
+                            break
+                        if self._disconnected is not None:
+                            raise self._disconnected
+                        early = bool(pending.suspect) and time.monotonic() - sent_at < per_try
+                    if early and resends < 8 and time.monotonic() < deadline_total:
+                        resends += 1
+                        self.stats["early_resends"] += 1
+                        continue
+                    timeouts += 1
+                    self.stats["timeouts"] += 1
+                    if timeouts > self.retries or time.monotonic() >= deadline_total + per_try:
+                        raise DeviceTimeout(f"{self.url}: no answer to {name} after {timeouts} tries "
+                                            f"({per_try:.2f} s each)")
+                    self.stats["retries"] += 1
+            finally:
+                with self._cv:
+                    self._pending = None
+            self._note_quality(timeouts + resends == 0)
+            if pending.error is not None:
+                req, err, text = pending.error
+                raise DeviceError(err, text, req)
+            return pending.payload
+
+    def _write(self, frame: bytes) -> None:
+        try:
+            self._serial.write(frame)
+        except Exception as exc:   # noqa: BLE001
+            import serial
+            if isinstance(exc, serial.SerialTimeoutException):
+                raise DeviceTimeout(f"{self.url}: the port does not take data (flow control?)") from None
+            err = Disconnected(f"{self.url}: the connection was lost ({exc})")
+            self._lost(err)
+            raise err from None
+
+    def _note_quality(self, clean: bool) -> None:
+        """Adaptive chunk size: halve on a noisy request, grow back after a clean streak."""
+        top = self.info.max_data if self.info else m.MAX_DATA
+        if clean:
+            self._good_streak += 1
+            if self._good_streak >= 8 and self._chunk < top:
+                self._chunk = min(top, self._chunk * 2)
+                self._good_streak = 0
+        else:
+            self._good_streak = 0
+            self._chunk = max(MIN_CHUNK, self._chunk // 2)
+
+    def _call(self, name: str, response_len: int = MAX_FRAME, extra_s: float = 0.0, **fields) -> dict:
+        payload = m.encode_request(name, **fields)
+        answer = self.request(name, payload, response_len=response_len, extra_s=extra_s)
+        try:
+            return m.decode_response(m.BY_NAME[name].code, answer)
+        except m.PayloadError as exc:
+            raise DeviceError(m.ErrorCode.BAD_REQUEST, f"the charger's answer to {name} does not fit: {exc}") from None
+
+    # -- the API -------------------------------------------------------------------------------------
+    def identify(self) -> DeviceInfo:
+        v = self._call("IDENTIFY", response_len=80)
+        return DeviceInfo(v["protocol"], v["model"], v["firmware"], v["eeprom_size"], v["max_data"],
+                          v["max_charge_ma"] / 1000.0, v["max_charge_dw"] / 10.0, v["max_discharge_ma"] / 1000.0,
+                          v["max_discharge_dw"] / 10.0, v["max_mv"] / 1000.0, v["write_us_per_byte"] / 1e6)
+
+    def read_eeprom(self, offset: int, length: int) -> bytes:
+        v = self._call("READ_EEPROM", response_len=length + 2, offset=offset, length=length)
+        if v["offset"] != offset or len(v["data"]) != length:
+            raise DeviceError(m.ErrorCode.BAD_REQUEST, f"asked for {length} bytes at {offset}, got "
+                                                       f"{len(v['data'])} at {v['offset']}")
+        return v["data"]
+
+    def read_image(self, progress: Callable[[str, int, int], None] | None = None, *, stage: str = "read") -> bytes:
+        size = self.info.eeprom_size
+        out = bytearray()
+        while len(out) < size:
+            n = min(self._chunk, size - len(out))
+            out += self.read_eeprom(len(out), n)
+            if progress:
+                progress(stage, len(out), size)
+        return bytes(out)
+
+    def slots(self) -> list[Slot]:
+        """The macros in the device's EEPROM (``lang.eeprom.slots``; ImageError for a broken list)."""
+        return slots(self.read_image())
+
+    def write_image(self, image: bytes, progress: Callable[[str, int, int], None] | None = None, *,
+                    validate: bool = True, current: bytes | None = None) -> WriteResult:
+        """Make the device's EEPROM equal ``image`` (padded with 0xFF to the EEPROM size).
+
+        Reads the present image (unless ``current``, what the caller last read, is given; a stale
+        one costs a refused COMMIT and a fresh read), stages only the bytes that
+        differ, commits with the CRC of the whole image, reads back and compares. Any failure
+        raises and leaves the device's previous image as it was (the write is staged until
+        COMMIT). ``progress(stage, done, total)`` with stage "read", "write", "verify"."""
+        started = time.monotonic()
+        size = self.info.eeprom_size
+        if len(image) > size:
+            raise ImageTooLarge(len(image), size)
+        image = bytes(image) + b"\xff" * (size - len(image))
+        if validate:
+            check_image(image)
+        if current is not None and len(current) == size and current != image:
+            try:
+                return self._write_image(image, current, progress, started)
+            except DeviceError as exc:
+                if exc.code != m.ErrorCode.CRC_MISMATCH:
+                    raise
+                # The image the caller knew is stale (the EEPROM changed since): read it and try again.
+        return self._write_image(image, self.read_image(progress), progress, started)
+
+    def _write_image(self, image: bytes, current: bytes, progress, started: float) -> WriteResult:
+        size = len(image)
+        runs = _changed_runs(current, image)
+        changed = sum(a != b for a, b in zip(current, image))
+        if not changed:
+            return WriteResult(size, 0, 0, 0, time.monotonic() - started)
+        token = self._call("BEGIN_WRITE", response_len=6)["token"]
+        sent = chunks = 0
+        try:
+            total = sum(len(d) for _, d in runs)
+            for offset, data in runs:
+                at = 0
+                while at < len(data):
+                    piece = data[at:at + self._chunk]
+                    v = self._call("WRITE_STAGE", response_len=3, token=token, offset=offset + at, data=piece)
+                    if v["offset"] != offset + at or v["length"] != len(piece):
+                        raise DeviceError(m.ErrorCode.BAD_REQUEST, "the charger staged other bytes than sent")
+                    at += len(piece)
+                    sent += len(piece)
+                    chunks += 1
+                    if progress:
+                        progress("write", sent, total)
+            write_s = changed * self.info.write_s_per_byte * 1.5
+            self._call("COMMIT", response_len=4, extra_s=write_s, token=token, crc=crc16(image))
+        except BaseException:
+            if self._disconnected is None:
+                try:
+                    self._call("ABORT", response_len=0, token=token)
+                except DeviceLinkError:
+                    pass
+            raise
+        back = self.read_image(progress, stage="verify")
+        if back != image:
+            at = next(i for i in range(size) if back[i] != image[i])
+            raise VerifyFailed(f"verify failed: byte {at} reads 0x{back[at]:02x}, wrote 0x{image[at]:02x}")
+        return WriteResult(size, changed, sent, chunks, time.monotonic() - started)
+
+    def start(self, slot: int, task: str = "charge", repetitions: int = 1, capacity_mah: float | None = None,
+              current_a: float | None = None, voltage_v: float | None = None, series: int | None = None,
+              sensor: bool = True) -> str:
+        """Start the macro in ``slot``; returns its name. DeviceError lists a refusal's reasons
+        (``.lines``: one passport conflict per line)."""
+        if task not in m.TASKS:
+            raise ValueError(f"task must be one of {', '.join(m.TASKS)}")
+        v = self._call("START", response_len=40, slot=slot, task=m.TASKS.index(task),
+                       repetitions=max(1, min(255, int(repetitions))),
+                       capacity_mah=_u16(capacity_mah, 1), current_ma=_u16(current_a, 1000),
+                       voltage_mv=_u16(voltage_v, 1000), series=min(255, int(series or 0)), sensor=int(bool(sensor)))
+        self._next_event = None
+        self.missed_events.clear()
+        return v["name"]
+
+    def stop(self) -> str:
+        """Stop the running macro (nothing happens if none runs); returns the state after."""
+        return m.STATES[min(self._call("STOP", response_len=1)["state"], len(m.STATES) - 1)]
+
+    def status(self) -> Status:
+        v = self._call("STATUS", response_len=120)
+        return Status(m.STATES[min(v["state"], 3)], None if v["slot"] == m.NO_SLOT else v["slot"],
+                      m.TASKS[min(v["task"], 2)], v["name"], v["uptime_ms"] / 1000.0, v["run_ms"] / 1000.0,
+                      v["events"], float(v["speed"]), v["end_reason"])
+
+    def set_telemetry_rate(self, hz: int) -> int:
+        return self._call("SET_TELEMETRY_RATE", response_len=1, hz=int(hz))["hz"]
+
+    def get_event(self, number: int) -> m.DeviceEvent:
+        """An event of the current run again (to fill a gap in ``missed_events``)."""
+        answer = self.request("GET_EVENT", m.encode_request("GET_EVENT", number=number), response_len=220)
+        ev = m.DeviceEvent.decode(answer)
+        if number in self.missed_events:
+            self.missed_events.remove(number)
+        return ev
+
+    def passport_raw(self, request: bytes) -> bytes:
+        """Pass an 8-byte passport request to the battery; its 32-byte answer."""
+        answer = self._call("PASSPORT", response_len=pp.SIZE, request=bytes(request))["answer"]
+        if len(answer) != pp.SIZE:
+            raise DeviceError(m.ErrorCode.PASSPORT_ERROR, f"the passport answer has {len(answer)} bytes, not 32")
+        return answer
+
+    def passport_read(self) -> pp.Passport:
+        answer = self.passport_raw(pp.read_all_request())
+        try:
+            return pp.Passport.from_bytes(answer)
+        except pp.PassportError as exc:
+            raise DeviceError(m.ErrorCode.PASSPORT_ERROR, f"the battery's passport is unreadable: {exc}") from None
+
+    def passport_write(self, field: str, value) -> pp.Passport:
+        """Set one writable field (serial, vendor, type, err, crit, v_limit, a_limit); writes only the
+        pages that change, then reads the passport back. PassportError for a bad field or value."""
+        old = self.passport_raw(pp.read_all_request())
+        try:
+            current = pp.Passport.from_bytes(old)
+        except pp.PassportError as exc:
+            raise DeviceError(m.ErrorCode.PASSPORT_ERROR, f"the battery's passport is unreadable: {exc}") from None
+        wanted = current.with_field(field, value)
+        for req in pp.page_writes(old, wanted.to_bytes()):
+            self.passport_raw(req)
+        now = self.passport_read()
+        key = field.strip().lower()
+        if getattr(now, key) != getattr(wanted, key):
+            raise VerifyFailed(f"the passport's {key} reads {getattr(now, key)!r} after writing "
+                               f"{getattr(wanted, key)!r}")
+        return now
+
+
+def check_image(image: bytes) -> None:
+    """Refuse an image whose record list is broken or holds a record that does not decode."""
+    try:
+        found = slots(image)
+    except ImageError as exc:
+        raise InvalidImage(f"the image's record list is broken: {exc}") from None
+    bad = [s for s in found if not s.ok]
+    if bad:
+        s = bad[0]
+        raise InvalidImage(f"slot {s.index} at offset {s.offset} does not decode: {s.error}")
+
+
+def _changed_runs(old: bytes, new: bytes, gap: int = OVERHEAD + 6) -> list[tuple[int, bytes]]:
+    """Runs of differing bytes; runs closer than ``gap`` merge (a new frame costs more than a few bytes)."""
+    runs: list[list[int]] = []
+    for i in range(len(new)):
+        if old[i] != new[i]:
+            if runs and i - runs[-1][1] <= gap:
+                runs[-1][1] = i + 1
+            else:
+                runs.append([i, i + 1])
+    return [(a, bytes(new[a:b])) for a, b in runs]
+
+
+def _u16(value: float | None, scale: float) -> int:
+    if value is None or value <= 0:
+        return 0
+    raw = round(value * scale)
+    if raw > 0xFFFF:
+        raise ValueError(f"{value} does not fit the start request (at most {0xFFFF / scale:g})")
+    return max(1, raw)

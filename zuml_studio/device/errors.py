@@ -1,0 +1,88 @@
+"""What can go wrong on the device link, each with a message a user can act on.
+
+Every error is a ``DeviceLinkError``; the CLI prints ``str(exc)`` on one line, the GUI
+shows it in a dialog. None of them carries a traceback-worthy surprise.
+"""
+from __future__ import annotations
+
+DIALOUT_HINT = ("add yourself to the dialout group: sudo usermod -aG dialout $USER, "
+                "then log in again")
+
+
+class DeviceLinkError(Exception):
+    """Base class of every device-link failure."""
+
+
+class PortNotFound(DeviceLinkError):
+    """The port does not exist (unplugged, mistyped) or nothing listens at a socket:// address."""
+
+
+class PermissionDenied(DeviceLinkError):
+    """errno 13 opening the port."""
+
+    def __init__(self, port: str, detail: str = ""):
+        super().__init__(f"{port}: permission denied; {DIALOUT_HINT}")
+        self.port = port
+        self.detail = detail
+
+
+class PortBusy(DeviceLinkError):
+    """errno 16, or another program holds the port's exclusive lock."""
+
+    def __init__(self, port: str, detail: str = ""):
+        super().__init__(f"{port}: the port is busy: another program (a serial monitor, another "
+                         "ZUML Studio?) has it open; close it and try again")
+        self.port = port
+        self.detail = detail
+
+
+class NotACharger(DeviceLinkError):
+    """The port opened, but nothing answered IDENTIFY the way a ZUML charger does."""
+
+
+class DeviceTimeout(DeviceLinkError):
+    """A request got no valid answer after every retry."""
+
+
+class Disconnected(DeviceLinkError):
+    """The link went away (cable pulled, the virtual charger stopped, the port closed)."""
+
+
+class ImageTooLarge(DeviceLinkError):
+    """An EEPROM image larger than the device's EEPROM."""
+
+    def __init__(self, size: int, eeprom_size: int):
+        super().__init__(f"the image is {size} bytes; the charger's EEPROM holds {eeprom_size}")
+        self.size = size
+        self.eeprom_size = eeprom_size
+
+
+class InvalidImage(DeviceLinkError):
+    """An image whose records do not decode (refused before anything is written)."""
+
+
+class VerifyFailed(DeviceLinkError):
+    """The EEPROM read back after a write differs from the image written."""
+
+
+class DeviceError(DeviceLinkError):
+    """The charger answered a request with an ERROR frame.
+
+    ``code`` is one of ``messages.ErrorCode``; ``lines`` is the message split into its
+    sentences (a refused START lists one passport conflict per line).
+    """
+
+    def __init__(self, code: int, message: str, request_type: int = 0):
+        self.code = code
+        self.message = message
+        self.request_type = request_type
+        self.lines = [line for line in message.split("\n") if line]
+        super().__init__("; ".join(self.lines) or f"device error {code}")
+
+    @property
+    def code_name(self) -> str:
+        from .messages import ErrorCode
+        try:
+            return ErrorCode(self.code).name
+        except ValueError:
+            return f"ERROR_{self.code}"

@@ -1,0 +1,378 @@
+"""The battery passport of spec §4 (seed 003): an 8-byte request, a 32-byte answer.
+
+Request: ``A7 | RW_INDEX | PAGE | DATA0..3 | XOR of bytes 0..6`` where RW_INDEX is 0x00
+(whole passport), 0x1X (read page X) or 0x2X (write page X) and PAGE repeats X.
+
+Answer (always the whole passport, 32 bytes; a page read takes bytes 4X..4X+3 of it):
+
+    0x00 A7, 0x01 layout version 1, 0x02-0x11 SERIAL (16 ASCII, NUL-padded),
+    0x12-0x15 VENDOR (4 ASCII), 0x16 TYPE (AKK_TYPE code), 0x17 ERR u16, 0x19 CRIT u16,
+    0x1B V_LIMIT (V, u8), 0x1C A_LIMIT (A, u8), 0x1D TEMP (°C, i8, live),
+    0x1E-0x1F check: XOR of the 15 little-endian 16-bit words at 0x00..0x1D, little-endian.
+
+Decisions where the spec is silent: pages are 0..7; the battery keeps MAGIC, version, TEMP
+and the check itself (written bytes there are ignored); a request with a bad magic, XOR or
+page gets no answer; a limit of 0 means "not set". ``conflicts`` is the lockout: what a
+charger must refuse to start on this battery.
+"""
+from __future__ import annotations
+
+import struct
+from dataclasses import dataclass, replace
+from typing import Callable
+
+from ..lang import opcodes as ops
+from ..lang.formatter import format_args
+from ..lang.opcodes import canonical_text
+from ..lang.operands import AKK_TYPE as AKK_KIND, AKK_TYPE_ALIASES, CAPACITY_AUTO, CAPACITY_INPUT, \
+    DISPLAY_NAMES, INPUT_U16, RELATIVE_FLAG
+
+MAGIC = 0xA7
+VERSION = 0x01
+SIZE = 32
+REQUEST_SIZE = 8
+PAGE_SIZE = 4
+PAGES = SIZE // PAGE_SIZE
+READ_ALL, READ_PAGE, WRITE_PAGE = 0x00, 0x10, 0x20
+
+# field -> (offset, size)
+LAYOUT = {"magic": (0x00, 1), "version": (0x01, 1), "serial": (0x02, 16), "vendor": (0x12, 4),
+          "type": (0x16, 1), "err": (0x17, 2), "crit": (0x19, 2), "v_limit": (0x1B, 1),
+          "a_limit": (0x1C, 1), "temp": (0x1D, 1), "check": (0x1E, 2)}
+WRITABLE = ("serial", "vendor", "type", "err", "crit", "v_limit", "a_limit")
+# Bytes the battery maintains itself.
+_OWN_BYTES = frozenset((0x00, 0x01, 0x1D, 0x1E, 0x1F))
+_BODY = struct.Struct("<BB16s4sBHHBBb")
+
+
+class PassportError(ValueError):
+    pass
+
+
+def akk_name(code: int) -> str:
+    key = AKK_KIND.name_of(code)
+    return DISPLAY_NAMES.get(key, key) if key else f"type {code}"
+
+
+def akk_code(text: str | int) -> int:
+    if isinstance(text, int):
+        code = text
+    else:
+        t = text.strip().upper()
+        if t in AKK_TYPE_ALIASES:
+            return AKK_TYPE_ALIASES[t]
+        if t in AKK_KIND.names:
+            return AKK_KIND.names[t]
+        try:
+            code = int(t, 0)
+        except ValueError:
+            names = ", ".join(DISPLAY_NAMES[k] for k in AKK_KIND.names)
+            raise PassportError(f"'{text}' is not a battery type; use one of {names} or 0..255") from None
+    if not 0 <= code <= 255:
+        raise PassportError(f"battery type {code} is not 0..255")
+    return code
+
+
+def check_word(data: bytes) -> int:
+    """XOR of the 15 little-endian words at 0x00..0x1D."""
+    w = 0
+    for (v,) in struct.iter_unpack("<H", bytes(data[:0x1E])):
+        w ^= v
+    return w
+
+
+def check_ok(data: bytes) -> bool:
+    return len(data) == SIZE and data[0] == MAGIC and check_word(data) == int.from_bytes(data[0x1E:0x20], "little")
+
+
+@dataclass(frozen=True)
+class Passport:
+    serial: str = ""
+    vendor: str = ""
+    type: int = 0
+    err: int = 0
+    crit: int = 0
+    v_limit: int = 0          # volts, whole pack; 0 = not set
+    a_limit: int = 0          # amperes; 0 = not set
+    temp: int = 25            # °C, the battery's live reading
+    version: int = VERSION
+
+    @property
+    def type_name(self) -> str:
+        return akk_name(self.type)
+
+    def to_bytes(self) -> bytes:
+        body = _BODY.pack(MAGIC, self.version, _ascii(self.serial, 16, "serial"), _ascii(self.vendor, 4, "vendor"),
+                          _u(self.type, 0xFF, "type"), _u(self.err, 0xFFFF, "err"), _u(self.crit, 0xFFFF, "crit"),
+                          _u(self.v_limit, 0xFF, "v_limit"), _u(self.a_limit, 0xFF, "a_limit"),
+                          max(-128, min(127, int(self.temp))))
+        return body + check_word(body).to_bytes(2, "little")
+
+    @classmethod
+    def from_bytes(cls, data: bytes) -> "Passport":
+        data = bytes(data)
+        if len(data) != SIZE:
+            raise PassportError(f"a passport is {SIZE} bytes, not {len(data)}")
+        if data[0] != MAGIC:
+            raise PassportError(f"passport magic is 0x{data[0]:02x}, expected 0x{MAGIC:02x}")
+        stored, expected = int.from_bytes(data[0x1E:0x20], "little"), check_word(data)
+        if stored != expected:
+            raise PassportError(f"passport check is 0x{stored:04x}, expected 0x{expected:04x}")
+        magic, version, serial, vendor, typ, err, crit, vl, al, temp = _BODY.unpack(data[:0x1E])
+        return cls(_text(serial), _text(vendor), typ, err, crit, vl, al, temp, version)
+
+    def with_field(self, field: str, value) -> "Passport":
+        """A copy with one writable field set; text values are parsed ("NiMh", "12", "0x10")."""
+        field = field.strip().lower()
+        if field not in WRITABLE:
+            raise PassportError(f"'{field}' is not a writable passport field; fields: {', '.join(WRITABLE)}")
+        if field in ("serial", "vendor"):
+            value = str(value)
+            _ascii(value, LAYOUT[field][1], field)
+        elif field == "type":
+            value = akk_code(value)
+        else:
+            try:
+                value = int(value, 0) if isinstance(value, str) else int(value)
+            except ValueError:
+                raise PassportError(f"{field} takes a whole number, not '{value}'") from None
+            _u(value, 0xFFFF if field in ("err", "crit") else 0xFF, field)
+        return replace(self, **{field: value})
+
+
+def _ascii(text: str, size: int, what: str) -> bytes:
+    try:
+        raw = text.encode("ascii")
+    except UnicodeEncodeError:
+        raise PassportError(f"{what} must be ASCII") from None
+    if len(raw) > size:
+        raise PassportError(f"{what} has at most {size} characters, not {len(raw)}")
+    if any(b < 0x20 or b > 0x7E for b in raw):
+        raise PassportError(f"{what} must be printable ASCII")
+    return raw.ljust(size, b"\0")
+
+
+def _text(raw: bytes) -> str:
+    return raw.split(b"\0", 1)[0].decode("ascii", "replace")
+
+
+def _u(value: int, top: int, what: str) -> int:
+    if not isinstance(value, int) or not 0 <= value <= top:
+        raise PassportError(f"{what} must be 0..{top}, not {value}")
+    return value
+
+
+# -- requests ----------------------------------------------------------------------------
+
+def make_request(rw_index: int, page: int = 0, data: bytes = b"\0\0\0\0") -> bytes:
+    if len(data) != PAGE_SIZE:
+        raise PassportError("a request carries exactly 4 data bytes")
+    body = bytes((MAGIC, rw_index & 0xFF, page & 0xFF)) + bytes(data)
+    x = 0
+    for b in body:
+        x ^= b
+    return body + bytes((x,))
+
+
+def read_all_request() -> bytes:
+    return make_request(READ_ALL)
+
+
+def read_page_request(page: int) -> bytes:
+    _page(page)
+    return make_request(READ_PAGE | page, page)
+
+
+def write_page_request(page: int, data: bytes) -> bytes:
+    _page(page)
+    return make_request(WRITE_PAGE | page, page, data)
+
+
+def _page(page: int) -> None:
+    if not 0 <= page < PAGES:
+        raise PassportError(f"a passport page is 0..{PAGES - 1}, not {page}")
+
+
+def parse_request(req: bytes) -> tuple[str, int, bytes]:
+    """-> ("all" | "read" | "write", page, data). Raises PassportError for a request a battery ignores."""
+    req = bytes(req)
+    if len(req) != REQUEST_SIZE:
+        raise PassportError(f"a passport request is {REQUEST_SIZE} bytes, not {len(req)}")
+    if req[0] != MAGIC:
+        raise PassportError(f"request magic 0x{req[0]:02x}, expected 0x{MAGIC:02x}")
+    x = 0
+    for b in req[:7]:
+        x ^= b
+    if x != req[7]:
+        raise PassportError(f"request XOR 0x{req[7]:02x}, expected 0x{x:02x}")
+    rw, page, data = req[1], req[2], req[3:7]
+    if rw == READ_ALL:
+        return "all", 0, data
+    op = {READ_PAGE: "read", WRITE_PAGE: "write"}.get(rw & 0xF0)
+    if op is None or (rw & 0x0F) != page or page >= PAGES:
+        raise PassportError(f"RW_INDEX 0x{rw:02x} with PAGE {page} is not a request")
+    return op, page, data
+
+
+def page_of(answer: bytes, page: int) -> bytes:
+    _page(page)
+    return bytes(answer[PAGE_SIZE * page:PAGE_SIZE * (page + 1)])
+
+
+def page_writes(old: bytes, new: bytes) -> list[bytes]:
+    """The write requests that turn passport ``old`` into ``new`` (pages that differ in bytes the host owns)."""
+    out = []
+    for page in range(PAGES):
+        lo = PAGE_SIZE * page
+        if any(old[i] != new[i] for i in range(lo, lo + PAGE_SIZE) if i not in _OWN_BYTES):
+            out.append(write_page_request(page, new[lo:lo + PAGE_SIZE]))
+    return out
+
+
+class PassportChip:
+    """The battery's side: holds the 32 bytes, keeps TEMP live and the check right."""
+
+    def __init__(self, passport: Passport, temp_source: Callable[[], float] | None = None):
+        self._image = bytearray(passport.to_bytes())
+        self._temp_source = temp_source
+        self.writes = 0
+
+    def _refresh(self) -> None:
+        if self._temp_source is not None:
+            t = round(self._temp_source())
+            self._image[0x1D] = max(-128, min(127, t)) & 0xFF
+        self._image[0] = MAGIC
+        self._image[1] = VERSION
+        self._image[0x1E:0x20] = check_word(self._image).to_bytes(2, "little")
+
+    @property
+    def image(self) -> bytes:
+        self._refresh()
+        return bytes(self._image)
+
+    @property
+    def passport(self) -> Passport:
+        return Passport.from_bytes(self.image)
+
+    def answer(self, request: bytes) -> bytes | None:
+        """32 bytes, or None for a request the battery ignores."""
+        try:
+            op, page, data = parse_request(request)
+        except PassportError:
+            return None
+        if op == "write":
+            lo = PAGE_SIZE * page
+            for k in range(PAGE_SIZE):
+                if lo + k not in _OWN_BYTES:
+                    self._image[lo + k] = data[k]
+            self.writes += 1
+        return self.image
+
+
+def default_passport(chemistry: str, capacity_mah: float, series: int, serial: str = "ZUML-VIRT-0001") -> Passport:
+    """What the virtual charger's battery carries: its chemistry, V_LIMIT = the chemistry's absolute
+    maximum per cell × cells (rounded up), A_LIMIT = 2C (rounded up, at least 1 A)."""
+    import math
+    from ..sim.chemistry import load_chemistry
+    code = akk_code(chemistry)
+    try:
+        chem = load_chemistry(akk_name(code))
+        v_limit = min(255, math.ceil(chem.max_v * series - 1e-9))
+    except KeyError:
+        v_limit = 0
+    a_limit = min(255, max(1, math.ceil(2 * capacity_mah / 1000.0 - 1e-9)))
+    return Passport(serial, "ZUML", code, 0, 0, v_limit, a_limit, 25)
+
+
+# -- the lockout -------------------------------------------------------------------------
+
+def conflicts(passport: Passport, record: bytes, start, *, charger_max_a: float | None = None) -> list[str]:
+    """Why the macro in ``record`` must not run on the battery this passport describes.
+
+    ``start`` is a ``sim.interpreter.StartParams``. Values are resolved as the interpreter
+    does (C with the capacity, S with the series, INPUT with the start values); a value that
+    cannot be resolved is skipped (the start itself will fail on it). ``charger_max_a`` is the
+    current a CONSTANT_V phase alone may reach when no current was entered.
+    """
+    from ..sim.program import DefaultDischarge, PhaseCode, Program
+    program = Program(record)          # DecodeError for bytes that are not a record
+    out: list[str] = []
+    akk = program.intro.declarations.get(ops.AKK_TYPE.code, 0)
+    if akk != passport.type:
+        if akk == 0:
+            out.append(f"the macro sets no battery type (AKK_TYPE Undef); the battery is {akk_name(passport.type)}")
+        else:
+            out.append(f"the macro is for {akk_name(akk)}; the battery is {akk_name(passport.type)}")
+    decl = program.intro.declarations
+    cap = decl.get(ops.CAPACITY.code)
+    capacity_ah = (cap / 1000.0 if cap not in (None, CAPACITY_INPUT, CAPACITY_AUTO)
+                   else (start.capacity_mah / 1000.0 if start.capacity_mah else None))
+    series = decl.get(ops.SERIES.code) or start.series
+
+    def current(raw: int) -> float | None:
+        if raw == INPUT_U16:
+            return start.current_a
+        value = (raw & 0x7FFF) / 100.0
+        if raw & RELATIVE_FLAG:
+            return value * capacity_ah if capacity_ah else None
+        return value
+
+    def voltage(raw: int) -> float | None:
+        if raw == INPUT_U16:
+            return start.voltage_v
+        value = (raw & 0x7FFF) / 100.0
+        if raw & RELATIVE_FLAG:
+            return value * series if series else None
+        return value
+
+    a_lim, v_lim = passport.a_limit, passport.v_limit
+    seen: set[str] = set()
+
+    def add(text: str) -> None:
+        if text not in seen:
+            seen.add(text)
+            out.append(text)
+
+    def text(ins) -> str:
+        return canonical_text(ins.op, format_args(ins.op, ins.raws))
+
+    for step in program.steps(start.task, 1):
+        if isinstance(step, DefaultDischarge) or not isinstance(step, PhaseCode):
+            continue
+        by_code = {a.op.code: a for a in step.actions}
+        charging = step.section == "charge" or 62 in by_code or 63 in by_code
+        if not charging:
+            continue
+        where = f"{step.section} phase {step.index}"
+        if a_lim:
+            charge_currents = []
+            if 62 in by_code:
+                charge_currents.append((by_code[62].raws[1], by_code[62]))
+            elif 63 in by_code:
+                charge_currents.append((by_code[63].raws[0], by_code[63]))
+            elif 60 in by_code:
+                charge_currents.append((by_code[60].raws[0], by_code[60]))
+            for raw, ins in charge_currents:
+                amps = current(raw)
+                if amps is not None and amps > a_lim + 1e-9:
+                    add(f"the macro charges at {amps:.2f} A ({where}: {text(ins)}); the battery allows {a_lim} A")
+            if 61 in by_code and 60 not in by_code:
+                amps = start.current_a if start.current_a else charger_max_a
+                if amps is not None and amps > a_lim + 1e-9:
+                    how = "the current entered at start" if start.current_a else "the charger's limit, no current entered"
+                    add(f"the macro charges at up to {amps:.2f} A ({where}: {text(by_code[61])} limited to {how}); "
+                        f"the battery allows {a_lim} A")
+        if v_lim:
+            checks = []
+            if 61 in by_code:
+                checks.append((by_code[61].raws[0], by_code[61], "holds"))
+            if 63 in by_code:
+                checks.append((by_code[63].raws[2], by_code[63], "tops up to"))
+            for ins in step.conditions:
+                if ins.op.code == 83:
+                    checks.append((ins.raws[0], ins, "lets the voltage rise to"))
+            for raw, ins, verb in checks:
+                volts = voltage(raw)
+                if volts is not None and volts > v_lim + 1e-9:
+                    add(f"the macro {verb} {volts:.2f} V ({where}: {text(ins)}); the battery allows {v_lim} V")
+    return out

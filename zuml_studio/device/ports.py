@@ -1,0 +1,42 @@
+"""Which ports there are: real serial ports (``serial.tools.list_ports``) plus the built-in
+virtual charger. pyserial never lists ptys, so a virtual charger served on a pty (or TCP)
+is reached by the path or URL it prints. Scanning can take a while on some systems: call
+this off the GUI thread or on a slow timer (>= 1 s)."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+VIRTUAL = "virtual"
+
+
+@dataclass(frozen=True)
+class PortInfo:
+    device: str               # what ChargerClient opens: /dev/ttyUSB0, COM3, socket://..., or "virtual"
+    description: str
+    hwid: str = ""
+    vid: int | None = None
+    pid: int | None = None
+    virtual: bool = False
+
+    def label(self) -> str:
+        ids = f" [{self.vid:04X}:{self.pid:04X}]" if self.vid is not None and self.pid is not None else ""
+        return f"{self.device} - {self.description}{ids}"
+
+
+VIRTUAL_PORT = PortInfo(VIRTUAL, "built-in virtual charger (the simulator behind the protocol)", virtual=True)
+
+
+def list_ports(include_virtual: bool = True) -> list[PortInfo]:
+    """Real serial ports sorted by name, then the virtual charger entry."""
+    out: list[PortInfo] = []
+    try:
+        from serial.tools import list_ports as lp
+        found = lp.comports()
+    except Exception:   # noqa: BLE001 - a platform quirk must not break the port list
+        found = []
+    for p in sorted(found, key=lambda p: p.device):
+        desc = p.description if p.description and p.description != "n/a" else (p.product or "serial port")
+        out.append(PortInfo(p.device, desc, p.hwid or "", p.vid, p.pid))
+    if include_virtual:
+        out.append(VIRTUAL_PORT)
+    return out
