@@ -43,3 +43,16 @@ def write_bytes(path: str, data: bytes) -> None:
 
 def out(text: str = "") -> None:
     sys.stdout.write(text + "\n")
+
+
+def check_start_options(args, capacity_max: float = 65534.0, amps_max: float = 327.0) -> None:
+    """The start values every run command takes (--cycles, --series, --capacity, --current, --voltage)."""
+    for name in ("cycles", "series"):
+        value = getattr(args, name, None)
+        if value is not None and not 1 <= value <= 255:
+            raise CliError(f"--{name} must be 1 to 255")
+    limits = {"capacity": capacity_max, "current": amps_max, "voltage": amps_max}
+    for name, top in limits.items():
+        value = getattr(args, name, None)
+        if value is not None and not 0 < value <= top:
+            raise CliError(f"--{name} must be above 0 and at most {top:g}")

@@ -18,7 +18,7 @@ from ..device.passport import WRITABLE, Passport, PassportError
 from ..lang.decoder import decode_record
 from ..lang.eeprom import ImageError, Slot, pack, records, used_bytes
 from ..lang.record import DecodeError
-from .common import CliError, out, read_bytes, write_bytes
+from .common import CliError, check_start_options, out, read_bytes, write_bytes
 from .lang_commands import compile_file
 
 
@@ -232,14 +232,7 @@ def cmd_restore(args: argparse.Namespace) -> int:
 
 @_device_errors
 def cmd_run(args: argparse.Namespace) -> int:
-    for name in ("cycles", "series"):
-        value = getattr(args, name)
-        if value is not None and not 1 <= value <= 255:
-            raise CliError(f"--{name} must be 1 to 255")
-    for name in ("capacity", "current", "voltage"):
-        value = getattr(args, name)
-        if value is not None and not 0 < value < 65.5 * (1000 if name == "capacity" else 1):
-            raise CliError(f"--{name} is out of range")
+    check_start_options(args, amps_max=65.5)    # START carries mA and mV as u16
     with _connect(args) as client:
         try:
             name = client.start(args.slot, args.task, args.cycles, args.capacity, args.current, args.voltage,

@@ -8,7 +8,7 @@ import sys
 from ..lang.compiler import compile_source
 from ..sim.interpreter import Measurement, StartError, StartParams
 from ..sim.simulate import BatterySetup, SimResult, simulate
-from .common import CliError, out, read_bytes, read_text
+from .common import CliError, check_start_options, out, read_bytes
 from .lang_commands import compile_file
 
 
@@ -42,14 +42,7 @@ def _record(path: str) -> bytes:
 def _check(args: argparse.Namespace) -> None:
     if args.soc is not None and not 0.0 <= args.soc <= 1.0:
         raise CliError("--soc is a fraction from 0 to 1")
-    for name in ("cycles", "series"):
-        value = getattr(args, name)
-        if value is not None and not 1 <= value <= 255:
-            raise CliError(f"--{name} must be 1 to 255")
-    for name in ("capacity", "current", "voltage"):
-        value = getattr(args, name)
-        if value is not None and value <= 0:
-            raise CliError(f"--{name} must be positive")
+    check_start_options(args)
     if not 0.05 <= args.tick <= 60:
         raise CliError("--tick must be 0.05 to 60 seconds")
 

@@ -29,14 +29,12 @@ from collections import deque
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..lang import opcodes as ops
 from ..lang.eeprom import DEFAULT_SIZE, ImageError, slots
-from ..lang.record import DecodeError
 from ..sim.battery import Pack
 from ..sim.charger_model import Charger, load_charger
 from ..sim.chemistry import chemistry_names, load_chemistry
 from ..sim.interpreter import Interpreter, Measurement, StartError, StartParams
-from ..sim.program import Program
+from ..sim.simulate import start_values
 from . import messages as m
 from .crc import crc16
 from .frames import Frame, FrameParser, encode_frame
@@ -494,20 +492,7 @@ class VirtualCharger:
 
     def _interpreter(self, record: bytes, params: StartParams) -> Interpreter:
         """As ``sim.simulate.prepare`` builds a run, but on the device's own battery and power stage."""
-        try:
-            program = Program(record)
-        except DecodeError as exc:
-            raise StartError(f"not a valid record: byte {exc.offset}: {exc.message}") from None
-        decl = program.intro.declarations
-        cap = decl.get(ops.CAPACITY.code)
-        capacity = params.capacity_mah or (cap if cap not in (None, 0, 0xFFFF) else None)
-        if not capacity:
-            raise StartError("the battery's capacity is needed: the macro takes it at start")
-        series = decl.get(ops.SERIES.code) or params.series
-        if not series:
-            raise StartError("the number of cells is needed: the macro takes it at start")
-        params = StartParams(params.task, params.repetitions, params.capacity_mah or capacity, params.current_a,
-                             params.voltage_v, params.series or series, params.sensor)
+        _, params = start_values(record, params)
         return Interpreter(record, params, self.pack, self.charger, tick_s=self.tick_s,
                            measurement=self._measurement, limit_s=math.inf)
 

@@ -76,14 +76,15 @@ def model_chemistry(record: bytes, setup: BatterySetup) -> str:
                          "choose one (Pb, NiCd, NiMh, LiPo, LiIon, LiFe)") from None
 
 
-def prepare(record: bytes, params: StartParams, setup: BatterySetup = BatterySetup(), *,
-            tick_s: float = 1.0, measurement: Measurement = Measurement()) -> SimResult:
-    """Builds everything; the caller runs ``result.interpreter`` (all at once, or tick by tick)."""
+def start_values(record: bytes, params: StartParams) -> tuple[Program, StartParams]:
+    """The decoded program and the start values a run needs; capacity and cell count must be known
+    (the battery model needs them): the capacity entered at start is the battery's, else the macro's
+    CAPACITY; the macro's SERIES wins over the cells entered. (The interpreter itself still takes C
+    units from a declared CAPACITY first, as the charger would.)"""
     try:
         program = Program(record)
     except DecodeError as exc:
         raise StartError(f"not a valid record: byte {exc.offset}: {exc.message}") from None
-    chemistry = model_chemistry(record, setup)
     decl = program.intro.declarations
     cap = decl.get(ops.CAPACITY.code)
     capacity = params.capacity_mah or (cap if cap not in (None, 0, 0xFFFF) else None)
@@ -92,8 +93,16 @@ def prepare(record: bytes, params: StartParams, setup: BatterySetup = BatterySet
     series = decl.get(ops.SERIES.code) or params.series
     if not series:
         raise StartError("the number of cells is needed: the macro takes it at start (give --series N)")
-    params = StartParams(params.task, params.repetitions, params.capacity_mah or capacity, params.current_a,
-                         params.voltage_v, params.series or series, params.sensor)
+    return program, StartParams(params.task, params.repetitions, capacity, params.current_a, params.voltage_v,
+                                series, params.sensor)
+
+
+def prepare(record: bytes, params: StartParams, setup: BatterySetup = BatterySetup(), *,
+            tick_s: float = 1.0, measurement: Measurement = Measurement()) -> SimResult:
+    """Builds everything; the caller runs ``result.interpreter`` (all at once, or tick by tick)."""
+    program, params = start_values(record, params)
+    chemistry = model_chemistry(record, setup)
+    capacity, series = params.capacity_mah, params.series
     soc = setup.soc if setup.soc is not None else (0.0 if params.task == "charge" else 1.0)
     pack = Pack(load_chemistry(chemistry), capacity, series, soc, setup.ambient_c)
     charger = Charger(load_charger(setup.charger), setup.ambient_c)
