@@ -190,3 +190,12 @@ def test_screenshot_command_renders_and_exits_zero(tmp_path):
                           timeout=120)
     assert proc.returncode == 0, proc.stderr
     assert out.stat().st_size > 20000
+
+
+def test_visual_editor_is_docked_and_follows_the_text(make_window, qtbot):
+    w = make_window(LIPO)
+    visual = w.findChild(object, "visualEditor")
+    assert visual is w.visual and visual.macro().name == "LiPo"
+    w.show_visual()
+    w.editor.setPlainText(open(LIPO).read().replace("MACRO LiPo", "MACRO LiPo2"))
+    qtbot.waitUntil(lambda: visual.macro().name == "LiPo2", timeout=2000)

@@ -22,6 +22,7 @@ from .library import STANDARD_MACROS, LibraryBrowser
 from .problems import ProblemsView
 from .sim.sim_panel import SimulatorPanel
 from .validation import Validator
+from .visual import NewMacroWizard, VisualEditor
 
 APP_NAME = "ZUML Studio"
 AUTOSAVE_MS = 5000
@@ -73,9 +74,13 @@ class MainWindow(QMainWindow):
         self.hex_view = HexView()
         self.library = LibraryBrowser(self.user_macros)
         self.sim_panel = SimulatorPanel()
+        self.visual = VisualEditor(self.editor)
 
         self.library_dock = self._dock("Library", "libraryDock", self.library, Qt.DockWidgetArea.LeftDockWidgetArea)
         self.hex_dock = self._dock("Bytes", "hexDock", self.hex_view, Qt.DockWidgetArea.RightDockWidgetArea)
+        self.visual_dock = self._dock("Visual", "visualDock", self.visual, Qt.DockWidgetArea.RightDockWidgetArea)
+        self.tabifyDockWidget(self.hex_dock, self.visual_dock)
+        self.hex_dock.raise_()
         self.problems_dock = self._dock("Problems", "problemsDock", self.problems,
                                         Qt.DockWidgetArea.BottomDockWidgetArea)
         self.sim_dock = self._dock("Simulator", "simulatorDock", self.sim_panel, Qt.DockWidgetArea.BottomDockWidgetArea)
@@ -115,6 +120,9 @@ class MainWindow(QMainWindow):
     def _build_actions(self) -> None:
         K = QKeySequence.StandardKey
         self.act_new = self._action("&New", lambda: self.new_file(EMPTY_MACRO), K.New, "A new macro")
+        self.act_wizard = self._action("New from &Wizard…", self.new_from_wizard, "Ctrl+Shift+N",
+                                       "Answer a few questions about the battery")
+        self.act_visual = self._action("&Visual Editor", self.show_visual, "Ctrl+Shift+V")
         self.act_open = self._action("&Open…", self.open_dialog, K.Open)
         self.act_save = self._action("&Save", self.save, K.Save)
         self.act_save_as = self._action("Save &As…", self.save_as, K.SaveAs)
@@ -135,6 +143,7 @@ class MainWindow(QMainWindow):
         bar = self.menuBar()
         file_menu = bar.addMenu("&File")
         file_menu.addAction(self.act_new)
+        file_menu.addAction(self.act_wizard)
         templates = file_menu.addMenu("New from &Template")
         for path in sorted(STANDARD_MACROS.glob(f"*{EXTENSION}"), key=lambda p: p.name.lower()):
             templates.addAction(path.stem, lambda p=path: self.new_from_template(p))
@@ -161,7 +170,9 @@ class MainWindow(QMainWindow):
             edit.addAction(action)
 
         view = bar.addMenu("&View")
-        for dock in (self.library_dock, self.hex_dock, self.problems_dock, self.sim_dock):
+        view.addAction(self.act_visual)
+        view.addSeparator()
+        for dock in (self.library_dock, self.hex_dock, self.visual_dock, self.problems_dock, self.sim_dock):
             view.addAction(dock.toggleViewAction())
 
         sim = bar.addMenu("&Simulate")
@@ -181,6 +192,8 @@ class MainWindow(QMainWindow):
         self.editor.cursorPositionChanged.connect(self._cursor_moved)
         self.editor.cursorLineChanged.connect(self._cursor_line_changed)
         self.validator.validated.connect(self._validated)
+        self.validator.validated.connect(self.visual.show_result)
+        self.visual.statusMessage.connect(lambda message: self.statusBar().showMessage(message, 6000))
         self.hex_view.lineActivated.connect(lambda line: self.editor.goto(line))
         self.hex_view.rowsSelected.connect(self.editor.set_linked_lines)
         self.problems.problemActivated.connect(self.editor.goto)
@@ -285,6 +298,16 @@ class MainWindow(QMainWindow):
             self.show_error(str(exc))
             return False
         return self.new_file(text)
+
+    def new_from_wizard(self) -> bool:
+        dialog = NewMacroWizard(self)
+        if not dialog.exec():
+            return False
+        return self.new_file(dialog.text())
+
+    def show_visual(self) -> None:
+        self.visual_dock.show()
+        self.visual_dock.raise_()
 
     def open_dialog(self) -> None:
         if not self.maybe_save():
