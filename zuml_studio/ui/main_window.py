@@ -27,6 +27,7 @@ from .visual import NewMacroWizard, VisualEditor
 APP_NAME = "ZUML Studio"
 AUTOSAVE_MS = 5000
 MAX_RECENT = 10
+LAYOUT_VERSION = 2      # raise when docks are added or removed: an older saved layout is then ignored
 EMPTY_MACRO = """MACRO NewMacro
   AKK_TYPE=LiPo
   CHARGE_SECTION
@@ -474,7 +475,7 @@ class MainWindow(QMainWindow):
         self.sim_panel.cancel()
         self.recovery.discard(self._recovery_key)
         self.settings.setValue("geometry", self.saveGeometry())
-        self.settings.setValue("windowState", self.saveState())
+        self.settings.setValue("windowState", self.saveState(LAYOUT_VERSION))
         self.settings.sync()
         event.accept()
 
@@ -484,7 +485,7 @@ class MainWindow(QMainWindow):
         if geometry is not None:
             self.restoreGeometry(geometry)
         if state is not None:
-            self.restoreState(state)
+            self.restoreState(state, LAYOUT_VERSION)
 
     # -- messages and help ----------------------------------------------------------------
     def show_error(self, message: str) -> None:
