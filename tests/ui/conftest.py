@@ -21,3 +21,4 @@ def make_window(qtbot, tmp_path):
     yield make
     for window in made:
         window.sim_panel.cancel()
+        window.device_panel.shutdown()

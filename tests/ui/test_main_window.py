@@ -171,7 +171,8 @@ def test_layout_and_recent_files_are_remembered(make_window, tmp_path):
 
 def test_object_names_for_tests_are_stable(make_window):
     w = make_window(LIPO)
-    for name in ("editor", "problems", "hexView", "libraryBrowser", "simulatorPanel", "simPlot", "phaseTable"):
+    for name in ("editor", "problems", "hexView", "libraryBrowser", "simulatorPanel", "simPlot", "phaseTable",
+                 "visualEditor", "devicePanel", "livePlot"):
         assert w.findChild(object, name) is not None, name
 
 
@@ -199,3 +200,24 @@ def test_visual_editor_is_docked_and_follows_the_text(make_window, qtbot):
     w.show_visual()
     w.editor.setPlainText(open(LIPO).read().replace("MACRO LiPo", "MACRO LiPo2"))
     qtbot.waitUntil(lambda: visual.macro().name == "LiPo2", timeout=2000)
+
+
+def test_the_device_panel_flashes_the_editors_macro_and_plots_it_live(make_window, qtbot):
+    import os
+    if os.name != "posix":
+        return
+    w = make_window(str(MACROS / "NiMh-dV.zuml"))
+    panel = w.findChild(object, "devicePanel")
+    panel.v_speed.setValue(2000)         # a 65-minute charge in about two seconds
+    panel.rate.setValue(50)
+    with qtbot.waitSignal(panel.connectedChanged, timeout=30000):
+        panel.connect_to("virtual")
+    qtbot.waitUntil(lambda: not panel.connection.busy, timeout=30000)   # it reads slots and passport first
+    with qtbot.waitSignal(panel.flashFinished, timeout=30000) as flashed:
+        qtbot.mouseClick(panel.flash_button, Qt.MouseButton.LeftButton)
+    assert flashed.args[0] and flashed.args[1].startswith("Flashed NiMh-dV into slot 0")
+    panel.set_start_params(task="charge", capacity_mah=2000, current_a=2.0, series=4, sensor=False)
+    with qtbot.waitSignal(panel.telemetryReceived, timeout=30000, check_params_cb=lambda n: n > 20):
+        panel.start()
+    assert panel.plot.points > 20
+    panel.stop()

@@ -16,7 +16,7 @@ from ..device.client import DEFAULT_BAUD, ChargerClient, check_image
 from ..device.errors import DeviceError, DeviceLinkError, ImageTooLarge
 from ..device.passport import WRITABLE, Passport, PassportError
 from ..lang.decoder import decode_record
-from ..lang.eeprom import ImageError, Slot, pack, records, used_bytes
+from ..lang.eeprom import ImageError, Slot, records, used_bytes
 from ..lang.record import DecodeError
 from .common import CliError, check_start_options, out, read_bytes, write_bytes
 from .lang_commands import compile_file
@@ -177,31 +177,21 @@ def _record(path: str) -> bytes:
 
 @_device_errors
 def cmd_flash(args: argparse.Namespace) -> int:
+    from ..device.flashing import ImageFull, SlotOutOfRange, merge_record
     record = _record(args.file)
     name = decode_record(record).macro.name
     with _connect(args) as client:
         current = client.read_image()
-        found = _slots_or_error(current)
-        recs = [s.record for s in found]
-        if args.slot is not None:
-            if not 0 <= args.slot <= len(recs):
-                raise CliError(f"--slot {args.slot}: the charger has slots 0..{len(recs) - 1}"
-                               f" ({len(recs)} appends)", 1)
-            index = args.slot
-        else:
-            index = next((s.index for s in found if s.decoded and s.name == name), len(recs))
-        action = (f"replaced slot {index} ({found[index].name})" if index < len(recs)
-                  else f"appended as slot {index}")
-        if index < len(recs):
-            recs[index] = record
-        else:
-            recs.append(record)
+        _slots_or_error(current)
         try:
-            image = pack(recs, len(current))
-        except ImageError as exc:
-            raise CliError(f"{name} does not fit: {exc.message}", 1) from None
-        result = client.write_image(image, current=current)
-    out(f"{name}: {action}; {result.changed} byte(s) written, verified")
+            merged = merge_record(current, record, args.slot)
+        except SlotOutOfRange as exc:
+            raise CliError(f"--slot {args.slot}: the charger has slots 0..{exc.count - 1}"
+                           f" ({exc.count} appends)", 1) from None
+        except ImageFull as exc:
+            raise CliError(f"{name} does not fit: {exc}", 1) from None
+        result = client.write_image(merged.image, current=current)
+    out(f"{name}: {merged.action}; {result.changed} byte(s) written, verified")
     return 0
 
 

@@ -16,6 +16,7 @@ from ..lang.compiler import CompileResult
 from ..lang.docgen import commands_markdown
 from ..macro_file import EXTENSION, MacroFile, MacroFileError, read_macro_file, write_macro_file
 from ..recovery import Recovered, RecoveryStore, atomic_write, config_dir
+from .device.device_panel import DevicePanel
 from .editor.code_editor import EditorWithFind
 from .hex_view import HexView
 from .library import STANDARD_MACROS, LibraryBrowser
@@ -27,7 +28,7 @@ from .visual import NewMacroWizard, VisualEditor
 APP_NAME = "ZUML Studio"
 AUTOSAVE_MS = 5000
 MAX_RECENT = 10
-LAYOUT_VERSION = 2      # raise when docks are added or removed: an older saved layout is then ignored
+LAYOUT_VERSION = 3      # raise when docks are added or removed: an older saved layout is then ignored
 EMPTY_MACRO = """MACRO NewMacro
   AKK_TYPE=LiPo
   CHARGE_SECTION
@@ -76,6 +77,7 @@ class MainWindow(QMainWindow):
         self.library = LibraryBrowser(self.user_macros)
         self.sim_panel = SimulatorPanel()
         self.visual = VisualEditor(self.editor)
+        self.device_panel = DevicePanel(self._current_record, self.config / "sessions")
 
         self.library_dock = self._dock("Library", "libraryDock", self.library, Qt.DockWidgetArea.LeftDockWidgetArea)
         self.hex_dock = self._dock("Bytes", "hexDock", self.hex_view, Qt.DockWidgetArea.RightDockWidgetArea)
@@ -85,7 +87,10 @@ class MainWindow(QMainWindow):
         self.problems_dock = self._dock("Problems", "problemsDock", self.problems,
                                         Qt.DockWidgetArea.BottomDockWidgetArea)
         self.sim_dock = self._dock("Simulator", "simulatorDock", self.sim_panel, Qt.DockWidgetArea.BottomDockWidgetArea)
+        self.device_dock = self._dock("Device", "deviceDock", self.device_panel, Qt.DockWidgetArea.BottomDockWidgetArea)
         self.splitDockWidget(self.problems_dock, self.sim_dock, Qt.Orientation.Horizontal)
+        self.tabifyDockWidget(self.sim_dock, self.device_dock)
+        self.sim_dock.raise_()
         self.resizeDocks([self.library_dock, self.hex_dock], [230, 420], Qt.Orientation.Horizontal)
         self.resizeDocks([self.problems_dock, self.sim_dock], [330, 1170], Qt.Orientation.Horizontal)
         self.resizeDocks([self.sim_dock], [400], Qt.Orientation.Vertical)
@@ -173,7 +178,8 @@ class MainWindow(QMainWindow):
         view = bar.addMenu("&View")
         view.addAction(self.act_visual)
         view.addSeparator()
-        for dock in (self.library_dock, self.hex_dock, self.visual_dock, self.problems_dock, self.sim_dock):
+        for dock in (self.library_dock, self.hex_dock, self.visual_dock, self.problems_dock, self.sim_dock,
+                     self.device_dock):
             view.addAction(dock.toggleViewAction())
 
         sim = bar.addMenu("&Simulate")
@@ -195,6 +201,7 @@ class MainWindow(QMainWindow):
         self.validator.validated.connect(self._validated)
         self.validator.validated.connect(self.visual.show_result)
         self.visual.statusMessage.connect(lambda message: self.statusBar().showMessage(message, 6000))
+        self.device_panel.statusMessage.connect(lambda message: self.statusBar().showMessage(message, 6000))
         self.hex_view.lineActivated.connect(lambda line: self.editor.goto(line))
         self.hex_view.rowsSelected.connect(self.editor.set_linked_lines)
         self.problems.problemActivated.connect(self.editor.goto)
@@ -246,6 +253,11 @@ class MainWindow(QMainWindow):
         if capacity and capacity.args[0].raw not in (0, 0xFFFF):
             hints["capacity_mah"] = capacity.args[0].raw
         return hints
+
+    def _current_record(self) -> tuple[bytes, str] | None:
+        """What Compile & Flash writes: the editor's macro, checked now (never stale bytes)."""
+        result = self.validate_now()
+        return (result.record, result.macro.name) if result.ok else None
 
     def _cursor_moved(self) -> None:
         cursor = self.editor.textCursor()
@@ -473,6 +485,7 @@ class MainWindow(QMainWindow):
             event.ignore()
             return
         self.sim_panel.cancel()
+        self.device_panel.shutdown()
         self.recovery.discard(self._recovery_key)
         self.settings.setValue("geometry", self.saveGeometry())
         self.settings.setValue("windowState", self.saveState(LAYOUT_VERSION))

@@ -1,0 +1,149 @@
+"""The live plot's buffers, without Qt: a growing buffer that keeps a whole session and a
+fixed ring that is always one contiguous array; both safe for one writer thread and readers."""
+import subprocess
+import sys
+import threading
+
+import numpy as np
+import pytest
+
+from zuml_studio.ui.device.ring_buffer import GrowingBuffer, RingBuffer
+
+
+def test_no_qt_is_imported():
+    code = ("import sys; import zuml_studio.ui.device.ring_buffer, zuml_studio.ui.device.session_log; "
+            "print(any(m.startswith(('PySide6', 'pyqtgraph')) for m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "False"
+
+
+def test_growing_buffer_appends_rows_and_grows_by_doubling():
+    buf = GrowingBuffer(("t", "v"), capacity=4)
+    for i in range(10):
+        buf.append((i, 10 * i))
+    assert len(buf) == 10 and buf.capacity == 16
+    n, cols = buf.snapshot()
+    assert n == 10
+    assert cols["t"].tolist() == list(range(10)) and cols["v"].tolist() == [10 * i for i in range(10)]
+    assert buf.snapshot(7)[1]["t"].tolist() == [7, 8, 9]
+    assert buf.last() == {"t": 9.0, "v": 90.0}
+    buf.append({"t": 10})                              # a missing column is NaN
+    assert np.isnan(buf.column("v")[-1])
+    with pytest.raises(ValueError):
+        buf.append((1, 2, 3))
+
+
+def test_growing_buffer_extend_and_dtypes():
+    buf = GrowingBuffer(("t", "v"), capacity=2, dtype={"v": np.float32})
+    buf.extend({"t": np.arange(1000.0), "v": np.ones(1000)})
+    assert len(buf) == 1000 and buf.capacity == 1024
+    assert buf.column("t").dtype == np.float64 and buf.column("v").dtype == np.float32
+    buf.extend({"t": [], "v": []})
+    assert len(buf) == 1000
+    with pytest.raises(ValueError):
+        buf.extend({"t": [1, 2], "v": [1]})
+    with pytest.raises(ValueError):
+        GrowingBuffer(("t", "t"))
+    with pytest.raises(ValueError):
+        GrowingBuffer(("t",), dtype={"x": np.float32})
+
+
+def test_views_handed_out_stay_valid_while_the_buffer_grows():
+    buf = GrowingBuffer(("t",), capacity=8)
+    buf.extend({"t": np.arange(8.0)})
+    n, cols = buf.snapshot()
+    view = cols["t"]
+    buf.extend({"t": np.arange(8.0, 100.0)})           # reallocates
+    assert view.tolist() == list(range(8))
+    assert buf.column("t")[:8].tolist() == list(range(8))
+    version = buf.version
+    buf.append((100.0,))
+    assert buf.version == version + 1
+
+
+def test_a_million_rows():
+    buf = GrowingBuffer(("t", "v", "i", "T", "Tc"), capacity=1024)
+    chunk = np.arange(10_000.0)
+    for k in range(100):
+        buf.extend({name: chunk + k * 10_000 for name in buf.names})
+    assert len(buf) == 1_000_000
+    t = buf.column("t")
+    assert t[0] == 0 and t[-1] == 999_999 and (np.diff(t) == 1).all()
+
+
+def test_one_writer_thread_and_a_reader():
+    buf = GrowingBuffer(("t", "v"), capacity=16)
+    done = threading.Event()
+
+    def write():
+        for i in range(20_000):
+            buf.append((i, 2 * i))
+        done.set()
+
+    writer = threading.Thread(target=write)
+    writer.start()
+    checks = 0
+    while not done.is_set() or checks == 0:
+        n, cols = buf.snapshot()
+        if n:
+            assert len(cols["t"]) == n == len(cols["v"])
+            assert cols["t"][-1] == n - 1 and cols["v"][-1] == 2 * (n - 1)
+        checks += 1
+    writer.join()
+    assert len(buf) == 20_000
+
+
+def test_clear_keeps_views_already_handed_out():
+    buf = GrowingBuffer(("t",))
+    buf.extend({"t": [1.0, 2.0]})
+    view = buf.column("t")
+    buf.clear()
+    assert len(buf) == 0 and buf.last() is None
+    assert view.tolist() == [1.0, 2.0]
+
+
+def test_ring_buffer_keeps_the_newest_rows_contiguous():
+    ring = RingBuffer(4, width=2)
+    assert len(ring) == 0 and ring.view().shape == (0, 2)
+    for i in range(3):
+        ring.append((i, -i))
+    assert ring.view().tolist() == [[0, 0], [1, -1], [2, -2]]
+    for i in range(3, 10):
+        ring.append((i, -i))
+    view = ring.view()
+    assert view.tolist() == [[6, -6], [7, -7], [8, -8], [9, -9]]
+    assert view.flags["C_CONTIGUOUS"] and ring.total == 10 and len(ring) == 4
+    copy = ring.copy()
+    ring.append((10, -10))
+    assert copy.tolist() == [[6, -6], [7, -7], [8, -8], [9, -9]]
+
+
+def test_ring_buffer_extend_wraps_and_skips_what_does_not_fit():
+    ring = RingBuffer(5)
+    ring.extend([1, 2, 3])
+    ring.extend([4, 5, 6, 7])
+    assert ring.view().ravel().tolist() == [3, 4, 5, 6, 7]
+    ring.extend(range(100, 112))
+    assert ring.view().ravel().tolist() == [107, 108, 109, 110, 111]
+    assert ring.total == 3 + 4 + 12
+    ring.extend([])
+    assert ring.total == 19
+    ring.clear()
+    assert len(ring) == 0
+    with pytest.raises(ValueError):
+        RingBuffer(0)
+
+
+def test_ring_buffer_matches_a_reference_model():
+    rng = np.random.default_rng(3)
+    ring = RingBuffer(37)
+    model = []
+    for _ in range(500):
+        k = int(rng.integers(0, 60))
+        rows = rng.normal(size=k)
+        if k == 1 and rng.random() < 0.5:
+            ring.append(rows[0])
+        else:
+            ring.extend(rows)
+        model.extend(rows.tolist())
+        assert ring.view().ravel().tolist() == model[-37:]

@@ -1,0 +1,100 @@
+"""The session CSV, without Qt: the simulator's columns plus an event column, one row per
+telemetry frame and per event, flushed at least every second by its writer thread."""
+import csv
+import datetime
+import time
+
+import pytest
+
+from zuml_studio.device.messages import DeviceEvent, Telemetry
+from zuml_studio.sim.samples import COLUMNS as SIM_COLUMNS
+from zuml_studio.ui.device.session_log import COLUMNS, SessionLog, display_path, event_text, session_path
+
+
+def telemetry(t=12.0, running=True, temp=25.5):
+    return Telemetry(t, "charge", "charge" if running else "", 1, 0, 1 if running else 0, 1 if running else 0,
+                     running, False, temp is not None, 5.123, -1.5, temp, 30.25, 120.04, 3.0)
+
+
+def read(path):
+    with open(path, encoding="utf-8", newline="") as fh:
+        return list(csv.reader(fh))
+
+
+def test_columns_are_the_simulators_plus_event():
+    assert COLUMNS[:-1] == tuple(SIM_COLUMNS) and COLUMNS[-1] == "event"
+
+
+def test_session_path_is_dated_and_never_overwrites(tmp_path):
+    when = datetime.datetime(2025, 3, 4, 5, 6, 7)
+    first = session_path(tmp_path, when)
+    assert first.name == "session-20250304-050607.csv"
+    first.write_text("")
+    assert session_path(tmp_path, when).name == "session-20250304-050607-2.csv"
+
+
+def test_rows_for_telemetry_and_events(tmp_path):
+    path = tmp_path / "s.csv"
+    with SessionLog(path, threaded=False) as log:
+        log.add_telemetry(telemetry())
+        log.add_telemetry(telemetry(13.0, running=False, temp=None))
+        log.add_event(DeviceEvent(2, 14.0, "phase_end", "charge", 1, 1, 17, "IF(DELTA_PEAK>0.01S) STOP_FAZE"))
+        log.add_event(DeviceEvent(3, 14.0, "finish", "", 0, 0, -1, "end of macro"))
+        assert log.rows == 4
+    rows = read(path)
+    assert rows[0] == list(COLUMNS)
+    assert rows[1] == ["12.0", "charge", "1", "5.123", "-1.500", "25.50", "30.25", "120.0", "3.0", ""]
+    assert rows[2] == ["13.0", "", "0", "5.123", "-1.500", "", "30.25", "120.0", "3.0", ""]
+    assert rows[3] == ["14.0", "charge", "", "", "", "", "", "", "", "phase_end charge 1: IF(DELTA_PEAK>0.01S) STOP_FAZE"]
+    assert rows[4][-1] == "finish: end of macro"
+
+
+def test_the_writer_thread_flushes_within_a_second(tmp_path):
+    path = tmp_path / "live.csv"
+    log = SessionLog(path)                   # its own writer thread, flushing every 0.5 s
+    try:
+        assert read(path) == [list(COLUMNS)]   # the header is on disk at once
+        for k in range(100):
+            log.add_telemetry(telemetry(float(k)))
+        deadline = time.monotonic() + 1.0
+        while len(read(path)) < 101 and time.monotonic() < deadline:
+            time.sleep(0.02)
+        assert len(read(path)) == 101, "not flushed within a second"
+        # a quiet spell after one more row: flushed too, without anything else arriving
+        log.add_event(DeviceEvent(0, 100.0, "section", "charge"))
+        time.sleep(1.0)
+        assert read(path)[-1][-1] == "section charge"
+    finally:
+        log.close()
+    assert log.rows == 101
+    assert not log._thread
+    log.add_telemetry(telemetry())          # after close: ignored, never raises
+    log.close()
+
+
+def test_a_failing_disk_is_reported_not_raised(tmp_path):
+    log = SessionLog(tmp_path / "x.csv", threaded=False)
+    read_only = tmp_path / "ro.csv"
+    read_only.write_text("")
+    log._fh.close()
+    log._fh = open(read_only, "r", encoding="utf-8")     # as a disk that refuses writes would
+    log._writer = csv.writer(log._fh)
+    log.add_telemetry(telemetry())
+    assert log.error and "cannot write" in log.error
+    log.close()
+
+
+def test_event_text_and_display_path(tmp_path, monkeypatch):
+    assert event_text(DeviceEvent(0, 0.0, "phase_start", "discharge", 2)) == "phase_start discharge 2"
+    assert event_text(DeviceEvent(0, 0.0, "pause", "", 0, 0, -1, "Tc>70")) == "pause: Tc>70"
+    monkeypatch.setenv("HOME", str(tmp_path))
+    assert display_path(tmp_path / "a" / "b.csv") == "~/a/b.csv"
+    assert display_path("/elsewhere/b.csv") == "/elsewhere/b.csv"
+
+
+def test_add_row_checks_its_length(tmp_path):
+    with SessionLog(tmp_path / "r.csv", threaded=False) as log:
+        with pytest.raises(ValueError):
+            log.add_row(("1", "2"))
+        log.add_row(tuple(str(i) for i in range(len(COLUMNS))))
+    assert read(tmp_path / "r.csv")[1] == [str(i) for i in range(len(COLUMNS))]

@@ -1,0 +1,50 @@
+"""Device-panel fixtures: a shown panel whose editor holds a compiled seed macro, and
+virtual chargers served beside the panel."""
+import pytest
+
+from device_helpers import Editor
+
+
+@pytest.fixture
+def editor():
+    return Editor()
+
+
+@pytest.fixture
+def make_panel(qtbot, tmp_path, editor):
+    """make_panel(size=(1400, 380)) -> a shown DevicePanel at 1400x380 (session CSVs in tmp_path/sessions)."""
+    from zuml_studio.ui.device import DevicePanel
+
+    made = []
+
+    def make(size=(1400, 380)):
+        panel = DevicePanel(editor, tmp_path / "sessions", port_lister=lambda: [])
+        qtbot.addWidget(panel)
+        panel.resize(*size)
+        panel.show()
+        made.append(panel)
+        return panel
+
+    yield make
+    for panel in made:
+        panel.shutdown()
+
+
+@pytest.fixture
+def served():
+    """served(**VirtualCharger kwargs) -> (device, port): a virtual charger on a pty, unpaced."""
+    from zuml_studio.device.transport import serve_pty
+    from zuml_studio.device.virtual_charger import VirtualCharger
+
+    made = []
+
+    def serve(**kw):
+        device = VirtualCharger(**kw)
+        port, stop = serve_pty(device, None)
+        made.append((device, stop))
+        return device, port
+
+    yield serve
+    for device, stop in made:
+        stop()
+        device.close()

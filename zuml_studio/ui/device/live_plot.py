@@ -1,0 +1,748 @@
+"""The live plot of a charger's telemetry: pack voltage, signed current, battery and heat-sink
+temperature stacked over one h:mm time axis, with the phases as bands from the device's
+EVENT frames, in the simulator plot's look (``ui/sim/charge_plot.py``).
+
+Data path (ide.md §3, §7): the client's reader thread calls ``LiveSeries.add_telemetry`` /
+``add_event`` (no Qt there: numpy buffers under a lock); a QTimer at about 30 Hz takes
+what is new and calls ``setData`` only when something changed. The whole session is kept
+(the buffers grow by doubling; a million points per curve draw in well under 20 ms with
+clip-to-view and peak downsampling, antialiasing off).
+
+The x axis is the macro's clock. Telemetry is plotted while a macro runs; a new run (its
+clock starts again) continues after the previous one, so the session stays one
+time line. Idle frames are not plotted (their clock stands still); they update the
+readings only.
+"""
+from __future__ import annotations
+
+import math
+import threading
+import time
+from dataclasses import dataclass
+
+import numpy as np
+import pyqtgraph as pg
+from PySide6.QtCore import QLine, QRect, QRectF, QTimer, Signal
+from PySide6.QtGui import QColor, QFont, QFontMetrics
+
+from ..sim.charge_plot import (AXIS_PEN, AXIS_WIDTH, BACKGROUND, BAND_ALPHA, BAND_RGB, BATTERY_T_PEN, CURRENT_FILL,
+                               CURRENT_PEN, GRID_ALPHA, HEATSINK_T_PEN, INK, LABEL_COLOR, LABEL_PT, TICK_PT,
+                               VOLTAGE_PEN, WARNING_COLOR, ZERO_PEN, InlineLegend, band_label)
+from ..timefmt import TimeAxisItem
+from .ring_buffer import GrowingBuffer
+
+COLUMNS = ("t", "voltage", "current", "temp", "heatsink")
+REDRAW_MS = 33                     # ~30 Hz
+MAX_REDRAW_SHARE = 0.35            # a slow machine redraws less often rather than freeze
+DEFAULT_FOLLOW_MIN = 30
+MIN_VIEW_S = 60.0
+DRAW_WIDTHS = {"voltage": VOLTAGE_PEN.widthF(), "current": CURRENT_PEN.widthF(), "temp": BATTERY_T_PEN.widthF(),
+               "heatsink": HEATSINK_T_PEN.widthF()}
+
+
+@dataclass
+class LivePhase:
+    """One phase as the events tell it; ``end_s`` grows while it runs."""
+    section: str
+    index: int
+    repetition: int
+    offset: int
+    start_s: float
+    end_s: float
+    reason: str = ""
+    closed: bool = False
+
+    @property
+    def by_default(self) -> bool:
+        return self.reason.startswith(("default:", "limit:"))
+
+
+class LiveSeries:
+    """The session's telemetry and phases; filled on the reader thread, read by the GUI."""
+
+    def __init__(self, capacity: int = 4096):
+        # The clock in float64 (bisected, exact over days); the measurements in float32: half
+        # the memory, and the peak downsampling of a million values runs a third faster.
+        self.buffer = GrowingBuffer(COLUMNS, capacity, dtype={name: np.float32 for name in COLUMNS[1:]})
+        self.lock = threading.Lock()       # phases, events, readings
+        self.phases: list[LivePhase] = []
+        self.phase_version = 0
+        self.events: list = []             # every DeviceEvent, with its x
+        self.last_telemetry = None         # the newest frame (plotted or not)
+        self.frames = 0                    # telemetry frames seen
+        self._offset = 0.0                 # x of the current run's time 0
+        self._run_t: float | None = None   # the current run's last clock reading
+        self._last_x = 0.0
+
+    # -- reader thread ------------------------------------------------------------------------
+    def add_telemetry(self, tel) -> None:
+        with self.lock:
+            self.last_telemetry = tel
+            self.frames += 1
+            if not tel.running:
+                return
+            t = float(tel.time_s)
+            if self._run_t is not None and t < self._run_t - 1e-6:      # a new run: its clock starts again
+                self._offset = self._last_x
+            self._run_t = t
+            x = self._offset + t
+            self._last_x = max(self._last_x, x)
+            self.buffer.append((x, tel.voltage_v, tel.current_a,
+                                math.nan if tel.temp_c is None else tel.temp_c,
+                                math.nan if tel.heatsink_c is None else tel.heatsink_c))
+
+    def add_event(self, ev) -> None:
+        with self.lock:
+            if ev.number == 0 and self._run_t is not None:   # the first event of a new run
+                self._offset = self._last_x
+                self._run_t = 0.0
+            elif self._run_t is None:
+                self._run_t = 0.0
+            x = self._offset + float(ev.time_s)
+            self.events.append((x, ev))
+            if ev.kind == "phase_start":
+                self._close_open(x, "")
+                self.phases.append(LivePhase(ev.section, ev.index, ev.repetition, ev.offset, x, x))
+            elif ev.kind == "phase_end":
+                for p in reversed(self.phases):
+                    if not p.closed and p.section == ev.section and p.index == ev.index:
+                        p.end_s, p.reason, p.closed = max(x, p.start_s), ev.detail or "ended", True
+                        break
+            elif ev.kind == "finish":
+                self._close_open(x, ev.detail or "finished")
+            else:
+                return
+            self.phase_version += 1
+
+    def _close_open(self, x: float, reason: str) -> None:
+        for p in self.phases:
+            if not p.closed:
+                p.end_s, p.closed = max(x, p.start_s), True
+                p.reason = p.reason or reason
+
+    # -- GUI thread ---------------------------------------------------------------------------
+    def phases_copy(self) -> tuple[int, list[LivePhase]]:
+        with self.lock:
+            return self.phase_version, [LivePhase(**p.__dict__) for p in self.phases]
+
+    def last_x(self) -> float:
+        with self.lock:
+            return self._last_x
+
+    def clear(self) -> None:
+        with self.lock:
+            self.phases.clear()
+            self.events.clear()
+            self.phase_version += 1
+            self._offset = 0.0
+            self._run_t = None
+            self._last_x = 0.0
+            self.buffer.clear()
+
+    def __len__(self) -> int:
+        return len(self.buffer)
+
+
+def over_paper(r: int, g: int, b: int, alpha: int) -> QColor:
+    """The opaque colour a translucent one makes over the white background."""
+    a = alpha / 255.0
+    return QColor(*(int(round(255 - (255 - c) * a)) for c in (r, g, b)))
+
+
+class _Curve(pg.PlotDataItem):
+    """A PlotDataItem that knows its x values (the clock) are finite, so neither a new
+    ``setData`` nor a change of the view scans a million x values for NaN; and with no
+    ``dynamicRangeLimit`` (nothing here spans a million view heights) no full-range bounds
+    are computed either. Only the clipped, downsampled part is processed per frame."""
+
+    def __init__(self, *args, y_finite: bool = False, **kw):
+        self._y_finite = y_finite
+        # Peak downsampling keeps each bin's min and max: one bin per pixel already draws
+        # the whole envelope (pyqtgraph's default, 5, draws five times the lines).
+        super().__init__(*args, dynamicRangeLimit=None, autoDownsampleFactor=1.0, **kw)
+
+    def _getDisplayDataset(self):  # noqa: N802 (pyqtgraph's name)
+        ds = getattr(self, "_dataset", None)
+        if ds is not None and ds.xAllFinite is None:
+            ds.xAllFinite = True
+            if self._y_finite:
+                ds.yAllFinite = True
+        return super()._getDisplayDataset()
+
+
+class BackdropItem(pg.GraphicsObject):
+    """What lies under a plot's curves, in one item: the grid (major ticks) and every phase
+    band (a shaded span of x with edge lines).
+
+    pyqtgraph's own grid (``showGrid``) costs about 7 ms per plot and frame offscreen (its
+    axis pictures replay a hundred differently-styled lines), and a LinearRegionItem per
+    phase and plot costs more per frame than curves of a million points; one item drawing
+    a few batched lines costs well under a millisecond."""
+
+    def __init__(self, plot: pg.PlotItem, time_axis: pg.AxisItem):
+        super().__init__()
+        self.plot = plot
+        self.time_axis = time_axis
+        self._bands: list[tuple[float, float, object, object]] = []   # x0, x1, brush, pen
+        # Everything here is opaque, its translucent colour mixed over the white paper
+        # beforehand: the raster engine blends a translucent fill at ~20 ns a pixel, eight
+        # times an opaque one, and this item lies under everything on a white background.
+        self.grid_pen = pg.mkPen(over_paper(154, 154, 154, int(255 * GRID_ALPHA * 2)), width=1)
+        self.setZValue(-20)
+
+    def set_bands(self, bands: list[tuple[float, float, object, object]]) -> None:
+        self._bands = list(bands)
+        self.update()
+
+    def set_end(self, index: int, end: float) -> None:
+        x0, _, brush, pen = self._bands[index]
+        self._bands[index] = (x0, end, brush, pen)
+        self.update()
+
+    def spans(self) -> list[tuple[float, float]]:
+        return [(a, b) for a, b, _, _ in self._bands]
+
+    def boundingRect(self) -> QRectF:  # noqa: N802
+        vr = self.viewRect()
+        return QRectF() if vr is None else vr
+
+    def viewRangeChanged(self) -> None:  # noqa: N802
+        self.prepareGeometryChange()
+
+    def dataBounds(self, axis, frac=1.0, orthoRange=None):  # noqa: N802
+        return None
+
+    @staticmethod
+    def _major(axis: pg.AxisItem, lo: float, hi: float, size: float) -> np.ndarray:
+        """The axis's major tick positions, from its own spacing rule (``tickSpacing``),
+        without ``tickValues`` (which costs a millisecond a call)."""
+        if not hi > lo or size <= 0:
+            return np.zeros(0)
+        try:
+            levels = axis.tickSpacing(lo, hi, size)
+        except Exception:   # noqa: BLE001 - a degenerate range
+            return np.zeros(0)
+        if not levels:
+            return np.zeros(0)
+        step, offset = levels[0]
+        if not step > 0 or (hi - lo) / step > 200:
+            return np.zeros(0)
+        first = math.ceil((lo - offset) / step) * step + offset
+        return np.arange(first, hi + step * 1e-9, step)
+
+    def paint(self, painter, *args) -> None:
+        vr = self.viewRect()
+        vb = self.plot.vb
+        if vr is None or vb is None:
+            return
+        left, right = vr.left(), vr.right()
+        top, bottom = min(vr.top(), vr.bottom()), max(vr.top(), vr.bottom())
+        xs = self._major(self.time_axis, left, right, vb.width())
+        ys = self._major(self.plot.getAxis("left"), top, bottom, vb.height())
+        # Draw in whole device pixels: the raster engine's fast path (a fill in data
+        # coordinates, scaled by a million, costs ten times as much).
+        tr = painter.transform()
+        sx, dx, sy, dy = tr.m11(), tr.dx(), tr.m22(), tr.dy()
+        if tr.m12() or tr.m21():
+            return                                  # never rotated in a plot
+        x_lo, x_hi = sorted((left * sx + dx, right * sx + dx))
+        y_lo, y_hi = sorted((top * sy + dy, bottom * sy + dy))
+        px_left, px_right = int(math.floor(x_lo)), int(math.ceil(x_hi))
+        px_top, px_bottom = int(math.floor(y_lo)), int(math.ceil(y_hi))
+        painter.save()
+        painter.resetTransform()
+        try:
+            lines = [QLine(int(round(x * sx + dx)), px_top, int(round(x * sx + dx)), px_bottom) for x in xs]
+            lines += [QLine(px_left, int(round(y * sy + dy)), px_right, int(round(y * sy + dy))) for y in ys]
+            for x0, x1, brush, pen in self._bands:
+                if x1 < left or x0 > right:
+                    continue
+                a = int(round(max(x0, left) * sx + dx))
+                b = int(round(min(x1, right) * sx + dx))
+                a, b = min(a, b), max(a, b)
+                if b > a:
+                    painter.fillRect(QRect(a, px_top, b - a, px_bottom - px_top), brush)
+                painter.setPen(pen)
+                for edge in (x0, x1):
+                    if left <= edge <= right:
+                        e = int(round(edge * sx + dx))
+                        painter.drawLine(e, px_top, e, px_bottom)
+            if lines:
+                painter.setPen(self.grid_pen)
+                painter.drawLines(lines)
+        finally:
+            painter.restore()
+
+
+class LivePlot(pg.GraphicsLayoutWidget):
+    """Three x-linked plots (V, I, T) of a ``LiveSeries``, redrawn by a timer."""
+    pointsAdded = Signal(int)           # points plotted so far; at most once per redraw
+    followChanged = Signal(bool)        # the user zoomed or panned: following stops
+    phaseActivated = Signal(int)        # FAZE byte offset of a double-clicked band
+
+    def __init__(self, series: LiveSeries | None = None, parent=None):
+        super().__init__(parent)
+        self.setObjectName("livePlot")
+        self.setBackground(BACKGROUND)
+        self.series = series if series is not None else LiveSeries()
+        self.ci.setContentsMargins(2, 4, 4, 2)
+        self.ci.setSpacing(0)
+        self._label_font = QFont(self.font())
+        self._label_font.setPointSize(LABEL_PT)
+        self._tick_font = QFont(self.font())
+        self._tick_font.setPointSize(TICK_PT)
+        self._follow = True
+        self.follow_s = DEFAULT_FOLLOW_MIN * 60.0
+        self._n = 0                         # points taken from the series
+        self._drawn = 0                     # points handed to the curves (less while off-view)
+        self._version = -1
+        self._phase_version = -1
+        self._phases: list[LivePhase] = []
+        self._series_count = 1
+        self._setting_range = False
+        self._last_cost_ms = 0.0
+        self._paint_ms = 0.0
+        self._view_moves = 0
+        self.paints = 0
+        self._legend_at = 0.0
+        self._text_widths: dict[str, int] = {}
+        self.redraws = 0
+        self.labels: list[pg.TextItem] = []
+
+        time_axis = TimeAxisItem("bottom")
+        self.vplot = self.addPlot(row=0, col=0)
+        self.iplot = self.addPlot(row=1, col=0)
+        self.tplot = self.addPlot(row=2, col=0, axisItems={"bottom": time_axis})
+        self.plots = (self.vplot, self.iplot, self.tplot)
+        for plot in self.plots:
+            self._style(plot)
+        for plot in self.plots[:-1]:
+            plot.setXLink(self.tplot)
+            plot.hideAxis("bottom")
+        self._axis_label(self.tplot.getAxis("bottom"), "time (h:mm)")
+        self.tplot.getAxis("bottom").setHeight(34)
+        self._short_labels: bool | None = None
+        self._label_axes(short=False)
+        self.vplot.getAxis("right").setStyle(showValues=True)
+        self.ci.layout.setRowStretchFactor(0, 10)
+        self.ci.layout.setRowStretchFactor(1, 10)
+        self.ci.layout.setRowStretchFactor(2, 12)
+
+        self.legends = {plot: InlineLegend(plot, self._label_font) for plot in self.plots}
+        self.curves = {
+            "voltage": self._curve(self.vplot, VOLTAGE_PEN, "pack voltage"),
+            "current": self._curve(self.iplot, CURRENT_PEN, "+ charge, − discharge",
+                                   fillLevel=0.0, fillBrush=CURRENT_FILL),
+            "temp": self._curve(self.tplot, BATTERY_T_PEN, "battery", connect="finite"),
+            "heatsink": self._curve(self.tplot, HEATSINK_T_PEN, "heat sink", connect="finite"),
+        }
+        self.band_items = [BackdropItem(plot, time_axis) for plot in self.plots]
+        for plot, item in zip(self.plots, self.band_items):
+            plot.addItem(item, ignoreBounds=True)
+        self.zero_line = pg.InfiniteLine(pos=0.0, angle=0, pen=ZERO_PEN, movable=False)
+        self.iplot.addItem(self.zero_line, ignoreBounds=True)
+        self.placeholder = pg.TextItem("", color="#8a8a8a", anchor=(0.5, 0.5))
+        self.placeholder.setFont(self._label_font)
+        self.vplot.addItem(self.placeholder, ignoreBounds=True)
+        self.set_placeholder("not connected: pick a port and Connect")
+        for legend in self.legends.values():
+            legend.setVisible(False)
+        for plot in (self.iplot, self.tplot):
+            plot.enableAutoRange(axis="y")
+            plot.setAutoVisible(y=True)
+        for plot in self.plots:
+            plot.disableAutoRange(axis="x")          # clip-to-view needs a fixed x range
+        self.tplot.setXRange(0.0, MIN_VIEW_S * 10, padding=0)
+        self.vplot.sigXRangeChanged.connect(self._view_changed)
+        self.vplot.vb.sigResized.connect(self._view_changed)
+        for plot in self.plots:
+            plot.vb.sigRangeChangedManually.connect(self._user_moved)
+        self.scene().sigMouseClicked.connect(self._scene_clicked)
+
+        self.timer = QTimer(self, interval=REDRAW_MS)
+        self.timer.timeout.connect(self.refresh)
+
+    # -- construction ------------------------------------------------------------------------
+    def _style(self, plot: pg.PlotItem) -> None:
+        plot.showAxis("right")
+        plot.hideButtons()
+        plot.setMenuEnabled(True)
+        plot.setMouseEnabled(x=True, y=False)
+        plot.showGrid(x=False, y=False)            # the BackdropItem draws a cheaper grid
+        plot.setClipToView(True)
+        plot.setDownsampling(auto=True, mode="peak")
+        plot.getViewBox().setDefaultPadding(0.04)
+        for name in ("left", "right", "bottom"):
+            axis = plot.getAxis(name)
+            axis.setPen(AXIS_PEN)
+            axis.setTextPen(INK)
+            axis.setTickFont(self._tick_font)
+            axis.enableAutoSIPrefix(False)
+            if name != "bottom":
+                axis.setWidth(AXIS_WIDTH)
+        plot.getAxis("right").setStyle(showValues=False)
+        plot.getAxis("top").enableAutoSIPrefix(False)   # hidden, but would re-render its label every frame
+        plot.layout.setContentsMargins(0, 0, 0, 0)
+
+    def _axis_label(self, axis: pg.AxisItem, text: str) -> None:
+        axis.setLabel(text, **{"color": INK, "font-size": f"{LABEL_PT}pt"})
+
+    AXIS_LABELS = {"long": ("pack (V)", "per cell (V)", "current (A)", "temp. (°C)"),
+                   "short": ("V", "V/cell", "A", "°C")}
+
+    def _label_axes(self, short: bool) -> None:
+        """Vertical axis titles: in words, or just the unit when the plots are too low for them."""
+        if short == self._short_labels:
+            return
+        self._short_labels = short
+        v, cell, i, t = self.AXIS_LABELS["short" if short else "long"]
+        self._axis_label(self.vplot.getAxis("left"), v)
+        self._axis_label(self.vplot.getAxis("right"), cell)
+        self._axis_label(self.iplot.getAxis("left"), i)
+        self._axis_label(self.tplot.getAxis("left"), t)
+
+    def resizeEvent(self, event) -> None:  # noqa: N802
+        super().resizeEvent(event)
+        if not hasattr(self, "iplot"):          # pyqtgraph resizes during construction
+            return
+        metrics = QFontMetrics(self._label_font)
+        longest = max(metrics.horizontalAdvance(text) for text in self.AXIS_LABELS["long"])
+        self._label_axes(short=self.iplot.vb.height() < longest + 6)
+
+    def _curve(self, plot: pg.PlotItem, pen, name: str, connect: str = "all", **kw) -> pg.PlotDataItem:
+        self.legends[plot].add(name, pen.color().name())
+        finite = connect == "all"
+        curve = _Curve([], [], pen=pen, name=name, antialias=False, connect=connect, skipFiniteCheck=finite,
+                       y_finite=finite, **kw)
+        plot.addItem(curve)
+        curve.setClipToView(True)
+        curve.setDownsampling(auto=True, method="peak")
+        return curve
+
+    # -- options -----------------------------------------------------------------------------
+    def start(self) -> None:
+        self.timer.start()
+
+    def stop(self) -> None:
+        self.timer.stop()
+
+    @property
+    def follow(self) -> bool:
+        return self._follow
+
+    def set_follow(self, on: bool, minutes: float | None = None) -> None:
+        """Keep the last ``minutes`` in view (on), or leave the view where it is (off)."""
+        if minutes is not None:
+            self.follow_s = max(1.0, float(minutes)) * 60.0
+        changed = bool(on) != self._follow
+        self._follow = bool(on)
+        if self._follow:
+            self._apply_follow()
+        if changed:
+            self.followChanged.emit(self._follow)
+
+    def show_all(self) -> None:
+        """The whole session in view (follow stays as it is)."""
+        lo, hi = self._extent()
+        if hi is not None:
+            self._set_x(lo, max(hi, lo + MIN_VIEW_S))
+
+    def _extent(self) -> tuple[float, float | None]:
+        """The session's first and last x: samples and phase bands (a band starts at its event,
+        often before the first sample of the phase)."""
+        starts = [p.start_s for p in self._phases]
+        if not self._n:
+            return (min(starts), max(p.end_s for p in self._phases)) if starts else (0.0, None)
+        x = self.series.buffer.column("t")
+        lo, hi = float(x[0]), float(x[-1])
+        if starts:
+            lo = min(lo, min(starts))
+        return lo, hi
+
+    def set_series_count(self, cells: int) -> None:
+        """Cells in series: the right voltage axis shows volts per cell."""
+        self._series_count = max(1, int(cells or 1))
+        self.vplot.getAxis("right").setScale(1.0 / self._series_count)
+
+    def set_sensor(self, sensor: bool) -> None:
+        name = "battery" if sensor else "battery (no sensor)"
+        self.curves["temp"].opts["name"] = name
+        self.legends[self.tplot].rename(0, name)
+
+    def set_placeholder(self, text: str) -> None:
+        self.placeholder.setText(text)
+        self.placeholder.setVisible(bool(text) and self._n == 0)
+        self._place_placeholder()
+
+    def clear(self) -> None:
+        """Forget the session's data and bands."""
+        self.series.clear()
+        for curve in self.curves.values():
+            curve.setData([], [])
+        self._n = self._drawn = 0
+        self._version = -1
+        self._set_bands([])
+        self._phase_version = self.series.phase_version
+        for legend in self.legends.values():
+            legend.setVisible(False)
+        self.placeholder.setVisible(bool(self.placeholder.toPlainText()))
+        self.tplot.setXRange(0.0, MIN_VIEW_S * 10, padding=0)
+
+    @property
+    def points(self) -> int:
+        return self._n
+
+    # -- redraw ------------------------------------------------------------------------------
+    def refresh(self) -> bool:
+        """Take what is new from the series and redraw; True if anything changed."""
+        clock = time.perf_counter()
+        buf = self.series.buffer
+        changed = hidden = False
+        if buf.version != self._version:
+            self._version = buf.version
+            n, cols = buf.snapshot()
+            if n != self._n or n == 0:
+                first = self._n == 0 and n > 0
+                # With follow off, samples that land right of the view change nothing on the
+                # screen: they are drawn when the view moves (no million-point setData per frame).
+                hidden = (not self._follow and 0 < self._drawn < n
+                          and float(cols["t"][self._drawn]) > self.vplot.vb.viewRange()[0][1])
+                if not hidden:
+                    self._set_curves(n, cols)
+                self._n = n
+                changed = True
+                if first:
+                    self.placeholder.setVisible(False)
+                    for legend in self.legends.values():
+                        legend.setVisible(True)
+        version, phases = self.series.phases_copy()
+        last_x = float(buf.column("t")[-1]) if self._n else 0.0
+        if version != self._phase_version:
+            self._phase_version = version
+            self._set_bands(phases)
+            changed = True
+        if changed:
+            self._grow_open_bands(last_x)
+            if self._follow:
+                moves = self._view_moves
+                self._apply_follow()            # a new range redoes the view (_view_changed)
+                if moves == self._view_moves:
+                    self._update_view()
+            elif not hidden:
+                self._update_view()
+            self.pointsAdded.emit(self._n)
+            self.redraws += 1
+        cost = (time.perf_counter() - clock) * 1000.0 + (self._paint_ms if changed else 0.0)
+        self._last_cost_ms = cost
+        # A machine that needs long for a redraw redraws less often instead of freezing.
+        wanted = int(max(REDRAW_MS, cost / MAX_REDRAW_SHARE))
+        if self.timer.interval() != wanted and abs(self.timer.interval() - wanted) > 5:
+            self.timer.setInterval(wanted)
+        return changed
+
+    def _set_curves(self, n: int, cols: dict) -> None:
+        x = cols["t"]
+        self.curves["voltage"].setData(x, cols["voltage"])
+        self.curves["current"].setData(x, cols["current"])
+        self.curves["temp"].setData(x, cols["temp"])
+        self.curves["heatsink"].setData(x, cols["heatsink"])
+        self._drawn = n
+
+    def _catch_up(self) -> None:
+        """Hand the curves what was held back while it was off the view."""
+        if self._drawn < self._n:
+            n, cols = self.series.buffer.snapshot()
+            self._set_curves(n, cols)
+
+    def _apply_follow(self) -> None:
+        first, last = self._extent()
+        if last is None:
+            return
+        span = max(MIN_VIEW_S, min(self.follow_s, last - first))
+        hi = last + 0.03 * span
+        lo = max(first, hi - self.follow_s) if last - first > self.follow_s else first
+        if hi - lo < MIN_VIEW_S:
+            hi = lo + MIN_VIEW_S
+        self._set_x(lo, hi)
+
+    def _set_x(self, lo: float, hi: float) -> None:
+        self._setting_range = True
+        try:
+            self.tplot.setXRange(lo, hi, padding=0)
+        finally:
+            self._setting_range = False
+
+    def _user_moved(self, *_) -> None:
+        if self._setting_range:
+            return
+        if self._follow:
+            self._follow = False
+            self.followChanged.emit(False)
+
+    # -- bands ------------------------------------------------------------------------------
+    def _set_bands(self, phases: list[LivePhase]) -> None:
+        """Phases only ever get added or closed (or all cleared): redo the spans, keep the
+        labels that are there."""
+        while len(self.labels) > len(phases):
+            self.vplot.removeItem(self.labels.pop())
+        spans = []
+        parity: dict[str, int] = {}
+        for k, p in enumerate(phases):
+            alpha = BAND_ALPHA[parity.get(p.section, 0) % 2]
+            parity[p.section] = parity.get(p.section, 0) + 1
+            r, g, b = BAND_RGB.get(p.section, (150, 150, 150))
+            spans.append((p.start_s, p.end_s, pg.mkBrush(over_paper(r, g, b, alpha)),
+                          pg.mkPen(over_paper(r, g, b, 110), width=1)))
+            if k >= len(self.labels):
+                label = pg.TextItem("", anchor=(0, 0))
+                label.setFont(self._label_font)
+                label.setZValue(20)
+                self.vplot.addItem(label, ignoreBounds=True)
+                self.labels.append(label)
+            self.labels[k].setColor(WARNING_COLOR if p.by_default else LABEL_COLOR)
+            self.labels[k].setToolTip(self._tip(p))
+        for item in self.band_items:
+            item.set_bands(spans)
+        self._phases = phases
+
+    @staticmethod
+    def _tip(p: LivePhase) -> str:
+        state = "" if p.closed else " (running)"
+        return f"{band_label(p)}{state}"
+
+    def _grow_open_bands(self, last_x: float) -> None:
+        for k, p in enumerate(self._phases):
+            if not p.closed and last_x > p.end_s:
+                p.end_s = last_x
+                for item in self.band_items:
+                    item.set_end(k, last_x)
+
+    def band_count(self) -> int:
+        return len(self._phases)
+
+    def phases(self) -> list[LivePhase]:
+        return list(self._phases)
+
+    # -- view --------------------------------------------------------------------------------
+    def _view_changed(self, *_) -> None:
+        """The x range or the size changed (the user, follow, a resize)."""
+        self._view_moves += 1
+        self._catch_up()
+        self._update_view()
+
+    def _update_view(self) -> None:
+        self._thin_dense_curves()
+        self._fit_voltage()
+        self._place_labels()
+        self._place_placeholder()
+        now = time.monotonic()
+        if now - self._legend_at > 0.5:
+            self._legend_at = now
+            self._place_legends()
+
+    def _thin_dense_curves(self) -> None:
+        """Dense curves (more points drawn than the plot has pixels across, as when hours of
+        samples are in view) are drawn 1 px wide: the peak envelope fills the band anyway, and
+        a raster painter strokes 2 px lines at twice the cost."""
+        limit = 1.5 * max(self.vplot.vb.width(), 100.0)
+        for name, curve in self.curves.items():
+            x, _ = curve.getData()
+            dense = x is not None and len(x) > limit
+            if dense != getattr(curve, "thin", False):
+                curve.thin = dense
+                pen = pg.mkPen(curve.opts["pen"])
+                pen.setWidthF(1.0 if dense else DRAW_WIDTHS[name])
+                curve.setPen(pen)
+
+    def _display(self, name: str) -> tuple[np.ndarray, np.ndarray]:
+        x, y = self.curves[name].getData()
+        if x is None:
+            return np.zeros(0), np.zeros(0)
+        return x, y
+
+    def _place_legends(self) -> None:
+        if not self._n:
+            return
+        room = self._label_height_px() if self._phases else 0.0
+        self.legends[self.vplot].place([self._display("voltage")], reserved_top_px=room)
+        self.legends[self.iplot].place([self._display("current")])
+        self.legends[self.tplot].place([self._display("temp"), self._display("heatsink")])
+
+    def _label_height_px(self) -> float:
+        return QFontMetrics(self._label_font).height() + 4.0
+
+    def _fit_voltage(self) -> None:
+        """Y follows the visible voltage, with a strip on top kept free for the phase labels.
+        (The visible part of the samples: a million in view cost about a millisecond.)"""
+        vb = self.vplot.vb
+        if not self._drawn:
+            vb.setYRange(0.0, 1.0, padding=0)
+            return
+        n, cols = self.series.buffer.snapshot()
+        x, v = cols["t"][:self._drawn], cols["voltage"][:self._drawn]
+        x0, x1 = vb.viewRange()[0]
+        i0, i1 = np.searchsorted(x, [x0, x1])
+        seg = v[max(0, i0 - 1):min(len(v), i1 + 1)]
+        if not len(seg):
+            seg = v
+        lo, hi = float(np.min(seg)), float(np.max(seg))
+        span = max(hi - lo, 0.02 * max(abs(hi), 1.0))
+        pad = 0.06 * span
+        height = max(vb.height(), 20.0)
+        room = min(self._label_height_px(), height * 0.4) if self._phases else 0.0
+        per_px = (span + 2 * pad) / max(height - room, 10.0)
+        vb.setYRange(lo - pad, hi + pad + room * per_px, padding=0)
+
+    def _place_placeholder(self) -> None:
+        if self.placeholder.isVisible():
+            (x0, x1), (y0, y1) = self.vplot.vb.viewRange()
+            self.placeholder.setPos((x0 + x1) / 2, (y0 + y1) / 2)
+
+    def _place_labels(self) -> None:
+        if not self.labels:
+            return
+        vb = self.vplot.vb
+        (x0, x1), (_, ytop) = vb.viewRange()
+        px = vb.viewPixelSize()[0] or 1.0
+        widths = self._text_widths
+        for p, label in zip(self._phases, self.labels):
+            start, end = max(p.start_s, x0), min(p.end_s, x1)
+            width_px = (end - start) / px - 6
+            text = None
+            if width_px > 0:
+                full = band_label(p) if p.closed else band_label(p, short=True) + " …"
+                for candidate in (full, band_label(p, short=True)):
+                    w = widths.get(candidate)
+                    if w is None:
+                        w = widths[candidate] = QFontMetrics(self._label_font).horizontalAdvance(candidate)
+                    if w + 4 <= width_px:
+                        text = candidate
+                        break
+            label.setVisible(text is not None)
+            if text is not None:
+                if label.toPlainText() != text:
+                    label.setText(text)
+                label.setPos(start + 2 * px, ytop)
+
+    # -- mouse -------------------------------------------------------------------------------
+    def _scene_clicked(self, ev) -> None:
+        if not ev.double():
+            return
+        pos = ev.scenePos()
+        for plot in self.plots:
+            if plot.vb.sceneBoundingRect().contains(pos):
+                x = plot.vb.mapSceneToView(pos).x()
+                for p in self._phases:
+                    if p.start_s <= x <= p.end_s and p.offset >= 0:
+                        self.phaseActivated.emit(p.offset)
+                        return
+                return
+
+    def paintEvent(self, event) -> None:  # noqa: N802
+        clock = time.perf_counter()
+        super().paintEvent(event)
+        self._paint_ms = (time.perf_counter() - clock) * 1000.0
+        self.paints += 1
+
+    def export_png(self, path: str) -> bool:
+        return self.grab().save(path, "PNG")
