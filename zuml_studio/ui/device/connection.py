@@ -29,6 +29,7 @@ from ...device.errors import (DeviceError, DeviceLinkError, DeviceTimeout, Disco
                               InvalidImage, NotACharger, PermissionDenied, PortBusy, PortNotFound, VerifyFailed)
 from ...device.flashing import ImageFull, SlotOutOfRange
 from ...lang.eeprom import ImageError
+from ...lang.record import DecodeError
 
 log = logging.getLogger(__name__)
 
@@ -67,7 +68,7 @@ class _Worker(QObject):
         try:
             result = fn(progress)
         except BaseException as exc:            # noqa: BLE001 - every failure goes back to the GUI
-            if not isinstance(exc, (DeviceLinkError, ImageError, ValueError, OSError)):
+            if not isinstance(exc, (DeviceLinkError, ImageError, DecodeError, ValueError, OSError)):
                 log.exception("device job failed")
             self.failed.emit(job_id, exc)
         else:
@@ -376,6 +377,8 @@ def describe_error(exc: BaseException, action: str = "") -> str:
             return f"The image needs {needed} bytes; the charger has {size}. Nothing was written."
         if isinstance(exc, SlotOutOfRange):
             return f"Cannot flash: {text}"
+        if isinstance(exc, DecodeError):
+            return f"Nothing was written: the compiled macro does not decode ({text})."
         if isinstance(exc, Disconnected):
             return (f"The connection was lost while {what}: nothing was written, the charger keeps "
                     f"its previous image. ({text})")

@@ -562,7 +562,9 @@ class DevicePanel(QWidget):
                                   self.v_passport.currentData() or MATCH, self.virtual_eeprom_path())
         self._open_session_log()
         ok = self.connection.open(target, self.ports.baudrate(), virtual, self.rate.value())
-        if ok:
+        if not ok:
+            self._close_session_log(discard_empty=True)
+        else:
             what = f"the built-in virtual charger ({virtual.battery}, ×{virtual.speed:g})" if virtual else target
             self.show_message(f"Connecting to {what}…", "info")
             self._update_enabled()
