@@ -23,16 +23,15 @@ from dataclasses import dataclass
 import numpy as np
 import pyqtgraph as pg
 from PySide6.QtCore import QLine, QRect, QRectF, QTimer, Signal
-from PySide6.QtGui import QColor, QFont, QFontMetrics
+from PySide6.QtGui import QColor
 
-from ..sim.charge_plot import (AXIS_PEN, AXIS_WIDTH, BACKGROUND, BAND_ALPHA, BAND_RGB, BATTERY_T_PEN, CURRENT_FILL,
-                               CURRENT_PEN, GRID_ALPHA, HEATSINK_T_PEN, INK, LABEL_COLOR, LABEL_PT, TICK_PT,
-                               VOLTAGE_PEN, WARNING_COLOR, ZERO_PEN, InlineLegend, band_label)
-from ..timefmt import TimeAxisItem
+from ..stacked_plot import (BAND_ALPHA, BATTERY_T_PEN, CURRENT_FILL, CURRENT_PEN, GRID_ALPHA, HEATSINK_T_PEN,
+                            LABEL_COLOR, VOLTAGE_PEN, WARNING_COLOR, StackedPlot, band_label, band_rgb)
 from .ring_buffer import GrowingBuffer
 
 COLUMNS = ("t", "voltage", "current", "temp", "heatsink")
 REDRAW_MS = 33                     # ~30 Hz
+LEGEND_MS = 500
 MAX_REDRAW_SHARE = 0.35            # a slow machine redraws less often rather than freeze
 DEFAULT_FOLLOW_MIN = 30
 MIN_VIEW_S = 60.0
@@ -274,23 +273,15 @@ class BackdropItem(pg.GraphicsObject):
             painter.restore()
 
 
-class LivePlot(pg.GraphicsLayoutWidget):
+class LivePlot(StackedPlot):
     """Three x-linked plots (V, I, T) of a ``LiveSeries``, redrawn by a timer."""
     pointsAdded = Signal(int)           # points plotted so far; at most once per redraw
     followChanged = Signal(bool)        # the user zoomed or panned: following stops
     phaseActivated = Signal(int)        # FAZE byte offset of a double-clicked band
 
     def __init__(self, series: LiveSeries | None = None, parent=None):
-        super().__init__(parent)
-        self.setObjectName("livePlot")
-        self.setBackground(BACKGROUND)
+        super().__init__("livePlot", "", grid=False, parent=parent)
         self.series = series if series is not None else LiveSeries()
-        self.ci.setContentsMargins(2, 4, 4, 2)
-        self.ci.setSpacing(0)
-        self._label_font = QFont(self.font())
-        self._label_font.setPointSize(LABEL_PT)
-        self._tick_font = QFont(self.font())
-        self._tick_font.setPointSize(TICK_PT)
         self._follow = True
         self.follow_s = DEFAULT_FOLLOW_MIN * 60.0
         self._n = 0                         # points taken from the series
@@ -298,37 +289,16 @@ class LivePlot(pg.GraphicsLayoutWidget):
         self._version = -1
         self._phase_version = -1
         self._phases: list[LivePhase] = []
-        self._series_count = 1
         self._setting_range = False
         self._last_cost_ms = 0.0
         self._paint_ms = 0.0
         self._view_moves = 0
         self.paints = 0
-        self._legend_at = 0.0
-        self._text_widths: dict[str, int] = {}
+        # Legends move at most twice a second (each move scans the visible samples); the
+        # last view always gets its placement, even when no frame follows.
+        self._legend_timer = QTimer(self, singleShot=True, interval=LEGEND_MS)
+        self._legend_timer.timeout.connect(self._place_legends)
         self.redraws = 0
-        self.labels: list[pg.TextItem] = []
-
-        time_axis = TimeAxisItem("bottom")
-        self.vplot = self.addPlot(row=0, col=0)
-        self.iplot = self.addPlot(row=1, col=0)
-        self.tplot = self.addPlot(row=2, col=0, axisItems={"bottom": time_axis})
-        self.plots = (self.vplot, self.iplot, self.tplot)
-        for plot in self.plots:
-            self._style(plot)
-        for plot in self.plots[:-1]:
-            plot.setXLink(self.tplot)
-            plot.hideAxis("bottom")
-        self._axis_label(self.tplot.getAxis("bottom"), "time (h:mm)")
-        self.tplot.getAxis("bottom").setHeight(34)
-        self._short_labels: bool | None = None
-        self._label_axes(short=False)
-        self.vplot.getAxis("right").setStyle(showValues=True)
-        self.ci.layout.setRowStretchFactor(0, 10)
-        self.ci.layout.setRowStretchFactor(1, 10)
-        self.ci.layout.setRowStretchFactor(2, 12)
-
-        self.legends = {plot: InlineLegend(plot, self._label_font) for plot in self.plots}
         self.curves = {
             "voltage": self._curve(self.vplot, VOLTAGE_PEN, "pack voltage"),
             "current": self._curve(self.iplot, CURRENT_PEN, "+ charge, − discharge",
@@ -336,20 +306,12 @@ class LivePlot(pg.GraphicsLayoutWidget):
             "temp": self._curve(self.tplot, BATTERY_T_PEN, "battery", connect="finite"),
             "heatsink": self._curve(self.tplot, HEATSINK_T_PEN, "heat sink", connect="finite"),
         }
-        self.band_items = [BackdropItem(plot, time_axis) for plot in self.plots]
+        self.band_items = [BackdropItem(plot, self.time_axis) for plot in self.plots]
         for plot, item in zip(self.plots, self.band_items):
             plot.addItem(item, ignoreBounds=True)
-        self.zero_line = pg.InfiniteLine(pos=0.0, angle=0, pen=ZERO_PEN, movable=False)
-        self.iplot.addItem(self.zero_line, ignoreBounds=True)
-        self.placeholder = pg.TextItem("", color="#8a8a8a", anchor=(0.5, 0.5))
-        self.placeholder.setFont(self._label_font)
-        self.vplot.addItem(self.placeholder, ignoreBounds=True)
         self.set_placeholder("not connected: pick a port and Connect")
         for legend in self.legends.values():
             legend.setVisible(False)
-        for plot in (self.iplot, self.tplot):
-            plot.enableAutoRange(axis="y")
-            plot.setAutoVisible(y=True)
         for plot in self.plots:
             plot.disableAutoRange(axis="x")          # clip-to-view needs a fixed x range
         self.tplot.setXRange(0.0, MIN_VIEW_S * 10, padding=0)
@@ -363,52 +325,6 @@ class LivePlot(pg.GraphicsLayoutWidget):
         self.timer.timeout.connect(self.refresh)
 
     # -- construction ------------------------------------------------------------------------
-    def _style(self, plot: pg.PlotItem) -> None:
-        plot.showAxis("right")
-        plot.hideButtons()
-        plot.setMenuEnabled(True)
-        plot.setMouseEnabled(x=True, y=False)
-        plot.showGrid(x=False, y=False)            # the BackdropItem draws a cheaper grid
-        plot.setClipToView(True)
-        plot.setDownsampling(auto=True, mode="peak")
-        plot.getViewBox().setDefaultPadding(0.04)
-        for name in ("left", "right", "bottom"):
-            axis = plot.getAxis(name)
-            axis.setPen(AXIS_PEN)
-            axis.setTextPen(INK)
-            axis.setTickFont(self._tick_font)
-            axis.enableAutoSIPrefix(False)
-            if name != "bottom":
-                axis.setWidth(AXIS_WIDTH)
-        plot.getAxis("right").setStyle(showValues=False)
-        plot.getAxis("top").enableAutoSIPrefix(False)   # hidden, but would re-render its label every frame
-        plot.layout.setContentsMargins(0, 0, 0, 0)
-
-    def _axis_label(self, axis: pg.AxisItem, text: str) -> None:
-        axis.setLabel(text, **{"color": INK, "font-size": f"{LABEL_PT}pt"})
-
-    AXIS_LABELS = {"long": ("pack (V)", "per cell (V)", "current (A)", "temp. (°C)"),
-                   "short": ("V", "V/cell", "A", "°C")}
-
-    def _label_axes(self, short: bool) -> None:
-        """Vertical axis titles: in words, or just the unit when the plots are too low for them."""
-        if short == self._short_labels:
-            return
-        self._short_labels = short
-        v, cell, i, t = self.AXIS_LABELS["short" if short else "long"]
-        self._axis_label(self.vplot.getAxis("left"), v)
-        self._axis_label(self.vplot.getAxis("right"), cell)
-        self._axis_label(self.iplot.getAxis("left"), i)
-        self._axis_label(self.tplot.getAxis("left"), t)
-
-    def resizeEvent(self, event) -> None:  # noqa: N802
-        super().resizeEvent(event)
-        if not hasattr(self, "iplot"):          # pyqtgraph resizes during construction
-            return
-        metrics = QFontMetrics(self._label_font)
-        longest = max(metrics.horizontalAdvance(text) for text in self.AXIS_LABELS["long"])
-        self._label_axes(short=self.iplot.vb.height() < longest + 6)
-
     def _curve(self, plot: pg.PlotItem, pen, name: str, connect: str = "all", **kw) -> pg.PlotDataItem:
         self.legends[plot].add(name, pen.color().name())
         finite = connect == "all"
@@ -458,16 +374,6 @@ class LivePlot(pg.GraphicsLayoutWidget):
         if starts:
             lo = min(lo, min(starts))
         return lo, hi
-
-    def set_series_count(self, cells: int) -> None:
-        """Cells in series: the right voltage axis shows volts per cell."""
-        self._series_count = max(1, int(cells or 1))
-        self.vplot.getAxis("right").setScale(1.0 / self._series_count)
-
-    def set_sensor(self, sensor: bool) -> None:
-        name = "battery" if sensor else "battery (no sensor)"
-        self.curves["temp"].opts["name"] = name
-        self.legends[self.tplot].rename(0, name)
 
     def set_placeholder(self, text: str) -> None:
         self.placeholder.setText(text)
@@ -590,15 +496,11 @@ class LivePlot(pg.GraphicsLayoutWidget):
         for k, p in enumerate(phases):
             alpha = BAND_ALPHA[parity.get(p.section, 0) % 2]
             parity[p.section] = parity.get(p.section, 0) + 1
-            r, g, b = BAND_RGB.get(p.section, (150, 150, 150))
+            r, g, b = band_rgb(p.section)
             spans.append((p.start_s, p.end_s, pg.mkBrush(over_paper(r, g, b, alpha)),
                           pg.mkPen(over_paper(r, g, b, 110), width=1)))
             if k >= len(self.labels):
-                label = pg.TextItem("", anchor=(0, 0))
-                label.setFont(self._label_font)
-                label.setZValue(20)
-                self.vplot.addItem(label, ignoreBounds=True)
-                self.labels.append(label)
+                self._new_label()
             self.labels[k].setColor(WARNING_COLOR if p.by_default else LABEL_COLOR)
             self.labels[k].setToolTip(self._tip(p))
         for item in self.band_items:
@@ -632,13 +534,11 @@ class LivePlot(pg.GraphicsLayoutWidget):
 
     def _update_view(self) -> None:
         self._thin_dense_curves()
-        self._fit_voltage()
+        self._fit_live_voltage()
         self._place_labels()
         self._place_placeholder()
-        now = time.monotonic()
-        if now - self._legend_at > 0.5:
-            self._legend_at = now
-            self._place_legends()
+        if not self._legend_timer.isActive():
+            self._legend_timer.start()
 
     def _thin_dense_curves(self) -> None:
         """Dense curves (more points drawn than the plot has pixels across, as when hours of
@@ -668,61 +568,15 @@ class LivePlot(pg.GraphicsLayoutWidget):
         self.legends[self.iplot].place([self._display("current")])
         self.legends[self.tplot].place([self._display("temp"), self._display("heatsink")])
 
-    def _label_height_px(self) -> float:
-        return QFontMetrics(self._label_font).height() + 4.0
+    def _fit_live_voltage(self) -> None:
+        """The voltage axis follows the visible part of the samples handed to the curves
+        (a million in view cost about a millisecond)."""
+        _, cols = self.series.buffer.snapshot()
+        self._fit_voltage(cols["t"][:self._drawn], cols["voltage"][:self._drawn])
 
-    def _fit_voltage(self) -> None:
-        """Y follows the visible voltage, with a strip on top kept free for the phase labels.
-        (The visible part of the samples: a million in view cost about a millisecond.)"""
-        vb = self.vplot.vb
-        if not self._drawn:
-            vb.setYRange(0.0, 1.0, padding=0)
-            return
-        n, cols = self.series.buffer.snapshot()
-        x, v = cols["t"][:self._drawn], cols["voltage"][:self._drawn]
-        x0, x1 = vb.viewRange()[0]
-        i0, i1 = np.searchsorted(x, [x0, x1])
-        seg = v[max(0, i0 - 1):min(len(v), i1 + 1)]
-        if not len(seg):
-            seg = v
-        lo, hi = float(np.min(seg)), float(np.max(seg))
-        span = max(hi - lo, 0.02 * max(abs(hi), 1.0))
-        pad = 0.06 * span
-        height = max(vb.height(), 20.0)
-        room = min(self._label_height_px(), height * 0.4) if self._phases else 0.0
-        per_px = (span + 2 * pad) / max(height - room, 10.0)
-        vb.setYRange(lo - pad, hi + pad + room * per_px, padding=0)
-
-    def _place_placeholder(self) -> None:
-        if self.placeholder.isVisible():
-            (x0, x1), (y0, y1) = self.vplot.vb.viewRange()
-            self.placeholder.setPos((x0 + x1) / 2, (y0 + y1) / 2)
-
-    def _place_labels(self) -> None:
-        if not self.labels:
-            return
-        vb = self.vplot.vb
-        (x0, x1), (_, ytop) = vb.viewRange()
-        px = vb.viewPixelSize()[0] or 1.0
-        widths = self._text_widths
-        for p, label in zip(self._phases, self.labels):
-            start, end = max(p.start_s, x0), min(p.end_s, x1)
-            width_px = (end - start) / px - 6
-            text = None
-            if width_px > 0:
-                full = band_label(p) if p.closed else band_label(p, short=True) + " …"
-                for candidate in (full, band_label(p, short=True)):
-                    w = widths.get(candidate)
-                    if w is None:
-                        w = widths[candidate] = QFontMetrics(self._label_font).horizontalAdvance(candidate)
-                    if w + 4 <= width_px:
-                        text = candidate
-                        break
-            label.setVisible(text is not None)
-            if text is not None:
-                if label.toPlainText() != text:
-                    label.setText(text)
-                label.setPos(start + 2 * px, ytop)
+    def _label_texts(self, p: LivePhase) -> tuple[str, ...]:
+        full = band_label(p) if p.closed else band_label(p, short=True) + " …"
+        return full, band_label(p, short=True)
 
     # -- mouse -------------------------------------------------------------------------------
     def _scene_clicked(self, ev) -> None:
@@ -743,6 +597,3 @@ class LivePlot(pg.GraphicsLayoutWidget):
         super().paintEvent(event)
         self._paint_ms = (time.perf_counter() - clock) * 1000.0
         self.paints += 1
-
-    def export_png(self, path: str) -> bool:
-        return self.grab().save(path, "PNG")

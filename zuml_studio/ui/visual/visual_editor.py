@@ -380,7 +380,10 @@ class VisualEditor(QWidget):
         self.conclusion_box.setVisible(bool(macro.conclusion))
         if focus_inside:
             self.setFocus()
-        QTimer.singleShot(0, lambda: self.scroll.verticalScrollBar().setValue(scroll))
+        # Restored once the new cards are laid out; bound to the scroll bar so a view closed
+        # meanwhile cancels it.
+        bar = self.scroll.verticalScrollBar()
+        QTimer.singleShot(0, bar, lambda: bar.setValue(scroll))
 
     def _make(self, item, path: tuple, kind: str) -> QWidget:
         if isinstance(item, Phase):

@@ -1,0 +1,302 @@
+"""What the simulator's plot and the device's live plot share: voltage, current and
+temperature stacked over one h:mm time axis, in one look (colours, axes, legends), with
+the phases as labelled bands and a strip on top of the voltage plot kept for their labels.
+
+Performance follows the research notes (ide.md §3): clip to view, peak downsampling,
+no antialiasing, no OpenGL."""
+from __future__ import annotations
+
+import numpy as np
+import pyqtgraph as pg
+from PySide6.QtCore import QRectF, Qt
+from PySide6.QtGui import QFont, QFontMetrics
+
+from .timefmt import TimeAxisItem
+
+# Colours: light paper, dark ink, one hue per quantity.
+BACKGROUND = "w"
+INK = "#303030"
+AXIS_PEN = "#9a9a9a"
+GRID_ALPHA = 0.12
+VOLTAGE_PEN = pg.mkPen("#1f4e9c", width=2)
+CURRENT_PEN = pg.mkPen("#23803a", width=2)
+CURRENT_FILL = pg.mkBrush(35, 128, 58, 28)
+BATTERY_T_PEN = pg.mkPen("#d0481c", width=2)
+HEATSINK_T_PEN = pg.mkPen("#7b5ea7", width=2)
+ZERO_PEN = pg.mkPen("#707070", width=1, style=Qt.PenStyle.DashLine)
+# Bands: charge bluish, discharge reddish; neighbours alternate between two strengths.
+BAND_RGB = {"charge": (74, 134, 232), "discharge": (232, 96, 74)}
+BAND_ALPHA = (34, 16)
+LABEL_COLOR = "#1c2a44"
+WARNING_COLOR = "#b34700"
+PLACEHOLDER_COLOR = "#8a8a8a"
+
+AXIS_WIDTH = 54               # left and right axes, fixed: the three view boxes line up
+LABEL_PT = 8
+TICK_PT = 8
+# Vertical axis titles in words, or just the unit when the plots are too low for the words.
+AXIS_LABELS = {"long": ("pack (V)", "per cell (V)", "current (A)", "temp. (°C)"),
+               "short": ("V", "V/cell", "A", "°C")}
+
+
+def band_label(p, short: bool = False) -> str:
+    """``C1: IF(V>4.1S) STOP_FAZE``; a default-ended phase gets a warning sign."""
+    head = ("C" if p.section == "charge" else "D") + (str(p.index) if p.index else "")
+    if short:
+        return ("⚠ " if p.by_default else "") + head
+    return f"{'⚠ ' if p.by_default else ''}{head}: {p.reason or '…'}"
+
+
+def band_rgb(section: str) -> tuple[int, int, int]:
+    return BAND_RGB.get(section, (150, 150, 150))
+
+
+class InlineLegend(pg.TextItem):
+    """A one-line legend ("━ battery  ━ heat sink") in the corner of a plot where it
+    hides the least data: a fraction of the height pyqtgraph's LegendItem takes, which
+    matters in a plot 100 px high."""
+
+    CORNERS = ("top-right", "bottom-right", "top-left", "bottom-left")
+
+    def __init__(self, plot: pg.PlotItem, font: QFont, corners: tuple[str, ...] = CORNERS):
+        super().__init__("", anchor=(1, 0), fill=pg.mkBrush(255, 255, 255, 215))
+        self.setFont(font)
+        self.entries: list[tuple[str, str]] = []      # (name, colour)
+        self.corners = corners
+        self.corner = corners[0]
+        self.vb = plot.vb
+        self.setParentItem(self.vb)                    # view box pixels, not data coordinates
+        self.setZValue(50)
+        self.vb.sigResized.connect(self.reposition)
+
+    def add(self, name: str, color: str) -> None:
+        self.entries.append((name, color))
+        self._render()
+
+    def rename(self, index: int, name: str) -> None:
+        self.entries[index] = (name, self.entries[index][1])
+        self._render()
+
+    def names(self) -> list[str]:
+        return [name for name, _ in self.entries]
+
+    def _render(self) -> None:
+        parts = [f'<span style="color:{color}; font-weight:bold;">&#9473;&#9473;</span>&nbsp;'
+                 f'<span style="color:{INK};">{name}</span>' for name, color in self.entries]
+        self.setHtml("&nbsp;&nbsp;&nbsp;".join(parts))
+        self.reposition()
+
+    def _size(self) -> tuple[float, float]:
+        r = self.textItem.boundingRect()
+        return r.width(), r.height()
+
+    def _corner_rect(self, corner: str) -> QRectF:
+        """The legend's rectangle in view box pixels if put in that corner."""
+        rect = self.vb.rect()
+        w, h = self._size()
+        x = rect.right() - 4 - w if corner.endswith("right") else rect.left() + 4
+        y = rect.top() + 2 if corner.startswith("top") else rect.bottom() - 2 - h
+        return QRectF(x, y, w, h)
+
+    def reposition(self, *_) -> None:
+        r = self._corner_rect(self.corner)
+        self.setAnchor((0, 0))
+        self.setPos(r.left(), r.top())
+
+    def place(self, series: list[tuple[np.ndarray, np.ndarray]], reserved_top_px: float = 0.0) -> None:
+        """Move to the corner that covers the fewest visible samples of ``series`` (t, y)."""
+        best, best_hits = self.corner, None
+        for corner in self.corners:
+            r = self._corner_rect(corner)
+            if corner.startswith("top"):
+                r.translate(0, reserved_top_px)
+            a, b = self.vb.mapToView(r.topLeft()), self.vb.mapToView(r.bottomRight())
+            x0, x1 = sorted((a.x(), b.x()))
+            y0, y1 = sorted((a.y(), b.y()))
+            hits = 0
+            for t, y in series:
+                if not len(t):
+                    continue
+                i0, i1 = np.searchsorted(t, [x0, x1])
+                seg = y[i0:i1]
+                hits += int(np.count_nonzero((seg >= y0) & (seg <= y1)))
+            if best_hits is None or hits < best_hits:
+                best, best_hits = corner, hits
+            if hits == 0:
+                break
+        self.corner = best
+        self.reposition()
+        if best.startswith("top") and reserved_top_px:
+            self.setPos(self.pos().x(), self.pos().y() + reserved_top_px)
+
+
+class StackedPlot(pg.GraphicsLayoutWidget):
+    """The three x-linked plots (``vplot``, ``iplot``, ``tplot``) with their axes, legends,
+    zero line, placeholder text and phase labels. Subclasses add the curves and the bands
+    (``self._phases``: objects with section, index, reason, by_default, start_s, end_s)."""
+
+    def __init__(self, object_name: str, placeholder: str, grid: bool, parent=None):
+        super().__init__(parent)
+        self.setObjectName(object_name)
+        self.setBackground(BACKGROUND)
+        self.ci.setContentsMargins(2, 4, 4, 2)
+        self.ci.setSpacing(0)
+        self._label_font = QFont(self.font())
+        self._label_font.setPointSize(LABEL_PT)
+        self._tick_font = QFont(self.font())
+        self._tick_font.setPointSize(TICK_PT)
+        self._text_widths: dict[str, int] = {}
+        self._short_labels: bool | None = None
+        self._phases: list = []
+        self.labels: list[pg.TextItem] = []
+
+        self.time_axis = TimeAxisItem("bottom")
+        self.vplot = self.addPlot(row=0, col=0)
+        self.iplot = self.addPlot(row=1, col=0)
+        self.tplot = self.addPlot(row=2, col=0, axisItems={"bottom": self.time_axis})
+        self.plots = (self.vplot, self.iplot, self.tplot)
+        for plot in self.plots:
+            self._style(plot, grid)
+        for plot in self.plots[:-1]:
+            plot.setXLink(self.tplot)
+            plot.hideAxis("bottom")
+        self._axis_label(self.tplot.getAxis("bottom"), "time (h:mm)")
+        self.tplot.getAxis("bottom").setHeight(34)
+        self._label_axes(short=False)
+        # What the titles in words take as rendered (rich text, a little wider than the font's metrics).
+        self._long_title_px = max(axis.label.boundingRect().width() for axis in self._title_axes())
+        self.vplot.getAxis("right").setStyle(showValues=True)
+        # The bottom plot carries the time axis; give it the extra height so the data areas match.
+        self.ci.layout.setRowStretchFactor(0, 10)
+        self.ci.layout.setRowStretchFactor(1, 10)
+        self.ci.layout.setRowStretchFactor(2, 12)
+
+        self.legends = {plot: InlineLegend(plot, self._label_font) for plot in self.plots}
+        self.zero_line = pg.InfiniteLine(pos=0.0, angle=0, pen=ZERO_PEN, movable=False)
+        self.iplot.addItem(self.zero_line, ignoreBounds=True)
+        self.placeholder = pg.TextItem(placeholder, color=PLACEHOLDER_COLOR, anchor=(0.5, 0.5))
+        self.placeholder.setFont(self._label_font)
+        self.vplot.addItem(self.placeholder, ignoreBounds=True)
+        for plot in (self.iplot, self.tplot):
+            plot.enableAutoRange(axis="y")
+            plot.setAutoVisible(y=True)
+
+    # -- construction ------------------------------------------------------------------------
+    def _style(self, plot: pg.PlotItem, grid: bool) -> None:
+        plot.showAxis("right")
+        plot.hideButtons()
+        plot.setMenuEnabled(True)
+        plot.setMouseEnabled(x=True, y=False)       # zoom and pan in time; y follows the data
+        if grid:
+            plot.showGrid(x=True, y=True, alpha=GRID_ALPHA)
+        plot.setClipToView(True)
+        plot.setDownsampling(auto=True, mode="peak")
+        plot.getViewBox().setDefaultPadding(0.04)
+        for name in ("left", "right", "bottom"):
+            axis = plot.getAxis(name)
+            axis.setPen(AXIS_PEN)
+            axis.setTextPen(INK)
+            axis.setTickFont(self._tick_font)
+            axis.enableAutoSIPrefix(False)
+            if name != "bottom":
+                axis.setWidth(AXIS_WIDTH)
+        plot.getAxis("right").setStyle(showValues=False)
+        plot.getAxis("top").enableAutoSIPrefix(False)   # hidden, but would re-render its label every frame
+        plot.layout.setContentsMargins(0, 0, 0, 0)
+
+    def _axis_label(self, axis: pg.AxisItem, text: str) -> None:
+        axis.setLabel(text, **{"color": INK, "font-size": f"{LABEL_PT}pt"})
+
+    def _label_axes(self, short: bool) -> None:
+        if short == self._short_labels:
+            return
+        self._short_labels = short
+        for axis, text in zip(self._title_axes(), AXIS_LABELS["short" if short else "long"]):
+            self._axis_label(axis, text)
+
+    def _title_axes(self) -> tuple[pg.AxisItem, ...]:
+        return (self.vplot.getAxis("left"), self.vplot.getAxis("right"), self.iplot.getAxis("left"),
+                self.tplot.getAxis("left"))
+
+    def resizeEvent(self, event) -> None:  # noqa: N802
+        super().resizeEvent(event)
+        if not hasattr(self, "legends"):        # pyqtgraph resizes during construction
+            return
+        lowest = min(plot.vb.height() for plot in self.plots)
+        self._label_axes(short=lowest < self._long_title_px + 8)
+
+    def set_series_count(self, cells: int) -> None:
+        """Cells in series: the right voltage axis shows volts per cell."""
+        self.vplot.getAxis("right").setScale(1.0 / max(1, int(cells or 1)))
+
+    def set_sensor(self, sensor: bool) -> None:
+        name = "battery" if sensor else "battery (no sensor)"
+        self.curves["temp"].opts["name"] = name
+        self.legends[self.tplot].rename(0, name)
+
+    # -- view --------------------------------------------------------------------------------
+    def _text_width(self, text: str) -> int:
+        width = self._text_widths.get(text)
+        if width is None:
+            width = self._text_widths[text] = QFontMetrics(self._label_font).horizontalAdvance(text)
+        return width
+
+    def _label_height_px(self) -> float:
+        return QFontMetrics(self._label_font).height() + 4.0
+
+    def _fit_voltage(self, t: np.ndarray, v: np.ndarray) -> None:
+        """Y follows the visible voltage, with a strip on top kept free for the phase labels."""
+        vb = self.vplot.vb
+        if not len(t):
+            vb.setYRange(0.0, 1.0, padding=0)
+            return
+        x0, x1 = vb.viewRange()[0]
+        i0, i1 = np.searchsorted(t, [x0, x1])
+        seg = v[max(0, i0 - 1):min(len(v), i1 + 1)]
+        if not len(seg):
+            seg = v
+        lo, hi = float(np.min(seg)), float(np.max(seg))
+        span = max(hi - lo, 0.02 * max(abs(hi), 1.0))
+        pad = 0.06 * span
+        height = max(vb.height(), 20.0)
+        room = min(self._label_height_px(), height * 0.4) if self._phases else 0.0
+        per_px = (span + 2 * pad) / max(height - room, 10.0)
+        vb.setYRange(lo - pad, hi + pad + room * per_px, padding=0)
+
+    def _place_placeholder(self) -> None:
+        if self.placeholder.isVisible():
+            (x0, x1), (y0, y1) = self.vplot.vb.viewRange()
+            self.placeholder.setPos((x0 + x1) / 2, (y0 + y1) / 2)
+
+    def _new_label(self) -> pg.TextItem:
+        label = pg.TextItem("", anchor=(0, 0))
+        label.setFont(self._label_font)
+        label.setZValue(20)
+        self.vplot.addItem(label, ignoreBounds=True)
+        self.labels.append(label)
+        return label
+
+    def _label_texts(self, p) -> tuple[str, ...]:
+        """A band's label, longest first: the first that fits the band's visible width is shown."""
+        return band_label(p), band_label(p, short=True)
+
+    def _place_labels(self) -> None:
+        if not self.labels:
+            return
+        vb = self.vplot.vb
+        (x0, x1), (_, ytop) = vb.viewRange()
+        px = vb.viewPixelSize()[0] or 1.0        # seconds per pixel
+        for p, label in zip(self._phases, self.labels):
+            start, end = max(p.start_s, x0), min(p.end_s, x1)
+            width_px = (end - start) / px - 6
+            text = None
+            if width_px > 0:
+                text = next((c for c in self._label_texts(p) if self._text_width(c) + 4 <= width_px), None)
+            label.setVisible(text is not None)
+            if text is not None:
+                if label.toPlainText() != text:
+                    label.setText(text)
+                label.setPos(start + 2 * px, ytop)
+
+    def export_png(self, path: str) -> bool:
+        return self.grab().save(path, "PNG")
