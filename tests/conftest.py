@@ -7,6 +7,7 @@ os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
 # Settings, recovery files and user macros of the tests never touch the user's own.
 os.environ["ZUML_STUDIO_CONFIG_DIR"] = tempfile.mkdtemp(prefix="zuml-studio-tests-")
 
+import pytest  # noqa: E402
 from hypothesis import HealthCheck, settings  # noqa: E402
 
 # Reproducible in CI: the same examples every run, no flaky deadlines on a loaded 2-core machine.
@@ -14,3 +15,24 @@ settings.register_profile("ci", derandomize=True, deadline=None, max_examples=20
                           suppress_health_check=[HealthCheck.too_slow])
 settings.register_profile("dev", deadline=None, max_examples=200)
 settings.load_profile("ci" if os.environ.get("CI") else os.environ.get("HYPOTHESIS_PROFILE", "dev"))
+
+
+@pytest.fixture
+def make_charger():
+    """make_charger(baud=None, tcp=False, **VirtualCharger kwargs) -> (device, port_or_url): a
+    virtual charger served on a pty (or TCP), unpaced unless ``baud`` is given."""
+    from zuml_studio.device.transport import serve_pty, serve_tcp
+    from zuml_studio.device.virtual_charger import VirtualCharger
+
+    made = []
+
+    def make(baud=None, tcp=False, **kw):
+        device = VirtualCharger(**kw)
+        where, stop = serve_tcp(device, "127.0.0.1", 0, baud) if tcp else serve_pty(device, baud)
+        made.append((device, stop))
+        return device, where
+
+    yield make
+    for device, stop in made:
+        stop()
+        device.close()

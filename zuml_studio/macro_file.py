@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+from .file_errors import FileReadError, read_file_bytes
 from .recovery import atomic_write
 
 EXTENSION = ".zuml"
@@ -27,13 +28,9 @@ class MacroFile:
 
 def read_macro_file(path: str | Path) -> MacroFile:
     try:
-        data = Path(path).read_bytes()
-    except FileNotFoundError:
-        raise MacroFileError(f"{path}: no such file") from None
-    except IsADirectoryError:
-        raise MacroFileError(f"{path}: is a folder") from None
-    except OSError as exc:
-        raise MacroFileError(f"{path}: {exc.strerror or exc}") from None
+        data = read_file_bytes(path)
+    except FileReadError as exc:
+        raise MacroFileError(str(exc)) from None
     bom = data.startswith(b"\xef\xbb\xbf")
     try:
         text = data[3 if bom else 0:].decode("utf-8")

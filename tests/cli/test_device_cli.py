@@ -6,20 +6,16 @@ import signal
 import subprocess
 import sys
 import time
-from pathlib import Path
 
 import pytest
 
+from helpers import MACROS, compiled
 from tests_cli_util import run_zuml
 from zuml_studio.cli.main import main
-from zuml_studio.device.transport import serve_pty
-from zuml_studio.device.virtual_charger import VirtualCharger
 from zuml_studio.lang.eeprom import slots
 
 pytestmark = pytest.mark.skipif(os.name != "posix", reason="ptys need POSIX")
 
-ROOT = Path(__file__).resolve().parents[2]
-MACROS = ROOT / "macros"
 
 
 @pytest.fixture
@@ -34,20 +30,12 @@ def zuml(capsys):
 
 
 @pytest.fixture
-def vc():
-    made = []
-
+def vc(make_charger):
+    """vc(**VirtualCharger kwargs) -> (device, port): a fast virtual charger on a pty."""
     def make(**kw):
         kw.setdefault("speed", 20000)
-        device = VirtualCharger(**kw)
-        port, stop = serve_pty(device, baud=None)
-        made.append((device, stop))
-        return device, port
-
-    yield make
-    for device, stop in made:
-        stop()
-        device.close()
+        return make_charger(**kw)
+    return make
 
 
 def one_error_line(code, out, err):
@@ -210,10 +198,9 @@ def test_virtual_charger_on_tcp(tmp_path):
 
 
 def test_virtual_charger_disconnect_mid_flash_keeps_the_old_image(tmp_path):
-    from zuml_studio.lang.compiler import compile_source
     eeprom = tmp_path / "eeprom.bin"
     old = bytearray(b"\xff" * 1024)
-    rec = compile_source((MACROS / "NiMh-dV.zuml").read_text()).record
+    rec = compiled("NiMh-dV")
     old[:len(rec)] = rec
     eeprom.write_bytes(bytes(old))
     proc = subprocess.Popen([sys.executable, "-m", "zuml_studio.cli.main", "virtual-charger", "--eeprom", str(eeprom),

@@ -1,7 +1,4 @@
 """The zuml CLI as users and checks run it: output format, exit codes, no tracebacks."""
-import subprocess
-import sys
-
 import pytest
 
 from helpers import MACROS, seed_text
@@ -49,6 +46,14 @@ def test_image_pack_and_list(tmp_path):
     assert rc == 0
     lines = out.splitlines()
     assert lines[1].split()[3:] == ["Pb", "Pb", "ok"] and lines[2].split()[3:] == ["LiPo", "LiPo", "ok"]
+
+    lipo = tmp_path / "lipo.bin"
+    rc, _, _ = run_zuml("image", "--extract", "1", str(image), "-o", str(lipo))
+    assert rc == 0
+    _, compiled, _ = run_zuml("compile", str(MACROS / "LiPo.zuml"), "--hex")
+    assert lipo.read_bytes().hex(" ") == compiled.strip()
+    rc, _, err = run_zuml("image", "--extract", "2", str(image), "-o", str(lipo))
+    assert rc == 1 and err.strip().endswith("there is no slot 2; the image has 2")
 
 
 @pytest.mark.parametrize("args,needle", [

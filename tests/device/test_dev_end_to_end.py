@@ -1,5 +1,6 @@
 """End to end over a real pty (and one socket://): an in-process virtual charger, the client."""
 import os
+import threading
 import time
 
 import pytest
@@ -16,9 +17,13 @@ from zuml_studio.lang.eeprom import pack
 from zuml_studio.sim.interpreter import StartParams
 from zuml_studio.sim.simulate import BatterySetup, simulate
 
-from conftest import needs_pty, record, thread_names
+from helpers import compiled, needs_pty
 
 pytestmark = needs_pty
+
+
+def thread_names():
+    return sorted(t.name for t in threading.enumerate())
 
 
 def wait_for(predicate, timeout=10.0):
@@ -34,7 +39,7 @@ def test_flash_verify_slots_backup_restore(charger):
     device, port, client = charger
     assert client.info.eeprom_size == 1024 and client.info.max_charge_a == 5.0
     seen = []
-    image = pack([record("NiMh-dV"), record("NiMh"), record("LiPo")])
+    image = pack([compiled("NiMh-dV"), compiled("NiMh"), compiled("LiPo")])
     result = client.write_image(image, progress=lambda stage, done, total: seen.append(stage))
     assert device.eeprom_image == image and result.changed == sum(b != 0xFF for b in image)
     assert {"read", "write", "verify"} <= set(seen)
@@ -43,14 +48,14 @@ def test_flash_verify_slots_backup_restore(charger):
     backup = client.read_image()
     assert backup == image
     # rewrite only what changes: replacing slot 1 by a same-size record touches a few bytes
-    other = pack([record("NiMh-dV"), record("NiCd"), record("LiPo")])
+    other = pack([compiled("NiMh-dV"), compiled("NiCd"), compiled("LiPo")])
     assert client.write_image(other).changed < 40
     assert client.write_image(backup).changed > 0 and client.read_image() == backup == device.eeprom_image
     assert client.write_image(backup).changed == 0
     # a stale idea of the present image: the COMMIT's CRC refuses it, the client reads and retries
     device.eeprom[:] = other
-    assert client.write_image(pack([record("Pb")]), current=backup).changed > 0
-    assert device.eeprom_image == pack([record("Pb")])
+    assert client.write_image(pack([compiled("Pb")]), current=backup).changed > 0
+    assert device.eeprom_image == pack([compiled("Pb")])
     client.write_image(backup)
     with pytest.raises(ImageTooLarge):
         client.write_image(b"\xff" * 1025)
@@ -61,7 +66,7 @@ def test_flash_verify_slots_backup_restore(charger):
 
 def test_charge_run_matches_the_simulator(charger):
     device, port, client = charger
-    rec = record("NiMh-dV")
+    rec = compiled("NiMh-dV")
     client.write_image(pack([rec]))
     events, telemetry = [], []
     client.on_event(events.append)
@@ -88,7 +93,7 @@ def test_charge_run_matches_the_simulator(charger):
 def test_stop_takes_effect_at_once_and_discharge_current_is_negative(make_charger, make_client):
     device, port = make_charger(battery="NiMh:2000:4", speed=50, soc=1.0)
     client = make_client(port)
-    client.write_image(pack([record("NiMh")]))
+    client.write_image(pack([compiled("NiMh")]))
     telemetry = []
     client.on_telemetry(telemetry.append)
     client.set_telemetry_rate(50)
@@ -110,7 +115,7 @@ def test_passport_read_write_and_lockout(make_charger, make_client):
     client = make_client(port)
     p = client.passport_read()
     assert p.type_name == "LiPo" and p.serial == "ZUML-VIRT-0001" and p.temp == 25
-    client.write_image(pack([record("NiMh-dV")]))
+    client.write_image(pack([compiled("NiMh-dV")]))
     with pytest.raises(DeviceError) as exc:
         client.start(0, "charge", 1, 2000, 2.0, None, 4, False)
     assert exc.value.code == m.ErrorCode.PASSPORT_CONFLICT
@@ -129,7 +134,7 @@ def test_passport_read_write_and_lockout(make_charger, make_client):
 
 def test_garbage_between_frames_is_skipped_both_ways(charger):
     device, port, client = charger
-    image = pack([record("NiMh-dV")])
+    image = pack([compiled("NiMh-dV")])
     client.write_image(image)
     for junk in (b"\xa5\xf0\x00", os.urandom(300), b"\xa5" * 10, b"\x00\xa5\x03\x01\x02"):
         client._serial.write(junk)                  # host -> device noise
@@ -143,7 +148,7 @@ def test_socket_url_works_too(make_charger, make_client):
     device, url = make_charger(tcp=True, battery="NiMh:2000:4", speed=20000)
     assert url.startswith("socket://127.0.0.1:")
     client = make_client(url)
-    client.write_image(pack([record("NiMh-dV")]))
+    client.write_image(pack([compiled("NiMh-dV")]))
     assert [s.name for s in client.slots()] == ["NiMh-dV"]
     client.close()
     again = make_client(url)                          # the next host after the first left
@@ -249,7 +254,7 @@ def test_builtin_serve_and_speed_change(make_client):
     url, stop = serve(device)
     try:
         client = make_client(url)
-        client.write_image(pack([record("NiMh-dV")]))
+        client.write_image(pack([compiled("NiMh-dV")]))
         client.start(0, "charge", 1, 2000, 2.0, None, 4, False)
         device.set_speed(100000)
         assert wait_for(lambda: client.status().state == "finished", 10)

@@ -12,7 +12,7 @@ from zuml_studio.device.transport import serve_pty
 from zuml_studio.device.virtual_charger import Faults, VirtualCharger
 from zuml_studio.lang.eeprom import pack, slots
 
-from conftest import needs_pty, record
+from helpers import compiled, needs_pty
 
 pytestmark = needs_pty
 
@@ -31,8 +31,8 @@ def all_records_valid(image: bytes) -> bool:
 
 
 def test_100_flashes_through_bit_errors_end_verified_or_with_an_error(make_charger):
-    images = [pack([record("NiMh-dV"), record("LiPo")], 256), pack([record("NiCd"), record("LiFe")], 256),
-              pack([record("Pb")], 256)]
+    images = [pack([compiled("NiMh-dV"), compiled("LiPo")], 256), pack([compiled("NiCd"), compiled("LiFe")], 256),
+              pack([compiled("Pb")], 256)]
     device, port = make_charger(eeprom_size=256, faults=Faults(ber=1e-3), seed=7, speed=100)
     client = connect(port, timeout=0.05)
     client.set_telemetry_rate(1) if client.connected else None
@@ -57,13 +57,13 @@ def test_100_flashes_through_bit_errors_end_verified_or_with_an_error(make_charg
 
 
 def test_disconnect_mid_flash_leaves_the_previous_image(make_client):
-    old = pack([record("NiMh-dV")])
+    old = pack([compiled("NiMh-dV")])
     device = VirtualCharger(speed=100, faults=Faults(disconnect_after=150))
     device.eeprom[:] = old
     port, stop = serve_pty(device, baud=None)
     try:
         client = make_client(port)
-        new = pack([record("LiPo"), record("LiIon"), record("LiFe"), record("NiCd"), record("Pb")])
+        new = pack([compiled("LiPo"), compiled("LiIon"), compiled("LiFe"), compiled("NiCd"), compiled("Pb")])
         with pytest.raises(Disconnected):
             client.write_image(new, current=old)         # BEGIN + staging cross the 150 bytes
         assert device.eeprom_image == old
@@ -76,7 +76,7 @@ def test_disconnect_mid_flash_leaves_the_previous_image(make_client):
 def test_lost_bytes_never_corrupt_the_eeprom(make_charger):
     device, port = make_charger(eeprom_size=256, faults=Faults(drop=2e-3), seed=3, speed=100)
     client = connect(port, timeout=0.05)
-    wanted = pack([record("NiMh-dV"), record("LiPo")], 256)
+    wanted = pack([compiled("NiMh-dV"), compiled("LiPo")], 256)
     for _ in range(10):
         try:
             client.write_image(wanted)

@@ -5,7 +5,7 @@ from zuml_studio.device import passport as pp
 from zuml_studio.lang.compiler import compile_source
 from zuml_studio.sim.interpreter import StartParams
 
-from conftest import record
+from helpers import compiled
 
 
 def test_answer_layout_follows_spec_offsets():
@@ -87,12 +87,12 @@ START = StartParams("charge", 1, 2000, 2.0, None, 4, False)
 
 
 def test_matching_battery_has_no_conflicts():
-    assert pp.conflicts(NIMH, record("NiMh-dV"), START) == []
+    assert pp.conflicts(NIMH, compiled("NiMh-dV"), START) == []
 
 
 def test_chemistry_mismatch_and_undef():
     lipo = pp.Passport("S", "V", 4, 0, 0, 20, 10)
-    assert pp.conflicts(lipo, record("NiMh-dV"), START) == ["the macro is for NiMh; the battery is LiPo"]
+    assert pp.conflicts(lipo, compiled("NiMh-dV"), START) == ["the macro is for NiMh; the battery is LiPo"]
     undef = compile_source("MACRO U\nCHARGE_SECTION\nFAZE\nCONSTANT_I=1A\nIF(V>8V) STOP_FAZE\nEND_FAZE\n"
                            "END_SECTION\nEND_MACRO\n").record
     assert "no battery type" in pp.conflicts(NIMH, undef, START)[0]
@@ -100,13 +100,13 @@ def test_chemistry_mismatch_and_undef():
 
 
 def test_current_and_voltage_limits_name_value_and_limit():
-    found = pp.conflicts(NIMH, record("NiMh-dV"), StartParams("charge", 1, 2000, 5.0, None, 6, False))
+    found = pp.conflicts(NIMH, compiled("NiMh-dV"), StartParams("charge", 1, 2000, 5.0, None, 6, False))
     assert "the macro charges at 5.00 A" in found[0] and found[0].endswith("the battery allows 4 A")
     assert "10.80 V" in found[1] and found[1].endswith("the battery allows 8 V")
 
 
 def test_cv_alone_counts_its_current_limit_and_limits_of_zero_are_unset():
-    lipo_rec = record("LiPo")
+    lipo_rec = compiled("LiPo")
     lipo = pp.Passport("S", "V", 4, 0, 0, 13, 2)
     start = StartParams("charge", 1, 2000, None, None, 3, True)
     found = pp.conflicts(lipo, lipo_rec, start, charger_max_a=5.0)

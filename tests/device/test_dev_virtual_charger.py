@@ -10,7 +10,7 @@ from zuml_studio.device.frames import FrameParser, encode_frame
 from zuml_studio.device.virtual_charger import BatterySpec, DeviceSetupError, VirtualCharger
 from zuml_studio.lang.eeprom import pack, slots
 
-from conftest import record
+from helpers import compiled
 
 
 class Wire:
@@ -85,7 +85,7 @@ def _stage(w, image):
 
 def test_commit_checks_crc_and_abandoned_transfers_change_nothing(dev):
     w = Wire(dev)
-    image = pack([record("NiMh-dV")])
+    image = pack([compiled("NiMh-dV")])
     token = _stage(w, image)
     assert dev.eeprom_image == b"\xff" * 1024                # staged only
     with pytest.raises(RefusedError) as exc:
@@ -96,19 +96,19 @@ def test_commit_checks_crc_and_abandoned_transfers_change_nothing(dev):
     # the same COMMIT again (its answer was lost): success again, nothing more written
     assert w.call("COMMIT", token=token, crc=crc16(image)) == done
     # a new transfer that is abandoned (BEGIN again, or ABORT) never reaches the EEPROM
-    token = _stage(w, pack([record("LiPo")]))
+    token = _stage(w, pack([compiled("LiPo")]))
     w.call("BEGIN_WRITE")
     with pytest.raises(RefusedError) as exc:
-        w.call("COMMIT", token=token, crc=crc16(pack([record("LiPo")])))
+        w.call("COMMIT", token=token, crc=crc16(pack([compiled("LiPo")])))
     assert exc.value.code is m.ErrorCode.BAD_TOKEN and dev.eeprom_image == image
-    token = _stage(w, pack([record("LiPo")]))
+    token = _stage(w, pack([compiled("LiPo")]))
     w.call("ABORT", token=token)
     assert not dev.staging_open and dev.eeprom_image == image
 
 
 def test_a_repeated_request_is_answered_not_redone(dev):
     w = Wire(dev)
-    image = pack([record("NiMh-dV")])
+    image = pack([compiled("NiMh-dV")])
     w.call("COMMIT", token=_stage(w, image), crc=crc16(image))
     fields = dict(slot=0, task=0, repetitions=1, capacity_mah=2000, current_ma=2000, voltage_mv=0, series=4, sensor=0)
     first = w.raw("START", seq=200, **fields)
@@ -125,13 +125,13 @@ def test_start_refusals(dev):
     with pytest.raises(RefusedError) as exc:
         w.call("START", slot=0, **start)
     assert exc.value.code is m.ErrorCode.BAD_SLOT
-    rec = bytearray(record("NiMh-dV"))
+    rec = bytearray(compiled("NiMh-dV"))
     rec[-1] ^= 0x55                                      # bad check byte, written behind the protocol's back
     dev.eeprom[:len(rec)] = rec
     with pytest.raises(RefusedError) as exc:
         w.call("START", slot=0, **start)
     assert exc.value.code is m.ErrorCode.INVALID_RECORD and "check byte" in exc.value.text
-    dev.eeprom[:len(rec)] = record("NiMh-dV")
+    dev.eeprom[:len(rec)] = compiled("NiMh-dV")
     with pytest.raises(RefusedError) as exc:
         w.call("START", slot=0, **{**start, "current_ma": 0})
     assert exc.value.code is m.ErrorCode.START_ERROR and "INPUT" in exc.value.text
@@ -168,7 +168,7 @@ def test_telemetry_is_coalesced_and_events_are_never_dropped():
 def test_discharge_current_is_negative_in_telemetry():
     dev = VirtualCharger("NiMh:2000:4", speed=100000, soc=1.0)
     try:
-        dev.eeprom[:] = pack([record("NiMh")])
+        dev.eeprom[:] = pack([compiled("NiMh")])
         w = Wire(dev)
         w.call("START", slot=0, task=1, repetitions=1, capacity_mah=2000, current_ma=0, voltage_mv=0, series=4,
                sensor=0)
@@ -184,7 +184,7 @@ def test_discharge_current_is_negative_in_telemetry():
 
 def test_eeprom_file_is_loaded_and_every_commit_persisted(tmp_path):
     path = tmp_path / "eeprom.bin"
-    image = pack([record("NiMh-dV")])
+    image = pack([compiled("NiMh-dV")])
     dev = VirtualCharger(eeprom_path=path)
     w = Wire(dev)
     w.call("COMMIT", token=_stage(w, image), crc=crc16(image))

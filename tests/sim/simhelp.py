@@ -1,7 +1,7 @@
 """Helpers for simulator tests: compile a macro (file or text) and simulate it."""
 from helpers import MACROS
 from zuml_studio.lang.compiler import compile_source
-from zuml_studio.sim.interpreter import Measurement, StartParams
+from zuml_studio.sim.interpreter import StartParams
 from zuml_studio.sim.simulate import BatterySetup, prepare, simulate
 
 

@@ -4,7 +4,7 @@ import pytest
 from simhelp import macro, record_of, run, start
 from zuml_studio.lang.compiler import compile_source
 from zuml_studio.sim.interpreter import StartError
-from zuml_studio.sim.program import CommandStep, DefaultDischarge, PhaseCode, Program, SectionStart
+from zuml_studio.sim.program import CommandStep, DefaultDischarge, PhaseCode, Program
 
 CC_TO_V = "FAZE CONSTANT_I=1C IF(V>1.40S) STOP_FAZE END_FAZE"
 DIS_TO_V = "FAZE CONSTANT_I=0.5C IF(V<1.10S) STOP_FAZE END_FAZE"

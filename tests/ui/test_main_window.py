@@ -3,7 +3,7 @@ import subprocess
 import sys
 
 from PySide6.QtCore import Qt
-from PySide6.QtGui import QTextCursor, QTextFormat
+from PySide6.QtGui import QTextCursor
 
 from helpers import MACROS
 from zuml_studio.lang.compiler import compile_source

@@ -4,6 +4,8 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from ..file_errors import FileReadError, read_file_bytes
+
 
 class CliError(Exception):
     """A failure shown as one line on stderr, with a non-zero exit."""
@@ -15,15 +17,9 @@ class CliError(Exception):
 
 def read_bytes(path: str) -> bytes:
     try:
-        return Path(path).read_bytes()
-    except FileNotFoundError:
-        raise CliError(f"{path}: no such file") from None
-    except IsADirectoryError:
-        raise CliError(f"{path}: is a folder, not a file") from None
-    except PermissionError:
-        raise CliError(f"{path}: permission denied") from None
-    except OSError as exc:
-        raise CliError(f"{path}: {exc.strerror or exc}") from None
+        return read_file_bytes(path)
+    except FileReadError as exc:
+        raise CliError(str(exc)) from None
 
 
 def read_text(path: str) -> str:

@@ -109,17 +109,15 @@ def cmd_image(args: argparse.Namespace) -> int:
         if len(args.files) != 1:
             raise CliError("give exactly one image file")
         image = read_bytes(args.files[0])
+        if args.extract is not None and not args.output:
+            raise CliError("--extract needs -o FILE.bin")
         try:
+            if args.extract is not None:
+                write_bytes(args.output, extract(image, args.extract))
+                return 0
             found = slots(image)
         except ImageError as exc:
             raise CliError(f"{args.files[0]}: {exc}", 1) from None
-        if args.extract is not None:
-            if not 0 <= args.extract < len(found):
-                raise CliError(f"{args.files[0]}: there is no slot {args.extract}; the image has {len(found)}")
-            if not args.output:
-                raise CliError("--extract needs -o FILE.bin")
-            write_bytes(args.output, found[args.extract].record)
-            return 0
         return _list(args.files[0], image, found)
     if not args.output:
         raise CliError("image needs -o eeprom.bin (or --list IMAGE)")

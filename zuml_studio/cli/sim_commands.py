@@ -5,7 +5,6 @@ import argparse
 import json
 import sys
 
-from ..lang.compiler import compile_source
 from ..sim.interpreter import Measurement, StartError, StartParams
 from ..sim.simulate import BatterySetup, SimResult, simulate
 from .common import CliError, check_start_options, out, read_bytes

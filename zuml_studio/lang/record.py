@@ -10,7 +10,7 @@ from functools import reduce
 from operator import xor
 
 from . import opcodes as ops
-from .ast import Cycle, Macro, Phase, Statement
+from .ast import Cycle, Macro, Phase
 from .opcodes import Op
 
 HEADER_SIZE = 4

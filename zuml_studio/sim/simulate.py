@@ -2,7 +2,7 @@
 builds the battery and charger models and runs the interpreter on the bytes."""
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from ..lang import opcodes as ops
 from ..lang.record import DecodeError

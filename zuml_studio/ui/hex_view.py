@@ -5,7 +5,7 @@ what they are) and the dis-style listing (line, offset, bytes, mnemonic, operand
 from __future__ import annotations
 
 from PySide6.QtCore import Qt, Signal
-from PySide6.QtGui import QColor, QFont, QFontDatabase
+from PySide6.QtGui import QColor, QFontDatabase
 from PySide6.QtWidgets import (QAbstractItemView, QButtonGroup, QHBoxLayout, QHeaderView, QLabel, QRadioButton,
                                QTreeWidget, QTreeWidgetItem, QVBoxLayout, QWidget)
 

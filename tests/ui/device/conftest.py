@@ -1,5 +1,5 @@
-"""Device-panel fixtures: a shown panel whose editor holds a compiled seed macro, and
-virtual chargers served beside the panel."""
+"""Device-panel fixtures: a shown panel whose editor holds a compiled seed macro (virtual
+chargers served beside it: ``make_charger``, in ``tests/conftest.py``)."""
 import pytest
 
 from device_helpers import Editor
@@ -28,23 +28,3 @@ def make_panel(qtbot, tmp_path, editor):
     yield make
     for panel in made:
         panel.shutdown()
-
-
-@pytest.fixture
-def served():
-    """served(**VirtualCharger kwargs) -> (device, port): a virtual charger on a pty, unpaced."""
-    from zuml_studio.device.transport import serve_pty
-    from zuml_studio.device.virtual_charger import VirtualCharger
-
-    made = []
-
-    def serve(**kw):
-        device = VirtualCharger(**kw)
-        port, stop = serve_pty(device, None)
-        made.append((device, stop))
-        return device, port
-
-    yield serve
-    for device, stop in made:
-        stop()
-        device.close()

@@ -3,16 +3,9 @@ test folders when the whole suite runs)."""
 import threading
 import time
 
-from helpers import MACROS
-from zuml_studio.lang.compiler import compile_source
+from helpers import compiled
 
 WAIT_MS = 30_000
-
-
-def compiled(name: str) -> bytes:
-    result = compile_source((MACROS / f"{name}.zuml").read_text())
-    assert result.ok, result.diagnostics
-    return result.record
 
 
 def python_threads() -> set:
@@ -49,3 +42,15 @@ def connect(qtbot, panel, target="virtual"):
     assert blocker.args == [True], panel.message_text()
     # the slot list and the passport are read right after connecting
     qtbot.waitUntil(lambda: not panel.connection.busy, timeout=WAIT_MS)
+
+
+def flash_and_start(qtbot, panel) -> tuple:
+    """Compile & Flash the editor's macro (it must succeed), then START a 2 A charge without a
+    sensor; returns startFinished's (ok, message)."""
+    with qtbot.waitSignal(panel.flashFinished, timeout=WAIT_MS) as flashed:
+        panel.flash()
+    assert flashed.args[0], flashed.args[1]
+    panel.set_start_params(current_a=2.0, sensor=False)
+    with qtbot.waitSignal(panel.startFinished, timeout=WAIT_MS) as started:
+        panel.start()
+    return tuple(started.args)

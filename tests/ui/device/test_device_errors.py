@@ -9,7 +9,7 @@ import time
 
 import pytest
 
-from device_helpers import WAIT_MS, connect
+from device_helpers import WAIT_MS, connect, flash_and_start
 from zuml_studio.device.client import ChargerClient
 from zuml_studio.device.ports import PortInfo
 
@@ -69,13 +69,7 @@ def test_a_passport_of_another_chemistry_refuses_start(qtbot, make_panel, monkey
     panel.v_passport.setCurrentIndex(panel.v_passport.findData("LiPo"))
     connect(qtbot, panel)
     assert panel.pp_labels["type"].text().startswith("LiPo")
-    with qtbot.waitSignal(panel.flashFinished, timeout=WAIT_MS) as flashed:
-        panel.flash()
-    assert flashed.args[0], flashed.args[1]
-    panel.set_start_params(current_a=2.0, sensor=False)
-    with qtbot.waitSignal(panel.startFinished, timeout=WAIT_MS) as refused:
-        panel.start()
-    ok, text = refused.args
+    ok, text = flash_and_start(qtbot, panel)
     assert not ok
     assert text.startswith("Not started: the battery's passport forbids NiMh-dV:")
     assert "• the macro is for NiMh; the battery is LiPo" in text
@@ -120,8 +114,8 @@ def test_unplugged_mid_flash_keeps_the_previous_image(qtbot, make_panel, monkeyp
     assert panel.result_label.text() == text
 
 
-def test_an_image_larger_than_the_eeprom(qtbot, make_panel, served):
-    device, port = served(eeprom_size=32)
+def test_an_image_larger_than_the_eeprom(qtbot, make_panel, make_charger):
+    device, port = make_charger(eeprom_size=32)
     panel = make_panel()
     connect(qtbot, panel, port)
     assert "EEPROM 32 bytes" in panel.info_label.full_text()
@@ -138,11 +132,7 @@ def test_the_link_going_away_resets_the_panel_and_keeps_plot_and_csv(qtbot, make
     panel.v_speed.setValue(1000)
     panel.rate.setValue(50)
     connect(qtbot, panel)
-    with qtbot.waitSignal(panel.flashFinished, timeout=WAIT_MS):
-        panel.flash()
-    panel.set_start_params(current_a=2.0, sensor=False)
-    with qtbot.waitSignal(panel.startFinished, timeout=WAIT_MS):
-        panel.start()
+    flash_and_start(qtbot, panel)
     qtbot.waitUntil(lambda: panel.plot.points > 5, timeout=WAIT_MS)
     path = panel.session_file
     with qtbot.waitSignal(panel.connectedChanged, timeout=WAIT_MS) as gone:
@@ -242,8 +232,8 @@ def test_port_scans_run_off_the_gui_thread(qtbot, tmp_path, editor):
         panel.shutdown()
 
 
-def test_a_port_another_program_holds_is_busy(qtbot, make_panel, served):
-    device, port = served()
+def test_a_port_another_program_holds_is_busy(qtbot, make_panel, make_charger):
+    device, port = make_charger()
     holder = ChargerClient(port)                 # another program has the port (exclusive lock)
     try:
         panel = make_panel()

@@ -7,7 +7,7 @@ import os
 import pytest
 from PySide6.QtCore import Qt
 
-from device_helpers import WAIT_MS, connect, python_threads, wait_threads
+from device_helpers import WAIT_MS, connect, flash_and_start, python_threads, wait_threads
 
 pytestmark = pytest.mark.skipif(os.name != "posix", reason="the built-in virtual charger uses a pty here")
 
@@ -95,11 +95,7 @@ def test_session_csv_is_written_and_flushed_while_connected(qtbot, make_panel):
     path = panel.session_file
     assert path.parent == panel.session_dir and path.name.startswith("session-") and path.suffix == ".csv"
     assert path.name in panel.session_label.full_text()
-    with qtbot.waitSignal(panel.flashFinished, timeout=WAIT_MS):
-        panel.flash()
-    panel.set_start_params(current_a=2.0, sensor=False)
-    with qtbot.waitSignal(panel.startFinished, timeout=WAIT_MS):
-        panel.start()
+    flash_and_start(qtbot, panel)
     qtbot.waitUntil(lambda: panel.plot.points > 10, timeout=WAIT_MS)
 
     def rows():
@@ -129,11 +125,7 @@ def test_follow_keeps_the_newest_minutes_and_a_user_zoom_stops_it(qtbot, make_pa
     panel.rate.setValue(50)
     panel.follow_minutes.setValue(10)
     connect(qtbot, panel)
-    with qtbot.waitSignal(panel.flashFinished, timeout=WAIT_MS):
-        panel.flash()
-    panel.set_start_params(current_a=2.0, sensor=False)
-    with qtbot.waitSignal(panel.startFinished, timeout=WAIT_MS):
-        panel.start()
+    flash_and_start(qtbot, panel)
     qtbot.waitUntil(lambda: panel.series.last_x() > 800 and panel.plot.points > 20, timeout=WAIT_MS)
     qtbot.wait(100)
     x0, x1 = panel.plot.tplot.vb.viewRange()[0]

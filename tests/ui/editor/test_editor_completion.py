@@ -1,20 +1,8 @@
 """Completion: items from the opcode table, popup behaviour, insertion."""
-import pytest
 from PySide6.QtCore import Qt
 
 from zuml_studio.lang import opcodes
-from zuml_studio.ui.editor.code_editor import CodeEditor
 from zuml_studio.ui.editor.completion import completion_items, word_before
-
-
-@pytest.fixture
-def editor(qtbot):
-    e = CodeEditor()
-    qtbot.addWidget(e)
-    e.resize(600, 400)
-    e.show()
-    e.setFocus()
-    return e
 
 
 def test_items_cover_every_statement_form_and_symbolic_values(editor):

@@ -1,17 +1,8 @@
 """Colouring: driven by the opcode table, read back from the block layouts."""
-import pytest
 from PySide6.QtGui import QTextCharFormat
 
 from zuml_studio.lang import opcodes
 from zuml_studio.ui.editor import highlighter as hl
-from zuml_studio.ui.editor.code_editor import CodeEditor
-
-
-@pytest.fixture
-def editor(qtbot):
-    e = CodeEditor()
-    qtbot.addWidget(e)
-    return e
 
 
 def formats_of(editor, line):

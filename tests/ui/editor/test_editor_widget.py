@@ -11,15 +11,6 @@ LIPO = (MACROS / "LiPo.zuml").read_text()
 WAVE = QTextCharFormat.UnderlineStyle.WaveUnderline
 
 
-@pytest.fixture
-def editor(qtbot):
-    e = CodeEditor()
-    qtbot.addWidget(e)
-    e.resize(600, 400)
-    e.show()
-    return e
-
-
 def underlines(editor):
     return [(s.cursor.selectionStart(), s.cursor.selectionEnd(), s.format.underlineColor().name())
             for s in editor.extraSelections() if s.format.underlineStyle() == WAVE]

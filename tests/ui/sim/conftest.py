@@ -1,23 +1,15 @@
 """Simulator-panel fixtures: a shown panel, compiled seed macros."""
 import pytest
 
-from helpers import MACROS
-from zuml_studio.lang.compiler import compile_source
+import helpers
 
 RUN_TIMEOUT_MS = 60_000
-
-
-def _compiled(name_or_text: str) -> bytes:
-    text = name_or_text if "\n" in name_or_text else (MACROS / f"{name_or_text}.zuml").read_text()
-    result = compile_source(text)
-    assert result.ok, result.diagnostics
-    return result.record
 
 
 @pytest.fixture
 def compiled():
     """name of a seed macro, or a macro's text -> its record"""
-    return _compiled
+    return helpers.compiled
 
 
 @pytest.fixture
@@ -39,7 +31,7 @@ def run(panel, qtbot):
 
     def run(macro: str, declared=None, **values):
         panel.form.auto.setChecked(False)
-        panel.set_record(_compiled(macro), macro if "\n" not in macro else "T", declared)
+        panel.set_record(helpers.compiled(macro), macro if "\n" not in macro else "T", declared)
         if values:
             panel.form.set_values(**values)
         with qtbot.waitSignal(panel.simulationFinished, timeout=RUN_TIMEOUT_MS) as blocker:

@@ -18,7 +18,7 @@ from typing import Callable
 
 from PySide6.QtCore import Qt, QTimer, Signal
 from PySide6.QtGui import QKeySequence, QShortcut
-from PySide6.QtWidgets import (QAbstractItemView, QAbstractSpinBox, QCheckBox, QComboBox, QDoubleSpinBox, QFileDialog,
+from PySide6.QtWidgets import (QAbstractItemView, QCheckBox, QComboBox, QDoubleSpinBox, QFileDialog,
                                QFrame, QGridLayout, QHBoxLayout, QHeaderView, QLabel, QProgressBar, QPushButton,
                                QScrollArea, QSizePolicy, QSpinBox, QSplitter, QTableWidget, QTableWidgetItem,
                                QToolButton, QVBoxLayout, QWidget)
@@ -29,6 +29,7 @@ from ...device.flashing import merge_record
 from ...device.passport import akk_name, conflicts
 from ...device.ports import VIRTUAL
 from ...lang.eeprom import Slot, slots, used_bytes
+from ..number_boxes import double_spin_box, form_field, spin_box
 from ..timefmt import hmmss
 from .connection import DeviceConnection, Opened, VirtualSpec, describe_error
 from .live_plot import DEFAULT_FOLLOW_MIN, LivePlot, LiveSeries
@@ -179,9 +180,9 @@ class DevicePanel(QWidget):
             self.v_chem.addItem(name, name)
         self.v_chem.setToolTip("The virtual battery's chemistry; 'from the macro' uses the editor macro's "
                                "AKK_TYPE (NiMh if it has none)")
-        self.v_mah = self._spin(100, 65000, DEFAULT_BATTERY[1], " mAh", "the virtual battery's capacity")
+        self.v_mah = self._spin_box(100, 65000, DEFAULT_BATTERY[1], " mAh", "the virtual battery's capacity")
         self.v_mah.setSingleStep(100)
-        self.v_cells = self._spin(1, 24, DEFAULT_BATTERY[2], " cells", "cells in series in the virtual battery")
+        self.v_cells = self._spin_box(1, 24, DEFAULT_BATTERY[2], " cells", "cells in series in the virtual battery")
         self.v_passport = QComboBox()
         self.v_passport.setObjectName("virtualPassport")
         self.v_passport.addItem("as battery", MATCH)
@@ -190,11 +191,11 @@ class DevicePanel(QWidget):
         self.v_passport.addItem("none", "none")
         self.v_passport.setToolTip("The battery passport chip (spec §4): its chemistry as the battery's, "
                                    "another one (to see the lockout), or no chip")
-        self.v_speed = self._spin(1, 100000, 60, "×", "the virtual charger runs the macro this many times "
+        self.v_speed = self._spin_box(1, 100000, 60, "×", "the virtual charger runs the macro this many times "
                                   "faster than real time (changes at once)")
         self.v_speed.setObjectName("virtualSpeed")
         self.v_speed.setMaximumWidth(FIELD_WIDTH)
-        self.rate = self._spin(1, 50, 10, " Hz", "telemetry frames per second the charger sends")
+        self.rate = self._spin_box(1, 50, 10, " Hz", "telemetry frames per second the charger sends")
         self.rate.setObjectName("telemetryRate")
         self.virtual_box = QWidget()
         vrow = QHBoxLayout(self.virtual_box)
@@ -296,17 +297,17 @@ class DevicePanel(QWidget):
         for key, text in TASKS:
             self.task.addItem(text, key)
         self.task.setToolTip("charge, discharge, or training (discharge + charge, repeated)")
-        self.capacity = self._spin(10, 65000, DEFAULT_BATTERY[1], " mAh", "the capacity entered at start")
+        self.capacity = self._spin_box(10, 65000, DEFAULT_BATTERY[1], " mAh", "the capacity entered at start")
         self.capacity.setSingleStep(100)
-        self.current = self._dspin(0.0, 50.0, 2.0, " A", 2, 0.1, "the current entered at start "
+        self.current = self._double_box(0.0, 50.0, 2.0, " A", 2, 0.1, "the current entered at start "
                                    "(CONSTANT_I=INPUT; limits a CONSTANT_V phase); — none")
         self.current.setSpecialValueText("—")
-        self.series_spin = self._spin(0, 255, DEFAULT_BATTERY[2], " cells", "cells in series entered at start; "
+        self.series_spin = self._spin_box(0, 255, DEFAULT_BATTERY[2], " cells", "cells in series entered at start; "
                                       "— none")
         self.series_spin.setSpecialValueText("—")
-        self.voltage = self._dspin(0.0, 65.0, 0.0, " V", 2, 0.1, "the voltage entered at start (INPUT); — none")
+        self.voltage = self._double_box(0.0, 65.0, 0.0, " V", 2, 0.1, "the voltage entered at start (INPUT); — none")
         self.voltage.setSpecialValueText("—")
-        self.repetitions = self._spin(1, 255, 1, "", "training: discharge+charge this many times")
+        self.repetitions = self._spin_box(1, 255, 1, "", "training: discharge+charge this many times")
         self.repetitions.setPrefix("× ")
         self.sensor = QCheckBox("T sensor")
         self.sensor.setObjectName("runSensor")
@@ -410,7 +411,7 @@ class DevicePanel(QWidget):
         self.follow.setObjectName("followCheck")
         self.follow.setChecked(True)
         self.follow.setToolTip("Keep the newest minutes in view; zooming or panning the plot turns this off")
-        self.follow_minutes = self._spin(1, 24 * 60, DEFAULT_FOLLOW_MIN, " min", "how much of the run to keep in view")
+        self.follow_minutes = self._spin_box(1, 24 * 60, DEFAULT_FOLLOW_MIN, " min", "how much of the run to keep in view")
         self.follow_minutes.setMaximumWidth(80)
         self.all_button = QToolButton()
         self.all_button.setText("All")
@@ -487,33 +488,14 @@ class DevicePanel(QWidget):
         line.setStyleSheet("color:#d8d8d8;")
         return line
 
+
     @staticmethod
-    def _sized(widget):
-        widget.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
-        widget.setMinimumWidth(60)
-        if isinstance(widget, QAbstractSpinBox):
-            widget.setKeyboardTracking(False)
-            widget.setAlignment(Qt.AlignmentFlag.AlignRight)
-        return widget
+    def _spin_box(*args) -> QSpinBox:
+        return form_field(spin_box(*args), min_width=60)
 
-    def _spin(self, lo: int, hi: int, value: int, suffix: str, tip: str) -> QSpinBox:
-        box = QSpinBox()
-        box.setRange(lo, hi)
-        box.setValue(value)
-        box.setSuffix(suffix)
-        box.setToolTip(tip)
-        return self._sized(box)
-
-    def _dspin(self, lo: float, hi: float, value: float, suffix: str, decimals: int, step: float,
-               tip: str) -> QDoubleSpinBox:
-        box = QDoubleSpinBox()
-        box.setDecimals(decimals)
-        box.setRange(lo, hi)
-        box.setSingleStep(step)
-        box.setValue(value)
-        box.setSuffix(suffix)
-        box.setToolTip(tip)
-        return self._sized(box)
+    @staticmethod
+    def _double_box(*args) -> QDoubleSpinBox:
+        return form_field(double_spin_box(*args), min_width=60)
 
     def _wire(self) -> None:
         self.connect_button.clicked.connect(self._connect_clicked)

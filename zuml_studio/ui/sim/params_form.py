@@ -4,12 +4,13 @@ progress of the running simulation."""
 from __future__ import annotations
 
 from PySide6.QtCore import Qt, Signal
-from PySide6.QtWidgets import (QAbstractSpinBox, QCheckBox, QComboBox, QDoubleSpinBox, QGridLayout, QHBoxLayout,
-                               QLabel, QProgressBar, QPushButton, QSizePolicy, QSpinBox, QWidget)
+from PySide6.QtWidgets import (QCheckBox, QComboBox, QDoubleSpinBox, QGridLayout, QHBoxLayout,
+                               QLabel, QProgressBar, QPushButton, QSpinBox, QWidget)
 
 from ...sim.chemistry import chemistry_names
 from ...sim.interpreter import StartParams
 from ...sim.simulate import BatterySetup
+from ..number_boxes import double_spin_box, form_field, spin_box
 from ..timefmt import hmm
 
 TASKS = (("charge", "Charge"), ("discharge", "Discharge"), ("train", "Train"))
@@ -40,16 +41,16 @@ class ParamsForm(QWidget):
             self.task.addItem(text, key)
         self.task.setToolTip("What the charger is started for: charge, discharge, or training "
                              "(discharge + charge, repeated)")
-        self.repetitions = self._spin(1, 255, DEFAULTS["repetitions"], "", "training: discharge+charge this many times")
+        self.repetitions = self._spin_box(1, 255, DEFAULTS["repetitions"], "", "training: discharge+charge this many times")
         self.repetitions.setPrefix("× ")
-        self.capacity = self._spin(10, 65000, DEFAULTS["capacity_mah"], " mAh",
+        self.capacity = self._spin_box(10, 65000, DEFAULTS["capacity_mah"], " mAh",
                                    "the battery's capacity, entered at start (and the model's size)")
         self.capacity.setSingleStep(100)
-        self.current = self._dspin(0.01, 50.0, DEFAULTS["current_a"], " A", 2, 0.1,
+        self.current = self._double_box(0.01, 50.0, DEFAULTS["current_a"], " A", 2, 0.1,
                                    "the current entered at start (CONSTANT_I=INPUT; the limit of a CONSTANT_V phase)")
-        self.series = self._spin(1, 255, DEFAULTS["series"], "", "cells in series (used when the macro has no SERIES)")
+        self.series = self._spin_box(1, 255, DEFAULTS["series"], "", "cells in series (used when the macro has no SERIES)")
         self.series.setSuffix(" cells")
-        self.voltage = self._dspin(0.0, 100.0, 0.0, " V", 2, 0.1,
+        self.voltage = self._double_box(0.0, 100.0, 0.0, " V", 2, 0.1,
                                    "the voltage entered at start, for macros that take one (INPUT); — none")
         self.voltage.setSpecialValueText("—")
         self.model = QComboBox()
@@ -57,12 +58,12 @@ class ParamsForm(QWidget):
         for name in chemistry_names():
             self.model.addItem(name, name)
         self.model.setToolTip(MODEL_TIP)
-        self._size(self.model).setMaximumWidth(2 * FIELD_WIDTH)
-        self._size(self.task)
-        self.initial = self._spin(-1, 100, -1, " %", "initial state of charge: auto = empty for a charge, "
+        form_field(self.model, max_width=FIELD_WIDTH).setMaximumWidth(2 * FIELD_WIDTH)
+        form_field(self.task, max_width=FIELD_WIDTH)
+        self.initial = self._spin_box(-1, 100, -1, " %", "initial state of charge: auto = empty for a charge, "
                                   "full for a discharge or a training")
         self.initial.setSpecialValueText("auto")
-        self.ambient = self._dspin(-20.0, 60.0, DEFAULTS["ambient_c"], " °C", 0, 1.0, "ambient temperature")
+        self.ambient = self._double_box(-20.0, 60.0, DEFAULTS["ambient_c"], " °C", 0, 1.0, "ambient temperature")
         self.sensor = QCheckBox("T sensor")
         self.sensor.setChecked(DEFAULTS["sensor"])
         self.sensor.setToolTip("a battery temperature sensor is connected (without one, the default "
@@ -131,33 +132,14 @@ class ParamsForm(QWidget):
         self._task_changed()
 
     # -- building --------------------------------------------------------------------------
+
     @staticmethod
-    def _size(widget):
-        widget.setMaximumWidth(FIELD_WIDTH)
-        widget.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
-        if isinstance(widget, QAbstractSpinBox):
-            widget.setKeyboardTracking(False)       # one change per typed number, not per digit
-            widget.setAlignment(Qt.AlignmentFlag.AlignRight)
-        return widget
+    def _spin_box(*args) -> QSpinBox:
+        return form_field(spin_box(*args), max_width=FIELD_WIDTH)
 
-    def _spin(self, lo: int, hi: int, value: int, suffix: str, tip: str) -> QSpinBox:
-        box = QSpinBox()
-        box.setRange(lo, hi)
-        box.setValue(value)
-        box.setSuffix(suffix)
-        box.setToolTip(tip)
-        return self._size(box)
-
-    def _dspin(self, lo: float, hi: float, value: float, suffix: str, decimals: int, step: float,
-               tip: str) -> QDoubleSpinBox:
-        box = QDoubleSpinBox()
-        box.setDecimals(decimals)
-        box.setRange(lo, hi)
-        box.setSingleStep(step)
-        box.setValue(value)
-        box.setSuffix(suffix)
-        box.setToolTip(tip)
-        return self._size(box)
+    @staticmethod
+    def _double_box(*args) -> QDoubleSpinBox:
+        return form_field(double_spin_box(*args), max_width=FIELD_WIDTH)
 
     def _fields(self) -> dict[str, QWidget]:
         return {"task": self.task, "repetitions": self.repetitions, "capacity_mah": self.capacity,

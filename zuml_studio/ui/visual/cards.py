@@ -58,17 +58,18 @@ def decode_path(data: bytes) -> tuple:
 
 # -- dragging ------------------------------------------------------------------------------------
 
-class DraggableFrame(QFrame):
-    """A frame that starts a QDrag of its path when pulled, and is 'clicked' when not."""
+class DragSource:
+    """Mixin for a QWidget with ``host`` and ``path``: pulled, it starts a QDrag of its path;
+    pressed and released without moving, it is 'clicked'."""
 
-    def __init__(self, host, path: tuple, parent: QWidget | None = None):
-        super().__init__(parent)
-        self.host = host
-        self.path = path
-        self._press: QPoint | None = None
+    _press: QPoint | None = None
+
+    def grabbed_at(self, pos: QPoint) -> bool:
+        """Whether a press there may start a drag (a box is dragged by its header only)."""
+        return True
 
     def mousePressEvent(self, event) -> None:  # noqa: N802
-        if event.button() == Qt.MouseButton.LeftButton:
+        if event.button() == Qt.MouseButton.LeftButton and self.grabbed_at(event.position().toPoint()):
             self._press = event.position().toPoint()
             event.accept()
             return
@@ -122,6 +123,15 @@ class DraggableFrame(QFrame):
     def _repolish(self) -> None:
         self.style().unpolish(self)
         self.style().polish(self)
+
+
+class DraggableFrame(DragSource, QFrame):
+    """A card or chip: dragged from anywhere on it."""
+
+    def __init__(self, host, path: tuple, parent: QWidget | None = None):
+        super().__init__(parent)
+        self.host = host
+        self.path = path
 
 
 class DropZone(QFrame):
@@ -379,7 +389,7 @@ class PhaseCard(DraggableFrame):
 
 # -- a cycle -----------------------------------------------------------------------------------
 
-class CycleBox(DropZone):
+class CycleBox(DragSource, DropZone):
     """A framed box around the items of a CYCLE, with its count."""
 
     def __init__(self, host, path: tuple, section: str, parent: QWidget | None = None):
@@ -388,7 +398,6 @@ class CycleBox(DropZone):
         self.setProperty("section", section)
         self.setSizePolicy(QSizePolicy.Policy.Preferred, QSizePolicy.Policy.Maximum)
         self.first = self.last = False
-        self._press: QPoint | None = None
 
         self.grip = _label("⠿", "grip", "Drag to reorder")
         title = _label("↻ Repeat", "cycleTitle")
@@ -460,34 +469,8 @@ class CycleBox(DropZone):
     def contextMenuEvent(self, event) -> None:  # noqa: N802
         self._menu().exec(event.globalPos())
 
-    # The box is dragged by its header (its own area, not its cards).
-    def mousePressEvent(self, event) -> None:  # noqa: N802
-        if event.button() == Qt.MouseButton.LeftButton and event.position().y() < 34:
-            self._press = event.position().toPoint()
-            event.accept()
-            return
-        super().mousePressEvent(event)
-
-    def mouseMoveEvent(self, event) -> None:  # noqa: N802
-        if self._press is not None and (event.buttons() & Qt.MouseButton.LeftButton):
-            if (event.position().toPoint() - self._press).manhattanLength() >= QApplication.startDragDistance():
-                self._press = None
-                drag = QDrag(self)
-                data = QMimeData()
-                data.setData(MIME, encode_path(self.path))
-                drag.setMimeData(data)
-                drag.setPixmap(self.grab().scaledToWidth(min(300, max(1, self.width()))))
-                drag.exec(Qt.DropAction.MoveAction)
-                return
-        super().mouseMoveEvent(event)
-
-    def mouseReleaseEvent(self, event) -> None:  # noqa: N802
-        if self._press is not None:
-            self._press = None
-            self.host.goto(self.path)
-            event.accept()
-            return
-        super().mouseReleaseEvent(event)
+    def grabbed_at(self, pos: QPoint) -> bool:
+        return pos.y() < 34           # the header: the box's own area, not its cards
 
 
 # -- a command between phases / in the conclusion ---------------------------------------------

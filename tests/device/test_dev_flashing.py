@@ -1,7 +1,7 @@
 """``device.flashing.merge_record``: the rule Compile & Flash and ``zuml flash`` share."""
 import pytest
 
-from device_helpers import compiled
+from helpers import compiled
 from zuml_studio.device.flashing import ImageFull, SlotOutOfRange, merge_record
 from zuml_studio.lang.eeprom import pack, records
 
