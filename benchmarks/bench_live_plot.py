@@ -2,9 +2,9 @@
 then ~30 frames each with a few new samples: take them (setData) and repaint the widget.
 Prints the median redraw time per frame (target < 20 ms), for the last 30 minutes in view
 (follow: the view moves every frame), for the whole session in view with the new samples in it
-(every frame re-clips and re-downsamples a million points per curve), and for a view that stays
-while samples arrive right of it (no setData; the repaint alone). Every frame paints the whole
-plot widget exactly once. Numbers only.
+(every frame takes the new samples into the min/max envelopes and draws the view from them),
+and for a view that stays while samples arrive right of it (no setData; the repaint alone).
+Every frame paints the whole plot widget exactly once. Numbers only.
 Run: python benchmarks/bench_live_plot.py [points]"""
 from __future__ import annotations
 

@@ -1,12 +1,14 @@
 """The live plot of a charger's telemetry: pack voltage, signed current, battery and heat-sink
 temperature stacked over one h:mm time axis, with the phases as bands from the device's
-EVENT frames, in the simulator plot's look (``ui/sim/charge_plot.py``).
+EVENT frames, in the simulator plot's look (``ui/stacked_plot.py``).
 
 Data path (ide.md §3, §7): the client's reader thread calls ``LiveSeries.add_telemetry`` /
 ``add_event`` (no Qt there: numpy buffers under a lock); a QTimer at about 30 Hz takes
-what is new and calls ``setData`` only when something changed. The whole session is kept
-(the buffers grow by doubling; a million points per curve draw in well under 20 ms with
-clip-to-view and peak downsampling, antialiasing off).
+what is new, folds it into the min/max envelopes (``envelope.py``) and redraws only when
+something changed. The whole session is kept (the buffers grow by doubling) and every view
+of it is drawn from about two points per pixel: the samples themselves when few are in
+view, else their envelope (clip-to-view and peak downsampling, done once per sample rather
+than once per frame), antialiasing off.
 
 The x axis is the macro's clock. Telemetry is plotted while a macro runs; a new run (its
 clock starts again) continues after the previous one, so the session stays one
@@ -27,7 +29,8 @@ from PySide6.QtGui import QColor
 
 from ..stacked_plot import (BAND_ALPHA, BATTERY_T_PEN, CURRENT_FILL, CURRENT_PEN, GRID_ALPHA, HEATSINK_T_PEN,
                             LABEL_COLOR, VOLTAGE_PEN, WARNING_COLOR, StackedPlot, band_label, band_rgb)
-from .ring_buffer import GrowingBuffer
+from .envelope import Envelope
+from .growing_buffer import GrowingBuffer
 
 COLUMNS = ("t", "voltage", "current", "temp", "heatsink")
 REDRAW_MS = 33                     # ~30 Hz
@@ -148,27 +151,6 @@ def over_paper(r: int, g: int, b: int, alpha: int) -> QColor:
     return QColor(*(int(round(255 - (255 - c) * a)) for c in (r, g, b)))
 
 
-class _Curve(pg.PlotDataItem):
-    """A PlotDataItem that knows its x values (the clock) are finite, so neither a new
-    ``setData`` nor a change of the view scans a million x values for NaN; and with no
-    ``dynamicRangeLimit`` (nothing here spans a million view heights) no full-range bounds
-    are computed either. Only the clipped, downsampled part is processed per frame."""
-
-    def __init__(self, *args, y_finite: bool = False, **kw):
-        self._y_finite = y_finite
-        # Peak downsampling keeps each bin's min and max: one bin per pixel already draws
-        # the whole envelope (pyqtgraph's default, 5, draws five times the lines).
-        super().__init__(*args, dynamicRangeLimit=None, autoDownsampleFactor=1.0, **kw)
-
-    def _getDisplayDataset(self):  # noqa: N802 (pyqtgraph's name)
-        ds = getattr(self, "_dataset", None)
-        if ds is not None and ds.xAllFinite is None:
-            ds.xAllFinite = True
-            if self._y_finite:
-                ds.yAllFinite = True
-        return super()._getDisplayDataset()
-
-
 class BackdropItem(pg.GraphicsObject):
     """What lies under a plot's curves, in one item: the grid (major ticks) and every phase
     band (a shaded span of x with edge lines).
@@ -285,7 +267,8 @@ class LivePlot(StackedPlot):
         self._follow = True
         self.follow_s = DEFAULT_FOLLOW_MIN * 60.0
         self._n = 0                         # points taken from the series
-        self._drawn = 0                     # points handed to the curves (less while off-view)
+        self.envelope = Envelope(COLUMNS[1:])
+        self.level = 0                      # the envelope level drawn (0: the samples themselves)
         self._version = -1
         self._phase_version = -1
         self._phases: list[LivePhase] = []
@@ -328,11 +311,12 @@ class LivePlot(StackedPlot):
     def _curve(self, plot: pg.PlotItem, pen, name: str, connect: str = "all", **kw) -> pg.PlotDataItem:
         self.legends[plot].add(name, pen.color().name())
         finite = connect == "all"
-        curve = _Curve([], [], pen=pen, name=name, antialias=False, connect=connect, skipFiniteCheck=finite,
-                       y_finite=finite, **kw)
+        curve = pg.PlotDataItem([], [], pen=pen, name=name, antialias=False, connect=connect,
+                                skipFiniteCheck=finite, **kw)
         plot.addItem(curve)
-        curve.setClipToView(True)
-        curve.setDownsampling(auto=True, method="peak")
+        # The envelope hands over the view's points already clipped and decimated.
+        curve.setClipToView(False)
+        curve.setDownsampling(ds=1, auto=False)
         return curve
 
     # -- options -----------------------------------------------------------------------------
@@ -383,9 +367,10 @@ class LivePlot(StackedPlot):
     def clear(self) -> None:
         """Forget the session's data and bands."""
         self.series.clear()
+        self.envelope.clear()
         for curve in self.curves.values():
             curve.setData([], [])
-        self._n = self._drawn = 0
+        self._n = 0
         self._version = -1
         self._set_bands([])
         self._phase_version = self.series.phase_version
@@ -410,11 +395,10 @@ class LivePlot(StackedPlot):
             if n != self._n or n == 0:
                 first = self._n == 0 and n > 0
                 # With follow off, samples that land right of the view change nothing on the
-                # screen: they are drawn when the view moves (no million-point setData per frame).
-                hidden = (not self._follow and 0 < self._drawn < n
-                          and float(cols["t"][self._drawn]) > self.vplot.vb.viewRange()[0][1])
-                if not hidden:
-                    self._set_curves(n, cols)
+                # screen: they are drawn when the view moves there.
+                hidden = (not self._follow and 0 < self._n < n
+                          and float(cols["t"][self._n]) > self.vplot.vb.viewRange()[0][1])
+                self.envelope.update(n, cols)
                 self._n = n
                 changed = True
                 if first:
@@ -429,13 +413,11 @@ class LivePlot(StackedPlot):
             changed = True
         if changed:
             self._grow_open_bands(last_x)
+            moves = self._view_moves
             if self._follow:
-                moves = self._view_moves
-                self._apply_follow()            # a new range redoes the view (_view_changed)
-                if moves == self._view_moves:
-                    self._update_view()
-            elif not hidden:
-                self._update_view()
+                self._apply_follow()            # a new range redraws the view (_view_changed)
+            if moves == self._view_moves and not hidden:
+                self._redraw_view()
             self.pointsAdded.emit(self._n)
             self.redraws += 1
         cost = (time.perf_counter() - clock) * 1000.0 + (self._paint_ms if changed else 0.0)
@@ -446,19 +428,13 @@ class LivePlot(StackedPlot):
             self.timer.setInterval(wanted)
         return changed
 
-    def _set_curves(self, n: int, cols: dict) -> None:
-        x = cols["t"]
-        self.curves["voltage"].setData(x, cols["voltage"])
-        self.curves["current"].setData(x, cols["current"])
-        self.curves["temp"].setData(x, cols["temp"])
-        self.curves["heatsink"].setData(x, cols["heatsink"])
-        self._drawn = n
-
-    def _catch_up(self) -> None:
-        """Hand the curves what was held back while it was off the view."""
-        if self._drawn < self._n:
-            n, cols = self.series.buffer.snapshot()
-            self._set_curves(n, cols)
+    def _set_curves(self) -> None:
+        """Hand the curves the view's points: the samples, or their envelope when there are
+        more than two per pixel."""
+        (x0, x1), width = self.vplot.vb.viewRange()[0], self.vplot.vb.width()
+        self.level, x, ys = self.envelope.view(x0, x1, bins=max(100, int(width)))
+        for name in COLUMNS[1:]:
+            self.curves[name].setData(x, ys[name])
 
     def _apply_follow(self) -> None:
         first, last = self._extent()
@@ -529,10 +505,10 @@ class LivePlot(StackedPlot):
     def _view_changed(self, *_) -> None:
         """The x range or the size changed (the user, follow, a resize)."""
         self._view_moves += 1
-        self._catch_up()
-        self._update_view()
+        self._redraw_view()
 
-    def _update_view(self) -> None:
+    def _redraw_view(self) -> None:
+        self._set_curves()
         self._thin_dense_curves()
         self._fit_live_voltage()
         self._place_labels()
@@ -542,8 +518,8 @@ class LivePlot(StackedPlot):
 
     def _thin_dense_curves(self) -> None:
         """Dense curves (more points drawn than the plot has pixels across, as when hours of
-        samples are in view) are drawn 1 px wide: the peak envelope fills the band anyway, and
-        a raster painter strokes 2 px lines at twice the cost."""
+        samples are in view) are drawn 1 px wide: the envelope fills the band anyway, and a
+        raster painter strokes 2 px lines at twice the cost."""
         limit = 1.5 * max(self.vplot.vb.width(), 100.0)
         for name, curve in self.curves.items():
             x, _ = curve.getData()
@@ -569,10 +545,9 @@ class LivePlot(StackedPlot):
         self.legends[self.tplot].place([self._display("temp"), self._display("heatsink")])
 
     def _fit_live_voltage(self) -> None:
-        """The voltage axis follows the visible part of the samples handed to the curves
-        (a million in view cost about a millisecond)."""
-        _, cols = self.series.buffer.snapshot()
-        self._fit_voltage(cols["t"][:self._drawn], cols["voltage"][:self._drawn])
+        """The voltage axis follows the view's points (the envelope keeps every extreme)."""
+        x, v = self._display("voltage")
+        self._fit_voltage(x, v)
 
     def _label_texts(self, p: LivePhase) -> tuple[str, ...]:
         full = band_label(p) if p.closed else band_label(p, short=True) + " …"

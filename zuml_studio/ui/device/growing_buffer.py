@@ -1,14 +1,11 @@
-"""Numpy buffers for live telemetry, filled by a reader thread and read by the GUI.
+"""The numpy table live telemetry goes into: filled by a reader thread, read by the GUI.
 
 No Qt here (unit-tested on its own).
 
-- ``GrowingBuffer``: named float columns that keep everything, growing by doubling. The
-  live plot keeps a whole session in one (a million rows cost 8 MB per column).
-- ``RingBuffer``: a fixed number of the newest rows, always readable as one contiguous
-  array (every row is written twice, at ``i`` and ``i + capacity``, so the newest
-  ``capacity`` rows are a plain slice: no copy, no ``np.roll``).
+``GrowingBuffer``: named float columns that keep everything, growing by doubling. The live
+plot keeps a whole session in one (a million rows cost 8 MB per float64 column).
 
-Both are safe for one writer thread and any number of readers: writes happen under a lock,
+It is safe for one writer thread and any number of readers: writes happen under a lock,
 and a reader gets views of rows that are never written again (a grown buffer is a new
 array; the views a reader holds keep the old one alive and unchanged). ``version`` counts
 appends, so a reader can tell cheaply whether anything is new.
@@ -121,73 +118,3 @@ class GrowingBuffer:
             self._n = 0
             self.version += 1
 
-
-class RingBuffer:
-    """The newest ``capacity`` rows of ``width`` floats; older rows are overwritten."""
-
-    def __init__(self, capacity: int, width: int = 1, dtype=np.float64):
-        if capacity < 1 or width < 1:
-            raise ValueError("capacity and width must be at least 1")
-        self.capacity = int(capacity)
-        self.width = int(width)
-        self._buf = np.zeros((2 * self.capacity, self.width), dtype)
-        self._head = 0              # where the next row goes, 0..capacity-1
-        self.total = 0              # rows ever appended
-        self.version = 0
-        self.lock = threading.Lock()
-
-    def __len__(self) -> int:
-        return min(self.total, self.capacity)
-
-    def append(self, row) -> None:
-        row = np.asarray(row, self._buf.dtype).reshape(self.width)
-        with self.lock:
-            h = self._head
-            self._buf[h] = row
-            self._buf[h + self.capacity] = row
-            self._head = (h + 1) % self.capacity
-            self.total += 1
-            self.version += 1
-
-    def extend(self, rows) -> None:
-        rows = np.asarray(rows, self._buf.dtype).reshape(-1, self.width)
-        if len(rows) > self.capacity:
-            skipped = len(rows) - self.capacity
-            rows = rows[-self.capacity:]
-        else:
-            skipped = 0
-        with self.lock:
-            k = len(rows)
-            if not k:
-                return
-            h = self._head
-            first = min(k, self.capacity - h)
-            self._buf[h:h + first] = rows[:first]
-            self._buf[h + self.capacity:h + self.capacity + first] = rows[:first]
-            rest = k - first
-            if rest:
-                self._buf[:rest] = rows[first:]
-                self._buf[self.capacity:self.capacity + rest] = rows[first:]
-            self._head = (h + k) % self.capacity
-            self.total += k + skipped
-            self.version += 1
-
-    def view(self) -> np.ndarray:
-        """The rows held, oldest first, as one contiguous (rows, width) array. Copy it if you
-        keep it past the next appends (they overwrite the oldest rows in place)."""
-        with self.lock:
-            n = len(self)
-            end = self._head + self.capacity
-            return self._buf[end - n:end]
-
-    def copy(self) -> np.ndarray:
-        with self.lock:
-            n = len(self)
-            end = self._head + self.capacity
-            return self._buf[end - n:end].copy()
-
-    def clear(self) -> None:
-        with self.lock:
-            self._head = 0
-            self.total = 0
-            self.version += 1

@@ -1,5 +1,5 @@
-"""The live plot's buffers, without Qt: a growing buffer that keeps a whole session and a
-fixed ring that is always one contiguous array; both safe for one writer thread and readers."""
+"""The live plot's table, without Qt: a growing buffer that keeps a whole session, safe for
+one writer thread and readers."""
 import subprocess
 import sys
 import threading
@@ -7,11 +7,12 @@ import threading
 import numpy as np
 import pytest
 
-from zuml_studio.ui.device.ring_buffer import GrowingBuffer, RingBuffer
+from zuml_studio.ui.device.growing_buffer import GrowingBuffer
 
 
 def test_no_qt_is_imported():
-    code = ("import sys; import zuml_studio.ui.device.ring_buffer, zuml_studio.ui.device.session_log; "
+    code = ("import sys; import zuml_studio.ui.device.growing_buffer, zuml_studio.ui.device.envelope, "
+            "zuml_studio.ui.device.session_log; "
             "print(any(m.startswith(('PySide6', 'pyqtgraph')) for m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "False"
@@ -101,49 +102,3 @@ def test_clear_keeps_views_already_handed_out():
     assert len(buf) == 0 and buf.last() is None
     assert view.tolist() == [1.0, 2.0]
 
-
-def test_ring_buffer_keeps_the_newest_rows_contiguous():
-    ring = RingBuffer(4, width=2)
-    assert len(ring) == 0 and ring.view().shape == (0, 2)
-    for i in range(3):
-        ring.append((i, -i))
-    assert ring.view().tolist() == [[0, 0], [1, -1], [2, -2]]
-    for i in range(3, 10):
-        ring.append((i, -i))
-    view = ring.view()
-    assert view.tolist() == [[6, -6], [7, -7], [8, -8], [9, -9]]
-    assert view.flags["C_CONTIGUOUS"] and ring.total == 10 and len(ring) == 4
-    copy = ring.copy()
-    ring.append((10, -10))
-    assert copy.tolist() == [[6, -6], [7, -7], [8, -8], [9, -9]]
-
-
-def test_ring_buffer_extend_wraps_and_skips_what_does_not_fit():
-    ring = RingBuffer(5)
-    ring.extend([1, 2, 3])
-    ring.extend([4, 5, 6, 7])
-    assert ring.view().ravel().tolist() == [3, 4, 5, 6, 7]
-    ring.extend(range(100, 112))
-    assert ring.view().ravel().tolist() == [107, 108, 109, 110, 111]
-    assert ring.total == 3 + 4 + 12
-    ring.extend([])
-    assert ring.total == 19
-    ring.clear()
-    assert len(ring) == 0
-    with pytest.raises(ValueError):
-        RingBuffer(0)
-
-
-def test_ring_buffer_matches_a_reference_model():
-    rng = np.random.default_rng(3)
-    ring = RingBuffer(37)
-    model = []
-    for _ in range(500):
-        k = int(rng.integers(0, 60))
-        rows = rng.normal(size=k)
-        if k == 1 and rng.random() < 0.5:
-            ring.append(rows[0])
-        else:
-            ring.extend(rows)
-        model.extend(rows.tolist())
-        assert ring.view().ravel().tolist() == model[-37:]
