@@ -37,7 +37,12 @@ def main(argv: list[str] | None = None) -> int:
     return app.exec()
 
 
+SETTLE_MS = 300
+
+
 def _screenshot(app, window, out: str, size: str) -> int:
+    from PySide6.QtCore import QEventLoop, QTimer
+
     try:
         width, height = (int(x) for x in size.lower().split("x"))
     except ValueError:
@@ -49,8 +54,11 @@ def _screenshot(app, window, out: str, size: str) -> int:
     if window.validator.last and window.validator.last.ok:
         window.sim_panel.simulate()
         window.sim_panel.wait(120_000)
-    for _ in range(5):
-        app.processEvents()
+    # A short run of the event loop, not just processEvents: Qt finishes the dock layout
+    # (and hides a tab bar it no longer uses) only from the loop.
+    loop = QEventLoop()
+    QTimer.singleShot(SETTLE_MS, loop.quit)
+    loop.exec()
     if not window.grab().save(out):
         sys.stderr.write(f"zuml-studio: error: cannot write {out}\n")
         return 2
