@@ -6,6 +6,7 @@ scales resistances and thermal values to the real capacity.
 """
 from __future__ import annotations
 
+import functools
 import math
 import pathlib
 import tomllib
@@ -76,7 +77,12 @@ def _canonical(name: str) -> str:
 
 def load_chemistry(name: str) -> Chemistry:
     """Load one chemistry by its AKK_TYPE name (case-insensitive)."""
-    canonical = _canonical(name)
+    return _load(_canonical(name))
+
+
+@functools.cache
+def _load(canonical: str) -> Chemistry:
+    # Read once per process: the lint asks on every keystroke, and a Chemistry is frozen.
     path = CHEMISTRY_DIR / f"{canonical}.toml"
     with path.open("rb") as fh:
         data = tomllib.load(fh)
