@@ -7,7 +7,7 @@ import time
 import pytest
 
 from zuml_studio.device.client import ChargerClient
-from zuml_studio.device.errors import DeviceLinkError, Disconnected, NotACharger
+from zuml_studio.device.errors import CommitUncertain, DeviceLinkError, DeviceTimeout, Disconnected, NotACharger
 from zuml_studio.device.transport import serve_pty
 from zuml_studio.device.virtual_charger import Faults, VirtualCharger
 from zuml_studio.lang.eeprom import pack, slots
@@ -71,6 +71,45 @@ def test_disconnect_mid_flash_leaves_the_previous_image(make_client):
     finally:
         stop()
         device.close()
+
+
+def lose_commit_answer(client, monkeypatch, failure, commit_arrives=True):
+    """Every answer to COMMIT is lost (``failure`` raised in its place), and the COMMIT itself
+    reaches the charger or not."""
+    real = client.request
+
+    def request(name, payload, **kw):
+        if name != "COMMIT":
+            return real(name, payload, **kw)
+        if commit_arrives:
+            real(name, payload, **kw)
+        raise failure
+    monkeypatch.setattr(client, "request", request)
+
+
+def test_commit_taken_but_its_answers_lost_is_found_by_the_read_back(charger, monkeypatch):
+    device, _, client = charger
+    new = pack([compiled("LiPo")])
+    lose_commit_answer(client, monkeypatch, DeviceTimeout("no answer to COMMIT"))
+    result = client.write_image(new)
+    assert result.changed > 0 and device.eeprom_image == new + b"\xff" * (1024 - len(new))
+
+
+def test_commit_lost_with_its_answers_keeps_the_old_image_and_says_so(charger, monkeypatch):
+    device, _, client = charger
+    old = device.eeprom_image
+    lose_commit_answer(client, monkeypatch, DeviceTimeout("no answer to COMMIT"), commit_arrives=False)
+    with pytest.raises(DeviceTimeout, match="did not take COMMIT; it keeps its previous image"):
+        client.write_image(pack([compiled("LiPo")]))
+    assert device.eeprom_image == old and device.commits == 0
+
+
+def test_link_lost_right_after_commit_says_the_image_is_old_or_new(charger, monkeypatch):
+    device, _, client = charger
+    lose_commit_answer(client, monkeypatch, Disconnected("the connection was lost"))
+    with pytest.raises(CommitUncertain, match="either the new image or its previous one"):
+        client.write_image(pack([compiled("LiPo")]))
+    assert device.eeprom_image[:len(compiled("LiPo"))] == compiled("LiPo")
 
 
 def test_lost_bytes_never_corrupt_the_eeprom(make_charger):

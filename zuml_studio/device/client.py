@@ -25,8 +25,8 @@ from ..lang.eeprom import ImageError, Slot, slots
 from . import messages as m
 from . import passport as pp
 from .crc import crc16
-from .errors import (DeviceError, DeviceLinkError, DeviceTimeout, Disconnected, ImageTooLarge, InvalidImage,
-                     NotACharger, PermissionDenied, PortBusy, PortNotFound, VerifyFailed)
+from .errors import (CommitUncertain, DeviceError, DeviceLinkError, DeviceTimeout, Disconnected, ImageTooLarge,
+                     InvalidImage, NotACharger, PermissionDenied, PortBusy, PortNotFound, VerifyFailed)
 from .frames import MAX_FRAME, OVERHEAD, FrameParser, encode_frame
 
 log = logging.getLogger(__name__)
@@ -516,6 +516,7 @@ class ChargerClient:
             return WriteResult(size, 0, 0, 0, time.monotonic() - started)
         token = self._call("BEGIN_WRITE", response_len=6)["token"]
         sent = chunks = 0
+        commit_sent = confirmed = False
         try:
             total = sum(len(d) for _, d in runs)
             for offset, data in runs:
@@ -531,19 +532,46 @@ class ChargerClient:
                     if progress:
                         progress("write", sent, total)
             write_s = changed * self.info.write_s_per_byte * 1.5
+            commit_sent = True
             self._call("COMMIT", response_len=4, extra_s=write_s, token=token, crc=crc16(image))
-        except BaseException:
-            if self._disconnected is None:
-                try:
-                    self._call("ABORT", response_len=0, token=token)
-                except DeviceLinkError:
-                    pass
+            confirmed = True
+        except DeviceTimeout:
+            if not commit_sent:
+                self._abort(token)
+                raise
+            # Every answer to COMMIT was lost, perhaps not the COMMIT itself: the read-back tells.
+        except Disconnected as exc:
+            if commit_sent:
+                raise self._uncertain(exc) from None
             raise
-        back = self.read_image(progress, stage="verify")
+        except BaseException:
+            self._abort(token)
+            raise
+        try:
+            back = self.read_image(progress, stage="verify")
+        except DeviceLinkError as exc:
+            if confirmed:
+                raise
+            raise self._uncertain(exc) from None
         if back != image:
+            if not confirmed and back == current:
+                raise DeviceTimeout(f"{self.url}: the charger did not take COMMIT; it keeps its previous image")
             at = next(i for i in range(size) if back[i] != image[i])
             raise VerifyFailed(f"verify failed: byte {at} reads 0x{back[at]:02x}, wrote 0x{image[at]:02x}")
         return WriteResult(size, changed, sent, chunks, time.monotonic() - started)
+
+    def _abort(self, token: int) -> None:
+        """Drop a staged write (best effort: the device drops it anyway on the next BEGIN_WRITE)."""
+        if self._disconnected is None:
+            try:
+                self._call("ABORT", response_len=0, token=token)
+            except DeviceLinkError:
+                pass
+
+    def _uncertain(self, exc: DeviceLinkError) -> CommitUncertain:
+        return CommitUncertain(f"{self.url}: the link failed right after COMMIT ({exc}); the charger holds "
+                               "either the new image or its previous one, never a mix: reconnect and list "
+                               "its slots")
 
     def start(self, slot: int, task: str = "charge", repetitions: int = 1, capacity_mah: float | None = None,
               current_a: float | None = None, voltage_v: float | None = None, series: int | None = None,

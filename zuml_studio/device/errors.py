@@ -48,6 +48,12 @@ class Disconnected(DeviceLinkError):
     """The link went away (cable pulled, the virtual charger stopped, the port closed)."""
 
 
+class CommitUncertain(DeviceLinkError):
+    """The link failed after COMMIT went out and before the charger confirmed it. A commit is
+    all or nothing, so the charger holds either the new image or its previous one; which, only
+    a fresh read can tell."""
+
+
 class ImageTooLarge(DeviceLinkError):
     """An EEPROM image larger than the device's EEPROM."""
 

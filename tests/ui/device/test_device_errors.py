@@ -263,8 +263,8 @@ def test_permission_denied_gives_the_dialout_hint(qtbot, make_panel, monkeypatch
 
 
 def test_every_error_reads_as_a_sentence():
-    from zuml_studio.device.errors import (DeviceError, DeviceTimeout, Disconnected, ImageTooLarge, InvalidImage,
-                                           VerifyFailed)
+    from zuml_studio.device.errors import (CommitUncertain, DeviceError, DeviceTimeout, Disconnected,
+                                           ImageTooLarge, InvalidImage, VerifyFailed)
     from zuml_studio.lang.eeprom import ImageError
     from zuml_studio.ui.device.connection import describe_error
 
@@ -274,6 +274,9 @@ def test_every_error_reads_as_a_sentence():
         "image. (/dev/ttyUSB0: no answer to WRITE_STAGE after 4 tries (0.11 s each))")
     assert describe_error(timeout, "stop").startswith("The charger does not answer: /dev/ttyUSB0")
     assert describe_error(Disconnected("x: closed"), "restore").startswith("The connection was lost while restoring")
+    assert describe_error(CommitUncertain("x: lost"), "flash").startswith(
+        "The connection was lost just as the charger committed the new image: it holds either the new image or "
+        "its previous one")
     assert describe_error(ImageTooLarge(1090, 1024), "restore") == (
         "The image needs 1090 bytes; the charger has 1024. Nothing was written.")
     assert describe_error(VerifyFailed("verify failed: byte 3 reads 0x00, wrote 0x01"), "flash").startswith(
