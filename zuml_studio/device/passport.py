@@ -25,7 +25,7 @@ from ..lang import opcodes as ops
 from ..lang.formatter import format_args
 from ..lang.opcodes import canonical_text
 from ..lang.operands import AKK_TYPE as AKK_KIND, AKK_TYPE_ALIASES, CAPACITY_AUTO, CAPACITY_INPUT, \
-    DISPLAY_NAMES, INPUT_U16, RELATIVE_FLAG
+    DISPLAY_NAMES, absolute_value
 
 MAGIC = 0xA7
 VERSION = 0x01
@@ -310,20 +310,10 @@ def conflicts(passport: Passport, record: bytes, start, *, charger_max_a: float 
     series = decl.get(ops.SERIES.code) or start.series
 
     def current(raw: int) -> float | None:
-        if raw == INPUT_U16:
-            return start.current_a
-        value = (raw & 0x7FFF) / 100.0
-        if raw & RELATIVE_FLAG:
-            return value * capacity_ah if capacity_ah else None
-        return value
+        return absolute_value(raw, start.current_a, capacity_ah)
 
     def voltage(raw: int) -> float | None:
-        if raw == INPUT_U16:
-            return start.voltage_v
-        value = (raw & 0x7FFF) / 100.0
-        if raw & RELATIVE_FLAG:
-            return value * series if series else None
-        return value
+        return absolute_value(raw, start.voltage_v, series)
 
     a_lim, v_lim = passport.a_limit, passport.v_limit
     seen: set[str] = set()

@@ -15,7 +15,7 @@ from .ast import Cycle, Macro, Phase, Statement
 from .checker import Finding
 from .diagnostics import Severity
 from .opcodes import Role
-from .operands import INPUT_U16, RELATIVE_FLAG, TIME
+from .operands import INPUT_U16, RELATIVE_FLAG, TIME, relative_value
 
 # -dV per cell that a charger can tell from noise, and that a cell really shows (seed 001; spec §5).
 DPEAK_MIN_V = 0.003
@@ -38,22 +38,11 @@ class Context:
 
     def per_cell(self, raw: int) -> float | None:
         """A stored voltage in V per cell, when it can be known before start."""
-        if raw == INPUT_U16:
-            return None
-        value = (raw & 0x7FFF) / 100
-        if raw & RELATIVE_FLAG:
-            return value
-        return value / self.series if self.series else None
+        return relative_value(raw, self.series)
 
     def c_rate(self, raw: int) -> float | None:
         """A stored current as a multiple of the capacity, when it can be known before start."""
-        if raw == INPUT_U16:
-            return None
-        value = (raw & 0x7FFF) / 100
-        if raw & RELATIVE_FLAG:
-            return value
-        return value * 1000 / self.capacity_mah if self.capacity_mah else None
-
+        return relative_value(raw, self.capacity_mah / 1000 if self.capacity_mah else None)
 
 def _context(macro: Macro) -> Context:
     akk = macro.declared(ops.AKK_TYPE)

@@ -35,6 +35,29 @@ class ValueProblem(Exception):
         self.warning_raw = warning_raw
 
 
+
+def absolute_value(raw: int, entered: float | None, unit: float | None) -> float | None:
+    """Amperes (volts) of a stored current (voltage): ``entered``, the value given at start, for
+    INPUT; a relative value (C, S) times ``unit``, the capacity in Ah (the cell count). None
+    where what it needs is unknown."""
+    if raw == INPUT_U16:
+        return entered
+    value = (raw & 0x7FFF) / 100.0
+    if raw & RELATIVE_FLAG:
+        return value * unit if unit else None
+    return value
+
+
+def relative_value(raw: int, unit: float | None) -> float | None:
+    """A stored current (voltage) as a multiple of the capacity in Ah (per cell): an absolute
+    value divided by ``unit``. None for INPUT, or where ``unit`` is unknown."""
+    if raw == INPUT_U16:
+        return None
+    value = (raw & 0x7FFF) / 100.0
+    if raw & RELATIVE_FLAG:
+        return value
+    return value / unit if unit else None
+
 def split_number(text: str) -> tuple[Decimal, str] | None:
     """``"2.1C"`` -> ``(Decimal("2.1"), "C")``; None when the text is not a number."""
     m = _NUMBER.match(text)

@@ -14,7 +14,7 @@ from typing import Iterator
 from ..lang import opcodes as ops
 from ..lang.formatter import format_args
 from ..lang.opcodes import canonical_text
-from ..lang.operands import CAPACITY_AUTO, CAPACITY_INPUT, CURRENT, INPUT_U16, RELATIVE_FLAG, VOLTAGE
+from ..lang.operands import CAPACITY_AUTO, CAPACITY_INPUT, CURRENT, INPUT_U16, VOLTAGE, absolute_value
 from .battery import Pack
 from .charger_model import Charger
 from .chemistry import load_chemistry
@@ -179,28 +179,18 @@ class Interpreter:
                         self.voltage(raw)
 
     def current(self, raw: int) -> float:
-        if raw == INPUT_U16:
-            if self.params.current_a is None:
-                raise StartError("the macro takes a current at start (INPUT): give the current")
-            return self.params.current_a
-        value = (raw & 0x7FFF) / 100.0
-        if raw & RELATIVE_FLAG:
-            if self.capacity_ah is None:
-                raise StartError("a current in C needs the capacity: declare CAPACITY or give it at start")
-            return value * self.capacity_ah
-        return value
+        amps = absolute_value(raw, self.params.current_a, self.capacity_ah)
+        if amps is None:
+            raise StartError("the macro takes a current at start (INPUT): give the current" if raw == INPUT_U16
+                             else "a current in C needs the capacity: declare CAPACITY or give it at start")
+        return amps
 
     def voltage(self, raw: int) -> float:
-        if raw == INPUT_U16:
-            if self.params.voltage_v is None:
-                raise StartError("the macro takes a voltage at start (INPUT): give the voltage")
-            return self.params.voltage_v
-        value = (raw & 0x7FFF) / 100.0
-        if raw & RELATIVE_FLAG:
-            if not self.series:
-                raise StartError("a voltage per cell (S) needs the cell count: declare SERIES or give it at start")
-            return value * self.series
-        return value
+        volts = absolute_value(raw, self.params.voltage_v, self.series)
+        if volts is None:
+            raise StartError("the macro takes a voltage at start (INPUT): give the voltage" if raw == INPUT_U16
+                             else "a voltage per cell (S) needs the cell count: declare SERIES or give it at start")
+        return volts
 
     # -- running ----------------------------------------------------------------------------
     def stop(self, reason: str = "stopped") -> None:
