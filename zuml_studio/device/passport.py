@@ -24,8 +24,7 @@ from typing import Callable
 from ..lang import opcodes as ops
 from ..lang.formatter import format_args
 from ..lang.opcodes import canonical_text
-from ..lang.operands import AKK_TYPE as AKK_KIND, AKK_TYPE_ALIASES, CAPACITY_AUTO, CAPACITY_INPUT, \
-    DISPLAY_NAMES, absolute_value
+from ..lang.operands import AKK_TYPE as AKK_KIND, AKK_TYPE_ALIASES, DISPLAY_NAMES, absolute_value
 
 MAGIC = 0xA7
 VERSION = 0x01
@@ -289,8 +288,8 @@ def default_passport(chemistry: str, capacity_mah: float, series: int, serial: s
 def conflicts(passport: Passport, record: bytes, start, *, charger_max_a: float | None = None) -> list[str]:
     """Why the macro in ``record`` must not run on the battery this passport describes.
 
-    ``start`` is a ``sim.interpreter.StartParams``. Values are resolved as the interpreter
-    does (C with the capacity, S with the series, INPUT with the start values); a value that
+    ``start`` is a ``sim.interpreter.StartParams``. Values are resolved by the interpreter's
+    rules (C with the capacity, S with the series, INPUT with the start values); a value that
     cannot be resolved is skipped (the start itself will fail on it). ``charger_max_a`` is the
     current a CONSTANT_V phase alone may reach when no current was entered.
     """
@@ -303,11 +302,8 @@ def conflicts(passport: Passport, record: bytes, start, *, charger_max_a: float 
             out.append(f"the macro sets no battery type (AKK_TYPE Undef); the battery is {akk_name(passport.type)}")
         else:
             out.append(f"the macro is for {akk_name(akk)}; the battery is {akk_name(passport.type)}")
-    decl = program.intro.declarations
-    cap = decl.get(ops.CAPACITY.code)
-    capacity_ah = (cap / 1000.0 if cap not in (None, CAPACITY_INPUT, CAPACITY_AUTO)
-                   else (start.capacity_mah / 1000.0 if start.capacity_mah else None))
-    series = decl.get(ops.SERIES.code) or start.series
+    capacity_ah = program.intro.capacity_ah(start.capacity_mah)
+    series = program.intro.series(start.series)
 
     def current(raw: int) -> float | None:
         return absolute_value(raw, start.current_a, capacity_ah)

@@ -14,7 +14,7 @@ from typing import Iterator
 from ..lang import opcodes as ops
 from ..lang.formatter import format_args
 from ..lang.opcodes import canonical_text
-from ..lang.operands import CAPACITY_AUTO, CAPACITY_INPUT, CURRENT, INPUT_U16, VOLTAGE, absolute_value
+from ..lang.operands import CURRENT, INPUT_U16, VOLTAGE, absolute_value
 from .battery import Pack
 from .charger_model import Charger
 from .chemistry import load_chemistry
@@ -156,12 +156,8 @@ class Interpreter:
     def _resolve_start(self) -> None:
         decl = self.program.intro.declarations
         p = self.params
-        cap = decl.get(ops.CAPACITY.code)
-        if cap is None or cap in (CAPACITY_INPUT, CAPACITY_AUTO):
-            self.capacity_ah = p.capacity_mah / 1000.0 if p.capacity_mah else None
-        else:
-            self.capacity_ah = cap / 1000.0
-        self.series = decl.get(ops.SERIES.code) or p.series
+        self.capacity_ah = self.program.intro.capacity_ah(p.capacity_mah)
+        self.series = self.program.intro.series(p.series)
         self.akk_type = decl.get(ops.AKK_TYPE.code, 0)
         cond = self.program.intro.conditions
         self.tc_pause = cond[85].raws[0] if 85 in cond else DEFAULT_TC_PAUSE

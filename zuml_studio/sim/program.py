@@ -11,6 +11,7 @@ from typing import Iterator
 from ..lang import opcodes as ops
 from ..lang.decoder import decode_record
 from ..lang.opcodes import Op, Role
+from ..lang.operands import CAPACITY_AUTO, CAPACITY_INPUT
 from ..lang.record import HEADER_SIZE, Instruction, read_instruction
 
 TASKS = ("charge", "discharge", "train")
@@ -54,6 +55,18 @@ class SectionStart:
 class Introduction:
     declarations: dict[int, int] = field(default_factory=dict)      # opcode -> raw (AKK_TYPE, SERIES, ...)
     conditions: dict[int, Instruction] = field(default_factory=dict)  # macro-wide: Tc>, Tc<, tm>
+
+    def capacity_ah(self, entered_mah: float | None) -> float | None:
+        """The capacity C units refer to: the macro's CAPACITY, else (INPUT, AUTO or none) the
+        one entered at start; None when neither is known."""
+        cap = self.declarations.get(ops.CAPACITY.code)
+        if cap is not None and cap not in (CAPACITY_INPUT, CAPACITY_AUTO):
+            return cap / 1000.0
+        return entered_mah / 1000.0 if entered_mah else None
+
+    def series(self, entered: int | None) -> int | None:
+        """The cell count S units refer to: the macro's SERIES, else the one entered at start."""
+        return self.declarations.get(ops.SERIES.code) or entered
 
 
 class Program:

@@ -85,12 +85,11 @@ def start_values(record: bytes, params: StartParams) -> tuple[Program, StartPara
         program = Program(record)
     except DecodeError as exc:
         raise StartError(f"not a valid record: byte {exc.offset}: {exc.message}") from None
-    decl = program.intro.declarations
-    cap = decl.get(ops.CAPACITY.code)
-    capacity = params.capacity_mah or (cap if cap not in (None, 0, 0xFFFF) else None)
+    declared_ah = program.intro.capacity_ah(None)
+    capacity = params.capacity_mah or (round(declared_ah * 1000) if declared_ah else None)
     if not capacity:
         raise StartError("the battery's capacity is needed: the macro takes it at start (give --capacity MAH)")
-    series = decl.get(ops.SERIES.code) or params.series
+    series = program.intro.series(params.series)
     if not series:
         raise StartError("the number of cells is needed: the macro takes it at start (give --series N)")
     return program, StartParams(params.task, params.repetitions, capacity, params.current_a, params.voltage_v,
