@@ -84,11 +84,6 @@ def node_at(macro: Macro, path: Path):
         raise LookupError(f"nothing at {path} in this macro") from None
 
 
-def container_of(macro: Macro, path: Path):
-    """The Section or Cycle holding the item at ``path``, and the item's index in it."""
-    return node_at(macro, path[:-1]), path[-1]
-
-
 def shape(macro: Macro) -> tuple:
     """What the cards are made of: equal shapes can be refreshed in place."""
     def items(seq: list) -> tuple:

@@ -1,5 +1,6 @@
 """`zuml` device subcommands against a virtual charger: in-process on a pty, and the
 `zuml virtual-charger` subprocess. Every failure is one line on stderr, never a traceback."""
+import contextlib
 import csv
 import os
 import signal
@@ -36,6 +37,22 @@ def vc(make_charger):
         kw.setdefault("speed", 20000)
         return make_charger(**kw)
     return make
+
+
+@contextlib.contextmanager
+def virtual_charger(*args, stop=signal.SIGTERM):
+    """``zuml virtual-charger ARGS`` as a user starts it: yields its first line (the port or
+    URL); at the end ``stop`` must make it exit 0 without a traceback."""
+    proc = subprocess.Popen([sys.executable, "-m", "zuml_studio.cli.main", "virtual-charger", *args],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        yield proc.stdout.readline().strip()
+        proc.send_signal(stop)
+        _, err = proc.communicate(timeout=10)
+        assert proc.returncode == 0 and "Traceback" not in err, err
+    finally:
+        proc.kill()
+        proc.wait()
 
 
 def one_error_line(code, out, err):
@@ -157,11 +174,7 @@ def test_passport_read_and_write(vc, zuml):
 
 def test_virtual_charger_subprocess_prints_its_port_first(tmp_path):
     eeprom = tmp_path / "eeprom.bin"
-    proc = subprocess.Popen([sys.executable, "-m", "zuml_studio.cli.main", "virtual-charger", "--speed", "20000",
-                             "--eeprom", str(eeprom), "--battery", "NiMh:2000:4"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    try:
-        port = proc.stdout.readline().strip()
+    with virtual_charger("--speed", "20000", "--eeprom", str(eeprom), "--battery", "NiMh:2000:4") as port:
         assert port.startswith("/dev/"), port
         code, out, err = run_zuml("flash", "--port", port, str(MACROS / "NiMh-dV.zuml"))
         assert code == 0, err
@@ -169,29 +182,13 @@ def test_virtual_charger_subprocess_prints_its_port_first(tmp_path):
         code, out, err = run_zuml("run", "--port", port, "--slot", "0", "--capacity", "2000", "--current", "2",
                                   "--series", "4", "--no-sensor")
         assert code == 0, err
-        proc.send_signal(signal.SIGTERM)
-        out, err = proc.communicate(timeout=10)
-        assert proc.returncode == 0 and "Traceback" not in err, err
-    finally:
-        proc.kill()
-        proc.wait()
 
 
 def test_virtual_charger_on_tcp(tmp_path):
-    proc = subprocess.Popen([sys.executable, "-m", "zuml_studio.cli.main", "virtual-charger", "--tcp",
-                             "127.0.0.1:0", "--speed", "100"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            text=True)
-    try:
-        url = proc.stdout.readline().strip()
+    with virtual_charger("--tcp", "127.0.0.1:0", "--speed", "100", stop=signal.SIGINT) as url:
         assert url.startswith("socket://127.0.0.1:")
         code, out, err = run_zuml("slots", "--port", url)
         assert code == 0 and out.splitlines()[-1] == "0 macro(s); free 1024 of 1024 bytes", err
-        proc.send_signal(signal.SIGINT)
-        proc.communicate(timeout=10)
-        assert proc.returncode == 0
-    finally:
-        proc.kill()
-        proc.wait()
     code, out, err = run_zuml("virtual-charger", "--battery", "Foo:1:1")
     one_error_line(code, out, err)
     assert code == 2 and "no model for 'Foo'" in err
@@ -203,18 +200,8 @@ def test_virtual_charger_disconnect_mid_flash_keeps_the_old_image(tmp_path):
     rec = compiled("NiMh-dV")
     old[:len(rec)] = rec
     eeprom.write_bytes(bytes(old))
-    proc = subprocess.Popen([sys.executable, "-m", "zuml_studio.cli.main", "virtual-charger", "--eeprom", str(eeprom),
-                             "--disconnect-after", "80", "--baud", "0"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    try:
-        port = proc.stdout.readline().strip()
+    with virtual_charger("--eeprom", str(eeprom), "--disconnect-after", "80", "--baud", "0") as port:
         code, out, err = run_zuml("flash", "--port", port, str(MACROS / "LiIon-CCCV.zuml"))
         one_error_line(code, out, err)
         assert "lost" in err or "no answer" in err
         assert eeprom.read_bytes() == bytes(old)
-        proc.send_signal(signal.SIGTERM)
-        proc.communicate(timeout=10)
-        assert proc.returncode == 0
-    finally:
-        proc.kill()
-        proc.wait()

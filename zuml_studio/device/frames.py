@@ -56,10 +56,6 @@ def encode_frame(type: int, seq: int, payload: bytes = b"") -> bytes:
     return b"\xa5" + body + bytes((crc & 0xFF, crc >> 8))
 
 
-def frame_size(payload_len: int) -> int:
-    return payload_len + OVERHEAD
-
-
 class FrameParser:
     """Incremental; never raises on any input.
 

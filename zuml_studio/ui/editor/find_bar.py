@@ -96,9 +96,6 @@ class FindBar(QWidget):
         self.find_edit.selectAll()
         self._highlight_all()
 
-    def is_replace_mode(self) -> bool:
-        return self.replace_edit.isVisibleTo(self)
-
     def close_bar(self) -> None:
         self.hide()
         self.editor.set_find_matches([])

@@ -160,16 +160,6 @@ def classify_line(text: str) -> list[Span]:
     return spans
 
 
-def word_at(text: str, column: int) -> Span | None:
-    """The coloured span holding 0-based ``column`` of a line, if any."""
-    for span in classify_line(text):
-        if span.start <= column < span.end:
-            return span
-        if span.start > column:
-            break
-    return None
-
-
 # -- hover help --------------------------------------------------------------------------------
 
 _COMPARISON = re.compile(r"\s*(>=|<=|==|!=|<>|>|<|=)")

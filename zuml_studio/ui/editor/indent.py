@@ -90,10 +90,6 @@ def indent_after(line: str) -> str:
     return leading_indent(line) + INDENT * len(_unclosed(structure_words(line)))
 
 
-def is_closer_line(line: str) -> bool:
-    return first_word(code_part(line)) in CLOSERS
-
-
 def opener_indent(closer_line: str, lines_above: Iterable[str]) -> str | None:
     """Indentation of the opener that the closer starting ``closer_line`` matches.
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pyqtgraph as pg
-from PySide6.QtCore import QRectF, Signal
+from PySide6.QtCore import Signal
 
 from ..stacked_plot import (BAND_ALPHA, BATTERY_T_PEN, CURRENT_FILL, CURRENT_PEN, HEATSINK_T_PEN, LABEL_COLOR,
                             VOLTAGE_PEN, WARNING_COLOR, StackedPlot, band_label, band_rgb)
@@ -49,16 +49,6 @@ class ChargePlot(StackedPlot):
         return curve
 
     # -- data --------------------------------------------------------------------------------
-    def clear_result(self) -> None:
-        for curve in self.curves.values():
-            curve.setData([], [])
-        self._set_bands([])
-        self._t = self._v = np.zeros(0)
-        self._data = {}
-        self.placeholder.setVisible(True)
-        for legend in self.legends.values():
-            legend.setVisible(False)
-
     def show_result(self, result) -> None:
         """Draw a SimResult: samples, phase bands, labels, the per-cell axis."""
         data = result.log.arrays()
@@ -167,6 +157,3 @@ class ChargePlot(StackedPlot):
                 else:
                     self.phaseClicked.emit(row)
                 return
-
-    def data_rect(self, plot_index: int = 0) -> QRectF:
-        return self.plots[plot_index].vb.sceneBoundingRect()

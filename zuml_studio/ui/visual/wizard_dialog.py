@@ -164,9 +164,6 @@ class NewMacroWizard(QDialog):
             self.summary.setText(f"✖ {len(result.errors)} error(s): {result.errors[0].message}")
         self.ok_button().setEnabled(result.ok)
 
-    def error_text(self) -> str:
-        return self._error
-
     def text(self) -> str:
         """The macro the answers give ('' while they have a problem)."""
         return self._text
