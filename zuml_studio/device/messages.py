@@ -226,7 +226,10 @@ _TELEMETRY_STRUCT = _layout(BY_NAME["TELEMETRY"].response)[0]
 class Telemetry:
     """One measurement. ``current_a`` is signed: + charge, - discharge.
 
-    ``section`` is "discharge", "charge" or "" (idle); ``temp_c`` is None without a sensor."""
+    ``section`` is "discharge", "charge" or "" (idle); ``temp_c`` is None without a sensor.
+    ``heatsink_c`` is the charger's internal temperature. ``cells_v`` holds per-cell voltages
+    where the charger measures them (balance port); our own protocol frame does not carry them,
+    so ``encode`` drops them and ``decode`` returns ()."""
 
     time_s: float             # the macro's clock (device time of the run)
     task: str
@@ -244,6 +247,7 @@ class Telemetry:
     heatsink_c: float | None
     mah_in: float
     mah_out: float
+    cells_v: tuple[float, ...] = ()
 
     def encode(self) -> bytes:
         flags = (FLAG_RUNNING if self.running else 0) | (FLAG_PAUSED if self.paused else 0) | \
