@@ -328,10 +328,10 @@ class Interpreter:
                 i = a.i_set
             elif mode == _CCCV:
                 i = cfv(a.v_set, dt)
-                if i > a.i_set:
-                    i = a.i_set
-                elif i < 0.0:
-                    i = 0.0
+                if a.charging:
+                    i = a.i_set if i > a.i_set else (0.0 if i < 0.0 else i)
+                else:   # i_set < 0: discharge at most |i_set|, never charge to hold the voltage
+                    i = a.i_set if i < a.i_set else (0.0 if i > 0.0 else i)
             elif mode == _CV:
                 i = cfv(a.v_set, dt)
                 if a.charging:
