@@ -164,3 +164,13 @@ def test_a_macro_that_never_ends_stops_at_the_simulation_limit():
     body = "FAZE CONSTANT_I=0.5A END_FAZE"
     r = run(macro("", body), "discharge", capacity=1000, series=1, soc=0.2)
     assert r.phases[0].reason.startswith("limit: simulation stopped after 48h")
+
+
+def test_cc_cv_in_a_discharge_section_discharges_to_its_voltage():
+    body = "FAZE CONSTANT_I=0.5C CONSTANT_V=3.7S IF(I<0.05C) STOP_FAZE END_FAZE"
+    r = run(macro("", body, intro="AKK_TYPE=LiPo"), "discharge", capacity=2000, series=1)
+    (phase,) = r.phases
+    assert phase.reason == "IF(I<0.05C) STOP_FAZE"
+    assert phase.mah_out > 500 and phase.mah_in == 0
+    assert r.log.current_a[2] == pytest.approx(-1.0)
+    assert r.log.voltage_v[-1] == pytest.approx(3.7, abs=0.01)
