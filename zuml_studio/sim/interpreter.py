@@ -305,7 +305,9 @@ class Interpreter:
         conds = a.conditions
         detector = a.detector
         dpeak = a.dpeak
-        cap_limit = DEFAULT_CAPACITY_FACTOR * self.capacity_ah * 3600.0 if self.capacity_ah else None
+        # Rounded to µA·s: 1.5 × 0.3 Ah is 1619.9999999999998 A·s in floats, which a charge of exactly
+        # 1620 A·s would exceed; the charger's integer count does not.
+        cap_limit = round(DEFAULT_CAPACITY_FACTOR * self.capacity_ah * 3600.0, 6) if self.capacity_ah else None
         check_defaults = a.result.section == "charge"
         t_max_default = not a.own_t
         tm_stop = self.tm_stop
