@@ -96,17 +96,24 @@ def start_values(record: bytes, params: StartParams) -> tuple[Program, StartPara
                                 series, params.sensor)
 
 
+def models(record: bytes, params: StartParams, setup: BatterySetup = BatterySetup()
+           ) -> tuple[StartParams, str, Pack, Charger]:
+    """The resolved start values and the battery and charger models a run of ``record`` starts from
+    (also what the firmware's differential test runs the C core against)."""
+    program, params = start_values(record, params)
+    chemistry = model_chemistry(record, setup)
+    soc = setup.soc if setup.soc is not None else (0.0 if params.task == "charge" else 1.0)
+    pack = Pack(load_chemistry(chemistry), params.capacity_mah, params.series, soc, setup.ambient_c)
+    charger = Charger(load_charger(setup.charger), setup.ambient_c)
+    return params, chemistry, pack, charger
+
+
 def prepare(record: bytes, params: StartParams, setup: BatterySetup = BatterySetup(), *,
             tick_s: float = 1.0, measurement: Measurement = Measurement()) -> SimResult:
     """Builds everything; the caller runs ``result.interpreter`` (all at once, or tick by tick)."""
-    program, params = start_values(record, params)
-    chemistry = model_chemistry(record, setup)
-    capacity, series = params.capacity_mah, params.series
-    soc = setup.soc if setup.soc is not None else (0.0 if params.task == "charge" else 1.0)
-    pack = Pack(load_chemistry(chemistry), capacity, series, soc, setup.ambient_c)
-    charger = Charger(load_charger(setup.charger), setup.ambient_c)
+    params, chemistry, pack, charger = models(record, params, setup)
     interpreter = Interpreter(record, params, pack, charger, tick_s=tick_s, measurement=measurement)
-    return SimResult(interpreter, chemistry, float(capacity), int(series))
+    return SimResult(interpreter, chemistry, float(params.capacity_mah), int(params.series))
 
 
 def simulate(record: bytes, params: StartParams, setup: BatterySetup = BatterySetup(), **kw) -> SimResult:

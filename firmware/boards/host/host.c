@@ -1,0 +1,110 @@
+/* The host board: the HAL backed by variables a test harness sets (through ctypes), so the core
+ * runs on a PC against the same battery model as the Python interpreter. Built as libzuml_host.so. */
+#include <string.h>
+#include "../../core/zuml.h"
+
+#define HOST_EEPROM 1024
+
+static struct {
+    hal_output_t out;
+    int32_t pack_uv, current_ua, ocv_uv, battery_uc, heatsink_uc;
+    uint8_t sensor;
+    uint32_t millis;
+    uint8_t eeprom[HOST_EEPROM];
+    uint8_t music, light;
+} hw;
+
+static zc_run_t run;
+static void (*event_sink)(const zc_event_t *e);
+
+void hal_output(const hal_output_t *out) { hw.out = *out; }
+int32_t hal_pack_uv(void) { return hw.pack_uv; }
+int32_t hal_current_ua(void) { return hw.current_ua; }
+int32_t hal_open_circuit_uv(void) { return hw.ocv_uv; }
+int32_t hal_battery_uc(void) { return hw.battery_uc; }
+int32_t hal_heatsink_uc(void) { return hw.heatsink_uc; }
+uint8_t hal_battery_sensor(void) { return hw.sensor; }
+uint8_t hal_cell_count(void) { return 0; }
+int32_t hal_cell_uv(uint8_t cell) { (void)cell; return 0; }
+uint32_t hal_millis(void) { return hw.millis; }
+uint16_t hal_eeprom_size(void) { return HOST_EEPROM; }
+uint8_t hal_eeprom_read(uint16_t addr) { return addr < HOST_EEPROM ? hw.eeprom[addr] : 0xFF; }
+void hal_eeprom_write(uint16_t addr, uint8_t value) { if (addr < HOST_EEPROM) hw.eeprom[addr] = value; }
+int16_t hal_uart_read(void) { return -1; }
+void hal_uart_write(uint8_t byte) { (void)byte; }
+void hal_buzzer(uint8_t melody) { hw.music = melody; }
+void hal_led(uint8_t pattern) { hw.light = pattern; }
+uint8_t hal_passport_exchange(const uint8_t request[8], uint8_t answer[32])
+{
+    (void)request; (void)answer;
+    return 0;
+}
+
+void zc_event(const zc_event_t *e)
+{
+    if (event_sink)
+        event_sink(e);
+}
+
+/* -- the harness's entry points ------------------------------------------------------------- */
+
+uint8_t zh_start(const uint8_t *rec, uint16_t len, const zc_start_t *s, const zc_board_t *b, uint8_t sensor)
+{
+    memset(&hw.out, 0, sizeof hw.out);
+    hw.sensor = sensor;
+    return zc_start(&run, rec, len, s, b);
+}
+
+/* Before the tick: the heat sink and the pack as they are now. Fills *out with the set point;
+ * returns 2 when the coming reading needs the open-circuit voltage, 1 while running, 0 once over. */
+uint8_t zh_control(int32_t heatsink_uc, int32_t pack_uv, int32_t battery_uc, hal_output_t *out)
+{
+    hw.heatsink_uc = heatsink_uc;
+    hw.pack_uv = pack_uv;
+    hw.battery_uc = battery_uc;
+    zc_control(&run);
+    *out = hw.out;
+    if (run.finished)
+        return 0;
+    return (run.mode == 3 && run.tv == 0) ? 2 : 1;
+}
+
+/* After the tick: what was measured. Returns 2 while the phase runs on, 1 when it has just ended
+ * and the macro goes on, 0 once the macro is over. */
+uint8_t zh_measure(int32_t pack_uv, int32_t current_ua, int32_t battery_uc, int32_t heatsink_uc, int32_t ocv_uv)
+{
+    hw.pack_uv = pack_uv;
+    hw.current_ua = current_ua;
+    hw.battery_uc = battery_uc;
+    hw.heatsink_uc = heatsink_uc;
+    hw.ocv_uv = ocv_uv;
+    hw.millis += run.board.tick_ms;
+    zc_measure(&run);
+    return run.finished ? 0 : (run.active ? 2 : 1);
+}
+
+void zh_stop(void) { zc_stop(&run); }
+
+/* The harness's function that receives every event as it happens. */
+void zh_set_event_sink(void (*sink)(const zc_event_t *e)) { event_sink = sink; }
+
+uint16_t zh_validate(const uint8_t *rec, uint16_t len) { return zc_validate(rec, len); }
+int32_t zh_chemistry_end_uv(uint8_t akk_type) { return zc_chemistry_end_uv(akk_type); }
+void zh_totals(int64_t *in_uams, int64_t *out_uams)
+{
+    *in_uams = run.total_in;
+    *out_uams = run.total_out;
+}
+
+void zh_phase_counts(int64_t *in_uams, int64_t *out_uams)
+{
+    *in_uams = run.q_in;
+    *out_uams = run.q_out;
+}
+
+/* The per-cell end voltage an empty discharge section runs to (the reason's text names it). */
+int32_t zh_empty_end_uv(void)
+{
+    int32_t per_cell = zc_chemistry_end_uv(run.akk_type);
+    return per_cell ? per_cell : run.board.fallback_end_uv_per_cell;
+}
