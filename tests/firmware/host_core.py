@@ -12,9 +12,6 @@ import random
 from dataclasses import dataclass
 from pathlib import Path
 
-from zuml_studio.lang.formatter import format_args
-from zuml_studio.lang.opcodes import canonical_text
-from zuml_studio.lang.record import read_instruction
 from zuml_studio.sim.interpreter import Measurement, StartParams
 from zuml_studio.sim.simulate import BatterySetup, models, prepare
 
@@ -25,7 +22,6 @@ LIBRARY = FIRMWARE / "build" / "host" / "libzuml_host.so"
 TASKS = {"charge": 0, "discharge": 1, "train": 2}
 NONE = -1
 OFF, CURRENT, VOLTAGE_CHARGE, VOLTAGE_DISCHARGE = range(4)
-R_CONDITION, R_T, R_DTDT, R_CAPACITY, R_EMPTY, R_STOP_MACRO, R_STOPPED, R_END = range(1, 9)
 EV_PHASE_START, EV_PHASE_END, EV_PAUSE, EV_RESUME, EV_MUSIC, EV_LIGHT, EV_FINISH = range(2, 9)
 START_ERRORS = {1: "record", 2: "INPUT current", 3: "C needs capacity", 4: "INPUT voltage",
                 5: "S needs series", 6: "repetitions"}
@@ -68,7 +64,8 @@ def load(path: Path = LIBRARY) -> ctypes.CDLL:
     lib.zh_validate.restype = u16
     lib.zh_chemistry_end_uv.argtypes = [u8]
     lib.zh_chemistry_end_uv.restype = i32
-    lib.zh_empty_end_uv.restype = i32
+    lib.zh_event_text.argtypes = [ctypes.POINTER(ZcEvent), ctypes.c_char_p]
+    lib.zh_event_text.restype = u8
     lib.zh_phase_counts.argtypes = [ctypes.POINTER(ctypes.c_int64), ctypes.POINTER(ctypes.c_int64)]
     return lib
 
@@ -97,7 +94,7 @@ class Phase:
 class Run:
     start_error: str | None
     phases: list[Phase]
-    signals: list[tuple]             # (kind, tick, offset) of pause, resume, music, light
+    signals: list[tuple]             # (kind, tick, offset, detail) of pause, resume, music, light
     end_reason: str
 
 
@@ -114,7 +111,7 @@ def python_run(record: bytes, params: StartParams, setup: BatterySetup, tick_s: 
     tick = lambda s: round(s / tick_s)  # noqa: E731
     phases = [Phase(p.section, p.index, p.repetition, p.cycle_pass, p.offset, tick(p.start_s), tick(p.end_s),
                     p.reason, p.mah_in, p.mah_out) for p in it.phases]
-    signals = [(e.kind, tick(e.time_s), e.offset if e.kind in ("music", "light") else -1)
+    signals = [(e.kind, tick(e.time_s), e.offset if e.kind in ("music", "light") else -1, e.detail)
                for e in it.events if e.kind in ("pause", "resume", "music", "light")]
     return Run(None, phases, signals, it.end_reason)
 
@@ -133,6 +130,7 @@ class CoreRunner:
     def __init__(self, lib: ctypes.CDLL):
         self.lib = lib
         self._out = HalOutput()
+        self._text = ctypes.create_string_buffer(80)
         self._sink = EVENT_SINK(lambda e: self._event(e.contents))
         lib.zh_set_event_sink(self._sink)
 
@@ -210,13 +208,9 @@ class CoreRunner:
         return q_in.value / 3.6e9, q_out.value / 3.6e9
 
     def _reason(self, e: ZcEvent) -> str:
-        if e.reason in (R_CONDITION, R_STOP_MACRO):
-            ins = read_instruction(self._record, e.reason_offset, len(self._record) - 1)
-            return canonical_text(ins.op, format_args(ins.op, ins.raws))
-        if e.reason == R_EMPTY:
-            return f"default: empty discharge section, V<{self.lib.zh_empty_end_uv() / 1e6:.2f}V/cell"
-        return {R_T: "default: T>60", R_DTDT: "default: dT/dt>1C/min", R_CAPACITY: "default: capacity 1.5x",
-                R_STOPPED: "stopped", R_END: "end of macro"}[e.reason]
+        """The core's own text for the end (the device reports it; it must be Python's, byte for byte)."""
+        n = self.lib.zh_event_text(ctypes.byref(e), self._text)
+        return self._text.raw[:n].decode("ascii")
 
     def _event(self, e: ZcEvent) -> None:
         tick = e.time_ms // self._tick_ms
@@ -234,4 +228,4 @@ class CoreRunner:
         else:
             name = {EV_PAUSE: "pause", EV_RESUME: "resume", EV_MUSIC: "music", EV_LIGHT: "light"}.get(e.kind)
             if name:
-                self._signals.append((name, tick, e.offset if name in ("music", "light") else -1))
+                self._signals.append((name, tick, e.offset if name in ("music", "light") else -1, self._reason(e)))

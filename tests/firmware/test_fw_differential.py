@@ -83,7 +83,7 @@ def test_acceptance_case_runs_the_same_on_the_core(core, case):
 def test_the_heatsink_case_pauses_on_both(core):
     params = StartParams("discharge", 1, 2000, None, None, 3, True)
     py = assert_same(compiled("LiPo"), params, BatterySetup(None, None, 40.0), 1.0, 48 * 3600, core)
-    assert any(kind == "pause" for kind, _, _ in py.signals)
+    assert any(s[0] == "pause" for s in py.signals)
 
 
 def test_noisy_measurements_run_the_same(core):
@@ -108,8 +108,8 @@ def runs(draw):
     return record, params, setup, draw(st.sampled_from([10.0, 30.0]))
 
 
-@settings(max_examples=2000, deadline=None, suppress_health_check=list(HealthCheck))
+@settings(max_examples=2000, deadline=None, suppress_health_check=list(HealthCheck), derandomize=True)
 @given(runs())
 def test_generated_macros_run_the_same_on_the_core(core, run):
     record, params, setup, tick_s = run
-    assert_same(record, params, setup, tick_s, 2 * 3600, core)
+    assert_same(record, params, setup, tick_s, 3600, core)

@@ -2,6 +2,7 @@
  * runs on a PC against the same battery model as the Python interpreter. Built as libzuml_host.so. */
 #include <string.h>
 #include "../../core/zuml.h"
+#include "../../core/text.h"
 
 #define HOST_EEPROM 1024
 
@@ -108,3 +109,6 @@ int32_t zh_empty_end_uv(void)
     int32_t per_cell = zc_chemistry_end_uv(run.akk_type);
     return per_cell ? per_cell : run.board.fallback_end_uv_per_cell;
 }
+
+/* The text the device would report for an event (the differential test compares it with Python's). */
+uint8_t zh_event_text(const zc_event_t *e, char *out) { return zc_event_text(&run, e, out); }
