@@ -42,7 +42,9 @@ class DeltaPeakDetector:
             self.peak_v = avg
             self.drop_v = 0.0
         else:
-            self.drop_v = self.peak_v - avg
+            # To 1 pV: a held constant voltage shows no drop from float rounding of its averages, and a
+            # real drop (at least 1 µV / count² apart from any threshold) keeps its order.
+            self.drop_v = round(self.peak_v - avg, 12)
         return self.drop_v
 
     def _next_window_end(self, t: float) -> float:

@@ -176,17 +176,17 @@ class Interpreter:
 
     def current(self, raw: int) -> float:
         amps = absolute_value(raw, self.params.current_a, self.capacity_ah)
-        if amps is None:
-            raise StartError("the macro takes a current at start (INPUT): give the current" if raw == INPUT_U16
-                             else "a current in C needs the capacity: declare CAPACITY or give it at start")
-        return amps
+        if amps is not None:
+            return round(amps, 6)   # the charger's fixed point: 1 µA
+        raise StartError("the macro takes a current at start (INPUT): give the current" if raw == INPUT_U16
+                         else "a current in C needs the capacity: declare CAPACITY or give it at start")
 
     def voltage(self, raw: int) -> float:
         volts = absolute_value(raw, self.params.voltage_v, self.series)
-        if volts is None:
-            raise StartError("the macro takes a voltage at start (INPUT): give the voltage" if raw == INPUT_U16
-                             else "a voltage per cell (S) needs the cell count: declare SERIES or give it at start")
-        return volts
+        if volts is not None:
+            return round(volts, 6)  # the charger's fixed point: 1 µV
+        raise StartError("the macro takes a voltage at start (INPUT): give the voltage" if raw == INPUT_U16
+                         else "a voltage per cell (S) needs the cell count: declare SERIES or give it at start")
 
     # -- running ----------------------------------------------------------------------------
     def stop(self, reason: str = "stopped") -> None:
@@ -367,6 +367,7 @@ class Interpreter:
                 v += gauss(0.0, noise)
             if lsb:
                 v = round(v / lsb) * lsb
+            v = round(v, 6)     # measured to 1 µV, as the firmware's fixed point: no decision on float dust
             if mode == _PULSE:
                 v = self._pulse_measurement(a, v)
             a.measured_v = v
@@ -376,7 +377,7 @@ class Interpreter:
             reason = None
             for c, x, text in conds:
                 if (c == 83 and v > x) or (c == 82 and v < x) or (c == 88 and a.t_phase > x) or \
-                        (c == 84 and abs(i) < x and not self.paused) or (c == 81 and sensor and temp > x):
+                        (c == 84 and round(abs(i), 6) < x and not self.paused) or (c == 81 and sensor and temp > x):
                     reason = text
                     break
             if reason is None and detector is not None and not self.paused:
