@@ -123,11 +123,12 @@ uint8_t zc_start(zc_run_t *r, const uint8_t *rec, uint16_t len, const zc_start_t
 {
     uint8_t pc, err;
     uint16_t capacity_raw = CAPACITY_INPUT;
-    memset(r, 0, sizeof *r);
+    /* rec may be r->rec itself (the device reads the slot straight into the run) */
+    memset((uint8_t *)r + sizeof r->rec, 0, sizeof *r - sizeof r->rec);
     r->finished = 1;
     if (zc_validate(rec, len))
         return ZC_ERR_RECORD;
-    memcpy(r->rec, rec, len);
+    memmove(r->rec, rec, len);
     r->end = (uint8_t)(len - 1);
     r->charge_at = rec[2];
     r->conclusion_at = rec[3];
@@ -247,6 +248,7 @@ static void compile_phase(zc_run_t *r, uint8_t at)
 static void begin_phase(zc_run_t *r, uint8_t at, uint8_t is_default)
 {
     r->active = 1;
+    r->run_no++;
     r->is_default = is_default;
     r->phase_at = at;
     r->phase_section = r->section;
@@ -484,7 +486,7 @@ void zc_measure(zc_run_t *r)
     i = hal_current_ua();
     v = hal_pack_uv();
     temp = hal_battery_uc();
-    sensor = hal_battery_sensor();
+    sensor = r->start.sensor && hal_battery_sensor();
     r->time_ms += dt;
     if (!r->paused)
         r->t_phase += dt;

@@ -69,6 +69,7 @@ typedef struct {
     int32_t current_ua;            /* ZC_NONE when not entered */
     int32_t voltage_uv;            /* ZC_NONE when not entered */
     int16_t series;                /* 0 when not entered */
+    uint8_t sensor;                /* 0: ignore the battery temperature sensor even when one is there */
 } zc_start_t;
 
 typedef struct {
@@ -96,7 +97,8 @@ typedef struct {
     /* the running phase */
     uint8_t active, mode, charging, own_t, check_defaults, trickle_on, paused, finished;
     uint8_t phase_at, phase_index, phase_pass, phase_rep, phase_section, dpeak_at, is_default;
-    uint8_t end_reason, end_offset;        /* of the last phase end, or of the macro once finished */
+    uint8_t end_reason, end_offset;
+    uint16_t run_no;                       /* phases started in this run */        /* of the last phase end, or of the macro once finished */
     int32_t i_set, v_set, i_max, v_low;    /* v_low: TRICKLE V1, or the default discharge end */
     int32_t i2;                            /* CHARGE_EX discharge current */
     uint32_t tch_ms, period_ms;

@@ -49,10 +49,10 @@ void zc_event(const zc_event_t *e)
 
 /* -- the harness's entry points ------------------------------------------------------------- */
 
-uint8_t zh_start(const uint8_t *rec, uint16_t len, const zc_start_t *s, const zc_board_t *b, uint8_t sensor)
+uint8_t zh_start(const uint8_t *rec, uint16_t len, const zc_start_t *s, const zc_board_t *b)
 {
     memset(&hw.out, 0, sizeof hw.out);
-    hw.sensor = sensor;
+    hw.sensor = 1;
     return zc_start(&run, rec, len, s, b);
 }
 

@@ -1,0 +1,184 @@
+/* The firmware on a PC: the whole device (protocol, store, interpreter) behind a pty, with a
+ * simple battery on its output, so `zuml slots/flash/run/monitor` can talk to the C code as to a
+ * charger. Prints the pty's path alone on the first line of stdout.
+ *
+ *   zuml_host [--eeprom FILE] [--cells N] [--capacity MAH] [--soc F] */
+#define _XOPEN_SOURCE 600
+#define _DEFAULT_SOURCE
+#include <errno.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <termios.h>
+#include <time.h>
+#include <unistd.h>
+#include "../../core/app.h"
+
+#define EEPROM_SIZE 1024
+
+static int master = -1;
+static uint8_t eeprom[EEPROM_SIZE];
+static const char *eeprom_path;
+static int eeprom_dirty;
+static volatile sig_atomic_t stopping;
+static hal_output_t out;
+/* the battery: `cells` cells of a linear OCV 3.3..4.2 V over the state of charge, 50 mOhm each */
+static double soc = 0.2, capacity_as = 2.0 * 3600, current_a, pack_v, heatsink_c = 25.0;
+static int cells = 3;
+
+static double ocv(void) { return cells * (3.3 + 0.9 * soc); }
+
+static void plant(double dt)
+{
+    double r = 0.05 * cells, i;
+    switch (out.kind) {
+    case HAL_CURRENT: i = out.current_ua / 1e6; break;
+    case HAL_VOLTAGE_CHARGE:
+        i = (out.voltage_uv / 1e6 - ocv()) / r;
+        i = i < 0 ? 0 : (i > out.current_ua / 1e6 ? out.current_ua / 1e6 : i);
+        break;
+    case HAL_VOLTAGE_DISCHARGE:
+        i = (out.voltage_uv / 1e6 - ocv()) / r;
+        i = i > 0 ? 0 : (i < -out.current_ua / 1e6 ? -out.current_ua / 1e6 : i);
+        break;
+    default: i = 0;
+    }
+    if (i > 5.0) i = 5.0;
+    if (i < -1.0) i = -1.0;
+    current_a = i;
+    soc += i * dt / capacity_as;
+    if (soc > 1.0) soc = 1.0;
+    if (soc < 0.0) soc = 0.0;
+    pack_v = ocv() + i * r;
+    heatsink_c += (25.0 + 4.0 * (i < 0 ? -i : i) - heatsink_c) * (dt / 60.0 > 1 ? 1 : dt / 60.0);
+}
+
+static unsigned long long boot_ms;
+
+static uint32_t now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (uint32_t)(ts.tv_sec * 1000ULL + ts.tv_nsec / 1000000ULL - boot_ms);
+}
+
+void hal_output(const hal_output_t *o) { out = *o; }
+int32_t hal_pack_uv(void) { return (int32_t)(pack_v * 1e6); }
+int32_t hal_current_ua(void) { return (int32_t)(current_a * 1e6); }
+int32_t hal_open_circuit_uv(void) { return (int32_t)(ocv() * 1e6); }
+int32_t hal_battery_uc(void) { return 25000000L; }
+int32_t hal_heatsink_uc(void) { return (int32_t)(heatsink_c * 1e6); }
+uint8_t hal_battery_sensor(void) { return 1; }
+uint8_t hal_cell_count(void) { return 0; }
+int32_t hal_cell_uv(uint8_t cell) { (void)cell; return 0; }
+uint32_t hal_millis(void) { return now_ms(); }
+uint16_t hal_eeprom_size(void) { return EEPROM_SIZE; }
+uint8_t hal_eeprom_read(uint16_t addr) { return addr < EEPROM_SIZE ? eeprom[addr] : 0xFF; }
+void hal_eeprom_write(uint16_t addr, uint8_t value)
+{
+    if (addr < EEPROM_SIZE) {
+        eeprom[addr] = value;
+        eeprom_dirty = 1;
+    }
+}
+void hal_buzzer(uint8_t melody) { (void)melody; }
+void hal_led(uint8_t pattern) { (void)pattern; }
+uint8_t hal_passport_exchange(const uint8_t request[8], uint8_t answer[32])
+{
+    (void)request; (void)answer;
+    return 0;
+}
+
+int16_t hal_uart_read(void)
+{
+    uint8_t b;
+    return read(master, &b, 1) == 1 ? b : -1;
+}
+
+void hal_uart_write(uint8_t byte)
+{
+    while (write(master, &byte, 1) != 1 && (errno == EAGAIN || errno == EINTR) && !stopping)
+        usleep(100);
+}
+
+static void flush_eeprom(void)
+{
+    char tmp[4096];
+    FILE *f;
+    if (!eeprom_dirty || !eeprom_path)
+        return;
+    snprintf(tmp, sizeof tmp, "%s.tmp", eeprom_path);
+    f = fopen(tmp, "wb");
+    if (f && fwrite(eeprom, 1, EEPROM_SIZE, f) == EEPROM_SIZE && fclose(f) == 0 && rename(tmp, eeprom_path) == 0)
+        eeprom_dirty = 0;
+    else
+        fprintf(stderr, "zuml_host: cannot write %s\n", eeprom_path);
+}
+
+static void on_signal(int sig) { (void)sig; stopping = 1; }
+
+int main(int argc, char **argv)
+{
+    static const app_board_t board = {
+        "ZUML firmware (host)", "zuml-fw 0.1", 5000, 500, 1000, 50, 26000, 0,
+        {5000000L, 1000000L, 3000000L, 1000}
+    };
+    struct termios raw;
+    int k, slave;
+    uint32_t last;
+    memset(eeprom, 0xFF, sizeof eeprom);
+    boot_ms = now_ms();
+    for (k = 1; k < argc; k++) {
+        if (!strcmp(argv[k], "--eeprom") && k + 1 < argc) {
+            FILE *f;
+            eeprom_path = argv[++k];
+            f = fopen(eeprom_path, "rb");
+            if (f) {
+                size_t n = fread(eeprom, 1, EEPROM_SIZE, f);
+                (void)n;
+                fclose(f);
+            }
+        } else if (!strcmp(argv[k], "--cells") && k + 1 < argc) {
+            cells = atoi(argv[++k]);
+        } else if (!strcmp(argv[k], "--capacity") && k + 1 < argc) {
+            capacity_as = atof(argv[++k]) * 3.6;
+        } else if (!strcmp(argv[k], "--soc") && k + 1 < argc) {
+            soc = atof(argv[++k]);
+        } else {
+            fprintf(stderr, "usage: %s [--eeprom FILE] [--cells N] [--capacity MAH] [--soc F]\n", argv[0]);
+            return 2;
+        }
+    }
+    master = posix_openpt(O_RDWR | O_NOCTTY);
+    if (master < 0 || grantpt(master) || unlockpt(master)) {
+        perror("zuml_host: pty");
+        return 1;
+    }
+    slave = open(ptsname(master), O_RDWR | O_NOCTTY);   /* kept open: hosts may come and go */
+    tcgetattr(slave, &raw);
+    cfmakeraw(&raw);
+    tcsetattr(slave, TCSANOW, &raw);
+    fcntl(master, F_SETFL, O_NONBLOCK);
+    printf("%s\n", ptsname(master));
+    fflush(stdout);
+    fprintf(stderr, "ZUML firmware on the host: %d-cell battery, EEPROM %s\n", cells,
+            eeprom_path ? eeprom_path : "in memory");
+    signal(SIGTERM, on_signal);
+    signal(SIGINT, on_signal);
+    pack_v = ocv();
+    app_init(&board);
+    last = now_ms();
+    while (!stopping) {
+        uint32_t t = now_ms();
+        plant((t - last) / 1000.0);
+        last = t;
+        app_poll();
+        flush_eeprom();
+        usleep(500);
+    }
+    flush_eeprom();
+    close(slave);
+    return 0;
+}

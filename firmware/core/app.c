@@ -1,0 +1,500 @@
+/* The device side of docs/protocol.md: frames with CRC-16/MODBUS and resync, idempotent requests,
+ * the staged EEPROM write with COMMIT, START/STOP/STATUS, telemetry and events.
+ * Answers are streamed byte by byte (no transmit buffer: RAM is the AVR's scarcest resource). */
+#include <string.h>
+#include "app.h"
+#include "store.h"
+#include "text.h"
+#include "record.h"
+
+#define SYNC 0xA5
+#define MAX_PAYLOAD 250
+#define MAX_DATA 240
+#define RESPONSE 0x80
+#define T_IDENTIFY 0x01
+#define T_READ 0x02
+#define T_BEGIN 0x03
+#define T_STAGE 0x04
+#define T_COMMIT 0x05
+#define T_ABORT 0x06
+#define T_START 0x10
+#define T_STOP 0x11
+#define T_STATUS 0x12
+#define T_RATE 0x13
+#define T_GET_EVENT 0x14
+#define T_PASSPORT 0x20
+#define T_TELEMETRY 0x40
+#define T_EVENT 0x41
+#define T_ERROR 0x7F
+#define INTER_BYTE_MS 5
+#define EVENT_RING 4
+
+enum { E_BAD_FRAME = 1, E_BAD_REQUEST, E_UNKNOWN_TYPE, E_BAD_RANGE, E_BAD_TOKEN, E_CRC_MISMATCH, E_BAD_SLOT,
+       E_INVALID_RECORD, E_PASSPORT_CONFLICT, E_START_ERROR, E_NO_PASSPORT, E_PASSPORT_ERROR, E_INTERNAL };
+enum { ST_IDLE, ST_RUNNING, ST_PAUSED, ST_FINISHED };
+
+typedef struct {
+    uint32_t number;
+    zc_event_t e;
+} stored_event_t;
+
+static const app_board_t *board;
+static zc_run_t run;
+static uint8_t rx[MAX_PAYLOAD + 6];
+static uint16_t rx_n;
+static uint32_t rx_last_ms;
+static struct {
+    uint8_t valid, type, seq;
+    uint16_t crc;
+} last;                                   /* the last request served, to answer a retry the same */
+static uint32_t token, token_counter, committed_token;
+static uint16_t committed_changed, committed_crc;
+static uint8_t state = ST_IDLE, slot = 0xFF, task;
+static uint32_t run_start_ms, last_tick_ms, events, next_telemetry_ms;
+static uint8_t telemetry_hz = 5, device_seq;
+static stored_event_t ring[EVENT_RING];
+static uint16_t tx_crc;
+
+/* -- sending --------------------------------------------------------------------------------- */
+
+static void tx(uint8_t b)
+{
+    tx_crc = zc_crc16(tx_crc, b);
+    hal_uart_write(b);
+}
+
+static void tx16(uint16_t v) { tx((uint8_t)v); tx((uint8_t)(v >> 8)); }
+static void tx32(uint32_t v) { tx16((uint16_t)v); tx16((uint16_t)(v >> 16)); }
+static void tx_text(const char *s, uint8_t n) { while (n--) tx((uint8_t)*s++); }
+
+static void tx_begin(uint8_t type, uint8_t seq, uint8_t len)
+{
+    hal_uart_write(SYNC);
+    tx_crc = 0xFFFF;
+    tx(len);
+    tx(type);
+    tx(seq);
+}
+
+static void tx_end(void)
+{
+    uint16_t crc = tx_crc;
+    hal_uart_write((uint8_t)crc);
+    hal_uart_write((uint8_t)(crc >> 8));
+}
+
+static uint8_t text_len(const char *s) { return (uint8_t)strlen(s); }
+
+static void send_error(uint8_t request_type, uint8_t seq, uint8_t code, const char *message)
+{
+    uint8_t n = text_len(message);
+    tx_begin(T_ERROR, seq, (uint8_t)(2 + n));
+    tx(request_type);
+    tx(code);
+    tx_text(message, n);
+    tx_end();
+}
+
+/* -- events and telemetry ---------------------------------------------------------------------- */
+
+static void send_event(uint8_t type, uint8_t seq, uint32_t number, const zc_event_t *e)
+{
+    char detail[ZC_TEXT_MAX];
+    uint8_t n = zc_event_text(&run, e, detail), with_phase = e->kind == ZC_EV_PHASE_START ||
+                e->kind == ZC_EV_PHASE_END, with_offset = with_phase || e->kind == ZC_EV_MUSIC ||
+                e->kind == ZC_EV_LIGHT;
+    tx_begin(type, seq, (uint8_t)(14 + n));
+    tx32(number);
+    tx32(e->time_ms);
+    tx((uint8_t)(e->kind - 1));
+    tx(with_phase || e->kind == ZC_EV_SECTION ? e->section : 0xFF);
+    tx(with_phase ? e->index : 0);
+    tx(with_phase || e->kind == ZC_EV_SECTION ? e->repetition : 0);
+    tx16(with_offset ? e->offset : 0xFFFF);
+    tx_text(detail, n);
+    tx_end();
+}
+
+void zc_event(const zc_event_t *e)
+{
+    stored_event_t *s = &ring[events % EVENT_RING];
+    s->number = events;
+    s->e = *e;
+    send_event(T_EVENT, device_seq++, events++, e);
+}
+
+static int16_t centi(int32_t micro) { return (int16_t)(micro / 10000L); }
+
+static void send_telemetry(void)
+{
+    uint8_t live = state == ST_RUNNING || state == ST_PAUSED;
+    int32_t mv = hal_pack_uv() / 1000L;
+    tx_begin(T_TELEMETRY, device_seq++, 30);
+    tx32(state == ST_IDLE ? 0 : run.time_ms);
+    tx(task);
+    tx(live && run.active ? run.phase_section : 0xFF);
+    tx(live ? run.phase_rep : 0);
+    tx(live ? run.phase_pass : 0);
+    tx(live ? run.phase_index : 0);
+    tx16(live ? run.run_no : 0);
+    tx((uint8_t)((live ? 1 : 0) | (run.paused && live ? 2 : 0) | (hal_battery_sensor() ? 4 : 0)));
+    tx16((uint16_t)(mv < 0 ? 0 : (mv > 0xFFFF ? 0xFFFF : mv)));
+    tx32((uint32_t)(hal_current_ua() / 1000L));
+    tx16((uint16_t)(hal_battery_sensor() ? centi(hal_battery_uc()) : 0x7FFF));
+    tx16((uint16_t)centi(hal_heatsink_uc()));
+    tx32((uint32_t)(run.total_in / 360000000LL));
+    tx32((uint32_t)(run.total_out / 360000000LL));
+    tx_end();
+}
+
+/* -- requests ------------------------------------------------------------------------------------ */
+
+static uint16_t le16(const uint8_t *p) { return (uint16_t)(p[0] | (p[1] << 8)); }
+static uint32_t le32(const uint8_t *p) { return le16(p) | ((uint32_t)le16(p + 2) << 16); }
+
+static void identify(uint8_t seq)
+{
+    uint8_t m = text_len(board->model), f = text_len(board->firmware);
+    tx_begin(T_IDENTIFY | RESPONSE, seq, (uint8_t)(26 + m + f));
+    tx(1);
+    tx16(store_size());
+    tx(MAX_DATA);
+    tx32(board->max_charge_ma);
+    tx16(board->max_charge_dw);
+    tx32(board->max_discharge_ma);
+    tx16(board->max_discharge_dw);
+    tx32(board->max_mv);
+    tx32(board->write_us_per_byte);
+    tx(m);
+    tx_text(board->model, m);
+    tx(f);
+    tx_text(board->firmware, f);
+    tx_end();
+}
+
+static const char *start_error_text(uint8_t err)
+{
+    switch (err) {
+    case ZC_ERR_INPUT_CURRENT: return "the macro takes a current at start (INPUT): give the current";
+    case ZC_ERR_C_NEEDS_CAPACITY: return "a current in C needs the capacity: declare CAPACITY or give it at start";
+    case ZC_ERR_INPUT_VOLTAGE: return "the macro takes a voltage at start (INPUT): give the voltage";
+    case ZC_ERR_S_NEEDS_SERIES: return "a voltage per cell (S) needs the cell count: declare SERIES or give it at start";
+    default: return "training needs at least 1 repetition";
+    }
+}
+
+static void answer_start(uint8_t seq)
+{
+    uint8_t n = (uint8_t)strlen((const char *)run.rec + 4);
+    tx_begin(T_START | RESPONSE, seq, (uint8_t)(1 + n));
+    tx(slot);
+    tx_text((const char *)run.rec + 4, n);
+    tx_end();
+}
+
+static void start(uint8_t seq, const uint8_t *p)
+{
+    zc_start_t s;
+    uint16_t len;
+    uint8_t err;
+    hal_output_t off = {HAL_OFF, 0, 0};
+    if (state == ST_RUNNING || state == ST_PAUSED)
+        zc_stop(&run);
+    hal_output(&off);
+    state = ST_IDLE;
+    slot = 0xFF;
+    len = store_record(p[0], run.rec);
+    if (len == 0) {
+        send_error(T_START, seq, E_BAD_SLOT, "there is no such slot");
+        return;
+    }
+    if (len == 0xFFFF || zc_validate(run.rec, len)) {
+        send_error(T_START, seq, E_INVALID_RECORD, "the slot's record does not decode");
+        return;
+    }
+    s.task = p[1] <= ZC_TRAIN ? p[1] : ZC_CHARGE;
+    s.repetitions = p[2];
+    s.capacity_mah = le16(p + 3) ? (int32_t)le16(p + 3) : ZC_NONE;
+    s.current_ua = le16(p + 5) ? (int32_t)le16(p + 5) * 1000L : ZC_NONE;
+    s.voltage_uv = le16(p + 7) ? (int32_t)le16(p + 7) * 1000L : ZC_NONE;
+    s.series = p[9];
+    s.sensor = p[10] != 0;
+    err = zc_start(&run, run.rec, len, &s, &board->core);
+    if (err) {
+        send_error(T_START, seq, E_START_ERROR, start_error_text(err));
+        return;
+    }
+    slot = p[0];
+    task = s.task;
+    events = 0;
+    answer_start(seq);
+    state = ST_RUNNING;
+    run_start_ms = last_tick_ms = hal_millis();
+    zc_control(&run);
+}
+
+static void status(uint8_t seq)
+{
+    char reason[ZC_TEXT_MAX];
+    uint8_t name_n = slot == 0xFF ? 0 : (uint8_t)strlen((const char *)run.rec + 4);
+    uint8_t reason_n = state == ST_FINISHED ? zc_reason_text(&run, run.end_reason, run.end_offset, reason) : 0;
+    tx_begin(T_STATUS | RESPONSE, seq, (uint8_t)(20 + name_n + reason_n));
+    tx(state);
+    tx(slot);
+    tx(task);
+    tx32(hal_millis());
+    tx32(state == ST_IDLE ? 0 : run.time_ms);
+    tx32(events);
+    tx32(1);
+    tx(name_n);
+    tx_text((const char *)run.rec + 4, name_n);
+    tx_text(reason, reason_n);
+    tx_end();
+}
+
+static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uint8_t retry)
+{
+    switch (type) {
+    case T_IDENTIFY:
+        if (len)
+            break;
+        identify(seq);
+        return;
+    case T_READ: {
+        uint16_t at, off;
+        if (len != 3)
+            break;
+        off = le16(p);
+        if (p[2] == 0 || p[2] > MAX_DATA || (uint32_t)off + p[2] > store_size()) {
+            send_error(type, seq, E_BAD_RANGE, "offset/length outside the EEPROM");
+            return;
+        }
+        tx_begin(T_READ | RESPONSE, seq, (uint8_t)(2 + p[2]));
+        tx16(off);
+        for (at = off; at < off + p[2]; at++)
+            tx(store_read(at));
+        tx_end();
+        return;
+    }
+    case T_BEGIN:
+        if (len)
+            break;
+        if (!retry) {
+            store_stage_begin();
+            token = ++token_counter * 2654435761UL;
+            if (!token)
+                token = 1;
+        }
+        tx_begin(T_BEGIN | RESPONSE, seq, 6);
+        tx32(token);
+        tx16(store_size());
+        tx_end();
+        return;
+    case T_STAGE: {
+        uint16_t off, k;
+        if (len < 6)
+            break;
+        off = le16(p + 4);
+        if (!token || le32(p) != token) {
+            send_error(type, seq, E_BAD_TOKEN, "no write transaction with this token");
+            return;
+        }
+        if (len - 6 > MAX_DATA || (uint32_t)off + (len - 6) > store_size()) {
+            send_error(type, seq, E_BAD_RANGE, "offset/length outside the EEPROM");
+            return;
+        }
+        for (k = 0; k < len - 6; k++)
+            store_stage_write((uint16_t)(off + k), p[6 + k]);
+        tx_begin(T_STAGE | RESPONSE, seq, 3);
+        tx16(off);
+        tx((uint8_t)(len - 6));
+        tx_end();
+        return;
+    }
+    case T_COMMIT: {
+        uint32_t t;
+        if (len != 6)
+            break;
+        t = le32(p);
+        if (t && t == committed_token) {
+            /* a retry whose answer was lost: committed already */
+        } else if (!token || t != token) {
+            send_error(type, seq, E_BAD_TOKEN, "no write transaction with this token");
+            return;
+        } else if (store_stage_crc() != le16(p + 4)) {
+            send_error(type, seq, E_CRC_MISMATCH, "the staged image's CRC is not the host's; nothing written");
+            return;
+        } else {
+            committed_crc = le16(p + 4);
+            committed_changed = store_commit();
+            committed_token = token;
+            token = 0;
+        }
+        tx_begin(T_COMMIT | RESPONSE, seq, 4);
+        tx16(committed_changed);
+        tx16(committed_crc);
+        tx_end();
+        return;
+    }
+    case T_ABORT:
+        if (len != 4)
+            break;
+        if (le32(p) == 0 || le32(p) == token)
+            token = 0;
+        tx_begin(T_ABORT | RESPONSE, seq, 0);
+        tx_end();
+        return;
+    case T_START:
+        if (len != 11)
+            break;
+        if (retry && slot == p[0]) {
+            answer_start(seq);
+            return;
+        }
+        start(seq, p);
+        return;
+    case T_STOP:
+        if (len)
+            break;
+        if (state == ST_RUNNING || state == ST_PAUSED) {
+            zc_stop(&run);
+            state = ST_FINISHED;
+        }
+        tx_begin(T_STOP | RESPONSE, seq, 1);
+        tx(state);
+        tx_end();
+        return;
+    case T_STATUS:
+        if (len)
+            break;
+        status(seq);
+        return;
+    case T_RATE:
+        if (len != 1)
+            break;
+        if (p[0] < 1 || p[0] > 50) {
+            send_error(type, seq, E_BAD_RANGE, "the telemetry rate is 1..50 Hz");
+            return;
+        }
+        telemetry_hz = p[0];
+        tx_begin(T_RATE | RESPONSE, seq, 1);
+        tx(telemetry_hz);
+        tx_end();
+        return;
+    case T_GET_EVENT: {
+        uint32_t number;
+        if (len != 4)
+            break;
+        number = le32(p);
+        if (number >= events || events - number > EVENT_RING) {
+            send_error(type, seq, E_BAD_RANGE, "no such event (the device keeps the last 4)");
+            return;
+        }
+        send_event(T_GET_EVENT | RESPONSE, seq, number, &ring[number % EVENT_RING].e);
+        return;
+    }
+    case T_PASSPORT: {
+        uint8_t answer[32], k;
+        if (len != 8)
+            break;
+        if (!hal_passport_exchange(p, answer)) {
+            send_error(type, seq, E_NO_PASSPORT, "the battery has no passport");
+            return;
+        }
+        tx_begin(T_PASSPORT | RESPONSE, seq, 32);
+        for (k = 0; k < 32; k++)
+            tx(answer[k]);
+        tx_end();
+        return;
+    }
+    default:
+        send_error(type, seq, E_UNKNOWN_TYPE, "unknown request type");
+        return;
+    }
+    send_error(type, seq, E_BAD_REQUEST, "the payload does not fit the request's layout");
+}
+
+static uint8_t known_type(uint8_t t)
+{
+    return (t >= T_IDENTIFY && t <= T_ABORT) || (t >= T_START && t <= T_GET_EVENT) || t == T_PASSPORT;
+}
+
+static void drop(uint16_t n)
+{
+    memmove(rx, rx + n, rx_n - n);
+    rx_n = (uint16_t)(rx_n - n);
+}
+
+static void parse(void)
+{
+    while (rx_n) {
+        uint16_t need, crc = 0xFFFF, k;
+        if (rx[0] != SYNC) {
+            drop(1);
+            continue;
+        }
+        if (rx_n < 3)
+            return;
+        if (rx[1] > MAX_PAYLOAD || !known_type(rx[2])) {
+            drop(1);
+            continue;
+        }
+        need = (uint16_t)(rx[1] + 6);
+        if (rx_n < need)
+            return;
+        for (k = 1; k < need; k++)
+            crc = zc_crc16(crc, rx[k]);
+        if (crc != 0) {
+            send_error(0, 0, E_BAD_FRAME, "bad frame");
+            drop(1);
+            continue;
+        }
+        {
+            uint16_t frame_crc = le16(rx + need - 2);
+            uint8_t retry = last.valid && last.type == rx[2] && last.seq == rx[3] && last.crc == frame_crc;
+            last.valid = 1;
+            last.type = rx[2];
+            last.seq = rx[3];
+            last.crc = frame_crc;
+            handle(rx[2], rx[3], rx + 4, rx[1], retry);
+        }
+        drop(need);
+    }
+}
+
+void app_init(const app_board_t *b)
+{
+    board = b;
+    store_init();
+    memset(&run, 0, sizeof run);
+    run.finished = 1;
+}
+
+void app_poll(void)
+{
+    int16_t c;
+    uint32_t now = hal_millis();
+    uint8_t got = 0;
+    while ((c = hal_uart_read()) >= 0 && rx_n < sizeof rx) {
+        rx[rx_n++] = (uint8_t)c;
+        got = 1;
+    }
+    if (got) {
+        rx_last_ms = now;
+        parse();
+    } else if (rx_n && now - rx_last_ms > INTER_BYTE_MS) {
+        drop(1);               /* a frame the line left unfinished: resync past its sync byte */
+        parse();
+    }
+    if ((state == ST_RUNNING || state == ST_PAUSED) && now - last_tick_ms >= board->core.tick_ms) {
+        last_tick_ms += board->core.tick_ms;
+        zc_measure(&run);
+        if (!run.finished)
+            zc_control(&run);
+        state = run.finished ? ST_FINISHED : (run.paused ? ST_PAUSED : ST_RUNNING);
+    }
+    if ((int32_t)(now - next_telemetry_ms) >= 0) {
+        next_telemetry_ms = now + 1000UL / telemetry_hz;
+        send_telemetry();
+    }
+}

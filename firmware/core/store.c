@@ -1,0 +1,85 @@
+#include "store.h"
+#include "../hal.h"
+
+#define JOURNAL_COMMITTING 0xA5
+
+uint16_t zc_crc16(uint16_t crc, uint8_t byte)
+{
+    uint8_t k;
+    crc ^= byte;
+    for (k = 0; k < 8; k++)
+        crc = (crc & 1) ? (uint16_t)((crc >> 1) ^ 0xA001) : (uint16_t)(crc >> 1);
+    return crc;
+}
+
+uint16_t store_size(void) { return (uint16_t)((hal_eeprom_size() - 1) / 2); }
+
+static uint16_t journal(void) { return (uint16_t)(hal_eeprom_size() - 1); }
+
+static void update(uint16_t addr, uint8_t value)
+{
+    /* an EEPROM byte wears with every write: write only what changes */
+    if (hal_eeprom_read(addr) != value)
+        hal_eeprom_write(addr, value);
+}
+
+uint16_t store_commit(void)
+{
+    uint16_t at, size = store_size(), changed = 0;
+    update(journal(), JOURNAL_COMMITTING);
+    for (at = 0; at < size; at++) {
+        uint8_t v = hal_eeprom_read((uint16_t)(size + at));
+        if (hal_eeprom_read(at) != v) {
+            hal_eeprom_write(at, v);
+            changed++;
+        }
+    }
+    update(journal(), 0xFF);
+    return changed;
+}
+
+void store_init(void)
+{
+    if (hal_eeprom_read(journal()) == JOURNAL_COMMITTING)
+        store_commit();
+}
+
+uint8_t store_read(uint16_t at) { return hal_eeprom_read(at); }
+
+void store_stage_begin(void)
+{
+    uint16_t at, size = store_size();
+    for (at = 0; at < size; at++)
+        update((uint16_t)(size + at), hal_eeprom_read(at));
+}
+
+void store_stage_write(uint16_t at, uint8_t value) { update((uint16_t)(store_size() + at), value); }
+
+uint16_t store_stage_crc(void)
+{
+    uint16_t at, size = store_size(), crc = 0xFFFF;
+    for (at = 0; at < size; at++)
+        crc = zc_crc16(crc, hal_eeprom_read((uint16_t)(size + at)));
+    return crc;
+}
+
+uint16_t store_record(uint8_t slot, uint8_t *rec)
+{
+    uint16_t at = 0, size = store_size(), k;
+    uint8_t index = 0;
+    while (at < size) {
+        uint8_t len = hal_eeprom_read(at);
+        if (len == 0x00 || len == 0xFF)
+            return 0;
+        if (len < 10 || at + len > size)
+            return 0xFFFF;
+        if (index == slot) {
+            for (k = 0; k < len; k++)
+                rec[k] = hal_eeprom_read((uint16_t)(at + k));
+            return len;
+        }
+        at = (uint16_t)(at + len);
+        index++;
+    }
+    return 0;
+}
