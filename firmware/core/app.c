@@ -6,6 +6,7 @@
 #include "store.h"
 #include "text.h"
 #include "record.h"
+#include "pgm.h"
 
 #define SYNC 0xA5
 #define MAX_PAYLOAD 250
@@ -66,6 +67,7 @@ static void tx(uint8_t b)
 static void tx16(uint16_t v) { tx((uint8_t)v); tx((uint8_t)(v >> 8)); }
 static void tx32(uint32_t v) { tx16((uint16_t)v); tx16((uint16_t)(v >> 16)); }
 static void tx_text(const char *s, uint8_t n) { while (n--) tx((uint8_t)*s++); }
+static void tx_text_P(const char *s, uint8_t n) { while (n--) tx(pgm_read_byte(s++)); }
 
 static void tx_begin(uint8_t type, uint8_t seq, uint8_t len)
 {
@@ -83,15 +85,16 @@ static void tx_end(void)
     hal_uart_write((uint8_t)(crc >> 8));
 }
 
-static uint8_t text_len(const char *s) { return (uint8_t)strlen(s); }
+static uint8_t text_len_P(const char *s) { return (uint8_t)strlen_P(s); }
 
+/* message is in flash */
 static void send_error(uint8_t request_type, uint8_t seq, uint8_t code, const char *message)
 {
-    uint8_t n = text_len(message);
+    uint8_t n = text_len_P(message);
     tx_begin(T_ERROR, seq, (uint8_t)(2 + n));
     tx(request_type);
     tx(code);
-    tx_text(message, n);
+    tx_text_P(message, n);
     tx_end();
 }
 
@@ -154,7 +157,7 @@ static uint32_t le32(const uint8_t *p) { return le16(p) | ((uint32_t)le16(p + 2)
 
 static void identify(uint8_t seq)
 {
-    uint8_t m = text_len(board->model), f = text_len(board->firmware);
+    uint8_t m = text_len_P(board->model), f = text_len_P(board->firmware);
     tx_begin(T_IDENTIFY | RESPONSE, seq, (uint8_t)(26 + m + f));
     tx(1);
     tx16(store_size());
@@ -166,20 +169,20 @@ static void identify(uint8_t seq)
     tx32(board->max_mv);
     tx32(board->write_us_per_byte);
     tx(m);
-    tx_text(board->model, m);
+    tx_text_P(board->model, m);
     tx(f);
-    tx_text(board->firmware, f);
+    tx_text_P(board->firmware, f);
     tx_end();
 }
 
 static const char *start_error_text(uint8_t err)
 {
     switch (err) {
-    case ZC_ERR_INPUT_CURRENT: return "the macro takes a current at start (INPUT): give the current";
-    case ZC_ERR_C_NEEDS_CAPACITY: return "a current in C needs the capacity: declare CAPACITY or give it at start";
-    case ZC_ERR_INPUT_VOLTAGE: return "the macro takes a voltage at start (INPUT): give the voltage";
-    case ZC_ERR_S_NEEDS_SERIES: return "a voltage per cell (S) needs the cell count: declare SERIES or give it at start";
-    default: return "training needs at least 1 repetition";
+    case ZC_ERR_INPUT_CURRENT: return PSTR("the macro takes a current at start (INPUT): give the current");
+    case ZC_ERR_C_NEEDS_CAPACITY: return PSTR("a current in C needs the capacity: declare CAPACITY or give it at start");
+    case ZC_ERR_INPUT_VOLTAGE: return PSTR("the macro takes a voltage at start (INPUT): give the voltage");
+    case ZC_ERR_S_NEEDS_SERIES: return PSTR("a voltage per cell (S) needs the cell count: declare SERIES or give it at start");
+    default: return PSTR("training needs at least 1 repetition");
     }
 }
 
@@ -205,11 +208,11 @@ static void start(uint8_t seq, const uint8_t *p)
     slot = 0xFF;
     len = store_record(p[0], run.rec);
     if (len == 0) {
-        send_error(T_START, seq, E_BAD_SLOT, "there is no such slot");
+        send_error(T_START, seq, E_BAD_SLOT, PSTR("there is no such slot"));
         return;
     }
     if (len == 0xFFFF || zc_validate(run.rec, len)) {
-        send_error(T_START, seq, E_INVALID_RECORD, "the slot's record does not decode");
+        send_error(T_START, seq, E_INVALID_RECORD, PSTR("the slot's record does not decode"));
         return;
     }
     s.task = p[1] <= ZC_TRAIN ? p[1] : ZC_CHARGE;
@@ -266,7 +269,7 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
             break;
         off = le16(p);
         if (p[2] == 0 || p[2] > MAX_DATA || (uint32_t)off + p[2] > store_size()) {
-            send_error(type, seq, E_BAD_RANGE, "offset/length outside the EEPROM");
+            send_error(type, seq, E_BAD_RANGE, PSTR("offset/length outside the EEPROM"));
             return;
         }
         tx_begin(T_READ | RESPONSE, seq, (uint8_t)(2 + p[2]));
@@ -296,14 +299,14 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
             break;
         off = le16(p + 4);
         if (!token || le32(p) != token) {
-            send_error(type, seq, E_BAD_TOKEN, "no write transaction with this token");
+            send_error(type, seq, E_BAD_TOKEN, PSTR("no write transaction with this token"));
             return;
         }
         if (len - 6 > MAX_DATA || (uint32_t)off + (len - 6) > store_size()) {
-            send_error(type, seq, E_BAD_RANGE, "offset/length outside the EEPROM");
+            send_error(type, seq, E_BAD_RANGE, PSTR("offset/length outside the EEPROM"));
             return;
         }
-        for (k = 0; k < len - 6; k++)
+        for (k = 0; k < (uint16_t)(len - 6); k++)
             store_stage_write((uint16_t)(off + k), p[6 + k]);
         tx_begin(T_STAGE | RESPONSE, seq, 3);
         tx16(off);
@@ -319,10 +322,10 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
         if (t && t == committed_token) {
             /* a retry whose answer was lost: committed already */
         } else if (!token || t != token) {
-            send_error(type, seq, E_BAD_TOKEN, "no write transaction with this token");
+            send_error(type, seq, E_BAD_TOKEN, PSTR("no write transaction with this token"));
             return;
         } else if (store_stage_crc() != le16(p + 4)) {
-            send_error(type, seq, E_CRC_MISMATCH, "the staged image's CRC is not the host's; nothing written");
+            send_error(type, seq, E_CRC_MISMATCH, PSTR("the staged image's CRC is not the host's; nothing written"));
             return;
         } else {
             committed_crc = le16(p + 4);
@@ -373,7 +376,7 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
         if (len != 1)
             break;
         if (p[0] < 1 || p[0] > 50) {
-            send_error(type, seq, E_BAD_RANGE, "the telemetry rate is 1..50 Hz");
+            send_error(type, seq, E_BAD_RANGE, PSTR("the telemetry rate is 1..50 Hz"));
             return;
         }
         telemetry_hz = p[0];
@@ -387,7 +390,7 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
             break;
         number = le32(p);
         if (number >= events || events - number > EVENT_RING) {
-            send_error(type, seq, E_BAD_RANGE, "no such event (the device keeps the last 4)");
+            send_error(type, seq, E_BAD_RANGE, PSTR("no such event (the device keeps the last 4)"));
             return;
         }
         send_event(T_GET_EVENT | RESPONSE, seq, number, &ring[number % EVENT_RING].e);
@@ -398,7 +401,7 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
         if (len != 8)
             break;
         if (!hal_passport_exchange(p, answer)) {
-            send_error(type, seq, E_NO_PASSPORT, "the battery has no passport");
+            send_error(type, seq, E_NO_PASSPORT, PSTR("the battery has no passport"));
             return;
         }
         tx_begin(T_PASSPORT | RESPONSE, seq, 32);
@@ -408,10 +411,10 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
         return;
     }
     default:
-        send_error(type, seq, E_UNKNOWN_TYPE, "unknown request type");
+        send_error(type, seq, E_UNKNOWN_TYPE, PSTR("unknown request type"));
         return;
     }
-    send_error(type, seq, E_BAD_REQUEST, "the payload does not fit the request's layout");
+    send_error(type, seq, E_BAD_REQUEST, PSTR("the payload does not fit the request's layout"));
 }
 
 static uint8_t known_type(uint8_t t)
@@ -445,7 +448,7 @@ static void parse(void)
         for (k = 1; k < need; k++)
             crc = zc_crc16(crc, rx[k]);
         if (crc != 0) {
-            send_error(0, 0, E_BAD_FRAME, "bad frame");
+            send_error(0, 0, E_BAD_FRAME, PSTR("bad frame"));
             drop(1);
             continue;
         }

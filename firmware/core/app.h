@@ -7,7 +7,7 @@
 #include "zuml.h"
 
 typedef struct {
-    const char *model;
+    const char *model;             /* both in flash on the AVR (PROGMEM) */
     const char *firmware;
     uint32_t max_charge_ma;
     uint16_t max_charge_dw;

@@ -5,6 +5,7 @@
 #include <string.h>
 #include "zuml.h"
 #include "record.h"
+#include "pgm.h"
 
 #define DEFAULT_TC_PAUSE 70
 #define DEFAULT_TC_CONTINUE 60
@@ -46,8 +47,11 @@ int32_t zc_voltage_uv(const zc_run_t *r, uint16_t raw)
 int32_t zc_chemistry_end_uv(uint8_t akk_type)
 {
     /* spec section 5, discharge end per cell: Undef, Pb, NiCd, NiMh, LiPo, LiIon, LiS, LiFe, New */
-    static const uint16_t end_mv[9] = {0, 1750, 850, 1000, 3000, 2500, 0, 2500, 0};
-    return akk_type < 9 ? (int32_t)end_mv[akk_type] * 1000L : 0;
+    static const uint16_t end_mv[9] PROGMEM = {0, 1750, 850, 1000, 3000, 2500, 0, 2500, 0};
+    uint16_t mv = 0;
+    if (akk_type < 9)
+        memcpy_P(&mv, &end_mv[akk_type], sizeof mv);
+    return (int32_t)mv * 1000L;
 }
 
 static void emit(zc_run_t *r, uint8_t kind, uint8_t offset)

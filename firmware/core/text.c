@@ -3,11 +3,14 @@
 #include <string.h>
 #include "text.h"
 #include "record.h"
+#include "pgm.h"
 
+/* s is in flash */
 static char *put(char *p, const char *s)
 {
-    while (*s)
-        *p++ = *s++;
+    char c;
+    while ((c = (char)pgm_read_byte(s++)) != 0)
+        *p++ = c;
     return p;
 }
 
@@ -51,7 +54,7 @@ static char *put_hundredths(char *p, uint16_t v)
 static char *put_scaled(char *p, uint16_t raw, char abs_unit, char rel_unit)
 {
     if (raw == RAW_INPUT)
-        return put(p, "INPUT");
+        return put(p, PSTR("INPUT"));
     p = put_hundredths(p, raw & 0x7FFF);
     *p++ = (raw & RAW_RELATIVE) ? rel_unit : abs_unit;
     return p;
@@ -62,43 +65,43 @@ static char *put_time(char *p, uint32_t raw)
 {
     if (raw) {
         if (raw % 36000UL == 0)
-            return put(put_uint(p, raw / 36000UL), "h");
+            return put(put_uint(p, raw / 36000UL), PSTR("h"));
         if (raw % 600UL == 0)
-            return put(put_uint(p, raw / 600UL), "min");
+            return put(put_uint(p, raw / 600UL), PSTR("min"));
         if (raw % 10UL == 0)
-            return put(put_uint(p, raw / 10UL), "s");
+            return put(put_uint(p, raw / 10UL), PSTR("s"));
     }
     return put_uint(p, raw);
 }
 
 uint8_t zc_instruction_text(const uint8_t *ins, char *out)
 {
-    static const char *const melody[] = {"START", "STOP", "ERROR", "ATTENTION"};
-    static const char *const light[] = {"SLOW", "FAST", "ON", "FAZE"};
+    /* names of MUSIC 1..4 and LIGHT 100..103, 10 bytes apart */
+    static const char names[8][10] PROGMEM = {"START", "STOP", "ERROR", "ATTENTION", "SLOW", "FAST", "ON", "FAZE"};
     char *p = out;
     uint8_t op = ins[0];
     if (op == OP_MUSIC || op == OP_LIGHT) {
-        p = put(p, op == OP_MUSIC ? "MUSIC(" : "LIGHT(");
+        p = put(p, op == OP_MUSIC ? PSTR("MUSIC(") : PSTR("LIGHT("));
         if (op == OP_MUSIC && ins[1] >= 1 && ins[1] <= 4)
-            p = put(p, melody[ins[1] - 1]);
+            p = put(p, names[ins[1] - 1]);
         else if (op == OP_LIGHT && ins[1] >= 100 && ins[1] <= 103)
-            p = put(p, light[ins[1] - 100]);
+            p = put(p, names[ins[1] - 96]);
         else
             p = put_uint(p, ins[1]);
         *p++ = ')';
     } else {
-        const char *outcome = "STOP_FAZE";
-        p = put(p, "IF(");
+        const char *outcome = PSTR("STOP_FAZE");
+        p = put(p, PSTR("IF("));
         switch (op) {
-        case OP_IF_T_GT: p = put_int(put(p, "T>"), (int8_t)ins[1]); break;
-        case OP_IF_V_LT: p = put_scaled(put(p, "V<"), zc_u16(ins + 1), 'V', 'S'); break;
-        case OP_IF_V_GT: p = put_scaled(put(p, "V>"), zc_u16(ins + 1), 'V', 'S'); break;
-        case OP_IF_I_LT: p = put_scaled(put(p, "I<"), zc_u16(ins + 1), 'A', 'C'); break;
-        case OP_IF_TC_GT: p = put_int(put(p, "Tc>"), (int8_t)ins[1]); outcome = "PAUSE_MACRO"; break;
-        case OP_IF_TC_LT: p = put_int(put(p, "Tc<"), (int8_t)ins[1]); outcome = "CONTINUE_MACRO"; break;
-        case OP_IF_TM_GT: p = put_time(put(p, "tm>"), zc_u32(ins + 1)); outcome = "STOP_MACRO"; break;
-        case OP_IF_TF_GT: p = put_time(put(p, "tf>"), zc_u32(ins + 1)); break;
-        default: p = put_scaled(put(p, "DELTA_PEAK>"), zc_u16(ins + 1), 'V', 'S'); break;
+        case OP_IF_T_GT: p = put_int(put(p, PSTR("T>")), (int8_t)ins[1]); break;
+        case OP_IF_V_LT: p = put_scaled(put(p, PSTR("V<")), zc_u16(ins + 1), 'V', 'S'); break;
+        case OP_IF_V_GT: p = put_scaled(put(p, PSTR("V>")), zc_u16(ins + 1), 'V', 'S'); break;
+        case OP_IF_I_LT: p = put_scaled(put(p, PSTR("I<")), zc_u16(ins + 1), 'A', 'C'); break;
+        case OP_IF_TC_GT: p = put_int(put(p, PSTR("Tc>")), (int8_t)ins[1]); outcome = PSTR("PAUSE_MACRO"); break;
+        case OP_IF_TC_LT: p = put_int(put(p, PSTR("Tc<")), (int8_t)ins[1]); outcome = PSTR("CONTINUE_MACRO"); break;
+        case OP_IF_TM_GT: p = put_time(put(p, PSTR("tm>")), zc_u32(ins + 1)); outcome = PSTR("STOP_MACRO"); break;
+        case OP_IF_TF_GT: p = put_time(put(p, PSTR("tf>")), zc_u32(ins + 1)); break;
+        default: p = put_scaled(put(p, PSTR("DELTA_PEAK>")), zc_u16(ins + 1), 'V', 'S'); break;
         }
         *p++ = ')';
         *p++ = ' ';
@@ -114,9 +117,9 @@ uint8_t zc_reason_text(const zc_run_t *r, uint8_t reason, uint8_t offset, char *
     switch (reason) {
     case ZC_R_CONDITION: case ZC_R_STOP_MACRO:
         return zc_instruction_text(r->rec + offset, out);
-    case ZC_R_DEFAULT_T: p = put(p, "default: T>60"); break;
-    case ZC_R_DEFAULT_DTDT: p = put(p, "default: dT/dt>1C/min"); break;
-    case ZC_R_DEFAULT_CAPACITY: p = put(p, "default: capacity 1.5x"); break;
+    case ZC_R_DEFAULT_T: p = put(p, PSTR("default: T>60")); break;
+    case ZC_R_DEFAULT_DTDT: p = put(p, PSTR("default: dT/dt>1C/min")); break;
+    case ZC_R_DEFAULT_CAPACITY: p = put(p, PSTR("default: capacity 1.5x")); break;
     case ZC_R_DEFAULT_EMPTY: {
         /* the per-cell end voltage to 10 mV, as Python's {:.2f} */
         int32_t per_cell = zc_chemistry_end_uv(r->akk_type);
@@ -124,15 +127,15 @@ uint8_t zc_reason_text(const zc_run_t *r, uint8_t reason, uint8_t offset, char *
         if (!per_cell)
             per_cell = r->board.fallback_end_uv_per_cell;
         cv = ((uint32_t)per_cell + 5000UL) / 10000UL;
-        p = put_uint(put(p, "default: empty discharge section, V<"), cv / 100);
+        p = put_uint(put(p, PSTR("default: empty discharge section, V<")), cv / 100);
         *p++ = '.';
         *p++ = (char)('0' + cv % 100 / 10);
         *p++ = (char)('0' + cv % 10);
-        p = put(p, "V/cell");
+        p = put(p, PSTR("V/cell"));
         break;
     }
-    case ZC_R_STOPPED: p = put(p, "stopped"); break;
-    case ZC_R_END: p = put(p, "end of macro"); break;
+    case ZC_R_STOPPED: p = put(p, PSTR("stopped")); break;
+    case ZC_R_END: p = put(p, PSTR("end of macro")); break;
     default: break;
     }
     *p = 0;
@@ -147,8 +150,8 @@ uint8_t zc_event_text(const zc_run_t *r, const zc_event_t *e, char *out)
         return zc_reason_text(r, e->reason, e->reason_offset, out);
     case ZC_EV_MUSIC: case ZC_EV_LIGHT:
         return zc_instruction_text(r->rec + e->offset, out);
-    case ZC_EV_PAUSE: p = put_int(put(p, "Tc>"), r->tc_pause); break;
-    case ZC_EV_RESUME: p = put_int(put(p, "Tc<"), r->tc_continue); break;
+    case ZC_EV_PAUSE: p = put_int(put(p, PSTR("Tc>")), r->tc_pause); break;
+    case ZC_EV_RESUME: p = put_int(put(p, PSTR("Tc<")), r->tc_continue); break;
     default: break;
     }
     *p = 0;
