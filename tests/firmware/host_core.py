@@ -29,7 +29,8 @@ START_ERRORS = {1: "record", 2: "INPUT current", 3: "C needs capacity", 4: "INPU
 
 class ZcStart(ctypes.Structure):
     _fields_ = [("task", ctypes.c_uint8), ("repetitions", ctypes.c_uint8), ("capacity_mah", ctypes.c_int32),
-                ("current_ua", ctypes.c_int32), ("voltage_uv", ctypes.c_int32), ("series", ctypes.c_int16)]
+                ("current_ua", ctypes.c_int32), ("voltage_uv", ctypes.c_int32), ("series", ctypes.c_int16),
+                ("sensor", ctypes.c_uint8)]
 
 
 class ZcBoard(ctypes.Structure):
@@ -53,7 +54,7 @@ EVENT_SINK = ctypes.CFUNCTYPE(None, ctypes.POINTER(ZcEvent))
 def load(path: Path = LIBRARY) -> ctypes.CDLL:
     lib = ctypes.CDLL(str(path))
     i32, u8, u16 = ctypes.c_int32, ctypes.c_uint8, ctypes.c_uint16
-    lib.zh_start.argtypes = [ctypes.c_char_p, u16, ctypes.POINTER(ZcStart), ctypes.POINTER(ZcBoard), u8]
+    lib.zh_start.argtypes = [ctypes.c_char_p, u16, ctypes.POINTER(ZcStart), ctypes.POINTER(ZcBoard)]
     lib.zh_start.restype = u8
     lib.zh_control.argtypes = [i32, i32, i32, ctypes.POINTER(HalOutput)]
     lib.zh_control.restype = u8
@@ -141,12 +142,12 @@ class CoreRunner:
         start = ZcStart(TASKS[p.task], p.repetitions,
                         NONE if p.capacity_mah is None else round(p.capacity_mah),
                         NONE if p.current_a is None else _fixed(p.current_a, 1e6),
-                        NONE if p.voltage_v is None else _fixed(p.voltage_v, 1e6), p.series or 0)
+                        NONE if p.voltage_v is None else _fixed(p.voltage_v, 1e6), p.series or 0, int(p.sensor))
         tick_ms = round(tick_s * 1000)
         board = ZcBoard(_fixed(lim.max_charge_a, 1e6), _fixed(lim.max_discharge_a, 1e6),
                         _fixed(pack.chem.discharge_end_v, 1e6), tick_ms)
         lib = self.lib
-        err = lib.zh_start(record, len(record), ctypes.byref(start), ctypes.byref(board), int(p.sensor))
+        err = lib.zh_start(record, len(record), ctypes.byref(start), ctypes.byref(board))
         if err:
             return Run(START_ERRORS[err], [], [], "")
         self._record = record

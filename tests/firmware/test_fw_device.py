@@ -1,0 +1,140 @@
+"""The firmware's device side (protocol, store, runs) on the host build behind a pty, through the
+project's own client: the same requests ZUML Studio sends a charger."""
+import os
+import time
+import tty
+
+import pytest
+
+from helpers import compiled, needs_pty
+from zuml_studio.device import messages as m
+from zuml_studio.device.client import ChargerClient
+from zuml_studio.device.errors import DeviceError
+from zuml_studio.device.frames import FrameParser, encode_frame
+from zuml_studio.lang import eeprom
+
+pytestmark = needs_pty
+
+
+@pytest.fixture
+def client(host_device):
+    clients = []
+
+    def connect(*args):
+        c = ChargerClient(host_device(*args), timeout=2)
+        clients.append(c)
+        return c
+
+    yield connect
+    for c in clients:
+        c.close()
+
+
+def test_identify_reports_the_store_and_the_limits(client):
+    info = client().info
+    assert info.protocol == 1 and info.max_data == 240
+    assert info.eeprom_size == 511            # half the 1 KB EEPROM: the other half stages writes
+    assert info.max_charge_a == 5.0 and info.firmware.startswith("zuml-fw")
+
+
+def test_flash_slots_and_read_back(client, tmp_path):
+    path = tmp_path / "ee.bin"
+    c = client("--eeprom", path)
+    image = eeprom.pack([compiled("LiPo"), compiled("NiMh-dV")], c.info.eeprom_size)
+    result = c.write_image(image)
+    assert result.changed > 0
+    assert [(s.name, s.ok) for s in c.slots()] == [("LiPo", True), ("NiMh-dV", True)]
+    assert c.read_image() == image
+    c.close()
+    for _ in range(100):                       # the device writes its EEPROM file beside, then renames
+        if path.exists() and path.read_bytes()[:len(image)] == image:
+            break
+        time.sleep(0.05)
+    assert path.read_bytes()[:len(image)] == image
+
+
+def test_a_run_reports_events_with_the_interpreters_texts_and_stops(client):
+    c = client()
+    c.write_image(eeprom.pack([compiled("LiPo")], c.info.eeprom_size))
+    events = []
+    c.on_event(events.append)
+    assert c.start(0, "charge", capacity_mah=2000, current_a=2.0, series=3) == "LiPo"
+    time.sleep(2.5)
+    status = c.status()
+    assert status.state == "running" and status.name == "LiPo" and status.run_s >= 1.0
+    telemetry = c.last_telemetry
+    assert telemetry.section == "charge" and telemetry.phase == 1 and telemetry.current_a == pytest.approx(2.0)
+    assert c.stop() == "finished"
+    time.sleep(0.3)
+    kinds = [e.kind for e in events]
+    assert kinds == ["section", "phase_start", "phase_end", "finish"]
+    assert events[2].detail == "stopped" and events[1].offset == events[2].offset > 0
+    assert c.status().end_reason == "stopped"
+    assert c.get_event(1).kind == "phase_start"
+
+
+def test_start_refusals(client):
+    c = client()
+    c.write_image(eeprom.pack([compiled("LiPo")], c.info.eeprom_size))
+    with pytest.raises(DeviceError) as slot:
+        c.start(3)
+    assert slot.value.code == m.ErrorCode.BAD_SLOT
+    with pytest.raises(DeviceError) as start:
+        c.start(0, "charge", capacity_mah=2000, series=3)      # CONSTANT_I=INPUT with no current
+    assert start.value.code == m.ErrorCode.START_ERROR and "give the current" in str(start.value)
+
+
+class RawLink:
+    """Frames by hand, for what the client never sends twice on purpose."""
+
+    def __init__(self, port):
+        self.fd = os.open(port, os.O_RDWR | os.O_NOCTTY)
+        tty.setraw(self.fd)
+        os.set_blocking(self.fd, False)
+        self.parser = FrameParser(m.DEVICE_TYPES)
+
+    def ask(self, type_, seq, payload=b"", raw=None):
+        os.write(self.fd, raw if raw is not None else encode_frame(type_, seq, payload))
+        deadline = time.monotonic() + 3
+        while time.monotonic() < deadline:
+            try:
+                chunk = os.read(self.fd, 4096)
+            except BlockingIOError:
+                time.sleep(0.01)
+                continue
+            for frame in self.parser.feed(chunk):
+                if frame.type != m.TELEMETRY:
+                    return frame
+        raise AssertionError("no answer")
+
+    def close(self):
+        os.close(self.fd)
+
+
+def test_retried_requests_are_answered_the_same_and_not_done_twice(host_device):
+    link = RawLink(host_device())
+    try:
+        first = link.ask(m.BEGIN_WRITE, 9)
+        again = link.ask(m.BEGIN_WRITE, 9)
+        assert first.payload == again.payload                  # the same token: not a new transaction
+        other = link.ask(m.BEGIN_WRITE, 10)
+        assert other.payload != first.payload
+        bad = link.ask(m.COMMIT, 11, m.encode_request("COMMIT", token=int.from_bytes(other.payload[:4], "little"),
+                                                      crc=0x1234))
+        assert bad.type == m.ERROR and bad.payload[1] == m.ErrorCode.CRC_MISMATCH
+        broken = bytearray(encode_frame(m.IDENTIFY, 12))
+        broken[-1] ^= 0xFF
+        nak = link.ask(0, 0, raw=bytes(broken) + encode_frame(m.IDENTIFY, 13))
+        assert nak.type == m.ERROR and nak.payload[1] == m.ErrorCode.BAD_FRAME
+    finally:
+        link.close()
+
+
+def test_a_commit_cut_off_by_a_power_loss_is_finished_at_the_next_start(client, tmp_path):
+    image = eeprom.pack([compiled("LiPo")], 511)
+    old = eeprom.pack([], 511)
+    ee = old + image + b"\xff\xa5"      # image half, staging half, spare byte, journal at 1023: committing
+    path = tmp_path / "ee.bin"
+    path.write_bytes(ee)
+    c = client("--eeprom", path)
+    assert c.read_image() == image
