@@ -1,0 +1,62 @@
+"""`zuml firmware-sim`: the C firmware behind a pty, driven by the device commands as a charger is."""
+import os
+import shutil
+import subprocess
+import sys
+
+import pytest
+
+from helpers import MACROS
+from zuml_studio.cli.main import main
+
+pytestmark = [pytest.mark.skipif(os.name != "posix", reason="ptys need POSIX"),
+              pytest.mark.skipif(not (shutil.which("gcc") and shutil.which("make")),
+                                 reason="gcc/make not found: the firmware cannot be built "
+                                        "(apt-get install -y make gcc gcc-avr avr-libc binutils-avr simavr "
+                                        "libsimavr-dev)")]
+
+
+@pytest.fixture
+def firmware_port(tmp_path):
+    proc = subprocess.Popen([sys.executable, "-m", "zuml_studio.cli.main", "firmware-sim", "--eeprom",
+                             str(tmp_path / "ee.bin")], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    port = proc.stdout.readline().strip()
+    assert port.startswith("/dev/"), proc.stderr.read() if proc.poll() is not None else port
+    yield port
+    proc.terminate()
+    assert proc.wait(timeout=10) == 0
+
+
+@pytest.fixture
+def zuml(capsys):
+    def run(*args):
+        capsys.readouterr()
+        code = main(list(args))
+        captured = capsys.readouterr()
+        return code, captured.out, captured.err
+    return run
+
+
+def test_flash_slots_run_monitor_stop_backup_against_the_firmware(firmware_port, zuml, tmp_path):
+    port = firmware_port
+    assert zuml("flash", "--port", port, str(MACROS / "LiPo.zuml"))[0] == 0
+    assert zuml("flash", "--port", port, str(MACROS / "NiMh-dV.zuml"))[0] == 0
+    code, out, err = zuml("slots", "--port", port)
+    assert code == 0 and "LiPo" in out and "NiMh-dV" in out, err
+    code, out, err = zuml("run", "--port", port, "--slot", "0", "--capacity", "2000", "--current", "1",
+                          "--series", "3")
+    assert code == 0, err
+    code, out, err = zuml("monitor", "--port", port, "--seconds", "1.5", "--rate", "10")
+    assert code == 0 and "charge" in out, err
+    code, out, err = zuml("stop", "--port", port)
+    assert code == 0, err
+    code, out, err = zuml("backup", "--port", port, "-o", str(tmp_path / "image.bin"))
+    assert code == 0 and (tmp_path / "image.bin").stat().st_size == 511
+    code, out, err = zuml("restore", "--port", port, str(tmp_path / "image.bin"))
+    assert code == 0, err
+
+
+def test_a_start_the_firmware_refuses_is_one_line(firmware_port, zuml):
+    assert zuml("flash", "--port", firmware_port, str(MACROS / "LiPo.zuml"))[0] == 0
+    code, out, err = zuml("run", "--port", firmware_port, "--slot", "0", "--capacity", "2000", "--series", "3")
+    assert code != 0 and "give the current" in err and len(err.strip().splitlines()) == 1

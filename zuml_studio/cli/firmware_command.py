@@ -1,0 +1,52 @@
+"""zuml firmware-sim: the charger firmware (C, `firmware/`) running on this PC behind a pty."""
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+from .common import CliError
+
+FIRMWARE = Path(__file__).resolve().parents[2] / "firmware"
+HOST_DEVICE = FIRMWARE / "build" / "host" / "zuml_host"
+INSTALL = "apt-get install -y make gcc"
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("firmware-sim", help="run the charger firmware (host build) behind a pty; prints the port")
+    p.add_argument("--eeprom", type=Path, metavar="FILE", help="the EEPROM, kept in this file (default: in memory)")
+    p.add_argument("--cells", type=int, default=3, help="cells of the simulated battery (default 3)")
+    p.add_argument("--capacity", type=float, default=2000, metavar="MAH", help="its capacity (default 2000)")
+    p.add_argument("--soc", type=float, default=0.2, help="its state of charge at start, 0..1 (default 0.2)")
+    p.set_defaults(run=cmd_firmware_sim)
+
+
+def build_host_device() -> Path:
+    """`make host` in firmware/ (a no-op when up to date); the device binary's path."""
+    if not (FIRMWARE / "Makefile").is_file():
+        raise CliError(f"the firmware sources are not here ({FIRMWARE}): run from a ZUML Studio checkout")
+    missing = [tool for tool in ("make", "gcc") if shutil.which(tool) is None]
+    if missing:
+        raise CliError(f"{' and '.join(missing)} not found: the firmware cannot be built ({INSTALL})")
+    done = subprocess.run(["make", "-s", "-C", str(FIRMWARE), "host"], capture_output=True, text=True)
+    if done.returncode != 0:
+        raise CliError(f"the firmware did not build:\n{done.stdout}{done.stderr}".rstrip())
+    return HOST_DEVICE
+
+
+def cmd_firmware_sim(args: argparse.Namespace) -> int:
+    if os.name != "posix":
+        raise CliError("firmware-sim needs a POSIX pty (Linux, macOS)")
+    if not 1 <= args.cells <= 8 or args.capacity <= 0 or not 0.0 <= args.soc <= 1.0:
+        raise CliError("--cells is 1..8, --capacity above 0, --soc 0..1")
+    device = build_host_device()
+    argv = [str(device), "--cells", str(args.cells), "--capacity", str(args.capacity), "--soc", str(args.soc)]
+    if args.eeprom:
+        argv += ["--eeprom", str(args.eeprom)]
+    sys.stdout.flush()
+    # The device prints its pty alone on the first line and runs until SIGTERM/Ctrl+C.
+    os.execv(argv[0], argv)
+    return 0
