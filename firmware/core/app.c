@@ -489,7 +489,8 @@ void app_poll(void)
         drop(1);               /* a frame the line left unfinished: resync past its sync byte */
         parse();
     }
-    if ((state == ST_RUNNING || state == ST_PAUSED) && now - last_tick_ms >= board->core.tick_ms) {
+    /* signed: a START served in this poll may have set last_tick_ms after `now` was read */
+    if ((state == ST_RUNNING || state == ST_PAUSED) && (int32_t)(now - last_tick_ms) >= (int32_t)board->core.tick_ms) {
         last_tick_ms += board->core.tick_ms;
         zc_measure(&run);
         if (!run.finished)
