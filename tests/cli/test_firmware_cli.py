@@ -9,17 +9,30 @@ import pytest
 from helpers import MACROS
 from zuml_studio.cli.main import main
 
-pytestmark = [pytest.mark.skipif(os.name != "posix", reason="ptys need POSIX"),
-              pytest.mark.skipif(not (shutil.which("gcc") and shutil.which("make")),
-                                 reason="gcc/make not found: the firmware cannot be built "
-                                        "(apt-get install -y make gcc gcc-avr avr-libc binutils-avr simavr "
-                                        "libsimavr-dev)")]
+INSTALL = "apt-get install -y make gcc gcc-avr avr-libc binutils-avr simavr libsimavr-dev libelf-dev"
+pytestmark = pytest.mark.skipif(os.name != "posix", reason="ptys need POSIX")
 
 
-@pytest.fixture
-def firmware_port(tmp_path):
-    proc = subprocess.Popen([sys.executable, "-m", "zuml_studio.cli.main", "firmware-sim", "--eeprom",
-                             str(tmp_path / "ee.bin")], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+def _simavr_missing() -> str:
+    tools = [t for t in ("make", "gcc", "avr-gcc", "avr-size") if not shutil.which(t)]
+    headers = [h for h in ("/usr/include/simavr/sim_avr.h", "/usr/include/libelf.h") if not os.path.exists(h)]
+    return ", ".join(tools + headers)
+
+
+BOARDS = [
+    pytest.param("host", marks=pytest.mark.skipif(not (shutil.which("gcc") and shutil.which("make")),
+                                                  reason=f"gcc/make not found: the firmware cannot be built ({INSTALL})")),
+    pytest.param("atmega32", marks=pytest.mark.skipif(bool(_simavr_missing()),
+                                                      reason=f"{_simavr_missing()} missing: no AVR build on simavr "
+                                                             f"({INSTALL})")),
+]
+
+
+@pytest.fixture(params=BOARDS)
+def firmware_port(request, tmp_path):
+    proc = subprocess.Popen([sys.executable, "-m", "zuml_studio.cli.main", "firmware-sim", "--board", request.param,
+                             "--eeprom", str(tmp_path / "ee.bin")], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True)
     port = proc.stdout.readline().strip()
     assert port.startswith("/dev/"), proc.stderr.read() if proc.poll() is not None else port
     yield port

@@ -8,7 +8,7 @@ from host_core import FIRMWARE, LIBRARY, load
 
 HOST_DEVICE = FIRMWARE / "build" / "host" / "zuml_host"
 
-INSTALL_HINT = "install the tools with: apt-get install -y gcc make gcc-avr avr-libc binutils-avr simavr libsimavr-dev"
+INSTALL_HINT = "install the tools with: apt-get install -y make gcc gcc-avr avr-libc binutils-avr simavr libsimavr-dev libelf-dev"
 
 
 @pytest.fixture(scope="session")

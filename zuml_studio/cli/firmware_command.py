@@ -1,4 +1,5 @@
-"""zuml firmware-sim: the charger firmware (C, `firmware/`) running on this PC behind a pty."""
+"""zuml firmware-sim: the charger firmware (C, `firmware/`) behind a pty: the ATmega32 image on simavr
+(default), or the host build."""
 from __future__ import annotations
 
 import argparse
@@ -11,12 +12,21 @@ from pathlib import Path
 from .common import CliError
 
 FIRMWARE = Path(__file__).resolve().parents[2] / "firmware"
-HOST_DEVICE = FIRMWARE / "build" / "host" / "zuml_host"
-INSTALL = "apt-get install -y make gcc"
+BUILD = FIRMWARE / "build"
+INSTALL = "apt-get install -y make gcc gcc-avr avr-libc binutils-avr simavr libsimavr-dev libelf-dev"
+# per board: make targets, the tools they need, the command that runs the device
+BOARDS = {
+    "atmega32": (("atmega32", "simavr"), ("make", "gcc", "avr-gcc", "avr-size"),
+                 [str(BUILD / "simavr" / "zuml_avr_sim"), str(BUILD / "atmega32" / "zuml.elf")]),
+    "host": (("host",), ("make", "gcc"), [str(BUILD / "host" / "zuml_host")]),
+}
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("firmware-sim", help="run the charger firmware (host build) behind a pty; prints the port")
+    p = sub.add_parser("firmware-sim", help="run the charger firmware (ATmega32 on simavr, or the host build) "
+                       "behind a pty; prints the port")
+    p.add_argument("--board", choices=sorted(BOARDS), default="atmega32",
+                   help="atmega32: the AVR image on simavr (default); host: the same C built for this PC")
     p.add_argument("--eeprom", type=Path, metavar="FILE", help="the EEPROM, kept in this file (default: in memory)")
     p.add_argument("--cells", type=int, default=3, help="cells of the simulated battery (default 3)")
     p.add_argument("--capacity", type=float, default=2000, metavar="MAH", help="its capacity (default 2000)")
@@ -24,17 +34,18 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(run=cmd_firmware_sim)
 
 
-def build_host_device() -> Path:
-    """`make host` in firmware/ (a no-op when up to date); the device binary's path."""
+def build_device(board: str) -> list[str]:
+    """`make` the board's targets in firmware/ (a no-op when up to date); the device's command."""
+    targets, tools, command = BOARDS[board]
     if not (FIRMWARE / "Makefile").is_file():
         raise CliError(f"the firmware sources are not here ({FIRMWARE}): run from a ZUML Studio checkout")
-    missing = [tool for tool in ("make", "gcc") if shutil.which(tool) is None]
+    missing = [tool for tool in tools if shutil.which(tool) is None]
     if missing:
-        raise CliError(f"{' and '.join(missing)} not found: the firmware cannot be built ({INSTALL})")
-    done = subprocess.run(["make", "-s", "-C", str(FIRMWARE), "host"], capture_output=True, text=True)
+        raise CliError(f"{', '.join(missing)} not found: the firmware cannot be built ({INSTALL})")
+    done = subprocess.run(["make", "-s", "-C", str(FIRMWARE), *targets], capture_output=True, text=True)
     if done.returncode != 0:
-        raise CliError(f"the firmware did not build:\n{done.stdout}{done.stderr}".rstrip())
-    return HOST_DEVICE
+        raise CliError(f"the firmware did not build ({INSTALL}?):\n{done.stdout}{done.stderr}".rstrip())
+    return list(command)
 
 
 def cmd_firmware_sim(args: argparse.Namespace) -> int:
@@ -42,8 +53,8 @@ def cmd_firmware_sim(args: argparse.Namespace) -> int:
         raise CliError("firmware-sim needs a POSIX pty (Linux, macOS)")
     if not 1 <= args.cells <= 8 or args.capacity <= 0 or not 0.0 <= args.soc <= 1.0:
         raise CliError("--cells is 1..8, --capacity above 0, --soc 0..1")
-    device = build_host_device()
-    argv = [str(device), "--cells", str(args.cells), "--capacity", str(args.capacity), "--soc", str(args.soc)]
+    argv = build_device(args.board) + ["--cells", str(args.cells), "--capacity", str(args.capacity),
+                                       "--soc", str(args.soc)]
     if args.eeprom:
         argv += ["--eeprom", str(args.eeprom)]
     sys.stdout.flush()
