@@ -4,11 +4,10 @@ import subprocess
 
 import pytest
 
-from host_core import FIRMWARE, LIBRARY, load
+from host_core import FIRMWARE, INSTALL_HINT, LIBRARY, load
 
 HOST_DEVICE = FIRMWARE / "build" / "host" / "zuml_host"
 
-INSTALL_HINT = "install the tools with: apt-get install -y make gcc gcc-avr avr-libc binutils-avr simavr libsimavr-dev libelf-dev"
 
 
 @pytest.fixture(scope="session")

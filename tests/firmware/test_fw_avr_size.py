@@ -4,8 +4,7 @@ import subprocess
 
 import pytest
 
-from conftest import INSTALL_HINT
-from host_core import FIRMWARE
+from host_core import FIRMWARE, INSTALL_HINT
 
 pytestmark = pytest.mark.skipif(not (shutil.which("avr-gcc") and shutil.which("avr-size") and shutil.which("make")),
                                 reason=f"avr-gcc/avr-size not found: no ATmega32 build ({INSTALL_HINT})")
