@@ -9,7 +9,6 @@ from host_core import FIRMWARE, INSTALL_HINT, LIBRARY, load
 HOST_DEVICE = FIRMWARE / "build" / "host" / "zuml_host"
 
 
-
 @pytest.fixture(scope="session")
 def host_build():
     """`make host` once: the core as a shared library and the device on a pty."""
