@@ -182,6 +182,6 @@ int main(int argc, char **argv)
         }
     }
     save_eeprom();
-    uart_pty_stop(&uart);
+    /* not uart_pty_stop(): it signals its thread and can wait for it forever; exiting ends it */
     return 0;
 }
