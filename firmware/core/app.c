@@ -7,6 +7,9 @@
 #include "text.h"
 #include "record.h"
 #include "pgm.h"
+#ifdef ZUML_PASSPORT
+#include "passport.h"
+#endif
 
 #define SYNC 0xA5
 #define MAX_PAYLOAD 250
@@ -97,6 +100,19 @@ static void send_error(uint8_t request_type, uint8_t seq, uint8_t code, const ch
     tx_text_P(message, n);
     tx_end();
 }
+
+#ifdef ZUML_PASSPORT
+/* message is in RAM */
+static void send_error_text(uint8_t request_type, uint8_t seq, uint8_t code, const char *message)
+{
+    uint8_t n = (uint8_t)strlen(message);
+    tx_begin(T_ERROR, seq, (uint8_t)(2 + n));
+    tx(request_type);
+    tx(code);
+    tx_text(message, n);
+    tx_end();
+}
+#endif
 
 /* -- events and telemetry ---------------------------------------------------------------------- */
 
@@ -195,6 +211,33 @@ static void answer_start(uint8_t seq)
     tx_end();
 }
 
+#ifdef ZUML_PASSPORT
+/* The battery's passport against the started run: refuses (and answers) when they conflict. */
+static uint8_t lockout(uint8_t seq)
+{
+    uint8_t passport[PASSPORT_SIZE], found = zc_passport_read(passport);
+    char why[MAX_PAYLOAD - 2];
+    if (found == PASSPORT_NONE)
+        return 0;
+    if (found == PASSPORT_BAD) {
+        send_error(T_START, seq, E_PASSPORT_CONFLICT, PSTR("the battery's passport does not read (magic or check)"));
+    } else if (zc_passport_conflicts(&run, passport, why, sizeof why)) {
+        send_error_text(T_START, seq, E_PASSPORT_CONFLICT, why);
+    } else {
+        return 0;
+    }
+    run.finished = 1;
+    return 1;
+}
+#else
+/* A board without a passport line has nothing to check a macro against. */
+static uint8_t lockout(uint8_t seq)
+{
+    (void)seq;
+    return 0;
+}
+#endif
+
 static void start(uint8_t seq, const uint8_t *p)
 {
     zc_start_t s;
@@ -227,6 +270,8 @@ static void start(uint8_t seq, const uint8_t *p)
         send_error(T_START, seq, E_START_ERROR, start_error_text(err));
         return;
     }
+    if (lockout(seq))
+        return;
     slot = p[0];
     task = s.task;
     events = 0;

@@ -138,3 +138,25 @@ def test_a_commit_cut_off_by_a_power_loss_is_finished_at_the_next_start(client, 
     path.write_bytes(ee)
     c = client("--eeprom", path)
     assert c.read_image() == image
+
+
+def test_the_passport_locks_out_a_macro_for_another_battery(client):
+    c = client("--passport", "3:8:2")                 # NiMh, 8 V, 2 A
+    c.write_image(eeprom.pack([compiled("LiPo"), compiled("NiMh-dV")], c.info.eeprom_size))
+    assert c.passport_read().type == 3
+    with pytest.raises(DeviceError) as refused:
+        c.start(0, "charge", capacity_mah=2000, current_a=3.0, series=3)
+    assert refused.value.code == m.ErrorCode.PASSPORT_CONFLICT
+    assert refused.value.lines == ["the macro is for LiPo; the battery is NiMh",
+                                   "the macro charges at 3.00 A (charge phase 1); the battery allows 2 A",
+                                   "the macro lets the voltage rise to 12.30 V (charge phase 1); the battery allows 8 V"]
+    # (the fourth, CONSTANT_V=4.2S in phase 2, does not fit the one ERROR frame: only whole lines are sent)
+    assert c.start(1, "charge", capacity_mah=2000, current_a=2.0, series=4) == "NiMh-dV"
+
+
+def test_a_battery_with_critical_errors_does_not_start(client):
+    c = client("--passport", "3:0:0:2")
+    c.write_image(eeprom.pack([compiled("NiMh-dV")], c.info.eeprom_size))
+    with pytest.raises(DeviceError) as refused:
+        c.start(0, "charge", capacity_mah=2000, current_a=2.0, series=4)
+    assert refused.value.lines == ["the battery has 2 critical error(s) (CRIT): it is not fit for use"]

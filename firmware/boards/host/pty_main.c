@@ -2,7 +2,8 @@
  * simple battery on its output, so `zuml slots/flash/run/monitor` can talk to the C code as to a
  * charger. Prints the pty's path alone on the first line of stdout.
  *
- *   zuml_host [--eeprom FILE] [--cells N] [--capacity MAH] [--soc F] */
+ *   zuml_host [--eeprom FILE] [--cells N] [--capacity MAH] [--soc F] [--passport TYPE:V_LIMIT:A_LIMIT[:CRIT]]
+ * (TYPE as the AKK_TYPE code; without --passport the battery has none). */
 #define _XOPEN_SOURCE 600
 #define _DEFAULT_SOURCE
 #include <errno.h>
@@ -27,6 +28,30 @@ static hal_output_t out;
 /* the battery: `cells` cells of a linear OCV 3.3..4.2 V over the state of charge, 50 mOhm each */
 static double soc = 0.2, capacity_as = 2.0 * 3600, current_a, pack_v, heatsink_c = 25.0;
 static int cells = 3;
+static uint8_t passport[32], has_passport;
+
+/* spec section 4: MAGIC, version, SERIAL, VENDOR, TYPE, ERR, CRIT, V_LIMIT, A_LIMIT, TEMP, check */
+static void make_passport(int type, int v_limit, int a_limit, int crit)
+{
+    uint16_t check = 0;
+    int k;
+    memset(passport, 0, sizeof passport);
+    passport[0] = 0xA7;
+    passport[1] = 0x01;
+    memcpy(passport + 0x02, "ZUML-HOST-0001", 14);
+    memcpy(passport + 0x12, "ZUML", 4);
+    passport[0x16] = (uint8_t)type;
+    passport[0x19] = (uint8_t)crit;
+    passport[0x1A] = (uint8_t)(crit >> 8);
+    passport[0x1B] = (uint8_t)v_limit;
+    passport[0x1C] = (uint8_t)a_limit;
+    passport[0x1D] = 25;
+    for (k = 0; k < 0x1E; k += 2)
+        check ^= (uint16_t)(passport[k] | (passport[k + 1] << 8));
+    passport[0x1E] = (uint8_t)check;
+    passport[0x1F] = (uint8_t)(check >> 8);
+    has_passport = 1;
+}
 
 static double ocv(void) { return cells * (3.3 + 0.9 * soc); }
 
@@ -87,8 +112,13 @@ void hal_buzzer(uint8_t melody) { (void)melody; }
 void hal_led(uint8_t pattern) { (void)pattern; }
 uint8_t hal_passport_exchange(const uint8_t request[8], uint8_t answer[32])
 {
-    (void)request; (void)answer;
-    return 0;
+    uint8_t x = 0, k;
+    for (k = 0; k < 7; k++)
+        x ^= request[k];
+    if (!has_passport || request[0] != 0xA7 || x != request[7])
+        return 0;                       /* a battery ignores a request it cannot read */
+    memcpy(answer, passport, 32);       /* the answer is always the whole passport */
+    return 1;
 }
 
 int16_t hal_uart_read(void)
@@ -146,8 +176,16 @@ int main(int argc, char **argv)
             capacity_as = atof(argv[++k]) * 3.6;
         } else if (!strcmp(argv[k], "--soc") && k + 1 < argc) {
             soc = atof(argv[++k]);
+        } else if (!strcmp(argv[k], "--passport") && k + 1 < argc) {
+            int type = 0, v = 0, a = 0, crit = 0;
+            if (sscanf(argv[++k], "%d:%d:%d:%d", &type, &v, &a, &crit) < 3) {
+                fprintf(stderr, "--passport TYPE:V_LIMIT:A_LIMIT[:CRIT]\n");
+                return 2;
+            }
+            make_passport(type, v, a, crit);
         } else {
-            fprintf(stderr, "usage: %s [--eeprom FILE] [--cells N] [--capacity MAH] [--soc F]\n", argv[0]);
+            fprintf(stderr, "usage: %s [--eeprom FILE] [--cells N] [--capacity MAH] [--soc F] "
+                    "[--passport TYPE:V:A[:CRIT]]\n", argv[0]);
             return 2;
         }
     }
