@@ -305,8 +305,8 @@ class Interpreter:
         conds = a.conditions
         detector = a.detector
         dpeak = a.dpeak
-        # Rounded to µA·s: 1.5 × 0.3 Ah is 1619.9999999999998 A·s in floats, which a charge of exactly
-        # 1620 A·s would exceed; the charger's integer count does not.
+        # Rounded to µA·s (and the count to nA·s below): 1.5 × 0.3 Ah is 1619.9999999999998 A·s in
+        # floats, and 36 × 0.3 A·s sums to a hair over 10.8; the charger's integer count is exact.
         cap_limit = round(DEFAULT_CAPACITY_FACTOR * self.capacity_ah * 3600.0, 6) if self.capacity_ah else None
         check_defaults = a.result.section == "charge"
         t_max_default = not a.own_t
@@ -392,7 +392,7 @@ class Interpreter:
                         a.dtdt_t0, a.dtdt_next = temp, a.dtdt_next + DTDT_WINDOW_S
                         if a.t_phase > DTDT_HOLDOFF_S and rate > DEFAULT_DTDT_C_PER_MIN:
                             reason = f"default: dT/dt>{DEFAULT_DTDT_C_PER_MIN:g}C/min"
-                elif check_defaults and cap_limit is not None and a.q_in > cap_limit:
+                elif check_defaults and cap_limit is not None and round(a.q_in, 9) > cap_limit:
                     reason = f"default: capacity {DEFAULT_CAPACITY_FACTOR:g}x"
             if reason is None and tm_stop is not None and self.time_s > tm_stop[0]:
                 self._end_phase(a, tm_stop[1])
