@@ -360,7 +360,7 @@ def chemistry_of(macro: Macro | None):
     from .sim.chemistry import load_chemistry   # Qt-free; imported late to keep lang -> sim one-way here
     try:
         return load_chemistry(AKK_TYPE.format(st.args[0].raw))
-    except (KeyError, ValueError, OSError):
+    except KeyError:    # LiS, New, Undef: no model; a broken data file raises DataFileError
         return None
 
 

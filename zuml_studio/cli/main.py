@@ -4,6 +4,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from ..data import DataFileError
 from . import device_commands, lang_commands, sim_commands, new_command
 from .common import CliError
 
@@ -26,6 +27,9 @@ def main(argv: list[str] | None = None) -> int:
     except CliError as exc:
         sys.stderr.write(f"zuml: error: {exc}\n")
         return exc.code
+    except DataFileError as exc:
+        sys.stderr.write(f"zuml: error: {exc}\n")
+        return 2
     except KeyboardInterrupt:
         sys.stderr.write("zuml: interrupted\n")
         return 130

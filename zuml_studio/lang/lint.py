@@ -2,7 +2,7 @@
 
 Each rule is a function over the checked AST that reports Findings (warnings,
 or errors where a value is plainly dangerous). Limits come from the chemistry
-data files (spec §5 values, resources/chemistries/*.toml) and from the thesis
+data files (spec §5 values, the package's data/chemistries/*.toml) and from the thesis
 seed 001 (-dV needs a fast enough charge; a timer alone is no end for a fast one).
 """
 from __future__ import annotations
@@ -49,11 +49,10 @@ def _context(macro: Macro) -> Context:
     name = ops.AKK_TYPE.operands[0].kind.name_of(akk.args[0].raw) if akk else None
     limits = None
     if name and name not in NO_DEFAULTS:
-        from ..sim.chemistry import load_chemistry   # data files: resources/chemistries
-        try:
-            limits = load_chemistry(name)
-        except (KeyError, OSError, ValueError):
-            limits = None
+        from ..sim.chemistry import load_chemistry   # data files: data/chemistries
+        # No handler: a missing or broken data file (DataFileError) must stop the check, never
+        # let it pass without the chemistry's limits.
+        limits = load_chemistry(name)
     series = macro.declared(ops.SERIES)
     capacity = macro.declared(ops.CAPACITY)
     cap = capacity.args[0].raw if capacity and capacity.args[0].raw not in (0, 0xFFFF) else None

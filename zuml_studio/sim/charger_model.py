@@ -1,18 +1,16 @@
 """Power-stage limits and heat-sink temperature of a B6-class charger.
 
-Numbers come from ``resources/chargers/<name>.toml``. The heat sink is one
+Numbers come from the package's ``data/chargers/<name>.toml``. The heat sink is one
 first-order thermal node: charging loses (1 - efficiency) of the output power
 in the converter, discharging burns all of V * |I| in the load transistor.
 """
 from __future__ import annotations
 
-import tomllib
 from dataclasses import dataclass
 from math import exp
 
-from .chemistry import RESOURCES_DIR
-
-CHARGER_DIR = RESOURCES_DIR / "chargers"
+from .. import data
+from ..data import DataFileError
 
 
 @dataclass(frozen=True)
@@ -33,16 +31,23 @@ class ChargerLimits:
 
 
 def load_charger(name: str = "imax_b6") -> ChargerLimits:
-    """Load ``resources/chargers/<name>.toml``; KeyError names the chargers there are."""
-    path = CHARGER_DIR / f"{name}.toml"
-    if not path.is_file():
-        known = sorted(p.stem for p in CHARGER_DIR.glob("*.toml"))
+    """Load ``data/chargers/<name>.toml``; KeyError names the chargers there are."""
+    known = data.names("chargers")
+    if name not in known:
         raise KeyError(f"no charger {name!r}; known chargers: {', '.join(known)}")
-    with path.open("rb") as fh:
-        data = tomllib.load(fh)
-    lim, hs = data["limits"], data["heatsink"]
+    relative = f"chargers/{name}.toml"
+    try:
+        return _from_toml(data.read_toml(relative))
+    except KeyError as exc:
+        raise DataFileError(f"data file {data.location(relative)}: missing key {exc}") from None
+    except (TypeError, ValueError) as exc:
+        raise DataFileError(f"data file {data.location(relative)}: {exc}") from None
+
+
+def _from_toml(parsed: dict) -> ChargerLimits:
+    lim, hs = parsed["limits"], parsed["heatsink"]
     limits = ChargerLimits(
-        name=str(data["name"]),
+        name=str(parsed["name"]),
         max_charge_a=float(lim["max_charge_a"]),
         max_charge_w=float(lim["max_charge_w"]),
         max_discharge_a=float(lim["max_discharge_a"]),
@@ -55,7 +60,7 @@ def load_charger(name: str = "imax_b6") -> ChargerLimits:
         heatsink_c_j_per_k=float(hs["c_j_per_k"]),
     )
     if not 0.0 < limits.charge_efficiency <= 1.0 or limits.heatsink_r_k_per_w <= 0 or limits.heatsink_c_j_per_k <= 0:
-        raise ValueError(f"{path}: efficiency must be in (0, 1], heat-sink R and C > 0")
+        raise ValueError("efficiency must be in (0, 1], heat-sink R and C > 0")
     return limits
 
 

@@ -15,21 +15,50 @@ def _parse(argv: list[str] | None) -> argparse.Namespace:
     return parser.parse_args(argv)
 
 
+def _ensure_streams() -> None:
+    """A windowed Windows build (pythonw, PyInstaller --windowed) has no stdout/stderr: writing a
+    warning or a traceback there would raise. Send them to a log beside the settings instead."""
+    if sys.stdout is not None and sys.stderr is not None:
+        return
+    from ..recovery import config_dir
+
+    try:
+        folder = config_dir()
+        folder.mkdir(parents=True, exist_ok=True)
+        log = open(folder / "zuml-studio.log", "a", encoding="utf-8", buffering=1)
+    except OSError:
+        log = open(os.devnull, "w", encoding="utf-8")
+    if sys.stdout is None:
+        sys.stdout = log
+    if sys.stderr is None:
+        sys.stderr = log
+
+
 def main(argv: list[str] | None = None) -> int:
+    _ensure_streams()
     args = _parse(argv)
     if args.screenshot:
         os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
-    from PySide6.QtWidgets import QApplication
+    from PySide6.QtWidgets import QApplication, QMessageBox
 
+    from .. import APP_ID
+    from ..data import DataFileError
     from . import create_main_window
 
     app = QApplication.instance() or QApplication(sys.argv[:1])
     app.setApplicationName("ZUML Studio")
     app.setOrganizationName("ZUML Studio")
+    app.setDesktopFileName(APP_ID)
     if args.file and not os.path.isfile(args.file):
         sys.stderr.write(f"zuml-studio: error: {args.file}: no such file\n")
         return 2
-    window = create_main_window(args.file)
+    try:
+        window = create_main_window(args.file)
+    except DataFileError as exc:
+        sys.stderr.write(f"zuml-studio: error: {exc}\n")
+        if not args.screenshot:
+            QMessageBox.critical(None, "ZUML Studio", str(exc))
+        return 2
     if args.screenshot:
         return _screenshot(app, window, args.screenshot, args.size)
     window.show()

@@ -11,6 +11,7 @@ from PySide6.QtGui import QAction, QKeySequence
 from PySide6.QtWidgets import (QDialog, QDockWidget, QFileDialog, QLabel, QMainWindow, QMessageBox, QTextBrowser,
                                QVBoxLayout)
 
+from .. import data
 from ..lang import opcodes as ops
 from ..lang.compiler import CompileResult
 from ..lang.docgen import commands_markdown
@@ -19,7 +20,7 @@ from ..recovery import Recovered, RecoveryStore, atomic_write, config_dir
 from .device.device_panel import DevicePanel
 from .editor.code_editor import EditorWithFind
 from .hex_view import HexView
-from .library import STANDARD_MACROS, LibraryBrowser
+from .library import LibraryBrowser
 from .problems import ProblemsView
 from .sim.sim_panel import SimulatorPanel
 from .validation import Validator
@@ -151,7 +152,7 @@ class MainWindow(QMainWindow):
         file_menu.addAction(self.act_new)
         file_menu.addAction(self.act_wizard)
         templates = file_menu.addMenu("New from &Template")
-        for path in sorted(STANDARD_MACROS.glob(f"*{EXTENSION}"), key=lambda p: p.name.lower()):
+        for path in data.standard_macros():
             templates.addAction(path.stem, lambda p=path: self.new_from_template(p))
         file_menu.addAction(self.act_open)
         self.recent_menu = file_menu.addMenu("Open &Recent")
@@ -343,12 +344,19 @@ class MainWindow(QMainWindow):
         return True
 
     def save(self) -> bool:
-        if self.path is None:
+        # A standard macro belongs to the installation (read-only, replaced on upgrade): its
+        # changes go to a file of the user's.
+        if self.path is None or data.is_standard_macro(self.path):
             return self.save_as()
         return self._write(self.path)
 
     def save_as(self) -> bool:
-        folder = Path(self.path).parent if self.path else Path(self.settings.value("lastDir", str(self.user_macros)))
+        if self.path is None:
+            folder = Path(self.settings.value("lastDir", str(self.user_macros)))
+        elif data.is_standard_macro(self.path):
+            folder = self.user_macros
+        else:
+            folder = Path(self.path).parent
         suggested = str(folder / f"{self.suggested_name()}{EXTENSION}")
         path, _ = QFileDialog.getSaveFileName(self, "Save macro as", suggested, f"ZUML macros (*{EXTENSION})")
         if not path:
