@@ -28,6 +28,7 @@ from .crc import crc16
 from .errors import (CommitUncertain, DeviceError, DeviceLinkError, DeviceTimeout, Disconnected, ImageTooLarge,
                      InvalidImage, NotACharger, PermissionDenied, PortBusy, PortNotFound, VerifyFailed)
 from .frames import MAX_FRAME, OVERHEAD, FrameParser, encode_frame
+from .port_access import vanished_hint
 
 log = logging.getLogger(__name__)
 
@@ -114,7 +115,7 @@ def _open_error(url: str, exc: Exception) -> DeviceLinkError:
     if code in (errno.EBUSY, errno.EAGAIN) or "busy" in low or "exclusively lock" in low or "errno 16" in low:
         return PortBusy(url, text)
     if code == errno.ENOENT or "no such file" in low or "errno 2]" in low or "filenotfound" in low:
-        return PortNotFound(f"{url}: no such port (unplugged? run `zuml ports`)")
+        return PortNotFound(f"{url}: no such port (unplugged? run `zuml ports`).{vanished_hint(url)}")
     if "refused" in low or code == errno.ECONNREFUSED:
         return PortNotFound(f"{url}: nothing listens there (is the virtual charger running?)")
     return DeviceLinkError(f"{url}: cannot open: {text}")
