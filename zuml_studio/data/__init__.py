@@ -1,5 +1,5 @@
 """The run-time data shipped inside the package: chemistry and charger parameters, the wizard's
-templates and the standard macros. This module is the one place that knows where they live.
+templates, the standard macros and the application's icon. This module is the one place that knows where they live.
 
 They are read through ``importlib.resources`` so an installed wheel or a frozen bundle works
 without the source tree. A file that is missing or unreadable raises `DataFileError` naming it:
@@ -52,6 +52,14 @@ def names(folder: str, suffix: str = ".toml") -> list[str]:
     if not entry.is_dir():
         raise DataFileError(f"data folder {location(folder)} is missing: reinstall ZUML Studio")
     return sorted(f.name[: -len(suffix)] for f in entry.iterdir() if f.name.endswith(suffix))
+
+
+def file_path(relative: str) -> Path:
+    """A data file as a path on disk, for APIs that take a file name (Qt's QIcon)."""
+    path = Path(location(relative))
+    if not path.is_file():
+        raise DataFileError(f"data file {path} is missing: the installation is incomplete, reinstall ZUML Studio")
+    return path
 
 
 def standard_macros_dir() -> Path:

@@ -39,9 +39,16 @@ def main(argv: list[str] | None = None) -> int:
     args = _parse(argv)
     if args.screenshot:
         os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
+    from .qt_platform_libs import check
+
+    lacking = check()
+    if lacking:          # Qt would abort with a misleading message; say what to install instead
+        sys.stderr.write(f"zuml-studio: {lacking}")
+        return 1
+    from PySide6.QtGui import QIcon
     from PySide6.QtWidgets import QApplication, QMessageBox
 
-    from .. import APP_ID
+    from .. import APP_ID, data
     from ..data import DataFileError
     from . import create_main_window
 
@@ -53,6 +60,7 @@ def main(argv: list[str] | None = None) -> int:
         sys.stderr.write(f"zuml-studio: error: {args.file}: no such file\n")
         return 2
     try:
+        app.setWindowIcon(QIcon(str(data.file_path("icon.svg"))))
         window = create_main_window(args.file)
     except DataFileError as exc:
         sys.stderr.write(f"zuml-studio: error: {exc}\n")
