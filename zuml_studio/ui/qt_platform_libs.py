@@ -68,10 +68,8 @@ def advice(missing: list[str], has_apt: bool) -> str:
     return text + "(Without them Qt stops with \"xcb-cursor0 is needed\", whichever library is missing.)\n"
 
 
-def check() -> str:
-    """The advice for this system, or '' when nothing is missing or it cannot be told."""
-    if not wants_xcb():
-        return ""
+def lacking() -> str:
+    """The advice for the xcb plugin on this system, or '' when nothing is missing or it cannot be told."""
     plugin, ldd = xcb_plugin(), shutil.which("ldd")
     if plugin is None or ldd is None:
         return ""
@@ -81,3 +79,15 @@ def check() -> str:
         return ""
     missing = missing_libraries(out)
     return advice(missing, shutil.which("apt-get") is not None) if missing else ""
+
+
+def check() -> str:
+    """`lacking()` when Qt is about to start on X11, else ''."""
+    return lacking() if wants_xcb() else ""
+
+
+if __name__ == "__main__":
+    # packaging/pyinstaller/build.sh: a bundle frozen here would lack these libraries too.
+    text = lacking()
+    sys.stdout.write(text)
+    sys.exit(1 if text else 0)
