@@ -1,5 +1,6 @@
 """The run-time data shipped inside the package: chemistry and charger parameters, the wizard's
-templates, the standard macros and the application's icon. This module is the one place that knows where they live.
+templates, the standard macros and the application's icon. This module is the one place that knows
+where they live.
 
 They are read through ``importlib.resources`` so an installed wheel or a frozen bundle works
 without the source tree. A file that is missing or unreadable raises `DataFileError` naming it:
@@ -22,6 +23,10 @@ class DataFileError(Exception):
     swallow a broken installation."""
 
 
+def _missing(where: object, what: str = "data file") -> DataFileError:
+    return DataFileError(f"{what} {where} is missing: the installation is incomplete, reinstall ZUML Studio")
+
+
 def location(relative: str) -> str:
     """Where a data file is (or should be), e.g. ``…/zuml_studio/data/chemistries/LiPo.toml``."""
     return str(resources.files(__name__).joinpath(*relative.split("/")))
@@ -32,8 +37,7 @@ def read_text(relative: str) -> str:
     try:
         return resources.files(__name__).joinpath(*relative.split("/")).read_text(encoding="utf-8")
     except FileNotFoundError:
-        raise DataFileError(f"data file {location(relative)} is missing: the installation is incomplete, "
-                            "reinstall ZUML Studio") from None
+        raise _missing(location(relative)) from None
     except (OSError, UnicodeDecodeError) as exc:
         raise DataFileError(f"data file {location(relative)} is unreadable ({exc}): reinstall ZUML Studio") from None
 
@@ -50,7 +54,7 @@ def names(folder: str, suffix: str = ".toml") -> list[str]:
     """The stems of the data files in ``folder`` (``chargers`` -> ``['imax_b6']``), sorted."""
     entry = resources.files(__name__).joinpath(folder)
     if not entry.is_dir():
-        raise DataFileError(f"data folder {location(folder)} is missing: reinstall ZUML Studio")
+        raise _missing(location(folder), "data folder")
     return sorted(f.name[: -len(suffix)] for f in entry.iterdir() if f.name.endswith(suffix))
 
 
@@ -58,7 +62,7 @@ def file_path(relative: str) -> Path:
     """A data file as a path on disk, for APIs that take a file name (Qt's QIcon)."""
     path = Path(location(relative))
     if not path.is_file():
-        raise DataFileError(f"data file {path} is missing: the installation is incomplete, reinstall ZUML Studio")
+        raise _missing(path)
     return path
 
 
@@ -66,15 +70,17 @@ def standard_macros_dir() -> Path:
     """The folder of the standard macros, a real directory (the editor opens them as files)."""
     folder = Path(location("macros"))
     if not folder.is_dir():
-        raise DataFileError(f"data folder {folder} is missing: reinstall ZUML Studio")
+        raise _missing(folder, "data folder")
     return folder
 
 
 def standard_macros() -> list[Path]:
     """The standard macros, ordered by name regardless of case."""
-    found = sorted(standard_macros_dir().glob(f"*{EXTENSION}"), key=lambda p: p.name.lower())
+    folder = standard_macros_dir()
+    found = sorted(folder.glob(f"*{EXTENSION}"), key=lambda p: p.name.lower())
     if not found:
-        raise DataFileError(f"data folder {standard_macros_dir()} holds no macros: reinstall ZUML Studio")
+        raise DataFileError(f"data folder {folder} holds no macros: the installation is incomplete, "
+                            "reinstall ZUML Studio")
     return found
 
 

@@ -34,6 +34,20 @@ def _ensure_streams() -> None:
         sys.stderr = log
 
 
+def data_errors_shown(previous):
+    """An excepthook that also shows a broken installation's DataFileError in a dialog: one raised
+    in a slot (a chemistry first used while typing) would otherwise reach only a console."""
+    def hook(kind, exc, tb):
+        from PySide6.QtWidgets import QMessageBox
+
+        from ..data import DataFileError
+
+        previous(kind, exc, tb)
+        if isinstance(exc, DataFileError):
+            QMessageBox.critical(None, "ZUML Studio", str(exc))
+    return hook
+
+
 def main(argv: list[str] | None = None) -> int:
     _ensure_streams()
     args = _parse(argv)
@@ -69,6 +83,7 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     if args.screenshot:
         return _screenshot(app, window, args.screenshot, args.size)
+    sys.excepthook = data_errors_shown(sys.excepthook)
     window.show()
     window.offer_recovery()
     return app.exec()
