@@ -18,7 +18,7 @@ WORK="$(mktemp -d "${TMPDIR:-/tmp}/zuml-bundle.XXXXXX")"
 trap 'rm -rf "$WORK"' EXIT
 PIP=(--quiet --disable-pip-version-check)
 
-step() { printf '== %s\n' "$*" >&2; }
+step() { printf '== [%3ds] %s\n' "$SECONDS" "$*" >&2; }
 
 step "copying the sources"
 mkdir "$WORK/src"
