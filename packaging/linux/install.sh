@@ -59,7 +59,10 @@ done
 refresh_caches
 
 echo "ZUML Studio installed in $LIB; start it from the applications menu or run: zuml-studio"
-case ":$PATH:" in *":$PREFIX/bin:"*) ;; *) echo "Add $PREFIX/bin to your PATH to run zuml and zuml-studio from a shell." ;; esac
+case ":$PATH:" in
+    *":$PREFIX/bin:"*) ;;
+    *) echo "Add $PREFIX/bin to your PATH to run zuml and zuml-studio from a shell." ;;
+esac
 cat <<EOF
 
 To let ZUML Studio open the charger's USB-serial port without joining the dialout group, install

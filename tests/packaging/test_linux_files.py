@@ -101,7 +101,8 @@ def test_install_sh_installs_a_bundle_under_the_prefix_and_uninstalls_it(tmp_pat
     assert proc.returncode == 0, proc.stderr
     assert "sudo install -m 644" in proc.stdout and "/etc/udev/rules.d/" in proc.stdout
     lib = prefix / "lib" / "zuml-studio"
-    assert subprocess.run([str(prefix / "bin" / "zuml"), "check"], capture_output=True, text=True).stdout == "zuml check\n"
+    linked = subprocess.run([str(prefix / "bin" / "zuml"), "check"], capture_output=True, text=True)
+    assert linked.stdout == "zuml check\n"
     desktop = prefix / "share" / "applications" / f"{APP_ID}.desktop"
     entry = _desktop_entry(desktop)
     assert entry["Exec"] == f"{lib}/zuml-studio %f" and entry["TryExec"] == f"{lib}/zuml-studio"
