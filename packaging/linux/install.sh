@@ -2,7 +2,8 @@
 # Install the ZUML Studio bundle for the current user, under ~/.local (no root needed):
 #   ~/.local/lib/zuml-studio/                     the bundle
 #   ~/.local/bin/zuml-studio, ~/.local/bin/zuml   links to its programs
-#   ~/.local/share/applications/, metainfo/, icons/hicolor/   desktop file, AppStream data, icons
+#   ~/.local/share/applications/, metainfo/, icons/hicolor/, mime/   desktop file, AppStream data,
+#                                                            icons, the .zuml file type
 #
 #   ./linux/install.sh [BUNDLE_DIR]     from an unpacked bundle (BUNDLE_DIR defaults to this file's ..)
 #   ./linux/install.sh --uninstall
@@ -19,12 +20,14 @@ refresh_caches() {
     # Optional helpers; a desktop without them rescans on next login.
     command -v update-desktop-database >/dev/null && update-desktop-database -q "$SHARE/applications" || true
     command -v gtk-update-icon-cache >/dev/null && gtk-update-icon-cache -q -t "$SHARE/icons/hicolor" || true
+    command -v update-mime-database >/dev/null && update-mime-database "$SHARE/mime" || true
 }
 
 if [ "${1:-}" = "--uninstall" ]; then
     rm -rf "$LIB"
     rm -f "$PREFIX/bin/zuml-studio" "$PREFIX/bin/zuml" "$SHARE/applications/$APP_ID.desktop" \
-          "$SHARE/metainfo/$APP_ID.metainfo.xml" "$SHARE/icons/hicolor/scalable/apps/$APP_ID.svg"
+          "$SHARE/metainfo/$APP_ID.metainfo.xml" "$SHARE/icons/hicolor/scalable/apps/$APP_ID.svg" \
+          "$SHARE/mime/packages/$APP_ID.xml"
     for size in 48 128 256; do rm -f "$SHARE/icons/hicolor/${size}x${size}/apps/$APP_ID.png"; done
     refresh_caches
     echo "ZUML Studio removed from $PREFIX (your macros and settings in ~/.config/zuml-studio stay)."
@@ -37,7 +40,8 @@ if [ ! -x "$BUNDLE/zuml-studio" ] || [ ! -x "$BUNDLE/zuml" ]; then
     exit 2
 fi
 
-mkdir -p "$PREFIX/bin" "$SHARE/applications" "$SHARE/metainfo" "$SHARE/icons/hicolor/scalable/apps"
+mkdir -p "$PREFIX/bin" "$SHARE/applications" "$SHARE/metainfo" "$SHARE/icons/hicolor/scalable/apps" \
+    "$SHARE/mime/packages"
 # Copy to a fresh folder, then swap: a failed copy never leaves half an installation.
 rm -rf "$LIB.new"
 mkdir -p "$(dirname "$LIB")"
@@ -51,6 +55,7 @@ ln -sf "$LIB/zuml" "$PREFIX/bin/zuml"
 sed -e "s|^Exec=zuml-studio |Exec=$LIB/zuml-studio |" -e "s|^TryExec=zuml-studio$|TryExec=$LIB/zuml-studio|" \
     "$HERE/$APP_ID.desktop" > "$SHARE/applications/$APP_ID.desktop"
 install -m 644 "$HERE/$APP_ID.metainfo.xml" "$SHARE/metainfo/"
+install -m 644 "$HERE/$APP_ID.mime.xml" "$SHARE/mime/packages/$APP_ID.xml"
 install -m 644 "$LIB/_internal/zuml_studio/data/icon.svg" "$SHARE/icons/hicolor/scalable/apps/$APP_ID.svg"
 for size in 48 128 256; do
     mkdir -p "$SHARE/icons/hicolor/${size}x${size}/apps"

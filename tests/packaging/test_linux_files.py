@@ -1,5 +1,5 @@
-"""packaging/linux: the desktop file and AppStream data validate and agree with the application's id
-and programs, the icons have their sizes, the udev rule covers the chargers' chips, and install.sh
+"""packaging/linux: the desktop file and AppStream data validate and agree with the application's id,
+programs and file type, the icons have their sizes, the udev rule covers the chargers' chips, and install.sh
 installs a bundle under a prefix and removes it again (issue 10)."""
 import os
 import re
@@ -63,6 +63,15 @@ def test_ids_and_programs_agree():
     assert APP_ID in (ROOT / "packaging" / "linux" / "install.sh").read_text()
 
 
+def test_the_zuml_file_type_is_one_type_everywhere():
+    mime = ET.parse(LINUX / f"{APP_ID}.mime.xml").getroot()
+    ns = {"m": "http://www.freedesktop.org/standards/shared-mime-info"}
+    [kind] = mime.findall("m:mime-type", ns)
+    assert kind.find("m:glob", ns).get("pattern") == "*.zuml"
+    assert _desktop_entry(DESKTOP)["MimeType"] == kind.get("type") + ";"
+    assert [m.text for m in ET.parse(METAINFO).getroot().iter("mediatype")] == [kind.get("type")]
+
+
 def test_every_udev_line_tags_one_of_the_chargers_chips_for_the_seat_user():
     lines = [line for line in RULES.read_text().splitlines() if line.strip() and not line.startswith("#")]
     found = set()
@@ -107,6 +116,7 @@ def test_install_sh_installs_a_bundle_under_the_prefix_and_uninstalls_it(tmp_pat
     entry = _desktop_entry(desktop)
     assert entry["Exec"] == f"{lib}/zuml-studio %f" and entry["TryExec"] == f"{lib}/zuml-studio"
     assert (prefix / "share" / "metainfo" / METAINFO.name).is_file()
+    assert (prefix / "share" / "mime" / "packages" / f"{APP_ID}.xml").is_file()
     assert (prefix / "share" / "icons" / "hicolor" / "scalable" / "apps" / f"{APP_ID}.svg").is_file()
     for size in (48, 128, 256):
         assert (prefix / "share" / "icons" / "hicolor" / f"{size}x{size}" / "apps" / f"{APP_ID}.png").is_file()
@@ -117,6 +127,7 @@ def test_install_sh_installs_a_bundle_under_the_prefix_and_uninstalls_it(tmp_pat
                           capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
     assert not lib.exists() and not desktop.exists() and not (prefix / "bin" / "zuml").exists()
+    assert not (prefix / "share" / "mime" / "packages" / f"{APP_ID}.xml").exists()
 
 
 def test_install_sh_refuses_a_folder_that_is_not_a_bundle(tmp_path):
