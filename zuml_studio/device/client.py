@@ -616,24 +616,33 @@ class ChargerClient:
             raise DeviceError(m.ErrorCode.PASSPORT_ERROR, f"the passport answer has {len(answer)} bytes, not 32")
         return answer
 
+    def _passport_answer(self, request: bytes) -> bytes:
+        """The answer to a request; DeviceError when the battery answers with an error."""
+        answer = self.passport_raw(request)
+        refused = pp.answer_error(answer)
+        if refused is not None:
+            raise DeviceError(m.ErrorCode.PASSPORT_ERROR, f"the battery refused: {refused}")
+        return answer
+
     def passport_read(self) -> pp.Passport:
-        answer = self.passport_raw(pp.read_all_request())
+        answer = self._passport_answer(pp.read_all_request())
         try:
             return pp.Passport.from_bytes(answer)
         except pp.PassportError as exc:
             raise DeviceError(m.ErrorCode.PASSPORT_ERROR, f"the battery's passport is unreadable: {exc}") from None
 
     def passport_write(self, field: str, value) -> pp.Passport:
-        """Set one writable field (serial, vendor, type, err, crit, v_limit, a_limit); writes only the
-        pages that change, then reads the passport back. PassportError for a bad field or value."""
-        old = self.passport_raw(pp.read_all_request())
+        """Set one field (a production battery takes err and crit only; a factory one also serial,
+        vendor, type and v_limit); writes only the pages that change, then reads the passport back.
+        PassportError for a bad field or value, DeviceError when the battery refuses the write."""
+        old = self._passport_answer(pp.read_all_request())
         try:
             current = pp.Passport.from_bytes(old)
         except pp.PassportError as exc:
             raise DeviceError(m.ErrorCode.PASSPORT_ERROR, f"the battery's passport is unreadable: {exc}") from None
         wanted = current.with_field(field, value)
         for req in pp.page_writes(old, wanted.to_bytes()):
-            self.passport_raw(req)
+            self._passport_answer(req)
         now = self.passport_read()
         key = field.strip().lower()
         if getattr(now, key) != getattr(wanted, key):

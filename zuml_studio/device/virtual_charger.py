@@ -119,6 +119,8 @@ class VirtualCharger:
     transports inject; ``eeprom_write_ms``: modelled write time per changed byte; ``soc``: the
     battery's initial state of charge; ``sensor``: a battery temperature sensor is connected;
     ``passport``: "match" (the battery's chemistry), a chemistry name, a Passport, or None/"none";
+    ``passport_factory``: the battery's passport lets the charger write SERIAL, VENDOR, TYPE and V_LIMIT
+    (off: a production battery, only ERR and CRIT are writable);
     ``seed``: faults, tokens and measurement noise; ``tick_s``: the interpreter's tick."""
 
     def __init__(self, battery: BatterySpec | str = BatterySpec(), *, speed: float = 1.0,
@@ -126,7 +128,7 @@ class VirtualCharger:
                  faults: Faults = Faults(), eeprom_write_ms: float = 0.0, soc: float = 0.0,
                  ambient_c: float = 25.0, sensor: bool = True, passport: Passport | str | None = "match",
                  charger: str = "imax_b6", seed: int | None = None, tick_s: float = 1.0,
-                 telemetry_hz: int = DEFAULT_TELEMETRY_HZ):
+                 telemetry_hz: int = DEFAULT_TELEMETRY_HZ, passport_factory: bool = False):
         self.battery = BatterySpec.parse(battery) if isinstance(battery, str) else battery
         self.speed = self._check_speed(speed)
         if not 16 <= eeprom_size <= 65535:
@@ -153,7 +155,7 @@ class VirtualCharger:
         self.pack = Pack(load_chemistry(self.battery.chemistry), self.battery.capacity_mah, self.battery.cells,
                          soc, ambient_c)
         self.charger = Charger(self.limits, ambient_c)
-        self.chip = self._make_chip(passport)
+        self.chip = self._make_chip(passport, passport_factory)
         self._measurement = Measurement(seed=seed if seed is not None else 1)
 
         self._lock = threading.RLock()           # run state, pack, charger
@@ -208,7 +210,7 @@ class VirtualCharger:
             image[:len(data)] = data
         return image
 
-    def _make_chip(self, passport: Passport | str | None) -> PassportChip | None:
+    def _make_chip(self, passport: Passport | str | None, factory: bool) -> PassportChip | None:
         if passport is None or (isinstance(passport, str) and passport.lower() == "none"):
             return None
         if isinstance(passport, str):
@@ -219,7 +221,7 @@ class VirtualCharger:
                 raise DeviceSetupError(f"passport: {exc}") from None
             base = default_passport(self.battery.chemistry, self.battery.capacity_mah, self.battery.cells)
             passport = Passport(base.serial, base.vendor, code, 0, 0, base.v_limit, base.a_limit, 25)
-        return PassportChip(passport, lambda: self.pack.temp_c)
+        return PassportChip(passport, lambda: self.pack.temp_c, factory=factory)
 
     # -- lifecycle -----------------------------------------------------------------------
     def start(self) -> None:
@@ -537,10 +539,7 @@ class VirtualCharger:
         if self.chip is None:
             raise _Refused(m.ErrorCode.NO_PASSPORT, "the battery has no passport")
         with self._lock:
-            answer = self.chip.answer(request)
-        if answer is None:
-            raise _Refused(m.ErrorCode.PASSPORT_ERROR, "the battery did not answer the passport request "
-                                                       "(bad magic, XOR or page)")
+            answer = self.chip.answer(request)      # 32 bytes, an error answer included
         return m.encode_response("PASSPORT", answer=answer)
 
     # -- the device thread -------------------------------------------------------------------------

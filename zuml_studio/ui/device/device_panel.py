@@ -990,7 +990,8 @@ class DevicePanel(QWidget):
         self.pp_labels["type"].setText(f"{passport.type_name} · TEMP {passport.temp} °C")
         v = f"{passport.v_limit} V" if passport.v_limit else "V not set"
         a = f"{passport.a_limit} A" if passport.a_limit else "A not set"
-        err = f" · ERR {passport.err}" if passport.err else ""
+        err = (f" · ERR {passport.err}" if passport.err else "") + \
+            (f" · CRIT {passport.crit}: not fit for use" if passport.crit else "")
         self.pp_labels["limits"].setText(f"{v} · {a}{err}")
 
     def _poll_passport(self) -> None:
