@@ -217,3 +217,19 @@ def test_virtual_charger_disconnect_mid_flash_keeps_the_old_image(tmp_path):
         one_error_line(code, out, err)
         assert "lost" in err or "no answer" in err
         assert eeprom.read_bytes() == bytes(old)
+
+
+def test_templates_list_get_set(vc, zuml):
+    device, port = vc()
+    code, out, err = zuml("templates", "set", "--port", port, "4", "--capacity", "1200", "--current", "0.6",
+                          "--series", "2")
+    assert code == 0, err
+    assert out.strip() == "4  charge, 1200 mAh, 0.6 A, 2 cell(s)"
+    code, out, err = zuml("templates", "list", "--port", port)
+    assert code == 0 and "  4  charge, 1200 mAh, 0.6 A, 2 cell(s)" in out.splitlines()
+    assert len(out.splitlines()) == 4
+    code, out, err = zuml("templates", "get", "--port", port, "1")
+    assert code == 0 and out.startswith("  1  charge, 2000 mAh")
+    one_error_line(*zuml("templates", "get", "--port", port, "9"))
+    one_error_line(*zuml("templates", "set", "--port", port, "20"))
+    one_error_line(*zuml("templates", "set", "--port", port, "2", "--current", "99"))

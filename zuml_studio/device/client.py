@@ -609,6 +609,18 @@ class ChargerClient:
             self.missed_events.remove(number)
         return ev
 
+    def list_templates(self) -> list[int]:
+        """The numbers of the start templates the charger holds."""
+        return list(self._call("LIST_TEMPLATES", response_len=32)["numbers"])
+
+    def get_template(self, number: int):
+        """Start template ``number`` as a ``sim.start_templates.StartTemplate``; DeviceError NO_TEMPLATE."""
+        return _template(self._call("GET_TEMPLATE", response_len=12, number=number))
+
+    def set_template(self, number: int, template):
+        """Store a ``StartTemplate`` as template ``number``; returns what the charger stored."""
+        return _template(self._call("SET_TEMPLATE", response_len=12, **m.template_fields(number, template)))
+
     def passport_raw(self, request: bytes) -> bytes:
         """Pass an 8-byte passport request to the battery; its 32-byte answer."""
         answer = self._call("PASSPORT", response_len=pp.SIZE, request=bytes(request))["answer"]
@@ -673,6 +685,14 @@ def _changed_runs(old: bytes, new: bytes, gap: int = OVERHEAD + 6) -> list[tuple
             else:
                 runs.append([i, i + 1])
     return [(a, bytes(new[a:b])) for a, b in runs]
+
+
+def _template(fields: dict):
+    from ..sim.start_templates import TemplateError
+    try:
+        return m.template_of(fields)[1]
+    except TemplateError as exc:
+        raise DeviceError(m.ErrorCode.BAD_REQUEST, f"the charger's start template does not fit: {exc}") from None
 
 
 def _u16(value: float | None, scale: float) -> int:

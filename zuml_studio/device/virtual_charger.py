@@ -16,6 +16,8 @@ What lives in the device:
   both persistent across runs (the battery keeps its charge and heat, and relaxes while idle);
 - the interpreter, advanced in real time × ``speed`` by the device thread in small chunks;
 - the battery's passport chip (spec §4) with a live TEMP byte;
+- the start templates (START_SHABLON=n), the factory table at first, kept in memory and changed
+  with SET_TEMPLATE;
 - telemetry at 1..50 Hz (coalesced: a slow host gets the newest), events (queued, never
   dropped while a host reads), and a replay cache that makes a repeated request harmless.
 """
@@ -35,6 +37,7 @@ from ..sim.charger_model import Charger, load_charger
 from ..sim.chemistry import chemistry_names, load_chemistry
 from ..sim.interpreter import Interpreter, Measurement, StartError, StartParams
 from ..sim.simulate import start_values
+from ..sim.start_templates import TemplateError, check_number, factory_templates
 from . import messages as m
 from .crc import crc16
 from .frames import Frame, FrameParser, encode_frame
@@ -156,6 +159,7 @@ class VirtualCharger:
                          soc, ambient_c)
         self.charger = Charger(self.limits, ambient_c)
         self.chip = self._make_chip(passport, passport_factory)
+        self.templates = dict(factory_templates())
         self._measurement = Measurement(seed=seed if seed is not None else 1)
 
         self._lock = threading.RLock()           # run state, pack, charger
@@ -493,10 +497,11 @@ class VirtualCharger:
         return s.record, s.name
 
     def _interpreter(self, record: bytes, params: StartParams) -> Interpreter:
-        """As ``sim.simulate.prepare`` builds a run, but on the device's own battery and power stage."""
-        _, params = start_values(record, params)
+        """As ``sim.simulate.prepare`` builds a run, but on the device's own battery, power stage and
+        start templates."""
+        _, params = start_values(record, params, self.templates)
         return Interpreter(record, params, self.pack, self.charger, tick_s=self.tick_s,
-                           measurement=self._measurement, limit_s=math.inf)
+                           measurement=self._measurement, limit_s=math.inf, templates=self.templates)
 
     def _do_stop(self) -> bytes:
         with self._lock:
@@ -534,6 +539,28 @@ class VirtualCharger:
             if number >= len(events):
                 raise _Refused(m.ErrorCode.BAD_RANGE, f"there is no event {number}; the run has {len(events)}")
             return events[number].encode()
+
+    def _do_list_templates(self) -> bytes:
+        with self._lock:
+            return m.encode_response("LIST_TEMPLATES", numbers=bytes(sorted(self.templates)))
+
+    def _do_get_template(self, number: int) -> bytes:
+        with self._lock:
+            template = self.templates.get(number)
+        if template is None:
+            raise _Refused(m.ErrorCode.NO_TEMPLATE, f"there is no start template {number}; the charger holds "
+                                                    f"{', '.join(map(str, sorted(self.templates))) or 'none'}")
+        return m.encode_response("GET_TEMPLATE", **m.template_fields(number, template))
+
+    def _do_set_template(self, **fields) -> bytes:
+        try:
+            number, template = m.template_of(fields)
+            check_number(number)
+        except TemplateError as exc:
+            raise _Refused(m.ErrorCode.BAD_RANGE, f"start template {fields['number']}: {exc}") from None
+        with self._lock:
+            self.templates[number] = template
+        return m.encode_response("SET_TEMPLATE", **m.template_fields(number, template))
 
     def _do_passport(self, request: bytes) -> bytes:
         if self.chip is None:
