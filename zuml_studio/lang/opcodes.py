@@ -35,6 +35,7 @@ class Place(Enum):
     INTRO = "the introduction"
     PHASE = "a phase (FAZE … END_FAZE)"
     BETWEEN = "a section between phases"
+    SECTIONS = "the gap between the two sections"
     CONCLUSION = "the conclusion"
 
 
@@ -88,7 +89,7 @@ class Op:
 
 _IN_PHASE = frozenset({Place.PHASE})
 _INTRO = frozenset({Place.INTRO})
-_BETWEEN = frozenset({Place.BETWEEN, Place.CONCLUSION})
+_BETWEEN = frozenset({Place.BETWEEN, Place.SECTIONS, Place.CONCLUSION})
 _NOWHERE: frozenset[Place] = frozenset()
 
 
