@@ -66,10 +66,12 @@ def test_a_charge_cut_by_its_timer_is_marked_not_reported_as_a_normal_end():
             "--no-sensor"]
     rc, out, err = run_zuml(*args)
     assert rc == 0, err
+    assert out.startswith("warning: charge phase 1: 0.40 A is 0.20C of 2000 mAh; NiMh shows no reliable -dV")
     assert "⚠ timer before full: 1600 mAh put in" in out
     assert "⚠ phase 1 (charge): timer before full: IF(tf>4h) STOP_FAZE ended it with 1600 mAh put in" in out
     rc, out, err = run_zuml(*args, "--json")
     assert json.loads(out)["phases"][0]["timer_before_full"] is True
+    assert json.loads(out)["warnings"][0].startswith("charge phase 1: 0.40 A is 0.20C")
 
 
 def test_template_option_takes_the_start_values_from_the_charger_table():

@@ -7,6 +7,7 @@ import sys
 
 from ..sim.interpreter import Measurement, StartError, StartParams
 from ..sim.simulate import BatterySetup, SimResult, simulate
+from ..sim.start_check import start_warnings
 from ..sim.start_templates import TEMPLATE_COUNT
 from .common import CliError, check_start_options, out, read_bytes
 from .lang_commands import compile_file
@@ -70,10 +71,13 @@ def cmd_simulate(args: argparse.Namespace) -> int:
                 result.log.write_csv(fh)
         except OSError as exc:
             raise CliError(f"{args.csv}: cannot write: {exc.strerror or exc}") from None
+    warnings = start_warnings(record, params, result.interpreter.charger.limits)
     if args.json:
-        json.dump(result.to_json(), sys.stdout, indent=2)
+        json.dump({**result.to_json(), "warnings": warnings}, sys.stdout, indent=2)
         out()
     else:
+        for text in warnings:
+            out(f"warning: {text}")
         _table(args, result)
     return 0
 
