@@ -42,8 +42,20 @@ def load_charger(name: str = "imax_b6") -> ChargerLimits:
         raise KeyError(f"no charger {name!r}; known chargers: {', '.join(known)}")
     with path.open("rb") as fh:
         data = tomllib.load(fh)
+    try:
+        limits = _limits(data)
+    except KeyError as missing:
+        raise ValueError(f"{path}: {missing.args[0]!r} is missing") from None
+    if not 0.0 < limits.charge_efficiency <= 1.0 or limits.heatsink_r_k_per_w <= 0 or limits.heatsink_c_j_per_k <= 0:
+        raise ValueError(f"{path}: efficiency must be in (0, 1], heat-sink R and C > 0")
+    if limits.dpeak_window_s <= 0 or limits.dpeak_holdoff_s < 0:
+        raise ValueError(f"{path}: -dV window must be > 0 s and its hold-off >= 0 s")
+    return limits
+
+
+def _limits(data: dict) -> ChargerLimits:
     lim, hs, dpeak = data["limits"], data["heatsink"], data["delta_peak"]
-    limits = ChargerLimits(
+    return ChargerLimits(
         name=str(data["name"]),
         max_charge_a=float(lim["max_charge_a"]),
         max_charge_w=float(lim["max_charge_w"]),
@@ -58,11 +70,6 @@ def load_charger(name: str = "imax_b6") -> ChargerLimits:
         dpeak_window_s=float(dpeak["window_s"]),
         dpeak_holdoff_s=float(dpeak["holdoff_s"]),
     )
-    if not 0.0 < limits.charge_efficiency <= 1.0 or limits.heatsink_r_k_per_w <= 0 or limits.heatsink_c_j_per_k <= 0:
-        raise ValueError(f"{path}: efficiency must be in (0, 1], heat-sink R and C > 0")
-    if limits.dpeak_window_s <= 0 or limits.dpeak_holdoff_s < 0:
-        raise ValueError(f"{path}: -dV window must be > 0 s and its hold-off >= 0 s")
-    return limits
 
 
 class Charger:
