@@ -38,3 +38,13 @@ def test_a_macro_with_start_shablon_starts_with_the_template_values(charger):
         client.start(1, "charge", 1, 2000, 1.0, None, 4)
     assert exc.value.code == m.ErrorCode.START_ERROR
     assert "start template 6 (START_SHABLON=6) does not exist on this charger" in str(exc.value)
+
+
+def test_the_passport_lockout_sees_the_templates_current(charger):
+    device, port, client = charger                    # the battery's passport allows 4 A (2C of 2000 mAh)
+    client.set_template(5, StartTemplate("charge", 1, 2000.0, 4.5, None, 4))
+    client.write_image(pack([compiled(SHABLON.format(n=5))]))
+    with pytest.raises(DeviceError) as exc:
+        client.start(0, "charge", 1, 2000, 1.0, None, 4)
+    assert exc.value.code == m.ErrorCode.PASSPORT_CONFLICT
+    assert exc.value.lines == ["the macro charges at 4.50 A (charge phase 1: CONSTANT_I=INPUT); the battery allows 4 A"]

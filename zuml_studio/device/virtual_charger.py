@@ -35,7 +35,8 @@ from ..lang.eeprom import DEFAULT_SIZE, ImageError, slots
 from ..sim.battery import Pack
 from ..sim.charger_model import Charger, load_charger
 from ..sim.chemistry import chemistry_names, load_chemistry
-from ..sim.interpreter import Interpreter, Measurement, StartError, StartParams
+from ..sim.interpreter import Interpreter, Measurement, StartError, StartParams, with_template
+from ..sim.program import Program
 from ..sim.simulate import start_values
 from ..sim.start_templates import TemplateError, check_number, factory_templates
 from . import messages as m
@@ -460,6 +461,10 @@ class VirtualCharger:
                              current_ma / 1000.0 if current_ma else None, voltage_mv / 1000.0 if voltage_mv else None,
                              series or None, bool(sensor) and self.sensor)
         record, name = self._slot_record(slot)
+        try:
+            params = with_template(Program(record), params, self.templates)   # the lockout sees the template's values
+        except StartError as exc:
+            raise _Refused(m.ErrorCode.START_ERROR, str(exc)) from None
         if self.chip is not None:
             try:
                 passport = Passport.from_bytes(self.chip.image)
@@ -477,7 +482,7 @@ class VirtualCharger:
             if self._run is not None and not self._run.interpreter.finished:
                 self._run.interpreter.stop("stopped: a new macro was started")
                 self._flush_events(self._run)
-            self._run = _Run(slot, name, params, interpreter, time.monotonic())
+            self._run = _Run(slot, name, interpreter.params, interpreter, time.monotonic())   # after the template
             self._next_telemetry = time.monotonic()
         return m.encode_response("START", slot=slot, name=name)
 
