@@ -84,11 +84,11 @@ class Macro:
     intro: list[Statement] = field(default_factory=list)
     discharge: Section = field(default_factory=lambda: Section("discharge", [], present=False))
     charge: Section = field(default_factory=lambda: Section("charge", [], present=False))
-    between: list[Statement] = field(default_factory=list)     # commands between the two sections
     conclusion: list[Statement] = field(default_factory=list)
     name_span: Span | None = None
     span: Span | None = None
     end_span: Span | None = None
+    between: list[Statement] = field(default_factory=list)     # commands between the two sections
 
     def sections(self) -> tuple[Section, Section]:
         return (self.discharge, self.charge)
