@@ -351,7 +351,12 @@ def cmd_passport(args: argparse.Namespace) -> int:
         writes.append((field, value))
     with _connect(args) as client:
         for field, value in writes:
-            client.passport_write(field, value)
+            try:
+                client.passport_write(field, value)
+            except DeviceError as exc:
+                if exc.code != msg.ErrorCode.PASSPORT_ERROR:
+                    raise
+                raise CliError(f"passport: {field}: {exc.message}", 1) from None
         p = client.passport_read()
     out(f"serial   {p.serial}")
     out(f"vendor   {p.vendor}")
