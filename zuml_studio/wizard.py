@@ -104,6 +104,7 @@ def _lead(chem: Chemistry, c: dict, a: Answers, rate: float) -> list[str]:
 
 
 def _lithium(chem: Chemistry, c: dict, a: Answers, rate: float) -> list[str]:
+    # Lithium always states its 45 °C limit (the lint's W315): inert without a sensor, in force with one.
     return ["    FAZE", f"      CONSTANT_I={_num(rate)}C", f"      CONSTANT_V={_num(chem.charge_end_v)}S",
-            f"      IF(I<{_num(c['end_rate_c'])}C) STOP_FAZE"] + _sensor(c, a) + \
+            f"      IF(I<{_num(c['end_rate_c'])}C) STOP_FAZE", f"      IF(T>{c['t_max_c']}) STOP_FAZE"] + \
            [f"      IF(tf>{c['timer_minutes']}min) STOP_FAZE", "    END_FAZE"]

@@ -125,9 +125,14 @@ class Builder:
             self.error(st.span, "E132", "DISCHARGE_SECTION must come before CHARGE_SECTION",
                        "move the discharge section up")
             detached = True
-        for stray in self.after_section:
-            self.error(stray.span, "E133", f"{stray.op.keyword} stands between sections",
-                       "commands go inside a section or after the last one")
+        if kind == "charge" and not detached and self.macro.discharge.present and not self.macro.charge.present:
+            # Seed 000, byte layout item 8: commands may stand between the sections; they run where they stand.
+            self.macro.between = self.after_section
+        else:
+            for stray in self.after_section:
+                self.error(stray.span, "E133", f"{stray.op.keyword} stands between sections",
+                           "commands go inside a section, between the discharge and the charge section, "
+                           "or after the last one")
         self.after_section = []
         self.seen_section = True
         if detached:

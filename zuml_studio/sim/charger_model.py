@@ -28,6 +28,8 @@ class ChargerLimits:
     charge_efficiency: float
     heatsink_r_k_per_w: float
     heatsink_c_j_per_k: float
+    dpeak_window_s: float          # -dV: voltage averaged over windows this long
+    dpeak_holdoff_s: float         # -dV: ignored this long after a phase starts (seed 001: 5-10 min)
 
 
 def load_charger(name: str = "imax_b6") -> ChargerLimits:
@@ -45,7 +47,7 @@ def load_charger(name: str = "imax_b6") -> ChargerLimits:
 
 
 def _from_toml(parsed: dict) -> ChargerLimits:
-    lim, hs = parsed["limits"], parsed["heatsink"]
+    lim, hs, dpeak = parsed["limits"], parsed["heatsink"], parsed["delta_peak"]
     limits = ChargerLimits(
         name=str(parsed["name"]),
         max_charge_a=float(lim["max_charge_a"]),
@@ -58,9 +60,13 @@ def _from_toml(parsed: dict) -> ChargerLimits:
         charge_efficiency=float(hs["charge_efficiency"]),
         heatsink_r_k_per_w=float(hs["r_k_per_w"]),
         heatsink_c_j_per_k=float(hs["c_j_per_k"]),
+        dpeak_window_s=float(dpeak["window_s"]),
+        dpeak_holdoff_s=float(dpeak["holdoff_s"]),
     )
     if not 0.0 < limits.charge_efficiency <= 1.0 or limits.heatsink_r_k_per_w <= 0 or limits.heatsink_c_j_per_k <= 0:
         raise ValueError("efficiency must be in (0, 1], heat-sink R and C > 0")
+    if limits.dpeak_window_s <= 0 or limits.dpeak_holdoff_s < 0:
+        raise ValueError("-dV window must be > 0 s and its hold-off >= 0 s")
     return limits
 
 
@@ -91,6 +97,16 @@ class Charger:
                 i = min(i, lim.max_discharge_w / pack_v)
             return -i
         return 0.0
+
+    def clip_reason(self, requested_a: float, pack_v: float) -> str:
+        """Which limit ``limit_current`` applies to this request ("5 W discharge limit")."""
+        lim = self.limits
+        charging = requested_a > 0.0
+        amps, watts = (lim.max_charge_a, lim.max_charge_w) if charging else (lim.max_discharge_a, lim.max_discharge_w)
+        what = "charge" if charging else "discharge"
+        if pack_v > 0.0 and watts / pack_v < amps:
+            return f"{watts:g} W {what} limit"
+        return f"{amps:g} A {what} limit"
 
     def step(self, current_a: float, pack_v: float, dt: float) -> float:
         """Advance the heat sink dt seconds; returns heatsink_c."""

@@ -40,11 +40,18 @@ AXIS_LABELS = {"long": ("pack (V)", "per cell (V)", "current (A)", "temp. (°C)"
 
 
 def band_label(p, short: bool = False) -> str:
-    """``C1: IF(V>4.1S) STOP_FAZE``; a default-ended phase gets a warning sign."""
+    """``C1: IF(V>4.1S) STOP_FAZE``; a phase a default ended, or a charge a timer cut before full,
+    gets a warning sign (and the latter says so)."""
     head = ("C" if p.section == "charge" else "D") + (str(p.index) if p.index else "")
+    warn = "⚠ " if band_warns(p) else ""
     if short:
-        return ("⚠ " if p.by_default else "") + head
-    return f"{'⚠ ' if p.by_default else ''}{head}: {p.reason or '…'}"
+        return warn + head
+    short_of_full = " (timer before full)" if getattr(p, "timer_before_full", False) else ""
+    return f"{warn}{head}: {p.reason or '…'}{short_of_full}"
+
+
+def band_warns(p) -> bool:
+    return p.by_default or getattr(p, "timer_before_full", False)
 
 
 def band_rgb(section: str) -> tuple[int, int, int]:

@@ -8,6 +8,8 @@ from PySide6.QtCore import QElapsedTimer, QEventLoop, Qt, QTimer, Signal
 from PySide6.QtWidgets import (QApplication, QHBoxLayout, QLabel, QScrollArea, QSizePolicy, QSplitter, QVBoxLayout,
                                QWidget)
 
+from ...sim.charger_model import load_charger
+from ...sim.start_check import start_warnings
 from ..timefmt import hmm
 from .charge_plot import ChargePlot
 from .params_form import ParamsForm
@@ -139,6 +141,7 @@ class SimulatorPanel(QWidget):
             return
         self._drop_job()
         request = SimRequest(self._record, self.form.start_params(), self.form.battery_setup(), self._macro_name)
+        warnings = start_warnings(request.record, request.params, load_charger(request.setup.charger))
         job = SimJob(request)
         worker = job.worker
         worker.progress.connect(self._on_progress)
@@ -149,7 +152,7 @@ class SimulatorPanel(QWidget):
         self._job = job
         self._outdated = False
         self.form.set_running(True)
-        self._show_message("", "")
+        self._show_message("\n".join(f"⚠ {w}" for w in warnings), "warn")
         self._refresh_hint()
         self._clock.start()
         job.start()
