@@ -1,0 +1,247 @@
+"""LogView "open format" text (LogView Studio's documentation as quoted in DataExplorer's
+``ZeroReaderWriter``): header lines ``$X$;…`` (``$Xn$;…`` for channel n = 1..6) and data
+lines ``$v1;v2;…`` (``$n$;v1;…`` for channel n).
+
+Headers: ``N`` data-set name (starts a data set), ``C`` columns ``Name [unit,symbol]``,
+``V`` value format DOUBLE or HEX, ``F``/``O``/``S`` factor, offset, sum offset per column
+(y = (x + offset) · factor + sum offset), ``T`` time given (column index, format such as
+``ddHHmmss``), ``I`` time increment in ms, ``R`` back to receive time, ``L`` a log message.
+
+What this reader decides where the format is silent (docs/logs.md): the first channel that
+sends data is read (other channels are counted); data sets of that channel follow each
+other on one time line; without ``T`` or ``I`` a line is 1 s; values beyond the named
+columns are ignored, fewer values than columns make the line bad. The pack voltage is the
+column in volts whose name says battery (``bat``, ``akku``, ``lipo``, ``pack``…), else the
+first in volts; the current the first in amperes; the battery temperature the first in °C;
+cells the columns in volts named ``cell n``/``zelle n``; charge a column in mAh or Ah."""
+from __future__ import annotations
+
+import re
+
+from .model import Log, LogFormatError, SampleBuilder, state_from_current
+
+MAX_LINE = 4096
+MAX_COLUMNS = 256
+MAX_MESSAGES = 200
+DEFAULT_STEP_S = 1.0
+_HEADER = re.compile(r"^\$([A-Z])([1-6]?)\$(?:;(.*))?$")
+_CHANNEL_DATA = re.compile(r"^\$([1-6])\$;(.*)$")
+_COLUMN = re.compile(r"^\s*([^\[\]]*?)\s*(?:\[([^\],]*)(?:,([^\]]*))?\])?\s*$")
+_BATTERY_WORDS = ("bat", "akku", "accu", "lipo", "pack", "spannung")
+_CELL = re.compile(r"(?:cell|zelle)\s*_?\s*(\d{1,2})", re.IGNORECASE)
+_TIME_FIELDS = (("dd", 86400.0), ("HH", 3600.0), ("hh", 3600.0), ("mm", 60.0), ("ss", 1.0), ("fff", 0.001),
+                ("zzz", 0.001))
+
+
+def sniff(head: bytes, name: str) -> bool:
+    for raw in head.split(b"\n")[:8]:
+        line = raw.strip()
+        if line:
+            return re.match(rb"^\$[A-Z][1-6]?\$(;|$)", line) is not None
+    return False
+
+
+class _Channel:
+    def __init__(self) -> None:
+        self.columns: list[tuple[str, str]] = []
+        self.hex = False
+        self.factor: list[str] = []
+        self.offset: list[str] = []
+        self.sum_offset: list[str] = []
+        self.time_index: int | None = None
+        self.time_format = ""
+        self.increment_s: float | None = None
+        self.sets = 0
+
+
+def _columns(spec: str) -> list[tuple[str, str]]:
+    out = []
+    for part in spec.split(";")[:MAX_COLUMNS]:
+        m = _COLUMN.match(part)
+        name, unit = (m.group(1), (m.group(2) or "").strip()) if m else (part.strip(), "")
+        out.append((name, unit))
+    return out
+
+
+def _float(text: str) -> float:
+    value = float(text.strip().replace(",", ".").replace(" ", ""))
+    if value != value or value in (float("inf"), float("-inf")):
+        raise ValueError(text)
+    return value
+
+
+def _coefficient(values: list[str], k: int, default: float) -> float:
+    if k < len(values) and values[k].strip():
+        try:
+            return _float(values[k])
+        except ValueError:
+            return default
+    return default
+
+
+def _given_seconds(value: str, fmt: str) -> float:
+    """``28160001`` with ``ddHHmmss`` -> seconds since the start of the month. Only day, hour,
+    minute, second and millisecond fields count."""
+    seconds = 0.0
+    for key, scale in _TIME_FIELDS:
+        at = fmt.find(key)
+        if at >= 0:
+            digits = value[at:at + len(key)]
+            if len(digits) != len(key) or not digits.isdigit():
+                raise ValueError(value)
+            seconds += int(digits) * scale
+    return seconds
+
+
+def _pick(columns: list[tuple[str, str]], units: tuple[str, ...], words: tuple[str, ...] = (),
+          skip: set[int] = frozenset()) -> int | None:
+    candidates = [k for k, (_, unit) in enumerate(columns) if unit in units and k not in skip]
+    for k in candidates:
+        if any(w in columns[k][0].lower() for w in words):
+            return k
+    return candidates[0] if candidates else None
+
+
+def read(data: bytes) -> Log:
+    if data.startswith(b"\xef\xbb\xbf"):
+        data = data[3:]
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError:          # LogView runs on Windows: code page 1252 text
+        text = data.decode("latin-1")
+    channels: dict[int, _Channel] = {}
+    messages: list[str] = []
+    builder = SampleBuilder()
+    roles: dict | None = None
+    chosen: int | None = None
+    bad = other = 0
+    t_next = 0.0            # receive/increment time of the next line
+    set_offset = 0.0        # where the current data set starts on the time line
+    given_start: float | None = None
+    for number, raw in enumerate(text.split("\n"), 1):
+        line = raw.strip()
+        if not line.startswith("$"):
+            continue
+        if len(line) > MAX_LINE:
+            bad += 1
+            continue
+        head = _HEADER.match(line)
+        if head:
+            kind, ch_text, rest = head.group(1), head.group(2), head.group(3) or ""
+            ch = channels.setdefault(int(ch_text or 1), _Channel())
+            if kind == "N":
+                ch.sets += 1
+                if int(ch_text or 1) == chosen and len(builder):
+                    set_offset = builder.t[-1] + (ch.increment_s or DEFAULT_STEP_S)
+                    t_next, given_start = 0.0, None
+            elif kind == "C":
+                ch.columns = _columns(rest)
+                if int(ch_text or 1) == chosen:
+                    roles = None
+            elif kind == "V":
+                ch.hex = rest.strip().upper() == "HEX"
+            elif kind == "F":
+                ch.factor = rest.split(";")
+            elif kind == "O":
+                ch.offset = rest.split(";")
+            elif kind == "S":
+                ch.sum_offset = rest.split(";")
+            elif kind == "T":
+                parts = rest.split(";")
+                ch.time_index = int(parts[0]) if parts[0].strip().isdigit() and len(parts[0]) < 4 else None
+                ch.time_format = parts[1].strip() if len(parts) > 1 else ""
+                ch.increment_s = None
+            elif kind == "I":
+                parts = rest.split(";")
+                try:
+                    ch.increment_s = max(_float(parts[0]), 0.0) / 1000.0
+                except ValueError:
+                    ch.increment_s = None
+                ch.time_index = None
+            elif kind == "R":
+                ch.time_index, ch.increment_s = None, None
+            elif kind == "L" and len(messages) < MAX_MESSAGES:
+                messages.append(rest)
+            continue
+        m = _CHANNEL_DATA.match(line)
+        number_ch, body = (int(m.group(1)), m.group(2)) if m else (1, line[1:])
+        if chosen is None:
+            chosen = number_ch
+        if number_ch != chosen:
+            other += 1
+            continue
+        ch = channels.get(chosen)
+        if ch is None or not ch.columns:
+            bad += 1
+            continue
+        if roles is None:
+            roles = _roles(ch.columns)
+        values = body.split(";")
+        given = ch.time_index
+        try:
+            if given is not None:
+                if given >= len(values):
+                    raise ValueError("no time")
+                t_given = _given_seconds(values[given].strip(), ch.time_format)
+                values = values[:given] + values[given + 1:]
+            if len(values) < len(ch.columns):
+                raise ValueError("too few values")
+            numbers = []
+            for k in range(len(ch.columns)):
+                item = values[k].strip()
+                x = float(int(item, 16)) if ch.hex else _float(item)
+                y = (x + _coefficient(ch.offset, k, 0.0)) * _coefficient(ch.factor, k, 1.0) + \
+                    _coefficient(ch.sum_offset, k, 0.0)
+                numbers.append(y)
+        except (ValueError, OverflowError):
+            bad += 1
+            continue
+        if given is not None:
+            if given_start is None:
+                given_start = t_given
+            t = set_offset + t_given - given_start
+        else:
+            t = set_offset + t_next
+            t_next += ch.increment_s if ch.increment_s is not None else DEFAULT_STEP_S
+        _add(builder, roles, numbers, t)
+    if not len(builder):
+        raise LogFormatError(f"no data line read ({bad} bad lines)" if channels else "no '$X$;' header line")
+    meta = {"channel": chosen, "columns": [n for n, _ in channels[chosen].columns]}
+    if other:
+        meta["other_channel_lines"] = other
+    if messages:
+        meta["messages"] = messages
+    if roles and roles["current"] is None:
+        meta["current_measured"] = False
+    return builder.build("logview-open", "LogView open format", bad, **meta)
+
+
+def _roles(columns: list[tuple[str, str]]) -> dict:
+    cells: dict[int, int] = {}
+    for k, (name, unit) in enumerate(columns):
+        m = _CELL.search(name)
+        if m and unit == "V":
+            cells.setdefault(int(m.group(1)), k)
+    skip = set(cells.values())
+    return {
+        "voltage": _pick(columns, ("V",), _BATTERY_WORDS, skip),
+        "current": _pick(columns, ("A",), ("current", "strom", "curr")),
+        "temp": _pick(columns, ("°C", "C", "degC"), _BATTERY_WORDS),
+        "mah": _pick(columns, ("mAh",)),
+        "ah": _pick(columns, ("Ah",)),
+        "cells": [cells[n] for n in sorted(cells)],
+    }
+
+
+def _add(builder: SampleBuilder, roles: dict, numbers: list[float], t: float) -> None:
+    if roles["voltage"] is None:
+        raise LogFormatError("no column in volts ([V]) for the pack voltage")
+    current = numbers[roles["current"]] if roles["current"] is not None else 0.0
+    counter = None
+    if roles["mah"] is not None:
+        counter = numbers[roles["mah"]]
+    elif roles["ah"] is not None:
+        counter = numbers[roles["ah"]] * 1000.0
+    builder.add(t, numbers[roles["voltage"]], current, state_from_current(current),
+                temp=numbers[roles["temp"]] if roles["temp"] is not None else None,
+                cells=[numbers[k] for k in roles["cells"]], counter=counter)
