@@ -4,10 +4,10 @@ from __future__ import annotations
 import argparse
 import sys
 
-from . import device_commands, lang_commands, sim_commands, new_command
+from . import device_commands, lang_commands, log_commands, sim_commands, new_command
 from .common import CliError
 
-AREAS = (lang_commands, sim_commands, device_commands, new_command)
+AREAS = (lang_commands, sim_commands, device_commands, log_commands, new_command)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -6,6 +6,7 @@ Every record is ``$<ch>;<fields>;<checksum>`` with the checksum the XOR of every
 an integer or a field count that fits no layout is counted as bad and skipped."""
 from __future__ import annotations
 
+from dataclasses import replace
 from functools import reduce
 
 from .model import Log, LogFormatError, SampleBuilder, state_from_current
@@ -133,7 +134,10 @@ def read_duo(data: bytes) -> Log:
         meta["battery"] = battery
     if other_channels:
         meta["other_channel_records"] = other_channels
-    return builder.build("icharger-duo-txt", device, bad, resistance=resistance, **meta)
+    log = builder.build("icharger-duo-txt", device, bad, **meta)
+    # IR records list every cell slot; keep those the voltage records show connected.
+    width = log.cells
+    return replace(log, resistance=tuple((t, pack, cells[:width]) for t, pack, cells in resistance))
 
 
 def _resistance(t: float, values: list[int]) -> tuple[float, float | None, tuple[float, ...]]:

@@ -238,7 +238,9 @@ def _add_set(builder: SampleBuilder, records: list[dict], columns: np.ndarray, t
 
     def find(units: tuple[str, ...], want=(), avoid=()) -> np.ndarray | None:
         for r in values:
-            nm, unit = records[r].get("_name", "").lower(), records[r].get("_unit", "")
+            nm, unit = records[r].get("_name", "").strip().lower(), records[r].get("_unit", "")
+            if nm.endswith("ri"):           # internal resistance ("BatteríeRi"), whatever its unit says
+                continue
             if unit in units and all(w in nm for w in want) and not any(a in nm for a in avoid):
                 return values[r]
         return None
@@ -248,7 +250,7 @@ def _add_set(builder: SampleBuilder, records: list[dict], columns: np.ndarray, t
         raise LogFormatError(f"record set '{name}': no pack voltage record (unit V)")
     amps = find(("A",))
     mah = find(("mAh",))
-    temp = find(("°C",), ("temp",), ("int", "ri"))
+    temp = find(("°C",), ("temp",), ("int",))
     heatsink = find(("°C",), ("temp", "int"))
     cells = sorted((int(m.group(1)), r) for r in values
                    if records[r].get("_unit") == "V" and (m := _CELL.search(records[r].get("_name", "").strip())))
