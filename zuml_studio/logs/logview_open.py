@@ -148,7 +148,8 @@ def read(data: bytes) -> Log:
                 ch.sum_offset = rest.split(";")
             elif kind == "T":
                 parts = rest.split(";")
-                ch.time_index = int(parts[0]) if parts[0].strip().isdigit() and len(parts[0]) < 4 else None
+                index = parts[0].strip()
+                ch.time_index = int(index) if index.isascii() and index.isdigit() and len(index) < 4 else None
                 ch.time_format = parts[1].strip() if len(parts) > 1 else ""
                 ch.increment_s = None
             elif kind == "I":

@@ -51,11 +51,9 @@ def read(data: bytes) -> Log:
         header = next(rows)
     except (StopIteration, csv.Error):
         raise LogFormatError("no header line") from None
-    joined = ",".join(header)
-    if joined.startswith(SESSION_HEAD):
-        return _read_rows(rows, header, session=True)
-    if joined.startswith(EXPORT_HEAD):
-        return _read_rows(rows, header, session=False)
+    for head, session in ((SESSION_HEAD, True), (EXPORT_HEAD, False)):
+        if set(head.split(",")) <= set(header) and ",".join(header).startswith(head):
+            return _read_rows(rows, header, session=session)
     raise LogFormatError(f"header is neither '{SESSION_HEAD}…' nor '{EXPORT_HEAD}…'")
 
 
