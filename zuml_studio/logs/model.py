@@ -6,6 +6,8 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from ..device.messages import Telemetry
 from .charge import charge_from_counter, integrate_current
 
@@ -69,6 +71,23 @@ class Log:
     @property
     def states(self) -> list[str]:
         return [state_of(s) for s in self.samples]
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """Columns for plotting: t, voltage, current, temp and heatsink (NaN: not measured),
+        cells (samples × cells, NaN where a sample has fewer)."""
+        s = self.samples
+        nan = math.nan
+        cells = np.full((len(s), self.cells), nan)
+        for k, x in enumerate(s):
+            cells[k, :len(x.cells_v)] = x.cells_v
+        return {
+            "t": np.fromiter((x.time_s for x in s), float, len(s)),
+            "voltage": np.fromiter((x.voltage_v for x in s), float, len(s)),
+            "current": np.fromiter((x.current_a for x in s), float, len(s)),
+            "temp": np.fromiter((nan if x.temp_c is None else x.temp_c for x in s), float, len(s)),
+            "heatsink": np.fromiter((nan if x.heatsink_c is None else x.heatsink_c for x in s), float, len(s)),
+            "cells": cells,
+        }
 
     def phases(self) -> list[Phase]:
         """Consecutive samples in one state; a phase ends where the next begins."""
