@@ -36,6 +36,7 @@ def seeds() -> dict[str, list[bytes]]:
         "logview-open": [(DATA / f).read_bytes() for f in ("LogViewOpenFormat_TimeInc_Ch1-2_2Logs.txt",
                                                           "LogViewOpenFormat_TimeGiven_HEX.txt",
                                                           "LogViewOpenFormat_TimeGiven_Offsets_Factor.txt")],
+        "dataexplorer-csv": [(DATA / "AkkuMasterC4_2007-12-28-EmpfaengerAA4-Entladen.csv").read_bytes()[:4000]],
     }
 
 

@@ -131,3 +131,28 @@ def test_open_format_bad_lines_counted():
 def test_open_format_without_volts_is_refused():
     with pytest.raises(LogFormatError, match="volts"):
         read_log(b"$N$;x\n$C$;T[\xc2\xb0C]\n$1.0\n")
+
+
+# -- DataExplorer CSV export ------------------------------------------------------------------
+@pytest.mark.parametrize("name, rows, mah, last_v", [
+    ("AkkuMasterC4_2007-12-28-EmpfaengerAA4-Laden.csv", 2203, 917.0, 5.865),
+    ("AkkuMasterC4_2007-12-28-EmpfaengerAA4-Entladen.csv", 951, 397.0, None),
+])
+def test_dataexplorer_csv_export(name, rows, mah, last_v):
+    # datasets.md: H-Tronic AkkuMaster C4, NiMH AA 4 cells, 0.15 A, 10 s sampling
+    log = read_log(data(name), name)
+    assert (log.format, log.device, len(log.samples), log.bad_records) == ("dataexplorer-csv", "AkkuMasterC4",
+                                                                           rows, 0)
+    assert log.samples[1].time_s - log.samples[0].time_s == 10.0
+    assert max(abs(s.current_a) for s in log.samples) == 0.15
+    assert log.samples[-1].mah_in == mah          # the export has no direction: positive current is charge
+    if last_v is not None:
+        assert log.samples[-1].voltage_v == last_v
+
+
+def test_dataexplorer_csv_decimal_comma_clock_time_and_bad_rows():
+    raw = ("Dev;Outlet 1\nTime [hh:mm:ss.SSS];Voltage [V];Current [A]\n"
+           "00:00:00.000;4,10;1,00\n00:00:01.500;4,11;1,00\nbroken\n00:00:03.000;x;1\n").encode()
+    log = read_log(raw)
+    assert [s.time_s for s in log.samples] == [0.0, 1.5] and log.samples[1].voltage_v == 4.11
+    assert log.bad_records == 2 and log.device == "Dev"

@@ -10,15 +10,14 @@ Headers: ``N`` data-set name (starts a data set), ``C`` columns ``Name [unit,sym
 What this reader decides where the format is silent (docs/logs.md): the first channel that
 sends data is read (other channels are counted); data sets of that channel follow each
 other on one time line; without ``T`` or ``I`` a line is 1 s; values beyond the named
-columns are ignored, fewer values than columns make the line bad. The pack voltage is the
-column in volts whose name says battery (``bat``, ``akku``, ``lipo``, ``pack``…), else the
-first in volts; the current the first in amperes; the battery temperature the first in °C;
-cells the columns in volts named ``cell n``/``zelle n``; charge a column in mAh or Ah."""
+columns are ignored, fewer values than columns make the line bad. Which column is the pack
+voltage, the current, … : ``columns.py``."""
 from __future__ import annotations
 
 import re
 
-from .model import Log, LogFormatError, SampleBuilder, state_from_current
+from .columns import Roles, add_row, parse_column, roles as column_roles
+from .model import Log, LogFormatError, SampleBuilder
 
 MAX_LINE = 4096
 MAX_COLUMNS = 256
@@ -26,9 +25,6 @@ MAX_MESSAGES = 200
 DEFAULT_STEP_S = 1.0
 _HEADER = re.compile(r"^\$([A-Z])([1-6]?)\$(?:;(.*))?$")
 _CHANNEL_DATA = re.compile(r"^\$([1-6])\$;(.*)$")
-_COLUMN = re.compile(r"^\s*([^\[\]]*?)\s*(?:\[([^\],]*)(?:,([^\]]*))?\])?\s*$")
-_BATTERY_WORDS = ("bat", "akku", "accu", "lipo", "pack", "spannung")
-_CELL = re.compile(r"(?:cell|zelle)\s*_?\s*(\d{1,2})", re.IGNORECASE)
 _TIME_FIELDS = (("dd", 86400.0), ("HH", 3600.0), ("hh", 3600.0), ("mm", 60.0), ("ss", 1.0), ("fff", 0.001),
                 ("zzz", 0.001))
 
@@ -55,12 +51,7 @@ class _Channel:
 
 
 def _columns(spec: str) -> list[tuple[str, str]]:
-    out = []
-    for part in spec.split(";")[:MAX_COLUMNS]:
-        m = _COLUMN.match(part)
-        name, unit = (m.group(1), (m.group(2) or "").strip()) if m else (part.strip(), "")
-        out.append((name, unit))
-    return out
+    return [parse_column(part) for part in spec.split(";")[:MAX_COLUMNS]]
 
 
 def _float(text: str) -> float:
@@ -93,15 +84,6 @@ def _given_seconds(value: str, fmt: str) -> float:
     return seconds
 
 
-def _pick(columns: list[tuple[str, str]], units: tuple[str, ...], words: tuple[str, ...] = (),
-          skip: set[int] = frozenset()) -> int | None:
-    candidates = [k for k, (_, unit) in enumerate(columns) if unit in units and k not in skip]
-    for k in candidates:
-        if any(w in columns[k][0].lower() for w in words):
-            return k
-    return candidates[0] if candidates else None
-
-
 def read(data: bytes) -> Log:
     if data.startswith(b"\xef\xbb\xbf"):
         data = data[3:]
@@ -112,7 +94,7 @@ def read(data: bytes) -> Log:
     channels: dict[int, _Channel] = {}
     messages: list[str] = []
     builder = SampleBuilder()
-    roles: dict | None = None
+    roles: Roles | None = None
     chosen: int | None = None
     bad = other = 0
     t_next = 0.0            # receive/increment time of the next line
@@ -176,7 +158,9 @@ def read(data: bytes) -> Log:
             bad += 1
             continue
         if roles is None:
-            roles = _roles(ch.columns)
+            roles = column_roles(ch.columns)
+            if roles.voltage is None:
+                raise LogFormatError("no column in volts ([V]) for the pack voltage")
         values = body.split(";")
         given = ch.time_index
         try:
@@ -204,7 +188,7 @@ def read(data: bytes) -> Log:
         else:
             t = set_offset + t_next
             t_next += ch.increment_s if ch.increment_s is not None else DEFAULT_STEP_S
-        _add(builder, roles, numbers, t)
+        add_row(builder, roles, numbers, t)
     if not len(builder):
         raise LogFormatError(f"no data line read ({bad} bad lines)" if channels else "no '$X$;' header line")
     meta = {"channel": chosen, "columns": [n for n, _ in channels[chosen].columns]}
@@ -212,37 +196,6 @@ def read(data: bytes) -> Log:
         meta["other_channel_lines"] = other
     if messages:
         meta["messages"] = messages
-    if roles and roles["current"] is None:
+    if roles and roles.current is None:
         meta["current_measured"] = False
     return builder.build("logview-open", "LogView open format", bad, **meta)
-
-
-def _roles(columns: list[tuple[str, str]]) -> dict:
-    cells: dict[int, int] = {}
-    for k, (name, unit) in enumerate(columns):
-        m = _CELL.search(name)
-        if m and unit == "V":
-            cells.setdefault(int(m.group(1)), k)
-    skip = set(cells.values())
-    return {
-        "voltage": _pick(columns, ("V",), _BATTERY_WORDS, skip),
-        "current": _pick(columns, ("A",), ("current", "strom", "curr")),
-        "temp": _pick(columns, ("°C", "C", "degC"), _BATTERY_WORDS),
-        "mah": _pick(columns, ("mAh",)),
-        "ah": _pick(columns, ("Ah",)),
-        "cells": [cells[n] for n in sorted(cells)],
-    }
-
-
-def _add(builder: SampleBuilder, roles: dict, numbers: list[float], t: float) -> None:
-    if roles["voltage"] is None:
-        raise LogFormatError("no column in volts ([V]) for the pack voltage")
-    current = numbers[roles["current"]] if roles["current"] is not None else 0.0
-    counter = None
-    if roles["mah"] is not None:
-        counter = numbers[roles["mah"]]
-    elif roles["ah"] is not None:
-        counter = numbers[roles["ah"]] * 1000.0
-    builder.add(t, numbers[roles["voltage"]], current, state_from_current(current),
-                temp=numbers[roles["temp"]] if roles["temp"] is not None else None,
-                cells=[numbers[k] for k in roles["cells"]], counter=counter)

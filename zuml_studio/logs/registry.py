@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..file_errors import FileReadError, read_file_bytes
-from . import junsi, logview_open, lov, osd, session_csv
+from . import dataexplorer_csv, junsi, logview_open, lov, osd, session_csv
 from .model import Log, LogFormatError
 
 HEAD_BYTES = 4096
@@ -32,6 +32,7 @@ FORMATS: tuple[LogReader, ...] = (
     LogReader("session-csv", "ZUML Studio session CSV", session_csv.sniff, session_csv.read),
     LogReader("icharger-duo-txt", "Junsi iCharger DUO/X/S text log", junsi.sniff_duo, junsi.read_duo),
     LogReader("logview-open", "LogView open format text", logview_open.sniff, logview_open.read),
+    LogReader("dataexplorer-csv", "DataExplorer CSV export", dataexplorer_csv.sniff, dataexplorer_csv.read),
 )
 BY_NAME = {f.name: f for f in FORMATS}
 
