@@ -106,3 +106,16 @@ def test_unknown_bytes_name_what_was_tried():
         read_log(b"")
     with pytest.raises(LogFormatError, match="unknown log format"):
         read_log(b"x", fmt="nope")
+
+
+def test_a_format_with_ready_samples_joins_through_from_samples():
+    # How a live driver's decoder (device/drivers.decode_capture) becomes a log format.
+    from zuml_studio.logs.model import from_samples
+    samples = [tel(0.0, 4.0, 1.0), tel(1.0, 4.1, 1.0, q_in=0.3), tel(2.0, 4.0, 0.0, "", q_in=0.3)]
+    samples[2] = samples[2].__class__(**{**samples[2].__dict__, "running": False})
+    log = from_samples("raw-capture", "cheali-charger", samples, 2)
+    info = summarize(log)
+    assert (info["format"], info["device"], info["samples"], info["bad_records"]) == \
+        ("raw-capture", "cheali-charger", 3, 2)
+    assert info["phases"] == [{"state": "charge", "start_s": 0.0, "end_s": 2.0},
+                              {"state": "idle", "start_s": 2.0, "end_s": 2.0}]

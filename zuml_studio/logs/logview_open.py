@@ -14,6 +14,7 @@ columns are ignored, fewer values than columns make the line bad. Which column i
 voltage, the current, … : ``columns.py``."""
 from __future__ import annotations
 
+import math
 import re
 
 from .columns import Roles, add_row, parse_column, roles as column_roles
@@ -47,7 +48,34 @@ class _Channel:
         self.time_index: int | None = None
         self.time_format = ""
         self.increment_s: float | None = None
-        self.sets = 0
+
+
+def _apply_header(ch: _Channel, kind: str, rest: str) -> None:
+    """What a header line sets for its channel's next data lines."""
+    if kind == "C":
+        ch.columns = _columns(rest)
+    elif kind == "V":
+        ch.hex = rest.strip().upper() == "HEX"
+    elif kind == "F":
+        ch.factor = rest.split(";")
+    elif kind == "O":
+        ch.offset = rest.split(";")
+    elif kind == "S":
+        ch.sum_offset = rest.split(";")
+    elif kind == "T":
+        parts = rest.split(";")
+        index = parts[0].strip()
+        ch.time_index = int(index) if index.isascii() and index.isdigit() and len(index) < 4 else None
+        ch.time_format = parts[1].strip() if len(parts) > 1 else ""
+        ch.increment_s = None
+    elif kind == "I":
+        try:
+            ch.increment_s = max(_float(rest.split(";")[0]), 0.0) / 1000.0
+        except ValueError:
+            ch.increment_s = None
+        ch.time_index = None
+    elif kind == "R":
+        ch.time_index, ch.increment_s = None, None
 
 
 def _columns(spec: str) -> list[tuple[str, str]]:
@@ -100,7 +128,7 @@ def read(data: bytes) -> Log:
     t_next = 0.0            # receive/increment time of the next line
     set_offset = 0.0        # where the current data set starts on the time line
     given_start: float | None = None
-    for number, raw in enumerate(text.split("\n"), 1):
+    for raw in text.split("\n"):
         line = raw.strip()
         if not line.startswith("$"):
             continue
@@ -111,40 +139,14 @@ def read(data: bytes) -> Log:
         if head:
             kind, ch_text, rest = head.group(1), head.group(2), head.group(3) or ""
             ch = channels.setdefault(int(ch_text or 1), _Channel())
-            if kind == "N":
-                ch.sets += 1
-                if int(ch_text or 1) == chosen and len(builder):
-                    set_offset = builder.t[-1] + (ch.increment_s or DEFAULT_STEP_S)
-                    t_next, given_start = 0.0, None
-            elif kind == "C":
-                ch.columns = _columns(rest)
-                if int(ch_text or 1) == chosen:
-                    roles = None
-            elif kind == "V":
-                ch.hex = rest.strip().upper() == "HEX"
-            elif kind == "F":
-                ch.factor = rest.split(";")
-            elif kind == "O":
-                ch.offset = rest.split(";")
-            elif kind == "S":
-                ch.sum_offset = rest.split(";")
-            elif kind == "T":
-                parts = rest.split(";")
-                index = parts[0].strip()
-                ch.time_index = int(index) if index.isascii() and index.isdigit() and len(index) < 4 else None
-                ch.time_format = parts[1].strip() if len(parts) > 1 else ""
-                ch.increment_s = None
-            elif kind == "I":
-                parts = rest.split(";")
-                try:
-                    ch.increment_s = max(_float(parts[0]), 0.0) / 1000.0
-                except ValueError:
-                    ch.increment_s = None
-                ch.time_index = None
-            elif kind == "R":
-                ch.time_index, ch.increment_s = None, None
+            if kind == "N" and int(ch_text or 1) == chosen and len(builder):
+                set_offset = builder.t[-1] + (ch.increment_s or DEFAULT_STEP_S)
+                t_next, given_start = 0.0, None
+            elif kind == "C" and int(ch_text or 1) == chosen:
+                roles = None
             elif kind == "L" and len(messages) < MAX_MESSAGES:
                 messages.append(rest)
+            _apply_header(ch, kind, rest)
             continue
         m = _CHANNEL_DATA.match(line)
         number_ch, body = (int(m.group(1)), m.group(2)) if m else (1, line[1:])
@@ -177,6 +179,8 @@ def read(data: bytes) -> Log:
                 x = float(int(item, 16)) if ch.hex else _float(item)
                 y = (x + _coefficient(ch.offset, k, 0.0)) * _coefficient(ch.factor, k, 1.0) + \
                     _coefficient(ch.sum_offset, k, 0.0)
+                if not math.isfinite(y):
+                    raise ValueError(item)
                 numbers.append(y)
         except (ValueError, OverflowError):
             bad += 1

@@ -22,24 +22,11 @@ class LogFormatError(ValueError):
 
 @dataclass(frozen=True)
 class Phase:
-    """A stretch of samples in one state. ``section``/``index``/``reason``/``by_default``
-    let the shared plot label it like a simulator phase."""
+    """A stretch of samples in one state; ``index`` counts the phases of that state from 1."""
     state: str
     start_s: float
     end_s: float
     index: int = 0
-
-    @property
-    def section(self) -> str:
-        return self.state
-
-    @property
-    def reason(self) -> str:
-        return self.state
-
-    @property
-    def by_default(self) -> bool:
-        return False
 
     def as_dict(self) -> dict:
         return {"state": self.state, "start_s": round(self.start_s, 3), "end_s": round(self.end_s, 3)}
@@ -67,10 +54,6 @@ class Log:
     @property
     def cells(self) -> int:
         return max((len(s.cells_v) for s in self.samples), default=0)
-
-    @property
-    def states(self) -> list[str]:
-        return [state_of(s) for s in self.samples]
 
     def arrays(self) -> dict[str, np.ndarray]:
         """Columns for plotting: t, voltage, current, temp and heatsink (NaN: not measured),

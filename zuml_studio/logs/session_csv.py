@@ -11,12 +11,11 @@ import csv
 import io
 import math
 
-from .model import Log, LogFormatError, SampleBuilder
+from .model import STATES, Log, LogFormatError, SampleBuilder
 
 SESSION_HEAD = "time_s,section,phase,voltage_v,current_a,temp_c,heatsink_c,mah_in,mah_out"
 EXPORT_HEAD = "t_s,voltage_v,current_a,temp_c,charge_in_mah,charge_out_mah,state"
 _SECTION_STATE = {"charge": "charge", "discharge": "discharge", "": "idle"}
-_EXPORT_STATES = ("charge", "discharge", "pause", "idle")
 
 
 def _first_line(head: bytes) -> str:
@@ -90,7 +89,7 @@ def _read_rows(rows, header: list[str], session: bool) -> Log:
                     t += offset
                     q_in, q_out = _num(row[index["mah_in"]], False), _num(row[index["mah_out"]], False)
                 else:
-                    state = row[index["state"]] if row[index["state"]] in _EXPORT_STATES else None
+                    state = row[index["state"]] if row[index["state"]] in STATES else None
                     t = _num(row[index["t_s"]], False)
                     q_in = _num(row[index["charge_in_mah"]], True)
                     q_out = _num(row[index["charge_out_mah"]], True)
