@@ -349,7 +349,7 @@ class MainWindow(QMainWindow):
         """The log viewer's window (made on first use), with ``path`` opened or a file chosen."""
         from .logs import LogWindow
         if getattr(self, "log_window", None) is None:
-            self.log_window = LogWindow(self.settings)
+            self.log_window = LogWindow(self.settings, self)
         self.log_window.show()
         self.log_window.raise_()
         if path:

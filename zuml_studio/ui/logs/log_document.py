@@ -62,6 +62,8 @@ class LogDocument(QWidget):
         self.readout.setObjectName("logReadout")
         self.readout.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
         self.readout.setStyleSheet("color:#303030; padding:2px 6px;")
+        # A long readout (many cells, overlays) is cut at the window's edge, never widens it.
+        self.readout.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
         self.plot.cursorMoved.connect(lambda text: self.readout.setText(text or " "))
 
         self.totals = QLabel()

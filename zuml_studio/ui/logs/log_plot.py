@@ -82,8 +82,9 @@ class LogPlot(StackedPlot):
         first = self.layers[0]
         cells = first.log.cells
         self.set_series_count(cells or 1)
+        alone = len(self.layers) == 1
         for layer in self.layers:
-            self._draw(layer, cells)
+            self._draw(layer, cells, alone)
         if bands:
             self._set_bands([p for p in first.log.phases() if p.state in BAND_STATES])
         t = np.concatenate([layer.data["t"] for layer in self.layers])
@@ -108,19 +109,22 @@ class LogPlot(StackedPlot):
         curve.setDownsampling(auto=True, method="peak")
         self.items.append((plot, curve))
 
-    def _draw(self, layer: Layer, cells: int) -> None:
+    def _draw(self, layer: Layer, cells: int, alone: bool) -> None:
+        """The first log in the quantities' colours (with its cells and the charger's inside
+        temperature when it is alone), an overlay in its one colour."""
         d = layer.data
         t = d["t"]
         if layer.color is None:
             self._curve(self.vplot, t, d["voltage"], VOLTAGE_PEN)
             # Cells on the pack axis times the cell count: the right axis reads them in V per cell.
-            for k in range(d["cells"].shape[1]):
+            for k in range(d["cells"].shape[1] if alone else 0):
                 pen = pg.mkPen(CELL_COLORS[k % len(CELL_COLORS)], width=1)
                 self._curve(self.vplot, t, d["cells"][:, k] * cells, pen)
             if layer.log.meta.get("current_measured", True):
                 self._curve(self.iplot, t, d["current"], CURRENT_PEN, fillLevel=0.0, fillBrush=CURRENT_FILL)
             self._curve(self.tplot, t, d["temp"], BATTERY_T_PEN)
-            self._curve(self.tplot, t, d["heatsink"], HEATSINK_T_PEN)
+            if alone:
+                self._curve(self.tplot, t, d["heatsink"], HEATSINK_T_PEN)
             return
         pen = pg.mkPen(layer.color, width=2)
         self._curve(self.vplot, t, d["voltage"], pen)
@@ -142,7 +146,7 @@ class LogPlot(StackedPlot):
         temps = []
         if np.isfinite(first.data["temp"]).any():
             temps.append(("battery", BATTERY_T_PEN.color().name()))
-        if np.isfinite(first.data["heatsink"]).any():
+        if len(self.layers) == 1 and np.isfinite(first.data["heatsink"]).any():
             temps.append(("charger inside", HEATSINK_T_PEN.color().name()))
         self.legends[self.tplot].set_entries(temps or [("no temperature in this log", INK)])
         for legend in self.legends.values():

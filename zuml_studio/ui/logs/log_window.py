@@ -20,6 +20,8 @@ class LogWindow(QMainWindow):
         super().__init__(parent)
         self.setObjectName("logWindow")
         self.setWindowTitle(TITLE)
+        # Owned by the main window: closing that ends the application, this one goes with it.
+        self.setAttribute(Qt.WidgetAttribute.WA_QuitOnClose, parent is None)
         self.settings = settings
         self.tabs = QTabWidget()
         self.tabs.setTabsClosable(True)
