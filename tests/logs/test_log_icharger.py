@@ -130,3 +130,9 @@ def test_lov_record_with_bad_checksum_is_counted():
     raw[at + 13] = ord("9")              # 11474 -> 11974: the checksum no longer fits
     log = read_log(bytes(raw))
     assert len(log.samples) == 67 and log.bad_records == 1
+
+
+def test_a_torn_first_line_does_not_hide_the_format():
+    raw = data("4010DUO_LiFe_2S_3A_Charge_1_CH1.txt")
+    log = read_log(raw[7:])                 # starts in the middle of the first record
+    assert log.format == "icharger-duo-txt" and len(log.samples) == 420 and log.bad_records == 1

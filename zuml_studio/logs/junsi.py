@@ -12,6 +12,7 @@ from functools import reduce
 from .model import Log, LogFormatError, SampleBuilder, state_from_current
 
 MAX_LINE = 400                 # longer than any real record (12 cells, 20 fields of 6 digits)
+SNIFF_LINES = 8
 IR_STATE = 128                 # LOG_EX_IR: internal resistance, 0.1 mΩ
 # DUO/X log states onto ours; a state not listed (0 "normal") follows the current's sign.
 DUO_STATES = {1: "charge", 2: "discharge", 3: "idle", 4: "pause", 5: "charge", 6: "idle", 7: "idle",
@@ -68,10 +69,13 @@ def parse_header(data: bytes) -> dict[str, str]:
 def sniff_duo(head: bytes, name: str) -> bool:
     if head.startswith(b"@Model:"):
         return True
-    first = head.lstrip(b"\r\n").split(b"\n", 1)[0].strip()
-    fields = split_record(first)
-    # The DUO/X layout has a time in field 2; the older serial lines leave it empty.
-    return bool(fields) and len(fields) >= 3 and fields[2] != b"" and _ints(fields[1:]) is not None
+    # One of the first records (a torn first line is no reason to refuse the file) in the DUO/X
+    # layout: a time in field 2, where the older serial lines leave it empty.
+    for line in head.split(b"\n")[:SNIFF_LINES]:
+        fields = split_record(line)
+        if fields and len(fields) >= 3 and fields[2] != b"" and _ints(fields[1:]) is not None:
+            return True
+    return False
 
 
 def read_duo(data: bytes) -> Log:
