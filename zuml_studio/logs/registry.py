@@ -4,7 +4,8 @@ Adding a format is one ``LogReader`` entry in ``FORMATS``: a name, ``sniff(first
 name) -> bool`` and ``read(bytes) -> Log``. A reader that gets ready samples from elsewhere
 (a live driver's decoder, for instance) builds its Log with ``model.from_samples(format,
 device, samples, bad_records)``. More specific formats come first: the first that
-recognises the bytes reads them."""
+recognises the bytes reads them (a raw serial capture reader belongs last: DUO/X logs and
+LogView text are ``$`` lines too)."""
 from __future__ import annotations
 
 from collections.abc import Callable
