@@ -215,6 +215,26 @@ class CodeEditor(QPlainTextEdit):
             cursor.setPosition(blocks[-1].position() + blocks[-1].length() - 1, QTextCursor.MoveMode.KeepAnchor)
             self.setTextCursor(cursor)
 
+    def quick_fix(self) -> bool:
+        """Ctrl+.: apply the "did you mean" fix of a diagnostic at the cursor (or, failing
+        that, the first on the cursor's line), one undo step; False when there is none."""
+        cursor = self.textCursor()
+        position = cursor.position()
+        on_line = [(c, d) for c, d in self._diagnostics if d.fix and c.block() == cursor.block()]
+        at = [(c, d) for c, d in on_line if c.selectionStart() <= position <= c.selectionEnd()]
+        chosen = (at or on_line)[:1]
+        if not chosen:
+            return False
+        target, d = chosen[0]
+        edit = QTextCursor(self.document())
+        edit.setPosition(target.selectionStart())
+        edit.setPosition(target.selectionEnd(), QTextCursor.MoveMode.KeepAnchor)
+        edit.beginEditBlock()
+        edit.insertText(d.fix)
+        edit.endEditBlock()
+        self.setTextCursor(edit)
+        return True
+
     def show_find(self, replace: bool = False) -> None:
         """Open the find bar (with the replace row when ``replace``)."""
         if self.find_bar is not None:
@@ -242,7 +262,8 @@ class CodeEditor(QPlainTextEdit):
         else the help of the keyword there, else ''."""
         diags = self.diagnostics_at(position)
         if diags:
-            return "\n\n".join(d.message + (f"\n{d.hint}" if d.hint else "") for d in diags)
+            return "\n\n".join(d.message + (f"\n{d.hint}" if d.hint else "")
+                                 + (f"\nCtrl+. writes {d.fix}" if d.fix else "") for d in diags)
         return self.help_at(position)
 
     def tooltip_at_line_column(self, line: int, column: int) -> str:
@@ -419,6 +440,9 @@ class CodeEditor(QPlainTextEdit):
             return
         if key == K.Key_Slash and mods & M.ControlModifier:
             self.toggle_comment()
+            return
+        if key == K.Key_Period and mods & M.ControlModifier:
+            self.quick_fix()
             return
         if event.matches(QKeySequence.StandardKey.Find):
             self.show_find(False)
