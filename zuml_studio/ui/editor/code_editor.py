@@ -14,11 +14,12 @@ import textwrap
 from typing import Iterator
 
 from PySide6.QtCore import QEvent, QPoint, QRect, Qt, Signal
-from PySide6.QtGui import (QColor, QFontDatabase, QKeySequence, QPalette, QTextCharFormat, QTextCursor, QTextDocument,
+from PySide6.QtGui import (QColor, QFontDatabase, QKeySequence, QTextCharFormat, QTextCursor, QTextDocument,
                            QTextFormat, QTextLine)
 from PySide6.QtWidgets import QPlainTextDocumentLayout, QPlainTextEdit, QTextEdit, QToolTip, QVBoxLayout, QWidget
 
 from ...lang.diagnostics import Diagnostic, Severity
+from .. import theme
 from . import indent
 from .completion import ZumlCompleter
 from .find_bar import FindBar
@@ -28,10 +29,8 @@ from .line_numbers import LineNumberArea
 Selection = QTextEdit.ExtraSelection
 UNDERLINE_COLOURS = {Severity.ERROR: QColor("#e0201b"), Severity.WARNING: QColor("#f08c00")}
 TINT_COLOURS = {Severity.ERROR: QColor(224, 32, 27, 28), Severity.WARNING: QColor(240, 140, 0, 28)}
-CURRENT_LINE_LIGHT = QColor("#edf2fa")
-LINKED_LINE_LIGHT = QColor("#e2f4e8")
-FIND_MATCH_LIGHT = QColor("#ffe68a")
 TOOLTIP_COLUMNS = 64
+MIN_FONT_PT, MAX_FONT_PT = 6, 36
 
 
 class _BlockLayout(QPlainTextDocumentLayout):
@@ -72,6 +71,7 @@ class CodeEditor(QPlainTextEdit):
     """ZUML source editor. Lines and columns in its API are 1-based."""
 
     cursorLineChanged = Signal(int)         # 1-based line, when the cursor moves to another line
+    fontSizeChanged = Signal(int)           # point size, after a zoom
 
     def __init__(self, parent: QWidget | None = None):
         super().__init__(parent)
@@ -84,6 +84,7 @@ class CodeEditor(QPlainTextEdit):
         self.setDocument(self._document)
         font = QFontDatabase.systemFont(QFontDatabase.SystemFont.FixedFont)
         self.setFont(font)
+        self._default_pt = round(font.pointSizeF())
         self.setTabStopDistance(self.fontMetrics().horizontalAdvance(" ") * indent.INDENT_WIDTH)
         self.setLineWrapMode(QPlainTextEdit.LineWrapMode.NoWrap)
         self.setMouseTracking(True)
@@ -111,11 +112,11 @@ class CodeEditor(QPlainTextEdit):
         self._set_current_line()
 
     def _colours(self) -> None:
-        base = self.palette().color(QPalette.ColorRole.Base)
-        light = base.lightness() >= 128
-        self._current_colour = CURRENT_LINE_LIGHT if light else base.lighter(125)
-        self._linked_colour = LINKED_LINE_LIGHT if light else QColor("#23452f")
-        self._find_colour = FIND_MATCH_LIGHT if light else QColor("#6b5a12")
+        scheme = theme.colours(self.palette())
+        self.highlighter.set_scheme(scheme)
+        self._current_colour = QColor(scheme.current_line)
+        self._linked_colour = QColor(scheme.linked_line)
+        self._find_colour = QColor(scheme.find_match)
 
     # -- public API -----------------------------------------------------------------------
     def current_line(self) -> int:
@@ -214,6 +215,38 @@ class CodeEditor(QPlainTextEdit):
             cursor.setPosition(blocks[0].position())
             cursor.setPosition(blocks[-1].position() + blocks[-1].length() - 1, QTextCursor.MoveMode.KeepAnchor)
             self.setTextCursor(cursor)
+
+    def default_font_size(self) -> int:
+        """The system's fixed-width font size (what Reset Zoom goes back to)."""
+        return self._default_pt
+
+    def font_size(self) -> int:
+        return round(self.font().pointSizeF())
+
+    def set_font_size(self, points: int) -> None:
+        """The text's size in points, within MIN_FONT_PT..MAX_FONT_PT (the gutter and the
+        completion popup follow)."""
+        points = min(max(int(points), MIN_FONT_PT), MAX_FONT_PT)
+        if points == self.font_size():
+            return
+        font = self.font()
+        font.setPointSize(points)
+        self.setFont(font)
+        self.completer.popup().setFont(font)
+        self.fontSizeChanged.emit(points)
+
+    def zoom(self, steps: int) -> None:
+        """Ctrl+= / Ctrl+- / Ctrl+wheel: one point per step."""
+        self.set_font_size(self.font_size() + steps)
+
+    def wheelEvent(self, event) -> None:  # noqa: N802
+        if event.modifiers() & Qt.KeyboardModifier.ControlModifier:
+            steps = event.angleDelta().y() // 120
+            if steps:
+                self.zoom(steps)
+            event.accept()
+            return
+        super().wheelEvent(event)
 
     def quick_fix(self) -> bool:
         """Ctrl+.: apply the "did you mean" fix of a diagnostic at the cursor (or, failing
@@ -440,6 +473,9 @@ class CodeEditor(QPlainTextEdit):
             return
         if key == K.Key_Slash and mods & M.ControlModifier:
             self.toggle_comment()
+            return
+        if key == K.Key_Y and mods == M.ControlModifier:
+            self.redo()                     # Ctrl+Y on every platform, not only on Windows
             return
         if key == K.Key_Period and mods & M.ControlModifier:
             self.quick_fix()
