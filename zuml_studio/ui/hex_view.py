@@ -95,7 +95,7 @@ class HexView(QWidget):
 
     def _fill(self) -> None:
         self.tree.clear()
-        scheme = theme.colours(self.tree.palette())
+        scheme = theme.colours(self.palette())      # the tree resolves its palette after this widget
         grey = QColor(scheme.stale_text)
         kind_colours = {"header": scheme.header_row, "name": scheme.header_row, "check": scheme.check_row}
         items = []

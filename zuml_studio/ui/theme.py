@@ -43,7 +43,7 @@ LIGHT = Colours(
         "number": ("#c75000", False, False),       # dark orange
         "value": ("#a3245e", False, False),        # raspberry
         "name": ("#202124", True, False),
-        "comment": ("#6f8a72", False, True),       # green-grey italic
+        "comment": ("#567558", False, True),       # green-grey italic
     },
     header_row="#eef3fb", check_row="#eef8ee", stale_text="#9a9a9a",
     current_line="#edf2fa", linked_line="#e2f4e8", find_match="#ffe68a",
