@@ -11,7 +11,7 @@ from ...sim.chemistry import chemistry_names
 from ...sim.interpreter import StartParams
 from ...sim.simulate import BatterySetup
 from ..number_boxes import double_spin_box, form_field, spin_box
-from ..timefmt import hmm
+from ..timefmt import elapsed
 
 TASKS = (("charge", "Charge"), ("discharge", "Discharge"), ("train", "Train"))
 FROM_AKK = "from AKK_TYPE"
@@ -238,4 +238,4 @@ class ParamsForm(QWidget):
             self.progress_label.setText("starting…")
 
     def set_progress(self, seconds: float) -> None:
-        self.progress_label.setText(f"{hmm(seconds)} simulated")
+        self.progress_label.setText(f"{elapsed(seconds)} simulated")

@@ -8,7 +8,7 @@ from PySide6.QtCore import QElapsedTimer, QEventLoop, Qt, QTimer, Signal
 from PySide6.QtWidgets import (QApplication, QHBoxLayout, QLabel, QScrollArea, QSizePolicy, QSplitter, QVBoxLayout,
                                QWidget)
 
-from ..timefmt import hmm
+from ..timefmt import elapsed
 from .charge_plot import ChargePlot
 from .params_form import ParamsForm
 from .phase_table import PhaseTable, totals_text
@@ -220,7 +220,7 @@ class SimulatorPanel(QWidget):
         if not self._current(job_id):
             return
         self._show(result)
-        self.form.progress_label.setText(f"{hmm(result.interpreter.time_s)} simulated "
+        self.form.progress_label.setText(f"{elapsed(result.interpreter.time_s)} simulated "
                                          f"in {self._clock.elapsed() / 1000:.1f} s")
         self._refresh_hint()
         self.simulationFinished.emit(result)
@@ -230,9 +230,9 @@ class SimulatorPanel(QWidget):
             return
         if result is not None:
             self._show(result)
-            at = hmm(result.interpreter.time_s)
-            self.form.progress_label.setText(f"cancelled at {at}")
-            self._show_message(f"cancelled at {at} (simulated time): showing the run so far", "warn")
+            at = elapsed(result.interpreter.time_s)
+            self.form.progress_label.setText(f"cancelled after {at}")
+            self._show_message(f"cancelled after {at} of simulated time: showing the run so far", "warn")
         else:
             self.form.progress_label.setText("cancelled")
             self._show_message("cancelled", "warn")
