@@ -2,7 +2,8 @@
 folders the dialogs start in, reopening the last file."""
 from pathlib import Path
 
-from PySide6.QtGui import QTextCursor
+from PySide6.QtCore import QSize
+from PySide6.QtGui import QImage, QTextCursor
 
 from helpers import MACROS
 from zuml_studio.ui.library import STANDARD_MACROS
@@ -80,6 +81,7 @@ def test_exports_start_in_my_macros_or_the_documents_never_the_current_folder(ma
     monkeypatch.setattr(main_window, "documents_dir", lambda: w.config / "Documents")
     asked = []
     w.ask_save_path = lambda title, suggested, filters: asked.append(suggested) or ""
+    w.ask_png_options = lambda title: (title, QSize(800, 600))
     w.export_record()
     w.sim_panel.simulate()
     w.sim_panel.wait(60_000)
@@ -91,6 +93,7 @@ def test_exports_start_in_my_macros_or_the_documents_never_the_current_folder(ma
 
 def test_exports_confirm_in_the_status_bar(make_window, tmp_path):
     w = make_window(LIPO)
+    w.ask_png_options = lambda title: ("LiPo charge", QSize(900, 700))
     w.sim_panel.simulate()
     w.sim_panel.wait(60_000)
     for export, name in ((w.export_csv, "run.csv"), (w.export_png, "run.png")):
@@ -112,3 +115,19 @@ def test_the_last_file_reopens_at_the_next_start(make_window, tmp_path):
     (tmp_path / "gone.zuml").unlink()
     third = make_window(None, config)
     assert third.path is None                                        # a file since removed: a new macro
+
+
+def test_the_png_has_the_chosen_size_title_and_details(make_window, tmp_path):
+    w = make_window(LIPO)
+    w.sim_panel.simulate()
+    w.sim_panel.wait(60_000)
+    shown = w.sim_panel.plot.size()
+    w.ask_png_options = lambda title: ("LiPo, 3 cells", QSize(1200, 800))
+    w.ask_save_path = lambda *a: str(tmp_path / "plot.png")
+    w.export_png()
+    image = QImage(str(tmp_path / "plot.png"))
+    assert (image.width(), image.height()) == (1200, 800)
+    assert w.sim_panel.plot.size() == shown                 # the window's plot is back as it was
+    top = image.copy(0, 0, 1200, 60)
+    dark = sum(1 for x in range(0, 1200, 2) for y in range(0, 60, 2) if top.pixelColor(x, y).lightness() < 100)
+    assert dark > 50                                         # the title and details are written there

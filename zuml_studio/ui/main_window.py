@@ -7,7 +7,7 @@ import os
 from importlib.metadata import version
 from pathlib import Path
 
-from PySide6.QtCore import QEvent, QSettings, QStandardPaths, Qt, QTimer
+from PySide6.QtCore import QEvent, QSettings, QSize, QStandardPaths, Qt, QTimer
 from PySide6.QtGui import QAction, QKeySequence
 from PySide6.QtWidgets import QDockWidget, QFileDialog, QLabel, QMainWindow, QMessageBox, QStyle, QToolBar
 
@@ -22,6 +22,7 @@ from .editor.highlighter import ops_at
 from .help_browser import HelpBrowser
 from .hex_view import HexView
 from .library import STANDARD_MACROS, LibraryBrowser
+from .plot_export import PlotExportDialog
 from .preferences import Preferences, PreferencesDialog
 from .problems import ProblemsView
 from .sim.sim_panel import SimulatorPanel
@@ -514,9 +515,21 @@ class MainWindow(QMainWindow):
             self.statusBar().showMessage(f"Wrote {len(self.sim_panel.result().log)} samples to {path}", 6000)
 
     def export_png(self) -> None:
+        if self.sim_panel.result() is None:
+            self.show_error("Simulate first: there is no plot yet.")
+            return
+        options = self.ask_png_options(self.suggested_name())
+        if options is None:
+            return
+        title, size = options
         path = self.ask_save_path("Export plot", str(documents_dir() / f"{self.suggested_name()}.png"), "PNG (*.png)")
-        if path and self.sim_panel.export_png(path):
-            self.statusBar().showMessage(f"Wrote the plot to {path}", 6000)
+        if path and self.sim_panel.export_png(path, size, title):
+            self.statusBar().showMessage(f"Wrote the plot ({size.width()}×{size.height()}) to {path}", 6000)
+
+    def ask_png_options(self, title: str) -> tuple[str, QSize] | None:
+        """The title and size of an exported plot, None when cancelled (tests replace this)."""
+        dialog = PlotExportDialog(title, self)
+        return dialog.chosen() if dialog.exec() else None
 
     def _remember(self, path: str | None) -> None:
         if not path:

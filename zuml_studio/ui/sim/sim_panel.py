@@ -4,10 +4,11 @@ again on every change if asked to, and keeps showing the last run while the
 macro has errors."""
 from __future__ import annotations
 
-from PySide6.QtCore import QElapsedTimer, QEventLoop, Qt, QTimer, Signal
+from PySide6.QtCore import QElapsedTimer, QEventLoop, QSize, Qt, QTimer, Signal
 from PySide6.QtWidgets import (QApplication, QHBoxLayout, QLabel, QScrollArea, QSizePolicy, QSplitter, QVBoxLayout,
                                QWidget)
 
+from ..plot_export import render_with_header
 from ..timefmt import elapsed
 from .charge_plot import ChargePlot
 from .params_form import ParamsForm
@@ -176,11 +177,18 @@ class SimulatorPanel(QWidget):
             return False
         return True
 
-    def export_png(self, path: str) -> bool:
-        if not self.plot.export_png(path):
+    def export_png(self, path: str, size: QSize | None = None, title: str = "") -> bool:
+        """The plot as shown; with ``size``, laid out at that size under ``title`` and the run's
+        details (the macro, the battery, the parameters, the totals)."""
+        self.plot.readout.hide()                # the mouse's cursor is no part of a report
+        if size is None:
+            ok = self.plot.export_png(path)
+        else:
+            details = [self._describe(self._result), totals_text(self._result)] if self._result is not None else []
+            ok = render_with_header(self.plot, size, title, details).save(path, "PNG")
+        if not ok:
             self._show_message(f"cannot write {path}", "error")
-            return False
-        return True
+        return ok
 
     # -- extras (tests, screenshots) -------------------------------------------------------
     def is_running(self) -> bool:
