@@ -144,6 +144,7 @@ def test_ctrl_period_applies_the_did_you_mean_fix(editor, qtbot):
     assert diag.fix == "CONSTANT_I"
     editor.set_diagnostics([diag])
     assert "Ctrl+. writes CONSTANT_I" in editor.tooltip_at_line_column(5, 8)
+    assert editor.fix_at(editor.document().findBlockByNumber(0).position()) is None     # another line
     editor.goto(5, 1)
     qtbot.keyClick(editor, Qt.Key.Key_Period, Qt.KeyboardModifier.ControlModifier)
     assert compile_source(editor.toPlainText()).ok

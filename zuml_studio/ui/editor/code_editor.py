@@ -14,7 +14,7 @@ import textwrap
 from typing import Iterator
 
 from PySide6.QtCore import QEvent, QPoint, QRect, Qt, Signal
-from PySide6.QtGui import (QColor, QFontDatabase, QKeySequence, QTextCharFormat, QTextCursor, QTextDocument,
+from PySide6.QtGui import (QAction, QColor, QFontDatabase, QKeySequence, QTextCharFormat, QTextCursor, QTextDocument,
                            QTextFormat, QTextLine)
 from PySide6.QtWidgets import QPlainTextDocumentLayout, QPlainTextEdit, QTextEdit, QToolTip, QVBoxLayout, QWidget
 
@@ -248,17 +248,21 @@ class CodeEditor(QPlainTextEdit):
             return
         super().wheelEvent(event)
 
-    def quick_fix(self) -> bool:
-        """Ctrl+.: apply the "did you mean" fix of a diagnostic at the cursor (or, failing
-        that, the first on the cursor's line), one undo step; False when there is none."""
-        cursor = self.textCursor()
-        position = cursor.position()
-        on_line = [(c, d) for c, d in self._diagnostics if d.fix and c.block() == cursor.block()]
+    def fix_at(self, position: int) -> tuple[QTextCursor, Diagnostic] | None:
+        """The "did you mean" fix for document ``position``: of a diagnostic there, or failing
+        that the first on its line; None when there is none."""
+        block = self.document().findBlock(position)
+        on_line = [(c, d) for c, d in self._diagnostics if d.fix and c.block() == block]
         at = [(c, d) for c, d in on_line if c.selectionStart() <= position <= c.selectionEnd()]
-        chosen = (at or on_line)[:1]
-        if not chosen:
+        return (at or on_line or [None])[0]
+
+    def quick_fix(self, position: int | None = None) -> bool:
+        """Ctrl+.: write the fix for ``position`` (the cursor's by default) over the text its
+        diagnostic marks, one undo step; False when there is none."""
+        found = self.fix_at(self.textCursor().position() if position is None else position)
+        if found is None:
             return False
-        target, d = chosen[0]
+        target, d = found
         edit = QTextCursor(self.document())
         edit.setPosition(target.selectionStart())
         edit.setPosition(target.selectionEnd(), QTextCursor.MoveMode.KeepAnchor)
@@ -267,6 +271,19 @@ class CodeEditor(QPlainTextEdit):
         edit.endEditBlock()
         self.setTextCursor(edit)
         return True
+
+    def contextMenuEvent(self, event) -> None:  # noqa: N802
+        menu = self.createStandardContextMenu(event.pos())
+        position = self.cursorForPosition(event.pos()).position()
+        found = self.fix_at(position)
+        if found is not None:
+            first = menu.actions()[0] if menu.actions() else None
+            action = QAction(f"Write {found[1].fix} (Ctrl+.)", menu)
+            action.triggered.connect(lambda: self.quick_fix(position))
+            menu.insertAction(first, action)
+            menu.insertSeparator(first)
+        menu.exec(event.globalPos())
+        menu.deleteLater()
 
     def show_find(self, replace: bool = False) -> None:
         """Open the find bar (with the replace row when ``replace``)."""
