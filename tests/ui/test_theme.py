@@ -38,6 +38,7 @@ def test_every_syntax_colour_is_readable_on_its_background(scheme, base):
 @pytest.mark.parametrize("choice", ["dark", "light"])
 def test_the_window_follows_the_chosen_palette(make_window, system_theme, choice):
     w = make_window(LIPO)
+    w.sim_panel.wait()                  # the auto re-simulation, done before the palette changes
     theme.apply_theme(choice)
     QApplication.processEvents()
     scheme = theme.DARK if choice == "dark" else theme.LIGHT
@@ -55,6 +56,7 @@ def test_system_means_the_desktops_palette(make_window, system_theme):
     app = QApplication.instance()
     desktop = QGuiApplication.palette()
     w = make_window(LIPO)
+    w.sim_panel.wait()
     app.setPalette(theme.dark_palette())          # a dark desktop
     QApplication.processEvents()
     assert w.editor.highlighter.scheme is theme.DARK

@@ -9,7 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from PySide6.QtGui import QColor, QPalette
-from PySide6.QtWidgets import QApplication, QStyleFactory
+from PySide6.QtWidgets import QApplication
 
 THEMES = ("system", "light", "dark")
 
@@ -113,12 +113,15 @@ class ThemeSwitch:
         if choice == self.current:
             return
         self.current = choice
+        # A style is replaced only when it must be (every widget is re-polished), and by name:
+        # the application then creates and owns it.
+        style = self._system_style if choice == "system" else "fusion"    # native styles may ignore a palette
+        if self.app.style().name().lower() != style.lower():
+            self.app.setStyle(style)
         if choice == "system":
-            self.app.setStyle(QStyleFactory.create(self._system_style) or self._system_style)
             self.app.setPalette(self._system_palette)
-            return
-        self.app.setStyle("Fusion")        # the native styles may ignore a palette
-        self.app.setPalette(dark_palette() if choice == "dark" else self.app.style().standardPalette())
+        else:
+            self.app.setPalette(dark_palette() if choice == "dark" else self.app.style().standardPalette())
 
 
 _switch: ThemeSwitch | None = None
