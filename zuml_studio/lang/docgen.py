@@ -7,7 +7,8 @@ import sys
 from .opcodes import OPCODES, Place
 
 
-def _operands(op) -> str:
+def operands_text(op) -> str:
+    """The operands of a command in words: name, quantity, width, default."""
     if not op.operands:
         return "—"
     parts = []
@@ -19,7 +20,8 @@ def _operands(op) -> str:
     return "; ".join(parts)
 
 
-def _places(op) -> str:
+def places_text(op) -> str:
+    """Where a command may stand."""
     if not op.places:
         return "structure"
     return ", ".join(p.name.lower() for p in Place if p in op.places)
@@ -39,7 +41,7 @@ def commands_markdown() -> str:
     ]
     for op in OPCODES:
         written = op.signature().replace("|", "\\|")
-        lines.append(f"| {op.code} | `{written}` | {op.mnemonic} | {_operands(op)} | {_places(op)} | {op.help} |")
+        lines.append(f"| {op.code} | `{written}` | {op.mnemonic} | {operands_text(op)} | {places_text(op)} | {op.help} |")
     return "\n".join(lines) + "\n"
 
 

@@ -31,6 +31,8 @@ LABEL_COLOR = "#1c2a44"
 WARNING_COLOR = "#b34700"
 PLACEHOLDER_COLOR = "#8a8a8a"
 
+# Smallest y spans: a flat 25 °C reads 24–26, not 24.995–25.005.
+MIN_SPAN = {"current": 0.2, "temp": 2.0}
 AXIS_WIDTH = 54               # left and right axes, fixed: the three view boxes line up
 LABEL_PT = 8
 TICK_PT = 8
@@ -172,7 +174,8 @@ class StackedPlot(pg.GraphicsLayoutWidget):
         for plot in self.plots[:-1]:
             plot.setXLink(self.tplot)
             plot.hideAxis("bottom")
-        self._axis_label(self.tplot.getAxis("bottom"), "time (h:mm)")
+        self.time_axis.title_style = {"color": INK, "font-size": f"{LABEL_PT}pt"}
+        self.time_axis.set_format("h:mm")
         self.tplot.getAxis("bottom").setHeight(34)
         self._label_axes(short=False)
         # What the titles in words take as rendered (rich text, a little wider than the font's metrics).
@@ -192,6 +195,8 @@ class StackedPlot(pg.GraphicsLayoutWidget):
         for plot in (self.iplot, self.tplot):
             plot.enableAutoRange(axis="y")
             plot.setAutoVisible(y=True)
+        self.iplot.setLimits(minYRange=MIN_SPAN["current"])
+        self.tplot.setLimits(minYRange=MIN_SPAN["temp"])
 
     # -- construction ------------------------------------------------------------------------
     def _style(self, plot: pg.PlotItem, grid: bool) -> None:

@@ -8,6 +8,7 @@ import numpy as np
 import pyqtgraph as pg
 from PySide6.QtCore import Signal
 
+from ..plot_cursor import CursorReadout
 from ..stacked_plot import (BAND_ALPHA, BATTERY_T_PEN, CURRENT_FILL, CURRENT_PEN, HEATSINK_T_PEN, LABEL_COLOR,
                             VOLTAGE_PEN, WARNING_COLOR, StackedPlot, band_label, band_rgb, band_warns)
 from ..timefmt import hmmss
@@ -43,6 +44,7 @@ class ChargePlot(StackedPlot):
         self.vplot.sigXRangeChanged.connect(self._view_changed)
         self.vplot.vb.sigResized.connect(self._view_changed)
         self.scene().sigMouseClicked.connect(self._scene_clicked)
+        self.readout = CursorReadout(self, lambda: (self._t, self._data))
 
     # -- construction ------------------------------------------------------------------------
     def _curve(self, plot: pg.PlotItem, pen, name: str, **kw) -> pg.PlotDataItem:

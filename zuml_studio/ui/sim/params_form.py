@@ -12,7 +12,7 @@ from ...sim.interpreter import StartParams
 from ...sim.simulate import BatterySetup
 from ...sim.start_templates import factory_templates
 from ..number_boxes import double_spin_box, form_field, spin_box
-from ..timefmt import hmm
+from ..timefmt import elapsed
 
 TASKS = (("charge", "Charge"), ("discharge", "Discharge"), ("train", "Train"))
 FROM_AKK = "from AKK_TYPE"
@@ -247,4 +247,4 @@ class ParamsForm(QWidget):
             self.progress_label.setText("starting…")
 
     def set_progress(self, seconds: float) -> None:
-        self.progress_label.setText(f"{hmm(seconds)} simulated")
+        self.progress_label.setText(f"{elapsed(seconds)} simulated")

@@ -87,6 +87,11 @@ class PhaseTable(QTableWidget):
                 elif col == 4 and ended:
                     item.setToolTip(hmm(p.end_s))
                 self.setItem(row, col, item)
+            summary = row_summary(p, series)
+            for col in range(len(COLUMNS)):
+                item = self.item(row, col)
+                if not item.toolTip():          # the whole row on hover: a narrow table cuts columns off
+                    item.setToolTip(summary)
             tint = SECTION_TINT.get(p.section)
             if tint is not None:
                 self.item(row, 1).setBackground(QBrush(tint))
@@ -141,6 +146,16 @@ class PhaseTable(QTableWidget):
     def _selection_changed(self) -> None:
         rows = {i.row() for i in self.selectedIndexes()}
         self.phaseSelected.emit(min(rows) if rows else -1)
+
+
+def row_summary(p, series: int) -> str:
+    """One phase in words, for the tooltip of its row."""
+    head = f"{p.section} phase {p.index or 'default'}"
+    if not p.reason:
+        return f"{head}: running since {hmmss(p.start_s)}; {p.mah_in:.1f} mAh in, {p.mah_out:.1f} mAh out"
+    return (f"{head}: {hmmss(p.start_s)} to {hmmss(p.end_s)} ({duration(p.end_s - p.start_s)}), ended by "
+            f"{p.reason}\n{p.mah_in:.1f} mAh in, {p.mah_out:.1f} mAh out; at the end {p.v_end:.3f} V "
+            f"({p.v_end / max(series, 1):.3f} V per cell), {p.temp_end:.1f} °C")
 
 
 def totals_text(result) -> str:
