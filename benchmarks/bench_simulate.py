@@ -7,13 +7,13 @@ from __future__ import annotations
 
 import statistics
 import time
-from pathlib import Path
 
+from zuml_studio.data import standard_macros_dir
 from zuml_studio.lang.compiler import compile_source
 from zuml_studio.sim.interpreter import StartParams
 from zuml_studio.sim.simulate import simulate
 
-MACROS = Path(__file__).resolve().parent.parent / "macros"
+MACROS = standard_macros_dir()
 RUNS = {
     "NiMH 2000 mAh x4, 1C, -dV (NiMh-dV)": ("NiMh-dV", StartParams("charge", 1, 2000, 2.0, None, 4, False)),
     "LiPo 2000 mAh x3, 1C CC-CV (LiPo seed)": ("LiPo", StartParams("charge", 1, 2000, 2.0, None, 3, True)),

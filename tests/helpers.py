@@ -4,10 +4,11 @@ from pathlib import Path
 
 import pytest
 
+from zuml_studio.data import standard_macros_dir
 from zuml_studio.lang.compiler import compile_source
 
 ROOT = Path(__file__).resolve().parent.parent
-MACROS = ROOT / "macros"
+MACROS = standard_macros_dir()
 SEED_MACROS = ("Pb", "NiCd", "NiMh", "LiPo", "LiIon", "LiFe")
 
 
@@ -16,7 +17,7 @@ def seed_text(name: str) -> str:
 
 
 def compiled(name_or_text: str) -> bytes:
-    """The record of a macro in ``macros/`` (by name), or of a macro's text."""
+    """The record of a standard macro (by name), or of a macro's text."""
     result = compile_source(name_or_text if "\n" in name_or_text else seed_text(name_or_text))
     assert result.ok, result.diagnostics
     return result.record

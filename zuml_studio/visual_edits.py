@@ -40,9 +40,10 @@ def path_of(macro: Macro, node: object) -> Path:
     for i, st in enumerate(macro.intro):
         if st is node:
             return ("intro", i)
-    for i, st in enumerate(macro.conclusion):
-        if st is node:
-            return ("conclusion", i)
+    for head in ("between", "conclusion"):
+        for i, st in enumerate(getattr(macro, head)):
+            if st is node:
+                return (head, i)
     for section in macro.sections():
         found = _path_in(section.items, node, (section.kind,))
         if found is not None:
@@ -70,7 +71,7 @@ def node_at(macro: Macro, path: Path):
     """The node at ``path`` (see ``path_of``); a Section for a one-element section path."""
     try:
         head, rest = path[0], list(path[1:])
-        if head in ("intro", "conclusion"):
+        if head in ("intro", "between", "conclusion"):
             return getattr(macro, head)[rest[0]]
         node: object = getattr(macro, head)
         while rest:
@@ -96,7 +97,8 @@ def shape(macro: Macro) -> tuple:
             else:
                 out.append(("cmd", item.op.code))
         return tuple(out)
-    return (tuple(s.op.code for s in macro.intro), tuple(s.op.code for s in macro.conclusion),
+    return (tuple(s.op.code for s in macro.intro), tuple(s.op.code for s in macro.between),
+            tuple(s.op.code for s in macro.conclusion),
             tuple((s.present, items(s.items)) for s in macro.sections()))
 
 
@@ -360,7 +362,7 @@ def chemistry_of(macro: Macro | None):
     from .sim.chemistry import load_chemistry   # Qt-free; imported late to keep lang -> sim one-way here
     try:
         return load_chemistry(AKK_TYPE.format(st.args[0].raw))
-    except (KeyError, ValueError, OSError):
+    except KeyError:    # LiS, New, Undef: no model; a broken data file raises DataFileError
         return None
 
 

@@ -1,15 +1,15 @@
 """New macros from a few answers (chemistry, cells, capacity, rate, sensor): the logic behind
 ``zuml new`` and the GUI's wizard. Limits come from the chemistry data (spec §5), the choices
-around them from resources/templates.toml. The result is text; it is checked like any macro."""
+around them from the package's data/templates.toml. The result is text; it is checked like any macro."""
 from __future__ import annotations
 
-import tomllib
 from dataclasses import dataclass
 from decimal import Decimal
 
-from .sim.chemistry import RESOURCES_DIR, Chemistry, chemistry_names, load_chemistry
+from . import data
+from .sim.chemistry import Chemistry, chemistry_names, load_chemistry
 
-TEMPLATES = RESOURCES_DIR / "templates.toml"
+TEMPLATES = "templates.toml"
 
 
 class WizardError(ValueError):
@@ -30,9 +30,12 @@ def _num(x: float) -> str:
     return text.rstrip("0").rstrip(".") if "." in text else text
 
 
-def _choices(name: str) -> dict:
-    with TEMPLATES.open("rb") as fh:
-        return tomllib.load(fh)[name]
+def choices(name: str) -> dict:
+    """The template's choices for a chemistry (its canonical name), e.g. ``default_rate_c``."""
+    table = data.read_toml(TEMPLATES).get(name)
+    if not isinstance(table, dict):
+        raise data.DataFileError(f"data file {data.location(TEMPLATES)} has no [{name}] table")
+    return table
 
 
 def default_name(a: Answers, chem: Chemistry) -> str:
@@ -48,7 +51,7 @@ def new_macro(a: Answers) -> str:
         raise WizardError("cells in series: 1 to 255")
     if not 2 <= a.capacity_mah <= 65534:
         raise WizardError("capacity: 2 to 65534 mAh")
-    c = _choices(chem.name)
+    c = choices(chem.name)
     rate = c["default_rate_c"] if a.rate_c is None else a.rate_c
     if not 0.01 <= rate <= 5:
         raise WizardError("charge rate: 0.01C to 5C")
@@ -101,6 +104,7 @@ def _lead(chem: Chemistry, c: dict, a: Answers, rate: float) -> list[str]:
 
 
 def _lithium(chem: Chemistry, c: dict, a: Answers, rate: float) -> list[str]:
+    # Lithium always states its 45 °C limit (the lint's W315): inert without a sensor, in force with one.
     return ["    FAZE", f"      CONSTANT_I={_num(rate)}C", f"      CONSTANT_V={_num(chem.charge_end_v)}S",
-            f"      IF(I<{_num(c['end_rate_c'])}C) STOP_FAZE"] + _sensor(c, a) + \
+            f"      IF(I<{_num(c['end_rate_c'])}C) STOP_FAZE", f"      IF(T>{c['t_max_c']}) STOP_FAZE"] + \
            [f"      IF(tf>{c['timer_minutes']}min) STOP_FAZE", "    END_FAZE"]

@@ -164,12 +164,24 @@ def test_refusals_and_link_errors_are_one_line(vc, zuml, tmp_path):
 
 def test_passport_read_and_write(vc, zuml):
     device, port = vc()
-    code, out, err = zuml("passport", "--port", port, "--write", "serial=PACK-42", "--write", "a_limit=3")
+    code, out, err = zuml("passport", "--port", port, "--write", "err=3")
     assert code == 0, err
-    assert "serial   PACK-42" in out and "a_limit  3 A" in out and "type     NiMh (3)" in out
-    assert device.chip.passport.serial == "PACK-42"
+    assert "err      3  (warning: the battery reports 3 error(s) (ERR=3))" in out and "type     NiMh (3)" in out
+    assert device.chip.passport.err == 3
     one_error_line(*zuml("passport", "--port", port, "--write", "temp=3"))
     one_error_line(*zuml("passport", "--port", port, "--write", "a_limit=x"))
+
+
+def test_passport_type_and_limits_are_read_only_on_a_production_battery(vc, zuml):
+    device, port = vc()
+    code, out, err = zuml("passport", "--port", port, "--write", "type=LiPo", "--write", "v_limit=20")
+    one_error_line(code, out, err)
+    assert err.startswith("zuml: error: passport: type: the battery refused: the write touches read-only fields")
+    assert device.chip.passport.type == 3
+    device, port = vc(passport_factory=True)
+    code, out, err = zuml("passport", "--port", port, "--write", "serial=PACK-42", "--write", "v_limit=9")
+    assert code == 0, err
+    assert "serial   PACK-42" in out and "v_limit  9 V" in out
 
 
 def test_virtual_charger_subprocess_prints_its_port_first(tmp_path):
@@ -205,3 +217,19 @@ def test_virtual_charger_disconnect_mid_flash_keeps_the_old_image(tmp_path):
         one_error_line(code, out, err)
         assert "lost" in err or "no answer" in err
         assert eeprom.read_bytes() == bytes(old)
+
+
+def test_templates_list_get_set(vc, zuml):
+    device, port = vc()
+    code, out, err = zuml("templates", "set", "--port", port, "4", "--capacity", "1200", "--current", "0.6",
+                          "--series", "2")
+    assert code == 0, err
+    assert out.strip() == "4  charge, 1200 mAh, 0.6 A, 2 cell(s)"
+    code, out, err = zuml("templates", "list", "--port", port)
+    assert code == 0 and "  4  charge, 1200 mAh, 0.6 A, 2 cell(s)" in out.splitlines()
+    assert len(out.splitlines()) == 4
+    code, out, err = zuml("templates", "get", "--port", port, "1")
+    assert code == 0 and out.startswith("  1  charge, 2000 mAh")
+    one_error_line(*zuml("templates", "get", "--port", port, "9"))
+    one_error_line(*zuml("templates", "set", "--port", port, "20"))
+    one_error_line(*zuml("templates", "set", "--port", port, "2", "--current", "99"))

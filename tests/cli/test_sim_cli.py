@@ -46,3 +46,37 @@ def test_missing_start_values_are_one_clear_line():
     assert rc == 1 and "--capacity" in err
     rc, _, err = run_zuml(*NIMH, "--soc", "2")
     assert rc == 2 and "--soc" in err
+
+
+def test_json_and_table_show_heat_sink_pauses_and_the_charger_clipping_the_current():
+    args = ["simulate", str(MACROS / "LiPo.zuml"), "--task", "discharge", "--capacity", "2000", "--series", "3",
+            "--ambient", "40"]
+    rc, out, err = run_zuml(*args, "--json")
+    assert rc == 0, err
+    (phase,) = json.loads(out)["phases"]
+    assert len(phase["pauses"]) > 5 and phase["paused_s"] > 600
+    assert phase["clip"]["limit"] == "5 W discharge limit" and phase["clip"]["asked_a"] == -2.0
+    rc, out, err = run_zuml(*args)
+    assert f"heat-sink pause {len(phase['pauses'])}x" in out
+    assert "asked 2.00 A, charger gave 0.40 A: 5 W discharge limit" in out
+
+
+def test_a_charge_cut_by_its_timer_is_marked_not_reported_as_a_normal_end():
+    args = ["simulate", str(MACROS / "NiMh-dV.zuml"), "--capacity", "2000", "--series", "4", "--current", "0.4",
+            "--no-sensor"]
+    rc, out, err = run_zuml(*args)
+    assert rc == 0, err
+    assert out.startswith("warning: charge phase 1: 0.40 A is 0.20C of 2000 mAh; NiMh shows no reliable -dV")
+    assert "⚠ timer before full: 1600 mAh put in" in out
+    assert "⚠ phase 1 (charge): timer before full: IF(tf>4h) STOP_FAZE ended it with 1600 mAh put in" in out
+    rc, out, err = run_zuml(*args, "--json")
+    assert json.loads(out)["phases"][0]["timer_before_full"] is True
+    assert json.loads(out)["warnings"][0].startswith("charge phase 1: 0.40 A is 0.20C")
+
+
+def test_template_option_takes_the_start_values_from_the_charger_table():
+    rc, out, err = run_zuml("simulate", str(MACROS / "NiMh-dV.zuml"), "--template", "1", "--no-sensor", "--json")
+    assert rc == 0, err
+    assert json.loads(out)["battery"] == {"chemistry": "NiMh", "capacity_mah": 2000.0, "series": 4}
+    rc, out, err = run_zuml("simulate", str(MACROS / "NiMh-dV.zuml"), "--template", "9")
+    assert rc == 1 and "start template 9 (chosen at start) does not exist on this charger" in err

@@ -10,7 +10,7 @@ from zuml_studio.device import messages as m
 from zuml_studio.device.client import ChargerClient
 from zuml_studio.device.errors import (DeviceError, Disconnected, ImageTooLarge, InvalidImage, NotACharger,
                                        PermissionDenied, PortBusy, PortNotFound)
-from zuml_studio.device.passport import Passport
+from zuml_studio.device.passport import Passport, PassportError
 from zuml_studio.device.transport import serve_pty
 from zuml_studio.device.virtual_charger import VirtualCharger
 from zuml_studio.lang.eeprom import pack
@@ -111,7 +111,7 @@ def test_stop_takes_effect_at_once_and_discharge_current_is_negative(make_charge
 
 
 def test_passport_read_write_and_lockout(make_charger, make_client):
-    device, port = make_charger(battery="NiMh:2000:4", speed=20000, passport="LiPo")
+    device, port = make_charger(battery="NiMh:2000:4", speed=20000, passport="LiPo", passport_factory=True)
     client = make_client(port)
     p = client.passport_read()
     assert p.type_name == "LiPo" and p.serial == "ZUML-VIRT-0001" and p.temp == 25
@@ -121,14 +121,40 @@ def test_passport_read_write_and_lockout(make_charger, make_client):
     assert exc.value.code == m.ErrorCode.PASSPORT_CONFLICT
     assert exc.value.lines == ["the macro is for NiMh; the battery is LiPo"]
     assert device.state == "idle"
-    after = client.passport_write("type", "NiMh")
+    after = client.passport_write("type", "NiMh")                                  # a factory battery
     assert after.type == 3 and Passport.from_bytes(device.chip.image) == after      # check maintained
     device.pack.temp_c = 37.4                                                       # TEMP is live
     assert client.passport_read().temp == 37
-    client.passport_write("a_limit", 1)
-    with pytest.raises(DeviceError, match="the macro charges at 2.00 A .*; the battery allows 1 A"):
+    with pytest.raises(PassportError, match="A_LIMIT lies on page 7"):
+        client.passport_write("a_limit", 1)
+    assert client.start(0, "charge", 1, 2000, 2.0, None, 4, False) == "NiMh-dV"
+
+
+def test_a_production_battery_keeps_its_type_and_limits_and_the_lockout_holds(make_charger, make_client):
+    """Issue 11.4: the PC cannot rewrite TYPE or V_LIMIT to get a LiPo macro started on a NiMH pack."""
+    device, port = make_charger(battery="NiMh:2000:4", speed=20000)
+    client = make_client(port)
+    client.write_image(pack([compiled("LiPo")]))
+    before = device.chip.image
+    for field, value in (("type", "LiPo"), ("v_limit", 20), ("serial", "FAKE"), ("vendor", "X")):
+        with pytest.raises(DeviceError, match="read-only fields"):
+            client.passport_write(field, value)
+    assert device.chip.image == before
+    with pytest.raises(DeviceError, match="the macro is for LiPo; the battery is NiMh"):
+        client.start(0, "charge", 1, 2000, 2.0, None, 3, False)
+    assert client.passport_write("err", 2).err == 2                 # the error section stays writable
+
+
+def test_a_battery_with_critical_errors_does_not_start_and_the_message_names_them(make_charger, make_client):
+    device, port = make_charger(battery="NiMh:2000:4", speed=20000,
+                                passport=Passport("PACK-7", "ROGA", 3, 1, 2, 8, 4, 25))
+    client = make_client(port)
+    client.write_image(pack([compiled("NiMh-dV")]))
+    with pytest.raises(DeviceError) as exc:
         client.start(0, "charge", 1, 2000, 2.0, None, 4, False)
-    client.passport_write("a_limit", 2)
+    assert exc.value.lines == ["the battery reports 2 critical error(s) (CRIT=2): it is not fit for use"]
+    assert device.state == "idle"
+    client.passport_write("crit", 0)
     assert client.start(0, "charge", 1, 2000, 2.0, None, 4, False) == "NiMh-dV"
 
 
@@ -173,7 +199,7 @@ def test_open_errors(make_charger, make_client, tmp_path, monkeypatch):
     def denied(*a, **kw):
         raise serial.SerialException(13, "could not open port /dev/ttyUSB0: [Errno 13] Permission denied")
     monkeypatch.setattr(serial, "serial_for_url", denied)
-    with pytest.raises(PermissionDenied, match="sudo usermod -aG dialout \\$USER"):
+    with pytest.raises(PermissionDenied, match="/dev/ttyUSB0: permission denied; "):
         ChargerClient("/dev/ttyUSB0")
 
 

@@ -3,6 +3,7 @@ import pytest
 
 from zuml_studio.device import messages as m
 
+TEMPLATE = dict(number=2, task=2, repetitions=3, capacity_mah=2200, current_ma=2200, voltage_mv=0, series=3)
 SAMPLES = {
     "IDENTIFY": ({}, dict(protocol=1, eeprom_size=1024, max_data=240, max_charge_ma=5000, max_charge_dw=500,
                           max_discharge_ma=1000, max_discharge_dw=50, max_mv=27000, write_us_per_byte=0,
@@ -21,6 +22,9 @@ SAMPLES = {
     "GET_EVENT": (dict(number=7), dict(number=7, time_ms=1, kind=2, section=1, index=1, repetition=1, offset=17,
                                        detail="IF(V>1.8S) STOP_FAZE")),
     "PASSPORT": (dict(request=bytes(8)), dict(answer=bytes(32))),
+    "LIST_TEMPLATES": ({}, dict(numbers=bytes((1, 2, 3)))),
+    "GET_TEMPLATE": (dict(number=2), TEMPLATE),
+    "SET_TEMPLATE": (TEMPLATE, TEMPLATE),
 }
 
 

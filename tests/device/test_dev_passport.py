@@ -37,36 +37,79 @@ def test_bad_check_or_magic_is_refused():
 
 
 def test_requests_are_8_bytes_with_xor():
-    for req in (pp.read_all_request(), pp.read_page_request(3), pp.write_page_request(7, b"\x01\x02\x03\x04")):
+    for req in (pp.read_all_request(), pp.read_page_request(3), pp.write_page_request(6, b"\x01\x02\x03\x04")):
         assert len(req) == 8 and req[0] == 0xA7
         x = 0
         for b in req[:7]:
             x ^= b
         assert req[7] == x
     assert pp.read_page_request(3)[1:3] == b"\x13\x03"
-    assert pp.write_page_request(7, b"abcd")[1:7] == b"\x27\x07abcd"
+    assert pp.write_page_request(6, b"abcd")[1:7] == b"\x26\x06abcd"
     assert pp.parse_request(pp.write_page_request(2, b"abcd")) == ("write", 2, b"abcd")
     for bad in (b"\xa7" * 8, pp.read_page_request(1)[:7] + b"\x00", bytes(8)):
         with pytest.raises(pp.PassportError):
             pp.parse_request(bad)
+    with pytest.raises(pp.PassportError, match="0..6"):
+        pp.read_page_request(7)                                 # pages 0-6 (seed 003)
 
 
-def test_chip_keeps_temp_and_check_and_ignores_bad_requests():
+def _request(*body) -> bytes:
+    x = 0
+    for b in body:
+        x ^= b
+    return bytes(body) + bytes((x,))
+
+
+@pytest.mark.parametrize("request_, code", [
+    (b"", pp.AnswerError.BAD_LENGTH), (b"\xa7\x00\x00", pp.AnswerError.BAD_LENGTH),
+    (bytes(9), pp.AnswerError.BAD_LENGTH), (b"\x00" * 8, pp.AnswerError.BAD_MAGIC),
+    (b"\xa7\x00\x00\x00\x00\x00\x00\x00", pp.AnswerError.BAD_XOR),
+    (_request(0xA7, 0x30, 0, 0, 0, 0, 0), pp.AnswerError.BAD_COMMAND),
+    (_request(0xA7, 0x17, 7, 0, 0, 0, 0), pp.AnswerError.BAD_PAGE),
+    (_request(0xA7, 0x12, 3, 0, 0, 0, 0), pp.AnswerError.BAD_PAGE),
+    (_request(0xA7, 0x25, 5, 0, 0, 9, 0), pp.AnswerError.READ_ONLY)])      # TYPE (0x16) on page 5
+def test_every_request_even_a_malformed_one_gets_32_bytes_with_an_error_code(request_, code):
+    chip = pp.PassportChip(pp.Passport("SER", "ZUML", 3, 0, 0, 8, 4))
+    before = chip.image
+    answer = chip.answer(request_)
+    assert len(answer) == 32 and answer[0] == 0xA7 and answer[1] == pp.ERROR_MARK and answer[2] == code
+    assert pp.check_word(answer) == int.from_bytes(answer[0x1E:], "little")
+    assert pp.answer_error(answer).endswith(f"(passport error {int(code)})")
+    assert chip.image == before and chip.writes == 0
+    assert pp.answer_error(before) is None
+
+
+def test_chip_keeps_temp_and_check_and_lets_a_production_charger_write_only_err_and_crit():
     temp = [31.6]
     chip = pp.PassportChip(pp.Passport("SER", "ZUML", 3, 0, 0, 8, 4), lambda: temp[0])
     answer = chip.answer(pp.read_all_request())
     assert answer[0x1D] == 32 and pp.check_ok(answer)
     temp[0] = -5.2
-    assert pp.Passport.from_bytes(chip.answer(pp.read_page_request(7))).temp == -5
-    # write page 7: A_LIMIT changes; TEMP and the check stay the battery's own
-    page = bytearray(pp.page_of(answer, 7))
-    page[0] = 2
-    page[1] = 99
-    page[2:4] = b"\x00\x00"
-    after = chip.answer(pp.write_page_request(7, bytes(page)))
+    assert pp.Passport.from_bytes(chip.answer(pp.read_page_request(6))).temp == -5
+    # page 6 = ERR high byte, CRIT, V_LIMIT: CRIT may change, V_LIMIT may not
+    page = bytearray(pp.page_of(answer, 6))
+    page[1] = 2
+    after = chip.answer(pp.write_page_request(6, bytes(page)))
     p = pp.Passport.from_bytes(after)
-    assert p.a_limit == 2 and p.temp == -5 and pp.check_ok(after)
-    assert chip.answer(b"\xa7\x00\x00\x00\x00\x00\x00\x00") is None       # bad XOR: no answer
+    assert p.crit == 2 and p.v_limit == 8 and p.temp == -5 and pp.check_ok(after)
+    page[3] = 20
+    assert pp.answer_error(chip.answer(pp.write_page_request(6, bytes(page)))).startswith("the write touches "
+                                                                                          "read-only fields")
+    assert chip.passport.v_limit == 8 and chip.passport.crit == 2
+
+
+def test_a_factory_chip_takes_type_serial_vendor_and_v_limit():
+    old = pp.Passport("SER", "ZUML", 3, 0, 0, 8, 4)
+    chip = pp.PassportChip(old, factory=True)
+    new = pp.Passport("NEW-1", "ROGA", 4, 0, 0, 13, 4)
+    for req in pp.page_writes(old.to_bytes(), new.to_bytes()):
+        assert pp.answer_error(chip.answer(req)) is None
+    assert chip.passport == new
+
+
+def test_fitness_warning_and_crit_lockout():
+    assert pp.fitness_warnings(pp.Passport(err=2)) == ["the battery reports 2 error(s) (ERR=2)"]
+    assert pp.fitness_warnings(pp.Passport()) == []
 
 
 def test_field_writes_touch_only_their_pages():
@@ -76,6 +119,8 @@ def test_field_writes_touch_only_their_pages():
     writes = pp.page_writes(old.to_bytes(), new.to_bytes())
     assert [w[2] for w in writes] == [0x16 // 4]
     assert old.with_field("serial", "ABC").serial == "ABC"
+    with pytest.raises(pp.PassportError, match="page 7"):
+        pp.page_writes(old.to_bytes(), old.with_field("a_limit", 9).to_bytes())
     for field, value in (("serial", "x" * 17), ("vendor", "ÄBC"), ("a_limit", "300"), ("temp", "3"),
                          ("type", "Bogus"), ("err", "-1")):
         with pytest.raises(pp.PassportError):

@@ -66,4 +66,5 @@ def macros(draw):
     intro_ops = draw(st.lists(st.sampled_from(ops_in(Place.INTRO)), max_size=4, unique=True))
     name = draw(st.text(NAME_CHARS, min_size=1, max_size=16))
     return Macro(name, [draw(statement(op)) for op in intro_ops], draw(sections("discharge")),
-                 draw(sections("charge")), draw(st.lists(commands, max_size=2)))
+                 draw(sections("charge")), draw(st.lists(commands, max_size=2)),
+                 between=draw(st.lists(commands, max_size=2)))

@@ -33,7 +33,7 @@ CASES = [
     ("wrong outcome", ("IF(V<2.8S) STOP_FAZE()", "IF(V<2.8S) STOP_MACRO"), (6, 16, "E123")),
     ("unclosed phase", ("    END_FAZE\n  END_SECTION\n  CHARGE", "  END_SECTION\n  CHARGE"), (4, 5, "E130")),
     ("duplicate section", ("  MUSIC(STOP)", "  CHARGE_SECTION\n  END_SECTION\n  MUSIC(STOP)"), (19, 3, "E131")),
-    ("statement between sections", ("  CHARGE_SECTION", "  MUSIC(1)\n  CHARGE_SECTION"), (9, 3, "E133")),
+    ("action between sections", ("  CHARGE_SECTION", "  CONSTANT_I=1C\n  CHARGE_SECTION"), (9, 3, "E150")),
     ("END_SECTION without section", ("  MUSIC(STOP)", "  END_SECTION"), (19, 3, "E134")),
     ("phase outside section", ("  AKK_TYPE=LiPo", "  AKK_TYPE=LiPo FAZE CONSTANT_I=1A END_FAZE"), (2, 17, "E135")),
     ("END_FAZE without FAZE", ("  MUSIC(STOP)", "  END_FAZE"), (19, 3, "E136")),

@@ -40,9 +40,20 @@ def test_nimh_at_0_2c_shows_no_minus_dv_and_a_default_ends_it():
     assert v.max() - v[-1] < 0.005           # a plateau, no dip
 
 
-def test_nimh_at_0_2c_with_a_real_minus_dv_condition_ends_by_its_timer():
+def test_nimh_at_0_2c_is_outside_the_macros_stated_use_and_its_timer_is_flagged_before_full():
     r = run("NiMh-dV", capacity=2000, series=4, current=0.4, sensor=False)
-    assert r.phases[0].reason == "IF(tf>2h) STOP_FAZE"
+    (phase,) = r.phases
+    assert phase.reason == "IF(tf>4h) STOP_FAZE" and phase.mah_in < 2000
+    assert phase.timer_before_full and r.to_json()["phases"][0]["timer_before_full"] is True
+
+
+@pytest.mark.parametrize("name, capacity, c_rates", [("NiMh-dV", 2000, (0.3, 0.5, 1.0, 2.0)),
+                                                     ("NiCd-dV", 1000, (0.5, 1.0, 2.0))])
+def test_standard_nickel_macros_fill_the_battery_over_their_stated_range(name, capacity, c_rates):
+    for rate in c_rates:
+        r = run(name, capacity=capacity, series=4, current=rate * capacity / 1000, sensor=False)
+        (phase,) = r.phases
+        assert not phase.timer_before_full and phase.mah_in >= capacity, (rate, phase.reason)
 
 
 def test_nicd_1c_ends_by_minus_dv_with_a_larger_dip_than_nimh():
@@ -134,3 +145,9 @@ def test_heatsink_overheat_pauses_and_continues_the_macro():
     a = r.log.arrays()
     assert a["heatsink_c"].max() < 72
     assert r.phases[0].reason == "IF(V<2.8S) STOP_FAZE"
+    # Every pause is on the phase, as the events tell it, and in the JSON.
+    phase = r.phases[0]
+    pauses = [e.time_s for e in r.interpreter.events if e.kind == "pause"]
+    assert [p[0] for p in phase.pauses] == pauses and all(b > a for a, b in phase.pauses)
+    assert r.to_json()["phases"][0]["pauses"][0] == [round(x, 1) for x in phase.pauses[0]]
+    assert phase.notes[0].startswith(f"heat-sink pause {len(pauses)}x")

@@ -8,7 +8,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from zuml_studio.sim.battery import Pack
-from zuml_studio.sim.chemistry import CHEMISTRY_DIR, RESOURCES_DIR, chemistry_names, load_chemistry
+from zuml_studio import data
+from zuml_studio.sim.chemistry import chemistry_names, load_chemistry
 from zuml_studio.sim.delta_peak import DeltaPeakDetector
 
 DT = 1.0
@@ -79,15 +80,15 @@ def test_unmodelled_chemistry_raises_key_error(name):
         load_chemistry(name)
 
 
-def test_resources_dir_is_next_to_the_package():
-    assert RESOURCES_DIR.name == "resources" and (RESOURCES_DIR.parent / "zuml_studio").is_dir()
+def test_every_modelled_chemistry_has_its_data_file():
+    assert data.names("chemistries") == sorted(chemistry_names())
 
 
-@pytest.mark.parametrize("path", sorted(CHEMISTRY_DIR.glob("*.toml")) + sorted((RESOURCES_DIR / "chargers").glob("*.toml")),
-                         ids=lambda p: p.name)
+@pytest.mark.parametrize("path", [f"chemistries/{n}.toml" for n in data.names("chemistries")]
+                         + [f"chargers/{n}.toml" for n in data.names("chargers")])
 def test_every_number_in_a_parameter_file_has_a_source(path):
     """Each numeric value carries a '# source:' comment, or its table has a `sources = [...]` list."""
-    text = path.read_text(encoding="utf-8")
+    text = data.read_text(path)
     tables_with_sources = set(re.findall(r"^\[(\w+)\][^\[]*?^sources\s*=", text, flags=re.M | re.S))
     table = ""
     for n, line in enumerate(text.splitlines(), start=1):
@@ -97,7 +98,7 @@ def test_every_number_in_a_parameter_file_has_a_source(path):
         code = re.sub(r'"[^"]*"', "", line.split("#", 1)[0])
         if "=" in code and re.search(r"\d", code.split("=", 1)[1]):
             cited = "# source:" in line or table in tables_with_sources
-            assert cited, f"{path.name}:{n} has no source: {line.strip()}"
+            assert cited, f"{path}:{n} has no source: {line.strip()}"
 
 
 # -- NiMH / NiCd: peak, -dV, heat ----------------------------------------------------------------

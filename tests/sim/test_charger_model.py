@@ -74,3 +74,35 @@ def test_heatsink_rises_monotonically_and_independent_of_dt():
         last = now
     coarse.step(-1.0, 5.0, 600.0)
     assert coarse.heatsink_c == pytest.approx(fine.heatsink_c, rel=1e-9)
+
+
+def test_minus_dv_hold_off_is_a_charger_parameter_from_the_thesis():
+    """Issue 11.8: seed 001 ignores the first 5-10 minutes of a -dV charge; the model says how long."""
+    lim = load_charger("imax_b6")
+    assert (lim.dpeak_window_s, lim.dpeak_holdoff_s) == (30.0, 300.0)
+
+
+@pytest.mark.parametrize("holdoff", [300.0, 900.0])
+def test_the_interpreter_ignores_a_minus_dv_during_the_chargers_hold_off(holdoff):
+    from dataclasses import replace
+
+    from simhelp import record_of
+    from zuml_studio.sim.interpreter import StartParams
+    from zuml_studio.sim.simulate import BatterySetup, prepare
+    # A full pack charged at 1C peaks at once: the -dV fires as soon as the hold-off allows.
+    r = prepare(record_of("NiMh-dV"), StartParams("charge", 1, 2000, 2.0, None, 4, False), BatterySetup(soc=1.0))
+    r.interpreter.charger.limits = replace(r.interpreter.charger.limits, dpeak_holdoff_s=holdoff)
+    r.interpreter.run()
+    (phase,) = r.phases
+    assert phase.reason == "IF(DELTA_PEAK>0.01S) STOP_FAZE"
+    assert holdoff < phase.end_s <= holdoff + 600
+
+
+def test_a_charger_file_without_its_minus_dv_numbers_is_refused(monkeypatch):
+    import zuml_studio.sim.charger_model as cm
+    from zuml_studio.data import DataFileError
+    parsed = cm.data.read_toml("chargers/imax_b6.toml")
+    del parsed["delta_peak"]
+    monkeypatch.setattr(cm.data, "read_toml", lambda relative: parsed)
+    with pytest.raises(DataFileError, match="imax_b6.toml: missing key 'delta_peak'"):
+        cm.load_charger("imax_b6")

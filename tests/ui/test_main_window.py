@@ -184,6 +184,20 @@ def test_library_lists_the_standard_macros_and_opens_one(make_window):
     assert w.path.endswith("NiMh.zuml") and "NiMh" in w.windowTitle()
 
 
+def test_saving_a_standard_macro_asks_for_a_file_in_the_users_folder(make_window, monkeypatch):
+    from PySide6.QtWidgets import QFileDialog
+
+    standard = MACROS / "NiMh.zuml"
+    before = standard.read_bytes()
+    w = make_window(str(standard))
+    w.editor.insertPlainText("// mine\n")
+    asked = []
+    monkeypatch.setattr(QFileDialog, "getSaveFileName", lambda *a: (asked.append(a[2]), ("", ""))[1])
+    assert not w.save()
+    assert asked and asked[0].startswith(str(w.user_macros))
+    assert standard.read_bytes() == before
+
+
 def test_screenshot_command_renders_and_exits_zero(tmp_path):
     out = tmp_path / "shot.png"
     proc = subprocess.run([sys.executable, "-m", "zuml_studio.ui.app", str(MACROS / "NiMh.zuml"),

@@ -14,7 +14,7 @@ import time
 from ..device import messages as msg
 from ..device.client import DEFAULT_BAUD, ChargerClient, check_image
 from ..device.errors import DeviceError, DeviceLinkError, ImageTooLarge
-from ..device.passport import WRITABLE, Passport, PassportError
+from ..device.passport import FACTORY_WRITABLE, WRITABLE, Passport, PassportError, fitness_warnings
 from ..lang.decoder import decode_record
 from ..lang.eeprom import ImageError, Slot, records, used_bytes
 from ..lang.record import DecodeError
@@ -65,7 +65,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
     p = _with_port(sub.add_parser("passport", help="read (or write fields of) the battery's passport"))
     p.add_argument("--write", action="append", default=[], metavar="FIELD=VALUE",
-                   help=f"set a field ({', '.join(WRITABLE)}); may be repeated")
+                   help=f"set a field ({', '.join(WRITABLE)}; a factory battery also "
+                        f"{', '.join(f for f in FACTORY_WRITABLE if f not in WRITABLE)}); may be repeated")
     p.set_defaults(run=cmd_passport)
 
     p = sub.add_parser("virtual-charger", help="run a simulated charger behind a serial port (pty) or TCP")
@@ -86,6 +87,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--no-sensor", action="store_true", help="no battery temperature sensor")
     p.add_argument("--passport", default="match", metavar="TYPE",
                    help="the battery passport's chemistry (default: the battery's; 'none': no passport)")
+    p.add_argument("--passport-factory", action="store_true",
+                   help="a factory battery: its passport lets the charger write serial, vendor, type, v_limit "
+                        "(default: a production battery, only err and crit)")
     p.set_defaults(run=cmd_virtual_charger)
 
 
@@ -342,18 +346,24 @@ def cmd_passport(args: argparse.Namespace) -> int:
     for item in args.write:
         field, sep, value = item.partition("=")
         if not sep:
-            raise CliError(f"--write {item}: write FIELD=VALUE ({', '.join(WRITABLE)})")
+            raise CliError(f"--write {item}: write FIELD=VALUE ({', '.join(FACTORY_WRITABLE)})")
         Passport().with_field(field, value)          # a bad field or value fails before the port opens
         writes.append((field, value))
     with _connect(args) as client:
         for field, value in writes:
-            client.passport_write(field, value)
+            try:
+                client.passport_write(field, value)
+            except DeviceError as exc:
+                if exc.code != msg.ErrorCode.PASSPORT_ERROR:
+                    raise
+                raise CliError(f"passport: {field}: {exc.message}", 1) from None
         p = client.passport_read()
     out(f"serial   {p.serial}")
     out(f"vendor   {p.vendor}")
     out(f"type     {p.type_name} ({p.type})")
-    out(f"err      {p.err}")
-    out(f"crit     {p.crit}")
+    warnings = fitness_warnings(p)
+    out(f"err      {p.err}" + (f"  (warning: {warnings[0]})" if warnings else ""))
+    out(f"crit     {p.crit}" + ("  (not fit for use: the charger refuses to start)" if p.crit else ""))
     out(f"v_limit  {p.v_limit} V" + ("  (not set)" if not p.v_limit else ""))
     out(f"a_limit  {p.a_limit} A" + ("  (not set)" if not p.a_limit else ""))
     out(f"temp     {p.temp} C")
@@ -368,7 +378,7 @@ def cmd_virtual_charger(args: argparse.Namespace) -> int:
         device = VirtualCharger(args.battery, speed=args.speed, eeprom_path=args.eeprom,
                                 eeprom_size=args.eeprom_size, faults=faults, eeprom_write_ms=args.eeprom_write_ms,
                                 soc=args.soc, ambient_c=args.ambient, sensor=not args.no_sensor,
-                                passport=args.passport, seed=args.seed)
+                                passport=args.passport, seed=args.seed, passport_factory=args.passport_factory)
     except DeviceSetupError as exc:
         raise CliError(str(exc)) from None
     baud = args.baud or None

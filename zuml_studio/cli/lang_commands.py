@@ -19,6 +19,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("check", help="check macros and print their errors and warnings")
     p.add_argument("files", nargs="+", metavar="FILE")
     p.add_argument("--no-hints", action="store_true", help="print only the diagnostic lines")
+    p.add_argument("--charger", metavar="MODEL", help="also warn where this charger model (e.g. imax_b6) will "
+                   "not give a current the macro asks")
     p.set_defaults(run=cmd_check)
 
     p = sub.add_parser("compile", help="compile a macro to its byte record")
@@ -48,9 +50,16 @@ def _report(path: str, result: CompileResult, hints: bool = True, stream=sys.std
 
 
 def cmd_check(args: argparse.Namespace) -> int:
+    charger = None
+    if args.charger:
+        from ..sim.charger_model import load_charger
+        try:
+            charger = load_charger(args.charger)
+        except KeyError as exc:
+            raise CliError(str(exc.args[0])) from None
     failed = False
     for path in args.files:
-        result = compile_source(read_text(path))
+        result = compile_source(read_text(path), charger=charger)
         _report(path, result, not args.no_hints)
         failed = failed or not result.ok
     return 1 if failed else 0

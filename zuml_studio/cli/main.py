@@ -4,10 +4,12 @@ from __future__ import annotations
 import argparse
 import sys
 
-from . import device_commands, firmware_command, lang_commands, sim_commands, new_command
+from ..data import DataFileError
+from . import (device_commands, firmware_command, lang_commands, log_commands, new_command, sim_commands,
+               template_commands)
 from .common import CliError
 
-AREAS = (lang_commands, sim_commands, device_commands, new_command, firmware_command)
+AREAS = (lang_commands, sim_commands, device_commands, template_commands, log_commands, new_command, firmware_command)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -26,6 +28,9 @@ def main(argv: list[str] | None = None) -> int:
     except CliError as exc:
         sys.stderr.write(f"zuml: error: {exc}\n")
         return exc.code
+    except DataFileError as exc:
+        sys.stderr.write(f"zuml: error: {exc}\n")
+        return 2
     except KeyboardInterrupt:
         sys.stderr.write("zuml: interrupted\n")
         return 130

@@ -7,6 +7,8 @@ import sys
 
 from ..sim.interpreter import Measurement, StartError, StartParams
 from ..sim.simulate import BatterySetup, SimResult, simulate
+from ..sim.start_check import start_warnings
+from ..sim.start_templates import TEMPLATE_COUNT
 from .common import CliError, check_start_options, out, read_bytes
 from .lang_commands import compile_file
 
@@ -20,6 +22,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--current", type=float, metavar="A", help="current entered at start (INPUT)")
     p.add_argument("--voltage", type=float, metavar="V", help="voltage entered at start (INPUT)")
     p.add_argument("--series", type=int, metavar="N", help="cells in series entered at start")
+    p.add_argument("--template", type=int, metavar="N", help="start with the charger's start template N "
+                   "(the factory table; a macro's START_SHABLON wins)")
     p.add_argument("--soc", type=float, metavar="0..1", help="initial state of charge "
                    "(default: empty for charge, full for discharge and training)")
     p.add_argument("--ambient", type=float, default=25.0, metavar="C")
@@ -44,13 +48,15 @@ def _check(args: argparse.Namespace) -> None:
     check_start_options(args)
     if not 0.05 <= args.tick <= 60:
         raise CliError("--tick must be 0.05 to 60 seconds")
+    if args.template is not None and not 1 <= args.template <= TEMPLATE_COUNT:
+        raise CliError(f"--template must be 1 to {TEMPLATE_COUNT}")
 
 
 def cmd_simulate(args: argparse.Namespace) -> int:
     _check(args)
     record = _record(args.file)
     params = StartParams(args.task, args.cycles, args.capacity, args.current, args.voltage, args.series,
-                         not args.no_sensor)
+                         not args.no_sensor, args.template)
     setup = BatterySetup(args.model, args.soc, args.ambient)
     measurement = Measurement(args.noise / 1000.0, args.adc_lsb / 1000.0, args.seed)
     try:
@@ -65,10 +71,13 @@ def cmd_simulate(args: argparse.Namespace) -> int:
                 result.log.write_csv(fh)
         except OSError as exc:
             raise CliError(f"{args.csv}: cannot write: {exc.strerror or exc}") from None
+    warnings = start_warnings(record, params, result.interpreter.charger.limits)
     if args.json:
-        json.dump(result.to_json(), sys.stdout, indent=2)
+        json.dump({**result.to_json(), "warnings": warnings}, sys.stdout, indent=2)
         out()
     else:
+        for text in warnings:
+            out(f"warning: {text}")
         _table(args, result)
     return 0
 
@@ -86,11 +95,13 @@ def _table(args: argparse.Namespace, result: SimResult) -> None:
         f"sensor {'on' if p.sensor else 'off'}")
     width = max([len(ph.reason) for ph in result.phases] + [6])
     out(f"{'#':>3}  {'section':<9} {'phase':>5}  {'start':>8}  {'end':>8}  {'reason':<{width}}  "
-        f"{'in mAh':>8}  {'out mAh':>8}  {'V end':>7}  {'T end':>6}")
+        f"{'in mAh':>8}  {'out mAh':>8}  {'V end':>7}  {'T end':>6}  notes")
     for ph in result.phases:
         index = str(ph.index) if ph.index else "dflt"
-        out(f"{ph.run:>3}  {ph.section:<9} {index:>5}  {hms(ph.start_s):>8}  {hms(ph.end_s):>8}  "
-            f"{ph.reason:<{width}}  {ph.mah_in:>8.1f}  {ph.mah_out:>8.1f}  {ph.v_end:>7.3f}  {ph.temp_end:>6.1f}")
+        notes = "; ".join(ph.notes)
+        out((f"{ph.run:>3}  {ph.section:<9} {index:>5}  {hms(ph.start_s):>8}  {hms(ph.end_s):>8}  "
+             f"{ph.reason:<{width}}  {ph.mah_in:>8.1f}  {ph.mah_out:>8.1f}  {ph.v_end:>7.3f}  {ph.temp_end:>6.1f}  "
+             f"{'⚠ ' if ph.timer_before_full else ''}{notes}").rstrip())
     t = result.totals()
     out(f"total {hms(t['duration_s'])}, in {t['mah_in']:.1f} mAh, out {t['mah_out']:.1f} mAh; end: {t['end']}")
     if p.task == "train":
@@ -100,3 +111,6 @@ def _table(args: argparse.Namespace, result: SimResult) -> None:
     for ph in result.phases:
         if ph.by_default:
             out(f"note: phase {ph.run} ({ph.section}) ended by {ph.reason}, not by a condition of the macro")
+        if ph.timer_before_full:
+            out(f"⚠ phase {ph.run} ({ph.section}): timer before full: {ph.reason} ended it with "
+                f"{ph.mah_in:.0f} mAh put in, less than the {result.capacity_mah:g} mAh capacity")

@@ -28,6 +28,7 @@ from .crc import crc16
 from .errors import (CommitUncertain, DeviceError, DeviceLinkError, DeviceTimeout, Disconnected, ImageTooLarge,
                      InvalidImage, NotACharger, PermissionDenied, PortBusy, PortNotFound, VerifyFailed)
 from .frames import MAX_FRAME, OVERHEAD, FrameParser, encode_frame
+from .port_access import vanished_hint
 
 log = logging.getLogger(__name__)
 
@@ -114,7 +115,7 @@ def _open_error(url: str, exc: Exception) -> DeviceLinkError:
     if code in (errno.EBUSY, errno.EAGAIN) or "busy" in low or "exclusively lock" in low or "errno 16" in low:
         return PortBusy(url, text)
     if code == errno.ENOENT or "no such file" in low or "errno 2]" in low or "filenotfound" in low:
-        return PortNotFound(f"{url}: no such port (unplugged? run `zuml ports`)")
+        return PortNotFound(f"{url}: no such port (unplugged? run `zuml ports`).{vanished_hint(url)}")
     if "refused" in low or code == errno.ECONNREFUSED:
         return PortNotFound(f"{url}: nothing listens there (is the virtual charger running?)")
     return DeviceLinkError(f"{url}: cannot open: {text}")
@@ -609,6 +610,18 @@ class ChargerClient:
             self.missed_events.remove(number)
         return ev
 
+    def list_templates(self) -> list[int]:
+        """The numbers of the start templates the charger holds."""
+        return list(self._call("LIST_TEMPLATES", response_len=32)["numbers"])
+
+    def get_template(self, number: int):
+        """Start template ``number`` as a ``sim.start_templates.StartTemplate``; DeviceError NO_TEMPLATE."""
+        return _template(self._call("GET_TEMPLATE", response_len=12, number=number))
+
+    def set_template(self, number: int, template):
+        """Store a ``StartTemplate`` as template ``number``; returns what the charger stored."""
+        return _template(self._call("SET_TEMPLATE", response_len=12, **m.template_fields(number, template)))
+
     def passport_raw(self, request: bytes) -> bytes:
         """Pass an 8-byte passport request to the battery; its 32-byte answer."""
         answer = self._call("PASSPORT", response_len=pp.SIZE, request=bytes(request))["answer"]
@@ -616,24 +629,33 @@ class ChargerClient:
             raise DeviceError(m.ErrorCode.PASSPORT_ERROR, f"the passport answer has {len(answer)} bytes, not 32")
         return answer
 
+    def _passport_answer(self, request: bytes) -> bytes:
+        """The answer to a request; DeviceError when the battery answers with an error."""
+        answer = self.passport_raw(request)
+        refused = pp.answer_error(answer)
+        if refused is not None:
+            raise DeviceError(m.ErrorCode.PASSPORT_ERROR, f"the battery refused: {refused}")
+        return answer
+
     def passport_read(self) -> pp.Passport:
-        answer = self.passport_raw(pp.read_all_request())
+        answer = self._passport_answer(pp.read_all_request())
         try:
             return pp.Passport.from_bytes(answer)
         except pp.PassportError as exc:
             raise DeviceError(m.ErrorCode.PASSPORT_ERROR, f"the battery's passport is unreadable: {exc}") from None
 
     def passport_write(self, field: str, value) -> pp.Passport:
-        """Set one writable field (serial, vendor, type, err, crit, v_limit, a_limit); writes only the
-        pages that change, then reads the passport back. PassportError for a bad field or value."""
-        old = self.passport_raw(pp.read_all_request())
+        """Set one field (a production battery takes err and crit only; a factory one also serial,
+        vendor, type and v_limit); writes only the pages that change, then reads the passport back.
+        PassportError for a bad field or value, DeviceError when the battery refuses the write."""
+        old = self._passport_answer(pp.read_all_request())
         try:
             current = pp.Passport.from_bytes(old)
         except pp.PassportError as exc:
             raise DeviceError(m.ErrorCode.PASSPORT_ERROR, f"the battery's passport is unreadable: {exc}") from None
         wanted = current.with_field(field, value)
         for req in pp.page_writes(old, wanted.to_bytes()):
-            self.passport_raw(req)
+            self._passport_answer(req)
         now = self.passport_read()
         key = field.strip().lower()
         if getattr(now, key) != getattr(wanted, key):
@@ -664,6 +686,14 @@ def _changed_runs(old: bytes, new: bytes, gap: int = OVERHEAD + 6) -> list[tuple
             else:
                 runs.append([i, i + 1])
     return [(a, bytes(new[a:b])) for a, b in runs]
+
+
+def _template(fields: dict):
+    from ..sim.start_templates import TemplateError
+    try:
+        return m.template_of(fields)[1]
+    except TemplateError as exc:
+        raise DeviceError(m.ErrorCode.BAD_REQUEST, f"the charger's start template does not fit: {exc}") from None
 
 
 def _u16(value: float | None, scale: float) -> int:

@@ -5,8 +5,7 @@ shows it in a dialog. None of them carries a traceback-worthy surprise.
 """
 from __future__ import annotations
 
-DIALOUT_HINT = ("add yourself to the dialout group: sudo usermod -aG dialout $USER, "
-                "then log in again")
+from .port_access import refused_advice
 
 
 class DeviceLinkError(Exception):
@@ -21,7 +20,7 @@ class PermissionDenied(DeviceLinkError):
     """errno 13 opening the port."""
 
     def __init__(self, port: str, detail: str = ""):
-        super().__init__(f"{port}: permission denied; {DIALOUT_HINT}")
+        super().__init__(f"{port}: permission denied; {refused_advice(port)}")
         self.port = port
         self.detail = detail
 

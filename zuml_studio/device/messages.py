@@ -45,6 +45,7 @@ class ErrorCode(enum.IntEnum):
     NO_PASSPORT = 11
     PASSPORT_ERROR = 12
     INTERNAL = 13
+    NO_TEMPLATE = 14       # GET_TEMPLATE: no start template with this number
 
 
 @dataclass(frozen=True)
@@ -70,6 +71,8 @@ def _f(spec: str) -> tuple[Field, ...]:
     """'name:fmt name:fmt' -> fields."""
     return tuple(Field(*item.split(":")) for item in spec.split())
 
+
+_TEMPLATE = "number:B task:B repetitions:B capacity_mah:H current_ma:H voltage_mv:H series:B"
 
 # The one table. Field formats: B u8, H u16, I u32, b i8, h i16, i i32, p short UTF-8, u* rest UTF-8, s* rest bytes.
 MESSAGE_TYPES: tuple[MessageType, ...] = (
@@ -97,6 +100,13 @@ MESSAGE_TYPES: tuple[MessageType, ...] = (
     MessageType(0x14, "GET_EVENT", _f("number:I"), _f(
         "number:I time_ms:I kind:B section:B index:B repetition:B offset:H detail:u*"),
         "an event of the current run again, by number (to fill a gap)"),
+    MessageType(0x15, "LIST_TEMPLATES", (), _f("numbers:s*"),
+                "the numbers of the start templates the charger holds, one byte each, ascending"),
+    MessageType(0x16, "GET_TEMPLATE", _f("number:B"), _f(_TEMPLATE),
+                "start template n (START_SHABLON=n): task, repetitions, capacity, current, voltage, cells "
+                "(0 = not in the template)"),
+    MessageType(0x17, "SET_TEMPLATE", _f(_TEMPLATE), _f(_TEMPLATE),
+                "store start template n (1..16); answers what is stored"),
     MessageType(0x20, "PASSPORT", _f("request:s*"), _f("answer:s*"),
                 "pass an 8-byte passport request (spec §4) to the battery; answers its 32 bytes"),
     MessageType(0x40, "TELEMETRY", None, _f(
@@ -307,6 +317,23 @@ class DeviceEvent:
         return cls(v["number"], v["time_ms"] / 1000.0, EVENT_KINDS[v["kind"]],
                    SECTIONS[v["section"]] if v["section"] < len(SECTIONS) else "", v["index"], v["repetition"],
                    -1 if v["offset"] == NO_OFFSET else v["offset"], v["detail"])
+
+
+def template_fields(number: int, template) -> dict:
+    """A ``sim.start_templates.StartTemplate`` as GET_TEMPLATE/SET_TEMPLATE fields (0: not given)."""
+    return {"number": number, "task": TASKS.index(template.task), "repetitions": template.repetitions,
+            "capacity_mah": round(template.capacity_mah or 0), "current_ma": round((template.current_a or 0) * 1000),
+            "voltage_mv": round((template.voltage_v or 0) * 1000), "series": template.series or 0}
+
+
+def template_of(fields: dict):
+    """GET_TEMPLATE/SET_TEMPLATE fields -> (number, StartTemplate); TemplateError for values it refuses."""
+    from ..sim.start_templates import StartTemplate, TemplateError
+    if fields["task"] >= len(TASKS):
+        raise TemplateError(f"task {fields['task']}: 0 charge, 1 discharge, 2 train")
+    return fields["number"], StartTemplate(
+        TASKS[fields["task"]], fields["repetitions"], float(fields["capacity_mah"]) or None,
+        fields["current_ma"] / 1000.0 or None, fields["voltage_mv"] / 1000.0 or None, fields["series"] or None)
 
 
 def _clamp(v: int, lo: int, hi: int) -> int:

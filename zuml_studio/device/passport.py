@@ -3,20 +3,27 @@
 Request: ``A7 | RW_INDEX | PAGE | DATA0..3 | XOR of bytes 0..6`` where RW_INDEX is 0x00
 (whole passport), 0x1X (read page X) or 0x2X (write page X) and PAGE repeats X.
 
-Answer (always the whole passport, 32 bytes; a page read takes bytes 4X..4X+3 of it):
+Answer (32 bytes, to every request, always; a page read takes bytes 4X..4X+3 of it):
 
     0x00 A7, 0x01 layout version 1, 0x02-0x11 SERIAL (16 ASCII, NUL-padded),
     0x12-0x15 VENDOR (4 ASCII), 0x16 TYPE (AKK_TYPE code), 0x17 ERR u16, 0x19 CRIT u16,
     0x1B V_LIMIT (V, u8), 0x1C A_LIMIT (A, u8), 0x1D TEMP (°C, i8, live),
     0x1E-0x1F check: XOR of the 15 little-endian 16-bit words at 0x00..0x1D, little-endian.
 
-Decisions where the spec is silent: pages are 0..7; the battery keeps MAGIC, version, TEMP
-and the check itself (written bytes there are ignored); a request with a bad magic, XOR or
-page gets no answer; a limit of 0 means "not set". ``conflicts`` is the lockout: what a
-charger must refuse to start on this battery.
+Pages are 0..6 (seed 003). On a production battery only the error section (ERR, CRIT) is
+writable; a factory battery lets the host write SERIAL, VENDOR, TYPE and V_LIMIT too (A_LIMIT
+sits on page 7, which no request addresses: it is set when the battery is made).
+
+Decisions where the spec is silent: a request the battery cannot serve (bad length, magic, XOR,
+RW_INDEX or page, or a write to a read-only byte) gets an *error answer*: 32 bytes, MAGIC, then
+0xEE where the layout version stands, an error code (``AnswerError``), the request's RW_INDEX and
+PAGE, zeros, and the same check word; a refused write changes nothing. The battery keeps MAGIC,
+version, TEMP and the check itself (written bytes there are ignored); a limit of 0 means "not
+set". ``conflicts`` is the lockout: what a charger must refuse to start on this battery.
 """
 from __future__ import annotations
 
+import enum
 import struct
 from dataclasses import dataclass, replace
 from typing import Callable
@@ -31,16 +38,42 @@ VERSION = 0x01
 SIZE = 32
 REQUEST_SIZE = 8
 PAGE_SIZE = 4
-PAGES = SIZE // PAGE_SIZE
+PAGES = 7                     # pages 0..6 (seed 003): bytes 0x00..0x1B
 READ_ALL, READ_PAGE, WRITE_PAGE = 0x00, 0x10, 0x20
+ERROR_MARK = 0xEE             # in the version byte: this answer is an error answer
+
+
+class AnswerError(enum.IntEnum):
+    """Error codes of an error answer (byte 0x02)."""
+
+    BAD_LENGTH = 1
+    BAD_MAGIC = 2
+    BAD_XOR = 3
+    BAD_COMMAND = 4       # RW_INDEX neither 0x00, 0x1X nor 0x2X
+    BAD_PAGE = 5          # not 0..6, or PAGE does not repeat RW_INDEX's X
+    READ_ONLY = 6         # a write would change a byte the battery does not let the charger write
+
+
+ANSWER_ERROR_TEXT = {
+    AnswerError.BAD_LENGTH: "the request is not 8 bytes",
+    AnswerError.BAD_MAGIC: "the request's magic is not 0xA7",
+    AnswerError.BAD_XOR: "the request's XOR byte is wrong",
+    AnswerError.BAD_COMMAND: "RW_INDEX is not a passport command",
+    AnswerError.BAD_PAGE: "the page is not 0..6 (or PAGE differs from RW_INDEX's page)",
+    AnswerError.READ_ONLY: "the write touches read-only fields (on a production battery only ERR and CRIT "
+                           "are writable)",
+}
 
 # field -> (offset, size)
 LAYOUT = {"magic": (0x00, 1), "version": (0x01, 1), "serial": (0x02, 16), "vendor": (0x12, 4),
           "type": (0x16, 1), "err": (0x17, 2), "crit": (0x19, 2), "v_limit": (0x1B, 1),
           "a_limit": (0x1C, 1), "temp": (0x1D, 1), "check": (0x1E, 2)}
-WRITABLE = ("serial", "vendor", "type", "err", "crit", "v_limit", "a_limit")
+FIELDS = ("serial", "vendor", "type", "err", "crit", "v_limit", "a_limit")
+WRITABLE = ("err", "crit")               # through the charger, on a production battery
+FACTORY_WRITABLE = ("serial", "vendor", "type", "err", "crit", "v_limit")   # pages 0..6
 # Bytes the battery maintains itself.
 _OWN_BYTES = frozenset((0x00, 0x01, 0x1D, 0x1E, 0x1F))
+_ERROR_SECTION = frozenset(range(0x17, 0x1B))      # ERR, CRIT
 _BODY = struct.Struct("<BB16s4sBHHBBb")
 
 
@@ -121,10 +154,11 @@ class Passport:
         return cls(_text(serial), _text(vendor), typ, err, crit, vl, al, temp, version)
 
     def with_field(self, field: str, value) -> "Passport":
-        """A copy with one writable field set; text values are parsed ("NiMh", "12", "0x10")."""
+        """A copy with one field set; text values are parsed ("NiMh", "12", "0x10"). Which fields a
+        battery lets the charger write is the battery's decision (``PassportChip``)."""
         field = field.strip().lower()
-        if field not in WRITABLE:
-            raise PassportError(f"'{field}' is not a writable passport field; fields: {', '.join(WRITABLE)}")
+        if field not in FIELDS:
+            raise PassportError(f"'{field}' is not a passport field; fields: {', '.join(FIELDS)}")
         if field in ("serial", "vendor"):
             value = str(value)
             _ascii(value, LAYOUT[field][1], field)
@@ -192,25 +226,56 @@ def _page(page: int) -> None:
         raise PassportError(f"a passport page is 0..{PAGES - 1}, not {page}")
 
 
+class BadRequest(PassportError):
+    def __init__(self, code: AnswerError, message: str):
+        super().__init__(message)
+        self.code = code
+
+
 def parse_request(req: bytes) -> tuple[str, int, bytes]:
-    """-> ("all" | "read" | "write", page, data). Raises PassportError for a request a battery ignores."""
+    """-> ("all" | "read" | "write", page, data). Raises BadRequest (with the answer's error code)
+    for a request the battery cannot serve."""
     req = bytes(req)
     if len(req) != REQUEST_SIZE:
-        raise PassportError(f"a passport request is {REQUEST_SIZE} bytes, not {len(req)}")
+        raise BadRequest(AnswerError.BAD_LENGTH, f"a passport request is {REQUEST_SIZE} bytes, not {len(req)}")
     if req[0] != MAGIC:
-        raise PassportError(f"request magic 0x{req[0]:02x}, expected 0x{MAGIC:02x}")
+        raise BadRequest(AnswerError.BAD_MAGIC, f"request magic 0x{req[0]:02x}, expected 0x{MAGIC:02x}")
     x = 0
     for b in req[:7]:
         x ^= b
     if x != req[7]:
-        raise PassportError(f"request XOR 0x{req[7]:02x}, expected 0x{x:02x}")
+        raise BadRequest(AnswerError.BAD_XOR, f"request XOR 0x{req[7]:02x}, expected 0x{x:02x}")
     rw, page, data = req[1], req[2], req[3:7]
     if rw == READ_ALL:
         return "all", 0, data
     op = {READ_PAGE: "read", WRITE_PAGE: "write"}.get(rw & 0xF0)
-    if op is None or (rw & 0x0F) != page or page >= PAGES:
-        raise PassportError(f"RW_INDEX 0x{rw:02x} with PAGE {page} is not a request")
+    if op is None:
+        raise BadRequest(AnswerError.BAD_COMMAND, f"RW_INDEX 0x{rw:02x} is not a passport command")
+    if (rw & 0x0F) != page or page >= PAGES:
+        raise BadRequest(AnswerError.BAD_PAGE, f"RW_INDEX 0x{rw:02x} with PAGE {page} is not a page 0..{PAGES - 1}")
     return op, page, data
+
+
+def error_answer(code: AnswerError, request: bytes) -> bytes:
+    """The 32-byte answer to a request the battery cannot serve."""
+    req = bytes(request)
+    body = bytearray(SIZE)
+    body[0], body[1], body[2] = MAGIC, ERROR_MARK, int(code)
+    body[3] = req[1] if len(req) > 1 else 0
+    body[4] = req[2] if len(req) > 2 else 0
+    body[0x1E:0x20] = check_word(body).to_bytes(2, "little")
+    return bytes(body)
+
+
+def answer_error(answer: bytes) -> str | None:
+    """What an error answer says ("the battery refused: ..."), or None for a passport answer."""
+    if len(answer) == SIZE and answer[0] == MAGIC and answer[1] == ERROR_MARK:
+        try:
+            text = ANSWER_ERROR_TEXT[AnswerError(answer[2])]
+        except ValueError:
+            text = "an unknown error"
+        return f"{text} (passport error {answer[2]})"
+    return None
 
 
 def page_of(answer: bytes, page: int) -> bytes:
@@ -219,7 +284,12 @@ def page_of(answer: bytes, page: int) -> bytes:
 
 
 def page_writes(old: bytes, new: bytes) -> list[bytes]:
-    """The write requests that turn passport ``old`` into ``new`` (pages that differ in bytes the host owns)."""
+    """The write requests that turn passport ``old`` into ``new`` (pages that differ in bytes the host owns).
+    PassportError when a differing byte lies beyond page 6 (A_LIMIT: no request reaches it)."""
+    beyond = [i for i in range(PAGES * PAGE_SIZE, SIZE) if i not in _OWN_BYTES and old[i] != new[i]]
+    if beyond:
+        raise PassportError("A_LIMIT lies on page 7, which no passport request addresses (pages 0..6): "
+                            "it is set when the battery is made")
     out = []
     for page in range(PAGES):
         lo = PAGE_SIZE * page
@@ -229,11 +299,14 @@ def page_writes(old: bytes, new: bytes) -> list[bytes]:
 
 
 class PassportChip:
-    """The battery's side: holds the 32 bytes, keeps TEMP live and the check right."""
+    """The battery's side: holds the 32 bytes, keeps TEMP live and the check right, and lets the
+    charger write only the error section (``factory``: SERIAL, VENDOR, TYPE and V_LIMIT too)."""
 
-    def __init__(self, passport: Passport, temp_source: Callable[[], float] | None = None):
+    def __init__(self, passport: Passport, temp_source: Callable[[], float] | None = None, *,
+                 factory: bool = False):
         self._image = bytearray(passport.to_bytes())
         self._temp_source = temp_source
+        self.factory = factory
         self.writes = 0
 
     def _refresh(self) -> None:
@@ -253,17 +326,20 @@ class PassportChip:
     def passport(self) -> Passport:
         return Passport.from_bytes(self.image)
 
-    def answer(self, request: bytes) -> bytes | None:
-        """32 bytes, or None for a request the battery ignores."""
+    def answer(self, request: bytes) -> bytes:
+        """32 bytes, always: the passport, or an error answer."""
         try:
             op, page, data = parse_request(request)
-        except PassportError:
-            return None
+        except BadRequest as exc:
+            return error_answer(exc.code, request)
         if op == "write":
             lo = PAGE_SIZE * page
-            for k in range(PAGE_SIZE):
-                if lo + k not in _OWN_BYTES:
-                    self._image[lo + k] = data[k]
+            changes = [(lo + k, data[k]) for k in range(PAGE_SIZE)
+                       if lo + k not in _OWN_BYTES and self._image[lo + k] != data[k]]
+            if not self.factory and any(at not in _ERROR_SECTION for at, _ in changes):
+                return error_answer(AnswerError.READ_ONLY, request)
+            for at, value in changes:
+                self._image[at] = value
             self.writes += 1
         return self.image
 
@@ -285,6 +361,13 @@ def default_passport(chemistry: str, capacity_mah: float, series: int, serial: s
 
 # -- the lockout -------------------------------------------------------------------------
 
+def fitness_warnings(passport: Passport) -> list[str]:
+    """What a charger shows before a start without refusing it: errors (ERR) the battery counted."""
+    if passport.err:
+        return [f"the battery reports {passport.err} error(s) (ERR={passport.err})"]
+    return []
+
+
 def conflicts(passport: Passport, record: bytes, start, *, charger_max_a: float | None = None) -> list[str]:
     """Why the macro in ``record`` must not run on the battery this passport describes.
 
@@ -296,6 +379,9 @@ def conflicts(passport: Passport, record: bytes, start, *, charger_max_a: float 
     from ..sim.program import DefaultDischarge, PhaseCode, Program
     program = Program(record)          # DecodeError for bytes that are not a record
     out: list[str] = []
+    if passport.crit:
+        out.append(f"the battery reports {passport.crit} critical error(s) (CRIT={passport.crit}): "
+                   "it is not fit for use")
     akk = program.intro.declarations.get(ops.AKK_TYPE.code, 0)
     if akk != passport.type:
         if akk == 0:

@@ -16,6 +16,8 @@ What lives in the device:
   both persistent across runs (the battery keeps its charge and heat, and relaxes while idle);
 - the interpreter, advanced in real time × ``speed`` by the device thread in small chunks;
 - the battery's passport chip (spec §4) with a live TEMP byte;
+- the start templates (START_SHABLON=n), the factory table at first, kept in memory and changed
+  with SET_TEMPLATE;
 - telemetry at 1..50 Hz (coalesced: a slow host gets the newest), events (queued, never
   dropped while a host reads), and a replay cache that makes a repeated request harmless.
 """
@@ -33,8 +35,10 @@ from ..lang.eeprom import DEFAULT_SIZE, ImageError, slots
 from ..sim.battery import Pack
 from ..sim.charger_model import Charger, load_charger
 from ..sim.chemistry import chemistry_names, load_chemistry
-from ..sim.interpreter import Interpreter, Measurement, StartError, StartParams
+from ..sim.interpreter import Interpreter, Measurement, StartError, StartParams, with_template
+from ..sim.program import Program
 from ..sim.simulate import start_values
+from ..sim.start_templates import TemplateError, check_number, factory_templates
 from . import messages as m
 from .crc import crc16
 from .frames import Frame, FrameParser, encode_frame
@@ -119,6 +123,8 @@ class VirtualCharger:
     transports inject; ``eeprom_write_ms``: modelled write time per changed byte; ``soc``: the
     battery's initial state of charge; ``sensor``: a battery temperature sensor is connected;
     ``passport``: "match" (the battery's chemistry), a chemistry name, a Passport, or None/"none";
+    ``passport_factory``: the battery's passport lets the charger write SERIAL, VENDOR, TYPE and V_LIMIT
+    (off: a production battery, only ERR and CRIT are writable);
     ``seed``: faults, tokens and measurement noise; ``tick_s``: the interpreter's tick."""
 
     def __init__(self, battery: BatterySpec | str = BatterySpec(), *, speed: float = 1.0,
@@ -126,7 +132,7 @@ class VirtualCharger:
                  faults: Faults = Faults(), eeprom_write_ms: float = 0.0, soc: float = 0.0,
                  ambient_c: float = 25.0, sensor: bool = True, passport: Passport | str | None = "match",
                  charger: str = "imax_b6", seed: int | None = None, tick_s: float = 1.0,
-                 telemetry_hz: int = DEFAULT_TELEMETRY_HZ):
+                 telemetry_hz: int = DEFAULT_TELEMETRY_HZ, passport_factory: bool = False):
         self.battery = BatterySpec.parse(battery) if isinstance(battery, str) else battery
         self.speed = self._check_speed(speed)
         if not 16 <= eeprom_size <= 65535:
@@ -153,7 +159,8 @@ class VirtualCharger:
         self.pack = Pack(load_chemistry(self.battery.chemistry), self.battery.capacity_mah, self.battery.cells,
                          soc, ambient_c)
         self.charger = Charger(self.limits, ambient_c)
-        self.chip = self._make_chip(passport)
+        self.chip = self._make_chip(passport, passport_factory)
+        self.templates = dict(factory_templates())
         self._measurement = Measurement(seed=seed if seed is not None else 1)
 
         self._lock = threading.RLock()           # run state, pack, charger
@@ -208,7 +215,7 @@ class VirtualCharger:
             image[:len(data)] = data
         return image
 
-    def _make_chip(self, passport: Passport | str | None) -> PassportChip | None:
+    def _make_chip(self, passport: Passport | str | None, factory: bool) -> PassportChip | None:
         if passport is None or (isinstance(passport, str) and passport.lower() == "none"):
             return None
         if isinstance(passport, str):
@@ -219,7 +226,7 @@ class VirtualCharger:
                 raise DeviceSetupError(f"passport: {exc}") from None
             base = default_passport(self.battery.chemistry, self.battery.capacity_mah, self.battery.cells)
             passport = Passport(base.serial, base.vendor, code, 0, 0, base.v_limit, base.a_limit, 25)
-        return PassportChip(passport, lambda: self.pack.temp_c)
+        return PassportChip(passport, lambda: self.pack.temp_c, factory=factory)
 
     # -- lifecycle -----------------------------------------------------------------------
     def start(self) -> None:
@@ -454,6 +461,10 @@ class VirtualCharger:
                              current_ma / 1000.0 if current_ma else None, voltage_mv / 1000.0 if voltage_mv else None,
                              series or None, bool(sensor) and self.sensor)
         record, name = self._slot_record(slot)
+        try:
+            params = with_template(Program(record), params, self.templates)   # the lockout sees the template's values
+        except StartError as exc:
+            raise _Refused(m.ErrorCode.START_ERROR, str(exc)) from None
         if self.chip is not None:
             try:
                 passport = Passport.from_bytes(self.chip.image)
@@ -471,7 +482,7 @@ class VirtualCharger:
             if self._run is not None and not self._run.interpreter.finished:
                 self._run.interpreter.stop("stopped: a new macro was started")
                 self._flush_events(self._run)
-            self._run = _Run(slot, name, params, interpreter, time.monotonic())
+            self._run = _Run(slot, name, interpreter.params, interpreter, time.monotonic())   # after the template
             self._next_telemetry = time.monotonic()
         return m.encode_response("START", slot=slot, name=name)
 
@@ -491,10 +502,11 @@ class VirtualCharger:
         return s.record, s.name
 
     def _interpreter(self, record: bytes, params: StartParams) -> Interpreter:
-        """As ``sim.simulate.prepare`` builds a run, but on the device's own battery and power stage."""
-        _, params = start_values(record, params)
+        """As ``sim.simulate.prepare`` builds a run, but on the device's own battery, power stage and
+        start templates."""
+        _, params = start_values(record, params, self.templates)
         return Interpreter(record, params, self.pack, self.charger, tick_s=self.tick_s,
-                           measurement=self._measurement, limit_s=math.inf)
+                           measurement=self._measurement, limit_s=math.inf, templates=self.templates)
 
     def _do_stop(self) -> bytes:
         with self._lock:
@@ -533,14 +545,33 @@ class VirtualCharger:
                 raise _Refused(m.ErrorCode.BAD_RANGE, f"there is no event {number}; the run has {len(events)}")
             return events[number].encode()
 
+    def _do_list_templates(self) -> bytes:
+        with self._lock:
+            return m.encode_response("LIST_TEMPLATES", numbers=bytes(sorted(self.templates)))
+
+    def _do_get_template(self, number: int) -> bytes:
+        with self._lock:
+            template = self.templates.get(number)
+        if template is None:
+            raise _Refused(m.ErrorCode.NO_TEMPLATE, f"there is no start template {number}; the charger holds "
+                                                    f"{', '.join(map(str, sorted(self.templates))) or 'none'}")
+        return m.encode_response("GET_TEMPLATE", **m.template_fields(number, template))
+
+    def _do_set_template(self, **fields) -> bytes:
+        try:
+            number, template = m.template_of(fields)
+            check_number(number)
+        except TemplateError as exc:
+            raise _Refused(m.ErrorCode.BAD_RANGE, f"start template {fields['number']}: {exc}") from None
+        with self._lock:
+            self.templates[number] = template
+        return m.encode_response("SET_TEMPLATE", **m.template_fields(number, template))
+
     def _do_passport(self, request: bytes) -> bytes:
         if self.chip is None:
             raise _Refused(m.ErrorCode.NO_PASSPORT, "the battery has no passport")
         with self._lock:
-            answer = self.chip.answer(request)
-        if answer is None:
-            raise _Refused(m.ErrorCode.PASSPORT_ERROR, "the battery did not answer the passport request "
-                                                       "(bad magic, XOR or page)")
+            answer = self.chip.answer(request)      # 32 bytes, an error answer included
         return m.encode_response("PASSPORT", answer=answer)
 
     # -- the device thread -------------------------------------------------------------------------

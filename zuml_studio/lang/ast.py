@@ -88,6 +88,7 @@ class Macro:
     name_span: Span | None = None
     span: Span | None = None
     end_span: Span | None = None
+    between: list[Statement] = field(default_factory=list)     # commands between the two sections
 
     def sections(self) -> tuple[Section, Section]:
         return (self.discharge, self.charge)

@@ -34,9 +34,9 @@ class Builder:
 
     # -- reporting --------------------------------------------------------------
     def error(self, span: Span, code: str, message: str, hint: str = "",
-              severity: Severity = Severity.ERROR) -> None:
+              severity: Severity = Severity.ERROR, fix: str = "") -> None:
         self.diagnostics.append(Diagnostic(severity, span.line, span.column, (span.end_line, span.end_column),
-                                           code, message, hint))
+                                           code, message, hint, fix))
 
     # -- driver -----------------------------------------------------------------
     def build(self) -> Macro:
@@ -125,9 +125,14 @@ class Builder:
             self.error(st.span, "E132", "DISCHARGE_SECTION must come before CHARGE_SECTION",
                        "move the discharge section up")
             detached = True
-        for stray in self.after_section:
-            self.error(stray.span, "E133", f"{stray.op.keyword} stands between sections",
-                       "commands go inside a section or after the last one")
+        if kind == "charge" and not detached and self.macro.discharge.present and not self.macro.charge.present:
+            # Seed 000, byte layout item 8: commands may stand between the sections; they run where they stand.
+            self.macro.between = self.after_section
+        else:
+            for stray in self.after_section:
+                self.error(stray.span, "E133", f"{stray.op.keyword} stands between sections",
+                           "commands go inside a section, between the discharge and the charge section, "
+                           "or after the last one")
         self.after_section = []
         self.seen_section = True
         if detached:
@@ -194,7 +199,8 @@ class Builder:
             self.error(st.span, "E104", f"{word} must follow a condition", f"write IF(...) {word.upper()}")
         else:
             self.error(st.at(st.raw.name), "E110", f"Unknown command '{word}'",
-                       f"did you mean {close[0]}?" if close else "see Help > Commands for the list")
+                       f"did you mean {close[0]}?" if close else "see Help > Commands for the list",
+                       fix=close[0] if close else "")
 
     def command(self, st: Located, op: Op) -> Statement | None:
         if op.form is Form.ASSIGN and st.raw.shape != "assign":
@@ -247,7 +253,8 @@ class Builder:
             near = [v for v in sensitive if v.upper() == var.upper()]
             hint = (f"did you mean {near[0]}? T, t, Tc, tm and tf are case-sensitive" if near
                     else "conditions test T, V, I, Tc, tm, tf (or t) and DELTA_PEAK")
-            self.error(st.at(st.raw.name), "E120", f"Unknown condition variable '{var}'", hint)
+            self.error(st.at(st.raw.name), "E120", f"Unknown condition variable '{var}'", hint,
+                       fix=near[0] if near else "")
             return None
         op = next((o for o in candidates
                    if cmp == o.condition.comparison or cmp in o.condition.also_accepts), None)

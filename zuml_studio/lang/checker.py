@@ -54,8 +54,10 @@ class Checker:
         if problem:
             self.report("name", *problem)
         self.intro()
-        for section in self.macro.sections():
-            self.section(section)
+        self.section(self.macro.discharge)
+        for st in self.macro.between:
+            self.placed(st, Place.SECTIONS)
+        self.section(self.macro.charge)
         for st in self.macro.conclusion:
             self.placed(st, Place.CONCLUSION)
         if not any(f.severity is Severity.ERROR for f in self.findings):

@@ -45,8 +45,9 @@ def to_diagnostic(macro: Macro, finding: Finding) -> Diagnostic:
                       finding.code, finding.message, finding.hint)
 
 
-def compile_source(text: str) -> CompileResult:
-    """Never raises for any text: problems come back as diagnostics."""
+def compile_source(text: str, *, charger=None) -> CompileResult:
+    """Never raises for any text: problems come back as diagnostics. ``charger``: the charger model's
+    ``sim.charger_model.ChargerLimits`` when known (the lint then warns where it clips a current)."""
     try:
         raw = parse_raw(text)
     except SyntaxProblem as problem:
@@ -56,7 +57,7 @@ def compile_source(text: str) -> CompileResult:
     findings = check(macro)
     # Safety warnings only make sense for a macro that could be stored.
     if not any(d.is_error for d in diagnostics) and not any(f.severity is Severity.ERROR for f in findings):
-        findings += lint(macro)
+        findings += lint(macro, charger)
     diagnostics += [to_diagnostic(macro, f) for f in findings]
     diagnostics.sort(key=sort_key)
     encoded = None if any(d.is_error for d in diagnostics) else encode(macro)

@@ -86,6 +86,8 @@ def decode_record(data: bytes) -> Decoded:
         macro.intro.append(_statement(ins))
     r.take()
     macro.discharge = _section(r, "discharge")
+    while r.peek().op.role is not Role.STRUCTURE:
+        macro.between.append(_statement(r.take()))
     r.expect(ops.CHARGE_SECTION, "after the discharge section")
     if data[2] != r.pc:
         raise DecodeError(2, f"charge section offset is {data[2]}, expected {r.pc}")

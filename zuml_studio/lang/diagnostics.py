@@ -21,6 +21,7 @@ class Diagnostic:
     code: str
     message: str
     hint: str = ""
+    fix: str = ""           # text that replaces the marked text ("did you mean X?": X), '' for none
 
     @property
     def is_error(self) -> bool:

@@ -7,7 +7,8 @@ import sys
 from .opcodes import OPCODES, Place
 
 
-def _operands(op) -> str:
+def operands_text(op) -> str:
+    """The operands of a command in words: name, quantity, width, default."""
     if not op.operands:
         return "—"
     parts = []
@@ -19,7 +20,8 @@ def _operands(op) -> str:
     return "; ".join(parts)
 
 
-def _places(op) -> str:
+def places_text(op) -> str:
+    """Where a command may stand."""
     if not op.places:
         return "structure"
     return ", ".join(p.name.lower() for p in Place if p in op.places)
@@ -31,14 +33,15 @@ def commands_markdown() -> str:
         "",
         "Generated from `zuml_studio/lang/opcodes.py` by `python -m zuml_studio.lang.docgen`; do not edit by hand.",
         "Operands are stored little-endian right after the code byte. Where: intro = the introduction,",
-        "phase = inside FAZE … END_FAZE, between = in a section outside phases, conclusion = after the sections.",
+        "phase = inside FAZE … END_FAZE, between = in a section outside phases, sections = between the",
+        "discharge and the charge section (seed 000, byte layout item 8), conclusion = after the sections.",
         "",
         "| code | written | mnemonic | operands | where | what it does |",
         "|---:|---|---|---|---|---|",
     ]
     for op in OPCODES:
         written = op.signature().replace("|", "\\|")
-        lines.append(f"| {op.code} | `{written}` | {op.mnemonic} | {_operands(op)} | {_places(op)} | {op.help} |")
+        lines.append(f"| {op.code} | `{written}` | {op.mnemonic} | {operands_text(op)} | {places_text(op)} | {op.help} |")
     return "\n".join(lines) + "\n"
 
 

@@ -23,10 +23,14 @@ def format_macro(macro: Macro) -> str:
     lines = [f"MACRO {macro.name}"]
     lines += [INDENT + format_statement(s) for s in macro.intro]
     shown = [s for s in macro.sections() if s.present or s.items]
-    if macro.conclusion and not shown:
+    if macro.between:
+        shown = list(macro.sections())   # commands between the sections need both (empty ones store the same bytes)
+    elif macro.conclusion and not shown:
         shown = [macro.charge]   # a conclusion must follow a section; an empty one stores the same bytes
     for section in shown:
         _section(section, lines)
+        if section.kind == "discharge":
+            lines += [INDENT + format_statement(s) for s in macro.between]
     lines += [INDENT + format_statement(s) for s in macro.conclusion]
     lines.append("END_MACRO")
     return "\n".join(lines) + "\n"

@@ -2,8 +2,11 @@
 
 Each rule is a function over the checked AST that reports Findings (warnings,
 or errors where a value is plainly dangerous). Limits come from the chemistry
-data files (spec §5 values, resources/chemistries/*.toml) and from the thesis
-seed 001 (-dV needs a fast enough charge; a timer alone is no end for a fast one).
+data files (spec §5 values, the package's data/chemistries/*.toml), from the thesis
+seed 001 (-dV needs a fast enough charge; a timer alone is no end for a fast one;
+trickle at most 0.1C; a 0.1C charge takes 14-16 h; lithium charges within 0-45 °C;
+NiMH is not ended by a voltage cut-off), and, when one is given, from the charger
+model's limits (what it will give of a current the macro asks).
 """
 from __future__ import annotations
 
@@ -15,15 +18,23 @@ from .ast import Cycle, Macro, Phase, Statement
 from .checker import Finding
 from .diagnostics import Severity
 from .opcodes import Role
-from .operands import INPUT_U16, RELATIVE_FLAG, TIME, relative_value
+from .operands import DISPLAY_NAMES, INPUT_U16, RELATIVE_FLAG, TIME, relative_value
 
 # -dV per cell that a charger can tell from noise, and that a cell really shows (seed 001; spec §5).
 DPEAK_MIN_V = 0.003
 DPEAK_MAX_V = 0.02
 # Slowest charge whose -dV is reliable (seed 001: NiCd from about 0.5C, NiMH from 0.2-0.3C).
 DPEAK_MIN_RATE = {"NICD": 0.5, "NIMH": 0.3}
-NICKEL_MAX_RATE = 2.0
+# Fastest charge (seed 001 §5.1.4: 1-4C "very fast" charging is for sintered NiCd cells; NiMH 0.5-2C).
+NICKEL_MAX_RATE = {"NICD": 4.0, "NIMH": 2.0}
 TIMER_ONLY_MAX_RATE = 0.2
+# Seed 001 §5.1.5-5.1.6: a permanent top-up is 0.025-0.06C, at most 0.1C for cells made for it.
+TRICKLE_MAX_RATE = 0.1
+# Seed 001 §5.1.1, §5.3.1: the normal charge is 0.1C for 14-16 h.
+NORMAL_RATE = 0.1
+NORMAL_MAX_S = 16 * 3600
+# Seed 001 §5.2: lithium charges between 0 and 45 °C here (the thesis: 0-50 °C, makers differ).
+LITHIUM_T_MAX = 45
 LITHIUM = ("LIPO", "LIION", "LIFE", "LIS")
 NO_DEFAULTS = ("UNDEF", "LIS", "NEW")
 
@@ -35,6 +46,12 @@ class Context:
     limits: object | None              # sim.chemistry.Chemistry, None without data
     series: int | None
     capacity_mah: int | None
+    charger: object | None = None      # sim.charger_model.ChargerLimits, when the charger is known
+
+    @property
+    def chem_name(self) -> str:
+        """The chemistry as the spec spells it (NiCd, NiMh, LiPo, ...)."""
+        return DISPLAY_NAMES.get(self.chemistry, self.chemistry)
 
     def per_cell(self, raw: int) -> float | None:
         """A stored voltage in V per cell, when it can be known before start."""
@@ -44,20 +61,19 @@ class Context:
         """A stored current as a multiple of the capacity, when it can be known before start."""
         return relative_value(raw, self.capacity_mah / 1000 if self.capacity_mah else None)
 
-def _context(macro: Macro) -> Context:
+def _context(macro: Macro, charger=None) -> Context:
     akk = macro.declared(ops.AKK_TYPE)
     name = ops.AKK_TYPE.operands[0].kind.name_of(akk.args[0].raw) if akk else None
     limits = None
     if name and name not in NO_DEFAULTS:
-        from ..sim.chemistry import load_chemistry   # data files: resources/chemistries
-        try:
-            limits = load_chemistry(name)
-        except (KeyError, OSError, ValueError):
-            limits = None
+        from ..sim.chemistry import load_chemistry   # data files: data/chemistries
+        # No handler: a missing or broken data file (DataFileError) must stop the check, never
+        # let it pass without the chemistry's limits.
+        limits = load_chemistry(name)
     series = macro.declared(ops.SERIES)
     capacity = macro.declared(ops.CAPACITY)
     cap = capacity.args[0].raw if capacity and capacity.args[0].raw not in (0, 0xFFFF) else None
-    return Context(macro, name or "UNDEF", limits, series.args[0].raw if series else None, cap)
+    return Context(macro, name or "UNDEF", limits, series.args[0].raw if series else None, cap, charger)
 
 
 def _phases(items) -> Iterator[Phase]:
@@ -161,6 +177,11 @@ def rule_discharge_voltage(ctx: Context) -> Iterator[Finding]:
                         f"{lim.discharge_end_v:.2f} V", f"write IF(V<{lim.discharge_end_v:g}S) STOP_FAZE")
 
 
+def _current_raw(st: Statement) -> int:
+    """The charge current a CONSTANT_I, CHARGE_EX (its Ich) or TRICKLE statement stores."""
+    return st.args[1].raw if st.op is ops.CHARGE_EX else st.args[0].raw
+
+
 def rule_delta_peak(ctx: Context) -> Iterator[Finding]:
     for phase in _phases(ctx.macro.charge.items):
         st = _code(phase, 89)
@@ -169,26 +190,52 @@ def rule_delta_peak(ctx: Context) -> Iterator[Finding]:
         v = ctx.per_cell(st.args[0].raw)
         if v is not None and not DPEAK_MIN_V <= v <= DPEAK_MAX_V:
             yield _warn(st, "W305", f"A -dV of {v * 1000:.0f} mV per cell is implausible: real cells dip "
-                        f"{DPEAK_MIN_V * 1000:.0f}-{DPEAK_MAX_V * 1000:.0f} mV", "NiMH about 0.005-0.01 V per "
+                        f"{DPEAK_MIN_V * 1000:.0f}-{DPEAK_MAX_V * 1000:.0f} mV", "NiMh about 0.005-0.01 V per "
                         "cell, NiCd 0.01-0.015 V; without a real -dV the charge ends only by a default")
         min_rate = DPEAK_MIN_RATE.get(ctx.chemistry)
-        current = _find(phase, ops.CONSTANT_I)
-        rate = ctx.c_rate(current.args[0].raw) if current else None
-        if min_rate and rate is not None and rate < min_rate:
-            yield _warn(st, "W306", f"At {rate:g}C a {ctx.chemistry.title()} cell shows no reliable -dV "
-                        f"(it needs about {min_rate:g}C or more)", "charge faster, or end by time and "
-                        "temperature instead")
+        current = _find(phase, ops.CONSTANT_I) or _find(phase, ops.CHARGE_EX)
+        if not min_rate or current is None:
+            continue
+        yield from _dpeak_rate(ctx, st, _current_raw(current), min_rate)
+
+
+def _dpeak_rate(ctx: Context, st: Statement, raw: int, min_rate: float) -> Iterator[Finding]:
+    """W306: the -dV is unreliable below min_rate; said for a known rate, and for a current entered at
+    start (or in amperes without a declared capacity) as the current where it stops being reliable."""
+    name = ctx.chem_name
+    hint = "charge faster, or end by time and temperature instead"
+    rate = ctx.c_rate(raw)
+    if rate is not None:
+        if rate < min_rate:
+            yield _warn(st, "W306", f"At {rate:g}C a {name} cell shows no reliable -dV (it needs about "
+                        f"{min_rate:g}C or more)", hint)
+        return
+    if raw == INPUT_U16:
+        if ctx.capacity_mah:
+            amps = min_rate * ctx.capacity_mah / 1000
+            yield _warn(st, "W306", f"The current is entered at start: below {amps:.2f} A ({min_rate:g}C of the "
+                        f"declared {ctx.capacity_mah} mAh) a {name} cell shows no reliable -dV", hint)
+        else:
+            yield _warn(st, "W306", f"The current is entered at start: below {min_rate:g}C ({min_rate * 2:g} A "
+                        f"for a 2000 mAh pack) a {name} cell shows no reliable -dV; the simulator and the device "
+                        "panel check the values entered", hint)
+    elif not raw & RELATIVE_FLAG:
+        amps = raw / 100
+        yield _warn(st, "W306", f"At {amps:g} A the -dV of a {name} cell is reliable only up to "
+                    f"{amps / min_rate * 1000:.0f} mAh ({min_rate:g}C); the capacity is not declared", hint)
 
 
 def rule_nickel_rate(ctx: Context) -> Iterator[Finding]:
-    if ctx.chemistry not in DPEAK_MIN_RATE:
+    top = NICKEL_MAX_RATE.get(ctx.chemistry)
+    if top is None:
         return
     for phase in _phases(ctx.macro.charge.items):
         st = _charge_current(phase)
-        rate = ctx.c_rate(st.args[0].raw if st.op is not ops.CHARGE_EX else st.args[1].raw) if st else None
-        if rate is not None and rate > NICKEL_MAX_RATE:
-            yield _warn(st, "W307", f"Charging {ctx.chemistry.title()} at {rate:g}C is above "
-                        f"{NICKEL_MAX_RATE:g}C", "fast-charge cells take 1-2C at most")
+        rate = ctx.c_rate(_current_raw(st)) if st else None
+        if rate is not None and rate > top:
+            hint = ("1-4C is for sintered NiCd cells made for very fast charging" if ctx.chemistry == "NICD"
+                    else "fast-charge NiMh cells take 0.5-2C")
+            yield _warn(st, "W307", f"Charging {ctx.chem_name} at {rate:g}C is above {top:g}C", hint)
 
 
 def rule_timer_only(ctx: Context) -> Iterator[Finding]:
@@ -274,13 +321,111 @@ def _text(st: Statement) -> str:
     return format_statement(st)
 
 
+def rule_trickle_rate(ctx: Context) -> Iterator[Finding]:
+    for st in _statements(ctx.macro):
+        rate = ctx.c_rate(st.args[0].raw) if st.op is ops.TRICKLE else None
+        if rate is not None and rate > TRICKLE_MAX_RATE + 1e-9:
+            yield _warn(st, "W313", f"A trickle of {rate:g}C is above {TRICKLE_MAX_RATE:g}C: held for long it "
+                        "overcharges the cell", "seed 001: a permanent top-up is 0.025-0.06C, at most 0.1C "
+                        "for cells made for it")
+
+
+def rule_slow_charge_time(ctx: Context) -> Iterator[Finding]:
+    if ctx.chemistry not in DPEAK_MIN_RATE:
+        return
+    for phase in _phases(ctx.macro.charge.items):
+        current = _find(phase, ops.CONSTANT_I)
+        rate = ctx.c_rate(current.args[0].raw) if current else None
+        if rate is None or rate > NORMAL_RATE + 1e-9:
+            continue
+        timer = _code(phase, 88)
+        if timer is None or timer.args[0].raw > NORMAL_MAX_S * 10:
+            what = f"its timer allows {TIME.format(timer.args[0].raw)}" if timer else "no timer ends it"
+            yield _warn(timer or current, "W314", f"This {rate:g}C charge may run well past 16 h: {what}",
+                        "seed 001: a 0.1C charge takes 14-16 h; add IF(tf>16h) STOP_FAZE")
+
+
+def rule_lithium_temperature(ctx: Context) -> Iterator[Finding]:
+    if ctx.chemistry not in LITHIUM:
+        return
+    for phase in _phases(ctx.macro.charge.items):
+        t_max = _code(phase, 81)
+        if t_max is None or t_max.args[0].raw > LITHIUM_T_MAX:
+            yield _warn(t_max or phase, "W315", f"This lithium charge has no temperature limit at or below "
+                        f"{LITHIUM_T_MAX} °C: the charger's default stops only at 60 °C",
+                        f"add IF(T>{LITHIUM_T_MAX}) STOP_FAZE; lithium charges between 0 and {LITHIUM_T_MAX} °C "
+                        "(ZUML cannot test T<0: do not start a charge below 0 °C)")
+
+
+def rule_delta_peak_misplaced(ctx: Context) -> Iterator[Finding]:
+    for phase in _phases(ctx.macro.discharge.items):
+        st = _code(phase, 89)
+        if st is not None:
+            yield _warn(st, "W316", "-dV in a discharge phase: a discharging cell shows no -dV peak, so this "
+                        "never ends the phase as meant", "end a discharge with IF(V<…)")
+    if ctx.chemistry in LITHIUM:
+        for phase in _phases(ctx.macro.charge.items):
+            st = _code(phase, 89)
+            if st is not None:
+                yield _warn(st, "W316", f"-dV on {ctx.chem_name}: lithium cells show no -dV at full charge",
+                            "end with CONSTANT_V and IF(I<…)")
+
+
+def rule_nimh_voltage_only(ctx: Context) -> Iterator[Finding]:
+    """W317: a NiMh charge whose only end is IF(V>x) (no -dV, temperature or timer)."""
+    if ctx.chemistry != "NIMH":
+        return
+    for phase in _phases(ctx.macro.charge.items):
+        cut_off = _code(phase, 83)
+        if cut_off is not None and _charge_current(phase) is not None and not _code(phase, 89) \
+                and not _code(phase, 81) and not _code(phase, 88):
+            yield _warn(cut_off, "W317", "NiMh charged to a voltage limit only: its voltage at full charge "
+                        "moves with current and temperature, so the limit ends it early or late",
+                        "seed 001: end NiMh by -dV or temperature (IF(DELTA_PEAK>0.01S), IF(T>45)); keep the "
+                        "voltage as a backup")
+
+
+def rule_charger_limits(ctx: Context) -> Iterator[Finding]:
+    """W318: a current the charger model will not give (its A limit, or its W limit at the nominal voltage)."""
+    lim = ctx.charger
+    if lim is None:
+        return
+    nominal = ctx.limits.nominal_v * ctx.series if ctx.limits and ctx.series else None
+    for section in (ctx.macro.discharge, ctx.macro.charge):
+        charging = section.kind == "charge"
+        max_a, max_w = (lim.max_charge_a, lim.max_charge_w) if charging else (lim.max_discharge_a, lim.max_discharge_w)
+        what = "charge" if charging else "discharge"
+        for phase in _phases(section.items):
+            st = _charge_current(phase)
+            amps = _amps(ctx, _current_raw(st)) if st else None
+            if amps is None:
+                continue
+            if amps > max_a + 1e-9:
+                yield _warn(st, "W318", f"The macro asks {amps:.2f} A; the {lim.name} gives at most {max_a:g} A "
+                            f"({what})", "the phase runs at the charger's limit and takes longer")
+            elif nominal and amps * nominal > max_w + 1e-9:
+                yield _warn(st, "W318", f"The macro asks {amps:.2f} A; at the nominal {nominal:.1f} V that is "
+                            f"{amps * nominal:.0f} W, the {lim.name} gives at most {max_w:g} W ({what}): about "
+                            f"{max_w / nominal:.2f} A", "the phase runs at the charger's limit and takes longer")
+
+
+def _amps(ctx: Context, raw: int) -> float | None:
+    if raw == INPUT_U16:
+        return None
+    if raw & RELATIVE_FLAG:
+        return ctx.c_rate(raw) * ctx.capacity_mah / 1000 if ctx.capacity_mah else None
+    return raw / 100
+
+
 RULES: tuple[Rule, ...] = (
     rule_chemistry_declared, rule_charge_ends_only_by_default, rule_charge_voltage, rule_discharge_voltage,
     rule_delta_peak, rule_nickel_rate, rule_timer_only, rule_bare_time, rule_relative_units_at_start,
-    rule_trickle_lithium, rule_unreachable_phase,
+    rule_trickle_lithium, rule_unreachable_phase, rule_trickle_rate, rule_slow_charge_time,
+    rule_lithium_temperature, rule_delta_peak_misplaced, rule_nimh_voltage_only, rule_charger_limits,
 )
 
 
-def lint(macro: Macro) -> list[Finding]:
-    ctx = _context(macro)
+def lint(macro: Macro, charger=None) -> list[Finding]:
+    """``charger``: the charger model's ``ChargerLimits`` when known (adds W318)."""
+    ctx = _context(macro, charger)
     return [finding for rule in RULES for finding in rule(ctx)]

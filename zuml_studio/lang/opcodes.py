@@ -35,6 +35,7 @@ class Place(Enum):
     INTRO = "the introduction"
     PHASE = "a phase (FAZE … END_FAZE)"
     BETWEEN = "a section between phases"
+    SECTIONS = "the gap between the two sections"
     CONCLUSION = "the conclusion"
 
 
@@ -88,7 +89,7 @@ class Op:
 
 _IN_PHASE = frozenset({Place.PHASE})
 _INTRO = frozenset({Place.INTRO})
-_BETWEEN = frozenset({Place.BETWEEN, Place.CONCLUSION})
+_BETWEEN = frozenset({Place.BETWEEN, Place.SECTIONS, Place.CONCLUSION})
 _NOWHERE: frozenset[Place] = frozenset()
 
 
@@ -174,7 +175,7 @@ CONDITION_OUTCOMES: frozenset[str] = frozenset(op.condition.outcome for op in CO
 MACRO, END_MACRO, DISCHARGE_SECTION, CHARGE_SECTION, END_SECTION = (BY_CODE[c] for c in (1, 2, 3, 4, 5))
 CYCLE, END_CYCLE, FAZE, END_FAZE = (BY_CODE[c] for c in (6, 7, 8, 9))
 CONSTANT_I, CONSTANT_V, CHARGE_EX, TRICKLE = (BY_CODE[c] for c in (60, 61, 62, 63))
-AKK_TYPE, SERIES, CAPACITY = BY_CODE[21], BY_CODE[22], BY_CODE[23]
+START_SHABLON, AKK_TYPE, SERIES, CAPACITY = BY_CODE[20], BY_CODE[21], BY_CODE[22], BY_CODE[23]
 
 
 @lru_cache(maxsize=1)

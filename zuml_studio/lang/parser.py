@@ -7,6 +7,8 @@ parsed again (see benchmarks/bench_compile.py).
 """
 from __future__ import annotations
 
+import dataclasses
+
 from dataclasses import dataclass
 from functools import lru_cache
 from importlib import resources
@@ -181,7 +183,7 @@ def parse_raw(text: str) -> RawMacro:
 
 
 def _moved_diagnostic(d: Diagnostic, line: int) -> Diagnostic:
-    return Diagnostic(d.severity, line, d.column, (line, d.end[1]), d.code, d.message, d.hint)
+    return dataclasses.replace(d, line=line, end=(line, d.end[1]))
 
 
 _WORDS = {

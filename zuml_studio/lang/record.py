@@ -103,6 +103,7 @@ def flatten(macro: Macro) -> list[tuple[Op, tuple[int, ...], object]]:
     out.append((ops.DISCHARGE_SECTION, (), macro.discharge))
     items(macro.discharge.items)
     out.append((ops.END_SECTION, (), macro.discharge))
+    out.extend((s.op, s.raws(), s) for s in macro.between)
     out.append((ops.CHARGE_SECTION, (), macro.charge))
     items(macro.charge.items)
     out.append((ops.END_SECTION, (), macro.charge))

@@ -1,18 +1,16 @@
 """Power-stage limits and heat-sink temperature of a B6-class charger.
 
-Numbers come from ``resources/chargers/<name>.toml``. The heat sink is one
+Numbers come from the package's ``data/chargers/<name>.toml``. The heat sink is one
 first-order thermal node: charging loses (1 - efficiency) of the output power
 in the converter, discharging burns all of V * |I| in the load transistor.
 """
 from __future__ import annotations
 
-import tomllib
 from dataclasses import dataclass
 from math import exp
 
-from .chemistry import RESOURCES_DIR
-
-CHARGER_DIR = RESOURCES_DIR / "chargers"
+from .. import data
+from ..data import DataFileError
 
 
 @dataclass(frozen=True)
@@ -30,19 +28,28 @@ class ChargerLimits:
     charge_efficiency: float
     heatsink_r_k_per_w: float
     heatsink_c_j_per_k: float
+    dpeak_window_s: float          # -dV: voltage averaged over windows this long
+    dpeak_holdoff_s: float         # -dV: ignored this long after a phase starts (seed 001: 5-10 min)
 
 
 def load_charger(name: str = "imax_b6") -> ChargerLimits:
-    """Load ``resources/chargers/<name>.toml``; KeyError names the chargers there are."""
-    path = CHARGER_DIR / f"{name}.toml"
-    if not path.is_file():
-        known = sorted(p.stem for p in CHARGER_DIR.glob("*.toml"))
+    """Load ``data/chargers/<name>.toml``; KeyError names the chargers there are."""
+    known = data.names("chargers")
+    if name not in known:
         raise KeyError(f"no charger {name!r}; known chargers: {', '.join(known)}")
-    with path.open("rb") as fh:
-        data = tomllib.load(fh)
-    lim, hs = data["limits"], data["heatsink"]
+    relative = f"chargers/{name}.toml"
+    try:
+        return _from_toml(data.read_toml(relative))
+    except KeyError as exc:
+        raise DataFileError(f"data file {data.location(relative)}: missing key {exc}") from None
+    except (TypeError, ValueError) as exc:
+        raise DataFileError(f"data file {data.location(relative)}: {exc}") from None
+
+
+def _from_toml(parsed: dict) -> ChargerLimits:
+    lim, hs, dpeak = parsed["limits"], parsed["heatsink"], parsed["delta_peak"]
     limits = ChargerLimits(
-        name=str(data["name"]),
+        name=str(parsed["name"]),
         max_charge_a=float(lim["max_charge_a"]),
         max_charge_w=float(lim["max_charge_w"]),
         max_discharge_a=float(lim["max_discharge_a"]),
@@ -53,9 +60,13 @@ def load_charger(name: str = "imax_b6") -> ChargerLimits:
         charge_efficiency=float(hs["charge_efficiency"]),
         heatsink_r_k_per_w=float(hs["r_k_per_w"]),
         heatsink_c_j_per_k=float(hs["c_j_per_k"]),
+        dpeak_window_s=float(dpeak["window_s"]),
+        dpeak_holdoff_s=float(dpeak["holdoff_s"]),
     )
     if not 0.0 < limits.charge_efficiency <= 1.0 or limits.heatsink_r_k_per_w <= 0 or limits.heatsink_c_j_per_k <= 0:
-        raise ValueError(f"{path}: efficiency must be in (0, 1], heat-sink R and C > 0")
+        raise ValueError("efficiency must be in (0, 1], heat-sink R and C > 0")
+    if limits.dpeak_window_s <= 0 or limits.dpeak_holdoff_s < 0:
+        raise ValueError("-dV window must be > 0 s and its hold-off >= 0 s")
     return limits
 
 
@@ -86,6 +97,16 @@ class Charger:
                 i = min(i, lim.max_discharge_w / pack_v)
             return -i
         return 0.0
+
+    def clip_reason(self, requested_a: float, pack_v: float) -> str:
+        """Which limit ``limit_current`` applies to this request ("5 W discharge limit")."""
+        lim = self.limits
+        charging = requested_a > 0.0
+        amps, watts = (lim.max_charge_a, lim.max_charge_w) if charging else (lim.max_discharge_a, lim.max_discharge_w)
+        what = "charge" if charging else "discharge"
+        if pack_v > 0.0 and watts / pack_v < amps:
+            return f"{watts:g} W {what} limit"
+        return f"{amps:g} A {what} limit"
 
     def step(self, current_a: float, pack_v: float, dt: float) -> float:
         """Advance the heat sink dt seconds; returns heatsink_c."""

@@ -1,4 +1,4 @@
-"""Per-cell chemistry parameters, loaded from ``resources/chemistries/<name>.toml``.
+"""Per-cell chemistry parameters, loaded from the package's ``data/chemistries/<name>.toml``.
 
 The TOML files are the single source of numbers; this module only checks and
 flattens them. Every value is per cell at the file's reference capacity; `Pack`
@@ -8,12 +8,10 @@ from __future__ import annotations
 
 import functools
 import math
-import pathlib
-import tomllib
 from dataclasses import dataclass, fields
 
-RESOURCES_DIR: pathlib.Path = pathlib.Path(__file__).resolve().parents[2] / "resources"
-CHEMISTRY_DIR = RESOURCES_DIR / "chemistries"
+from .. import data
+from ..data import DataFileError
 
 # ZUML AKK_TYPE names with a model; LiS/New/Undef deliberately have none (spec §5).
 _NAMES = ("Pb", "NiCd", "NiMh", "LiPo", "LiIon", "LiFe")
@@ -83,18 +81,19 @@ def load_chemistry(name: str) -> Chemistry:
 @functools.cache
 def _load(canonical: str) -> Chemistry:
     # Read once per process: the lint asks on every keystroke, and a Chemistry is frozen.
-    path = CHEMISTRY_DIR / f"{canonical}.toml"
-    with path.open("rb") as fh:
-        data = tomllib.load(fh)
-    return _from_toml(canonical, data, path)
+    relative = f"chemistries/{canonical}.toml"
+    try:
+        return _from_toml(canonical, data.read_toml(relative))
+    except (TypeError, ValueError) as exc:
+        raise DataFileError(f"data file {data.location(relative)}: {exc}") from None
 
 
-def _from_toml(name: str, data: dict, path: pathlib.Path) -> Chemistry:
+def _from_toml(name: str, parsed: dict) -> Chemistry:
     flat: dict[str, object] = {"name": name}
     for section in _SECTIONS:
-        table = data.get(section)
+        table = parsed.get(section)
         if not isinstance(table, dict):
-            raise ValueError(f"{path}: missing [{section}] table")
+            raise ValueError(f"missing [{section}] table")
         for key, value in table.items():
             if key == "sources":
                 continue
@@ -106,28 +105,28 @@ def _from_toml(name: str, data: dict, path: pathlib.Path) -> Chemistry:
     missing = wanted - flat.keys()
     extra = flat.keys() - wanted
     if missing or extra:
-        raise ValueError(f"{path}: missing keys {sorted(missing)}, unknown keys {sorted(extra)}")
+        raise ValueError(f"missing keys {sorted(missing)}, unknown keys {sorted(extra)}")
     chem = Chemistry(**flat)  # type: ignore[arg-type]
-    _check(chem, path)
+    _check(chem)
     return chem
 
 
-def _check(c: Chemistry, path: pathlib.Path) -> None:
+def _check(c: Chemistry) -> None:
     soc, v = c.ocv_soc, c.ocv_v
     if len(soc) != len(v) or len(soc) < 2:
-        raise ValueError(f"{path}: ocv soc and v must have the same length >= 2")
+        raise ValueError("ocv soc and v must have the same length >= 2")
     if soc[0] != 0.0 or soc[-1] != 1.0 or any(b <= a for a, b in zip(soc, soc[1:])):
-        raise ValueError(f"{path}: ocv soc must rise strictly from 0 to 1")
+        raise ValueError("ocv soc must rise strictly from 0 to 1")
     if any(b < a for a, b in zip(v, v[1:])):
-        raise ValueError(f"{path}: ocv v must not fall with soc")
+        raise ValueError("ocv v must not fall with soc")
     positive = ("ref_capacity_ah", "r0_ohm", "tau1_s", "tau2_s", "w0", "cth_j_per_k", "ha_w_per_k", "pol_eps",
                 "pol_tau_s", "pol_max_v")
     for key in positive:
         if not getattr(c, key) > 0.0:
-            raise ValueError(f"{path}: {key} must be > 0")
+            raise ValueError(f"{key} must be > 0")
     for f in fields(Chemistry):
         value = getattr(c, f.name)
         if isinstance(value, float) and not math.isfinite(value):
-            raise ValueError(f"{path}: {f.name} is not finite")
+            raise ValueError(f"{f.name} is not finite")
     if not c.discharge_end_v < c.nominal_v < c.charge_end_v <= c.max_v:
-        raise ValueError(f"{path}: limits must satisfy discharge_end < nominal < charge_end <= max")
+        raise ValueError("limits must satisfy discharge_end < nominal < charge_end <= max")

@@ -3,7 +3,9 @@
 Samples are averaged over fixed windows (cheali: 30 s). At the end of each
 window the average is compared with the held peak of earlier averages. During
 the hold-off after the phase start the peak simply follows the average, so the
-voltage wobble of a freshly connected pack never counts as a drop.
+voltage wobble of a freshly connected pack never counts as a drop (seed 001:
+ignore the first 5-10 minutes). The charger model sets both numbers
+(``[delta_peak]`` in data/chargers/*.toml).
 """
 from __future__ import annotations
 
@@ -11,7 +13,7 @@ from __future__ import annotations
 class DeltaPeakDetector:
     """Held-peak -dV on window averages; `update` returns the drop below the peak in volts."""
 
-    def __init__(self, window_s: float = 30.0, holdoff_s: float = 180.0) -> None:
+    def __init__(self, window_s: float = 30.0, holdoff_s: float = 300.0) -> None:
         if window_s <= 0 or holdoff_s < 0:
             raise ValueError("window_s must be > 0 and holdoff_s >= 0")
         self.window_s = float(window_s)

@@ -8,8 +8,8 @@ real time. What it measured goes to ``log`` (one sample per tick) and ``events``
 from __future__ import annotations
 
 import random
-from dataclasses import dataclass, field
-from typing import Iterator
+from dataclasses import dataclass, field, replace
+from typing import Iterator, Mapping
 
 from ..lang import opcodes as ops
 from ..lang.formatter import format_args
@@ -21,8 +21,10 @@ from .chemistry import load_chemistry
 from .delta_peak import DeltaPeakDetector
 from .program import CommandStep, DefaultDischarge, PhaseCode, Program, SectionStart
 from .samples import SampleLog
+from .start_templates import StartTemplate, apply_template, chosen_template, factory_templates
 
-# Defaults of spec §3 (a macro's own condition replaces the matching one).
+# Defaults of spec §3. A macro's IF(Tc>x), IF(Tc<x) and IF(T>x) replace the matching default; dT/dt and
+# the 1.5 x capacity guard cannot be written in ZUML and always apply.
 DEFAULT_TC_PAUSE = 70
 DEFAULT_TC_CONTINUE = 60
 DEFAULT_T_MAX = 60.0
@@ -35,7 +37,8 @@ DTDT_HOLDOFF_S = 120.0
 # Not a charger rule: a simulation of a macro that never ends stops here, and says so.
 DEFAULT_LIMIT_S = 48 * 3600.0
 
-_CC, _CV, _CCCV, _PULSE, _TRICKLE = range(5)
+_CC, _CV, _PULSE, _TRICKLE = range(4)
+_TIMERS = (87, 88)          # tm, tf: a phase they end is checked against the capacity (timer before full)
 AKK_NAMES = {code: name for name, code in ops.AKK_TYPE.operands[0].kind.names.items()}
 
 
@@ -54,6 +57,7 @@ class StartParams:
     voltage_v: float | None = None      # for INPUT voltages
     series: int | None = None           # for SERIES absent and voltages in S
     sensor: bool = True                 # battery temperature sensor connected
+    template: int | None = None         # start template chosen at start (a macro's START_SHABLON wins)
 
 
 @dataclass(frozen=True)
@@ -92,11 +96,41 @@ class PhaseResult:
     temp_end: float = 0.0
     soc_end: float = 0.0   # the model's state of charge (a simulator can know it; a charger cannot)
     run: int = 0           # sequential number of the phase in this run, 1-based
+    pauses: list = field(default_factory=list)   # [start_s, end_s] of each heat-sink pause in this phase
+    clip_asked_a: float = 0.0      # the first current the charger's limits cut: what the macro asked ...
+    clip_given_a: float = 0.0      # ... what the charger gave ...
+    clip_limit: str = ""           # ... and which limit ("5 W discharge limit"); "" when never cut
+    clipped_s: float = 0.0         # how long the limits cut the current in this phase
+    timer_before_full: bool = False   # a charge ended by a timer (tf or tm) with less than the capacity in
 
     @property
     def by_default(self) -> bool:
         """Ended by one of the charger's default safety conditions, not by the macro's own."""
         return self.reason.startswith(("default:", "limit:"))
+
+    @property
+    def paused_s(self) -> float:
+        return sum(end - start for start, end in self.pauses)
+
+    @property
+    def clip_text(self) -> str:
+        """'asked 2.00 A, charger gave 1.00 A: 5 W discharge limit', or ''."""
+        if not self.clip_limit:
+            return ""
+        return (f"asked {abs(self.clip_asked_a):.2f} A, charger gave {abs(self.clip_given_a):.2f} A: "
+                f"{self.clip_limit}")
+
+    @property
+    def notes(self) -> list[str]:
+        """What a phase row must say besides its end reason."""
+        out = []
+        if self.timer_before_full:
+            out.append(f"timer before full: {self.mah_in:.0f} mAh put in")
+        if self.pauses:
+            out.append(f"heat-sink pause {len(self.pauses)}x, {self.paused_s / 60:.0f} min")
+        if self.clip_limit:
+            out.append(self.clip_text)
+        return out
 
 
 @dataclass
@@ -123,14 +157,16 @@ class _Active:
     dtdt_t0: float = 0.0
     dtdt_next: float = DTDT_WINDOW_S
     default_end_v: float | None = None                  # empty discharge section
+    by_timer: bool = False                              # ended by IF(tf>x) or IF(tm>x)
 
 
 class Interpreter:
     def __init__(self, record: bytes, params: StartParams, pack: Pack, charger: Charger, *,
                  tick_s: float = 1.0, measurement: Measurement = Measurement(),
-                 limit_s: float = DEFAULT_LIMIT_S):
+                 limit_s: float = DEFAULT_LIMIT_S, templates: Mapping[int, StartTemplate] | None = None):
+        """``templates``: the charger's start templates (default: the factory table)."""
         self.program = Program(record)
-        self.params = params
+        self.params = with_template(self.program, params, templates)
         self.pack = pack
         self.charger = charger
         self.tick_s = float(tick_s)
@@ -146,8 +182,9 @@ class Interpreter:
         self.paused = False
         self.finished = False
         self.end_reason = ""
+        self._stop_reason = ""              # IF(tm>x) STOP_MACRO fired: the conclusion runs, then this ends it
         self._resolve_start()
-        self._steps: Iterator[object] = self.program.steps(params.task, params.repetitions)
+        self._steps: Iterator[object] = self.program.steps(self.params.task, self.params.repetitions)
         self._active: _Active | None = None
         self._section = ""
         self._repetition = 0
@@ -220,7 +257,7 @@ class Interpreter:
             elif isinstance(step, (PhaseCode, DefaultDischarge)):
                 self._active = self._start_phase(step)
                 return True
-        self._finish("end of macro")
+        self._finish(self._stop_reason or "end of macro")
         return False
 
     def _start_phase(self, code: PhaseCode | DefaultDischarge) -> _Active:
@@ -232,6 +269,8 @@ class Interpreter:
         result.run = len(self.phases) + 1
         self.phases.append(result)
         charging = result.section == "charge"
+        if self.paused:
+            result.pauses.append([self.time_s, self.time_s])
         if isinstance(code, DefaultDischarge):
             end_v = self._chemistry_end_v()
             active = _Active(result, _CC, False, i_set=-DEFAULT_DISCHARGE_A, default_end_v=end_v * (self.series or 1))
@@ -264,8 +303,9 @@ class Interpreter:
             i, v1, v2 = by_code[63].raws
             active = _Active(result, _TRICKLE, True, trickle=(self.current(i), self.voltage(v1), self.voltage(v2)))
         elif 60 in by_code and 61 in by_code:
+            # CC-CV: the voltage is held with the current limited to CONSTANT_I, in either direction.
             i = self.current(by_code[60].raws[0])
-            active = _Active(result, _CCCV, charging, i_set=sign * i, v_set=self.voltage(by_code[61].raws[0]), i_max=i)
+            active = _Active(result, _CV, charging, v_set=self.voltage(by_code[61].raws[0]), i_max=i)
         elif 61 in by_code:
             fallback = limits.max_charge_a if charging else limits.max_discharge_a
             i_max = self.params.current_a if self.params.current_a else fallback
@@ -286,7 +326,7 @@ class Interpreter:
             else:   # 88: tf, tenths of a second
                 threshold = raw / 10.0
             if c == 89:
-                active.detector = DeltaPeakDetector()
+                active.detector = DeltaPeakDetector(limits.dpeak_window_s, limits.dpeak_holdoff_s)
                 active.dpeak = (threshold, reason)
             else:
                 active.conditions.append((c, threshold, reason))
@@ -313,6 +353,7 @@ class Interpreter:
         tm_stop = self.tm_stop
         section_code = 1 if a.result.section == "charge" else 0
         run_no = a.result.run
+        pauses = a.result.pauses
         ticks = 0
         while ticks < max_ticks:
             ticks += 1
@@ -320,20 +361,16 @@ class Interpreter:
             if self.paused:
                 if hs < self.tc_continue:
                     self.paused = False
+                    pauses[-1][1] = self.time_s
                     self._event("resume", detail=f"Tc<{self.tc_continue}")
                 i = 0.0
             elif hs > self.tc_pause:
                 self.paused = True
+                pauses.append([self.time_s, self.time_s])
                 self._event("pause", detail=f"Tc>{self.tc_pause}")
                 i = 0.0
             elif mode == _CC:
                 i = a.i_set
-            elif mode == _CCCV:
-                i = cfv(a.v_set, dt)
-                if a.charging:
-                    i = a.i_set if i > a.i_set else (0.0 if i < 0.0 else i)
-                else:   # i_set < 0: discharge at most |i_set|, never charge to hold the voltage
-                    i = a.i_set if i < a.i_set else (0.0 if i > 0.0 else i)
             elif mode == _CV:
                 i = cfv(a.v_set, dt)
                 if a.charging:
@@ -351,7 +388,10 @@ class Interpreter:
                 tch, ich, tdis, idis, _ = a.pulse
                 i = ich if a.t_phase % (tch + tdis) < tch else -idis
             if i:
+                asked = i
                 i = limit(i, pack.voltage)
+                if i != asked:
+                    self._clipped(a, asked, i)
             v = step(i, dt)
             hs = hs_step(i, v, dt)
             self.time_s += dt
@@ -379,6 +419,7 @@ class Interpreter:
                 if (c == 83 and v > x) or (c == 82 and v < x) or (c == 88 and a.t_phase > x) or \
                         (c == 84 and round(abs(i), 6) < x and not self.paused) or (c == 81 and sensor and temp > x):
                     reason = text
+                    a.by_timer = c == 88
                     break
             if reason is None and detector is not None and not self.paused:
                 if detector.update(a.t_phase, v) > dpeak[0]:
@@ -395,8 +436,11 @@ class Interpreter:
                 elif check_defaults and cap_limit is not None and round(a.q_in, 9) > cap_limit:
                     reason = f"default: capacity {DEFAULT_CAPACITY_FACTOR:g}x"
             if reason is None and tm_stop is not None and self.time_s > tm_stop[0]:
+                # STOP_MACRO: the remaining phases and sections are skipped; the conclusion still runs.
+                a.by_timer = True
                 self._end_phase(a, tm_stop[1])
-                self._finish(tm_stop[1])
+                self._stop_reason = tm_stop[1]
+                self._steps = self.program.conclusion_steps()
                 return ticks
             if reason is None and self.time_s >= self.limit_s:
                 reason = f"limit: simulation stopped after {self.limit_s / 3600:g}h"
@@ -407,6 +451,13 @@ class Interpreter:
                 self._end_phase(a, reason)
                 return ticks
         return ticks
+
+    def _clipped(self, a: _Active, asked: float, given: float) -> None:
+        r = a.result
+        if not r.clip_limit:
+            r.clip_asked_a, r.clip_given_a = asked, given
+            r.clip_limit = self.charger.clip_reason(asked, self.pack.voltage)
+        r.clipped_s += self.tick_s
 
     def _pulse_measurement(self, a: _Active, v: float) -> float:
         """CHARGE_EX measures once a period, at the point tV chooses; in between the last reading holds."""
@@ -430,6 +481,10 @@ class Interpreter:
         r.v_end = a.measured_v
         r.temp_end = self.pack.temp_c
         r.soc_end = self.pack.soc
+        if r.pauses and self.paused:
+            r.pauses[-1][1] = self.time_s
+        r.timer_before_full = bool(a.by_timer and r.section == "charge" and self.capacity_ah
+                                   and r.mah_in < self.capacity_ah * 1000.0)
         self._active = None
         self._event("phase_end", section=r.section, index=r.index, repetition=r.repetition, offset=r.offset,
                     detail=reason)
@@ -442,6 +497,22 @@ class Interpreter:
 
     def _event(self, kind: str, **fields) -> None:
         self.events.append(Event(self.time_s, kind, **fields))
+
+
+def with_template(program: Program, params: StartParams,
+                  templates: Mapping[int, StartTemplate] | None = None) -> StartParams:
+    """The start values after the start template (the macro's START_SHABLON=n, else the one chosen at
+    start); StartError when the charger has no such template."""
+    number = chosen_template(program.intro.declarations.get(ops.START_SHABLON.code), params.template)
+    if number is None:
+        return params
+    table = factory_templates() if templates is None else templates
+    template = table.get(number)
+    if template is None:
+        stored = ", ".join(str(n) for n in sorted(table)) or "none"
+        how = f"START_SHABLON={number}" if ops.START_SHABLON.code in program.intro.declarations else "chosen at start"
+        raise StartError(f"start template {number} ({how}) does not exist on this charger (templates: {stored})")
+    return replace(apply_template(params, template), template=number)
 
 
 def _reason(ins) -> str:

@@ -76,6 +76,7 @@ class Program:
         self.end = len(self.record) - 1
         self.name = self.record[HEADER_SIZE:self.record[1] - 1].decode("ascii")
         self.intro, self.discharge_at = self._introduction()
+        self.between_at = self._after_section(self.discharge_at)
         self.charge_at = self.record[2]
         self.conclusion_at = self.record[3]
 
@@ -95,8 +96,31 @@ class Program:
                 intro.declarations[ins.op.code] = ins.raws[0]
             pc += ins.size
 
+    def _after_section(self, pc: int) -> int:
+        """The byte after the END_SECTION that closes the section starting at ``pc``."""
+        while True:
+            ins = self._read(pc)
+            pc += ins.size
+            if ins.op is ops.END_SECTION:
+                return pc
+
+    def _commands(self, pc: int, until: ops.Op) -> Iterator[CommandStep]:
+        while True:
+            ins = self._read(pc)
+            if ins.op is until:
+                return
+            yield CommandStep(ins.op, ins.raws, ins.offset)
+            pc += ins.size
+
+    def conclusion_steps(self) -> Iterator[CommandStep]:
+        return self._commands(self.conclusion_at, ops.END_MACRO)
+
     def steps(self, task: str, repetitions: int = 1) -> Iterator[object]:
-        """What the firmware does for a task, in order. Training repeats discharge+charge."""
+        """What the firmware does for a task, in order. Training repeats discharge+charge.
+
+        Commands between the two sections run right after the discharge section, as the firmware
+        reads on from it (discharge and training); a charge-only run jumps to the charge section
+        (header byte 2) and skips them."""
         if task not in TASKS:
             raise ValueError(f"task must be one of {', '.join(TASKS)}")
         reps = repetitions if task == "train" else 1
@@ -106,16 +130,11 @@ class Program:
                 ran = yield from self._section(self.discharge_at, "discharge", rep)
                 if not ran:
                     yield DefaultDischarge(rep, self.discharge_at - 1)
+                yield from self._commands(self.between_at, ops.CHARGE_SECTION)
             if task in ("charge", "train"):
                 yield SectionStart("charge", rep)
                 yield from self._section(self.charge_at, "charge", rep)
-        pc = self.conclusion_at
-        while True:
-            ins = self._read(pc)
-            if ins.op is ops.END_MACRO:
-                return
-            yield CommandStep(ins.op, ins.raws, ins.offset)
-            pc += ins.size
+        yield from self.conclusion_steps()
 
     def _section(self, pc: int, section: str, rep: int) -> Iterator[object]:
         """Runs one section from ``pc``; returns whether any phase ran."""

@@ -2,15 +2,17 @@
 builds the battery and charger models and runs the interpreter on the bytes."""
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import Mapping
 
 from ..lang import opcodes as ops
 from ..lang.record import DecodeError
 from .battery import Pack
 from .charger_model import Charger, load_charger
 from .chemistry import load_chemistry
-from .interpreter import AKK_NAMES, Interpreter, Measurement, PhaseResult, StartError, StartParams
+from .interpreter import AKK_NAMES, Interpreter, Measurement, PhaseResult, StartError, StartParams, with_template
 from .program import Program
+from .start_templates import StartTemplate
 
 
 @dataclass(frozen=True)
@@ -57,7 +59,11 @@ class SimResult:
         phases = [{"section": p.section, "index": p.index, "repetition": p.repetition, "start_s": round(p.start_s, 1),
                    "end_s": round(p.end_s, 1), "reason": p.reason, "mah_in": round(p.mah_in, 1),
                    "mah_out": round(p.mah_out, 1), "v_end": round(p.v_end, 3), "temp_end": round(p.temp_end, 2),
-                   "soc_end": round(p.soc_end, 4), "by_default": p.by_default}
+                   "soc_end": round(p.soc_end, 4), "by_default": p.by_default,
+                   "timer_before_full": p.timer_before_full,
+                   "pauses": [[round(a, 1), round(b, 1)] for a, b in p.pauses], "paused_s": round(p.paused_s, 1),
+                   "clip": {"asked_a": round(p.clip_asked_a, 3), "given_a": round(p.clip_given_a, 3),
+                            "limit": p.clip_limit, "clipped_s": round(p.clipped_s, 1)} if p.clip_limit else None}
                   for p in self.phases]
         return {"macro": self.interpreter.program.name, "battery": {"chemistry": self.chemistry,
                 "capacity_mah": self.capacity_mah, "series": self.series},
@@ -76,15 +82,18 @@ def model_chemistry(record: bytes, setup: BatterySetup) -> str:
                          "choose one (Pb, NiCd, NiMh, LiPo, LiIon, LiFe)") from None
 
 
-def start_values(record: bytes, params: StartParams) -> tuple[Program, StartParams]:
-    """The decoded program and the start values a run needs; capacity and cell count must be known
-    (the battery model needs them): the capacity entered at start is the battery's, else the macro's
-    CAPACITY; the macro's SERIES wins over the cells entered. (The interpreter itself still takes C
-    units from a declared CAPACITY first, as the charger would.)"""
+def start_values(record: bytes, params: StartParams,
+                 templates: Mapping[int, StartTemplate] | None = None) -> tuple[Program, StartParams]:
+    """The decoded program and the start values a run needs, after the start template (the
+    interpreter's rule); capacity and cell count must be known (the battery model needs them): the
+    capacity entered at start is the battery's, else the macro's CAPACITY; the macro's SERIES wins over
+    the cells entered. (The interpreter itself still takes C units from a declared CAPACITY first, as
+    the charger would.)"""
     try:
         program = Program(record)
     except DecodeError as exc:
         raise StartError(f"not a valid record: byte {exc.offset}: {exc.message}") from None
+    params = with_template(program, params, templates)
     declared_ah = program.intro.capacity_ah(None)
     capacity = params.capacity_mah or (round(declared_ah * 1000) if declared_ah else None)
     if not capacity:
@@ -92,15 +101,14 @@ def start_values(record: bytes, params: StartParams) -> tuple[Program, StartPara
     series = program.intro.series(params.series)
     if not series:
         raise StartError("the number of cells is needed: the macro takes it at start (give --series N)")
-    return program, StartParams(params.task, params.repetitions, capacity, params.current_a, params.voltage_v,
-                                series, params.sensor)
+    return program, replace(params, capacity_mah=capacity, series=series)
 
 
-def models(record: bytes, params: StartParams, setup: BatterySetup = BatterySetup()
-           ) -> tuple[StartParams, str, Pack, Charger]:
+def models(record: bytes, params: StartParams, setup: BatterySetup = BatterySetup(),
+           templates: Mapping[int, StartTemplate] | None = None) -> tuple[StartParams, str, Pack, Charger]:
     """The resolved start values and the battery and charger models a run of ``record`` starts from
     (also what the firmware's differential test runs the C core against)."""
-    program, params = start_values(record, params)
+    program, params = start_values(record, params, templates)
     chemistry = model_chemistry(record, setup)
     soc = setup.soc if setup.soc is not None else (0.0 if params.task == "charge" else 1.0)
     pack = Pack(load_chemistry(chemistry), params.capacity_mah, params.series, soc, setup.ambient_c)
@@ -109,10 +117,13 @@ def models(record: bytes, params: StartParams, setup: BatterySetup = BatterySetu
 
 
 def prepare(record: bytes, params: StartParams, setup: BatterySetup = BatterySetup(), *,
-            tick_s: float = 1.0, measurement: Measurement = Measurement()) -> SimResult:
-    """Builds everything; the caller runs ``result.interpreter`` (all at once, or tick by tick)."""
-    params, chemistry, pack, charger = models(record, params, setup)
-    interpreter = Interpreter(record, params, pack, charger, tick_s=tick_s, measurement=measurement)
+            tick_s: float = 1.0, measurement: Measurement = Measurement(),
+            templates: Mapping[int, StartTemplate] | None = None) -> SimResult:
+    """Builds everything; the caller runs ``result.interpreter`` (all at once, or tick by tick).
+    ``templates``: the charger's start templates (default: the factory table)."""
+    params, chemistry, pack, charger = models(record, params, setup, templates)
+    interpreter = Interpreter(record, params, pack, charger, tick_s=tick_s, measurement=measurement,
+                              templates=templates)
     return SimResult(interpreter, chemistry, float(params.capacity_mah), int(params.series))
 
 

@@ -5,10 +5,13 @@ from pathlib import Path
 
 
 def create_main_window(path: str | None = None, config: Path | None = None):
-    """The ready main window, with ``path`` open if given; needs a QApplication, not its event loop."""
+    """The ready main window, with ``path`` open if given, else the file open when it last
+    closed; needs a QApplication, not its event loop."""
     from .main_window import MainWindow
 
     window = MainWindow(config)
     if path:
         window.open_file(path, ask=False)
+    else:
+        window.reopen_last()
     return window

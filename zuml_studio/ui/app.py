@@ -15,23 +15,75 @@ def _parse(argv: list[str] | None) -> argparse.Namespace:
     return parser.parse_args(argv)
 
 
+def _ensure_streams() -> None:
+    """A windowed Windows build (pythonw, PyInstaller --windowed) has no stdout/stderr: writing a
+    warning or a traceback there would raise. Send them to a log beside the settings instead."""
+    if sys.stdout is not None and sys.stderr is not None:
+        return
+    from ..recovery import config_dir
+
+    try:
+        folder = config_dir()
+        folder.mkdir(parents=True, exist_ok=True)
+        log = open(folder / "zuml-studio.log", "a", encoding="utf-8", buffering=1)
+    except OSError:
+        log = open(os.devnull, "w", encoding="utf-8")
+    if sys.stdout is None:
+        sys.stdout = log
+    if sys.stderr is None:
+        sys.stderr = log
+
+
+def data_errors_shown(previous):
+    """An excepthook that also shows a broken installation's DataFileError in a dialog: one raised
+    in a slot (a chemistry first used while typing) would otherwise reach only a console."""
+    def hook(kind, exc, tb):
+        from PySide6.QtWidgets import QMessageBox
+
+        from ..data import DataFileError
+
+        previous(kind, exc, tb)
+        if isinstance(exc, DataFileError):
+            QMessageBox.critical(None, "ZUML Studio", str(exc))
+    return hook
+
+
 def main(argv: list[str] | None = None) -> int:
+    _ensure_streams()
     args = _parse(argv)
     if args.screenshot:
         os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
-    from PySide6.QtWidgets import QApplication
+    from .qt_platform_libs import check
 
+    lacking = check()
+    if lacking:          # Qt would abort with a misleading message; say what to install instead
+        sys.stderr.write(f"zuml-studio: {lacking}")
+        return 1
+    from PySide6.QtGui import QIcon
+    from PySide6.QtWidgets import QApplication, QMessageBox
+
+    from .. import APP_ID, data
+    from ..data import DataFileError
     from . import create_main_window
 
     app = QApplication.instance() or QApplication(sys.argv[:1])
     app.setApplicationName("ZUML Studio")
     app.setOrganizationName("ZUML Studio")
+    app.setDesktopFileName(APP_ID)
     if args.file and not os.path.isfile(args.file):
         sys.stderr.write(f"zuml-studio: error: {args.file}: no such file\n")
         return 2
-    window = create_main_window(args.file)
+    try:
+        app.setWindowIcon(QIcon(str(data.file_path("icon.svg"))))
+        window = create_main_window(args.file)
+    except DataFileError as exc:
+        sys.stderr.write(f"zuml-studio: error: {exc}\n")
+        if not args.screenshot:
+            QMessageBox.critical(None, "ZUML Studio", str(exc))
+        return 2
     if args.screenshot:
         return _screenshot(app, window, args.screenshot, args.size)
+    sys.excepthook = data_errors_shown(sys.excepthook)
     window.show()
     window.offer_recovery()
     return app.exec()

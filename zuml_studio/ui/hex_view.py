@@ -4,7 +4,7 @@ the cursor to its line. Two modes over the same rows: bytes (offset, raw bytes,
 what they are) and the dis-style listing (line, offset, bytes, mnemonic, operands)."""
 from __future__ import annotations
 
-from PySide6.QtCore import Qt, Signal
+from PySide6.QtCore import QEvent, Qt, Signal
 from PySide6.QtGui import QColor, QFontDatabase
 from PySide6.QtWidgets import (QAbstractItemView, QButtonGroup, QHBoxLayout, QHeaderView, QLabel, QRadioButton,
                                QTreeWidget, QTreeWidgetItem, QVBoxLayout, QWidget)
@@ -12,10 +12,10 @@ from PySide6.QtWidgets import (QAbstractItemView, QButtonGroup, QHBoxLayout, QHe
 from ..lang.compiler import CompileResult
 from ..lang.listing import Row, listing_rows
 from ..lang.record import MAX_RECORD
+from . import theme
 
 _LINE = Qt.ItemDataRole.UserRole
 _COLUMNS = ["Line", "Offset", "Bytes", "Instruction", "Operands"]
-_KIND_COLOURS = {"header": "#eef3fb", "name": "#eef3fb", "check": "#eef8ee"}
 
 
 class HexView(QWidget):
@@ -95,21 +95,28 @@ class HexView(QWidget):
 
     def _fill(self) -> None:
         self.tree.clear()
-        grey = QColor("#9a9a9a")
+        scheme = theme.colours(self.palette())      # the tree resolves its palette after this widget
+        grey = QColor(scheme.stale_text)
+        kind_colours = {"header": scheme.header_row, "name": scheme.header_row, "check": scheme.check_row}
         items = []
         for r in self._rows:
             label = r.mnemonic if r.kind == "instruction" else r.mnemonic.title()
             item = QTreeWidgetItem([str(r.line or ""), f"{r.offset:3d}", r.hex, label, r.detail])
             item.setData(0, _LINE, r.line)
             item.setToolTip(2, f"offset {r.offset}, {len(r.data)} byte(s)")
-            if r.kind in _KIND_COLOURS:
+            if r.kind in kind_colours:
                 for col in range(len(_COLUMNS)):
-                    item.setBackground(col, QColor(_KIND_COLOURS[r.kind]))
+                    item.setBackground(col, QColor(kind_colours[r.kind]))
             if self._stale:
                 for col in range(len(_COLUMNS)):
                     item.setForeground(col, grey)
             items.append(item)
         self.tree.addTopLevelItems(items)
+
+    def changeEvent(self, event) -> None:  # noqa: N802
+        super().changeEvent(event)
+        if event.type() == QEvent.Type.PaletteChange and self._rows:
+            self._fill()             # the labelled rows' tints follow a light or dark palette
 
     def _apply_mode(self) -> None:
         listing = self.mode_listing.isChecked()

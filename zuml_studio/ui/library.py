@@ -1,4 +1,4 @@
-"""The macro library: the project's standard macros and the user's own folder.
+"""The macro library: the standard macros shipped in the package and the user's own folder.
 Each entry says its chemistry and size, read by compiling it (a few ms for all)."""
 from __future__ import annotations
 
@@ -8,12 +8,12 @@ from PySide6.QtCore import QFileSystemWatcher, Qt, Signal
 from PySide6.QtGui import QColor
 from PySide6.QtWidgets import QHeaderView, QTreeWidget, QTreeWidgetItem
 
+from .. import data
 from ..lang import opcodes as ops
 from ..lang.compiler import compile_source
 from ..macro_file import EXTENSION, MacroFileError, read_macro_file
 
 _PATH = Qt.ItemDataRole.UserRole
-STANDARD_MACROS = Path(__file__).resolve().parents[2] / "macros"
 
 
 def describe(path: Path) -> tuple[str, str, bool]:
@@ -51,7 +51,7 @@ class LibraryBrowser(QTreeWidget):
         self.refresh()
 
     def folders(self) -> list[tuple[str, Path]]:
-        return [("Standard macros", STANDARD_MACROS), ("My macros", self.user_dir)]
+        return [("Standard macros", data.standard_macros_dir()), ("My macros", self.user_dir)]
 
     def refresh(self) -> None:
         self.clear()

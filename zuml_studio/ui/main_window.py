@@ -4,41 +4,60 @@ together; each part lives in its own module."""
 from __future__ import annotations
 
 import os
+from importlib.metadata import version
 from pathlib import Path
 
-from PySide6.QtCore import QSettings, Qt, QTimer
+from PySide6.QtCore import QEvent, QSettings, QSize, QStandardPaths, Qt, QTimer
 from PySide6.QtGui import QAction, QKeySequence
-from PySide6.QtWidgets import (QDialog, QDockWidget, QFileDialog, QLabel, QMainWindow, QMessageBox, QTextBrowser,
-                               QVBoxLayout)
+from PySide6.QtWidgets import QDockWidget, QFileDialog, QLabel, QMainWindow, QMessageBox, QStyle, QToolBar
 
+from .. import data
 from ..lang import opcodes as ops
 from ..lang.compiler import CompileResult
-from ..lang.docgen import commands_markdown
 from ..macro_file import EXTENSION, MacroFile, MacroFileError, read_macro_file, write_macro_file
 from ..recovery import Recovered, RecoveryStore, atomic_write, config_dir
 from .device.device_panel import DevicePanel
+from . import theme
 from .editor.code_editor import EditorWithFind
+from .editor.highlighter import ops_at
+from .help_browser import HelpBrowser
 from .hex_view import HexView
-from .library import STANDARD_MACROS, LibraryBrowser
+from .library import LibraryBrowser
+from .plot_export import PlotExportDialog
+from .preferences import Preferences, PreferencesDialog
 from .problems import ProblemsView
 from .sim.sim_panel import SimulatorPanel
 from .validation import Validator
 from .visual import NewMacroWizard, VisualEditor
+from .window_geometry import first_geometry, fits
 
 APP_NAME = "ZUML Studio"
 AUTOSAVE_MS = 5000
 MAX_RECENT = 10
-LAYOUT_VERSION = 3      # raise when docks are added or removed: an older saved layout is then ignored
+LAYOUT_VERSION = 4      # raise when docks or toolbars are added or removed: an older saved layout is then ignored
 EMPTY_MACRO = """MACRO NewMacro
   AKK_TYPE=LiPo
+  SERIES=1
   CHARGE_SECTION
     FAZE
       CONSTANT_I=INPUT
       IF(V>4.2S) STOP_FAZE
+      IF(T>45) STOP_FAZE
     END_FAZE
   END_SECTION
 END_MACRO
 """
+
+
+def is_standard(path: str | Path | None) -> bool:
+    """Whether a file is one of the standard macros (opened read-only: Save goes to Save As)."""
+    return path is not None and data.is_standard_macro(path)
+
+
+def documents_dir() -> Path:
+    """The user's documents folder (exports go there by default), the home folder without one."""
+    found = QStandardPaths.writableLocation(QStandardPaths.StandardLocation.DocumentsLocation)
+    return Path(found) if found else Path.home()
 
 
 class MainWindow(QMainWindow):
@@ -55,15 +74,19 @@ class MainWindow(QMainWindow):
         self.file: MacroFile | None = None
         self._untitled = 0
         self._recovery_key = ""
+        self._help: HelpBrowser | None = None
+        self._upload_pending = False
+        self.prefs = Preferences.load(self.settings)
 
         self._build_widgets()
         self._build_actions()
         self._build_menus()
+        self._build_toolbar()
         self._connect()
         self._autosave = QTimer(self, interval=AUTOSAVE_MS, timeout=self.autosave)
         self._autosave.start()
-        self.resize(1500, 950)
         self._restore_layout()
+        self.apply_preferences(self.prefs)
         self.new_file(EMPTY_MACRO, ask=False)
 
     # -- construction -------------------------------------------------------------------
@@ -130,19 +153,37 @@ class MainWindow(QMainWindow):
                                        "Answer a few questions about the battery")
         self.act_visual = self._action("&Visual Editor", self.show_visual, "Ctrl+Shift+V")
         self.act_open = self._action("&Open…", self.open_dialog, K.Open)
-        self.act_save = self._action("&Save", self.save, K.Save)
+        self.act_open_log = self._action("Open &Log…", lambda: self.open_log(), "Ctrl+L",
+                                         "View a charger's log file: iCharger, LogView, DataExplorer, session CSV")
+        self.act_save = self._action("&Save", self.save, K.Save, "Save the macro (a standard macro: as a copy)")
         self.act_save_as = self._action("Save &As…", self.save_as, K.SaveAs)
         self.act_export = self._action("Export &Byte Record…", self.export_record, "Ctrl+Shift+E",
                                        "Write the compiled record (.bin)")
         self.act_quit = self._action("&Quit", self.close, K.Quit)
         self.act_toggle_comment = self._action("Toggle &Comment", lambda: self.editor.toggle_comment(), "Ctrl+/")
         self.act_find = self._action("&Find…", lambda: self.editor.show_find(False), K.Find)
-        self.act_replace = self._action("&Replace…", lambda: self.editor.show_find(True), K.Replace)
+        # Ctrl+H, which the editor also handles: the platform's Replace key is empty on some desktops.
+        self.act_replace = self._action("&Replace…", lambda: self.editor.show_find(True), "Ctrl+H")
+        self.act_prefs = self._action("&Preferences…", self.show_preferences, K.Preferences)
+        if self.act_prefs.shortcut().isEmpty():
+            self.act_prefs.setShortcut(QKeySequence("Ctrl+,"))
+        self.act_zoom_in = self._action("Zoom &In", lambda: self.editor.zoom(1), "Ctrl+=")
+        self.act_zoom_in.setShortcuts([QKeySequence("Ctrl+="), QKeySequence("Ctrl++")])
+        self.act_zoom_out = self._action("Zoom &Out", lambda: self.editor.zoom(-1), "Ctrl+-")
+        self.act_zoom_reset = self._action("&Reset Zoom", self.reset_zoom, "Ctrl+0")
+        self.act_verify = self._action("&Verify", self.verify, "Ctrl+R", "Check and compile the macro")
+        self.act_upload = self._action("&Upload", self.upload, "Ctrl+U",
+                                       "Compile & Flash the macro to the charger (connecting first if needed)")
+        self.act_connect = self._action("&Connect", lambda: self._device_call(self.device_panel.connect_to))
+        self.act_disconnect = self._action("&Disconnect", lambda: self._device_call(self.device_panel.disconnect))
+        self.act_start = self._action("&Start the Macro", lambda: self._device_call(self.device_panel.start))
+        self.act_stop = self._action("S&top the Charger", lambda: self._device_call(self.device_panel.stop))
         self.act_simulate = self._action("&Simulate", lambda: self.sim_panel.simulate(), "F5")
         self.act_cancel_sim = self._action("&Cancel Simulation", lambda: self.sim_panel.cancel(), "Shift+F5")
         self.act_export_csv = self._action("Export Samples as &CSV…", self.export_csv)
         self.act_export_png = self._action("Export Plot as &PNG…", self.export_png)
-        self.act_reference = self._action("&Command Reference", self.show_reference, K.HelpContents)
+        self.act_reference = self._action("&Command Reference", self.show_help, K.HelpContents,
+                                          "Help on the command under the cursor")
         self.act_about = self._action("&About ZUML Studio", self.show_about)
 
     def _build_menus(self) -> None:
@@ -151,10 +192,11 @@ class MainWindow(QMainWindow):
         file_menu.addAction(self.act_new)
         file_menu.addAction(self.act_wizard)
         templates = file_menu.addMenu("New from &Template")
-        for path in sorted(STANDARD_MACROS.glob(f"*{EXTENSION}"), key=lambda p: p.name.lower()):
+        for path in data.standard_macros():
             templates.addAction(path.stem, lambda p=path: self.new_from_template(p))
         file_menu.addAction(self.act_open)
         self.recent_menu = file_menu.addMenu("Open &Recent")
+        file_menu.addAction(self.act_open_log)
         file_menu.addSeparator()
         file_menu.addAction(self.act_save)
         file_menu.addAction(self.act_save_as)
@@ -165,7 +207,8 @@ class MainWindow(QMainWindow):
 
         edit = bar.addMenu("&Edit")
         undo = self._action("&Undo", lambda: self.editor.undo(), QKeySequence.StandardKey.Undo)
-        redo = self._action("&Redo", lambda: self.editor.redo(), QKeySequence.StandardKey.Redo)
+        redo = self._action("&Redo", lambda: self.editor.redo(), "Ctrl+Y")
+        redo.setShortcuts([QKeySequence("Ctrl+Y")] + QKeySequence.keyBindings(QKeySequence.StandardKey.Redo))
         self.editor.undoAvailable.connect(undo.setEnabled)
         self.editor.redoAvailable.connect(redo.setEnabled)
         for action in (undo, redo):
@@ -174,13 +217,27 @@ class MainWindow(QMainWindow):
         edit.addSeparator()
         for action in (self.act_find, self.act_replace, self.act_toggle_comment):
             edit.addAction(action)
+        edit.addSeparator()
+        edit.addAction(self.act_prefs)
 
         view = bar.addMenu("&View")
         view.addAction(self.act_visual)
         view.addSeparator()
+        for action in (self.act_zoom_in, self.act_zoom_out, self.act_zoom_reset):
+            view.addAction(action)
+        view.addSeparator()
         for dock in (self.library_dock, self.hex_dock, self.visual_dock, self.problems_dock, self.sim_dock,
                      self.device_dock):
             view.addAction(dock.toggleViewAction())
+
+        sketch = bar.addMenu("&Macro")
+        sketch.addAction(self.act_verify)
+        sketch.addAction(self.act_upload)
+
+        device = bar.addMenu("&Device")
+        for action in (self.act_connect, self.act_disconnect, None, self.act_upload, self.act_start, self.act_stop,
+                       None, self.device_dock.toggleViewAction()):
+            device.addSeparator() if action is None else device.addAction(action)
 
         sim = bar.addMenu("&Simulate")
         for action in (self.act_simulate, self.act_cancel_sim):
@@ -193,8 +250,33 @@ class MainWindow(QMainWindow):
         help_menu.addAction(self.act_reference)
         help_menu.addAction(self.act_about)
 
+    def _build_toolbar(self) -> None:
+        """The Arduino-style row: files, then Verify and Upload, then Simulate."""
+        bar = QToolBar("Main", self)
+        bar.setObjectName("mainToolBar")
+        bar.setMovable(False)
+        bar.setToolButtonStyle(Qt.ToolButtonStyle.ToolButtonTextBesideIcon)
+        icon = self.style().standardIcon
+        P = QStyle.StandardPixmap
+        for action, pixmap in ((self.act_new, P.SP_FileIcon), (self.act_open, P.SP_DialogOpenButton),
+                               (self.act_save, P.SP_DialogSaveButton), (None, None),
+                               (self.act_verify, P.SP_DialogApplyButton), (self.act_upload, P.SP_ArrowUp),
+                               (None, None), (self.act_simulate, P.SP_MediaPlay)):
+            if action is None:
+                bar.addSeparator()
+                continue
+            action.setIcon(icon(pixmap))
+            bar.addAction(action)
+            tip = action.statusTip() or action.text().replace("&", "")
+            action.setToolTip(f"{tip} ({action.shortcut().toString(QKeySequence.SequenceFormat.NativeText)})"
+                              if not action.shortcut().isEmpty() else tip)
+        self.addToolBar(Qt.ToolBarArea.TopToolBarArea, bar)
+        self.toolbar = bar
+
     def _connect(self) -> None:
         self.editor.textChanged.connect(self._text_changed)
+        self.editor.fontSizeChanged.connect(self._font_size_changed)
+        self.device_panel.connectedChanged.connect(self._device_connected)
         self.editor.document().modificationChanged.connect(self.setWindowModified)
         self.editor.cursorPositionChanged.connect(self._cursor_moved)
         self.editor.cursorLineChanged.connect(self._cursor_line_changed)
@@ -231,12 +313,12 @@ class MainWindow(QMainWindow):
         if result.ok:
             self.size_label.setText(f"{len(result.record)} / 255 bytes")
             self.state_label.setText("✔ valid" + (f", {warnings} warning(s)" if warnings else ""))
-            self.state_label.setStyleSheet("color:#1b7f3b;")
+            self.state_label.setStyleSheet(f"color:{theme.colours(self.palette()).ok};")
             self.sim_panel.set_record(result.record, result.macro.name, self._declared(result))
         else:
             self.size_label.setText("– / 255 bytes")
             self.state_label.setText(f"✖ {errors} error(s)")
-            self.state_label.setStyleSheet("color:#b00020;")
+            self.state_label.setStyleSheet(f"color:{theme.colours(self.palette()).error};")
             self.sim_panel.set_record(None)
         self.problems_dock.setWindowTitle(f"Problems ({errors} errors, {warnings} warnings)"
                                           if result.diagnostics else "Problems")
@@ -281,6 +363,8 @@ class MainWindow(QMainWindow):
 
     # -- files ------------------------------------------------------------------------
     def _set_document(self, text: str, path: str | None, file: MacroFile | None, dirty: bool = False) -> None:
+        """Show a text; ``dirty`` for one that is not on disk as shown (generated, recovered),
+        which is then unsaved work: asked about before it is dropped, and written to recovery."""
         if self._recovery_key:
             self.recovery.discard(self._recovery_key)
         self.path, self.file = path, file
@@ -293,15 +377,28 @@ class MainWindow(QMainWindow):
         self._update_title()
         self.validate_now()
         self.editor.goto(1, 1)
+        self.autosave()
 
     def _update_title(self) -> None:
         name = Path(self.path).name if self.path else "untitled"
+        if self.is_read_only():
+            name += " (standard macro, read-only: Save makes a copy in My macros)"
         self.setWindowTitle(f"{name}[*] — {APP_NAME}")
+
+    def is_read_only(self) -> bool:
+        return is_standard(self.path)
 
     def new_file(self, text: str = EMPTY_MACRO, ask: bool = True) -> bool:
         if ask and not self.maybe_save():
             return False
         self._set_document(text, None, None)
+        return True
+
+    def new_generated(self, text: str) -> bool:
+        """A macro made for the user (template, wizard): untitled and unsaved work."""
+        if not self.maybe_save():
+            return False
+        self._set_document(text, None, None, dirty=True)
         return True
 
     def new_from_template(self, path: Path) -> bool:
@@ -310,13 +407,13 @@ class MainWindow(QMainWindow):
         except MacroFileError as exc:
             self.show_error(str(exc))
             return False
-        return self.new_file(text)
+        return self.new_generated(text)
 
     def new_from_wizard(self) -> bool:
         dialog = NewMacroWizard(self)
         if not dialog.exec():
             return False
-        return self.new_file(dialog.text())
+        return self.new_generated(dialog.text())
 
     def show_visual(self) -> None:
         self.visual_dock.show()
@@ -326,7 +423,7 @@ class MainWindow(QMainWindow):
         if not self.maybe_save():
             return
         start = self.settings.value("lastDir", str(self.user_macros))
-        path, _ = QFileDialog.getOpenFileName(self, "Open macro", start, f"ZUML macros (*{EXTENSION});;All files (*)")
+        path = self.ask_open_path("Open macro", start, f"ZUML macros (*{EXTENSION});;All files (*)")
         if path:
             self.open_file(path, ask=False)
 
@@ -342,20 +439,49 @@ class MainWindow(QMainWindow):
         self._remember(self.path)
         return True
 
+    def open_log(self, path: str | None = None):
+        """The log viewer's window (made on first use), with ``path`` opened or a file chosen."""
+        from .logs import LogWindow      # the viewer's modules load only when a log is wanted
+        if getattr(self, "log_window", None) is None:
+            self.log_window = LogWindow(self.settings, self)
+        self.log_window.show()
+        self.log_window.raise_()
+        if path:
+            self.log_window.open_path(path)
+        else:
+            self.log_window.open_dialog()
+        return self.log_window
+
     def save(self) -> bool:
-        if self.path is None:
+        if self.path is None or self.is_read_only():
             return self.save_as()
         return self._write(self.path)
 
     def save_as(self) -> bool:
-        folder = Path(self.path).parent if self.path else Path(self.settings.value("lastDir", str(self.user_macros)))
-        suggested = str(folder / f"{self.suggested_name()}{EXTENSION}")
-        path, _ = QFileDialog.getSaveFileName(self, "Save macro as", suggested, f"ZUML macros (*{EXTENSION})")
+        suggested = str(self._save_folder() / f"{self.suggested_name()}{EXTENSION}")
+        path = self.ask_save_path("Save macro as", suggested, f"ZUML macros (*{EXTENSION})")
         if not path:
             return False
         if not path.endswith(EXTENSION):
             path += EXTENSION
+        if is_standard(path):
+            self.show_error("The standard macros are read-only: save the macro into My macros or another folder.")
+            return False
         return self._write(path)
+
+    def _save_folder(self) -> Path:
+        """Where Save As and Export start: beside the open file, else My macros; never the
+        standard macros' folder."""
+        if self.path and not self.is_read_only():
+            return Path(self.path).parent
+        return self.user_macros
+
+    # Tests replace these two (no modal dialog in a test).
+    def ask_save_path(self, title: str, suggested: str, filters: str) -> str:
+        return QFileDialog.getSaveFileName(self, title, suggested, filters)[0]
+
+    def ask_open_path(self, title: str, start: str, filters: str) -> str:
+        return QFileDialog.getOpenFileName(self, title, start, filters)[0]
 
     def suggested_name(self) -> str:
         """The MACRO name, as the spec says the name names the file."""
@@ -385,9 +511,8 @@ class MainWindow(QMainWindow):
         if not result.ok:
             self.show_error("The macro has errors; fix them before exporting its bytes.")
             return False
-        folder = Path(self.path).parent if self.path else self.user_macros
-        path, _ = QFileDialog.getSaveFileName(self, "Export byte record", str(folder / f"{self.suggested_name()}.bin"),
-                                              "Byte records (*.bin)")
+        path = self.ask_save_path("Export byte record", str(self._save_folder() / f"{self.suggested_name()}.bin"),
+                                  "Byte records (*.bin)")
         if not path:
             return False
         try:
@@ -402,14 +527,27 @@ class MainWindow(QMainWindow):
         if self.sim_panel.result() is None:
             self.show_error("Simulate first: there are no samples yet.")
             return
-        path, _ = QFileDialog.getSaveFileName(self, "Export samples", f"{self.suggested_name()}.csv", "CSV (*.csv)")
-        if path:
-            self.sim_panel.export_csv(path)
+        path = self.ask_save_path("Export samples", str(documents_dir() / f"{self.suggested_name()}.csv"),
+                                  "CSV (*.csv)")
+        if path and self.sim_panel.export_csv(path):
+            self.statusBar().showMessage(f"Wrote {len(self.sim_panel.result().log)} samples to {path}", 6000)
 
     def export_png(self) -> None:
-        path, _ = QFileDialog.getSaveFileName(self, "Export plot", f"{self.suggested_name()}.png", "PNG (*.png)")
-        if path:
-            self.sim_panel.export_png(path)
+        if self.sim_panel.result() is None:
+            self.show_error("Simulate first: there is no plot yet.")
+            return
+        options = self.ask_png_options(self.suggested_name())
+        if options is None:
+            return
+        title, size = options
+        path = self.ask_save_path("Export plot", str(documents_dir() / f"{self.suggested_name()}.png"), "PNG (*.png)")
+        if path and self.sim_panel.export_png(path, size, title):
+            self.statusBar().showMessage(f"Wrote the plot ({size.width()}×{size.height()}) to {path}", 6000)
+
+    def ask_png_options(self, title: str) -> tuple[str, QSize] | None:
+        """The title and size of an exported plot, None when cancelled (tests replace this)."""
+        dialog = PlotExportDialog(title, self)
+        return dialog.chosen() if dialog.exec() else None
 
     def _remember(self, path: str | None) -> None:
         if not path:
@@ -487,18 +625,29 @@ class MainWindow(QMainWindow):
         self.sim_panel.cancel()
         self.device_panel.shutdown()
         self.recovery.discard(self._recovery_key)
+        self.settings.setValue("lastOpen", self.path or "")
         self.settings.setValue("geometry", self.saveGeometry())
         self.settings.setValue("windowState", self.saveState(LAYOUT_VERSION))
         self.settings.sync()
         event.accept()
 
     def _restore_layout(self) -> None:
+        """The saved geometry if it fits the screen now (it may be a smaller or scaled one),
+        else a size made for the screen; then the docks' layout."""
+        available = self.screen().availableGeometry()
         geometry = self.settings.value("geometry")
+        if geometry is None or not self.restoreGeometry(geometry) or not fits(self.frameGeometry(), available):
+            self.setGeometry(first_geometry(available))
         state = self.settings.value("windowState")
-        if geometry is not None:
-            self.restoreGeometry(geometry)
         if state is not None:
             self.restoreState(state, LAYOUT_VERSION)
+
+    def reopen_last(self) -> bool:
+        """At start without a file: the file open when the window last closed, if it is still there."""
+        last = self.settings.value("lastOpen", "")
+        if not last or not Path(str(last)).is_file():
+            return False
+        return self.open_file(str(last), ask=False)
 
     # -- messages and help ----------------------------------------------------------------
     def show_error(self, message: str) -> None:
@@ -509,15 +658,83 @@ class MainWindow(QMainWindow):
         box.setAttribute(Qt.WidgetAttribute.WA_DeleteOnClose)
         box.open()
 
-    def show_reference(self) -> None:
-        dialog = QDialog(self)
-        dialog.setWindowTitle("ZUML 2.0 commands")
-        browser = QTextBrowser()
-        browser.setMarkdown(commands_markdown())
-        layout = QVBoxLayout(dialog)
-        layout.addWidget(browser)
-        dialog.resize(1000, 700)
-        dialog.show()
+    def show_help(self) -> None:
+        """F1: the command reference, at the command under the cursor."""
+        cursor = self.editor.textCursor()
+        if self._help is None:
+            self._help = HelpBrowser(self)
+        self._help.show_ops(ops_at(cursor.block().text(), cursor.positionInBlock()))
+        self._help.show()
+        self._help.raise_()
+        self._help.search.setFocus()
+
+    def about_text(self) -> str:
+        return (f"ZUML Studio {version('zuml-studio')}\n\n"
+                "Write, check, simulate and flash ZUML 2.0 charger macros.")
 
     def show_about(self) -> None:
-        QMessageBox.about(self, APP_NAME, "ZUML Studio: write, check, simulate and flash ZUML 2.0 charger macros.")
+        QMessageBox.about(self, APP_NAME, self.about_text())
+
+    # -- preferences and zoom --------------------------------------------------------------
+    def apply_preferences(self, prefs: Preferences) -> None:
+        self.prefs = prefs
+        theme.apply_theme(prefs.theme)
+        if prefs.font_size:
+            self.editor.set_font_size(prefs.font_size)
+
+    def show_preferences(self) -> None:
+        dialog = PreferencesDialog(self.prefs, self.editor.font_size(), self)
+        if dialog.exec():
+            chosen = dialog.chosen()
+            chosen.save(self.settings)
+            self.apply_preferences(chosen)
+
+    def reset_zoom(self) -> None:
+        self.prefs.font_size = 0
+        self.prefs.save(self.settings)
+        self.editor.set_font_size(self.editor.default_font_size())
+
+    def _font_size_changed(self, points: int) -> None:
+        self.prefs.font_size = points
+        self.prefs.save(self.settings)
+
+    def changeEvent(self, event) -> None:  # noqa: N802
+        super().changeEvent(event)
+        if event.type() == QEvent.Type.PaletteChange and self.validator.last is not None:
+            self._validated(self.validator.last)       # the status colours of the new palette
+
+    # -- Arduino-style actions -------------------------------------------------------------
+    def verify(self) -> bool:
+        """Ctrl+R: check and compile now; the result in the status bar and the Problems list."""
+        result = self.validate_now()
+        errors = len(result.errors)
+        warnings = len(result.diagnostics) - errors
+        if result.ok:
+            message = f"Verified: {len(result.record)} of 255 bytes" + (f", {warnings} warning(s)" if warnings else "")
+        else:
+            message = f"Not verified: {errors} error(s)"
+            self.problems_dock.show()
+            self.problems_dock.raise_()
+        self.statusBar().showMessage(message, 8000)
+        return result.ok
+
+    def upload(self) -> None:
+        """Ctrl+U: the device panel's Compile & Flash, connecting to the chosen charger first."""
+        self.device_dock.show()
+        self.device_dock.raise_()
+        if not self.verify():
+            return
+        if self.device_panel.is_connected():
+            self.device_panel.flash()
+        elif self.device_panel.connect_to():
+            self._upload_pending = True
+
+    def _device_connected(self, connected: bool) -> None:
+        pending, self._upload_pending = self._upload_pending, False
+        if connected and pending:
+            self.device_panel.flash()
+
+    def _device_call(self, method) -> None:
+        self.device_dock.show()
+        self.device_dock.raise_()
+        method()

@@ -6,6 +6,7 @@ from PySide6.QtGui import QColor
 from PySide6.QtWidgets import QHeaderView, QStyle, QTreeWidget, QTreeWidgetItem
 
 from ..lang.diagnostics import Diagnostic
+from . import theme
 
 _ROLE = Qt.ItemDataRole.UserRole
 
@@ -39,10 +40,12 @@ class ProblemsView(QTreeWidget):
             text = d.message + (f" — {d.hint}" if d.hint else "")
             item = QTreeWidgetItem(["", f"{d.line}:{d.column}", text, d.code])
             item.setIcon(0, self._icons[d.is_error])
-            item.setToolTip(2, f"{d.message}\n{d.hint}" if d.hint else d.message)
+            tip = f"{d.message}\n{d.hint}" if d.hint else d.message
+            for col in range(1, 4):         # the list is narrow: the whole message on any cell
+                item.setToolTip(col, tip)
             item.setData(0, _ROLE, (d.line, d.column))
             if not d.is_error:
-                item.setForeground(3, QColor("#9a5b00"))
+                item.setForeground(3, QColor(theme.colours(self.palette()).warning))
             self.addTopLevelItem(item)
 
     def _activated(self, item: QTreeWidgetItem, _column: int = 0) -> None:

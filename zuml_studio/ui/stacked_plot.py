@@ -31,6 +31,8 @@ LABEL_COLOR = "#1c2a44"
 WARNING_COLOR = "#b34700"
 PLACEHOLDER_COLOR = "#8a8a8a"
 
+# Smallest y spans: a flat 25 °C reads 24–26, not 24.995–25.005.
+MIN_SPAN = {"current": 0.2, "temp": 2.0}
 AXIS_WIDTH = 54               # left and right axes, fixed: the three view boxes line up
 LABEL_PT = 8
 TICK_PT = 8
@@ -40,11 +42,18 @@ AXIS_LABELS = {"long": ("pack (V)", "per cell (V)", "current (A)", "temp. (°C)"
 
 
 def band_label(p, short: bool = False) -> str:
-    """``C1: IF(V>4.1S) STOP_FAZE``; a default-ended phase gets a warning sign."""
+    """``C1: IF(V>4.1S) STOP_FAZE``; a phase a default ended, or a charge a timer cut before full,
+    gets a warning sign (and the latter says so)."""
     head = ("C" if p.section == "charge" else "D") + (str(p.index) if p.index else "")
+    warn = "⚠ " if band_warns(p) else ""
     if short:
-        return ("⚠ " if p.by_default else "") + head
-    return f"{'⚠ ' if p.by_default else ''}{head}: {p.reason or '…'}"
+        return warn + head
+    short_of_full = " (timer before full)" if getattr(p, "timer_before_full", False) else ""
+    return f"{warn}{head}: {p.reason or '…'}{short_of_full}"
+
+
+def band_warns(p) -> bool:
+    return p.by_default or getattr(p, "timer_before_full", False)
 
 
 def band_rgb(section: str) -> tuple[int, int, int]:
@@ -71,6 +80,11 @@ class InlineLegend(pg.TextItem):
 
     def add(self, name: str, color: str) -> None:
         self.entries.append((name, color))
+        self._render()
+
+    def set_entries(self, entries: list[tuple[str, str]]) -> None:
+        """Replace every entry at once: (name, colour)."""
+        self.entries = list(entries)
         self._render()
 
     def rename(self, index: int, name: str) -> None:
@@ -160,7 +174,8 @@ class StackedPlot(pg.GraphicsLayoutWidget):
         for plot in self.plots[:-1]:
             plot.setXLink(self.tplot)
             plot.hideAxis("bottom")
-        self._axis_label(self.tplot.getAxis("bottom"), "time (h:mm)")
+        self.time_axis.title_style = {"color": INK, "font-size": f"{LABEL_PT}pt"}
+        self.time_axis.set_format("h:mm")
         self.tplot.getAxis("bottom").setHeight(34)
         self._label_axes(short=False)
         # What the titles in words take as rendered (rich text, a little wider than the font's metrics).
@@ -180,6 +195,8 @@ class StackedPlot(pg.GraphicsLayoutWidget):
         for plot in (self.iplot, self.tplot):
             plot.enableAutoRange(axis="y")
             plot.setAutoVisible(y=True)
+        self.iplot.setLimits(minYRange=MIN_SPAN["current"])
+        self.tplot.setLimits(minYRange=MIN_SPAN["temp"])
 
     # -- construction ------------------------------------------------------------------------
     def _style(self, plot: pg.PlotItem, grid: bool) -> None:

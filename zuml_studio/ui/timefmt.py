@@ -57,17 +57,35 @@ def tick_step(span_s: float, size_px: float, min_px: float = 48.0) -> float:
     return float(TICK_STEPS_S[-1] * math.ceil(span_s / most / TICK_STEPS_S[-1]))
 
 
+def tick_format(step: float) -> str:
+    """The format of an axis's labels: h:mm for steps of a minute or more, h:mm:ss below."""
+    return "h:mm" if step >= 60 else "h:mm:ss"
+
+
 def tick_label(seconds: float, step: float) -> str:
-    """h:mm for steps of a minute or more, h:mm:ss below."""
-    return hmm(seconds) if step >= 60 else hmmss(seconds)
+    return hmm(seconds) if tick_format(step) == "h:mm" else hmmss(seconds)
+
+
+def elapsed(seconds: float) -> str:
+    """A length of simulated or run time that cannot be read as a clock: ``"19 h 43 min"``,
+    ``"58 min"``, ``"45 s"``."""
+    sign, h, m, s = _split(seconds)
+    if h:
+        return f"{sign}{h} h {m:02d} min"
+    if m:
+        return f"{sign}{m} min"
+    return f"{sign}{s} s"
 
 
 class TimeAxisItem(pg.AxisItem):
-    """A bottom axis over seconds that ticks at round clock steps and labels them h:mm."""
+    """A bottom axis over seconds that ticks at round clock steps, labels them h:mm or h:mm:ss,
+    and says which in its title ("time (h:mm:ss)"): one format per axis at a time."""
 
     def __init__(self, orientation: str = "bottom", min_px: float = 48.0, **kw):
         super().__init__(orientation, **kw)
         self.min_px = min_px
+        self.title_style: dict = {}
+        self.shown_format = ""
         self.enableAutoSIPrefix(False)
         self.setStyle(maxTextLevel=0)      # labels on the round steps only, minor ticks unlabelled
 
@@ -80,4 +98,11 @@ class TimeAxisItem(pg.AxisItem):
         return [(major, 0.0), (minor, 0.0)]
 
     def tickStrings(self, values, scale, spacing):  # noqa: N802
+        self.set_format(tick_format(spacing))
         return [tick_label(v, spacing) for v in values]
+
+    def set_format(self, name: str) -> None:
+        """Title the axis with the labels' format (only when it changes: a title costs a relayout)."""
+        if name != self.shown_format:
+            self.shown_format = name
+            self.setLabel(f"time ({name})", **self.title_style)

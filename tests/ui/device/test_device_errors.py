@@ -4,6 +4,7 @@ macro, a cable pulled mid-flash, an image larger than the EEPROM, a link that go
 and Backup/Restore, the port chooser's background scans."""
 import os
 import socket
+import sys
 import threading
 import time
 
@@ -247,7 +248,7 @@ def test_a_port_another_program_holds_is_busy(qtbot, make_panel, make_charger):
     connect(qtbot, panel, port)                  # free again: it connects
 
 
-def test_permission_denied_gives_the_dialout_hint(qtbot, make_panel, monkeypatch):
+def test_permission_denied_says_how_to_get_the_port(qtbot, make_panel, monkeypatch):
     import serial
 
     def refuse(url, *args, **kw):                # what pyserial raises for a port without rw rights
@@ -258,8 +259,11 @@ def test_permission_denied_gives_the_dialout_hint(qtbot, make_panel, monkeypatch
     with qtbot.waitSignal(panel.connectedChanged, timeout=WAIT_MS) as blocker:
         panel.connect_to("/dev/ttyUSB0")
     assert blocker.args == [False]
-    assert panel.message_text() == ("Cannot connect: /dev/ttyUSB0: permission denied; add yourself to the dialout "
-                                    "group: sudo usermod -aG dialout $USER, then log in again")
+    text = panel.message_text()
+    assert text.startswith("Cannot connect: /dev/ttyUSB0: permission denied; ")
+    if sys.platform.startswith("linux"):
+        for advice in ("sudo usermod -aG dialout $USER", "uucp on Arch", "60-zuml-studio-serial.rules", "brltty"):
+            assert advice in text
 
 
 def test_every_error_reads_as_a_sentence():
@@ -288,3 +292,37 @@ def test_every_error_reads_as_a_sentence():
     assert describe_error(refused, "start") == ("The charger refused to start:\n"
                                                 "• the battery's capacity is needed: the macro takes it at start")
     assert describe_error(RuntimeError("boom"), "stop") == "Internal error: RuntimeError: boom"
+
+
+def _set_passport(device, **fields):
+    from zuml_studio.device import passport as pp
+    old = device.chip.image
+    new = pp.Passport.from_bytes(old)
+    for key, value in fields.items():
+        new = new.with_field(key, value)
+    for req in pp.page_writes(old, new.to_bytes()):
+        assert pp.answer_error(device.chip.answer(req)) is None
+
+
+def test_start_warns_about_battery_errors_and_an_unreliable_minus_dv_and_refuses_critical_errors(qtbot, make_panel):
+    """Issue 11.4/11.5: ERR and an entered current too low for -dV warn; CRIT refuses, naming it."""
+    panel = make_panel()
+    connect(qtbot, panel)
+    device = panel.connection.virtual_device
+    _set_passport(device, err=2)
+    with qtbot.waitSignal(panel.flashFinished, timeout=WAIT_MS):
+        panel.flash()
+    panel.set_start_params(current_a=0.4, capacity_mah=2000, series=4, sensor=False)
+    with qtbot.waitSignal(panel.startFinished, timeout=WAIT_MS) as started:
+        panel.start()
+    ok, text = started.args
+    assert ok, text
+    assert "\n⚠ the battery reports 2 error(s) (ERR=2)" in text
+    assert "\n⚠ charge phase 1: 0.40 A is 0.20C of 2000 mAh; NiMh shows no reliable -dV below 0.3C" in text
+    panel.stop()
+    qtbot.waitUntil(lambda: device.state != "running", timeout=WAIT_MS)
+    _set_passport(device, crit=1)
+    with qtbot.waitSignal(panel.startFinished, timeout=WAIT_MS) as refused:
+        panel.start()
+    ok, text = refused.args
+    assert not ok and "• the battery reports 1 critical error(s) (CRIT=1): it is not fit for use" in text

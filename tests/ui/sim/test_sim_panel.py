@@ -10,7 +10,7 @@ from PySide6.QtCore import QPoint, Qt
 
 from zuml_studio.sim.samples import COLUMNS
 from zuml_studio.ui.sim.params_form import FROM_AKK
-from zuml_studio.ui.sim.phase_table import DEFAULT_TIP, REASON_COLUMN
+from zuml_studio.ui.sim.phase_table import DEFAULT_TIP, NOTES_COLUMN, REASON_COLUMN, TIMER_TIP
 from zuml_studio.ui.sim.sim_panel import STALE_HINT
 
 LIPO = dict(capacity_mah=2000, current_a=2.0, series=3)
@@ -139,10 +139,10 @@ def test_cancel_mid_run_shows_the_run_so_far(panel, qtbot, compiled, monkeypatch
     panel.form.set_values(task="train", repetitions=255, **LIPO)
     panel.simulate()
     label = panel.form.progress_label
-    qtbot.waitUntil(lambda: "simulated" in label.text() and not label.text().startswith("0:00"), timeout=30_000)
+    qtbot.waitUntil(lambda: "simulated" in label.text() and not label.text().startswith("0 s"), timeout=30_000)
     panel.cancel()
     assert panel.wait(30_000)
-    assert "cancelled at" in panel.message_text()
+    assert "cancelled after" in panel.message_text()
     assert "cancelled" in panel.form.progress_label.text()
     result = panel.result()
     assert result.interpreter.end_reason == "cancelled" and 3600 <= result.interpreter.time_s < 40 * 3600
@@ -308,3 +308,40 @@ def test_renders_as_a_bottom_dock(panel, run, macro, values, tmp_path):
         assert image.save(path)
         assert os.path.getsize(path) > 10_000
     assert panel.plot.width() >= 280 and panel.table.width() >= 180
+
+
+def test_heat_sink_pauses_are_bands_in_the_plot_and_notes_in_the_table(panel, run):
+    """Issue 11.6: a 40 °C run pauses on the heat sink; the plot, the table and the totals say so."""
+    result = run("LiPo", task="discharge", ambient_c=40.0, **LIPO)
+    (phase,) = result.phases
+    pauses = len(phase.pauses)
+    assert pauses > 5
+    assert [len(bands) for bands in panel.plot.pause_bands] == [pauses] * 3
+    first = panel.plot.pause_bands[0][0]
+    assert first.getRegion() == pytest.approx(tuple(phase.pauses[0]))
+    assert first.toolTip().startswith("heat-sink pause ")
+    notes = panel.table.item(0, NOTES_COLUMN).text()
+    assert notes.startswith(f"heat-sink pause {pauses}x") and "charger gave 0.40 A: 5 W discharge limit" in notes
+    assert f"{pauses} heat-sink pauses" in panel.totals.text()
+    panel.resize(1366, 400)
+    panel.grab().save("/tmp/sim_pauses.png")
+    run("LiPo", task="charge", ambient_c=25.0, **LIPO)
+    assert [len(bands) for bands in panel.plot.pause_bands] == [0, 0, 0]
+
+
+def test_a_charge_cut_by_its_timer_is_flagged_and_the_entered_current_warned(panel, run):
+    """Issue 11.5 and 11.7: 0.2C on the -dV macro: a warning before the run, ⚠ in table and plot."""
+    run("NiMh-dV", **dict(NIMH, current_a=0.4))
+    assert "NiMh shows no reliable -dV below 0.3C" in panel.message_text()
+    assert panel.table.is_flagged(0)
+    assert TIMER_TIP in panel.table.item(0, REASON_COLUMN).toolTip()
+    assert panel.table.item(0, NOTES_COLUMN).text().startswith("timer before full: 1600 mAh put in")
+    assert panel.plot.labels[0].toPlainText() == "⚠ C1: IF(tf>4h) STOP_FAZE (timer before full)"
+    assert "cut by a timer before full" in panel.totals.text()
+    panel.grab().save("/tmp/sim_timer.png")
+
+
+def test_a_start_template_gives_the_start_values(panel, run):
+    result = run("NiMh-dV", template=1, **dict(NIMH, current_a=0.1, capacity_mah=500))
+    assert result.interpreter.params.template == 1
+    assert result.capacity_mah == 2000 and result.interpreter.params.current_a == 1.0

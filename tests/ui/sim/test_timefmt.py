@@ -40,3 +40,29 @@ def test_axis_item_ticks(qapp):
     (major, _), (minor, _) = axis.tickSpacing(0, 4884, 500)
     assert major == 600 and 0 < minor < major
     assert axis.tickStrings([0, 900, 3600], 1.0, 900) == ["0:00", "0:15", "1:00"]
+
+
+def test_elapsed_time_never_reads_as_a_clock():
+    from zuml_studio.ui.timefmt import elapsed
+
+    assert elapsed(19 * 3600 + 43 * 60) == "19 h 43 min"
+    assert elapsed(58 * 60) == "58 min"
+    assert elapsed(45) == "45 s"
+
+
+def test_the_time_axis_title_names_the_format_its_labels_use(qtbot):
+    from zuml_studio.ui.sim.sim_panel import SimulatorPanel
+
+    panel = SimulatorPanel()             # a bare pyqtgraph view crashes in close(); the panel does not
+    qtbot.addWidget(panel)
+    panel.resize(900, 300)
+    panel.show()
+    plot = panel.plot
+    axis = plot.time_axis
+    for span, expected in ((7200.0, "h:mm"), (90.0, "h:mm:ss")):
+        plot.tplot.setXRange(0.0, span, padding=0)
+        values = axis.tickValues(0.0, span, axis.width())
+        step = values[0][0]
+        labels = axis.tickStrings(values[0][1], 1.0, step)
+        assert axis.labelText == f"time ({expected})"
+        assert all(label.count(":") == expected.count(":") for label in labels)

@@ -45,6 +45,25 @@ def type_into(qtbot, line_edit, text):
 
 # -- showing ------------------------------------------------------------------------------------
 
+def test_commands_between_the_sections_are_chips_of_their_own(visual, qtbot):
+    text = LIPO_TEXT.replace("  CHARGE_SECTION", "  MUSIC(ATTENTION)\n  LIGHT(FAST)\n  CHARGE_SECTION")
+    v = visual(text)
+    settle(qtbot, v, text)
+    view = v.view
+    assert view.between_box.isVisible()
+    assert [c.field.value_text() for c in view.between_chips] == ["ATTENTION", "FAST"]
+    assert [c.field.value_text() for c in view.conclusion_chips] == ["STOP"]
+    assert ve.node_at(view.macro(), ("between", 1)).op is ops.BY_CODE[101]
+    view.remove_statement(("between", 0))                  # the chip's ✕
+    text = text.replace("  MUSIC(ATTENTION)\n", "")
+    settle(qtbot, v, text)
+    assert v.editor.toPlainText() == text
+    assert [c.field.value_text() for c in view.between_chips] == ["FAST"]
+    v.editor.setPlainText(LIPO_TEXT)
+    settle(qtbot, v, LIPO_TEXT)
+    assert not view.between_box.isVisible() and view.between_chips == []
+
+
 def test_the_lipo_macro_as_cards(visual):
     v = visual()
     view = v.view

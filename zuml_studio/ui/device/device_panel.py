@@ -26,7 +26,8 @@ from PySide6.QtWidgets import (QAbstractItemView, QCheckBox, QComboBox, QDoubleS
 from ...device import messages as msg
 from ...device.errors import DeviceError, ImageTooLarge
 from ...device.flashing import merge_record
-from ...device.passport import akk_name, conflicts
+from ...device.passport import akk_name, conflicts, fitness_warnings
+from ...sim.start_check import start_warnings
 from ...device.ports import VIRTUAL
 from ...lang.eeprom import Slot, slots, used_bytes
 from ..number_boxes import double_spin_box, form_field, spin_box
@@ -617,10 +618,14 @@ class DevicePanel(QWidget):
                 except Exception:   # noqa: BLE001 - a record that does not decode: the charger decides
                     found = []
                 if found:
-                    return ("refused", found, passport)
+                    return ("refused", found, passport, [])
             started = client.start(slot, params["task"], params["repetitions"], params["capacity_mah"],
                                    params["current_a"], params["voltage_v"], params["series"], params["sensor"])
-            return ("started", started, passport)
+            # What the charger does not refuse but the user should know: the battery's error count,
+            # and values entered at start that the lint could not check (seed 001's -dV rates).
+            warnings = (fitness_warnings(passport) if passport is not None else []) + \
+                start_warnings(record, StartParams(**params))
+            return ("started", started, passport, warnings)
 
         self.show_message(f"Starting {name} (slot {slot})…", "info")
         self.connection.call(job, lambda r: self._started(r, slot, params), self._start_failed)
@@ -889,7 +894,7 @@ class DevicePanel(QWidget):
 
     # -- start --------------------------------------------------------------------------------
     def _started(self, answer, slot: int, params: dict) -> None:
-        kind, value, passport = answer
+        kind, value, passport, warnings = answer
         self._show_passport(passport)
         name = self._slots[slot].name if slot < len(self._slots) else "?"
         if kind == "refused":
@@ -901,7 +906,8 @@ class DevicePanel(QWidget):
         self.plot.set_series_count(params["series"] or 1)
         if not self.plot.follow:
             self.follow.setChecked(True)
-        self._start_done(True, f"Started {value} (slot {slot}): {params['task']}.")
+        self._start_done(True, f"Started {value} (slot {slot}): {params['task']}."
+                         + "".join(f"\n⚠ {w}" for w in warnings))
 
     def _start_failed(self, exc) -> None:
         self._start_done(False, describe_error(exc, "start"))
@@ -990,7 +996,8 @@ class DevicePanel(QWidget):
         self.pp_labels["type"].setText(f"{passport.type_name} · TEMP {passport.temp} °C")
         v = f"{passport.v_limit} V" if passport.v_limit else "V not set"
         a = f"{passport.a_limit} A" if passport.a_limit else "A not set"
-        err = f" · ERR {passport.err}" if passport.err else ""
+        err = (f" · ERR {passport.err}" if passport.err else "") + \
+            (f" · CRIT {passport.crit}: not fit for use" if passport.crit else "")
         self.pp_labels["limits"].setText(f"{v} · {a}{err}")
 
     def _poll_passport(self) -> None:

@@ -14,11 +14,12 @@ import textwrap
 from typing import Iterator
 
 from PySide6.QtCore import QEvent, QPoint, QRect, Qt, Signal
-from PySide6.QtGui import (QColor, QFontDatabase, QKeySequence, QPalette, QTextCharFormat, QTextCursor, QTextDocument,
+from PySide6.QtGui import (QAction, QColor, QFontDatabase, QKeySequence, QTextCharFormat, QTextCursor, QTextDocument,
                            QTextFormat, QTextLine)
 from PySide6.QtWidgets import QPlainTextDocumentLayout, QPlainTextEdit, QTextEdit, QToolTip, QVBoxLayout, QWidget
 
 from ...lang.diagnostics import Diagnostic, Severity
+from .. import theme
 from . import indent
 from .completion import ZumlCompleter
 from .find_bar import FindBar
@@ -28,10 +29,8 @@ from .line_numbers import LineNumberArea
 Selection = QTextEdit.ExtraSelection
 UNDERLINE_COLOURS = {Severity.ERROR: QColor("#e0201b"), Severity.WARNING: QColor("#f08c00")}
 TINT_COLOURS = {Severity.ERROR: QColor(224, 32, 27, 28), Severity.WARNING: QColor(240, 140, 0, 28)}
-CURRENT_LINE_LIGHT = QColor("#edf2fa")
-LINKED_LINE_LIGHT = QColor("#e2f4e8")
-FIND_MATCH_LIGHT = QColor("#ffe68a")
 TOOLTIP_COLUMNS = 64
+MIN_FONT_PT, MAX_FONT_PT = 6, 36
 
 
 class _BlockLayout(QPlainTextDocumentLayout):
@@ -72,6 +71,7 @@ class CodeEditor(QPlainTextEdit):
     """ZUML source editor. Lines and columns in its API are 1-based."""
 
     cursorLineChanged = Signal(int)         # 1-based line, when the cursor moves to another line
+    fontSizeChanged = Signal(int)           # point size, after a zoom
 
     def __init__(self, parent: QWidget | None = None):
         super().__init__(parent)
@@ -84,6 +84,7 @@ class CodeEditor(QPlainTextEdit):
         self.setDocument(self._document)
         font = QFontDatabase.systemFont(QFontDatabase.SystemFont.FixedFont)
         self.setFont(font)
+        self._default_pt = round(font.pointSizeF())
         self.setTabStopDistance(self.fontMetrics().horizontalAdvance(" ") * indent.INDENT_WIDTH)
         self.setLineWrapMode(QPlainTextEdit.LineWrapMode.NoWrap)
         self.setMouseTracking(True)
@@ -111,11 +112,11 @@ class CodeEditor(QPlainTextEdit):
         self._set_current_line()
 
     def _colours(self) -> None:
-        base = self.palette().color(QPalette.ColorRole.Base)
-        light = base.lightness() >= 128
-        self._current_colour = CURRENT_LINE_LIGHT if light else base.lighter(125)
-        self._linked_colour = LINKED_LINE_LIGHT if light else QColor("#23452f")
-        self._find_colour = FIND_MATCH_LIGHT if light else QColor("#6b5a12")
+        scheme = theme.colours(self.palette())
+        self.highlighter.set_scheme(scheme)
+        self._current_colour = QColor(scheme.current_line)
+        self._linked_colour = QColor(scheme.linked_line)
+        self._find_colour = QColor(scheme.find_match)
 
     # -- public API -----------------------------------------------------------------------
     def current_line(self) -> int:
@@ -215,6 +216,75 @@ class CodeEditor(QPlainTextEdit):
             cursor.setPosition(blocks[-1].position() + blocks[-1].length() - 1, QTextCursor.MoveMode.KeepAnchor)
             self.setTextCursor(cursor)
 
+    def default_font_size(self) -> int:
+        """The system's fixed-width font size (what Reset Zoom goes back to)."""
+        return self._default_pt
+
+    def font_size(self) -> int:
+        return round(self.font().pointSizeF())
+
+    def set_font_size(self, points: int) -> None:
+        """The text's size in points, within MIN_FONT_PT..MAX_FONT_PT (the gutter and the
+        completion popup follow)."""
+        points = min(max(int(points), MIN_FONT_PT), MAX_FONT_PT)
+        if points == self.font_size():
+            return
+        font = self.font()
+        font.setPointSize(points)
+        self.setFont(font)
+        self.completer.popup().setFont(font)
+        self.fontSizeChanged.emit(points)
+
+    def zoom(self, steps: int) -> None:
+        """Ctrl+= / Ctrl+- / Ctrl+wheel: one point per step."""
+        self.set_font_size(self.font_size() + steps)
+
+    def wheelEvent(self, event) -> None:  # noqa: N802
+        if event.modifiers() & Qt.KeyboardModifier.ControlModifier:
+            steps = event.angleDelta().y() // 120
+            if steps:
+                self.zoom(steps)
+            event.accept()
+            return
+        super().wheelEvent(event)
+
+    def fix_at(self, position: int) -> tuple[QTextCursor, Diagnostic] | None:
+        """The "did you mean" fix for document ``position``: of a diagnostic there, or failing
+        that the first on its line; None when there is none."""
+        block = self.document().findBlock(position)
+        on_line = [(c, d) for c, d in self._diagnostics if d.fix and c.block() == block]
+        at = [(c, d) for c, d in on_line if c.selectionStart() <= position <= c.selectionEnd()]
+        return (at or on_line or [None])[0]
+
+    def quick_fix(self, position: int | None = None) -> bool:
+        """Ctrl+.: write the fix for ``position`` (the cursor's by default) over the text its
+        diagnostic marks, one undo step; False when there is none."""
+        found = self.fix_at(self.textCursor().position() if position is None else position)
+        if found is None:
+            return False
+        target, d = found
+        edit = QTextCursor(self.document())
+        edit.setPosition(target.selectionStart())
+        edit.setPosition(target.selectionEnd(), QTextCursor.MoveMode.KeepAnchor)
+        edit.beginEditBlock()
+        edit.insertText(d.fix)
+        edit.endEditBlock()
+        self.setTextCursor(edit)
+        return True
+
+    def contextMenuEvent(self, event) -> None:  # noqa: N802
+        menu = self.createStandardContextMenu(event.pos())
+        position = self.cursorForPosition(event.pos()).position()
+        found = self.fix_at(position)
+        if found is not None:
+            first = menu.actions()[0] if menu.actions() else None
+            action = QAction(f"Write {found[1].fix} (Ctrl+.)", menu)
+            action.triggered.connect(lambda: self.quick_fix(position))
+            menu.insertAction(first, action)
+            menu.insertSeparator(first)
+        menu.exec(event.globalPos())
+        menu.deleteLater()
+
     def show_find(self, replace: bool = False) -> None:
         """Open the find bar (with the replace row when ``replace``)."""
         if self.find_bar is not None:
@@ -242,7 +312,8 @@ class CodeEditor(QPlainTextEdit):
         else the help of the keyword there, else ''."""
         diags = self.diagnostics_at(position)
         if diags:
-            return "\n\n".join(d.message + (f"\n{d.hint}" if d.hint else "") for d in diags)
+            return "\n\n".join(d.message + (f"\n{d.hint}" if d.hint else "")
+                                 + (f"\nCtrl+. writes {d.fix}" if d.fix else "") for d in diags)
         return self.help_at(position)
 
     def tooltip_at_line_column(self, line: int, column: int) -> str:
@@ -419,6 +490,12 @@ class CodeEditor(QPlainTextEdit):
             return
         if key == K.Key_Slash and mods & M.ControlModifier:
             self.toggle_comment()
+            return
+        if key == K.Key_Y and mods == M.ControlModifier:
+            self.redo()                     # Ctrl+Y on every platform, not only on Windows
+            return
+        if key == K.Key_Period and mods & M.ControlModifier:
+            self.quick_fix()
             return
         if event.matches(QKeySequence.StandardKey.Find):
             self.show_find(False)

@@ -1,19 +1,22 @@
-"""Completion of statement forms and symbolic values, read from the opcode table.
+"""Completion by context, read from the opcode table.
 
-Every statement form becomes one insertion up to where the user's own value starts:
-``CONSTANT_I=``, ``CHARGE_EX(``, ``IF(V>``, ``FAZE``, ``STOP_FAZE``; then the symbolic values
-(``INPUT``, ``AUTO``, ``LiPo``, ``STOP``, ``FAST``…). The popup filters case-insensitively on the
-word before the cursor and replaces that word with the chosen item.
+At a line's start every statement form is one insertion up to where the user's own value
+starts (``CONSTANT_I=``, ``CHARGE_EX(``, ``IF(V>``, ``FAZE``); after ``KEYWORD=`` or inside
+``KEYWORD(`` the words that operand accepts (``INPUT``, ``LiPo``, ``STOP``…); inside ``IF(`` the
+variables, after ``IF(…)`` the outcomes. The popup filters case-insensitively on the word
+before the cursor; accepting replaces the whole word the cursor stands in, without doubling
+an ``=`` or ``(`` already written after it.
 """
 from __future__ import annotations
 
+import re
 from typing import NamedTuple
 
 from PySide6.QtCore import QModelIndex, Qt
 from PySide6.QtGui import QStandardItem, QStandardItemModel, QTextCursor
 from PySide6.QtWidgets import QCompleter, QPlainTextEdit
 
-from ...lang import opcodes
+from ...lang import opcodes, operands
 from ...lang.opcodes import Form
 from .highlighter import SYMBOLIC_VALUES
 
@@ -24,35 +27,6 @@ DETAIL_ROLE = Qt.ItemDataRole.ToolTipRole
 class CompletionItem(NamedTuple):
     text: str           # what is inserted
     detail: str         # signature and help, shown as the item's tooltip
-
-
-def completion_items() -> list[CompletionItem]:
-    """Statement forms in table order, the condition outcomes, then symbolic values."""
-    items: list[CompletionItem] = []
-    seen: set[str] = set()
-
-    def add(text: str, detail: str) -> None:
-        if text.upper() not in seen:
-            seen.add(text.upper())
-            items.append(CompletionItem(text, detail))
-
-    for op in opcodes.OPCODES:
-        detail = f"{op.signature()}\n{op.help}"
-        if op.condition:
-            c = op.condition
-            add(f"IF({c.variables[0]}{c.comparison}", detail)
-        elif op.form is Form.ASSIGN:
-            add(f"{op.keyword}=", detail)
-        elif op.form is Form.CALL:
-            add(f"{op.keyword}(", detail)
-        else:
-            add(op.keyword, detail)
-    for outcome in sorted(opcodes.CONDITION_OUTCOMES):
-        ops = [op for op in opcodes.CONDITIONS if op.condition.outcome == outcome]
-        add(outcome, "Outcome of " + ", ".join(op.signature() for op in ops))
-    for spelling in SYMBOLIC_VALUES.values():
-        add(spelling, "value")
-    return items
 
 
 def _is_word_char(ch: str) -> bool:
@@ -75,20 +49,123 @@ def word_before(text: str, column: int) -> str:
     return word
 
 
+def word_after(text: str, column: int) -> str:
+    """The rest of the word the cursor stands in (what completion replaces with the prefix)."""
+    end = column
+    while end < len(text) and _is_word_char(text[end]):
+        end += 1
+    return text[column:end]
+
+
+# -- context: what may stand where the word is being typed ---------------------------------------
+
+_ASSIGNED = re.compile(r"\s*([A-Za-z_]\w*)\s*=\s*$")
+_IF_OPEN = re.compile(r"\s*IF\s*\(\s*$", re.IGNORECASE)
+_IF_CLOSED = re.compile(r"\s*IF\s*\(.*\)\s*$", re.IGNORECASE)
+_CALL_ARGS = re.compile(r"\s*([A-Za-z_]\w*)\s*\(([^()]*)$")
+
+
+def _operand_values(operand: opcodes.Operand) -> list[str]:
+    """The words an operand accepts besides numbers, canonically spelt (INPUT, AUTO, LiPo, STOP…)."""
+    out = []
+    for word in SYMBOLIC_VALUES.values():
+        try:
+            operand.kind.parse(word, operand.lo, operand.hi)
+        except operands.ValueProblem:
+            continue
+        out.append(word)
+    return out
+
+
+def _statement_items() -> list[CompletionItem]:
+    items: list[CompletionItem] = []
+    for op in opcodes.OPCODES:
+        detail = f"{op.signature()}\n{op.help}"
+        if op.condition:
+            c = op.condition
+            items.append(CompletionItem(f"IF({c.variables[0]}{c.comparison}", detail))
+        elif op.form is Form.ASSIGN:
+            items.append(CompletionItem(f"{op.keyword}=", detail))
+        elif op.form is Form.CALL:
+            items.append(CompletionItem(f"{op.keyword}(", detail))
+        else:
+            items.append(CompletionItem(op.keyword, detail))
+    return items
+
+
+def _condition_items() -> list[CompletionItem]:
+    """Inside ``IF(``: the variable and its comparison."""
+    return [CompletionItem(f"{op.condition.variables[0]}{op.condition.comparison}", f"{op.signature()}\n{op.help}")
+            for op in opcodes.CONDITIONS]
+
+
+def _outcome_items() -> list[CompletionItem]:
+    out = []
+    for outcome in sorted(opcodes.CONDITION_OUTCOMES):
+        ops = [op for op in opcodes.CONDITIONS if op.condition.outcome == outcome]
+        out.append(CompletionItem(outcome, "Outcome of " + ", ".join(op.signature() for op in ops)))
+    return out
+
+
+def _value_items(op: opcodes.Op | None, index: int) -> list[CompletionItem]:
+    if op is None or not 0 <= index < len(op.operands):
+        return []
+    operand = op.operands[index]
+    detail = f"{operand.name} of {op.signature()}: {operand.kind.what}"
+    return [CompletionItem(word, detail) for word in _operand_values(operand)]
+
+
+def items_at(text: str, column: int) -> list[CompletionItem]:
+    """What may be written at 0-based ``column`` of a line, given the text before the word
+    there: statements at the line start, the operand's words after ``KEYWORD=`` or inside
+    ``KEYWORD(``, a variable inside ``IF(``, an outcome after ``IF(…)``; nothing elsewhere
+    (after ``MACRO``, in a number, in a comment)."""
+    if "//" in text[:column]:
+        return []
+    start = column - len(word_before(text, column))
+    before = text[:start]
+    if not before.strip():
+        return _dedupe(_statement_items())
+    if _IF_OPEN.match(before):
+        return _condition_items()
+    if _IF_CLOSED.match(before):
+        return _outcome_items()
+    m = _ASSIGNED.match(before)
+    if m:
+        return _value_items(opcodes.BY_KEYWORD.get(m.group(1).upper()), 0)
+    m = _CALL_ARGS.match(before)
+    if m and m.group(1).upper() != "IF":
+        return _value_items(opcodes.BY_KEYWORD.get(m.group(1).upper()), m.group(2).count(","))
+    return []
+
+
+def _dedupe(items: list[CompletionItem]) -> list[CompletionItem]:
+    seen: set[str] = set()
+    out = []
+    for item in items:
+        if item.text.upper() not in seen:
+            seen.add(item.text.upper())
+            out.append(item)
+    return out
+
+
+def completion_items() -> list[CompletionItem]:
+    """Every item any context offers: statement forms in table order, condition variables,
+    outcomes, then symbolic values."""
+    values = [CompletionItem(word, "value") for word in SYMBOLIC_VALUES.values()]
+    return _dedupe(_statement_items() + _condition_items() + _outcome_items() + values)
+
+
 class ZumlCompleter(QCompleter):
     """A popup completer bound to one QPlainTextEdit. The editor forwards its key presses:
     ``handle_key`` before its own handling, ``after_key`` after it."""
 
     def __init__(self, editor: QPlainTextEdit):
-        model = QStandardItemModel(editor)
-        for item in completion_items():
-            row = QStandardItem(item.text)
-            row.setData(item.detail, DETAIL_ROLE)
-            row.setEditable(False)
-            model.appendRow(row)
-        super().__init__(model, editor)
+        self._model = QStandardItemModel(editor)
+        super().__init__(self._model, editor)
         self.setObjectName("editorCompleter")
         self.editor = editor
+        self._shown: list[CompletionItem] = []
         self.setWidget(editor)
         self.setCompletionMode(QCompleter.CompletionMode.PopupCompletion)
         self.setCaseSensitivity(Qt.CaseSensitivity.CaseInsensitive)
@@ -96,6 +173,18 @@ class ZumlCompleter(QCompleter):
         self.popup().setFont(editor.font())
         self.activated[QModelIndex].connect(self._activated)
         self._explicit = False
+
+    def _offer(self, items: list[CompletionItem]) -> None:
+        """Fill the model with this context's items (unchanged items keep the popup's state)."""
+        if items == self._shown:
+            return
+        self._shown = items
+        self._model.clear()
+        for item in items:
+            row = QStandardItem(item.text)
+            row.setData(item.detail, DETAIL_ROLE)
+            row.setEditable(False)
+            self._model.appendRow(row)
 
     # -- queries --------------------------------------------------------------------------
     def items(self) -> list[str]:
@@ -126,6 +215,8 @@ class ZumlCompleter(QCompleter):
         if not self._explicit and len(prefix) < MIN_PREFIX:
             self.close()
             return False
+        cursor = self.editor.textCursor()
+        self._offer(items_at(cursor.block().text(), cursor.positionInBlock()))
         self.setCompletionPrefix(prefix)
         count = self.completionCount()
         model = self.completionModel()
@@ -189,14 +280,24 @@ class ZumlCompleter(QCompleter):
 
     # -- accepting ------------------------------------------------------------------------
     def insert(self, text: str) -> None:
-        """Replace the word before the cursor with ``text`` (one undo step)."""
+        """Replace the word the cursor stands in with ``text`` (one undo step); an ``=``, ``(``
+        or comparison that ``text`` ends with and the line already has next is not doubled."""
         cursor = self.editor.textCursor()
-        prefix = word_before(cursor.block().text(), cursor.positionInBlock())
+        line, column = cursor.block().text(), cursor.positionInBlock()
+        prefix = word_before(line, column)
+        rest = word_after(line, column)
+        tail = text[len(text.rstrip("=(<>")):]
+        following = line[column + len(rest):]
+        while tail and not following.startswith(tail):
+            tail = tail[1:]
         cursor.beginEditBlock()
         cursor.clearSelection()
-        cursor.movePosition(QTextCursor.MoveOperation.Left, QTextCursor.MoveMode.KeepAnchor, len(prefix))
-        cursor.insertText(text)
+        cursor.movePosition(QTextCursor.MoveOperation.Left, QTextCursor.MoveMode.MoveAnchor, len(prefix))
+        cursor.movePosition(QTextCursor.MoveOperation.Right, QTextCursor.MoveMode.KeepAnchor,
+                            len(prefix) + len(rest))
+        cursor.insertText(text[:len(text) - len(tail)] if tail else text)
         cursor.endEditBlock()
+        cursor.movePosition(QTextCursor.MoveOperation.Right, QTextCursor.MoveMode.MoveAnchor, len(tail))
         self.editor.setTextCursor(cursor)
 
     def _activated(self, index: QModelIndex) -> None:

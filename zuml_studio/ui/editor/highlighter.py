@@ -14,6 +14,7 @@ from PySide6.QtGui import QColor, QFont, QSyntaxHighlighter, QTextCharFormat, QT
 
 from ...lang import opcodes, operands
 from ...lang.opcodes import Role
+from ..theme import LIGHT, Colours
 
 # -- what the words mean (built once, at import) ------------------------------------------
 
@@ -169,8 +170,9 @@ def _op_help(op: opcodes.Op) -> str:
     return f"{op.signature()}\n{op.help}"
 
 
-def _condition_help(text: str, spans: list[Span], at: int) -> str:
-    """Help for the IF(...) statement whose IF, variable or outcome is ``spans[at]``."""
+def _condition_ops(text: str, spans: list[Span], at: int) -> tuple[opcodes.Op, ...]:
+    """The conditions the IF(...) statement whose IF, variable or outcome is ``spans[at]`` can
+    be: one when variable and comparison are written, all of them when nothing is known."""
     i = at
     while i >= 0 and spans[i].category is not CONDITION:
         i -= 1
@@ -185,50 +187,40 @@ def _condition_help(text: str, spans: list[Span], at: int) -> str:
             ops = same or ops
     if spans[at].category is OUTCOME and not ops:
         ops = tuple(op for op in opcodes.CONDITIONS if op.condition.outcome == spans[at].word.upper())
-    if not ops:
-        ops = opcodes.CONDITIONS
-        return "IF(variable comparison x) outcome\n" + "\n".join(op.signature() for op in ops)
-    return "\n\n".join(_op_help(op) for op in ops)
+    return ops or opcodes.CONDITIONS
 
 
-def help_text(text: str, column: int) -> str:
-    """Hover help for 0-based ``column`` of a line: the command's signature and help from the
-    opcode table ('' when the column is not on a keyword)."""
+def ops_at(text: str, column: int) -> tuple[opcodes.Op, ...]:
+    """The opcode table's entries for the word at 0-based ``column`` of a line (a condition
+    may be several until its variable and comparison are written); () off a keyword."""
     spans = classify_line(text)
     for at, span in enumerate(spans):
         if span.start <= column < span.end:
             break
     else:
-        return ""
+        return ()
     if span.category in (CONDITION, VARIABLE, OUTCOME):
-        return _condition_help(text, spans, at)
+        return _condition_ops(text, spans, at)
     if span.category in (STRUCTURE, DECLARATION, ACTION, COMMAND):
         op = opcodes.BY_KEYWORD.get(span.word.upper())
-        return _op_help(op) if op else ""
-    return ""
+        return (op,) if op else ()
+    return ()
+
+
+def help_text(text: str, column: int) -> str:
+    """Hover help for 0-based ``column`` of a line: the command's signature and help from the
+    opcode table ('' when the column is not on a keyword)."""
+    ops = ops_at(text, column)
+    if ops == opcodes.CONDITIONS:
+        return "IF(variable comparison x) outcome\n" + "\n".join(op.signature() for op in ops)
+    return "\n\n".join(_op_help(op) for op in ops)
 
 
 # -- colours ----------------------------------------------------------------------------------
 
-#: category -> (colour, bold, italic): calm colours on a light background.
-PALETTE: dict[str, tuple[str, bool, bool]] = {
-    STRUCTURE: ("#1b3f8b", True, False),     # dark blue
-    DECLARATION: ("#2a5db0", False, False),  # blue
-    ACTION: ("#00796b", True, False),        # teal
-    CONDITION: ("#7b1fa2", True, False),     # purple
-    OUTCOME: ("#7b1fa2", False, False),
-    VARIABLE: ("#9c27b0", True, True),
-    COMMAND: ("#8d4a12", True, False),       # brown
-    NUMBER: ("#c75000", False, False),       # dark orange
-    VALUE: ("#a3245e", False, False),        # raspberry
-    NAME: ("#202124", True, False),
-    COMMENT: ("#6f8a72", False, True),       # green-grey italic
-}
-
-
-def make_formats() -> dict[str, QTextCharFormat]:
+def make_formats(scheme: Colours) -> dict[str, QTextCharFormat]:
     formats = {}
-    for category, (colour, bold, italic) in PALETTE.items():
+    for category, (colour, bold, italic) in scheme.syntax.items():
         fmt = QTextCharFormat()
         fmt.setForeground(QColor(colour))
         if bold:
@@ -243,8 +235,16 @@ class ZumlHighlighter(QSyntaxHighlighter):
     since no state carries from one line to the next."""
 
     def __init__(self, document: QTextDocument):
-        self.formats = make_formats()
+        self.scheme = LIGHT
+        self.formats = make_formats(LIGHT)
         super().__init__(document)
+
+    def set_scheme(self, scheme: Colours) -> None:
+        """Colour with the light or the dark set (the editor's palette changed)."""
+        if scheme is not self.scheme:
+            self.scheme = scheme
+            self.formats = make_formats(scheme)
+            self.rehighlight()
 
     def highlightBlock(self, text: str) -> None:  # noqa: N802 (Qt's name)
         formats = self.formats

@@ -1,16 +1,20 @@
 """The simulated run as a charger's display would draw it, only better: voltage,
 current and temperature stacked over one h:mm time axis, with the phases as shaded
-bands labelled by what ended them (the look is ``ui/stacked_plot.py``'s)."""
+bands labelled by what ended them, and the heat-sink pauses as grey bands over them
+(the look is ``ui/stacked_plot.py``'s)."""
 from __future__ import annotations
 
 import numpy as np
 import pyqtgraph as pg
 from PySide6.QtCore import Signal
 
+from ..plot_cursor import CursorReadout
 from ..stacked_plot import (BAND_ALPHA, BATTERY_T_PEN, CURRENT_FILL, CURRENT_PEN, HEATSINK_T_PEN, LABEL_COLOR,
-                            VOLTAGE_PEN, WARNING_COLOR, StackedPlot, band_label, band_rgb)
+                            VOLTAGE_PEN, WARNING_COLOR, StackedPlot, band_label, band_rgb, band_warns)
+from ..timefmt import hmmss
 
 SELECTED_ALPHA = 80
+PAUSE_BRUSH = (90, 90, 90, 70)
 
 
 class ChargePlot(StackedPlot):
@@ -24,6 +28,7 @@ class ChargePlot(StackedPlot):
         self._data: dict[str, np.ndarray] = {}
         self._selected = -1
         self.bands: list[list[pg.LinearRegionItem]] = [[], [], []]     # per plot, one per phase
+        self.pause_bands: list[list[pg.LinearRegionItem]] = [[], [], []]   # per plot, one per heat-sink pause
         self.curves = {
             "voltage": self._curve(self.vplot, VOLTAGE_PEN, "pack voltage"),
             "current": self._curve(self.iplot, CURRENT_PEN, "+ charge, − discharge",
@@ -39,6 +44,7 @@ class ChargePlot(StackedPlot):
         self.vplot.sigXRangeChanged.connect(self._view_changed)
         self.vplot.vb.sigResized.connect(self._view_changed)
         self.scene().sigMouseClicked.connect(self._scene_clicked)
+        self.readout = CursorReadout(self, lambda: (self._t, self._data))
 
     # -- construction ------------------------------------------------------------------------
     def _curve(self, plot: pg.PlotItem, pen, name: str, **kw) -> pg.PlotDataItem:
@@ -64,6 +70,7 @@ class ChargePlot(StackedPlot):
         for legend in self.legends.values():
             legend.setVisible(len(t) > 0)
         self._set_bands(list(result.phases))
+        self._set_pauses(list(result.phases))
         end = max(float(t[-1]) if len(t) else 0.0, 60.0)
         for plot in self.plots:
             plot.setLimits(xMin=-0.05 * end, xMax=end * 1.05, minXRange=min(30.0, end / 2))
@@ -95,7 +102,23 @@ class ChargePlot(StackedPlot):
                 bands.append(band)
             label = self._new_label()
             label.setText(band_label(p))
-            label.setColor(WARNING_COLOR if p.by_default else LABEL_COLOR)
+            label.setColor(WARNING_COLOR if band_warns(p) else LABEL_COLOR)
+
+    def _set_pauses(self, phases: list) -> None:
+        for plot, bands in zip(self.plots, self.pause_bands):
+            for band in bands:
+                plot.removeItem(band)
+            bands.clear()
+        for p in phases:
+            for start, end in p.pauses:
+                tip = f"heat-sink pause {hmmss(start)}–{hmmss(end)}: the power stage was too hot (Tc)"
+                for plot, bands in zip(self.plots, self.pause_bands):
+                    band = pg.LinearRegionItem((start, max(end, start)), orientation="vertical", movable=False,
+                                               brush=pg.mkBrush(*PAUSE_BRUSH), pen=pg.mkPen(None))
+                    band.setZValue(-15)
+                    band.setToolTip(tip)
+                    plot.addItem(band, ignoreBounds=True)
+                    bands.append(band)
 
     @staticmethod
     def _band_brush(p, alpha: int):

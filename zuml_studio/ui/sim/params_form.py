@@ -10,8 +10,9 @@ from PySide6.QtWidgets import (QCheckBox, QComboBox, QDoubleSpinBox, QGridLayout
 from ...sim.chemistry import chemistry_names
 from ...sim.interpreter import StartParams
 from ...sim.simulate import BatterySetup
+from ...sim.start_templates import factory_templates
 from ..number_boxes import double_spin_box, form_field, spin_box
-from ..timefmt import hmm
+from ..timefmt import elapsed
 
 TASKS = (("charge", "Charge"), ("discharge", "Discharge"), ("train", "Train"))
 FROM_AKK = "from AKK_TYPE"
@@ -20,7 +21,7 @@ FIELD_WIDTH = 104
 
 DEFAULTS = {"task": "charge", "repetitions": 3, "capacity_mah": 2000, "current_a": 2.0, "series": 4,
             "voltage_v": None, "chemistry": None, "soc_percent": None, "ambient_c": 25.0, "sensor": True,
-            "auto": True}
+            "auto": True, "template": None}
 
 
 class ParamsForm(QWidget):
@@ -59,6 +60,13 @@ class ParamsForm(QWidget):
             self.model.addItem(name, name)
         self.model.setToolTip(MODEL_TIP)
         form_field(self.model, max_width=FIELD_WIDTH).setMaximumWidth(2 * FIELD_WIDTH)
+        self.template = QComboBox()
+        self.template.addItem("—", None)
+        for number, template in sorted(factory_templates().items()):
+            self.template.addItem(f"{number}: {template.describe()}", number)
+        self.template.setToolTip("start with one of the charger's start templates (its values replace those "
+                                 "above); a macro's START_SHABLON=n chooses its own")
+        form_field(self.template, max_width=FIELD_WIDTH).setMaximumWidth(2 * FIELD_WIDTH)
         form_field(self.task, max_width=FIELD_WIDTH)
         self.initial = self._spin_box(-1, 100, -1, " %", "initial state of charge: auto = empty for a charge, "
                                   "full for a discharge or a training")
@@ -95,6 +103,7 @@ class ParamsForm(QWidget):
                 (("Capacity", self.capacity), ("Current", self.current)),
                 (("Cells", self.series), ("Voltage", self.voltage)),
                 (("Model", self.model),),
+                (("Template", self.template),),
                 (("Initial", self.initial), ("Ambient", self.ambient)),
                 ((None, self.sensor), (None, self.auto)))
         for r, pair in enumerate(rows):
@@ -145,7 +154,7 @@ class ParamsForm(QWidget):
         return {"task": self.task, "repetitions": self.repetitions, "capacity_mah": self.capacity,
                 "current_a": self.current, "series": self.series, "voltage_v": self.voltage,
                 "chemistry": self.model, "soc_percent": self.initial, "ambient_c": self.ambient,
-                "sensor": self.sensor}
+                "sensor": self.sensor, "template": self.template}
 
     def _watch(self, name: str, widget: QWidget) -> None:
         if isinstance(widget, QComboBox):
@@ -171,7 +180,7 @@ class ParamsForm(QWidget):
         return StartParams(task=self.task.currentData(), repetitions=self.repetitions.value(),
                            capacity_mah=float(self.capacity.value()), current_a=self.current.value(),
                            voltage_v=voltage if voltage > 0 else None, series=self.series.value(),
-                           sensor=self.sensor.isChecked())
+                           sensor=self.sensor.isChecked(), template=self.template.currentData())
 
     def battery_setup(self) -> BatterySetup:
         soc = self.initial.value()
@@ -238,4 +247,4 @@ class ParamsForm(QWidget):
             self.progress_label.setText("starting…")
 
     def set_progress(self, seconds: float) -> None:
-        self.progress_label.setText(f"{hmm(seconds)} simulated")
+        self.progress_label.setText(f"{elapsed(seconds)} simulated")

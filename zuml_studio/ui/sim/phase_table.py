@@ -1,5 +1,7 @@
-"""One row per phase the simulation ran: when, how long, why it ended and what went
-in and out. Phases a default safety condition ended (not the macro) are flagged."""
+"""One row per phase the simulation ran: when, how long, why it ended, what went in and
+out, and notes (heat-sink pauses, the charger's limits cutting the current). Phases a
+default safety condition ended (not the macro), and charges a timer ended before the
+capacity was in, are flagged."""
 from __future__ import annotations
 
 from PySide6.QtCore import Qt, Signal
@@ -8,9 +10,12 @@ from PySide6.QtWidgets import QAbstractItemView, QHeaderView, QStyle, QTableWidg
 
 from ..timefmt import duration, hmm, hmmss
 
-COLUMNS = ("#", "section", "phase", "start", "end", "duration", "end reason", "mAh in", "mAh out", "V end", "T end")
+COLUMNS = ("#", "section", "phase", "start", "end", "duration", "end reason", "mAh in", "mAh out", "V end", "T end",
+           "notes")
 REASON_COLUMN = COLUMNS.index("end reason")
+NOTES_COLUMN = COLUMNS.index("notes")
 DEFAULT_TIP = "ended by a default safety condition, not by the macro"
+TIMER_TIP = "timer before full: a timer ended this charge with less than the capacity put in"
 WARN_FG = QColor("#a04000")
 WARN_BG = QColor("#fff3d6")
 SECTION_TINT = {"charge": QColor(74, 134, 232, 60), "discharge": QColor(232, 96, 74, 60)}   # as the plot's bands
@@ -45,7 +50,8 @@ class PhaseTable(QTableWidget):
         header.setDefaultAlignment(Qt.AlignmentFlag.AlignLeft | Qt.AlignmentFlag.AlignVCenter)
         tips = {"phase": "position of the FAZE in its section (and the CYCLE pass)",
                 "end reason": "the condition that ended the phase", "V end": "pack voltage at the end",
-                "T end": "battery temperature at the end (the model's, also without a sensor)"}
+                "T end": "battery temperature at the end (the model's, also without a sensor)",
+                "notes": "timer before full, heat-sink pauses, the charger's limits cutting the current"}
         for col, name in enumerate(COLUMNS):
             if name in tips:
                 self.horizontalHeaderItem(col).setToolTip(tips[name])
@@ -69,7 +75,8 @@ class PhaseTable(QTableWidget):
             cells = (str(p.run or row + 1), section, phase, hmmss(p.start_s),
                      hmmss(p.end_s) if ended else "…", duration(p.end_s - p.start_s) if ended else "",
                      p.reason or "(running)", f"{p.mah_in:.1f}", f"{p.mah_out:.1f}",
-                     f"{p.v_end:.3f}" if ended else "", f"{p.temp_end:.1f}" if ended else "")
+                     f"{p.v_end:.3f}" if ended else "", f"{p.temp_end:.1f}" if ended else "",
+                     "; ".join(p.notes))
             for col, text in enumerate(cells):
                 item = QTableWidgetItem(text)
                 item.setData(OFFSET_ROLE, p.offset)
@@ -80,11 +87,19 @@ class PhaseTable(QTableWidget):
                 elif col == 4 and ended:
                     item.setToolTip(hmm(p.end_s))
                 self.setItem(row, col, item)
+            summary = row_summary(p, series)
+            for col in range(len(COLUMNS)):
+                item = self.item(row, col)
+                if not item.toolTip():          # the whole row on hover: a narrow table cuts columns off
+                    item.setToolTip(summary)
             tint = SECTION_TINT.get(p.section)
             if tint is not None:
                 self.item(row, 1).setBackground(QBrush(tint))
+            self.item(row, NOTES_COLUMN).setToolTip("\n".join(p.notes))
             if p.by_default:
-                self._flag(row)
+                self._flag(row, DEFAULT_TIP)
+            elif p.timer_before_full:
+                self._flag(row, TIMER_TIP)
             else:
                 self.item(row, REASON_COLUMN).setToolTip(p.reason)
         self.resizeColumnsToContents()
@@ -92,19 +107,20 @@ class PhaseTable(QTableWidget):
         for col in range(len(COLUMNS)):
             header.resizeSection(col, min(header.sectionSize(col) + 2, 320))
 
-    def _flag(self, row: int) -> None:
+    def _flag(self, row: int, tip: str) -> None:
         for col in range(self.columnCount()):
             item = self.item(row, col)
             item.setForeground(QBrush(WARN_FG))
             item.setBackground(QBrush(WARN_BG))
-            item.setToolTip(DEFAULT_TIP)
+            if col != NOTES_COLUMN:
+                item.setToolTip(tip)
         reason = self.item(row, REASON_COLUMN)
         reason.setIcon(self._warn_icon)
-        reason.setToolTip(f"{reason.text()}: {DEFAULT_TIP}")
+        reason.setToolTip(f"{reason.text()}: {tip}")
 
     def is_flagged(self, row: int) -> bool:
         item = self.item(row, REASON_COLUMN)
-        return item is not None and DEFAULT_TIP in (item.toolTip() or "")
+        return item is not None and any(tip in (item.toolTip() or "") for tip in (DEFAULT_TIP, TIMER_TIP))
 
     def offset_of(self, row: int) -> int:
         item = self.item(row, 0)
@@ -132,6 +148,16 @@ class PhaseTable(QTableWidget):
         self.phaseSelected.emit(min(rows) if rows else -1)
 
 
+def row_summary(p, series: int) -> str:
+    """One phase in words, for the tooltip of its row."""
+    head = f"{p.section} phase {p.index or 'default'}"
+    if not p.reason:
+        return f"{head}: running since {hmmss(p.start_s)}; {p.mah_in:.1f} mAh in, {p.mah_out:.1f} mAh out"
+    return (f"{head}: {hmmss(p.start_s)} to {hmmss(p.end_s)} ({duration(p.end_s - p.start_s)}), ended by "
+            f"{p.reason}\n{p.mah_in:.1f} mAh in, {p.mah_out:.1f} mAh out; at the end {p.v_end:.3f} V "
+            f"({p.v_end / max(series, 1):.3f} V per cell), {p.temp_end:.1f} °C")
+
+
 def totals_text(result) -> str:
     """The run in one line: duration, charge in and out, how it ended; for a training the
     capacity each discharge measured."""
@@ -143,6 +169,13 @@ def totals_text(result) -> str:
     defaults = sum(1 for p in result.phases if p.by_default)
     if defaults:
         parts.append(f"⚠ {defaults} phase{'s' if defaults > 1 else ''} ended by a default")
+    short = sum(1 for p in result.phases if p.timer_before_full)
+    if short:
+        parts.append(f"⚠ {short} charge{'s' if short > 1 else ''} cut by a timer before full")
+    pauses = sum(len(p.pauses) for p in result.phases)
+    if pauses:
+        parts.append(f"{pauses} heat-sink pause{'s' if pauses > 1 else ''}, "
+                     f"{sum(p.paused_s for p in result.phases) / 60:.0f} min")
     text = " · ".join(parts)
     if result.interpreter.params.task == "train":
         measured = [r["discharged_mah"] for r in result.repetitions() if r["discharged_mah"] > 0]

@@ -4,11 +4,14 @@ again on every change if asked to, and keeps showing the last run while the
 macro has errors."""
 from __future__ import annotations
 
-from PySide6.QtCore import QElapsedTimer, QEventLoop, Qt, QTimer, Signal
+from PySide6.QtCore import QElapsedTimer, QEventLoop, QSize, Qt, QTimer, Signal
 from PySide6.QtWidgets import (QApplication, QHBoxLayout, QLabel, QScrollArea, QSizePolicy, QSplitter, QVBoxLayout,
                                QWidget)
 
-from ..timefmt import hmm
+from ...sim.charger_model import load_charger
+from ...sim.start_check import start_warnings
+from ..plot_export import render_with_header
+from ..timefmt import elapsed
 from .charge_plot import ChargePlot
 from .params_form import ParamsForm
 from .phase_table import PhaseTable, totals_text
@@ -139,6 +142,7 @@ class SimulatorPanel(QWidget):
             return
         self._drop_job()
         request = SimRequest(self._record, self.form.start_params(), self.form.battery_setup(), self._macro_name)
+        warnings = start_warnings(request.record, request.params, load_charger(request.setup.charger))
         job = SimJob(request)
         worker = job.worker
         worker.progress.connect(self._on_progress)
@@ -149,7 +153,7 @@ class SimulatorPanel(QWidget):
         self._job = job
         self._outdated = False
         self.form.set_running(True)
-        self._show_message("", "")
+        self._show_message("\n".join(f"⚠ {w}" for w in warnings), "warn")
         self._refresh_hint()
         self._clock.start()
         job.start()
@@ -176,11 +180,18 @@ class SimulatorPanel(QWidget):
             return False
         return True
 
-    def export_png(self, path: str) -> bool:
-        if not self.plot.export_png(path):
+    def export_png(self, path: str, size: QSize | None = None, title: str = "") -> bool:
+        """The plot as shown; with ``size``, laid out at that size under ``title`` and the run's
+        details (the macro, the battery, the parameters, the totals)."""
+        self.plot.readout.hide()                # the mouse's cursor is no part of a report
+        if size is None:
+            ok = self.plot.export_png(path)
+        else:
+            details = [self._describe(self._result), totals_text(self._result)] if self._result is not None else []
+            ok = render_with_header(self.plot, size, title, details).save(path, "PNG")
+        if not ok:
             self._show_message(f"cannot write {path}", "error")
-            return False
-        return True
+        return ok
 
     # -- extras (tests, screenshots) -------------------------------------------------------
     def is_running(self) -> bool:
@@ -220,7 +231,7 @@ class SimulatorPanel(QWidget):
         if not self._current(job_id):
             return
         self._show(result)
-        self.form.progress_label.setText(f"{hmm(result.interpreter.time_s)} simulated "
+        self.form.progress_label.setText(f"{elapsed(result.interpreter.time_s)} simulated "
                                          f"in {self._clock.elapsed() / 1000:.1f} s")
         self._refresh_hint()
         self.simulationFinished.emit(result)
@@ -230,9 +241,9 @@ class SimulatorPanel(QWidget):
             return
         if result is not None:
             self._show(result)
-            at = hmm(result.interpreter.time_s)
-            self.form.progress_label.setText(f"cancelled at {at}")
-            self._show_message(f"cancelled at {at} (simulated time): showing the run so far", "warn")
+            at = elapsed(result.interpreter.time_s)
+            self.form.progress_label.setText(f"cancelled after {at}")
+            self._show_message(f"cancelled after {at} of simulated time: showing the run so far", "warn")
         else:
             self.form.progress_label.setText("cancelled")
             self._show_message("cancelled", "warn")

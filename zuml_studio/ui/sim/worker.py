@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 from PySide6.QtCore import QObject, Qt, QThread, Signal, Slot
 
+from ...data import DataFileError
 from ...sim.interpreter import StartError, StartParams
 from ...sim.simulate import BatterySetup, prepare
 
@@ -60,6 +61,8 @@ class SimWorker(QObject):
         try:
             self._run()
         except StartError as exc:
+            self.failed.emit(jid, str(exc))
+        except DataFileError as exc:        # a broken installation: the message names the file
             self.failed.emit(jid, str(exc))
         except KeyError as exc:             # a battery model that does not exist
             self.failed.emit(jid, str(exc.args[0]) if exc.args else "unknown battery model")

@@ -253,6 +253,20 @@ class IntroForm(QFrame):
             self.host.set_declaration(ops.CAPACITY, mode)
 
 
+def _chip_box(name: str, label: str) -> tuple[QWidget, QHBoxLayout]:
+    """A labelled row of command chips (between the sections, at the end)."""
+    box = QWidget()
+    box.setObjectName(name)
+    row = QHBoxLayout()
+    row.setSpacing(6)
+    inner = QHBoxLayout(box)
+    inner.setContentsMargins(4, 0, 4, 0)
+    inner.addWidget(_label(label))
+    inner.addLayout(row)
+    inner.addStretch(1)
+    return box, row
+
+
 class VisualEditor(QWidget):
     """Cards of the macro in ``editor``; edits go to the editor's document as text patches."""
 
@@ -278,17 +292,10 @@ class VisualEditor(QWidget):
 
         self.intro = IntroForm(self)
         self.columns = {kind: SectionColumn(self, kind) for kind in ("discharge", "charge")}
-        self.conclusion_row = QHBoxLayout()
-        self.conclusion_row.setSpacing(6)
-        self.conclusion_label = _label("At the end")
+        self.between_box, self.between_row = _chip_box("betweenBox", "Between the sections")
+        self.between_chips: list[CommandChip] = []
+        self.conclusion_box, self.conclusion_row = _chip_box("conclusionBox", "At the end")
         self.conclusion_chips: list[CommandChip] = []
-        self.conclusion_box = QWidget()
-        self.conclusion_box.setObjectName("conclusionBox")
-        inner = QHBoxLayout(self.conclusion_box)
-        inner.setContentsMargins(4, 0, 4, 0)
-        inner.addWidget(self.conclusion_label)
-        inner.addLayout(self.conclusion_row)
-        inner.addStretch(1)
 
         self.content = QWidget()
         self.content.setObjectName("visualContent")
@@ -301,6 +308,7 @@ class VisualEditor(QWidget):
         body.setContentsMargins(10, 10, 10, 10)
         body.setSpacing(10)
         body.addLayout(cols)
+        body.addWidget(self.between_box)
         body.addWidget(self.conclusion_box)
         body.addStretch(1)
 
@@ -368,15 +376,10 @@ class VisualEditor(QWidget):
             section = getattr(macro, kind)
             for i, item in enumerate(section.items):
                 column.add_item(self._make(item, (kind, i), kind))
-        for chip in self.conclusion_chips:
-            chip.setParent(None)
-            chip.deleteLater()
-        self.conclusion_chips = []
-        for i, st in enumerate(macro.conclusion):
-            chip = CommandChip(self, ("conclusion", i), st, movable=False)
-            self.conclusion_row.addWidget(chip)
-            self.conclusion_chips.append(chip)
-            self.items[("conclusion", i)] = chip
+        self.between_chips = self._chips("between", macro.between, self.between_row, self.between_chips)
+        self.between_box.setVisible(bool(macro.between))
+        self.conclusion_chips = self._chips("conclusion", macro.conclusion, self.conclusion_row,
+                                            self.conclusion_chips)
         self.conclusion_box.setVisible(bool(macro.conclusion))
         if focus_inside:
             self.setFocus()
@@ -384,6 +387,18 @@ class VisualEditor(QWidget):
         # meanwhile cancels it.
         bar = self.scroll.verticalScrollBar()
         QTimer.singleShot(0, bar, lambda: bar.setValue(scroll))
+
+    def _chips(self, head: str, statements: list, row: QHBoxLayout, old: list) -> list:
+        for chip in old:
+            chip.setParent(None)
+            chip.deleteLater()
+        chips = []
+        for i, st in enumerate(statements):
+            chip = CommandChip(self, (head, i), st, movable=False)
+            row.addWidget(chip)
+            chips.append(chip)
+            self.items[(head, i)] = chip
+        return chips
 
     def _make(self, item, path: tuple, kind: str) -> QWidget:
         if isinstance(item, Phase):
@@ -404,8 +419,9 @@ class VisualEditor(QWidget):
             numbers = {id(p): n for n, p in enumerate(section.phases(), start=1)}
             self._bind_items(section.items, (kind,), numbers)
             column.set_empty_text(section.present, len(section.items), len(section.phases()))
-        for i, st in enumerate(macro.conclusion):
-            self.items[("conclusion", i)].bind(st, True, True)
+        for head in ("between", "conclusion"):
+            for i, st in enumerate(getattr(macro, head)):
+                self.items[(head, i)].bind(st, True, True)
 
     def _bind_items(self, items: list, prefix: tuple, numbers: dict) -> None:
         for i, item in enumerate(items):

@@ -3,24 +3,18 @@ live preview of the macro ``zuml_studio.wizard.new_macro`` writes from them. A p
 answers (``WizardError``) shows as one red line and keeps OK disabled."""
 from __future__ import annotations
 
-import tomllib
-
 from PySide6.QtGui import QFontDatabase
 from PySide6.QtWidgets import (QCheckBox, QComboBox, QDialog, QDialogButtonBox, QFormLayout, QHBoxLayout, QLabel,
                                QLineEdit, QPlainTextEdit, QSpinBox, QVBoxLayout, QWidget)
 
 from ...lang.compiler import compile_source
 from ...sim.chemistry import chemistry_names
-from ...wizard import TEMPLATES, Answers, WizardError, new_macro
+from ...wizard import Answers, WizardError, choices, new_macro
 
 
-def default_rate(chemistry: str) -> float | None:
-    """The chemistry's default charge rate in C, from resources/templates.toml."""
-    try:
-        with TEMPLATES.open("rb") as fh:
-            return float(tomllib.load(fh)[chemistry]["default_rate_c"])
-    except (OSError, KeyError, ValueError, tomllib.TOMLDecodeError):
-        return None
+def default_rate(chemistry: str) -> float:
+    """The chemistry's default charge rate in C, from the package's data/templates.toml."""
+    return float(choices(chemistry)["default_rate_c"])
 
 
 def parse_rate(text: str) -> float | None:
@@ -131,7 +125,7 @@ class NewMacroWizard(QDialog):
 
     def _chemistry_changed(self, name: str) -> None:
         rate = default_rate(name)
-        self.rate.setPlaceholderText(f"default {rate:g}" if rate is not None else "default")
+        self.rate.setPlaceholderText(f"default {rate:g}")
         self.update_preview()
 
     def answers(self) -> Answers:

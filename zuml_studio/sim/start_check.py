@@ -1,0 +1,53 @@
+"""Warnings about the values entered at start, before a run: what the lint could not know while
+they were INPUT (seed 001: the -dV of a nickel charge shows only from 0.3C/0.5C; the charger's
+limits cut a current that is too large). The simulator panel, ``zuml simulate`` and the device
+panel show them; none stops a start."""
+from __future__ import annotations
+
+from ..lang import opcodes as ops
+from ..lang.lint import DPEAK_MIN_RATE
+from ..lang.operands import DISPLAY_NAMES, absolute_value
+from .charger_model import ChargerLimits
+from .interpreter import AKK_NAMES, StartParams, with_template
+from .program import PhaseCode, Program
+
+
+def start_warnings(record: bytes, params: StartParams, charger: ChargerLimits | None = None,
+                   templates=None) -> list[str]:
+    """One sentence per finding, in the order the phases run. A record that does not decode, or a
+    value that cannot be resolved, gives no warning here (the start itself reports it)."""
+    try:
+        program = Program(record)
+        params = with_template(program, params, templates)
+    except Exception:   # noqa: BLE001 - a start that cannot happen is reported by the start
+        return []
+    capacity_ah = program.intro.capacity_ah(params.capacity_mah)
+    akk = AKK_NAMES.get(program.intro.declarations.get(ops.AKK_TYPE.code, 0), "UNDEF")
+    min_rate = DPEAK_MIN_RATE.get(akk)
+    out: list[str] = []
+    for step in program.steps(params.task):
+        if not isinstance(step, PhaseCode):
+            continue
+        by_code = {a.op.code: a for a in step.actions}
+        where = f"{step.section} phase {step.index}"
+        if 62 in by_code:
+            raw = by_code[62].raws[1]
+        elif 60 in by_code:
+            raw = by_code[60].raws[0]
+        else:
+            continue
+        amps = absolute_value(raw, params.current_a, capacity_ah)
+        if amps is None:
+            continue
+        charging = step.section == "charge" or 62 in by_code
+        has_dpeak = any(c.op.code == 89 for c in step.conditions)
+        if charging and has_dpeak and min_rate and capacity_ah and amps / capacity_ah < min_rate - 1e-9:
+            out.append(f"{where}: {amps:.2f} A is {amps / capacity_ah:.2f}C of {capacity_ah * 1000:g} mAh; "
+                       f"{DISPLAY_NAMES[akk]} shows no reliable -dV below {min_rate:g}C "
+                       f"({min_rate * capacity_ah:.2f} A): a timer or a default will end this charge")
+        if charger is not None:
+            top = charger.max_charge_a if charging else charger.max_discharge_a
+            if amps > top + 1e-9:
+                out.append(f"{where}: asks {amps:.2f} A; the {charger.name} gives at most {top:g} A "
+                           f"({'charge' if charging else 'discharge'})")
+    return out

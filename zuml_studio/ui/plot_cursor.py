@@ -1,0 +1,101 @@
+"""A cursor readout for the stacked V/I/T plots (simulator and live): a vertical line through
+the three plots under the mouse and, beside it, the time, the values there and the phase.
+
+The plot supplies its samples through a callable, so the readout does not care how they are
+stored; the phases are the plot's own bands (``StackedPlot._phases``)."""
+from __future__ import annotations
+
+from typing import Callable, NamedTuple
+
+import numpy as np
+import pyqtgraph as pg
+from PySide6.QtCore import QPointF, Qt
+
+from .stacked_plot import INK, StackedPlot, band_label
+from .timefmt import hmmss
+
+CURSOR_PEN = pg.mkPen("#505050", width=1, style=Qt.PenStyle.DotLine)
+GAP_PX = 6
+
+
+class Quantity(NamedTuple):
+    key: str              # the column in the samples
+    unit: str
+    decimals: int
+
+
+#: What the readout shows, in order (the samples' column names).
+QUANTITIES = (Quantity("voltage_v", "V", 3), Quantity("current_a", "A", 2), Quantity("temp_c", "°C", 1))
+
+Samples = Callable[[], tuple[np.ndarray, dict[str, np.ndarray]]]
+
+
+def readout_text(t: np.ndarray, data: dict[str, np.ndarray], phases: list, seconds: float) -> str:
+    """``0:23:45 · 1.382 V · 2.00 A · 27.3 °C`` and, on a second line, the phase running then
+    (from the sample nearest ``seconds``); '' without samples."""
+    if not len(t):
+        return ""
+    i = int(np.clip(np.searchsorted(t, seconds), 0, len(t) - 1))
+    if i and abs(t[i - 1] - seconds) < abs(t[i] - seconds):
+        i -= 1
+    parts = [hmmss(float(t[i]))]
+    parts += [f"{float(data[q.key][i]):.{q.decimals}f} {q.unit}" for q in QUANTITIES if q.key in data]
+    text = " · ".join(parts)
+    phase = next((p for p in phases if p.start_s <= t[i] <= p.end_s), None)
+    return text + (f"\n{band_label(phase)}" if phase is not None else "")
+
+
+class CursorReadout:
+    """Follows the mouse over ``plot``; ``show_at(seconds)`` places it by hand (tests)."""
+
+    def __init__(self, plot: StackedPlot, samples: Samples):
+        self.plot = plot
+        self.samples = samples
+        self.lines = []
+        for p in plot.plots:
+            line = pg.InfiniteLine(angle=90, movable=False, pen=CURSOR_PEN)
+            line.setZValue(40)
+            line.hide()
+            p.addItem(line, ignoreBounds=True)
+            self.lines.append(line)
+        self.label = pg.TextItem("", color=INK, anchor=(0, 0), fill=pg.mkBrush(255, 255, 255, 225),
+                                 border=pg.mkPen("#b0b0b0"))
+        self.label.setFont(plot._label_font)
+        self.label.setZValue(60)
+        self.label.setParentItem(plot.vplot.vb)        # view box pixels: stays readable at any zoom
+        self.label.hide()
+        plot.scene().sigMouseMoved.connect(self._mouse_moved)
+
+    def text(self) -> str:
+        return self.label.toPlainText() if self.label.isVisible() else ""
+
+    def show_at(self, seconds: float) -> bool:
+        t, data = self.samples()
+        text = readout_text(t, data, self.plot._phases, seconds)
+        if not text:
+            self.hide()
+            return False
+        for line in self.lines:
+            line.setPos(seconds)
+            line.show()
+        self.label.setText(text)
+        vb = self.plot.vplot.vb
+        x = vb.mapViewToScene(QPointF(seconds, 0)).x() - vb.sceneBoundingRect().left()
+        box = self.label.textItem.boundingRect()
+        # Beside the line, on the side with room; at the bottom of the voltage plot, under the labels.
+        left = x + GAP_PX if x + GAP_PX + box.width() <= vb.width() else max(0.0, x - GAP_PX - box.width())
+        self.label.setPos(left, max(0.0, vb.height() - 2 - box.height()))
+        self.label.show()
+        return True
+
+    def hide(self) -> None:
+        for line in self.lines:
+            line.hide()
+        self.label.hide()
+
+    def _mouse_moved(self, pos) -> None:
+        for p in self.plot.plots:
+            if p.vb.sceneBoundingRect().contains(pos):
+                self.show_at(p.vb.mapSceneToView(pos).x())
+                return
+        self.hide()

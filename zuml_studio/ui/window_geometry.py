@@ -1,0 +1,24 @@
+"""The main window's size on a given screen: made for the screen on first start (a laptop at
+1366x768 or a 1.5x-scaled desktop shows everything), a saved one kept only while it fits."""
+from __future__ import annotations
+
+from PySide6.QtCore import QRect
+
+PREFERRED_W, PREFERRED_H = 1500, 950      # what the layout was drawn for
+SCREEN_SHARE = 0.92                       # of the available area, when the screen is smaller
+FIT_SLACK_PX = 16                         # frames and shadows may hang over the edge a little
+
+
+def first_geometry(available: QRect) -> QRect:
+    """The preferred size, shrunk to the screen's available area, centred in it."""
+    width = min(PREFERRED_W, int(available.width() * SCREEN_SHARE))
+    height = min(PREFERRED_H, int(available.height() * SCREEN_SHARE))
+    rect = QRect(0, 0, width, height)
+    rect.moveCenter(available.center())
+    return rect
+
+
+def fits(frame: QRect, available: QRect) -> bool:
+    """Whether a window frame lies within the available area (within a few pixels)."""
+    grown = available.adjusted(-FIT_SLACK_PX, -FIT_SLACK_PX, FIT_SLACK_PX, FIT_SLACK_PX)
+    return grown.contains(frame)
