@@ -142,6 +142,36 @@ void zc_event(const zc_event_t *e)
     send_event(T_EVENT, device_seq++, events++, e);
 }
 
+/* The factory start templates (data/start_templates.toml; a test holds them to it), as GET_TEMPLATE
+ * sends them: number, then ZC_TEMPLATE_SIZE bytes. */
+#define TEMPLATES 3
+static const uint8_t factory_templates[TEMPLATES][1 + ZC_TEMPLATE_SIZE] PROGMEM = {
+    {1, ZC_CHARGE, 1, 2000 & 0xFF, 2000 >> 8, 1000 & 0xFF, 1000 >> 8, 0, 0, 4},
+    {2, ZC_CHARGE, 1, 2200 & 0xFF, 2200 >> 8, 2200 & 0xFF, 2200 >> 8, 0, 0, 3},
+    {3, ZC_CHARGE, 1, 7000 & 0xFF, 7000 >> 8, 1750 & 0xFF, 1750 >> 8, 0, 0, 6},
+};
+
+/* The template numbered `number` into t (1 + ZC_TEMPLATE_SIZE bytes); 0 when there is none. */
+static uint8_t find_template(uint8_t number, uint8_t *t)
+{
+    uint8_t k;
+    for (k = 0; k < TEMPLATES; k++) {
+        memcpy_P(t, factory_templates[k], 1 + ZC_TEMPLATE_SIZE);
+        if (t[0] == number)
+            return 1;
+    }
+    return 0;
+}
+
+uint8_t zc_template(uint8_t number, zc_start_t *s)
+{
+    uint8_t t[1 + ZC_TEMPLATE_SIZE];
+    if (!find_template(number, t))
+        return 0;
+    zc_template_apply(s, t + 1);
+    return 1;
+}
+
 static int16_t centi(int32_t micro) { return (int16_t)(micro / 10000L); }
 
 static void send_telemetry(void)
@@ -198,6 +228,7 @@ static const char *start_error_text(uint8_t err)
     case ZC_ERR_C_NEEDS_CAPACITY: return PSTR("a current in C needs the capacity: declare CAPACITY or give it at start");
     case ZC_ERR_INPUT_VOLTAGE: return PSTR("the macro takes a voltage at start (INPUT): give the voltage");
     case ZC_ERR_S_NEEDS_SERIES: return PSTR("a voltage per cell (S) needs the cell count: declare SERIES or give it at start");
+    case ZC_ERR_NO_TEMPLATE: return PSTR("the macro's start template (START_SHABLON) does not exist on this charger");
     default: return PSTR("training needs at least 1 repetition");
     }
 }
@@ -265,6 +296,7 @@ static void start(uint8_t seq, const uint8_t *p)
     s.voltage_uv = le16(p + 7) ? (int32_t)le16(p + 7) * 1000L : ZC_NONE;
     s.series = p[9];
     s.sensor = p[10] != 0;
+    s.template_no = 0;
     err = zc_start(&run, run.rec, len, &s, &board->core);
     if (err) {
         send_error(T_START, seq, E_START_ERROR, start_error_text(err));
@@ -273,7 +305,7 @@ static void start(uint8_t seq, const uint8_t *p)
     if (lockout(seq))
         return;
     slot = p[0];
-    task = s.task;
+    task = run.start.task;   /* after the start template */
     events = 0;
     answer_start(seq);
     state = ST_RUNNING;

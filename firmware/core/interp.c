@@ -15,10 +15,7 @@
 #define DTDT_HOLDOFF_MS 120000UL
 #define DEFAULT_DISCHARGE_UA 100000L
 #define CAPACITY_LIMIT_UAMS_PER_MAH 5400000000LL   /* 1.5 x 1 mAh in uA*ms */
-#define DP_WINDOW_MS 30000UL
-#define DP_HOLDOFF_MS 180000UL
 
-enum { M_CC, M_CV, M_CCCV, M_PULSE, M_TRICKLE };
 enum { S_BEGIN_REP, S_SECTION_START, S_IN_SECTION, S_AFTER_SECTION, S_CONCLUSION, S_DONE };
 
 static int32_t saturate(int64_t x)
@@ -125,8 +122,9 @@ static uint8_t section_values(const zc_run_t *r, uint8_t pc)
 
 uint8_t zc_start(zc_run_t *r, const uint8_t *rec, uint16_t len, const zc_start_t *s, const zc_board_t *b)
 {
-    uint8_t pc, err;
+    uint8_t pc, err, template_no, declared = 0;
     uint16_t capacity_raw = CAPACITY_INPUT;
+    zc_start_t entered = *s;
     /* rec may be r->rec itself (the device reads the slot straight into the run) */
     memset((uint8_t *)r + sizeof r->rec, 0, sizeof *r - sizeof r->rec);
     r->finished = 1;
@@ -136,10 +134,20 @@ uint8_t zc_start(zc_run_t *r, const uint8_t *rec, uint16_t len, const zc_start_t
     r->end = (uint8_t)(len - 1);
     r->charge_at = rec[2];
     r->conclusion_at = rec[3];
-    r->start = *s;
     r->board = *b;
     r->tc_pause = DEFAULT_TC_PAUSE;
     r->tc_continue = DEFAULT_TC_CONTINUE;
+    /* the start template: the macro's START_SHABLON=n wins over the one chosen at start */
+    template_no = s->template_no;
+    for (pc = rec[1]; rec[pc] != OP_DISCHARGE_SECTION; pc = (uint8_t)(pc + zc_op_size(rec[pc])))
+        if (rec[pc] == OP_START_SHABLON) {
+            template_no = rec[pc + 1];
+            declared = 1;
+        }
+    if ((declared || template_no) && !zc_template(template_no, &entered))
+        return ZC_ERR_NO_TEMPLATE;
+    s = &entered;
+    r->start = entered;
     for (pc = rec[1]; rec[pc] != OP_DISCHARGE_SECTION; pc = (uint8_t)(pc + zc_op_size(rec[pc]))) {
         switch (rec[pc]) {
         case OP_AKK_TYPE: r->akk_type = rec[pc + 1]; break;
@@ -170,6 +178,20 @@ uint8_t zc_start(zc_run_t *r, const uint8_t *rec, uint16_t len, const zc_start_t
     r->stage = S_BEGIN_REP;
     r->finished = 0;
     return ZC_OK;
+}
+
+void zc_template_apply(zc_start_t *s, const uint8_t *t)
+{
+    s->task = t[0] <= ZC_TRAIN ? t[0] : ZC_CHARGE;
+    s->repetitions = t[1];
+    if (zc_u16(t + 2))
+        s->capacity_mah = zc_u16(t + 2);
+    if (zc_u16(t + 4))
+        s->current_ua = (int32_t)zc_u16(t + 4) * 1000L;
+    if (zc_u16(t + 6))
+        s->voltage_uv = (int32_t)zc_u16(t + 6) * 1000L;
+    if (t[8])
+        s->series = t[8];
 }
 
 static void finish(zc_run_t *r, uint8_t reason, uint8_t offset)
@@ -233,7 +255,8 @@ static void compile_phase(zc_run_t *r, uint8_t at)
         r->v_low = zc_voltage_uv(r, zc_u16(p + 3));
         r->v_set = zc_voltage_uv(r, zc_u16(p + 5));
     } else if (a_i && a_v) {
-        r->mode = M_CCCV;
+        /* CC-CV: the voltage held with the current limited to CONSTANT_I, in either section */
+        r->mode = M_CV;
         r->i_max = zc_current_ua(r, zc_u16(r->rec + a_i + 1));
         r->v_set = zc_voltage_uv(r, zc_u16(r->rec + a_v + 1));
     } else if (a_v) {
@@ -351,7 +374,11 @@ static uint8_t next_phase(zc_run_t *r)
             break;
         }
         case S_AFTER_SECTION:
-            if (!r->section && r->start.task != ZC_DISCHARGE) {
+            if (!r->section && r->rec[r->pc] != OP_CHARGE_SECTION) {
+                /* the commands between the sections, read on from the discharge section */
+                command(r, r->pc);
+                r->pc = (uint8_t)(r->pc + zc_op_size(r->rec[r->pc]));
+            } else if (!r->section && r->start.task != ZC_DISCHARGE) {
                 r->section = 1;
                 r->stage = S_SECTION_START;
             } else {
@@ -361,7 +388,10 @@ static uint8_t next_phase(zc_run_t *r)
             break;
         case S_CONCLUSION:
             if (r->rec[r->pc] == OP_END_MACRO) {
-                finish(r, ZC_R_END, 0);
+                if (r->stop_macro)
+                    finish(r, ZC_R_STOP_MACRO, r->tm_stop_at);
+                else
+                    finish(r, ZC_R_END, 0);
                 return 0;
             }
             command(r, r->pc);
@@ -396,7 +426,7 @@ void zc_control(zc_run_t *r)
             out.kind = HAL_CURRENT;
             out.current_ua = r->i_set;
             break;
-        case M_CV: case M_CCCV:
+        case M_CV:
             out.kind = r->charging ? HAL_VOLTAGE_CHARGE : HAL_VOLTAGE_DISCHARGE;
             out.current_ua = r->i_max;
             out.voltage_uv = r->v_set;
@@ -432,19 +462,20 @@ static int32_t pulse_reading(const zc_run_t *r, int32_t v)
     return r->measured_v;
 }
 
-/* -dV on 30 s window averages with a held peak (delta_peak.py); averages compared exactly as
+/* -dV on window averages with a held peak (delta_peak.py); averages compared exactly as
  * sum/count fractions. Returns whether the drop below the peak exceeds the threshold. */
 static uint8_t minus_dv(zc_run_t *r, int32_t v, int32_t threshold)
 {
+    uint32_t window_ms = r->board.dp_window_s * 1000UL;
     if (!r->dp_window_open) {
         r->dp_window_open = 1;
-        r->dp_window_end = (r->t_phase / DP_WINDOW_MS + 1) * DP_WINDOW_MS;
+        r->dp_window_end = (r->t_phase / window_ms + 1) * window_ms;
     }
     r->dp_sum += v;
     r->dp_count++;
     if (r->t_phase >= r->dp_window_end) {
-        r->dp_window_end = (r->t_phase / DP_WINDOW_MS + 1) * DP_WINDOW_MS;
-        if (r->t_phase <= DP_HOLDOFF_MS || r->dp_sum * r->dp_peak_count >= r->dp_peak_sum * r->dp_count) {
+        r->dp_window_end = (r->t_phase / window_ms + 1) * window_ms;
+        if (r->t_phase <= r->board.dp_holdoff_s * 1000UL || r->dp_sum * r->dp_peak_count >= r->dp_peak_sum * r->dp_count) {
             r->dp_peak_sum = r->dp_sum;
             r->dp_peak_count = r->dp_count;
             r->dp_hit = threshold < 0;
@@ -533,8 +564,11 @@ void zc_measure(zc_run_t *r)
     }
     if (!reason && r->tm_stop_at &&
         (uint64_t)r->time_ms > (uint64_t)zc_u32(r->rec + r->tm_stop_at + 1) * 100U) {
+        /* STOP_MACRO: the remaining phases and sections are skipped; the conclusion still runs */
         end_phase(r, ZC_R_STOP_MACRO, r->tm_stop_at);
-        finish(r, ZC_R_STOP_MACRO, r->tm_stop_at);
+        r->stop_macro = 1;
+        r->stage = S_CONCLUSION;
+        r->pc = r->conclusion_at;
         return;
     }
     if (reason)

@@ -156,6 +156,13 @@ uint16_t zc_validate(const uint8_t *rec, uint16_t len)
     pc++;
     if ((bad = section(rec, &pc, end)) != 0)
         return bad;
+    /* commands between the sections (seed 000, byte layout item 8) */
+    while (pc < end && zc_op_role(rec[pc]) == ROLE_COMMAND) {
+        uint8_t size = take(rec, pc, end);
+        if (!size)
+            FAIL(pc);
+        pc = (uint8_t)(pc + size);
+    }
     if (pc >= end || rec[pc] != OP_CHARGE_SECTION)
         FAIL(pc);
     pc++;

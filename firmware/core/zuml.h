@@ -23,7 +23,8 @@ enum zc_start_error {
     ZC_ERR_C_NEEDS_CAPACITY = 3,   /* current in C, no capacity */
     ZC_ERR_INPUT_VOLTAGE = 4,
     ZC_ERR_S_NEEDS_SERIES = 5,
-    ZC_ERR_REPETITIONS = 6
+    ZC_ERR_REPETITIONS = 6,
+    ZC_ERR_NO_TEMPLATE = 7         /* START_SHABLON=n (or the template chosen at start): no such template */
 };
 
 /* How a phase (or the macro) ended. */
@@ -38,6 +39,9 @@ enum zc_reason {
     ZC_R_STOPPED = 7,              /* stopped by the user */
     ZC_R_END = 8                   /* end of macro */
 };
+
+/* How a phase drives the power stage (zc_run_t.mode); CC-CV is CV with CONSTANT_I as its limit. */
+enum zc_mode { M_CC, M_CV, M_PULSE, M_TRICKLE };
 
 enum zc_event_kind {
     ZC_EV_SECTION = 1, ZC_EV_PHASE_START = 2, ZC_EV_PHASE_END = 3, ZC_EV_PAUSE = 4,
@@ -70,13 +74,25 @@ typedef struct {
     int32_t voltage_uv;            /* ZC_NONE when not entered */
     int16_t series;                /* 0 when not entered */
     uint8_t sensor;                /* 0: ignore the battery temperature sensor even when one is there */
+    uint8_t template_no;           /* start template chosen at start, 0: none (a START_SHABLON=n wins) */
 } zc_start_t;
+
+/* Supplied by the application: start template `number`'s values in place of those in *s (task and
+ * repetitions always; capacity, current, voltage, series where the template has them); 0 when the
+ * charger holds no such template. */
+uint8_t zc_template(uint8_t number, zc_start_t *s);
+/* A template as stored and sent (docs/protocol.md, GET_TEMPLATE): task, repetitions, capacity_mah
+ * u16, current_ma u16, voltage_mv u16, series; 0 = not in the template. Applies it over *s. */
+#define ZC_TEMPLATE_SIZE 9
+void zc_template_apply(zc_start_t *s, const uint8_t *t);
 
 typedef struct {
     int32_t max_charge_ua;         /* a CONSTANT_V alone holds at most this without an entered current */
     int32_t max_discharge_ua;
     int32_t fallback_end_uv_per_cell; /* empty discharge section on Undef/LiS/New */
     uint16_t tick_ms;
+    uint16_t dp_window_s;          /* -dV: window the voltage is averaged over (the charger model's) */
+    uint16_t dp_holdoff_s;         /* -dV: ignored this long after a phase starts (seed 001: 5-10 min) */
 } zc_board_t;
 
 typedef struct {
@@ -89,6 +105,7 @@ typedef struct {
     int32_t capacity_mah;          /* <= 0: unknown */
     int8_t tc_pause, tc_continue;
     uint8_t tm_stop_at;            /* offset of IF(tm>x), 0 when none */
+    uint8_t stop_macro;            /* IF(tm>x) STOP_MACRO fired: the conclusion runs, then the run ends on it */
     zc_start_t start;
     zc_board_t board;
     /* the walk through the sections */

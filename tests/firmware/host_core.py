@@ -12,8 +12,10 @@ import random
 from dataclasses import dataclass
 from pathlib import Path
 
-from zuml_studio.sim.interpreter import Measurement, StartParams
+from zuml_studio.sim.charger_model import load_charger
+from zuml_studio.sim.interpreter import Measurement, StartError, StartParams
 from zuml_studio.sim.simulate import BatterySetup, models, prepare
+from zuml_studio.sim.start_templates import StartTemplate, factory_templates
 
 ROOT = Path(__file__).resolve().parents[2]
 FIRMWARE = ROOT / "firmware"
@@ -26,18 +28,19 @@ NONE = -1
 OFF, CURRENT, VOLTAGE_CHARGE, VOLTAGE_DISCHARGE = range(4)
 EV_PHASE_START, EV_PHASE_END, EV_PAUSE, EV_RESUME, EV_MUSIC, EV_LIGHT, EV_FINISH = range(2, 9)
 START_ERRORS = {1: "record", 2: "INPUT current", 3: "C needs capacity", 4: "INPUT voltage",
-                5: "S needs series", 6: "repetitions"}
+                5: "S needs series", 6: "repetitions", 7: "no template"}
 
 
 class ZcStart(ctypes.Structure):
     _fields_ = [("task", ctypes.c_uint8), ("repetitions", ctypes.c_uint8), ("capacity_mah", ctypes.c_int32),
                 ("current_ua", ctypes.c_int32), ("voltage_uv", ctypes.c_int32), ("series", ctypes.c_int16),
-                ("sensor", ctypes.c_uint8)]
+                ("sensor", ctypes.c_uint8), ("template_no", ctypes.c_uint8)]
 
 
 class ZcBoard(ctypes.Structure):
     _fields_ = [("max_charge_ua", ctypes.c_int32), ("max_discharge_ua", ctypes.c_int32),
-                ("fallback_end_uv_per_cell", ctypes.c_int32), ("tick_ms", ctypes.c_uint16)]
+                ("fallback_end_uv_per_cell", ctypes.c_int32), ("tick_ms", ctypes.c_uint16),
+                ("dp_window_s", ctypes.c_uint16), ("dp_holdoff_s", ctypes.c_uint16)]
 
 
 class ZcEvent(ctypes.Structure):
@@ -70,7 +73,16 @@ def load(path: Path = LIBRARY) -> ctypes.CDLL:
     lib.zh_event_text.argtypes = [ctypes.POINTER(ZcEvent), ctypes.c_char_p]
     lib.zh_event_text.restype = u8
     lib.zh_phase_counts.argtypes = [ctypes.POINTER(ctypes.c_int64), ctypes.POINTER(ctypes.c_int64)]
+    lib.zh_set_template.argtypes = [u8, ctypes.c_char_p]
     return lib
+
+
+def template_bytes(t: StartTemplate) -> bytes:
+    """A start template as the firmware stores it (docs/protocol.md, GET_TEMPLATE); 0 = not given."""
+    milli = lambda x: 0 if x is None else round(x * 1000)  # noqa: E731
+    return bytes([("charge", "discharge", "train").index(t.task), t.repetitions]) + \
+        b"".join(v.to_bytes(2, "little") for v in (round(t.capacity_mah or 0), milli(t.current_a),
+                                                    milli(t.voltage_v))) + bytes([t.series or 0])
 
 
 def _fixed(x: float, scale: float) -> int:
@@ -123,7 +135,7 @@ def start_error_category(message: str) -> str:
     """The reference's StartError message as the core's start error."""
     for needle, category in (("give the current", "INPUT current"), ("current in C", "C needs capacity"),
                              ("give the voltage", "INPUT voltage"), ("per cell (S)", "S needs series"),
-                             ("repetition", "repetitions")):
+                             ("repetition", "repetitions"), ("does not exist on this charger", "no template")):
         if needle in message:
             return category
     raise AssertionError(f"a start error the core does not know: {message}")
@@ -136,22 +148,33 @@ class CoreRunner:
         self._text = ctypes.create_string_buffer(80)
         self._sink = EVENT_SINK(lambda e: self._event(e.contents))
         lib.zh_set_event_sink(self._sink)
+        for number, template in factory_templates().items():     # the simulator's charger's table
+            lib.zh_set_template(number, template_bytes(template))
 
     def run(self, record: bytes, params: StartParams, setup: BatterySetup, tick_s: float, limit_s: float,
             measurement: Measurement = Measurement()) -> Run:
-        p, _, pack, charger = models(record, params, setup)
-        lim = charger.limits
+        # The core gets the values as entered and applies the start template itself; the models are
+        # built from the values after it (a start Python refuses has none: the core must refuse it too).
+        try:
+            _, _, pack, charger = models(record, params, setup)
+        except StartError:
+            pack = charger = None
+        p = params
         start = ZcStart(TASKS[p.task], p.repetitions,
                         NONE if p.capacity_mah is None else round(p.capacity_mah),
                         NONE if p.current_a is None else _fixed(p.current_a, 1e6),
-                        NONE if p.voltage_v is None else _fixed(p.voltage_v, 1e6), p.series or 0, int(p.sensor))
+                        NONE if p.voltage_v is None else _fixed(p.voltage_v, 1e6), p.series or 0, int(p.sensor),
+                        p.template or 0)
         tick_ms = round(tick_s * 1000)
+        lim = load_charger(setup.charger)
         board = ZcBoard(_fixed(lim.max_charge_a, 1e6), _fixed(lim.max_discharge_a, 1e6),
-                        _fixed(pack.chem.discharge_end_v, 1e6), tick_ms)
+                        _fixed(pack.chem.discharge_end_v, 1e6) if pack else 0, tick_ms,
+                        round(lim.dpeak_window_s), round(lim.dpeak_holdoff_s))
         lib = self.lib
         err = lib.zh_start(record, len(record), ctypes.byref(start), ctypes.byref(board))
         if err:
             return Run(START_ERRORS[err], [], [], "")
+        assert pack is not None, "the core started a run the reference refused"
         self._record = record
         self._phases: list[Phase] = []
         self._signals: list[tuple] = []

@@ -91,6 +91,52 @@ def test_noisy_measurements_run_the_same(core):
     assert_same(compiled("NiMh-dV"), params, BatterySetup(), 1.0, 48 * 3600, core, Measurement(noise_v=0.003, seed=7))
 
 
+def text(intro: str, discharge: str, between: str, charge: str, tail: str = "MUSIC(STOP)") -> bytes:
+    return compiled(f"MACRO T\n{intro}\nDISCHARGE_SECTION\n{discharge}\nEND_SECTION\n{between}\n"
+                    f"CHARGE_SECTION\n{charge}\nEND_SECTION\n{tail}\nEND_MACRO\n")
+
+
+LIPO = "AKK_TYPE=LiPo SERIES=3"
+# Issue #11's semantics, each on both: (record, task, entered current, template chosen at start, sensor, soc)
+ISSUE_11 = {
+    "storage discharge CC-CV": (text(LIPO, "FAZE CONSTANT_I=0.5C CONSTANT_V=3.8S IF(I<0.05C) STOP_FAZE END_FAZE",
+                                     "", ""), "discharge", None, None, True, None),
+    "discharge CV alone": (text(LIPO, "FAZE CONSTANT_V=3.9S IF(I<0.1A) STOP_FAZE END_FAZE", "", ""),
+                           "discharge", 0.3, None, True, None),
+    "commands between the sections": (text(LIPO, "FAZE CONSTANT_I=0.5A IF(V<3.9S) STOP_FAZE END_FAZE",
+                                           "MUSIC(1) LIGHT(2)", "FAZE CONSTANT_I=1A IF(V>4.0S) STOP_FAZE END_FAZE"),
+                                      "train", None, None, True, None),
+    "commands between an empty discharge and the charge": (text(LIPO, "", "MUSIC(2)", ""), "discharge", None, None, True,
+                                                             0.1),
+    "STOP_MACRO runs the conclusion": (text(LIPO + " IF(tm>10min) STOP_MACRO", "", "LIGHT(3)",
+                                            "FAZE CONSTANT_I=1A IF(V>4.2S) STOP_FAZE END_FAZE "
+                                            "FAZE CONSTANT_I=0.1A IF(tf>1h) STOP_FAZE END_FAZE"), "charge", None, None, True, None),
+    "START_SHABLON": (text("START_SHABLON=2 AKK_TYPE=LiPo", "", "",
+                           "FAZE CONSTANT_I=INPUT CONSTANT_V=4.2S IF(I<0.1C) STOP_FAZE END_FAZE"), "discharge", None,
+                      None, True, None),
+    "START_SHABLON the charger lacks": (text("START_SHABLON=9 AKK_TYPE=LiPo", "", "",
+                                             "FAZE CONSTANT_I=1A IF(V>4.2S) STOP_FAZE END_FAZE"), "charge", 1.0, None, True, None),
+    "template chosen at start": (text("AKK_TYPE=NiMh", "", "", "FAZE CONSTANT_I=INPUT IF(DELTA_PEAK>10mV) STOP_FAZE "
+                                      "IF(tf>3h) STOP_FAZE END_FAZE"), "charge", None, 1, False, None),
+    "-dV after the charger's hold-off": (text("AKK_TYPE=NiMh SERIES=4", "", "",
+                                              "FAZE CONSTANT_I=1C IF(DELTA_PEAK>20mV) STOP_FAZE END_FAZE"),
+                                         "charge", None, None, False, None),
+}
+
+
+@pytest.mark.parametrize("case", sorted(ISSUE_11))
+def test_issue_11_semantics_run_the_same_on_the_core(core, case):
+    record, task, current, template, sensor, soc = ISSUE_11[case]
+    params = StartParams(task, 2, 2000, current, None, 3, sensor, template)
+    assert_same(record, params, BatterySetup(None, soc), 1.0, 12 * 3600, core)
+
+
+def test_a_start_template_the_charger_lacks_refuses_on_both(core):
+    record, task, current, *_ = ISSUE_11["START_SHABLON the charger lacks"]
+    params = StartParams(task, 1, 2000, current, None, 3, True)
+    assert core.run(record, params, BatterySetup(), 1.0, 3600).start_error == "no template"
+
+
 @st.composite
 def runs(draw):
     try:
@@ -102,7 +148,7 @@ def runs(draw):
                          draw(st.sampled_from([300, 2000, 5000])),
                          draw(st.none() | st.sampled_from([0.1, 1.0, 2.5])),
                          draw(st.none() | st.sampled_from([1.3, 4.2, 12.0])),
-                         draw(st.integers(1, 6)), draw(st.booleans()))
+                         draw(st.integers(1, 6)), draw(st.booleans()), draw(st.none() | st.sampled_from([1, 2, 9])))
     setup = BatterySetup(draw(st.sampled_from(CHEMISTRIES)), draw(st.none() | st.sampled_from([0.5])),
                          draw(st.sampled_from([25.0, 45.0])))
     return record, params, setup, draw(st.sampled_from([10.0, 30.0]))
@@ -114,3 +160,5 @@ def test_generated_macros_run_the_same_on_the_core(core, run):
     record, params, setup, tick_s = run
     py = assert_same(record, params, setup, tick_s, 3600, core)
     event("refused at start by both" if py is None else f"ran {min(len(py.phases), 3)}{'+' * (len(py.phases) > 2)} phase(s)")
+    if py is not None and any(kind in ("music", "light") for kind, *_ in py.signals):
+        event("played a command")

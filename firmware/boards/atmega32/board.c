@@ -191,7 +191,7 @@ int main(void)
     static const char firmware[] PROGMEM = "zuml-fw 0.1";
     static const app_board_t board = {
         model, firmware, 5000, 500, 1000, 50, 26000, 8500,
-        {5000000L, 1000000L, 3000000L, 1000}
+        {5000000L, 1000000L, 3000000L, 1000, 30, 300}
     };
     uint32_t last_ms = 0;
     /* Timer0: CTC, /64, 250 counts = 1 ms at 16 MHz */

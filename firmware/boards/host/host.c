@@ -16,6 +16,8 @@ static struct {
 } hw;
 
 static zc_run_t run;
+/* the charger's start templates, as the harness sets them (index: number; [0] 0 = none) */
+static uint8_t templates[256][1 + ZC_TEMPLATE_SIZE];
 static void (*event_sink)(const zc_event_t *e);
 
 void hal_output(const hal_output_t *out) { hw.out = *out; }
@@ -47,6 +49,14 @@ void zc_event(const zc_event_t *e)
         event_sink(e);
 }
 
+uint8_t zc_template(uint8_t number, zc_start_t *s)
+{
+    if (!templates[number][0])
+        return 0;
+    zc_template_apply(s, templates[number] + 1);
+    return 1;
+}
+
 /* -- the harness's entry points ------------------------------------------------------------- */
 
 uint8_t zh_start(const uint8_t *rec, uint16_t len, const zc_start_t *s, const zc_board_t *b)
@@ -67,7 +77,7 @@ uint8_t zh_control(int32_t heatsink_uc, int32_t pack_uv, int32_t battery_uc, hal
     *out = hw.out;
     if (run.finished)
         return 0;
-    return (run.mode == 3 && run.tv == 0) ? 2 : 1;
+    return (run.mode == M_PULSE && run.tv == 0) ? 2 : 1;
 }
 
 /* After the tick: what was measured. Returns 2 while the phase runs on, 1 when it has just ended
@@ -85,6 +95,14 @@ uint8_t zh_measure(int32_t pack_uv, int32_t current_ua, int32_t battery_uc, int3
 }
 
 void zh_stop(void) { zc_stop(&run); }
+
+/* Start template `number` := t (ZC_TEMPLATE_SIZE bytes), or none when t is NULL. */
+void zh_set_template(uint8_t number, const uint8_t *t)
+{
+    templates[number][0] = t != 0;
+    if (t)
+        memcpy(templates[number] + 1, t, ZC_TEMPLATE_SIZE);
+}
 
 /* The harness's function that receives every event as it happens. */
 void zh_set_event_sink(void (*sink)(const zc_event_t *e)) { event_sink = sink; }

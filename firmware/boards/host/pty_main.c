@@ -153,7 +153,7 @@ int main(int argc, char **argv)
 {
     static const app_board_t board = {
         "ZUML firmware (host)", "zuml-fw 0.1", 5000, 500, 1000, 50, 26000, 0,
-        {5000000L, 1000000L, 3000000L, 1000}
+        {5000000L, 1000000L, 3000000L, 1000, 30, 300}
     };
     struct termios raw;
     int k, slave;

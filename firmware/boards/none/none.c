@@ -32,7 +32,7 @@ uint8_t hal_passport_exchange(const uint8_t request[8], uint8_t answer[32])
 int main(void)
 {
     static const char model[] = "none", firmware[] = "zuml-fw";
-    static const app_board_t board = {model, firmware, 0, 0, 0, 0, 0, 0, {0, 0, 0, 1000}};
+    static const app_board_t board = {model, firmware, 0, 0, 0, 0, 0, 0, {0, 0, 0, 1000, 30, 300}};
     app_init(&board);
     for (;;)
         app_poll();
