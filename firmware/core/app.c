@@ -26,6 +26,9 @@
 #define T_STATUS 0x12
 #define T_RATE 0x13
 #define T_GET_EVENT 0x14
+#define T_LIST_TEMPLATES 0x15
+#define T_GET_TEMPLATE 0x16
+#define T_SET_TEMPLATE 0x17
 #define T_PASSPORT 0x20
 #define T_TELEMETRY 0x40
 #define T_EVENT 0x41
@@ -34,13 +37,19 @@
 #define EVENT_RING 4
 
 enum { E_BAD_FRAME = 1, E_BAD_REQUEST, E_UNKNOWN_TYPE, E_BAD_RANGE, E_BAD_TOKEN, E_CRC_MISMATCH, E_BAD_SLOT,
-       E_INVALID_RECORD, E_PASSPORT_CONFLICT, E_START_ERROR, E_NO_PASSPORT, E_PASSPORT_ERROR, E_INTERNAL };
+       E_INVALID_RECORD, E_PASSPORT_CONFLICT, E_START_ERROR, E_NO_PASSPORT, E_PASSPORT_ERROR, E_INTERNAL,
+       E_NO_TEMPLATE };
 enum { ST_IDLE, ST_RUNNING, ST_PAUSED, ST_FINISHED };
 
 typedef struct {
     uint32_t number;
     zc_event_t e;
 } stored_event_t;
+
+/* Messages sent from more than one place, stored once. */
+static const char no_token[] PROGMEM = "no write transaction with this token";
+static const char outside_eeprom[] PROGMEM = "offset/length outside the EEPROM";
+static const char no_template[] PROGMEM = "no such start template (START_SHABLON)";
 
 static const app_board_t *board;
 static zc_run_t run;
@@ -142,33 +151,21 @@ void zc_event(const zc_event_t *e)
     send_event(T_EVENT, device_seq++, events++, e);
 }
 
-/* The factory start templates (data/start_templates.toml; a test holds them to it), as GET_TEMPLATE
- * sends them: number, then ZC_TEMPLATE_SIZE bytes. */
-#define TEMPLATES 3
-static const uint8_t factory_templates[TEMPLATES][1 + ZC_TEMPLATE_SIZE] PROGMEM = {
+/* The factory start templates (data/start_templates.toml; a test holds them to it): number, then
+ * the ZC_TEMPLATE_SIZE bytes GET_TEMPLATE sends. Stored at the first start. */
+#define FACTORY_TEMPLATES 3
+static const uint8_t factory_templates[FACTORY_TEMPLATES][1 + ZC_TEMPLATE_SIZE] PROGMEM = {
     {1, ZC_CHARGE, 1, 2000 & 0xFF, 2000 >> 8, 1000 & 0xFF, 1000 >> 8, 0, 0, 4},
     {2, ZC_CHARGE, 1, 2200 & 0xFF, 2200 >> 8, 2200 & 0xFF, 2200 >> 8, 0, 0, 3},
     {3, ZC_CHARGE, 1, 7000 & 0xFF, 7000 >> 8, 1750 & 0xFF, 1750 >> 8, 0, 0, 6},
 };
 
-/* The template numbered `number` into t (1 + ZC_TEMPLATE_SIZE bytes); 0 when there is none. */
-static uint8_t find_template(uint8_t number, uint8_t *t)
-{
-    uint8_t k;
-    for (k = 0; k < TEMPLATES; k++) {
-        memcpy_P(t, factory_templates[k], 1 + ZC_TEMPLATE_SIZE);
-        if (t[0] == number)
-            return 1;
-    }
-    return 0;
-}
-
 uint8_t zc_template(uint8_t number, zc_start_t *s)
 {
-    uint8_t t[1 + ZC_TEMPLATE_SIZE];
-    if (!find_template(number, t))
+    uint8_t t[ZC_TEMPLATE_SIZE];
+    if (!store_template(number, t))
         return 0;
-    zc_template_apply(s, t + 1);
+    zc_template_apply(s, t);
     return 1;
 }
 
@@ -228,7 +225,7 @@ static const char *start_error_text(uint8_t err)
     case ZC_ERR_C_NEEDS_CAPACITY: return PSTR("a current in C needs the capacity: declare CAPACITY or give it at start");
     case ZC_ERR_INPUT_VOLTAGE: return PSTR("the macro takes a voltage at start (INPUT): give the voltage");
     case ZC_ERR_S_NEEDS_SERIES: return PSTR("a voltage per cell (S) needs the cell count: declare SERIES or give it at start");
-    case ZC_ERR_NO_TEMPLATE: return PSTR("the macro's start template (START_SHABLON) does not exist on this charger");
+    case ZC_ERR_NO_TEMPLATE: return no_template;
     default: return PSTR("training needs at least 1 repetition");
     }
 }
@@ -346,7 +343,7 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
             break;
         off = le16(p);
         if (p[2] == 0 || p[2] > MAX_DATA || (uint32_t)off + p[2] > store_size()) {
-            send_error(type, seq, E_BAD_RANGE, PSTR("offset/length outside the EEPROM"));
+            send_error(type, seq, E_BAD_RANGE, outside_eeprom);
             return;
         }
         tx_begin(T_READ | RESPONSE, seq, (uint8_t)(2 + p[2]));
@@ -376,11 +373,11 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
             break;
         off = le16(p + 4);
         if (!token || le32(p) != token) {
-            send_error(type, seq, E_BAD_TOKEN, PSTR("no write transaction with this token"));
+            send_error(type, seq, E_BAD_TOKEN, no_token);
             return;
         }
         if (len - 6 > MAX_DATA || (uint32_t)off + (len - 6) > store_size()) {
-            send_error(type, seq, E_BAD_RANGE, PSTR("offset/length outside the EEPROM"));
+            send_error(type, seq, E_BAD_RANGE, outside_eeprom);
             return;
         }
         for (k = 0; k < (uint16_t)(len - 6); k++)
@@ -399,7 +396,7 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
         if (t && t == committed_token) {
             /* a retry whose answer was lost: committed already */
         } else if (!token || t != token) {
-            send_error(type, seq, E_BAD_TOKEN, PSTR("no write transaction with this token"));
+            send_error(type, seq, E_BAD_TOKEN, no_token);
             return;
         } else if (store_stage_crc() != le16(p + 4)) {
             send_error(type, seq, E_CRC_MISMATCH, PSTR("the staged image's CRC is not the host's; nothing written"));
@@ -473,6 +470,45 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
         send_event(T_GET_EVENT | RESPONSE, seq, number, &ring[number % EVENT_RING].e);
         return;
     }
+    case T_LIST_TEMPLATES: {
+        uint8_t t[ZC_TEMPLATE_SIZE], held[STORE_TEMPLATES], k, n = 0;
+        if (len)
+            break;
+        for (k = 1; k <= STORE_TEMPLATES; k++)
+            if (store_template(k, t))
+                held[n++] = k;
+        tx_begin(T_LIST_TEMPLATES | RESPONSE, seq, n);
+        tx_text((const char *)held, n);
+        tx_end();
+        return;
+    }
+    case T_SET_TEMPLATE:
+        if (len != 1 + ZC_TEMPLATE_SIZE)
+            break;
+        /* task 0..2, repetitions 1..255, capacity 0 (not given) or 2..65534 (StartTemplate's ranges) */
+        if (p[0] < 1 || p[0] > STORE_TEMPLATES || p[1] > ZC_TRAIN || p[2] == 0 || le16(p + 3) == 1 ||
+            le16(p + 3) == 0xFFFF) {
+            send_error(type, seq, E_BAD_RANGE, PSTR("not a start template (1..16)"));
+            return;
+        }
+        store_set_template(p[0], p + 1);
+        /* answers what is stored, as GET_TEMPLATE */
+        /* fall through */
+    case T_GET_TEMPLATE: {
+        uint8_t t[ZC_TEMPLATE_SIZE], k;
+        if (type == T_GET_TEMPLATE && len != 1)
+            break;
+        if (!store_template(p[0], t)) {
+            send_error(type, seq, E_NO_TEMPLATE, no_template);
+            return;
+        }
+        tx_begin((uint8_t)(type | RESPONSE), seq, 1 + ZC_TEMPLATE_SIZE);
+        tx(p[0]);
+        for (k = 0; k < ZC_TEMPLATE_SIZE; k++)
+            tx(t[k]);
+        tx_end();
+        return;
+    }
     case T_PASSPORT: {
         uint8_t answer[32], k;
         if (len != 8)
@@ -496,7 +532,7 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
 
 static uint8_t known_type(uint8_t t)
 {
-    return (t >= T_IDENTIFY && t <= T_ABORT) || (t >= T_START && t <= T_GET_EVENT) || t == T_PASSPORT;
+    return (t >= T_IDENTIFY && t <= T_ABORT) || (t >= T_START && t <= T_SET_TEMPLATE) || t == T_PASSPORT;
 }
 
 static void drop(uint16_t n)
@@ -545,7 +581,13 @@ static void parse(void)
 void app_init(const app_board_t *b)
 {
     board = b;
-    store_init();
+    if (store_init()) {
+        uint8_t k, t[1 + ZC_TEMPLATE_SIZE];
+        for (k = 0; k < FACTORY_TEMPLATES; k++) {
+            memcpy_P(t, factory_templates[k], sizeof t);
+            store_set_template(t[0], t + 1);
+        }
+    }
     memset(&run, 0, sizeof run);
     run.finished = 1;
 }

@@ -23,22 +23,25 @@ static int32_t saturate(int64_t x)
     return x > INT32_MAX ? INT32_MAX : (x < INT32_MIN ? INT32_MIN : (int32_t)x);
 }
 
-int32_t zc_current_ua(const zc_run_t *r, uint16_t raw)
+/* A stored current or voltage: INPUT takes the value entered, a relative one (C, S) is raw hundredths
+ * of per_unit (0: unknown, ZC_NONE), an absolute one is hundredths of A or V. */
+static int32_t resolve(uint16_t raw, int32_t entered, int32_t per_unit)
 {
     if (raw == RAW_INPUT)
-        return r->start.current_ua;
+        return entered;
     if (raw & RAW_RELATIVE)
-        return r->capacity_mah > 0 ? saturate((int64_t)(raw & 0x7FFF) * r->capacity_mah * 10) : ZC_NONE;
+        return per_unit > 0 ? saturate((int64_t)(raw & 0x7FFF) * per_unit) : ZC_NONE;
     return (int32_t)raw * 10000L;
+}
+
+int32_t zc_current_ua(const zc_run_t *r, uint16_t raw)
+{
+    return resolve(raw, r->start.current_ua, r->capacity_mah * 10L);
 }
 
 int32_t zc_voltage_uv(const zc_run_t *r, uint16_t raw)
 {
-    if (raw == RAW_INPUT)
-        return r->start.voltage_uv;
-    if (raw & RAW_RELATIVE)
-        return r->series > 0 ? saturate((int64_t)(raw & 0x7FFF) * r->series * 10000) : ZC_NONE;
-    return (int32_t)raw * 10000L;
+    return resolve(raw, r->start.voltage_uv, r->series * 10000L);
 }
 
 int32_t zc_chemistry_end_uv(uint8_t akk_type)
@@ -137,17 +140,7 @@ uint8_t zc_start(zc_run_t *r, const uint8_t *rec, uint16_t len, const zc_start_t
     r->board = *b;
     r->tc_pause = DEFAULT_TC_PAUSE;
     r->tc_continue = DEFAULT_TC_CONTINUE;
-    /* the start template: the macro's START_SHABLON=n wins over the one chosen at start */
     template_no = s->template_no;
-    for (pc = rec[1]; rec[pc] != OP_DISCHARGE_SECTION; pc = (uint8_t)(pc + zc_op_size(rec[pc])))
-        if (rec[pc] == OP_START_SHABLON) {
-            template_no = rec[pc + 1];
-            declared = 1;
-        }
-    if ((declared || template_no) && !zc_template(template_no, &entered))
-        return ZC_ERR_NO_TEMPLATE;
-    s = &entered;
-    r->start = entered;
     for (pc = rec[1]; rec[pc] != OP_DISCHARGE_SECTION; pc = (uint8_t)(pc + zc_op_size(rec[pc]))) {
         switch (rec[pc]) {
         case OP_AKK_TYPE: r->akk_type = rec[pc + 1]; break;
@@ -156,10 +149,16 @@ uint8_t zc_start(zc_run_t *r, const uint8_t *rec, uint16_t len, const zc_start_t
         case OP_IF_TC_GT: r->tc_pause = (int8_t)rec[pc + 1]; break;
         case OP_IF_TC_LT: r->tc_continue = (int8_t)rec[pc + 1]; break;
         case OP_IF_TM_GT: r->tm_stop_at = pc; break;
+        case OP_START_SHABLON: template_no = rec[pc + 1]; declared = 1; break;
         default: break;
         }
     }
     r->discharge_at = (uint8_t)(pc + 1);
+    /* the start template: the macro's START_SHABLON=n wins over the one chosen at start */
+    if ((declared || template_no) && !zc_template(template_no, &entered))
+        return ZC_ERR_NO_TEMPLATE;
+    s = &entered;
+    r->start = entered;
     /* a declared CAPACITY or SERIES wins over the values entered at start */
     if (capacity_raw != CAPACITY_INPUT && capacity_raw != CAPACITY_AUTO)
         r->capacity_mah = capacity_raw;

@@ -1,7 +1,10 @@
 #include "store.h"
+#include "zuml.h"
 #include "../hal.h"
 
 #define JOURNAL_COMMITTING 0xA5
+#define TEMPLATES_READY 0x5A
+#define TEMPLATE_AREA (STORE_TEMPLATES * ZC_TEMPLATE_SIZE)
 
 uint16_t zc_crc16(uint16_t crc, uint8_t byte)
 {
@@ -12,9 +15,14 @@ uint16_t zc_crc16(uint16_t crc, uint8_t byte)
     return crc;
 }
 
-uint16_t store_size(void) { return (uint16_t)((hal_eeprom_size() - 1) / 2); }
+uint16_t store_size(void) { return (uint16_t)((hal_eeprom_size() - 2 - TEMPLATE_AREA) / 2); }
 
 static uint16_t journal(void) { return (uint16_t)(hal_eeprom_size() - 1); }
+static uint16_t templates_mark(void) { return (uint16_t)(hal_eeprom_size() - 2); }
+static uint16_t template_at(uint8_t number)
+{
+    return (uint16_t)(2 * store_size() + (uint16_t)(number - 1) * ZC_TEMPLATE_SIZE);
+}
 
 static void update(uint16_t addr, uint8_t value)
 {
@@ -38,10 +46,34 @@ uint16_t store_commit(void)
     return changed;
 }
 
-void store_init(void)
+uint8_t store_init(void)
 {
+    uint8_t k;
     if (hal_eeprom_read(journal()) == JOURNAL_COMMITTING)
         store_commit();
+    if (hal_eeprom_read(templates_mark()) == TEMPLATES_READY)
+        return 0;
+    for (k = 1; k <= STORE_TEMPLATES; k++)
+        update(template_at(k), 0xFF);
+    update(templates_mark(), TEMPLATES_READY);
+    return 1;
+}
+
+uint8_t store_template(uint8_t number, uint8_t *t)
+{
+    uint8_t k;
+    if (number < 1 || number > STORE_TEMPLATES || hal_eeprom_read(template_at(number)) > ZC_TRAIN)
+        return 0;
+    for (k = 0; k < ZC_TEMPLATE_SIZE; k++)
+        t[k] = hal_eeprom_read((uint16_t)(template_at(number) + k));
+    return 1;
+}
+
+void store_set_template(uint8_t number, const uint8_t *t)
+{
+    uint8_t k;
+    for (k = 0; k < ZC_TEMPLATE_SIZE; k++)
+        update((uint16_t)(template_at(number) + k), t[k]);
 }
 
 uint8_t store_read(uint16_t at) { return hal_eeprom_read(at); }

@@ -64,7 +64,7 @@ def test_flash_slots_run_monitor_stop_backup_against_the_firmware(firmware_port,
     code, out, err = zuml("stop", "--port", port)
     assert code == 0, err
     code, out, err = zuml("backup", "--port", port, "-o", str(tmp_path / "image.bin"))
-    assert code == 0 and (tmp_path / "image.bin").stat().st_size == 511
+    assert code == 0 and (tmp_path / "image.bin").stat().st_size == 439
     code, out, err = zuml("restore", "--port", port, str(tmp_path / "image.bin"))
     assert code == 0, err
 

@@ -12,6 +12,7 @@ from zuml_studio.device.client import ChargerClient
 from zuml_studio.device.errors import DeviceError
 from zuml_studio.device.frames import FrameParser, encode_frame
 from zuml_studio.lang import eeprom
+from zuml_studio.sim.start_templates import StartTemplate, factory_templates
 
 pytestmark = needs_pty
 
@@ -33,7 +34,8 @@ def client(host_device):
 def test_identify_reports_the_store_and_the_limits(client):
     info = client().info
     assert info.protocol == 1 and info.max_data == 240
-    assert info.eeprom_size == 511            # half the 1 KB EEPROM: the other half stages writes
+    # (1 KB - 16 start templates of 9 B - 2 flag bytes) / 2: the other half stages writes
+    assert info.eeprom_size == 439
     assert info.max_charge_a == 5.0 and info.firmware.startswith("zuml-fw")
 
 
@@ -131,9 +133,10 @@ def test_retried_requests_are_answered_the_same_and_not_done_twice(host_device):
 
 
 def test_a_commit_cut_off_by_a_power_loss_is_finished_at_the_next_start(client, tmp_path):
-    image = eeprom.pack([compiled("LiPo")], 511)
-    old = eeprom.pack([], 511)
-    ee = old + image + b"\xff\xa5"      # image half, staging half, spare byte, journal at 1023: committing
+    image = eeprom.pack([compiled("LiPo")], 439)
+    old = eeprom.pack([], 439)
+    # image, staging copy, 16 blank start templates, their flag, the journal at 1023: committing
+    ee = old + image + b"\xff" * 144 + b"\xff\xa5"
     path = tmp_path / "ee.bin"
     path.write_bytes(ee)
     c = client("--eeprom", path)
@@ -160,3 +163,44 @@ def test_a_battery_with_critical_errors_does_not_start(client):
     with pytest.raises(DeviceError) as refused:
         c.start(0, "charge", capacity_mah=2000, current_a=2.0, series=4)
     assert refused.value.lines == ["the battery has 2 critical error(s) (CRIT): it is not fit for use"]
+
+
+def test_the_start_templates_are_the_factory_table_and_survive_a_restart(client, tmp_path):
+    path = tmp_path / "ee.bin"
+    c = client("--eeprom", path)
+    assert c.list_templates() == sorted(factory_templates())
+    assert {n: c.get_template(n) for n in c.list_templates()} == dict(factory_templates())
+    stored = c.set_template(9, StartTemplate("train", 2, 1500, 0.75, None, 4))
+    assert stored == StartTemplate("train", 2, 1500, 0.75, None, 4)
+    with pytest.raises(DeviceError) as missing:
+        c.get_template(10)
+    assert missing.value.code == m.ErrorCode.NO_TEMPLATE
+    c.close()
+    for _ in range(100):
+        if path.exists() and len(path.read_bytes()) == 1024 and path.read_bytes()[878 + 8 * 9] == 2:
+            break
+        time.sleep(0.05)
+    assert client("--eeprom", path).get_template(9).task == "train"
+
+
+def test_a_template_a_set_cannot_hold_is_refused(client):
+    c = client()
+    for fields in ([17, 0, 1, 0, 0, 0, 0, 0, 0, 0], [1, 3, 1, 0, 0, 0, 0, 0, 0, 0], [1, 0, 0, 0, 0, 0, 0, 0, 0, 0]):
+        with pytest.raises(DeviceError) as refused:      # number 17, task 3, 0 repetitions
+            c.request("SET_TEMPLATE", bytes(fields), response_len=12)
+        assert refused.value.code == m.ErrorCode.BAD_RANGE
+    assert c.list_templates() == sorted(factory_templates())
+
+
+def test_start_shablon_takes_its_values_from_the_charger_and_a_missing_one_refuses(client):
+    c = client()
+    uses = compiled("MACRO T\nSTART_SHABLON=2 AKK_TYPE=LiPo\nDISCHARGE_SECTION\nEND_SECTION\nCHARGE_SECTION\n"
+                    "FAZE CONSTANT_I=INPUT IF(V>4.2S) STOP_FAZE END_FAZE\nEND_SECTION\nEND_MACRO\n")
+    lacks = compiled("MACRO U\nSTART_SHABLON=9 AKK_TYPE=LiPo\nDISCHARGE_SECTION\nEND_SECTION\nCHARGE_SECTION\n"
+                     "FAZE CONSTANT_I=1A IF(V>4.2S) STOP_FAZE END_FAZE\nEND_SECTION\nEND_MACRO\n")
+    c.write_image(eeprom.pack([uses, lacks], c.info.eeprom_size))
+    assert c.start(0, "discharge") == "T"          # template 2: charge 3S 2200 mAh at 2.2 A
+    assert c.status().task == "charge"
+    with pytest.raises(DeviceError) as refused:
+        c.start(1, "charge", current_a=1.0)
+    assert refused.value.code == m.ErrorCode.START_ERROR and "START_SHABLON" in str(refused.value)
