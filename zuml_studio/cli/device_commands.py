@@ -18,7 +18,7 @@ from ..device.passport import WRITABLE, Passport, PassportError
 from ..lang.decoder import decode_record
 from ..lang.eeprom import ImageError, Slot, records, used_bytes
 from ..lang.record import DecodeError
-from .common import CliError, check_start_options, out, read_bytes, write_bytes
+from .common import CliError, add_force_unsafe, check_start_options, out, read_bytes, refuse_unsafe, write_bytes
 from .lang_commands import compile_file
 
 
@@ -32,6 +32,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = _with_port(sub.add_parser("flash", help="write a macro to the charger (replace by name, or append)"))
     p.add_argument("file", metavar="FILE", help="a .zuml macro or a compiled .bin record")
     p.add_argument("--slot", type=int, metavar="N", help="replace slot N (N = the slot count appends)")
+    add_force_unsafe(p)
     p.set_defaults(run=cmd_flash)
 
     p = _with_port(sub.add_parser("backup", help="save the charger's whole EEPROM image"))
@@ -40,6 +41,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
     p = _with_port(sub.add_parser("restore", help="write a saved EEPROM image back to the charger"))
     p.add_argument("file", metavar="image.bin")
+    add_force_unsafe(p)
     p.set_defaults(run=cmd_restore)
 
     p = _with_port(sub.add_parser("run", help="start the macro in a slot"))
@@ -51,6 +53,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--voltage", type=float, metavar="V", help="voltage entered at start (INPUT)")
     p.add_argument("--series", type=int, metavar="N", help="cells in series entered at start")
     p.add_argument("--no-sensor", action="store_true", help="no battery temperature sensor connected")
+    add_force_unsafe(p)
     p.set_defaults(run=cmd_run)
 
     p = _with_port(sub.add_parser("stop", help="stop the running macro"))
@@ -163,9 +166,9 @@ def _slots_or_error(image: bytes) -> list[Slot]:
         raise CliError(f"the charger's record list is broken ({exc}); `zuml restore` a backup", 1) from None
 
 
-def _record(path: str) -> bytes:
+def _record(path: str, force: bool) -> bytes:
     if not path.lower().endswith(".bin"):
-        return compile_file(path)
+        return compile_file(path, unsafe_ok=force)
     data = read_bytes(path)
     try:
         decode_record(data)
@@ -178,9 +181,12 @@ def _record(path: str) -> bytes:
 @_device_errors
 def cmd_flash(args: argparse.Namespace) -> int:
     from ..device.flashing import ImageFull, SlotOutOfRange, merge_record
-    record = _record(args.file)
+    from ..safety import record_problems
+    record = _record(args.file, args.force_unsafe)
     name = decode_record(record).macro.name
     with _connect(args) as client:
+        refuse_unsafe(record_problems(record, client.passport_if_any(), charger_max_a=client.info.max_charge_a),
+                      args.force_unsafe, args.file)
         current = client.read_image()
         _slots_or_error(current)
         try:
@@ -210,11 +216,14 @@ def cmd_backup(args: argparse.Namespace) -> int:
 
 @_device_errors
 def cmd_restore(args: argparse.Namespace) -> int:
+    from ..safety import image_problems
     image = read_bytes(args.file)
     check_image(image)
     with _connect(args) as client:
         if len(image) > client.info.eeprom_size:
             raise ImageTooLarge(len(image), client.info.eeprom_size)
+        refuse_unsafe(image_problems(image, client.passport_if_any(), charger_max_a=client.info.max_charge_a),
+                      args.force_unsafe, args.file)
         result = client.write_image(image, validate=False)
     out(f"restored {args.file}: {result.changed} byte(s) written, verified")
     return 0
@@ -224,13 +233,34 @@ def cmd_restore(args: argparse.Namespace) -> int:
 def cmd_run(args: argparse.Namespace) -> int:
     check_start_options(args, amps_max=65.5)    # START carries mA and mV as u16
     with _connect(args) as client:
+        if not args.force_unsafe:
+            _check_start(client, args)
         try:
             name = client.start(args.slot, args.task, args.cycles, args.capacity, args.current, args.voltage,
                                 args.series, not args.no_sensor)
         except DeviceError as exc:
-            raise CliError(f"the charger refused to start slot {args.slot}: {exc}", 1) from None
+            raise CliError(f"the charger refused to start slot {args.slot} ({exc.code_name}): {exc}", 1) from None
     out(f"started slot {args.slot} ({name}): {args.task}")
     return 0
+
+
+def _check_start(client: ChargerClient, args: argparse.Namespace) -> None:
+    """The safety check on the slot's record with the values entered (a slot that is missing or does
+    not decode is left to the charger's own refusal)."""
+    from ..lang.eeprom import slots
+    from ..safety import record_problems
+    from ..sim.interpreter import StartParams
+    try:
+        found = slots(client.read_image())
+    except ImageError:
+        return
+    if not 0 <= args.slot < len(found) or not found[args.slot].ok:
+        return
+    start = StartParams(args.task, args.cycles, args.capacity, args.current, args.voltage, args.series,
+                        not args.no_sensor)
+    problems = record_problems(found[args.slot].record, client.passport_if_any(), start,
+                               charger_max_a=client.info.max_charge_a)
+    refuse_unsafe(problems, False, f"slot {args.slot} ({found[args.slot].name})")
 
 
 @_device_errors

@@ -623,6 +623,16 @@ class ChargerClient:
         except pp.PassportError as exc:
             raise DeviceError(m.ErrorCode.PASSPORT_ERROR, f"the battery's passport is unreadable: {exc}") from None
 
+    def passport_if_any(self) -> pp.Passport | None:
+        """The passport, or None when the battery has no chip or an unreadable one (the charger's
+        own check at START then decides)."""
+        try:
+            return self.passport_read()
+        except DeviceError as exc:
+            if exc.code in (m.ErrorCode.NO_PASSPORT, m.ErrorCode.PASSPORT_ERROR):
+                return None
+            raise
+
     def passport_write(self, field: str, value) -> pp.Passport:
         """Set one writable field (serial, vendor, type, err, crit, v_limit, a_limit); writes only the
         pages that change, then reads the passport back. PassportError for a bad field or value."""

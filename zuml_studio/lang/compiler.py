@@ -45,8 +45,11 @@ def to_diagnostic(macro: Macro, finding: Finding) -> Diagnostic:
                       finding.code, finding.message, finding.hint)
 
 
-def compile_source(text: str) -> CompileResult:
-    """Never raises for any text: problems come back as diagnostics."""
+def compile_source(text: str, *, unsafe_ok: bool = False) -> CompileResult:
+    """Never raises for any text: problems come back as diagnostics.
+
+    ``unsafe_ok``: the safety lint's errors (E3xx) still show but no longer withhold the bytes
+    (the user's explicit override, ``--force-unsafe``)."""
     try:
         raw = parse_raw(text)
     except SyntaxProblem as problem:
@@ -55,9 +58,13 @@ def compile_source(text: str) -> CompileResult:
     from .lint import lint   # the lint reads the checked AST; imported here to keep layers one-way
     findings = check(macro)
     # Safety warnings only make sense for a macro that could be stored.
+    safety: list[Finding] = []
     if not any(d.is_error for d in diagnostics) and not any(f.severity is Severity.ERROR for f in findings):
-        findings += lint(macro)
+        safety = lint(macro)
     diagnostics += [to_diagnostic(macro, f) for f in findings]
+    blocking = any(d.is_error for d in diagnostics) or \
+        (not unsafe_ok and any(f.severity is Severity.ERROR for f in safety))
+    diagnostics += [to_diagnostic(macro, f) for f in safety]
     diagnostics.sort(key=sort_key)
-    encoded = None if any(d.is_error for d in diagnostics) else encode(macro)
+    encoded = None if blocking else encode(macro)
     return CompileResult(macro, diagnostics, encoded)
