@@ -5,6 +5,17 @@ import pytest
 from device_helpers import Editor
 
 
+@pytest.fixture(autouse=True)
+def no_unexpected_unsafe_dialog(monkeypatch):
+    """A modal dialog would block an offscreen test forever: a test that expects the safety
+    dialog replaces ``confirm_unsafe`` itself; anywhere else it fails the test at once."""
+    from zuml_studio.ui.device import device_panel
+
+    def unexpected(parent, action, problems):
+        raise AssertionError(f"unexpected safety dialog ({action}): {problems}")
+    monkeypatch.setattr(device_panel, "confirm_unsafe", unexpected)
+
+
 @pytest.fixture
 def editor():
     return Editor()

@@ -26,15 +26,17 @@ from PySide6.QtWidgets import (QAbstractItemView, QCheckBox, QComboBox, QDoubleS
 from ...device import messages as msg
 from ...device.errors import DeviceError, ImageTooLarge
 from ...device.flashing import merge_record
-from ...device.passport import akk_name, conflicts
+from ...device.passport import akk_name
 from ...device.ports import VIRTUAL
 from ...lang.eeprom import Slot, slots, used_bytes
+from ...safety import image_problems, record_problems
 from ..number_boxes import double_spin_box, form_field, spin_box
 from ..timefmt import hmmss
 from .connection import DeviceConnection, Opened, VirtualSpec, describe_error
 from .live_plot import DEFAULT_FOLLOW_MIN, LivePlot, LiveSeries
 from .port_chooser import PortChooser
 from .session_log import SessionLog, display_path, session_path
+from .unsafe_dialog import confirm_unsafe
 
 log = logging.getLogger(__name__)
 
@@ -46,6 +48,16 @@ PASSPORT_POLL_MS = 5000
 DEFAULT_BATTERY = ("NiMh", 2000, 4)
 MATCH = "match"
 VIRTUAL_EEPROM = "virtual-charger-eeprom.bin"
+
+
+class _Unsafe:
+    """What a job hands back instead of writing: the safety check's problems, for the dialog."""
+
+    def __init__(self, problems: list[str]):
+        self.problems = problems
+
+    def summary(self) -> str:
+        return "the safety check refused it:\n" + "\n".join(f"• {line}" for line in self.problems)
 
 
 def _chemistry_names() -> list[str]:
@@ -562,9 +574,10 @@ class DevicePanel(QWidget):
             self.show_message("Disconnecting…", "info")
             self._update_enabled()
 
-    def flash(self) -> None:
+    def flash(self, force: bool = False) -> None:
         """Compile & Flash: the editor's record into the charger (same name replaced, else appended,
-        or the slot chosen), written, verified; ``flashFinished(ok, message)``."""
+        or the slot chosen), written, verified; ``flashFinished(ok, message)``. The safety check
+        runs first; what it refuses is written only after the user confirms (or with ``force``)."""
         if not self.is_connected():
             self._flash_done(False, "Connect to a charger first, then Compile & Flash.")
             return
@@ -579,6 +592,10 @@ class DevicePanel(QWidget):
         self.progress.setRange(0, 0)
 
         def job(client, progress):
+            if not force:
+                problems = record_problems(record, client.passport_if_any(), charger_max_a=client.info.max_charge_a)
+                if problems:
+                    return _Unsafe(problems)
             current = client.read_image(progress)
             merged = merge_record(current, record, slot)
             result = client.write_image(merged.image, progress, current=current)
@@ -587,9 +604,11 @@ class DevicePanel(QWidget):
         self.connection.call(job, self._flashed, self._flash_failed)
         self._update_enabled()
 
-    def start(self, slot: int | None = None) -> None:
+    def start(self, slot: int | None = None, force: bool = False) -> None:
         """START the macro in ``slot`` (default: the Slot field, which follows the last flash) with
-        the task parameters; the battery's passport is checked here first. ``startFinished``."""
+        the task parameters; the safety check (chemistry limits, the battery's passport) runs here
+        first, and what it refuses starts only after the user confirms (or with ``force``; the
+        charger still has its own check). ``startFinished``."""
         if not self.is_connected():
             self._start_done(False, "Connect to a charger first.")
             return
@@ -604,17 +623,13 @@ class DevicePanel(QWidget):
         charger_max = self._info.max_charge_a if self._info else None
 
         def job(client, progress):
+            from ...lang.record import DecodeError
             from ...sim.interpreter import StartParams
-            try:
-                passport = client.passport_read()
-            except DeviceError as exc:
-                if exc.code not in (msg.ErrorCode.NO_PASSPORT, msg.ErrorCode.PASSPORT_ERROR):
-                    raise
-                passport = None      # no chip (or an unreadable one: the charger decides)
-            if passport is not None:
+            passport = client.passport_if_any()
+            if not force:
                 try:
-                    found = conflicts(passport, record, StartParams(**params), charger_max_a=charger_max)
-                except Exception:   # noqa: BLE001 - a record that does not decode: the charger decides
+                    found = record_problems(record, passport, StartParams(**params), charger_max_a=charger_max)
+                except DecodeError:     # a record that does not decode: the charger refuses it
                     found = []
                 if found:
                     return ("refused", found, passport)
@@ -663,8 +678,9 @@ class DevicePanel(QWidget):
         self.progress.setRange(0, 0)
         self.connection.call(job, done, lambda exc: self._op_failed("backup", exc))
 
-    def restore(self, path: str | Path) -> None:
-        """Write a saved image back (checked first, then written and verified)."""
+    def restore(self, path: str | Path, force: bool = False) -> None:
+        """Write a saved image back (checked first, then written and verified); records the safety
+        check refuses are written only after the user confirms (or with ``force``)."""
         if not self.is_connected():
             self._op_failed("restore", "Connect to a charger first.")
             return
@@ -676,10 +692,21 @@ class DevicePanel(QWidget):
             check_image(image)
             if len(image) > client.info.eeprom_size:
                 raise ImageTooLarge(len(image), client.info.eeprom_size)
+            if not force:
+                problems = image_problems(image, client.passport_if_any(), charger_max_a=client.info.max_charge_a)
+                if problems:
+                    return _Unsafe(problems)
             result = client.write_image(image, progress, validate=False)
             return image + b"\xff" * (client.info.eeprom_size - len(image)), result
 
         def done(answer):
+            if isinstance(answer, _Unsafe):
+                self._progress_done()
+                if confirm_unsafe(self, "Restore", answer.problems):
+                    self.restore(path, force=True)
+                else:
+                    self._op_failed("restore", "Not restored: " + answer.summary())
+                return
             image, result = answer
             self._show_image(image)
             text = f"Restored {path.name}: {result.changed} bytes changed, verified."
@@ -858,6 +885,13 @@ class DevicePanel(QWidget):
 
     # -- flash --------------------------------------------------------------------------------
     def _flashed(self, answer) -> None:
+        if isinstance(answer, _Unsafe):
+            self._progress_done()
+            if confirm_unsafe(self, "Flash", answer.problems):
+                self.flash(force=True)
+            else:
+                self._flash_done(False, "Not flashed: " + answer.summary())
+            return
         merged, result = answer
         self._progress_done()
         self._show_image(merged.image)
@@ -893,7 +927,10 @@ class DevicePanel(QWidget):
         self._show_passport(passport)
         name = self._slots[slot].name if slot < len(self._slots) else "?"
         if kind == "refused":
-            text = (f"Not started: the battery's passport forbids {name}:\n"
+            if confirm_unsafe(self, "Start", value):
+                self.start(slot, force=True)
+                return
+            text = (f"Not started: the safety check forbids {name}:\n"
                     + "\n".join(f"• {line}" for line in value))
             self._start_done(False, text)
             return
