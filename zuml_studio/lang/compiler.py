@@ -8,7 +8,7 @@ from .builder import build
 from .checker import Finding, check
 from .diagnostics import Diagnostic, Severity, sort_key
 from .parser import SyntaxProblem, parse_raw
-from .record import Encoded, encode
+from .record import MAX_RECORD, Encoded, encode
 
 
 @dataclass
@@ -54,6 +54,14 @@ def compile_source(text: str, *, unsafe_ok: bool = False) -> CompileResult:
         raw = parse_raw(text)
     except SyntaxProblem as problem:
         return CompileResult(None, [problem.diagnostic])
+    if len(raw.statements) >= MAX_RECORD:
+        # The parser stops here (every statement takes a byte or more): refused before the build
+        # and checks, which would take long on a file of thousands of lines.
+        at = raw.statements[MAX_RECORD - 1].span
+        return CompileResult(None, [Diagnostic(Severity.ERROR, at.line, at.column, (at.end_line, at.end_column),
+                                               "E160", f"The macro has {MAX_RECORD} statements or more; each takes "
+                                               f"a byte or more and a record holds at most {MAX_RECORD}",
+                                               "this is where it stops fitting: shorten the macro or split it")])
     macro, diagnostics = build(raw)
     from .lint import lint   # the lint reads the checked AST; imported here to keep layers one-way
     findings = check(macro)

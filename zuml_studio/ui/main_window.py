@@ -6,7 +6,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from PySide6.QtCore import QSettings, Qt, QTimer
+from PySide6.QtCore import QSettings, Qt
 from PySide6.QtGui import QAction, QKeySequence
 from PySide6.QtWidgets import (QDialog, QDockWidget, QFileDialog, QLabel, QMainWindow, QMessageBox, QTextBrowser,
                                QVBoxLayout)
@@ -26,7 +26,6 @@ from .validation import Validator
 from .visual import NewMacroWizard, VisualEditor
 
 APP_NAME = "ZUML Studio"
-AUTOSAVE_MS = 5000
 MAX_RECENT = 10
 LAYOUT_VERSION = 3      # raise when docks are added or removed: an older saved layout is then ignored
 EMPTY_MACRO = """MACRO NewMacro
@@ -60,8 +59,6 @@ class MainWindow(QMainWindow):
         self._build_actions()
         self._build_menus()
         self._connect()
-        self._autosave = QTimer(self, interval=AUTOSAVE_MS, timeout=self.autosave)
-        self._autosave.start()
         self.resize(1500, 950)
         self._restore_layout()
         self.new_file(EMPTY_MACRO, ask=False)
@@ -222,6 +219,7 @@ class MainWindow(QMainWindow):
         return self.validator.run_now(self.text())
 
     def _validated(self, result: CompileResult) -> None:
+        self.autosave()          # every debounced change reaches the recovery file (it is small)
         self.editor.set_diagnostics(result.diagnostics)
         self.problems.set_diagnostics(result.diagnostics)
         self.hex_view.show_result(result, self.validator.last_valid)
@@ -453,8 +451,14 @@ class MainWindow(QMainWindow):
         return answer == "discard"
 
     def autosave(self) -> None:
-        if self.is_dirty():
+        """Write the unsaved text to the recovery file (atomically); a failure is said, not raised."""
+        if not self.is_dirty():
+            return
+        try:
             self.recovery.save(self._recovery_key, self.text(), self.path)
+        except OSError as exc:
+            self.statusBar().showMessage(f"Crash recovery cannot write {self.recovery.root}: "
+                                         f"{exc.strerror or exc}", 10000)
 
     def ask_recover(self, found: Recovered) -> bool:
         """Whether to restore text a crash left behind (tests replace this)."""
