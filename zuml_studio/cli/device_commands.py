@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 import argparse
-import csv
 import functools
 import os
 import queue
@@ -14,7 +13,7 @@ import time
 from ..device import messages as msg
 from ..device.client import DEFAULT_BAUD, ChargerClient, check_image
 from ..device.errors import DeviceError, DeviceLinkError, ImageTooLarge
-from ..device.passport import WRITABLE, Passport, PassportError
+from ..device.passport import WRITABLE, Passport, PassportError, printable
 from ..lang.decoder import decode_record
 from ..lang.eeprom import ImageError, Slot, records, used_bytes
 from ..lang.record import DecodeError
@@ -305,15 +304,8 @@ CSV_COLUMNS = ("time_s", "running", "paused", "section", "repetition", "cycle", 
 def cmd_monitor(args: argparse.Namespace) -> int:
     if args.rate is not None and not 1 <= args.rate <= 50:
         raise CliError("--rate must be 1 to 50 Hz")
-    fh = None
-    if args.csv:
-        try:
-            fh = open(args.csv, "w", encoding="utf-8", newline="")
-        except OSError as exc:
-            raise CliError(f"{args.csv}: cannot write: {exc.strerror or exc}") from None
-    writer = csv.writer(fh, lineterminator="\n") if fh else None
-    if writer:
-        writer.writerow(CSV_COLUMNS)
+    from .csv_sink import CsvSink
+    sink = CsvSink(args.csv, CSV_COLUMNS) if args.csv else None
     client = None
     try:
         client = _connect(args)
@@ -324,14 +316,12 @@ def cmd_monitor(args: argparse.Namespace) -> int:
             out("nothing is running")
             return 0
         end = time.monotonic() + args.seconds if args.seconds is not None else None
-        flushed = time.monotonic()
         while True:
             now = time.monotonic()
             if end is not None and now >= end:
                 break
-            if writer and now - flushed >= 0.5:
-                fh.flush()
-                flushed = now
+            if sink:
+                sink.flush_if_due()
             try:
                 kind, item = feed.get(timeout=0.2 if end is None else max(0.01, min(0.2, end - now)))
             except queue.Empty:
@@ -340,17 +330,17 @@ def cmd_monitor(args: argparse.Namespace) -> int:
                 raise item
             if kind == "telemetry":
                 out(telemetry_line(item))
-                if writer:
-                    writer.writerow((f"{item.time_s:.1f}", int(item.running), int(item.paused), item.section,
-                                     item.repetition, item.cycle, item.phase, item.run, f"{item.voltage_v:.3f}",
-                                     f"{item.current_a:.3f}", "" if item.temp_c is None else f"{item.temp_c:.2f}",
-                                     "" if item.heatsink_c is None else f"{item.heatsink_c:.2f}",
-                                     f"{item.mah_in:.1f}", f"{item.mah_out:.1f}", ""))
+                if sink:
+                    sink.row((f"{item.time_s:.1f}", int(item.running), int(item.paused), item.section,
+                              item.repetition, item.cycle, item.phase, item.run, f"{item.voltage_v:.3f}",
+                              f"{item.current_a:.3f}", "" if item.temp_c is None else f"{item.temp_c:.2f}",
+                              "" if item.heatsink_c is None else f"{item.heatsink_c:.2f}",
+                              f"{item.mah_in:.1f}", f"{item.mah_out:.1f}", ""))
             else:
                 out(event_line(item))
-                if writer:
-                    writer.writerow((f"{item.time_s:.1f}", "", "", item.section, item.repetition, "", item.index,
-                                     "", "", "", "", "", "", "", f"{item.kind}: {item.detail}".rstrip(": ")))
+                if sink:
+                    sink.row((f"{item.time_s:.1f}", "", "", item.section, item.repetition, "", item.index,
+                              "", "", "", "", "", "", "", f"{item.kind}: {item.detail}".rstrip(": ")))
                 if args.until_end and item.kind == "finish":
                     break
             sys.stdout.flush()
@@ -361,9 +351,9 @@ def cmd_monitor(args: argparse.Namespace) -> int:
     finally:
         if client is not None:
             client.close()
-        if fh:
-            fh.close()
-    return 0
+        if sink:
+            sink.close()
+    return 1 if sink and sink.failed else 0      # the failure was said on its line when it happened
 
 
 @_device_errors
@@ -379,14 +369,17 @@ def cmd_passport(args: argparse.Namespace) -> int:
         for field, value in writes:
             client.passport_write(field, value)
         p = client.passport_read()
-    out(f"serial   {p.serial}")
-    out(f"vendor   {p.vendor}")
+    out(f"serial   {printable(p.serial)}")
+    out(f"vendor   {printable(p.vendor)}")
     out(f"type     {p.type_name} ({p.type})")
     out(f"err      {p.err}")
     out(f"crit     {p.crit}")
     out(f"v_limit  {p.v_limit} V" + ("  (not set)" if not p.v_limit else ""))
     out(f"a_limit  {p.a_limit} A" + ("  (not set)" if not p.a_limit else ""))
     out(f"temp     {p.temp} C")
+    if p.unprintable_fields:
+        out(f"warning: the passport's {' and '.join(p.unprintable_fields)} hold non-printable bytes (shown "
+            "as \\xNN): a damaged or forged passport")
     return 0
 
 

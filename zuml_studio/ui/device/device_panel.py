@@ -26,7 +26,7 @@ from PySide6.QtWidgets import (QAbstractItemView, QCheckBox, QComboBox, QDoubleS
 from ...device import messages as msg
 from ...device.errors import DeviceError, ImageTooLarge
 from ...device.flashing import merge_record
-from ...device.passport import akk_name
+from ...device.passport import akk_name, printable
 from ...device.ports import VIRTUAL
 from ...lang.eeprom import Slot, slots, used_bytes
 from ...safety import image_problems, record_problems
@@ -147,6 +147,7 @@ class DevicePanel(QWidget):
         self.session_dir = Path(session_dir)
         self.series = LiveSeries()
         self._log: SessionLog | None = None
+        self._log_error_said = False
         self.session_file: Path | None = None
         self._image: bytes | None = None
         self._slots: list[Slot] = []
@@ -341,6 +342,7 @@ class DevicePanel(QWidget):
         for k, lab in self.pp_labels.items():
             lab.setObjectName(f"passport_{k}")
             lab.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+            lab.setTextFormat(Qt.TextFormat.PlainText)      # a battery's bytes are never markup
 
         col_b = QWidget()
         col_b.setObjectName("runColumn")
@@ -1021,9 +1023,13 @@ class DevicePanel(QWidget):
             for key in ("type", "limits"):
                 self.pp_labels[key].setText("—")
             return
-        vendor = f" · {passport.vendor}" if passport.vendor else ""
-        self.pp_labels["serial"].setText(f"{passport.serial or '—'}{vendor}")
-        self.pp_labels["serial"].setToolTip("serial · vendor")
+        vendor = f" · {printable(passport.vendor)}" if passport.vendor else ""
+        odd = passport.unprintable_fields
+        self.pp_labels["serial"].setText(f"{printable(passport.serial) or '—'}{vendor}" + (" ⚠" if odd else ""))
+        self.pp_labels["serial"].setToolTip(
+            f"serial · vendor. ⚠ The {' and '.join(odd)} hold non-printable bytes (shown as \\xNN): "
+            "a damaged or forged passport" if odd else "serial · vendor")
+        self.pp_labels["serial"].setStyleSheet(f"color:{COLORS['warn']};" if odd else "")
         self.pp_labels["type"].setText(f"{passport.type_name} · TEMP {passport.temp} °C")
         v = f"{passport.v_limit} V" if passport.v_limit else "V not set"
         a = f"{passport.a_limit} A" if passport.a_limit else "A not set"
@@ -1059,9 +1065,10 @@ class DevicePanel(QWidget):
         self._note_finish()
         logger = self._log
         if logger is not None:
-            rows = f" · {logger.rows} rows" if logger.rows else ""
-            err = f" · {logger.error}" if logger.error else ""
-            self.session_label.set_full_text(f"Session: {display_path(logger.path)}{rows}{err}")
+            if logger.error and not self._log_error_said:
+                self._log_error_said = True
+                self.show_message(f"Session CSV: {logger.error}. The plot goes on; the CSV ends here.", "warn")
+            self.session_label.set_full_text(self._session_text(logger))
 
     def _note_finish(self) -> None:
         """Say so when a run finishes (the finish event)."""
@@ -1144,6 +1151,7 @@ class DevicePanel(QWidget):
             self.session_label.set_full_text(f"no session CSV: cannot write in {self.session_dir}: {exc.strerror or exc}")
             return
         self.session_file = self._log.path
+        self._log_error_said = False
         self.session_label.set_full_text(f"Session: {display_path(self._log.path)}")
 
     def _close_session_log(self, discard_empty: bool = False) -> None:
@@ -1159,7 +1167,13 @@ class DevicePanel(QWidget):
             self.session_label.set_full_text("")
             self.session_file = None
         else:
-            self.session_label.set_full_text(f"Session: {display_path(logger.path)} · {logger.rows} rows")
+            self.session_label.set_full_text(self._session_text(logger))
+
+    @staticmethod
+    def _session_text(logger: SessionLog) -> str:
+        rows = f" · {logger.rows} rows" if logger.rows else ""
+        err = f" · ⚠ {logger.error}" if logger.error else ""
+        return f"Session: {display_path(logger.path)}{rows}{err}"
 
     # ================================================================ dialogs
     def _backup_clicked(self) -> None:
