@@ -91,6 +91,8 @@ class _Pending:
 def open_serial(url: str, baudrate: int = DEFAULT_BAUD, exclusive: bool = True):
     """``serial.serial_for_url`` with its failures turned into DeviceLinkErrors."""
     import serial
+    from .port_url import check_port_url
+    check_port_url(url)
     kwargs = dict(baudrate=baudrate, timeout=READ_POLL_S, write_timeout=5)
     try:
         try:
