@@ -49,3 +49,28 @@ def unsafe_record(text: str = HOT_LIION) -> bytes:
     result = compile_source(text, unsafe_ok=True)
     assert result.ok, result.diagnostics
     return result.record
+
+
+def lose_link_after_commit(monkeypatch, commit_arrives=True, confirmed=True):
+    """Once: the link fails right after COMMIT (its answer lost or not), as a pulled cable would."""
+    from zuml_studio.device.client import ChargerClient
+    from zuml_studio.device.errors import Disconnected
+    real = ChargerClient.request
+    state = {"done": False, "committed": False}
+
+    def request(self, name, payload, **kw):
+        if state["done"]:
+            return real(self, name, payload, **kw)
+        if name == "COMMIT":
+            if commit_arrives:
+                real(self, name, payload, **kw)
+            state["committed"] = True
+            if not confirmed:
+                state["done"] = True
+                raise Disconnected("the connection was lost")
+            return real(self, name, payload, **kw)      # a repeated COMMIT: answered, not done twice
+        if name == "READ_EEPROM" and state["committed"]:
+            state["done"] = True
+            raise Disconnected("the connection was lost")
+        return real(self, name, payload, **kw)
+    monkeypatch.setattr(ChargerClient, "request", request)

@@ -12,7 +12,7 @@ import time
 
 from ..device import messages as msg
 from ..device.client import DEFAULT_BAUD, ChargerClient, check_image
-from ..device.errors import DeviceError, DeviceLinkError, ImageTooLarge
+from ..device.errors import CommitUncertain, CommitUnverified, DeviceError, DeviceLinkError, ImageTooLarge
 from ..device.passport import WRITABLE, Passport, PassportError, printable
 from ..lang.decoder import decode_record
 from ..lang.eeprom import ImageError, Slot, records, used_bytes
@@ -195,9 +195,45 @@ def cmd_flash(args: argparse.Namespace) -> int:
                            f" ({exc.count} appends)", 1) from None
         except ImageFull as exc:
             raise CliError(f"{name} does not fit: {exc}", 1) from None
-        result = client.write_image(merged.image, current=current)
-    out(f"{name}: {merged.action}; {result.changed} byte(s) written, verified")
+        try:
+            result = client.write_image(merged.image, current=current)
+        except (CommitUncertain, CommitUnverified) as exc:
+            lost = exc
+        else:
+            out(f"{name}: {merged.action}; {result.changed} byte(s) written, verified")
+            return 0
+    _settle(args, lost, f"{name}: {merged.action}")
     return 0
+
+
+SETTLE_TRIES = 5
+SETTLE_PAUSE_S = 0.5
+
+
+def _settle(args: argparse.Namespace, lost: CommitUncertain | CommitUnverified, done: str) -> None:
+    """The link failed once COMMIT was out: say what is known, reconnect, read the EEPROM back and
+    say what is there (returns only when it holds the new image)."""
+    sys.stderr.write(f"zuml: warning: {lost}\n")
+    sys.stderr.flush()
+    for _ in range(SETTLE_TRIES):
+        time.sleep(SETTLE_PAUSE_S)
+        try:
+            with _connect(args) as client:
+                now = client.read_image()
+        except DeviceLinkError:
+            continue
+        verdict = lost.settle(now)
+        if verdict == "new":
+            out(f"{done}; verified after reconnecting")
+            return
+        if verdict == "previous":
+            raise CliError("reconnected and read back: the charger kept its previous image; nothing was "
+                           "written, flash again", 1)
+        raise CliError("reconnected and read back: the EEPROM is neither the new image nor the previous one "
+                       "(changed since by another program?); check it with `zuml slots`", 1)
+    known = ("the charger confirmed the new image, unverified" if lost.holds == "new"
+             else "the charger holds either the new image or its previous one, never a mix")
+    raise CliError(f"could not reconnect to read it back: {known}; run `zuml slots` when it is back", 1)
 
 
 @_device_errors
@@ -223,8 +259,14 @@ def cmd_restore(args: argparse.Namespace) -> int:
             raise ImageTooLarge(len(image), client.info.eeprom_size)
         refuse_unsafe(image_problems(image, client.passport_if_any(), charger_max_a=client.info.max_charge_a),
                       args.force_unsafe, args.file)
-        result = client.write_image(image, validate=False)
-    out(f"restored {args.file}: {result.changed} byte(s) written, verified")
+        try:
+            result = client.write_image(image, validate=False)
+        except (CommitUncertain, CommitUnverified) as exc:
+            lost = exc
+        else:
+            out(f"restored {args.file}: {result.changed} byte(s) written, verified")
+            return 0
+    _settle(args, lost, f"restored {args.file}")
     return 0
 
 

@@ -6,6 +6,7 @@ import os
 import pytest
 
 from device_helpers import WAIT_MS, connect
+from helpers import lose_link_after_commit
 
 pytestmark = pytest.mark.skipif(os.name != "posix", reason="the virtual chargers use ptys here")
 
@@ -47,3 +48,18 @@ def test_a_session_csv_write_failure_is_said_once_and_the_plot_goes_on(qtbot, ma
     panel.disconnect()
     qtbot.waitUntil(lambda: not panel.is_connected(), timeout=WAIT_MS)
     assert "⚠ cannot write" in panel.session_label.full_text()
+
+
+def test_a_flash_whose_verify_was_lost_is_settled_by_the_next_read(qtbot, make_panel, monkeypatch):
+    panel = make_panel()
+    connect(qtbot, panel)
+    lose_link_after_commit(monkeypatch)
+    with qtbot.waitSignal(panel.flashFinished, timeout=WAIT_MS) as flashed:
+        panel.flash()
+    ok, text = flashed.args
+    assert not ok and text.startswith("The charger confirmed the new image, then the connection was lost")
+    assert "nothing was written" not in text
+    # still connected here, so the panel reads the slots at once: that settles it
+    qtbot.waitUntil(lambda: panel.message_text().startswith("Read back after the lost link: the flash is on "
+                                                            "the charger, verified."), timeout=WAIT_MS)
+    assert panel.slot_names() == ["NiMh-dV"]

@@ -24,7 +24,7 @@ from PySide6.QtWidgets import (QAbstractItemView, QCheckBox, QComboBox, QDoubleS
                                QToolButton, QVBoxLayout, QWidget)
 
 from ...device import messages as msg
-from ...device.errors import DeviceError, ImageTooLarge
+from ...device.errors import CommitUncertain, CommitUnverified, DeviceError, ImageTooLarge
 from ...device.flashing import merge_record
 from ...device.passport import akk_name, printable
 from ...device.ports import VIRTUAL
@@ -148,6 +148,7 @@ class DevicePanel(QWidget):
         self.series = LiveSeries()
         self._log: SessionLog | None = None
         self._log_error_said = False
+        self._unsettled: tuple[str, CommitUncertain | CommitUnverified] | None = None   # (what, error)
         self.session_file: Path | None = None
         self._image: bytes | None = None
         self._slots: list[Slot] = []
@@ -725,6 +726,7 @@ class DevicePanel(QWidget):
 
         def done(image):
             self._show_image(image)
+            self._settle(image)
             self.operationFinished.emit("slots", True, "")
 
         self.connection.call(lambda client, progress: client.read_image(), done,
@@ -912,6 +914,7 @@ class DevicePanel(QWidget):
 
     def _flash_failed(self, exc) -> None:
         self._progress_done()
+        self._note_unsettled("flash", exc)
         self._flash_done(False, describe_error(exc, "flash"))
         if self.is_connected():
             self.refresh_slots()
@@ -950,8 +953,28 @@ class DevicePanel(QWidget):
         self._update_enabled()
         self.startFinished.emit(ok, text)
 
+    def _note_unsettled(self, what: str, exc) -> None:
+        if isinstance(exc, (CommitUncertain, CommitUnverified)):
+            self._unsettled = (what, exc)
+
+    def _settle(self, image: bytes) -> None:
+        """The first image read after a write whose end was lost tells what the charger holds."""
+        if self._unsettled is None:
+            return
+        (what, exc), self._unsettled = self._unsettled, None
+        verdict = exc.settle(image)
+        if verdict == "new":
+            self.show_message(f"Read back after the lost link: the {what} is on the charger, verified.", "ok")
+        elif verdict == "previous":
+            self.show_message(f"Read back after the lost link: the charger kept its previous image; the {what} "
+                              "was not written. Do it again.", "warn")
+        else:
+            self.show_message(f"Read back after the lost link: the charger holds neither the new image nor the "
+                              f"previous one (changed since by another program?). Check its macros.", "warn")
+
     def _op_failed(self, op: str, exc) -> None:
         self._progress_done()
+        self._note_unsettled(op, exc)
         text = exc if isinstance(exc, str) else describe_error(exc, op)
         self.show_message(text, "error")
         self._update_enabled()
