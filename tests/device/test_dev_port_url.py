@@ -17,6 +17,8 @@ BAD = {
     "rfc2217://host:y": "the TCP port 'y'",
     "rfc2217://host:7000?timeout=soon": "timeout=soon",
     "foo://bar": "'foo://' is not a kind of port",
+    "socket://[::1x]:7777": "the host in [ ] is not an IPv6 address",
+    "socket://ho\x1bst:7777": "has characters no host name has",
     "  ": "the port is empty",
 }
 

@@ -32,7 +32,10 @@ def check_port_url(url: str) -> None:
         return
     if scheme not in NETWORK:
         _bad(url, f"'{scheme}://' is not a kind of port ZUML Studio knows")
-    parts = urlsplit(url)
+    try:
+        parts = urlsplit(url)
+    except ValueError:                  # brackets that hold no IPv6 address
+        _bad(url, "the host in [ ] is not an IPv6 address")
     try:
         port = parts.port
     except ValueError:
@@ -40,6 +43,8 @@ def check_port_url(url: str) -> None:
         _bad(url, f"the TCP port '{after}' is not a number from 1 to 65535")
     if not parts.hostname:
         _bad(url, "the host is missing")
+    if any(not "!" <= c <= "~" for c in parts.hostname):
+        _bad(url, f"the host {parts.hostname!r} has characters no host name has")
     if port is None:
         _bad(url, "the TCP port is missing")
     if not 1 <= port <= 65535:
