@@ -171,9 +171,10 @@ def parse_raw(text: str) -> RawMacro:
         raise SyntaxProblem(_error(1, 1, 1, 1, "E161", f"The text is {len(text):,} characters long: no macro is "
                                    f"(a record holds 255 bytes), so it is not checked past {MAX_TEXT_CHARS:,}",
                                    "is this the right file?"))
-    lines = text.split("\n")
     statements: list[Located] = []
     header = None
+    header_line = 0
+    lines = text.split("\n")
     for number, line in enumerate(lines, start=1):
         bare = line.lstrip()
         if not bare or bare.startswith("//"):      # nothing to parse: skipped fast (long files)
@@ -185,21 +186,20 @@ def parse_raw(text: str) -> RawMacro:
         except SyntaxProblem as problem:
             raise SyntaxProblem(_moved_diagnostic(problem.diagnostic, number)) from None
         if header is None:
-            header = items[0]
+            header, header_line = items[0], number
             items = items[1:]
         statements.extend(Located(number, item) for item in items)
         if len(statements) >= MAX_RECORD:     # each takes a byte or more: it cannot fit, parse no further
             break
+    last_line = len(lines)
     if header is None:
-        end = len(lines)
-        raise SyntaxProblem(_error(end, 1, end, 1, "E101", "A macro starts with its header: MACRO name",
+        raise SyntaxProblem(_error(last_line, 1, last_line, 1, "E101", "A macro starts with its header: MACRO name",
                                    "for example: MACRO LiPo"))
     _, macro_tok, name_tok = header
-    number = next(i for i, line in enumerate(lines, start=1) if _COMMENT.sub("", line).strip())
     stripped = str(name_tok).rstrip()
-    name_span = Span(number, name_tok.column, number, name_tok.column + len(stripped))
-    header_span = Span(number, macro_tok.column, number, name_span.end_column)
-    return RawMacro(stripped.strip(), name_span, header_span, statements, (len(lines), len(lines[-1]) + 1))
+    name_span = Span(header_line, name_tok.column, header_line, name_tok.column + len(stripped))
+    header_span = Span(header_line, macro_tok.column, header_line, name_span.end_column)
+    return RawMacro(stripped.strip(), name_span, header_span, statements, (last_line, len(lines[-1]) + 1))
 
 
 def _moved_diagnostic(d: Diagnostic, line: int) -> Diagnostic:
