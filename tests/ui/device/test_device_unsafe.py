@@ -3,7 +3,6 @@ refuses goes ahead only after a dialog that names the danger (issue 12, point 1)
 import os
 
 import pytest
-from PySide6.QtCore import QTimer
 from PySide6.QtWidgets import QMessageBox
 
 from device_helpers import WAIT_MS, connect
