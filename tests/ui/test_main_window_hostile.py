@@ -59,3 +59,28 @@ def test_a_recovery_folder_that_cannot_be_written_is_said_once_not_raised(make_w
     qtbot.keyClicks(w.editor, " ")
     qtbot.waitUntil(lambda: "Crash recovery cannot write" in w.statusBar().currentMessage(), timeout=5000)
     w.editor.document().setModified(False)
+
+
+def test_compile_and_flash_of_a_macro_past_its_chemistry_asks_naming_the_danger(make_window, qtbot,
+                                                                                  monkeypatch, tmp_path):
+    from helpers import HOT_LIION
+    from zuml_studio.ui.device import device_panel
+    path = tmp_path / "hot.zuml"
+    path.write_text(HOT_LIION)
+    w = make_window(str(path))
+    assert "E303" in _codes(w)
+    asked = []
+    monkeypatch.setattr(device_panel, "confirm_unsafe", lambda parent, action, problems:
+                        asked.append(problems) or len(asked) > 1)      # cancel, then go ahead
+    panel = w.device_panel
+    with qtbot.waitSignal(panel.connectedChanged, timeout=30_000):
+        panel.connect_to("virtual")
+    qtbot.waitUntil(lambda: not panel.connection.busy, timeout=30_000)
+    with qtbot.waitSignal(panel.flashFinished, timeout=30_000) as flashed:
+        panel.flash()
+    assert flashed.args[0] is False and "E303" in flashed.args[1]
+    assert any("4.96 V per cell" in p for p in asked[0])
+    with qtbot.waitSignal(panel.flashFinished, timeout=30_000) as flashed:
+        panel.flash()
+    assert flashed.args[0] is True, flashed.args[1]
+    assert panel.slot_names() == ["Hot"]

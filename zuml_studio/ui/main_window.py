@@ -12,7 +12,7 @@ from PySide6.QtWidgets import (QDialog, QDockWidget, QFileDialog, QLabel, QMainW
                                QVBoxLayout)
 
 from ..lang import opcodes as ops
-from ..lang.compiler import CompileResult
+from ..lang.compiler import CompileResult, compile_source
 from ..lang.docgen import commands_markdown
 from ..macro_file import EXTENSION, MacroFile, MacroFileError, read_macro_file, write_macro_file
 from ..recovery import Recovered, RecoveryStore, atomic_write, config_dir
@@ -253,9 +253,17 @@ class MainWindow(QMainWindow):
         return hints
 
     def _current_record(self) -> tuple[bytes, str] | None:
-        """What Compile & Flash writes: the editor's macro, checked now (never stale bytes)."""
+        """What Compile & Flash writes: the editor's macro, checked now (never stale bytes). A macro
+        whose only errors are the safety lint's still gives its bytes: the Device panel's safety
+        check then names the danger and asks before writing them."""
         result = self.validate_now()
-        return (result.record, result.macro.name) if result.ok else None
+        if result.ok:
+            return result.record, result.macro.name
+        if result.macro is not None and result.errors and all(d.code.startswith("E3") for d in result.errors):
+            forced = compile_source(self.text(), unsafe_ok=True)
+            if forced.ok:
+                return forced.record, forced.macro.name
+        return None
 
     def _cursor_moved(self) -> None:
         cursor = self.editor.textCursor()
