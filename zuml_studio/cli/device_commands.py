@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 import argparse
-import csv
 import functools
 import os
 import queue
@@ -13,12 +12,12 @@ import time
 
 from ..device import messages as msg
 from ..device.client import DEFAULT_BAUD, ChargerClient, check_image
-from ..device.errors import DeviceError, DeviceLinkError, ImageTooLarge
-from ..device.passport import FACTORY_WRITABLE, WRITABLE, Passport, PassportError, fitness_warnings
+from ..device.errors import CommitUncertain, CommitUnverified, DeviceError, DeviceLinkError, ImageTooLarge
+from ..device.passport import FACTORY_WRITABLE, WRITABLE, Passport, PassportError, fitness_warnings, printable
 from ..lang.decoder import decode_record
 from ..lang.eeprom import ImageError, Slot, records, used_bytes
 from ..lang.record import DecodeError
-from .common import CliError, check_start_options, out, read_bytes, write_bytes
+from .common import CliError, add_force_unsafe, check_start_options, out, read_bytes, refuse_unsafe, write_bytes
 from .lang_commands import compile_file
 
 
@@ -32,6 +31,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = _with_port(sub.add_parser("flash", help="write a macro to the charger (replace by name, or append)"))
     p.add_argument("file", metavar="FILE", help="a .zuml macro or a compiled .bin record")
     p.add_argument("--slot", type=int, metavar="N", help="replace slot N (N = the slot count appends)")
+    add_force_unsafe(p)
     p.set_defaults(run=cmd_flash)
 
     p = _with_port(sub.add_parser("backup", help="save the charger's whole EEPROM image"))
@@ -40,6 +40,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
     p = _with_port(sub.add_parser("restore", help="write a saved EEPROM image back to the charger"))
     p.add_argument("file", metavar="image.bin")
+    add_force_unsafe(p)
     p.set_defaults(run=cmd_restore)
 
     p = _with_port(sub.add_parser("run", help="start the macro in a slot"))
@@ -51,6 +52,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--voltage", type=float, metavar="V", help="voltage entered at start (INPUT)")
     p.add_argument("--series", type=int, metavar="N", help="cells in series entered at start")
     p.add_argument("--no-sensor", action="store_true", help="no battery temperature sensor connected")
+    add_force_unsafe(p)
     p.set_defaults(run=cmd_run)
 
     p = _with_port(sub.add_parser("stop", help="stop the running macro"))
@@ -167,9 +169,9 @@ def _slots_or_error(image: bytes) -> list[Slot]:
         raise CliError(f"the charger's record list is broken ({exc}); `zuml restore` a backup", 1) from None
 
 
-def _record(path: str) -> bytes:
+def _record(path: str, force: bool) -> bytes:
     if not path.lower().endswith(".bin"):
-        return compile_file(path)
+        return compile_file(path, unsafe_ok=force)
     data = read_bytes(path)
     try:
         decode_record(data)
@@ -182,9 +184,12 @@ def _record(path: str) -> bytes:
 @_device_errors
 def cmd_flash(args: argparse.Namespace) -> int:
     from ..device.flashing import ImageFull, SlotOutOfRange, merge_record
-    record = _record(args.file)
+    from ..safety import record_problems
+    record = _record(args.file, args.force_unsafe)
     name = decode_record(record).macro.name
     with _connect(args) as client:
+        refuse_unsafe(record_problems(record, client.passport_if_any(), charger_max_a=client.info.max_charge_a),
+                      args.force_unsafe, args.file)
         current = client.read_image()
         _slots_or_error(current)
         try:
@@ -194,9 +199,45 @@ def cmd_flash(args: argparse.Namespace) -> int:
                            f" ({exc.count} appends)", 1) from None
         except ImageFull as exc:
             raise CliError(f"{name} does not fit: {exc}", 1) from None
-        result = client.write_image(merged.image, current=current)
-    out(f"{name}: {merged.action}; {result.changed} byte(s) written, verified")
+        try:
+            result = client.write_image(merged.image, current=current)
+        except (CommitUncertain, CommitUnverified) as exc:
+            lost = exc
+        else:
+            out(f"{name}: {merged.action}; {result.changed} byte(s) written, verified")
+            return 0
+    _settle(args, lost, f"{name}: {merged.action}")
     return 0
+
+
+SETTLE_TRIES = 5
+SETTLE_PAUSE_S = 0.5
+
+
+def _settle(args: argparse.Namespace, lost: CommitUncertain | CommitUnverified, done: str) -> None:
+    """The link failed once COMMIT was out: say what is known, reconnect, read the EEPROM back and
+    say what is there (returns only when it holds the new image)."""
+    sys.stderr.write(f"zuml: warning: {lost}\n")
+    sys.stderr.flush()
+    for _ in range(SETTLE_TRIES):
+        time.sleep(SETTLE_PAUSE_S)
+        try:
+            with _connect(args) as client:
+                now = client.read_image()
+        except DeviceLinkError:
+            continue
+        verdict = lost.settle(now)
+        if verdict == "new":
+            out(f"{done}; verified after reconnecting")
+            return
+        if verdict == "previous":
+            raise CliError("reconnected and read back: the charger kept its previous image; nothing was "
+                           "written, flash again", 1)
+        raise CliError("reconnected and read back: the EEPROM is neither the new image nor the previous one "
+                       "(changed since by another program?); check it with `zuml slots`", 1)
+    known = ("the charger confirmed the new image, unverified" if lost.holds == "new"
+             else "the charger holds either the new image or its previous one, never a mix")
+    raise CliError(f"could not reconnect to read it back: {known}; run `zuml slots` when it is back", 1)
 
 
 @_device_errors
@@ -214,13 +255,22 @@ def cmd_backup(args: argparse.Namespace) -> int:
 
 @_device_errors
 def cmd_restore(args: argparse.Namespace) -> int:
+    from ..safety import image_problems
     image = read_bytes(args.file)
     check_image(image)
     with _connect(args) as client:
         if len(image) > client.info.eeprom_size:
             raise ImageTooLarge(len(image), client.info.eeprom_size)
-        result = client.write_image(image, validate=False)
-    out(f"restored {args.file}: {result.changed} byte(s) written, verified")
+        refuse_unsafe(image_problems(image, client.passport_if_any(), charger_max_a=client.info.max_charge_a),
+                      args.force_unsafe, args.file)
+        try:
+            result = client.write_image(image, validate=False)
+        except (CommitUncertain, CommitUnverified) as exc:
+            lost = exc
+        else:
+            out(f"restored {args.file}: {result.changed} byte(s) written, verified")
+            return 0
+    _settle(args, lost, f"restored {args.file}")
     return 0
 
 
@@ -228,13 +278,34 @@ def cmd_restore(args: argparse.Namespace) -> int:
 def cmd_run(args: argparse.Namespace) -> int:
     check_start_options(args, amps_max=65.5)    # START carries mA and mV as u16
     with _connect(args) as client:
+        if not args.force_unsafe:
+            _check_start(client, args)
         try:
             name = client.start(args.slot, args.task, args.cycles, args.capacity, args.current, args.voltage,
                                 args.series, not args.no_sensor)
         except DeviceError as exc:
-            raise CliError(f"the charger refused to start slot {args.slot}: {exc}", 1) from None
+            raise CliError(f"the charger refused to start slot {args.slot} ({exc.code_name}): {exc}", 1) from None
     out(f"started slot {args.slot} ({name}): {args.task}")
     return 0
+
+
+def _check_start(client: ChargerClient, args: argparse.Namespace) -> None:
+    """The safety check on the slot's record with the values entered (a slot that is missing or does
+    not decode is left to the charger's own refusal)."""
+    from ..lang.eeprom import slots
+    from ..safety import record_problems
+    from ..sim.interpreter import StartParams
+    try:
+        found = slots(client.read_image())
+    except ImageError:
+        return
+    if not 0 <= args.slot < len(found) or not found[args.slot].ok:
+        return
+    start = StartParams(args.task, args.cycles, args.capacity, args.current, args.voltage, args.series,
+                        not args.no_sensor)
+    problems = record_problems(found[args.slot].record, client.passport_if_any(), start,
+                               charger_max_a=client.info.max_charge_a)
+    refuse_unsafe(problems, False, f"slot {args.slot} ({found[args.slot].name})")
 
 
 @_device_errors
@@ -279,15 +350,8 @@ CSV_COLUMNS = ("time_s", "running", "paused", "section", "repetition", "cycle", 
 def cmd_monitor(args: argparse.Namespace) -> int:
     if args.rate is not None and not 1 <= args.rate <= 50:
         raise CliError("--rate must be 1 to 50 Hz")
-    fh = None
-    if args.csv:
-        try:
-            fh = open(args.csv, "w", encoding="utf-8", newline="")
-        except OSError as exc:
-            raise CliError(f"{args.csv}: cannot write: {exc.strerror or exc}") from None
-    writer = csv.writer(fh, lineterminator="\n") if fh else None
-    if writer:
-        writer.writerow(CSV_COLUMNS)
+    from .csv_sink import CsvSink
+    sink = CsvSink(args.csv, CSV_COLUMNS) if args.csv else None
     client = None
     try:
         client = _connect(args)
@@ -298,14 +362,12 @@ def cmd_monitor(args: argparse.Namespace) -> int:
             out("nothing is running")
             return 0
         end = time.monotonic() + args.seconds if args.seconds is not None else None
-        flushed = time.monotonic()
         while True:
             now = time.monotonic()
             if end is not None and now >= end:
                 break
-            if writer and now - flushed >= 0.5:
-                fh.flush()
-                flushed = now
+            if sink:
+                sink.flush_if_due()
             try:
                 kind, item = feed.get(timeout=0.2 if end is None else max(0.01, min(0.2, end - now)))
             except queue.Empty:
@@ -314,17 +376,17 @@ def cmd_monitor(args: argparse.Namespace) -> int:
                 raise item
             if kind == "telemetry":
                 out(telemetry_line(item))
-                if writer:
-                    writer.writerow((f"{item.time_s:.1f}", int(item.running), int(item.paused), item.section,
-                                     item.repetition, item.cycle, item.phase, item.run, f"{item.voltage_v:.3f}",
-                                     f"{item.current_a:.3f}", "" if item.temp_c is None else f"{item.temp_c:.2f}",
-                                     "" if item.heatsink_c is None else f"{item.heatsink_c:.2f}",
-                                     f"{item.mah_in:.1f}", f"{item.mah_out:.1f}", ""))
+                if sink:
+                    sink.row((f"{item.time_s:.1f}", int(item.running), int(item.paused), item.section,
+                              item.repetition, item.cycle, item.phase, item.run, f"{item.voltage_v:.3f}",
+                              f"{item.current_a:.3f}", "" if item.temp_c is None else f"{item.temp_c:.2f}",
+                              "" if item.heatsink_c is None else f"{item.heatsink_c:.2f}",
+                              f"{item.mah_in:.1f}", f"{item.mah_out:.1f}", ""))
             else:
                 out(event_line(item))
-                if writer:
-                    writer.writerow((f"{item.time_s:.1f}", "", "", item.section, item.repetition, "", item.index,
-                                     "", "", "", "", "", "", "", f"{item.kind}: {item.detail}".rstrip(": ")))
+                if sink:
+                    sink.row((f"{item.time_s:.1f}", "", "", item.section, item.repetition, "", item.index,
+                              "", "", "", "", "", "", "", f"{item.kind}: {item.detail}".rstrip(": ")))
                 if args.until_end and item.kind == "finish":
                     break
             sys.stdout.flush()
@@ -335,9 +397,9 @@ def cmd_monitor(args: argparse.Namespace) -> int:
     finally:
         if client is not None:
             client.close()
-        if fh:
-            fh.close()
-    return 0
+        if sink:
+            sink.close()
+    return 1 if sink and sink.failed else 0      # the failure was said on its line when it happened
 
 
 @_device_errors
@@ -358,8 +420,8 @@ def cmd_passport(args: argparse.Namespace) -> int:
                     raise
                 raise CliError(f"passport: {field}: {exc.message}", 1) from None
         p = client.passport_read()
-    out(f"serial   {p.serial}")
-    out(f"vendor   {p.vendor}")
+    out(f"serial   {printable(p.serial)}")
+    out(f"vendor   {printable(p.vendor)}")
     out(f"type     {p.type_name} ({p.type})")
     warnings = fitness_warnings(p)
     out(f"err      {p.err}" + (f"  (warning: {warnings[0]})" if warnings else ""))
@@ -367,6 +429,9 @@ def cmd_passport(args: argparse.Namespace) -> int:
     out(f"v_limit  {p.v_limit} V" + ("  (not set)" if not p.v_limit else ""))
     out(f"a_limit  {p.a_limit} A" + ("  (not set)" if not p.a_limit else ""))
     out(f"temp     {p.temp} C")
+    if p.unprintable_fields:
+        out(f"warning: the passport's {' and '.join(p.unprintable_fields)} hold non-printable bytes (shown "
+            "as \\xNN): a damaged or forged passport")
     return 0
 
 

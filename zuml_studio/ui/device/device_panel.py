@@ -24,18 +24,20 @@ from PySide6.QtWidgets import (QAbstractItemView, QCheckBox, QComboBox, QDoubleS
                                QToolButton, QVBoxLayout, QWidget)
 
 from ...device import messages as msg
-from ...device.errors import DeviceError, ImageTooLarge
+from ...device.errors import CommitUncertain, CommitUnverified, DeviceError, ImageTooLarge
 from ...device.flashing import merge_record
-from ...device.passport import akk_name, conflicts, fitness_warnings
+from ...device.passport import akk_name, fitness_warnings, printable
 from ...sim.start_check import start_warnings
 from ...device.ports import VIRTUAL
 from ...lang.eeprom import Slot, slots, used_bytes
+from ...safety import image_problems, record_problems
 from ..number_boxes import double_spin_box, form_field, spin_box
 from ..timefmt import hmmss
 from .connection import DeviceConnection, Opened, VirtualSpec, describe_error
 from .live_plot import DEFAULT_FOLLOW_MIN, LivePlot, LiveSeries
 from .port_chooser import PortChooser
 from .session_log import SessionLog, display_path, session_path
+from .unsafe_dialog import confirm_unsafe
 
 log = logging.getLogger(__name__)
 
@@ -47,6 +49,16 @@ PASSPORT_POLL_MS = 5000
 DEFAULT_BATTERY = ("NiMh", 2000, 4)
 MATCH = "match"
 VIRTUAL_EEPROM = "virtual-charger-eeprom.bin"
+
+
+class _Unsafe:
+    """What a job hands back instead of writing: the safety check's problems, for the dialog."""
+
+    def __init__(self, problems: list[str]):
+        self.problems = problems
+
+    def summary(self) -> str:
+        return "the safety check refused it:\n" + "\n".join(f"• {line}" for line in self.problems)
 
 
 def _chemistry_names() -> list[str]:
@@ -136,6 +148,8 @@ class DevicePanel(QWidget):
         self.session_dir = Path(session_dir)
         self.series = LiveSeries()
         self._log: SessionLog | None = None
+        self._log_error_said = False
+        self._unsettled: tuple[str, CommitUncertain | CommitUnverified] | None = None   # (what, error)
         self.session_file: Path | None = None
         self._image: bytes | None = None
         self._slots: list[Slot] = []
@@ -330,6 +344,7 @@ class DevicePanel(QWidget):
         for k, lab in self.pp_labels.items():
             lab.setObjectName(f"passport_{k}")
             lab.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+            lab.setTextFormat(Qt.TextFormat.PlainText)      # a battery's bytes are never markup
 
         col_b = QWidget()
         col_b.setObjectName("runColumn")
@@ -563,9 +578,10 @@ class DevicePanel(QWidget):
             self.show_message("Disconnecting…", "info")
             self._update_enabled()
 
-    def flash(self) -> None:
+    def flash(self, force: bool = False) -> None:
         """Compile & Flash: the editor's record into the charger (same name replaced, else appended,
-        or the slot chosen), written, verified; ``flashFinished(ok, message)``."""
+        or the slot chosen), written, verified; ``flashFinished(ok, message)``. The safety check
+        runs first; what it refuses is written only after the user confirms (or with ``force``)."""
         if not self.is_connected():
             self._flash_done(False, "Connect to a charger first, then Compile & Flash.")
             return
@@ -580,6 +596,10 @@ class DevicePanel(QWidget):
         self.progress.setRange(0, 0)
 
         def job(client, progress):
+            if not force:
+                problems = record_problems(record, client.passport_if_any(), charger_max_a=client.info.max_charge_a)
+                if problems:
+                    return _Unsafe(problems)
             current = client.read_image(progress)
             merged = merge_record(current, record, slot)
             result = client.write_image(merged.image, progress, current=current)
@@ -588,9 +608,11 @@ class DevicePanel(QWidget):
         self.connection.call(job, self._flashed, self._flash_failed)
         self._update_enabled()
 
-    def start(self, slot: int | None = None) -> None:
+    def start(self, slot: int | None = None, force: bool = False) -> None:
         """START the macro in ``slot`` (default: the Slot field, which follows the last flash) with
-        the task parameters; the battery's passport is checked here first. ``startFinished``."""
+        the task parameters; the safety check (chemistry limits, the battery's passport) runs here
+        first, and what it refuses starts only after the user confirms (or with ``force``; the
+        charger still has its own check). ``startFinished``."""
         if not self.is_connected():
             self._start_done(False, "Connect to a charger first.")
             return
@@ -605,17 +627,13 @@ class DevicePanel(QWidget):
         charger_max = self._info.max_charge_a if self._info else None
 
         def job(client, progress):
+            from ...lang.record import DecodeError
             from ...sim.interpreter import StartParams
-            try:
-                passport = client.passport_read()
-            except DeviceError as exc:
-                if exc.code not in (msg.ErrorCode.NO_PASSPORT, msg.ErrorCode.PASSPORT_ERROR):
-                    raise
-                passport = None      # no chip (or an unreadable one: the charger decides)
-            if passport is not None:
+            passport = client.passport_if_any()
+            if not force:
                 try:
-                    found = conflicts(passport, record, StartParams(**params), charger_max_a=charger_max)
-                except Exception:   # noqa: BLE001 - a record that does not decode: the charger decides
+                    found = record_problems(record, passport, StartParams(**params), charger_max_a=charger_max)
+                except DecodeError:     # a record that does not decode: the charger refuses it
                     found = []
                 if found:
                     return ("refused", found, passport, [])
@@ -668,8 +686,9 @@ class DevicePanel(QWidget):
         self.progress.setRange(0, 0)
         self.connection.call(job, done, lambda exc: self._op_failed("backup", exc))
 
-    def restore(self, path: str | Path) -> None:
-        """Write a saved image back (checked first, then written and verified)."""
+    def restore(self, path: str | Path, force: bool = False) -> None:
+        """Write a saved image back (checked first, then written and verified); records the safety
+        check refuses are written only after the user confirms (or with ``force``)."""
         if not self.is_connected():
             self._op_failed("restore", "Connect to a charger first.")
             return
@@ -681,10 +700,21 @@ class DevicePanel(QWidget):
             check_image(image)
             if len(image) > client.info.eeprom_size:
                 raise ImageTooLarge(len(image), client.info.eeprom_size)
+            if not force:
+                problems = image_problems(image, client.passport_if_any(), charger_max_a=client.info.max_charge_a)
+                if problems:
+                    return _Unsafe(problems)
             result = client.write_image(image, progress, validate=False)
             return image + b"\xff" * (client.info.eeprom_size - len(image)), result
 
         def done(answer):
+            if isinstance(answer, _Unsafe):
+                self._progress_done()
+                if confirm_unsafe(self, "Restore", answer.problems):
+                    self.restore(path, force=True)
+                else:
+                    self._op_failed("restore", "Not restored: " + answer.summary())
+                return
             image, result = answer
             self._show_image(image)
             text = f"Restored {path.name}: {result.changed} bytes changed, verified."
@@ -701,6 +731,7 @@ class DevicePanel(QWidget):
 
         def done(image):
             self._show_image(image)
+            self._settle(image)
             self.operationFinished.emit("slots", True, "")
 
         self.connection.call(lambda client, progress: client.read_image(), done,
@@ -863,6 +894,13 @@ class DevicePanel(QWidget):
 
     # -- flash --------------------------------------------------------------------------------
     def _flashed(self, answer) -> None:
+        if isinstance(answer, _Unsafe):
+            self._progress_done()
+            if confirm_unsafe(self, "Flash", answer.problems):
+                self.flash(force=True)
+            else:
+                self._flash_done(False, "Not flashed: " + answer.summary())
+            return
         merged, result = answer
         self._progress_done()
         self._show_image(merged.image)
@@ -881,6 +919,7 @@ class DevicePanel(QWidget):
 
     def _flash_failed(self, exc) -> None:
         self._progress_done()
+        self._note_unsettled("flash", exc)
         self._flash_done(False, describe_error(exc, "flash"))
         if self.is_connected():
             self.refresh_slots()
@@ -898,7 +937,12 @@ class DevicePanel(QWidget):
         self._show_passport(passport)
         name = self._slots[slot].name if slot < len(self._slots) else "?"
         if kind == "refused":
-            text = (f"Not started: the battery's passport forbids {name}:\n"
+            # A battery unfit for use (CRIT) is refused by the charger whatever the user says: no override.
+            unfit = passport is not None and passport.crit
+            if not unfit and confirm_unsafe(self, "Start", value):
+                self.start(slot, force=True)
+                return
+            text = (f"Not started: the safety check forbids {name}:\n"
                     + "\n".join(f"• {line}" for line in value))
             self._start_done(False, text)
             return
@@ -917,8 +961,28 @@ class DevicePanel(QWidget):
         self._update_enabled()
         self.startFinished.emit(ok, text)
 
+    def _note_unsettled(self, what: str, exc) -> None:
+        if isinstance(exc, (CommitUncertain, CommitUnverified)):
+            self._unsettled = (what, exc)
+
+    def _settle(self, image: bytes) -> None:
+        """The first image read after a write whose end was lost tells what the charger holds."""
+        if self._unsettled is None:
+            return
+        (what, exc), self._unsettled = self._unsettled, None
+        verdict = exc.settle(image)
+        if verdict == "new":
+            self.show_message(f"Read back after the lost link: the {what} is on the charger, verified.", "ok")
+        elif verdict == "previous":
+            self.show_message(f"Read back after the lost link: the charger kept its previous image; the {what} "
+                              "was not written. Do it again.", "warn")
+        else:
+            self.show_message(f"Read back after the lost link: the charger holds neither the new image nor the "
+                              f"previous one (changed since by another program?). Check its macros.", "warn")
+
     def _op_failed(self, op: str, exc) -> None:
         self._progress_done()
+        self._note_unsettled(op, exc)
         text = exc if isinstance(exc, str) else describe_error(exc, op)
         self.show_message(text, "error")
         self._update_enabled()
@@ -990,9 +1054,13 @@ class DevicePanel(QWidget):
             for key in ("type", "limits"):
                 self.pp_labels[key].setText("—")
             return
-        vendor = f" · {passport.vendor}" if passport.vendor else ""
-        self.pp_labels["serial"].setText(f"{passport.serial or '—'}{vendor}")
-        self.pp_labels["serial"].setToolTip("serial · vendor")
+        vendor = f" · {printable(passport.vendor)}" if passport.vendor else ""
+        odd = passport.unprintable_fields
+        self.pp_labels["serial"].setText(f"{printable(passport.serial) or '—'}{vendor}" + (" ⚠" if odd else ""))
+        self.pp_labels["serial"].setToolTip(
+            f"serial · vendor. ⚠ The {' and '.join(odd)} hold non-printable bytes (shown as \\xNN): "
+            "a damaged or forged passport" if odd else "serial · vendor")
+        self.pp_labels["serial"].setStyleSheet(f"color:{COLORS['warn']};" if odd else "")
         self.pp_labels["type"].setText(f"{passport.type_name} · TEMP {passport.temp} °C")
         v = f"{passport.v_limit} V" if passport.v_limit else "V not set"
         a = f"{passport.a_limit} A" if passport.a_limit else "A not set"
@@ -1029,9 +1097,10 @@ class DevicePanel(QWidget):
         self._note_finish()
         logger = self._log
         if logger is not None:
-            rows = f" · {logger.rows} rows" if logger.rows else ""
-            err = f" · {logger.error}" if logger.error else ""
-            self.session_label.set_full_text(f"Session: {display_path(logger.path)}{rows}{err}")
+            if logger.error and not self._log_error_said:
+                self._log_error_said = True
+                self.show_message(f"Session CSV: {logger.error}. The plot goes on; the CSV ends here.", "warn")
+            self.session_label.set_full_text(self._session_text(logger))
 
     def _note_finish(self) -> None:
         """Say so when a run finishes (the finish event)."""
@@ -1114,6 +1183,7 @@ class DevicePanel(QWidget):
             self.session_label.set_full_text(f"no session CSV: cannot write in {self.session_dir}: {exc.strerror or exc}")
             return
         self.session_file = self._log.path
+        self._log_error_said = False
         self.session_label.set_full_text(f"Session: {display_path(self._log.path)}")
 
     def _close_session_log(self, discard_empty: bool = False) -> None:
@@ -1129,7 +1199,13 @@ class DevicePanel(QWidget):
             self.session_label.set_full_text("")
             self.session_file = None
         else:
-            self.session_label.set_full_text(f"Session: {display_path(logger.path)} · {logger.rows} rows")
+            self.session_label.set_full_text(self._session_text(logger))
+
+    @staticmethod
+    def _session_text(logger: SessionLog) -> str:
+        rows = f" · {logger.rows} rows" if logger.rows else ""
+        err = f" · ⚠ {logger.error}" if logger.error else ""
+        return f"Session: {display_path(logger.path)}{rows}{err}"
 
     # ================================================================ dialogs
     def _backup_clicked(self) -> None:
