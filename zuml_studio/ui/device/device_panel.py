@@ -34,7 +34,7 @@ from ..timefmt import hmmss
 from .connection import DeviceConnection, Opened, VirtualSpec, describe_error
 from .live_plot import DEFAULT_FOLLOW_MIN, LivePlot, LiveSeries
 from .port_chooser import PortChooser
-from .session_log import SessionLog, display_path, session_path
+from ...device.session_log import SessionLog, display_path, session_path
 
 log = logging.getLogger(__name__)
 

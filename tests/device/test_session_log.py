@@ -8,7 +8,7 @@ import pytest
 
 from zuml_studio.device.messages import DeviceEvent, Telemetry
 from zuml_studio.sim.samples import COLUMNS as SIM_COLUMNS
-from zuml_studio.ui.device.session_log import COLUMNS, SessionLog, display_path, event_text, session_path
+from zuml_studio.device.session_log import COLUMNS, SessionLog, display_path, event_text, session_path
 
 
 def telemetry(t=12.0, running=True, temp=25.5):
