@@ -157,6 +157,7 @@ class ReplayDevice:
         attrs = termios.tcgetattr(fd)
         attrs[4] = attrs[5] = termios.B50          # a speed no reader asks for: any open changes it
         termios.tcsetattr(fd, termios.TCSANOW, attrs)
+        attrs = termios.tcgetattr(fd)              # as the pty keeps them
         while not self._stop.is_set():
             if termios.tcgetattr(fd) != attrs:
                 self._stop.wait(SETTLE_S)
