@@ -11,7 +11,7 @@ from __future__ import annotations
 import struct
 
 from .frame_scanner import INVALID, SKIP, FrameDecoder
-from .icharger_logview import DUO_STATES, _signed, _temp
+from .icharger_logview import DUO_STATES, _direction, _temp
 from .stream_decoder import Reading
 
 VID_PIDS = ((0x0483, 0x5751),)
@@ -49,8 +49,9 @@ class IChargerHidDecoder(FrameDecoder):
         n = (length - 24) // 2
         cells = struct.unpack_from(f"<{n}h", r, 24)
         name, section, running, paused = DUO_STATES[state]
+        section = _direction(section, i10)
         return REPORT, Reading(time_s=ms / 1000, state=name, section=section, running=running, voltage_v=mv / 1000,
-                               current_a=_signed(section, i10 / 100), temp_c=_temp(text), heatsink_c=_temp(tint),
+                               current_a=i10 / 100, temp_c=_temp(text), heatsink_c=_temp(tint),
                                charge_mah=float(mah), cells_v=tuple(c / 1000 for c in cells), paused=paused,
                                task="discharge" if section == "discharge" else "charge")
 

@@ -7,7 +7,8 @@ the DUO/X text-log lines (same framing and checksum), recognised by the time fie
 * time in ms (DUO/X): ``$ch;state;ms;type;cycle;I;Vin;Vbat;mAh;Tint;Text;cell1..N`` with
   N = 6, 8, 10 or 12. State 128 (internal resistance) and 130 (cell capacity) are skipped.
 
-Current is in 10 mA, signed; temperatures in 0.1 °C (0 = no sensor); a file header line
+Current is in 10 mA, signed by the charger (the section follows its sign in charge and
+discharge states); temperatures in 0.1 °C (0 = no sensor); a file header line
 ``@Model:…`` is skipped. Only the first channel seen is followed (a DUO logs ``$1`` and
 ``$2``); the other channel's lines are skipped.
 """
@@ -43,12 +44,12 @@ def _temp(c10: int) -> float | None:
     return None if c10 == 0 else c10 / 10.0
 
 
-def _signed(section: str, amps: float) -> float:
-    if section == "discharge":
-        return -abs(amps)
-    if section == "charge":
-        return abs(amps)
-    return amps
+def _direction(section: str, amps: float) -> str:
+    """The charger signs its current: a charge state with a negative current (Storage brings a
+    full pack down) is discharging."""
+    if section and amps:
+        return "charge" if amps > 0 else "discharge"
+    return section
 
 
 class IChargerLineDecoder(DollarLineDecoder):
@@ -89,9 +90,10 @@ class IChargerLineDecoder(DollarLineDecoder):
         if vin < 0 or vbat < 0:
             raise ValueError("negative voltage")
         name, section, running, paused = LEGACY_STATES[state]
+        section = _direction(section, i10)
         t = self._legacy_count * LEGACY_STEP_S
         self._legacy_count += 1
-        return Reading(t, name, section, running, vbat / 1000, _signed(section, i10 / 100), _temp(text),
+        return Reading(t, name, section, running, vbat / 1000, i10 / 100, _temp(text),
                        _temp(tint), float(mah), tuple(c / 1000 for c in cells), paused,
                        "discharge" if section == "discharge" else "charge")
 
@@ -104,7 +106,8 @@ class IChargerLineDecoder(DollarLineDecoder):
         if ms < 0 or vbat < 0:
             raise ValueError("negative time or voltage")
         name, section, running, paused = DUO_STATES[state]
-        return Reading(ms / 1000, name, section, running, vbat / 1000, _signed(section, i10 / 100), _temp(text),
+        section = _direction(section, i10)
+        return Reading(ms / 1000, name, section, running, vbat / 1000, i10 / 100, _temp(text),
                        _temp(tint), float(mah), tuple(c / 1000 for c in cells), paused,
                        "discharge" if section == "discharge" else "charge")
 
