@@ -14,6 +14,7 @@ from .messages import Telemetry
 
 PER_BAUD_S = 2.5                 # an iCharger sends one line every 2 s
 JUNK_BYTES = 200                 # this many bytes at one baud without a record: wrong baud
+MAX_HELD = 1000                  # samples a losing candidate keeps while detection goes on
 
 
 def usual_bauds() -> tuple[int, ...]:
@@ -30,28 +31,32 @@ def usual_bauds() -> tuple[int, ...]:
 
 class Detector:
     def __init__(self) -> None:
-        self.decoders = {d.name: d.decoder() for d in SERIAL_DRIVERS}
         self.received = 0
         self.winner: str | None = None
+        self.restart()
 
     def feed(self, data: bytes) -> list[Telemetry]:
-        """Samples of the winning driver (empty until there is one)."""
+        """Samples of the winning driver (all of them since the start once it wins; empty
+        until there is one)."""
         self.received += len(data)
         if self.winner is not None:
             return self.decoders[self.winner].feed(data)
-        found: list[Telemetry] = []
         for name, dec in self.decoders.items():
-            samples = dec.feed(data)
+            held = self._held[name]
+            held += dec.feed(data)
+            del held[:-MAX_HELD]
             if self.winner is None and dec.good and dec.good >= dec.bad:
                 self.winner = name
-                found = samples
-        if self.winner is not None:
-            self.decoders = {self.winner: self.decoders[self.winner]}
+        if self.winner is None:
+            return []
+        self.decoders = {self.winner: self.decoders[self.winner]}
+        found, self._held = self._held[self.winner], {}
         return found
 
     def restart(self) -> None:
         """New baud: what was buffered at the old one is junk."""
         self.decoders = {d.name: d.decoder() for d in SERIAL_DRIVERS}
+        self._held: dict[str, list[Telemetry]] = {name: [] for name in self.decoders}
 
     def tried(self) -> str:
         return ", ".join(d.name for d in SERIAL_DRIVERS)
