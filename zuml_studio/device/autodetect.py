@@ -33,7 +33,9 @@ class Detector:
     def __init__(self) -> None:
         self.received = 0
         self.winner: str | None = None
-        self.restart()
+        self.decoders = {d.name: d.decoder() for d in SERIAL_DRIVERS}
+        self._held: dict[str, list[Telemetry]] = {name: [] for name in self.decoders}
+        self._bad_base = {name: 0 for name in self.decoders}
 
     def feed(self, data: bytes) -> list[Telemetry]:
         """Samples of the winning driver (all of them since the start once it wins; empty
@@ -45,7 +47,7 @@ class Detector:
             held = self._held[name]
             held += dec.feed(data)
             del held[:-MAX_HELD]
-            if self.winner is None and dec.good and dec.good >= dec.bad:
+            if self.winner is None and dec.good and dec.good >= dec.bad - self._bad_base[name]:
                 self.winner = name
         if self.winner is None:
             return []
@@ -53,10 +55,11 @@ class Detector:
         found, self._held = self._held[self.winner], {}
         return found
 
-    def restart(self) -> None:
-        """New baud: what was buffered at the old one is junk."""
-        self.decoders = {d.name: d.decoder() for d in SERIAL_DRIVERS}
-        self._held: dict[str, list[Telemetry]] = {name: [] for name in self.decoders}
+    def new_baud(self) -> None:
+        """The port changed baud: bad records so far are the old baud's junk. The decoders keep
+        their state (on a pty, or when the charger's baud was right after all, nothing is lost;
+        a record torn by the change fails its checksum)."""
+        self._bad_base = {name: dec.bad for name, dec in self.decoders.items()}
 
     def tried(self) -> str:
         return ", ".join(d.name for d in SERIAL_DRIVERS)

@@ -145,7 +145,7 @@ class MonitorLink:
             if self._sweep.advance(time.monotonic(), len(data)):
                 self.current_baud = self._sweep.baud
                 dev.baudrate = self.current_baud
-                det.restart()
+                det.new_baud()
                 self._on_status(f"listening at {self.current_baud} baud")
             elif self._sweep.done:
                 message = self._sweep.message(self.port, det)
@@ -154,7 +154,7 @@ class MonitorLink:
                 self._on_status(message)
                 self._sweep = BaudSweep(self._sweep.bauds)
                 dev.baudrate = self.current_baud = self._sweep.baud
-                det.restart()
+                det.new_baud()
 
     def _run_hid(self) -> None:
         import importlib
