@@ -150,9 +150,6 @@ def cmd_ports(args: argparse.Namespace) -> int:
         out("no serial ports found")
     for p in found:
         out(p.label())
-    from ..device.hid_link import list_hid_chargers
-    for p in list_hid_chargers():
-        out(p.label())
     out("virtual - a simulated charger: run `zuml virtual-charger` and use the port it prints")
     return 0
 

@@ -18,8 +18,6 @@ from __future__ import annotations
 
 from .stream_decoder import DollarLineDecoder, Reading, integers
 
-DEFAULT_BAUD = 57600
-BAUDS = (9600, 19200, 38400, 57600, 115200)
 
 # programType + 1 (firmware >= 1.00): name, section, task, running
 STATES_1X = {

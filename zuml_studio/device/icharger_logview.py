@@ -16,8 +16,6 @@ from __future__ import annotations
 
 from .stream_decoder import DollarLineDecoder, Reading, integers
 
-DEFAULT_BAUD = 128000
-BAUDS = (9600,)                  # 106B(+)
 LEGACY_STEP_S = 2.0
 
 # state: name, section, running, paused

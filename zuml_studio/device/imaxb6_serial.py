@@ -12,8 +12,6 @@ from __future__ import annotations
 from .frame_scanner import INVALID, FrameDecoder
 from .stream_decoder import Reading
 
-DEFAULT_BAUD = 9600
-BAUDS: tuple[int, ...] = ()
 FRAME = 76
 STEP_S = 1.48
 MODES = {0: "config", 1: "Li", 2: "NiMH", 3: "NiCd", 4: "Pb", 5: "save", 6: "load"}

@@ -13,8 +13,6 @@ from __future__ import annotations
 from .frame_scanner import INVALID, SKIP, FrameDecoder
 from .stream_decoder import Reading
 
-DEFAULT_BAUD = 9600
-BAUDS: tuple[int, ...] = ()
 STEP_S = 1.0
 # frame length (with 0x0C and 0x0D) -> accepted checksum offsets
 LENGTHS = {52: (0,), 56: (0,), 70: (0,), 78: (0x180, 0), 106: (0,), 114: (0,), 124: (0,), 138: (0,),
