@@ -142,3 +142,16 @@ def test_imaxb6_frame_between_others_is_not_lost(name):
     """Another format's bytes before a good frame do not swallow it."""
     dec = DRIVERS["imaxb6"].decoder()
     assert len(dec.feed(STREAMS[name][:300] + IMAXB6_README_FRAME)) >= 1
+
+
+def test_drivers_import_neither_qt_nor_hidapi():
+    """Everything but ui/ is Qt-free, and hidapi loads only when a HID port is listed or opened."""
+    import subprocess
+    import sys
+    mods = ", ".join(f"zuml_studio.device.{m}" for m in (
+        "drivers", "autodetect", "monitor_link", "replay", "hid_link", "session_log", "cheali", "icharger_logview",
+        "imaxb6_serial", "ultramat", "skyrc_hid", "icharger_hid", "isdt_hid"))
+    code = (f"import sys; import {mods}; "
+            "print(any(m.split('.')[0] in ('PySide6', 'pyqtgraph', 'hid') for m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "False"

@@ -883,7 +883,9 @@ class DevicePanel(QWidget):
         if fallback is not None and isinstance(self.connection.last_error, NotACharger):
             self._close_session_log(discard_empty=True)
             self._set_state_disconnected()
-            self._watch(fallback[0], AUTO, fallback[1])
+            if self._watch(fallback[0], AUTO, fallback[1]):
+                self.show_message(f"No ZUML charger answered on {fallback[0]}: listening for a monitor-only "
+                                  f"charger ({', '.join(DRIVERS)}) instead…", "info")
             return
         self._close_session_log(discard_empty=True)
         self._set_state_disconnected()
