@@ -17,6 +17,8 @@ from __future__ import annotations
 from .stream_decoder import DollarLineDecoder, Reading, integers
 
 LEGACY_STEP_S = 2.0
+U16 = 0xFFFF
+S16 = (-0x8000, 0x7FFF)           # the firmware's 16-bit signed fields (current, temperatures, DUO cells)
 
 # state: name, section, running, paused
 LEGACY_STATES = {
@@ -82,11 +84,11 @@ class IChargerLineDecoder(DollarLineDecoder):
         n = LEGACY_CELLS.get(len(fields))
         if n is None or state not in LEGACY_STATES:
             raise ValueError("no legacy layout")
-        vin, vbat, i10 = integers(fields[3:6], -0x8000, 0xFFFF)
-        cells = integers(fields[6:6 + n], 0, 0xFFFF)
-        tint, text, mah = integers(fields[6 + n:9 + n])
-        if vin < 0 or vbat < 0:
-            raise ValueError("negative voltage")
+        vin, vbat = integers(fields[3:5], 0, U16)
+        (i10,) = integers(fields[5:6], *S16)
+        cells = integers(fields[6:6 + n], 0, U16)
+        tint, text = integers(fields[6 + n:8 + n], *S16)
+        (mah,) = integers(fields[8 + n:9 + n])
         name, section, running, paused = LEGACY_STATES[state]
         section = _direction(section, i10)
         t = self._legacy_count * LEGACY_STEP_S
@@ -99,10 +101,13 @@ class IChargerLineDecoder(DollarLineDecoder):
         n = DUO_CELLS.get(len(fields))
         if n is None or state not in DUO_STATES:
             raise ValueError("no DUO/X layout")
-        ms, _type, _cycle, i10, _vin, vbat, mah, tint, text = integers(fields[2:11])
-        cells = integers(fields[11:11 + n], -0x8000, 0xFFFF)
-        if ms < 0 or vbat < 0:
-            raise ValueError("negative time or voltage")
+        (ms,) = integers(fields[2:3], 0, (1 << 32) - 1)
+        integers(fields[3:5], 0, 255)                        # battery type, cycle
+        (i10,) = integers(fields[5:6], *S16)
+        _vin, vbat = integers(fields[6:8], 0, U16)
+        (mah,) = integers(fields[8:9])
+        tint, text = integers(fields[9:11], *S16)
+        cells = integers(fields[11:11 + n], *S16)
         name, section, running, paused = DUO_STATES[state]
         section = _direction(section, i10)
         return Reading(ms / 1000, name, section, running, vbat / 1000, i10 / 100, _temp(text),
