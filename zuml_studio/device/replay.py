@@ -146,20 +146,22 @@ class ReplayDevice:
 
     # -- playing -------------------------------------------------------------------------------
     def watch_reader(self, slave_fd: int | None) -> None:
-        """Start once a reader has set up the pty whose slave is ``slave_fd`` (None: now)."""
+        """Start once a reader has set up the pty whose slave is ``slave_fd`` (None: now). Call
+        before anyone can know the port: the line is marked here, so no reader's set-up is missed."""
         self._slave = slave_fd
+        if slave_fd is not None and self.wait_for_reader:
+            attrs = termios.tcgetattr(slave_fd)
+            attrs[4] = attrs[5] = termios.B50      # a speed no reader asks for: any open changes it
+            termios.tcsetattr(slave_fd, termios.TCSANOW, attrs)
+            self._marked = termios.tcgetattr(slave_fd)    # as the pty keeps them
         self._armed.set()
 
     def _await_reader(self) -> None:
         fd = self._slave
         if fd is None or not self.wait_for_reader:
             return
-        attrs = termios.tcgetattr(fd)
-        attrs[4] = attrs[5] = termios.B50          # a speed no reader asks for: any open changes it
-        termios.tcsetattr(fd, termios.TCSANOW, attrs)
-        attrs = termios.tcgetattr(fd)              # as the pty keeps them
         while not self._stop.is_set():
-            if termios.tcgetattr(fd) != attrs:
+            if termios.tcgetattr(fd) != self._marked:
                 self._stop.wait(SETTLE_S)
                 return
             self._stop.wait(0.01)
