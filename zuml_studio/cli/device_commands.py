@@ -422,7 +422,7 @@ def _monitor_charger(args: argparse.Namespace) -> int:
     sys.stderr.write(f"{name}: {link.samples} sample(s), {link.bad} bad record(s)\n")
     if error:
         raise CliError(error, 1)
-    if link.driver is None and link._detector is not None and link._detector.received == 0:
+    if link.driver is None and link.received == 0:
         sys.stderr.write(f"{args.port}: nothing arrived (a charger sends only while a program runs)\n")
     return 0
 

@@ -8,7 +8,7 @@ counts once in ``bad``; filler bytes (``filler``, e.g. HID zero padding) are dro
 from __future__ import annotations
 
 from .messages import Telemetry
-from .stream_decoder import Reading, StreamDecoder
+from .stream_decoder import StreamDecoder
 
 SKIP = object()          # a valid frame without a measurement
 INVALID = -1
@@ -65,9 +65,7 @@ class FrameDecoder(StreamDecoder):
             else:
                 self.good += 1
                 out.append(self.sample(reading))          # type: ignore[arg-type]
-        del buf[:at]
-        if len(buf) > self.max_record:                   # only reachable with a huge max_record misuse
-            del buf[:len(buf) - self.max_record]
+        del buf[:at]                     # what is left is at most one partial frame (max_record)
         return out
 
     def _junk(self) -> None:
@@ -75,5 +73,3 @@ class FrameDecoder(StreamDecoder):
             self.bad += 1
             self._in_junk = True
 
-
-__all__ = ["FrameDecoder", "SKIP", "INVALID", "Reading"]

@@ -53,6 +53,11 @@ class MonitorLink:
         return dec.good if dec else 0
 
     @property
+    def received(self) -> int:
+        """Bytes read while recognising the charger (0 once a driver was given or found on HID)."""
+        return self._detector.received if self._detector else 0
+
+    @property
     def bad(self) -> int:
         dec = self._decoder
         if dec is not None:
@@ -172,8 +177,4 @@ class MonitorLink:
             data = self._dev.read(0.1)
             if data:
                 self._emit(self._decoder.feed(data.ljust(64, b"\x00")))
-
-
-def driver_choices() -> tuple[str, ...]:
-    return (AUTO,) + tuple(DRIVERS)
 

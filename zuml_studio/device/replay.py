@@ -19,6 +19,7 @@ import termios
 import threading
 import time
 from dataclasses import dataclass
+from typing import Callable
 
 from .drivers import CaptureError, DRIVERS, decode_capture, hex_dump_reports
 from .virtual_charger import Faults
@@ -186,7 +187,7 @@ class ReplayDevice:
         self.finished.set()
 
 
-def serve_replay(recording: Recording, speed: float = 1.0) -> tuple[str, "callable", ReplayDevice]:
+def serve_replay(recording: Recording, speed: float = 1.0) -> tuple[str, Callable[[], None], ReplayDevice]:
     """Serve the recording on a new pty: (port path, stop function, device)."""
     from .transport import serve_pty
     device = ReplayDevice(recording, speed)
