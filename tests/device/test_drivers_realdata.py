@@ -22,9 +22,11 @@ def test_cheali_every_real_line_verifies_and_decodes():
         (23433.4, 2.459, 0.25, 34.68, None)
     assert first.cells_v == (1.202, 1.257, 0.031, 0.019, 0.011, 0.007)
     assert first.task == "train" and first.section == "" and first.running
+    assert first.state == "discharge-charge cycle"
     last = got[-1]                   # issue #4: 0.2x layout, state 7 = discharging, 3 cells
     assert (last.time_s, last.voltage_v, last.current_a, last.mah_out, last.section) == \
         (2789.9, 11.481, -0.395, 305.0, "discharge")
+    assert last.state == "discharging"
     assert last.cells_v[:3] == (3.824, 3.944, 3.713)
 
 
@@ -102,6 +104,7 @@ def test_icharger_duo_values_from_the_notes():
     neg = icharger_logview.decoder().feed(
         b"$1;1;18000;1;0;-53;23746;22752;1;380;0;3795;3793;3798;3795;3793;3789;0;0;0;0;50\n")[0]
     assert (neg.time_s, neg.current_a, neg.section, neg.mah_out) == (18.0, -0.53, "discharge", 1.0)
+    assert neg.state == "charge"                # the log state; the current says it discharges
 
 
 # -- iCharger DUO/X USB HID -------------------------------------------------------------------

@@ -428,7 +428,9 @@ def _monitor_charger(args: argparse.Namespace) -> int:
 
 
 def _cells_text(t: msg.Telemetry) -> str:
-    return ("  cells " + " ".join(f"{v:.3f}" for v in t.cells_v)) if t.cells_v else ""
+    """What a monitor-only charger adds to the line: its state and cells."""
+    cells = ("  cells " + " ".join(f"{v:.3f}" for v in t.cells_v)) if t.cells_v else ""
+    return f"  [{t.state}]{cells}" if t.state else cells
 
 
 def cmd_replay(args: argparse.Namespace) -> int:

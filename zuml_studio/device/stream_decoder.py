@@ -77,7 +77,7 @@ class StreamDecoder:
             phase=self._phase if r.running else 0, run=self._run if r.running else 0, running=r.running,
             paused=r.paused, sensor=r.temp_c is not None, voltage_v=r.voltage_v, current_a=r.current_a,
             temp_c=r.temp_c, heatsink_c=r.heatsink_c, mah_in=self._mah["charge"],
-            mah_out=self._mah["discharge"], cells_v=r.cells_v)
+            mah_out=self._mah["discharge"], cells_v=r.cells_v, state=r.state)
 
 
 def xor8(data: bytes) -> int:
