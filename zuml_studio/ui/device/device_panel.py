@@ -1072,7 +1072,7 @@ class DevicePanel(QWidget):
                 f"in {tel.mah_in:.0f} mAh · out {tel.mah_out:.0f} mAh")
             if tel.running:
                 where = f"{'C' if tel.section == 'charge' else 'D'}{tel.phase}" if tel.section else "—"
-                state = "paused" if tel.paused else "running"
+                state = tel.state or ("paused" if tel.paused else "running")
                 self.run_label.set_full_text(f"{state} · {where} · {hmmss(tel.time_s)}")
             else:
                 self.run_label.set_full_text("idle" if not self._run_name else f"{self._run_name} ended")
