@@ -20,7 +20,7 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tests" / "device"))
 
 from realdata import (ICHARGER_HID_REPORT, IMAXB6_README_FRAME, dollar_lines, imaxb6_frames,  # noqa: E402
-                      isdt_frames, raw, ultramat_sections)
+                      isdt_frames, raw, skyrc_reply, ultramat_sections)
 from zuml_studio.device.drivers import DRIVERS  # noqa: E402
 
 SEEDS = [
@@ -31,6 +31,7 @@ SEEDS = [
     b"".join(ultramat_sections()["Ultramat16"][:20]) + b"".join(ultramat_sections()["Ultramat18"][:10]),
     b"".join(isdt_frames()),
     ICHARGER_HID_REPORT * 4,
+    b"".join(skyrc_reply(1, k, 2 * k, 3800 + k, 300, 0, 30, [3800 + k, 3790]) for k in range(6)),
 ]
 SPECIAL = b"$;\r\n{}\x0c\x0d\xaa\x0f\x02\x00-0123456789"
 

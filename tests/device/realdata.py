@@ -56,3 +56,12 @@ ICHARGER_HID_REPORT = bytes.fromhex(
 IMAXB6_README_FRAME = bytes.fromhex(
     "7b9e8484d08580ee8181818081948a808196828a828e868181808a808a808cb280829587cc808080808dcf80ba83d883d6"
     "808080808080808080808080808080808080808080818fa438307d")
+
+
+def skyrc_reply(state: int, mah: int, secs: int, mv: int, ma: int, text: int, tint: int, cells: list[int]) -> bytes:
+    """A SkyRC 0x55 reply in the documented layout (shared/realdata/skyrc_hid.md): no raw one
+    exists publicly, so the tests put a B6AC v2's logged values into it."""
+    body = bytes((0x55, 0x00, state)) + mah.to_bytes(2, "big") + secs.to_bytes(2, "big") + mv.to_bytes(2, "big") \
+        + ma.to_bytes(2, "big", signed=True) + bytes((text, tint)) + (0).to_bytes(2, "big") \
+        + b"".join(c.to_bytes(2, "big") for c in cells)
+    return (bytes((0x0F, len(body) + 1)) + body + bytes((sum(body) & 0xFF, 0xFF, 0xFF))).ljust(64, b"\0")

@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from realdata import (ICHARGER_HID_REPORT, IMAXB6_README_FRAME, dollar_lines, imaxb6_frames, isdt_frames, raw,
-                      ultramat_sections)
+                      skyrc_reply, ultramat_sections)
 from zuml_studio.device.autodetect import BaudSweep, Detector, usual_bauds
 from zuml_studio.device.drivers import DRIVERS, CaptureError, decode_capture, hex_dump_reports
 
@@ -19,6 +19,7 @@ STREAMS = {
     "ultramat": b"".join(ultramat_sections()["Ultramat16"]),
     "icharger-hid": ICHARGER_HID_REPORT * 3,
     "isdt": b"".join(isdt_frames()),
+    "skyrc": b"".join(skyrc_reply(1, k, 2 * k, 3800 + k, 300, 0, 30, [3800 + k, 3790]) for k in range(6)),
 }
 
 

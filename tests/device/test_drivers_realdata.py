@@ -5,7 +5,7 @@ import csv
 import pytest
 
 from realdata import (ICHARGER_HID_REPORT, IMAXB6_README_FRAME, dollar_lines, imaxb6_frames, isdt_frames, path,
-                      raw, ultramat_sections)
+                      raw, skyrc_reply, ultramat_sections)
 from zuml_studio.device import cheali, icharger_hid, icharger_logview, imaxb6_serial, isdt_hid, skyrc_hid, ultramat
 
 
@@ -204,13 +204,6 @@ def test_skyrc_poll_request_is_the_captured_one():
     assert skyrc_hid.POLL == bytes.fromhex("0F 03 55 00 55 FF FF")
 
 
-def _skyrc_reply(state, mah, secs, mv, ma, text, tint, cells):
-    body = bytes((0x55, 0x00, state)) + mah.to_bytes(2, "big") + secs.to_bytes(2, "big") + mv.to_bytes(2, "big") \
-        + ma.to_bytes(2, "big", signed=True) + bytes((text, tint)) + (0).to_bytes(2, "big") \
-        + b"".join(c.to_bytes(2, "big") for c in cells)
-    return (bytes((0x0F, len(body) + 1)) + body + bytes((sum(body) & 0xFF, 0xFF, 0xFF))).ljust(64, b"\0")
-
-
 @pytest.mark.parametrize("name", ["skyrc_B6ACv2_Charging_head100.csv", "skyrc_B6ACv2_Discharging_head100.csv"])
 def test_skyrc_telemetry_layout_with_real_logged_values(name):
     """No raw 0x55 reply exists publicly (skyrc_hid.md): the values a B6AC v2 logged over it are
@@ -218,7 +211,7 @@ def test_skyrc_telemetry_layout_with_real_logged_values(name):
     with path(name).open() as fh:
         rows = list(csv.DictReader(fh))
     sign = -1 if "Discharging" in name else 1
-    reports = b"".join(_skyrc_reply(1, int(r["mAH"]), int(float(r["SN"])), round(float(r["Volatge"]) * 1000),
+    reports = b"".join(skyrc_reply(1, int(r["mAH"]), int(float(r["SN"])), round(float(r["Volatge"]) * 1000),
                                     sign * int(r["Current"]), 0, 30, [round(float(r["Volatge"]) * 1000)])
                        for r in rows)
     dec = skyrc_hid.decoder()
