@@ -200,6 +200,24 @@ def test_skyrc_real_reply_verifies_and_is_skipped():
     assert dec.feed(bytes(broken)) == [] and dec.bad == 1
 
 
+def test_skyrc_every_captured_packet_verifies():
+    """knifter's capture: the host's packets (start, stop, 0x5F) and the first, clean reply; the
+    later replies are mis-aligned sniffer dumps (skyrc_hid.md) and are not frames."""
+    import re
+    text = path("skyrc_knifter_b6mini_usb_capture.txt").read_text()
+    lines = [line for line in text.splitlines() if line.startswith("0F ")]
+    lines[1] += " C7 FF FF"                    # the clean reply continues on the next line of the capture
+    packets = [bytes.fromhex(" ".join(re.findall(r"\b[0-9A-F]{2}\b", line.split("    ")[0]))) for line in lines]
+    packets = [p[:p[1] + 4] for p in packets]     # one line also holds the start of an answer
+    assert len(packets) == 17               # 10 distinct (skyrc_hid.md), some sent more than once
+    for p in packets:
+        length = p[1]
+        assert p[length + 1] == skyrc_hid.checksum(p, length) and p[length + 2:length + 4] == b"\xff\xff"
+    dec = skyrc_hid.decoder()
+    assert dec.feed(b"".join(p.ljust(64, b"\0") for p in packets)) == []
+    assert (dec.skipped, dec.bad) == (17, 0)
+
+
 def test_skyrc_poll_request_is_the_captured_one():
     assert skyrc_hid.POLL == bytes.fromhex("0F 03 55 00 55 FF FF")
 
