@@ -40,6 +40,19 @@ def test_cheali_line_endings_nul_and_debug_channels():
     assert len(got) == 2 and dec.skipped == 1 and dec.bad == 0
 
 
+def test_cheali_8_cell_builds_and_v2_long_times():
+    """No real 8-cell line exists: the issue #71 line with Vb7, Vb8 and their Rth added (the
+    8-cell LogView ini's layout), and a 2.01+ int32 time, checksummed by the firmware's rule."""
+    from zuml_studio.device.stream_decoder import xor8
+    fields = dollar_lines("cheali_captured_lines_from_issues.txt")[0].decode().split(";")[:-1]
+    fields[2] = "123456.7"
+    eight = fields[:17] + ["3001", "3002"] + fields[17:23] + ["5", "6"] + fields[23:]
+    body = (";".join(eight) + ";").encode()
+    (t,) = cheali.decoder().feed(body + str(xor8(body)).encode() + b"\r\n")
+    assert len(t.cells_v) == 8 and t.cells_v[6:] == (3.001, 3.002) and t.time_s == 123456.7
+    assert t.voltage_v == 2.459 and t.state == "discharge-charge cycle"
+
+
 def test_cheali_a_changed_digit_fails_the_checksum():
     line = bytearray(dollar_lines("cheali_captured_lines_from_issues.txt")[0])
     line[8] ^= 0x01                  # 23433.4 -> 23432.4 would plot a wrong time
