@@ -92,3 +92,18 @@ def test_monitor_names_what_it_tried_on_a_port_of_junk(tmp_path):
         os.close(slave)
     assert code == 1 and "nothing recognisable" in err and "tried cheali, icharger, imaxb6, ultramat" in err
     assert "57600, 128000, 9600" in err and "Traceback" not in err
+
+
+def test_a_hid_report_dump_replays_to_its_driver(tmp_path):
+    """HID report dumps play onto a pty too; `--driver NAME` reads them (auto is for serial chargers)."""
+    sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "device"))
+    from realdata import ICHARGER_HID_REPORT
+    dump = tmp_path / "icharger-hid.txt"
+    dump.write_text("# three log reports\n" + "".join(f"RX {ICHARGER_HID_REPORT[:44].hex(' ')}\n" for _ in range(3)))
+    proc, port = _replay(str(dump), "--speed", "100")
+    try:
+        code, out, err = run_zuml("monitor", "--port", port, "--driver", "icharger-hid", "--seconds", "3")
+    finally:
+        _stop(proc)
+    assert code == 0 and "icharger-hid: 3 sample(s), 0 bad record(s)" in err, err
+    assert out.count("15.403 V") == 3 and "[discharge]" in out

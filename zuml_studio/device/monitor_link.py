@@ -79,15 +79,15 @@ class MonitorLink:
                 dev.close()
                 raise DeviceLinkError(f"{self.port}: {self.driver.name} is a serial charger, not USB HID")
             return dev
-        if self.driver is not None and self.driver.transport != "serial":
-            raise DeviceLinkError(f"{self.port}: {self.driver.name} is a USB-HID charger; choose its hid: port")
+        # A HID driver on a serial port reads a replayed report dump (``zuml replay``): the reports
+        # come as a byte stream and nothing is polled.
         from .client import open_serial
         if self.driver is None:
             self._detector = Detector()
             self._sweep = BaudSweep(first=self.baud)
             baud = self._sweep.baud
         else:
-            baud = self.baud or self.driver.baud
+            baud = self.baud or self.driver.baud or 115200
         self.current_baud = baud
         dev = open_serial(self.port, baud)
         dev.timeout = READ_S
