@@ -70,12 +70,17 @@ def test_detector_ignores_garbage():
 def test_baud_sweep_moves_on_junk_or_time_and_names_what_it_tried():
     sweep = BaudSweep(first=9600)
     assert sweep.baud == 9600 and sweep.bauds == (9600,) + tuple(b for b in usual_bauds() if b != 9600)
-    assert not sweep.advance(0.0, 0) and not sweep.advance(100.0, 0)      # silence: keep listening
-    assert not sweep.advance(100.0, 10) and not sweep.advance(101.0, 10)
-    assert sweep.advance(102.6, 10) and sweep.baud == sweep.bauds[1]      # 2.5 s of data, no record
-    assert sweep.advance(103.0, 250)                                       # junk
+    assert not sweep.advance(0.0, b"") and not sweep.advance(100.0, b"")    # silence: keep listening
+    line = b";0;0;354;0;1;26\r\n$1;1;;15564;12645;19;4203"                 # torn, but a record starts
+    assert not sweep.advance(100.0, line) and not sweep.advance(101.0, b"") and not sweep.advance(102.4, b"")
+    assert sweep.advance(102.6, b"") and sweep.baud == sweep.bauds[1]       # 2.5 s of data, no record
+    assert not sweep.advance(103.0, bytes(range(128, 160)))                 # a burst of junk ...
+    assert not sweep.advance(103.2, b"")
+    assert sweep.advance(103.3, b"") and sweep.baud == sweep.bauds[2]       # ... ends: the next baud
+    assert not sweep.advance(104.0, b"\x80\x01") and not sweep.advance(104.5, b"")   # too short to judge
+    assert sweep.advance(104.6, b"\x81" * 250)                               # many bytes, no record
     while not sweep.done:
-        sweep.advance(200.0, 500)
+        sweep.advance(200.0, b"\x00" * 500)
     assert "tried cheali, icharger, imaxb6, ultramat at 9600, 57600, 128000" in sweep.message("/dev/x", Detector())
     assert usual_bauds()[:3] == (57600, 128000, 9600)
 

@@ -147,7 +147,7 @@ class MonitorLink:
                 self._on_status(f"recognised {self.driver.title} at {self.current_baud} baud")
                 self._emit(samples)
                 continue
-            if self._sweep.advance(time.monotonic(), len(data)):
+            if self._sweep.advance(time.monotonic(), data):
                 self.current_baud = self._sweep.baud
                 dev.baudrate = self.current_baud
                 det.new_baud()
