@@ -63,3 +63,44 @@ def test_driver_chooser_and_hid_chargers_in_the_port_list(qtbot, tmp_path, edito
         assert combo.isEnabled()
     finally:
         panel.shutdown()
+
+
+def test_a_hid_charger_is_watched_by_its_usb_ids(qtbot, make_panel, monkeypatch):
+    import sys
+    import threading
+    import types
+    report = bytes.fromhex("2C 10 01 F8 7D 07 00 02 01 00 E5 FF 04 87 2B 3C CF FF FF FF 64 01 00 00 02 0F 0B 0F 0E "
+                           "0F 00 0F")          # icharger_logview.md, section C
+    hid = types.ModuleType("hid")
+    hid.enumerate = lambda vid=0, pid=0: [{"vendor_id": 0x0483, "product_id": 0x5751, "path": b"p"}]
+
+    class Device:
+        queue = [report] * 5
+
+        def open_path(self, path):
+            pass
+
+        def read(self, n, timeout_ms):
+            if Device.queue:
+                return list(Device.queue.pop())
+            threading.Event().wait(timeout_ms / 1000)
+            return []
+
+        def write(self, data):
+            return len(data)
+
+        def close(self):
+            pass
+
+    hid.device = Device
+    monkeypatch.setitem(sys.modules, "hid", hid)
+    panel = make_panel()
+    panel.driver_combo.setCurrentIndex(panel.driver_combo.findData("zuml"))   # ZUML is serial: the ids decide
+    with qtbot.waitSignal(panel.connectedChanged, timeout=WAIT_MS) as blocker:
+        assert panel.connect_to("hid:0483:5751")
+    assert blocker.args == [True]
+    qtbot.waitUntil(lambda: panel.info_label.full_text().startswith(
+        f"{DRIVERS['icharger-hid'].title} · monitor-only · 5 records"), timeout=WAIT_MS)
+    assert not panel.start_button.isEnabled()
+    with qtbot.waitSignal(panel.connectedChanged, timeout=WAIT_MS):
+        panel.disconnect()

@@ -576,7 +576,10 @@ class DevicePanel(QWidget):
             return False
         driver = self.driver_combo.currentData() or AUTO
         self._auto_fallback = None
-        if target != VIRTUAL and (driver in DRIVERS or target.startswith("hid:")):
+        if target.startswith("hid:"):
+            # ZUML chargers are serial: a HID charger is watched with its chosen driver, or by its USB ids
+            return self._watch(target, driver if driver in DRIVERS else AUTO)
+        if target != VIRTUAL and driver in DRIVERS:
             return self._watch(target, driver)
         if target != VIRTUAL and driver == AUTO:
             self._auto_fallback = (target, self.ports.baudrate())
