@@ -1,4 +1,4 @@
-"""zuml ports / slots / flash / backup / restore / run / stop / monitor / passport / virtual-charger."""
+"""zuml ports / slots / flash / backup / restore / run / stop / monitor / passport / virtual-charger / replay."""
 from __future__ import annotations
 
 import argparse
@@ -12,6 +12,7 @@ import time
 
 from ..device import messages as msg
 from ..device.client import DEFAULT_BAUD, ChargerClient, check_image
+from ..device.drivers import AUTO, DRIVERS, ZUML
 from ..device.errors import CommitUncertain, CommitUnverified, DeviceError, DeviceLinkError, ImageTooLarge
 from ..device.passport import FACTORY_WRITABLE, WRITABLE, Passport, PassportError, fitness_warnings, printable
 from ..lang.decoder import decode_record
@@ -59,6 +60,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(run=cmd_stop)
 
     p = _with_port(sub.add_parser("monitor", help="print telemetry and events as they come (Ctrl+C ends)"))
+    p.add_argument("--driver", default=ZUML, metavar="NAME",
+                   help=f"the charger's protocol: {ZUML} (ours, default), auto (detect a monitor-only charger), "
+                        f"or one of {', '.join(DRIVERS)}")
     p.add_argument("--csv", metavar="OUT.csv", help="also write every line to a CSV file")
     p.add_argument("--seconds", type=float, metavar="S", help="end after S seconds")
     p.add_argument("--rate", type=int, metavar="HZ", help="telemetry rate to set, 1..50")
@@ -94,12 +98,21 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "(default: a production battery, only err and crit)")
     p.set_defaults(run=cmd_virtual_charger)
 
+    p = sub.add_parser("replay", help="play a charger recording onto a serial port (pty) at its recorded pace")
+    p.add_argument("file", metavar="FILE", help="raw $ lines, {..} frames, Ultramat frames, a HID report dump, "
+                                                "or an iCharger DUO/X .txt log")
+    p.add_argument("--speed", type=float, default=1.0, metavar="N", help="recorded pace x N (default 1)")
+    p.add_argument("--as", dest="as_format", choices=tuple(DRIVERS), metavar="FORMAT",
+                   help=f"read FILE as this driver's stream ({', '.join(DRIVERS)}; default: recognise it)")
+    p.set_defaults(run=cmd_replay)
+
 
 def _with_port(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
     p.add_argument("--port", default=os.environ.get("ZUML_PORT"), required="ZUML_PORT" not in os.environ,
                    metavar="PORT", help="serial port, e.g. /dev/ttyUSB0, COM3, socket://HOST:PORT "
                                         "(default: $ZUML_PORT)")
-    p.add_argument("--baud", type=int, default=DEFAULT_BAUD)
+    p.add_argument("--baud", type=int, metavar="B",
+                   help=f"default {DEFAULT_BAUD} for a ZUML charger, the charger's own for the other drivers")
     p.add_argument("--timeout", type=float, metavar="S", help="seconds per request attempt (default: from the baud)")
     return p
 
@@ -124,7 +137,7 @@ def _device_errors(fn):
 def _connect(args: argparse.Namespace) -> ChargerClient:
     if not args.port:
         raise CliError("give the port: --port /dev/ttyUSB0 (see `zuml ports`)")
-    return ChargerClient(args.port, args.baud, args.timeout)
+    return ChargerClient(args.port, args.baud or DEFAULT_BAUD, args.timeout)
 
 
 def _chemistry(slot: Slot) -> str:
@@ -348,6 +361,8 @@ CSV_COLUMNS = ("time_s", "running", "paused", "section", "repetition", "cycle", 
 
 @_device_errors
 def cmd_monitor(args: argparse.Namespace) -> int:
+    if args.driver != ZUML:
+        return _monitor_charger(args)
     if args.rate is not None and not 1 <= args.rate <= 50:
         raise CliError("--rate must be 1 to 50 Hz")
     from .csv_sink import CsvSink
@@ -400,6 +415,131 @@ def cmd_monitor(args: argparse.Namespace) -> int:
         if sink:
             sink.close()
     return 1 if sink and sink.failed else 0      # the failure was said on its line when it happened
+
+
+def _monitor_charger(args: argparse.Namespace) -> int:
+    """A monitor-only charger: its samples as lines and, with --csv, the session CSV."""
+    from ..device.monitor_link import MonitorLink
+    from ..device.session_log import SessionLog
+    if args.driver not in (AUTO,) + tuple(DRIVERS):
+        raise CliError(f"--driver {args.driver}: choose {ZUML}, {AUTO} or one of {', '.join(DRIVERS)}")
+    if args.rate is not None or args.until_end:
+        raise CliError("--rate and --until-end need a ZUML charger; a monitor-only charger sends at its own pace")
+    if not args.port:
+        raise CliError("give the port: --port /dev/ttyUSB0 (see `zuml ports`)")
+    log = None
+    if args.csv:
+        try:
+            log = SessionLog(args.csv, threaded=False, cells=None)
+        except OSError as exc:
+            raise CliError(f"{args.csv}: cannot write: {exc.strerror or exc}") from None
+    feed: queue.SimpleQueue = queue.SimpleQueue()
+    try:
+        link = MonitorLink(args.port, args.driver, args.baud, on_sample=lambda t: feed.put(("sample", t)),
+                           on_status=lambda s: feed.put(("status", s)),
+                           on_closed=lambda e: feed.put(("closed", e)))
+    except DeviceLinkError as exc:
+        if log:
+            log.close()
+        raise CliError(str(exc), 1) from None
+    link.start()
+    end = time.monotonic() + args.seconds if args.seconds is not None else None
+    error = None
+    try:
+        while True:
+            now = time.monotonic()
+            if end is not None and now >= end:
+                break
+            if log:
+                log.flush_if_due()
+            try:
+                kind, item = feed.get(timeout=0.2 if end is None else max(0.01, min(0.2, end - now)))
+            except queue.Empty:
+                continue
+            if kind == "sample":
+                out(telemetry_line(item) + _cells_text(item))
+                if log:
+                    log.add_telemetry(item)
+            elif kind == "status":
+                sys.stderr.write(f"{item}\n")
+                sys.stderr.flush()
+            else:
+                error = item
+                break
+            sys.stdout.flush()
+    except KeyboardInterrupt:
+        pass
+    finally:
+        link.close()
+        while True:                       # samples decoded before the link stopped still count
+            try:
+                kind, item = feed.get_nowait()
+            except queue.Empty:
+                break
+            if kind == "sample":
+                out(telemetry_line(item) + _cells_text(item))
+                if log:
+                    log.add_telemetry(item)
+            elif kind == "closed" and error is None:
+                error = item
+        if log:
+            log.close()
+    name = link.driver.name if link.driver else "no charger recognised"
+    sys.stderr.write(f"{name}: {link.samples} sample(s), {link.bad} bad record(s)\n")
+    if error:
+        raise CliError(error, 1)
+    if link.driver is None and link.received == 0:
+        sys.stderr.write(f"{args.port}: nothing arrived (a charger sends only while a program runs)\n")
+    return 0
+
+
+def _cells_text(t: msg.Telemetry) -> str:
+    """What a monitor-only charger adds to the line: its state and cells."""
+    cells = ("  cells " + " ".join(f"{v:.3f}" for v in t.cells_v)) if t.cells_v else ""
+    return f"  [{t.state}]{cells}" if t.state else cells
+
+
+def cmd_replay(args: argparse.Namespace) -> int:
+    from ..device.drivers import CaptureError
+    from ..device.replay import load_recording, serve_replay
+    if not 0 < args.speed <= 100000:
+        raise CliError("--speed must be more than 0 and at most 100000")
+    if os.name != "posix":
+        raise CliError("zuml replay needs a pty (Linux, macOS)")
+    try:
+        recording = load_recording(read_bytes(args.file), args.as_format)
+    except CaptureError as exc:
+        raise CliError(f"{args.file}: {exc}") from None
+    stop_requested = threading.Event()
+
+    def on_signal(signum, frame):
+        stop_requested.set()
+
+    old = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        try:
+            where, stop, device = serve_replay(recording, args.speed)
+        except OSError as exc:
+            raise CliError(f"cannot open a pty for the replay: {exc.strerror or exc}", 1) from None
+        sys.stdout.write(where + "\n")
+        sys.stdout.flush()
+        sys.stderr.write(f"replay: {args.file} as {DRIVERS[recording.driver].title}, {len(recording.records)} "
+                         f"record(s) over {recording.duration_s:.0f} s, speed x{args.speed:g}; starts when a "
+                         "reader opens the port; Ctrl+C ends\n")
+        sys.stderr.flush()
+        told = False
+        try:
+            while not stop_requested.wait(0.2):
+                if device.finished.is_set() and not told:
+                    sys.stderr.write("replay: end of the recording (the port stays open)\n")
+                    sys.stderr.flush()
+                    told = True
+        finally:
+            stop()
+    finally:
+        for s, handler in old.items():
+            signal.signal(s, handler)
+    return 0
 
 
 @_device_errors

@@ -53,10 +53,19 @@ def test_something_that_is_not_a_charger(qtbot, make_panel):
         panel = make_panel()
         url = f"socket://127.0.0.1:{server.getsockname()[1]}"
         with qtbot.waitSignal(panel.connectedChanged, timeout=WAIT_MS) as blocker:
-            panel.connect_to(url)
+            panel.connect_to(url, "zuml")
         assert blocker.args == [False]
         assert "no ZUML charger answered" in panel.message_text()
         assert not panel.is_connected()
+        # "Auto" (the default) then listens for a monitor-only charger on the same port
+        with qtbot.waitSignal(panel.connectedChanged, timeout=WAIT_MS) as blocker:
+            panel.connect_to(url, "auto")
+        assert blocker.args == [True] and panel.is_monitoring() and not panel.is_connected()
+        assert panel.message_text().startswith(f"No ZUML charger answered on {url}: listening for a monitor-only")
+        assert not panel.flash_button.isEnabled() and not panel.start_button.isEnabled()
+        with qtbot.waitSignal(panel.connectedChanged, timeout=WAIT_MS) as blocker:
+            panel.disconnect()
+        assert blocker.args == [False] and not panel.is_monitoring()
     finally:
         stop.set()
         thread.join(2)

@@ -98,6 +98,7 @@ class DeviceConnection(QObject):
         self._jobs: dict[int, tuple[Callable | None, Callable | None]] = {}
         self._ids = itertools.count(1)
         self._closing = False
+        self.last_error: BaseException | None = None
 
         self.thread = QThread()
         self.thread.setObjectName("device-worker")
@@ -245,6 +246,7 @@ class DeviceConnection(QObject):
     def _open_failed(self, exc) -> None:
         self.state = "disconnected"
         self.opened = None
+        self.last_error = exc              # the panel's "auto" falls back to monitor-only chargers on NotACharger
         self._release_async()
         self.connectFailed.emit(describe_error(exc, "connect"))
 

@@ -2,8 +2,12 @@
 
 Left, two narrow columns: what is on the charger (device info, its macros, Compile & Flash,
 Backup/Restore) and the run (task parameters, Start/Stop, the battery's passport); right,
-the live plot. Above: the port, the baud rate, Connect; for the built-in virtual charger
-its battery, passport and speed. Below: the message line and the session CSV.
+the live plot. Above: the port, the baud rate, the driver, Connect, Replay; for the built-in
+virtual charger its battery, passport and speed. Below: the message line and the session CSV.
+
+A port's driver is "Auto" by default: a ZUML charger (it answers IDENTIFY), else a
+monitor-only charger recognised from what it sends (``device.drivers``). Monitor-only
+chargers plot and log like ours; Flash and Start are disabled with the reason.
 
 Nothing here waits for the charger: every request runs on the connection's worker thread
 (``connection.py``) and comes back as a signal; telemetry goes from the reader thread into
@@ -24,7 +28,8 @@ from PySide6.QtWidgets import (QAbstractItemView, QCheckBox, QComboBox, QDoubleS
                                QToolButton, QVBoxLayout, QWidget)
 
 from ...device import messages as msg
-from ...device.errors import CommitUncertain, CommitUnverified, DeviceError, ImageTooLarge
+from ...device.drivers import AUTO, DRIVERS, MONITOR_ONLY_REASON, ZUML
+from ...device.errors import CommitUncertain, CommitUnverified, DeviceError, ImageTooLarge, NotACharger
 from ...device.flashing import merge_record
 from ...device.passport import akk_name, fitness_warnings, printable
 from ...sim.start_check import start_warnings
@@ -33,14 +38,17 @@ from ...lang.eeprom import Slot, slots, used_bytes
 from ...safety import image_problems, record_problems
 from ..number_boxes import double_spin_box, form_field, spin_box
 from ..timefmt import hmmss
+from .charger_monitor import ChargerMonitor
 from .connection import DeviceConnection, Opened, VirtualSpec, describe_error
 from .live_plot import DEFAULT_FOLLOW_MIN, LivePlot, LiveSeries
 from .port_chooser import PortChooser
-from .session_log import SessionLog, display_path, session_path
+from ...device.session_log import SessionLog, display_path, session_path
 from .unsafe_dialog import confirm_unsafe
 
 log = logging.getLogger(__name__)
 
+FLASH_TIP = "Write the editor's macro to the charger, verify it (Ctrl+Shift+F)"
+START_TIP = "Check the battery's passport, then start the slot's macro"
 COLORS = {"info": "#505050", "ok": "#1d6b2c", "error": "#b00020", "warn": "#a04000"}
 TASKS = (("charge", "Charge"), ("discharge", "Discharge"), ("train", "Train"))
 FIELD_WIDTH = 92
@@ -158,6 +166,12 @@ class DevicePanel(QWidget):
         self._run_name = ""
         self._shut = False
         self._finished_seen = 0
+        self._auto_fallback: tuple[str, int] | None = None   # (port, baud) to watch if no ZUML charger answers
+        self._stop_replay = None                             # stops the in-process replay behind the port
+
+        self.monitor = ChargerMonitor(self._telemetry_rt, self)
+        self.monitor.status.connect(self._on_monitor_status)
+        self.monitor.closed.connect(self._on_monitor_closed)
 
         self._build(port_lister)
         self.connection = DeviceConnection(self._telemetry_rt, self._event_rt, self)
@@ -183,9 +197,27 @@ class DevicePanel(QWidget):
         top = QHBoxLayout()
         top.setContentsMargins(0, 0, 0, 0)
         top.setSpacing(6)
+        self.driver_combo = QComboBox()
+        self.driver_combo.setObjectName("driverCombo")
+        self.driver_combo.addItem("Auto", AUTO)
+        self.driver_combo.addItem("ZUML charger", ZUML)
+        for d in DRIVERS.values():
+            self.driver_combo.addItem(d.title, d.name)
+        self.driver_combo.setSizeAdjustPolicy(QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+        self.driver_combo.setMinimumContentsLength(10)
+        self.driver_combo.setToolTip("The charger's protocol. Auto: a ZUML charger if one answers, else a "
+                                     "monitor-only charger (cheali, iCharger, iMAX B6, Ultramat, SkyRC, ISDT) "
+                                     "recognised from what it sends")
+        self.replay_button = QPushButton("Replay a recording…")
+        self.replay_button.setObjectName("replayButton")
+        self.replay_button.setToolTip("Play a charger recording ($ lines, {…} frames, Ultramat frames, a HID "
+                                      "report dump, an iCharger DUO/X log) onto a port and watch it here, at the "
+                                      "virtual charger's speed ×")
         top.addWidget(port_label)
         top.addWidget(self.ports, 1)
+        top.addWidget(self.driver_combo)
         top.addWidget(self.connect_button)
+        top.addWidget(self.replay_button)
 
         # -- the virtual charger row ---------------------------------------------------------
         self.v_chem = QComboBox()
@@ -258,7 +290,7 @@ class DevicePanel(QWidget):
                                    "(else appended), or into a slot you pick")
         self.flash_button = QPushButton("Compile && Flash")
         self.flash_button.setObjectName("flashButton")
-        self.flash_button.setToolTip("Write the editor's macro to the charger, verify it (Ctrl+Shift+F)")
+        self.flash_button.setToolTip(FLASH_TIP)
         self.progress = QProgressBar()
         self.progress.setObjectName("flashProgress")
         self.progress.setTextVisible(False)
@@ -330,7 +362,7 @@ class DevicePanel(QWidget):
         self.sensor.setToolTip("a battery temperature sensor is connected")
         self.start_button = QPushButton("Start")
         self.start_button.setObjectName("startButton")
-        self.start_button.setToolTip("Check the battery's passport, then start the slot's macro")
+        self.start_button.setToolTip(START_TIP)
         self.stop_button = QPushButton("Stop")
         self.stop_button.setObjectName("stopButton")
         self.stop_button.setToolTip("Stop the running macro")
@@ -515,6 +547,7 @@ class DevicePanel(QWidget):
 
     def _wire(self) -> None:
         self.connect_button.clicked.connect(self._connect_clicked)
+        self.replay_button.clicked.connect(self._replay_clicked)
         self.ports.changed.connect(self._port_changed)
         self.flash_button.clicked.connect(self.flash)
         self.flash_shortcut.activated.connect(self.flash)
@@ -543,17 +576,29 @@ class DevicePanel(QWidget):
     def is_connected(self) -> bool:
         return self.connection.is_connected()
 
-    def connect_to(self, url_or_virtual: str | None = None) -> bool:
+    def connect_to(self, url_or_virtual: str | None = None, driver: str | None = None) -> bool:
         """Connect to ``"virtual"`` (the built-in virtual charger), a port path or a URL; None: what
-        the chooser shows. Returns at once; ``connectedChanged(True)`` or a message follows."""
+        the chooser shows. ``driver``: "auto", "zuml" or a monitor-only driver's name (None: the
+        driver chooser's). Returns at once; ``connectedChanged(True)`` or a message follows."""
         if self._shut:
             return False
         if url_or_virtual is not None:
             self.ports.set_target(url_or_virtual)
+        if driver is not None:
+            self.driver_combo.setCurrentIndex(max(0, self.driver_combo.findData(driver)))
         target = self.ports.target()
-        if self.connection.state != "disconnected":
+        if self.connection.state != "disconnected" or self.is_monitoring():
             self.show_message("Already connected (or connecting): Disconnect first.", "warn")
             return False
+        driver = self.driver_combo.currentData() or AUTO
+        self._auto_fallback = None
+        if target.startswith("hid:"):
+            # ZUML chargers are serial: a HID charger is watched with its chosen driver, or by its USB ids
+            return self._watch(target, driver if driver in DRIVERS else AUTO)
+        if target != VIRTUAL and driver in DRIVERS:
+            return self._watch(target, driver)
+        if target != VIRTUAL and driver == AUTO:
+            self._auto_fallback = (target, self.ports.baudrate())
         virtual = None
         if target == VIRTUAL:
             virtual = VirtualSpec(self.virtual_battery(), float(self.v_speed.value()),
@@ -573,6 +618,9 @@ class DevicePanel(QWidget):
         (With arguments it is QObject.disconnect, for signal connections.)"""
         if args or kw:
             return super().disconnect(*args, **kw)
+        if self.is_monitoring():
+            self.monitor.close()
+            return
         if self.connection.state in ("connected", "connecting"):
             self.connection.close()
             self.show_message("Disconnecting…", "info")
@@ -774,6 +822,10 @@ class DevicePanel(QWidget):
         self._passport_timer.stop()
         self.ports.shutdown()
         self.connection.shutdown()
+        self.monitor.closed.disconnect(self._on_monitor_closed)
+        self.monitor.close()
+        self.monitor.link = None
+        self._stop_replay_link()
         self._close_session_log()
 
     # -- what tests and the main window may read --------------------------------------------------
@@ -844,7 +896,7 @@ class DevicePanel(QWidget):
 
     # ================================================================ connection results
     def _connect_clicked(self) -> None:
-        if self.connection.state in ("connected", "connecting"):
+        if self.connection.state in ("connected", "connecting") or self.is_monitoring():
             self.disconnect()
         else:
             self.connect_to(None)
@@ -866,6 +918,14 @@ class DevicePanel(QWidget):
         self.connectedChanged.emit(True)
 
     def _on_connect_failed(self, message: str) -> None:
+        fallback, self._auto_fallback = self._auto_fallback, None
+        if fallback is not None and isinstance(self.connection.last_error, NotACharger):
+            self._close_session_log(discard_empty=True)
+            self._set_state_disconnected()
+            if self._watch(fallback[0], AUTO, fallback[1]):
+                self.show_message(f"No ZUML charger answered on {fallback[0]}: listening for a monitor-only "
+                                  f"charger ({', '.join(DRIVERS)}) instead…", "info")
+            return
         self._close_session_log(discard_empty=True)
         self._set_state_disconnected()
         self.show_message(message, "error")
@@ -1090,11 +1150,12 @@ class DevicePanel(QWidget):
                 f"in {tel.mah_in:.0f} mAh · out {tel.mah_out:.0f} mAh")
             if tel.running:
                 where = f"{'C' if tel.section == 'charge' else 'D'}{tel.phase}" if tel.section else "—"
-                state = "paused" if tel.paused else "running"
+                state = tel.state or ("paused" if tel.paused else "running")
                 self.run_label.set_full_text(f"{state} · {where} · {hmmss(tel.time_s)}")
             else:
                 self.run_label.set_full_text("idle" if not self._run_name else f"{self._run_name} ended")
         self._note_finish()
+        self._update_monitor_label()
         logger = self._log
         if logger is not None:
             if logger.error and not self._log_error_said:
@@ -1113,12 +1174,13 @@ class DevicePanel(QWidget):
                                   f"{ev.detail or 'end'}.", "ok")
 
     # ================================================================ state
-    def _set_state_connected(self) -> None:
+    def _set_state_connected(self, monitor: bool = False) -> None:
         self.connect_button.setText("Disconnect")
         self.ports.auto_refresh = False
         self.plot.start()
         self._readings_timer.start()
-        self._passport_timer.start()
+        if not monitor:
+            self._passport_timer.start()
         self._update_enabled()
 
     def _set_state_disconnected(self) -> None:
@@ -1136,6 +1198,28 @@ class DevicePanel(QWidget):
         self._port_changed()
 
     def _update_enabled(self) -> None:
+        monitoring = self.is_monitoring()
+        self.replay_button.setEnabled(not self._shut and not monitoring and self.connection.state == "disconnected")
+        self.driver_combo.setEnabled(not monitoring and self.connection.state == "disconnected"
+                                     and not self.ports.is_virtual())
+        if monitoring:
+            link = self.monitor.link
+            title = link.driver.title if link.driver else "this charger"
+            reason = MONITOR_ONLY_REASON.format(title=title) + ": Flash and Start are off"
+            self.connect_button.setEnabled(not self._shut)
+            for w in (self.ports, self.v_chem, self.v_mah, self.v_cells, self.v_passport, self.flash_button,
+                      self.backup_button, self.restore_button, self.reload_button, self.flash_slot,
+                      self.start_button, self.stop_button, self.pp_refresh, self.run_slot, self.rate):
+                w.setEnabled(False)
+            self.flash_button.setToolTip(reason)
+            self.start_button.setToolTip(reason)
+            self.result_label.setText(f"<span style='color:{COLORS['warn']};'>{reason}.</span>")
+            return
+        if self.result_label.text().endswith("Flash and Start are off.</span>"):
+            self.result_label.setText("")
+        self.rate.setEnabled(True)
+        self.flash_button.setToolTip(FLASH_TIP)
+        self.start_button.setToolTip(START_TIP)
         state = self.connection.state
         connected = state == "connected"
         idle = connected and not self.connection.busy
@@ -1152,6 +1236,115 @@ class DevicePanel(QWidget):
     def _port_changed(self) -> None:
         virtual = self.ports.is_virtual()
         self.virtual_box.setVisible(virtual)
+        self.driver_combo.setEnabled(not virtual and self.connection.state == "disconnected"
+                                     and not self.is_monitoring())
+
+    # ================================================================ monitor-only chargers
+    def is_monitoring(self) -> bool:
+        """A monitor-only charger's link is open (or still being recognised)."""
+        return self.monitor.link is not None
+
+    def _watch(self, port: str, driver: str, baud: int | None = None) -> bool:
+        """Read a monitor-only charger on ``port`` (``driver`` "auto": recognise it)."""
+        if baud is None:
+            chosen = self.ports.baudrate()
+            bauds = (DRIVERS[driver].baud,) + DRIVERS[driver].bauds if driver in DRIVERS else ()
+            baud = chosen if driver == AUTO or chosen in bauds else None
+        self._open_session_log(cells=None)
+        error = self.monitor.open(port, driver, baud)
+        if error:
+            self.monitor.link = None
+            self._close_session_log(discard_empty=True)
+            self._set_state_disconnected()
+            self.show_message(f"Cannot watch {port}: {error}", "error")
+            self.connectedChanged.emit(False)
+            return False
+        self._set_state_connected(monitor=True)
+        link = self.monitor.link
+        if link.driver is not None:
+            self._on_monitor_status(f"monitoring {link.driver.title}")
+        else:
+            self.info_label.set_full_text(f"{port}: listening for a charger…")
+            self.show_message(f"Listening on {port} for a monitor-only charger "
+                              f"({', '.join(DRIVERS)})…", "info")
+            self.plot.set_placeholder("listening: a charger sends while a program runs")
+        self.connectedChanged.emit(True)
+        return True
+
+    def _on_monitor_status(self, text: str) -> None:
+        link = self.monitor.link
+        if link is None:
+            return
+        if link.driver is not None:
+            self.plot.set_placeholder("monitoring: waiting for the charger's first record")
+            self.show_message(f"{text[0].upper()}{text[1:]} on {link.port}. "
+                              + MONITOR_ONLY_REASON.format(title=link.driver.title) + ".", "ok")
+        else:
+            self.show_message(text, "warn" if "nothing recognisable" in text else "info")
+        self._update_monitor_label()
+        self._update_enabled()
+
+    def _update_monitor_label(self) -> None:
+        link = self.monitor.link
+        if link is None:
+            return
+        name = link.driver.title if link.driver else "recognising…"
+        bad = link.bad
+        self.info_label.set_full_text(f"{name} · monitor-only · {link.good} records · {bad} bad")
+        self.info_label.setToolTip(f"{link.port}: {name}\n{link.good} records decoded; {bad} bad (checksum, torn "
+                                   "line or garbage: counted, never plotted)")
+        self.info_label.setStyleSheet(f"color:{COLORS['warn' if bad else 'info']};")
+
+    def _on_monitor_closed(self, error: str) -> None:
+        link, self.monitor.link = self.monitor.link, None
+        self._stop_replay_link()
+        self._close_session_log()
+        self._set_state_disconnected()
+        self.info_label.setStyleSheet(f"color:{COLORS['info']};")
+        kept = " The plot and the session CSV are kept."
+        counts = f" {link.good} records, {link.bad} bad." if link is not None else ""
+        if error:
+            self.show_message(error + counts + kept, "error")
+        else:
+            self.show_message("Disconnected." + counts + (kept if self.plot.points else ""), "info")
+        self.plot.refresh()
+        self.connectedChanged.emit(False)
+
+    def replay(self, path: str | Path, speed: float | None = None) -> bool:
+        """Play a recording onto a pty (in this process) and watch it: ``speed`` × its pace (None:
+        the speed box's value)."""
+        from ...device.drivers import CaptureError
+        from ...device.replay import load_recording, serve_replay
+        if self.connection.state != "disconnected" or self.is_monitoring():
+            self.show_message("Disconnect first, then replay.", "warn")
+            return False
+        try:
+            recording = load_recording(Path(path).read_bytes())
+            port, stop, _device = serve_replay(recording, float(speed or self.v_speed.value()))
+        except CaptureError as exc:
+            self.show_message(f"{Path(path).name}: {exc}", "error")
+            return False
+        except OSError as exc:
+            self.show_message(f"Cannot replay {Path(path).name}: {exc.strerror or exc}", "error")
+            return False
+        self._stop_replay = stop
+        if not self.connect_to(port, recording.driver):
+            self._stop_replay_link()
+            return False
+        self.show_message(f"Replaying {Path(path).name} ({DRIVERS[recording.driver].title}, "
+                          f"{len(recording.records)} records) on {port}.", "ok")
+        return True
+
+    def _stop_replay_link(self) -> None:
+        stop, self._stop_replay = self._stop_replay, None
+        if stop is not None:
+            stop()
+
+    def _replay_clicked(self) -> None:
+        path, _ = QFileDialog.getOpenFileName(self, "Replay a charger recording", "",
+                                              "Recordings (*.txt *.log *.bin *.hex *.csv);;All files (*)")
+        if path:
+            self.replay(path)
 
     def _speed_changed(self, value: int) -> None:
         self.connection.set_speed(float(value))
@@ -1174,10 +1367,10 @@ class DevicePanel(QWidget):
         self.plot.show_all()
 
     # ================================================================ session CSV
-    def _open_session_log(self) -> None:
+    def _open_session_log(self, cells: int | None = 0) -> None:
         self._close_session_log()
         try:
-            self._log = SessionLog(session_path(self.session_dir))
+            self._log = SessionLog(session_path(self.session_dir), cells=cells)
         except OSError as exc:
             self._log = None
             self.session_label.set_full_text(f"no session CSV: cannot write in {self.session_dir}: {exc.strerror or exc}")
