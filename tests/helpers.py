@@ -24,3 +24,54 @@ def compiled(name_or_text: str) -> bytes:
 
 
 needs_pty = pytest.mark.skipif(os.name != "posix", reason="ptys need POSIX")
+
+
+# A LiIon macro that charges to 4.96 V per cell: E303 (the absolute maximum is 4.25 V), yet a
+# 1-cell LiIon passport's whole-volt V_LIMIT (5 V) lets it through.
+HOT_LIION = """MACRO Hot
+  AKK_TYPE=LiIon
+  SERIES=1
+  CHARGE_SECTION
+    FAZE
+      CONSTANT_I=1A
+      IF(V>4.96S) STOP_FAZE
+    END_FAZE
+    FAZE
+      CONSTANT_V=4.96S
+      IF(I<0.1A) STOP_FAZE
+    END_FAZE
+  END_SECTION
+END_MACRO
+"""
+
+
+def unsafe_record(text: str = HOT_LIION) -> bytes:
+    """The bytes of a macro the safety lint refuses (compiled with the user's override)."""
+    result = compile_source(text, unsafe_ok=True)
+    assert result.ok, result.diagnostics
+    return result.record
+
+
+def lose_link_after_commit(monkeypatch, commit_arrives=True, confirmed=True):
+    """Once: the link fails right after COMMIT (its answer lost or not), as a pulled cable would."""
+    from zuml_studio.device.client import ChargerClient
+    from zuml_studio.device.errors import Disconnected
+    real = ChargerClient.request
+    state = {"done": False, "committed": False}
+
+    def request(self, name, payload, **kw):
+        if state["done"]:
+            return real(self, name, payload, **kw)
+        if name == "COMMIT":
+            if commit_arrives:
+                real(self, name, payload, **kw)
+            state["committed"] = True
+            if not confirmed:
+                state["done"] = True
+                raise Disconnected("the connection was lost")
+            return real(self, name, payload, **kw)      # a repeated COMMIT: answered, not done twice
+        if name == "READ_EEPROM" and state["committed"]:
+            state["done"] = True
+            raise Disconnected("the connection was lost")
+        return real(self, name, payload, **kw)
+    monkeypatch.setattr(ChargerClient, "request", request)

@@ -1,6 +1,7 @@
 """Crash recovery for unsaved editor text, without Qt.
 
-While a document has unsaved changes its text is written every few seconds to
+While a document has unsaved changes its text is written after every change (once typing
+pauses: the editor's debounced check) to
 ``<config>/recovery/<key>.zuml`` with a small JSON note beside it (which file it
 belongs to, when). A clean save or close removes both. Whatever is still there
 at the next start was left by a crash and is offered back.
@@ -73,7 +74,7 @@ class RecoveryStore:
         for suffix in (".zuml", ".json"):
             try:
                 (self.root / f"{key}{suffix}").unlink()
-            except FileNotFoundError:
+            except OSError:         # gone already, or unreachable: at worst it is offered back once
                 pass
 
     def pending(self, own_key: str = "") -> list[Recovered]:

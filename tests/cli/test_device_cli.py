@@ -146,6 +146,12 @@ def test_refusals_and_link_errors_are_one_line(vc, zuml, tmp_path):
     assert zuml("flash", "--port", port, str(MACROS / "NiMh-dV.zuml"))[0] == 0
     code, out, err = run_zuml("run", "--port", port, "--slot", "0", "--capacity", "2000", "--current", "2",
                               "--series", "4")
+    # The safety check's refusal: its diagnostics, then one error line.
+    assert code == 1 and "Traceback" not in err
+    assert err.splitlines() == ["  the macro is for NiMh; the battery is LiPo", "zuml: error: slot 0 (NiMh-dV): "
+                                "refused, 1 safety problem(s) above (--force-unsafe overrides)"]
+    code, out, err = zuml("run", "--port", port, "--slot", "0", "--capacity", "2000", "--current", "2",
+                          "--series", "4", "--force-unsafe")
     one_error_line(code, out, err)
     assert "the macro is for NiMh; the battery is LiPo" in err and device.state == "idle"
     code, out, err = zuml("run", "--port", port, "--slot", "5")

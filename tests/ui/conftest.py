@@ -22,3 +22,14 @@ def make_window(qtbot, tmp_path):
     for window in made:
         window.sim_panel.cancel()
         window.device_panel.shutdown()
+
+
+@pytest.fixture(autouse=True)
+def no_unexpected_unsafe_dialog(monkeypatch):
+    """A modal dialog would block an offscreen test forever: a test that expects the safety
+    dialog replaces ``confirm_unsafe`` itself; anywhere else it fails the test at once."""
+    from zuml_studio.ui.device import device_panel
+
+    def unexpected(parent, action, problems):
+        raise AssertionError(f"unexpected safety dialog ({action}): {problems}")
+    monkeypatch.setattr(device_panel, "confirm_unsafe", unexpected)

@@ -37,6 +37,23 @@ def write_bytes(path: str, data: bytes) -> None:
         raise CliError(f"{path}: cannot write: {exc.strerror or exc}") from None
 
 
+def refuse_unsafe(problems: list[str], force: bool, what: str) -> None:
+    """Print the safety check's problems; refuse (exit 1) unless the user forced it."""
+    if not problems:
+        return
+    for line in problems:
+        sys.stderr.write(f"  {line}\n")
+    if not force:
+        raise CliError(f"{what}: refused, {len(problems)} safety problem(s) above "
+                       "(--force-unsafe overrides)", 1)
+    sys.stderr.write(f"zuml: warning: {what}: --force-unsafe: going ahead despite the problem(s) above\n")
+
+
+def add_force_unsafe(p) -> None:
+    p.add_argument("--force-unsafe", action="store_true",
+                   help="write (or start) even what the safety check refuses (chemistry limits, passport)")
+
+
 def out(text: str = "") -> None:
     sys.stdout.write(text + "\n")
 

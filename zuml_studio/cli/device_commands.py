@@ -1,8 +1,7 @@
-"""zuml ports / slots / flash / backup / restore / run / stop / monitor / passport / virtual-charger."""
+"""zuml ports / slots / flash / backup / restore / run / stop / monitor / passport / virtual-charger / replay."""
 from __future__ import annotations
 
 import argparse
-import csv
 import functools
 import os
 import queue
@@ -13,12 +12,13 @@ import time
 
 from ..device import messages as msg
 from ..device.client import DEFAULT_BAUD, ChargerClient, check_image
-from ..device.errors import DeviceError, DeviceLinkError, ImageTooLarge
-from ..device.passport import FACTORY_WRITABLE, WRITABLE, Passport, PassportError, fitness_warnings
+from ..device.drivers import AUTO, DRIVERS, ZUML
+from ..device.errors import CommitUncertain, CommitUnverified, DeviceError, DeviceLinkError, ImageTooLarge
+from ..device.passport import FACTORY_WRITABLE, WRITABLE, Passport, PassportError, fitness_warnings, printable
 from ..lang.decoder import decode_record
 from ..lang.eeprom import ImageError, Slot, records, used_bytes
 from ..lang.record import DecodeError
-from .common import CliError, check_start_options, out, read_bytes, write_bytes
+from .common import CliError, add_force_unsafe, check_start_options, out, read_bytes, refuse_unsafe, write_bytes
 from .lang_commands import compile_file
 
 
@@ -32,6 +32,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = _with_port(sub.add_parser("flash", help="write a macro to the charger (replace by name, or append)"))
     p.add_argument("file", metavar="FILE", help="a .zuml macro or a compiled .bin record")
     p.add_argument("--slot", type=int, metavar="N", help="replace slot N (N = the slot count appends)")
+    add_force_unsafe(p)
     p.set_defaults(run=cmd_flash)
 
     p = _with_port(sub.add_parser("backup", help="save the charger's whole EEPROM image"))
@@ -40,6 +41,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
     p = _with_port(sub.add_parser("restore", help="write a saved EEPROM image back to the charger"))
     p.add_argument("file", metavar="image.bin")
+    add_force_unsafe(p)
     p.set_defaults(run=cmd_restore)
 
     p = _with_port(sub.add_parser("run", help="start the macro in a slot"))
@@ -51,12 +53,16 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--voltage", type=float, metavar="V", help="voltage entered at start (INPUT)")
     p.add_argument("--series", type=int, metavar="N", help="cells in series entered at start")
     p.add_argument("--no-sensor", action="store_true", help="no battery temperature sensor connected")
+    add_force_unsafe(p)
     p.set_defaults(run=cmd_run)
 
     p = _with_port(sub.add_parser("stop", help="stop the running macro"))
     p.set_defaults(run=cmd_stop)
 
     p = _with_port(sub.add_parser("monitor", help="print telemetry and events as they come (Ctrl+C ends)"))
+    p.add_argument("--driver", default=ZUML, metavar="NAME",
+                   help=f"the charger's protocol: {ZUML} (ours, default), auto (detect a monitor-only charger), "
+                        f"or one of {', '.join(DRIVERS)}")
     p.add_argument("--csv", metavar="OUT.csv", help="also write every line to a CSV file")
     p.add_argument("--seconds", type=float, metavar="S", help="end after S seconds")
     p.add_argument("--rate", type=int, metavar="HZ", help="telemetry rate to set, 1..50")
@@ -92,12 +98,21 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "(default: a production battery, only err and crit)")
     p.set_defaults(run=cmd_virtual_charger)
 
+    p = sub.add_parser("replay", help="play a charger recording onto a serial port (pty) at its recorded pace")
+    p.add_argument("file", metavar="FILE", help="raw $ lines, {..} frames, Ultramat frames, a HID report dump, "
+                                                "or an iCharger DUO/X .txt log")
+    p.add_argument("--speed", type=float, default=1.0, metavar="N", help="recorded pace x N (default 1)")
+    p.add_argument("--as", dest="as_format", choices=tuple(DRIVERS), metavar="FORMAT",
+                   help=f"read FILE as this driver's stream ({', '.join(DRIVERS)}; default: recognise it)")
+    p.set_defaults(run=cmd_replay)
+
 
 def _with_port(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
     p.add_argument("--port", default=os.environ.get("ZUML_PORT"), required="ZUML_PORT" not in os.environ,
                    metavar="PORT", help="serial port, e.g. /dev/ttyUSB0, COM3, socket://HOST:PORT "
                                         "(default: $ZUML_PORT)")
-    p.add_argument("--baud", type=int, default=DEFAULT_BAUD)
+    p.add_argument("--baud", type=int, metavar="B",
+                   help=f"default {DEFAULT_BAUD} for a ZUML charger, the charger's own for the other drivers")
     p.add_argument("--timeout", type=float, metavar="S", help="seconds per request attempt (default: from the baud)")
     return p
 
@@ -122,7 +137,7 @@ def _device_errors(fn):
 def _connect(args: argparse.Namespace) -> ChargerClient:
     if not args.port:
         raise CliError("give the port: --port /dev/ttyUSB0 (see `zuml ports`)")
-    return ChargerClient(args.port, args.baud, args.timeout)
+    return ChargerClient(args.port, args.baud or DEFAULT_BAUD, args.timeout)
 
 
 def _chemistry(slot: Slot) -> str:
@@ -167,9 +182,9 @@ def _slots_or_error(image: bytes) -> list[Slot]:
         raise CliError(f"the charger's record list is broken ({exc}); `zuml restore` a backup", 1) from None
 
 
-def _record(path: str) -> bytes:
+def _record(path: str, force: bool) -> bytes:
     if not path.lower().endswith(".bin"):
-        return compile_file(path)
+        return compile_file(path, unsafe_ok=force)
     data = read_bytes(path)
     try:
         decode_record(data)
@@ -182,9 +197,12 @@ def _record(path: str) -> bytes:
 @_device_errors
 def cmd_flash(args: argparse.Namespace) -> int:
     from ..device.flashing import ImageFull, SlotOutOfRange, merge_record
-    record = _record(args.file)
+    from ..safety import record_problems
+    record = _record(args.file, args.force_unsafe)
     name = decode_record(record).macro.name
     with _connect(args) as client:
+        refuse_unsafe(record_problems(record, client.passport_if_any(), charger_max_a=client.info.max_charge_a),
+                      args.force_unsafe, args.file)
         current = client.read_image()
         _slots_or_error(current)
         try:
@@ -194,9 +212,45 @@ def cmd_flash(args: argparse.Namespace) -> int:
                            f" ({exc.count} appends)", 1) from None
         except ImageFull as exc:
             raise CliError(f"{name} does not fit: {exc}", 1) from None
-        result = client.write_image(merged.image, current=current)
-    out(f"{name}: {merged.action}; {result.changed} byte(s) written, verified")
+        try:
+            result = client.write_image(merged.image, current=current)
+        except (CommitUncertain, CommitUnverified) as exc:
+            lost = exc
+        else:
+            out(f"{name}: {merged.action}; {result.changed} byte(s) written, verified")
+            return 0
+    _settle(args, lost, f"{name}: {merged.action}")
     return 0
+
+
+SETTLE_TRIES = 5
+SETTLE_PAUSE_S = 0.5
+
+
+def _settle(args: argparse.Namespace, lost: CommitUncertain | CommitUnverified, done: str) -> None:
+    """The link failed once COMMIT was out: say what is known, reconnect, read the EEPROM back and
+    say what is there (returns only when it holds the new image)."""
+    sys.stderr.write(f"zuml: warning: {lost}\n")
+    sys.stderr.flush()
+    for _ in range(SETTLE_TRIES):
+        time.sleep(SETTLE_PAUSE_S)
+        try:
+            with _connect(args) as client:
+                now = client.read_image()
+        except DeviceLinkError:
+            continue
+        verdict = lost.settle(now)
+        if verdict == "new":
+            out(f"{done}; verified after reconnecting")
+            return
+        if verdict == "previous":
+            raise CliError("reconnected and read back: the charger kept its previous image; nothing was "
+                           "written, flash again", 1)
+        raise CliError("reconnected and read back: the EEPROM is neither the new image nor the previous one "
+                       "(changed since by another program?); check it with `zuml slots`", 1)
+    known = ("the charger confirmed the new image, unverified" if lost.holds == "new"
+             else "the charger holds either the new image or its previous one, never a mix")
+    raise CliError(f"could not reconnect to read it back: {known}; run `zuml slots` when it is back", 1)
 
 
 @_device_errors
@@ -214,13 +268,22 @@ def cmd_backup(args: argparse.Namespace) -> int:
 
 @_device_errors
 def cmd_restore(args: argparse.Namespace) -> int:
+    from ..safety import image_problems
     image = read_bytes(args.file)
     check_image(image)
     with _connect(args) as client:
         if len(image) > client.info.eeprom_size:
             raise ImageTooLarge(len(image), client.info.eeprom_size)
-        result = client.write_image(image, validate=False)
-    out(f"restored {args.file}: {result.changed} byte(s) written, verified")
+        refuse_unsafe(image_problems(image, client.passport_if_any(), charger_max_a=client.info.max_charge_a),
+                      args.force_unsafe, args.file)
+        try:
+            result = client.write_image(image, validate=False)
+        except (CommitUncertain, CommitUnverified) as exc:
+            lost = exc
+        else:
+            out(f"restored {args.file}: {result.changed} byte(s) written, verified")
+            return 0
+    _settle(args, lost, f"restored {args.file}")
     return 0
 
 
@@ -228,13 +291,34 @@ def cmd_restore(args: argparse.Namespace) -> int:
 def cmd_run(args: argparse.Namespace) -> int:
     check_start_options(args, amps_max=65.5)    # START carries mA and mV as u16
     with _connect(args) as client:
+        if not args.force_unsafe:
+            _check_start(client, args)
         try:
             name = client.start(args.slot, args.task, args.cycles, args.capacity, args.current, args.voltage,
                                 args.series, not args.no_sensor)
         except DeviceError as exc:
-            raise CliError(f"the charger refused to start slot {args.slot}: {exc}", 1) from None
+            raise CliError(f"the charger refused to start slot {args.slot} ({exc.code_name}): {exc}", 1) from None
     out(f"started slot {args.slot} ({name}): {args.task}")
     return 0
+
+
+def _check_start(client: ChargerClient, args: argparse.Namespace) -> None:
+    """The safety check on the slot's record with the values entered (a slot that is missing or does
+    not decode is left to the charger's own refusal)."""
+    from ..lang.eeprom import slots
+    from ..safety import record_problems
+    from ..sim.interpreter import StartParams
+    try:
+        found = slots(client.read_image())
+    except ImageError:
+        return
+    if not 0 <= args.slot < len(found) or not found[args.slot].ok:
+        return
+    start = StartParams(args.task, args.cycles, args.capacity, args.current, args.voltage, args.series,
+                        not args.no_sensor)
+    problems = record_problems(found[args.slot].record, client.passport_if_any(), start,
+                               charger_max_a=client.info.max_charge_a)
+    refuse_unsafe(problems, False, f"slot {args.slot} ({found[args.slot].name})")
 
 
 @_device_errors
@@ -277,17 +361,12 @@ CSV_COLUMNS = ("time_s", "running", "paused", "section", "repetition", "cycle", 
 
 @_device_errors
 def cmd_monitor(args: argparse.Namespace) -> int:
+    if args.driver != ZUML:
+        return _monitor_charger(args)
     if args.rate is not None and not 1 <= args.rate <= 50:
         raise CliError("--rate must be 1 to 50 Hz")
-    fh = None
-    if args.csv:
-        try:
-            fh = open(args.csv, "w", encoding="utf-8", newline="")
-        except OSError as exc:
-            raise CliError(f"{args.csv}: cannot write: {exc.strerror or exc}") from None
-    writer = csv.writer(fh, lineterminator="\n") if fh else None
-    if writer:
-        writer.writerow(CSV_COLUMNS)
+    from .csv_sink import CsvSink
+    sink = CsvSink(args.csv, CSV_COLUMNS) if args.csv else None
     client = None
     try:
         client = _connect(args)
@@ -298,14 +377,12 @@ def cmd_monitor(args: argparse.Namespace) -> int:
             out("nothing is running")
             return 0
         end = time.monotonic() + args.seconds if args.seconds is not None else None
-        flushed = time.monotonic()
         while True:
             now = time.monotonic()
             if end is not None and now >= end:
                 break
-            if writer and now - flushed >= 0.5:
-                fh.flush()
-                flushed = now
+            if sink:
+                sink.flush_if_due()
             try:
                 kind, item = feed.get(timeout=0.2 if end is None else max(0.01, min(0.2, end - now)))
             except queue.Empty:
@@ -314,17 +391,17 @@ def cmd_monitor(args: argparse.Namespace) -> int:
                 raise item
             if kind == "telemetry":
                 out(telemetry_line(item))
-                if writer:
-                    writer.writerow((f"{item.time_s:.1f}", int(item.running), int(item.paused), item.section,
-                                     item.repetition, item.cycle, item.phase, item.run, f"{item.voltage_v:.3f}",
-                                     f"{item.current_a:.3f}", "" if item.temp_c is None else f"{item.temp_c:.2f}",
-                                     "" if item.heatsink_c is None else f"{item.heatsink_c:.2f}",
-                                     f"{item.mah_in:.1f}", f"{item.mah_out:.1f}", ""))
+                if sink:
+                    sink.row((f"{item.time_s:.1f}", int(item.running), int(item.paused), item.section,
+                              item.repetition, item.cycle, item.phase, item.run, f"{item.voltage_v:.3f}",
+                              f"{item.current_a:.3f}", "" if item.temp_c is None else f"{item.temp_c:.2f}",
+                              "" if item.heatsink_c is None else f"{item.heatsink_c:.2f}",
+                              f"{item.mah_in:.1f}", f"{item.mah_out:.1f}", ""))
             else:
                 out(event_line(item))
-                if writer:
-                    writer.writerow((f"{item.time_s:.1f}", "", "", item.section, item.repetition, "", item.index,
-                                     "", "", "", "", "", "", "", f"{item.kind}: {item.detail}".rstrip(": ")))
+                if sink:
+                    sink.row((f"{item.time_s:.1f}", "", "", item.section, item.repetition, "", item.index,
+                              "", "", "", "", "", "", "", f"{item.kind}: {item.detail}".rstrip(": ")))
                 if args.until_end and item.kind == "finish":
                     break
             sys.stdout.flush()
@@ -335,8 +412,133 @@ def cmd_monitor(args: argparse.Namespace) -> int:
     finally:
         if client is not None:
             client.close()
-        if fh:
-            fh.close()
+        if sink:
+            sink.close()
+    return 1 if sink and sink.failed else 0      # the failure was said on its line when it happened
+
+
+def _monitor_charger(args: argparse.Namespace) -> int:
+    """A monitor-only charger: its samples as lines and, with --csv, the session CSV."""
+    from ..device.monitor_link import MonitorLink
+    from ..device.session_log import SessionLog
+    if args.driver not in (AUTO,) + tuple(DRIVERS):
+        raise CliError(f"--driver {args.driver}: choose {ZUML}, {AUTO} or one of {', '.join(DRIVERS)}")
+    if args.rate is not None or args.until_end:
+        raise CliError("--rate and --until-end need a ZUML charger; a monitor-only charger sends at its own pace")
+    if not args.port:
+        raise CliError("give the port: --port /dev/ttyUSB0 (see `zuml ports`)")
+    log = None
+    if args.csv:
+        try:
+            log = SessionLog(args.csv, threaded=False, cells=None)
+        except OSError as exc:
+            raise CliError(f"{args.csv}: cannot write: {exc.strerror or exc}") from None
+    feed: queue.SimpleQueue = queue.SimpleQueue()
+    try:
+        link = MonitorLink(args.port, args.driver, args.baud, on_sample=lambda t: feed.put(("sample", t)),
+                           on_status=lambda s: feed.put(("status", s)),
+                           on_closed=lambda e: feed.put(("closed", e)))
+    except DeviceLinkError as exc:
+        if log:
+            log.close()
+        raise CliError(str(exc), 1) from None
+    link.start()
+    end = time.monotonic() + args.seconds if args.seconds is not None else None
+    error = None
+    try:
+        while True:
+            now = time.monotonic()
+            if end is not None and now >= end:
+                break
+            if log:
+                log.flush_if_due()
+            try:
+                kind, item = feed.get(timeout=0.2 if end is None else max(0.01, min(0.2, end - now)))
+            except queue.Empty:
+                continue
+            if kind == "sample":
+                out(telemetry_line(item) + _cells_text(item))
+                if log:
+                    log.add_telemetry(item)
+            elif kind == "status":
+                sys.stderr.write(f"{item}\n")
+                sys.stderr.flush()
+            else:
+                error = item
+                break
+            sys.stdout.flush()
+    except KeyboardInterrupt:
+        pass
+    finally:
+        link.close()
+        while True:                       # samples decoded before the link stopped still count
+            try:
+                kind, item = feed.get_nowait()
+            except queue.Empty:
+                break
+            if kind == "sample":
+                out(telemetry_line(item) + _cells_text(item))
+                if log:
+                    log.add_telemetry(item)
+            elif kind == "closed" and error is None:
+                error = item
+        if log:
+            log.close()
+    name = link.driver.name if link.driver else "no charger recognised"
+    sys.stderr.write(f"{name}: {link.samples} sample(s), {link.bad} bad record(s)\n")
+    if error:
+        raise CliError(error, 1)
+    if link.driver is None and link.received == 0:
+        sys.stderr.write(f"{args.port}: nothing arrived (a charger sends only while a program runs)\n")
+    return 0
+
+
+def _cells_text(t: msg.Telemetry) -> str:
+    """What a monitor-only charger adds to the line: its state and cells."""
+    cells = ("  cells " + " ".join(f"{v:.3f}" for v in t.cells_v)) if t.cells_v else ""
+    return f"  [{t.state}]{cells}" if t.state else cells
+
+
+def cmd_replay(args: argparse.Namespace) -> int:
+    from ..device.drivers import CaptureError
+    from ..device.replay import load_recording, serve_replay
+    if not 0 < args.speed <= 100000:
+        raise CliError("--speed must be more than 0 and at most 100000")
+    if os.name != "posix":
+        raise CliError("zuml replay needs a pty (Linux, macOS)")
+    try:
+        recording = load_recording(read_bytes(args.file), args.as_format)
+    except CaptureError as exc:
+        raise CliError(f"{args.file}: {exc}") from None
+    stop_requested = threading.Event()
+
+    def on_signal(signum, frame):
+        stop_requested.set()
+
+    old = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        try:
+            where, stop, device = serve_replay(recording, args.speed)
+        except OSError as exc:
+            raise CliError(f"cannot open a pty for the replay: {exc.strerror or exc}", 1) from None
+        sys.stdout.write(where + "\n")
+        sys.stdout.flush()
+        sys.stderr.write(f"replay: {args.file} as {DRIVERS[recording.driver].title}, {len(recording.records)} "
+                         f"record(s) over {recording.duration_s:.0f} s, speed x{args.speed:g}; starts when a "
+                         "reader opens the port; Ctrl+C ends\n")
+        sys.stderr.flush()
+        told = False
+        try:
+            while not stop_requested.wait(0.2):
+                if device.finished.is_set() and not told:
+                    sys.stderr.write("replay: end of the recording (the port stays open)\n")
+                    sys.stderr.flush()
+                    told = True
+        finally:
+            stop()
+    finally:
+        for s, handler in old.items():
+            signal.signal(s, handler)
     return 0
 
 
@@ -358,8 +560,8 @@ def cmd_passport(args: argparse.Namespace) -> int:
                     raise
                 raise CliError(f"passport: {field}: {exc.message}", 1) from None
         p = client.passport_read()
-    out(f"serial   {p.serial}")
-    out(f"vendor   {p.vendor}")
+    out(f"serial   {printable(p.serial)}")
+    out(f"vendor   {printable(p.vendor)}")
     out(f"type     {p.type_name} ({p.type})")
     warnings = fitness_warnings(p)
     out(f"err      {p.err}" + (f"  (warning: {warnings[0]})" if warnings else ""))
@@ -367,6 +569,9 @@ def cmd_passport(args: argparse.Namespace) -> int:
     out(f"v_limit  {p.v_limit} V" + ("  (not set)" if not p.v_limit else ""))
     out(f"a_limit  {p.a_limit} A" + ("  (not set)" if not p.a_limit else ""))
     out(f"temp     {p.temp} C")
+    if p.unprintable_fields:
+        out(f"warning: the passport's {' and '.join(p.unprintable_fields)} hold non-printable bytes (shown "
+            "as \\xNN): a damaged or forged passport")
     return 0
 
 

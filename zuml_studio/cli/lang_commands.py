@@ -12,7 +12,7 @@ from ..lang.formatter import format_macro
 from ..lang.listing import format_listing, listing_rows
 from ..lang.opcodes import AKK_TYPE
 from ..lang.record import DecodeError
-from .common import CliError, out, read_bytes, read_text, write_bytes
+from .common import CliError, add_force_unsafe, out, read_bytes, read_text, refuse_unsafe, write_bytes
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -40,6 +40,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--size", type=int, default=DEFAULT_SIZE, help=f"EEPROM size in bytes (default {DEFAULT_SIZE})")
     p.add_argument("--list", action="store_true", help="list the records in an image")
     p.add_argument("--extract", type=int, metavar="N", help="write slot N of the image to -o")
+    add_force_unsafe(p)
     p.set_defaults(run=cmd_image)
 
 
@@ -65,12 +66,15 @@ def cmd_check(args: argparse.Namespace) -> int:
     return 1 if failed else 0
 
 
-def compile_file(path: str) -> bytes:
-    """A .zuml file's record; errors are printed and raise CliError(exit 1)."""
-    result = compile_source(read_text(path))
+def compile_file(path: str, unsafe_ok: bool = False) -> bytes:
+    """A .zuml file's record; errors are printed and raise CliError(exit 1). ``unsafe_ok``: the
+    safety lint's errors do not stop it (the caller runs ``safety.record_problems`` on the bytes)."""
+    result = compile_source(read_text(path), unsafe_ok=unsafe_ok)
     if not result.ok:
         _report(path, result, stream=sys.stderr)
-        raise CliError(f"{path}: {len(result.errors)} error(s); nothing written", 1)
+        safety_only = all(d.code.startswith("E3") for d in result.errors)
+        hint = " (safety errors only: --force-unsafe writes it anyway)" if safety_only else ""
+        raise CliError(f"{path}: {len(result.errors)} error(s); nothing written{hint}", 1)
     return result.record
 
 
@@ -105,12 +109,15 @@ def cmd_decompile(args: argparse.Namespace) -> int:
     return 0
 
 
-def _record_of(path: str) -> bytes:
+def _record_of(path: str, force: bool) -> bytes:
+    from ..safety import record_problems
     if path.lower().endswith(".bin"):
         data = read_bytes(path)
         _decode(path, data)
-        return data
-    return compile_file(path)
+    else:
+        data = compile_file(path, unsafe_ok=force)
+    refuse_unsafe(record_problems(data), force, path)
+    return data
 
 
 def cmd_image(args: argparse.Namespace) -> int:
@@ -132,7 +139,7 @@ def cmd_image(args: argparse.Namespace) -> int:
         raise CliError("image needs -o eeprom.bin (or --list IMAGE)")
     if not 16 <= args.size <= 1 << 20:
         raise CliError(f"--size {args.size} is not an EEPROM size (16 bytes to 1 MiB)")
-    records = [_record_of(path) for path in args.files]
+    records = [_record_of(path, args.force_unsafe) for path in args.files]
     try:
         image = pack(records, args.size)
     except ImageError as exc:

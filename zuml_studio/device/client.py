@@ -25,7 +25,7 @@ from ..lang.eeprom import ImageError, Slot, slots
 from . import messages as m
 from . import passport as pp
 from .crc import crc16
-from .errors import (CommitUncertain, DeviceError, DeviceLinkError, DeviceTimeout, Disconnected, ImageTooLarge,
+from .errors import (CommitUncertain, CommitUnverified, DeviceError, DeviceLinkError, DeviceTimeout, Disconnected, ImageTooLarge,
                      InvalidImage, NotACharger, PermissionDenied, PortBusy, PortNotFound, VerifyFailed)
 from .frames import MAX_FRAME, OVERHEAD, FrameParser, encode_frame
 from .port_access import vanished_hint
@@ -34,7 +34,10 @@ log = logging.getLogger(__name__)
 
 DEFAULT_BAUD = 115200
 RETRIES = 3
-MIN_CHUNK = 32
+MIN_CHUNK = 16
+PIECE_FAILURES = 8            # requests of one piece that may fail in a row (each already retried)
+BACKOFF_S = 0.02              # first wait after a failed piece; doubles, at most BACKOFF_MAX_S
+BACKOFF_MAX_S = 0.5
 TIMEOUT_MARGIN_S = 0.1        # device processing and OS latency on top of the wire time
 READ_POLL_S = 0.02
 
@@ -92,6 +95,8 @@ class _Pending:
 def open_serial(url: str, baudrate: int = DEFAULT_BAUD, exclusive: bool = True):
     """``serial.serial_for_url`` with its failures turned into DeviceLinkErrors."""
     import serial
+    from .port_url import check_port_url
+    check_port_url(url)
     kwargs = dict(baudrate=baudrate, timeout=READ_POLL_S, write_timeout=5)
     try:
         try:
@@ -146,6 +151,7 @@ class ChargerClient:
         self._seq = random.randrange(256)
         self._closing = False
         self._disconnected: DeviceLinkError | None = None
+        self._heard = False                       # any byte came from the device
         self._telemetry_cbs: list[Callable[[m.Telemetry], None]] = []
         self._event_cbs: list[Callable[[m.DeviceEvent], None]] = []
         self._disconnect_cbs: list[Callable[[DeviceLinkError], None]] = []
@@ -171,8 +177,11 @@ class ChargerClient:
             raise NotACharger(f"{url}: the device refused IDENTIFY ({exc}); not a ZUML charger?") from None
         except Disconnected:
             self.close()
-            raise Disconnected(f"{url}: the connection closed before the charger answered "
-                               "(is another program connected to it?)") from None
+            # Only a TCP charger that already serves another program closes a new connection at once.
+            maybe = " (or it serves another program already)" if url.lower().startswith("socket://") \
+                and not self._heard else ""
+            raise Disconnected(f"{url}: the connection closed before the charger answered: it stopped or "
+                               f"went away{maybe}") from None
         except BaseException:
             self.close()
             raise
@@ -242,7 +251,7 @@ class ChargerClient:
                 data = ser.read(ser.in_waiting or 1)
             except Exception as exc:   # noqa: BLE001 - SerialException, OSError, a closed port
                 if not self._closing:
-                    self._lost(Disconnected(f"{self.url}: the connection was lost ({exc})"))
+                    self._lost(Disconnected(f"{self.url}: the connection was lost ({_why_lost(exc)})"))
                 return
             if not data:
                 if parser.pending:           # the line went quiet inside a frame: its LEN was garbage
@@ -251,6 +260,7 @@ class ChargerClient:
                     for frame in frames:
                         self._dispatch_safely(frame)
                 continue
+            self._heard = True
             garbage = parser.bad_frames + parser.skipped
             frames = parser.feed(data)
             if parser.bad_frames + parser.skipped != garbage:
@@ -474,11 +484,28 @@ class ChargerClient:
         size = self.info.eeprom_size
         out = bytearray()
         while len(out) < size:
-            n = min(self._chunk, size - len(out))
-            out += self.read_eeprom(len(out), n)
+            at = len(out)
+            out += self._in_pieces(min(self._chunk, size - at), lambda n: self.read_eeprom(at, n))
             if progress:
                 progress(stage, len(out), size)
         return bytes(out)
+
+    def _in_pieces(self, n: int, do: Callable[[int], object]):
+        """``do(n)``; when its request fails every retry (a noisy line, a long frame that rarely gets
+        through whole), again with half the piece after a growing pause, down to MIN_CHUNK bytes;
+        DeviceTimeout after PIECE_FAILURES failures in a row. ``do`` must do the first n bytes."""
+        failures = 0
+        while True:
+            try:
+                return do(n)
+            except DeviceTimeout:
+                failures += 1
+                if failures >= PIECE_FAILURES:
+                    raise
+                n = max(min(MIN_CHUNK, n), n // 2)
+                self._chunk = min(self._chunk, max(MIN_CHUNK, n))
+                self._good_streak = 0
+                _pause(min(BACKOFF_MAX_S, BACKOFF_S * 2 ** (failures - 1)))
 
     def slots(self) -> list[Slot]:
         """The macros in the device's EEPROM (``lang.eeprom.slots``; ImageError for a broken list)."""
@@ -523,12 +550,18 @@ class ChargerClient:
             for offset, data in runs:
                 at = 0
                 while at < len(data):
-                    piece = data[at:at + self._chunk]
-                    v = self._call("WRITE_STAGE", response_len=3, token=token, offset=offset + at, data=piece)
-                    if v["offset"] != offset + at or v["length"] != len(piece):
-                        raise DeviceError(m.ErrorCode.BAD_REQUEST, "the charger staged other bytes than sent")
-                    at += len(piece)
-                    sent += len(piece)
+                    start = offset + at
+                    rest = data[at:]
+
+                    def stage(n: int) -> int:
+                        piece = rest[:n]
+                        v = self._call("WRITE_STAGE", response_len=3, token=token, offset=start, data=piece)
+                        if v["offset"] != start or v["length"] != len(piece):
+                            raise DeviceError(m.ErrorCode.BAD_REQUEST, "the charger staged other bytes than sent")
+                        return len(piece)
+                    done = self._in_pieces(min(self._chunk, len(rest)), stage)
+                    at += done
+                    sent += done
                     chunks += 1
                     if progress:
                         progress("write", sent, total)
@@ -543,7 +576,7 @@ class ChargerClient:
             # Every answer to COMMIT was lost, perhaps not the COMMIT itself: the read-back tells.
         except Disconnected as exc:
             if commit_sent:
-                raise self._uncertain(exc) from None
+                raise self._uncertain(exc, image, current) from None
             raise
         except BaseException:
             self._abort(token)
@@ -552,8 +585,10 @@ class ChargerClient:
             back = self.read_image(progress, stage="verify")
         except DeviceLinkError as exc:
             if confirmed:
-                raise
-            raise self._uncertain(exc) from None
+                raise CommitUnverified(f"{self.url}: the charger confirmed the new image ({changed} byte(s) "
+                                       f"changed), then the link failed while reading it back ({exc}): "
+                                       "reconnect to verify it", image, current) from None
+            raise self._uncertain(exc, image, current) from None
         if back != image:
             if not confirmed and back == current:
                 raise DeviceTimeout(f"{self.url}: the charger did not take COMMIT; it keeps its previous image")
@@ -569,10 +604,10 @@ class ChargerClient:
             except DeviceLinkError:
                 pass
 
-    def _uncertain(self, exc: DeviceLinkError) -> CommitUncertain:
+    def _uncertain(self, exc: DeviceLinkError, image: bytes, current: bytes) -> CommitUncertain:
         return CommitUncertain(f"{self.url}: the link failed right after COMMIT ({exc}); the charger holds "
-                               "either the new image or its previous one, never a mix: reconnect and list "
-                               "its slots")
+                               "either the new image or its previous one, never a mix: reconnect to tell "
+                               "which", image, current)
 
     def start(self, slot: int, task: str = "charge", repetitions: int = 1, capacity_mah: float | None = None,
               current_a: float | None = None, voltage_v: float | None = None, series: int | None = None,
@@ -644,6 +679,16 @@ class ChargerClient:
         except pp.PassportError as exc:
             raise DeviceError(m.ErrorCode.PASSPORT_ERROR, f"the battery's passport is unreadable: {exc}") from None
 
+    def passport_if_any(self) -> pp.Passport | None:
+        """The passport, or None when the battery has no chip or an unreadable one (the charger's
+        own check at START then decides)."""
+        try:
+            return self.passport_read()
+        except DeviceError as exc:
+            if exc.code in (m.ErrorCode.NO_PASSPORT, m.ErrorCode.PASSPORT_ERROR):
+                return None
+            raise
+
     def passport_write(self, field: str, value) -> pp.Passport:
         """Set one field (a production battery takes err and crit only; a factory one also serial,
         vendor, type and v_limit); writes only the pages that change, then reads the passport back.
@@ -674,6 +719,19 @@ def check_image(image: bytes) -> None:
     if bad:
         s = bad[0]
         raise InvalidImage(f"slot {s.index} at offset {s.offset} does not decode: {s.error}")
+
+
+def _pause(seconds: float) -> None:
+    time.sleep(seconds)
+
+
+def _why_lost(exc: Exception) -> str:
+    """The reason without pyserial's guess: "returned no data (device disconnected or multiple
+    access on port?)" is what any closed pty or socket says, and nothing here shares a port."""
+    text = str(exc)
+    if "returned no data" in text or "multiple access" in text:
+        return "the charger closed the line: it stopped, or its cable was pulled"
+    return text
 
 
 def _changed_runs(old: bytes, new: bytes, gap: int = OVERHEAD + 6) -> list[tuple[int, bytes]]:

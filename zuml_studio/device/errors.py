@@ -47,10 +47,35 @@ class Disconnected(DeviceLinkError):
     """The link went away (cable pulled, the virtual charger stopped, the port closed)."""
 
 
-class CommitUncertain(DeviceLinkError):
+class _AfterCommit(DeviceLinkError):
+    """A link failure once COMMIT had gone out: ``image`` is what was written, ``previous`` what
+    the EEPROM held before; ``settle`` tells from a fresh read (after reconnecting) which is there."""
+
+    holds = "either"
+
+    def __init__(self, message: str, image: bytes = b"", previous: bytes = b""):
+        super().__init__(message)
+        self.image = image
+        self.previous = previous
+
+    def settle(self, now: bytes) -> str:
+        """"new", "previous" or "other" (the EEPROM changed since, by another hand)."""
+        if now == self.image:
+            return "new"
+        return "previous" if now == self.previous else "other"
+
+
+class CommitUncertain(_AfterCommit):
     """The link failed after COMMIT went out and before the charger confirmed it. A commit is
     all or nothing, so the charger holds either the new image or its previous one; which, only
     a fresh read can tell."""
+
+
+class CommitUnverified(_AfterCommit):
+    """The charger confirmed COMMIT (it holds the new image), then the link failed during the
+    read-back that verifies it."""
+
+    holds = "new"
 
 
 class ImageTooLarge(DeviceLinkError):

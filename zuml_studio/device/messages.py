@@ -239,7 +239,8 @@ class Telemetry:
     ``section`` is "discharge", "charge" or "" (idle); ``temp_c`` is None without a sensor.
     ``heatsink_c`` is the charger's internal temperature. ``cells_v`` holds per-cell voltages
     where the charger measures them (balance port); our own protocol frame does not carry them,
-    so ``encode`` drops them and ``decode`` returns ()."""
+    so ``encode`` drops them and ``decode`` returns (). ``state`` is a monitor-only charger's own
+    name for its state ("charging", "done", …; ``device.drivers``), "" for our protocol (not encoded)."""
 
     time_s: float             # the macro's clock (device time of the run)
     task: str
@@ -258,6 +259,7 @@ class Telemetry:
     mah_in: float
     mah_out: float
     cells_v: tuple[float, ...] = ()
+    state: str = ""
 
     def encode(self) -> bytes:
         flags = (FLAG_RUNNING if self.running else 0) | (FLAG_PAUSED if self.paused else 0) | \

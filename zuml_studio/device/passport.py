@@ -133,6 +133,11 @@ class Passport:
     def type_name(self) -> str:
         return akk_name(self.type)
 
+    @property
+    def unprintable_fields(self) -> list[str]:
+        """The text fields holding bytes outside printable ASCII (a damaged or forged passport)."""
+        return [f for f in ("serial", "vendor") if printable(getattr(self, f)) != getattr(self, f)]
+
     def to_bytes(self) -> bytes:
         body = _BODY.pack(MAGIC, self.version, _ascii(self.serial, 16, "serial"), _ascii(self.vendor, 4, "vendor"),
                           _u(self.type, 0xFF, "type"), _u(self.err, 0xFFFF, "err"), _u(self.crit, 0xFFFF, "crit"),
@@ -186,7 +191,13 @@ def _ascii(text: str, size: int, what: str) -> bytes:
 
 
 def _text(raw: bytes) -> str:
-    return raw.split(b"\0", 1)[0].decode("ascii", "replace")
+    return raw.split(b"\0", 1)[0].decode("latin-1")      # one character per byte, shown by ``printable``
+
+
+def printable(text: str) -> str:
+    """Text that came from a battery, safe to print or show: every character outside printable
+    ASCII as ``\\xNN`` (a control byte could clear a terminal or forge a line)."""
+    return "".join(c if " " <= c <= "~" else f"\\x{ord(c):02x}" for c in text)
 
 
 def _u(value: int, top: int, what: str) -> int:

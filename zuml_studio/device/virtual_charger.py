@@ -42,7 +42,7 @@ from ..sim.start_templates import TemplateError, check_number, factory_templates
 from . import messages as m
 from .crc import crc16
 from .frames import Frame, FrameParser, encode_frame
-from .passport import Passport, PassportChip, PassportError, akk_code, conflicts, default_passport
+from .passport import Passport, PassportChip, PassportError, akk_code, default_passport
 
 FIRMWARE = "zuml-virtual 1.0"
 MIN_SPEED, MAX_SPEED = 1.0, 100000.0
@@ -471,7 +471,8 @@ class VirtualCharger:
             except PassportError as exc:
                 raise _Refused(m.ErrorCode.PASSPORT_CONFLICT, f"the battery's passport is unreadable ({exc}); "
                                                               "not starting") from None
-            found = conflicts(passport, record, params, charger_max_a=self.limits.max_charge_a)
+            from ..safety import record_problems      # the host's check, again: the last line
+            found = record_problems(record, passport, params, charger_max_a=self.limits.max_charge_a)
             if found:
                 raise _Refused(m.ErrorCode.PASSPORT_CONFLICT, "\n".join(found))
         with self._lock:

@@ -8,7 +8,7 @@ from .builder import build
 from .checker import Finding, check
 from .diagnostics import Diagnostic, Severity, sort_key
 from .parser import SyntaxProblem, parse_raw
-from .record import Encoded, encode
+from .record import MAX_RECORD, Encoded, encode
 
 
 @dataclass
@@ -45,20 +45,35 @@ def to_diagnostic(macro: Macro, finding: Finding) -> Diagnostic:
                       finding.code, finding.message, finding.hint)
 
 
-def compile_source(text: str, *, charger=None) -> CompileResult:
+def compile_source(text: str, *, charger=None, unsafe_ok: bool = False) -> CompileResult:
     """Never raises for any text: problems come back as diagnostics. ``charger``: the charger model's
-    ``sim.charger_model.ChargerLimits`` when known (the lint then warns where it clips a current)."""
+    ``sim.charger_model.ChargerLimits`` when known (the lint then warns where it clips a current).
+
+    ``unsafe_ok``: the safety lint's errors (E3xx) still show but no longer withhold the bytes
+    (the user's explicit override, ``--force-unsafe``)."""
     try:
         raw = parse_raw(text)
     except SyntaxProblem as problem:
         return CompileResult(None, [problem.diagnostic])
+    if len(raw.statements) >= MAX_RECORD:
+        # The parser stops here (every statement takes a byte or more): refused before the build
+        # and checks, which would take long on a file of thousands of lines.
+        at = raw.statements[MAX_RECORD - 1].span
+        return CompileResult(None, [Diagnostic(Severity.ERROR, at.line, at.column, (at.end_line, at.end_column),
+                                               "E160", f"The macro has {MAX_RECORD} statements or more; each takes "
+                                               f"a byte or more and a record holds at most {MAX_RECORD}",
+                                               "this is where it stops fitting: shorten the macro or split it")])
     macro, diagnostics = build(raw)
     from .lint import lint   # the lint reads the checked AST; imported here to keep layers one-way
     findings = check(macro)
     # Safety warnings only make sense for a macro that could be stored.
+    safety: list[Finding] = []
     if not any(d.is_error for d in diagnostics) and not any(f.severity is Severity.ERROR for f in findings):
-        findings += lint(macro, charger)
+        safety = lint(macro, charger)
     diagnostics += [to_diagnostic(macro, f) for f in findings]
+    blocking = any(d.is_error for d in diagnostics) or \
+        (not unsafe_ok and any(f.severity is Severity.ERROR for f in safety))
+    diagnostics += [to_diagnostic(macro, f) for f in safety]
     diagnostics.sort(key=sort_key)
-    encoded = None if any(d.is_error for d in diagnostics) else encode(macro)
+    encoded = None if blocking else encode(macro)
     return CompileResult(macro, diagnostics, encoded)

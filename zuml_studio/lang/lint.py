@@ -61,7 +61,8 @@ class Context:
         """A stored current as a multiple of the capacity, when it can be known before start."""
         return relative_value(raw, self.capacity_mah / 1000 if self.capacity_mah else None)
 
-def _context(macro: Macro, charger=None) -> Context:
+def _context(macro: Macro, charger=None, given_series: int | None = None,
+             given_capacity: float | None = None) -> Context:
     akk = macro.declared(ops.AKK_TYPE)
     name = ops.AKK_TYPE.operands[0].kind.name_of(akk.args[0].raw) if akk else None
     limits = None
@@ -73,7 +74,8 @@ def _context(macro: Macro, charger=None) -> Context:
     series = macro.declared(ops.SERIES)
     capacity = macro.declared(ops.CAPACITY)
     cap = capacity.args[0].raw if capacity and capacity.args[0].raw not in (0, 0xFFFF) else None
-    return Context(macro, name or "UNDEF", limits, series.args[0].raw if series else None, cap, charger)
+    declared = series.args[0].raw if series else None
+    return Context(macro, name or "UNDEF", limits, declared or given_series, cap or given_capacity, charger)
 
 
 def _phases(items) -> Iterator[Phase]:
@@ -425,7 +427,8 @@ RULES: tuple[Rule, ...] = (
 )
 
 
-def lint(macro: Macro, charger=None) -> list[Finding]:
-    """``charger``: the charger model's ``ChargerLimits`` when known (adds W318)."""
-    ctx = _context(macro, charger)
+def lint(macro: Macro, charger=None, *, series: int | None = None, capacity_mah: float | None = None) -> list[Finding]:
+    """``charger``: the charger model's ``ChargerLimits`` when known (adds W318). ``series`` and
+    ``capacity_mah``: values entered at start, for what the macro leaves open."""
+    ctx = _context(macro, charger, series, capacity_mah)
     return [finding for rule in RULES for finding in rule(ctx)]

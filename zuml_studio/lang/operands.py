@@ -70,7 +70,7 @@ def split_number(text: str) -> tuple[Decimal, str] | None:
 
 
 def round_half_away(x: Decimal) -> int:
-    return int(x.quantize(Decimal(1), rounding=ROUND_HALF_UP))
+    return int(x.to_integral_value(rounding=ROUND_HALF_UP))     # quantize overflows past 28 digits
 
 
 def format_scaled(raw: int, scale: int) -> str:

@@ -20,6 +20,7 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 from .ast import Span
 from .diagnostics import Diagnostic, Severity
 from .opcodes import CONDITION_OUTCOMES
+from .record import MAX_RECORD
 
 
 @dataclass(frozen=True, slots=True)
@@ -121,12 +122,20 @@ class _ToRaw(Transformer):
 
 
 _COMMENT = re.compile(r"//.*")
+# A record holds 255 bytes of code, so no real macro comes near this; past it the text is
+# refused at once instead of parsed for minutes.
+MAX_TEXT_CHARS = 1_000_000
+# The line cache is bounded by the text it holds (a parse costs memory in proportion); a line
+# longer than _CACHE_LINE_MAX is not worth keeping (no macro has one, each keystroke changes it).
 _CACHE: dict[tuple[str, bool], list] = {}
-_CACHE_LIMIT = 20000
+_CACHE_MAX_CHARS = 2_000_000
+_CACHE_LINE_MAX = 2_000
+_cache_chars = 0
 
 
 def _parse_line(text: str, first: bool) -> list:
     """Cached: statements of one line (line number 1), or a SyntaxProblem to raise."""
+    global _cache_chars
     key = (text, first)
     hit = _CACHE.get(key)
     if hit is None:
@@ -134,9 +143,12 @@ def _parse_line(text: str, first: bool) -> list:
             hit = _close_spans(text, _lark().parse(text, start="first" if first else "line"))
         except UnexpectedInput as exc:
             hit = SyntaxProblem(_syntax_diagnostic(exc, text))
-        if len(_CACHE) > _CACHE_LIMIT:
-            _CACHE.clear()
-        _CACHE[key] = hit
+        if len(text) <= _CACHE_LINE_MAX:
+            if _cache_chars + len(text) > _CACHE_MAX_CHARS:
+                _CACHE.clear()
+                _cache_chars = 0
+            _CACHE[key] = hit
+            _cache_chars += len(text)
     if isinstance(hit, SyntaxProblem):
         raise hit
     return hit
@@ -155,11 +167,20 @@ def _close_spans(text: str, items: list) -> list:
 
 
 def parse_raw(text: str) -> RawMacro:
-    """Raises SyntaxProblem for the first syntax error (one error, no cascade)."""
-    lines = text.split("\n")
+    """Raises SyntaxProblem for the first syntax error (one error, no cascade). Stops after
+    MAX_RECORD statements: no record holds that many (the compiler reports E160)."""
+    if len(text) > MAX_TEXT_CHARS:
+        raise SyntaxProblem(_error(1, 1, 1, 1, "E161", f"The text is {len(text):,} characters long: no macro is "
+                                   f"(a record holds 255 bytes), so it is not checked past {MAX_TEXT_CHARS:,}",
+                                   "is this the right file?"))
     statements: list[Located] = []
     header = None
+    header_line = 0
+    lines = text.split("\n")
     for number, line in enumerate(lines, start=1):
+        bare = line.lstrip()
+        if not bare or bare.startswith("//"):      # nothing to parse: skipped fast (long files)
+            continue
         if header is None and not _COMMENT.sub("", line).strip():
             continue
         try:
@@ -167,19 +188,20 @@ def parse_raw(text: str) -> RawMacro:
         except SyntaxProblem as problem:
             raise SyntaxProblem(_moved_diagnostic(problem.diagnostic, number)) from None
         if header is None:
-            header = items[0]
+            header, header_line = items[0], number
             items = items[1:]
         statements.extend(Located(number, item) for item in items)
+        if len(statements) >= MAX_RECORD:     # each takes a byte or more: it cannot fit, parse no further
+            break
+    last_line = len(lines)
     if header is None:
-        end = len(lines)
-        raise SyntaxProblem(_error(end, 1, end, 1, "E101", "A macro starts with its header: MACRO name",
+        raise SyntaxProblem(_error(last_line, 1, last_line, 1, "E101", "A macro starts with its header: MACRO name",
                                    "for example: MACRO LiPo"))
     _, macro_tok, name_tok = header
-    number = next(i for i, line in enumerate(lines, start=1) if _COMMENT.sub("", line).strip())
     stripped = str(name_tok).rstrip()
-    name_span = Span(number, name_tok.column, number, name_tok.column + len(stripped))
-    header_span = Span(number, macro_tok.column, number, name_span.end_column)
-    return RawMacro(stripped.strip(), name_span, header_span, statements, (len(lines), len(lines[-1]) + 1))
+    name_span = Span(header_line, name_tok.column, header_line, name_tok.column + len(stripped))
+    header_span = Span(header_line, macro_tok.column, header_line, name_span.end_column)
+    return RawMacro(stripped.strip(), name_span, header_span, statements, (last_line, len(lines[-1]) + 1))
 
 
 def _moved_diagnostic(d: Diagnostic, line: int) -> Diagnostic:

@@ -7,13 +7,13 @@ import os
 from importlib.metadata import version
 from pathlib import Path
 
-from PySide6.QtCore import QEvent, QSettings, QSize, QStandardPaths, Qt, QTimer
+from PySide6.QtCore import QEvent, QSettings, QSize, QStandardPaths, Qt
 from PySide6.QtGui import QAction, QKeySequence
 from PySide6.QtWidgets import QDockWidget, QFileDialog, QLabel, QMainWindow, QMessageBox, QStyle, QToolBar
 
 from .. import data
 from ..lang import opcodes as ops
-from ..lang.compiler import CompileResult
+from ..lang.compiler import CompileResult, compile_source
 from ..macro_file import EXTENSION, MacroFile, MacroFileError, read_macro_file, write_macro_file
 from ..recovery import Recovered, RecoveryStore, atomic_write, config_dir
 from .device.device_panel import DevicePanel
@@ -32,7 +32,6 @@ from .visual import NewMacroWizard, VisualEditor
 from .window_geometry import first_geometry, fits
 
 APP_NAME = "ZUML Studio"
-AUTOSAVE_MS = 5000
 MAX_RECENT = 10
 LAYOUT_VERSION = 4      # raise when docks or toolbars are added or removed: an older saved layout is then ignored
 EMPTY_MACRO = """MACRO NewMacro
@@ -83,8 +82,6 @@ class MainWindow(QMainWindow):
         self._build_menus()
         self._build_toolbar()
         self._connect()
-        self._autosave = QTimer(self, interval=AUTOSAVE_MS, timeout=self.autosave)
-        self._autosave.start()
         self._restore_layout()
         self.apply_preferences(self.prefs)
         self.new_file(EMPTY_MACRO, ask=False)
@@ -304,6 +301,7 @@ class MainWindow(QMainWindow):
         return self.validator.run_now(self.text())
 
     def _validated(self, result: CompileResult) -> None:
+        self.autosave()          # every debounced change reaches the recovery file (it is small)
         self.editor.set_diagnostics(result.diagnostics)
         self.problems.set_diagnostics(result.diagnostics)
         self.hex_view.show_result(result, self.validator.last_valid)
@@ -337,9 +335,17 @@ class MainWindow(QMainWindow):
         return hints
 
     def _current_record(self) -> tuple[bytes, str] | None:
-        """What Compile & Flash writes: the editor's macro, checked now (never stale bytes)."""
+        """What Compile & Flash writes: the editor's macro, checked now (never stale bytes). A macro
+        whose only errors are the safety lint's still gives its bytes: the Device panel's safety
+        check then names the danger and asks before writing them."""
         result = self.validate_now()
-        return (result.record, result.macro.name) if result.ok else None
+        if result.ok:
+            return result.record, result.macro.name
+        if result.macro is not None and result.errors and all(d.code.startswith("E3") for d in result.errors):
+            forced = compile_source(self.text(), unsafe_ok=True)
+            if forced.ok:
+                return forced.record, forced.macro.name
+        return None
 
     def _cursor_moved(self) -> None:
         cursor = self.editor.textCursor()
@@ -591,8 +597,14 @@ class MainWindow(QMainWindow):
         return answer == "discard"
 
     def autosave(self) -> None:
-        if self.is_dirty():
+        """Write the unsaved text to the recovery file (atomically); a failure is said, not raised."""
+        if not self.is_dirty():
+            return
+        try:
             self.recovery.save(self._recovery_key, self.text(), self.path)
+        except OSError as exc:
+            self.statusBar().showMessage(f"Crash recovery cannot write {self.recovery.root}: "
+                                         f"{exc.strerror or exc}", 10000)
 
     def ask_recover(self, found: Recovered) -> bool:
         """Whether to restore text a crash left behind (tests replace this)."""

@@ -3,9 +3,14 @@ GUI thread: a check and compile of the largest macro takes about a millisecond
 (benchmarks/bench_compile.py), so a worker thread would cost more than it saves."""
 from __future__ import annotations
 
+import logging
+
 from PySide6.QtCore import QObject, QTimer, Signal
 
 from ..lang.compiler import CompileResult, compile_source
+from ..lang.diagnostics import Diagnostic, Severity
+
+log = logging.getLogger(__name__)
 
 DEBOUNCE_MS = 250
 
@@ -34,7 +39,13 @@ class Validator(QObject):
 
     def _run(self) -> CompileResult:
         self.runs += 1
-        result = compile_source(self._text)
+        try:
+            result = compile_source(self._text)
+        except Exception as exc:   # noqa: BLE001 - a checker bug must not leave the last result standing
+            log.exception("checking the macro failed")
+            result = CompileResult(None, [Diagnostic(
+                Severity.ERROR, 1, 1, (1, 1), "E000", f"The check itself failed ({type(exc).__name__}: {exc}); "
+                "nothing can be compiled or flashed until it passes", "please report this with the macro")])
         self.last = result
         if result.ok:
             self.last_valid = result

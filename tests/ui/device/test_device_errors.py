@@ -53,10 +53,19 @@ def test_something_that_is_not_a_charger(qtbot, make_panel):
         panel = make_panel()
         url = f"socket://127.0.0.1:{server.getsockname()[1]}"
         with qtbot.waitSignal(panel.connectedChanged, timeout=WAIT_MS) as blocker:
-            panel.connect_to(url)
+            panel.connect_to(url, "zuml")
         assert blocker.args == [False]
         assert "no ZUML charger answered" in panel.message_text()
         assert not panel.is_connected()
+        # "Auto" (the default) then listens for a monitor-only charger on the same port
+        with qtbot.waitSignal(panel.connectedChanged, timeout=WAIT_MS) as blocker:
+            panel.connect_to(url, "auto")
+        assert blocker.args == [True] and panel.is_monitoring() and not panel.is_connected()
+        assert panel.message_text().startswith(f"No ZUML charger answered on {url}: listening for a monitor-only")
+        assert not panel.flash_button.isEnabled() and not panel.start_button.isEnabled()
+        with qtbot.waitSignal(panel.connectedChanged, timeout=WAIT_MS) as blocker:
+            panel.disconnect()
+        assert blocker.args == [False] and not panel.is_monitoring()
     finally:
         stop.set()
         thread.join(2)
@@ -66,20 +75,21 @@ def test_something_that_is_not_a_charger(qtbot, make_panel):
 
 
 def test_a_passport_of_another_chemistry_refuses_start(qtbot, make_panel, monkeypatch):
+    import zuml_studio.ui.device.device_panel as dp
+    monkeypatch.setattr(dp, "confirm_unsafe", lambda *a, **k: False)     # the user cancels the override
     panel = make_panel()
     panel.v_passport.setCurrentIndex(panel.v_passport.findData("LiPo"))
     connect(qtbot, panel)
     assert panel.pp_labels["type"].text().startswith("LiPo")
     ok, text = flash_and_start(qtbot, panel)
     assert not ok
-    assert text.startswith("Not started: the battery's passport forbids NiMh-dV:")
+    assert text.startswith("Not started: the safety check forbids NiMh-dV:")
     assert "• the macro is for NiMh; the battery is LiPo" in text
     assert panel.message_text() == text and "b00020" in panel.message.styleSheet()
     assert panel.connection.virtual_device.state == "idle"
 
-    # the charger refuses too, with its own lines
-    import zuml_studio.ui.device.device_panel as dp
-    monkeypatch.setattr(dp, "conflicts", lambda *a, **k: [])
+    # confirmed past the panel's check, the charger refuses too, with its own lines
+    monkeypatch.setattr(dp, "confirm_unsafe", lambda *a, **k: True)
     with qtbot.waitSignal(panel.startFinished, timeout=WAIT_MS) as device_refused:
         panel.start()
     ok, text = device_refused.args

@@ -1,7 +1,7 @@
 """The editor widget: diagnostics, tooltips, comments, indentation, navigation, linked lines."""
 import pytest
 from PySide6.QtCore import Qt
-from PySide6.QtGui import QColor, QTextCharFormat, QTextFormat
+from PySide6.QtGui import QColor, QFont, QFontDatabase, QFontMetricsF, QTextCharFormat, QTextFormat
 
 from helpers import MACROS
 from zuml_studio.lang.diagnostics import Diagnostic, Severity
@@ -29,9 +29,19 @@ def diag(line, col, end, severity=Severity.ERROR, message="bad", hint="fix it"):
     return Diagnostic(severity, line, col, end, "E999", message, hint)
 
 
+def _glyph_widths(font) -> set:
+    metrics = QFontMetricsF(font)
+    return {metrics.horizontalAdvance(c) for c in "iW0 _m.(|"}
+
+
 def test_object_name_font_and_tab(editor):
     assert editor.objectName() == "editor"
-    assert editor.font().fixedPitch() or editor.fontInfo().fixedPitch()
+    # What matters is that every glyph is as wide as the next, not Qt's fixed-pitch flag (false
+    # for some monospaced fonts, Noto Sans Mono among them).
+    if len(_glyph_widths(editor.font())) > 1 and not any(
+            len(_glyph_widths(QFont(family))) == 1 for family in QFontDatabase.families()):
+        pytest.skip("no monospaced font is installed (install fonts-dejavu-core)")
+    assert len(_glyph_widths(editor.font())) == 1
     assert editor.tabStopDistance() == pytest.approx(editor.fontMetrics().horizontalAdvance(" ") * 2)
 
 

@@ -36,6 +36,9 @@ def run(panel, qtbot):
             panel.form.set_values(**values)
         with qtbot.waitSignal(panel.simulationFinished, timeout=RUN_TIMEOUT_MS) as blocker:
             panel.simulate()
+        # The run is shown (simulationFinished) a moment before its thread ends: a test goes on
+        # from a settled panel, however busy the machine.
+        qtbot.waitUntil(lambda: not panel.is_running(), timeout=RUN_TIMEOUT_MS)
         return blocker.args[0]
 
     return run

@@ -222,6 +222,7 @@ def test_auto_resimulate_runs_the_latest_record_once(panel, qtbot, compiled):
     qtbot.waitUntil(lambda: len(results) == 1, timeout=30_000)
     qtbot.wait(500)
     assert len(results) == 1 and results[0].interpreter.program.name == "LiPo"
+    qtbot.waitUntil(lambda: not panel.is_running(), timeout=30_000)
     panel.set_record(compiled("LiPo"), "LiPo")          # the same record: nothing to do
     qtbot.wait(500)
     assert len(results) == 1 and not panel.is_running()
@@ -235,11 +236,11 @@ def test_auto_resimulate_follows_parameter_changes(panel, qtbot, run):
     assert blocker.args[0].capacity_mah == 1000
 
 
-def test_without_auto_a_change_marks_the_run_outdated(panel, run, compiled):
+def test_without_auto_a_change_marks_the_run_outdated(panel, run, compiled, qtbot):
     run("LiPo", **LIPO)
     panel.set_record(compiled("NiMh-dV"), "NiMh-dV")
     assert not panel.is_running()
-    assert "Simulate" in panel.hint.text()
+    qtbot.waitUntil(lambda: "Simulate" in panel.hint.text(), timeout=10_000)
 
 
 def test_training_totals_list_the_measured_capacities(panel, run):

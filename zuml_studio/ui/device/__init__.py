@@ -1,7 +1,7 @@
 """The Device panel: connect to a charger (or the built-in virtual one), flash the editor's
 macro, start and stop it, watch its telemetry live.
 
-Qt-free parts (``growing_buffer``, ``envelope``, ``session_log``) import without Qt; ``DevicePanel`` is
+Qt-free parts (``growing_buffer``, ``envelope``) import without Qt; ``DevicePanel`` is
 loaded on first use."""
 from __future__ import annotations
 

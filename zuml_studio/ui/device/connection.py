@@ -25,7 +25,7 @@ from typing import Callable
 from PySide6.QtCore import QObject, QThread, Signal, Slot
 
 from ...device.client import ChargerClient, DeviceInfo
-from ...device.errors import (CommitUncertain, DeviceError, DeviceLinkError, DeviceTimeout, Disconnected, ImageTooLarge,
+from ...device.errors import (CommitUncertain, CommitUnverified, DeviceError, DeviceLinkError, DeviceTimeout, Disconnected, ImageTooLarge,
                               InvalidImage, NotACharger, PermissionDenied, PortBusy, PortNotFound, VerifyFailed)
 from ...device.flashing import ImageFull, SlotOutOfRange
 from ...lang.eeprom import ImageError
@@ -98,6 +98,7 @@ class DeviceConnection(QObject):
         self._jobs: dict[int, tuple[Callable | None, Callable | None]] = {}
         self._ids = itertools.count(1)
         self._closing = False
+        self.last_error: BaseException | None = None
 
         self.thread = QThread()
         self.thread.setObjectName("device-worker")
@@ -245,6 +246,7 @@ class DeviceConnection(QObject):
     def _open_failed(self, exc) -> None:
         self.state = "disconnected"
         self.opened = None
+        self.last_error = exc              # the panel's "auto" falls back to monitor-only chargers on NotACharger
         self._release_async()
         self.connectFailed.emit(describe_error(exc, "connect"))
 
@@ -379,10 +381,13 @@ def describe_error(exc: BaseException, action: str = "") -> str:
             return f"Cannot flash: {text}"
         if isinstance(exc, DecodeError):
             return f"Nothing was written: the compiled macro does not decode ({text})."
+        if isinstance(exc, CommitUnverified):
+            return (f"The charger confirmed the new image, then the connection was lost while reading it "
+                    f"back to verify it. Reconnect: the image is read back then and the result said. ({text})")
         if isinstance(exc, CommitUncertain):
             return (f"The connection was lost just as the charger committed the new image: it holds "
-                    f"either the new image or its previous one, never a mix. Reconnect and check its "
-                    f"macros. ({text})")
+                    f"either the new image or its previous one, never a mix. Reconnect: the image is read "
+                    f"back then and which one said. ({text})")
         if isinstance(exc, Disconnected):
             return (f"The connection was lost while {what}: nothing was written, the charger keeps "
                     f"its previous image. ({text})")

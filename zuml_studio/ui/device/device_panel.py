@@ -2,8 +2,12 @@
 
 Left, two narrow columns: what is on the charger (device info, its macros, Compile & Flash,
 Backup/Restore) and the run (task parameters, Start/Stop, the battery's passport); right,
-the live plot. Above: the port, the baud rate, Connect; for the built-in virtual charger
-its battery, passport and speed. Below: the message line and the session CSV.
+the live plot. Above: the port, the baud rate, the driver, Connect, Replay; for the built-in
+virtual charger its battery, passport and speed. Below: the message line and the session CSV.
+
+A port's driver is "Auto" by default: a ZUML charger (it answers IDENTIFY), else a
+monitor-only charger recognised from what it sends (``device.drivers``). Monitor-only
+chargers plot and log like ours; Flash and Start are disabled with the reason.
 
 Nothing here waits for the charger: every request runs on the connection's worker thread
 (``connection.py``) and comes back as a signal; telemetry goes from the reader thread into
@@ -24,21 +28,27 @@ from PySide6.QtWidgets import (QAbstractItemView, QCheckBox, QComboBox, QDoubleS
                                QToolButton, QVBoxLayout, QWidget)
 
 from ...device import messages as msg
-from ...device.errors import DeviceError, ImageTooLarge
+from ...device.drivers import AUTO, DRIVERS, MONITOR_ONLY_REASON, ZUML
+from ...device.errors import CommitUncertain, CommitUnverified, DeviceError, ImageTooLarge, NotACharger
 from ...device.flashing import merge_record
-from ...device.passport import akk_name, conflicts, fitness_warnings
+from ...device.passport import akk_name, fitness_warnings, printable
 from ...sim.start_check import start_warnings
 from ...device.ports import VIRTUAL
 from ...lang.eeprom import Slot, slots, used_bytes
+from ...safety import image_problems, record_problems
 from ..number_boxes import double_spin_box, form_field, spin_box
 from ..timefmt import hmmss
+from .charger_monitor import ChargerMonitor
 from .connection import DeviceConnection, Opened, VirtualSpec, describe_error
 from .live_plot import DEFAULT_FOLLOW_MIN, LivePlot, LiveSeries
 from .port_chooser import PortChooser
-from .session_log import SessionLog, display_path, session_path
+from ...device.session_log import SessionLog, display_path, session_path
+from .unsafe_dialog import confirm_unsafe
 
 log = logging.getLogger(__name__)
 
+FLASH_TIP = "Write the editor's macro to the charger, verify it (Ctrl+Shift+F)"
+START_TIP = "Check the battery's passport, then start the slot's macro"
 COLORS = {"info": "#505050", "ok": "#1d6b2c", "error": "#b00020", "warn": "#a04000"}
 TASKS = (("charge", "Charge"), ("discharge", "Discharge"), ("train", "Train"))
 FIELD_WIDTH = 92
@@ -47,6 +57,16 @@ PASSPORT_POLL_MS = 5000
 DEFAULT_BATTERY = ("NiMh", 2000, 4)
 MATCH = "match"
 VIRTUAL_EEPROM = "virtual-charger-eeprom.bin"
+
+
+class _Unsafe:
+    """What a job hands back instead of writing: the safety check's problems, for the dialog."""
+
+    def __init__(self, problems: list[str]):
+        self.problems = problems
+
+    def summary(self) -> str:
+        return "the safety check refused it:\n" + "\n".join(f"• {line}" for line in self.problems)
 
 
 def _chemistry_names() -> list[str]:
@@ -136,6 +156,8 @@ class DevicePanel(QWidget):
         self.session_dir = Path(session_dir)
         self.series = LiveSeries()
         self._log: SessionLog | None = None
+        self._log_error_said = False
+        self._unsettled: tuple[str, CommitUncertain | CommitUnverified] | None = None   # (what, error)
         self.session_file: Path | None = None
         self._image: bytes | None = None
         self._slots: list[Slot] = []
@@ -144,6 +166,12 @@ class DevicePanel(QWidget):
         self._run_name = ""
         self._shut = False
         self._finished_seen = 0
+        self._auto_fallback: tuple[str, int] | None = None   # (port, baud) to watch if no ZUML charger answers
+        self._stop_replay = None                             # stops the in-process replay behind the port
+
+        self.monitor = ChargerMonitor(self._telemetry_rt, self)
+        self.monitor.status.connect(self._on_monitor_status)
+        self.monitor.closed.connect(self._on_monitor_closed)
 
         self._build(port_lister)
         self.connection = DeviceConnection(self._telemetry_rt, self._event_rt, self)
@@ -169,9 +197,27 @@ class DevicePanel(QWidget):
         top = QHBoxLayout()
         top.setContentsMargins(0, 0, 0, 0)
         top.setSpacing(6)
+        self.driver_combo = QComboBox()
+        self.driver_combo.setObjectName("driverCombo")
+        self.driver_combo.addItem("Auto", AUTO)
+        self.driver_combo.addItem("ZUML charger", ZUML)
+        for d in DRIVERS.values():
+            self.driver_combo.addItem(d.title, d.name)
+        self.driver_combo.setSizeAdjustPolicy(QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+        self.driver_combo.setMinimumContentsLength(10)
+        self.driver_combo.setToolTip("The charger's protocol. Auto: a ZUML charger if one answers, else a "
+                                     "monitor-only charger (cheali, iCharger, iMAX B6, Ultramat, SkyRC, ISDT) "
+                                     "recognised from what it sends")
+        self.replay_button = QPushButton("Replay a recording…")
+        self.replay_button.setObjectName("replayButton")
+        self.replay_button.setToolTip("Play a charger recording ($ lines, {…} frames, Ultramat frames, a HID "
+                                      "report dump, an iCharger DUO/X log) onto a port and watch it here, at the "
+                                      "virtual charger's speed ×")
         top.addWidget(port_label)
         top.addWidget(self.ports, 1)
+        top.addWidget(self.driver_combo)
         top.addWidget(self.connect_button)
+        top.addWidget(self.replay_button)
 
         # -- the virtual charger row ---------------------------------------------------------
         self.v_chem = QComboBox()
@@ -244,7 +290,7 @@ class DevicePanel(QWidget):
                                    "(else appended), or into a slot you pick")
         self.flash_button = QPushButton("Compile && Flash")
         self.flash_button.setObjectName("flashButton")
-        self.flash_button.setToolTip("Write the editor's macro to the charger, verify it (Ctrl+Shift+F)")
+        self.flash_button.setToolTip(FLASH_TIP)
         self.progress = QProgressBar()
         self.progress.setObjectName("flashProgress")
         self.progress.setTextVisible(False)
@@ -316,7 +362,7 @@ class DevicePanel(QWidget):
         self.sensor.setToolTip("a battery temperature sensor is connected")
         self.start_button = QPushButton("Start")
         self.start_button.setObjectName("startButton")
-        self.start_button.setToolTip("Check the battery's passport, then start the slot's macro")
+        self.start_button.setToolTip(START_TIP)
         self.stop_button = QPushButton("Stop")
         self.stop_button.setObjectName("stopButton")
         self.stop_button.setToolTip("Stop the running macro")
@@ -330,6 +376,7 @@ class DevicePanel(QWidget):
         for k, lab in self.pp_labels.items():
             lab.setObjectName(f"passport_{k}")
             lab.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+            lab.setTextFormat(Qt.TextFormat.PlainText)      # a battery's bytes are never markup
 
         col_b = QWidget()
         col_b.setObjectName("runColumn")
@@ -500,6 +547,7 @@ class DevicePanel(QWidget):
 
     def _wire(self) -> None:
         self.connect_button.clicked.connect(self._connect_clicked)
+        self.replay_button.clicked.connect(self._replay_clicked)
         self.ports.changed.connect(self._port_changed)
         self.flash_button.clicked.connect(self.flash)
         self.flash_shortcut.activated.connect(self.flash)
@@ -528,17 +576,29 @@ class DevicePanel(QWidget):
     def is_connected(self) -> bool:
         return self.connection.is_connected()
 
-    def connect_to(self, url_or_virtual: str | None = None) -> bool:
+    def connect_to(self, url_or_virtual: str | None = None, driver: str | None = None) -> bool:
         """Connect to ``"virtual"`` (the built-in virtual charger), a port path or a URL; None: what
-        the chooser shows. Returns at once; ``connectedChanged(True)`` or a message follows."""
+        the chooser shows. ``driver``: "auto", "zuml" or a monitor-only driver's name (None: the
+        driver chooser's). Returns at once; ``connectedChanged(True)`` or a message follows."""
         if self._shut:
             return False
         if url_or_virtual is not None:
             self.ports.set_target(url_or_virtual)
+        if driver is not None:
+            self.driver_combo.setCurrentIndex(max(0, self.driver_combo.findData(driver)))
         target = self.ports.target()
-        if self.connection.state != "disconnected":
+        if self.connection.state != "disconnected" or self.is_monitoring():
             self.show_message("Already connected (or connecting): Disconnect first.", "warn")
             return False
+        driver = self.driver_combo.currentData() or AUTO
+        self._auto_fallback = None
+        if target.startswith("hid:"):
+            # ZUML chargers are serial: a HID charger is watched with its chosen driver, or by its USB ids
+            return self._watch(target, driver if driver in DRIVERS else AUTO)
+        if target != VIRTUAL and driver in DRIVERS:
+            return self._watch(target, driver)
+        if target != VIRTUAL and driver == AUTO:
+            self._auto_fallback = (target, self.ports.baudrate())
         virtual = None
         if target == VIRTUAL:
             virtual = VirtualSpec(self.virtual_battery(), float(self.v_speed.value()),
@@ -558,14 +618,18 @@ class DevicePanel(QWidget):
         (With arguments it is QObject.disconnect, for signal connections.)"""
         if args or kw:
             return super().disconnect(*args, **kw)
+        if self.is_monitoring():
+            self.monitor.close()
+            return
         if self.connection.state in ("connected", "connecting"):
             self.connection.close()
             self.show_message("Disconnecting…", "info")
             self._update_enabled()
 
-    def flash(self) -> None:
+    def flash(self, force: bool = False) -> None:
         """Compile & Flash: the editor's record into the charger (same name replaced, else appended,
-        or the slot chosen), written, verified; ``flashFinished(ok, message)``."""
+        or the slot chosen), written, verified; ``flashFinished(ok, message)``. The safety check
+        runs first; what it refuses is written only after the user confirms (or with ``force``)."""
         if not self.is_connected():
             self._flash_done(False, "Connect to a charger first, then Compile & Flash.")
             return
@@ -580,6 +644,10 @@ class DevicePanel(QWidget):
         self.progress.setRange(0, 0)
 
         def job(client, progress):
+            if not force:
+                problems = record_problems(record, client.passport_if_any(), charger_max_a=client.info.max_charge_a)
+                if problems:
+                    return _Unsafe(problems)
             current = client.read_image(progress)
             merged = merge_record(current, record, slot)
             result = client.write_image(merged.image, progress, current=current)
@@ -588,9 +656,11 @@ class DevicePanel(QWidget):
         self.connection.call(job, self._flashed, self._flash_failed)
         self._update_enabled()
 
-    def start(self, slot: int | None = None) -> None:
+    def start(self, slot: int | None = None, force: bool = False) -> None:
         """START the macro in ``slot`` (default: the Slot field, which follows the last flash) with
-        the task parameters; the battery's passport is checked here first. ``startFinished``."""
+        the task parameters; the safety check (chemistry limits, the battery's passport) runs here
+        first, and what it refuses starts only after the user confirms (or with ``force``; the
+        charger still has its own check). ``startFinished``."""
         if not self.is_connected():
             self._start_done(False, "Connect to a charger first.")
             return
@@ -605,17 +675,13 @@ class DevicePanel(QWidget):
         charger_max = self._info.max_charge_a if self._info else None
 
         def job(client, progress):
+            from ...lang.record import DecodeError
             from ...sim.interpreter import StartParams
-            try:
-                passport = client.passport_read()
-            except DeviceError as exc:
-                if exc.code not in (msg.ErrorCode.NO_PASSPORT, msg.ErrorCode.PASSPORT_ERROR):
-                    raise
-                passport = None      # no chip (or an unreadable one: the charger decides)
-            if passport is not None:
+            passport = client.passport_if_any()
+            if not force:
                 try:
-                    found = conflicts(passport, record, StartParams(**params), charger_max_a=charger_max)
-                except Exception:   # noqa: BLE001 - a record that does not decode: the charger decides
+                    found = record_problems(record, passport, StartParams(**params), charger_max_a=charger_max)
+                except DecodeError:     # a record that does not decode: the charger refuses it
                     found = []
                 if found:
                     return ("refused", found, passport, [])
@@ -668,8 +734,9 @@ class DevicePanel(QWidget):
         self.progress.setRange(0, 0)
         self.connection.call(job, done, lambda exc: self._op_failed("backup", exc))
 
-    def restore(self, path: str | Path) -> None:
-        """Write a saved image back (checked first, then written and verified)."""
+    def restore(self, path: str | Path, force: bool = False) -> None:
+        """Write a saved image back (checked first, then written and verified); records the safety
+        check refuses are written only after the user confirms (or with ``force``)."""
         if not self.is_connected():
             self._op_failed("restore", "Connect to a charger first.")
             return
@@ -681,10 +748,21 @@ class DevicePanel(QWidget):
             check_image(image)
             if len(image) > client.info.eeprom_size:
                 raise ImageTooLarge(len(image), client.info.eeprom_size)
+            if not force:
+                problems = image_problems(image, client.passport_if_any(), charger_max_a=client.info.max_charge_a)
+                if problems:
+                    return _Unsafe(problems)
             result = client.write_image(image, progress, validate=False)
             return image + b"\xff" * (client.info.eeprom_size - len(image)), result
 
         def done(answer):
+            if isinstance(answer, _Unsafe):
+                self._progress_done()
+                if confirm_unsafe(self, "Restore", answer.problems):
+                    self.restore(path, force=True)
+                else:
+                    self._op_failed("restore", "Not restored: " + answer.summary())
+                return
             image, result = answer
             self._show_image(image)
             text = f"Restored {path.name}: {result.changed} bytes changed, verified."
@@ -701,6 +779,7 @@ class DevicePanel(QWidget):
 
         def done(image):
             self._show_image(image)
+            self._settle(image)
             self.operationFinished.emit("slots", True, "")
 
         self.connection.call(lambda client, progress: client.read_image(), done,
@@ -743,6 +822,10 @@ class DevicePanel(QWidget):
         self._passport_timer.stop()
         self.ports.shutdown()
         self.connection.shutdown()
+        self.monitor.closed.disconnect(self._on_monitor_closed)
+        self.monitor.close()
+        self.monitor.link = None
+        self._stop_replay_link()
         self._close_session_log()
 
     # -- what tests and the main window may read --------------------------------------------------
@@ -813,7 +896,7 @@ class DevicePanel(QWidget):
 
     # ================================================================ connection results
     def _connect_clicked(self) -> None:
-        if self.connection.state in ("connected", "connecting"):
+        if self.connection.state in ("connected", "connecting") or self.is_monitoring():
             self.disconnect()
         else:
             self.connect_to(None)
@@ -835,6 +918,14 @@ class DevicePanel(QWidget):
         self.connectedChanged.emit(True)
 
     def _on_connect_failed(self, message: str) -> None:
+        fallback, self._auto_fallback = self._auto_fallback, None
+        if fallback is not None and isinstance(self.connection.last_error, NotACharger):
+            self._close_session_log(discard_empty=True)
+            self._set_state_disconnected()
+            if self._watch(fallback[0], AUTO, fallback[1]):
+                self.show_message(f"No ZUML charger answered on {fallback[0]}: listening for a monitor-only "
+                                  f"charger ({', '.join(DRIVERS)}) instead…", "info")
+            return
         self._close_session_log(discard_empty=True)
         self._set_state_disconnected()
         self.show_message(message, "error")
@@ -863,6 +954,13 @@ class DevicePanel(QWidget):
 
     # -- flash --------------------------------------------------------------------------------
     def _flashed(self, answer) -> None:
+        if isinstance(answer, _Unsafe):
+            self._progress_done()
+            if confirm_unsafe(self, "Flash", answer.problems):
+                self.flash(force=True)
+            else:
+                self._flash_done(False, "Not flashed: " + answer.summary())
+            return
         merged, result = answer
         self._progress_done()
         self._show_image(merged.image)
@@ -881,6 +979,7 @@ class DevicePanel(QWidget):
 
     def _flash_failed(self, exc) -> None:
         self._progress_done()
+        self._note_unsettled("flash", exc)
         self._flash_done(False, describe_error(exc, "flash"))
         if self.is_connected():
             self.refresh_slots()
@@ -898,7 +997,12 @@ class DevicePanel(QWidget):
         self._show_passport(passport)
         name = self._slots[slot].name if slot < len(self._slots) else "?"
         if kind == "refused":
-            text = (f"Not started: the battery's passport forbids {name}:\n"
+            # A battery unfit for use (CRIT) is refused by the charger whatever the user says: no override.
+            unfit = passport is not None and passport.crit
+            if not unfit and confirm_unsafe(self, "Start", value):
+                self.start(slot, force=True)
+                return
+            text = (f"Not started: the safety check forbids {name}:\n"
                     + "\n".join(f"• {line}" for line in value))
             self._start_done(False, text)
             return
@@ -917,8 +1021,28 @@ class DevicePanel(QWidget):
         self._update_enabled()
         self.startFinished.emit(ok, text)
 
+    def _note_unsettled(self, what: str, exc) -> None:
+        if isinstance(exc, (CommitUncertain, CommitUnverified)):
+            self._unsettled = (what, exc)
+
+    def _settle(self, image: bytes) -> None:
+        """The first image read after a write whose end was lost tells what the charger holds."""
+        if self._unsettled is None:
+            return
+        (what, exc), self._unsettled = self._unsettled, None
+        verdict = exc.settle(image)
+        if verdict == "new":
+            self.show_message(f"Read back after the lost link: the {what} is on the charger, verified.", "ok")
+        elif verdict == "previous":
+            self.show_message(f"Read back after the lost link: the charger kept its previous image; the {what} "
+                              "was not written. Do it again.", "warn")
+        else:
+            self.show_message(f"Read back after the lost link: the charger holds neither the new image nor the "
+                              f"previous one (changed since by another program?). Check its macros.", "warn")
+
     def _op_failed(self, op: str, exc) -> None:
         self._progress_done()
+        self._note_unsettled(op, exc)
         text = exc if isinstance(exc, str) else describe_error(exc, op)
         self.show_message(text, "error")
         self._update_enabled()
@@ -990,9 +1114,13 @@ class DevicePanel(QWidget):
             for key in ("type", "limits"):
                 self.pp_labels[key].setText("—")
             return
-        vendor = f" · {passport.vendor}" if passport.vendor else ""
-        self.pp_labels["serial"].setText(f"{passport.serial or '—'}{vendor}")
-        self.pp_labels["serial"].setToolTip("serial · vendor")
+        vendor = f" · {printable(passport.vendor)}" if passport.vendor else ""
+        odd = passport.unprintable_fields
+        self.pp_labels["serial"].setText(f"{printable(passport.serial) or '—'}{vendor}" + (" ⚠" if odd else ""))
+        self.pp_labels["serial"].setToolTip(
+            f"serial · vendor. ⚠ The {' and '.join(odd)} hold non-printable bytes (shown as \\xNN): "
+            "a damaged or forged passport" if odd else "serial · vendor")
+        self.pp_labels["serial"].setStyleSheet(f"color:{COLORS['warn']};" if odd else "")
         self.pp_labels["type"].setText(f"{passport.type_name} · TEMP {passport.temp} °C")
         v = f"{passport.v_limit} V" if passport.v_limit else "V not set"
         a = f"{passport.a_limit} A" if passport.a_limit else "A not set"
@@ -1022,16 +1150,18 @@ class DevicePanel(QWidget):
                 f"in {tel.mah_in:.0f} mAh · out {tel.mah_out:.0f} mAh")
             if tel.running:
                 where = f"{'C' if tel.section == 'charge' else 'D'}{tel.phase}" if tel.section else "—"
-                state = "paused" if tel.paused else "running"
+                state = tel.state or ("paused" if tel.paused else "running")
                 self.run_label.set_full_text(f"{state} · {where} · {hmmss(tel.time_s)}")
             else:
                 self.run_label.set_full_text("idle" if not self._run_name else f"{self._run_name} ended")
         self._note_finish()
+        self._update_monitor_label()
         logger = self._log
         if logger is not None:
-            rows = f" · {logger.rows} rows" if logger.rows else ""
-            err = f" · {logger.error}" if logger.error else ""
-            self.session_label.set_full_text(f"Session: {display_path(logger.path)}{rows}{err}")
+            if logger.error and not self._log_error_said:
+                self._log_error_said = True
+                self.show_message(f"Session CSV: {logger.error}. The plot goes on; the CSV ends here.", "warn")
+            self.session_label.set_full_text(self._session_text(logger))
 
     def _note_finish(self) -> None:
         """Say so when a run finishes (the finish event)."""
@@ -1044,12 +1174,13 @@ class DevicePanel(QWidget):
                                   f"{ev.detail or 'end'}.", "ok")
 
     # ================================================================ state
-    def _set_state_connected(self) -> None:
+    def _set_state_connected(self, monitor: bool = False) -> None:
         self.connect_button.setText("Disconnect")
         self.ports.auto_refresh = False
         self.plot.start()
         self._readings_timer.start()
-        self._passport_timer.start()
+        if not monitor:
+            self._passport_timer.start()
         self._update_enabled()
 
     def _set_state_disconnected(self) -> None:
@@ -1067,6 +1198,28 @@ class DevicePanel(QWidget):
         self._port_changed()
 
     def _update_enabled(self) -> None:
+        monitoring = self.is_monitoring()
+        self.replay_button.setEnabled(not self._shut and not monitoring and self.connection.state == "disconnected")
+        self.driver_combo.setEnabled(not monitoring and self.connection.state == "disconnected"
+                                     and not self.ports.is_virtual())
+        if monitoring:
+            link = self.monitor.link
+            title = link.driver.title if link.driver else "this charger"
+            reason = MONITOR_ONLY_REASON.format(title=title) + ": Flash and Start are off"
+            self.connect_button.setEnabled(not self._shut)
+            for w in (self.ports, self.v_chem, self.v_mah, self.v_cells, self.v_passport, self.flash_button,
+                      self.backup_button, self.restore_button, self.reload_button, self.flash_slot,
+                      self.start_button, self.stop_button, self.pp_refresh, self.run_slot, self.rate):
+                w.setEnabled(False)
+            self.flash_button.setToolTip(reason)
+            self.start_button.setToolTip(reason)
+            self.result_label.setText(f"<span style='color:{COLORS['warn']};'>{reason}.</span>")
+            return
+        if self.result_label.text().endswith("Flash and Start are off.</span>"):
+            self.result_label.setText("")
+        self.rate.setEnabled(True)
+        self.flash_button.setToolTip(FLASH_TIP)
+        self.start_button.setToolTip(START_TIP)
         state = self.connection.state
         connected = state == "connected"
         idle = connected and not self.connection.busy
@@ -1083,6 +1236,115 @@ class DevicePanel(QWidget):
     def _port_changed(self) -> None:
         virtual = self.ports.is_virtual()
         self.virtual_box.setVisible(virtual)
+        self.driver_combo.setEnabled(not virtual and self.connection.state == "disconnected"
+                                     and not self.is_monitoring())
+
+    # ================================================================ monitor-only chargers
+    def is_monitoring(self) -> bool:
+        """A monitor-only charger's link is open (or still being recognised)."""
+        return self.monitor.link is not None
+
+    def _watch(self, port: str, driver: str, baud: int | None = None) -> bool:
+        """Read a monitor-only charger on ``port`` (``driver`` "auto": recognise it)."""
+        if baud is None:
+            chosen = self.ports.baudrate()
+            bauds = (DRIVERS[driver].baud,) + DRIVERS[driver].bauds if driver in DRIVERS else ()
+            baud = chosen if driver == AUTO or chosen in bauds else None
+        self._open_session_log(cells=None)
+        error = self.monitor.open(port, driver, baud)
+        if error:
+            self.monitor.link = None
+            self._close_session_log(discard_empty=True)
+            self._set_state_disconnected()
+            self.show_message(f"Cannot watch {port}: {error}", "error")
+            self.connectedChanged.emit(False)
+            return False
+        self._set_state_connected(monitor=True)
+        link = self.monitor.link
+        if link.driver is not None:
+            self._on_monitor_status(f"monitoring {link.driver.title}")
+        else:
+            self.info_label.set_full_text(f"{port}: listening for a charger…")
+            self.show_message(f"Listening on {port} for a monitor-only charger "
+                              f"({', '.join(DRIVERS)})…", "info")
+            self.plot.set_placeholder("listening: a charger sends while a program runs")
+        self.connectedChanged.emit(True)
+        return True
+
+    def _on_monitor_status(self, text: str) -> None:
+        link = self.monitor.link
+        if link is None:
+            return
+        if link.driver is not None:
+            self.plot.set_placeholder("monitoring: waiting for the charger's first record")
+            self.show_message(f"{text[0].upper()}{text[1:]} on {link.port}. "
+                              + MONITOR_ONLY_REASON.format(title=link.driver.title) + ".", "ok")
+        else:
+            self.show_message(text, "warn" if "nothing recognisable" in text else "info")
+        self._update_monitor_label()
+        self._update_enabled()
+
+    def _update_monitor_label(self) -> None:
+        link = self.monitor.link
+        if link is None:
+            return
+        name = link.driver.title if link.driver else "recognising…"
+        bad = link.bad
+        self.info_label.set_full_text(f"{name} · monitor-only · {link.good} records · {bad} bad")
+        self.info_label.setToolTip(f"{link.port}: {name}\n{link.good} records decoded; {bad} bad (checksum, torn "
+                                   "line or garbage: counted, never plotted)")
+        self.info_label.setStyleSheet(f"color:{COLORS['warn' if bad else 'info']};")
+
+    def _on_monitor_closed(self, error: str) -> None:
+        link, self.monitor.link = self.monitor.link, None
+        self._stop_replay_link()
+        self._close_session_log()
+        self._set_state_disconnected()
+        self.info_label.setStyleSheet(f"color:{COLORS['info']};")
+        kept = " The plot and the session CSV are kept."
+        counts = f" {link.good} records, {link.bad} bad." if link is not None else ""
+        if error:
+            self.show_message(error + counts + kept, "error")
+        else:
+            self.show_message("Disconnected." + counts + (kept if self.plot.points else ""), "info")
+        self.plot.refresh()
+        self.connectedChanged.emit(False)
+
+    def replay(self, path: str | Path, speed: float | None = None) -> bool:
+        """Play a recording onto a pty (in this process) and watch it: ``speed`` × its pace (None:
+        the speed box's value)."""
+        from ...device.drivers import CaptureError
+        from ...device.replay import load_recording, serve_replay
+        if self.connection.state != "disconnected" or self.is_monitoring():
+            self.show_message("Disconnect first, then replay.", "warn")
+            return False
+        try:
+            recording = load_recording(Path(path).read_bytes())
+            port, stop, _device = serve_replay(recording, float(speed or self.v_speed.value()))
+        except CaptureError as exc:
+            self.show_message(f"{Path(path).name}: {exc}", "error")
+            return False
+        except OSError as exc:
+            self.show_message(f"Cannot replay {Path(path).name}: {exc.strerror or exc}", "error")
+            return False
+        self._stop_replay = stop
+        if not self.connect_to(port, recording.driver):
+            self._stop_replay_link()
+            return False
+        self.show_message(f"Replaying {Path(path).name} ({DRIVERS[recording.driver].title}, "
+                          f"{len(recording.records)} records) on {port}.", "ok")
+        return True
+
+    def _stop_replay_link(self) -> None:
+        stop, self._stop_replay = self._stop_replay, None
+        if stop is not None:
+            stop()
+
+    def _replay_clicked(self) -> None:
+        path, _ = QFileDialog.getOpenFileName(self, "Replay a charger recording", "",
+                                              "Recordings (*.txt *.log *.bin *.hex *.csv);;All files (*)")
+        if path:
+            self.replay(path)
 
     def _speed_changed(self, value: int) -> None:
         self.connection.set_speed(float(value))
@@ -1105,15 +1367,16 @@ class DevicePanel(QWidget):
         self.plot.show_all()
 
     # ================================================================ session CSV
-    def _open_session_log(self) -> None:
+    def _open_session_log(self, cells: int | None = 0) -> None:
         self._close_session_log()
         try:
-            self._log = SessionLog(session_path(self.session_dir))
+            self._log = SessionLog(session_path(self.session_dir), cells=cells)
         except OSError as exc:
             self._log = None
             self.session_label.set_full_text(f"no session CSV: cannot write in {self.session_dir}: {exc.strerror or exc}")
             return
         self.session_file = self._log.path
+        self._log_error_said = False
         self.session_label.set_full_text(f"Session: {display_path(self._log.path)}")
 
     def _close_session_log(self, discard_empty: bool = False) -> None:
@@ -1129,7 +1392,13 @@ class DevicePanel(QWidget):
             self.session_label.set_full_text("")
             self.session_file = None
         else:
-            self.session_label.set_full_text(f"Session: {display_path(logger.path)} · {logger.rows} rows")
+            self.session_label.set_full_text(self._session_text(logger))
+
+    @staticmethod
+    def _session_text(logger: SessionLog) -> str:
+        rows = f" · {logger.rows} rows" if logger.rows else ""
+        err = f" · ⚠ {logger.error}" if logger.error else ""
+        return f"Session: {display_path(logger.path)}{rows}{err}"
 
     # ================================================================ dialogs
     def _backup_clicked(self) -> None:

@@ -17,7 +17,7 @@ from ...device.ports import VIRTUAL, PortInfo, list_ports
 log = logging.getLogger(__name__)
 
 VIRTUAL_LABEL = "Virtual charger (built-in)"
-BAUDS = (9600, 19200, 38400, 57600, 115200, 230400, 460800, 921600)
+BAUDS = (9600, 19200, 38400, 57600, 115200, 128000, 230400, 460800, 921600)
 DEFAULT_BAUD = 115200
 REFRESH_MS = 2000
 

@@ -8,7 +8,10 @@ what is left and joins the thread.
 Columns are the simulator's CSV (``sim.samples.COLUMNS``) plus ``event``: a telemetry row
 leaves it empty, an event row fills it ("phase_end charge 1: IF(DELTA_PEAK>0.01S) STOP_FAZE")
 and leaves the measurements empty. ``time_s`` is the macro's clock, ``phase`` the phase's
-run number (1-based; 0: none), as in the simulator's CSV.
+run number (1-based; 0: none), as in the simulator's CSV. A charger that measures its cells
+adds ``cell1_v … cellN_v`` after ``event`` (N from the first telemetry of the session when
+``cells=None``; a sample with fewer cells leaves the rest empty, extra cells are dropped).
+Lives outside ``ui`` because ``zuml monitor`` writes the same file.
 """
 from __future__ import annotations
 
@@ -20,7 +23,7 @@ import threading
 import time
 from pathlib import Path
 
-from ...sim.samples import COLUMNS as SIM_COLUMNS
+from ..sim.samples import COLUMNS as SIM_COLUMNS
 
 COLUMNS = tuple(SIM_COLUMNS) + ("event",)
 FLUSH_S = 0.5
@@ -43,10 +46,18 @@ def _num(value, fmt: str) -> str:
     return "" if value is None else format(value, fmt)
 
 
-def telemetry_row(t) -> tuple:
+def cell_columns(cells: int) -> tuple[str, ...]:
+    return tuple(f"cell{k}_v" for k in range(1, cells + 1))
+
+
+def telemetry_row(t, cells: int = 0) -> tuple:
     """A ``device.messages.Telemetry`` (or anything with its fields) as a CSV row."""
-    return (f"{t.time_s:.1f}", t.section, t.run, f"{t.voltage_v:.3f}", f"{t.current_a:.3f}",
-            _num(t.temp_c, ".2f"), _num(t.heatsink_c, ".2f"), f"{t.mah_in:.1f}", f"{t.mah_out:.1f}", "")
+    row = (f"{t.time_s:.1f}", t.section, t.run, f"{t.voltage_v:.3f}", f"{t.current_a:.3f}",
+           _num(t.temp_c, ".2f"), _num(t.heatsink_c, ".2f"), f"{t.mah_in:.1f}", f"{t.mah_out:.1f}", "")
+    if cells:
+        measured = tuple(getattr(t, "cells_v", ()))[:cells]
+        row += tuple(f"{v:.3f}" for v in measured) + ("",) * (cells - len(measured))
+    return row
 
 
 def event_text(e) -> str:
@@ -58,22 +69,25 @@ def event_text(e) -> str:
     return f"{e.kind}{where}" + (f": {e.detail}" if e.detail else "")
 
 
-def event_row(e) -> tuple:
-    return (f"{e.time_s:.1f}", e.section, "", "", "", "", "", "", "", event_text(e))
+def event_row(e, cells: int = 0) -> tuple:
+    return (f"{e.time_s:.1f}", e.section, "", "", "", "", "", "", "", event_text(e)) + ("",) * cells
 
 
 class SessionLog:
     """A CSV file written by its own thread (``threaded=False``: written by the caller,
     flushed by ``flush_if_due``, for tests and scripts)."""
 
-    def __init__(self, path: str | Path, *, flush_s: float = FLUSH_S, threaded: bool = True):
+    def __init__(self, path: str | Path, *, flush_s: float = FLUSH_S, threaded: bool = True,
+                 cells: int | None = 0):
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self.flush_s = float(flush_s)
         self._fh = open(self.path, "w", encoding="utf-8", newline="")
         self._writer = csv.writer(self._fh, lineterminator="\n")
-        self._writer.writerow(COLUMNS)
-        self._fh.flush()
+        self.cells = cells
+        if cells is not None:
+            self._writer.writerow(COLUMNS + cell_columns(cells))
+            self._fh.flush()
         self._lock = threading.Lock()
         self._flushed_at = time.monotonic()
         self._dirty = False
@@ -89,23 +103,32 @@ class SessionLog:
 
     # -- any thread ------------------------------------------------------------------------
     def add_telemetry(self, t) -> None:
-        self._put(telemetry_row(t))
+        self._header(len(getattr(t, "cells_v", ())))
+        self._put(telemetry_row(t, self.cells))
 
     def add_event(self, e) -> None:
-        self._put(event_row(e))
+        self._header(0)
+        self._put(event_row(e, self.cells))
 
     def add_row(self, row: tuple) -> None:
-        if len(row) != len(COLUMNS):
-            raise ValueError(f"a session row has {len(COLUMNS)} values")
+        self._header(0)
+        if len(row) != len(COLUMNS) + self.cells:
+            raise ValueError(f"a session row has {len(COLUMNS) + self.cells} values")
         self._put(tuple(row))
 
-    def _put(self, row: tuple) -> None:
+    def _header(self, cells: int) -> None:
+        """The header waits for the first row when the cell count was left open."""
+        if self.cells is None:
+            self.cells = cells
+            self._put(COLUMNS + cell_columns(cells), header=True)
+
+    def _put(self, row: tuple, header: bool = False) -> None:
         if self.closed:
             return
         if self._queue is not None:
-            self._queue.put(row)
+            self._queue.put((row, header))
         else:
-            self._write([row])
+            self._write([(row, header)])
 
     # -- writing -------------------------------------------------------------------------------
     def _write(self, rows: list) -> None:
@@ -113,8 +136,8 @@ class SessionLog:
             if self._fh.closed or self.error:
                 return
             try:
-                self._writer.writerows(rows)
-                self.rows += len(rows)
+                self._writer.writerows(row for row, _ in rows)
+                self.rows += sum(1 for _, header in rows if not header)
                 self._dirty = True
             except (OSError, ValueError) as exc:
                 self.error = f"cannot write {self.path}: {getattr(exc, 'strerror', None) or exc}"
@@ -166,6 +189,7 @@ class SessionLog:
         """Write what is queued, flush, close the file, join the thread. Idempotent."""
         if self.closed:
             return
+        self._header(0)                  # an empty session still gets its header
         self.closed = True
         if self._thread is not None:
             self._queue.put(_STOP)

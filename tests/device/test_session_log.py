@@ -8,7 +8,7 @@ import pytest
 
 from zuml_studio.device.messages import DeviceEvent, Telemetry
 from zuml_studio.sim.samples import COLUMNS as SIM_COLUMNS
-from zuml_studio.ui.device.session_log import COLUMNS, SessionLog, display_path, event_text, session_path
+from zuml_studio.device.session_log import COLUMNS, SessionLog, display_path, event_text, session_path
 
 
 def telemetry(t=12.0, running=True, temp=25.5):
@@ -98,3 +98,25 @@ def test_add_row_checks_its_length(tmp_path):
             log.add_row(("1", "2"))
         log.add_row(tuple(str(i) for i in range(len(COLUMNS))))
     assert read(tmp_path / "r.csv")[1] == [str(i) for i in range(len(COLUMNS))]
+
+
+def test_cell_columns_follow_the_first_telemetry(tmp_path):
+    """A charger that measures cells adds cell1_v..cellN_v after event; N from the first sample."""
+    from dataclasses import replace
+    path = tmp_path / "cells.csv"
+    log = SessionLog(path, threaded=False, cells=None)
+    log.add_telemetry(replace(telemetry(), cells_v=(4.2, 4.19, 4.21)))
+    log.add_telemetry(replace(telemetry(13.0), cells_v=(4.2,)))
+    log.add_telemetry(replace(telemetry(14.0), cells_v=(4.2, 4.2, 4.2, 4.2)))
+    log.close()
+    rows = read(path)
+    assert rows[0] == list(COLUMNS) + ["cell1_v", "cell2_v", "cell3_v"]
+    assert rows[1][-3:] == ["4.200", "4.190", "4.210"]
+    assert rows[2][-3:] == ["4.200", "", ""] and len(rows[3]) == len(rows[0])
+    assert log.rows == 3
+
+
+def test_an_empty_session_with_open_cells_still_gets_its_header(tmp_path):
+    path = tmp_path / "empty.csv"
+    SessionLog(path, threaded=False, cells=None).close()
+    assert read(path) == [list(COLUMNS)]

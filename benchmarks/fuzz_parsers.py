@@ -1,0 +1,179 @@
+"""Fuzz every parser of outside input; any exception other than the parser's own precise error
+is a crash. Run: python benchmarks/fuzz_parsers.py [N] [SEED]   (N inputs per parser, default 100000)
+
+Parsers: macro text (compile_source: never raises), a record's bytes (decode_record:
+DecodeError only), an EEPROM image (slots: ImageError only), a passport answer and request
+(PassportError only) and what the safety check makes of it, serial bytes (FrameParser: never
+raises), message payloads (PayloadError only), port URLs (BadPortUrl only), the CLI's start
+values. Inputs are the project's macros, records and frames mutated (bit flips, splices,
+repeats, huge numbers, control bytes) and random bytes. Prints per parser: inputs, crashes,
+the first crash of each kind, and the time taken.
+"""
+from __future__ import annotations
+
+import collections
+import random
+import sys
+import time
+import traceback
+from pathlib import Path
+
+from zuml_studio.device import messages as m
+from zuml_studio.device import passport as pp
+from zuml_studio.device.frames import FrameParser, encode_frame
+from zuml_studio.device.port_url import BadPortUrl, check_port_url
+from zuml_studio.lang.compiler import compile_source
+from zuml_studio.lang.decoder import decode_record
+from zuml_studio.lang.eeprom import ImageError, pack, slots
+from zuml_studio.lang.record import DecodeError
+from zuml_studio.safety import record_problems
+
+ROOT = Path(__file__).resolve().parent.parent
+TEXTS = [p.read_text() for p in sorted((ROOT / "macros").glob("*.zuml"))]
+RECORDS = [compile_source(t).record for t in TEXTS if compile_source(t).ok]
+NASTY = ["9" * 30, "1e999", "-0", "0x1F", "INPUT", "\x1b[2J", "\0", "(", ")", "//", "\r\n", "ā", "  ", ",,",
+         "99999999999999999999999999999.99999", "0." + "0" * 40 + "1", "IF(", "FAZE", "END_MACRO"]
+
+
+def mutate_text(rng: random.Random, text: str) -> str:
+    for _ in range(rng.randint(1, 4)):
+        at = rng.randrange(len(text) + 1)
+        kind = rng.random()
+        if kind < 0.35:
+            text = text[:at] + rng.choice(NASTY) + text[at:]
+        elif kind < 0.6:
+            text = text[:at] + text[at + rng.randint(1, 12):]
+        elif kind < 0.8:
+            other = rng.choice(TEXTS)
+            b = rng.randrange(len(other))
+            text = text[:at] + other[b:b + rng.randint(1, 60)] + text[at:]
+        else:
+            text = text[:at] + chr(rng.randrange(1, 0x3000)) + text[at:]
+    return text
+
+
+def mutate_bytes(rng: random.Random, data: bytes) -> bytes:
+    data = bytearray(data)
+    for _ in range(rng.randint(1, 6)):
+        kind = rng.random()
+        if kind < 0.4 and data:
+            i = rng.randrange(len(data))
+            data[i] ^= 1 << rng.randrange(8)
+        elif kind < 0.6 and data:
+            data[rng.randrange(len(data))] = rng.randrange(256)
+        elif kind < 0.75:
+            at = rng.randrange(len(data) + 1)
+            data[at:at] = bytes(rng.randrange(256) for _ in range(rng.randint(1, 8)))
+        elif kind < 0.9 and data:
+            at = rng.randrange(len(data))
+            del data[at:at + rng.randint(1, 8)]
+        else:
+            data = data[:rng.randrange(len(data) + 1)]
+    return bytes(data)
+
+
+def fix_check(record: bytes) -> bytes:
+    """Half the mutated records get a correct check byte, so the decoder looks past it."""
+    from zuml_studio.lang.record import check_byte
+    if not record:
+        return record
+    body = bytearray(record)
+    body[0] = len(body) & 0xFF
+    body[-1] = check_byte(bytes(body[:-1]))
+    return bytes(body)
+
+
+def run(name: str, n: int, make, check, allowed: tuple) -> tuple[int, dict]:
+    rng = random.Random(hash(name) & 0xFFFF ^ SEED)
+    crashes: dict[str, str] = {}
+    count = collections.Counter()
+    t0 = time.perf_counter()
+    for _ in range(n):
+        item = make(rng)
+        try:
+            check(item)
+        except allowed:
+            pass
+        except Exception:   # noqa: BLE001 - what a fuzzer is for
+            kind = traceback.format_exc().strip().splitlines()[-1]
+            count[kind] += 1
+            crashes.setdefault(kind, repr(item)[:200])
+    took = time.perf_counter() - t0
+    total = sum(count.values())
+    print(f"{name:<18} {n:>7} inputs  {total:>5} crashes  {took:6.1f} s")
+    for kind, example in crashes.items():
+        print(f"    {count[kind]} x {kind}\n      e.g. {example}")
+    return total, crashes
+
+
+def main() -> int:
+    n = int(sys.argv[1]) if len(sys.argv) > 1 else 100_000
+    passport = pp.default_passport("LiPo", 2000, 3)
+    frames = [encode_frame(code, seq, m.encode_response("STATUS", state=1, slot=0, task=0, uptime_ms=5, run_ms=5,
+                                                          events=0, speed=1, name="x", end_reason=""))
+              for code, seq in ((0x80 | m.BY_NAME["STATUS"].code, 3),)]
+    telemetry = frames[0]
+
+    def text(rng):
+        return mutate_text(rng, rng.choice(TEXTS))
+
+    def record(rng):
+        r = mutate_bytes(rng, rng.choice(RECORDS))
+        return fix_check(r) if rng.random() < 0.5 else r
+
+    def decode_and_check(data):
+        decode_record(data)
+        record_problems(data, passport)          # a record that decodes must also pass through the safety check
+
+    def image(rng):
+        return mutate_bytes(rng, pack(rng.sample(RECORDS, 2), 256))
+
+    def passport_answer(rng):
+        data = mutate_bytes(rng, passport.to_bytes())
+        if rng.random() < 0.5 and len(data) == 32:
+            data = data[:0x1E] + pp.check_word(data).to_bytes(2, "little")
+        return data
+
+    def passport_show(data):
+        p = pp.Passport.from_bytes(data)
+        assert all(" " <= c <= "~" for c in pp.printable(p.serial) + pp.printable(p.vendor)), "unescaped"
+
+    def serial_stream(rng):
+        return mutate_bytes(rng, telemetry * rng.randint(1, 4)) if rng.random() < 0.8 else \
+            bytes(rng.randrange(256) for _ in range(rng.randint(0, 200)))
+
+    def feed(data):
+        parser = FrameParser(m.DEVICE_TYPES)
+        parser.feed(data)
+        parser.flush_stale()
+
+    def payload(rng):
+        code = rng.choice([t.code for t in m.BY_NAME.values()])
+        return code, bytes(rng.randrange(256) for _ in range(rng.randint(0, 60)))
+
+    def decode_payload(item):
+        code, data = item
+        m.decode_response(code, data)
+
+    def url(rng):
+        base = rng.choice(["socket://127.0.0.1:7777", "rfc2217://host:2217?timeout=3", "/dev/ttyUSB0",
+                           "socket://[::1]:7777?logging=debug", "loop://"])
+        return mutate_text(rng, base)
+
+    failures = 0
+    failures += run("macro text", n, text, compile_source, ())[0]
+    failures += run("record bytes", n, record, decode_and_check, (DecodeError,))[0]
+    failures += run("EEPROM image", n, image, slots, (ImageError,))[0]
+    failures += run("passport answer", n, passport_answer, passport_show, (pp.PassportError,))[0]
+    failures += run("passport request", n, lambda rng: mutate_bytes(rng, pp.read_all_request()),
+                    pp.parse_request, (pp.PassportError,))[0]
+    failures += run("serial stream", n, serial_stream, feed, ())[0]
+    failures += run("message payload", n, payload, decode_payload, (m.PayloadError,))[0]
+    failures += run("port URL", n, url, check_port_url, (BadPortUrl,))[0]
+    print(f"total crashes: {failures}")
+    return 1 if failures else 0
+
+
+SEED = int(sys.argv[2]) if len(sys.argv) > 2 else 12
+if __name__ == "__main__":
+    sys.exit(main())

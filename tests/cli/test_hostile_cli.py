@@ -1,0 +1,68 @@
+"""The command line against hostile bytes and failing disks (issue 12, points 5, 6, 8)."""
+import os
+
+import pytest
+
+from helpers import MACROS, lose_link_after_commit
+from zuml_studio.cli.main import main
+
+pytestmark = pytest.mark.skipif(os.name != "posix", reason="ptys need POSIX")
+
+
+@pytest.fixture
+def zuml(capsys):
+    def run(*args):
+        capsys.readouterr()
+        code = main(list(args))
+        captured = capsys.readouterr()
+        return code, captured.out, captured.err
+    return run
+
+
+def test_passport_control_bytes_are_printed_escaped_and_flagged(make_charger, zuml):
+    device, port = make_charger(speed=20000)
+    device.chip._image[0x04:0x0C] = b"\x1b[2J\r\nOK"      # what a damaged or forged chip may hold
+    code, out, err = zuml("passport", "--port", port)
+    assert code == 0, err
+    assert "\x1b" not in out and "\r" not in out
+    assert "serial   ZU\\x1b[2J\\x0d\\x0aOK0001" in out
+    assert out.splitlines()[-1].startswith("warning: the passport's serial hold non-printable bytes")
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="needs /dev/full (a disk that is always full)")
+def test_monitor_on_a_full_disk_says_so_once_and_keeps_streaming(make_charger, zuml):
+    device, port = make_charger(speed=20000)
+    code, out, err = zuml("monitor", "--port", port, "--csv", "/dev/full", "--seconds", "1.5", "--rate", "20")
+    assert code == 1
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1, err
+    assert err.startswith("zuml: error: /dev/full: cannot write: No space left on device")
+    assert len([line for line in out.splitlines() if " V " in line]) >= 5     # the stream went on
+
+
+def test_monitor_csv_that_cannot_be_opened_is_one_line(make_charger, zuml, tmp_path):
+    code, out, err = zuml("monitor", "--port", "/dev/null", "--csv", str(tmp_path / "no" / "such" / "x.csv"))
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "cannot write" in err
+
+
+def test_flash_lost_after_a_confirmed_commit_is_settled_on_reconnect(make_charger, zuml, monkeypatch):
+    from zuml_studio.cli import device_commands
+    monkeypatch.setattr(device_commands, "SETTLE_PAUSE_S", 0.01)
+    device, port = make_charger(speed=20000)
+    lose_link_after_commit(monkeypatch)
+    code, out, err = zuml("flash", "--port", port, str(MACROS / "NiMh-dV.zuml"))
+    assert code == 0, err
+    assert "confirmed the new image" in err and "Traceback" not in err
+    assert out.strip() == "NiMh-dV: appended as slot 0; verified after reconnecting"
+
+
+def test_flash_whose_commit_never_arrived_says_so_after_reconnecting(make_charger, zuml, monkeypatch):
+    from zuml_studio.cli import device_commands
+    monkeypatch.setattr(device_commands, "SETTLE_PAUSE_S", 0.01)
+    device, port = make_charger(speed=20000)
+    lose_link_after_commit(monkeypatch, commit_arrives=False, confirmed=False)
+    code, out, err = zuml("flash", "--port", port, str(MACROS / "NiMh-dV.zuml"))
+    assert code == 1 and device.commits == 0
+    lines = err.strip().splitlines()
+    assert "either the new image or its previous one" in lines[0]
+    assert lines[-1] == ("zuml: error: reconnected and read back: the charger kept its previous image; "
+                         "nothing was written, flash again")

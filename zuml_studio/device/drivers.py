@@ -1,0 +1,116 @@
+"""The monitor-only chargers ZUML Studio reads, by name, and decoding of a whole capture.
+
+Each driver module (``cheali``, ``icharger_logview``, …) has ``decoder()`` returning a
+``StreamDecoder``. These chargers cannot run ZUML macros: every driver here is
+``monitor_only`` (the panel disables Flash and Start and says why). ``zuml`` is our own
+protocol (``ChargerClient``), listed so a port chooser can offer it beside the others.
+"""
+from __future__ import annotations
+
+import importlib
+from dataclasses import dataclass
+
+from .messages import Telemetry
+from .stream_decoder import StreamDecoder
+
+AUTO = "auto"
+ZUML = "zuml"
+
+
+@dataclass(frozen=True)
+class Driver:
+    name: str
+    title: str                  # what the panel calls the charger
+    module: str                 # zuml_studio.device.<module>
+    baud: int | None            # default baud (None: USB HID)
+    bauds: tuple[int, ...]      # other bauds the charger can be set to
+    transport: str              # "serial" | "hid"
+    monitor_only: bool = True
+
+    def decoder(self) -> StreamDecoder:
+        return importlib.import_module(f"{__package__}.{self.module}").decoder()
+
+    @property
+    def vid_pids(self) -> tuple[tuple[int, int], ...]:
+        if self.transport != "hid":
+            return ()
+        return importlib.import_module(f"{__package__}.{self.module}").VID_PIDS
+
+
+DRIVERS: dict[str, Driver] = {d.name: d for d in (
+    Driver("cheali", "cheali-charger (iMAX B6 clone, open firmware)", "cheali", 57600,
+           (9600, 19200, 38400, 115200), "serial"),
+    Driver("icharger", "Junsi iCharger (106B/206B/208B/306B/3010B)", "icharger_logview", 128000, (9600,), "serial"),
+    Driver("imaxb6", "iMAX B6 / e-Station (original firmware)", "imaxb6_serial", 9600, (), "serial"),
+    Driver("ultramat", "Graupner Ultramat / Ultra Duo Plus", "ultramat", 9600, (), "serial"),
+    Driver("skyrc", "SkyRC USB (B6 mini, B6AC v2, Q200)", "skyrc_hid", None, (), "hid"),
+    Driver("icharger-hid", "Junsi iCharger DUO/X (USB)", "icharger_hid", None, (), "hid"),
+    Driver("isdt", "ISDT (C4, A4, Q8) USB", "isdt_hid", None, (), "hid"),
+)}
+SERIAL_DRIVERS = tuple(d for d in DRIVERS.values() if d.transport == "serial")
+HID_DRIVERS = tuple(d for d in DRIVERS.values() if d.transport == "hid")
+MONITOR_ONLY_REASON = "{title} cannot run ZUML macros: it is monitor-only"
+
+
+class CaptureError(ValueError):
+    """A capture no driver recognises (the message names what was tried)."""
+
+
+def driver(name: str) -> Driver:
+    try:
+        return DRIVERS[name]
+    except KeyError:
+        raise CaptureError(f"unknown driver {name!r}; drivers: {', '.join(DRIVERS)}") from None
+
+
+def hex_dump_reports(data: bytes) -> bytes | None:
+    """A text dump of HID reports -> the reports, each padded to 64 bytes; None if ``data``
+    is not such a dump. One report per line, hex bytes (spaces optional), an optional
+    label (``RX``, ``IN``, …); lines labelled ``TX``/``OUT`` (what the host sent) and ``#``
+    comments are left out."""
+    if b"\x00" in data or b"$" in data or b"{" in data or b"\x0c" in data:
+        return None
+    try:
+        text = data.decode("ascii")
+    except UnicodeDecodeError:
+        return None
+    out = bytearray()
+    for line in text.splitlines():
+        tokens = line.split("#", 1)[0].split()
+        label = ""
+        while tokens and not _is_hex(tokens[0]):
+            label = label or tokens[0].upper()
+            tokens.pop(0)
+        if not tokens or label.startswith(("TX", "OUT", "S=", "R=")):
+            continue
+        if any(not _is_hex(t) for t in tokens):
+            return None
+        report = bytes.fromhex("".join(tokens))
+        if not 0 < len(report) <= 64:
+            return None
+        out += report.ljust(64, b"\x00")
+    return bytes(out) if out else None
+
+
+def _is_hex(token: str) -> bool:
+    return len(token) % 2 == 0 and all(c in "0123456789abcdefABCDEF" for c in token)
+
+
+def decode_capture(data: bytes, driver: str | None = None) -> tuple[str, list[Telemetry], int]:
+    """Decode a whole raw capture (serial bytes or a HID report dump): (driver name, samples,
+    bad records). ``driver=None`` picks the driver that decodes most records (fewest bad on a
+    tie); CaptureError when none decodes any."""
+    reports = hex_dump_reports(data)
+    stream = reports if reports is not None else data
+    names = [driver] if driver else [d.name for d in DRIVERS.values()]
+    best: tuple[int, int, str, list[Telemetry]] | None = None
+    for name in names:
+        dec = globals()["driver"](name).decoder()
+        samples = dec.feed(stream)
+        if best is None or (dec.good, -dec.bad) > (best[0], -best[1]):
+            best = (dec.good, dec.bad, name, samples)
+    assert best is not None
+    good, bad, name, samples = best
+    if not good and driver is None:
+        raise CaptureError(f"no charger format recognised in {len(data)} bytes (tried {', '.join(names)})")
+    return name, samples, bad

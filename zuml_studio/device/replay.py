@@ -1,0 +1,196 @@
+"""Play a recording onto a serial port (a pty) at its recorded pace × speed, so a charger's
+stream can be watched without the charger.
+
+``load_recording`` turns a file's bytes into records with their times: raw serial captures
+(``$`` lines, ``{…}`` frames, Ultramat frames), HID report dumps (hex text, one report a
+line), DUO/X text logs (``$`` lines with their ms), and the text forms of the shared samples
+(Ultramat frames without their 0x0C/0x0D, iMAX B6 ``time;time;hex`` lines). The record times
+are those the driver's decoder gives (the line's own clock, or its fixed step).
+
+``ReplayDevice`` has the byte interface ``transport.serve_pty`` drives for the virtual
+charger. pyserial empties a port's input when it opens it, so the replay starts only once a
+reader has opened the pty (it sees the reader set the line up) and a moment has passed.
+"""
+from __future__ import annotations
+
+import random
+import re
+import termios
+import threading
+import time
+from dataclasses import dataclass
+from typing import Callable
+
+from .drivers import CaptureError, DRIVERS, decode_capture, hex_dump_reports
+from .virtual_charger import Faults
+
+MAX_GAP_S = 60.0                 # a longer pause in a recording (a restart, a joined file) plays as this
+SETTLE_S = 0.3                   # after the reader set the line up, before the first byte
+_IMAX_LINE = re.compile(rb"^[^;#]*;[^;]*;(7b[0-9a-fA-F]{148}7d)\s*$", re.M)
+_HEX_LINE = re.compile(rb"^([0-9A-Fa-f]{8,400})\s*$", re.M)
+# how a driver's stream splits into records
+_SPLIT = {"cheali": b"\n", "icharger": b"\n", "imaxb6": b"}", "ultramat": b"\r"}
+
+
+@dataclass(frozen=True)
+class Recording:
+    driver: str
+    records: tuple[tuple[float, bytes], ...]       # (seconds from the first record, bytes)
+    bad: int
+
+    @property
+    def duration_s(self) -> float:
+        return self.records[-1][0] if self.records else 0.0
+
+
+def _streams(data: bytes) -> list[bytes]:
+    """The ways ``data`` can be read as a charger's byte stream."""
+    reports = hex_dump_reports(data)
+    out = [data if reports is None else reports]
+    frames = _IMAX_LINE.findall(data)
+    if frames:
+        out.append(b"".join(bytes.fromhex(f.decode()) for f in frames))
+    lines = _HEX_LINE.findall(data)
+    if lines:
+        out.append(b"".join(b"\x0c" + line.upper() + b"\r" for line in lines))
+    return out
+
+
+def _split(driver: str, stream: bytes) -> list[bytes]:
+    sep = _SPLIT.get(driver)
+    if sep is None:                                 # HID reports
+        return [stream[i:i + 64] for i in range(0, len(stream), 64)]
+    parts = stream.split(sep)
+    out = [p + sep for p in parts[:-1]]
+    if parts[-1]:
+        out.append(parts[-1])
+    return out
+
+
+def load_recording(data: bytes, as_format: str | None = None) -> Recording:
+    """Raises CaptureError when no driver reads the data."""
+    best = None
+    for stream in _streams(data):
+        try:
+            name, samples, bad = decode_capture(stream, as_format)
+        except CaptureError:
+            continue
+        if samples and (best is None or len(samples) > len(best[2])):
+            best = (stream, name, samples, bad)
+    if best is None:
+        tried = as_format or ", ".join(DRIVERS)
+        raise CaptureError(f"no recording recognised in {len(data)} bytes (tried {tried})")
+    stream, name, _samples, bad = best
+    dec = DRIVERS[name].decoder()
+    records: list[tuple[float, bytes]] = []
+    t0 = last = None
+    clock = 0.0
+    for chunk in _split(name, stream):
+        got = dec.feed(chunk)
+        if got:
+            t = got[-1].time_s
+            if t0 is None:
+                t0 = last = t
+            clock += min(MAX_GAP_S, max(0.0, t - last))
+            last = t
+        records.append((clock, chunk))
+    return Recording(name, tuple(records), bad)
+
+
+class ReplayDevice:
+    """Plays ``recording`` at ``speed`` × its pace through a transport link."""
+
+    def __init__(self, recording: Recording, speed: float = 1.0, wait_for_reader: bool = True):
+        if not speed > 0:
+            raise ValueError("speed must be > 0")
+        self.recording = recording
+        self.speed = float(speed)
+        self.wait_for_reader = wait_for_reader
+        self.faults = Faults()
+        self.rng = random.Random(0)
+        self._disconnect_spent = False
+        self._out = threading.Condition()
+        self._pending = bytearray()
+        self._stop = threading.Event()
+        self._slave: int | None = None
+        self._armed = threading.Event()
+        self.sent_records = 0
+        self.finished = threading.Event()
+        self._thread = threading.Thread(target=self._play, name="replay", daemon=True)
+
+    # -- what a transport link calls -------------------------------------------------------
+    rx_pending = 0
+
+    def attach(self) -> None:
+        self._thread.start()
+
+    def detach(self) -> None:
+        self._stop.set()
+        self._armed.set()
+
+    def reset_link(self) -> None:
+        pass
+
+    def receive(self, data: bytes) -> None:
+        pass                        # monitor-only chargers ignore what the host sends
+
+    def line_idle(self) -> None:
+        pass
+
+    def read_output(self, max_bytes: int, timeout: float | None = None) -> bytes:
+        with self._out:
+            if not self._pending and timeout:
+                self._out.wait(timeout)
+            out = bytes(self._pending[:max_bytes])
+            del self._pending[:max_bytes]
+            return out
+
+    # -- playing -------------------------------------------------------------------------------
+    def watch_reader(self, slave_fd: int | None) -> None:
+        """Start once a reader has set up the pty whose slave is ``slave_fd`` (None: now). Call
+        before anyone can know the port: the line is marked here, so no reader's set-up is missed."""
+        self._slave = slave_fd
+        if slave_fd is not None and self.wait_for_reader:
+            attrs = termios.tcgetattr(slave_fd)
+            attrs[4] = attrs[5] = termios.B50      # a speed no reader asks for: any open changes it
+            termios.tcsetattr(slave_fd, termios.TCSANOW, attrs)
+            self._marked = termios.tcgetattr(slave_fd)    # as the pty keeps them
+        self._armed.set()
+
+    def _await_reader(self) -> None:
+        fd = self._slave
+        if fd is None or not self.wait_for_reader:
+            return
+        while not self._stop.is_set():
+            if termios.tcgetattr(fd) != self._marked:
+                self._stop.wait(SETTLE_S)
+                return
+            self._stop.wait(0.01)
+
+    def _play(self) -> None:
+        self._armed.wait()
+        try:
+            self._await_reader()
+        except termios.error:
+            return
+        start = time.monotonic()
+        for t, chunk in self.recording.records:
+            delay = start + t / self.speed - time.monotonic()
+            if delay > 0 and self._stop.wait(delay):
+                return
+            if self._stop.is_set():
+                return
+            with self._out:
+                self._pending += chunk
+                self._out.notify_all()
+            self.sent_records += 1
+        self.finished.set()
+
+
+def serve_replay(recording: Recording, speed: float = 1.0) -> tuple[str, Callable[[], None], ReplayDevice]:
+    """Serve the recording on a new pty: (port path, stop function, device)."""
+    from .transport import serve_pty
+    device = ReplayDevice(recording, speed)
+    port, stop = serve_pty(device, None)          # type: ignore[arg-type]  # the same byte interface
+    device.watch_reader(stop.link.slave)          # type: ignore[attr-defined]
+    return port, stop, device
