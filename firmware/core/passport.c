@@ -20,7 +20,8 @@ uint8_t zc_passport_read(uint8_t p[PASSPORT_SIZE])
         return PASSPORT_NONE;
     for (k = 0; k < 0x1E; k += 2)
         check ^= (uint16_t)(p[k] | (p[k + 1] << 8));
-    return p[0] == MAGIC && check == (uint16_t)(p[0x1E] | (p[0x1F] << 8)) ? PASSPORT_OK : PASSPORT_BAD;
+    /* an error answer (0xEE where the version stands) is no passport */
+    return p[0] == MAGIC && p[1] != 0xEE && check == (uint16_t)(p[0x1E] | (p[0x1F] << 8)) ? PASSPORT_OK : PASSPORT_BAD;
 }
 
 typedef struct {

@@ -8,6 +8,7 @@ import pytest
 
 from helpers import compiled, needs_pty
 from zuml_studio.device import messages as m
+from zuml_studio.device import passport as pp
 from zuml_studio.device.client import ChargerClient
 from zuml_studio.device.errors import DeviceError
 from zuml_studio.device.frames import FrameParser, encode_frame
@@ -204,3 +205,19 @@ def test_start_shablon_takes_its_values_from_the_charger_and_a_missing_one_refus
     with pytest.raises(DeviceError) as refused:
         c.start(1, "charge", current_a=1.0)
     assert refused.value.code == m.ErrorCode.START_ERROR and "START_SHABLON" in str(refused.value)
+
+
+def test_the_batterys_passport_takes_err_and_crit_only_and_answers_every_request(client):
+    c = client("--passport", "3:8:2")                 # NiMh, 8 V, 2 A
+    assert c.passport_write("err", 3).err == 3
+    with pytest.raises(DeviceError) as refused:
+        c.passport_write("type", "LiPo")
+    assert refused.value.code == m.ErrorCode.PASSPORT_ERROR and "read-only" in str(refused.value)
+    assert c.passport_read().type == 3
+    bad_page = bytearray(pp.read_all_request())
+    bad_page[1:3] = bytes([0x17, 7])
+    bad_page[7] = 0
+    for b in bad_page[:7]:
+        bad_page[7] ^= b
+    answer = c.passport_raw(bytes(bad_page))
+    assert len(answer) == 32 and pp.answer_error(answer) is not None and answer[2] == pp.AnswerError.BAD_PAGE

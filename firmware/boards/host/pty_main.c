@@ -30,11 +30,19 @@ static double soc = 0.2, capacity_as = 2.0 * 3600, current_a, pack_v, heatsink_c
 static int cells = 3;
 static uint8_t passport[32], has_passport;
 
-/* spec section 4: MAGIC, version, SERIAL, VENDOR, TYPE, ERR, CRIT, V_LIMIT, A_LIMIT, TEMP, check */
-static void make_passport(int type, int v_limit, int a_limit, int crit)
+static void seal(uint8_t *p)
 {
     uint16_t check = 0;
     int k;
+    for (k = 0; k < 0x1E; k += 2)
+        check ^= (uint16_t)(p[k] | (p[k + 1] << 8));
+    p[0x1E] = (uint8_t)check;
+    p[0x1F] = (uint8_t)(check >> 8);
+}
+
+/* spec section 4: MAGIC, version, SERIAL, VENDOR, TYPE, ERR, CRIT, V_LIMIT, A_LIMIT, TEMP, check */
+static void make_passport(int type, int v_limit, int a_limit, int crit)
+{
     memset(passport, 0, sizeof passport);
     passport[0] = 0xA7;
     passport[1] = 0x01;
@@ -46,10 +54,7 @@ static void make_passport(int type, int v_limit, int a_limit, int crit)
     passport[0x1B] = (uint8_t)v_limit;
     passport[0x1C] = (uint8_t)a_limit;
     passport[0x1D] = 25;
-    for (k = 0; k < 0x1E; k += 2)
-        check ^= (uint16_t)(passport[k] | (passport[k + 1] << 8));
-    passport[0x1E] = (uint8_t)check;
-    passport[0x1F] = (uint8_t)(check >> 8);
+    seal(passport);
     has_passport = 1;
 }
 
@@ -110,14 +115,48 @@ void hal_eeprom_write(uint16_t addr, uint8_t value)
 }
 void hal_buzzer(uint8_t melody) { (void)melody; }
 void hal_led(uint8_t pattern) { (void)pattern; }
+/* The battery's passport chip as device/passport.py's PassportChip (production, seed 003): 32 bytes
+ * to every request, the passport or an error answer (MAGIC, 0xEE, code, RW_INDEX, PAGE, zeros,
+ * check); pages 0..6; the charger may change only ERR and CRIT (0x17..0x1A). */
 uint8_t hal_passport_exchange(const uint8_t request[8], uint8_t answer[32])
 {
-    uint8_t x = 0, k;
+    uint8_t x = 0, k, rw = request[1], page = request[2], code = 0;
+    if (!has_passport)
+        return 0;
     for (k = 0; k < 7; k++)
         x ^= request[k];
-    if (!has_passport || request[0] != 0xA7 || x != request[7])
-        return 0;                       /* a battery ignores a request it cannot read */
-    memcpy(answer, passport, 32);       /* the answer is always the whole passport */
+    if (request[0] != 0xA7)
+        code = 2;                       /* BAD_MAGIC */
+    else if (x != request[7])
+        code = 3;                       /* BAD_XOR */
+    else if (rw != 0 && (rw & 0xF0) != 0x10 && (rw & 0xF0) != 0x20)
+        code = 4;                       /* BAD_COMMAND */
+    else if (rw != 0 && ((rw & 0x0F) != page || page > 6))
+        code = 5;                       /* BAD_PAGE */
+    else if ((rw & 0xF0) == 0x20)
+        for (k = 0; k < 4; k++) {
+            uint8_t at = (uint8_t)(4 * page + k);
+            int own = at <= 0x01 || at >= 0x1D, error_section = at >= 0x17 && at <= 0x1A;
+            if (!own && passport[at] != request[3 + k] && !error_section)
+                code = 6;               /* READ_ONLY: nothing is written */
+        }
+    if (code) {
+        memset(answer, 0, 32);
+        answer[0] = 0xA7;
+        answer[1] = 0xEE;
+        answer[2] = code;
+        answer[3] = rw;
+        answer[4] = page;
+        seal(answer);
+        return 1;
+    }
+    if ((rw & 0xF0) == 0x20) {
+        for (k = 0; k < 4; k++)
+            if (4 * page + k >= 0x17 && 4 * page + k <= 0x1A)
+                passport[4 * page + k] = request[3 + k];
+        seal(passport);
+    }
+    memcpy(answer, passport, 32);
     return 1;
 }
 
