@@ -167,4 +167,3 @@ def test_a_macro_that_never_ends_stops_at_the_simulation_limit():
     body = "FAZE CONSTANT_I=0.5A END_FAZE"
     r = run(macro("", body), "discharge", capacity=1000, series=1, soc=0.2)
     assert r.phases[0].reason.startswith("limit: simulation stopped after 48h")
-
