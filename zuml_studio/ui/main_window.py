@@ -131,6 +131,8 @@ class MainWindow(QMainWindow):
                                        "Answer a few questions about the battery")
         self.act_visual = self._action("&Visual Editor", self.show_visual, "Ctrl+Shift+V")
         self.act_open = self._action("&Open…", self.open_dialog, K.Open)
+        self.act_open_log = self._action("Open &Log…", lambda: self.open_log(), "Ctrl+L",
+                                         "View a charger's log file: iCharger, LogView, DataExplorer, session CSV")
         self.act_save = self._action("&Save", self.save, K.Save)
         self.act_save_as = self._action("Save &As…", self.save_as, K.SaveAs)
         self.act_export = self._action("Export &Byte Record…", self.export_record, "Ctrl+Shift+E",
@@ -156,6 +158,7 @@ class MainWindow(QMainWindow):
             templates.addAction(path.stem, lambda p=path: self.new_from_template(p))
         file_menu.addAction(self.act_open)
         self.recent_menu = file_menu.addMenu("Open &Recent")
+        file_menu.addAction(self.act_open_log)
         file_menu.addSeparator()
         file_menu.addAction(self.act_save)
         file_menu.addAction(self.act_save_as)
@@ -342,6 +345,19 @@ class MainWindow(QMainWindow):
         self._set_document(opened.text, str(Path(path).resolve()), opened)
         self._remember(self.path)
         return True
+
+    def open_log(self, path: str | None = None):
+        """The log viewer's window (made on first use), with ``path`` opened or a file chosen."""
+        from .logs import LogWindow
+        if getattr(self, "log_window", None) is None:
+            self.log_window = LogWindow(self.settings, self)
+        self.log_window.show()
+        self.log_window.raise_()
+        if path:
+            self.log_window.open_path(path)
+        else:
+            self.log_window.open_dialog()
+        return self.log_window
 
     def save(self) -> bool:
         # A standard macro belongs to the installation (read-only, replaced on upgrade): its

@@ -73,6 +73,11 @@ class InlineLegend(pg.TextItem):
         self.entries.append((name, color))
         self._render()
 
+    def set_entries(self, entries: list[tuple[str, str]]) -> None:
+        """Replace every entry at once: (name, colour)."""
+        self.entries = list(entries)
+        self._render()
+
     def rename(self, index: int, name: str) -> None:
         self.entries[index] = (name, self.entries[index][1])
         self._render()

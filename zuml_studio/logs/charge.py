@@ -1,0 +1,60 @@
+"""Charge in and out, in one place for every format: from the charger's own counter where
+the log has one, else by integrating the current over time."""
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+SECONDS_PER_HOUR = 3600.0
+# A gap longer than this is not integrated over: the log was interrupted, the charger
+# was not necessarily still pushing current.
+MAX_STEP_S = 60.0
+JITTER_MAH = 1.0
+
+
+def integrate_current(times_s: Sequence[float], currents_a: Sequence[float]) -> tuple[list[float], list[float]]:
+    """Cumulative mAh in (current > 0) and out (current < 0), trapezoidal per step.
+
+    A step whose halves have opposite signs is split at the zero crossing; a step back in
+    time or longer than ``MAX_STEP_S`` adds nothing."""
+    q_in = q_out = 0.0
+    ins: list[float] = []
+    outs: list[float] = []
+    prev_t = prev_i = None
+    for t, i in zip(times_s, currents_a):
+        if prev_t is not None:
+            dt = t - prev_t
+            if 0.0 < dt <= MAX_STEP_S:
+                if (prev_i >= 0.0) == (i >= 0.0):
+                    area = (prev_i + i) * 0.5 * dt
+                    pos, neg = (area, 0.0) if area >= 0 else (0.0, -area)
+                else:
+                    cross = dt * abs(prev_i) / (abs(prev_i) + abs(i))
+                    a1, a2 = prev_i * cross * 0.5, i * (dt - cross) * 0.5
+                    pos, neg = max(a1, 0.0) + max(a2, 0.0), -min(a1, 0.0) - min(a2, 0.0)
+                q_in += pos * 1000.0 / SECONDS_PER_HOUR
+                q_out += neg * 1000.0 / SECONDS_PER_HOUR
+        ins.append(q_in)
+        outs.append(q_out)
+        prev_t, prev_i = t, i
+    return ins, outs
+
+
+def charge_from_counter(counter_mah: Sequence[float]) -> tuple[list[float], list[float]]:
+    """Cumulative mAh in and out from a charger's capacity counter.
+
+    Chargers count the charge of the phase they are in and start again at 0 for the next
+    one; the counter is signed (negative: discharged). A fall in magnitude or a change of
+    sign starts a new count: what the previous count reached is banked. A fall of up to
+    ``JITTER_MAH`` is rounding, not a new count."""
+    bank_in = bank_out = 0.0
+    prev = 0.0
+    ins: list[float] = []
+    outs: list[float] = []
+    for c in counter_mah:
+        if (prev > 0 and c < 0) or (prev < 0 and c > 0) or abs(c) < abs(prev) - JITTER_MAH:
+            bank_in += max(prev, 0.0)
+            bank_out += max(-prev, 0.0)
+        prev = c
+        ins.append(bank_in + max(c, 0.0))
+        outs.append(bank_out + max(-c, 0.0))
+    return ins, outs

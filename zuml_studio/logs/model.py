@@ -1,0 +1,195 @@
+"""What reading a log gives: ``Log`` (samples as ``Telemetry``, bad records, charger, metadata),
+its phases, and ``SampleBuilder``, which every reader fills column by column."""
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..device.messages import Telemetry
+from .charge import charge_from_counter, integrate_current
+
+# The states a log sample can be in; every format maps its own onto these.
+STATES = ("charge", "discharge", "pause", "idle")
+SECTION_OF = {"charge": "charge", "discharge": "discharge"}
+
+
+class LogFormatError(ValueError):
+    """The bytes are not a log this reader understands; the message says where and why."""
+
+
+@dataclass(frozen=True)
+class Phase:
+    """A stretch of samples in one state; ``index`` counts the phases of that state from 1."""
+    state: str
+    start_s: float
+    end_s: float
+    index: int = 0
+
+    def as_dict(self) -> dict:
+        return {"state": self.state, "start_s": round(self.start_s, 3), "end_s": round(self.end_s, 3)}
+
+
+def state_of(t: Telemetry) -> str:
+    """One of ``STATES`` for a sample (also for samples from live drivers)."""
+    if t.paused:
+        return "pause"
+    if not t.running:
+        return "idle"
+    return t.section if t.section in SECTION_OF else "idle"
+
+
+@dataclass(frozen=True)
+class Log:
+    format: str
+    device: str
+    samples: tuple[Telemetry, ...]
+    bad_records: int = 0
+    meta: dict = field(default_factory=dict)
+    # Internal-resistance readings where the charger logs them: (time_s, pack mΩ or None, cells mΩ).
+    resistance: tuple[tuple[float, float | None, tuple[float, ...]], ...] = ()
+
+    @property
+    def cells(self) -> int:
+        return max((len(s.cells_v) for s in self.samples), default=0)
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """Columns for plotting: t, voltage, current, temp and heatsink (NaN: not measured),
+        cells (samples × cells, NaN where a sample has fewer)."""
+        s = self.samples
+        nan = math.nan
+        cells = np.full((len(s), self.cells), nan)
+        for k, x in enumerate(s):
+            cells[k, :len(x.cells_v)] = x.cells_v
+        return {
+            "t": np.fromiter((x.time_s for x in s), float, len(s)),
+            "voltage": np.fromiter((x.voltage_v for x in s), float, len(s)),
+            "current": np.fromiter((x.current_a for x in s), float, len(s)),
+            "temp": np.fromiter((nan if x.temp_c is None else x.temp_c for x in s), float, len(s)),
+            "heatsink": np.fromiter((nan if x.heatsink_c is None else x.heatsink_c for x in s), float, len(s)),
+            "cells": cells,
+        }
+
+    def phases(self) -> list[Phase]:
+        """Consecutive samples in one state; a phase ends where the next begins."""
+        out: list[Phase] = []
+        counts: dict[str, int] = {}
+        for s in self.samples:
+            state = state_of(s)
+            if out and out[-1].state == state:
+                out[-1] = Phase(state, out[-1].start_s, s.time_s, out[-1].index)
+                continue
+            if out:
+                out[-1] = Phase(out[-1].state, out[-1].start_s, s.time_s, out[-1].index)
+            counts[state] = counts.get(state, 0) + 1
+            out.append(Phase(state, s.time_s, s.time_s, counts[state]))
+        return out
+
+
+def from_samples(fmt: str, device: str, samples: Sequence[Telemetry], bad_records: int = 0, **meta) -> Log:
+    """A Log from ready samples (a live driver's decoder, for instance)."""
+    return Log(fmt, device, tuple(samples), bad_records, dict(meta))
+
+
+class SampleBuilder:
+    """Columns of one log as a reader decodes them; ``build`` turns them into Telemetry.
+
+    Charge: an explicit cumulative in/out wins, else the charger's (signed, per-phase)
+    counter, else the integral of the current (``charge.py``). Per-cell columns that are
+    zero in every sample at the end of the list (balance taps not connected) are dropped."""
+
+    def __init__(self) -> None:
+        self.t: list[float] = []
+        self.v: list[float] = []
+        self.i: list[float] = []
+        self.state: list[str] = []
+        self.temp: list[float | None] = []
+        self.heatsink: list[float | None] = []
+        self.cells: list[tuple[float, ...]] = []
+        self.counter: list[float | None] = []
+        self.q_in: list[float | None] = []
+        self.q_out: list[float | None] = []
+        self.cycle: list[int] = []
+
+    def __len__(self) -> int:
+        return len(self.t)
+
+    def add(self, t: float, v: float, i: float, state: str, *, temp: float | None = None,
+            heatsink: float | None = None, cells: Sequence[float] = (), counter: float | None = None,
+            mah_in: float | None = None, mah_out: float | None = None, cycle: int = 0) -> None:
+        for name, value in (("time", t), ("voltage", v), ("current", i)):
+            if not math.isfinite(value):
+                raise LogFormatError(f"sample {len(self.t) + 1}: {name} is {value}")
+        if state not in STATES:
+            raise ValueError(f"state {state!r}")
+        self.t.append(float(t))
+        self.v.append(float(v))
+        self.i.append(float(i))
+        self.state.append(state)
+        self.temp.append(_finite(temp))
+        self.heatsink.append(_finite(heatsink))
+        self.cells.append(tuple(float(c) for c in cells))
+        self.counter.append(_finite(counter))
+        self.q_in.append(_finite(mah_in))
+        self.q_out.append(_finite(mah_out))
+        self.cycle.append(int(cycle))
+
+    def _charge(self) -> tuple[list[float], list[float]]:
+        n = len(self.t)
+        if n and all(q is not None for q in self.q_in) and all(q is not None for q in self.q_out):
+            return list(self.q_in), list(self.q_out)
+        if n and all(c is not None for c in self.counter):
+            return charge_from_counter(self.counter)
+        return integrate_current(self.t, self.i)
+
+    def _cell_count(self) -> int:
+        width = max((len(c) for c in self.cells), default=0)
+        while width and all(len(c) < width or c[width - 1] == 0.0 for c in self.cells):
+            width -= 1
+        return width
+
+    def build(self, fmt: str, device: str, bad_records: int = 0, *, resistance=(), **meta) -> Log:
+        q_in, q_out = self._charge()
+        width = self._cell_count()
+        samples = []
+        runs = 0
+        section_count = {"charge": 0, "discharge": 0}
+        prev = None
+        phase = 0
+        for k, state in enumerate(self.state):
+            section = SECTION_OF.get(state, "")
+            if state != prev:
+                if section:
+                    runs += 1
+                    section_count[section] += 1
+                    phase = section_count[section]
+                prev = state
+            cells = self.cells[k][:width]
+            if len(cells) < width:
+                cells = cells + (0.0,) * (width - len(cells))
+            temp = self.temp[k]
+            samples.append(Telemetry(
+                time_s=self.t[k], task="discharge" if section == "discharge" else "charge", section=section,
+                repetition=0, cycle=self.cycle[k], phase=phase if section else 0, run=runs if section else 0,
+                running=state in ("charge", "discharge", "pause"), paused=state == "pause",
+                sensor=temp is not None, voltage_v=self.v[k], current_a=self.i[k], temp_c=temp,
+                heatsink_c=self.heatsink[k], mah_in=q_in[k], mah_out=q_out[k], cells_v=cells))
+        return Log(fmt, device, tuple(samples), bad_records, dict(meta), tuple(resistance))
+
+
+def _finite(value: float | None) -> float | None:
+    if value is None:
+        return None
+    value = float(value)
+    return value if math.isfinite(value) else None
+
+
+def state_from_current(current_a: float, threshold_a: float = 0.005) -> str:
+    """For formats that say nothing about the state: the sign of the current."""
+    if current_a > threshold_a:
+        return "charge"
+    if current_a < -threshold_a:
+        return "discharge"
+    return "idle"

@@ -1,0 +1,72 @@
+"""Which reader reads a file: recognised by its bytes (``sniff``), the name only as a hint.
+
+Adding a format is one ``LogReader`` entry in ``FORMATS``: a name, ``sniff(first bytes, file
+name) -> bool`` and ``read(bytes) -> Log``. A reader that gets ready samples from elsewhere
+(a live driver's decoder, for instance) builds its Log with ``model.from_samples(format,
+device, samples, bad_records)``. More specific formats come first: the first that
+recognises the bytes reads them."""
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..file_errors import FileReadError, read_file_bytes
+from . import dataexplorer_csv, junsi, logview_open, lov, osd, session_csv
+from .model import Log, LogFormatError
+
+HEAD_BYTES = 4096
+
+
+@dataclass(frozen=True)
+class LogReader:
+    name: str
+    description: str
+    sniff: Callable[[bytes, str], bool]
+    read: Callable[[bytes], Log]
+
+
+FORMATS: tuple[LogReader, ...] = (
+    LogReader("logview-lov", "LogView .lov (Junsi iCharger serial models)", lov.sniff, lov.read),
+    LogReader("dataexplorer-osd", "DataExplorer .osd", osd.sniff, osd.read),
+    LogReader("session-csv", "ZUML Studio session CSV", session_csv.sniff, session_csv.read),
+    LogReader("icharger-duo-txt", "Junsi iCharger DUO/X/S text log", junsi.sniff_duo, junsi.read_duo),
+    LogReader("logview-open", "LogView open format text", logview_open.sniff, logview_open.read),
+    LogReader("dataexplorer-csv", "DataExplorer CSV export", dataexplorer_csv.sniff, dataexplorer_csv.read),
+)
+BY_NAME = {f.name: f for f in FORMATS}
+
+
+def detect(data: bytes, name: str = "") -> LogReader:
+    head = data[:HEAD_BYTES]
+    for reader in FORMATS:
+        if reader.sniff(head, name):
+            return reader
+    tried = ", ".join(f.description for f in FORMATS)
+    raise LogFormatError(f"not a log file ZUML Studio reads (tried: {tried})")
+
+
+def read_log(data: bytes, name: str = "", fmt: str | None = None) -> Log:
+    """Read a log; ``fmt`` forces a format by name. Raises ``LogFormatError`` with the reason."""
+    if fmt is not None:
+        reader = BY_NAME.get(fmt)
+        if reader is None:
+            raise LogFormatError(f"unknown log format '{fmt}' (known: {', '.join(BY_NAME)})")
+    else:
+        if not data:
+            raise LogFormatError("the file is empty")
+        reader = detect(data, name)
+    return reader.read(data)
+
+
+def read_log_file(path: str | Path, fmt: str | None = None) -> Log:
+    """``read_log`` of a file; a file that cannot be read or decoded raises ``LogFormatError``
+    whose message starts with the path."""
+    try:
+        data = read_file_bytes(path)
+    except FileReadError as exc:
+        raise LogFormatError(str(exc)) from None
+    try:
+        return read_log(data, Path(path).name, fmt)
+    except LogFormatError as exc:
+        raise LogFormatError(f"{path}: {exc}") from None

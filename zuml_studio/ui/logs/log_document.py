@@ -1,0 +1,135 @@
+"""One log as a document: the plot, the readout under it, and beside it the totals and the
+logs laid over it (other files, or the log's own cycles)."""
+from __future__ import annotations
+
+import html
+from pathlib import Path
+
+from PySide6.QtCore import Qt, Signal
+from PySide6.QtWidgets import (QCheckBox, QHBoxLayout, QLabel, QListWidget, QListWidgetItem, QPushButton,
+                               QSizePolicy, QVBoxLayout, QWidget)
+
+from ...logs import Log
+from ...logs.cycles import split_cycles
+from ...logs.summary import summarize
+from ..timefmt import duration
+from .log_plot import LogPlot
+
+SIDE_WIDTH = 250
+
+
+def totals_html(name: str, info: dict) -> str:
+    """The side panel's summary of a log (``logs.summary``), as a small table."""
+    def num(value, fmt: str, unit: str) -> str:
+        return "–" if value is None else f"{format(value, fmt)} {unit}"
+
+    rows = [("charger", html.escape(info["device"])), ("format", info["format"]),
+            ("samples", f"{info['samples']}" + (f" ({info['bad_records']} bad)" if info["bad_records"] else "")),
+            ("length", duration(info["duration_s"])),
+            ("voltage", f"{num(info['v_min'], '.3f', '')}– {num(info['v_max'], '.3f', 'V')}"),
+            ("current max", num(info["i_max_a"], ".2f", "A")),
+            ("charged", num(info["charge_in_mah"], ".0f", "mAh")),
+            ("discharged", num(info["charge_out_mah"], ".0f", "mAh"))]
+    if info["t_max_c"] is not None:
+        rows.append(("temperature", f"{info['t_min_c']:.1f} – {info['t_max_c']:.1f} °C"))
+    if info["cells"]:
+        rows.append(("cells", str(info["cells"])))
+    if "battery" in info:
+        rows.append(("battery", html.escape(str(info["battery"]))))
+    if "resistance" in info:
+        r = info["resistance"]
+        pack = "–" if r["last_pack_mohm"] is None else f"{r['last_pack_mohm']:.1f} mΩ"
+        rows.append(("resistance", f"pack {pack}, cells " + " ".join(f"{c:.1f}" for c in r["last_cells_mohm"])))
+    rows.append(("phases", str(len(info["phases"]))))
+    body = "".join(f"<tr><td style='color:#606060; padding-right:8px'>{k}</td><td>{v}</td></tr>" for k, v in rows)
+    return f"<b>{html.escape(name)}</b><table cellspacing='0' cellpadding='1'>{body}</table>"
+
+
+class LogDocument(QWidget):
+    addRequested = Signal()          # the user wants to lay another log file over this one
+
+    def __init__(self, log: Log, path: str, parent=None):
+        super().__init__(parent)
+        self.setObjectName("logDocument")
+        self.log = log
+        self.path = path
+        self.name = Path(path).name
+        self.overlays: list[tuple[str, Log]] = []
+        self.cycles = split_cycles(log)
+
+        self.plot = LogPlot()
+        self.readout = QLabel("move the mouse over the plot to read the log")
+        self.readout.setObjectName("logReadout")
+        self.readout.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+        self.readout.setStyleSheet("color:#303030; padding:2px 6px;")
+        # A long readout (many cells, overlays) is cut at the window's edge, never widens it.
+        self.readout.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
+        self.plot.cursorMoved.connect(lambda text: self.readout.setText(text or " "))
+
+        self.totals = QLabel()
+        self.totals.setObjectName("logTotals")
+        self.totals.setWordWrap(True)
+        self.totals.setAlignment(Qt.AlignmentFlag.AlignTop)
+        self.totals.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+        self.layer_list = QListWidget()
+        self.layer_list.setObjectName("logLayers")
+        self.layer_list.itemChanged.connect(lambda _item: self.redraw())
+        self.cycles_box = QCheckBox(f"its {len(self.cycles)} {self.cycles[0][0].split()[0]} phases, each from 0"
+                                    if self.cycles else "its cycles, each from 0")
+        self.cycles_box.setEnabled(bool(self.cycles))
+        self.cycles_box.setToolTip("each phase from time 0" if self.cycles else
+                                   "this log has fewer than two charge or discharge phases")
+        self.cycles_box.toggled.connect(lambda _on: self.redraw())
+        add = QPushButton("Add a log to compare…")
+        add.clicked.connect(self.addRequested)
+
+        side = QVBoxLayout()
+        side.setContentsMargins(6, 4, 6, 4)
+        side.addWidget(self.totals)
+        side.addSpacing(6)
+        side.addWidget(QLabel("<b>laid over</b>"))
+        side.addWidget(self.cycles_box)
+        side.addWidget(self.layer_list, 1)
+        side.addWidget(add)
+        panel = QWidget()
+        panel.setLayout(side)
+        panel.setFixedWidth(SIDE_WIDTH)
+        panel.setSizePolicy(QSizePolicy.Policy.Fixed, QSizePolicy.Policy.Expanding)
+        left = QVBoxLayout()
+        left.setContentsMargins(0, 0, 0, 0)
+        left.setSpacing(0)
+        left.addWidget(self.plot, 1)
+        left.addWidget(self.readout)
+        row = QHBoxLayout(self)
+        row.setContentsMargins(0, 0, 0, 0)
+        row.addLayout(left, 1)
+        row.addWidget(panel)
+        self.totals.setText(totals_html(self.name, summarize(log)))
+        self.redraw()
+
+    def add_overlay(self, name: str, log: Log) -> None:
+        self.overlays.append((name, log))
+        item = QListWidgetItem(name)
+        item.setFlags(item.flags() | Qt.ItemFlag.ItemIsUserCheckable)
+        item.setCheckState(Qt.CheckState.Checked)
+        self.layer_list.addItem(item)      # itemChanged is not emitted for a new item
+        self.redraw()
+
+    def layers(self) -> list[tuple[str, Log]]:
+        if self.cycles_box.isChecked():
+            base = list(self.cycles)
+        else:
+            base = [(self.name, self.log)]
+        for k, overlay in enumerate(self.overlays):
+            item = self.layer_list.item(k)
+            if item is not None and item.checkState() == Qt.CheckState.Checked:
+                base.append(overlay)
+        return base
+
+    def redraw(self) -> None:
+        cycles = self.cycles_box.isChecked()
+        self.plot.show_layers(self.layers(), bands=not cycles and not self.overlays_shown())
+
+    def overlays_shown(self) -> bool:
+        return any(self.layer_list.item(k).checkState() == Qt.CheckState.Checked
+                   for k in range(self.layer_list.count()))
