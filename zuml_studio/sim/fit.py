@@ -24,7 +24,12 @@ _CV_V_FRACTION = 0.995
 _CV_I_FRACTION = 0.92
 _CV_HOLD_FRACTION = 0.99     # ... and while it stays this close (a lower CC step after the hold is CC again)
 _SMOOTH_S = 60.0            # the peak and -dV are read from a 1-minute moving average (as chargers filter)
+_PAUSE_FRACTION = 0.5      # CC samples below this fraction of the CC current are measurement pauses
+_FIT_SAMPLES = 1500          # ... or coarser, so that a long charge has at most about this many samples
 _FIT_STEP_S = 10.0          # curves are decimated to this before a fit: seconds per fit, not minutes
+_TEMP_WEIGHT = 1.0           # 1 °C of temperature error weighs as 1 mV per cell
+_TAIL_WEIGHT = 3.0           # the fall after the peak weighs 3x the rest of the voltage
+_NFEV_PER_PARAM = 15         # evaluations per fitted parameter and start: keeps a fit to seconds
 
 
 @dataclass(frozen=True)
@@ -40,9 +45,9 @@ class Param:
 _COMMON = (Param("capacity_mah", 0.0, 0.0, True), Param("start_soc", 0.0, 0.95),
            Param("r_scale", 0.1, 10.0, True), Param("ocv_offset_v", -0.15, 0.15), Param("ocv_scale", 0.3, 3.0, True))
 _FAMILY = {
-    "ni": (Param("w0", 0.005, 0.3, True), Param("dv_o2_v", 0.0, 0.3), Param("k_t_v_per_k", 0.0, 0.012),
-           Param("ha_w_per_k", 0.005, 0.5, True)),
-    "li": (Param("r2_ohm", 1e-4, 0.5, True), Param("tau2_s", 60.0, 7200.0, True)),
+    "ni": (Param("w0", 0.005, 0.3, True), Param("dv_o2_v", 0.0, 0.3), Param("k_t_v_per_k", 0.0, 0.03),
+           Param("ha_w_per_k", 0.005, 0.5, True), Param("cth_j_per_k", 5.0, 300.0, True)),
+    "li": (Param("r2_ohm", 1e-4, 2.0, True), Param("tau2_s", 60.0, 36000.0, True)),
     "pb": (Param("k_charge_ohm", 1e-5, 0.1, True), Param("pol_tau_s", 30.0, 20000.0, True),
            Param("pol_max_v", 0.01, 0.6, True)),
 }
@@ -106,6 +111,13 @@ def cc_current(curve: Curve, cv: np.ndarray) -> float:
     return float(np.median(cc[cc > 0])) if (cc > 0).any() else 1.0
 
 
+def measured(curve: Curve, cv: np.ndarray) -> np.ndarray:
+    """Samples whose voltage is compared: charging at constant current, not the CV part and not a
+    charger's measurement pause (current off for a moment: the eStation BC6 pauses every minute, and
+    a 10 s sample held at 0 A would make the model relax far more than the cell did)."""
+    return ~cv & (curve.i >= _PAUSE_FRACTION * cc_current(curve, cv))
+
+
 def simulate_curve(battery: Battery, curve: Curve, cv: np.ndarray, start_soc: float) -> Run:
     """Drive the model with the log's current (its voltage where ``cv``); sample k is held over (t[k-1], t[k]]."""
     ambient = float(curve.temp[0]) if curve.temp is not None else 25.0
@@ -146,7 +158,7 @@ def _peak(t: np.ndarray, v: np.ndarray, mah: np.ndarray, series: int) -> tuple[f
 
 def figures(curve: Curve, run: Run, cv: np.ndarray, series: int, chemistry: str) -> dict:
     """The figures ``zuml fit --json`` prints (None where the log has no such part)."""
-    cc = ~cv
+    cc = measured(curve, cv)
     err_v = (run.v[cc] - curve.v[cc]) / series * 1000.0
     out: dict = {"rmse_v_per_cell_mv": round(float(np.sqrt(np.mean(err_v ** 2))), 2) if cc.any() else None,
                  "rmse_i_cv_pct": None, "peak": None, "temp_rise": None}
@@ -154,9 +166,9 @@ def figures(curve: Curve, run: Run, cv: np.ndarray, series: int, chemistry: str)
         err_i = (run.i[cv] - curve.i[cv]) / cc_current(curve, cv) * 100.0
         out["rmse_i_cv_pct"] = round(float(np.sqrt(np.mean(err_i ** 2))), 2)
     if chemistry in NI:
-        mah = curve.mah
-        real_mah, real_dv = _peak(curve.t, curve.v, mah, series)
-        model_mah, model_dv = _peak(curve.t, run.v, mah, series)
+        t, mah = curve.t[cc], curve.mah[cc]
+        real_mah, real_dv = _peak(t, curve.v[cc], mah, series)
+        model_mah, model_dv = _peak(t, run.v[cc], mah, series)
         out["peak"] = {"real_mah": round(real_mah, 1), "model_mah": round(model_mah, 1),
                        "real_dv_mv_per_cell": round(real_dv, 2), "model_dv_mv_per_cell": round(model_dv, 2)}
     if curve.temp is not None:
@@ -175,22 +187,28 @@ def _apply(chem: Chemistry, values: dict) -> Chemistry:
     return replace(chem, ocv_v=ocv, r0_ohm=chem.r0_ohm * r, r1_ohm=chem.r1_ohm * r, **own)
 
 
-def _residuals(curve: Curve, run: Run, cv: np.ndarray, series: int, chemistry: str, peak_real) -> np.ndarray:
+def _residuals(curve: Curve, run: Run, cv: np.ndarray, series: int, chemistry: str, peak_real,
+               with_temp: bool = True) -> np.ndarray:
     """Each part weighted so its sum of squares is its mean square in the units of the issue's limits."""
     parts = []
-    cc = ~cv
+    cc = measured(curve, cv)
     if cc.any():
         parts.append((run.v[cc] - curve.v[cc]) / series * 1000.0 / math.sqrt(cc.sum()))
     if cv.any():
         # 10 % of the CC current weighs as much as 15 mV per cell (the two Li limits).
         parts.append((run.i[cv] - curve.i[cv]) / cc_current(curve, cv) * 150.0 / math.sqrt(cv.sum()))
     if curve.temp is not None:
-        parts.append((run.temp - curve.temp) * 1.0 / math.sqrt(len(curve.t)))
+        parts.append((run.temp - curve.temp) * _TEMP_WEIGHT / math.sqrt(len(curve.t)))
     if peak_real is not None:
-        mah = curve.mah
-        model_mah, model_dv = _peak(curve.t, run.v, mah, series)
-        parts.append(np.array([(model_mah - peak_real[0]) / max(peak_real[0], 1.0) * 200.0,
-                               (model_dv - peak_real[1]) * 6.0]))
+        model_mah, model_dv = _peak(curve.t[cc], run.v[cc], curve.mah[cc], series)
+        parts.append(np.array([(model_mah - peak_real[0]) / max(peak_real[0], 1.0) * 400.0,
+                               (model_dv - peak_real[1]) * 12.0]))
+        # The fall after the real peak, point by point: unlike the peak figures it changes smoothly
+        # with the parameters, so the optimiser finds a dip even from a model that has none.
+        k, real_tail = peak_real[2], peak_real[3]
+        model_s = smooth(curve.t[cc], run.v[cc])
+        tail = (model_s[k:] - model_s[k]) - real_tail
+        parts.append(tail / series * 1000.0 * _TAIL_WEIGHT / math.sqrt(len(tail)))
     return np.concatenate(parts)
 
 
@@ -208,7 +226,7 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
 
     chem = base or load_chemistry(chemistry)
     chemistry = chem.name
-    work = curve.decimated(_FIT_STEP_S)
+    work = curve.decimated(max(_FIT_STEP_S, float(curve.t[-1]) / _FIT_SAMPLES))
     cv = cv_mask(work, chemistry)
     mah = float(work.mah[-1])
     params = list(_COMMON[:2] if only_capacity else _COMMON + _FAMILY[family(chemistry)])
@@ -220,40 +238,52 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
     if chemistry in LI:
         # A Li charge may start anywhere: begin where the default OCV meets the first voltage.
         start["start_soc"] = _soc_at(chem, float(work.v[0]) / series)
-    real_peak = _peak(work.t, work.v, work.mah, series) if chemistry in NI else None
+    real_peak = None
+    if chemistry in NI:
+        use = measured(work, cv)
+        real_s = smooth(work.t[use], work.v[use])
+        k_peak = int(np.argmax(real_s))
+        real_peak = (*_peak(work.t[use], work.v[use], work.mah[use], series), k_peak,
+                     real_s[k_peak:] - real_s[k_peak])
 
-    def to_x(values: dict) -> np.ndarray:
-        return np.array([math.log(values[p.name]) if p.log else values[p.name] for p in params])
+    def solve(free: list[Param], begin: dict, end_terms: bool):
+        def to_x(values: dict) -> np.ndarray:
+            return np.array([math.log(values[p.name]) if p.log else values[p.name] for p in free])
 
-    def from_x(x: np.ndarray) -> dict:
-        return {p.name: (math.exp(v) if p.log else float(v)) for p, v in zip(params, x)}
+        def values_of(x: np.ndarray) -> dict:
+            return {**begin, **{p.name: (math.exp(v) if p.log else float(v)) for p, v in zip(free, x)}}
 
-    def residuals(x: np.ndarray) -> np.ndarray:
-        values = from_x(x)
-        battery = Battery(_apply(chem, values), values["capacity_mah"], series)
-        run = simulate_curve(battery, work, cv, values["start_soc"])
-        return np.concatenate((_residuals(work, run, cv, series, chemistry, real_peak), _prior(values)))
+        def residuals(x: np.ndarray) -> np.ndarray:
+            values = values_of(x)
+            battery = Battery(_apply(chem, values), values["capacity_mah"], series)
+            run = simulate_curve(battery, work, cv, values.get("start_soc", 0.0))
+            return np.concatenate((_residuals(work, run, cv, series, chemistry, real_peak if end_terms else None,
+                                              with_temp=end_terms), _prior(values)))
 
-    lo = np.array([math.log(p.lo) if p.log else p.lo for p in params])
-    hi = np.array([math.log(p.hi) if p.log else p.hi for p in params])
-    starts = [start]
-    if chemistry in NI and not only_capacity:
-        # The peak terms are flat where the model has no peak at all: also start from a strong
-        # thermal dip (a -dV from heating), which the 1C NiCd recording needs.
-        starts.append({**start, "k_t_v_per_k": 0.006, "ha_w_per_k": 0.1, "dv_o2_v": 0.05})
-    sol = None
-    for begin in starts:
+        lo = np.array([math.log(p.lo) if p.log else p.lo for p in free])
+        hi = np.array([math.log(p.hi) if p.log else p.hi for p in free])
         x0 = np.clip(to_x(begin), lo + 1e-9, hi - 1e-9)
-        trial = least_squares(residuals, x0, bounds=(lo, hi), diff_step=1e-3, x_scale="jac",
-                              max_nfev=max_nfev or 40 * len(params))
-        if sol is None or trial.cost < sol.cost:
-            sol = trial
-    values = from_x(sol.x)
+        sol = least_squares(residuals, x0, bounds=(lo, hi), diff_step=1e-3, x_scale="jac",
+                            max_nfev=max_nfev or _NFEV_PER_PARAM * len(free))
+        return values_of(sol.x), sol.cost, int(sol.nfev)
+
+    if chemistry in NI and not only_capacity:
+        # Two stages: the shape of the charge (OCV, resistance, the end-of-charge climb) from the
+        # voltage alone, then everything with the peak, the dip and the temperature. Fitting all at
+        # once from the defaults stalls where the model has no peak (the peak terms are flat there).
+        shape = [p for p in params if p.name not in ("k_t_v_per_k", "ha_w_per_k", "cth_j_per_k")]
+        first, _, n1 = solve(shape, start, False)
+        candidates = [solve(params, first, True),
+                      solve(params, {**first, "k_t_v_per_k": 0.006, "ha_w_per_k": 0.05}, True)]
+        values, _, n2 = min(candidates, key=lambda c: c[1])
+        nfev = n1 + sum(c[2] for c in candidates)
+    else:
+        values, _, nfev = solve(params, start, True)
     battery = Battery(_apply(chem, values), values["capacity_mah"], series)
     full_cv = cv_mask(curve, chemistry)
-    run = simulate_curve(battery, curve, full_cv, values["start_soc"])
+    run = simulate_curve(battery, curve, full_cv, values.get("start_soc", 0.0))
     return FitResult(battery, chemistry, {k: round(v, 6) for k, v in values.items()},
-                     figures(curve, run, full_cv, series, chemistry), run, curve, full_cv, int(sol.nfev))
+                     figures(curve, run, full_cv, series, chemistry), run, curve, full_cv, nfev)
 
 
 def _soc_at(chem: Chemistry, v_cell: float) -> float:
