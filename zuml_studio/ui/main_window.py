@@ -145,6 +145,8 @@ class MainWindow(QMainWindow):
         self.act_cancel_sim = self._action("&Cancel Simulation", lambda: self.sim_panel.cancel(), "Shift+F5")
         self.act_export_csv = self._action("Export Samples as &CSV…", self.export_csv)
         self.act_export_png = self._action("Export Plot as &PNG…", self.export_png)
+        self.act_compare_log = self._action("Compare with &Log…", self.compare_with_log, None,
+                                            "A real charge log against the simulation; fit the model to it")
         self.act_reference = self._action("&Command Reference", self.show_reference, K.HelpContents)
         self.act_about = self._action("&About ZUML Studio", self.show_about)
 
@@ -192,10 +194,18 @@ class MainWindow(QMainWindow):
         sim.addSeparator()
         sim.addAction(self.act_export_csv)
         sim.addAction(self.act_export_png)
+        sim.addSeparator()
+        sim.addAction(self.act_compare_log)
 
         help_menu = bar.addMenu("&Help")
         help_menu.addAction(self.act_reference)
         help_menu.addAction(self.act_about)
+
+    def compare_with_log(self):
+        from .sim.compare_dialog import CompareDialog
+        dialog = CompareDialog(self.sim_panel.current_record, self, self.sim_panel.form.add_named_batteries)
+        dialog.show()
+        return dialog
 
     def _connect(self) -> None:
         self.editor.textChanged.connect(self._text_changed)
