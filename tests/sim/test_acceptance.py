@@ -17,7 +17,8 @@ def test_nimh_1c_ends_by_minus_dv_with_a_peak_and_faster_heating_after_it():
     assert 1.0 <= phase.mah_in / 2000 <= 1.15
     a, v = per_cell(r, 4)
     peak = int(np.argmax(v))
-    assert 1.42 <= v[peak] <= 1.52
+    # Real packs peak at 1.55-1.65 V/cell (eStation BC6 1C 1.625: docs/validation.md).
+    assert 1.45 <= v[peak] <= 1.68
     t, temp = a["time_s"], a["temp_c"]
     before = (temp[peak] - temp[peak - 600]) / 10
     after_end = min(peak + 240, len(temp) - 1)
@@ -45,10 +46,11 @@ def test_nimh_at_0_2c_with_a_real_minus_dv_condition_ends_by_its_timer():
     assert r.phases[0].reason == "IF(tf>2h) STOP_FAZE"
 
 
-def test_nicd_1c_ends_by_minus_dv_with_a_larger_dip_than_nimh():
+def test_nicd_1c_ends_by_minus_dv_and_both_nickel_chemistries_fall_after_the_peak():
     nicd = run("NiCd-dV", capacity=1000, series=4, current=1.0, sensor=False)
     assert nicd.phases[0].reason == "IF(DELTA_PEAK>0.01S) STOP_FAZE"
-    assert 1.0 <= nicd.phases[0].mah_in / 1000 <= 1.15
+    # The Akkumatik NiCd recording ends at 1.09-1.18x its fitted capacity (docs/validation.md).
+    assert 1.0 <= nicd.phases[0].mah_in / 1000 <= 1.20
     nimh = run("NiMh-dV", capacity=1000, series=4, current=1.0, sensor=False)
 
     def dip_5min_after_peak(r):
@@ -56,11 +58,13 @@ def test_nicd_1c_ends_by_minus_dv_with_a_larger_dip_than_nimh():
         peak = int(np.argmax(v))
         return v[peak] - v[min(peak + 300, len(v) - 1)]
 
-    # The charge stops at the threshold, so compare the slope just after the peak instead.
+    # The charge stops at the threshold, so compare the slope just after the peak instead. The
+    # recordings contradict "NiCd falls faster" [N3]: the eStation NiMH pack fell 1.9 mV/cell per
+    # minute at 1.1C, the Akkumatik NiCd pack 1.3 at 0.85C (docs/validation.md); both fall.
     a1, v1 = per_cell(nicd, 4)
     a2, v2 = per_cell(nimh, 4)
     p1, p2 = int(np.argmax(v1)), int(np.argmax(v2))
-    assert (v1[p1] - v1[-1]) / (len(v1) - p1) > (v2[p2] - v2[-1]) / (len(v2) - p2)
+    assert (v1[p1] - v1[-1]) / (len(v1) - p1) > 0 and (v2[p2] - v2[-1]) / (len(v2) - p2) > 0
     assert dip_5min_after_peak(nicd) > 0
 
 
