@@ -47,15 +47,26 @@ class Curve:
         return np.cumsum(np.clip(i_mid, 0.0, None) * dt) / 3.6
 
     def decimated(self, step_s: float) -> "Curve":
-        """Every sample at least step_s after the one kept before it (the last one always kept)."""
-        keep = [0]
+        """One sample per step_s: the mean current over the step (the charge stays the same), the
+        median voltage (a charger's short measurement pause does not pull it down), the mean temperature."""
+        edges = [0]
         for k in range(1, len(self.t)):
-            if self.t[k] - self.t[keep[-1]] >= step_s:
-                keep.append(k)
-        if keep[-1] != len(self.t) - 1:
-            keep.append(len(self.t) - 1)
-        idx = np.array(keep)
-        return Curve(self.t[idx], self.v[idx], self.i[idx], None if self.temp is None else self.temp[idx],
+            if self.t[k] - self.t[edges[-1]] >= step_s:
+                edges.append(k)
+        if edges[-1] != len(self.t) - 1:
+            edges.append(len(self.t) - 1)
+        if len(edges) == len(self.t):
+            return self
+        dt = np.diff(self.t, prepend=self.t[0])
+        t, v, i, temp = [self.t[0]], [self.v[0]], [self.i[0]], [] if self.temp is None else [self.temp[0]]
+        for lo, hi in zip(edges, edges[1:]):
+            part = slice(lo + 1, hi + 1)
+            t.append(self.t[hi])
+            v.append(float(np.median(self.v[part])))
+            i.append(float(np.sum(self.i[part] * dt[part]) / max(np.sum(dt[part]), 1e-9)))
+            if self.temp is not None:
+                temp.append(float(np.mean(self.temp[part])))
+        return Curve(np.array(t), np.array(v), np.array(i), None if self.temp is None else np.array(temp),
                      self.cells, self.name)
 
     def to_csv(self) -> str:

@@ -267,18 +267,29 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
                             max_nfev=max_nfev or _NFEV_PER_PARAM * len(free))
         return values_of(sol.x), sol.cost, int(sol.nfev)
 
-    if chemistry in NI and not only_capacity:
-        # Two stages: the shape of the charge (OCV, resistance, the end-of-charge climb) from the
-        # voltage alone, then everything with the peak, the dip and the temperature. Fitting all at
-        # once from the defaults stalls where the model has no peak (the peak terms are flat there).
+    # The capacity and start state first, with the chemistry's defaults: that is the default
+    # model's answer, and every later stage starts from it, so a fit is never worse than it.
+    # A Li charge may start anywhere and the LFP OCV is flat: try several start states.
+    socs = (start["start_soc"], 0.1, 0.5, 0.8, 0.95) if chemistry in LI else (start["start_soc"],)
+    tries = [solve(params[:2], {**start, "start_soc": soc}, True) for soc in socs]
+    values = min(tries, key=lambda c: c[1])[0]
+    nfev = sum(c[2] for c in tries)
+    if only_capacity:
+        pass
+    elif chemistry in NI:
+        # Then the shape of the charge (OCV, resistance, the end-of-charge climb) from the voltage
+        # alone, then everything with the peak, the dip and the temperature. Fitting all at once
+        # stalls where the model has no peak (the peak terms are flat there).
         shape = [p for p in params if p.name not in ("k_t_v_per_k", "ha_w_per_k", "cth_j_per_k")]
-        first, _, n1 = solve(shape, start, False)
+        first, _, n1 = solve(shape, values, False)
         candidates = [solve(params, first, True),
                       solve(params, {**first, "k_t_v_per_k": 0.006, "ha_w_per_k": 0.05}, True)]
-        values, _, n2 = min(candidates, key=lambda c: c[1])
-        nfev = n1 + sum(c[2] for c in candidates)
+        values = min(candidates, key=lambda c: c[1])[0]
+        nfev += n1 + sum(c[2] for c in candidates)
     else:
-        values, _, nfev = solve(params, start, True)
+        values, _, n1 = solve(params, values, True)
+        nfev += n1
+    values = {p.name: values[p.name] for p in params}
     battery = Battery(_apply(chem, values), values["capacity_mah"], series)
     full_cv = cv_mask(curve, chemistry)
     run = simulate_curve(battery, curve, full_cv, values.get("start_soc", 0.0))
