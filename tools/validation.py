@@ -18,8 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
-from zuml_studio.sim.curve import read_curve
-from zuml_studio.sim.fit import LI, NI, cc_current, fit, smooth
+from zuml_studio.sim.curve import Curve, read_curve
+from zuml_studio.sim.fit import LI, NI, cc_current, fit, simulate_curve, smooth
 
 ROOT = Path(__file__).resolve().parent.parent
 CURVES = ROOT / "tests" / "data" / "curves"
@@ -93,7 +93,7 @@ def _cv_tail(curve, chemistry: str) -> tuple[float, float, float]:
             (mah[-1] - mah[k]) / mah[-1])
 
 
-def _pb_rest(samples: Path) -> str:
+def _pb_rest(samples: Path, fitted) -> str:
     src = samples / "curves" / "PbAcid_12V_100Ah_Universal_UB121000_charge_rest_discharge_5s.csv"
     if not src.is_file():
         return "(the source recording was not found, so the rest after the charge is not analysed here)"
@@ -106,12 +106,25 @@ def _pb_rest(samples: Path) -> str:
     after = np.flatnonzero(np.abs(i[end + 1:]) > 0.5)
     stop = end + 1 + (after[0] if len(after) else len(i) - end - 1)
     rest_t, rest_v = t[end + 1:stop] - t[end], v[end + 1:stop]
-    pick = {m: float(np.interp(m * 60.0, rest_t, rest_v)) for m in (1, 10, 30, 60, 120)}
+    minutes = (1, 10, 30, 60, 120)
+    pick = {m: float(np.interp(m * 60.0, rest_t, rest_v)) for m in minutes}
+    # The fitted model, rested after the same charge.
+    curve = fitted.curve
+    rest = np.arange(10.0, 7201.0, 10.0)
+    longer = Curve(np.concatenate((curve.t, curve.t[-1] + rest)), np.concatenate((curve.v, np.full(len(rest), curve.v[-1]))),
+                   np.concatenate((curve.i, np.zeros(len(rest)))), None, curve.cells, curve.name)
+    cv = np.concatenate((fitted.cv, np.zeros(len(rest), bool)))
+    run = simulate_curve(fitted.battery, longer, cv, fitted.params["start_soc"])
+    model = {m: float(np.interp(curve.t[-1] + m * 60.0, longer.t, run.v)) for m in minutes}
     return (f"At the end of the absorption the pack reads {v[end]:.3f} V at {i[end]:.2f} A. Resting, it reads "
-            + ", ".join(f"{pick[m]:.3f} V after {m} min" for m in pick)
-            + f" ({(pick[1] - pick[120]) / 6 * 1000:.0f} mV per cell fall between 1 and 120 min): "
-            "the surface charge relaxes over tens of minutes, not seconds. The model's polarisation "
-            "(`pol_tau_s`) is fitted to the charge only; its fitted time constant is in the table above.")
+            + ", ".join(f"{pick[m]:.3f} V after {m} min" for m in minutes)
+            + f" ({(pick[1] - pick[120]) / 6 * 1000:.0f} mV per cell between 1 and 120 min). The fitted model "
+            "reads " + ", ".join(f"{model[m]:.3f} V" for m in minutes)
+            + f" ({(model[1] - model[120]) / 6 * 1000:.0f} mV per cell). The surface charge of the real "
+            "battery relaxes over tens of minutes and hours; the model's polarisation, fitted to the charge "
+            f"(`pol_tau_s` {fitted.params['pol_tau_s']:.0f} s), is gone within minutes and its OCV is the table's. "
+            "Here the data contradict the model; a second, slow polarisation time constant would be needed "
+            "to simulate a rest or a float after absorption (not done: the charge itself fits within the limits).")
 
 
 def main() -> int:
@@ -174,7 +187,8 @@ def main() -> int:
         "(absorption and taper). The model is driven by the log's current, and in the CV part (voltage within "
         "0.5 % of its maximum and current below 92 % of the CC current) by the log's voltage, its current then "
         "compared. Peak and -dV are read from a 1-minute moving average. "
-        "`scipy.optimize.least_squares` (trust region, finite differences) does the fitting.",
+        "`scipy.optimize.least_squares` (trust region, finite differences) does the fitting; the stages, "
+        "weights and bounds are in [fit.md](fit.md). NiCd/NiMH also fit the heat capacity `cth_j_per_k`.",
         "",
         "The limits (tests/sim/test_validation.py): Li RMSE(V) ≤ 15 mV/cell over CC and CV current within "
         "10 % of the CC current; NiMH/NiCd RMSE(V) ≤ 20 mV/cell, peak charge within 10 %, -dV within "
@@ -196,18 +210,23 @@ def main() -> int:
         "|---|---|---|---|---|---|",
         *dv_rows,
         "",
-        "* -dV deepens with rate: NiMH about 4 mV/cell at 0.2–0.45C, 12–13 mV/cell at 1.1C; NiCd 10 mV/cell "
-        "at 0.85C. No 2C recording is in the set, so 2C is not settled by data.",
+        "* -dV deepens with rate: NiMH 3–5 mV/cell at 0.2–0.45C (where the charger stopped it), 12 mV/cell "
+        "at 1.1C; NiCd 10 mV/cell at 0.85C. 0.5C vs 1C is 3–5 vs 12 mV/cell for NiMH; no 2C recording is "
+        "in the set, so 2C is not settled by data. The model's -dV threshold per cell in the macros "
+        "(5 mV NiMH, 10–12 mV NiCd) is reached on every one of these packs.",
         "* NiMH **does** show -dV at 0.2C: the AkkuMaster C4 AA pack at 0.15 A falls 4.8 mV/cell after its "
         "peak, the Polaron 5S pack at 0.3C 4.2 mV/cell. This contradicts the old model note (\"NiMH 0.2C: "
         "plateau, no -ΔV\", battery-models.md §2.4) and agrees with seed 001 (about 5 mV). The only 0.1C "
         "recording (iCharger 3010B, 2500 mAh at 0.24 A) was stopped at 684 mAh, before any peak, so 0.1C "
-        "stays open. The fitted models reproduce the 0.2C dip with a poorly cooled pack (small `ha_w_per_k`); "
-        "the default NiMH (retuned) still dips too little at 0.2C, so `delta_v_per_cell` = 5 mV stays the "
-        "macro's setting and the simulator's -dV at 0.2C is on the low side.",
-        "* NiMH temperature rise before the end: the Polaron pack rose about 5 °C over a 0.3C charge (22.9 → "
-        "27.7 °C), most of it in the last quarter; the lumped model's default rose 10 °C or more before "
-        "the retune.",
+        "stays open. The fitted model reproduces the 0.2C dip with a poorly cooled pack (`ha_w_per_k` "
+        "0.018 instead of 0.11) and a large temperature coefficient; the retuned default NiMH still shows "
+        "no dip at 0.2C (tests/sim/test_acceptance.py keeps that as the model's known behaviour), so at "
+        "0.2C the simulator ends a -dV charge later than a real pack would, by its timer or default.",
+        "* NiMH temperature rise before the end: the Polaron pack (0.3C) rose 2.1 °C over the three hours "
+        "to its peak and 2.5 °C more in the five minutes after it: the heat comes at the very end. The "
+        "retuned default model rises 8.4 °C over the same charge, the fitted one "
+        "6.0 °C. The NiCd pack's case sensor (1 °C steps) rose 1 °C to the peak and 1 °C after it; no "
+        "lumped model makes its 10 mV/cell dip with so little heat (see the NiCd section below).",
         "",
         "### CV tail: LiPo vs LiFe, and the Pb absorption",
         "",
@@ -215,13 +234,17 @@ def main() -> int:
         "|---|---|---|---|---|---|---|",
         *cv_rows,
         "",
-        "Hobby chargers end the CV at 10–20 % of the CC current, so the tails are short: a few minutes for "
-        "LiPo at 3C. The LiFe top-up reaches its CV almost at once, and its CV part carries most of its "
-        "charge. The slow RC pair of the Li models carries this tail (fitted `tau2_s` above).",
+        "Hobby chargers end the CV at 10–20 % of the CC current. LiPo at 2.7–3C: 4 minutes of CV, 17–22 % of "
+        "the time and 7–9 % of the charge, ending at 13 % of CC. LiFe at 0.5C (a top-up): 8.4 minutes, 56 % "
+        "of the time and 24 % of the charge, ending at 10 %: even at a sixth of the rate the LFP tail is "
+        "twice as long, consistent with the LFP voltage rising only in the last few percent, so the "
+        "charger reaches its limit with more charge still to go. The slow RC pair of the Li models carries this tail "
+        "(fitted `tau2_s` in the sections below). The Pb absorption takes 3 hours (55 % of the time, 18 % "
+        "of the charge) and ends at 3 % of the bulk current.",
         "",
         "### Pb surface charge",
         "",
-        _pb_rest(samples),
+        _pb_rest(samples, next(f for e, _, f in answers.values() if e["chemistry"] == "Pb")),
         "",
         "## What changed in the models (the data win)",
         "",
@@ -237,6 +260,11 @@ def main() -> int:
         "* Pb: charge polarisation `k_charge_ohm` 0.028 Ω, `pol_tau_s` 204 s, `pol_max_v` 0.31 V, OCV 25 mV "
         "higher and 7 % steeper (UB121000 AGM).",
         "* LiIon and LiFe: unchanged (their default already meets twice the limits on these curves).",
+        "* Test figures moved with the data (tests/sim): NiMH 1C peak window 1.42–1.52 → 1.45–1.68 V/cell "
+        "(eStation 1C 1.625, Ultramat 1.65); NiCd -dV end at ≤ 1.20 × capacity (Akkumatik 1.09–1.18); "
+        "\"NiCd dips more than NiMH\" dropped (eStation NiMH fell 1.9 mV/cell/min, Akkumatik NiCd 1.3); "
+        "NiMH 60 % overcharge peaks above 50 °C, not 60 (the fitted heat loss); the trickle test's "
+        "thresholds follow the new NiMH OCV.",
         "",
         "## Per curve",
         "",
