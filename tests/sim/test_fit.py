@@ -100,3 +100,12 @@ def test_a_damaged_or_missing_battery_file_says_which_and_why(tmp_path):
     with pytest.raises(BatteryFileError, match="not a battery file"):
         load_battery("pack", tmp_path)
     assert battery_names(tmp_path) == []               # a damaged file is not offered
+
+
+def test_scipy_is_imported_only_when_a_fit_runs():
+    import subprocess
+    import sys
+    code = ("import sys, zuml_studio.cli.main, zuml_studio.sim.fit, zuml_studio.sim.compare, "
+            "zuml_studio.ui.main_window, zuml_studio.ui.sim.compare_dialog; print('scipy' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert out.stdout.strip() == "False", out.stderr

@@ -3,12 +3,12 @@
 The model is driven by the log's own current; where the charger held the voltage (the CV part
 of a Li or Pb charge) it is driven by the log's voltage and its current is compared instead.
 ``scipy.optimize.least_squares`` moves the parameters; scipy is imported only when a fit runs,
-so starting the application does not pay for it. What is fitted per chemistry family, and the
-figures, are in docs/validation.md."""
+so starting the application does not pay for it. What is fitted per chemistry family, the stages
+and the weights: docs/fit.md; how well it does on real recordings: docs/validation.md."""
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
@@ -86,7 +86,6 @@ class FitResult:
     curve: Curve
     cv: np.ndarray
     nfev: int = 0
-    default_figures: dict = field(default_factory=dict)
 
 
 def cv_mask(curve: Curve, chemistry: str) -> np.ndarray:
@@ -268,15 +267,13 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
         return values_of(sol.x), sol.cost, int(sol.nfev)
 
     # The capacity and start state first, with the chemistry's defaults: that is the default
-    # model's answer, and every later stage starts from it, so a fit is never worse than it.
+    # model's answer, and every later stage starts from there.
     # A Li charge may start anywhere and the LFP OCV is flat: try several start states.
     socs = (start["start_soc"], 0.1, 0.5, 0.8, 0.95) if chemistry in LI else (start["start_soc"],)
     tries = [solve(params[:2], {**start, "start_soc": soc}, True) for soc in socs]
     values = min(tries, key=lambda c: c[1])[0]
     nfev = sum(c[2] for c in tries)
-    if only_capacity:
-        pass
-    elif chemistry in NI:
+    if chemistry in NI and not only_capacity:
         # Then the shape of the charge (OCV, resistance, the end-of-charge climb) from the voltage
         # alone, then everything with the peak, the dip and the temperature. Fitting all at once
         # stalls where the model has no peak (the peak terms are flat there).
@@ -286,7 +283,7 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
                       solve(params, {**first, "k_t_v_per_k": 0.006, "ha_w_per_k": 0.05}, True)]
         values = min(candidates, key=lambda c: c[1])[0]
         nfev += n1 + sum(c[2] for c in candidates)
-    else:
+    elif not only_capacity:
         values, _, n1 = solve(params, values, True)
         nfev += n1
     values = {p.name: values[p.name] for p in params}
