@@ -203,7 +203,12 @@ class MainWindow(QMainWindow):
 
     def compare_with_log(self):
         from .sim.compare_dialog import CompareDialog
-        dialog = CompareDialog(self.sim_panel.current_record, self, self.sim_panel.form.add_named_batteries)
+        def saved() -> None:
+            self.sim_panel.form.add_named_batteries()
+            self.device_panel.add_named_batteries()
+
+        last = self.sim_panel.result()
+        dialog = CompareDialog(self.sim_panel.current_record, self, saved, last.chemistry if last else None)
         dialog.show()
         return dialog
 

@@ -67,3 +67,27 @@ def test_main_window_has_the_menu_entry(make_window):
     dialog = window.compare_with_log()
     assert dialog.isVisible()
     dialog.close()
+
+
+def test_a_saved_battery_reaches_the_virtual_charger_box_and_the_charger(make_window, monkeypatch, tmp_path):
+    monkeypatch.setenv("ZUML_STUDIO_CONFIG_DIR", str(tmp_path))
+    from zuml_studio.device.virtual_charger import BatterySpec
+    from zuml_studio.sim.batteries import save_battery
+    from zuml_studio.sim.chemistry import load_chemistry
+    from zuml_studio.sim.fit import Battery
+
+    window = make_window()
+    dialog = window.compare_with_log()
+    assert dialog.chemistry.currentData() == "NiMh"        # no run yet: the default
+    dialog.chemistry.setCurrentIndex(dialog.chemistry.findData("LiPo"))
+    dialog.load_log(str(CURVES / "lipo_4s_406duo_3c.csv"))
+    dialog.fit_log()
+    assert dialog.save_as("4S 1500 LiPo")
+    box = window.device_panel.v_chem
+    box.setCurrentIndex(box.findData("battery:4S 1500 LiPo"))
+    assert window.device_panel.virtual_battery() == "battery:4S 1500 LiPo"
+    spec = BatterySpec.parse("battery:4S 1500 LiPo")
+    assert spec.chemistry == "LiPo" and spec.cells == 4 and str(spec) == "battery:4S 1500 LiPo"
+    assert spec.model() == dialog.fitted.battery.chem
+    save_battery("plain", Battery(load_chemistry("NiMh"), 2000.0, 4))
+    dialog.close()

@@ -45,7 +45,7 @@ def figures_text(report: dict) -> str:
 
 class CompareDialog(QDialog):
     def __init__(self, record: Callable[[], bytes | None], parent: QWidget | None = None,
-                 on_saved: Callable[[], None] | None = None):
+                 on_saved: Callable[[], None] | None = None, chemistry: str | None = None):
         super().__init__(parent)
         self.setWindowTitle("Compare with Log")
         self.setObjectName("compareDialog")
@@ -60,6 +60,7 @@ class CompareDialog(QDialog):
         self.chemistry = QComboBox()
         for name in chemistry_names():
             self.chemistry.addItem(name, name)
+        self.chemistry.setCurrentIndex(max(0, self.chemistry.findData(chemistry or "NiMh")))
         self.cells = QSpinBox()
         self.cells.setRange(1, 255)
         self.capacity = QSpinBox()
