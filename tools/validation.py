@@ -131,7 +131,7 @@ def main() -> int:
     samples = Path(sys.argv[1]) if len(sys.argv) > 1 else Path("/work/shared/realdata/samples")
     os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
     training = tomllib.loads((CURVES / "training.toml").read_text())
-    sections, summary, answers = [], [], {}
+    sections, summary, answers, defaults = [], [], {}, {}
     started = time.perf_counter()
     for name, entry in training.items():
         chem, series = entry["chemistry"], entry["cells"]
@@ -142,6 +142,7 @@ def main() -> int:
         seconds = time.perf_counter() - t0
         png = _plot(name, curve, default, fitted, series)
         answers[name] = (entry, curve, fitted)
+        defaults[name] = default
         summary.append(f"| [{name}](#{name}) | {chem} {series}S | {entry['rate']} | "
                        f"{_fmt(default.figures['rmse_v_per_cell_mv'])} | {_fmt(fitted.figures['rmse_v_per_cell_mv'])} |")
         params = ", ".join(f"{k} {v:.4g}" for k, v in fitted.params.items())
@@ -224,8 +225,8 @@ def main() -> int:
         "0.2C the simulator ends a -dV charge later than a real pack would, by its timer or default.",
         "* NiMH temperature rise before the end: the Polaron pack (0.3C) rose 2.1 °C over the three hours "
         "to its peak and 2.5 °C more in the five minutes after it: the heat comes at the very end. The "
-        "retuned default model rises 8.4 °C over the same charge, the fitted one "
-        "6.0 °C. The NiCd pack's case sensor (1 °C steps) rose 1 °C to the peak and 1 °C after it; no "
+        f"retuned default model rises {defaults['nimh_5s_polaron_03c'].figures['temp_rise']['model_c']:.1f} °C "
+        f"over the same charge, the fitted one {answers['nimh_5s_polaron_03c'][2].figures['temp_rise']['model_c']:.1f} °C. The NiCd pack's case sensor (1 °C steps) rose 1 °C to the peak and 1 °C after it; no "
         "lumped model makes its 10 mV/cell dip with so little heat (see the NiCd section below).",
         "",
         "### CV tail: LiPo vs LiFe, and the Pb absorption",

@@ -268,9 +268,16 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
 
     # The capacity and start state first, with the chemistry's defaults: that is the default
     # model's answer, and every later stage starts from there.
-    # A Li charge may start anywhere and the LFP OCV is flat: try several start states.
-    socs = (start["start_soc"], 0.1, 0.5, 0.8, 0.95) if chemistry in LI else (start["start_soc"],)
-    tries = [solve(params[:2], {**start, "start_soc": soc}, True) for soc in socs]
+    # A Li charge may start anywhere and the LFP OCV is flat: try several start states. A Ni
+    # charge has two answers, a pack filled within the log (peak and dip) and a larger one that
+    # never fills: try capacities on both sides.
+    if chemistry in LI:
+        begins = [{**start, "start_soc": soc} for soc in (start["start_soc"], 0.1, 0.5, 0.8, 0.95)]
+    elif chemistry in NI:
+        begins = [{**start, "capacity_mah": mah * f} for f in (0.85, 1.05, 1.3)]
+    else:
+        begins = [start]
+    tries = [solve(params[:2], begin, True) for begin in begins]
     values = min(tries, key=lambda c: c[1])[0]
     nfev = sum(c[2] for c in tries)
     if chemistry in NI and not only_capacity:
