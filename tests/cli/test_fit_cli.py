@@ -43,9 +43,14 @@ def test_fit_of_a_nimh_log_reports_the_peak_and_reads_the_charger_file_itself(zu
 
 
 def test_fit_reads_a_charger_log_through_the_log_readers(zuml):
-    rc, out, err = zuml("fit", str(LOGS / "X8_LiPo_5S_2200mA_Charge_4.txt"), "--chemistry", "LiPo")
+    rc, out, err = zuml("fit", str(LOGS / "X8_LiPo_5S_2200mA_Charge_4.txt"))
     assert rc == 0, err
-    assert "LiPo 5S" in out and "RMSE V" in out       # 5 cells from the log's balance taps
+    assert "LiPo 5S" in out and "RMSE V" in out       # the log names LiPo; 5 cells from its balance taps
+
+
+def test_fit_of_a_log_that_names_no_chemistry_asks_for_one(zuml):
+    rc, out, err = zuml("fit", str(CURVES / "nimh_4s_estation_1c.csv"))
+    assert rc == 2 and "does not name a modelled chemistry" in err and "--chemistry" in err
 
 
 def test_fit_save_then_simulate_with_the_named_battery(zuml):

@@ -19,7 +19,8 @@ from .sim_commands import _record
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("fit", help="fit a chemistry's battery model to a real charge log")
     p.add_argument("log", metavar="LOG", help="a charger log (any format `zuml log info` reads) or a curve CSV")
-    p.add_argument("--chemistry", required=True, metavar="C", help="Pb, NiCd, NiMh, LiPo, LiIon or LiFe")
+    p.add_argument("--chemistry", metavar="C", help="Pb, NiCd, NiMh, LiPo, LiIon or LiFe (default: the battery "
+                   "type the log names, where it names one)")
     p.add_argument("--cells", type=int, metavar="N", help="cells in series (default: the log's balance taps, "
                    "else from its highest voltage)")
     p.add_argument("--save", metavar="NAME", help="save the fitted battery under this name")
@@ -70,9 +71,19 @@ def _figure_lines(fig: dict) -> list[str]:
     return lines
 
 
+def _log_chemistry(args: argparse.Namespace, curve: Curve) -> str:
+    if args.chemistry:
+        return _chemistry(args.chemistry)
+    try:
+        return load_chemistry(curve.chemistry).name
+    except KeyError:
+        named = f" (it names '{curve.chemistry}')" if curve.chemistry else ""
+        raise CliError(f"{args.log}: the log does not name a modelled chemistry{named}: give --chemistry") from None
+
+
 def cmd_fit(args: argparse.Namespace) -> int:
     curve = _curve(args.log)
-    chemistry = _chemistry(args.chemistry)
+    chemistry = _log_chemistry(args, curve)
     series = _cells(args, curve, chemistry)
     result = fit(curve, chemistry, series)
     saved = None

@@ -34,6 +34,7 @@ class Curve:
     temp: np.ndarray | None  # °C, None where not recorded
     cells: int               # per-cell voltages the log carried (0: none)
     name: str = ""
+    chemistry: str = ""      # the battery type the log names, if it names one (iCharger logs do)
 
     def __post_init__(self) -> None:
         if len(self.t) < 10:
@@ -67,7 +68,7 @@ class Curve:
             if self.temp is not None:
                 temp.append(float(np.mean(self.temp[part])))
         return Curve(np.array(t), np.array(v), np.array(i), None if self.temp is None else np.array(temp),
-                     self.cells, self.name)
+                     self.cells, self.name, self.chemistry)
 
     def to_csv(self) -> str:
         out = io.StringIO()
@@ -99,7 +100,7 @@ def charge_from_log(log: Log, name: str = "") -> Curve:
     t = a["t"][sel]
     return Curve(t - t[0], a["voltage"][sel], np.abs(a["current"][sel]),
                  temp if np.isfinite(temp).sum() > len(temp) // 2 and np.nanmax(temp) > np.nanmin(temp) else None,
-                 log.cells, name)
+                 log.cells, name, str(log.meta.get("battery", "")))
 
 
 def read_curve_csv(text: str, name: str = "") -> Curve:

@@ -91,3 +91,9 @@ def test_a_saved_battery_reaches_the_virtual_charger_box_and_the_charger(make_wi
     assert spec.model() == dialog.fitted.battery.chem
     save_battery("plain", Battery(load_chemistry("NiMh"), 2000.0, 4))
     dialog.close()
+
+
+def test_a_log_that_names_its_battery_type_sets_the_chemistry(dialog):
+    dialog.chemistry.setCurrentIndex(dialog.chemistry.findData("Pb"))
+    assert dialog.load_log(str(helpers.ROOT / "tests" / "data" / "logs" / "308DUO_LiFe_2.3Ah_Laden_0_CH1.txt"))
+    assert dialog.chemistry.currentData() == "LiFe" and dialog.cells.value() == 2
