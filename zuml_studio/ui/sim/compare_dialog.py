@@ -127,10 +127,9 @@ class CompareDialog(QDialog):
             self._error(str(exc))
             return False
         self.fitted = None
-        named = self.chemistry.findData(next((c for c in chemistry_names() if c.lower() == self.curve.chemistry.lower()),
-                                             None))
-        if named >= 0:
-            self.chemistry.setCurrentIndex(named)      # the log names its battery type (iCharger logs)
+        named = [c for c in chemistry_names() if c.lower() == self.curve.chemistry.lower()]
+        if named:
+            self.chemistry.setCurrentIndex(self.chemistry.findData(named[0]))   # iCharger logs name it
         self.log_label.setText(f"{path}  ({self.curve.t[-1] / 60:.0f} min, {self.curve.mah[-1]:.0f} mAh)")
         self.cells.setValue(guess_series(self.curve, self.chemistry.currentData()))
         self.simulate_button.setEnabled(True)
