@@ -219,10 +219,10 @@ def main() -> int:
         "peak, the Polaron 5S pack at 0.3C 4.2 mV/cell. This contradicts the old model note (\"NiMH 0.2C: "
         "plateau, no -ΔV\", battery-models.md §2.4) and agrees with seed 001 (about 5 mV). The only 0.1C "
         "recording (iCharger 3010B, 2500 mAh at 0.24 A) was stopped at 684 mAh, before any peak, so 0.1C "
-        "stays open. The fitted model reproduces the 0.2C dip with a poorly cooled pack (`ha_w_per_k` "
-        "0.018 instead of 0.11) and a large temperature coefficient; the retuned default NiMH still shows "
-        "no dip at 0.2C (tests/sim/test_acceptance.py keeps that as the model's known behaviour), so at "
-        "0.2C the simulator ends a -dV charge later than a real pack would, by its timer or default.",
+        "stays open. The old model plateaued at 0.2C; the data win: the retuned default NiMH (a pack's heat "
+        "capacity, 66 J/K per 2 Ah, and 5 mV/K, from the fits) dips at 0.2C too "
+        f"({defaults['nimh_4s_akkumaster_02c'].figures['peak']['model_dv_mv_per_cell']:.1f} mV/cell on the "
+        "AkkuMaster curve), and tests/sim/test_acceptance.py and test_battery.py now assert a dip there.",
         "* NiMH temperature rise before the end: the Polaron pack (0.3C) rose 2.1 °C over the three hours "
         "to its peak and 2.5 °C more in the five minutes after it: the heat comes at the very end. The "
         f"retuned default model rises {defaults['nimh_5s_polaron_03c'].figures['temp_rise']['model_c']:.1f} °C "
@@ -253,8 +253,10 @@ def main() -> int:
         "and its old value.",
         "",
         "* NiMH: resistance ×3.3 (hobby AA packs with leads and welds, 66 + 50 mΩ per cell at 2 Ah), OCV 1.3× "
-        "steeper and 17 mV higher, `w0` 0.032, `dv_o2_v` 0.035 V, `k_t_v_per_k` 3 mV/K, `ha_w_per_k` 0.11 W/K "
-        "(the geometric means of the four NiMH fits).",
+        "steeper and 17 mV higher, `w0` 0.032, `dv_o2_v` 0.035 V (the geometric means of the four NiMH fits); "
+        "heat capacity 66 J/K (was 28: a pack, not a bare AA), heat loss 0.08 W/K (was 0.05), "
+        "`k_t_v_per_k` 5 mV/K (was 2), within the fitted 50–98 J/K, 0.01–0.08 W/K and 2–15 mV/K: this is "
+        "what makes the 0.2C dip.",
         "* NiCd: resistance ×0.15 (the Akkumatik pack is a high-rate pack), OCV 37 mV lower, `w0` 0.057, "
         "`dv_o2_v` 0.09 V, `k_t_v_per_k` 5 mV/K.",
         "* LiPo: resistance ×0.37 (both hobby LiPo packs fit 0.23–0.58× the Ai2020 pouch).",
@@ -264,8 +266,8 @@ def main() -> int:
         "* Test figures moved with the data (tests/sim): NiMH 1C peak window 1.42–1.52 → 1.45–1.68 V/cell "
         "(eStation 1C 1.625, Ultramat 1.65); NiCd -dV end at ≤ 1.20 × capacity (Akkumatik 1.09–1.18); "
         "\"NiCd dips more than NiMH\" dropped (eStation NiMH fell 1.9 mV/cell/min, Akkumatik NiCd 1.3); "
-        "NiMH 60 % overcharge peaks above 50 °C, not 60 (the fitted heat loss); the trickle test's "
-        "thresholds follow the new NiMH OCV.",
+        "NiMH 60 % overcharge peaks above 50 °C, not 60 (the fitted heat loss); NiMH at 0.2C dips "
+        "(3–20 mV/cell) instead of plateauing; the trickle test's thresholds follow the new NiMH OCV.",
         "",
         "## Per curve",
         "",

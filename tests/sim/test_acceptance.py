@@ -32,13 +32,15 @@ def test_nimh_with_a_sensor_ends_by_dtdt_first_as_real_chargers_do():
     assert 0.9 <= r.phases[0].mah_in / 2000 <= 1.1
 
 
-def test_nimh_at_0_2c_shows_no_minus_dv_and_a_default_ends_it():
+def test_nimh_at_0_2c_dips_as_real_packs_do_and_the_seeds_threshold_leaves_it_to_a_default():
     r = run("NiMh", capacity=2000, series=4, current=0.4, sensor=False)
     (phase,) = r.phases
     # The seed's DELTA_PEAK=0.2S never fires: the charger's capacity default ends the charge.
     assert phase.reason == "default: capacity 1.5x" and phase.by_default
     a, v = per_cell(r, 4)
-    assert v.max() - v[-1] < 0.005           # a plateau, no dip
+    # Real NiMH packs dip at 0.2C (AkkuMaster C4 AA pack at 0.15 A: 4.8 mV/cell; Polaron 5S at 0.3C:
+    # 4.2 mV/cell; docs/validation.md); the old model's plateau without a dip was wrong.
+    assert 0.003 <= v.max() - v[-1] <= 0.02
 
 
 def test_nimh_at_0_2c_with_a_real_minus_dv_condition_ends_by_its_timer():

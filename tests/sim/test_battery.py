@@ -118,11 +118,13 @@ def test_nimh_1c_peak_then_delta_v_then_faster_heating():
     assert after > before > 0
 
 
-def test_nimh_02c_plateaus_without_delta_v():
+def test_nimh_02c_dips_about_5mv_per_cell_as_real_packs_do():
+    # AkkuMaster C4 AA pack at 0.15 A (0.2C): peak, then 4.8 mV/cell down when the charger stopped at
+    # 1.25x its fitted capacity (docs/validation.md). The old model plateaued with no dip.
     volts, _, fired = ni_charge("NiMh", 2000, 0.2, 1.5, 5)
-    assert fired is None
+    assert fired is not None and 1.0 <= fired <= 1.3
     peak = max(range(len(volts)), key=volts.__getitem__)
-    assert volts[peak] - min(volts[peak:]) < 0.005
+    assert 0.003 <= volts[peak] - min(volts[peak:]) <= 0.02
 
 
 @pytest.mark.parametrize("mv", [10, 15])
@@ -144,8 +146,8 @@ def test_nicd_and_nimh_both_dip_clearly_at_1c():
 
 
 def test_nimh_overcharge_passes_50c():
-    # The heat loss fitted to the Polaron pack (docs/validation.md) is twice the old guess, so 60 %
-    # overcharge at 1C peaks near 53 °C instead of 60+: still far past any charger's T limit.
+    # With the heat capacity and loss fitted to the NiMH packs (docs/validation.md) 60 % overcharge at
+    # 1C peaks near 59 °C instead of 60+: still far past any charger's T limit.
     _, temps, _ = ni_charge("NiMh", 2000, 1.0, 1.6, 5)
     assert max(temps) > 50.0
 
