@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .curve import Curve
-from .fit import NI, Run, _soc_at, cc_current, cv_mask, figures
+from .fit import NI, Run, cc_current, cv_mask, figures, soc_at_ocv
 from .chemistry import load_chemistry
 from .interpreter import StartParams
 from .simulate import BatterySetup, SimResult, model_chemistry, simulate
@@ -28,7 +28,7 @@ def start_setup(curve: Curve, chemistry: str, series: int) -> tuple[float, float
     ambient = float(curve.temp[0]) if curve.temp is not None else 25.0
     if chemistry in NI:
         return 0.0, ambient
-    return _soc_at(load_chemistry(chemistry), float(curve.v[0]) / series), ambient
+    return soc_at_ocv(load_chemistry(chemistry), float(curve.v[0]) / series), ambient
 
 
 def real_end(curve: Curve, chemistry: str, series: int) -> dict:

@@ -236,7 +236,7 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
         start[p.name] = min(max(getattr(chem, p.name), p.lo * 1.001 if p.lo > 0 else p.lo), p.hi * 0.999)
     if chemistry in LI:
         # A Li charge may start anywhere: begin where the default OCV meets the first voltage.
-        start["start_soc"] = _soc_at(chem, float(work.v[0]) / series)
+        start["start_soc"] = soc_at_ocv(chem, float(work.v[0]) / series)
     real_peak = None
     if chemistry in NI:
         use = measured(work, cv)
@@ -301,7 +301,7 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
                      figures(curve, run, full_cv, series, chemistry), run, curve, full_cv, nfev)
 
 
-def _soc_at(chem: Chemistry, v_cell: float) -> float:
+def soc_at_ocv(chem: Chemistry, v_cell: float) -> float:
     """Where the OCV table reaches v_cell (clamped to 0 .. 0.95)."""
     return float(min(0.95, max(0.0, np.interp(v_cell, chem.ocv_v, chem.ocv_soc))))
 
