@@ -5,10 +5,10 @@ import argparse
 import sys
 
 from ..data import DataFileError
-from . import device_commands, lang_commands, log_commands, sim_commands, new_command, template_commands
+from . import device_commands, fit_commands, lang_commands, log_commands, sim_commands, new_command, template_commands
 from .common import CliError
 
-AREAS = (lang_commands, sim_commands, device_commands, template_commands, log_commands, new_command)
+AREAS = (lang_commands, sim_commands, fit_commands, device_commands, template_commands, log_commands, new_command)
 
 
 def build_parser() -> argparse.ArgumentParser:

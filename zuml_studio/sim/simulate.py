@@ -21,6 +21,7 @@ class BatterySetup:
     soc: float | None = None            # None: empty for charge, full for discharge and training
     ambient_c: float = 25.0
     charger: str = "imax_b6"
+    battery: str | None = None          # a saved named battery (batteries.py): its model, capacity and cells
 
 
 @dataclass
@@ -109,11 +110,17 @@ def prepare(record: bytes, params: StartParams, setup: BatterySetup = BatterySet
             templates: Mapping[int, StartTemplate] | None = None) -> SimResult:
     """Builds everything; the caller runs ``result.interpreter`` (all at once, or tick by tick).
     ``templates``: the charger's start templates (default: the factory table)."""
+    named = None
+    if setup.battery:
+        from .batteries import load_battery
+        named = load_battery(setup.battery)
+        params = replace(params, capacity_mah=params.capacity_mah or round(named.capacity_mah),
+                         series=params.series or named.series)
     program, params = start_values(record, params, templates)
-    chemistry = model_chemistry(record, setup)
+    chemistry = named.chem.name if named else model_chemistry(record, setup)
     capacity, series = params.capacity_mah, params.series
     soc = setup.soc if setup.soc is not None else (0.0 if params.task == "charge" else 1.0)
-    pack = Pack(load_chemistry(chemistry), capacity, series, soc, setup.ambient_c)
+    pack = Pack(named.chem if named else load_chemistry(chemistry), capacity, series, soc, setup.ambient_c)
     charger = Charger(load_charger(setup.charger), setup.ambient_c)
     interpreter = Interpreter(record, params, pack, charger, tick_s=tick_s, measurement=measurement,
                               templates=templates)
