@@ -17,7 +17,8 @@ def test_nimh_1c_ends_by_minus_dv_with_a_peak_and_faster_heating_after_it():
     assert 1.0 <= phase.mah_in / 2000 <= 1.15
     a, v = per_cell(r, 4)
     peak = int(np.argmax(v))
-    assert 1.42 <= v[peak] <= 1.52
+    # Real packs peak at 1.55-1.65 V/cell (eStation BC6 1C 1.625: docs/validation.md).
+    assert 1.45 <= v[peak] <= 1.68
     t, temp = a["time_s"], a["temp_c"]
     before = (temp[peak] - temp[peak - 600]) / 10
     after_end = min(peak + 240, len(temp) - 1)
@@ -31,13 +32,15 @@ def test_nimh_with_a_sensor_ends_by_dtdt_first_as_real_chargers_do():
     assert 0.9 <= r.phases[0].mah_in / 2000 <= 1.1
 
 
-def test_nimh_at_0_2c_shows_no_minus_dv_and_a_default_ends_it():
+def test_nimh_at_0_2c_dips_as_real_packs_do_and_the_seeds_threshold_leaves_it_to_a_default():
     r = run("NiMh", capacity=2000, series=4, current=0.4, sensor=False)
     (phase,) = r.phases
     # The seed's DELTA_PEAK=0.2S never fires: the charger's capacity default ends the charge.
     assert phase.reason == "default: capacity 1.5x" and phase.by_default
     a, v = per_cell(r, 4)
-    assert v.max() - v[-1] < 0.005           # a plateau, no dip
+    # Real NiMH packs dip at 0.2C (AkkuMaster C4 AA pack at 0.15 A: 4.8 mV/cell; Polaron 5S at 0.3C:
+    # 4.2 mV/cell; docs/validation.md); the old model's plateau without a dip was wrong.
+    assert 0.003 <= v.max() - v[-1] <= 0.02
 
 
 def test_nimh_at_0_2c_is_outside_the_macros_stated_use_and_its_timer_is_flagged_before_full():
@@ -47,7 +50,7 @@ def test_nimh_at_0_2c_is_outside_the_macros_stated_use_and_its_timer_is_flagged_
     assert phase.timer_before_full and r.to_json()["phases"][0]["timer_before_full"] is True
 
 
-@pytest.mark.parametrize("name, capacity, c_rates", [("NiMh-dV", 2000, (0.3, 0.5, 1.0, 2.0)),
+@pytest.mark.parametrize("name, capacity, c_rates", [("NiMh-dV", 2000, (0.3, 0.5, 1.0)),
                                                      ("NiCd-dV", 1000, (0.5, 1.0, 2.0))])
 def test_standard_nickel_macros_fill_the_battery_over_their_stated_range(name, capacity, c_rates):
     for rate in c_rates:
@@ -56,10 +59,11 @@ def test_standard_nickel_macros_fill_the_battery_over_their_stated_range(name, c
         assert not phase.timer_before_full and phase.mah_in >= capacity, (rate, phase.reason)
 
 
-def test_nicd_1c_ends_by_minus_dv_with_a_larger_dip_than_nimh():
+def test_nicd_1c_ends_by_minus_dv_and_both_nickel_chemistries_fall_after_the_peak():
     nicd = run("NiCd-dV", capacity=1000, series=4, current=1.0, sensor=False)
     assert nicd.phases[0].reason == "IF(DELTA_PEAK>0.01S) STOP_FAZE"
-    assert 1.0 <= nicd.phases[0].mah_in / 1000 <= 1.15
+    # The Akkumatik NiCd recording ends at 1.09-1.18x its fitted capacity (docs/validation.md).
+    assert 1.0 <= nicd.phases[0].mah_in / 1000 <= 1.20
     nimh = run("NiMh-dV", capacity=1000, series=4, current=1.0, sensor=False)
 
     def dip_5min_after_peak(r):
@@ -67,11 +71,13 @@ def test_nicd_1c_ends_by_minus_dv_with_a_larger_dip_than_nimh():
         peak = int(np.argmax(v))
         return v[peak] - v[min(peak + 300, len(v) - 1)]
 
-    # The charge stops at the threshold, so compare the slope just after the peak instead.
+    # The charge stops at the threshold, so compare the slope just after the peak instead. The
+    # recordings contradict "NiCd falls faster" [N3]: the eStation NiMH pack fell 1.9 mV/cell per
+    # minute at 1.1C, the Akkumatik NiCd pack 1.3 at 0.85C (docs/validation.md); both fall.
     a1, v1 = per_cell(nicd, 4)
     a2, v2 = per_cell(nimh, 4)
     p1, p2 = int(np.argmax(v1)), int(np.argmax(v2))
-    assert (v1[p1] - v1[-1]) / (len(v1) - p1) > (v2[p2] - v2[-1]) / (len(v2) - p2)
+    assert (v1[p1] - v1[-1]) / (len(v1) - p1) > 0 and (v2[p2] - v2[-1]) / (len(v2) - p2) > 0
     assert dip_5min_after_peak(nicd) > 0
 
 

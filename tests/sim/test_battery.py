@@ -106,40 +106,50 @@ def test_every_number_in_a_parameter_file_has_a_source(path):
 def test_nimh_1c_peak_then_delta_v_then_faster_heating():
     volts, temps, fired = ni_charge("NiMh", 2000, 1.0, 1.3, 5)
     peak = max(range(len(volts)), key=volts.__getitem__)
-    assert 1.42 <= volts[peak] <= 1.52
+    # Real NiMH packs peak at 1.55-1.65 V/cell at 0.3-1.1C, measured at the charger (eStation BC6 1C
+    # 1.625, Ultramat 0.45C 1.65, Polaron 0.3C 1.55: docs/validation.md); the textbook 1.42-1.52 was too low.
+    assert 1.45 <= volts[peak] <= 1.68
     assert volts[-1] < volts[peak] - 0.005          # it falls after the peak
-    assert fired is not None and 1.0 <= fired <= 1.15
+    # The Akkumatik NiCd recording ends its -dV at 1.09-1.18x the fitted capacity (docs/validation.md).
+    assert fired is not None and 1.0 <= fired <= 1.20
     window = int(600 / DT)
     before = temps[peak] - temps[peak - window]
     after = temps[peak + window] - temps[peak]
     assert after > before > 0
 
 
-def test_nimh_02c_plateaus_without_delta_v():
+def test_nimh_02c_dips_about_5mv_per_cell_as_real_packs_do():
+    # AkkuMaster C4 AA pack at 0.15 A (0.2C): peak, then 4.8 mV/cell down when the charger stopped at
+    # 1.25x its fitted capacity (docs/validation.md). The old model plateaued with no dip.
     volts, _, fired = ni_charge("NiMh", 2000, 0.2, 1.5, 5)
-    assert fired is None
+    assert fired is not None and 1.0 <= fired <= 1.3
     peak = max(range(len(volts)), key=volts.__getitem__)
-    assert volts[peak] - min(volts[peak:]) < 0.005
+    assert 0.003 <= volts[peak] - min(volts[peak:]) <= 0.02
 
 
 @pytest.mark.parametrize("mv", [10, 15])
 def test_nicd_1c_delta_v(mv):
     volts, _, fired = ni_charge("NiCd", 1000, 1.0, 1.3, mv)
     assert 1.35 <= max(volts) <= 1.52
-    assert fired is not None and 1.0 <= fired <= 1.15
+    # The Akkumatik NiCd recording ends its -dV at 1.09-1.18x the fitted capacity (docs/validation.md).
+    assert fired is not None and 1.0 <= fired <= 1.20
 
 
-def test_nicd_dip_is_larger_than_nimh():
+def test_nicd_and_nimh_both_dip_clearly_at_1c():
+    # The recordings contradict "the NiCd dip is larger" [N3]: at about 1C the NiCd pack (Akkumatik)
+    # fell 10 mV/cell, the NiMH pack (eStation BC6) 12.5 mV/cell (docs/validation.md).
     def dip_5_min_after_peak(name, capacity):
         volts, _, _ = ni_charge(name, capacity, 1.0, 1.3, 100)
         peak = max(range(len(volts)), key=volts.__getitem__)
         return volts[peak] - volts[peak + int(300 / DT)]
-    assert dip_5_min_after_peak("NiCd", 1000) > dip_5_min_after_peak("NiMh", 2000) > 0
+    assert dip_5_min_after_peak("NiCd", 1000) > 0.005 and dip_5_min_after_peak("NiMh", 2000) > 0.005
 
 
-def test_nimh_overcharge_passes_60c():
+def test_nimh_overcharge_passes_50c():
+    # With the heat capacity and loss fitted to the NiMH packs (docs/validation.md) 60 % overcharge at
+    # 1C peaks near 59 °C instead of 60+: still far past any charger's T limit.
     _, temps, _ = ni_charge("NiMh", 2000, 1.0, 1.6, 5)
-    assert max(temps) > 60.0
+    assert max(temps) > 50.0
 
 
 # -- Li CC-CV, Pb absorption ---------------------------------------------------------------------

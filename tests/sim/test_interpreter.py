@@ -77,12 +77,13 @@ def test_charge_ex_pulses_charge_then_discharge_and_measures_at_its_point():
 
 
 def test_trickle_switches_on_at_v1_and_off_at_v2():
-    body = "FAZE TRICKLE(0.5C, 1.30S, 1.38S) IF(tf>2h) STOP_FAZE END_FAZE"
+    # Thresholds about the NiMH OCV near full (1.39 V at 85 %, retuned from the recordings).
+    body = "FAZE TRICKLE(0.5C, 1.40S, 1.50S) IF(tf>2h) STOP_FAZE END_FAZE"
     r = run(macro(body), capacity=2000, series=1, soc=0.85)
     a = r.log.arrays()
     on = a["current_a"] > 0
     assert on.any() and (~on).any()
-    assert a["voltage_v"].max() < 1.38 + 0.02
+    assert a["voltage_v"].max() < 1.50 + 0.02
 
 
 def test_macro_time_stops_the_macro_skips_the_rest_and_runs_the_conclusion():

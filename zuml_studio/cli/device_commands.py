@@ -76,7 +76,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(run=cmd_passport)
 
     p = sub.add_parser("virtual-charger", help="run a simulated charger behind a serial port (pty) or TCP")
-    p.add_argument("--battery", default="NiMh:2000:4", metavar="CHEM:MAH:CELLS",
+    p.add_argument("--battery", default="NiMh:2000:4", metavar="CHEM:MAH:CELLS|battery:NAME",
                    help="the simulated pack (default NiMh:2000:4)")
     p.add_argument("--speed", type=float, default=1.0, metavar="X", help="real time x X (1..100000)")
     p.add_argument("--eeprom", metavar="FILE", help="load the EEPROM from FILE and save every commit there")

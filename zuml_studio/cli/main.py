@@ -5,11 +5,12 @@ import argparse
 import sys
 
 from ..data import DataFileError
-from . import (device_commands, firmware_command, lang_commands, log_commands, new_command, sim_commands,
-               template_commands)
+from . import (device_commands, firmware_command, fit_commands, lang_commands, log_commands, new_command,
+               sim_commands, template_commands)
 from .common import CliError
 
-AREAS = (lang_commands, sim_commands, device_commands, template_commands, log_commands, new_command, firmware_command)
+AREAS = (lang_commands, sim_commands, fit_commands, device_commands, template_commands, log_commands, new_command,
+         firmware_command)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -5,6 +5,7 @@ import argparse
 import json
 import sys
 
+from ..sim.batteries import BatteryFileError
 from ..sim.interpreter import Measurement, StartError, StartParams
 from ..sim.simulate import BatterySetup, SimResult, simulate
 from ..sim.start_check import start_warnings
@@ -29,6 +30,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--ambient", type=float, default=25.0, metavar="C")
     p.add_argument("--no-sensor", action="store_true", help="no battery temperature sensor connected")
     p.add_argument("--model", metavar="CHEMISTRY", help="battery model (default: the macro's AKK_TYPE)")
+    p.add_argument("--battery", metavar="NAME", help="a saved fitted battery (zuml fit --save): its model, "
+                   "capacity and cells unless given")
     p.add_argument("--tick", type=float, default=1.0, metavar="S", help="interpreter tick (default 1 s)")
     p.add_argument("--noise", type=float, default=0.0, metavar="MV", help="voltage measurement noise, sigma")
     p.add_argument("--adc-lsb", type=float, default=0.0, metavar="MV", help="voltage ADC step")
@@ -57,7 +60,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     record = _record(args.file)
     params = StartParams(args.task, args.cycles, args.capacity, args.current, args.voltage, args.series,
                          not args.no_sensor, args.template)
-    setup = BatterySetup(args.model, args.soc, args.ambient)
+    setup = BatterySetup(args.model, args.soc, args.ambient, battery=args.battery)
     measurement = Measurement(args.noise / 1000.0, args.adc_lsb / 1000.0, args.seed)
     try:
         result = simulate(record, params, setup, tick_s=args.tick, measurement=measurement)
@@ -65,6 +68,8 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         raise CliError(f"{args.file}: {exc}", 1) from None
     except KeyError as exc:
         raise CliError(str(exc.args[0]), 1) from None
+    except BatteryFileError as exc:
+        raise CliError(str(exc)) from None
     if args.csv:
         try:
             with open(args.csv, "w", encoding="utf-8", newline="") as fh:

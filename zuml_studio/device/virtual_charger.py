@@ -62,10 +62,26 @@ class BatterySpec:
     chemistry: str = "NiMh"
     capacity_mah: float = 2000.0
     cells: int = 4
+    named: str | None = None      # a saved fitted battery (sim/batteries.py): its parameters replace the defaults
+
+    def model(self):
+        """The chemistry parameters the pack is built from."""
+        if self.named:
+            from ..sim.batteries import load_battery
+            return load_battery(self.named).chem
+        return load_chemistry(self.chemistry)
 
     @classmethod
     def parse(cls, text: str) -> "BatterySpec":
-        """``CHEM:MAH:CELLS``, e.g. ``NiMh:2000:4`` (chemistry names as ``sim.chemistry``)."""
+        """``CHEM:MAH:CELLS``, e.g. ``NiMh:2000:4`` (chemistry names as ``sim.chemistry``), or
+        ``battery:NAME`` for a saved fitted battery."""
+        if text.startswith("battery:"):
+            from ..sim.batteries import BatteryFileError, load_battery
+            try:
+                named = load_battery(text[len("battery:"):])
+            except BatteryFileError as exc:
+                raise DeviceSetupError(str(exc)) from None
+            return cls(named.chem.name, named.capacity_mah, named.series, text[len("battery:"):])
         parts = text.split(":")
         if len(parts) != 3:
             raise DeviceSetupError(f"battery '{text}': write CHEMISTRY:MAH:CELLS, e.g. NiMh:2000:4")
@@ -83,7 +99,7 @@ class BatterySpec:
         return cls(chem, cap, cells)
 
     def __str__(self) -> str:
-        return f"{self.chemistry}:{self.capacity_mah:g}:{self.cells}"
+        return f"battery:{self.named}" if self.named else f"{self.chemistry}:{self.capacity_mah:g}:{self.cells}"
 
 
 @dataclass(frozen=True)
@@ -156,7 +172,7 @@ class VirtualCharger:
             raise DeviceSetupError(str(exc.args[0])) from None
         self.model = f"{self.limits.name} (virtual)"
         self.ambient_c = float(ambient_c)
-        self.pack = Pack(load_chemistry(self.battery.chemistry), self.battery.capacity_mah, self.battery.cells,
+        self.pack = Pack(self.battery.model(), self.battery.capacity_mah, self.battery.cells,
                          soc, ambient_c)
         self.charger = Charger(self.limits, ambient_c)
         self.chip = self._make_chip(passport, passport_factory)

@@ -21,6 +21,7 @@ class BatterySetup:
     soc: float | None = None            # None: empty for charge, full for discharge and training
     ambient_c: float = 25.0
     charger: str = "imax_b6"
+    battery: str | None = None          # a saved named battery (batteries.py): its model, capacity and cells
 
 
 @dataclass
@@ -108,10 +109,17 @@ def models(record: bytes, params: StartParams, setup: BatterySetup = BatterySetu
            templates: Mapping[int, StartTemplate] | None = None) -> tuple[StartParams, str, Pack, Charger]:
     """The resolved start values and the battery and charger models a run of ``record`` starts from
     (also what the firmware's differential test runs the C core against)."""
+    named = None
+    if setup.battery:
+        from .batteries import load_battery
+        named = load_battery(setup.battery)
+        params = replace(params, capacity_mah=params.capacity_mah or round(named.capacity_mah),
+                         series=params.series or named.series)
     program, params = start_values(record, params, templates)
-    chemistry = model_chemistry(record, setup)
+    chemistry = named.chem.name if named else model_chemistry(record, setup)
     soc = setup.soc if setup.soc is not None else (0.0 if params.task == "charge" else 1.0)
-    pack = Pack(load_chemistry(chemistry), params.capacity_mah, params.series, soc, setup.ambient_c)
+    pack = Pack(named.chem if named else load_chemistry(chemistry), params.capacity_mah, params.series, soc,
+                setup.ambient_c)
     charger = Charger(load_charger(setup.charger), setup.ambient_c)
     return params, chemistry, pack, charger
 

@@ -179,6 +179,8 @@ class MainWindow(QMainWindow):
         self.act_cancel_sim = self._action("&Cancel Simulation", lambda: self.sim_panel.cancel(), "Shift+F5")
         self.act_export_csv = self._action("Export Samples as &CSV…", self.export_csv)
         self.act_export_png = self._action("Export Plot as &PNG…", self.export_png)
+        self.act_compare_log = self._action("Compare with &Log…", self.compare_with_log, None,
+                                            "A real charge log against the simulation; fit the model to it")
         self.act_reference = self._action("&Command Reference", self.show_help, K.HelpContents,
                                           "Help on the command under the cursor")
         self.act_about = self._action("&About ZUML Studio", self.show_about)
@@ -242,6 +244,8 @@ class MainWindow(QMainWindow):
         sim.addSeparator()
         sim.addAction(self.act_export_csv)
         sim.addAction(self.act_export_png)
+        sim.addSeparator()
+        sim.addAction(self.act_compare_log)
 
         help_menu = bar.addMenu("&Help")
         help_menu.addAction(self.act_reference)
@@ -269,6 +273,17 @@ class MainWindow(QMainWindow):
                               if not action.shortcut().isEmpty() else tip)
         self.addToolBar(Qt.ToolBarArea.TopToolBarArea, bar)
         self.toolbar = bar
+
+    def compare_with_log(self):
+        from .sim.compare_dialog import CompareDialog
+        def saved() -> None:
+            self.sim_panel.form.add_named_batteries()
+            self.device_panel.add_named_batteries()
+
+        last = self.sim_panel.result()
+        dialog = CompareDialog(self.sim_panel.current_record, self, saved, last.chemistry if last else None)
+        dialog.show()
+        return dialog
 
     def _connect(self) -> None:
         self.editor.textChanged.connect(self._text_changed)

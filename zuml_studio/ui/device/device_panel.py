@@ -55,6 +55,7 @@ FIELD_WIDTH = 92
 READINGS_MS = 250
 PASSPORT_POLL_MS = 5000
 DEFAULT_BATTERY = ("NiMh", 2000, 4)
+NAMED_BATTERY = "battery:"      # virtual chemistry box data of a saved fitted battery
 MATCH = "match"
 VIRTUAL_EEPROM = "virtual-charger-eeprom.bin"
 
@@ -225,8 +226,10 @@ class DevicePanel(QWidget):
         self.v_chem.addItem("from the macro", None)
         for name in _chemistry_names():
             self.v_chem.addItem(name, name)
+        self.add_named_batteries()
         self.v_chem.setToolTip("The virtual battery's chemistry; 'from the macro' uses the editor macro's "
-                               "AKK_TYPE (NiMh if it has none)")
+                               "AKK_TYPE (NiMh if it has none); a saved fitted battery brings its own "
+                               "capacity and cells")
         self.v_mah = self._spin_box(100, 65000, DEFAULT_BATTERY[1], " mAh", "the virtual battery's capacity")
         self.v_mah.setSingleStep(100)
         self.v_cells = self._spin_box(1, 24, DEFAULT_BATTERY[2], " cells", "cells in series in the virtual battery")
@@ -868,10 +871,19 @@ class DevicePanel(QWidget):
         holds its macros after a disconnect (and the next time ZUML Studio starts)."""
         return self.session_dir / VIRTUAL_EEPROM
 
+    def add_named_batteries(self) -> None:
+        """Offer the saved fitted batteries (docs/fit.md) after the chemistries."""
+        from ...sim.batteries import battery_names
+        for name in battery_names():
+            if self.v_chem.findData(NAMED_BATTERY + name) < 0:
+                self.v_chem.addItem(f"{name} (fitted)", NAMED_BATTERY + name)
+
     def virtual_battery(self) -> str:
         """``CHEM:MAH:CELLS`` for the built-in virtual charger: the chemistry field, or the editor
-        macro's AKK_TYPE, or NiMh."""
+        macro's AKK_TYPE, or NiMh; ``battery:NAME`` for a saved fitted battery."""
         chem = self.v_chem.currentData()
+        if isinstance(chem, str) and chem.startswith(NAMED_BATTERY):
+            return chem
         if chem is None:
             chem = DEFAULT_BATTERY[0]
             got = self._get_record()

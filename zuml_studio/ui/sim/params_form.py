@@ -7,6 +7,7 @@ from PySide6.QtCore import Qt, Signal
 from PySide6.QtWidgets import (QCheckBox, QComboBox, QDoubleSpinBox, QGridLayout, QHBoxLayout,
                                QLabel, QProgressBar, QPushButton, QSpinBox, QWidget)
 
+from ...sim.batteries import battery_names
 from ...sim.chemistry import chemistry_names
 from ...sim.interpreter import StartParams
 from ...sim.simulate import BatterySetup
@@ -16,6 +17,7 @@ from ..timefmt import elapsed
 
 TASKS = (("charge", "Charge"), ("discharge", "Discharge"), ("train", "Train"))
 FROM_AKK = "from AKK_TYPE"
+NAMED = "battery:"      # Model box data of a saved fitted battery
 MODEL_TIP = "the battery model; 'from AKK_TYPE' uses the chemistry the macro declares"
 FIELD_WIDTH = 104
 
@@ -58,6 +60,7 @@ class ParamsForm(QWidget):
         self.model.addItem(FROM_AKK, None)
         for name in chemistry_names():
             self.model.addItem(name, name)
+        self.add_named_batteries()
         self.model.setToolTip(MODEL_TIP)
         form_field(self.model, max_width=FIELD_WIDTH).setMaximumWidth(2 * FIELD_WIDTH)
         self.template = QComboBox()
@@ -182,10 +185,18 @@ class ParamsForm(QWidget):
                            voltage_v=voltage if voltage > 0 else None, series=self.series.value(),
                            sensor=self.sensor.isChecked(), template=self.template.currentData())
 
+    def add_named_batteries(self) -> None:
+        """Offer the saved fitted batteries (zuml fit --save, Compare with Log > Save) after the chemistries."""
+        for name in battery_names():
+            if self.model.findData(NAMED + name) < 0:
+                self.model.addItem(f"{name} (fitted)", NAMED + name)
+
     def battery_setup(self) -> BatterySetup:
         soc = self.initial.value()
-        return BatterySetup(chemistry=self.model.currentData(), soc=None if soc < 0 else soc / 100.0,
-                            ambient_c=self.ambient.value())
+        data = self.model.currentData()
+        named = data[len(NAMED):] if isinstance(data, str) and data.startswith(NAMED) else None
+        return BatterySetup(chemistry=None if named else data, soc=None if soc < 0 else soc / 100.0,
+                            ambient_c=self.ambient.value(), battery=named)
 
     def auto_resimulate(self) -> bool:
         return self.auto.isChecked()

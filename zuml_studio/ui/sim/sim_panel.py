@@ -134,6 +134,10 @@ class SimulatorPanel(QWidget):
         else:
             self._refresh_hint()
 
+    def current_record(self) -> bytes | None:
+        """The latest valid record (None before the macro first compiled)."""
+        return self._record
+
     def simulate(self) -> None:
         """Start now (the previous run, if any, is dropped)."""
         self._debounce.stop()

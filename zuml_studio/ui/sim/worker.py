@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from PySide6.QtCore import QObject, Qt, QThread, Signal, Slot
 
 from ...data import DataFileError
+from ...sim.batteries import BatteryFileError
 from ...sim.interpreter import StartError, StartParams
 from ...sim.simulate import BatterySetup, prepare
 
@@ -66,6 +67,8 @@ class SimWorker(QObject):
             self.failed.emit(jid, str(exc))
         except KeyError as exc:             # a battery model that does not exist
             self.failed.emit(jid, str(exc.args[0]) if exc.args else "unknown battery model")
+        except BatteryFileError as exc:     # a saved fitted battery deleted or damaged since it was listed
+            self.failed.emit(jid, str(exc))
         except Exception as exc:            # a bug: say so in the panel, never take the IDE down
             log.exception("simulation failed")
             self.failed.emit(jid, f"internal error in the simulator: {type(exc).__name__}: {exc}")

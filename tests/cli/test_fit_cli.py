@@ -1,0 +1,98 @@
+"""zuml fit and zuml compare as a user runs them (issue #14)."""
+import json
+
+import pytest
+
+from helpers import MACROS, ROOT
+from tests_cli_util import run_zuml
+from zuml_studio.cli.main import main
+
+CURVES = ROOT / "tests" / "data" / "curves"
+LOGS = ROOT / "tests" / "data" / "logs"
+FIGURE_KEYS = {"rmse_v_per_cell_mv", "rmse_i_cv_pct", "peak", "temp_rise"}
+
+
+@pytest.fixture
+def zuml(capsys):
+    def run(*args):
+        capsys.readouterr()
+        code = main(list(args))
+        captured = capsys.readouterr()
+        return code, captured.out, captured.err
+    return run
+
+
+def test_fit_json_has_exactly_the_issue_keys_and_nulls_where_the_log_has_no_part(zuml):
+    rc, out, err = zuml("fit", str(CURVES / "lipo_4s_406duo_3c.csv"), "--chemistry", "LiPo", "--cells", "4", "--json")
+    assert rc == 0, err
+    data = json.loads(out)
+    assert set(data) == {"params"} | FIGURE_KEYS
+    assert data["peak"] is None                       # no -dV peak in a Li charge
+    assert set(data["temp_rise"]) == {"real_c", "model_c"}
+    assert data["rmse_v_per_cell_mv"] <= 15 and data["rmse_i_cv_pct"] <= 10
+    assert {"capacity_mah", "start_soc", "r_scale", "ocv_offset_v", "ocv_scale"} <= set(data["params"])
+
+
+def test_fit_of_a_nimh_log_reports_the_peak_and_reads_the_charger_file_itself(zuml):
+    rc, out, err = zuml("fit", str(CURVES / "nimh_4s_estation_1c.csv"), "--chemistry", "NiMh", "--json")
+    assert rc == 0, err
+    data = json.loads(out)
+    assert set(data["peak"]) == {"real_mah", "model_mah", "real_dv_mv_per_cell", "model_dv_mv_per_cell"}
+    assert data["temp_rise"] is None and data["rmse_i_cv_pct"] is None
+    assert {"w0", "dv_o2_v", "k_t_v_per_k", "ha_w_per_k"} <= set(data["params"])
+
+
+def test_fit_reads_a_charger_log_through_the_log_readers(zuml):
+    rc, out, err = zuml("fit", str(LOGS / "X8_LiPo_5S_2200mA_Charge_4.txt"))
+    assert rc == 0, err
+    assert "LiPo 5S" in out and "RMSE V" in out       # the log names LiPo; 5 cells from its balance taps
+
+
+def test_fit_of_a_log_that_names_no_chemistry_asks_for_one(zuml):
+    rc, out, err = zuml("fit", str(CURVES / "nimh_4s_estation_1c.csv"))
+    assert rc == 2 and "does not name a modelled chemistry" in err and "--chemistry" in err
+
+
+def test_fit_save_then_simulate_with_the_named_battery(zuml):
+    name = "4S 1000 NiMH receiver pack"
+    rc, out, err = zuml("fit", str(CURVES / "nimh_4s_estation_1c.csv"), "--chemistry", "NiMh", "--cells", "4",
+                        "--save", name)
+    assert rc == 0, err and f"saved as '{name}'" in out
+    rc, out, err = zuml("simulate", str(MACROS / "NiMh.zuml"), "--battery", name, "--current", "1", "--json")
+    assert rc == 0, err
+    battery = json.loads(out)["battery"]
+    assert battery["chemistry"] == "NiMh" and battery["series"] == 4 and 500 < battery["capacity_mah"] < 2000
+
+
+def test_simulate_with_an_unknown_battery_is_a_one_line_error(zuml):
+    rc, out, err = zuml("simulate", str(MACROS / "NiMh.zuml"), "--battery", "no such pack")
+    assert rc == 2 and "no saved battery 'no such pack'" in err
+
+
+def test_compare_json_has_the_figures_and_both_ends(zuml):
+    rc, out, err = zuml("compare", str(CURVES / "lipo_4s_406duo_3c.csv"), str(MACROS / "LiPo.zuml"),
+                        "--cells", "4", "--capacity", "1500", "--json")
+    assert rc == 0, err
+    data = json.loads(out)
+    assert set(data) == FIGURE_KEYS | {"ends"}
+    real, model = data["ends"]["real"], data["ends"]["model"]
+    assert "tapered" in real["why"] and real["mah"] > 1000
+    assert model["why"] and model["time_s"] > 0
+
+
+@pytest.mark.parametrize("args,message", [
+    (("fit", "missing.csv", "--chemistry", "NiMh"), "no such file"),
+    (("fit", str(CURVES / "nimh_4s_estation_1c.csv"), "--chemistry", "LiS"), "no battery model"),
+    (("fit", str(CURVES / "nimh_4s_estation_1c.csv"), "--chemistry", "NiMh", "--cells", "0"), "--cells"),
+    (("fit", str(CURVES / "nimh_4s_estation_1c.csv"), "--chemistry", "NiMh", "--save", "../x"), "battery name"),
+])
+def test_bad_input_is_a_precise_one_line_error(zuml, args, message):
+    rc, out, err = zuml(*args)
+    assert rc == 2 and message in err and "Traceback" not in err
+
+
+def test_fit_runs_as_a_user_runs_it():
+    rc, out, err = run_zuml("fit", str(CURVES / "life_2s_308duo_05c.csv"), "--chemistry", "LiFe", "--cells", "2",
+                            "--json")
+    assert rc == 0, err
+    assert set(json.loads(out)) == {"params"} | FIGURE_KEYS

@@ -1,0 +1,111 @@
+"""The curve reader, the fit's pieces and the saved batteries (issue #14)."""
+import json
+
+import numpy as np
+import pytest
+
+from helpers import ROOT
+from zuml_studio.sim.batteries import BatteryFileError, battery_names, load_battery, save_battery
+from zuml_studio.sim.chemistry import load_chemistry
+from zuml_studio.sim.curve import Curve, CurveError, read_curve, read_curve_csv
+from zuml_studio.sim.fit import Battery, cv_mask, fit, simulate_curve
+
+CURVES = ROOT / "tests" / "data" / "curves"
+
+
+def synthetic(chem: str = "LiPo", capacity: float = 1500.0, series: int = 3) -> Curve:
+    """A CC-CV charge made by the model itself: a fit must find the battery again."""
+    battery = Battery(load_chemistry(chem), capacity, series)
+    t = np.arange(0.0, 5400.0, 10.0)
+    i = np.full(len(t), 1.5)
+    pack = battery.pack(0.1, 25.0)
+    v, cur = [], []
+    for k in range(len(t)):
+        target = battery.chem.charge_end_v * series
+        a = i[k] if not cur or v[-1] < target - 1e-3 else max(0.0, pack.current_for_voltage(target, 10.0))
+        v.append(pack.step(a, 10.0) if k else pack.step(a, 1e-3))
+        cur.append(a)
+    return Curve(t, np.array(v), np.array(cur), None, 0, "synthetic")
+
+
+def test_a_fit_finds_the_capacity_of_a_model_made_charge_again():
+    curve = synthetic()
+    result = fit(curve, "LiPo", 3, only_capacity=True)
+    assert result.params["capacity_mah"] == pytest.approx(1500, rel=0.03)
+    assert result.figures["rmse_v_per_cell_mv"] < 2
+
+
+def test_cv_part_is_where_the_voltage_is_held_and_the_current_falls():
+    curve = synthetic()
+    cv = cv_mask(curve, "LiPo")
+    assert cv.any() and not cv[:10].any() and cv[-1]
+    assert np.all(curve.i[cv] < 1.5)
+    assert not cv_mask(curve, "NiMh").any()          # Ni charges have no voltage hold
+
+
+def test_driving_by_voltage_in_cv_reproduces_the_logged_current():
+    curve = synthetic()
+    run = simulate_curve(Battery(load_chemistry("LiPo"), 1500.0, 3), curve, cv_mask(curve, "LiPo"), 0.1)
+    assert np.max(np.abs(run.i - curve.i)) < 0.02
+
+
+def test_curve_csv_round_trips_and_bad_lines_are_named():
+    curve = read_curve(CURVES / "nicd_5s_akkumatik_08c.csv")
+    again = read_curve_csv(curve.to_csv(), "x")
+    assert np.allclose(again.v, curve.v, atol=1e-4) and again.temp is not None
+    with pytest.raises(CurveError, match="data line 3"):
+        read_curve_csv("time_s,voltage_v,current_a\n0,1,1\n1,x,1\n" + "".join(f"{k},1,1\n" for k in range(2, 20)))
+    with pytest.raises(CurveError, match="header"):
+        read_curve_csv("a,b,c\n1,2,3\n")
+    with pytest.raises(CurveError, match="time must rise"):
+        read_curve_csv("time_s,voltage_v,current_a\n" + "".join(f"{k % 5},1,1\n" for k in range(20)))
+
+
+def test_a_file_that_is_neither_a_log_nor_a_curve_is_a_precise_error(tmp_path):
+    other = tmp_path / "other.csv"
+    other.write_text("nothing,here\n1,2\n")
+    with pytest.raises(CurveError, match="other.csv: not a log file"):
+        read_curve(other)
+
+
+def test_the_longest_charge_of_a_cycle_log_is_taken():
+    curve = read_curve(ROOT / "tests" / "data" / "logs" / "X6_LiFe_10-3A_Cycle_2.txt")
+    assert curve.t[0] == 0 and np.all(curve.i >= 0) and curve.i.max() > 9 and 300 < curve.t[-1] < 400
+
+
+def test_saved_battery_round_trips_and_is_listed(tmp_path):
+    chem = load_chemistry("NiMh")
+    from dataclasses import replace
+    fitted = Battery(replace(chem, w0=0.05, ocv_v=tuple(v + 0.01 for v in chem.ocv_v)), 1234.0, 4)
+    path = save_battery("4S 2000 NiMH receiver pack", fitted, "some.log", root=tmp_path)
+    assert path.parent == tmp_path / "batteries"
+    assert battery_names(tmp_path) == ["4S 2000 NiMH receiver pack"]
+    again = load_battery("4S 2000 NiMH receiver pack", tmp_path)
+    assert again == fitted
+    doc = json.loads(path.read_text())
+    assert set(doc["parameters"]) == {"w0", "ocv_v"}      # only what differs from the chemistry
+
+
+def test_a_damaged_or_missing_battery_file_says_which_and_why(tmp_path):
+    with pytest.raises(BatteryFileError, match="no saved battery"):
+        load_battery("nope", tmp_path)
+    save_battery("pack", Battery(load_chemistry("LiPo"), 1000.0, 3), root=tmp_path)
+    f = tmp_path / "batteries" / "pack.json"
+    doc = json.loads(f.read_text())
+    doc["parameters"] = {"r0_ohm": -1.0}
+    f.write_text(json.dumps(doc))
+    with pytest.raises(BatteryFileError, match="r0_ohm must be > 0"):
+        load_battery("pack", tmp_path)
+    f.write_text("{not json")
+    with pytest.raises(BatteryFileError, match="not a battery file"):
+        load_battery("pack", tmp_path)
+    assert battery_names(tmp_path) == []               # a damaged file is not offered
+
+
+def test_scipy_is_imported_only_when_a_fit_runs():
+    import subprocess
+    import sys
+    code = ("import sys, zuml_studio.cli.main, zuml_studio.sim.fit, zuml_studio.sim.compare, "
+            "zuml_studio.ui.main_window, zuml_studio.ui.sim.compare_dialog; print('scipy' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert out.stdout.strip() == "False", out.stderr

@@ -1,0 +1,73 @@
+"""The battery models against real charges (issue #14): every training curve in
+tests/data/curves/training.toml is fitted and must meet the issue's figures; the default
+models, with only the capacity and start state fitted, must meet twice those figures.
+Curves where the model cannot are marked, with the figure that fails (docs/validation.md)."""
+import tomllib
+from pathlib import Path
+
+import pytest
+
+from zuml_studio.sim.curve import read_curve
+from zuml_studio.sim.fit import LI, NI, fit
+
+CURVES = Path(__file__).resolve().parent.parent / "data" / "curves"
+TRAINING = tomllib.loads((CURVES / "training.toml").read_text())
+# Figures the model does not reach on a curve, with why (see docs/validation.md).
+KNOWN_MISSES = {
+    ("nicd_5s_akkumatik_08c", "fitted"): "the NiCd pack dips 10 mV/cell while its case sensor rises 2 °C; the "
+                                         "lumped model makes -dV from heat: it fits the dip with a 13 °C rise",
+    ("nicd_5s_akkumatik_08c", "default"): "peak and dip right, but the default NiCd heats 17 °C (sensor: 2 °C)",
+    ("nimh_4s_ultramat_05c", "default"): "RMSE 78 mV/cell: this pack's OCV is steeper than the other NiMH packs'",
+    ("life_2s_308duo_05c", "fitted"): "RMSE 18.8 mV/cell (limit 15): the LiFe OCV table is one straight line "
+                                      "from 90 to 100 %, the real knee is curved",
+}
+
+
+def limits(chemistry: str, factor: float) -> dict:
+    if chemistry in LI:
+        return {"v": 15 * factor, "i_cv": 10 * factor}
+    if chemistry in NI:
+        return {"v": 20 * factor, "peak_pct": 10 * factor, "dv": 3 * factor, "temp": 5 * factor}
+    return {"v": 25 * factor, "i_cv": 15 * factor}
+
+
+def check(fig: dict, lim: dict) -> list[str]:
+    bad = []
+    if fig["rmse_v_per_cell_mv"] > lim["v"]:
+        bad.append(f"RMSE V {fig['rmse_v_per_cell_mv']} > {lim['v']} mV/cell")
+    if "i_cv" in lim and fig["rmse_i_cv_pct"] is not None and fig["rmse_i_cv_pct"] > lim["i_cv"]:
+        bad.append(f"CV current {fig['rmse_i_cv_pct']} > {lim['i_cv']} %")
+    if "peak_pct" in lim:
+        p = fig["peak"]
+        if abs(p["model_mah"] - p["real_mah"]) > lim["peak_pct"] / 100 * p["real_mah"]:
+            bad.append(f"peak at {p['model_mah']} mAh, real {p['real_mah']}")
+        if abs(p["model_dv_mv_per_cell"] - p["real_dv_mv_per_cell"]) > lim["dv"]:
+            bad.append(f"-dV {p['model_dv_mv_per_cell']}, real {p['real_dv_mv_per_cell']} mV/cell")
+        t = fig["temp_rise"]
+        if t is not None and abs(t["model_c"] - t["real_c"]) > lim["temp"]:
+            bad.append(f"temperature rise {t['model_c']}, real {t['real_c']} °C")
+    return bad
+
+
+def cases():
+    for name, entry in TRAINING.items():
+        for kind in ("fitted", "default"):
+            marks = [pytest.mark.xfail(strict=True, reason=KNOWN_MISSES[(name, kind)])] \
+                if (name, kind) in KNOWN_MISSES else []
+            yield pytest.param(name, kind, id=f"{name}-{kind}", marks=marks)
+
+
+@pytest.mark.parametrize("name,kind", list(cases()))
+def test_model_meets_the_issue_figures(name, kind):
+    entry = TRAINING[name]
+    curve = read_curve(CURVES / f"{name}.csv")
+    result = fit(curve, entry["chemistry"], entry["cells"], only_capacity=kind == "default")
+    bad = check(result.figures, limits(entry["chemistry"], 1.0 if kind == "fitted" else 2.0))
+    assert not bad, f"{name} ({kind}): " + "; ".join(bad)
+
+
+def test_every_training_curve_has_its_csv_and_a_source():
+    readme = (CURVES.parent / "README.md").read_text()
+    for name, entry in TRAINING.items():
+        assert (CURVES / f"{name}.csv").is_file()
+        assert entry["source_file"] in readme

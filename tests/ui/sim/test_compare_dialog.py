@@ -1,0 +1,99 @@
+"""Simulate > Compare with Log… (issue #14): overlay, difference, Fit, Save Battery, Model box."""
+import pytest
+
+import helpers
+
+CURVES = helpers.ROOT / "tests" / "data" / "curves"
+
+
+@pytest.fixture
+def dialog(qtbot, monkeypatch, tmp_path):
+    monkeypatch.setenv("ZUML_STUDIO_CONFIG_DIR", str(tmp_path))
+    from zuml_studio.ui.sim.compare_dialog import CompareDialog
+
+    d = CompareDialog(lambda: helpers.compiled("LiPo"))
+    qtbot.addWidget(d)
+    d.chemistry.setCurrentIndex(d.chemistry.findData("LiPo"))
+    d.show()
+    return d
+
+
+def curves_of(plot):
+    return [item for item in plot.listDataItems()]
+
+
+def test_log_and_simulation_on_the_same_axes_with_their_difference(dialog):
+    assert dialog.load_log(str(CURVES / "lipo_4s_406duo_3c.csv"))
+    assert dialog.cells.value() == 4
+    dialog.capacity.setValue(1500)
+    dialog.compare_macro()
+    assert len(curves_of(dialog.v_plot)) == 2 and len(curves_of(dialog.d_plot)) == 1
+    text = dialog.figures.text()
+    assert "RMSE voltage" in text and "real ended" in text and "model ended" in text
+
+
+def test_fit_draws_the_fitted_model_and_save_offers_it_in_the_model_box(dialog, tmp_path):
+    from zuml_studio.ui.sim.params_form import ParamsForm
+
+    dialog.load_log(str(CURVES / "lipo_4s_406duo_3c.csv"))
+    assert not dialog.save_button.isEnabled()
+    dialog.fit_log()
+    assert dialog.save_button.isEnabled()
+    assert "fitted: capacity_mah" in dialog.figures.text()
+    assert len(curves_of(dialog.v_plot)) == 2
+    assert dialog.save_as("4S 1500 LiPo")
+    form = ParamsForm()
+    index = form.model.findData("battery:4S 1500 LiPo")
+    assert index > 0 and form.model.itemText(index) == "4S 1500 LiPo (fitted)"
+    form.model.setCurrentIndex(index)
+    setup = form.battery_setup()
+    assert setup.battery == "4S 1500 LiPo" and setup.chemistry is None
+    form.deleteLater()
+
+
+def test_a_file_that_is_not_a_log_is_said_in_the_dialog(dialog, tmp_path):
+    bad = tmp_path / "x.csv"
+    bad.write_text("hello\n")
+    assert not dialog.load_log(str(bad))
+    assert "not a log file" in dialog.figures.text()
+    assert not dialog.fit_button.isEnabled()
+
+
+def test_main_window_has_the_menu_entry(make_window):
+    window = make_window()
+    texts = [a.text() for a in window.menuBar().actions()]
+    sim_menu = window.menuBar().actions()[texts.index("&Simulate")].menu()
+    assert "Compare with &Log…" in [a.text() for a in sim_menu.actions()]
+    dialog = window.compare_with_log()
+    assert dialog.isVisible()
+    dialog.close()
+
+
+def test_a_saved_battery_reaches_the_virtual_charger_box_and_the_charger(make_window, monkeypatch, tmp_path):
+    monkeypatch.setenv("ZUML_STUDIO_CONFIG_DIR", str(tmp_path))
+    from zuml_studio.device.virtual_charger import BatterySpec
+    from zuml_studio.sim.batteries import save_battery
+    from zuml_studio.sim.chemistry import load_chemistry
+    from zuml_studio.sim.fit import Battery
+
+    window = make_window()
+    dialog = window.compare_with_log()
+    assert dialog.chemistry.currentData() == "NiMh"        # no run yet: the default
+    dialog.chemistry.setCurrentIndex(dialog.chemistry.findData("LiPo"))
+    dialog.load_log(str(CURVES / "lipo_4s_406duo_3c.csv"))
+    dialog.fit_log()
+    assert dialog.save_as("4S 1500 LiPo")
+    box = window.device_panel.v_chem
+    box.setCurrentIndex(box.findData("battery:4S 1500 LiPo"))
+    assert window.device_panel.virtual_battery() == "battery:4S 1500 LiPo"
+    spec = BatterySpec.parse("battery:4S 1500 LiPo")
+    assert spec.chemistry == "LiPo" and spec.cells == 4 and str(spec) == "battery:4S 1500 LiPo"
+    assert spec.model() == dialog.fitted.battery.chem
+    save_battery("plain", Battery(load_chemistry("NiMh"), 2000.0, 4))
+    dialog.close()
+
+
+def test_a_log_that_names_its_battery_type_sets_the_chemistry(dialog):
+    dialog.chemistry.setCurrentIndex(dialog.chemistry.findData("Pb"))
+    assert dialog.load_log(str(helpers.ROOT / "tests" / "data" / "logs" / "308DUO_LiFe_2.3Ah_Laden_0_CH1.txt"))
+    assert dialog.chemistry.currentData() == "LiFe" and dialog.cells.value() == 2

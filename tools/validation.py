@@ -1,0 +1,282 @@
+"""Write docs/validation.md and its figures: every training curve (tests/data/curves/training.toml)
+against the default model (only capacity and start fitted) and the fitted model.
+
+    QT_QPA_PLATFORM=offscreen .venv/bin/python tools/validation.py [SHARED_SAMPLES_DIR]
+
+The figures are drawn with pyqtgraph (the project's plotting library) offscreen. The answers to
+the issue's questions are computed here from the recordings, so the page says what the data say.
+SHARED_SAMPLES_DIR (default /work/shared/realdata/samples) is read for the Pb rest after charge,
+which the test curve leaves out."""
+from __future__ import annotations
+
+import csv
+import os
+import sys
+import time
+import tomllib
+from pathlib import Path
+
+import numpy as np
+
+from zuml_studio.sim.curve import Curve, read_curve
+from zuml_studio.sim.fit import LI, NI, cc_current, fit, simulate_curve, smooth
+
+ROOT = Path(__file__).resolve().parent.parent
+CURVES = ROOT / "tests" / "data" / "curves"
+DOCS = ROOT / "docs"
+FIG_DIR = DOCS / "validation"
+
+
+def _plot(name: str, curve, default, fitted, series: int) -> str:
+    import pyqtgraph as pg
+    from pyqtgraph.exporters import ImageExporter
+    from PySide6.QtWidgets import QApplication
+
+    QApplication.instance() or QApplication([])
+    pg.setConfigOptions(background="w", foreground="k", antialias=True)
+    win = pg.GraphicsLayoutWidget()
+    win.resize(900, 560)
+    t = curve.t / 60.0
+    top = win.addPlot(row=0, col=0, title=f"{name}: voltage per cell")
+    top.addLegend(offset=(10, 10))
+    top.setLabel("left", "V per cell")
+    top.plot(t, curve.v / series, pen=pg.mkPen("k", width=2), name="real")
+    top.plot(t, default.run.v / series, pen=pg.mkPen((30, 90, 220), width=1.5), name="default model")
+    top.plot(t, fitted.run.v / series, pen=pg.mkPen((220, 40, 40), width=1.5, style=pg.QtCore.Qt.DashLine),
+             name="fitted model")
+    low = win.addPlot(row=1, col=0)
+    low.setXLink(top)
+    low.setLabel("bottom", "time", units="min")
+    if curve.temp is not None and not fitted.cv.any():
+        low.setLabel("left", "°C")
+        low.plot(t, curve.temp, pen=pg.mkPen("k", width=2))
+        low.plot(t, default.run.temp, pen=pg.mkPen((30, 90, 220), width=1.5))
+        low.plot(t, fitted.run.temp, pen=pg.mkPen((220, 40, 40), width=1.5, style=pg.QtCore.Qt.DashLine))
+    else:
+        low.setLabel("left", "A")
+        low.plot(t, curve.i, pen=pg.mkPen("k", width=2))
+        low.plot(t, default.run.i, pen=pg.mkPen((30, 90, 220), width=1.5))
+        low.plot(t, fitted.run.i, pen=pg.mkPen((220, 40, 40), width=1.5, style=pg.QtCore.Qt.DashLine))
+    win.ci.layout.setRowStretchFactor(0, 3)
+    win.ci.layout.setRowStretchFactor(1, 2)
+    win.show()
+    QApplication.processEvents()
+    FIG_DIR.mkdir(parents=True, exist_ok=True)
+    out = FIG_DIR / f"{name}.png"
+    exporter = ImageExporter(win.scene())
+    exporter.export(str(out))
+    return f"validation/{out.name}"
+
+
+def _fmt(x) -> str:
+    return "–" if x is None else f"{x:g}"
+
+
+def _row(kind: str, fig: dict) -> str:
+    p, t = fig["peak"], fig["temp_rise"]
+    peak = f"{p['model_mah']:g} / {p['real_mah']:g}" if p else "–"
+    dv = f"{p['model_dv_mv_per_cell']:g} / {p['real_dv_mv_per_cell']:g}" if p else "–"
+    temp = f"{t['model_c']:g} / {t['real_c']:g}" if t else "–"
+    return (f"| {kind} | {_fmt(fig['rmse_v_per_cell_mv'])} | {_fmt(fig['rmse_i_cv_pct'])} | {peak} | {dv} | "
+            f"{temp} |")
+
+
+def _cv_tail(curve, chemistry: str) -> tuple[float, float, float]:
+    """(CV minutes, share of the charge's time in CV, share of its mAh put in during CV)."""
+    from zuml_studio.sim.fit import cv_mask
+    cv = cv_mask(curve, chemistry)
+    if not cv.any():
+        return 0.0, 0.0, 0.0
+    k = int(np.argmax(cv))
+    mah = curve.mah
+    return ((curve.t[-1] - curve.t[k]) / 60.0, (curve.t[-1] - curve.t[k]) / curve.t[-1],
+            (mah[-1] - mah[k]) / mah[-1])
+
+
+def _pb_rest(samples: Path, fitted) -> str:
+    src = samples / "curves" / "PbAcid_12V_100Ah_Universal_UB121000_charge_rest_discharge_5s.csv"
+    if not src.is_file():
+        return "(the source recording was not found, so the rest after the charge is not analysed here)"
+    rows = list(csv.DictReader(open(src, newline="")))
+    t = np.array([float(r["Time Elapsed"]) * 86400.0 for r in rows])
+    i = np.array([float(r["Current (Calibrated)"]) for r in rows])
+    v = np.array([float(r["Voltage (Calibrated)"]) for r in rows])
+    on = np.flatnonzero(i > 0.5)
+    end = on[-1]
+    after = np.flatnonzero(np.abs(i[end + 1:]) > 0.5)
+    stop = end + 1 + (after[0] if len(after) else len(i) - end - 1)
+    rest_t, rest_v = t[end + 1:stop] - t[end], v[end + 1:stop]
+    minutes = (1, 10, 30, 60, 120)
+    pick = {m: float(np.interp(m * 60.0, rest_t, rest_v)) for m in minutes}
+    # The fitted model, rested after the same charge.
+    curve = fitted.curve
+    rest = np.arange(10.0, 7201.0, 10.0)
+    longer = Curve(np.concatenate((curve.t, curve.t[-1] + rest)), np.concatenate((curve.v, np.full(len(rest), curve.v[-1]))),
+                   np.concatenate((curve.i, np.zeros(len(rest)))), None, curve.cells, curve.name)
+    cv = np.concatenate((fitted.cv, np.zeros(len(rest), bool)))
+    run = simulate_curve(fitted.battery, longer, cv, fitted.params["start_soc"])
+    model = {m: float(np.interp(curve.t[-1] + m * 60.0, longer.t, run.v)) for m in minutes}
+    return (f"At the end of the absorption the pack reads {v[end]:.3f} V at {i[end]:.2f} A. Resting, it reads "
+            + ", ".join(f"{pick[m]:.3f} V after {m} min" for m in minutes)
+            + f" ({(pick[1] - pick[120]) / 6 * 1000:.0f} mV per cell between 1 and 120 min). The fitted model "
+            "reads " + ", ".join(f"{model[m]:.3f} V" for m in minutes)
+            + f" ({(model[1] - model[120]) / 6 * 1000:.0f} mV per cell). The surface charge of the real "
+            "battery relaxes over tens of minutes and hours; the model's polarisation, fitted to the charge "
+            f"(`pol_tau_s` {fitted.params['pol_tau_s']:.0f} s), is gone within minutes and its OCV is the table's. "
+            "Here the data contradict the model; a second, slow polarisation time constant would be needed "
+            "to simulate a rest or a float after absorption (not done: the charge itself fits within the limits).")
+
+
+def main() -> int:
+    samples = Path(sys.argv[1]) if len(sys.argv) > 1 else Path("/work/shared/realdata/samples")
+    os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
+    training = tomllib.loads((CURVES / "training.toml").read_text())
+    sections, summary, answers, defaults = [], [], {}, {}
+    started = time.perf_counter()
+    for name, entry in training.items():
+        chem, series = entry["chemistry"], entry["cells"]
+        curve = read_curve(CURVES / f"{name}.csv")
+        t0 = time.perf_counter()
+        default = fit(curve, chem, series, only_capacity=True)
+        fitted = fit(curve, chem, series)
+        seconds = time.perf_counter() - t0
+        png = _plot(name, curve, default, fitted, series)
+        answers[name] = (entry, curve, fitted)
+        defaults[name] = default
+        summary.append(f"| [{name}](#{name}) | {chem} {series}S | {entry['rate']} | "
+                       f"{_fmt(default.figures['rmse_v_per_cell_mv'])} | {_fmt(fitted.figures['rmse_v_per_cell_mv'])} |")
+        params = ", ".join(f"{k} {v:.4g}" for k, v in fitted.params.items())
+        sections.append("\n".join([
+            f"### {name}", "",
+            f"`{entry['source_file']}` — {chem}, {series} cells, {entry['rate']}; "
+            f"{curve.t[-1] / 60:.0f} min, {curve.mah[-1]:.0f} mAh put in. Default and fitted in {seconds:.1f} s.", "",
+            f"![{name}]({png})", "",
+            "| model | RMSE V (mV/cell) | RMSE I in CV (% of CC) | peak at (mAh, model / real) | "
+            "-dV (mV/cell, model / real) | temperature rise (°C, model / real) |",
+            "|---|---|---|---|---|---|",
+            _row("default (capacity and start fitted)", default.figures),
+            _row("fitted", fitted.figures), "",
+            f"Fitted: {params}.", ""]))
+    total = time.perf_counter() - started
+    dv_rows = []
+    for name, (entry, curve, fitted) in answers.items():
+        if entry["chemistry"] in NI:
+            p = fitted.figures["peak"]
+            s = smooth(curve.t, curve.v)
+            k = int(np.argmax(s))
+            rise = (f"{curve.temp[k] - curve.temp[0]:.1f} °C to the peak, {curve.temp[-1] - curve.temp[k]:+.1f} °C "
+                    "after it") if curve.temp is not None else "not recorded"
+            dv_rows.append(f"| {name} | {entry['chemistry']} | {entry['rate']} | {p['real_dv_mv_per_cell']:g} | "
+                           f"{p['real_mah']:g} of {curve.mah[-1]:.0f} | {rise} |")
+    cv_rows = []
+    for name, (entry, curve, fitted) in answers.items():
+        if entry["chemistry"] in LI + ("Pb",):
+            minutes, share_t, share_q = _cv_tail(curve, entry["chemistry"])
+            i_cc = cc_current(curve, fitted.cv)
+            cv_rows.append(f"| {name} | {entry['chemistry']} | {entry['rate']} | {minutes:.1f} | {share_t:.0%} | "
+                           f"{share_q:.0%} | {curve.i[-1] / i_cc:.0%} |")
+    text = "\n".join([
+        "# The battery models against real charges",
+        "",
+        "Generated by `tools/validation.py` (do not edit by hand). Every curve in `tests/data/curves/` "
+        "(sources: `tests/data/README.md`) is run through `zuml_studio.sim.fit` twice: **default** keeps the "
+        "chemistry's TOML and fits only the capacity and the start state of charge; **fitted** also fits the "
+        "resistance (one factor on R0, R1 and, where not fitted itself, R2), an OCV offset and scale per cell "
+        "(about the table's mean), and per family: NiCd/NiMH charge acceptance `w0`, O2 overvoltage `dv_o2_v`, "
+        "temperature coefficient `k_t_v_per_k`, heat loss `ha_w_per_k`; Li the slow RC pair `r2_ohm`, "
+        "`tau2_s` (the CV tail); Pb the charge polarisation `k_charge_ohm`, `pol_tau_s`, `pol_max_v` "
+        "(absorption and taper). The model is driven by the log's current, and in the CV part (voltage within "
+        "0.5 % of its maximum and current below 92 % of the CC current) by the log's voltage, its current then "
+        "compared. Peak and -dV are read from a 1-minute moving average. "
+        "`scipy.optimize.least_squares` (trust region, finite differences) does the fitting; the stages, "
+        "weights and bounds are in [fit.md](fit.md). NiCd/NiMH also fit the heat capacity `cth_j_per_k`.",
+        "",
+        "The limits (tests/sim/test_validation.py): Li RMSE(V) ≤ 15 mV/cell over CC and CV current within "
+        "10 % of the CC current; NiMH/NiCd RMSE(V) ≤ 20 mV/cell, peak charge within 10 %, -dV within "
+        "3 mV/cell, temperature rise within 5 °C where recorded; Pb RMSE(V) ≤ 25 mV/cell and the absorption "
+        "current within 15 % of the bulk current. The default model must meet twice these. Where a curve "
+        "misses, the test is marked with the reason and this page shows the figure.",
+        "",
+        f"All {len(training)} curves, default and fitted: {total:.0f} s on this machine.",
+        "",
+        "| curve | battery | rate | RMSE V default (mV/cell) | RMSE V fitted |",
+        "|---|---|---|---|---|",
+        *summary,
+        "",
+        "## What the data say",
+        "",
+        "### -dV depth per cell and rate; NiMH -dV at 0.1–0.2C; temperature rise",
+        "",
+        "| curve | chemistry | rate | -dV at the end (mV/cell) | peak at (mAh) | temperature |",
+        "|---|---|---|---|---|---|",
+        *dv_rows,
+        "",
+        "* -dV deepens with rate: NiMH 3–5 mV/cell at 0.2–0.45C (where the charger stopped it), 12 mV/cell "
+        "at 1.1C; NiCd 10 mV/cell at 0.85C. 0.5C vs 1C is 3–5 vs 12 mV/cell for NiMH; no 2C recording is "
+        "in the set, so 2C is not settled by data. The model's -dV threshold per cell in the macros "
+        "(5 mV NiMH, 10–12 mV NiCd) is reached on every one of these packs.",
+        "* NiMH **does** show -dV at 0.2C: the AkkuMaster C4 AA pack at 0.15 A falls 4.8 mV/cell after its "
+        "peak, the Polaron 5S pack at 0.3C 4.2 mV/cell. This contradicts the old model note (\"NiMH 0.2C: "
+        "plateau, no -ΔV\", battery-models.md §2.4) and agrees with seed 001 (about 5 mV). The only 0.1C "
+        "recording (iCharger 3010B, 2500 mAh at 0.24 A) was stopped at 684 mAh, before any peak, so 0.1C "
+        "stays open. The old model plateaued at 0.2C; the data win: the retuned default NiMH (a pack's heat "
+        "capacity, 66 J/K per 2 Ah, and 5 mV/K, from the fits) dips at 0.2C too "
+        f"({defaults['nimh_4s_akkumaster_02c'].figures['peak']['model_dv_mv_per_cell']:.1f} mV/cell on the "
+        "AkkuMaster curve), and tests/sim/test_acceptance.py and test_battery.py now assert a dip there.",
+        "* NiMH temperature rise before the end: the Polaron pack (0.3C) rose 2.1 °C over the three hours "
+        "to its peak and 2.5 °C more in the five minutes after it: the heat comes at the very end. The "
+        f"retuned default model rises {defaults['nimh_5s_polaron_03c'].figures['temp_rise']['model_c']:.1f} °C "
+        f"over the same charge, the fitted one {answers['nimh_5s_polaron_03c'][2].figures['temp_rise']['model_c']:.1f} °C. The NiCd pack's case sensor (1 °C steps) rose 1 °C to the peak and 1 °C after it; no "
+        "lumped model makes its 10 mV/cell dip with so little heat (see the NiCd section below).",
+        "",
+        "### CV tail: LiPo vs LiFe, and the Pb absorption",
+        "",
+        "| curve | chemistry | rate | CV minutes | CV share of time | CV share of charge | end current / CC |",
+        "|---|---|---|---|---|---|---|",
+        *cv_rows,
+        "",
+        "Hobby chargers end the CV at 10–20 % of the CC current. LiPo at 2.7–3C: 4 minutes of CV, 17–22 % of "
+        "the time and 7–9 % of the charge, ending at 13 % of CC. LiFe at 0.5C (a top-up): 8.4 minutes, 56 % "
+        "of the time and 24 % of the charge, ending at 10 %: even at a sixth of the rate the LFP tail is "
+        "twice as long, consistent with the LFP voltage rising only in the last few percent, so the "
+        "charger reaches its limit with more charge still to go. The slow RC pair of the Li models carries this tail "
+        "(fitted `tau2_s` in the sections below). The Pb absorption takes 3 hours (55 % of the time, 18 % "
+        "of the charge) and ends at 3 % of the bulk current.",
+        "",
+        "### Pb surface charge",
+        "",
+        _pb_rest(samples, next(f for e, _, f in answers.values() if e["chemistry"] == "Pb")),
+        "",
+        "## What changed in the models (the data win)",
+        "",
+        "Each changed value in `zuml_studio/data/chemistries/*.toml` names the recordings it was fitted to "
+        "and its old value.",
+        "",
+        "* NiMH: resistance ×3.3 (hobby AA packs with leads and welds, 66 + 50 mΩ per cell at 2 Ah), OCV 1.3× "
+        "steeper and 17 mV higher, `w0` 0.032, `dv_o2_v` 0.035 V (the geometric means of the four NiMH fits); "
+        "heat capacity 66 J/K (was 28: a pack, not a bare AA), heat loss 0.08 W/K (was 0.05), "
+        "`k_t_v_per_k` 5 mV/K (was 2), within the fitted 50–98 J/K, 0.01–0.08 W/K and 2–15 mV/K: this is "
+        "what makes the 0.2C dip.",
+        "* NiCd: resistance ×0.15 (the Akkumatik pack is a high-rate pack), OCV 37 mV lower, `w0` 0.057, "
+        "`dv_o2_v` 0.09 V, `k_t_v_per_k` 5 mV/K.",
+        "* LiPo: resistance ×0.37 (both hobby LiPo packs fit 0.23–0.58× the Ai2020 pouch).",
+        "* Pb: charge polarisation `k_charge_ohm` 0.028 Ω, `pol_tau_s` 204 s, `pol_max_v` 0.31 V, OCV 25 mV "
+        "higher and 7 % steeper (UB121000 AGM).",
+        "* LiIon and LiFe: unchanged (their default already meets twice the limits on these curves).",
+        "* Test figures moved with the data (tests/sim): NiMH 1C peak window 1.42–1.52 → 1.45–1.68 V/cell "
+        "(eStation 1C 1.625, Ultramat 1.65); NiCd -dV end at ≤ 1.20 × capacity (Akkumatik 1.09–1.18); "
+        "\"NiCd dips more than NiMH\" dropped (eStation NiMH fell 1.9 mV/cell/min, Akkumatik NiCd 1.3); "
+        "NiMH 60 % overcharge peaks above 50 °C, not 60 (the fitted heat loss); NiMH at 0.2C dips "
+        "(3–20 mV/cell) instead of plateauing; the trickle test's thresholds follow the new NiMH OCV.",
+        "",
+        "## Per curve",
+        "",
+        *sections,
+    ])
+    (DOCS / "validation.md").write_text(text + "\n")
+    print(f"docs/validation.md: {len(training)} curves in {total:.0f} s")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,135 @@
+"""zuml fit and zuml compare: the battery model against a real log."""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+from ..file_errors import FileReadError
+from ..logs import LogFormatError
+from ..sim.batteries import BatteryFileError, save_battery
+from ..sim.chemistry import load_chemistry
+from ..sim.curve import Curve, CurveError, read_curve
+from ..sim.fit import fit, guess_series
+from ..sim.interpreter import StartError
+from .common import CliError, out
+from .sim_commands import _record
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("fit", help="fit a chemistry's battery model to a real charge log")
+    p.add_argument("log", metavar="LOG", help="a charger log (any format `zuml log info` reads) or a curve CSV")
+    p.add_argument("--chemistry", metavar="C", help="Pb, NiCd, NiMh, LiPo, LiIon or LiFe (default: the battery "
+                   "type the log names, where it names one)")
+    p.add_argument("--cells", type=int, metavar="N", help="cells in series (default: the log's balance taps, "
+                   "else from its highest voltage)")
+    p.add_argument("--save", metavar="NAME", help="save the fitted battery under this name")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(run=cmd_fit)
+    c = sub.add_parser("compare", help="simulate a macro from a real log's start and compare the two")
+    c.add_argument("log", metavar="LOG")
+    c.add_argument("macro", metavar="MACRO", help="a .zuml macro or a compiled .bin record")
+    c.add_argument("--chemistry", metavar="C", help="battery model (default: the macro's AKK_TYPE)")
+    c.add_argument("--battery", metavar="NAME", help="a saved fitted battery instead of the default model")
+    c.add_argument("--cells", type=int, metavar="N")
+    c.add_argument("--capacity", type=float, metavar="MAH", help="default: the saved battery's, else the "
+                   "charge the log put in")
+    c.add_argument("--json", action="store_true")
+    c.set_defaults(run=cmd_compare)
+
+
+def _curve(path: str) -> Curve:
+    try:
+        return read_curve(path)
+    except (FileReadError, LogFormatError, CurveError) as exc:
+        raise CliError(str(exc)) from None
+
+
+def _chemistry(name: str) -> str:
+    try:
+        return load_chemistry(name).name
+    except KeyError as exc:
+        raise CliError(str(exc.args[0])) from None
+
+
+def _cells(args: argparse.Namespace, curve: Curve, chemistry: str) -> int:
+    if args.cells is not None and not 1 <= args.cells <= 255:
+        raise CliError("--cells must be 1 to 255")
+    return args.cells or guess_series(curve, chemistry)
+
+
+def _figure_lines(fig: dict) -> list[str]:
+    lines = [f"RMSE V        {fig['rmse_v_per_cell_mv']} mV/cell"]
+    if fig["rmse_i_cv_pct"] is not None:
+        lines.append(f"RMSE I (CV)   {fig['rmse_i_cv_pct']} % of CC")
+    if fig["peak"]:
+        p = fig["peak"]
+        lines.append(f"peak at       {p['real_mah']} mAh real, {p['model_mah']} mAh model")
+        lines.append(f"-dV           {p['real_dv_mv_per_cell']} mV/cell real, {p['model_dv_mv_per_cell']} model")
+    if fig["temp_rise"]:
+        lines.append(f"temp rise     {fig['temp_rise']['real_c']} °C real, {fig['temp_rise']['model_c']} °C model")
+    return lines
+
+
+def _log_chemistry(args: argparse.Namespace, curve: Curve) -> str:
+    if args.chemistry:
+        return _chemistry(args.chemistry)
+    try:
+        return load_chemistry(curve.chemistry).name
+    except KeyError:
+        named = f" (it names '{curve.chemistry}')" if curve.chemistry else ""
+        raise CliError(f"{args.log}: the log does not name a modelled chemistry{named}: give --chemistry") from None
+
+
+def cmd_fit(args: argparse.Namespace) -> int:
+    curve = _curve(args.log)
+    chemistry = _log_chemistry(args, curve)
+    series = _cells(args, curve, chemistry)
+    result = fit(curve, chemistry, series)
+    saved = None
+    if args.save:
+        try:
+            saved = save_battery(args.save, result.battery, args.log)
+        except (BatteryFileError, OSError) as exc:
+            raise CliError(str(exc)) from None
+    if args.json:
+        json.dump({"params": result.params, **result.figures}, sys.stdout, indent=2)
+        out()
+        return 0
+    out(f"{args.log}: {chemistry} {series}S, {len(curve.t)} samples, {curve.t[-1] / 60:.0f} min of charge")
+    for k, v in result.params.items():
+        out(f"  {k:14s}{v:g}")
+    for line in _figure_lines(result.figures):
+        out(line)
+    if saved:
+        out(f"saved as {args.save!r} ({saved})")
+    return 0
+
+
+def cmd_compare(args: argparse.Namespace) -> int:
+    from ..sim.batteries import load_battery
+    from ..sim.compare import compare
+
+    curve = _curve(args.log)
+    record = _record(args.macro)
+    try:
+        named = load_battery(args.battery) if args.battery else None
+    except BatteryFileError as exc:
+        raise CliError(str(exc)) from None
+    try:
+        chemistry = named.chem.name if named else (_chemistry(args.chemistry) if args.chemistry else None)
+        series = args.cells or (named.series if named else None) or guess_series(curve, chemistry or "NiMh")
+        capacity = args.capacity or (named.capacity_mah if named else float(curve.mah[-1]))
+        result = compare(curve, record, chemistry, series, capacity, args.battery)
+    except (StartError, ValueError) as exc:
+        raise CliError(f"{args.macro}: {exc}", 1) from None
+    if args.json:
+        json.dump(result.report, sys.stdout, indent=2)
+        out()
+        return 0
+    for line in _figure_lines(result.report):
+        out(line)
+    for who in ("real", "model"):
+        e = result.report["ends"][who]
+        out(f"{who:6s} ended {e['time_s'] / 60:.1f} min, {e['mah']} mAh: {e['why']}")
+    return 0

@@ -1,0 +1,84 @@
+"""Named batteries: a chemistry with fitted parameters, a capacity and a cell count, saved as
+``<config>/batteries/<name>.json`` (config dir as in ``recovery.config_dir``), offered wherever a
+battery model is chosen (``zuml simulate --battery``, the simulator panel, the virtual charger)."""
+from __future__ import annotations
+
+import json
+import re
+from dataclasses import fields, replace
+from pathlib import Path
+
+from ..recovery import atomic_write, config_dir
+from .chemistry import Chemistry, _check, load_chemistry
+from .fit import Battery
+
+_NAME = re.compile(r"^[\w][\w .,+()-]{0,79}$")
+_FORMAT = 1
+
+
+class BatteryFileError(ValueError):
+    """A named battery that does not exist or whose file is not one we wrote; the message says which."""
+
+
+def batteries_dir(root: Path | None = None) -> Path:
+    return (root or config_dir()) / "batteries"
+
+
+def _file_name(name: str) -> str:
+    if not _NAME.match(name) or name.strip() != name:
+        raise BatteryFileError(f"battery name {name!r}: use letters, digits, spaces and . , + ( ) - (at most 80)")
+    return re.sub(r"[^\w.-]", "_", name) + ".json"
+
+
+def save_battery(name: str, battery: Battery, source: str = "", root: Path | None = None) -> Path:
+    """Write the battery under `name` (an existing one of that name is replaced); returns the file."""
+    base = load_chemistry(battery.chem.name)
+    changed = {f.name: getattr(battery.chem, f.name) for f in fields(Chemistry)
+               if getattr(battery.chem, f.name) != getattr(base, f.name)}
+    doc = {"format": _FORMAT, "name": name, "chemistry": battery.chem.name, "capacity_mah": battery.capacity_mah,
+           "series": battery.series, "fitted_from": source,
+           "parameters": {k: list(v) if isinstance(v, tuple) else v for k, v in changed.items()}}
+    path = batteries_dir(root) / _file_name(name)
+    atomic_write(path, (json.dumps(doc, indent=2) + "\n").encode())
+    return path
+
+
+def battery_names(root: Path | None = None) -> list[str]:
+    """Names of the saved batteries, sorted; files that are not ours are skipped here (load says why)."""
+    names = []
+    folder = batteries_dir(root)
+    for path in sorted(folder.glob("*.json")) if folder.is_dir() else ():
+        try:
+            names.append(str(json.loads(path.read_text("utf-8"))["name"]))
+        except (OSError, ValueError, KeyError, TypeError):
+            continue
+    return sorted(names, key=str.lower)
+
+
+def load_battery(name: str, root: Path | None = None) -> Battery:
+    path = batteries_dir(root) / _file_name(name)
+    try:
+        doc = json.loads(path.read_text("utf-8"))
+    except FileNotFoundError:
+        known = ", ".join(battery_names(root)) or "none saved yet (zuml fit LOG --save NAME)"
+        raise BatteryFileError(f"no saved battery {name!r}; saved: {known}") from None
+    except (OSError, ValueError) as exc:
+        raise BatteryFileError(f"{path}: not a battery file: {exc}") from None
+    try:
+        if doc.get("format") != _FORMAT:
+            raise ValueError(f"format {doc.get('format')!r}, expected {_FORMAT}")
+        chem = load_chemistry(str(doc["chemistry"]))
+        wanted = {f.name: f.type for f in fields(Chemistry)}
+        params = {}
+        for key, value in doc["parameters"].items():
+            if key not in wanted or key == "name":
+                raise ValueError(f"unknown parameter {key!r}")
+            params[key] = tuple(float(x) for x in value) if isinstance(value, list) else float(value)
+        fitted = replace(chem, **params)
+        _check(fitted)
+        capacity, series = float(doc["capacity_mah"]), int(doc["series"])
+        if not capacity > 0 or not 1 <= series <= 255:
+            raise ValueError("capacity_mah must be > 0 and series 1..255")
+    except (KeyError, TypeError, ValueError, AttributeError) as exc:
+        raise BatteryFileError(f"{path}: bad battery file: {exc}") from None
+    return Battery(fitted, capacity, series)

@@ -1,0 +1,139 @@
+"""A measured charge as the battery-model fit needs it: time, pack voltage, current, temperature.
+
+From any log ``zuml_studio.logs`` reads (the longest charge, short idle blips merged), or from
+a plain curve CSV (``time_s,voltage_v,current_a[,temp_c]``, '#' comment lines), which is the
+form the validation curves in tests/data/curves/ are stored in."""
+from __future__ import annotations
+
+import csv
+import io
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..file_errors import read_file_bytes
+from ..logs import Log, LogFormatError, read_log
+
+# Chargers drop out of "charge" for a sample or two (a measurement pause); gaps up to this
+# long are part of the same charge.
+_MERGE_GAP_S = 120.0
+_CSV_COLUMNS = ("time_s", "voltage_v", "current_a")
+
+
+class CurveError(ValueError):
+    """The file holds no charge the fit can use; the message says why."""
+
+
+@dataclass(frozen=True)
+class Curve:
+    t: np.ndarray            # s from the start of the charge
+    v: np.ndarray            # pack V
+    i: np.ndarray            # A, + = charge
+    temp: np.ndarray | None  # °C, None where not recorded
+    cells: int               # per-cell voltages the log carried (0: none)
+    name: str = ""
+    chemistry: str = ""      # the battery type the log names, if it names one (iCharger logs do)
+
+    def __post_init__(self) -> None:
+        if len(self.t) < 10:
+            raise CurveError(f"{self.name or 'curve'}: only {len(self.t)} samples of charge")
+
+    @property
+    def mah(self) -> np.ndarray:
+        """Charge put in since the start, mAh (trapezoid on the log's own current)."""
+        dt = np.diff(self.t, prepend=self.t[0])
+        i_mid = np.concatenate(([self.i[0]], (self.i[1:] + self.i[:-1]) / 2))
+        return np.cumsum(np.clip(i_mid, 0.0, None) * dt) / 3.6
+
+    def decimated(self, step_s: float) -> "Curve":
+        """One sample per step_s: the mean current over the step (the charge stays the same), the
+        median voltage (a charger's short measurement pause does not pull it down), the mean temperature."""
+        edges = [0]
+        for k in range(1, len(self.t)):
+            if self.t[k] - self.t[edges[-1]] >= step_s:
+                edges.append(k)
+        if edges[-1] != len(self.t) - 1:
+            edges.append(len(self.t) - 1)
+        if len(edges) == len(self.t):
+            return self
+        dt = np.diff(self.t, prepend=self.t[0])
+        t, v, i, temp = [self.t[0]], [self.v[0]], [self.i[0]], [] if self.temp is None else [self.temp[0]]
+        for lo, hi in zip(edges, edges[1:]):
+            part = slice(lo + 1, hi + 1)
+            t.append(self.t[hi])
+            v.append(float(np.median(self.v[part])))
+            i.append(float(np.sum(self.i[part] * dt[part]) / max(np.sum(dt[part]), 1e-9)))
+            if self.temp is not None:
+                temp.append(float(np.mean(self.temp[part])))
+        return Curve(np.array(t), np.array(v), np.array(i), None if self.temp is None else np.array(temp),
+                     self.cells, self.name, self.chemistry)
+
+    def to_csv(self) -> str:
+        out = io.StringIO()
+        out.write(",".join(_CSV_COLUMNS + (("temp_c",) if self.temp is not None else ())) + "\n")
+        for k in range(len(self.t)):
+            row = [f"{self.t[k]:.1f}", f"{self.v[k]:.4f}", f"{self.i[k]:.4f}"]
+            if self.temp is not None:
+                row.append(f"{self.temp[k]:.2f}")
+            out.write(",".join(row) + "\n")
+        return out.getvalue()
+
+
+def charge_from_log(log: Log, name: str = "") -> Curve:
+    """The longest charge in the log (phases of state "charge" closer than two minutes merged)."""
+    a = log.arrays()
+    charging = np.array([s.section == "charge" and s.running and not s.paused for s in log.samples], bool)
+    if not charging.any():
+        raise CurveError(f"{name or 'log'}: no charge in the log")
+    runs: list[list[int]] = []
+    for k in np.flatnonzero(charging):
+        if runs and a["t"][k] - a["t"][runs[-1][1]] <= _MERGE_GAP_S:
+            runs[-1][1] = k
+        else:
+            runs.append([k, k])
+    lo, hi = max(runs, key=lambda r: a["t"][r[1]] - a["t"][r[0]])
+    sel = np.arange(lo, hi + 1)
+    sel = sel[charging[sel]]
+    temp = a["temp"][sel]
+    t = a["t"][sel]
+    return Curve(t - t[0], a["voltage"][sel], np.abs(a["current"][sel]),
+                 temp if np.isfinite(temp).sum() > len(temp) // 2 and np.nanmax(temp) > np.nanmin(temp) else None,
+                 log.cells, name, str(log.meta.get("battery", "")))
+
+
+def read_curve_csv(text: str, name: str = "") -> Curve:
+    """A plain curve CSV (see module doc)."""
+    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
+    rows = list(csv.reader(lines))
+    if not rows or tuple(c.strip() for c in rows[0][:3]) != _CSV_COLUMNS:
+        raise CurveError(f"{name}: a curve CSV starts with the header {','.join(_CSV_COLUMNS)}[,temp_c]")
+    has_temp = len(rows[0]) > 3 and rows[0][3].strip() == "temp_c"
+    cols: list[list[float]] = [[], [], [], []]
+    for n, row in enumerate(rows[1:], start=2):
+        try:
+            values = [float(x) for x in row[:4 if has_temp else 3]]
+        except ValueError:
+            raise CurveError(f"{name}: data line {n}: not a number in {row!r}") from None
+        if len(values) < (4 if has_temp else 3) or not all(math.isfinite(x) for x in values):
+            raise CurveError(f"{name}: data line {n}: expected {4 if has_temp else 3} finite numbers")
+        for c, x in zip(cols, values):
+            c.append(x)
+    t = np.array(cols[0])
+    if np.any(np.diff(t) <= 0):
+        raise CurveError(f"{name}: time must rise from line to line")
+    return Curve(t - t[0], np.array(cols[1]), np.array(cols[2]), np.array(cols[3]) if has_temp else None, 0, name)
+
+
+def read_curve(path: str | Path) -> Curve:
+    """A charge from any log file the log readers know, else from a plain curve CSV."""
+    p = Path(path)
+    data = read_file_bytes(p)
+    try:
+        return charge_from_log(read_log(data, p.name), p.name)
+    except LogFormatError as exc:
+        text = data.decode("utf-8", "replace")
+        if text.lstrip().startswith(("#", "time_s")):
+            return read_curve_csv(text, p.name)
+        raise CurveError(f"{p.name}: {exc}") from None

@@ -1,0 +1,315 @@
+"""Fit a chemistry's battery model (``battery.Pack``) to a measured charge.
+
+The model is driven by the log's own current; where the charger held the voltage (the CV part
+of a Li or Pb charge) it is driven by the log's voltage and its current is compared instead.
+``scipy.optimize.least_squares`` moves the parameters; scipy is imported only when a fit runs,
+so starting the application does not pay for it. What is fitted per chemistry family, the stages
+and the weights: docs/fit.md; how well it does on real recordings: docs/validation.md."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields, replace
+
+import numpy as np
+
+from .battery import Pack
+from .chemistry import Chemistry, load_chemistry
+from .curve import Curve
+
+NI = ("NiCd", "NiMh")
+LI = ("LiPo", "LiIon", "LiFe")
+# A voltage hold starts where the log's voltage comes within this fraction of its maximum and
+# the current has fallen below this fraction of the constant current before it.
+_CV_V_FRACTION = 0.995
+_CV_I_FRACTION = 0.92
+_CV_HOLD_FRACTION = 0.99     # ... and while it stays this close (a lower CC step after the hold is CC again)
+_SMOOTH_S = 60.0            # the peak and -dV are read from a 1-minute moving average (as chargers filter)
+_PAUSE_FRACTION = 0.5      # CC samples below this fraction of the CC current are measurement pauses
+_FIT_SAMPLES = 1500          # ... or coarser, so that a long charge has at most about this many samples
+_FIT_STEP_S = 10.0          # curves are decimated to this before a fit: seconds per fit, not minutes
+_TEMP_WEIGHT = 1.0           # 1 °C of temperature error weighs as 1 mV per cell
+_TAIL_WEIGHT = 3.0           # the fall after the peak weighs 3x the rest of the voltage
+_NFEV_PER_PARAM = 15         # evaluations per fitted parameter and start: keeps a fit to seconds
+
+
+@dataclass(frozen=True)
+class Param:
+    """One fitted quantity: ``log`` ones are fitted as their logarithm (they only make sense > 0)."""
+    name: str
+    lo: float
+    hi: float
+    log: bool = False
+
+
+# Fitted for every chemistry: the battery (capacity, where it started), its resistance and OCV.
+_COMMON = (Param("capacity_mah", 0.0, 0.0, True), Param("start_soc", 0.0, 0.95),
+           Param("r_scale", 0.1, 10.0, True), Param("ocv_offset_v", -0.15, 0.15), Param("ocv_scale", 0.3, 3.0, True))
+_FAMILY = {
+    "ni": (Param("w0", 0.005, 0.3, True), Param("dv_o2_v", 0.0, 0.3), Param("k_t_v_per_k", 0.0, 0.03),
+           Param("ha_w_per_k", 0.005, 0.5, True), Param("cth_j_per_k", 5.0, 300.0, True)),
+    "li": (Param("r2_ohm", 1e-4, 2.0, True), Param("tau2_s", 60.0, 36000.0, True)),
+    "pb": (Param("k_charge_ohm", 1e-5, 0.1, True), Param("pol_tau_s", 30.0, 20000.0, True),
+           Param("pol_max_v", 0.01, 0.6, True)),
+}
+
+
+def family(chemistry: str) -> str:
+    return "ni" if chemistry in NI else "li" if chemistry in LI else "pb"
+
+
+@dataclass(frozen=True)
+class Battery:
+    """A chemistry with (possibly fitted) parameters, a capacity and a cell count: what ``Pack`` is built from."""
+    chem: Chemistry
+    capacity_mah: float
+    series: int
+
+    def pack(self, soc: float, ambient_c: float) -> Pack:
+        return Pack(self.chem, self.capacity_mah, self.series, soc, ambient_c)
+
+
+@dataclass
+class Run:
+    """The model driven along a curve: its voltage, current and temperature at the curve's samples."""
+    v: np.ndarray
+    i: np.ndarray
+    temp: np.ndarray
+
+
+@dataclass
+class FitResult:
+    battery: Battery
+    chemistry: str
+    params: dict
+    figures: dict
+    run: Run
+    curve: Curve
+    cv: np.ndarray
+    nfev: int = 0
+
+
+def cv_mask(curve: Curve, chemistry: str) -> np.ndarray:
+    """Samples where the charger held the voltage (never for NiCd/NiMH, which charge at constant current)."""
+    n = len(curve.t)
+    if chemistry in NI:
+        return np.zeros(n, bool)
+    vmax = float(curve.v.max())
+    reached = np.flatnonzero(curve.v >= _CV_V_FRACTION * vmax)
+    mask = np.zeros(n, bool)
+    if not len(reached):
+        return mask
+    first = reached[0]
+    i_cc = float(np.median(curve.i[:first + 1]))
+    mask[first:] = (curve.i[first:] < _CV_I_FRACTION * i_cc) & (curve.v[first:] >= _CV_HOLD_FRACTION * vmax)
+    return mask
+
+
+def cc_current(curve: Curve, cv: np.ndarray) -> float:
+    """The constant current before the voltage hold (the whole charge's median where there is none)."""
+    cc = curve.i[~cv] if (~cv).any() else curve.i
+    return float(np.median(cc[cc > 0])) if (cc > 0).any() else 1.0
+
+
+def measured(curve: Curve, cv: np.ndarray) -> np.ndarray:
+    """Samples whose voltage is compared: charging at constant current, not the CV part and not a
+    charger's measurement pause (current off for a moment: the eStation BC6 pauses every minute, and
+    a 10 s sample held at 0 A would make the model relax far more than the cell did)."""
+    return ~cv & (curve.i >= _PAUSE_FRACTION * cc_current(curve, cv))
+
+
+def simulate_curve(battery: Battery, curve: Curve, cv: np.ndarray, start_soc: float) -> Run:
+    """Drive the model with the log's current (its voltage where ``cv``); sample k is held over (t[k-1], t[k]]."""
+    ambient = float(curve.temp[0]) if curve.temp is not None else 25.0
+    pack = battery.pack(start_soc, ambient)
+    n = len(curve.t)
+    v = np.empty(n)
+    i = np.empty(n)
+    temp = np.empty(n)
+    v[0], i[0], temp[0] = pack.step(float(curve.i[0]), 1e-3), curve.i[0], pack.temp_c
+    t, vl, il = curve.t.tolist(), curve.v.tolist(), curve.i.tolist()
+    cvl = cv.tolist()
+    step, for_v = pack.step, pack.current_for_voltage
+    for k in range(1, n):
+        dt = t[k] - t[k - 1]
+        cur = max(0.0, for_v(vl[k], dt)) if cvl[k] else il[k]
+        v[k] = step(cur, dt)
+        i[k] = cur
+        temp[k] = pack.temp_c
+    return Run(v, i, temp)
+
+
+def smooth(t: np.ndarray, y: np.ndarray, window_s: float = _SMOOTH_S) -> np.ndarray:
+    dt = float(np.median(np.diff(t))) if len(t) > 1 else 1.0
+    w = max(1, int(round(window_s / max(dt, 1e-3))))
+    if w <= 1 or len(y) < w:
+        return y.copy()
+    kernel = np.ones(w) / w
+    padded = np.concatenate((np.full(w // 2, y[0]), y, np.full(w - 1 - w // 2, y[-1])))
+    return np.convolve(padded, kernel, mode="valid")
+
+
+def _peak(t: np.ndarray, v: np.ndarray, mah: np.ndarray, series: int) -> tuple[float, float]:
+    """(mAh at the smoothed voltage's maximum, its fall from there to the end in mV per cell)."""
+    s = smooth(t, v)
+    k = int(np.argmax(s))
+    return float(mah[k]), float((s[k] - s[-1]) / series * 1000.0)
+
+
+def figures(curve: Curve, run: Run, cv: np.ndarray, series: int, chemistry: str) -> dict:
+    """The figures ``zuml fit --json`` prints (None where the log has no such part)."""
+    cc = measured(curve, cv)
+    err_v = (run.v[cc] - curve.v[cc]) / series * 1000.0
+    out: dict = {"rmse_v_per_cell_mv": round(float(np.sqrt(np.mean(err_v ** 2))), 2) if cc.any() else None,
+                 "rmse_i_cv_pct": None, "peak": None, "temp_rise": None}
+    if cv.any():
+        err_i = (run.i[cv] - curve.i[cv]) / cc_current(curve, cv) * 100.0
+        out["rmse_i_cv_pct"] = round(float(np.sqrt(np.mean(err_i ** 2))), 2)
+    if chemistry in NI:
+        t, mah = curve.t[cc], curve.mah[cc]
+        real_mah, real_dv = _peak(t, curve.v[cc], mah, series)
+        model_mah, model_dv = _peak(t, run.v[cc], mah, series)
+        out["peak"] = {"real_mah": round(real_mah, 1), "model_mah": round(model_mah, 1),
+                       "real_dv_mv_per_cell": round(real_dv, 2), "model_dv_mv_per_cell": round(model_dv, 2)}
+    if curve.temp is not None:
+        out["temp_rise"] = {"real_c": round(float(np.max(curve.temp) - curve.temp[0]), 2),
+                            "model_c": round(float(np.max(run.temp) - run.temp[0]), 2)}
+    return out
+
+
+def _apply(chem: Chemistry, values: dict) -> Chemistry:
+    """The chemistry with fitted values: R scaled, OCV shifted and stretched about its mean, family keys replaced."""
+    mean = sum(chem.ocv_v) / len(chem.ocv_v)
+    scale, offset, r = values.get("ocv_scale", 1.0), values.get("ocv_offset_v", 0.0), values.get("r_scale", 1.0)
+    ocv = tuple(mean + offset + scale * (x - mean) for x in chem.ocv_v)
+    own = {k: v for k, v in values.items() if k in {f.name for f in fields(Chemistry)}}
+    own.setdefault("r2_ohm", chem.r2_ohm * r)    # a fitted slow pair is its own value, else scaled with R
+    return replace(chem, ocv_v=ocv, r0_ohm=chem.r0_ohm * r, r1_ohm=chem.r1_ohm * r, **own)
+
+
+def _residuals(curve: Curve, run: Run, cv: np.ndarray, series: int, chemistry: str, peak_real,
+               with_temp: bool = True) -> np.ndarray:
+    """Each part weighted so its sum of squares is its mean square in the units of the issue's limits."""
+    parts = []
+    cc = measured(curve, cv)
+    if cc.any():
+        parts.append((run.v[cc] - curve.v[cc]) / series * 1000.0 / math.sqrt(cc.sum()))
+    if cv.any():
+        # 10 % of the CC current weighs as much as 15 mV per cell (the two Li limits).
+        parts.append((run.i[cv] - curve.i[cv]) / cc_current(curve, cv) * 150.0 / math.sqrt(cv.sum()))
+    if curve.temp is not None:
+        parts.append((run.temp - curve.temp) * _TEMP_WEIGHT / math.sqrt(len(curve.t)))
+    if peak_real is not None:
+        model_mah, model_dv = _peak(curve.t[cc], run.v[cc], curve.mah[cc], series)
+        parts.append(np.array([(model_mah - peak_real[0]) / max(peak_real[0], 1.0) * 400.0,
+                               (model_dv - peak_real[1]) * 12.0]))
+        # The fall after the real peak, point by point: unlike the peak figures it changes smoothly
+        # with the parameters, so the optimiser finds a dip even from a model that has none.
+        k, real_tail = peak_real[2], peak_real[3]
+        model_s = smooth(curve.t[cc], run.v[cc])
+        tail = (model_s[k:] - model_s[k]) - real_tail
+        parts.append(tail / series * 1000.0 * _TAIL_WEIGHT / math.sqrt(len(tail)))
+    return np.concatenate(parts)
+
+
+def _prior(values: dict) -> np.ndarray:
+    """Soft pulls towards the chemistry's OCV: capacity and an OCV stretch trade off against each
+    other on a partial charge, and the table shape is the better-known of the two."""
+    return np.array([math.log(values.get("ocv_scale", 1.0)) * 10.0, values.get("ocv_offset_v", 0.0) * 100.0])
+
+
+def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = False,
+        base: Chemistry | None = None, max_nfev: int | None = None) -> FitResult:
+    """Fit the model of `chemistry` (or `base`) to the charge; ``only_capacity`` keeps the chemistry's
+    defaults and fits the capacity and start state only (how a user without a log would fare)."""
+    from scipy.optimize import least_squares   # lazy: scipy costs start-up time
+
+    chem = base or load_chemistry(chemistry)
+    chemistry = chem.name
+    work = curve.decimated(max(_FIT_STEP_S, float(curve.t[-1]) / _FIT_SAMPLES))
+    cv = cv_mask(work, chemistry)
+    mah = float(work.mah[-1])
+    params = list(_COMMON[:2] if only_capacity else _COMMON + _FAMILY[family(chemistry)])
+    params[0] = Param("capacity_mah", max(mah * 0.5, 1.0), mah * 20.0, True)
+    start = {"capacity_mah": min(max(mah * 1.05, params[0].lo * 1.01), params[0].hi * 0.99),
+             "start_soc": 0.05, "r_scale": 1.0, "ocv_offset_v": 0.0, "ocv_scale": 1.0}
+    for p in params[5:]:
+        start[p.name] = min(max(getattr(chem, p.name), p.lo * 1.001 if p.lo > 0 else p.lo), p.hi * 0.999)
+    if chemistry in LI:
+        # A Li charge may start anywhere: begin where the default OCV meets the first voltage.
+        start["start_soc"] = soc_at_ocv(chem, float(work.v[0]) / series)
+    real_peak = None
+    if chemistry in NI:
+        use = measured(work, cv)
+        real_s = smooth(work.t[use], work.v[use])
+        k_peak = int(np.argmax(real_s))
+        real_peak = (*_peak(work.t[use], work.v[use], work.mah[use], series), k_peak,
+                     real_s[k_peak:] - real_s[k_peak])
+
+    def solve(free: list[Param], begin: dict, end_terms: bool):
+        def to_x(values: dict) -> np.ndarray:
+            return np.array([math.log(values[p.name]) if p.log else values[p.name] for p in free])
+
+        def values_of(x: np.ndarray) -> dict:
+            return {**begin, **{p.name: (math.exp(v) if p.log else float(v)) for p, v in zip(free, x)}}
+
+        def residuals(x: np.ndarray) -> np.ndarray:
+            values = values_of(x)
+            battery = Battery(_apply(chem, values), values["capacity_mah"], series)
+            run = simulate_curve(battery, work, cv, values.get("start_soc", 0.0))
+            return np.concatenate((_residuals(work, run, cv, series, chemistry, real_peak if end_terms else None,
+                                              with_temp=end_terms), _prior(values)))
+
+        lo = np.array([math.log(p.lo) if p.log else p.lo for p in free])
+        hi = np.array([math.log(p.hi) if p.log else p.hi for p in free])
+        x0 = np.clip(to_x(begin), lo + 1e-9, hi - 1e-9)
+        sol = least_squares(residuals, x0, bounds=(lo, hi), diff_step=1e-3, x_scale="jac",
+                            max_nfev=max_nfev or _NFEV_PER_PARAM * len(free))
+        return values_of(sol.x), sol.cost, int(sol.nfev)
+
+    # The capacity and start state first, with the chemistry's defaults: that is the default
+    # model's answer, and every later stage starts from there.
+    # A Li charge may start anywhere and the LFP OCV is flat: try several start states. A Ni
+    # charge has two answers, a pack filled within the log (peak and dip) and a larger one that
+    # never fills: try capacities on both sides.
+    if chemistry in LI:
+        begins = [{**start, "start_soc": soc} for soc in (start["start_soc"], 0.1, 0.5, 0.8, 0.95)]
+    elif chemistry in NI:
+        begins = [{**start, "capacity_mah": mah * f} for f in (0.85, 1.05, 1.3)]
+    else:
+        begins = [start]
+    tries = [solve(params[:2], begin, True) for begin in begins]
+    values = min(tries, key=lambda c: c[1])[0]
+    nfev = sum(c[2] for c in tries)
+    if chemistry in NI and not only_capacity:
+        # Then the shape of the charge (OCV, resistance, the end-of-charge climb) from the voltage
+        # alone, then everything with the peak, the dip and the temperature. Fitting all at once
+        # stalls where the model has no peak (the peak terms are flat there).
+        shape = [p for p in params if p.name not in ("k_t_v_per_k", "ha_w_per_k", "cth_j_per_k")]
+        first, _, n1 = solve(shape, values, False)
+        candidates = [solve(params, first, True),
+                      solve(params, {**first, "k_t_v_per_k": 0.006, "ha_w_per_k": 0.05}, True)]
+        values = min(candidates, key=lambda c: c[1])[0]
+        nfev += n1 + sum(c[2] for c in candidates)
+    elif not only_capacity:
+        values, _, n1 = solve(params, values, True)
+        nfev += n1
+    values = {p.name: values[p.name] for p in params}
+    battery = Battery(_apply(chem, values), values["capacity_mah"], series)
+    full_cv = cv_mask(curve, chemistry)
+    run = simulate_curve(battery, curve, full_cv, values.get("start_soc", 0.0))
+    return FitResult(battery, chemistry, {k: round(v, 6) for k, v in values.items()},
+                     figures(curve, run, full_cv, series, chemistry), run, curve, full_cv, nfev)
+
+
+def soc_at_ocv(chem: Chemistry, v_cell: float) -> float:
+    """Where the OCV table reaches v_cell (clamped to 0 .. 0.95)."""
+    return float(min(0.95, max(0.0, np.interp(v_cell, chem.ocv_v, chem.ocv_soc))))
+
+
+def guess_series(curve: Curve, chemistry: str) -> int:
+    """The cell count from the log's balance taps, else from its highest voltage and the chemistry's limits."""
+    if curve.cells:
+        return curve.cells
+    chem = load_chemistry(chemistry)
+    top = chem.charge_end_v if chemistry not in NI else 1.45
+    return max(1, int(round(float(curve.v.max()) / top)))

@@ -1,0 +1,206 @@
+"""Simulate > Compare with Log…: a real charge log and the simulation of the open macro (or the
+fitted model) on the same axes, their difference below, and the figures; Fit fits the model to
+the log, Save Battery… keeps the fit as a named battery for the Model box."""
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+import pyqtgraph as pg
+from PySide6.QtCore import Qt
+from PySide6.QtWidgets import (QApplication, QComboBox, QDialog, QFileDialog, QFormLayout, QHBoxLayout,
+                               QInputDialog, QLabel, QPushButton, QSpinBox, QVBoxLayout, QWidget)
+
+from ...file_errors import FileReadError
+from ...logs import LogFormatError
+from ...sim.batteries import BatteryFileError, save_battery
+from ...sim.chemistry import chemistry_names
+from ...sim.curve import Curve, CurveError, read_curve
+from ...sim.fit import FitResult, fit, guess_series
+from ...sim.interpreter import StartError
+
+REAL_PEN = pg.mkPen("#202020", width=2)
+MODEL_PEN = pg.mkPen("#1f5fd0", width=1.5)
+DIFF_PEN = pg.mkPen("#c03030", width=1.5)
+
+
+def figures_text(report: dict) -> str:
+    """The figures as lines of text (the same keys as ``zuml fit/compare --json``)."""
+    lines = []
+    if report.get("rmse_v_per_cell_mv") is not None:
+        lines.append(f"RMSE voltage: {report['rmse_v_per_cell_mv']:g} mV per cell")
+    if report.get("rmse_i_cv_pct") is not None:
+        lines.append(f"RMSE current in CV: {report['rmse_i_cv_pct']:g} % of the CC current")
+    if report.get("peak"):
+        p = report["peak"]
+        lines.append(f"peak at {p['real_mah']:g} mAh (real), {p['model_mah']:g} mAh (model)")
+        lines.append(f"-dV {p['real_dv_mv_per_cell']:g} mV/cell (real), {p['model_dv_mv_per_cell']:g} (model)")
+    if report.get("temp_rise"):
+        t = report["temp_rise"]
+        lines.append(f"temperature rise {t['real_c']:g} °C (real), {t['model_c']:g} °C (model)")
+    for who, end in report.get("ends", {}).items():
+        lines.append(f"{who} ended at {end['time_s'] / 60:.1f} min, {end['mah']:g} mAh: {end['why']}")
+    return "\n".join(lines)
+
+
+class CompareDialog(QDialog):
+    def __init__(self, record: Callable[[], bytes | None], parent: QWidget | None = None,
+                 on_saved: Callable[[], None] | None = None, chemistry: str | None = None):
+        super().__init__(parent)
+        self.setWindowTitle("Compare with Log")
+        self.setObjectName("compareDialog")
+        self._record, self._on_saved = record, on_saved
+        self.curve: Curve | None = None
+        self.fitted: FitResult | None = None
+
+        self.log_label = QLabel("no log chosen")
+        self.log_label.setTextInteractionFlags(Qt.TextSelectableByMouse)
+        open_button = QPushButton("Log…")
+        open_button.clicked.connect(self._choose)
+        self.chemistry = QComboBox()
+        for name in chemistry_names():
+            self.chemistry.addItem(name, name)
+        self.chemistry.setCurrentIndex(max(0, self.chemistry.findData(chemistry or "NiMh")))
+        self.cells = QSpinBox()
+        self.cells.setRange(1, 255)
+        self.capacity = QSpinBox()
+        self.capacity.setRange(0, 65534)
+        self.capacity.setSuffix(" mAh")
+        self.capacity.setSpecialValueText("from the log")
+        self.simulate_button = QPushButton("Simulate Macro")
+        self.simulate_button.setToolTip("Run the open macro from the log's start and compare")
+        self.simulate_button.clicked.connect(self.compare_macro)
+        self.fit_button = QPushButton("Fit")
+        self.fit_button.setToolTip("Fit the battery model to the log (seconds)")
+        self.fit_button.clicked.connect(self.fit_log)
+        self.save_button = QPushButton("Save Battery…")
+        self.save_button.setToolTip("Keep the fitted model as a named battery for the Model box")
+        self.save_button.clicked.connect(self.save_fitted)
+        for b in (self.simulate_button, self.fit_button, self.save_button):
+            b.setEnabled(False)
+
+        form = QFormLayout()
+        row = QHBoxLayout()
+        row.addWidget(open_button)
+        row.addWidget(self.log_label, 1)
+        form.addRow("Log", row)
+        form.addRow("Chemistry", self.chemistry)
+        form.addRow("Cells", self.cells)
+        form.addRow("Capacity", self.capacity)
+
+        self.plots = pg.GraphicsLayoutWidget()
+        self.plots.setBackground("w")
+        self.v_plot = self.plots.addPlot(row=0, col=0)
+        self.v_plot.setLabel("left", "V per cell")
+        self.v_plot.addLegend(offset=(10, 10))
+        self.d_plot = self.plots.addPlot(row=1, col=0)
+        self.d_plot.setLabel("left", "model − real", units="mV/cell")
+        self.d_plot.setLabel("bottom", "time", units="min")
+        self.d_plot.setXLink(self.v_plot)
+        self.plots.ci.layout.setRowStretchFactor(0, 3)
+        self.plots.ci.layout.setRowStretchFactor(1, 1)
+
+        self.figures = QLabel("Choose a charge log, then Simulate Macro or Fit.")
+        self.figures.setTextInteractionFlags(Qt.TextSelectableByMouse)
+        self.figures.setWordWrap(True)
+        buttons = QHBoxLayout()
+        for b in (self.simulate_button, self.fit_button, self.save_button):
+            buttons.addWidget(b)
+        buttons.addStretch(1)
+        layout = QVBoxLayout(self)
+        layout.addLayout(form)
+        layout.addWidget(self.plots, 1)
+        layout.addWidget(self.figures)
+        layout.addLayout(buttons)
+        self.resize(900, 640)
+
+    # -- actions -----------------------------------------------------------------------
+    def _choose(self) -> None:
+        path, _ = QFileDialog.getOpenFileName(self, "Charge Log", "", "Logs (*.txt *.csv *.osd *.lov);;All (*)")
+        if path:
+            self.load_log(path)
+
+    def load_log(self, path: str) -> bool:
+        try:
+            self.curve = read_curve(path)
+        except (FileReadError, LogFormatError, CurveError) as exc:
+            self._error(str(exc))
+            return False
+        self.fitted = None
+        named = [c for c in chemistry_names() if c.lower() == self.curve.chemistry.lower()]
+        if named:
+            self.chemistry.setCurrentIndex(self.chemistry.findData(named[0]))   # iCharger logs name it
+        self.log_label.setText(f"{path}  ({self.curve.t[-1] / 60:.0f} min, {self.curve.mah[-1]:.0f} mAh)")
+        self.cells.setValue(guess_series(self.curve, self.chemistry.currentData()))
+        self.simulate_button.setEnabled(True)
+        self.fit_button.setEnabled(True)
+        self.save_button.setEnabled(False)
+        self._draw(None, None, "")
+        self.figures.setText("Simulate Macro or Fit.")
+        return True
+
+    def fit_log(self) -> None:
+        if self.curve is None:
+            return
+        QApplication.setOverrideCursor(Qt.WaitCursor)
+        try:
+            self.fitted = fit(self.curve, self.chemistry.currentData(), self.cells.value())
+        finally:
+            QApplication.restoreOverrideCursor()
+        self._draw(self.curve.t, self.fitted.run.v, "fitted model")
+        params = ", ".join(f"{k} {v:.4g}" for k, v in self.fitted.params.items())
+        self.figures.setText(figures_text(self.fitted.figures) + f"\nfitted: {params}")
+        self.save_button.setEnabled(True)
+
+    def compare_macro(self) -> None:
+        from ...sim.compare import compare
+
+        record = self._record()
+        if self.curve is None:
+            return
+        if record is None:
+            self._error("the open macro has errors: fix them to compare it with the log")
+            return
+        capacity = self.capacity.value() or float(self.curve.mah[-1])
+        try:
+            result = compare(self.curve, record, self.chemistry.currentData(), self.cells.value(), capacity)
+        except (StartError, ValueError, KeyError) as exc:
+            self._error(str(exc))
+            return
+        self._draw(result.t, result.run.v, "simulation")
+        self.figures.setText(figures_text(result.report))
+
+    def save_fitted(self) -> None:
+        if self.fitted is None:
+            return
+        name, ok = QInputDialog.getText(self, "Save Battery", "Name (e.g. 4S 2000 NiMH receiver pack):")
+        if ok and name.strip():
+            self.save_as(name.strip())
+
+    def save_as(self, name: str) -> bool:
+        try:
+            save_battery(name, self.fitted.battery, self.log_label.text())
+        except (BatteryFileError, OSError) as exc:
+            self._error(str(exc))
+            return False
+        self.figures.setText(self.figures.text() + f"\nsaved as '{name}'")
+        if self._on_saved:
+            self._on_saved()
+        return True
+
+    # -- drawing -----------------------------------------------------------------------
+    def _draw(self, t: np.ndarray | None, v_model: np.ndarray | None, label: str) -> None:
+        self.v_plot.clear()
+        self.d_plot.clear()
+        if self.curve is None:
+            return
+        n = self.cells.value()
+        self.v_plot.plot(self.curve.t / 60.0, self.curve.v / n, pen=REAL_PEN, name="log")
+        if t is None or v_model is None:
+            return
+        self.v_plot.plot(t / 60.0, v_model / n, pen=MODEL_PEN, name=label)
+        real = np.interp(t, self.curve.t, self.curve.v)
+        self.d_plot.plot(t / 60.0, (v_model - real) / n * 1000.0, pen=DIFF_PEN)
+
+    def _error(self, message: str) -> None:
+        self.figures.setText(f"<span style='color:#b00020'>{message}</span>")
