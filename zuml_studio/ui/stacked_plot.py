@@ -133,7 +133,8 @@ class InlineLegend(pg.TextItem):
 class StackedPlot(pg.GraphicsLayoutWidget):
     """The three x-linked plots (``vplot``, ``iplot``, ``tplot``) with their axes, legends,
     zero line, placeholder text and phase labels. Subclasses add the curves and the bands
-    (``self._phases``: objects with section, index, reason, by_default, start_s, end_s)."""
+    (``self._phases``: objects with section, index, reason, by_default, start_s, end_s;
+    ``self.curves``: name -> PlotDataItem)."""
 
     def __init__(self, object_name: str, placeholder: str, grid: bool, parent=None):
         super().__init__(parent)
@@ -294,9 +295,27 @@ class StackedPlot(pg.GraphicsLayoutWidget):
                 text = next((c for c in self._label_texts(p) if self._text_width(c) + 4 <= width_px), None)
             label.setVisible(text is not None)
             if text is not None:
-                if label.toPlainText() != text:
+                if getattr(label, "shown_text", None) != text:    # toPlainText costs half a millisecond
                     label.setText(text)
+                    label.shown_text = text
                 label.setPos(start + 2 * px, ytop)
+
+    def _thin_dense_curves(self) -> None:
+        """Dense curves (more points drawn than the plot has pixels across, as when hours of
+        samples are in view) are drawn 1 px wide: the envelope fills the band anyway, and a
+        raster painter strokes 2 px lines at twice the cost."""
+        limit = 1.5 * max(self.vplot.vb.width(), 100.0)
+        for curve in self.curves.values():
+            x, _ = curve.getData()
+            dense = x is not None and len(x) > limit
+            if dense != getattr(curve, "thin", False):
+                if not hasattr(curve, "full_pen"):
+                    curve.full_pen = pg.mkPen(curve.opts["pen"])
+                curve.thin = dense
+                pen = pg.mkPen(curve.full_pen)
+                if dense:
+                    pen.setWidthF(1.0)
+                curve.setPen(pen)
 
     def export_png(self, path: str) -> bool:
         return self.grab().save(path, "PNG")

@@ -216,20 +216,22 @@ class SimulatorPanel(QWidget):
         if self._current(job_id):
             self.form.set_progress(seconds)
 
-    def _on_done(self, job_id: int, result) -> None:
+    def _on_done(self, job_id: int, run) -> None:
         if not self._current(job_id):
             return
-        self._show(result)
+        result = run.result
+        self._show(run)
         self.form.progress_label.setText(f"{hmm(result.interpreter.time_s)} simulated "
                                          f"in {self._clock.elapsed() / 1000:.1f} s")
         self._refresh_hint()
         self.simulationFinished.emit(result)
 
-    def _on_cancelled(self, job_id: int, result) -> None:
+    def _on_cancelled(self, job_id: int, run) -> None:
         if not self._current(job_id):
             return
-        if result is not None:
-            self._show(result)
+        if run is not None:
+            result = run.result
+            self._show(run)
             at = hmm(result.interpreter.time_s)
             self.form.progress_label.setText(f"cancelled at {at}")
             self._show_message(f"cancelled at {at} (simulated time): showing the run so far", "warn")
@@ -249,9 +251,10 @@ class SimulatorPanel(QWidget):
             self.form.set_running(False)
             self._refresh_hint()
 
-    def _show(self, result) -> None:
-        self._result = result
-        self.plot.show_result(result)
+    def _show(self, run) -> None:
+        """A PlotData: the run, ready to draw."""
+        result = self._result = run.result
+        self.plot.show_result(run)
         self.table.set_result(result)
         self.totals.setText(totals_text(result))
         self.totals.setToolTip(self._repetitions_tip(result))
