@@ -31,6 +31,7 @@ LABEL_COLOR = "#1c2a44"
 WARNING_COLOR = "#b34700"
 PLACEHOLDER_COLOR = "#8a8a8a"
 
+FILL_PX = 2                   # the area under the current: one point per this many pixels at most
 AXIS_WIDTH = 54               # left and right axes, fixed: the three view boxes line up
 LABEL_PT = 8
 TICK_PT = 8
@@ -175,6 +176,10 @@ class StackedPlot(pg.GraphicsLayoutWidget):
         self.legends = {plot: InlineLegend(plot, self._label_font) for plot in self.plots}
         self.zero_line = pg.InfiniteLine(pos=0.0, angle=0, pen=ZERO_PEN, movable=False)
         self.iplot.addItem(self.zero_line, ignoreBounds=True)
+        # The area under the current (``_set_current_fill``), drawn apart from its curve.
+        self.current_fill = pg.PlotDataItem([], [], pen=None, fillLevel=0.0, fillBrush=CURRENT_FILL, antialias=False,
+                                            skipFiniteCheck=True)
+        self.iplot.addItem(self.current_fill)
         self.placeholder = pg.TextItem(placeholder, color=PLACEHOLDER_COLOR, anchor=(0.5, 0.5))
         self.placeholder.setFont(self._label_font)
         self.vplot.addItem(self.placeholder, ignoreBounds=True)
@@ -300,6 +305,13 @@ class StackedPlot(pg.GraphicsLayoutWidget):
                     label.shown_text = text
                 label.setPos(start + 2 * px, ytop)
 
+    def _set_current_fill(self, x: np.ndarray, y: np.ndarray, pairs: bool) -> None:
+        """The area under the current, from at most one point per FILL_PX pixels: pyqtgraph fills
+        a curve 50 points a polygon, and a filled curve of thousands of points (an envelope's
+        min/max pairs: ``pairs``) was the slowest thing on the plot."""
+        points = max(50, int(self.iplot.vb.width()) // FILL_PX)
+        self.current_fill.setData(*area_outline(x, y, points, pairs))
+
     def _thin_dense_curves(self) -> None:
         """Dense curves (more points drawn than the plot has pixels across, as when hours of
         samples are in view) are drawn 1 px wide: the envelope fills the band anyway, and a
@@ -319,3 +331,17 @@ class StackedPlot(pg.GraphicsLayoutWidget):
 
     def export_png(self, path: str) -> bool:
         return self.grab().save(path, "PNG")
+
+
+def area_outline(x: np.ndarray, y: np.ndarray, points: int, pairs: bool) -> tuple[np.ndarray, np.ndarray]:
+    """At most about ``points`` points that keep, per group of samples (or of min/max pairs:
+    ``pairs``), the one farthest from zero: the outline of the area under a curve."""
+    if pairs:
+        x, y = x[0::2], np.where(y[1::2] > -y[0::2], y[1::2], y[0::2])
+    step = max(1, -(-len(x) // max(1, points)))
+    if step == 1:
+        return x, y
+    k = len(x) // step * step
+    groups = y[:k].reshape(-1, step)
+    far = groups[np.arange(len(groups)), np.abs(groups).argmax(axis=1)]
+    return np.append(x[:k:step], x[k:]), np.append(far, y[k:])

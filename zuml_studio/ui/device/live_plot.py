@@ -28,7 +28,7 @@ import pyqtgraph as pg
 from PySide6.QtCore import QTimer, Signal
 
 from ..plot_backdrop import BackdropItem, over_paper
-from ..stacked_plot import (BAND_ALPHA, BATTERY_T_PEN, CURRENT_FILL, CURRENT_PEN, HEATSINK_T_PEN, LABEL_COLOR,
+from ..stacked_plot import (BAND_ALPHA, BATTERY_T_PEN, CURRENT_PEN, HEATSINK_T_PEN, LABEL_COLOR,
                             VOLTAGE_PEN, WARNING_COLOR, StackedPlot, band_label, band_rgb)
 from .envelope import Envelope
 from .growing_buffer import GrowingBuffer
@@ -173,8 +173,7 @@ class LivePlot(StackedPlot):
         self.redraws = 0
         self.curves = {
             "voltage": self._curve(self.vplot, VOLTAGE_PEN, "pack voltage"),
-            "current": self._curve(self.iplot, CURRENT_PEN, "+ charge, − discharge",
-                                   fillLevel=0.0, fillBrush=CURRENT_FILL),
+            "current": self._curve(self.iplot, CURRENT_PEN, "+ charge, − discharge"),
             "temp": self._curve(self.tplot, BATTERY_T_PEN, "battery", connect="finite"),
             "heatsink": self._curve(self.tplot, HEATSINK_T_PEN, "heat sink", connect="finite"),
         }
@@ -324,6 +323,7 @@ class LivePlot(StackedPlot):
         self.level, x, ys = self.envelope.view(x0, x1, bins=max(100, int(width)))
         for name in COLUMNS[1:]:
             self.curves[name].setData(x, ys[name])
+        self._set_current_fill(x, ys["current"], self.level > 0)
 
     def _apply_follow(self) -> None:
         first, last = self._extent()

@@ -13,13 +13,12 @@ import pyqtgraph as pg
 from PySide6.QtCore import Signal
 
 from ..plot_backdrop import BackdropItem, over_paper
-from ..stacked_plot import (BAND_ALPHA, BATTERY_T_PEN, CURRENT_FILL, CURRENT_PEN, HEATSINK_T_PEN, LABEL_COLOR,
+from ..stacked_plot import (BAND_ALPHA, BATTERY_T_PEN, CURRENT_PEN, HEATSINK_T_PEN, LABEL_COLOR,
                             VOLTAGE_PEN, WARNING_COLOR, StackedPlot, band_label, band_rgb)
 from .plot_data import CLOCK, CURVES, PlotData
 
 SELECTED_ALPHA = 80
 BAND_EDGE_ALPHA = 110
-FILL_PX = 2
 
 
 class ChargePlot(StackedPlot):
@@ -40,12 +39,6 @@ class ChargePlot(StackedPlot):
             "temp": self._curve(self.tplot, BATTERY_T_PEN, "battery"),
             "heatsink": self._curve(self.tplot, HEATSINK_T_PEN, "heat sink"),
         }
-        # The area under the current, from at most one point per FILL_PX pixels: pyqtgraph fills
-        # a curve 50 points a polygon, and the min/max envelope's thousands of points made
-        # the fill the slowest thing on the plot.
-        self.current_fill = pg.PlotDataItem([], [], pen=None, fillLevel=0.0, fillBrush=CURRENT_FILL,
-                                            antialias=False, skipFiniteCheck=True)
-        self.iplot.addItem(self.current_fill)
         self.band_items = [BackdropItem(plot, self.time_axis) for plot in self.plots]
         for plot, item in zip(self.plots, self.band_items):
             plot.addItem(item, ignoreBounds=True)
@@ -98,7 +91,7 @@ class ChargePlot(StackedPlot):
         self.level, x, ys = self._run.envelope.view(x0, x1, bins=max(100, int(width)))
         for name, column in CURVES.items():
             self.curves[name].setData(x, ys[column])
-        self.current_fill.setData(*_outline(x, ys["current_a"], max(50, int(width) // FILL_PX), self.level > 0))
+        self._set_current_fill(x, ys["current_a"], self.level > 0)
 
     def _set_bands(self, phases: list) -> None:
         """One item per plot draws every band; the labels are kept and reused."""
@@ -176,16 +169,3 @@ class ChargePlot(StackedPlot):
                     self.phaseClicked.emit(row)
                 return
 
-
-def _outline(x: np.ndarray, y: np.ndarray, points: int, pairs: bool) -> tuple[np.ndarray, np.ndarray]:
-    """At most about ``points`` points that keep, per group of samples (or of min/max pairs:
-    ``pairs``), the one farthest from zero: the outline of the area under a curve."""
-    if pairs:
-        x, y = x[0::2], np.where(y[1::2] > -y[0::2], y[1::2], y[0::2])
-    step = max(1, -(-len(x) // max(1, points)))
-    if step == 1:
-        return x, y
-    k = len(x) // step * step
-    groups = y[:k].reshape(-1, step)
-    far = groups[np.arange(len(groups)), np.abs(groups).argmax(axis=1)]
-    return np.append(x[:k:step], x[k:]), np.append(far, y[k:])
