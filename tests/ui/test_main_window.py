@@ -176,10 +176,14 @@ def test_object_names_for_tests_are_stable(make_window):
         assert w.findChild(object, name) is not None, name
 
 
-def test_library_lists_the_standard_macros_and_opens_one(make_window):
+def test_library_lists_the_standard_macros_and_opens_one(make_window, qtbot):
     w = make_window()
     paths = w.library.paths()
     assert any(p.endswith("NiMh.zuml") for p in paths)
+    qtbot.waitUntil(w.library.described, timeout=10_000)        # type and size come after first paint
+    root = w.library.topLevelItem(0)
+    nimh = next(root.child(j) for j in range(root.childCount()) if root.child(j).text(0) == "NiMh")
+    assert (nimh.text(1), nimh.text(2)) == ("NiMh", f"{len(compile_source(MACROS.joinpath('NiMh.zuml').read_text()).record)} B")
     w.library.fileActivated.emit(next(p for p in paths if p.endswith("NiMh.zuml")))
     assert w.path.endswith("NiMh.zuml") and "NiMh" in w.windowTitle()
 
