@@ -171,6 +171,7 @@ def test_layout_and_recent_files_are_remembered(make_window, tmp_path):
 
 def test_object_names_for_tests_are_stable(make_window):
     w = make_window(LIPO)
+    assert w.device_panel is w.findChild(object, "devicePanel")     # built after the first paint, or on first use
     for name in ("editor", "problems", "hexView", "libraryBrowser", "simulatorPanel", "simPlot", "phaseTable",
                  "visualEditor", "devicePanel", "livePlot"):
         assert w.findChild(object, name) is not None, name
@@ -211,7 +212,7 @@ def test_the_device_panel_flashes_the_editors_macro_and_plots_it_live(make_windo
     if os.name != "posix":
         return
     w = make_window(str(MACROS / "NiMh-dV.zuml"))
-    panel = w.findChild(object, "devicePanel")
+    panel = w.device_panel
     panel.v_speed.setValue(2000)         # a 65-minute charge in about two seconds
     panel.rate.setValue(50)
     with qtbot.waitSignal(panel.connectedChanged, timeout=30000):
