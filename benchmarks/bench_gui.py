@@ -222,15 +222,12 @@ def edit_to_plot(app, window) -> None:
     for i in range(8):
         text = NIMH_TRAIN.replace("IF(T>45)", f"IF(T>{44 + i % 2})")
         window.editor.setPlainText(text)
-        done = [False]
-        panel.simulationFinished.connect(lambda _r: done.__setitem__(0, True))
+        at_done: list[int] = []          # the paint count when the run was drawn (its paint comes after)
+        panel.simulationFinished.connect(lambda _r: at_done.append(painted[0]))
         t = time.perf_counter()
         window.validate_now()
         panel.simulate()
-        while not done[0]:
-            app.processEvents(QEventLoop.ProcessEventsFlag.AllEvents, 5)
-        before = painted[0]
-        while painted[0] == before:
+        while not at_done or painted[0] == at_done[0]:
             app.processEvents(QEventLoop.ProcessEventsFlag.AllEvents, 5)
         times.append((time.perf_counter() - t) * 1000.0)
         panel.simulationFinished.disconnect()
