@@ -310,3 +310,14 @@ def test_renders_as_a_bottom_dock(panel, run, macro, values, tmp_path):
         assert image.save(path)
         assert os.path.getsize(path) > 10_000
     assert panel.plot.width() >= 280 and panel.table.width() >= 180
+
+
+def test_a_long_training_gets_a_label_per_phase_a_few_per_event_loop_turn(panel, run, qtbot):
+    from zuml_studio.ui.sim.charge_plot import LABELS_PER_TURN
+
+    result = run("LiPo", task="train", repetitions=6, **LIPO)
+    assert len(result.phases) > LABELS_PER_TURN
+    qtbot.waitUntil(lambda: len(panel.plot.labels) == len(result.phases), timeout=5000)
+    assert band_counts(panel) == [len(result.phases)] * 3
+    run("LiPo", **LIPO)                     # fewer phases: the extra labels go
+    assert len(panel.plot.labels) == 2

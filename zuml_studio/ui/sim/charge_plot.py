@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 import pyqtgraph as pg
-from PySide6.QtCore import Signal
+from PySide6.QtCore import QTimer, Signal
 
 from ..plot_backdrop import BackdropItem, over_paper
 from ..stacked_plot import (BAND_ALPHA, BATTERY_T_PEN, CURRENT_PEN, HEATSINK_T_PEN, LABEL_COLOR,
@@ -19,6 +19,7 @@ from .plot_data import CLOCK, CURVES, PlotData
 
 SELECTED_ALPHA = 80
 BAND_EDGE_ALPHA = 110
+LABELS_PER_TURN = 8
 
 
 class ChargePlot(StackedPlot):
@@ -97,17 +98,26 @@ class ChargePlot(StackedPlot):
         """One item per plot draws every band; the labels are kept and reused."""
         while len(self.labels) > len(phases):
             self.vplot.removeItem(self.labels.pop())
-        while len(self.labels) < len(phases):
-            self._new_label()
         self._phases = phases
         self._selected = -1
         parity = {"charge": 0, "discharge": 0}
         self._alphas = []
-        for p, label in zip(phases, self.labels):
+        for p in phases:
             self._alphas.append(BAND_ALPHA[parity.get(p.section, 0) % 2])
             parity[p.section] = parity.get(p.section, 0) + 1
-            label.setColor(WARNING_COLOR if p.by_default else LABEL_COLOR)
         self._draw_bands()
+        self._add_labels()
+
+    def _add_labels(self) -> None:
+        """Labels for the phases, at most LABELS_PER_TURN new ones per turn of the event loop
+        (a label costs about a millisecond to make; a long training has hundreds of phases)."""
+        for _ in range(min(LABELS_PER_TURN, len(self._phases) - len(self.labels))):
+            self._new_label()
+        for p, label in zip(self._phases, self.labels):
+            label.setColor(WARNING_COLOR if p.by_default else LABEL_COLOR)
+        self._place_labels()
+        if len(self.labels) < len(self._phases):
+            QTimer.singleShot(0, self, self._add_labels)
 
     def _draw_bands(self) -> None:
         spans, tips = [], []
