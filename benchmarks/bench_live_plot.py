@@ -5,7 +5,12 @@ Prints the median redraw time per frame (target < 20 ms), for the last 30 minute
 (every frame takes the new samples into the min/max envelopes and draws the view from them),
 and for a view that stays while samples arrive right of it (no setData; the repaint alone).
 Every frame paints the whole plot widget exactly once. Numbers only.
-Run: python benchmarks/bench_live_plot.py [points]"""
+Run: python benchmarks/bench_live_plot.py [points]
+
+With ``--hours H`` (issue 16): H hours of 50 Hz telemetry fed as the reader thread does
+(one-second blocks, a redraw every simulated minute), then the memory the process gained
+(resident set; target <= 150 MB after 24 h) and the frame cost with the whole session in view.
+Run: python benchmarks/bench_live_plot.py --hours 24"""
 from __future__ import annotations
 
 import os
@@ -68,9 +73,58 @@ def frames(app, plot, follow: bool, room: bool = True) -> float:
     return statistics.median(costs)
 
 
+def _status_mb(key: str) -> float:
+    with open("/proc/self/status") as fh:
+        for line in fh:
+            if line.startswith(key):
+                return int(line.split()[1]) / 1024.0
+    return float("nan")
+
+
+def rss_mb() -> float:
+    return _status_mb("VmRSS:")
+
+
+def peak_mb() -> float:
+    return _status_mb("VmHWM:")
+
+
+def session(app, hours: float) -> None:
+    from zuml_studio.ui.device.live_plot import LivePlot
+
+    plot = LivePlot()
+    plot.resize(840, 360)
+    plot.show()
+    app.processEvents()
+    base = rss_mb()
+    buf = plot.series.buffer
+    rng = np.random.default_rng(1)
+    seconds = int(hours * 3600)
+    start = time.perf_counter()
+    for s in range(seconds):
+        t = s + np.arange(50) / 50.0
+        buf.extend({"t": t, "voltage": 5.6 + 0.4 * np.sin(t / 5000.0) + rng.normal(0, 0.003, 50),
+                    "current": np.full(50, 2.0 if (s // 20000) % 2 == 0 else -1.0),
+                    "temp": 25 + 5 * np.sin(t / 9000.0), "heatsink": 30 + 3 * np.cos(t / 7000.0)})
+        if s % 60 == 59:
+            plot.refresh()
+    plot.refresh()
+    app.processEvents()
+    fed = time.perf_counter() - start
+    gained = rss_mb() - base
+    peak = peak_mb() - base
+    whole = frames(app, plot, False)
+    print(f"{hours:g} h at 50 Hz: {len(buf):,} samples fed in {fed:.1f} s; the process gained {gained:.0f} MB, "
+          f"{peak:.0f} MB at its peak "
+          f"(target <= 150 MB); redraw per frame, whole session in view: {whole:.1f} ms (target <= 20 ms)")
+
+
 def main() -> None:
-    points = int(sys.argv[1]) if len(sys.argv) > 1 else 1_000_000
     app = QApplication.instance() or QApplication(sys.argv[:1])
+    if "--hours" in sys.argv:
+        session(app, float(sys.argv[sys.argv.index("--hours") + 1]))
+        return
+    points = int(sys.argv[1]) if len(sys.argv) > 1 else 1_000_000
     from zuml_studio.ui.device.live_plot import LivePlot
 
     plot = LivePlot()

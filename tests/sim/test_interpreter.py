@@ -1,4 +1,5 @@
 """The interpreter's semantics (spec §3), one behaviour per test."""
+import numpy as np
 import pytest
 
 from simhelp import macro, record_of, run, start
@@ -133,7 +134,7 @@ def test_ticking_in_small_steps_gives_the_same_run_as_one_call():
     stepped = start("NiMh-dV", capacity=2000, series=4, current=2.0, sensor=False)
     while stepped.interpreter.advance(7):
         pass
-    assert stepped.log.voltage_v == whole.log.voltage_v
+    assert np.array_equal(stepped.log.voltage_v, whole.log.voltage_v)
     assert [p.reason for p in stepped.phases] == [p.reason for p in whole.phases]
 
 
@@ -150,8 +151,9 @@ def test_noise_is_seeded_and_reproducible():
     m = Measurement(noise_v=0.004, lsb_v=0.005, seed=7)
     a = run("NiMh-dV", capacity=2000, series=4, current=2.0, sensor=False, measurement=m)
     b = run("NiMh-dV", capacity=2000, series=4, current=2.0, sensor=False, measurement=m)
-    assert a.log.voltage_v == b.log.voltage_v
-    assert all(abs(round(v / 0.005) * 0.005 - v) < 1e-9 for v in a.log.voltage_v[:100])
+    assert np.array_equal(a.log.voltage_v, b.log.voltage_v)
+    v = a.log.voltage_v[:100]                       # stored as float32: quantised to its precision
+    assert np.allclose(np.round(v / 0.005) * 0.005, v, rtol=0, atol=2e-6)
     assert a.phases[0].reason == "IF(DELTA_PEAK>0.01S) STOP_FAZE"
 
 
@@ -166,5 +168,12 @@ def test_invalid_records_never_run():
 
 def test_a_macro_that_never_ends_stops_at_the_simulation_limit():
     body = "FAZE CONSTANT_I=0.5A END_FAZE"
-    r = run(macro("", body), "discharge", capacity=1000, series=1, soc=0.2)
-    assert r.phases[0].reason.startswith("limit: simulation stopped after 48h")
+    r = run(macro("", body), "discharge", capacity=1000, series=1, soc=0.2, tick_s=60.0)
+    assert r.phases[0].reason.startswith("limit: simulation stopped after 1000h")
+
+
+def test_a_200_hour_training_runs_to_its_end():
+    # 10 cycles of a 10 Ah pack at 0.1C, no sensor (each charge ends at 1.5x the capacity): ~250 h
+    r = run("NiMh", "train", capacity=10000, current=1.0, series=4, repetitions=10, sensor=False, tick_s=10.0)
+    assert r.interpreter.end_reason == "end of macro" and r.interpreter.time_s > 200 * 3600
+    assert len(r.log) == r.interpreter.time_s / 10.0

@@ -171,15 +171,20 @@ def test_layout_and_recent_files_are_remembered(make_window, tmp_path):
 
 def test_object_names_for_tests_are_stable(make_window):
     w = make_window(LIPO)
+    assert w.device_panel is w.findChild(object, "devicePanel")     # built after the first paint, or on first use
     for name in ("editor", "problems", "hexView", "libraryBrowser", "simulatorPanel", "simPlot", "phaseTable",
                  "visualEditor", "devicePanel", "livePlot"):
         assert w.findChild(object, name) is not None, name
 
 
-def test_library_lists_the_standard_macros_and_opens_one(make_window):
+def test_library_lists_the_standard_macros_and_opens_one(make_window, qtbot):
     w = make_window()
     paths = w.library.paths()
     assert any(p.endswith("NiMh.zuml") for p in paths)
+    qtbot.waitUntil(w.library.described, timeout=10_000)        # type and size come after first paint
+    root = w.library.topLevelItem(0)
+    nimh = next(root.child(j) for j in range(root.childCount()) if root.child(j).text(0) == "NiMh")
+    assert (nimh.text(1), nimh.text(2)) == ("NiMh", f"{len(compile_source(MACROS.joinpath('NiMh.zuml').read_text()).record)} B")
     w.library.fileActivated.emit(next(p for p in paths if p.endswith("NiMh.zuml")))
     assert w.path.endswith("NiMh.zuml") and "NiMh" in w.windowTitle()
 
@@ -221,7 +226,7 @@ def test_the_device_panel_flashes_the_editors_macro_and_plots_it_live(make_windo
     if os.name != "posix":
         return
     w = make_window(str(MACROS / "NiMh-dV.zuml"))
-    panel = w.findChild(object, "devicePanel")
+    panel = w.device_panel
     panel.v_speed.setValue(2000)         # a 65-minute charge in about two seconds
     panel.rate.setValue(50)
     with qtbot.waitSignal(panel.connectedChanged, timeout=30000):

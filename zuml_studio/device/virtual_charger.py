@@ -631,7 +631,7 @@ class VirtualCharger:
                     break
                 it.advance(min(due, MAX_TICKS_PER_STEP))
                 self._flush_events(run)
-                _trim(it.log)
+                it.log.keep_last()
                 if it.finished:
                     self._idle_wall = now
                     self._next_telemetry = now
@@ -679,19 +679,19 @@ class VirtualCharger:
                             self.charger.heatsink_c, 0.0, 0.0)
         else:
             it = run.interpreter
-            log = it.log
+            last = it.log.last()
             ph = it.phases[-1] if it.phases else None
             if not it.finished:
                 t = m.Telemetry(
-                    log.time_s[-1], run.params.task, ph.section if ph else "", ph.repetition if ph else 0,
+                    last.time_s, run.params.task, ph.section if ph else "", ph.repetition if ph else 0,
                     ph.cycle_pass if ph else 0, ph.index if ph else 0, ph.run if ph else 0, True, it.paused,
-                    self.sensor, log.voltage_v[-1], log.current_a[-1], log.temp_c[-1] if self.sensor else None,
-                    log.heatsink_c[-1], log.mah_in[-1], log.mah_out[-1])
+                    self.sensor, last.voltage_v, last.current_a, last.temp_c if self.sensor else None,
+                    last.heatsink_c, last.mah_in, last.mah_out)
             else:       # after the end the battery rests: live readings, the run's totals
                 t = m.Telemetry(
                     it.time_s, run.params.task, "", ph.repetition if ph else 0, 0, 0, 0, False, False,
                     self.sensor, self.pack.voltage, 0.0, sensor_t, self.charger.heatsink_c,
-                    log.mah_in[-1], log.mah_out[-1])
+                    last.mah_in, last.mah_out)
         return self._device_frame(m.TELEMETRY, t.encode())
 
     def _device_frame(self, type_: int, payload: bytes) -> bytes:
@@ -756,11 +756,3 @@ class _Refused(Exception):
         super().__init__(message)
         self.code = code
         self.message = message
-
-
-def _trim(log) -> None:
-    """Keep only the newest sample of the interpreter's log (the device streams, it does not store)."""
-    if len(log) > 1:
-        for name in ("time_s", "section", "phase", "voltage_v", "current_a", "temp_c", "heatsink_c",
-                     "mah_in", "mah_out"):
-            del getattr(log, name)[:-1]

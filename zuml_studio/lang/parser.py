@@ -17,6 +17,7 @@ import re
 from lark import Lark, Token, Transformer
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
+from ..cache_dir import cache_file
 from .ast import Span
 from .diagnostics import Diagnostic, Severity
 from .opcodes import CONDITION_OUTCOMES
@@ -77,8 +78,10 @@ def _lark() -> Lark:
     outcomes = "|".join(sorted(CONDITION_OUTCOMES))
     grammar = (resources.files(__package__) / "grammar.lark").read_text(encoding="utf-8")
     grammar = grammar.replace("@OUTCOMES@", f"/({outcomes})(?![A-Za-z0-9_])/i")
+    # lark checks the cached analysis against the grammar, the options and its own version,
+    # and rebuilds (and rewrites) it when they differ or the file is unreadable.
     return Lark(grammar, parser="lalr", start=["first", "line"], maybe_placeholders=True,
-                transformer=_ToRaw())
+                transformer=_ToRaw(), cache=cache_file("grammar.lark-cache") or False)
 
 
 def _tok(t: Token) -> Tok:

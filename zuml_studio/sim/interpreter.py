@@ -34,8 +34,11 @@ DEFAULT_DISCHARGE_A = 0.1
 # dT/dt as cheali-charger measures it: the temperature change over a 60 s window, not before 2 min.
 DTDT_WINDOW_S = 60.0
 DTDT_HOLDOFF_S = 120.0
-# Not a charger rule: a simulation of a macro that never ends stops here, and says so.
-DEFAULT_LIMIT_S = 48 * 3600.0
+# Not a charger rule: a simulation of a macro that never ends stops here, and says so. The
+# charger sets no limit of its own (cheali's time limit defaults to unlimited; tm and tf are
+# u32 tenths of a second, 119 304 h), so the bound is the simulator's: 1000 h holds a 10-cycle
+# training of a 10 Ah pack at 0.1C (~200 h) five times over, at 30 bytes a tick (~108 MB at 1 s).
+DEFAULT_LIMIT_S = 1000 * 3600.0
 
 _CC, _CV, _PULSE, _TRICKLE = range(4)
 _TIMERS = (87, 88)          # tm, tf: a phase they end is checked against the capacity (timer before full)
@@ -242,7 +245,10 @@ class Interpreter:
         while left > 0 and not self.finished:
             if self._active is None and not self._next_phase():
                 break
-            left -= self._ticks(self._active, left)
+            left -= self._ticks(self._active, min(left, self.log.room))
+            self.log.seal_if_full()
+        if self.finished:
+            self.log.seal()
         return not self.finished
 
     def _next_phase(self) -> bool:

@@ -1,10 +1,12 @@
 """The macro library: the standard macros shipped in the package and the user's own folder.
-Each entry says its chemistry and size, read by compiling it (a few ms for all)."""
+Each entry says its chemistry and size, read by compiling it: after the names are listed,
+one file per turn of the event loop, so that neither the window's first paint nor a
+folder's refresh waits for a dozen compilations."""
 from __future__ import annotations
 
 from pathlib import Path
 
-from PySide6.QtCore import QFileSystemWatcher, Qt, Signal
+from PySide6.QtCore import QFileSystemWatcher, Qt, QTimer, Signal
 from PySide6.QtGui import QColor
 from PySide6.QtWidgets import QHeaderView, QTreeWidget, QTreeWidgetItem
 
@@ -48,6 +50,9 @@ class LibraryBrowser(QTreeWidget):
         self.itemDoubleClicked.connect(self._activated)
         self._watcher = QFileSystemWatcher(self)
         self._watcher.directoryChanged.connect(lambda _path: self.refresh())
+        self._undescribed: list[QTreeWidgetItem] = []
+        self._describer = QTimer(self, interval=0)
+        self._describer.timeout.connect(self._describe_next)
         self.refresh()
 
     def folders(self) -> list[tuple[str, Path]]:
@@ -55,6 +60,7 @@ class LibraryBrowser(QTreeWidget):
 
     def refresh(self) -> None:
         self.clear()
+        self._undescribed = []
         for title, folder in self.folders():
             root = QTreeWidgetItem([title, "", ""])
             root.setToolTip(0, str(folder))
@@ -64,13 +70,11 @@ class LibraryBrowser(QTreeWidget):
             self.addTopLevelItem(root)
             files = sorted(folder.glob(f"*{EXTENSION}"), key=lambda p: p.name.lower()) if folder.is_dir() else []
             for path in files:
-                chemistry, size, valid = describe(path)
-                item = QTreeWidgetItem([path.stem, chemistry, size])
+                item = QTreeWidgetItem([path.stem, "", "…"])
                 item.setData(0, _PATH, str(path))
                 item.setToolTip(0, str(path))
-                if not valid:
-                    item.setForeground(2, QColor("#b00020"))
                 root.addChild(item)
+                self._undescribed.append(item)
             if not files:
                 empty = QTreeWidgetItem(["(no macros yet)" if folder == self.user_dir else "(none)", "", ""])
                 empty.setForeground(0, QColor("#888888"))
@@ -78,6 +82,22 @@ class LibraryBrowser(QTreeWidget):
             root.setExpanded(True)
             if folder.is_dir() and str(folder) not in self._watcher.directories():
                 self._watcher.addPath(str(folder))
+        self._describer.start()
+
+    def _describe_next(self) -> None:
+        if not self._undescribed:
+            self._describer.stop()
+            return
+        item = self._undescribed.pop(0)
+        chemistry, size, valid = describe(Path(item.data(0, _PATH)))
+        item.setText(1, chemistry)
+        item.setText(2, size)
+        if not valid:
+            item.setForeground(2, QColor("#b00020"))
+
+    def described(self) -> bool:
+        """Every entry's chemistry and size are shown."""
+        return not self._undescribed
 
     def paths(self) -> list[str]:
         out = []

@@ -9,14 +9,13 @@ from pathlib import Path
 
 from PySide6.QtCore import QEvent, QSettings, QSize, QStandardPaths, Qt
 from PySide6.QtGui import QAction, QKeySequence
-from PySide6.QtWidgets import QDockWidget, QFileDialog, QLabel, QMainWindow, QMessageBox, QStyle, QToolBar
+from PySide6.QtWidgets import QDockWidget, QFileDialog, QLabel, QMainWindow, QMessageBox, QStyle, QToolBar, QWidget
 
 from .. import data
 from ..lang import opcodes as ops
 from ..lang.compiler import CompileResult, compile_source
 from ..macro_file import EXTENSION, MacroFile, MacroFileError, read_macro_file, write_macro_file
 from ..recovery import Recovered, RecoveryStore, atomic_write, config_dir
-from .device.device_panel import DevicePanel
 from . import theme
 from .editor.code_editor import EditorWithFind
 from .editor.highlighter import ops_at
@@ -32,6 +31,7 @@ from .visual import NewMacroWizard, VisualEditor
 from .window_geometry import first_geometry, fits
 
 APP_NAME = "ZUML Studio"
+DEVICE_PANEL_DELAY_MS = 300      # built after the first paint: its tab is not the one in front
 MAX_RECENT = 10
 LAYOUT_VERSION = 4      # raise when docks or toolbars are added or removed: an older saved layout is then ignored
 EMPTY_MACRO = """MACRO NewMacro
@@ -97,7 +97,7 @@ class MainWindow(QMainWindow):
         self.library = LibraryBrowser(self.user_macros)
         self.sim_panel = SimulatorPanel()
         self.visual = VisualEditor(self.editor)
-        self.device_panel = DevicePanel(self._current_record, self.config / "sessions")
+        self._device_panel = None
 
         self.library_dock = self._dock("Library", "libraryDock", self.library, Qt.DockWidgetArea.LeftDockWidgetArea)
         self.hex_dock = self._dock("Bytes", "hexDock", self.hex_view, Qt.DockWidgetArea.RightDockWidgetArea)
@@ -107,7 +107,9 @@ class MainWindow(QMainWindow):
         self.problems_dock = self._dock("Problems", "problemsDock", self.problems,
                                         Qt.DockWidgetArea.BottomDockWidgetArea)
         self.sim_dock = self._dock("Simulator", "simulatorDock", self.sim_panel, Qt.DockWidgetArea.BottomDockWidgetArea)
-        self.device_dock = self._dock("Device", "deviceDock", self.device_panel, Qt.DockWidgetArea.BottomDockWidgetArea)
+        self.device_dock = self._dock("Device", "deviceDock", QWidget(), Qt.DockWidgetArea.BottomDockWidgetArea)
+        self.device_dock.visibilityChanged.connect(lambda visible: visible and self.device_panel)
+        QTimer.singleShot(DEVICE_PANEL_DELAY_MS, self, lambda: self.isVisible() and self.device_panel)
         self.splitDockWidget(self.problems_dock, self.sim_dock, Qt.Orientation.Horizontal)
         self.tabifyDockWidget(self.sim_dock, self.device_dock)
         self.sim_dock.raise_()
@@ -123,6 +125,18 @@ class MainWindow(QMainWindow):
         self.statusBar().addPermanentWidget(self.pos_label)
         self.statusBar().addPermanentWidget(self.size_label)
         self.statusBar().addPermanentWidget(self.state_label)
+
+    @property
+    def device_panel(self):
+        """The Device panel, built on first use (or shortly after the window's first paint)."""
+        if self._device_panel is None:
+            from .device.device_panel import DevicePanel
+
+            panel = DevicePanel(self._current_record, self.config / "sessions")
+            panel.statusMessage.connect(lambda message: self.statusBar().showMessage(message, 6000))
+            self._device_panel = panel
+            self.device_dock.setWidget(panel)
+        return self._device_panel
 
     def _dock(self, title: str, name: str, widget, area) -> QDockWidget:
         dock = QDockWidget(title, self)
@@ -295,7 +309,6 @@ class MainWindow(QMainWindow):
         self.validator.validated.connect(self._validated)
         self.validator.validated.connect(self.visual.show_result)
         self.visual.statusMessage.connect(lambda message: self.statusBar().showMessage(message, 6000))
-        self.device_panel.statusMessage.connect(lambda message: self.statusBar().showMessage(message, 6000))
         self.hex_view.lineActivated.connect(lambda line: self.editor.goto(line))
         self.hex_view.rowsSelected.connect(self.editor.set_linked_lines)
         self.problems.problemActivated.connect(self.editor.goto)
@@ -650,7 +663,8 @@ class MainWindow(QMainWindow):
             event.ignore()
             return
         self.sim_panel.cancel()
-        self.device_panel.shutdown()
+        if self._device_panel is not None:
+            self._device_panel.shutdown()
         self.recovery.discard(self._recovery_key)
         self.settings.setValue("lastOpen", self.path or "")
         self.settings.setValue("geometry", self.saveGeometry())

@@ -33,6 +33,7 @@ PLACEHOLDER_COLOR = "#8a8a8a"
 
 # Smallest y spans: a flat 25 °C reads 24–26, not 24.995–25.005.
 MIN_SPAN = {"current": 0.2, "temp": 2.0}
+FILL_PX = 2                   # the area under the current: one point per this many pixels at most
 AXIS_WIDTH = 54               # left and right axes, fixed: the three view boxes line up
 LABEL_PT = 8
 TICK_PT = 8
@@ -147,7 +148,8 @@ class InlineLegend(pg.TextItem):
 class StackedPlot(pg.GraphicsLayoutWidget):
     """The three x-linked plots (``vplot``, ``iplot``, ``tplot``) with their axes, legends,
     zero line, placeholder text and phase labels. Subclasses add the curves and the bands
-    (``self._phases``: objects with section, index, reason, by_default, start_s, end_s)."""
+    (``self._phases``: objects with section, index, reason, by_default, start_s, end_s;
+    ``self.curves``: name -> PlotDataItem)."""
 
     def __init__(self, object_name: str, placeholder: str, grid: bool, parent=None):
         super().__init__(parent)
@@ -189,6 +191,10 @@ class StackedPlot(pg.GraphicsLayoutWidget):
         self.legends = {plot: InlineLegend(plot, self._label_font) for plot in self.plots}
         self.zero_line = pg.InfiniteLine(pos=0.0, angle=0, pen=ZERO_PEN, movable=False)
         self.iplot.addItem(self.zero_line, ignoreBounds=True)
+        # The area under the current (``_set_current_fill``), drawn apart from its curve.
+        self.current_fill = pg.PlotDataItem([], [], pen=None, fillLevel=0.0, fillBrush=CURRENT_FILL, antialias=False,
+                                            skipFiniteCheck=True)
+        self.iplot.addItem(self.current_fill)
         self.placeholder = pg.TextItem(placeholder, color=PLACEHOLDER_COLOR, anchor=(0.5, 0.5))
         self.placeholder.setFont(self._label_font)
         self.vplot.addItem(self.placeholder, ignoreBounds=True)
@@ -311,9 +317,48 @@ class StackedPlot(pg.GraphicsLayoutWidget):
                 text = next((c for c in self._label_texts(p) if self._text_width(c) + 4 <= width_px), None)
             label.setVisible(text is not None)
             if text is not None:
-                if label.toPlainText() != text:
+                if getattr(label, "shown_text", None) != text:    # toPlainText costs half a millisecond
                     label.setText(text)
+                    label.shown_text = text
                 label.setPos(start + 2 * px, ytop)
+
+    def _set_current_fill(self, x: np.ndarray, y: np.ndarray, pairs: bool) -> None:
+        """The area under the current, from at most one point per FILL_PX pixels: pyqtgraph fills
+        a curve 50 points a polygon, and a filled curve of thousands of points (an envelope's
+        min/max pairs: ``pairs``) was the slowest thing on the plot."""
+        points = max(50, int(self.iplot.vb.width()) // FILL_PX)
+        self.current_fill.setData(*area_outline(x, y, points, pairs))
+
+    def _thin_dense_curves(self) -> None:
+        """Dense curves (more points drawn than the plot has pixels across, as when hours of
+        samples are in view) are drawn 1 px wide: the envelope fills the band anyway, and a
+        raster painter strokes 2 px lines at twice the cost."""
+        limit = 1.5 * max(self.vplot.vb.width(), 100.0)
+        for curve in self.curves.values():
+            x, _ = curve.getData()
+            dense = x is not None and len(x) > limit
+            if dense != getattr(curve, "thin", False):
+                if not hasattr(curve, "full_pen"):
+                    curve.full_pen = pg.mkPen(curve.opts["pen"])
+                curve.thin = dense
+                pen = pg.mkPen(curve.full_pen)
+                if dense:
+                    pen.setWidthF(1.0)
+                curve.setPen(pen)
 
     def export_png(self, path: str) -> bool:
         return self.grab().save(path, "PNG")
+
+
+def area_outline(x: np.ndarray, y: np.ndarray, points: int, pairs: bool) -> tuple[np.ndarray, np.ndarray]:
+    """At most about ``points`` points that keep, per group of samples (or of min/max pairs:
+    ``pairs``), the one farthest from zero: the outline of the area under a curve."""
+    if pairs:
+        x, y = x[0::2], np.where(y[1::2] > -y[0::2], y[1::2], y[0::2])
+    step = max(1, -(-len(x) // max(1, points)))
+    if step == 1:
+        return x, y
+    k = len(x) // step * step
+    groups = y[:k].reshape(-1, step)
+    far = groups[np.arange(len(groups)), np.abs(groups).argmax(axis=1)]
+    return np.append(x[:k:step], x[k:]), np.append(far, y[k:])

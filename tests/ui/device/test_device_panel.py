@@ -4,6 +4,7 @@ plot and its phase bands, STOP, disconnect, shutdown without a thread left."""
 import csv
 import os
 
+import numpy as np
 import pytest
 from PySide6.QtCore import Qt
 
@@ -63,7 +64,7 @@ def test_virtual_charger_flash_run_plot_stop_shutdown(qtbot, make_panel):
     assert 3000 < phase.end_s - phase.start_s < 5000         # about 65 minutes of macro time
     spans = panel.plot.band_items[0].spans()
     assert spans and spans[0] == (phase.start_s, phase.end_s)
-    x, v = panel.series.buffer.column("t"), panel.series.buffer.column("voltage")
+    x, v = np.asarray(panel.series.buffer.column("t")), np.asarray(panel.series.buffer.column("voltage"))
     assert len(x) == panel.plot.points and (x[1:] >= x[:-1]).all()
     assert 4.5 < float(v.max()) < 7.5
     drawn_x, drawn_v = panel.plot.curves["voltage"].getData()

@@ -3,7 +3,7 @@ extremes as the raw samples in every view, and about two points per pixel."""
 import numpy as np
 from hypothesis import given, strategies as st
 
-from zuml_studio.ui.device.envelope import FANOUT, Envelope
+from zuml_studio.ui.device.envelope import FANOUT, FIRST_KEPT, Envelope
 from zuml_studio.ui.device.growing_buffer import GrowingBuffer
 
 
@@ -41,6 +41,24 @@ def test_a_million_samples_in_view_give_about_two_points_per_pixel_and_the_true_
     assert (np.diff(x) >= 0).all()
     for name in ("v", "temp"):
         assert extremes(ys[name]) == extremes(buf.column(name))
+
+
+def test_only_the_coarse_levels_are_kept_and_every_level_serves_a_view():
+    buf = table(300_000)
+    env = Envelope(("v", "temp"))
+    env.update(*buf.snapshot())
+    kept = sum(len(level) for level in env.levels)
+    assert len(env.levels[0]) == 300_000 // FANOUT ** FIRST_KEPT and kept < 300_000 / 40
+    t = buf.column("t")
+    levels = set()
+    for span in (100, 1_000, 3_000, 10_000, 30_000, 150_000):
+        level, x, ys = env.view(t[1000], t[1000 + span - 1], bins=100)
+        levels.add(level)
+        for name in ("v", "temp"):
+            raw = np.asarray(buf.column(name))[999:1000 + span + 1]
+            lo, hi = extremes(ys[name])
+            assert lo <= np.nanmin(raw) and hi >= np.nanmax(raw)
+    assert {0, 1, 2, FIRST_KEPT} <= levels
 
 
 def test_no_finite_value_in_a_bin_stays_nan():

@@ -5,7 +5,8 @@ EVENT frames, in the simulator plot's look (``ui/stacked_plot.py``).
 Data path (ide.md §3, §7): the client's reader thread calls ``LiveSeries.add_telemetry`` /
 ``add_event`` (no Qt there: numpy buffers under a lock); a QTimer at about 30 Hz takes
 what is new, folds it into the min/max envelopes (``envelope.py``) and redraws only when
-something changed. The whole session is kept (the buffers grow by doubling) and every view
+something changed. The whole session is kept (in fixed-size chunks of float32 measurements, with
+envelopes only from 64 samples a bin up: about 25 bytes a sample, ~110 MB for a day at 50 Hz) and every view
 of it is drawn from about two points per pixel: the samples themselves when few are in
 view, else their envelope (clip-to-view and peak downsampling, done once per sample rather
 than once per frame), antialiasing off.
@@ -24,11 +25,11 @@ from dataclasses import dataclass
 
 import numpy as np
 import pyqtgraph as pg
-from PySide6.QtCore import QLine, QRect, QRectF, QTimer, Signal
-from PySide6.QtGui import QColor
+from PySide6.QtCore import QTimer, Signal
 
-from ..stacked_plot import (BAND_ALPHA, BATTERY_T_PEN, CURRENT_FILL, CURRENT_PEN, GRID_ALPHA, HEATSINK_T_PEN,
-                            LABEL_COLOR, VOLTAGE_PEN, WARNING_COLOR, StackedPlot, band_label, band_rgb)
+from ..plot_backdrop import BackdropItem, over_paper
+from ..stacked_plot import (BAND_ALPHA, BATTERY_T_PEN, CURRENT_PEN, HEATSINK_T_PEN, LABEL_COLOR,
+                            VOLTAGE_PEN, WARNING_COLOR, StackedPlot, band_label, band_rgb)
 from .envelope import Envelope
 from .growing_buffer import GrowingBuffer
 
@@ -38,8 +39,6 @@ LEGEND_MS = 500
 MAX_REDRAW_SHARE = 0.35            # a slow machine redraws less often rather than freeze
 DEFAULT_FOLLOW_MIN = 30
 MIN_VIEW_S = 60.0
-DRAW_WIDTHS = {"voltage": VOLTAGE_PEN.widthF(), "current": CURRENT_PEN.widthF(), "temp": BATTERY_T_PEN.widthF(),
-               "heatsink": HEATSINK_T_PEN.widthF()}
 
 
 @dataclass
@@ -62,10 +61,10 @@ class LivePhase:
 class LiveSeries:
     """The session's telemetry and phases; filled on the reader thread, read by the GUI."""
 
-    def __init__(self, capacity: int = 4096):
+    def __init__(self):
         # The clock in float64 (bisected, exact over days); the measurements in float32: half
         # the memory, and the peak downsampling of a million values runs a third faster.
-        self.buffer = GrowingBuffer(COLUMNS, capacity, dtype={name: np.float32 for name in COLUMNS[1:]})
+        self.buffer = GrowingBuffer(COLUMNS, dtype={name: np.float32 for name in COLUMNS[1:]})
         self.lock = threading.Lock()       # phases, events, readings
         self.phases: list[LivePhase] = []
         self.phase_version = 0
@@ -145,116 +144,6 @@ class LiveSeries:
         return len(self.buffer)
 
 
-def over_paper(r: int, g: int, b: int, alpha: int) -> QColor:
-    """The opaque colour a translucent one makes over the white background."""
-    a = alpha / 255.0
-    return QColor(*(int(round(255 - (255 - c) * a)) for c in (r, g, b)))
-
-
-class BackdropItem(pg.GraphicsObject):
-    """What lies under a plot's curves, in one item: the grid (major ticks) and every phase
-    band (a shaded span of x with edge lines).
-
-    pyqtgraph's own grid (``showGrid``) costs about 7 ms per plot and frame offscreen (its
-    axis pictures replay a hundred differently-styled lines), and a LinearRegionItem per
-    phase and plot costs more per frame than curves of a million points; one item drawing
-    a few batched lines costs well under a millisecond."""
-
-    def __init__(self, plot: pg.PlotItem, time_axis: pg.AxisItem):
-        super().__init__()
-        self.plot = plot
-        self.time_axis = time_axis
-        self._bands: list[tuple[float, float, object, object]] = []   # x0, x1, brush, pen
-        # Everything here is opaque, its translucent colour mixed over the white paper
-        # beforehand: the raster engine blends a translucent fill at ~20 ns a pixel, eight
-        # times an opaque one, and this item lies under everything on a white background.
-        self.grid_pen = pg.mkPen(over_paper(154, 154, 154, int(255 * GRID_ALPHA * 2)), width=1)
-        self.setZValue(-20)
-
-    def set_bands(self, bands: list[tuple[float, float, object, object]]) -> None:
-        self._bands = list(bands)
-        self.update()
-
-    def set_end(self, index: int, end: float) -> None:
-        x0, _, brush, pen = self._bands[index]
-        self._bands[index] = (x0, end, brush, pen)
-        self.update()
-
-    def spans(self) -> list[tuple[float, float]]:
-        return [(a, b) for a, b, _, _ in self._bands]
-
-    def boundingRect(self) -> QRectF:  # noqa: N802
-        vr = self.viewRect()
-        return QRectF() if vr is None else vr
-
-    def viewRangeChanged(self) -> None:  # noqa: N802
-        self.prepareGeometryChange()
-
-    def dataBounds(self, axis, frac=1.0, orthoRange=None):  # noqa: N802
-        return None
-
-    @staticmethod
-    def _major(axis: pg.AxisItem, lo: float, hi: float, size: float) -> np.ndarray:
-        """The axis's major tick positions, from its own spacing rule (``tickSpacing``),
-        without ``tickValues`` (which costs a millisecond a call)."""
-        if not hi > lo or size <= 0:
-            return np.zeros(0)
-        try:
-            levels = axis.tickSpacing(lo, hi, size)
-        except Exception:   # noqa: BLE001 - a degenerate range
-            return np.zeros(0)
-        if not levels:
-            return np.zeros(0)
-        step, offset = levels[0]
-        if not step > 0 or (hi - lo) / step > 200:
-            return np.zeros(0)
-        first = math.ceil((lo - offset) / step) * step + offset
-        return np.arange(first, hi + step * 1e-9, step)
-
-    def paint(self, painter, *args) -> None:
-        vr = self.viewRect()
-        vb = self.plot.vb
-        if vr is None or vb is None:
-            return
-        left, right = vr.left(), vr.right()
-        top, bottom = min(vr.top(), vr.bottom()), max(vr.top(), vr.bottom())
-        xs = self._major(self.time_axis, left, right, vb.width())
-        ys = self._major(self.plot.getAxis("left"), top, bottom, vb.height())
-        # Draw in whole device pixels: the raster engine's fast path (a fill in data
-        # coordinates, scaled by a million, costs ten times as much).
-        tr = painter.transform()
-        sx, dx, sy, dy = tr.m11(), tr.dx(), tr.m22(), tr.dy()
-        if tr.m12() or tr.m21():
-            return                                  # never rotated in a plot
-        x_lo, x_hi = sorted((left * sx + dx, right * sx + dx))
-        y_lo, y_hi = sorted((top * sy + dy, bottom * sy + dy))
-        px_left, px_right = int(math.floor(x_lo)), int(math.ceil(x_hi))
-        px_top, px_bottom = int(math.floor(y_lo)), int(math.ceil(y_hi))
-        painter.save()
-        painter.resetTransform()
-        try:
-            lines = [QLine(int(round(x * sx + dx)), px_top, int(round(x * sx + dx)), px_bottom) for x in xs]
-            lines += [QLine(px_left, int(round(y * sy + dy)), px_right, int(round(y * sy + dy))) for y in ys]
-            for x0, x1, brush, pen in self._bands:
-                if x1 < left or x0 > right:
-                    continue
-                a = int(round(max(x0, left) * sx + dx))
-                b = int(round(min(x1, right) * sx + dx))
-                a, b = min(a, b), max(a, b)
-                if b > a:
-                    painter.fillRect(QRect(a, px_top, b - a, px_bottom - px_top), brush)
-                painter.setPen(pen)
-                for edge in (x0, x1):
-                    if left <= edge <= right:
-                        e = int(round(edge * sx + dx))
-                        painter.drawLine(e, px_top, e, px_bottom)
-            if lines:
-                painter.setPen(self.grid_pen)
-                painter.drawLines(lines)
-        finally:
-            painter.restore()
-
-
 class LivePlot(StackedPlot):
     """Three x-linked plots (V, I, T) of a ``LiveSeries``, redrawn by a timer."""
     pointsAdded = Signal(int)           # points plotted so far; at most once per redraw
@@ -284,8 +173,7 @@ class LivePlot(StackedPlot):
         self.redraws = 0
         self.curves = {
             "voltage": self._curve(self.vplot, VOLTAGE_PEN, "pack voltage"),
-            "current": self._curve(self.iplot, CURRENT_PEN, "+ charge, − discharge",
-                                   fillLevel=0.0, fillBrush=CURRENT_FILL),
+            "current": self._curve(self.iplot, CURRENT_PEN, "+ charge, − discharge"),
             "temp": self._curve(self.tplot, BATTERY_T_PEN, "battery", connect="finite"),
             "heatsink": self._curve(self.tplot, HEATSINK_T_PEN, "heat sink", connect="finite"),
         }
@@ -435,6 +323,7 @@ class LivePlot(StackedPlot):
         self.level, x, ys = self.envelope.view(x0, x1, bins=max(100, int(width)))
         for name in COLUMNS[1:]:
             self.curves[name].setData(x, ys[name])
+        self._set_current_fill(x, ys["current"], self.level > 0)
 
     def _apply_follow(self) -> None:
         first, last = self._extent()
@@ -515,20 +404,6 @@ class LivePlot(StackedPlot):
         self._place_placeholder()
         if not self._legend_timer.isActive():
             self._legend_timer.start()
-
-    def _thin_dense_curves(self) -> None:
-        """Dense curves (more points drawn than the plot has pixels across, as when hours of
-        samples are in view) are drawn 1 px wide: the envelope fills the band anyway, and a
-        raster painter strokes 2 px lines at twice the cost."""
-        limit = 1.5 * max(self.vplot.vb.width(), 100.0)
-        for name, curve in self.curves.items():
-            x, _ = curve.getData()
-            dense = x is not None and len(x) > limit
-            if dense != getattr(curve, "thin", False):
-                curve.thin = dense
-                pen = pg.mkPen(curve.opts["pen"])
-                pen.setWidthF(1.0 if dense else DRAW_WIDTHS[name])
-                curve.setPen(pen)
 
     def _display(self, name: str) -> tuple[np.ndarray, np.ndarray]:
         x, y = self.curves[name].getData()

@@ -1,20 +1,29 @@
 """The simulated run as a charger's display would draw it, only better: voltage,
 current and temperature stacked over one h:mm time axis, with the phases as shaded
 bands labelled by what ended them, and the heat-sink pauses as grey bands over them
-(the look is ``ui/stacked_plot.py``'s)."""
+(the look is ``ui/stacked_plot.py``'s).
+
+The GUI thread's share stays small whatever the run's length: the worker hands over the
+run with its arrays and min/max envelopes ready (``plot_data.py``), each view is drawn
+from about two points per pixel of them, and all bands of a plot are one item
+(``plot_backdrop.py``)."""
 from __future__ import annotations
 
 import numpy as np
 import pyqtgraph as pg
-from PySide6.QtCore import Signal
+from PySide6.QtCore import QTimer, Signal
 
+from ..plot_backdrop import BackdropItem, over_paper
 from ..plot_cursor import CursorReadout
-from ..stacked_plot import (BAND_ALPHA, BATTERY_T_PEN, CURRENT_FILL, CURRENT_PEN, HEATSINK_T_PEN, LABEL_COLOR,
+from ..stacked_plot import (BAND_ALPHA, BATTERY_T_PEN, CURRENT_PEN, HEATSINK_T_PEN, LABEL_COLOR,
                             VOLTAGE_PEN, WARNING_COLOR, StackedPlot, band_label, band_rgb, band_warns)
 from ..timefmt import hmmss
+from .plot_data import CLOCK, CURVES, PlotData
 
 SELECTED_ALPHA = 80
-PAUSE_BRUSH = (90, 90, 90, 70)
+BAND_EDGE_ALPHA = 110
+PAUSE_RGBA = (90, 90, 90, 70)
+LABELS_PER_TURN = 8
 
 
 class ChargePlot(StackedPlot):
@@ -22,20 +31,26 @@ class ChargePlot(StackedPlot):
     phaseClicked = Signal(int)          # row (phase run - 1) of a clicked band, -1 outside bands
 
     def __init__(self, parent=None):
-        super().__init__("simPlot", "no simulation yet: Simulate (F5)", grid=True, parent=parent)
+        super().__init__("simPlot", "no simulation yet: Simulate (F5)", grid=False, parent=parent)
         self._t = np.zeros(0)
         self._v = np.zeros(0)
-        self._data: dict[str, np.ndarray] = {}
+        self._run: PlotData | None = None
         self._selected = -1
-        self.bands: list[list[pg.LinearRegionItem]] = [[], [], []]     # per plot, one per phase
-        self.pause_bands: list[list[pg.LinearRegionItem]] = [[], [], []]   # per plot, one per heat-sink pause
+        self._alphas: list[int] = []
+        self.level = 0                  # the envelope level drawn (0: the samples themselves)
         self.curves = {
             "voltage": self._curve(self.vplot, VOLTAGE_PEN, "pack voltage"),
-            "current": self._curve(self.iplot, CURRENT_PEN, "+ charge, − discharge",
-                                   fillLevel=0.0, fillBrush=CURRENT_FILL),
+            "current": self._curve(self.iplot, CURRENT_PEN, "+ charge, − discharge"),
             "temp": self._curve(self.tplot, BATTERY_T_PEN, "battery"),
             "heatsink": self._curve(self.tplot, HEATSINK_T_PEN, "heat sink"),
         }
+        self.band_items = [BackdropItem(plot, self.time_axis) for plot in self.plots]
+        self.pause_items = [BackdropItem(plot, self.time_axis, grid=False) for plot in self.plots]
+        for plot, item, pauses in zip(self.plots, self.band_items, self.pause_items):
+            plot.addItem(item, ignoreBounds=True)
+            pauses.setZValue(-15)
+            plot.addItem(pauses, ignoreBounds=True)
+            plot.disableAutoRange(axis="x")          # the view is set here; the curves follow it
         self.placeholder.setPos(0.5, 0.5)
         for legend in self.legends.values():
             legend.setVisible(False)                # until there is something to explain
@@ -44,26 +59,28 @@ class ChargePlot(StackedPlot):
         self.vplot.sigXRangeChanged.connect(self._view_changed)
         self.vplot.vb.sigResized.connect(self._view_changed)
         self.scene().sigMouseClicked.connect(self._scene_clicked)
-        self.readout = CursorReadout(self, lambda: (self._t, self._data))
+        self.readout = CursorReadout(self, lambda: (self._t, self.data))
 
     # -- construction ------------------------------------------------------------------------
     def _curve(self, plot: pg.PlotItem, pen, name: str, **kw) -> pg.PlotDataItem:
         self.legends[plot].add(name, pen.color().name())
         curve = plot.plot([], [], pen=pen, name=name, antialias=False, skipFiniteCheck=True, **kw)
-        curve.setClipToView(True)
-        curve.setDownsampling(auto=True, method="peak")
+        # The envelope hands over the view's points already clipped and decimated.
+        curve.setClipToView(False)
+        curve.setDownsampling(ds=1, auto=False)
         return curve
 
     # -- data --------------------------------------------------------------------------------
-    def show_result(self, result) -> None:
-        """Draw a SimResult: samples, phase bands, labels, the per-cell axis."""
-        data = result.log.arrays()
-        t = data["time_s"]
-        self._t, self._v, self._data = t, data["voltage_v"], data
-        self.curves["voltage"].setData(t, data["voltage_v"])
-        self.curves["current"].setData(t, data["current_a"])
-        self.curves["temp"].setData(t, data["temp_c"])
-        self.curves["heatsink"].setData(t, data["heatsink_c"])
+    @property
+    def data(self) -> dict[str, np.ndarray]:
+        """The shown run's sample columns (empty before any)."""
+        return self._run.data if self._run is not None else {}
+
+    def show_result(self, run: PlotData) -> None:
+        """Draw a run prepared by ``plot_data.prepare_plot``: samples, phase bands, labels, the per-cell axis."""
+        result = run.result
+        t = run.data[CLOCK]
+        self._run, self._t, self._v = run, t, run.data["voltage_v"]
         self.set_sensor(result.interpreter.params.sensor)
         self.set_series_count(result.series or 1)
         self.placeholder.setVisible(len(t) == 0)
@@ -77,89 +94,89 @@ class ChargePlot(StackedPlot):
         self.tplot.setXRange(0.0, end, padding=0.01)
         self._view_changed()
 
+    def _set_curves(self) -> None:
+        if self._run is None:
+            return
+        (x0, x1), width = self.vplot.vb.viewRange()[0], self.vplot.vb.width()
+        self.level, x, ys = self._run.envelope.view(x0, x1, bins=max(100, int(width)))
+        for name, column in CURVES.items():
+            self.curves[name].setData(x, ys[column])
+        self._set_current_fill(x, ys["current_a"], self.level > 0)
+
     def _set_bands(self, phases: list) -> None:
-        for plot, bands in zip(self.plots, self.bands):
-            for band in bands:
-                plot.removeItem(band)
-            bands.clear()
-        for label in self.labels:
-            self.vplot.removeItem(label)
-        self.labels.clear()
+        """One item per plot draws every band; the labels are kept and reused."""
+        while len(self.labels) > len(phases):
+            self.vplot.removeItem(self.labels.pop())
         self._phases = phases
         self._selected = -1
         parity = {"charge": 0, "discharge": 0}
+        self._alphas = []
         for p in phases:
-            alpha = BAND_ALPHA[parity[p.section] % 2]
-            parity[p.section] += 1
-            end = p.end_s if p.reason else max(p.end_s, p.start_s)
-            for plot, bands in zip(self.plots, self.bands):
-                band = pg.LinearRegionItem((p.start_s, end), orientation="vertical", movable=False,
-                                           brush=self._band_brush(p, alpha), pen=self._band_pen(p))
-                band.setZValue(-20)
-                band.setToolTip(f"{band_label(p)}\ndouble-click: show the FAZE in the editor")
-                band.phase_alpha = alpha
-                plot.addItem(band, ignoreBounds=True)
-                bands.append(band)
-            label = self._new_label()
-            label.setText(band_label(p))
+            self._alphas.append(BAND_ALPHA[parity.get(p.section, 0) % 2])
+            parity[p.section] = parity.get(p.section, 0) + 1
+        self._draw_bands()
+        self._add_labels()
+
+    def _add_labels(self) -> None:
+        """Labels for the phases, at most LABELS_PER_TURN new ones per turn of the event loop
+        (a label costs about a millisecond to make; a long training has hundreds of phases)."""
+        for _ in range(min(LABELS_PER_TURN, len(self._phases) - len(self.labels))):
+            self._new_label()
+        for p, label in zip(self._phases, self.labels):
             label.setColor(WARNING_COLOR if band_warns(p) else LABEL_COLOR)
+        self._place_labels()
+        if len(self.labels) < len(self._phases):
+            QTimer.singleShot(0, self, self._add_labels)
 
     def _set_pauses(self, phases: list) -> None:
-        for plot, bands in zip(self.plots, self.pause_bands):
-            for band in bands:
-                plot.removeItem(band)
-            bands.clear()
+        """The heat-sink pauses, a translucent grey over the phase bands: one more item per plot."""
+        spans, tips = [], []
         for p in phases:
             for start, end in p.pauses:
-                tip = f"heat-sink pause {hmmss(start)}–{hmmss(end)}: the power stage was too hot (Tc)"
-                for plot, bands in zip(self.plots, self.pause_bands):
-                    band = pg.LinearRegionItem((start, max(end, start)), orientation="vertical", movable=False,
-                                               brush=pg.mkBrush(*PAUSE_BRUSH), pen=pg.mkPen(None))
-                    band.setZValue(-15)
-                    band.setToolTip(tip)
-                    plot.addItem(band, ignoreBounds=True)
-                    bands.append(band)
+                spans.append((start, max(end, start), pg.mkBrush(*PAUSE_RGBA), pg.mkPen(None)))
+                tips.append(f"heat-sink pause {hmmss(start)}–{hmmss(end)}: the power stage was too hot (Tc)")
+        for item in self.pause_items:
+            item.set_bands(spans, tips)
 
-    @staticmethod
-    def _band_brush(p, alpha: int):
-        r, g, b = band_rgb(p.section)
-        return pg.mkBrush(r, g, b, alpha)
-
-    @staticmethod
-    def _band_pen(p):
-        r, g, b = band_rgb(p.section)
-        return pg.mkPen(r, g, b, 110, width=1)
+    def _draw_bands(self) -> None:
+        spans, tips = [], []
+        for row, (p, alpha) in enumerate(zip(self._phases, self._alphas)):
+            r, g, b = band_rgb(p.section)
+            end = p.end_s if p.reason else max(p.end_s, p.start_s)
+            spans.append((p.start_s, end, pg.mkBrush(over_paper(r, g, b, SELECTED_ALPHA if row == self._selected
+                                                                  else alpha)),
+                          pg.mkPen(over_paper(r, g, b, BAND_EDGE_ALPHA), width=1)))
+            tips.append(f"{band_label(p)}\ndouble-click: show the FAZE in the editor")
+        for item in self.band_items:
+            item.set_bands(spans, tips)
 
     def highlight(self, row: int) -> None:
         """Make one phase's bands stand out (the table's selection); -1 for none."""
         if row == self._selected:
             return
-        for index in (self._selected, row):
-            if 0 <= index < len(self._phases):
-                p = self._phases[index]
-                for bands in self.bands:
-                    band = bands[index]
-                    alpha = SELECTED_ALPHA if index == row else band.phase_alpha
-                    band.setBrush(self._band_brush(p, alpha))
-                    band.update()
         self._selected = row
+        self._draw_bands()
 
     # -- view --------------------------------------------------------------------------------
     def _view_changed(self, *_) -> None:
+        self._set_curves()
+        self._thin_dense_curves()
         self._fit_voltage(self._t, self._v)
         self._place_placeholder()
         self._place_labels()
         self._place_legends()
 
+    def _display(self, name: str) -> tuple[np.ndarray, np.ndarray]:
+        x, y = self.curves[name].getData()
+        return (np.zeros(0), np.zeros(0)) if x is None else (x, y)
+
     def _place_legends(self, *_) -> None:
-        t = self._t
-        data = self._data
-        if not len(t):
+        if not len(self._t):
             return
         room = self._label_height_px() if self._phases else 0.0
-        self.legends[self.vplot].place([(t, data["voltage_v"])], reserved_top_px=room)
-        self.legends[self.iplot].place([(t, data["current_a"])])
-        self.legends[self.tplot].place([(t, data["temp_c"]), (t, data["heatsink_c"])])
+        self.legends[self.vplot].place([self._display("voltage")], reserved_top_px=room)
+        self.legends[self.iplot].place([self._display("current")])
+        self.legends[self.tplot].place([self._display("temp"), self._display("heatsink")])
 
     # -- mouse -------------------------------------------------------------------------------
     def phase_at(self, seconds: float) -> int:
@@ -180,3 +197,4 @@ class ChargePlot(StackedPlot):
                 else:
                     self.phaseClicked.emit(row)
                 return
+

@@ -38,6 +38,7 @@ class SimulatorPanel(QWidget):
         self._result = None
         self._clock = QElapsedTimer()
         self._sized = False
+        self._table_pending = None          # a run whose phases are still to be listed
 
         self.form = ParamsForm()
         self.plot = ChargePlot()
@@ -205,11 +206,11 @@ class SimulatorPanel(QWidget):
         """Run the event loop until the current simulation has been shown; False on timeout."""
         clock = QElapsedTimer()
         clock.start()
-        while self._job is not None and clock.elapsed() < msecs:
-            job = self._job
-            job.thread.wait(10)
+        while (self._job is not None or self._table_pending is not None) and clock.elapsed() < msecs:
+            if self._job is not None:
+                self._job.thread.wait(10)
             QApplication.processEvents(QEventLoop.ProcessEventsFlag.AllEvents, 50)
-        return self._job is None
+        return self._job is None and self._table_pending is None
 
     def message_text(self) -> str:
         """The status line as the user reads it: the hint, then the message."""
@@ -231,20 +232,21 @@ class SimulatorPanel(QWidget):
         if self._current(job_id):
             self.form.set_progress(seconds)
 
-    def _on_done(self, job_id: int, result) -> None:
+    def _on_done(self, job_id: int, run) -> None:
         if not self._current(job_id):
             return
-        self._show(result)
+        result = run.result
+        self._show(run, finished=True)
         self.form.progress_label.setText(f"{elapsed(result.interpreter.time_s)} simulated "
                                          f"in {self._clock.elapsed() / 1000:.1f} s")
         self._refresh_hint()
-        self.simulationFinished.emit(result)
 
-    def _on_cancelled(self, job_id: int, result) -> None:
+    def _on_cancelled(self, job_id: int, run) -> None:
         if not self._current(job_id):
             return
-        if result is not None:
-            self._show(result)
+        if run is not None:
+            result = run.result
+            self._show(run)
             at = elapsed(result.interpreter.time_s)
             self.form.progress_label.setText(f"cancelled after {at}")
             self._show_message(f"cancelled after {at} of simulated time: showing the run so far", "warn")
@@ -264,15 +266,27 @@ class SimulatorPanel(QWidget):
             self.form.set_running(False)
             self._refresh_hint()
 
-    def _show(self, result) -> None:
-        self._result = result
-        self.plot.show_result(result)
+    def _show(self, run, finished: bool = False) -> None:
+        """A PlotData: the run, ready to draw. The plot now, the phase table in the next turn of
+        the event loop (each a slice of GUI-thread time short enough not to be felt), and then
+        ``simulationFinished`` if the run reached its end."""
+        result = self._result = run.result
+        self.plot.show_result(run)
+        self._table_pending = (result, finished)
+        QTimer.singleShot(0, self, self._show_table)
+
+    def _show_table(self) -> None:
+        if self._table_pending is None:
+            return
+        (result, finished), self._table_pending = self._table_pending, None
         self.table.set_result(result)
         self.totals.setText(totals_text(result))
         self.totals.setToolTip(self._repetitions_tip(result))
         self.run_label.setText(self._describe(result))
         self.run_label.setVisible(True)
         self.run_label.setToolTip(self.run_label.text())
+        if finished:
+            self.simulationFinished.emit(result)
 
     def _describe(self, result) -> str:
         it = result.interpreter

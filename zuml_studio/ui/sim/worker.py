@@ -1,7 +1,8 @@
 """Simulations off the GUI thread: a QObject worker moved to its own QThread runs
 ``Interpreter.advance`` chunk by chunk, reports the simulated time between chunks
 and checks a cancel flag there. Every signal carries the job's id, so a panel can
-ignore what an outdated job still reports.
+ignore what an outdated job still reports. The run is handed over ready to draw
+(``plot_data.prepare_plot``): the GUI thread gets no sample to convert.
 
 Jobs keep themselves alive (module registry) until their thread has finished, and
 any still running when Python exits are cancelled and waited for: a QThread must
@@ -20,6 +21,7 @@ from ...data import DataFileError
 from ...sim.batteries import BatteryFileError
 from ...sim.interpreter import StartError, StartParams
 from ...sim.simulate import BatterySetup, prepare
+from .plot_data import prepare_plot
 
 log = logging.getLogger(__name__)
 
@@ -36,8 +38,8 @@ class SimRequest:
 
 class SimWorker(QObject):
     progress = Signal(int, float)        # job id, simulated seconds so far
-    done = Signal(int, object)           # job id, SimResult (the macro ended)
-    cancelled = Signal(int, object)      # job id, SimResult stopped early (or None: cancelled before start)
+    done = Signal(int, object)           # job id, PlotData of the SimResult (the macro ended)
+    cancelled = Signal(int, object)      # job id, PlotData of a run stopped early (or None: cancelled before start)
     failed = Signal(int, str)            # job id, message for the user
     ended = Signal(int)                  # job id; always last
 
@@ -86,11 +88,11 @@ class SimWorker(QObject):
         while not it.finished:
             if self.is_cancelled:
                 it.stop("cancelled")
-                self.cancelled.emit(jid, result)
+                self.cancelled.emit(jid, prepare_plot(result))
                 return
             it.advance(self.chunk)
             self.progress.emit(jid, it.time_s)
-        self.done.emit(jid, result)
+        self.done.emit(jid, prepare_plot(result))
 
 
 class SimJob(QObject):
