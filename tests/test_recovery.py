@@ -1,5 +1,3 @@
-import json
-
 from zuml_studio.recovery import RecoveryStore, atomic_write
 
 

@@ -1050,7 +1050,7 @@ class DevicePanel(QWidget):
                               "was not written. Do it again.", "warn")
         else:
             self.show_message(f"Read back after the lost link: the charger holds neither the new image nor the "
-                              f"previous one (changed since by another program?). Check its macros.", "warn")
+                              "previous one (changed since by another program?). Check its macros.", "warn")
 
     def _op_failed(self, op: str, exc) -> None:
         self._progress_done()
