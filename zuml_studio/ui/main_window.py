@@ -328,6 +328,7 @@ class MainWindow(QMainWindow):
             self.state_label.setText("✔ valid" + (f", {warnings} warning(s)" if warnings else ""))
             self.state_label.setStyleSheet(f"color:{theme.colours(self.palette()).ok};")
             self.sim_panel.set_record(result.record, result.macro.name, self._declared(result))
+            self.device_panel.macro_changed(result.record)
         else:
             self.size_label.setText("– / 255 bytes")
             self.state_label.setText(f"✖ {errors} error(s)")

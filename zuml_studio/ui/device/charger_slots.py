@@ -111,6 +111,12 @@ class ChargerSlots(QWidget):
         verbs = {"read": "reading", "write": "writing", "verify": "verifying"}
         self.progress.setToolTip(f"{verbs.get(stage, stage)} {done} of {total} bytes")
 
+    def progress_complete(self, tip: str) -> None:
+        """A flash went through: the bar stays full (until the next operation) and says what."""
+        self.progress.setRange(0, 1)
+        self.progress.setValue(1)
+        self.progress.setToolTip(tip)
+
     def progress_done(self) -> None:
         self.progress.setRange(0, 1)
         self.progress.setValue(0)

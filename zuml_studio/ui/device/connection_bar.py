@@ -31,6 +31,21 @@ def record_chemistry(record: bytes) -> str:
         return "?"
 
 
+def record_battery(record: bytes) -> tuple[str | None, int | None, int | None]:
+    """The chemistry, cells and capacity a record declares (AKK_TYPE, SERIES, CAPACITY; None
+    for what it leaves out or sets at start, or all None if it does not decode)."""
+    try:
+        from ...lang.opcodes import AKK_TYPE, CAPACITY, SERIES
+        from ...sim.program import Program
+        declared = Program(record).intro.declarations
+    except Exception:   # noqa: BLE001 - a record that does not decode
+        return None, None, None
+    akk = akk_name(declared[AKK_TYPE.code]) if AKK_TYPE.code in declared else None
+    cells = declared.get(SERIES.code) or None
+    mah = declared.get(CAPACITY.code)
+    return akk, cells if cells and cells < 255 else None, mah if mah and mah < 0xFFFF else None
+
+
 class ConnectionBar(QWidget):
     """Two rows above the panel's columns. It owns the virtual battery's choice."""
 
@@ -107,8 +122,12 @@ class ConnectionBar(QWidget):
         self.info_label = ElidedLabel("")
         self.info_label.setObjectName("deviceInfo")
         self.info_label.setStyleSheet(f"color:{COLORS['info']};")
-        second.addWidget(self.virtual_box)
-        second.addWidget(self.info_label, 1)
+        self.battery_note = ElidedLabel("")
+        self.battery_note.setObjectName("virtualBatteryNote")
+        self.battery_note.setMinimumWidth(60)
+        vrow.insertWidget(4, self.battery_note, 1)
+        second.addWidget(self.virtual_box, 2)
+        second.addWidget(self.info_label, 3)
         second.addWidget(QLabel("Telemetry"))
         second.addWidget(self.rate)
 
@@ -125,16 +144,28 @@ class ConnectionBar(QWidget):
             if self.v_chem.findData(NAMED_BATTERY + name) < 0:
                 self.v_chem.addItem(f"{name} (fitted)", NAMED_BATTERY + name)
 
-    def virtual_battery(self, record: bytes | None) -> str:
-        """``CHEM:MAH:CELLS`` for the built-in virtual charger: the chemistry field, or the editor
-        macro's AKK_TYPE (``record``), or NiMh; ``battery:NAME`` for a saved fitted battery."""
+    def virtual_battery(self, record: bytes | None, entered_mah: int, entered_cells: int) -> str:
+        """``CHEM:MAH:CELLS`` for the built-in virtual charger; ``battery:NAME`` for a saved fitted
+        battery. "From the macro": the chemistry, cells and capacity the editor's macro
+        (``record``) declares; what it leaves to the start, the values entered for the run
+        (``entered_*``, which the battery's fields set; cells 0: the cells field); NiMh without an
+        AKK_TYPE. The note beside the fields says which values the battery uses."""
         chem = self.v_chem.currentData()
+        from_macro = chem is None
         if isinstance(chem, str) and chem.startswith(NAMED_BATTERY):
+            self.battery_note.set_full_text("capacity and cells: the fitted battery's")
             return chem
-        if chem is None:
-            chem = DEFAULT_BATTERY[0]
-            if record is not None:
-                declared = record_chemistry(record)
-                if declared in chemistry_names():
-                    chem = declared
-        return f"{chem}:{self.v_mah.value()}:{self.v_cells.value()}"
+        if not from_macro:
+            self.battery_note.set_full_text("")
+            return f"{chem}:{self.v_mah.value()}:{self.v_cells.value()}"
+        akk, cells, mah = record_battery(record) if record is not None else (None, None, None)
+        chem = akk if akk in chemistry_names() else DEFAULT_BATTERY[0]
+        mah_used = mah or entered_mah or self.v_mah.value()
+        cells_used = cells or entered_cells or self.v_cells.value()
+        def source(declared) -> str:
+            return "the macro's" if declared else "as entered for the run"
+        self.battery_note.set_full_text(
+            f"{chem} {cells_used}S {mah_used} mAh: chemistry "
+            + ("the macro's" if akk in chemistry_names() else "NiMh (the macro names none)")
+            + f", cells {source(cells)}, capacity {source(mah)}")
+        return f"{chem}:{mah_used}:{cells_used}"

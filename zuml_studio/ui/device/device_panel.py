@@ -40,6 +40,7 @@ from ...safety import image_problems, record_problems
 from ..timefmt import hmmss
 from .charger_monitor import ChargerMonitor
 from .charger_slots import FLASH_TIP, ChargerSlots
+from .confirm_dialogs import confirm_restore, documents_folder, restore_text
 from .connection import DeviceConnection, Opened, VirtualSpec, describe_error
 from .connection_bar import MATCH, ConnectionBar
 from .device_style import COLORS, ElidedLabel, vline
@@ -47,7 +48,7 @@ from .live_plot import LiveSeries
 from .live_view import LiveView
 from .passport_view import PassportView
 from .run_controls import START_TIP, RunControls
-from ...device.session_log import SessionLog, display_path, session_path
+from ...device.session_log import IDLE_LOG_S, SessionLog, display_path, session_path
 from .unsafe_dialog import confirm_unsafe
 
 log = logging.getLogger(__name__)
@@ -55,6 +56,7 @@ log = logging.getLogger(__name__)
 READINGS_MS = 250
 PASSPORT_POLL_MS = 5000
 VIRTUAL_EEPROM = "virtual-charger-eeprom.bin"
+KEEP_RUNS = 10          # earlier runs kept for the run chooser (the session CSV keeps them all)
 
 
 class _Unsafe:
@@ -108,6 +110,10 @@ class DevicePanel(QWidget):
         self._info = None
         self._flashed_slot: int | None = None
         self._run_name = ""
+        self._running = False              # a macro runs (started here, or the newest frame says so)
+        self._start_frames = 0
+        self.runs: list[tuple[str, LiveSeries]] = []   # earlier runs, oldest first
+        self._before_run: tuple[str, LiveSeries] | None = None   # the run a pending START replaced
         self._shut = False
         self._finished_seen = 0
         self._auto_fallback: tuple[str, int] | None = None   # (port, baud) to watch if no ZUML charger answers
@@ -229,6 +235,8 @@ class DevicePanel(QWidget):
         self.v_cells.valueChanged.connect(self.series_spin.setValue)
         self.table.itemSelectionChanged.connect(self._table_selected)
         self.clear_button.clicked.connect(self.clear_plot)
+        self.live.runChosen.connect(self._run_chosen)
+        self.v_chem.currentIndexChanged.connect(lambda _: self._battery_choice_changed())
         self.plot.pointsAdded.connect(self.telemetryReceived)
         self.plot.phaseActivated.connect(self.phaseActivated)
 
@@ -330,6 +338,9 @@ class DevicePanel(QWidget):
         if slot is None or not 0 <= slot < len(self._slots):
             self._start_done(False, "There is no macro on the charger to start: Compile & Flash one first.")
             return
+        if self.is_running():
+            self._start_done(False, f"{self._run_name or 'A macro'} is running: Stop it first, then Start.")
+            return
         params = self.start_params()
         record = self._slots[slot].record
         name = self._slots[slot].name
@@ -355,6 +366,7 @@ class DevicePanel(QWidget):
             return ("started", started, passport, warnings)
 
         self.show_message(f"Starting {name} (slot {slot})…", "info")
+        self._new_run()
         self.connection.call(job, lambda r: self._started(r, slot, params), self._start_failed)
         self._update_enabled()
 
@@ -366,6 +378,11 @@ class DevicePanel(QWidget):
             self.show_message(f"Stopped ({state}).", "info")
             self.operationFinished.emit("stop", True, state)
 
+        # STOP goes before anything asked after it: a Start from now on finds the charger stopped
+        # (should STOP fail, the next running frame says so again).
+        self._running = False
+        self._start_frames = self.series.frames
+        self._update_enabled()
         self.connection.call(lambda client, progress: client.stop(), done,
                              lambda exc: self._op_failed("stop", exc))
 
@@ -518,7 +535,81 @@ class DevicePanel(QWidget):
     def virtual_battery(self) -> str:
         """``CHEM:MAH:CELLS`` for the built-in virtual charger (``ConnectionBar.virtual_battery``)."""
         got = self._get_record()
-        return self.bar.virtual_battery(got[0] if got is not None else None)
+        return self.bar.virtual_battery(got[0] if got is not None else None, self.capacity.value(),
+                                        self.series_spin.value())
+
+    def macro_changed(self, record: bytes | None) -> None:
+        """The editor's macro compiled to ``record``: show what a virtual battery "from the
+        macro" would be (the main window calls this; it must not ask for the record again)."""
+        if self.connection.state == "disconnected":
+            self.bar.virtual_battery(record, self.capacity.value(), self.series_spin.value())
+
+    def _battery_choice_changed(self) -> None:
+        if self.connection.state == "disconnected":
+            self.virtual_battery()
+        self._update_enabled()
+
+    def is_running(self) -> bool:
+        """A macro runs on the connected charger (just started here, or as its newest frame says)."""
+        return self._running and self.is_connected()
+
+    def stop_and_wait(self, msecs: int = 5000) -> bool:
+        """Send STOP and wait for the answer (closing during a run); True if the charger stopped."""
+        if not self.is_connected():
+            return False
+        from PySide6.QtCore import QEventLoop
+        loop = QEventLoop()
+        answer = []
+
+        def finished(op, ok, _text):
+            if op == "stop":
+                answer.append(ok)
+                loop.quit()
+        self.operationFinished.connect(finished)
+        QTimer.singleShot(msecs, loop.quit)
+        self.stop()
+        if not answer:
+            loop.exec()
+        self.operationFinished.disconnect(finished)
+        return bool(answer and answer[0])
+
+    # ================================================================ runs
+    def _new_run(self) -> None:
+        """A START makes a new session of the plot (its axis from 0); the run before it is kept."""
+        if len(self.series) == 0 and not self.series.events:
+            return
+        self._before_run = (self._run_name, self.series)
+        self.runs = (self.runs + [self._before_run])[-KEEP_RUNS:]
+        self.series = LiveSeries()
+        self._finished_seen = 0
+        self._start_frames = 0
+        self.plot.set_series(self.series)
+        self._show_runs()
+
+    def _undo_new_run(self) -> None:
+        """START did not start: show the run before it again, as the current one."""
+        before, self._before_run = self._before_run, None
+        if before is None or len(self.series):
+            return
+        self.runs = [r for r in self.runs if r is not before]
+        self._run_name, self.series = before
+        self._finished_seen = len(self.series.events)
+        self._start_frames = self.series.frames
+        self.plot.set_series(self.series)
+        self._show_runs()
+
+    def _show_runs(self) -> None:
+        labels = [f"Run {i + 1}: {name or '?'}" for i, (name, _) in enumerate(self.runs)]
+        labels.append(f"Run {len(self.runs) + 1}: {self._run_name or '?'} (now)")
+        self.live.set_runs(labels)
+
+    def _run_chosen(self, index: int) -> None:
+        series = self.runs[index][1] if index < len(self.runs) else self.series
+        if series is not self.plot.series:
+            self.plot.set_series(series)
+            if series is not self.series:
+                self.follow.setChecked(False)
+                self.plot.show_all()
 
 
     # ================================================================ reader thread (no Qt)
@@ -598,7 +689,7 @@ class DevicePanel(QWidget):
                 self._flash_done(False, "Not flashed: " + answer.summary())
             return
         merged, result = answer
-        self._progress_done()
+        self.charger.progress_complete(f"flashed {merged.name}: {merged.size} bytes, verified")
         self._show_image(merged.image)
         self._flashed_slot = merged.index
         index = self.run_slot.findData(merged.index)
@@ -634,6 +725,7 @@ class DevicePanel(QWidget):
         if kind == "refused":
             # A battery unfit for use (CRIT) is refused by the charger whatever the user says: no override.
             unfit = passport is not None and passport.crit
+            self._undo_new_run()
             if not unfit and confirm_unsafe(self, "Start", value):
                 self.start(slot, force=True)
                 return
@@ -641,13 +733,18 @@ class DevicePanel(QWidget):
                     + "\n".join(f"• {line}" for line in value))
             self._start_done(False, text)
             return
+        self._before_run = None
         self._run_name = value
+        self._running = True
+        self._start_frames = self.series.frames
+        self._show_runs()
         self.plot.set_series_count(params["series"] or 1)
         self.live.follow_again()
         self._start_done(True, f"Started {value} (slot {slot}): {params['task']}."
                          + "".join(f"\n⚠ {w}" for w in warnings))
 
     def _start_failed(self, exc) -> None:
+        self._undo_new_run()
         self._start_done(False, describe_error(exc, "start"))
 
     def _start_done(self, ok: bool, text: str) -> None:
@@ -715,6 +812,9 @@ class DevicePanel(QWidget):
 
     def _update_readings(self) -> None:
         tel = self.series.last_telemetry
+        if tel is not None and self.series.frames > self._start_frames and tel.running != self._running:
+            self._running = tel.running
+            self._update_enabled()
         if tel is not None:
             self.live.show_readings(tel)
             if tel.running:
@@ -754,6 +854,7 @@ class DevicePanel(QWidget):
         self._update_enabled()
 
     def _set_state_disconnected(self) -> None:
+        self._running = False
         self.connect_button.setText("Connect")
         self.ports.auto_refresh = True
         self._readings_timer.stop()
@@ -798,7 +899,9 @@ class DevicePanel(QWidget):
             w.setEnabled(state == "disconnected")
         for w in (self.flash_button, self.backup_button, self.restore_button, self.reload_button, self.flash_slot):
             w.setEnabled(idle)
-        self.start_button.setEnabled(idle and bool(self._slots))
+        self.start_button.setEnabled(idle and bool(self._slots) and not self.is_running())
+        self.start_button.setToolTip(f"{self._run_name or 'A macro'} is running: Stop it first"
+                                     if self.is_running() else START_TIP)
         self.stop_button.setEnabled(connected)
         self.pp_refresh.setEnabled(idle)
         self.run_slot.setEnabled(connected)
@@ -820,7 +923,8 @@ class DevicePanel(QWidget):
             chosen = self.ports.baudrate()
             bauds = (DRIVERS[driver].baud,) + DRIVERS[driver].bauds if driver in DRIVERS else ()
             baud = chosen if driver == AUTO or chosen in bauds else None
-        self._open_session_log(cells=None)
+        # A monitor-only charger's frames are its recording (some never say "running"): all kept.
+        self._open_session_log(cells=None, idle_s=0.0)
         error = self.monitor.open(port, driver, baud)
         if error:
             self.monitor.link = None
@@ -924,10 +1028,10 @@ class DevicePanel(QWidget):
             self.connection.call(lambda client, progress: client.set_telemetry_rate(value), None, lambda exc: None)
 
     # ================================================================ session CSV
-    def _open_session_log(self, cells: int | None = 0) -> None:
+    def _open_session_log(self, cells: int | None = 0, idle_s: float = IDLE_LOG_S) -> None:
         self._close_session_log()
         try:
-            self._log = SessionLog(session_path(self.session_dir), cells=cells)
+            self._log = SessionLog(session_path(self.session_dir), cells=cells, idle_s=idle_s)
         except OSError as exc:
             self._log = None
             self.session_label.set_full_text(f"no session CSV: cannot write in {self.session_dir}: {exc.strerror or exc}")
@@ -959,16 +1063,25 @@ class DevicePanel(QWidget):
 
     # ================================================================ dialogs
     def _backup_clicked(self) -> None:
-        path, _ = QFileDialog.getSaveFileName(self, "Back up the charger's EEPROM", "eeprom-backup.bin",
+        path, _ = QFileDialog.getSaveFileName(self, "Back up the charger's EEPROM",
+                                              str(Path(documents_folder()) / "eeprom-backup.bin"),
                                               "EEPROM images (*.bin);;All files (*)")
         if path:
             self.backup(path)
 
     def _restore_clicked(self) -> None:
-        path, _ = QFileDialog.getOpenFileName(self, "Restore an EEPROM image", "",
+        path, _ = QFileDialog.getOpenFileName(self, "Restore an EEPROM image", documents_folder(),
                                               "EEPROM images (*.bin);;All files (*)")
-        if path:
+        if not path:
+            return
+        try:
+            in_image = [s.name for s in slots(Path(path).read_bytes())]
+        except Exception:   # noqa: BLE001 - unreadable or broken: restore() says precisely why
+            in_image = None
+        if confirm_restore(self, restore_text(Path(path).name, self.slot_names(), in_image)):
             self.restore(path)
+        else:
+            self.show_message(f"Not restored: {Path(path).name} was not written.", "info")
 
     def closeEvent(self, event) -> None:  # noqa: N802
         self.shutdown()

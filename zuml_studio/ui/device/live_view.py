@@ -2,14 +2,16 @@
 and the live plot below them."""
 from __future__ import annotations
 
-from PySide6.QtCore import Qt
-from PySide6.QtWidgets import QCheckBox, QHBoxLayout, QLabel, QSizePolicy, QToolButton, QVBoxLayout, QWidget
+from PySide6.QtCore import Qt, Signal
+from PySide6.QtWidgets import QCheckBox, QComboBox, QHBoxLayout, QLabel, QSizePolicy, QToolButton, QVBoxLayout, QWidget
 
 from .device_style import field_spin
 from .live_plot import DEFAULT_FOLLOW_MIN, LivePlot, LiveSeries
 
 
 class LiveView(QWidget):
+    runChosen = Signal(int)             # index in the run chooser (the last: the current run)
+
     def __init__(self, series: LiveSeries, parent: QWidget | None = None):
         super().__init__(parent)
         self.plot = LivePlot(series)
@@ -30,10 +32,17 @@ class LiveView(QWidget):
         self.clear_button = QToolButton()
         self.clear_button.setText("Clear")
         self.clear_button.setToolTip("Forget the plotted session (the session CSV keeps everything)")
+        self.run_choice = QComboBox()
+        self.run_choice.setObjectName("runChoice")
+        self.run_choice.setToolTip("Each Start begins a new run, plotted from 0; earlier runs stay here to look at")
+        self.run_choice.setSizeAdjustPolicy(QComboBox.SizeAdjustPolicy.AdjustToContents)
+        self.run_choice.setVisible(False)
+        self.run_choice.activated.connect(self.runChosen)
         plot_bar = QHBoxLayout()
         plot_bar.setContentsMargins(4, 0, 0, 0)
         plot_bar.setSpacing(4)
         plot_bar.addWidget(self.readings, 1)
+        plot_bar.addWidget(self.run_choice)
         plot_bar.addWidget(self.follow)
         plot_bar.addWidget(self.follow_minutes)
         plot_bar.addWidget(self.all_button)
@@ -58,6 +67,15 @@ class LiveView(QWidget):
             f"<span style='color:#d0481c;'>T {t}</span>&nbsp;&nbsp;"
             f"<span style='color:#7b5ea7;'>Tc {tc}</span>&nbsp;&nbsp;"
             f"in {tel.mah_in:.0f} mAh · out {tel.mah_out:.0f} mAh")
+
+    def set_runs(self, labels: list[str]) -> None:
+        """The runs of the session, the current one last (and chosen); shown from the second run."""
+        self.run_choice.blockSignals(True)
+        self.run_choice.clear()
+        self.run_choice.addItems(labels)
+        self.run_choice.setCurrentIndex(len(labels) - 1)
+        self.run_choice.blockSignals(False)
+        self.run_choice.setVisible(len(labels) > 1)
 
     def follow_again(self) -> None:
         if not self.plot.follow:
