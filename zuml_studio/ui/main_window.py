@@ -397,6 +397,7 @@ class MainWindow(QMainWindow):
         self.editor.document().setModified(dirty)
         self.setWindowModified(dirty)
         self._update_title()
+        self.sim_panel.new_macro()
         self.validate_now()
         self.editor.goto(1, 1)
         self.autosave()
@@ -646,10 +647,23 @@ class MainWindow(QMainWindow):
             self.recovery.discard(found.key)
         return False
 
+    def ask_close_run(self) -> str:
+        """A macro runs on the charger: 'stop', 'leave' or 'cancel' (tests replace this)."""
+        from .device.confirm_dialogs import ask_close_during_run
+        panel = self.device_panel
+        return ask_close_during_run(self, panel.run_name(), panel.connection.virtual_device is not None)
+
     def closeEvent(self, event) -> None:
         if not self.maybe_save():
             event.ignore()
             return
+        if self.device_panel.is_running():
+            answer = self.ask_close_run()
+            if answer == "cancel":
+                event.ignore()
+                return
+            if answer == "stop" and not self.device_panel.stop_and_wait():
+                self.statusBar().showMessage("The charger did not confirm the stop: check it.", 10000)
         self.sim_panel.cancel()
         self.device_panel.shutdown()
         self.recovery.discard(self._recovery_key)

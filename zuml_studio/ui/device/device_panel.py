@@ -549,6 +549,10 @@ class DevicePanel(QWidget):
             self.virtual_battery()
         self._update_enabled()
 
+    def run_name(self) -> str:
+        """The macro started last ("" before the first start)."""
+        return self._run_name
+
     def is_running(self) -> bool:
         """A macro runs on the connected charger (just started here, or as its newest frame says)."""
         return self._running and self.is_connected()
