@@ -106,3 +106,15 @@ def test_start_is_off_during_a_run_and_each_start_is_a_new_run_from_zero(qtbot, 
     assert panel.plot.series is first and len(first) > 5            # the earlier run, kept
     panel.live.runChosen.emit(1)
     assert panel.plot.series is second
+
+
+def test_the_live_plot_has_the_cursor_readout(qtbot, make_panel):
+    panel = make_panel()
+    connect(qtbot, panel)
+    flash_and_start(qtbot, panel)
+    qtbot.waitUntil(lambda: len(panel.series) > 5, timeout=WAIT_MS)
+    panel.plot.refresh()
+    t = float(panel.series.buffer.column("t")[3])
+    assert panel.live.readout.show_at(t)
+    text = panel.live.readout.text()
+    assert " V · " in text and " A" in text and "\nC1: " in text

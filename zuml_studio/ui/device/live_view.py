@@ -5,6 +5,7 @@ from __future__ import annotations
 from PySide6.QtCore import Qt, Signal
 from PySide6.QtWidgets import QCheckBox, QComboBox, QHBoxLayout, QLabel, QSizePolicy, QToolButton, QVBoxLayout, QWidget
 
+from ..plot_cursor import CursorReadout
 from .device_style import field_spin
 from .live_plot import DEFAULT_FOLLOW_MIN, LivePlot, LiveSeries
 
@@ -52,10 +53,16 @@ class LiveView(QWidget):
         pv.setSpacing(0)
         pv.addLayout(plot_bar)
         pv.addWidget(self.plot, 1)
+        self.readout = CursorReadout(self.plot, self._cursor_samples)
         self.follow.toggled.connect(lambda on: self.plot.set_follow(on, self.follow_minutes.value()))
         self.follow_minutes.valueChanged.connect(lambda v: self.plot.set_follow(self.plot.follow, v))
         self.plot.followChanged.connect(self._plot_follow_changed)
         self.all_button.clicked.connect(self._show_all)
+
+    def _cursor_samples(self):
+        """The drawn session's samples under the cursor readout's names."""
+        _, cols = self.plot.series.buffer.snapshot()
+        return cols["t"], {"voltage_v": cols["voltage"], "current_a": cols["current"], "temp_c": cols["temp"]}
 
     def show_readings(self, tel) -> None:
         """The newest frame's values, in the plot's colours."""
@@ -67,6 +74,9 @@ class LiveView(QWidget):
             f"<span style='color:#d0481c;'>T {t}</span>&nbsp;&nbsp;"
             f"<span style='color:#7b5ea7;'>Tc {tc}</span>&nbsp;&nbsp;"
             f"in {tel.mah_in:.0f} mAh · out {tel.mah_out:.0f} mAh")
+        # The bar gives the readout what the buttons leave: at 1366 px it may be cut, never unreadable.
+        self.readings.setToolTip(f"{tel.voltage_v:.3f} V · {tel.current_a:+.3f} A · battery T {t} · heat sink "
+                                 f"Tc {tc} · charged in {tel.mah_in:.0f} mAh · discharged out {tel.mah_out:.0f} mAh")
 
     def set_runs(self, labels: list[str]) -> None:
         """The runs of the session, the current one last (and chosen); shown from the second run."""
