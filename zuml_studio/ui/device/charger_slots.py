@@ -8,7 +8,7 @@ from PySide6.QtWidgets import (QAbstractItemView, QComboBox, QHBoxLayout, QHeade
 
 from ...lang.eeprom import Slot, slots, used_bytes
 from .connection_bar import record_chemistry
-from .device_style import COLORS, heading
+from .device_style import colour, heading
 
 FLASH_TIP = "Write the editor's macro to the charger, verify it (Ctrl+Shift+F)"
 
@@ -146,7 +146,7 @@ class ChargerSlots(QWidget):
                 self.table.setItem(row, col, item)
         size = len(self.image)
         if broken:
-            self.free_label.setText(f"<span style='color:{COLORS['error']};'>broken record list: {broken}</span>")
+            self.free_label.setText(f"<span style='color:{colour(self, 'error')};'>broken record list: {broken}</span>")
         else:
             self.free_label.setText(f"{size - used} of {size} bytes free · {len(found)} macro(s)")
         keep_flash = self.flash_slot.currentData()
@@ -165,4 +165,4 @@ class ChargerSlots(QWidget):
 
     def set_result(self, ok: bool, text: str) -> None:
         self.result_label.setText(text)
-        self.result_label.setStyleSheet(f"color:{COLORS['ok' if ok else 'error']};")
+        self.result_label.setStyleSheet(f"color:{colour(self, 'ok' if ok else 'error')};")

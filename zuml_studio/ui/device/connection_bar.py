@@ -9,7 +9,7 @@ from PySide6.QtWidgets import QComboBox, QHBoxLayout, QLabel, QPushButton, QVBox
 
 from ...device.drivers import AUTO, DRIVERS, ZUML
 from ...device.passport import akk_name
-from .device_style import COLORS, DEFAULT_BATTERY, FIELD_WIDTH, ElidedLabel, field_spin
+from .device_style import colour, DEFAULT_BATTERY, FIELD_WIDTH, ElidedLabel, field_spin
 from .port_chooser import PortChooser
 
 NAMED_BATTERY = "battery:"      # virtual chemistry box data of a saved fitted battery
@@ -121,7 +121,9 @@ class ConnectionBar(QWidget):
         second.setSpacing(6)
         self.info_label = ElidedLabel("")
         self.info_label.setObjectName("deviceInfo")
-        self.info_label.setStyleSheet(f"color:{COLORS['info']};")
+        self.info_label.setStyleSheet(f"color:{colour(self, 'info')};")
+        for box in (self.v_mah, self.v_cells):
+            box.setMinimumWidth(box.sizeHint().width())     # the note gives way, not the numbers
         self.battery_note = ElidedLabel("")
         self.battery_note.setObjectName("virtualBatteryNote")
         self.battery_note.setMinimumWidth(60)

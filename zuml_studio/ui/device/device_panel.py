@@ -43,7 +43,7 @@ from .charger_slots import FLASH_TIP, ChargerSlots
 from .confirm_dialogs import confirm_restore, documents_folder, restore_text
 from .connection import DeviceConnection, Opened, VirtualSpec, describe_error
 from .connection_bar import MATCH, ConnectionBar
-from .device_style import COLORS, ElidedLabel, vline
+from .device_style import colour, ElidedLabel, vline
 from .live_plot import LiveSeries
 from .live_view import LiveView
 from .passport_view import PassportView
@@ -195,7 +195,7 @@ class DevicePanel(QWidget):
         self.message.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Preferred)
         self.session_label = ElidedLabel("", mode=Qt.TextElideMode.ElideMiddle)
         self.session_label.setObjectName("sessionLabel")
-        self.session_label.setStyleSheet(f"color:{COLORS['info']};")
+        self.session_label.setStyleSheet(f"color:{colour(self, 'info')};")
         self.session_label.setAlignment(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
         bottom = QHBoxLayout()
         bottom.setContentsMargins(0, 0, 0, 0)
@@ -786,7 +786,7 @@ class DevicePanel(QWidget):
     # ================================================================ showing things
     def show_message(self, text: str, kind: str = "info") -> None:
         self.message.setText(text)
-        self.message.setStyleSheet(f"color:{COLORS.get(kind, COLORS['info'])};")
+        self.message.setStyleSheet(f"color:{colour(self, kind)};")
         self.message.setToolTip(text if len(text) > 80 else "")
         self.statusMessage.emit(text)
 
@@ -888,7 +888,7 @@ class DevicePanel(QWidget):
                 w.setEnabled(False)
             self.flash_button.setToolTip(reason)
             self.start_button.setToolTip(reason)
-            self.result_label.setText(f"<span style='color:{COLORS['warn']};'>{reason}.</span>")
+            self.result_label.setText(f"<span style='color:{colour(self, 'warn')};'>{reason}.</span>")
             return
         if self.result_label.text().endswith("Flash and Start are off.</span>"):
             self.result_label.setText("")
@@ -971,14 +971,14 @@ class DevicePanel(QWidget):
         self.info_label.set_full_text(f"{name} · monitor-only · {link.good} records · {bad} bad")
         self.info_label.setToolTip(f"{link.port}: {name}\n{link.good} records decoded; {bad} bad (checksum, torn "
                                    "line or garbage: counted, never plotted)")
-        self.info_label.setStyleSheet(f"color:{COLORS['warn' if bad else 'info']};")
+        self.info_label.setStyleSheet(f"color:{colour(self, 'warn' if bad else 'info')};")
 
     def _on_monitor_closed(self, error: str) -> None:
         link, self.monitor.link = self.monitor.link, None
         self._stop_replay_link()
         self._close_session_log()
         self._set_state_disconnected()
-        self.info_label.setStyleSheet(f"color:{COLORS['info']};")
+        self.info_label.setStyleSheet(f"color:{colour(self, 'info')};")
         kept = " The plot and the session CSV are kept."
         counts = f" {link.good} records, {link.bad} bad." if link is not None else ""
         if error:

@@ -4,11 +4,17 @@ from __future__ import annotations
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QDoubleSpinBox, QFrame, QLabel, QSizePolicy, QSpinBox, QWidget
 
+from .. import theme
 from ..number_boxes import double_spin_box, form_field, spin_box
 
-COLORS = {"info": "#505050", "ok": "#1d6b2c", "error": "#b00020", "warn": "#a04000"}
 FIELD_WIDTH = 92
 DEFAULT_BATTERY = ("NiMh", 2000, 4)
+
+
+def colour(widget: QWidget, kind: str) -> str:
+    """A message colour ("info", "ok", "error", "warn") readable on the widget's palette."""
+    c = theme.colours(widget.palette())
+    return {"ok": c.ok, "error": c.error, "warn": c.warning}.get(kind, c.muted)
 
 
 def heading(text: str) -> QLabel:

@@ -10,6 +10,9 @@ from .device_style import field_spin
 from .live_plot import DEFAULT_FOLLOW_MIN, LivePlot, LiveSeries
 
 
+RUNS_TIP = "Each Start begins a new run, plotted from 0; earlier runs stay here to look at"
+
+
 class LiveView(QWidget):
     runChosen = Signal(int)             # index in the run chooser (the last: the current run)
 
@@ -35,10 +38,13 @@ class LiveView(QWidget):
         self.clear_button.setToolTip("Forget the plotted session (the session CSV keeps everything)")
         self.run_choice = QComboBox()
         self.run_choice.setObjectName("runChoice")
-        self.run_choice.setToolTip("Each Start begins a new run, plotted from 0; earlier runs stay here to look at")
-        self.run_choice.setSizeAdjustPolicy(QComboBox.SizeAdjustPolicy.AdjustToContents)
+        self.run_choice.setToolTip(RUNS_TIP)
+        # Narrow (the readout needs the room); the list shows the runs' whole names.
+        self.run_choice.setSizeAdjustPolicy(QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+        self.run_choice.setMinimumContentsLength(6)
         self.run_choice.setVisible(False)
         self.run_choice.activated.connect(self.runChosen)
+        self.run_choice.currentTextChanged.connect(lambda text: self.run_choice.setToolTip(f"{text}\n{RUNS_TIP}"))
         plot_bar = QHBoxLayout()
         plot_bar.setContentsMargins(4, 0, 0, 0)
         plot_bar.setSpacing(4)
@@ -84,8 +90,11 @@ class LiveView(QWidget):
         self.run_choice.clear()
         self.run_choice.addItems(labels)
         self.run_choice.setCurrentIndex(len(labels) - 1)
+        for i, label in enumerate(labels):
+            self.run_choice.setItemData(i, label, Qt.ItemDataRole.ToolTipRole)
         self.run_choice.blockSignals(False)
         self.run_choice.setVisible(len(labels) > 1)
+        self.run_choice.setToolTip(f"{labels[-1]}\n{RUNS_TIP}" if labels else RUNS_TIP)
 
     def follow_again(self) -> None:
         if not self.plot.follow:

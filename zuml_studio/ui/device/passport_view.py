@@ -6,7 +6,7 @@ from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QGridLayout, QHBoxLayout, QLabel, QToolButton, QVBoxLayout, QWidget
 
 from ...device.passport import printable
-from .device_style import COLORS, heading
+from .device_style import colour, heading
 
 
 class PassportView(QWidget):
@@ -53,7 +53,7 @@ class PassportView(QWidget):
         self.pp_labels["serial"].setToolTip(
             f"serial · vendor. ⚠ The {' and '.join(odd)} hold non-printable bytes (shown as \\xNN): "
             "a damaged or forged passport" if odd else "serial · vendor")
-        self.pp_labels["serial"].setStyleSheet(f"color:{COLORS['warn']};" if odd else "")
+        self.pp_labels["serial"].setStyleSheet(f"color:{colour(self, 'warn')};" if odd else "")
         self.pp_labels["type"].setText(f"{passport.type_name} · TEMP {passport.temp} °C")
         v = f"{passport.v_limit} V" if passport.v_limit else "V not set"
         a = f"{passport.a_limit} A" if passport.a_limit else "A not set"
