@@ -124,7 +124,7 @@ def test_an_empty_session_with_open_cells_still_gets_its_header(tmp_path):
 
 def test_an_idle_charger_is_logged_every_ten_seconds_not_at_the_telemetry_rate(tmp_path):
     now = [0.0]
-    with SessionLog(tmp_path / "s.csv", threaded=False, clock=lambda: now[0]) as log:
+    with SessionLog(tmp_path / "s.csv", threaded=False, idle_s=10.0, clock=lambda: now[0]) as log:
         for _ in range(300):                    # 30 s of idle frames at 10 Hz
             log.add_telemetry(telemetry(running=False))
             now[0] += 0.1

@@ -11,10 +11,12 @@ and leaves the measurements empty. ``time_s`` is the macro's clock, ``phase`` th
 run number (1-based; 0: none), as in the simulator's CSV. A charger that measures its cells
 adds ``cell1_v … cellN_v`` after ``event`` (N from the first telemetry of the session when
 ``cells=None``; a sample with fewer cells leaves the rest empty, extra cells are dropped).
-An idle charger (a frame with ``running`` false) is written at most once every ``idle_s``
-(10 s) and on the first idle frame after a run: a connected charger left idle for a day
-would otherwise fill the file at the telemetry rate. Every running frame and every event
-is written. Lives outside ``ui`` because ``zuml monitor`` writes the same file.
+With ``idle_s`` (the device panel passes ``IDLE_LOG_S``, 10 s, for a ZUML charger) an idle
+charger (a frame with ``running`` false) is written at most once every ``idle_s`` and on the
+first idle frame after a run: a connected charger left idle for a day would otherwise fill
+the file at the telemetry rate. Every running frame and every event is written; without
+``idle_s`` (``zuml monitor``, monitor-only chargers: their frames are the recording) every
+frame is. Lives outside ``ui`` because ``zuml monitor`` writes the same file.
 """
 from __future__ import annotations
 
@@ -82,7 +84,7 @@ class SessionLog:
     flushed by ``flush_if_due``, for tests and scripts)."""
 
     def __init__(self, path: str | Path, *, flush_s: float = FLUSH_S, threaded: bool = True,
-                 cells: int | None = 0, idle_s: float = IDLE_LOG_S, clock=time.monotonic):
+                 cells: int | None = 0, idle_s: float = 0.0, clock=time.monotonic):
         self.path = Path(path)
         self.idle_s = float(idle_s)
         self._clock = clock
@@ -110,7 +112,7 @@ class SessionLog:
 
     # -- any thread ------------------------------------------------------------------------
     def add_telemetry(self, t) -> None:
-        if not getattr(t, "running", True):
+        if self.idle_s and not getattr(t, "running", True):
             now = self._clock()
             if self._idle_at is not None and now - self._idle_at < self.idle_s:
                 return
