@@ -120,3 +120,17 @@ def test_an_empty_session_with_open_cells_still_gets_its_header(tmp_path):
     path = tmp_path / "empty.csv"
     SessionLog(path, threaded=False, cells=None).close()
     assert read(path) == [list(COLUMNS)]
+
+
+def test_an_idle_charger_is_logged_every_ten_seconds_not_at_the_telemetry_rate(tmp_path):
+    now = [0.0]
+    with SessionLog(tmp_path / "s.csv", threaded=False, idle_s=10.0, clock=lambda: now[0]) as log:
+        for _ in range(300):                    # 30 s of idle frames at 10 Hz
+            log.add_telemetry(telemetry(running=False))
+            now[0] += 0.1
+        assert log.rows == 3
+        log.add_telemetry(telemetry(1.0))       # a run: every frame
+        log.add_telemetry(telemetry(1.1))
+        log.add_telemetry(telemetry(running=False))    # the first idle frame after it is written
+        log.add_telemetry(telemetry(running=False))
+        assert log.rows == 6

@@ -12,6 +12,7 @@ def make_window(qtbot, tmp_path):
         window = create_main_window(path, config or tmp_path / "config")
         window.ask_unsaved = lambda: "discard"      # never a modal dialog in a test
         window.ask_recover = lambda found: False
+        window.ask_close_run = lambda: "leave"      # a test that closes during a run replaces this
         qtbot.addWidget(window)
         window.resize(1400, 900)
         window.show()
@@ -33,3 +34,7 @@ def no_unexpected_unsafe_dialog(monkeypatch):
     def unexpected(parent, action, problems):
         raise AssertionError(f"unexpected safety dialog ({action}): {problems}")
     monkeypatch.setattr(device_panel, "confirm_unsafe", unexpected)
+
+    def unexpected_restore(parent, text):
+        raise AssertionError(f"unexpected Restore question: {text}")
+    monkeypatch.setattr(device_panel, "confirm_restore", unexpected_restore)

@@ -65,3 +65,25 @@ def test_nothing_is_cut_off_without_a_tooltip_at_1366x768(make_window, macro):
         assert isinstance(view, (QTreeWidget, QTableWidget))
         problems += _cut_cells(view)
     assert not problems, "\n".join(problems)
+
+
+def test_the_device_panel_and_the_visual_tab_cut_nothing_without_a_tooltip_at_1366x768(make_window, qtbot):
+    from device_helpers import WAIT_MS, connect, flash_and_start
+    w = make_window(str(MACROS / "NiMh-dV.zuml"))
+    w.resize(1366, 768)
+    panel = w.device_panel
+    w.device_dock.show()
+    w.device_dock.raise_()
+    connect(qtbot, panel)
+    ok, text = flash_and_start(qtbot, panel)
+    assert ok, text
+    qtbot.waitUntil(lambda: len(panel.series) > 3 and "running" in panel.run_label.full_text(), timeout=WAIT_MS)
+    _settle()
+    problems = _cut_labels(w.device_dock) + _cut_cells(panel.table)
+    readings = panel.readings
+    if readings.sizeHint().width() > readings.contentsRect().width() + 1:
+        assert "in " in readings.toolTip() and "mAh" in readings.toolTip(), "the live readout is cut, no tooltip"
+    w.show_visual()
+    _settle()
+    problems += _cut_labels(w.visual_dock)
+    assert not problems, "\n".join(problems)

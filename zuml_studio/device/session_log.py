@@ -11,7 +11,12 @@ and leaves the measurements empty. ``time_s`` is the macro's clock, ``phase`` th
 run number (1-based; 0: none), as in the simulator's CSV. A charger that measures its cells
 adds ``cell1_v … cellN_v`` after ``event`` (N from the first telemetry of the session when
 ``cells=None``; a sample with fewer cells leaves the rest empty, extra cells are dropped).
-Lives outside ``ui`` because ``zuml monitor`` writes the same file.
+With ``idle_s`` (the device panel passes ``IDLE_LOG_S``, 10 s, for a ZUML charger) an idle
+charger (a frame with ``running`` false) is written at most once every ``idle_s`` and on the
+first idle frame after a run: a connected charger left idle for a day would otherwise fill
+the file at the telemetry rate. Every running frame and every event is written; without
+``idle_s`` (``zuml monitor``, monitor-only chargers: their frames are the recording) every
+frame is. Lives outside ``ui`` because ``zuml monitor`` writes the same file.
 """
 from __future__ import annotations
 
@@ -27,6 +32,7 @@ from ..sim.samples import COLUMNS as SIM_COLUMNS
 
 COLUMNS = tuple(SIM_COLUMNS) + ("event",)
 FLUSH_S = 0.5
+IDLE_LOG_S = 10.0
 _STOP = object()
 
 
@@ -78,8 +84,11 @@ class SessionLog:
     flushed by ``flush_if_due``, for tests and scripts)."""
 
     def __init__(self, path: str | Path, *, flush_s: float = FLUSH_S, threaded: bool = True,
-                 cells: int | None = 0):
+                 cells: int | None = 0, idle_s: float = 0.0, clock=time.monotonic):
         self.path = Path(path)
+        self.idle_s = float(idle_s)
+        self._clock = clock
+        self._idle_at: float | None = None    # when the last idle frame was written
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self.flush_s = float(flush_s)
         self._fh = open(self.path, "w", encoding="utf-8", newline="")
@@ -103,6 +112,13 @@ class SessionLog:
 
     # -- any thread ------------------------------------------------------------------------
     def add_telemetry(self, t) -> None:
+        if self.idle_s and not getattr(t, "running", True):
+            now = self._clock()
+            if self._idle_at is not None and now - self._idle_at < self.idle_s:
+                return
+            self._idle_at = now
+        else:
+            self._idle_at = None
         self._header(len(getattr(t, "cells_v", ())))
         self._put(telemetry_row(t, self.cells))
 

@@ -102,6 +102,7 @@ def _screenshot(app, window, out: str, size: str) -> int:
         return 2
     window.resize(width, height)
     window.show()
+    window.device_panel          # built now, not by its timer in the middle of the settling below
     window.validate_now()
     if window.validator.last and window.validator.last.ok:
         window.sim_panel.simulate()

@@ -341,6 +341,7 @@ class MainWindow(QMainWindow):
             self.state_label.setText("✔ valid" + (f", {warnings} warning(s)" if warnings else ""))
             self.state_label.setStyleSheet(f"color:{theme.colours(self.palette()).ok};")
             self.sim_panel.set_record(result.record, result.macro.name, self._declared(result))
+            self.device_panel.macro_changed(result.record)
         else:
             self.size_label.setText("– / 255 bytes")
             self.state_label.setText(f"✖ {errors} error(s)")
@@ -409,6 +410,7 @@ class MainWindow(QMainWindow):
         self.editor.document().setModified(dirty)
         self.setWindowModified(dirty)
         self._update_title()
+        self.sim_panel.new_macro()
         self.validate_now()
         self.editor.goto(1, 1)
         self.autosave()
@@ -658,10 +660,23 @@ class MainWindow(QMainWindow):
             self.recovery.discard(found.key)
         return False
 
+    def ask_close_run(self) -> str:
+        """A macro runs on the charger: 'stop', 'leave' or 'cancel' (tests replace this)."""
+        from .device.confirm_dialogs import ask_close_during_run
+        panel = self.device_panel
+        return ask_close_during_run(self, panel.run_name(), panel.connection.virtual_device is not None)
+
     def closeEvent(self, event) -> None:
         if not self.maybe_save():
             event.ignore()
             return
+        if self.device_panel.is_running():
+            answer = self.ask_close_run()
+            if answer == "cancel":
+                event.ignore()
+                return
+            if answer == "stop" and not self.device_panel.stop_and_wait():
+                self.statusBar().showMessage("The charger did not confirm the stop: check it.", 10000)
         self.sim_panel.cancel()
         if self._device_panel is not None:
             self._device_panel.shutdown()

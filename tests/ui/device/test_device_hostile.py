@@ -39,6 +39,7 @@ def test_a_session_csv_write_failure_is_said_once_and_the_plot_goes_on(qtbot, ma
     panel = make_panel()
     connect(qtbot, panel)
     log = panel._log
+    log.idle_s = 0.0            # every idle frame written: the failure comes at once
     log._fh = FullDisk()
     log._writer = csv.writer(log._fh)
     qtbot.waitUntil(lambda: "No space left on device" in panel.message_text(), timeout=WAIT_MS)

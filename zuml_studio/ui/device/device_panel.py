@@ -1,9 +1,12 @@
 """The Device panel: a charger (or the built-in virtual one) on a serial line.
 
-Left, two narrow columns: what is on the charger (device info, its macros, Compile & Flash,
-Backup/Restore) and the run (task parameters, Start/Stop, the battery's passport); right,
-the live plot. Above: the port, the baud rate, the driver, Connect, Replay; for the built-in
-virtual charger its battery, passport and speed. Below: the message line and the session CSV.
+It composes its parts, each a widget in its own module with the state it owns: above, the
+connection bar (``connection_bar``: port, driver, Connect, Replay, the virtual charger's
+battery); left, two narrow columns: what is on the charger (``charger_slots``: its macros,
+Compile & Flash, Backup/Restore) and the run (``run_controls``: task parameters, Start/Stop;
+``passport_view``: the battery's passport); right, the live view (``live_view``). Below: the
+message line and the session CSV. This module does what crosses the parts: talking to the
+charger, and which control is enabled when.
 
 A port's driver is "Auto" by default: a ZUML charger (it answers IDENTIFY), else a
 monitor-only charger recognised from what it sends (``device.drivers``). Monitor-only
@@ -22,42 +25,38 @@ from typing import Callable
 
 from PySide6.QtCore import Qt, QTimer, Signal
 from PySide6.QtGui import QKeySequence, QShortcut
-from PySide6.QtWidgets import (QAbstractItemView, QCheckBox, QComboBox, QDoubleSpinBox, QFileDialog,
-                               QFrame, QGridLayout, QHBoxLayout, QHeaderView, QLabel, QProgressBar, QPushButton,
-                               QScrollArea, QSizePolicy, QSpinBox, QSplitter, QTableWidget, QTableWidgetItem,
-                               QToolButton, QVBoxLayout, QWidget)
+from PySide6.QtWidgets import (QFileDialog, QFrame, QHBoxLayout, QLabel, QScrollArea, QSizePolicy, QSplitter,
+                               QVBoxLayout, QWidget)
 
 from ...device import messages as msg
-from ...device.drivers import AUTO, DRIVERS, MONITOR_ONLY_REASON, ZUML
+from ...device.drivers import AUTO, DRIVERS, MONITOR_ONLY_REASON
 from ...device.errors import CommitUncertain, CommitUnverified, DeviceError, ImageTooLarge, NotACharger
 from ...device.flashing import merge_record
-from ...device.passport import akk_name, fitness_warnings, printable
+from ...device.passport import fitness_warnings
 from ...sim.start_check import start_warnings
 from ...device.ports import VIRTUAL
-from ...lang.eeprom import Slot, slots, used_bytes
+from ...lang.eeprom import slots
 from ...safety import image_problems, record_problems
-from ..number_boxes import double_spin_box, form_field, spin_box
 from ..timefmt import hmmss
 from .charger_monitor import ChargerMonitor
+from .charger_slots import FLASH_TIP, ChargerSlots
+from .confirm_dialogs import confirm_restore, documents_folder, restore_text
 from .connection import DeviceConnection, Opened, VirtualSpec, describe_error
-from .live_plot import DEFAULT_FOLLOW_MIN, LivePlot, LiveSeries
-from .port_chooser import PortChooser
-from ...device.session_log import SessionLog, display_path, session_path
+from .connection_bar import MATCH, ConnectionBar
+from .device_style import colour, ElidedLabel, vline
+from .live_plot import LiveSeries
+from .live_view import LiveView
+from .passport_view import PassportView
+from .run_controls import START_TIP, RunControls
+from ...device.session_log import IDLE_LOG_S, SessionLog, display_path, session_path
 from .unsafe_dialog import confirm_unsafe
 
 log = logging.getLogger(__name__)
 
-FLASH_TIP = "Write the editor's macro to the charger, verify it (Ctrl+Shift+F)"
-START_TIP = "Check the battery's passport, then start the slot's macro"
-COLORS = {"info": "#505050", "ok": "#1d6b2c", "error": "#b00020", "warn": "#a04000"}
-TASKS = (("charge", "Charge"), ("discharge", "Discharge"), ("train", "Train"))
-FIELD_WIDTH = 92
 READINGS_MS = 250
 PASSPORT_POLL_MS = 5000
-DEFAULT_BATTERY = ("NiMh", 2000, 4)
-NAMED_BATTERY = "battery:"      # virtual chemistry box data of a saved fitted battery
-MATCH = "match"
 VIRTUAL_EEPROM = "virtual-charger-eeprom.bin"
+KEEP_RUNS = 10          # earlier runs kept for the run chooser (the session CSV keeps them all)
 
 
 class _Unsafe:
@@ -70,60 +69,6 @@ class _Unsafe:
         return "the safety check refused it:\n" + "\n".join(f"• {line}" for line in self.problems)
 
 
-def _chemistry_names() -> list[str]:
-    from ...sim.chemistry import chemistry_names
-    return chemistry_names()
-
-
-def record_chemistry(record: bytes) -> str:
-    """The AKK_TYPE a record declares ("NiMh"), "Undef" without one, "?" if it does not decode."""
-    try:
-        from ...lang.opcodes import AKK_TYPE
-        from ...sim.program import Program
-        return akk_name(Program(record).intro.declarations.get(AKK_TYPE.code, 0))
-    except Exception:   # noqa: BLE001 - a record that does not decode
-        return "?"
-
-
-class ElidedLabel(QLabel):
-    """A one-line label that elides its (plain) text to its width; the whole text is the tooltip."""
-
-    def __init__(self, text: str = "", parent: QWidget | None = None,
-                 mode: Qt.TextElideMode = Qt.TextElideMode.ElideRight):
-        super().__init__(parent)
-        self._full = ""
-        self._mode = mode
-        self.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
-        self.setMinimumWidth(40)
-        self.set_full_text(text)
-
-    def set_full_text(self, text: str) -> None:
-        self._full = text
-        self.setToolTip(text)
-        self._elide()
-
-    def full_text(self) -> str:
-        return self._full
-
-    def resizeEvent(self, event) -> None:  # noqa: N802
-        super().resizeEvent(event)
-        self._elide()
-
-    def _elide(self) -> None:
-        width = max(10, self.width() - 2)
-        super().setText(self.fontMetrics().elidedText(self._full, self._mode, width))
-
-
-class SlotTable(QTableWidget):
-    """The slot list. Its preferred height is small (a header and three rows): the column's
-    layout gives it whatever room is left, and a preferred height of its own would make the
-    controls scroll in a 380 px dock."""
-
-    def sizeHint(self):  # noqa: N802
-        hint = super().sizeHint()
-        rows = self.verticalHeader().defaultSectionSize()
-        hint.setHeight(self.horizontalHeader().sizeHint().height() + 3 * rows + 2 * self.frameWidth())
-        return hint
 
 
 class ControlsScroll(QScrollArea):
@@ -165,6 +110,10 @@ class DevicePanel(QWidget):
         self._info = None
         self._flashed_slot: int | None = None
         self._run_name = ""
+        self._running = False              # a macro runs (started here, or the newest frame says so)
+        self._start_frames = 0
+        self.runs: list[tuple[str, LiveSeries]] = []   # earlier runs, oldest first
+        self._before_run: tuple[str, LiveSeries] | None = None   # the run a pending START replaced
         self._shut = False
         self._finished_seen = 0
         self._auto_fallback: tuple[str, int] | None = None   # (port, baud) to watch if no ZUML charger answers
@@ -187,259 +136,39 @@ class DevicePanel(QWidget):
 
     # ================================================================ building
     def _build(self, port_lister) -> None:
-        # -- the port row --------------------------------------------------------------------
-        self.ports = PortChooser(port_lister)
-        self.connect_button = QPushButton("Connect")
-        self.connect_button.setObjectName("connectButton")
-        self.connect_button.setToolTip("Connect to the charger on the chosen port (or Disconnect)")
-        self.connect_button.setMinimumWidth(96)
-        port_label = QLabel("Port")
-        port_label.setBuddy(self.ports.combo)
-        top = QHBoxLayout()
-        top.setContentsMargins(0, 0, 0, 0)
-        top.setSpacing(6)
-        self.driver_combo = QComboBox()
-        self.driver_combo.setObjectName("driverCombo")
-        self.driver_combo.addItem("Auto", AUTO)
-        self.driver_combo.addItem("ZUML charger", ZUML)
-        for d in DRIVERS.values():
-            self.driver_combo.addItem(d.title, d.name)
-        self.driver_combo.setSizeAdjustPolicy(QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
-        self.driver_combo.setMinimumContentsLength(10)
-        self.driver_combo.setToolTip("The charger's protocol. Auto: a ZUML charger if one answers, else a "
-                                     "monitor-only charger (cheali, iCharger, iMAX B6, Ultramat, SkyRC, ISDT) "
-                                     "recognised from what it sends")
-        self.replay_button = QPushButton("Replay a recording…")
-        self.replay_button.setObjectName("replayButton")
-        self.replay_button.setToolTip("Play a charger recording ($ lines, {…} frames, Ultramat frames, a HID "
-                                      "report dump, an iCharger DUO/X log) onto a port and watch it here, at the "
-                                      "virtual charger's speed ×")
-        top.addWidget(port_label)
-        top.addWidget(self.ports, 1)
-        top.addWidget(self.driver_combo)
-        top.addWidget(self.connect_button)
-        top.addWidget(self.replay_button)
-
-        # -- the virtual charger row ---------------------------------------------------------
-        self.v_chem = QComboBox()
-        self.v_chem.setObjectName("virtualChemistry")
-        self.v_chem.addItem("from the macro", None)
-        for name in _chemistry_names():
-            self.v_chem.addItem(name, name)
-        self.add_named_batteries()
-        self.v_chem.setToolTip("The virtual battery's chemistry; 'from the macro' uses the editor macro's "
-                               "AKK_TYPE (NiMh if it has none); a saved fitted battery brings its own "
-                               "capacity and cells")
-        self.v_mah = self._spin_box(100, 65000, DEFAULT_BATTERY[1], " mAh", "the virtual battery's capacity")
-        self.v_mah.setSingleStep(100)
-        self.v_cells = self._spin_box(1, 24, DEFAULT_BATTERY[2], " cells", "cells in series in the virtual battery")
-        self.v_passport = QComboBox()
-        self.v_passport.setObjectName("virtualPassport")
-        self.v_passport.addItem("as battery", MATCH)
-        for name in _chemistry_names():
-            self.v_passport.addItem(name, name)
-        self.v_passport.addItem("none", "none")
-        self.v_passport.setToolTip("The battery passport chip (spec §4): its chemistry as the battery's, "
-                                   "another one (to see the lockout), or no chip")
-        self.v_speed = self._spin_box(1, 100000, 60, "×", "the virtual charger runs the macro this many times "
-                                  "faster than real time (changes at once)")
-        self.v_speed.setObjectName("virtualSpeed")
-        self.v_speed.setMaximumWidth(FIELD_WIDTH)
-        self.rate = self._spin_box(1, 50, 10, " Hz", "telemetry frames per second the charger sends")
-        self.rate.setObjectName("telemetryRate")
-        self.virtual_box = QWidget()
-        vrow = QHBoxLayout(self.virtual_box)
-        vrow.setContentsMargins(0, 0, 0, 0)
-        vrow.setSpacing(4)
-        for w in (QLabel("Battery"), self.v_chem, self.v_mah, self.v_cells, QLabel("Passport"), self.v_passport,
-                  QLabel("Speed"), self.v_speed):
-            vrow.addWidget(w)
-        second = QHBoxLayout()
-        second.setContentsMargins(0, 0, 0, 0)
-        second.setSpacing(6)
-        self.info_label = ElidedLabel("")
-        self.info_label.setObjectName("deviceInfo")
-        self.info_label.setStyleSheet(f"color:{COLORS['info']};")
-        second.addWidget(self.virtual_box)
-        second.addWidget(self.info_label, 1)
-        second.addWidget(QLabel("Telemetry"))
-        second.addWidget(self.rate)
-
-        # -- column A: the charger's EEPROM --------------------------------------------------
-        self.table = SlotTable(0, 5)
-        self.table.setObjectName("slotTable")
-        self.table.setHorizontalHeaderLabels(["#", "Macro", "Bytes", "Type", "Check"])
-        self.table.verticalHeader().setVisible(False)
-        self.table.verticalHeader().setDefaultSectionSize(self.fontMetrics().height() + 6)
-        self.table.setEditTriggers(QAbstractItemView.EditTrigger.NoEditTriggers)
-        self.table.setSelectionBehavior(QAbstractItemView.SelectionBehavior.SelectRows)
-        self.table.setSelectionMode(QAbstractItemView.SelectionMode.SingleSelection)
-        self.table.setAlternatingRowColors(True)
-        self.table.setShowGrid(False)
-        header = self.table.horizontalHeader()
-        header.setSectionResizeMode(QHeaderView.ResizeMode.ResizeToContents)
-        header.setSectionResizeMode(1, QHeaderView.ResizeMode.Stretch)
-        header.setHighlightSections(False)
-        self.table.setMinimumHeight(2 * self.table.verticalHeader().defaultSectionSize() + 26)
-        self.table.setToolTip("The macros in the charger's EEPROM, in slot order; select one to run it")
-        self.free_label = QLabel("")
-        self.free_label.setObjectName("freeLabel")
-        self.flash_slot = QComboBox()
-        self.flash_slot.setObjectName("flashSlot")
-        self.flash_slot.addItem("By name", None)
-        self.flash_slot.setSizeAdjustPolicy(QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
-        self.flash_slot.setMinimumContentsLength(12)
-        self.flash_slot.setToolTip("Where Compile & Flash puts the macro: over the one of the same name "
-                                   "(else appended), or into a slot you pick")
-        self.flash_button = QPushButton("Compile && Flash")
-        self.flash_button.setObjectName("flashButton")
-        self.flash_button.setToolTip(FLASH_TIP)
-        self.progress = QProgressBar()
-        self.progress.setObjectName("flashProgress")
-        self.progress.setTextVisible(False)
-        self.progress.setFixedHeight(6)
-        self.progress.setRange(0, 1)
-        self.progress.setValue(0)
-        self.result_label = QLabel("")
-        self.result_label.setObjectName("flashResult")
-        self.result_label.setWordWrap(True)
-        self.result_label.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
-        self.backup_button = QPushButton("Backup…")
-        self.backup_button.setToolTip("Save the charger's whole EEPROM to a file")
-        self.restore_button = QPushButton("Restore…")
-        self.restore_button.setToolTip("Write a saved EEPROM image back (every record is checked first)")
-        self.reload_button = QToolButton()
-        self.reload_button.setText("⟳")
-        self.reload_button.setToolTip("Read the macros on the charger again")
-
-        col_a = QWidget()
-        col_a.setObjectName("deviceColumn")
-        a = QVBoxLayout(col_a)
-        a.setContentsMargins(0, 0, 0, 0)
-        a.setSpacing(3)
-        head = QHBoxLayout()
-        head.setSpacing(4)
-        head.addWidget(self._heading("Macros on the charger"), 1)
-        head.addWidget(self.reload_button)
-        a.addLayout(head)
-        a.addWidget(self.table, 1)
-        a.addWidget(self.free_label)
-        flash_row = QHBoxLayout()
-        flash_row.setSpacing(4)
-        flash_row.addWidget(self.flash_slot, 1)
-        flash_row.addWidget(self.flash_button)
-        a.addLayout(flash_row)
-        a.addWidget(self.progress)
-        a.addWidget(self.result_label)
-        file_row = QHBoxLayout()
-        file_row.setSpacing(4)
-        file_row.addWidget(self.backup_button)
-        file_row.addWidget(self.restore_button)
-        file_row.addStretch(1)
-        a.addLayout(file_row)
-
-        # -- column B: the run ---------------------------------------------------------------
-        self.run_slot = QComboBox()
-        self.run_slot.setObjectName("runSlot")
-        self.run_slot.setToolTip("The slot to start (default: the macro just flashed)")
-        self.task = QComboBox()
-        self.task.setObjectName("runTask")
-        for key, text in TASKS:
-            self.task.addItem(text, key)
-        self.task.setToolTip("charge, discharge, or training (discharge + charge, repeated)")
-        self.capacity = self._spin_box(10, 65000, DEFAULT_BATTERY[1], " mAh", "the capacity entered at start")
-        self.capacity.setSingleStep(100)
-        self.current = self._double_box(0.0, 50.0, 2.0, " A", 2, 0.1, "the current entered at start "
-                                   "(CONSTANT_I=INPUT; limits a CONSTANT_V phase); — none")
-        self.current.setSpecialValueText("—")
-        self.series_spin = self._spin_box(0, 255, DEFAULT_BATTERY[2], " cells", "cells in series entered at start; "
-                                      "— none")
-        self.series_spin.setSpecialValueText("—")
-        self.voltage = self._double_box(0.0, 65.0, 0.0, " V", 2, 0.1, "the voltage entered at start (INPUT); — none")
-        self.voltage.setSpecialValueText("—")
-        self.repetitions = self._spin_box(1, 255, 1, "", "training: discharge+charge this many times")
-        self.repetitions.setPrefix("× ")
-        self.sensor = QCheckBox("T sensor")
-        self.sensor.setObjectName("runSensor")
-        self.sensor.setChecked(True)
-        self.sensor.setToolTip("a battery temperature sensor is connected")
-        self.start_button = QPushButton("Start")
-        self.start_button.setObjectName("startButton")
-        self.start_button.setToolTip(START_TIP)
-        self.stop_button = QPushButton("Stop")
-        self.stop_button.setObjectName("stopButton")
-        self.stop_button.setToolTip("Stop the running macro")
-        self.run_label = ElidedLabel("")
-        self.run_label.setObjectName("runState")
-
-        self.pp_refresh = QToolButton()
-        self.pp_refresh.setText("⟳")
-        self.pp_refresh.setToolTip("Read the battery's passport again")
-        self.pp_labels = {k: QLabel("—") for k in ("serial", "type", "limits")}
-        for k, lab in self.pp_labels.items():
-            lab.setObjectName(f"passport_{k}")
-            lab.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
-            lab.setTextFormat(Qt.TextFormat.PlainText)      # a battery's bytes are never markup
+        self.bar = ConnectionBar(port_lister)
+        self.charger = ChargerSlots()
+        self.run = RunControls()
+        self.passport = PassportView()
+        self.live = LiveView(self.series)
+        # The parts' controls, under the names the panel's callers and tests know.
+        for part, names in ((self.bar, ("ports", "driver_combo", "connect_button", "replay_button", "v_chem",
+                                        "v_mah", "v_cells", "v_passport", "v_speed", "rate", "virtual_box",
+                                        "info_label")),
+                            (self.charger, ("table", "free_label", "flash_slot", "flash_button", "progress",
+                                            "result_label", "backup_button", "restore_button", "reload_button")),
+                            (self.run, ("run_slot", "task", "capacity", "current", "series_spin", "voltage",
+                                        "repetitions", "sensor", "start_button", "stop_button", "run_label")),
+                            (self.passport, ("pp_refresh", "pp_labels")),
+                            (self.live, ("plot", "readings", "follow", "follow_minutes", "all_button",
+                                         "clear_button"))):
+            for name in names:
+                setattr(self, name, getattr(part, name))
 
         col_b = QWidget()
         col_b.setObjectName("runColumn")
         b = QVBoxLayout(col_b)
         b.setContentsMargins(0, 0, 0, 0)
         b.setSpacing(3)
-        b.addWidget(self._heading("Run"))
-        grid = QGridLayout()
-        grid.setHorizontalSpacing(4)
-        grid.setVerticalSpacing(3)
-        slot_label = QLabel("Slot")
-        slot_label.setBuddy(self.run_slot)
-        grid.addWidget(slot_label, 0, 0)
-        grid.addWidget(self.run_slot, 0, 1, 1, 2)
-        grid.addWidget(self.sensor, 0, 3)
-        rows = ((("Task", self.task), ("Reps", self.repetitions)),
-                (("Capacity", self.capacity), ("Current", self.current)),
-                (("Cells", self.series_spin), ("Voltage", self.voltage)))
-        for r, pair in enumerate(rows, start=1):
-            for c, (text, widget) in enumerate(pair):
-                if text:
-                    label = QLabel(text)
-                    label.setBuddy(widget)
-                    label.setToolTip(widget.toolTip())
-                    grid.addWidget(label, r, 2 * c)
-                    grid.addWidget(widget, r, 2 * c + 1)
-                else:
-                    grid.addWidget(widget, r, 2 * c, 1, 2)
-        grid.setColumnStretch(1, 1)
-        grid.setColumnStretch(3, 1)
-        b.addLayout(grid)
-        buttons = QHBoxLayout()
-        buttons.setSpacing(4)
-        buttons.addWidget(self.start_button)
-        buttons.addWidget(self.stop_button)
-        buttons.addWidget(self.run_label, 1)
-        b.addLayout(buttons)
-        pp_head = QHBoxLayout()
-        pp_head.setSpacing(4)
-        pp_head.addWidget(self._heading("Battery passport"), 1)
-        pp_head.addWidget(self.pp_refresh)
-        b.addLayout(pp_head)
-        pp = QGridLayout()
-        pp.setHorizontalSpacing(6)
-        pp.setVerticalSpacing(1)
-        for r, (key, text) in enumerate((("serial", "Serial"), ("type", "Type"), ("limits", "Limits"))):
-            name = QLabel(text)
-            name.setStyleSheet("color:#6a6a6a;")
-            pp.addWidget(name, r, 0)
-            pp.addWidget(self.pp_labels[key], r, 1)
-        pp.setColumnStretch(1, 1)
-        b.addLayout(pp)
+        b.addWidget(self.run)
+        b.addWidget(self.passport)
         b.addStretch(1)
-
         columns = QWidget()
         cols = QHBoxLayout(columns)
         cols.setContentsMargins(0, 0, 4, 0)
         cols.setSpacing(10)
-        cols.addWidget(col_a, 10)
-        cols.addWidget(self._vline())
+        cols.addWidget(self.charger, 10)
+        cols.addWidget(vline())
         cols.addWidget(col_b, 11)
         self.controls_scroll = ControlsScroll()
         self.controls_scroll.setObjectName("deviceControls")
@@ -447,53 +176,18 @@ class DevicePanel(QWidget):
         self.controls_scroll.setWidgetResizable(True)
         self.controls_scroll.setFrameShape(QFrame.Shape.NoFrame)
         self.controls_scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
-        col_a.setMinimumWidth(215)
+        self.charger.setMinimumWidth(215)
         col_b.setMinimumWidth(265)
         self.controls_scroll.setMinimumWidth(columns.minimumSizeHint().width() + 14)
-
-        # -- the plot ------------------------------------------------------------------------
-        self.plot = LivePlot(self.series)
-        self.plot.setMinimumWidth(280)
-        self.readings = QLabel("")
-        self.readings.setObjectName("readings")
-        self.readings.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
-        self.readings.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
-        self.follow = QCheckBox("Follow last")
-        self.follow.setObjectName("followCheck")
-        self.follow.setChecked(True)
-        self.follow.setToolTip("Keep the newest minutes in view; zooming or panning the plot turns this off")
-        self.follow_minutes = self._spin_box(1, 24 * 60, DEFAULT_FOLLOW_MIN, " min", "how much of the run to keep in view")
-        self.follow_minutes.setMaximumWidth(80)
-        self.all_button = QToolButton()
-        self.all_button.setText("All")
-        self.all_button.setToolTip("Show the whole session (stops following)")
-        self.clear_button = QToolButton()
-        self.clear_button.setText("Clear")
-        self.clear_button.setToolTip("Forget the plotted session (the session CSV keeps everything)")
-        plot_bar = QHBoxLayout()
-        plot_bar.setContentsMargins(4, 0, 0, 0)
-        plot_bar.setSpacing(4)
-        plot_bar.addWidget(self.readings, 1)
-        plot_bar.addWidget(self.follow)
-        plot_bar.addWidget(self.follow_minutes)
-        plot_bar.addWidget(self.all_button)
-        plot_bar.addWidget(self.clear_button)
-        plot_box = QWidget()
-        pv = QVBoxLayout(plot_box)
-        pv.setContentsMargins(0, 0, 0, 0)
-        pv.setSpacing(0)
-        pv.addLayout(plot_bar)
-        pv.addWidget(self.plot, 1)
 
         self.splitter = QSplitter(Qt.Orientation.Horizontal)
         self.splitter.setObjectName("deviceSplitter")
         self.splitter.setChildrenCollapsible(False)
         self.splitter.addWidget(self.controls_scroll)
-        self.splitter.addWidget(plot_box)
+        self.splitter.addWidget(self.live)
         self.splitter.setStretchFactor(0, 0)
         self.splitter.setStretchFactor(1, 1)
 
-        # -- the bottom line -----------------------------------------------------------------
         self.message = QLabel("")
         self.message.setObjectName("deviceMessage")
         self.message.setWordWrap(True)
@@ -501,7 +195,7 @@ class DevicePanel(QWidget):
         self.message.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Preferred)
         self.session_label = ElidedLabel("", mode=Qt.TextElideMode.ElideMiddle)
         self.session_label.setObjectName("sessionLabel")
-        self.session_label.setStyleSheet(f"color:{COLORS['info']};")
+        self.session_label.setStyleSheet(f"color:{colour(self, 'info')};")
         self.session_label.setAlignment(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
         bottom = QHBoxLayout()
         bottom.setContentsMargins(0, 0, 0, 0)
@@ -512,8 +206,7 @@ class DevicePanel(QWidget):
         layout = QVBoxLayout(self)
         layout.setContentsMargins(6, 4, 6, 3)
         layout.setSpacing(3)
-        layout.addLayout(top)
-        layout.addLayout(second)
+        layout.addWidget(self.bar)
         layout.addWidget(self.splitter, 1)
         layout.addLayout(bottom)
 
@@ -523,30 +216,6 @@ class DevicePanel(QWidget):
         self._passport_timer.timeout.connect(self._poll_passport)
         self.flash_shortcut = QShortcut(QKeySequence("Ctrl+Shift+F"), self)
         self.flash_shortcut.setContext(Qt.ShortcutContext.WidgetWithChildrenShortcut)
-
-    def _heading(self, text: str) -> QLabel:
-        label = QLabel(text)
-        font = label.font()
-        font.setBold(True)
-        label.setFont(font)
-        return label
-
-    @staticmethod
-    def _vline() -> QFrame:
-        line = QFrame()
-        line.setFrameShape(QFrame.Shape.VLine)
-        line.setFrameShadow(QFrame.Shadow.Plain)
-        line.setStyleSheet("color:#d8d8d8;")
-        return line
-
-
-    @staticmethod
-    def _spin_box(*args) -> QSpinBox:
-        return form_field(spin_box(*args), min_width=60)
-
-    @staticmethod
-    def _double_box(*args) -> QDoubleSpinBox:
-        return form_field(double_spin_box(*args), min_width=60)
 
     def _wire(self) -> None:
         self.connect_button.clicked.connect(self._connect_clicked)
@@ -565,15 +234,12 @@ class DevicePanel(QWidget):
         self.v_mah.valueChanged.connect(self.capacity.setValue)
         self.v_cells.valueChanged.connect(self.series_spin.setValue)
         self.table.itemSelectionChanged.connect(self._table_selected)
-        self.task.currentIndexChanged.connect(lambda _: self.repetitions.setEnabled(self.task.currentData() == "train"))
-        self.repetitions.setEnabled(False)
-        self.follow.toggled.connect(self._follow_toggled)
-        self.follow_minutes.valueChanged.connect(lambda v: self.plot.set_follow(self.plot.follow, v))
-        self.plot.followChanged.connect(self._plot_follow_changed)
-        self.all_button.clicked.connect(self._show_all)
         self.clear_button.clicked.connect(self.clear_plot)
+        self.live.runChosen.connect(self._run_chosen)
+        self.v_chem.currentIndexChanged.connect(lambda _: self._battery_choice_changed())
         self.plot.pointsAdded.connect(self.telemetryReceived)
         self.plot.phaseActivated.connect(self.phaseActivated)
+
 
     # ================================================================ public API
     def is_connected(self) -> bool:
@@ -644,7 +310,7 @@ class DevicePanel(QWidget):
         slot = self.flash_slot.currentData()
         self.result_label.setText("")
         self.show_message(f"Flashing {name}…", "info")
-        self.progress.setRange(0, 0)
+        self.charger.progress_busy()
 
         def job(client, progress):
             if not force:
@@ -672,6 +338,9 @@ class DevicePanel(QWidget):
         if slot is None or not 0 <= slot < len(self._slots):
             self._start_done(False, "There is no macro on the charger to start: Compile & Flash one first.")
             return
+        if self.is_running():
+            self._start_done(False, f"{self._run_name or 'A macro'} is running: Stop it first, then Start.")
+            return
         params = self.start_params()
         record = self._slots[slot].record
         name = self._slots[slot].name
@@ -697,6 +366,7 @@ class DevicePanel(QWidget):
             return ("started", started, passport, warnings)
 
         self.show_message(f"Starting {name} (slot {slot})…", "info")
+        self._new_run()
         self.connection.call(job, lambda r: self._started(r, slot, params), self._start_failed)
         self._update_enabled()
 
@@ -708,6 +378,11 @@ class DevicePanel(QWidget):
             self.show_message(f"Stopped ({state}).", "info")
             self.operationFinished.emit("stop", True, state)
 
+        # STOP goes before anything asked after it: a Start from now on finds the charger stopped
+        # (should STOP fail, the next running frame says so again).
+        self._running = False
+        self._start_frames = self.series.frames
+        self._update_enabled()
         self.connection.call(lambda client, progress: client.stop(), done,
                              lambda exc: self._op_failed("stop", exc))
 
@@ -734,7 +409,7 @@ class DevicePanel(QWidget):
             self.show_message(text, "ok")
             self.operationFinished.emit("backup", True, text)
 
-        self.progress.setRange(0, 0)
+        self.charger.progress_busy()
         self.connection.call(job, done, lambda exc: self._op_failed("backup", exc))
 
     def restore(self, path: str | Path, force: bool = False) -> None:
@@ -773,7 +448,7 @@ class DevicePanel(QWidget):
             self.show_message(text, "ok")
             self.operationFinished.emit("restore", True, text)
 
-        self.progress.setRange(0, 0)
+        self.charger.progress_busy()
         self.connection.call(job, done, lambda exc: self._op_failed("restore", exc))
 
     def refresh_slots(self) -> None:
@@ -832,33 +507,15 @@ class DevicePanel(QWidget):
         self._close_session_log()
 
     # -- what tests and the main window may read --------------------------------------------------
-    def start_params(self) -> dict:
-        voltage = self.voltage.value()
-        current = self.current.value()
-        series = self.series_spin.value()
-        return {"task": self.task.currentData(), "repetitions": self.repetitions.value(),
-                "capacity_mah": float(self.capacity.value()), "current_a": current if current > 0 else None,
-                "voltage_v": voltage if voltage > 0 else None, "series": series if series > 0 else None,
-                "sensor": self.sensor.isChecked()}
 
-    def set_start_params(self, task: str | None = None, repetitions: int | None = None,
-                         capacity_mah: float | None = None, current_a: float | None = None,
-                         voltage_v: float | None = None, series: int | None = None,
-                         sensor: bool | None = None) -> None:
-        if task is not None:
-            self.task.setCurrentIndex(self.task.findData(task))
-        if repetitions is not None:
-            self.repetitions.setValue(int(repetitions))
-        if capacity_mah is not None:
-            self.capacity.setValue(int(capacity_mah))
-        if current_a is not None:
-            self.current.setValue(float(current_a))
-        if voltage_v is not None:
-            self.voltage.setValue(float(voltage_v))
-        if series is not None:
-            self.series_spin.setValue(int(series))
-        if sensor is not None:
-            self.sensor.setChecked(bool(sensor))
+    # -- what tests and the main window may read --------------------------------------------------
+    def start_params(self) -> dict:
+        return self.run.start_params()
+
+    def set_start_params(self, **values) -> None:
+        """Set the values entered at start (``RunControls.set_start_params``'s names)."""
+        self.run.set_start_params(**values)
+
 
     def slot_names(self) -> list[str]:
         return [s.name for s in self._slots]
@@ -872,26 +529,92 @@ class DevicePanel(QWidget):
         return self.session_dir / VIRTUAL_EEPROM
 
     def add_named_batteries(self) -> None:
-        """Offer the saved fitted batteries (docs/fit.md) after the chemistries."""
-        from ...sim.batteries import battery_names
-        for name in battery_names():
-            if self.v_chem.findData(NAMED_BATTERY + name) < 0:
-                self.v_chem.addItem(f"{name} (fitted)", NAMED_BATTERY + name)
+        """Offer the saved fitted batteries (docs/fit.md) in the virtual battery box."""
+        self.bar.add_named_batteries()
 
     def virtual_battery(self) -> str:
-        """``CHEM:MAH:CELLS`` for the built-in virtual charger: the chemistry field, or the editor
-        macro's AKK_TYPE, or NiMh; ``battery:NAME`` for a saved fitted battery."""
-        chem = self.v_chem.currentData()
-        if isinstance(chem, str) and chem.startswith(NAMED_BATTERY):
-            return chem
-        if chem is None:
-            chem = DEFAULT_BATTERY[0]
-            got = self._get_record()
-            if got is not None:
-                declared = record_chemistry(got[0])
-                if declared in _chemistry_names():
-                    chem = declared
-        return f"{chem}:{self.v_mah.value()}:{self.v_cells.value()}"
+        """``CHEM:MAH:CELLS`` for the built-in virtual charger (``ConnectionBar.virtual_battery``)."""
+        got = self._get_record()
+        return self.bar.virtual_battery(got[0] if got is not None else None, self.capacity.value(),
+                                        self.series_spin.value())
+
+    def macro_changed(self, record: bytes | None) -> None:
+        """The editor's macro compiled to ``record``: show what a virtual battery "from the
+        macro" would be (the main window calls this; it must not ask for the record again)."""
+        if self.connection.state == "disconnected":
+            self.bar.virtual_battery(record, self.capacity.value(), self.series_spin.value())
+
+    def _battery_choice_changed(self) -> None:
+        if self.connection.state == "disconnected":
+            self.virtual_battery()
+        self._update_enabled()
+
+    def run_name(self) -> str:
+        """The macro started last ("" before the first start)."""
+        return self._run_name
+
+    def is_running(self) -> bool:
+        """A macro runs on the connected charger (just started here, or as its newest frame says)."""
+        return self._running and self.is_connected()
+
+    def stop_and_wait(self, msecs: int = 5000) -> bool:
+        """Send STOP and wait for the answer (closing during a run); True if the charger stopped."""
+        if not self.is_connected():
+            return False
+        from PySide6.QtCore import QEventLoop
+        loop = QEventLoop()
+        answer = []
+
+        def finished(op, ok, _text):
+            if op == "stop":
+                answer.append(ok)
+                loop.quit()
+        self.operationFinished.connect(finished)
+        QTimer.singleShot(msecs, loop.quit)
+        self.stop()
+        if not answer:
+            loop.exec()
+        self.operationFinished.disconnect(finished)
+        return bool(answer and answer[0])
+
+    # ================================================================ runs
+    def _new_run(self) -> None:
+        """A START makes a new session of the plot (its axis from 0); the run before it is kept."""
+        if len(self.series) == 0 and not self.series.events:
+            return
+        self._before_run = (self._run_name, self.series)
+        self.runs = (self.runs + [self._before_run])[-KEEP_RUNS:]
+        self.series = LiveSeries()
+        self._finished_seen = 0
+        self._start_frames = 0
+        self.plot.set_series(self.series)
+        self._show_runs()
+
+    def _undo_new_run(self) -> None:
+        """START did not start: show the run before it again, as the current one."""
+        before, self._before_run = self._before_run, None
+        if before is None or len(self.series):
+            return
+        self.runs = [r for r in self.runs if r is not before]
+        self._run_name, self.series = before
+        self._finished_seen = len(self.series.events)
+        self._start_frames = self.series.frames
+        self.plot.set_series(self.series)
+        self._show_runs()
+
+    def _show_runs(self) -> None:
+        labels = [f"Run {i + 1}: {name or '?'}" for i, (name, _) in enumerate(self.runs)]
+        labels.append(f"Run {len(self.runs) + 1}: {self._run_name or '?'} (now)")
+        self.live.set_runs(labels)
+
+    def _run_chosen(self, index: int) -> None:
+        series = self.runs[index][1] if index < len(self.runs) else self.series
+        if series is not self.plot.series:
+            self.plot.set_series(series)
+            if series is not self.series:
+                self.follow.setChecked(False)
+                self.plot.show_all()
+
 
     # ================================================================ reader thread (no Qt)
     def _telemetry_rt(self, tel) -> None:
@@ -955,16 +678,12 @@ class DevicePanel(QWidget):
         self.connectedChanged.emit(False)
 
     def _on_progress(self, stage: str, done: int, total: int) -> None:
-        self.progress.setRange(0, max(1, total))
-        self.progress.setValue(min(done, total))
-        verbs = {"read": "reading", "write": "writing", "verify": "verifying"}
-        self.progress.setToolTip(f"{verbs.get(stage, stage)} {done} of {total} bytes")
+        self.charger.on_progress(stage, done, total)
 
     def _progress_done(self) -> None:
-        self.progress.setRange(0, 1)
-        self.progress.setValue(0)
+        self.charger.progress_done()
 
-    # -- flash --------------------------------------------------------------------------------
+
     def _flashed(self, answer) -> None:
         if isinstance(answer, _Unsafe):
             self._progress_done()
@@ -974,7 +693,7 @@ class DevicePanel(QWidget):
                 self._flash_done(False, "Not flashed: " + answer.summary())
             return
         merged, result = answer
-        self._progress_done()
+        self.charger.progress_complete(f"flashed {merged.name}: {merged.size} bytes, verified")
         self._show_image(merged.image)
         self._flashed_slot = merged.index
         index = self.run_slot.findData(merged.index)
@@ -997,8 +716,7 @@ class DevicePanel(QWidget):
             self.refresh_slots()
 
     def _flash_done(self, ok: bool, text: str) -> None:
-        self.result_label.setText(text)
-        self.result_label.setStyleSheet(f"color:{COLORS['ok' if ok else 'error']};")
+        self.charger.set_result(ok, text)
         self.show_message(text, "ok" if ok else "error")
         self._update_enabled()
         self.flashFinished.emit(ok, text)
@@ -1011,6 +729,7 @@ class DevicePanel(QWidget):
         if kind == "refused":
             # A battery unfit for use (CRIT) is refused by the charger whatever the user says: no override.
             unfit = passport is not None and passport.crit
+            self._undo_new_run()
             if not unfit and confirm_unsafe(self, "Start", value):
                 self.start(slot, force=True)
                 return
@@ -1018,14 +737,18 @@ class DevicePanel(QWidget):
                     + "\n".join(f"• {line}" for line in value))
             self._start_done(False, text)
             return
+        self._before_run = None
         self._run_name = value
+        self._running = True
+        self._start_frames = self.series.frames
+        self._show_runs()
         self.plot.set_series_count(params["series"] or 1)
-        if not self.plot.follow:
-            self.follow.setChecked(True)
+        self.live.follow_again()
         self._start_done(True, f"Started {value} (slot {slot}): {params['task']}."
                          + "".join(f"\n⚠ {w}" for w in warnings))
 
     def _start_failed(self, exc) -> None:
+        self._undo_new_run()
         self._start_done(False, describe_error(exc, "start"))
 
     def _start_done(self, ok: bool, text: str) -> None:
@@ -1063,82 +786,24 @@ class DevicePanel(QWidget):
     # ================================================================ showing things
     def show_message(self, text: str, kind: str = "info") -> None:
         self.message.setText(text)
-        self.message.setStyleSheet(f"color:{COLORS.get(kind, COLORS['info'])};")
+        self.message.setStyleSheet(f"color:{colour(self, kind)};")
         self.message.setToolTip(text if len(text) > 80 else "")
         self.statusMessage.emit(text)
 
     def _show_image(self, image: bytes) -> None:
-        self._image = bytes(image)
-        try:
-            found = slots(self._image)
-            used = used_bytes(self._image)
-            broken = ""
-        except Exception as exc:   # noqa: BLE001 - a broken record list
-            found, used, broken = [], 0, str(exc)
-        self._slots = found
-        self.table.setRowCount(len(found))
-        for row, s in enumerate(found):
-            check = "ok" if s.ok else "BAD"
-            values = (str(s.index), s.name, str(len(s.record)), record_chemistry(s.record) if s.ok else "?", check)
-            for col, value in enumerate(values):
-                item = QTableWidgetItem(value)
-                if col in (0, 2):
-                    item.setTextAlignment(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
-                if col == 4 and not s.ok:
-                    item.setForeground(Qt.GlobalColor.red)
-                    item.setToolTip(str(s.error.message if s.error else ""))
-                self.table.setItem(row, col, item)
-        size = len(self._image)
-        if broken:
-            self.free_label.setText(f"<span style='color:{COLORS['error']};'>broken record list: {broken}</span>")
-        else:
-            self.free_label.setText(f"{size - used} of {size} bytes free · {len(found)} macro(s)")
-        keep_flash = self.flash_slot.currentData()
-        keep_run = self.run_slot.currentData()
-        self.flash_slot.clear()
-        self.flash_slot.addItem("By name", None)
-        for s in found:
-            self.flash_slot.addItem(f"Replace slot {s.index} ({s.name})", s.index)
-        self.flash_slot.addItem(f"Append as slot {len(found)}", len(found))
-        k = self.flash_slot.findData(keep_flash)
-        self.flash_slot.setCurrentIndex(k if k >= 0 and keep_flash is not None and keep_flash < len(found) else 0)
-        self.run_slot.clear()
-        for s in found:
-            self.run_slot.addItem(f"{s.index}: {s.name}", s.index)
-        want = self._flashed_slot if self._flashed_slot is not None and self._flashed_slot < len(found) else keep_run
-        k = self.run_slot.findData(want)
-        if k >= 0:
-            self.run_slot.setCurrentIndex(k)
+        found = self.charger.show_image(image)
+        self._image, self._slots = self.charger.image, found
+        self.run.set_slots(found, self._flashed_slot)
         self._update_enabled()
 
     def _table_selected(self) -> None:
-        rows = self.table.selectionModel().selectedRows()
-        if rows:
-            k = self.run_slot.findData(rows[0].row())
-            if k >= 0:
-                self.run_slot.setCurrentIndex(k)
+        row = self.charger.selected_row()
+        if row is not None:
+            self.run.select_slot(row)
 
     def _show_passport(self, passport, error: str = "") -> None:
-        if passport is None:
-            text = error or ("no passport chip" if self.is_connected() else "—")
-            self.pp_labels["serial"].setText(text)
-            self.pp_labels["serial"].setToolTip(error)
-            for key in ("type", "limits"):
-                self.pp_labels[key].setText("—")
-            return
-        vendor = f" · {printable(passport.vendor)}" if passport.vendor else ""
-        odd = passport.unprintable_fields
-        self.pp_labels["serial"].setText(f"{printable(passport.serial) or '—'}{vendor}" + (" ⚠" if odd else ""))
-        self.pp_labels["serial"].setToolTip(
-            f"serial · vendor. ⚠ The {' and '.join(odd)} hold non-printable bytes (shown as \\xNN): "
-            "a damaged or forged passport" if odd else "serial · vendor")
-        self.pp_labels["serial"].setStyleSheet(f"color:{COLORS['warn']};" if odd else "")
-        self.pp_labels["type"].setText(f"{passport.type_name} · TEMP {passport.temp} °C")
-        v = f"{passport.v_limit} V" if passport.v_limit else "V not set"
-        a = f"{passport.a_limit} A" if passport.a_limit else "A not set"
-        err = (f" · ERR {passport.err}" if passport.err else "") + \
-            (f" · CRIT {passport.crit}: not fit for use" if passport.crit else "")
-        self.pp_labels["limits"].setText(f"{v} · {a}{err}")
+        self.passport.show_passport(passport, error, self.is_connected())
+
 
     def _poll_passport(self) -> None:
         if self.is_connected() and not self.connection.busy and self.isVisible():
@@ -1151,15 +816,11 @@ class DevicePanel(QWidget):
 
     def _update_readings(self) -> None:
         tel = self.series.last_telemetry
+        if tel is not None and self.series.frames > self._start_frames and tel.running != self._running:
+            self._running = tel.running
+            self._update_enabled()
         if tel is not None:
-            t = "—" if tel.temp_c is None else f"{tel.temp_c:.1f} °C"
-            tc = "—" if tel.heatsink_c is None else f"{tel.heatsink_c:.1f} °C"
-            self.readings.setText(
-                f"<span style='color:#1f4e9c;'><b>{tel.voltage_v:.3f} V</b></span>&nbsp;&nbsp;"
-                f"<span style='color:#23803a;'><b>{tel.current_a:+.3f} A</b></span>&nbsp;&nbsp;"
-                f"<span style='color:#d0481c;'>T {t}</span>&nbsp;&nbsp;"
-                f"<span style='color:#7b5ea7;'>Tc {tc}</span>&nbsp;&nbsp;"
-                f"in {tel.mah_in:.0f} mAh · out {tel.mah_out:.0f} mAh")
+            self.live.show_readings(tel)
             if tel.running:
                 where = f"{'C' if tel.section == 'charge' else 'D'}{tel.phase}" if tel.section else "—"
                 state = tel.state or ("paused" if tel.paused else "running")
@@ -1174,6 +835,7 @@ class DevicePanel(QWidget):
                 self._log_error_said = True
                 self.show_message(f"Session CSV: {logger.error}. The plot goes on; the CSV ends here.", "warn")
             self.session_label.set_full_text(self._session_text(logger))
+
 
     def _note_finish(self) -> None:
         """Say so when a run finishes (the finish event)."""
@@ -1196,6 +858,7 @@ class DevicePanel(QWidget):
         self._update_enabled()
 
     def _set_state_disconnected(self) -> None:
+        self._running = False
         self.connect_button.setText("Connect")
         self.ports.auto_refresh = True
         self._readings_timer.stop()
@@ -1225,7 +888,7 @@ class DevicePanel(QWidget):
                 w.setEnabled(False)
             self.flash_button.setToolTip(reason)
             self.start_button.setToolTip(reason)
-            self.result_label.setText(f"<span style='color:{COLORS['warn']};'>{reason}.</span>")
+            self.result_label.setText(f"<span style='color:{colour(self, 'warn')};'>{reason}.</span>")
             return
         if self.result_label.text().endswith("Flash and Start are off.</span>"):
             self.result_label.setText("")
@@ -1240,7 +903,9 @@ class DevicePanel(QWidget):
             w.setEnabled(state == "disconnected")
         for w in (self.flash_button, self.backup_button, self.restore_button, self.reload_button, self.flash_slot):
             w.setEnabled(idle)
-        self.start_button.setEnabled(idle and bool(self._slots))
+        self.start_button.setEnabled(idle and bool(self._slots) and not self.is_running())
+        self.start_button.setToolTip(f"{self._run_name or 'A macro'} is running: Stop it first"
+                                     if self.is_running() else START_TIP)
         self.stop_button.setEnabled(connected)
         self.pp_refresh.setEnabled(idle)
         self.run_slot.setEnabled(connected)
@@ -1262,7 +927,8 @@ class DevicePanel(QWidget):
             chosen = self.ports.baudrate()
             bauds = (DRIVERS[driver].baud,) + DRIVERS[driver].bauds if driver in DRIVERS else ()
             baud = chosen if driver == AUTO or chosen in bauds else None
-        self._open_session_log(cells=None)
+        # A monitor-only charger's frames are its recording (some never say "running"): all kept.
+        self._open_session_log(cells=None, idle_s=0.0)
         error = self.monitor.open(port, driver, baud)
         if error:
             self.monitor.link = None
@@ -1305,14 +971,14 @@ class DevicePanel(QWidget):
         self.info_label.set_full_text(f"{name} · monitor-only · {link.good} records · {bad} bad")
         self.info_label.setToolTip(f"{link.port}: {name}\n{link.good} records decoded; {bad} bad (checksum, torn "
                                    "line or garbage: counted, never plotted)")
-        self.info_label.setStyleSheet(f"color:{COLORS['warn' if bad else 'info']};")
+        self.info_label.setStyleSheet(f"color:{colour(self, 'warn' if bad else 'info')};")
 
     def _on_monitor_closed(self, error: str) -> None:
         link, self.monitor.link = self.monitor.link, None
         self._stop_replay_link()
         self._close_session_log()
         self._set_state_disconnected()
-        self.info_label.setStyleSheet(f"color:{COLORS['info']};")
+        self.info_label.setStyleSheet(f"color:{colour(self, 'info')};")
         kept = " The plot and the session CSV are kept."
         counts = f" {link.good} records, {link.bad} bad." if link is not None else ""
         if error:
@@ -1365,24 +1031,11 @@ class DevicePanel(QWidget):
         if self.is_connected():
             self.connection.call(lambda client, progress: client.set_telemetry_rate(value), None, lambda exc: None)
 
-    def _follow_toggled(self, on: bool) -> None:
-        self.plot.set_follow(on, self.follow_minutes.value())
-
-    def _plot_follow_changed(self, on: bool) -> None:
-        if self.follow.isChecked() != on:
-            self.follow.blockSignals(True)
-            self.follow.setChecked(on)
-            self.follow.blockSignals(False)
-
-    def _show_all(self) -> None:
-        self.follow.setChecked(False)
-        self.plot.show_all()
-
     # ================================================================ session CSV
-    def _open_session_log(self, cells: int | None = 0) -> None:
+    def _open_session_log(self, cells: int | None = 0, idle_s: float = IDLE_LOG_S) -> None:
         self._close_session_log()
         try:
-            self._log = SessionLog(session_path(self.session_dir), cells=cells)
+            self._log = SessionLog(session_path(self.session_dir), cells=cells, idle_s=idle_s)
         except OSError as exc:
             self._log = None
             self.session_label.set_full_text(f"no session CSV: cannot write in {self.session_dir}: {exc.strerror or exc}")
@@ -1414,16 +1067,25 @@ class DevicePanel(QWidget):
 
     # ================================================================ dialogs
     def _backup_clicked(self) -> None:
-        path, _ = QFileDialog.getSaveFileName(self, "Back up the charger's EEPROM", "eeprom-backup.bin",
+        path, _ = QFileDialog.getSaveFileName(self, "Back up the charger's EEPROM",
+                                              str(Path(documents_folder()) / "eeprom-backup.bin"),
                                               "EEPROM images (*.bin);;All files (*)")
         if path:
             self.backup(path)
 
     def _restore_clicked(self) -> None:
-        path, _ = QFileDialog.getOpenFileName(self, "Restore an EEPROM image", "",
+        path, _ = QFileDialog.getOpenFileName(self, "Restore an EEPROM image", documents_folder(),
                                               "EEPROM images (*.bin);;All files (*)")
-        if path:
+        if not path:
+            return
+        try:
+            in_image = [s.name for s in slots(Path(path).read_bytes())]
+        except Exception:   # noqa: BLE001 - unreadable or broken: restore() says precisely why
+            in_image = None
+        if confirm_restore(self, restore_text(Path(path).name, self.slot_names(), in_image)):
             self.restore(path)
+        else:
+            self.show_message(f"Not restored: {Path(path).name} was not written.", "info")
 
     def closeEvent(self, event) -> None:  # noqa: N802
         self.shutdown()

@@ -252,16 +252,25 @@ class LivePlot(StackedPlot):
         self.placeholder.setVisible(bool(text) and self._n == 0)
         self._place_placeholder()
 
+    def set_series(self, series: LiveSeries) -> None:
+        """Draw another session (a new run, or an earlier one kept), left as it is."""
+        self.series = series
+        self._redraw_from_scratch()
+        self.refresh()
+
     def clear(self) -> None:
         """Forget the session's data and bands."""
         self.series.clear()
+        self._redraw_from_scratch()
+
+    def _redraw_from_scratch(self) -> None:
         self.envelope.clear()
         for curve in self.curves.values():
             curve.setData([], [])
         self._n = 0
         self._version = -1
         self._set_bands([])
-        self._phase_version = self.series.phase_version
+        self._phase_version = -1
         for legend in self.legends.values():
             legend.setVisible(False)
         self.placeholder.setVisible(bool(self.placeholder.toPlainText()))

@@ -24,6 +24,7 @@ FIELD_WIDTH = 104
 DEFAULTS = {"task": "charge", "repetitions": 3, "capacity_mah": 2000, "current_a": 2.0, "series": 4,
             "voltage_v": None, "chemistry": None, "soc_percent": None, "ambient_c": 25.0, "sensor": True,
             "auto": True, "template": None}
+START_VALUES = ("task", "repetitions", "capacity_mah", "current_a", "series", "voltage_v", "sensor")
 
 
 class ParamsForm(QWidget):
@@ -226,6 +227,14 @@ class ParamsForm(QWidget):
                 widget.setValue(value)
         finally:
             self._programmatic = was
+
+    def reset_start_values(self) -> None:
+        """Another macro opened: the values entered at start go back to the defaults (its own
+        declarations then fill in), whatever was typed for the previous macro. The battery
+        (model, charge, ambient) stays: it is the one on the bench."""
+        for name in START_VALUES:
+            self._set(name, DEFAULTS[name])
+            self._edited.discard(name)
 
     def apply_declared(self, declared: dict | None) -> bool:
         """Prefill from the macro's own declarations, leaving alone whatever the user typed.

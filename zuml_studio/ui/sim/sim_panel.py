@@ -135,6 +135,10 @@ class SimulatorPanel(QWidget):
         else:
             self._refresh_hint()
 
+    def new_macro(self) -> None:
+        """Another macro opened (not an edit of this one): start values from the new macro."""
+        self.form.reset_start_values()
+
     def current_record(self) -> bytes | None:
         """The latest valid record (None before the macro first compiled)."""
         return self._record
