@@ -83,6 +83,15 @@ def test_icharger_306B_values():
     assert t.cells_v == (4.203, 4.204, 4.192, 0.0, 0.0, 0.0)
 
 
+def test_icharger_306B_discharge_is_sent_unsigned():
+    """The 306B recording discharges (state 2) with positive current fields: the state signs it."""
+    got = icharger_logview.decoder().feed(raw("icharger306B_RB_1000_lines_head300.txt"))
+    discharging = [t for t in got if t.state == "discharging"]
+    assert len(discharging) == 235
+    assert all(t.section == "discharge" and t.current_a <= 0 for t in discharging)
+    assert min(t.current_a for t in discharging) < -2.0 and discharging[-1].mah_out > 0
+
+
 def test_icharger_3010B_nimh_charge_as_the_notes_describe_it():
     got = icharger_logview.decoder().feed(raw("icharger3010B_2500NiMh_lines.txt"))
     assert got[-1].time_s == 9210.0 and got[-1].mah_in == 684.0          # stopped at 684 mAh

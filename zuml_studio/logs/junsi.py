@@ -1,5 +1,7 @@
-"""Junsi iCharger records (``../shared/realdata/icharger_logview.md``): the DUO/X/S text logs
-written to SD card or PC, and the older models' LogView serial lines as LogView stores them.
+"""Junsi iCharger DUO/X/S text logs written to SD card or PC (``../shared/realdata/
+icharger_logview.md``), with their header, battery type, cycle and internal-resistance
+records. The older serial models' lines (in raw captures and ``.lov`` files) are read by the
+live driver, ``device/icharger_logview.py``.
 
 Every record is ``$<ch>;<fields>;<checksum>`` with the checksum the XOR of every byte from
 ``$`` through the last ``;``, in decimal. A record with a bad checksum, a field that is not
@@ -17,14 +19,9 @@ IR_STATE = 128                 # LOG_EX_IR: internal resistance, 0.1 mΩ
 # DUO/X log states onto ours; a state not listed (0 "normal") follows the current's sign.
 DUO_STATES = {1: "charge", 2: "discharge", 3: "idle", 4: "pause", 5: "charge", 6: "idle", 7: "idle",
               8: "charge", 9: "charge", 10: "discharge", 11: "idle", 12: "discharge", 30: "idle"}
-# The older serial models: 1 charging, 2 discharging, 3 monitor, 4 waiting, 5 motor test, 6 done,
-# 7 error, 8/9 trickle, 10 foam cut, 11 info, 12 external discharging.
-SERIAL_STATES = {1: "charge", 2: "discharge", 3: "idle", 4: "pause", 5: "idle", 6: "idle", 7: "idle",
-                 8: "charge", 9: "charge", 10: "idle", 11: "idle", 12: "discharge"}
 DUO_BATTERY = ("?", "LiPo", "LiIo", "LiFe", "NiMH", "NiCd", "Pb", "NiZn", "LiHV")
 X_BATTERY = ("?", "LiPo", "LiIo", "LiFe", "LiHV", "LTO", "NiMH", "NiCd", "NiZn", "Pb", "Power", "User")
 DUO_CELLS = (6, 8, 10, 12)
-SERIAL_CELLS = (6, 8, 10)
 
 
 def checksum_ok(line: bytes) -> bool:
@@ -160,30 +157,3 @@ def _drop_absent_sensor(builder: SampleBuilder) -> None:
     """An external temperature of exactly 0.0 in every sample: no probe plugged in."""
     if builder.temp and all(t == 0.0 for t in builder.temp):
         builder.temp[:] = [None] * len(builder.temp)
-
-
-# -- older serial models (106B, 206B, 208B, 306B, 3010B), as LogView records --------------------
-def serial_values(line: bytes) -> tuple[int, list[int]] | None:
-    """``$1;1;;Vin;Vbat;I;cells…;Tint;Text;cap;ck`` -> (channel, [state, Vin, Vbat, I, cells…, Tint,
-    Text, cap]), None for a bad record."""
-    fields = split_record(line)
-    if not fields or len(fields) < 3 or fields[2] != b"" or not fields[0][1:].isdigit():
-        return None
-    values = _ints([fields[1]] + fields[3:])
-    if values is None or len(values) - 7 not in SERIAL_CELLS:
-        return None
-    return int(fields[0][1:]), values
-
-
-def add_serial(builder: SampleBuilder, t: float, values: list[int]) -> None:
-    state = SERIAL_STATES.get(values[0], "idle")
-    vbat, current = values[2], values[3]
-    cell_mv, (t_int, t_ext, capacity) = values[4:-3], values[-3:]
-    # These models count the current and the capacity unsigned; the state gives the direction.
-    sign = -1.0 if state == "discharge" else 1.0
-    builder.add(t, vbat / 1000.0, sign * abs(current) / 100.0, state, temp=t_ext / 10.0, heatsink=t_int / 10.0,
-                cells=[mv / 1000.0 for mv in cell_mv], counter=sign * capacity)
-
-
-def finish_serial(builder: SampleBuilder) -> None:
-    _drop_absent_sensor(builder)
