@@ -9,8 +9,8 @@ an integer or a field count that fits no layout is counted as bad and skipped.""
 from __future__ import annotations
 
 from dataclasses import replace
-from functools import reduce
 
+from ..device.stream_decoder import xor8
 from .model import Log, LogFormatError, SampleBuilder, state_from_current
 
 MAX_LINE = 400                 # longer than any real record (12 cells, 20 fields of 6 digits)
@@ -28,7 +28,7 @@ def checksum_ok(line: bytes) -> bool:
     body, sep, ck = line.rpartition(b";")
     if not sep or not ck.isdigit() or len(ck) > 3:
         return False
-    return reduce(lambda a, b: a ^ b, body + b";", 0) == int(ck)
+    return xor8(body + b";") == int(ck)
 
 
 def split_record(line: bytes) -> list[bytes] | None:
