@@ -92,6 +92,18 @@ def test_icharger_306B_discharge_is_sent_unsigned():
     assert min(t.current_a for t in discharging) < -2.0 and discharging[-1].mah_out > 0
 
 
+def test_each_phase_count_is_banked_into_the_totals():
+    """The charger counts each phase from 0: the driver banks each count (the log readers' rule,
+    device/charge_counter.py), so mAh in and out are totals."""
+    from zuml_studio.device.stream_decoder import xor8
+
+    def line(state, mah):
+        body = f"$1;{state};;15564;12645;19;4203;4204;4192;0;0;0;354;0;{mah};".encode()
+        return body + str(xor8(body)).encode() + b"\r\n"
+    got = icharger_logview.decoder().feed(b"".join(line(s, m) for s, m in ((1, 10), (1, 20), (2, 2), (2, 5), (1, 3))))
+    assert [(t.mah_in, t.mah_out) for t in got] == [(10, 0), (20, 0), (20, 2), (20, 5), (23, 5)]
+
+
 def test_icharger_3010B_nimh_charge_as_the_notes_describe_it():
     got = icharger_logview.decoder().feed(raw("icharger3010B_2500NiMh_lines.txt"))
     assert got[-1].time_s == 9210.0 and got[-1].mah_in == 684.0          # stopped at 684 mAh
