@@ -137,7 +137,8 @@ def test_icharger_duo_values_from_the_notes():
     assert (duo.voltage_v, duo.temp_c, duo.heatsink_c) == (14.925, 24.3, 28.0)
     neg = icharger_logview.decoder().feed(
         b"$1;1;18000;1;0;-53;23746;22752;1;380;0;3795;3793;3798;3795;3793;3789;0;0;0;0;50\n")[0]
-    assert (neg.time_s, neg.current_a, neg.section, neg.mah_out) == (18.0, -0.53, "discharge", 1.0)
+    # the DUO/X capacity is signed (the notes): +1 is 1 mAh in, though the current says it discharges
+    assert (neg.time_s, neg.current_a, neg.section, neg.mah_in, neg.mah_out) == (18.0, -0.53, "discharge", 1.0, 0.0)
     assert neg.state == "charge"                # the log state; the current says it discharges
 
 

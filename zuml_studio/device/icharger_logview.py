@@ -113,9 +113,11 @@ class IChargerLineDecoder(DollarLineDecoder):
         cells = integers(fields[11:11 + n], *S16)
         name, section, running, paused = DUO_STATES[state]
         section = _direction(section, i10)
+        # the DUO/X counter is signed (the notes), and still holds the last phase's count on the
+        # first record of the next: signing it by the section would count that twice
         return Reading(ms / 1000, name, section, running, vbat / 1000, i10 / 100, _temp(text),
                        _temp(tint), float(mah), tuple(c / 1000 for c in cells), paused,
-                       "discharge" if section == "discharge" else "charge")
+                       "discharge" if section == "discharge" else "charge", charge_signed=True)
 
 
 def decoder() -> IChargerLineDecoder:

@@ -41,6 +41,9 @@ class Reading:
     cells_v: tuple[float, ...] = ()
     paused: bool = False
     task: str = "charge"           # charge | discharge | train (what the program is, for the panel)
+    # The counter carries its own sign (negative: discharged). Otherwise it counts up in either
+    # direction and the section signs it.
+    charge_signed: bool = False
 
 
 class StreamDecoder:
@@ -72,7 +75,9 @@ class StreamDecoder:
             else:
                 self._phase = 0
         self._key = key if r.running else None
-        if r.charge_mah is not None and r.section:
+        if r.charge_mah is not None and r.charge_signed:
+            self._charge.add(r.charge_mah)
+        elif r.charge_mah is not None and r.section:
             self._charge.add(abs(r.charge_mah) if r.section == "charge" else -abs(r.charge_mah))
         mah_in, mah_out = self._charge.totals
         return Telemetry(
