@@ -19,6 +19,7 @@ from pathlib import Path
 from zuml_studio.logs import FORMATS, LogFormatError, read_log
 
 DATA = Path(__file__).resolve().parents[1] / "tests" / "data" / "logs"
+RAW = DATA.parent / "realdata"
 SESSION = (b"time_s,section,phase,voltage_v,current_a,temp_c,heatsink_c,mah_in,mah_out,event\n"
            b"0.0,charge,1,4.000,1.000,25.00,30.00,0.0,0.0,\n1.0,charge,1,4.100,1.000,,30.00,0.3,0.0,\n"
            b"1.0,,,,,,,,,phase_end charge 1: IF(V>4.1) STOP_FAZE\n") * 20
@@ -28,7 +29,9 @@ def seeds() -> dict[str, list[bytes]]:
     osd = (DATA / "PolaronACDC_2014-08-15_LiIo_2_4000.osd").read_bytes()
     z = zipfile.ZipFile(io.BytesIO(osd))
     return {
-        "logview-lov": [(DATA / "iCharger208B_Storage.lov").read_bytes()],
+        "logview-lov": [(DATA / "iCharger208B_Storage.lov").read_bytes(),
+                        (DATA / "Ultramat16_2011-04-21_Test_Ultramat16.lov").read_bytes(),
+                        (DATA / "iMaxB6_Ladung3S450mAh.lov").read_bytes()[:12000]],
         "dataexplorer-osd": [osd, z.read(z.namelist()[0])],
         "session-csv": [SESSION],
         "icharger-duo-txt": [(DATA / "406DUO_Turnigy_4S_1500_A_Charge_0_CH1.txt").read_bytes()[:6000],
@@ -37,6 +40,9 @@ def seeds() -> dict[str, list[bytes]]:
                                                           "LogViewOpenFormat_TimeGiven_HEX.txt",
                                                           "LogViewOpenFormat_TimeGiven_Offsets_Factor.txt")],
         "dataexplorer-csv": [(DATA / "AkkuMasterC4_2007-12-28-EmpfaengerAA4-Entladen.csv").read_bytes()[:4000]],
+        "raw-capture": [(RAW / f).read_bytes()[:6000] for f in (
+            "cheali_captured_lines_from_issues.txt", "icharger208B_Storage_lines.txt",
+            "imaxb6_Ladung3S450mAh_frames_head300.txt", "ultramat_frames_extracted.txt", "isdt_real_frames.txt")],
     }
 
 

@@ -83,6 +83,27 @@ def test_icharger_306B_values():
     assert t.cells_v == (4.203, 4.204, 4.192, 0.0, 0.0, 0.0)
 
 
+def test_icharger_306B_discharge_is_sent_unsigned():
+    """The 306B recording discharges (state 2) with positive current fields: the state signs it."""
+    got = icharger_logview.decoder().feed(raw("icharger306B_RB_1000_lines_head300.txt"))
+    discharging = [t for t in got if t.state == "discharging"]
+    assert len(discharging) == 235
+    assert all(t.section == "discharge" and t.current_a <= 0 for t in discharging)
+    assert min(t.current_a for t in discharging) < -2.0 and discharging[-1].mah_out > 0
+
+
+def test_each_phase_count_is_banked_into_the_totals():
+    """The charger counts each phase from 0: the driver banks each count (the log readers' rule,
+    device/charge_counter.py), so mAh in and out are totals."""
+    from zuml_studio.device.stream_decoder import xor8
+
+    def line(state, mah):
+        body = f"$1;{state};;15564;12645;19;4203;4204;4192;0;0;0;354;0;{mah};".encode()
+        return body + str(xor8(body)).encode() + b"\r\n"
+    got = icharger_logview.decoder().feed(b"".join(line(s, m) for s, m in ((1, 10), (1, 20), (2, 2), (2, 5), (1, 3))))
+    assert [(t.mah_in, t.mah_out) for t in got] == [(10, 0), (20, 0), (20, 2), (20, 5), (23, 5)]
+
+
 def test_icharger_3010B_nimh_charge_as_the_notes_describe_it():
     got = icharger_logview.decoder().feed(raw("icharger3010B_2500NiMh_lines.txt"))
     assert got[-1].time_s == 9210.0 and got[-1].mah_in == 684.0          # stopped at 684 mAh
@@ -116,7 +137,8 @@ def test_icharger_duo_values_from_the_notes():
     assert (duo.voltage_v, duo.temp_c, duo.heatsink_c) == (14.925, 24.3, 28.0)
     neg = icharger_logview.decoder().feed(
         b"$1;1;18000;1;0;-53;23746;22752;1;380;0;3795;3793;3798;3795;3793;3789;0;0;0;0;50\n")[0]
-    assert (neg.time_s, neg.current_a, neg.section, neg.mah_out) == (18.0, -0.53, "discharge", 1.0)
+    # the DUO/X capacity is signed (the notes): +1 is 1 mAh in, though the current says it discharges
+    assert (neg.time_s, neg.current_a, neg.section, neg.mah_in, neg.mah_out) == (18.0, -0.53, "discharge", 1.0, 0.0)
     assert neg.state == "charge"                # the log state; the current says it discharges
 
 

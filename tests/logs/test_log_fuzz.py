@@ -14,6 +14,7 @@ SEEDS = {  # a small real file of each format, for mutations
     "icharger-duo-txt": "4010DUO_LiFe_2S_3A_Charge_1_CH1.txt",
     "logview-open": "LogViewOpenFormat_TimeInc_Ch1-2_2Logs.txt",
     "dataexplorer-csv": "AkkuMasterC4_2007-12-28-EmpfaengerAA4-Entladen.csv",
+    "raw-capture": "../realdata/icharger208B_Storage_lines.txt",
 }
 SESSION = (b"time_s,section,phase,voltage_v,current_a,temp_c,heatsink_c,mah_in,mah_out,event\n"
            b"0.0,charge,1,4.000,1.000,25.00,30.00,0.0,0.0,\n1.0,charge,1,4.100,1.000,,30.00,0.3,0.0,\n"

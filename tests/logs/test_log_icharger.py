@@ -1,10 +1,11 @@
-"""iCharger DUO/X text logs and LogView .lov files of the serial models: every recording in
-tests/data/logs, with the values the notes give (realdata/icharger_logview.md, datasets.md)."""
+"""iCharger DUO/X text logs and LogView .lov files (iCharger serial models, iMAX B6,
+Ultramat): every recording in tests/data/logs, with the values the notes give
+(realdata/icharger_logview.md, dataexplorer.md, datasets.md)."""
 import pytest
 from logdata import data
 
 from zuml_studio.logs import LogFormatError, read_log
-from zuml_studio.logs.junsi import checksum_ok
+from zuml_studio.device.stream_decoder import xor8
 
 # file: (samples, cells, IR readings, mAh in at the end, duration s, device)
 DUO = {
@@ -36,7 +37,8 @@ def test_every_record_of_the_real_files_passes_its_checksum():
     for name in DUO:
         for line in data(name).split(b"\n"):
             if line.startswith(b"$"):
-                assert checksum_ok(line.strip()), line
+                body, _, ck = line.strip().rpartition(b";")
+                assert xor8(body + b";") == int(ck), line
 
 
 def test_x8_charge_matches_the_notes():
@@ -119,9 +121,34 @@ def test_lov_208b_first_record_as_the_notes_show():
     assert first.cells_v == (3.833, 3.838, 3.837)
 
 
-def test_lov_of_a_device_without_text_records_is_refused_by_name():
-    with pytest.raises(LogFormatError, match="'Ultramat 16'"):
-        read_log(data("Ultramat16_2011-04-21_Test_Ultramat16.lov"))
+def test_lov_ultramat_frames_go_to_the_ultramat_driver():
+    # 69 frames of an Ultramat 16 (52 bytes, the layout the notes give), 1 s apart
+    log = read_log(data("Ultramat16_2011-04-21_Test_Ultramat16.lov"))
+    assert (log.format, log.device, len(log.samples), log.bad_records) == ("logview-lov", "Ultramat 16", 69, 0)
+    assert log.meta["driver"] == "ultramat" and log.samples[-1].time_s == 68.0
+
+
+def test_lov_imaxb6_frames_match_the_decoded_csv_and_carry_their_time():
+    """The 76-byte frames with their Delphi TDateTime: the values and times the notes' decoded
+    CSV (shared imaxb6_serial/iMaxB6_Ladung3S450mAh_decoded.csv, its first 300 rows) gives."""
+    import csv
+    from pathlib import Path
+    log = read_log(data("iMaxB6_Ladung3S450mAh.lov"))
+    assert (log.device, len(log.samples), log.bad_records, log.cells) == ("IMAX B6", 1609, 0, 3)
+    decoded = Path(__file__).resolve().parents[1] / "data" / "realdata" / "imaxb6_Ladung3S450mAh_decoded_head300.csv"
+    with decoded.open() as fh:
+        rows = list(csv.DictReader(fh))
+    for s, row in zip(log.samples, rows):
+        assert s.time_s == pytest.approx(float(row["t_s"]), abs=0.002)
+        assert round(s.voltage_v * 1000) == int(row["V_mV"]) and round(s.current_a * 1000) == int(row["I_mA"])
+        assert s.mah_in == float(row["C_mAh"])
+        assert [round(c * 1000) for c in s.cells_v] == [int(row[f"c{k}_mV"]) for k in range(1, 4)]
+
+
+def test_lov_of_a_device_without_a_driver_is_refused_by_name():
+    raw = data("Ultramat16_2011-04-21_Test_Ultramat16.lov").replace(b"Name=Ultramat 16", b"Name=Pichler P60")
+    with pytest.raises(LogFormatError, match="'Pichler P60'.*iMAX B6"):
+        read_log(raw)
 
 
 def test_lov_record_with_bad_checksum_is_counted():

@@ -1,6 +1,6 @@
 """Issue 15 (3, 4): closing during a charge asks whether to stop the charger; another macro
 opened resets the simulator's start values from it."""
-from device_helpers import WAIT_MS, connect, flash_and_start
+from device_helpers import connect, flash_and_start
 from helpers import MACROS, seed_text
 
 LIPO_3S = seed_text("LiPo").replace("  AKK_TYPE=LiPo\n", "  AKK_TYPE=LiPo\n  SERIES=3\n  CAPACITY=2200\n")

@@ -8,6 +8,7 @@ protocol (``ChargerClient``), listed so a port chooser can offer it beside the o
 from __future__ import annotations
 
 import importlib
+import re
 from dataclasses import dataclass
 
 from .messages import Telemetry
@@ -114,3 +115,51 @@ def decode_capture(data: bytes, driver: str | None = None) -> tuple[str, list[Te
     if not good and driver is None:
         raise CaptureError(f"no charger format recognised in {len(data)} bytes (tried {', '.join(names)})")
     return name, samples, bad
+
+
+# The text forms of the shared samples: iMAX B6 ``tdatetime;iso time;frame hex`` lines, and
+# Ultramat frames as hex lines without their 0x0C/0x0D.
+_IMAX_LINE = re.compile(rb"^[^;#]*;[^;]*;(7b[0-9a-fA-F]{148}7d)\s*$", re.M)
+_HEX_LINE = re.compile(rb"^([0-9A-Fa-f]{8,400})\s*$", re.M)
+_COMMENT = re.compile(rb"^#[^\n]*\n", re.M)
+
+
+@dataclass(frozen=True)
+class Capture:
+    driver: str
+    stream: bytes               # the bytes the charger sent, as the driver reads them
+    samples: list[Telemetry]
+    bad: int
+
+
+def capture_streams(data: bytes) -> list[bytes]:
+    """The ways ``data`` can be read as a charger's byte stream: as it is (or the reports of a
+    HID dump), without its ``#`` comment lines, and the byte streams of the text forms above."""
+    reports = hex_dump_reports(data)
+    out = [data if reports is None else reports]
+    if _COMMENT.search(data):           # the shared samples name their source in '#' lines
+        out.append(_COMMENT.sub(b"", data))
+    frames = _IMAX_LINE.findall(data)
+    if frames:
+        out.append(b"".join(bytes.fromhex(f.decode()) for f in frames))
+    lines = _HEX_LINE.findall(data)
+    if lines:
+        out.append(b"".join(b"\x0c" + line.upper() + b"\r" for line in lines))
+    return out
+
+
+def decode_recording(data: bytes, driver: str | None = None) -> Capture:
+    """A recording file (a raw capture, a HID dump, a text form of one): the reading of its
+    ``capture_streams`` that gives most samples (fewest bad on a tie). CaptureError when none
+    gives any."""
+    best: Capture | None = None
+    for stream in capture_streams(data):
+        try:
+            name, samples, bad = decode_capture(stream, driver)
+        except CaptureError:
+            continue
+        if samples and (best is None or (len(samples), -bad) > (len(best.samples), -best.bad)):
+            best = Capture(name, stream, samples, bad)
+    if best is None:
+        raise CaptureError(f"no recording recognised in {len(data)} bytes (tried {driver or ', '.join(DRIVERS)})")
+    return best

@@ -7,8 +7,9 @@ the DUO/X text-log lines (same framing and checksum), recognised by the time fie
 * time in ms (DUO/X): ``$ch;state;ms;type;cycle;I;Vin;Vbat;mAh;Tint;Text;cell1..N`` with
   N = 6, 8, 10 or 12. State 128 (internal resistance) and 130 (cell capacity) are skipped.
 
-Current is in 10 mA, signed by the charger (the section follows its sign in charge and
-discharge states); temperatures in 0.1 °C (0 = no sensor); a file header line
+Current is in 10 mA, signed by the DUO/X (the section follows its sign in charge and
+discharge states); the older models send it unsigned, so a discharging state makes it
+negative; temperatures in 0.1 °C (0 = no sensor); a file header line
 ``@Model:…`` is skipped. Only the first channel seen is followed (a DUO logs ``$1`` and
 ``$2``); the other channel's lines are skipped.
 """
@@ -90,6 +91,8 @@ class IChargerLineDecoder(DollarLineDecoder):
         tint, text = integers(fields[6 + n:8 + n], *S16)
         (mah,) = integers(fields[8 + n:9 + n])
         name, section, running, paused = LEGACY_STATES[state]
+        if section == "discharge":
+            i10 = -abs(i10)      # these models send the discharge current unsigned (306B recording)
         section = _direction(section, i10)
         t = self._legacy_count * LEGACY_STEP_S
         self._legacy_count += 1
@@ -110,9 +113,11 @@ class IChargerLineDecoder(DollarLineDecoder):
         cells = integers(fields[11:11 + n], *S16)
         name, section, running, paused = DUO_STATES[state]
         section = _direction(section, i10)
+        # the DUO/X counter is signed (the notes), and still holds the last phase's count on the
+        # first record of the next: signing it by the section would count that twice
         return Reading(ms / 1000, name, section, running, vbat / 1000, i10 / 100, _temp(text),
                        _temp(tint), float(mah), tuple(c / 1000 for c in cells), paused,
-                       "discharge" if section == "discharge" else "charge")
+                       "discharge" if section == "discharge" else "charge", charge_signed=True)
 
 
 def decoder() -> IChargerLineDecoder:

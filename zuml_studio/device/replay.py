@@ -1,11 +1,10 @@
 """Play a recording onto a serial port (a pty) at its recorded pace × speed, so a charger's
 stream can be watched without the charger.
 
-``load_recording`` turns a file's bytes into records with their times: raw serial captures
-(``$`` lines, ``{…}`` frames, Ultramat frames), HID report dumps (hex text, one report a
-line), DUO/X text logs (``$`` lines with their ms), and the text forms of the shared samples
-(Ultramat frames without their 0x0C/0x0D, iMAX B6 ``time;time;hex`` lines). The record times
-are those the driver's decoder gives (the line's own clock, or its fixed step).
+``load_recording`` turns a file's bytes into records with their times: whatever
+``drivers.decode_recording`` reads (raw serial captures, HID report dumps, DUO/X text logs,
+the text forms of the shared samples). The record times are those the driver's decoder
+gives (the line's own clock, or its fixed step).
 
 ``ReplayDevice`` has the byte interface ``transport.serve_pty`` drives for the virtual
 charger. pyserial empties a port's input when it opens it, so the replay starts only once a
@@ -14,20 +13,17 @@ reader has opened the pty (it sees the reader set the line up) and a moment has 
 from __future__ import annotations
 
 import random
-import re
 import termios
 import threading
 import time
 from dataclasses import dataclass
 from typing import Callable
 
-from .drivers import CaptureError, DRIVERS, decode_capture, hex_dump_reports
+from .drivers import DRIVERS, decode_recording
 from .virtual_charger import Faults
 
 MAX_GAP_S = 60.0                 # a longer pause in a recording (a restart, a joined file) plays as this
 SETTLE_S = 0.3                   # after the reader set the line up, before the first byte
-_IMAX_LINE = re.compile(rb"^[^;#]*;[^;]*;(7b[0-9a-fA-F]{148}7d)\s*$", re.M)
-_HEX_LINE = re.compile(rb"^([0-9A-Fa-f]{8,400})\s*$", re.M)
 # how a driver's stream splits into records
 _SPLIT = {"cheali": b"\n", "icharger": b"\n", "imaxb6": b"}", "ultramat": b"\r"}
 
@@ -43,19 +39,6 @@ class Recording:
         return self.records[-1][0] if self.records else 0.0
 
 
-def _streams(data: bytes) -> list[bytes]:
-    """The ways ``data`` can be read as a charger's byte stream."""
-    reports = hex_dump_reports(data)
-    out = [data if reports is None else reports]
-    frames = _IMAX_LINE.findall(data)
-    if frames:
-        out.append(b"".join(bytes.fromhex(f.decode()) for f in frames))
-    lines = _HEX_LINE.findall(data)
-    if lines:
-        out.append(b"".join(b"\x0c" + line.upper() + b"\r" for line in lines))
-    return out
-
-
 def _split(driver: str, stream: bytes) -> list[bytes]:
     sep = _SPLIT.get(driver)
     if sep is None:                                 # HID reports
@@ -69,18 +52,8 @@ def _split(driver: str, stream: bytes) -> list[bytes]:
 
 def load_recording(data: bytes, as_format: str | None = None) -> Recording:
     """Raises CaptureError when no driver reads the data."""
-    best = None
-    for stream in _streams(data):
-        try:
-            name, samples, bad = decode_capture(stream, as_format)
-        except CaptureError:
-            continue
-        if samples and (best is None or len(samples) > len(best[2])):
-            best = (stream, name, samples, bad)
-    if best is None:
-        tried = as_format or ", ".join(DRIVERS)
-        raise CaptureError(f"no recording recognised in {len(data)} bytes (tried {tried})")
-    stream, name, _samples, bad = best
+    capture = decode_recording(data, as_format)
+    stream, name, bad = capture.stream, capture.driver, capture.bad
     dec = DRIVERS[name].decoder()
     records: list[tuple[float, bytes]] = []
     t0 = last = None

@@ -7,8 +7,9 @@ plot, phase bands, session CSV and ``zuml monitor`` work unchanged:
 
 * ``run`` counts the charger's state changes (a new band whenever the state or the section
   changes while a program runs); ``phase`` counts the bands of the same section;
-* the charger's one capacity counter goes to ``mah_in`` while charging and to ``mah_out``
-  while discharging (each keeps its last value while the other counts).
+* the charger's one capacity counter counts into ``mah_in`` while charging and into
+  ``mah_out`` while discharging; each phase's count is banked when the next starts
+  (``charge_counter.ChargeCounter``, the log readers' rule too), so both are totals.
 
 Decoders never raise on bytes: a record that fails its checksum, its shape or a range check
 is counted in ``bad`` and dropped; a well-formed record that carries no measurement (debug
@@ -20,6 +21,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import reduce
 
+from .charge_counter import ChargeCounter
 from .messages import Telemetry
 
 
@@ -39,6 +41,9 @@ class Reading:
     cells_v: tuple[float, ...] = ()
     paused: bool = False
     task: str = "charge"           # charge | discharge | train (what the program is, for the panel)
+    # The counter carries its own sign (negative: discharged). Otherwise it counts up in either
+    # direction and the section signs it.
+    charge_signed: bool = False
 
 
 class StreamDecoder:
@@ -55,7 +60,7 @@ class StreamDecoder:
         self._run = 0
         self._phase_of: dict[str, int] = {}
         self._phase = 0
-        self._mah = {"charge": 0.0, "discharge": 0.0}
+        self._charge = ChargeCounter()
 
     def feed(self, data: bytes) -> list[Telemetry]:
         raise NotImplementedError
@@ -70,14 +75,17 @@ class StreamDecoder:
             else:
                 self._phase = 0
         self._key = key if r.running else None
-        if r.charge_mah is not None and r.section:
-            self._mah[r.section] = abs(r.charge_mah)
+        if r.charge_mah is not None and r.charge_signed:
+            self._charge.add(r.charge_mah)
+        elif r.charge_mah is not None and r.section:
+            self._charge.add(abs(r.charge_mah) if r.section == "charge" else -abs(r.charge_mah))
+        mah_in, mah_out = self._charge.totals
         return Telemetry(
             time_s=r.time_s, task=r.task, section=r.section if r.running else "", repetition=0, cycle=0,
             phase=self._phase if r.running else 0, run=self._run if r.running else 0, running=r.running,
             paused=r.paused, sensor=r.temp_c is not None, voltage_v=r.voltage_v, current_a=r.current_a,
-            temp_c=r.temp_c, heatsink_c=r.heatsink_c, mah_in=self._mah["charge"],
-            mah_out=self._mah["discharge"], cells_v=r.cells_v, state=r.state)
+            temp_c=r.temp_c, heatsink_c=r.heatsink_c, mah_in=mah_in, mah_out=mah_out, cells_v=r.cells_v,
+            state=r.state)
 
 
 def xor8(data: bytes) -> int:

@@ -4,11 +4,12 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+from ..device.charge_counter import ChargeCounter
+
 SECONDS_PER_HOUR = 3600.0
 # A gap longer than this is not integrated over: the log was interrupted, the charger
 # was not necessarily still pushing current.
 MAX_STEP_S = 60.0
-JITTER_MAH = 1.0
 
 
 def integrate_current(times_s: Sequence[float], currents_a: Sequence[float]) -> tuple[list[float], list[float]]:
@@ -40,21 +41,13 @@ def integrate_current(times_s: Sequence[float], currents_a: Sequence[float]) -> 
 
 
 def charge_from_counter(counter_mah: Sequence[float]) -> tuple[list[float], list[float]]:
-    """Cumulative mAh in and out from a charger's capacity counter.
-
-    Chargers count the charge of the phase they are in and start again at 0 for the next
-    one; the counter is signed (negative: discharged). A fall in magnitude or a change of
-    sign starts a new count: what the previous count reached is banked. A fall of up to
-    ``JITTER_MAH`` is rounding, not a new count."""
-    bank_in = bank_out = 0.0
-    prev = 0.0
+    """Cumulative mAh in and out from a charger's signed, per-phase capacity counter
+    (``device.charge_counter``: the live drivers count the same way)."""
+    counter = ChargeCounter()
     ins: list[float] = []
     outs: list[float] = []
     for c in counter_mah:
-        if (prev > 0 and c < 0) or (prev < 0 and c > 0) or abs(c) < abs(prev) - JITTER_MAH:
-            bank_in += max(prev, 0.0)
-            bank_out += max(-prev, 0.0)
-        prev = c
-        ins.append(bank_in + max(c, 0.0))
-        outs.append(bank_out + max(-c, 0.0))
+        q_in, q_out = counter.add(c)
+        ins.append(q_in)
+        outs.append(q_out)
     return ins, outs

@@ -5,13 +5,14 @@ from __future__ import annotations
 import csv
 from typing import TextIO
 
+from ..device.session_log import cell_columns
 from .model import Log, state_of
 
 COLUMNS = ("t_s", "voltage_v", "current_a", "temp_c", "charge_in_mah", "charge_out_mah", "state")
 
 
 def header(log: Log) -> list[str]:
-    return list(COLUMNS) + [f"cell{k}_v" for k in range(1, log.cells + 1)]
+    return list(COLUMNS + cell_columns(log.cells))
 
 
 def write_csv(log: Log, stream: TextIO) -> int:

@@ -1,58 +1,22 @@
-"""Junsi iCharger records (``../shared/realdata/icharger_logview.md``): the DUO/X/S text logs
-written to SD card or PC, and the older models' LogView serial lines as LogView stores them.
-
-Every record is ``$<ch>;<fields>;<checksum>`` with the checksum the XOR of every byte from
-``$`` through the last ``;``, in decimal. A record with a bad checksum, a field that is not
-an integer or a field count that fits no layout is counted as bad and skipped."""
+"""Junsi iCharger DUO/X/S text logs written to SD card or PC (``../shared/realdata/
+icharger_logview.md``), with their header, battery type and internal-resistance records. The records are decoded by the live driver, ``device/icharger_logview.py`` (which
+also reads the older serial models' lines in raw captures and ``.lov`` files): what it counts
+as bad (checksum, a field that is not an integer or out of its range, a field count that fits
+no layout, garbage) is the log's ``bad_records``."""
 from __future__ import annotations
 
 from dataclasses import replace
-from functools import reduce
 
-from .model import Log, LogFormatError, SampleBuilder, state_from_current
+from ..device.icharger_logview import IChargerLineDecoder
+from ..device.stream_decoder import Reading, integers
+from .model import Log, LogFormatError, from_samples
 
-MAX_LINE = 400                 # longer than any real record (12 cells, 20 fields of 6 digits)
 SNIFF_LINES = 8
 IR_STATE = 128                 # LOG_EX_IR: internal resistance, 0.1 mΩ
-# DUO/X log states onto ours; a state not listed (0 "normal") follows the current's sign.
-DUO_STATES = {1: "charge", 2: "discharge", 3: "idle", 4: "pause", 5: "charge", 6: "idle", 7: "idle",
-              8: "charge", 9: "charge", 10: "discharge", 11: "idle", 12: "discharge", 30: "idle"}
-# The older serial models: 1 charging, 2 discharging, 3 monitor, 4 waiting, 5 motor test, 6 done,
-# 7 error, 8/9 trickle, 10 foam cut, 11 info, 12 external discharging.
-SERIAL_STATES = {1: "charge", 2: "discharge", 3: "idle", 4: "pause", 5: "idle", 6: "idle", 7: "idle",
-                 8: "charge", 9: "charge", 10: "idle", 11: "idle", 12: "discharge"}
 DUO_BATTERY = ("?", "LiPo", "LiIo", "LiFe", "NiMH", "NiCd", "Pb", "NiZn", "LiHV")
 X_BATTERY = ("?", "LiPo", "LiIo", "LiFe", "LiHV", "LTO", "NiMH", "NiCd", "NiZn", "Pb", "Power", "User")
-DUO_CELLS = (6, 8, 10, 12)
-SERIAL_CELLS = (6, 8, 10)
 
 
-def checksum_ok(line: bytes) -> bool:
-    body, sep, ck = line.rpartition(b";")
-    if not sep or not ck.isdigit() or len(ck) > 3:
-        return False
-    return reduce(lambda a, b: a ^ b, body + b";", 0) == int(ck)
-
-
-def split_record(line: bytes) -> list[bytes] | None:
-    """The fields between ``$<ch>`` and the checksum, or None for a record to count as bad."""
-    line = line.strip()
-    if len(line) > MAX_LINE or not line.startswith(b"$") or not checksum_ok(line):
-        return None
-    return line.split(b";")[:-1]
-
-
-def _ints(fields: list[bytes]) -> list[int] | None:
-    out = []
-    for f in fields:
-        text = f[1:] if f[:1] == b"-" else f
-        if not text.isdigit() or len(text) > 9:
-            return None
-        out.append(int(f))
-    return out
-
-
-# -- DUO / X / S text logs ------------------------------------------------------------------
 def parse_header(data: bytes) -> dict[str, str]:
     """``@Model:X6; Fireware:V2.0.6; ...`` -> {"Model": "X6", ...} (empty without the line)."""
     if not data.startswith(b"@"):
@@ -72,76 +36,56 @@ def sniff_duo(head: bytes, name: str) -> bool:
     # One of the first records (a torn first line is no reason to refuse the file) in the DUO/X
     # layout: a time in field 2, where the older serial lines leave it empty.
     for line in head.split(b"\n")[:SNIFF_LINES]:
-        fields = split_record(line)
-        if fields and len(fields) >= 3 and fields[2] != b"" and _ints(fields[1:]) is not None:
+        line = line.strip()
+        if line.count(b";") > 3 and line.split(b";")[2] and IChargerLineDecoder().feed(line + b"\n"):
             return True
     return False
+
+
+class _DuoLogDecoder(IChargerLineDecoder):
+    """The live driver's decoder (one decoder of these records), keeping what a log file has
+    beyond the samples: internal-resistance records, the battery type, the other channel."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.resistance: list[tuple[float, float | None, tuple[float, ...]]] = []
+        self.kind: int | None = None
+        self.other_channel = 0
+
+    def record(self, fields: list[str]) -> Reading | None:
+        reading = super().record(fields)          # raises ValueError for a record to count as bad
+        if fields[0] != self.channel:
+            self.other_channel += 1
+        elif fields[2] and int(fields[1]) == IR_STATE:
+            values = integers(fields[3:])
+            if values:
+                self.resistance.append(_resistance(int(fields[2]) / 1000.0, values))
+        elif reading is not None and fields[2] and self.kind is None:
+            self.kind = int(fields[3])
+        return reading
 
 
 def read_duo(data: bytes) -> Log:
     header = parse_header(data)
     model = header.get("Model", "")
     battery_names = X_BATTERY if model[:1] in ("X", "S") or model[:2] == "DX" else DUO_BATTERY
-    builder = SampleBuilder()
-    resistance = []
-    bad = 0
-    channel = None
-    other_channels = 0
-    battery = None
-    records = 0
-    for raw in data.split(b"\n"):
-        raw = raw.strip()
-        if not raw.startswith(b"$"):
-            if raw and not raw.startswith(b"@") and raw.strip(b"\0"):
-                bad += 1
-            continue
-        records += 1
-        fields = split_record(raw)
-        values = _ints(fields[1:]) if fields else None
-        ch = fields[0][1:] if fields else b""
-        if values is None or not ch.isdigit() or len(values) < 3:
-            bad += 1
-            continue
-        if channel is None:
-            channel = ch
-        elif ch != channel:
-            other_channels += 1
-            continue
-        state, ms = values[0], values[1]
-        if state == IR_STATE:
-            if len(values) < 3:
-                bad += 1
-                continue
-            resistance.append(_resistance(ms / 1000.0, values[2:]))
-            continue
-        if state > IR_STATE:                # 130 "cell capacity" and other special records
-            continue
-        cells = len(values) - 10
-        if cells not in DUO_CELLS:
-            bad += 1
-            continue
-        (_, _, kind, cycle, current, _vin, vbat, capacity, t_int, t_ext), cell_mv = values[:10], values[10:]
-        if battery is None and 0 <= kind < len(battery_names):
-            battery = battery_names[kind]
-        amps = current / 100.0
-        builder.add(ms / 1000.0, vbat / 1000.0, amps, DUO_STATES.get(state) or state_from_current(amps),
-                    temp=t_ext / 10.0, heatsink=t_int / 10.0, cells=[mv / 1000.0 for mv in cell_mv],
-                    counter=float(capacity), cycle=cycle)
-    if not len(builder):
-        raise LogFormatError(f"no iCharger DUO/X record read ({records} '$' records, {bad} bad)")
-    _drop_absent_sensor(builder)
+    decoder = _DuoLogDecoder()
+    samples = decoder.feed(data if data.endswith(b"\n") else data + b"\n")
+    if not samples:
+        raise LogFormatError(f"no iCharger DUO/X record read ({decoder.good + decoder.bad + decoder.skipped} "
+                             f"records, {decoder.bad} bad)")
     device = f"Junsi iCharger {model}".strip() if model else "Junsi iCharger (DUO/X log)"
-    meta = {"channel": int(channel)} if channel else {}
+    meta: dict = {"channel": int(decoder.channel)} if decoder.channel else {}
     if header:
         meta["header"] = header
-    if battery:
-        meta["battery"] = battery
-    if other_channels:
-        meta["other_channel_records"] = other_channels
-    log = builder.build("icharger-duo-txt", device, bad, **meta)
+    if decoder.kind is not None and 0 <= decoder.kind < len(battery_names):
+        meta["battery"] = battery_names[decoder.kind]
+    if decoder.other_channel:
+        meta["other_channel_records"] = decoder.other_channel
+    log = from_samples("icharger-duo-txt", device, samples, decoder.bad, **meta)
     # IR records list every cell slot; keep those the voltage records show connected.
     width = log.cells
-    return replace(log, resistance=tuple((t, pack, cells[:width]) for t, pack, cells in resistance))
+    return replace(log, resistance=tuple((t, pack, cells[:width]) for t, pack, cells in decoder.resistance))
 
 
 def _resistance(t: float, values: list[int]) -> tuple[float, float | None, tuple[float, ...]]:
@@ -154,36 +98,3 @@ def _resistance(t: float, values: list[int]) -> tuple[float, float | None, tuple
     if len(values) >= 3:
         return t, tenths[0], tuple(tenths[2:])
     return t, tenths[0], ()
-
-
-def _drop_absent_sensor(builder: SampleBuilder) -> None:
-    """An external temperature of exactly 0.0 in every sample: no probe plugged in."""
-    if builder.temp and all(t == 0.0 for t in builder.temp):
-        builder.temp[:] = [None] * len(builder.temp)
-
-
-# -- older serial models (106B, 206B, 208B, 306B, 3010B), as LogView records --------------------
-def serial_values(line: bytes) -> tuple[int, list[int]] | None:
-    """``$1;1;;Vin;Vbat;I;cells…;Tint;Text;cap;ck`` -> (channel, [state, Vin, Vbat, I, cells…, Tint,
-    Text, cap]), None for a bad record."""
-    fields = split_record(line)
-    if not fields or len(fields) < 3 or fields[2] != b"" or not fields[0][1:].isdigit():
-        return None
-    values = _ints([fields[1]] + fields[3:])
-    if values is None or len(values) - 7 not in SERIAL_CELLS:
-        return None
-    return int(fields[0][1:]), values
-
-
-def add_serial(builder: SampleBuilder, t: float, values: list[int]) -> None:
-    state = SERIAL_STATES.get(values[0], "idle")
-    vbat, current = values[2], values[3]
-    cell_mv, (t_int, t_ext, capacity) = values[4:-3], values[-3:]
-    # These models count the current and the capacity unsigned; the state gives the direction.
-    sign = -1.0 if state == "discharge" else 1.0
-    builder.add(t, vbat / 1000.0, sign * abs(current) / 100.0, state, temp=t_ext / 10.0, heatsink=t_int / 10.0,
-                cells=[mv / 1000.0 for mv in cell_mv], counter=sign * capacity)
-
-
-def finish_serial(builder: SampleBuilder) -> None:
-    _drop_absent_sensor(builder)

@@ -1,23 +1,39 @@
 """LogView ``.lov`` files (``LogView-Stream:V5``), as far as ``dataexplorer.md`` describes them.
 
 The header is u32-length-prefixed strings, then the LogView device .ini (``Name=…``), chart
-settings, then the records. LogView itself is closed and no layout of the records is
-published, so records are found as the notes do: a text record is ``u32 length`` followed by
-``<spaces><seconds>;<raw device line>\\r\\n`` (the length counts up to 16 bytes more than
-the text: seen are 8, what they hold is not known). Text records of the Junsi
-serial models are decoded here; other devices' records (binary iMAX B6 frames, Ultramat
-frames) are refused with the device's name."""
+settings, then the records, each holding the raw bytes the charger sent. LogView itself is
+closed and no layout of the records is published, so records are found as the notes do and
+their bytes go to the live driver of the charger the .ini names (``device/drivers.py``):
+
+* text devices (Junsi iCharger serial models, cheali-charger): ``u32 length`` then
+  ``<spaces><seconds>;<raw line>\\r\\n`` (the length counts up to 16 bytes more than the
+  text: seen are 8, what they hold is not known); the seconds are the sample's time.
+* iMAX B6 / e-Station: the 76-byte ``{…}`` frame then a Delphi TDateTime (days, comma
+  decimal) that gives the sample's time.
+* Ultramat: the ``0x0C … 0x0D`` frame alone; the driver's 1 s step gives the time.
+
+A record whose length prefix does not fit is counted as bad, as is every record the driver
+refuses (checksum, shape)."""
 from __future__ import annotations
 
 import re
+from dataclasses import replace
 
-from . import junsi
-from .model import Log, LogFormatError, SampleBuilder
+from ..device.drivers import DRIVERS
+from ..device.messages import Telemetry
+from .model import Log, LogFormatError, from_samples
 
 MAGIC = b"LogView-Stream:"
 SLACK = 16
+SECONDS_PER_DAY = 86400.0
 _NAME = re.compile(rb"Name=([^\x00-\x1f]{1,80})")
 _TEXT_RECORD = re.compile(rb"([\x20-\x7f]{0,12}?)(\d{1,9});(\$[\x20-\x7e]{1,400}?)\r\n")
+_FRAME_RECORD = re.compile(rb"(\{.{74}\})(\d{1,6},\d{1,12})", re.S)
+_ULTRAMAT_RECORD = re.compile(rb"\x0c[0-9A-Fa-f]{8,200}\r")
+# words of the .ini's device name -> the driver that reads its records
+DEVICE_DRIVERS = (("icharger", "icharger"), ("junsi", "icharger"), ("cheali", "cheali"), ("imax", "imaxb6"),
+                  ("e-station", "imaxb6"), ("estation", "imaxb6"), ("ultramat", "ultramat"),
+                  ("ultra duo", "ultramat"), ("ultraduo", "ultramat"))
 
 
 def sniff(head: bytes, name: str) -> bool:
@@ -35,20 +51,42 @@ def device_name(data: bytes) -> str:
     return ""
 
 
-def text_records(data: bytes) -> tuple[list[tuple[float, bytes]], int]:
+def driver_for(device: str) -> str | None:
+    low = device.lower()
+    return next((drv for word, drv in DEVICE_DRIVERS if word in low), None)
+
+
+def _prefix(data: bytes, start: int) -> int:
+    return int.from_bytes(data[start - 4:start], "little") if start >= 4 else -1
+
+
+def text_records(data: bytes) -> tuple[list[tuple[float | None, bytes]], int]:
     """(seconds, raw line) of every text record whose u32 length prefix matches, and the
     count of '$' records found without a matching prefix (torn ones)."""
-    out = []
+    out: list[tuple[float | None, bytes]] = []
     torn = 0
     for m in _TEXT_RECORD.finditer(data):
-        start, end = m.start(), m.end()
-        prefix = data[start - 4:start] if start >= 4 else b""
-        length = int.from_bytes(prefix, "little") if len(prefix) == 4 else -1
-        if end - start <= length <= end - start + SLACK and not m.group(1).strip():
-            out.append((float(int(m.group(2))), m.group(3)))
+        size = m.end() - m.start()
+        if size <= _prefix(data, m.start()) <= size + SLACK and not m.group(1).strip():
+            out.append((float(int(m.group(2))), m.group(3) + b"\r\n"))
         else:
             torn += 1
     return out, torn
+
+
+def frame_records(data: bytes) -> tuple[list[tuple[float | None, bytes]], int]:
+    """(seconds since 30 Dec 1899, frame) of every iMAX B6 record."""
+    out: list[tuple[float | None, bytes]] = []
+    for m in _FRAME_RECORD.finditer(data):
+        out.append((float(m.group(2).replace(b",", b".")) * SECONDS_PER_DAY, m.group(1)))
+    return out, 0
+
+
+def ultramat_records(data: bytes) -> tuple[list[tuple[float | None, bytes]], int]:
+    return [(None, m.group(0)) for m in _ULTRAMAT_RECORD.finditer(data)], 0
+
+
+RECORDS = {"icharger": text_records, "cheali": text_records, "imaxb6": frame_records, "ultramat": ultramat_records}
 
 
 def read(data: bytes) -> Log:
@@ -57,23 +95,23 @@ def read(data: bytes) -> Log:
     device = device_name(data)
     if not device:
         raise LogFormatError("LogView file without a device .ini (no 'Name=' entry)")
-    if not device.lower().startswith("junsi"):
-        raise LogFormatError(f"LogView file from '{device}': only the text records of Junsi iCharger serial "
-                             f"models are read from .lov files; export it from LogView as text, or replay it")
-    records, bad = text_records(data)
-    builder = SampleBuilder()
-    channel = None
-    for seconds, line in records:
-        decoded = junsi.serial_values(line)
-        if decoded is None:
-            bad += 1
-            continue
-        ch, values = decoded
-        channel = ch if channel is None else channel
-        if ch != channel:
-            continue
-        junsi.add_serial(builder, seconds, values)
-    if not len(builder):
-        raise LogFormatError(f"LogView file from '{device}': no iCharger record read ({bad} bad)")
-    junsi.finish_serial(builder)
-    return builder.build("logview-lov", device, bad, channel=channel)
+    name = driver_for(device)
+    if name is None:
+        readers = ", ".join(DRIVERS[d].title for d in RECORDS)
+        raise LogFormatError(f"LogView file from '{device}': .lov records are read for {readers}; "
+                             f"export it from LogView as text")
+    records, bad = RECORDS[name](data)
+    decoder = DRIVERS[name].decoder()
+    samples: list[Telemetry] = []
+    t0 = None
+    for seconds, raw in records:
+        for sample in decoder.feed(raw):
+            if seconds is not None:
+                t0 = seconds if t0 is None else t0
+                sample = replace(sample, time_s=round(seconds - t0, 3))
+            samples.append(sample)
+    bad += decoder.bad
+    if not samples:
+        raise LogFormatError(f"LogView file from '{device}': no {name} record read "
+                             f"({len(records)} records, {bad} bad)")
+    return from_samples("logview-lov", device, samples, bad, driver=name)

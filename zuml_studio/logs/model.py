@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -89,8 +89,20 @@ class Log:
 
 
 def from_samples(fmt: str, device: str, samples: Sequence[Telemetry], bad_records: int = 0, **meta) -> Log:
-    """A Log from ready samples (a live driver's decoder, for instance)."""
-    return Log(fmt, device, tuple(samples), bad_records, dict(meta))
+    """A Log from ready samples (a live driver's decoder, for instance); cell columns are cut
+    to ``connected_cells`` as every reader's are."""
+    width = connected_cells([s.cells_v for s in samples])
+    cut = tuple(s if len(s.cells_v) <= width else replace(s, cells_v=s.cells_v[:width]) for s in samples)
+    return Log(fmt, device, cut, bad_records, dict(meta))
+
+
+def connected_cells(cells: Sequence[Sequence[float]]) -> int:
+    """How many per-cell columns to keep: those at the end that read 0 V in every sample are
+    balance taps not connected."""
+    width = max((len(c) for c in cells), default=0)
+    while width and all(len(c) < width or c[width - 1] == 0.0 for c in cells):
+        width -= 1
+    return width
 
 
 class SampleBuilder:
@@ -144,15 +156,9 @@ class SampleBuilder:
             return charge_from_counter(self.counter)
         return integrate_current(self.t, self.i)
 
-    def _cell_count(self) -> int:
-        width = max((len(c) for c in self.cells), default=0)
-        while width and all(len(c) < width or c[width - 1] == 0.0 for c in self.cells):
-            width -= 1
-        return width
-
     def build(self, fmt: str, device: str, bad_records: int = 0, *, resistance=(), **meta) -> Log:
         q_in, q_out = self._charge()
-        width = self._cell_count()
+        width = connected_cells(self.cells)
         samples = []
         runs = 0
         section_count = {"charge": 0, "discharge": 0}

@@ -2,10 +2,10 @@
 
 Adding a format is one ``LogReader`` entry in ``FORMATS``: a name, ``sniff(first bytes, file
 name) -> bool`` and ``read(bytes) -> Log``. A reader that gets ready samples from elsewhere
-(a live driver's decoder, for instance) builds its Log with ``model.from_samples(format,
-device, samples, bad_records)``. More specific formats come first: the first that
-recognises the bytes reads them (a raw serial capture reader belongs last: DUO/X logs and
-LogView text are ``$`` lines too)."""
+(a live driver's decoder: ``raw_capture``, ``lov``) builds its Log with
+``model.from_samples(format, device, samples, bad_records)``. More specific formats come
+first: the first that recognises the bytes reads them (the raw capture reader is last:
+DUO/X logs and LogView text are ``$`` lines too)."""
 from __future__ import annotations
 
 from collections.abc import Callable
@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..file_errors import FileReadError, read_file_bytes
-from . import dataexplorer_csv, junsi, logview_open, lov, osd, session_csv
+from . import dataexplorer_csv, junsi, logview_open, lov, osd, raw_capture, session_csv
 from .model import Log, LogFormatError
 
 HEAD_BYTES = 4096
@@ -28,12 +28,15 @@ class LogReader:
 
 
 FORMATS: tuple[LogReader, ...] = (
-    LogReader("logview-lov", "LogView .lov (Junsi iCharger serial models)", lov.sniff, lov.read),
+    LogReader("logview-lov", "LogView .lov (iCharger serial models, cheali, iMAX B6, Ultramat)", lov.sniff,
+              lov.read),
     LogReader("dataexplorer-osd", "DataExplorer .osd", osd.sniff, osd.read),
     LogReader("session-csv", "ZUML Studio session CSV", session_csv.sniff, session_csv.read),
     LogReader("icharger-duo-txt", "Junsi iCharger DUO/X/S text log", junsi.sniff_duo, junsi.read_duo),
     LogReader("logview-open", "LogView open format text", logview_open.sniff, logview_open.read),
     LogReader("dataexplorer-csv", "DataExplorer CSV export", dataexplorer_csv.sniff, dataexplorer_csv.read),
+    LogReader(raw_capture.FORMAT, "raw capture of a charger's serial stream or HID reports", raw_capture.sniff,
+              raw_capture.read),
 )
 BY_NAME = {f.name: f for f in FORMATS}
 

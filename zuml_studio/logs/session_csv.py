@@ -11,10 +11,12 @@ import csv
 import io
 import math
 
+from ..sim.samples import COLUMNS as SIM_COLUMNS
+from . import export
 from .model import STATES, Log, LogFormatError, SampleBuilder
 
-SESSION_HEAD = "time_s,section,phase,voltage_v,current_a,temp_c,heatsink_c,mah_in,mah_out"
-EXPORT_HEAD = "t_s,voltage_v,current_a,temp_c,charge_in_mah,charge_out_mah,state"
+SESSION_HEAD = ",".join(SIM_COLUMNS)          # the session CSV adds "event" and the cells after these
+EXPORT_HEAD = ",".join(export.COLUMNS)
 _SECTION_STATE = {"charge": "charge", "discharge": "discharge", "": "idle"}
 
 

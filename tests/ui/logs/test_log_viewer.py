@@ -86,3 +86,12 @@ def test_main_window_file_menu_opens_the_log_viewer(make_window):
     assert viewer.tabs.count() == 1 and viewer.isVisible()
     assert window.open_log(str(LOGS / "X6_LiFe_10-3A_Cycle_2.txt")) is viewer and viewer.tabs.count() == 2
     viewer.close()
+
+
+def test_a_raw_capture_opens_with_its_driver_phases(viewer):
+    """A raw serial capture (iCharger 306B lines) opens like any log, decoded by its driver."""
+    document = viewer.open_path(str(LOGS.parent / "realdata" / "icharger306B_RB_1000_lines_head300.txt"))
+    assert document.log.format == "raw-capture"
+    assert "Junsi iCharger (106B/206B/208B/306B/3010B)" in document.totals.text()
+    # the bands: the "info" pause (idle) between the first two charges has none
+    assert [p.state for p in document.plot._phases] == ["charge", "charge", "discharge", "charge"]

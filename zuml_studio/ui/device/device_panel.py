@@ -35,7 +35,7 @@ from ...device.flashing import merge_record
 from ...device.passport import fitness_warnings
 from ...sim.start_check import start_warnings
 from ...device.ports import VIRTUAL
-from ...lang.eeprom import slots
+from ...lang.eeprom import Slot, slots
 from ...safety import image_problems, record_problems
 from ..timefmt import hmmss
 from .charger_monitor import ChargerMonitor
@@ -772,7 +772,7 @@ class DevicePanel(QWidget):
             self.show_message(f"Read back after the lost link: the charger kept its previous image; the {what} "
                               "was not written. Do it again.", "warn")
         else:
-            self.show_message(f"Read back after the lost link: the charger holds neither the new image nor the "
+            self.show_message("Read back after the lost link: the charger holds neither the new image nor the "
                               "previous one (changed since by another program?). Check its macros.", "warn")
 
     def _op_failed(self, op: str, exc) -> None:

@@ -12,7 +12,7 @@ from ...logs.export import write_csv
 from .log_document import LogDocument
 
 TITLE = "Logs — ZUML Studio"
-FILTER = "Charger logs (*.txt *.lov *.osd *.csv *.log);;All files (*)"
+FILTER = "Charger logs and captures (*.txt *.lov *.osd *.csv *.log *.cap *.bin);;All files (*)"
 
 
 class LogWindow(QMainWindow):
