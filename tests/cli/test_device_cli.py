@@ -12,22 +12,10 @@ import pytest
 
 from helpers import MACROS, compiled
 from tests_cli_util import run_zuml
-from zuml_studio.cli.main import main
 from zuml_studio.lang.eeprom import slots
 
 pytestmark = pytest.mark.skipif(os.name != "posix", reason="ptys need POSIX")
 
-
-
-@pytest.fixture
-def zuml(capsys):
-    """The command line in-process (fast); the subprocess tests below run it as a user would."""
-    def run(*args):
-        capsys.readouterr()
-        code = main(list(args))
-        captured = capsys.readouterr()
-        return code, captured.out, captured.err
-    return run
 
 
 @pytest.fixture

@@ -5,21 +5,10 @@ import pytest
 
 from helpers import MACROS, ROOT
 from tests_cli_util import run_zuml
-from zuml_studio.cli.main import main
 
 CURVES = ROOT / "tests" / "data" / "curves"
 LOGS = ROOT / "tests" / "data" / "logs"
 FIGURE_KEYS = {"rmse_v_per_cell_mv", "rmse_i_cv_pct", "peak", "temp_rise"}
-
-
-@pytest.fixture
-def zuml(capsys):
-    def run(*args):
-        capsys.readouterr()
-        code = main(list(args))
-        captured = capsys.readouterr()
-        return code, captured.out, captured.err
-    return run
 
 
 def test_fit_json_has_exactly_the_issue_keys_and_nulls_where_the_log_has_no_part(zuml):

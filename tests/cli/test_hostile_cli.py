@@ -4,19 +4,8 @@ import os
 import pytest
 
 from helpers import MACROS, lose_link_after_commit
-from zuml_studio.cli.main import main
 
 pytestmark = pytest.mark.skipif(os.name != "posix", reason="ptys need POSIX")
-
-
-@pytest.fixture
-def zuml(capsys):
-    def run(*args):
-        capsys.readouterr()
-        code = main(list(args))
-        captured = capsys.readouterr()
-        return code, captured.out, captured.err
-    return run
 
 
 def test_passport_control_bytes_are_printed_escaped_and_flagged(make_charger, zuml):

@@ -5,20 +5,9 @@ import os
 import pytest
 
 from helpers import HOT_LIION, compiled, unsafe_record
-from zuml_studio.cli.main import main
 from zuml_studio.lang.eeprom import pack, slots
 
 pytestmark = pytest.mark.skipif(os.name != "posix", reason="ptys need POSIX")
-
-
-@pytest.fixture
-def zuml(capsys):
-    def run(*args):
-        capsys.readouterr()
-        code = main(list(args))
-        captured = capsys.readouterr()
-        return code, captured.out, captured.err
-    return run
 
 
 @pytest.fixture

@@ -9,6 +9,7 @@ import signal
 import sys
 import threading
 import time
+from typing import Iterator
 
 from ..device import messages as msg
 from ..device.client import DEFAULT_BAUD, ChargerClient, check_image
@@ -377,16 +378,7 @@ def cmd_monitor(args: argparse.Namespace) -> int:
             out("nothing is running")
             return 0
         end = time.monotonic() + args.seconds if args.seconds is not None else None
-        while True:
-            now = time.monotonic()
-            if end is not None and now >= end:
-                break
-            if sink:
-                sink.flush_if_due()
-            try:
-                kind, item = feed.get(timeout=0.2 if end is None else max(0.01, min(0.2, end - now)))
-            except queue.Empty:
-                continue
+        for kind, item in _until(feed, end, sink.flush_if_due if sink else None):
             if kind == "disconnected":
                 raise item
             if kind == "telemetry":
@@ -415,6 +407,21 @@ def cmd_monitor(args: argparse.Namespace) -> int:
         if sink:
             sink.close()
     return 1 if sink and sink.failed else 0      # the failure was said on its line when it happened
+
+
+def _until(feed: queue.SimpleQueue, end: float | None, flush) -> Iterator[tuple[str, object]]:
+    """What a reader thread queues, until ``end`` (``time.monotonic()``; None: until the caller
+    stops); ``flush`` is called at least every 0.2 s, so a CSV reaches the disk while it runs."""
+    while True:
+        now = time.monotonic()
+        if end is not None and now >= end:
+            return
+        if flush:
+            flush()
+        try:
+            yield feed.get(timeout=0.2 if end is None else max(0.01, min(0.2, end - now)))
+        except queue.Empty:
+            continue
 
 
 def _monitor_charger(args: argparse.Namespace) -> int:
@@ -446,16 +453,7 @@ def _monitor_charger(args: argparse.Namespace) -> int:
     end = time.monotonic() + args.seconds if args.seconds is not None else None
     error = None
     try:
-        while True:
-            now = time.monotonic()
-            if end is not None and now >= end:
-                break
-            if log:
-                log.flush_if_due()
-            try:
-                kind, item = feed.get(timeout=0.2 if end is None else max(0.01, min(0.2, end - now)))
-            except queue.Empty:
-                continue
+        for kind, item in _until(feed, end, log.flush_if_due if log else None):
             if kind == "sample":
                 out(telemetry_line(item) + _cells_text(item))
                 if log:
@@ -490,6 +488,9 @@ def _monitor_charger(args: argparse.Namespace) -> int:
         raise CliError(error, 1)
     if link.driver is None and link.received == 0:
         sys.stderr.write(f"{args.port}: nothing arrived (a charger sends only while a program runs)\n")
+    if log and log.error:             # the samples went on to the screen; the CSV stopped there
+        sys.stderr.write(f"zuml: error: session CSV: {log.error}\n")
+        return 1
     return 0
 
 

@@ -1,0 +1,16 @@
+"""Command-line fixtures."""
+import pytest
+
+from zuml_studio.cli.main import main
+
+
+@pytest.fixture
+def zuml(capsys):
+    """zuml(*args) -> (exit code, stdout, stderr): the command line in-process (fast); tests that
+    must run it as a user would use ``tests_cli_util.run_zuml`` (a subprocess)."""
+    def run(*args):
+        capsys.readouterr()
+        code = main(list(args))
+        captured = capsys.readouterr()
+        return code, captured.out, captured.err
+    return run
