@@ -7,7 +7,6 @@ import sys
 import pytest
 
 from helpers import MACROS
-from zuml_studio.cli.main import main
 
 INSTALL = "apt-get install -y make gcc gcc-avr avr-libc binutils-avr simavr libsimavr-dev libelf-dev"
 pytestmark = pytest.mark.skipif(os.name != "posix", reason="ptys need POSIX")
@@ -38,16 +37,6 @@ def firmware_port(request, tmp_path):
     yield port
     proc.terminate()
     assert proc.wait(timeout=10) == 0
-
-
-@pytest.fixture
-def zuml(capsys):
-    def run(*args):
-        capsys.readouterr()
-        code = main(list(args))
-        captured = capsys.readouterr()
-        return code, captured.out, captured.err
-    return run
 
 
 def test_flash_slots_run_monitor_stop_backup_against_the_firmware(firmware_port, zuml, tmp_path):
