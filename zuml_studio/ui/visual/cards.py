@@ -213,7 +213,8 @@ class DropZone(QFrame):
         super().paintEvent(event)
         if self._indicator is not None:
             painter = QPainter(self)
-            painter.setPen(QPen(QColor(colours(self.palette())["charge"]), 3, Qt.PenStyle.SolidLine, Qt.PenCapStyle.RoundCap))
+            pen = QPen(QColor(colours(self.palette())["charge"]), 3, Qt.PenStyle.SolidLine, Qt.PenCapStyle.RoundCap)
+            painter.setPen(pen)
             painter.drawLine(10, self._indicator, self.width() - 10, self._indicator)
             painter.end()
 

@@ -86,10 +86,12 @@ QLabel[role="unit"] { color: $field; }
 #commandChip:disabled { background: $chip_off; }
 #conditionChip { background: $condition_chip; border: 1px solid $chip_line; border-radius: 12px; }
 
-QToolButton[role="icon"] { border: none; border-radius: 4px; padding: 1px 3px; color: $icon; background: transparent; }
+QToolButton[role="icon"] { border: none; border-radius: 4px; padding: 1px 3px; color: $icon;
+                          background: transparent; }
 QToolButton[role="icon"]:hover { background: $icon_hover; color: $text; }
 QToolButton[role="icon"]:disabled { color: $icon_off; }
-QToolButton[role="remove"] { border: none; border-radius: 4px; padding: 0 3px; color: $remove; background: transparent; }
+QToolButton[role="remove"] { border: none; border-radius: 4px; padding: 0 3px; color: $remove;
+                            background: transparent; }
 QToolButton[role="remove"]:hover { background: $remove_hover; color: $remove_hover_text; }
 QToolButton[role="remove"]:disabled { color: $remove_off; }
 QToolButton[role="add"] { border: 1px dashed $add_line; border-radius: 5px; padding: 2px 8px; color: $add_text;
