@@ -32,6 +32,7 @@ from .window_geometry import first_geometry, fits
 
 APP_NAME = "ZUML Studio"
 DEVICE_PANEL_DELAY_MS = 300      # built after the first paint: its tab is not the one in front
+VISUAL_MIN_HEIGHT = 440          # the Visual tab, when shown, takes this much height from the docks below
 MAX_RECENT = 10
 LAYOUT_VERSION = 4      # raise when docks or toolbars are added or removed: an older saved layout is then ignored
 EMPTY_MACRO = """MACRO NewMacro
@@ -103,6 +104,7 @@ class MainWindow(QMainWindow):
         self.hex_dock = self._dock("Bytes", "hexDock", self.hex_view, Qt.DockWidgetArea.RightDockWidgetArea)
         self.visual_dock = self._dock("Visual", "visualDock", self.visual, Qt.DockWidgetArea.RightDockWidgetArea)
         self.tabifyDockWidget(self.hex_dock, self.visual_dock)
+        self.visual_dock.visibilityChanged.connect(lambda visible: visible and self._make_room_for_visual())
         self.hex_dock.raise_()
         self.problems_dock = self._dock("Problems", "problemsDock", self.problems,
                                         Qt.DockWidgetArea.BottomDockWidgetArea)
@@ -450,6 +452,15 @@ class MainWindow(QMainWindow):
         if not dialog.exec():
             return False
         return self.new_generated(dialog.text())
+
+    def _make_room_for_visual(self) -> None:
+        """At 1366x768 the right-hand docks are a strip over the simulator with room for no card:
+        the Visual tab, once in front, gets enough height for several (the docks below give it)."""
+        missing = VISUAL_MIN_HEIGHT - self.visual_dock.height()
+        below = [d for d in (self.sim_dock, self.device_dock, self.problems_dock) if d.isVisible()
+                 and not d.isFloating() and self.dockWidgetArea(d) == Qt.DockWidgetArea.BottomDockWidgetArea]
+        if missing > 0 and below and not self.visual_dock.isFloating():
+            self.resizeDocks(below[:1], [max(1, below[0].height() - missing)], Qt.Orientation.Vertical)
 
     def show_visual(self) -> None:
         self.visual_dock.show()

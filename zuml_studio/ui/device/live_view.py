@@ -1,4 +1,4 @@
-"""The live view: the readout of the newest frame, following the last minutes, All, Clear,
+"""The live view: the readout of the newest frame (two lines over the plot), following the last minutes, All, Clear,
 and the live plot below them."""
 from __future__ import annotations
 
@@ -24,6 +24,7 @@ class LiveView(QWidget):
         self.readings.setObjectName("readings")
         self.readings.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
         self.readings.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
+        self.readings.setText("<br>")      # its two lines from the start: the plot does not jump at the first frame
         self.follow = QCheckBox("Follow last")
         self.follow.setObjectName("followCheck")
         self.follow.setChecked(True)
@@ -48,7 +49,7 @@ class LiveView(QWidget):
         plot_bar = QHBoxLayout()
         plot_bar.setContentsMargins(4, 0, 0, 0)
         plot_bar.setSpacing(4)
-        plot_bar.addWidget(self.readings, 1)
+        plot_bar.addStretch(1)
         plot_bar.addWidget(self.run_choice)
         plot_bar.addWidget(self.follow)
         plot_bar.addWidget(self.follow_minutes)
@@ -57,6 +58,8 @@ class LiveView(QWidget):
         pv = QVBoxLayout(self)
         pv.setContentsMargins(0, 0, 0, 0)
         pv.setSpacing(0)
+        self.readings.setContentsMargins(4, 2, 4, 0)
+        pv.addWidget(self.readings)
         pv.addLayout(plot_bar)
         pv.addWidget(self.plot, 1)
         self.readout = CursorReadout(self.plot, self._cursor_samples)
@@ -78,9 +81,9 @@ class LiveView(QWidget):
             f"<span style='color:#1f4e9c;'><b>{tel.voltage_v:.3f} V</b></span>&nbsp;&nbsp;"
             f"<span style='color:#23803a;'><b>{tel.current_a:+.3f} A</b></span>&nbsp;&nbsp;"
             f"<span style='color:#d0481c;'>T {t}</span>&nbsp;&nbsp;"
-            f"<span style='color:#7b5ea7;'>Tc {tc}</span>&nbsp;&nbsp;"
-            f"in {tel.mah_in:.0f} mAh · out {tel.mah_out:.0f} mAh")
-        # The bar gives the readout what the buttons leave: at 1366 px it may be cut, never unreadable.
+            f"<span style='color:#7b5ea7;'>Tc {tc}</span><br>"
+            f"charged in {tel.mah_in:.0f} mAh · discharged out {tel.mah_out:.0f} mAh")
+        # Two lines in a row of its own: whole at 1366 px; the tooltip says what T and Tc are.
         self.readings.setToolTip(f"{tel.voltage_v:.3f} V · {tel.current_a:+.3f} A · battery T {t} · heat sink "
                                  f"Tc {tc} · charged in {tel.mah_in:.0f} mAh · discharged out {tel.mah_out:.0f} mAh")
 

@@ -16,7 +16,7 @@ from ... import visual_edits as ve
 from ...lang import opcodes as ops
 from ...lang.ast import Cycle, Phase, Statement
 from .fields import Field, make_field
-from .style import SECTION_TITLES
+from .style import SECTION_TITLES, colours
 
 MIME = "application/x-zuml-visual-item"
 
@@ -213,7 +213,8 @@ class DropZone(QFrame):
         super().paintEvent(event)
         if self._indicator is not None:
             painter = QPainter(self)
-            painter.setPen(QPen(QColor("#2f6db3"), 3, Qt.PenStyle.SolidLine, Qt.PenCapStyle.RoundCap))
+            pen = QPen(QColor(colours(self.palette())["charge"]), 3, Qt.PenStyle.SolidLine, Qt.PenCapStyle.RoundCap)
+            painter.setPen(pen)
             painter.drawLine(10, self._indicator, self.width() - 10, self._indicator)
             painter.end()
 
@@ -281,7 +282,7 @@ class PhaseCard(DraggableFrame):
 
         self.grid = QGridLayout()
         self.grid.setHorizontalSpacing(8)
-        self.grid.setVerticalSpacing(4)
+        self.grid.setVerticalSpacing(2)
         self.grid.setColumnStretch(3, 1)
         self.grid.setColumnMinimumWidth(0, 84)           # the fields line up from card to card
 
@@ -317,7 +318,8 @@ class PhaseCard(DraggableFrame):
         conditions = [(k, st) for k, st in enumerate(phase.statements) if st.op.role is ops.Role.CONDITION]
         self.stop_label = _label("STOP WHEN" if conditions else "NO STOP CONDITION", "group")
         self.stop_label.setIndent(0)
-        self.grid.addWidget(self.stop_label, row, 0, 1, 4)
+        self.grid.addWidget(self.stop_label, row, 0)
+        stop_row = row
         row += 1
         for k, st in conditions:
             field = make_field(st.op.operands[0])
@@ -336,17 +338,15 @@ class PhaseCard(DraggableFrame):
         self.add_menu = QMenu(self.add_condition)
         self.add_menu.setObjectName("addConditionMenu")
         self.add_condition.setMenu(self.add_menu)
-        foot = QHBoxLayout()
-        foot.addWidget(self.add_condition)
-        foot.addStretch(1)
+        # On the STOP WHEN line, not a row of its own: at 1366x768 the dock shows several cards.
+        self.grid.addWidget(self.add_condition, stop_row, 1, 1, 3, Qt.AlignmentFlag.AlignRight)
 
         layout = QVBoxLayout(self)
-        layout.setContentsMargins(10, 6, 8, 8)
-        layout.setSpacing(6)
+        layout.setContentsMargins(10, 4, 8, 6)
+        layout.setSpacing(4)
         layout.addLayout(head)
         layout.addWidget(self.sentence)
         layout.addLayout(self.grid)
-        layout.addLayout(foot)
         self.bind(phase, 1, True, True)
 
     def bind(self, phase: Phase, number: int, first: bool, last: bool) -> None:

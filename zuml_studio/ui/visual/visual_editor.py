@@ -16,9 +16,9 @@ from __future__ import annotations
 from typing import Callable
 
 from PySide6.QtCore import Qt, QTimer, Signal
-from PySide6.QtGui import QKeySequence, QTextCursor
-from PySide6.QtWidgets import (QComboBox, QFrame, QGridLayout, QHBoxLayout, QLabel, QLineEdit, QMenu, QPlainTextEdit,
-                               QScrollArea, QSizePolicy, QSpinBox, QToolButton, QVBoxLayout, QWidget)
+from PySide6.QtGui import QKeySequence, QPalette, QTextCursor
+from PySide6.QtWidgets import (QApplication, QComboBox, QFrame, QGridLayout, QHBoxLayout, QLabel, QLineEdit, QMenu,
+                               QPlainTextEdit, QScrollArea, QSizePolicy, QSpinBox, QToolButton, QVBoxLayout, QWidget)
 
 from ... import visual_edits as ve
 from ...lang import opcodes as ops
@@ -27,7 +27,7 @@ from ...lang.compiler import CompileResult, compile_source
 from ...lang.operands import AKK_TYPE, CAPACITY_AUTO, CAPACITY_INPUT, DISPLAY_NAMES
 from .cards import CommandChip, CycleBox, PhaseCard, SectionColumn, _label, _tool
 from .fields import make_field
-from .style import STYLE
+from .style import style_sheet
 
 HINT = "Drag a card (or use ▲ ▼) to reorder · right-click for more · Ctrl+Z undoes here and in the text"
 STALE_BANNER = "The text has errors: showing the last valid version. Fix the text to edit here."
@@ -276,7 +276,9 @@ class VisualEditor(QWidget):
         super().__init__(parent)
         self.setObjectName("visualEditor")
         self.setAttribute(Qt.WidgetAttribute.WA_StyledBackground, True)
-        self.setStyleSheet(STYLE)
+        self._sheet = style_sheet(QApplication.palette())
+        self.setStyleSheet(self._sheet)
+        QApplication.instance().paletteChanged.connect(self._follow_palette)
         self.setFocusPolicy(Qt.FocusPolicy.ClickFocus)
         self.editor = editor
         self._valid: CompileResult | None = None      # the result the cards show
@@ -331,6 +333,14 @@ class VisualEditor(QWidget):
         layout.addWidget(self.scroll, 1)
         layout.addWidget(self.status)
         self._set_editable(False)
+
+    def _follow_palette(self, palette: QPalette) -> None:
+        # Its own palette is the sheet's, so no PaletteChange tells it: the application's palette
+        # (the one the theme sets) does. Compared first: applying a sheet re-polishes everything.
+        sheet = style_sheet(palette)
+        if sheet != self._sheet:
+            self._sheet = sheet
+            self.setStyleSheet(sheet)
 
     # -- results in --------------------------------------------------------------------------
     def show_result(self, result: CompileResult | None) -> None:

@@ -1,0 +1,49 @@
+"""The Visual tab follows the light and dark palettes, and at 1366x768 shows several cards."""
+import pytest
+from PySide6.QtCore import QEventLoop, QRect, QTimer
+from PySide6.QtGui import QColor
+from PySide6.QtWidgets import QApplication
+
+from helpers import MACROS
+from zuml_studio.ui import theme
+from zuml_studio.ui.visual import style
+from zuml_studio.ui.visual.cards import PhaseCard
+
+
+def _settle():
+    loop = QEventLoop()
+    QTimer.singleShot(200, loop.quit)
+    loop.exec()
+
+
+@pytest.fixture
+def system_theme():
+    yield
+    theme.apply_theme("system")
+
+
+@pytest.mark.parametrize("choice", ["dark", "light"])
+def test_the_cards_take_their_colours_from_the_palette(visual, system_theme, choice):
+    v = visual()
+    theme.apply_theme(choice)
+    QApplication.processEvents()
+    card = v.view.findChildren(PhaseCard)[0]
+    paper = card.grab().toImage().pixelColor(card.width() - 4, card.height() // 2)
+    page = v.view.grab().toImage().pixelColor(2, v.view.height() // 2)
+    assert (paper.lightness() < 128, page.lightness() < 128) == (choice == "dark",) * 2
+    colours = style.DARK if choice == "dark" else style.LIGHT
+    assert (paper, page) == (QColor(colours["card"]), QColor(colours["page"]))
+    assert theme.is_dark(card.palette()) == (choice == "dark")      # the fields' text is drawn to match
+
+
+def test_several_cards_are_visible_at_1366x768(make_window):
+    w = make_window(str(MACROS / "LiPo.zuml"))
+    w.resize(1366, 768)
+    _settle()
+    w.show_visual()
+    _settle()
+    viewport = w.visual.scroll.viewport()
+    cards = w.visual.findChildren(PhaseCard)
+    assert len(cards) == 3
+    whole = [c.path for c in cards if viewport.rect().contains(QRect(c.mapTo(viewport, c.rect().topLeft()), c.size()))]
+    assert len(whole) >= 2, f"only {whole} fully visible in a {viewport.size()} viewport"
