@@ -86,7 +86,7 @@ def test_nimh_seed_without_sensor_flags_the_default_end(panel, run):
 
 
 def test_nimh_dv_macro_ends_on_its_own_delta_peak(panel, run):
-    result = run("NiMh-dV", **NIMH)
+    run("NiMh-dV", **NIMH)
     assert reasons(panel.table) == ["IF(DELTA_PEAK>0.01S) STOP_FAZE"]
     assert not panel.table.is_flagged(0)
     v = panel.plot.data["voltage_v"]
