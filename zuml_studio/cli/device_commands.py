@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import functools
 import os
 import queue
@@ -409,6 +410,19 @@ def cmd_monitor(args: argparse.Namespace) -> int:
     return 1 if sink and sink.failed else 0      # the failure was said on its line when it happened
 
 
+@contextlib.contextmanager
+def _stop_on_signal() -> Iterator[threading.Event]:
+    """An event that SIGINT or SIGTERM sets while the block runs: a served port (replay, virtual
+    charger) runs until then, and still closes cleanly."""
+    stop_requested = threading.Event()
+    old = {s: signal.signal(s, lambda signum, frame: stop_requested.set()) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield stop_requested
+    finally:
+        for s, handler in old.items():
+            signal.signal(s, handler)
+
+
 def _until(feed: queue.SimpleQueue, end: float | None, flush) -> Iterator[tuple[str, object]]:
     """What a reader thread queues, until ``end`` (``time.monotonic()``; None: until the caller
     stops); ``flush`` is called at least every 0.2 s, so a CSV reaches the disk while it runs."""
@@ -511,13 +525,7 @@ def cmd_replay(args: argparse.Namespace) -> int:
         recording = load_recording(read_bytes(args.file), args.as_format)
     except CaptureError as exc:
         raise CliError(f"{args.file}: {exc}") from None
-    stop_requested = threading.Event()
-
-    def on_signal(signum, frame):
-        stop_requested.set()
-
-    old = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
-    try:
+    with _stop_on_signal() as stop_requested:
         try:
             where, stop, device = serve_replay(recording, args.speed)
         except OSError as exc:
@@ -537,9 +545,6 @@ def cmd_replay(args: argparse.Namespace) -> int:
                     told = True
         finally:
             stop()
-    finally:
-        for s, handler in old.items():
-            signal.signal(s, handler)
     return 0
 
 
@@ -588,13 +593,7 @@ def cmd_virtual_charger(args: argparse.Namespace) -> int:
     except DeviceSetupError as exc:
         raise CliError(str(exc)) from None
     baud = args.baud or None
-    stop_requested = threading.Event()
-
-    def on_signal(signum, frame):
-        stop_requested.set()
-
-    old = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
-    try:
+    with _stop_on_signal() as stop_requested:
         try:
             if args.tcp or os.name != "posix":
                 host, _, port = (args.tcp or "127.0.0.1:0").rpartition(":")
@@ -618,7 +617,4 @@ def cmd_virtual_charger(args: argparse.Namespace) -> int:
         finally:
             stop()
             device.close()
-    finally:
-        for s, handler in old.items():
-            signal.signal(s, handler)
     return 0
