@@ -15,6 +15,7 @@
 #include "avr_adc.h"
 #include "avr_eeprom.h"
 #include "parts/uart_pty.h"
+#include "../sim_battery.h"
 
 #define F_CPU 16000000UL
 #define EEPROM_SIZE 1024
@@ -28,10 +29,7 @@ static uart_pty_t uart;
 static volatile sig_atomic_t stopping;
 static const char *eeprom_path;
 static uint8_t eeprom[EEPROM_SIZE], saved[EEPROM_SIZE];
-static double soc = 0.2, capacity_as = 2.0 * 3600, current_a, heatsink_c = 25.0, last_s;
-static int cells = 3;
-
-static double ocv(void) { return cells * (3.3 + 0.9 * soc); }
+static double last_s;
 
 static uint16_t reg16(uint16_t low) { return (uint16_t)(avr->data[low] | (avr->data[low + 1] << 8)); }
 
@@ -40,12 +38,9 @@ static uint16_t reg16(uint16_t low) { return (uint16_t)(avr->data[low] | (avr->d
 static double pack_voltage(void)
 {
     double now = (double)avr->cycle / F_CPU, dt = now - last_s;
-    current_a = reg16(OCR1A_L) / PWM_TOP * 5.0 - reg16(OCR1B_L) / PWM_TOP * 1.0;
-    soc += current_a * dt / capacity_as;
-    soc = soc < 0 ? 0 : (soc > 1 ? 1 : soc);
-    heatsink_c += (25.0 + 4.0 * (current_a < 0 ? -current_a : current_a) - heatsink_c) * (dt / 60.0 > 1 ? 1 : dt / 60.0);
+    double current = reg16(OCR1A_L) / PWM_TOP * 5.0 - reg16(OCR1B_L) / PWM_TOP * 1.0;
     last_s = now;
-    return ocv() + current_a * 0.05 * cells;
+    return battery_step(current, dt);
 }
 
 static uint32_t scaled_mv(double value, double full_scale)
@@ -108,26 +103,12 @@ int main(int argc, char **argv)
     int k, out_fd;
     double start, next_save = 1.0;
     if (argc < 2) {
-        fprintf(stderr, "usage: %s ELF [--eeprom FILE] [--cells N] [--capacity MAH] [--soc F]\n", argv[0]);
+        fprintf(stderr, "usage: %s ELF " SIM_OPTIONS "\n", argv[0]);
         return 2;
     }
     memset(eeprom, 0xFF, sizeof eeprom);
     for (k = 2; k < argc; k++) {
-        if (!strcmp(argv[k], "--eeprom") && k + 1 < argc) {
-            FILE *f;
-            eeprom_path = argv[++k];
-            if ((f = fopen(eeprom_path, "rb")) != NULL) {
-                size_t n = fread(eeprom, 1, EEPROM_SIZE, f);
-                (void)n;
-                fclose(f);
-            }
-        } else if (!strcmp(argv[k], "--cells") && k + 1 < argc) {
-            cells = atoi(argv[++k]);
-        } else if (!strcmp(argv[k], "--capacity") && k + 1 < argc) {
-            capacity_as = atof(argv[++k]) * 3.6;
-        } else if (!strcmp(argv[k], "--soc") && k + 1 < argc) {
-            soc = atof(argv[++k]);
-        } else {
+        if (!sim_option(argc, argv, &k, &eeprom_path, eeprom, EEPROM_SIZE)) {
             fprintf(stderr, "zuml_avr_sim: unknown option %s\n", argv[k]);
             return 2;
         }

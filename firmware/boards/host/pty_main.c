@@ -16,6 +16,7 @@
 #include <time.h>
 #include <unistd.h>
 #include "../../core/app.h"
+#include "../../sim_battery.h"
 
 #define EEPROM_SIZE 1024
 
@@ -26,8 +27,7 @@ static int eeprom_dirty;
 static volatile sig_atomic_t stopping;
 static hal_output_t out;
 /* the battery: `cells` cells of a linear OCV 3.3..4.2 V over the state of charge, 50 mOhm each */
-static double soc = 0.2, capacity_as = 2.0 * 3600, current_a, pack_v, heatsink_c = 25.0;
-static int cells = 3;
+static double pack_v;
 static uint8_t passport[32], has_passport;
 
 static void seal(uint8_t *p)
@@ -58,11 +58,9 @@ static void make_passport(int type, int v_limit, int a_limit, int crit)
     has_passport = 1;
 }
 
-static double ocv(void) { return cells * (3.3 + 0.9 * soc); }
-
 static void plant(double dt)
 {
-    double r = 0.05 * cells, i;
+    double r = SIM_R_PER_CELL * cells, i;
     switch (out.kind) {
     case HAL_CURRENT: i = out.current_ua / 1e6; break;
     case HAL_VOLTAGE_CHARGE:
@@ -77,12 +75,7 @@ static void plant(double dt)
     }
     if (i > 5.0) i = 5.0;
     if (i < -1.0) i = -1.0;
-    current_a = i;
-    soc += i * dt / capacity_as;
-    if (soc > 1.0) soc = 1.0;
-    if (soc < 0.0) soc = 0.0;
-    pack_v = ocv() + i * r;
-    heatsink_c += (25.0 + 4.0 * (i < 0 ? -i : i) - heatsink_c) * (dt / 60.0 > 1 ? 1 : dt / 60.0);
+    pack_v = battery_step(i, dt);
 }
 
 static unsigned long long boot_ms;
@@ -200,21 +193,8 @@ int main(int argc, char **argv)
     memset(eeprom, 0xFF, sizeof eeprom);
     boot_ms = now_ms();
     for (k = 1; k < argc; k++) {
-        if (!strcmp(argv[k], "--eeprom") && k + 1 < argc) {
-            FILE *f;
-            eeprom_path = argv[++k];
-            f = fopen(eeprom_path, "rb");
-            if (f) {
-                size_t n = fread(eeprom, 1, EEPROM_SIZE, f);
-                (void)n;
-                fclose(f);
-            }
-        } else if (!strcmp(argv[k], "--cells") && k + 1 < argc) {
-            cells = atoi(argv[++k]);
-        } else if (!strcmp(argv[k], "--capacity") && k + 1 < argc) {
-            capacity_as = atof(argv[++k]) * 3.6;
-        } else if (!strcmp(argv[k], "--soc") && k + 1 < argc) {
-            soc = atof(argv[++k]);
+        if (sim_option(argc, argv, &k, &eeprom_path, eeprom, EEPROM_SIZE)) {
+            continue;
         } else if (!strcmp(argv[k], "--passport") && k + 1 < argc) {
             int type = 0, v = 0, a = 0, crit = 0;
             if (sscanf(argv[++k], "%d:%d:%d:%d", &type, &v, &a, &crit) < 3) {
@@ -223,8 +203,7 @@ int main(int argc, char **argv)
             }
             make_passport(type, v, a, crit);
         } else {
-            fprintf(stderr, "usage: %s [--eeprom FILE] [--cells N] [--capacity MAH] [--soc F] "
-                    "[--passport TYPE:V:A[:CRIT]]\n", argv[0]);
+            fprintf(stderr, "usage: %s " SIM_OPTIONS " [--passport TYPE:V:A[:CRIT]]\n", argv[0]);
             return 2;
         }
     }
