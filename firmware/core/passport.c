@@ -5,6 +5,7 @@
 #include <string.h>
 #include "passport.h"
 #include "record.h"
+#include "text.h"
 #include "pgm.h"
 #include "../hal.h"
 
@@ -39,13 +40,9 @@ static void put(lines_t *l, const char *flash_text)
 static void put_uint(lines_t *l, uint32_t v)
 {
     char digits[10];
-    uint8_t n = 0;
-    do {
-        digits[n++] = (char)('0' + v % 10);
-        v /= 10;
-    } while (v);
-    while (n && l->at < l->end)
-        *l->at++ = digits[--n];
+    const char *p = digits, *end = zc_put_uint(digits, v);
+    while (p < end && l->at < l->end)
+        *l->at++ = *p++;
 }
 
 /* micro-units with two decimals, as Python's {:.2f} */

@@ -14,7 +14,7 @@ static char *put(char *p, const char *s)
     return p;
 }
 
-static char *put_uint(char *p, uint32_t v)
+char *zc_put_uint(char *p, uint32_t v)
 {
     char digits[10];
     uint8_t n = 0;
@@ -31,15 +31,15 @@ static char *put_int(char *p, int32_t v)
 {
     if (v < 0) {
         *p++ = '-';
-        return put_uint(p, (uint32_t)(-(v + 1)) + 1);
+        return zc_put_uint(p, (uint32_t)(-(v + 1)) + 1);
     }
-    return put_uint(p, (uint32_t)v);
+    return zc_put_uint(p, (uint32_t)v);
 }
 
 /* value/100 in its shortest decimal form: 410 -> 4.1, 5 -> 0.05 */
 static char *put_hundredths(char *p, uint16_t v)
 {
-    p = put_uint(p, v / 100);
+    p = zc_put_uint(p, v / 100);
     v %= 100;
     if (v) {
         *p++ = '.';
@@ -65,13 +65,13 @@ static char *put_time(char *p, uint32_t raw)
 {
     if (raw) {
         if (raw % 36000UL == 0)
-            return put(put_uint(p, raw / 36000UL), PSTR("h"));
+            return put(zc_put_uint(p, raw / 36000UL), PSTR("h"));
         if (raw % 600UL == 0)
-            return put(put_uint(p, raw / 600UL), PSTR("min"));
+            return put(zc_put_uint(p, raw / 600UL), PSTR("min"));
         if (raw % 10UL == 0)
-            return put(put_uint(p, raw / 10UL), PSTR("s"));
+            return put(zc_put_uint(p, raw / 10UL), PSTR("s"));
     }
-    return put_uint(p, raw);
+    return zc_put_uint(p, raw);
 }
 
 uint8_t zc_instruction_text(const uint8_t *ins, char *out)
@@ -87,7 +87,7 @@ uint8_t zc_instruction_text(const uint8_t *ins, char *out)
         else if (op == OP_LIGHT && ins[1] >= 100 && ins[1] <= 103)
             p = put(p, names[ins[1] - 96]);
         else
-            p = put_uint(p, ins[1]);
+            p = zc_put_uint(p, ins[1]);
         *p++ = ')';
     } else {
         const char *outcome = PSTR("STOP_FAZE");
@@ -127,7 +127,7 @@ uint8_t zc_reason_text(const zc_run_t *r, uint8_t reason, uint8_t offset, char *
         if (!per_cell)
             per_cell = r->board.fallback_end_uv_per_cell;
         cv = ((uint32_t)per_cell + 5000UL) / 10000UL;
-        p = put_uint(put(p, PSTR("default: empty discharge section, V<")), cv / 100);
+        p = zc_put_uint(put(p, PSTR("default: empty discharge section, V<")), cv / 100);
         *p++ = '.';
         *p++ = (char)('0' + cv % 100 / 10);
         *p++ = (char)('0' + cv % 10);

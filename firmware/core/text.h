@@ -14,4 +14,7 @@ uint8_t zc_reason_text(const zc_run_t *r, uint8_t reason, uint8_t offset, char *
 /* What an event says in its detail field (reason, command, Tc>70 ...); returns its length. */
 uint8_t zc_event_text(const zc_run_t *r, const zc_event_t *e, char *out);
 
+/* v in decimal at p (at most 10 characters, no terminator); returns the end. */
+char *zc_put_uint(char *p, uint32_t v);
+
 #endif
