@@ -22,22 +22,28 @@ def curves_of(plot):
     return [item for item in plot.listDataItems()]
 
 
-def test_log_and_simulation_on_the_same_axes_with_their_difference(dialog):
+def wait_for(qtbot, dialog, action):
+    """Fit and Simulate run off the GUI thread: their figures arrive with workDone."""
+    with qtbot.waitSignal(dialog.workDone, timeout=120_000):
+        action()
+
+
+def test_log_and_simulation_on_the_same_axes_with_their_difference(dialog, qtbot):
     assert dialog.load_log(str(CURVES / "lipo_4s_406duo_3c.csv"))
     assert dialog.cells.value() == 4
     dialog.capacity.setValue(1500)
-    dialog.compare_macro()
+    wait_for(qtbot, dialog, dialog.compare_macro)
     assert len(curves_of(dialog.v_plot)) == 2 and len(curves_of(dialog.d_plot)) == 1
     text = dialog.figures.text()
     assert "RMSE voltage" in text and "real ended" in text and "model ended" in text
 
 
-def test_fit_draws_the_fitted_model_and_save_offers_it_in_the_model_box(dialog, tmp_path):
+def test_fit_draws_the_fitted_model_and_save_offers_it_in_the_model_box(dialog, tmp_path, qtbot):
     from zuml_studio.ui.sim.params_form import ParamsForm
 
     dialog.load_log(str(CURVES / "lipo_4s_406duo_3c.csv"))
     assert not dialog.save_button.isEnabled()
-    dialog.fit_log()
+    wait_for(qtbot, dialog, dialog.fit_log)
     assert dialog.save_button.isEnabled()
     assert "fitted: capacity_mah" in dialog.figures.text()
     assert len(curves_of(dialog.v_plot)) == 2
@@ -69,7 +75,7 @@ def test_main_window_has_the_menu_entry(make_window):
     dialog.close()
 
 
-def test_a_saved_battery_reaches_the_virtual_charger_box_and_the_charger(make_window, monkeypatch, tmp_path):
+def test_a_saved_battery_reaches_the_virtual_charger_box_and_the_charger(make_window, monkeypatch, tmp_path, qtbot):
     monkeypatch.setenv("ZUML_STUDIO_CONFIG_DIR", str(tmp_path))
     from zuml_studio.device.virtual_charger import BatterySpec
     from zuml_studio.sim.batteries import save_battery
@@ -81,7 +87,7 @@ def test_a_saved_battery_reaches_the_virtual_charger_box_and_the_charger(make_wi
     assert dialog.chemistry.currentData() == "NiMh"        # no run yet: the default
     dialog.chemistry.setCurrentIndex(dialog.chemistry.findData("LiPo"))
     dialog.load_log(str(CURVES / "lipo_4s_406duo_3c.csv"))
-    dialog.fit_log()
+    wait_for(qtbot, dialog, dialog.fit_log)
     assert dialog.save_as("4S 1500 LiPo")
     box = window.device_panel.v_chem
     box.setCurrentIndex(box.findData("battery:4S 1500 LiPo"))
@@ -97,3 +103,21 @@ def test_a_log_that_names_its_battery_type_sets_the_chemistry(dialog):
     dialog.chemistry.setCurrentIndex(dialog.chemistry.findData("Pb"))
     assert dialog.load_log(str(helpers.ROOT / "tests" / "data" / "logs" / "308DUO_LiFe_2.3Ah_Laden_0_CH1.txt"))
     assert dialog.chemistry.currentData() == "LiFe" and dialog.cells.value() == 2
+
+
+def test_fit_runs_off_the_gui_thread_and_a_failed_fit_is_said(dialog, qtbot, monkeypatch):
+    import threading
+
+    from zuml_studio.ui.sim import compare_dialog
+
+    dialog.load_log(str(CURVES / "lipo_4s_406duo_3c.csv"))
+    ran_on = []
+
+    def failing_fit(*args):
+        ran_on.append(threading.current_thread())
+        raise ValueError("the optimiser found no fit")
+    monkeypatch.setattr(compare_dialog, "fit", failing_fit)
+    wait_for(qtbot, dialog, dialog.fit_log)
+    assert ran_on and ran_on[0] is not threading.main_thread()
+    assert "the optimiser found no fit" in dialog.figures.text()
+    assert dialog.fit_button.isEnabled() and not dialog.save_button.isEnabled()

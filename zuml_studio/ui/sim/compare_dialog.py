@@ -7,8 +7,8 @@ from collections.abc import Callable
 
 import numpy as np
 import pyqtgraph as pg
-from PySide6.QtCore import Qt
-from PySide6.QtWidgets import (QApplication, QComboBox, QDialog, QFileDialog, QFormLayout, QHBoxLayout,
+from PySide6.QtCore import Qt, Signal
+from PySide6.QtWidgets import (QComboBox, QDialog, QFileDialog, QFormLayout, QHBoxLayout,
                                QInputDialog, QLabel, QPushButton, QSpinBox, QVBoxLayout, QWidget)
 
 from ...file_errors import FileReadError
@@ -18,6 +18,7 @@ from ...sim.chemistry import chemistry_names
 from ...sim.curve import Curve, CurveError, read_curve
 from ...sim.fit import FitResult, fit, guess_series
 from ...sim.interpreter import StartError
+from ..background import BackgroundCall
 
 REAL_PEN = pg.mkPen("#202020", width=2)
 MODEL_PEN = pg.mkPen("#1f5fd0", width=1.5)
@@ -44,6 +45,9 @@ def figures_text(report: dict) -> str:
 
 
 class CompareDialog(QDialog):
+    # A fit or a simulation ended (its figures or its error shown); they run off the GUI thread.
+    workDone = Signal()
+
     def __init__(self, record: Callable[[], bytes | None], parent: QWidget | None = None,
                  on_saved: Callable[[], None] | None = None, chemistry: str | None = None):
         super().__init__(parent)
@@ -52,6 +56,7 @@ class CompareDialog(QDialog):
         self._record, self._on_saved = record, on_saved
         self.curve: Curve | None = None
         self.fitted: FitResult | None = None
+        self._job: BackgroundCall | None = None
 
         self.log_label = QLabel("no log chosen")
         self.log_label.setTextInteractionFlags(Qt.TextSelectableByMouse)
@@ -140,35 +145,62 @@ class CompareDialog(QDialog):
         return True
 
     def fit_log(self) -> None:
-        if self.curve is None:
+        """Fit the model to the log (seconds): off the GUI thread, the figures when it ends."""
+        if self.curve is None or self._job is not None:
             return
-        QApplication.setOverrideCursor(Qt.WaitCursor)
-        try:
-            self.fitted = fit(self.curve, self.chemistry.currentData(), self.cells.value())
-        finally:
-            QApplication.restoreOverrideCursor()
-        self._draw(self.curve.t, self.fitted.run.v, "fitted model")
-        params = ", ".join(f"{k} {v:.4g}" for k, v in self.fitted.params.items())
-        self.figures.setText(figures_text(self.fitted.figures) + f"\nfitted: {params}")
+        curve, chemistry, cells = self.curve, self.chemistry.currentData(), self.cells.value()
+        self._run("Fitting the model to the log…", lambda: fit(curve, chemistry, cells), self._fitted)
+
+    def _fitted(self, fitted: FitResult) -> None:
+        self.fitted = fitted
+        self._draw(self.curve.t, fitted.run.v, "fitted model")
+        params = ", ".join(f"{k} {v:.4g}" for k, v in fitted.params.items())
+        self.figures.setText(figures_text(fitted.figures) + f"\nfitted: {params}")
         self.save_button.setEnabled(True)
 
     def compare_macro(self) -> None:
         from ...sim.compare import compare
 
         record = self._record()
-        if self.curve is None:
+        if self.curve is None or self._job is not None:
             return
         if record is None:
             self._error("the open macro has errors: fix them to compare it with the log")
             return
-        capacity = self.capacity.value() or float(self.curve.mah[-1])
-        try:
-            result = compare(self.curve, record, self.chemistry.currentData(), self.cells.value(), capacity)
-        except (StartError, ValueError, KeyError) as exc:
-            self._error(str(exc))
-            return
+        curve, chemistry, cells = self.curve, self.chemistry.currentData(), self.cells.value()
+        capacity = self.capacity.value() or float(curve.mah[-1])
+        self._run("Simulating the macro from the log's start…",
+                  lambda: compare(curve, record, chemistry, cells, capacity), self._compared)
+
+    def _compared(self, result) -> None:
         self._draw(result.t, result.run.v, "simulation")
         self.figures.setText(figures_text(result.report))
+
+    def _run(self, what: str, fn, on_done) -> None:
+        for b in (self.simulate_button, self.fit_button, self.save_button):
+            b.setEnabled(False)
+        self.figures.setText(what)
+        self._job = job = BackgroundCall(fn, self)
+        job.done.connect(on_done)
+        job.failed.connect(self._failed)
+        job.finished.connect(self._job_ended)
+        job.start()
+
+    def _failed(self, exc: Exception) -> None:
+        expected = (StartError, ValueError, KeyError, ArithmeticError)
+        self._error(str(exc) if isinstance(exc, expected) else f"internal error: {type(exc).__name__}: {exc}")
+
+    def _job_ended(self) -> None:
+        self._job = None
+        self.simulate_button.setEnabled(self.curve is not None)
+        self.fit_button.setEnabled(self.curve is not None)
+        self.save_button.setEnabled(self.fitted is not None)
+        self.workDone.emit()
+
+    def closeEvent(self, event) -> None:  # noqa: N802
+        if self._job is not None:       # a fit cannot be interrupted; it ends in seconds
+            self._job.wait()
+        super().closeEvent(event)
 
     def save_fitted(self) -> None:
         if self.fitted is None:
