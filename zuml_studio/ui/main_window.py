@@ -76,6 +76,7 @@ class MainWindow(QMainWindow):
         self._recovery_key = ""
         self._help: HelpBrowser | None = None
         self._upload_pending = False
+        self._borrowed = None        # (dock, height) the Visual tab borrowed height from
         self.prefs = Preferences.load(self.settings)
 
         self._build_widgets()
@@ -104,7 +105,7 @@ class MainWindow(QMainWindow):
         self.hex_dock = self._dock("Bytes", "hexDock", self.hex_view, Qt.DockWidgetArea.RightDockWidgetArea)
         self.visual_dock = self._dock("Visual", "visualDock", self.visual, Qt.DockWidgetArea.RightDockWidgetArea)
         self.tabifyDockWidget(self.hex_dock, self.visual_dock)
-        self.visual_dock.visibilityChanged.connect(lambda visible: visible and self._make_room_for_visual())
+        self.visual_dock.visibilityChanged.connect(self._visual_shown)
         self.hex_dock.raise_()
         self.problems_dock = self._dock("Problems", "problemsDock", self.problems,
                                         Qt.DockWidgetArea.BottomDockWidgetArea)
@@ -453,13 +454,23 @@ class MainWindow(QMainWindow):
             return False
         return self.new_generated(dialog.text())
 
-    def _make_room_for_visual(self) -> None:
+    def _visual_shown(self, visible: bool) -> None:
         """At 1366x768 the right-hand docks are a strip over the simulator with room for no card:
-        the Visual tab, once in front, gets enough height for several (the docks below give it)."""
+        while the Visual tab is in front it borrows height from the dock below (enough for
+        several cards), and gives it back when it leaves, so the live plot and the simulator
+        are not left squeezed."""
+        borrowed, self._borrowed = self._borrowed, None
+        if not visible:
+            if borrowed is not None:
+                dock, height = borrowed
+                if dock.isVisible() and not dock.isFloating():
+                    self.resizeDocks([dock], [height], Qt.Orientation.Vertical)
+            return
         missing = VISUAL_MIN_HEIGHT - self.visual_dock.height()
         below = [d for d in (self.sim_dock, self.device_dock, self.problems_dock) if d.isVisible()
                  and not d.isFloating() and self.dockWidgetArea(d) == Qt.DockWidgetArea.BottomDockWidgetArea]
         if missing > 0 and below and not self.visual_dock.isFloating():
+            self._borrowed = (below[0], below[0].height())
             self.resizeDocks(below[:1], [max(1, below[0].height() - missing)], Qt.Orientation.Vertical)
 
     def show_visual(self) -> None:

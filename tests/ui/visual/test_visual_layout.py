@@ -47,3 +47,18 @@ def test_several_cards_are_visible_at_1366x768(make_window):
     assert len(cards) == 3
     whole = [c.path for c in cards if viewport.rect().contains(QRect(c.mapTo(viewport, c.rect().topLeft()), c.size()))]
     assert len(whole) >= 2, f"only {whole} fully visible in a {viewport.size()} viewport"
+
+
+def test_the_height_the_visual_tab_borrows_goes_back_when_it_leaves(make_window):
+    w = make_window(str(MACROS / "LiPo.zuml"))
+    w.resize(1366, 768)
+    _settle()
+    before = w.sim_dock.height()
+    w.show_visual()
+    _settle()
+    shrunk = w.sim_dock.height()
+    assert shrunk < before                        # room made for the cards
+    w.hex_dock.raise_()
+    _settle()
+    # Given back (the layout may round by a tab bar's height): far nearer the old height than the squeezed one.
+    assert abs(w.sim_dock.height() - before) < (before - shrunk) / 4, (before, shrunk, w.sim_dock.height())
