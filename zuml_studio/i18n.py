@@ -1,0 +1,92 @@
+"""The interface's language: which one is chosen, and the one gettext catalogue that answers.
+
+Every visible text of the package goes through `_` (or `ngettext` where a count decides the form,
+Russian has three: 1 / 2 / 5 and 21 again like 1). Texts defined at import time (tables, class
+attributes) are marked with `N_` and translated where they are shown, so a language installed after
+the import still applies. ZUML keywords, opcode names, units, file formats and diagnostic codes
+(E303) are never put through `_`: they are the same in every language.
+
+The chosen language: ``ZUML_LANG``, else the user's preference, else the system locale
+(``LC_ALL``, ``LC_MESSAGES``, ``LANG``), else English. English is the source language and needs no
+catalogue; any other supported language must have its compiled catalogue in the package, and a
+missing one is a broken installation (`DataFileError`), not a silent fall-back to English.
+"""
+from __future__ import annotations
+
+import gettext
+import os
+from importlib import resources
+
+from .data import DataFileError
+
+DOMAIN = "zuml_studio"
+SOURCE_LANGUAGE = "en"
+LANGUAGES: dict[str, str] = {"en": "English", "ru": "Русский"}   # each in its own language
+
+_translation: gettext.NullTranslations = gettext.NullTranslations()
+_language = SOURCE_LANGUAGE
+
+
+def _(message: str) -> str:
+    """``message`` in the installed language."""
+    return _translation.gettext(message)
+
+
+def ngettext(singular: str, plural: str, n: int) -> str:
+    """The form of ``singular``/``plural`` that the installed language uses for ``n``."""
+    return _translation.ngettext(singular, plural, n)
+
+
+def N_(message: str) -> str:
+    """Marks ``message`` for the catalogue without translating it yet (translate it with `_` where
+    it is shown)."""
+    return message
+
+
+def _supported(tag: str | None) -> str | None:
+    """``ru_RU.UTF-8`` -> ``ru``; None for an unset, C/POSIX or unsupported locale."""
+    if not tag:
+        return None
+    code = tag.split(":")[0].split(".")[0].split("@")[0].split("_")[0].split("-")[0].lower()
+    return code if code in LANGUAGES else None
+
+
+def choose_language(preference: str | None = None) -> str:
+    """The language to use: ``ZUML_LANG``, then ``preference`` (the user's choice, None or "" for
+    "as the system"), then the system locale, then English."""
+    for tag in (os.environ.get("ZUML_LANG"), preference,
+                os.environ.get("LC_ALL"), os.environ.get("LC_MESSAGES"), os.environ.get("LANG")):
+        code = _supported(tag)
+        if code:
+            return code
+    return SOURCE_LANGUAGE
+
+
+def catalogue_path(language: str) -> str:
+    """Where ``language``'s compiled catalogue lives inside the package."""
+    return str(resources.files(__package__).joinpath("locale", language, "LC_MESSAGES", DOMAIN + ".mo"))
+
+
+def install(language: str) -> None:
+    """Make ``language`` the one `_` answers in, for the whole process."""
+    global _translation, _language
+    if language not in LANGUAGES:
+        raise ValueError(f"unsupported language {language!r}; supported: {', '.join(LANGUAGES)}")
+    if language == SOURCE_LANGUAGE:
+        _translation, _language = gettext.NullTranslations(), language
+        return
+    path = catalogue_path(language)
+    try:
+        with open(path, "rb") as fp:
+            _translation = gettext.GNUTranslations(fp)
+    except FileNotFoundError:
+        raise DataFileError(f"translation catalogue {path} is missing: the installation is incomplete, "
+                            "reinstall ZUML Studio (from a source checkout, `./dev` compiles it)") from None
+    except OSError as exc:
+        raise DataFileError(f"translation catalogue {path} is unreadable ({exc}): reinstall ZUML Studio") from None
+    _language = language
+
+
+def current_language() -> str:
+    """The installed language's code (``en``, ``ru``)."""
+    return _language
