@@ -3,7 +3,7 @@ cell of the editor side's lists shows its whole text or has a tooltip that does.
 (The device panel is checked by its own tests.)"""
 import pytest
 from PySide6.QtCore import QEventLoop, QTimer
-from PySide6.QtWidgets import QAbstractItemView, QLabel, QTableWidget, QTreeWidget
+from PySide6.QtWidgets import QAbstractItemView, QLabel, QTableView, QTreeWidget
 
 from helpers import MACROS
 
@@ -62,7 +62,7 @@ def test_nothing_is_cut_off_without_a_tooltip_at_1366x768(make_window, macro):
         problems += _cut_labels(dock)
     problems += _cut_labels(w.statusBar())
     for view in (w.problems, w.hex_view.tree, w.library, w.sim_panel.table):
-        assert isinstance(view, (QTreeWidget, QTableWidget))
+        assert isinstance(view, (QTreeWidget, QTableView))
         problems += _cut_cells(view)
     assert not problems, "\n".join(problems)
 

@@ -4,9 +4,9 @@ default safety condition ended (not the macro), and charges a timer ended before
 capacity was in, are flagged."""
 from __future__ import annotations
 
-from PySide6.QtCore import Qt, Signal
-from PySide6.QtGui import QBrush, QColor
-from PySide6.QtWidgets import QAbstractItemView, QHeaderView, QStyle, QTableWidget, QTableWidgetItem
+from PySide6.QtCore import QAbstractTableModel, QModelIndex, Qt, Signal
+from PySide6.QtGui import QColor
+from PySide6.QtWidgets import QAbstractItemView, QHeaderView, QStyle, QTableView
 
 from ..timefmt import duration, hmm, hmmss
 
@@ -19,17 +19,113 @@ TIMER_TIP = "timer before full: a timer ended this charge with less than the cap
 WARN_FG = QColor("#a04000")
 WARN_BG = QColor("#fff3d6")
 SECTION_TINT = {"charge": QColor(74, 134, 232, 60), "discharge": QColor(232, 96, 74, 60)}   # as the plot's bands
-OFFSET_ROLE = Qt.ItemDataRole.UserRole + 1
+OFFSET_ROLE = int(Qt.ItemDataRole.UserRole) + 1
+ALIGNMENTS = tuple(int((Qt.AlignmentFlag.AlignRight if col in (0, 3, 4, 5, 7, 8, 9, 10) else Qt.AlignmentFlag.AlignLeft)
+                       | Qt.AlignmentFlag.AlignVCenter) for col in range(len(COLUMNS)))
+DISPLAY, DECORATION, TOOLTIP, ALIGNMENT, BACKGROUND, FOREGROUND = (int(r) for r in (
+    Qt.ItemDataRole.DisplayRole, Qt.ItemDataRole.DecorationRole, Qt.ItemDataRole.ToolTipRole,
+    Qt.ItemDataRole.TextAlignmentRole, Qt.ItemDataRole.BackgroundRole, Qt.ItemDataRole.ForegroundRole))
+SIZED_ROWS = 64
 
 
-class PhaseTable(QTableWidget):
+class PhaseModel(QAbstractTableModel):
+    """The phases of a run, formatted only when a cell is shown: a new run is one reset,
+    however many phases it lists (a 255-repetition training lists 510)."""
+
+    def __init__(self, header_tips: dict[str, str], warn_icon, parent=None):
+        super().__init__(parent)
+        self._tips = header_tips
+        self._warn_icon = warn_icon
+        self._phases: list = []
+        self._series = 1
+        self._training = False
+        self._rows: dict[int, tuple] = {}
+
+    def set_result(self, result) -> None:
+        self.beginResetModel()
+        self._phases = list(result.phases) if result is not None else []
+        self._series = getattr(result, "series", 1) or 1
+        self._training = any(p.repetition > 1 for p in self._phases)
+        self._rows = {}
+        self.endResetModel()
+
+    def rowCount(self, parent=QModelIndex()) -> int:  # noqa: N802 - Qt's name
+        return 0 if parent.isValid() else len(self._phases)
+
+    def columnCount(self, parent=QModelIndex()) -> int:  # noqa: N802 - Qt's name
+        return 0 if parent.isValid() else len(COLUMNS)
+
+    def headerData(self, section: int, orientation, role=Qt.ItemDataRole.DisplayRole):  # noqa: N802 - Qt's name
+        if orientation != Qt.Orientation.Horizontal or not 0 <= section < len(COLUMNS):
+            return None
+        if role == Qt.ItemDataRole.DisplayRole:
+            return COLUMNS[section]
+        if role == Qt.ItemDataRole.ToolTipRole:
+            return self._tips.get(COLUMNS[section])
+        return None
+
+    def phase(self, row: int):
+        return self._phases[row] if 0 <= row < len(self._phases) else None
+
+    def flag_tip(self, row: int) -> str:
+        """Why the row is flagged ("" if it is not)."""
+        p = self._phases[row]
+        return DEFAULT_TIP if p.by_default else TIMER_TIP if p.timer_before_full else ""
+
+    def data(self, index: QModelIndex, role: int = DISPLAY):
+        # Called several times per cell for every paint and size hint: one dictionary look-up
+        # into the row's roles, built the first time the row is asked for.
+        roles = self._rows.get(index.row()) or self._row_roles(index.row())
+        values = roles.get(role)
+        return values[index.column()] if values is not None else None
+
+    def _row_roles(self, row: int) -> dict[int, tuple]:
+        if not 0 <= row < len(self._phases):
+            return {}
+        p = self._phases[row]
+        ended = bool(p.reason)
+        section = p.section + (f" · rep {p.repetition}" if self._training else "")
+        phase = f"{p.index}" + (f" (pass {p.cycle_pass})" if p.cycle_pass else "") if p.index else "default"
+        cells = (str(p.run or row + 1), section, phase, hmmss(p.start_s),
+                 hmmss(p.end_s) if ended else "…", duration(p.end_s - p.start_s) if ended else "",
+                 p.reason or "(running)", f"{p.mah_in:.1f}", f"{p.mah_out:.1f}",
+                 f"{p.v_end:.3f}" if ended else "", f"{p.temp_end:.1f}" if ended else "",
+                 "; ".join(p.notes))
+        flag = self.flag_tip(row)
+        summary = flag or row_summary(p, self._series)      # the whole row on hover: a narrow table cuts columns off
+        tips = [summary] * len(COLUMNS)
+        if not flag and ended:
+            tips[4] = hmm(p.end_s)
+            tips[9] = f"{p.v_end:.3f} V pack, {p.v_end / self._series:.3f} V per cell"
+        tips[REASON_COLUMN] = f"{cells[REASON_COLUMN]}: {flag}" if flag else p.reason
+        tips[NOTES_COLUMN] = "\n".join(p.notes)
+        n = len(COLUMNS)
+        tint = SECTION_TINT.get(p.section)
+        roles = {DISPLAY: cells, TOOLTIP: tuple(tips), ALIGNMENT: ALIGNMENTS, OFFSET_ROLE: (p.offset,) * n}
+        if flag:
+            roles[FOREGROUND] = (WARN_FG,) * n
+            roles[BACKGROUND] = (WARN_BG,) * n
+            roles[DECORATION] = tuple(self._warn_icon if col == REASON_COLUMN else None for col in range(n))
+        elif tint is not None:
+            roles[BACKGROUND] = (None, tint) + (None,) * (n - 2)
+        self._rows[row] = roles
+        return roles
+
+
+class PhaseTable(QTableView):
     phaseActivated = Signal(int)        # byte offset of the phase's FAZE
     phaseSelected = Signal(int)         # row (= phase run - 1), -1 for none
 
     def __init__(self, parent=None):
-        super().__init__(0, len(COLUMNS), parent)
+        super().__init__(parent)
         self.setObjectName("phaseTable")
-        self.setHorizontalHeaderLabels(COLUMNS)
+        tips = {"phase": "position of the FAZE in its section (and the CYCLE pass)",
+                "end reason": "the condition that ended the phase", "V end": "pack voltage at the end",
+                "T end": "battery temperature at the end (the model's, also without a sensor)",
+                "notes": "timer before full, heat-sink pauses, the charger's limits cutting the current"}
+        warn_icon = self.style().standardIcon(QStyle.StandardPixmap.SP_MessageBoxWarning)
+        self.phases = PhaseModel(tips, warn_icon, self)
+        self.setModel(self.phases)
         self.setEditTriggers(QAbstractItemView.EditTrigger.NoEditTriggers)
         self.setSelectionBehavior(QAbstractItemView.SelectionBehavior.SelectRows)
         self.setSelectionMode(QAbstractItemView.SelectionMode.SingleSelection)
@@ -48,103 +144,48 @@ class PhaseTable(QTableWidget):
         header.setSectionResizeMode(QHeaderView.ResizeMode.Interactive)
         header.setStretchLastSection(False)
         header.setDefaultAlignment(Qt.AlignmentFlag.AlignLeft | Qt.AlignmentFlag.AlignVCenter)
-        tips = {"phase": "position of the FAZE in its section (and the CYCLE pass)",
-                "end reason": "the condition that ended the phase", "V end": "pack voltage at the end",
-                "T end": "battery temperature at the end (the model's, also without a sensor)",
-                "notes": "timer before full, heat-sink pauses, the charger's limits cutting the current"}
-        for col, name in enumerate(COLUMNS):
-            if name in tips:
-                self.horizontalHeaderItem(col).setToolTip(tips[name])
-        self._warn_icon = self.style().standardIcon(QStyle.StandardPixmap.SP_MessageBoxWarning)
-        self.cellDoubleClicked.connect(self._double_clicked)
-        self.itemSelectionChanged.connect(self._selection_changed)
+        # Column widths from the first rows (and the shown ones), not from every phase of a long training.
+        header.setResizeContentsPrecision(SIZED_ROWS)
+        self.doubleClicked.connect(self._double_clicked)
+        self.selectionModel().selectionChanged.connect(self._selection_changed)
         self.setToolTip("Double-click a phase to show its FAZE in the editor")
 
     def set_result(self, result) -> None:
         """Fill from a SimResult (or clear with None)."""
-        self.setSortingEnabled(False)
-        self.clearContents()
-        phases = list(result.phases) if result is not None else []
-        series = getattr(result, "series", 1) or 1
-        training = any(p.repetition > 1 for p in phases)
-        self.setRowCount(len(phases))
-        for row, p in enumerate(phases):
-            ended = bool(p.reason)
-            section = p.section + (f" · rep {p.repetition}" if training else "")
-            phase = f"{p.index}" + (f" (pass {p.cycle_pass})" if p.cycle_pass else "") if p.index else "default"
-            cells = (str(p.run or row + 1), section, phase, hmmss(p.start_s),
-                     hmmss(p.end_s) if ended else "…", duration(p.end_s - p.start_s) if ended else "",
-                     p.reason or "(running)", f"{p.mah_in:.1f}", f"{p.mah_out:.1f}",
-                     f"{p.v_end:.3f}" if ended else "", f"{p.temp_end:.1f}" if ended else "",
-                     "; ".join(p.notes))
-            for col, text in enumerate(cells):
-                item = QTableWidgetItem(text)
-                item.setData(OFFSET_ROLE, p.offset)
-                if col in (0, 3, 4, 5, 7, 8, 9, 10):
-                    item.setTextAlignment(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
-                if col == 9 and ended:
-                    item.setToolTip(f"{p.v_end:.3f} V pack, {p.v_end / series:.3f} V per cell")
-                elif col == 4 and ended:
-                    item.setToolTip(hmm(p.end_s))
-                self.setItem(row, col, item)
-            summary = row_summary(p, series)
-            for col in range(len(COLUMNS)):
-                item = self.item(row, col)
-                if not item.toolTip():          # the whole row on hover: a narrow table cuts columns off
-                    item.setToolTip(summary)
-            tint = SECTION_TINT.get(p.section)
-            if tint is not None:
-                self.item(row, 1).setBackground(QBrush(tint))
-            self.item(row, NOTES_COLUMN).setToolTip("\n".join(p.notes))
-            if p.by_default:
-                self._flag(row, DEFAULT_TIP)
-            elif p.timer_before_full:
-                self._flag(row, TIMER_TIP)
-            else:
-                self.item(row, REASON_COLUMN).setToolTip(p.reason)
+        self.phases.set_result(result)
         self.resizeColumnsToContents()
         header = self.horizontalHeader()
         for col in range(len(COLUMNS)):
             header.resizeSection(col, min(header.sectionSize(col) + 2, 320))
 
-    def _flag(self, row: int, tip: str) -> None:
-        for col in range(self.columnCount()):
-            item = self.item(row, col)
-            item.setForeground(QBrush(WARN_FG))
-            item.setBackground(QBrush(WARN_BG))
-            if col != NOTES_COLUMN:
-                item.setToolTip(tip)
-        reason = self.item(row, REASON_COLUMN)
-        reason.setIcon(self._warn_icon)
-        reason.setToolTip(f"{reason.text()}: {tip}")
-
     def is_flagged(self, row: int) -> bool:
-        item = self.item(row, REASON_COLUMN)
-        return item is not None and any(tip in (item.toolTip() or "") for tip in (DEFAULT_TIP, TIMER_TIP))
+        return self.phases.phase(row) is not None and bool(self.phases.flag_tip(row))
 
     def offset_of(self, row: int) -> int:
-        item = self.item(row, 0)
-        return int(item.data(OFFSET_ROLE)) if item is not None else -1
+        p = self.phases.phase(row)
+        return p.offset if p is not None else -1
 
     def select_phase(self, row: int) -> None:
         """Select (and show) a row without re-emitting phaseSelected."""
         self.blockSignals(True)
+        self.selectionModel().blockSignals(True)
         try:
-            if 0 <= row < self.rowCount():
+            if 0 <= row < self.phases.rowCount():
                 self.selectRow(row)
-                self.scrollToItem(self.item(row, 0))
+                self.scrollTo(self.phases.index(row, 0))
             else:
                 self.clearSelection()
         finally:
+            self.selectionModel().blockSignals(False)
             self.blockSignals(False)
 
-    def _double_clicked(self, row: int, _col: int) -> None:
-        offset = self.offset_of(row)
+    def _double_clicked(self, index: QModelIndex) -> None:
+        offset = self.offset_of(index.row())
         if offset >= 0:
             self.phaseActivated.emit(offset)
 
-    def _selection_changed(self) -> None:
-        rows = {i.row() for i in self.selectedIndexes()}
+    def _selection_changed(self, *_args) -> None:
+        rows = {i.row() for i in self.selectionModel().selectedIndexes()}
         self.phaseSelected.emit(min(rows) if rows else -1)
 
 
