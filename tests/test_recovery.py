@@ -44,3 +44,16 @@ def test_atomic_write_replaces_whole_file(tmp_path):
     atomic_write(target, b"two")
     assert target.read_bytes() == b"two"
     assert [p.name for p in target.parent.iterdir()] == ["f.bin"]
+
+
+def test_saved_files_are_synced_the_recovery_text_is_not(tmp_path, monkeypatch):
+    # The recovery text is written after every pause in typing on the GUI thread: it guards
+    # against the program crashing, which needs no fsync (docs/performance.md).
+    synced = []
+    monkeypatch.setattr("zuml_studio.recovery.os.fsync", synced.append)
+    atomic_write(tmp_path / "saved.zuml", b"MACRO A")
+    assert len(synced) == 1
+    store = RecoveryStore(tmp_path)
+    store.save("k", "MACRO B", None)
+    assert len(synced) == 1
+    assert [r.text for r in store.pending()] == ["MACRO B"]
