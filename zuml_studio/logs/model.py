@@ -57,7 +57,17 @@ class Log:
 
     def arrays(self) -> dict[str, np.ndarray]:
         """Columns for plotting: t, voltage, current, temp and heatsink (NaN: not measured),
-        cells (samples × cells, NaN where a sample has fewer)."""
+        cells (samples × cells, NaN where a sample has fewer). Made once (the log never
+        changes; a long one takes a good part of a second), so read-only."""
+        made = self.__dict__.get("_arrays")
+        if made is None:
+            made = self._make_arrays()
+            for column in made.values():
+                column.flags.writeable = False
+            object.__setattr__(self, "_arrays", made)       # a cache, not a field: frozen all the same
+        return dict(made)
+
+    def _make_arrays(self) -> dict[str, np.ndarray]:
         s = self.samples
         nan = math.nan
         cells = np.full((len(s), self.cells), nan)
@@ -74,6 +84,13 @@ class Log:
 
     def phases(self) -> list[Phase]:
         """Consecutive samples in one state; a phase ends where the next begins."""
+        made = self.__dict__.get("_phases")
+        if made is None:
+            made = self._make_phases()
+            object.__setattr__(self, "_phases", made)
+        return list(made)
+
+    def _make_phases(self) -> list[Phase]:
         out: list[Phase] = []
         counts: dict[str, int] = {}
         for s in self.samples:

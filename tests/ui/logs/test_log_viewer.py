@@ -9,6 +9,9 @@ LOGS = Path(__file__).resolve().parents[2] / "data" / "logs"
 X8 = str(LOGS / "X8_LiPo_5S_2200mA_Charge_4.txt")
 
 
+READ_MS = 30_000
+
+
 @pytest.fixture
 def viewer(qtbot):
     window = LogWindow()
@@ -18,8 +21,15 @@ def viewer(qtbot):
     return window
 
 
-def test_a_log_opens_as_a_document_with_totals_and_bands(viewer):
-    document = viewer.open_path(X8)
+def opened(viewer, qtbot, path):
+    """Open a log (read in the background) and wait for its document."""
+    with qtbot.waitSignal(viewer.documentOpened, timeout=READ_MS) as blocker:
+        assert viewer.open_path(path) is None           # it returns at once
+    return blocker.args[0]
+
+
+def test_a_log_opens_as_a_document_with_totals_and_bands(viewer, qtbot):
+    document = opened(viewer, qtbot, X8)
     assert viewer.tabs.count() == 1 and viewer.tabs.tabText(0) == "X8_LiPo_5S_2200mA_Charge_4.txt"
     totals = document.totals.text()
     assert "Junsi iCharger X8" in totals and "2016 mAh" in totals and "6.02 A" in totals
@@ -29,8 +39,8 @@ def test_a_log_opens_as_a_document_with_totals_and_bands(viewer):
     assert "5 cells (right axis)" in plot.legends[plot.vplot].names()
 
 
-def test_cursor_readout_names_time_values_and_phase(viewer):
-    document = viewer.open_path(X8)
+def test_cursor_readout_names_time_values_and_phase(viewer, qtbot):
+    document = opened(viewer, qtbot, X8)
     text = document.plot.set_cursor(600.2)
     sample = document.log.samples[600]
     assert text.startswith("0:10:00  ")
@@ -41,8 +51,8 @@ def test_cursor_readout_names_time_values_and_phase(viewer):
     assert all(line.isVisible() for line in document.plot.cursor_lines)
 
 
-def test_cycles_of_one_log_are_laid_over_from_zero(viewer):
-    document = viewer.open_path(str(LOGS / "eStationBC6_2008-07-05_EmpfaengerAA.osd"))
+def test_cycles_of_one_log_are_laid_over_from_zero(viewer, qtbot):
+    document = opened(viewer, qtbot, str(LOGS / "eStationBC6_2008-07-05_EmpfaengerAA.osd"))
     assert document.cycles_box.isEnabled()
     document.cycles_box.setChecked(True)
     layers = document.plot.layers
@@ -52,9 +62,11 @@ def test_cycles_of_one_log_are_laid_over_from_zero(viewer):
     assert "charge 2: " in document.plot.readout(600.0)
 
 
-def test_another_log_laid_over_and_hidden_again(viewer):
-    document = viewer.open_path(X8)
-    assert viewer.add_path(str(LOGS / "406DUO_Turnigy_4S_1500_A_Charge_0_CH1.txt"))
+def test_another_log_laid_over_and_hidden_again(viewer, qtbot):
+    document = opened(viewer, qtbot, X8)
+    with qtbot.waitSignal(viewer.overlayAdded, timeout=READ_MS) as blocker:
+        viewer.add_path(str(LOGS / "406DUO_Turnigy_4S_1500_A_Charge_0_CH1.txt"))
+    assert blocker.args == [document]
     assert [layer.name for layer in document.plot.layers] == ["X8_LiPo_5S_2200mA_Charge_4.txt",
                                                               "406DUO_Turnigy_4S_1500_A_Charge_0_CH1.txt"]
     from PySide6.QtCore import Qt
@@ -65,33 +77,72 @@ def test_another_log_laid_over_and_hidden_again(viewer):
 def test_a_file_that_is_no_log_gets_a_message_not_a_tab(viewer, tmp_path, qtbot):
     junk = tmp_path / "junk.txt"
     junk.write_bytes(b"hello\n")
-    assert viewer.open_path(str(junk)) is None
-    assert viewer.tabs.count() == 0
+    with qtbot.waitSignal(viewer.readFailed, timeout=READ_MS) as blocker:
+        viewer.open_path(str(junk))
+    assert "not a log file" in blocker.args[0]
+    assert viewer.tabs.count() == 0 and not viewer.is_reading() and not viewer.busy.isVisible()
     box = viewer.findChild(object, "logErrorBox")
     assert box is not None and "not a log file" in box.text()
 
 
-def test_export_csv_from_the_window(viewer, tmp_path):
-    viewer.open_path(X8)
+def test_export_csv_from_the_window(viewer, tmp_path, qtbot):
+    opened(viewer, qtbot, X8)
     target = tmp_path / "x8.csv"
     assert viewer.export_csv(str(target))
     lines = target.read_text(encoding="utf-8").splitlines()
     assert len(lines) == 1376 and lines[0].endswith("cell5_v")
 
 
-def test_main_window_file_menu_opens_the_log_viewer(make_window):
+def test_main_window_file_menu_opens_the_log_viewer(make_window, qtbot):
     window = make_window()
     assert window.act_open_log in window.menuBar().actions()[0].menu().actions()
     viewer = window.open_log(X8)
-    assert viewer.tabs.count() == 1 and viewer.isVisible()
-    assert window.open_log(str(LOGS / "X6_LiFe_10-3A_Cycle_2.txt")) is viewer and viewer.tabs.count() == 2
+    assert viewer.isVisible()
+    qtbot.waitUntil(lambda: viewer.tabs.count() == 1, timeout=READ_MS)
+    assert window.open_log(str(LOGS / "X6_LiFe_10-3A_Cycle_2.txt")) is viewer
+    qtbot.waitUntil(lambda: viewer.tabs.count() == 2, timeout=READ_MS)
     viewer.close()
 
 
-def test_a_raw_capture_opens_with_its_driver_phases(viewer):
+def test_a_raw_capture_opens_with_its_driver_phases(viewer, qtbot):
     """A raw serial capture (iCharger 306B lines) opens like any log, decoded by its driver."""
-    document = viewer.open_path(str(LOGS.parent / "realdata" / "icharger306B_RB_1000_lines_head300.txt"))
+    document = opened(viewer, qtbot, str(LOGS.parent / "realdata" / "icharger306B_RB_1000_lines_head300.txt"))
     assert document.log.format == "raw-capture"
     assert "Junsi iCharger (106B/206B/208B/306B/3010B)" in document.totals.text()
     # the bands: the "info" pause (idle) between the first two charges has none
     assert [p.state for p in document.plot._phases] == ["charge", "charge", "discharge", "charge"]
+
+
+def test_reading_runs_off_the_gui_thread_in_order_with_progress_shown(viewer, qtbot, monkeypatch):
+    """Two logs asked for at once: the window says what it reads and keeps handling events;
+    they open one after the other, in the order asked for."""
+    import threading
+
+    from zuml_studio.ui.logs import log_window
+    threads = []
+    real = log_window._read_and_prepare
+
+    def read(path):
+        threads.append(threading.current_thread())
+        return real(path)
+    monkeypatch.setattr(log_window, "_read_and_prepare", read)
+    docs = []
+    viewer.documentOpened.connect(docs.append)
+    viewer.open_path(X8)
+    viewer.open_path(str(LOGS / "X6_LiFe_10-3A_Cycle_2.txt"))
+    assert viewer.is_reading() and viewer.busy.isVisible()
+    assert "X8_LiPo_5S_2200mA_Charge_4.txt" in viewer.busy_label.text() and "1 more" in viewer.busy_label.text()
+    qtbot.waitUntil(lambda: len(docs) == 2, timeout=READ_MS)
+    assert [d.name for d in docs] == ["X8_LiPo_5S_2200mA_Charge_4.txt", "X6_LiFe_10-3A_Cycle_2.txt"]
+    assert threading.main_thread() not in threads and len(threads) == 2
+    assert viewer.tabs.count() == 2 and not viewer.is_reading() and not viewer.busy.isVisible()
+
+
+def test_a_reader_bug_is_said_in_the_window(viewer, qtbot, monkeypatch):
+    def broken(path):
+        raise ZeroDivisionError("division by zero")
+    monkeypatch.setattr("zuml_studio.ui.logs.log_window._read_and_prepare", broken)
+    with qtbot.waitSignal(viewer.readFailed, timeout=READ_MS) as blocker:
+        viewer.open_path(X8)
+    assert "internal error: ZeroDivisionError" in blocker.args[0] and "X8_LiPo" in blocker.args[0]
+    assert viewer.findChild(object, "logErrorBox") is not None and viewer.tabs.count() == 0

@@ -3,19 +3,36 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from PySide6.QtCore import QSettings, Qt
+from PySide6.QtCore import QSettings, Qt, Signal
 from PySide6.QtGui import QAction, QKeySequence
-from PySide6.QtWidgets import QFileDialog, QMainWindow, QMessageBox, QTabWidget
+from PySide6.QtWidgets import QFileDialog, QLabel, QMainWindow, QMessageBox, QProgressBar, QTabWidget
 
-from ...logs import Log, LogFormatError, read_log_file
+from ...i18n import _, ngettext
+from ...logs import LogFormatError, read_log_file
 from ...logs.export import write_csv
-from .log_document import LogDocument
+from ..background import BackgroundCall
+from .log_document import LogDocument, Prepared, prepare
 
 TITLE = "Logs — ZUML Studio"
 FILTER = "Charger logs and captures (*.txt *.lov *.osd *.csv *.log *.cap *.bin);;All files (*)"
+# Reads still running, kept from being collected (a window closed and deleted meanwhile drops
+# their results, which Qt does for a receiver that is gone).
+_READING: set[BackgroundCall] = set()
+
+
+def _read_and_prepare(path: str) -> Prepared:
+    return prepare(read_log_file(path))
 
 
 class LogWindow(QMainWindow):
+    """Logs are read and decoded off the GUI thread, one file at a time in the order asked
+    for: ``open_path``/``add_path`` return at once, ``documentOpened``, ``overlayAdded`` or
+    ``readFailed`` follow, and the status bar shows what is being read meanwhile."""
+
+    documentOpened = Signal(object)     # the new LogDocument
+    overlayAdded = Signal(object)       # the LogDocument a log was laid over
+    readFailed = Signal(str)            # the message the window shows
+
     def __init__(self, settings: QSettings | None = None, parent=None):
         super().__init__(parent)
         self.setObjectName("logWindow")
@@ -40,6 +57,18 @@ class LogWindow(QMainWindow):
                 action.setShortcut(QKeySequence(key))
             action.triggered.connect(slot)
             menu.addAction(action)
+        self._queue: list[tuple[str, str]] = []        # ("open" or "add", path) not started yet
+        self._job: BackgroundCall | None = None
+        self._reading: tuple[str, str] | None = None
+        self.busy_label = QLabel()
+        self.busy_label.setObjectName("logReading")
+        self.busy = QProgressBar()
+        self.busy.setRange(0, 0)                # a reader cannot tell how far it is: a busy bar
+        self.busy.setMaximumWidth(120)
+        self.busy.setTextVisible(False)
+        self.statusBar().addPermanentWidget(self.busy_label)
+        self.statusBar().addPermanentWidget(self.busy)
+        self._show_reading()
         self.resize(1200, 760)
 
     # -- documents ---------------------------------------------------------------------------
@@ -47,18 +76,58 @@ class LogWindow(QMainWindow):
         widget = self.tabs.currentWidget()
         return widget if isinstance(widget, LogDocument) else None
 
-    def _read(self, path: str) -> Log | None:
-        try:
-            return read_log_file(path)
-        except LogFormatError as exc:
-            self.show_error(str(exc))
-            return None
+    def open_path(self, path: str) -> None:
+        """Read the log in the background into a new tab; ``documentOpened`` or ``readFailed`` follows."""
+        self._queue.append(("open", path))
+        self._next()
 
-    def open_path(self, path: str) -> LogDocument | None:
-        log = self._read(path)
-        if log is None:
-            return None
-        document = LogDocument(log, path)
+    def add_path(self, path: str) -> None:
+        """Lay the log over the current one (open it if there is none), read in the background;
+        ``overlayAdded`` (``documentOpened``) or ``readFailed`` follows."""
+        self._queue.append(("add", path))
+        self._next()
+
+    def is_reading(self) -> bool:
+        return self._job is not None or bool(self._queue)
+
+    def wait_for_reads(self) -> None:
+        """Block until the running read has ended (its result is still delivered as a signal)."""
+        if self._job is not None:
+            self._job.wait()
+
+    def _next(self) -> None:
+        if self._job is None and self._queue:
+            self._reading = kind, path = self._queue.pop(0)
+            self._job = job = BackgroundCall(lambda: _read_and_prepare(path))
+            _READING.add(job)
+            job.done.connect(self._read_done)
+            job.failed.connect(self._read_failed)
+            job.finished.connect(self._read_ended)
+            job.finished.connect(lambda: _READING.discard(job))
+            job.start()
+        self._show_reading()
+
+    def _show_reading(self) -> None:
+        reading = self._reading is not None
+        if reading:
+            text = _("Reading {name}…").format(name=Path(self._reading[1]).name)
+            if self._queue:
+                text += " " + ngettext("({count} more waiting)", "({count} more waiting)",
+                                       len(self._queue)).format(count=len(self._queue))
+            self.busy_label.setText(text)
+        self.busy_label.setVisible(reading)
+        self.busy.setVisible(reading)
+
+    def _read_done(self, prepared: Prepared) -> None:
+        kind, path = self._reading
+        document = self.current()
+        if kind == "add" and document is not None:
+            document.add_overlay(Path(path).name, prepared.log)
+            self._remember(path)
+            self.overlayAdded.emit(document)
+            return
+        log = prepared.log
+        document = LogDocument(prepared, path)
         document.addRequested.connect(self.add_dialog)
         index = self.tabs.addTab(document, document.name)
         self.tabs.setTabToolTip(index, f"{path}\n{log.device}")
@@ -66,18 +135,25 @@ class LogWindow(QMainWindow):
         self._remember(path)
         self.statusBar().showMessage(f"{document.name}: {len(log.samples)} samples from {log.device}"
                                      + (f", {log.bad_records} bad records skipped" if log.bad_records else ""), 8000)
-        return document
+        self.documentOpened.emit(document)
 
-    def add_path(self, path: str) -> bool:
-        document = self.current()
-        if document is None:
-            return self.open_path(path) is not None
-        log = self._read(path)
-        if log is None:
-            return False
-        document.add_overlay(Path(path).name, log)
-        self._remember(path)
-        return True
+    def _read_failed(self, exc: Exception) -> None:
+        path = self._reading[1]
+        # A reader's own failure is a LogFormatError that names the file; anything else is a bug
+        # in a reader, said all the same instead of leaving the window waiting.
+        message = str(exc) if isinstance(exc, LogFormatError) else _(
+            "{path}: cannot read this log (internal error: {error})").format(path=path,
+                                                                           error=f"{type(exc).__name__}: {exc}")
+        self.show_error(message)
+        self.readFailed.emit(message)
+
+    def _read_ended(self) -> None:
+        self._job = self._reading = None
+        self._next()
+
+    def closeEvent(self, event) -> None:  # noqa: N802 - Qt's name
+        self._queue.clear()             # what was not started yet is not wanted any more
+        super().closeEvent(event)
 
     def _close_tab(self, index: int) -> None:
         widget = self.tabs.widget(index)
@@ -94,12 +170,12 @@ class LogWindow(QMainWindow):
             self.settings.setValue("lastLogDir", str(Path(path).parent))
 
     def open_dialog(self) -> None:
-        paths, _ = QFileDialog.getOpenFileNames(self, "Open charger logs", self._folder(), FILTER)
+        paths, _filter = QFileDialog.getOpenFileNames(self, "Open charger logs", self._folder(), FILTER)
         for path in paths:
             self.open_path(path)
 
     def add_dialog(self) -> None:
-        paths, _ = QFileDialog.getOpenFileNames(self, "Logs to compare", self._folder(), FILTER)
+        paths, _filter = QFileDialog.getOpenFileNames(self, "Logs to compare", self._folder(), FILTER)
         for path in paths:
             self.add_path(path)
 
@@ -108,7 +184,7 @@ class LogWindow(QMainWindow):
         if document is None:
             return
         suggested = str(Path(document.path).with_suffix("")) + "-export.csv"
-        path, _ = QFileDialog.getSaveFileName(self, "Export log as CSV", suggested, "CSV (*.csv)")
+        path, _filter = QFileDialog.getSaveFileName(self, "Export log as CSV", suggested, "CSV (*.csv)")
         if path:
             self.export_csv(path)
 
@@ -129,7 +205,7 @@ class LogWindow(QMainWindow):
         document = self.current()
         if document is None:
             return
-        path, _ = QFileDialog.getSaveFileName(self, "Export plot", str(Path(document.path).with_suffix(".png")),
+        path, _filter = QFileDialog.getSaveFileName(self, "Export plot", str(Path(document.path).with_suffix(".png")),
                                               "PNG (*.png)")
         if path and not document.plot.export_png(path):
             self.show_error(f"{path}: cannot write the PNG")
