@@ -222,6 +222,21 @@ def test_visual_editor_is_docked_and_follows_the_text(make_window, qtbot):
     qtbot.waitUntil(lambda: visual.macro().name == "LiPo2", timeout=2000)
 
 
+def test_the_device_panel_is_built_after_the_first_paint_and_knows_the_macro(tmp_path, qtbot):
+    """Its tab is not the one in front: nothing of it (its modules, its plot) delays the first
+    paint; built later, it shows the battery of the macro checked meanwhile."""
+    from zuml_studio.ui import create_main_window
+    w = create_main_window(str(MACROS / "NiMh-dV.zuml"), tmp_path / "config")
+    w.ask_unsaved = lambda: "discard"
+    qtbot.addWidget(w)
+    assert w._device_panel is None and w.validator.last_valid is not None
+    w.show()
+    qtbot.waitUntil(lambda: w._device_panel is not None, timeout=10_000)
+    panel = w.device_panel
+    assert "NiMh 4S" in panel.bar.battery_note.full_text()
+    panel.shutdown()
+
+
 def test_the_device_panel_flashes_the_editors_macro_and_plots_it_live(make_window, qtbot):
     import os
     if os.name != "posix":

@@ -4,7 +4,6 @@ together; each part lives in its own module."""
 from __future__ import annotations
 
 import os
-from importlib.metadata import version
 from pathlib import Path
 
 from PySide6.QtCore import QEvent, QSettings, QSize, QStandardPaths, Qt, QTimer
@@ -137,8 +136,11 @@ class MainWindow(QMainWindow):
 
             panel = DevicePanel(self._current_record, self.config / "sessions")
             panel.statusMessage.connect(lambda message: self.statusBar().showMessage(message, 6000))
+            panel.connectedChanged.connect(self._device_connected)
             self._device_panel = panel
             self.device_dock.setWidget(panel)
+            if self.validator.last_valid is not None:
+                panel.macro_changed(self.validator.last_valid.record)
         return self._device_panel
 
     def _dock(self, title: str, name: str, widget, area) -> QDockWidget:
@@ -305,7 +307,6 @@ class MainWindow(QMainWindow):
     def _connect(self) -> None:
         self.editor.textChanged.connect(self._text_changed)
         self.editor.fontSizeChanged.connect(self._font_size_changed)
-        self.device_panel.connectedChanged.connect(self._device_connected)
         self.editor.document().modificationChanged.connect(self.setWindowModified)
         self.editor.cursorPositionChanged.connect(self._cursor_moved)
         self.editor.cursorLineChanged.connect(self._cursor_line_changed)
@@ -344,7 +345,8 @@ class MainWindow(QMainWindow):
             self.state_label.setText("✔ valid" + (f", {warnings} warning(s)" if warnings else ""))
             self.state_label.setStyleSheet(f"color:{theme.colours(self.palette()).ok};")
             self.sim_panel.set_record(result.record, result.macro.name, self._declared(result))
-            self.device_panel.macro_changed(result.record)
+            if self._device_panel is not None:      # else it is given the record when it is built
+                self._device_panel.macro_changed(result.record)
         else:
             self.size_label.setText("– / 255 bytes")
             self.state_label.setText(f"✖ {errors} error(s)")
@@ -747,6 +749,8 @@ class MainWindow(QMainWindow):
         self._help.search.setFocus()
 
     def about_text(self) -> str:
+        from importlib.metadata import version      # 15 ms to import: not before the first paint
+
         return (f"ZUML Studio {version('zuml-studio')}\n\n"
                 "Write, check, simulate and flash ZUML 2.0 charger macros.")
 
