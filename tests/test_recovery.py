@@ -57,3 +57,37 @@ def test_saved_files_are_synced_the_recovery_text_is_not(tmp_path, monkeypatch):
     store.save("k", "MACRO B", None)
     assert len(synced) == 1
     assert [r.text for r in store.pending()] == ["MACRO B"]
+
+
+def test_the_background_saver_writes_the_newest_text_in_order_with_discards(tmp_path):
+    from zuml_studio.recovery import BackgroundSaver
+    errors = []
+    store = RecoveryStore(tmp_path)
+    saver = BackgroundSaver(store, errors.append)
+    for n in range(20):
+        saver.save("k", f"MACRO A{n}", None)
+    saver.wait()
+    assert [r.text for r in store.pending()] == ["MACRO A19"]
+    saver.save("k", "MACRO B", None)
+    saver.discard("k")                      # after the write before it: nothing is left behind
+    assert store.pending() == [] and errors == []
+    saver.close()
+    saver.save("k", "MACRO C", None)        # a save after close starts the thread again
+    saver.close()
+    assert [r.text for r in store.pending()] == ["MACRO C"]
+
+
+def test_the_background_saver_hands_a_failure_over_and_goes_on(tmp_path):
+    from zuml_studio.recovery import BackgroundSaver
+    (tmp_path / "recovery").write_text("a file where the folder should be")
+    errors = []
+
+    def say(exc):
+        errors.append(exc)
+        raise RuntimeError("the window that would say it is gone")
+    saver = BackgroundSaver(RecoveryStore(tmp_path), say)
+    saver.save("k", "MACRO A", None)
+    saver.wait()
+    saver.save("k", "MACRO A", None)
+    saver.close()
+    assert len(errors) == 2 and all(isinstance(e, OSError) for e in errors)

@@ -6,7 +6,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from PySide6.QtCore import QEvent, QSettings, QSize, QStandardPaths, Qt, QTimer
+from PySide6.QtCore import QEvent, QSettings, QSize, QStandardPaths, Qt, QTimer, Signal
 from PySide6.QtGui import QAction, QKeySequence
 from PySide6.QtWidgets import QDockWidget, QFileDialog, QLabel, QMainWindow, QMessageBox, QStyle, QToolBar, QWidget
 
@@ -14,7 +14,7 @@ from .. import data
 from ..lang import opcodes as ops
 from ..lang.compiler import CompileResult, compile_source
 from ..macro_file import EXTENSION, MacroFile, MacroFileError, read_macro_file, write_macro_file
-from ..recovery import Recovered, RecoveryStore, atomic_write, config_dir
+from ..recovery import BackgroundSaver, Recovered, RecoveryStore, atomic_write, config_dir
 from . import theme
 from .editor.code_editor import EditorWithFind
 from .editor.highlighter import ops_at
@@ -60,12 +60,16 @@ def documents_dir() -> Path:
 
 
 class MainWindow(QMainWindow):
+    _recoveryFailed = Signal(object)     # an OSError of the recovery saver's thread
+
     def __init__(self, config: Path | None = None):
         super().__init__()
         self.setObjectName("mainWindow")
         self.config = config or config_dir()
         self.settings = QSettings(str(self.config / "settings.ini"), QSettings.Format.IniFormat)
         self.recovery = RecoveryStore(self.config)
+        self._saver = BackgroundSaver(self.recovery, self._recoveryFailed.emit)
+        self._recoveryFailed.connect(self._recovery_failed)
         self.user_macros = self.config / "macros"
         self.user_macros.mkdir(parents=True, exist_ok=True)
 
@@ -333,7 +337,7 @@ class MainWindow(QMainWindow):
         return self.validator.run_now(self.text())
 
     def _validated(self, result: CompileResult) -> None:
-        self.autosave()          # every debounced change reaches the recovery file (it is small)
+        self.autosave(wait=False)   # every debounced change reaches the recovery file, off the GUI thread
         self.editor.set_diagnostics(result.diagnostics)
         self.problems.set_diagnostics(result.diagnostics)
         self.hex_view.show_result(result, self.validator.last_valid)
@@ -406,7 +410,7 @@ class MainWindow(QMainWindow):
         """Show a text; ``dirty`` for one that is not on disk as shown (generated, recovered),
         which is then unsaved work: asked about before it is dropped, and written to recovery."""
         if self._recovery_key:
-            self.recovery.discard(self._recovery_key)
+            self._saver.discard(self._recovery_key)
         self.path, self.file = path, file
         if path is None:
             self._untitled += 1
@@ -555,7 +559,7 @@ class MainWindow(QMainWindow):
         except MacroFileError as exc:
             self.show_error(str(exc))
             return False
-        self.recovery.discard(self._recovery_key)
+        self._saver.discard(self._recovery_key)
         self.path = str(Path(path).resolve())
         self._recovery_key = RecoveryStore.key_for(self.path, "")
         self.editor.document().setModified(False)
@@ -650,15 +654,18 @@ class MainWindow(QMainWindow):
             return self.save()
         return answer == "discard"
 
-    def autosave(self) -> None:
-        """Write the unsaved text to the recovery file (atomically); a failure is said, not raised."""
+    def autosave(self, wait: bool = True) -> None:
+        """Write the unsaved text to the recovery file (atomically, on the saver's thread; with
+        ``wait``, written when this returns); a failure is said, not raised."""
         if not self.is_dirty():
             return
-        try:
-            self.recovery.save(self._recovery_key, self.text(), self.path)
-        except OSError as exc:
-            self.statusBar().showMessage(f"Crash recovery cannot write {self.recovery.root}: "
-                                         f"{exc.strerror or exc}", 10000)
+        self._saver.save(self._recovery_key, self.text(), self.path)
+        if wait:
+            self._saver.wait()
+
+    def _recovery_failed(self, exc: OSError) -> None:
+        self.statusBar().showMessage(f"Crash recovery cannot write {self.recovery.root}: "
+                                     f"{exc.strerror or exc}", 10000)
 
     def ask_recover(self, found: Recovered) -> bool:
         """Whether to restore text a crash left behind (tests replace this)."""
@@ -678,10 +685,10 @@ class MainWindow(QMainWindow):
                     except MacroFileError:
                         file = None
                 self._set_document(found.text, found.original, file, dirty=True)
-                self.recovery.discard(found.key)
+                self._saver.discard(found.key)
                 self.autosave()
                 return True
-            self.recovery.discard(found.key)
+            self._saver.discard(found.key)
         return False
 
     def ask_close_run(self) -> str:
@@ -694,7 +701,7 @@ class MainWindow(QMainWindow):
         if not self.maybe_save():
             event.ignore()
             return
-        if self.device_panel.is_running():
+        if self._device_panel is not None and self._device_panel.is_running():
             answer = self.ask_close_run()
             if answer == "cancel":
                 event.ignore()
@@ -704,7 +711,8 @@ class MainWindow(QMainWindow):
         self.sim_panel.cancel()
         if self._device_panel is not None:
             self._device_panel.shutdown()
-        self.recovery.discard(self._recovery_key)
+        self._saver.discard(self._recovery_key)
+        self._saver.close()
         self.settings.setValue("lastOpen", self.path or "")
         self.settings.setValue("geometry", self.saveGeometry())
         self.settings.setValue("windowState", self.saveState(LAYOUT_VERSION))
