@@ -101,8 +101,8 @@ def _screenshot(app, window, out: str, size: str) -> int:
         sys.stderr.write(f"zuml-studio: error: --size {size!r} is not WxH\n")
         return 2
     window.resize(width, height)
-    window.show()
     window.device_panel          # built now, not by its timer in the middle of the settling below
+    window.show()
     window.validate_now()
     if window.validator.last and window.validator.last.ok:
         window.sim_panel.simulate()

@@ -68,10 +68,9 @@ def prepare(log: Log) -> Prepared:
 class LogDocument(QWidget):
     addRequested = Signal()          # the user wants to lay another log file over this one
 
-    def __init__(self, log: Log | Prepared, path: str, parent=None):
+    def __init__(self, prepared: Prepared, path: str, parent=None):
         super().__init__(parent)
         self.setObjectName("logDocument")
-        prepared = log if isinstance(log, Prepared) else prepare(log)
         self.log = log = prepared.log
         self.path = path
         self.name = Path(path).name
