@@ -86,7 +86,7 @@ class LogPlot(StackedPlot):
                 legend.setVisible(False)
             return
         first = self.layers[0]
-        cells = first.log.cells
+        cells = first.data["cells"].shape[1]       # Log.cells, counted once already (a pass over the samples)
         self.set_series_count(cells or 1)
         alone = len(self.layers) == 1
         for layer in self.layers:
