@@ -90,11 +90,6 @@ class LogWindow(QMainWindow):
     def is_reading(self) -> bool:
         return self._job is not None or bool(self._queue)
 
-    def wait_for_reads(self) -> None:
-        """Block until the running read has ended (its result is still delivered as a signal)."""
-        if self._job is not None:
-            self._job.wait()
-
     def _next(self) -> None:
         if self._job is None and self._queue:
             self._reading = kind, path = self._queue.pop(0)

@@ -19,7 +19,6 @@ TIMER_TIP = "timer before full: a timer ended this charge with less than the cap
 WARN_FG = QColor("#a04000")
 WARN_BG = QColor("#fff3d6")
 SECTION_TINT = {"charge": QColor(74, 134, 232, 60), "discharge": QColor(232, 96, 74, 60)}   # as the plot's bands
-OFFSET_ROLE = int(Qt.ItemDataRole.UserRole) + 1
 ALIGNMENTS = tuple(int((Qt.AlignmentFlag.AlignRight if col in (0, 3, 4, 5, 7, 8, 9, 10) else Qt.AlignmentFlag.AlignLeft)
                        | Qt.AlignmentFlag.AlignVCenter) for col in range(len(COLUMNS)))
 DISPLAY, DECORATION, TOOLTIP, ALIGNMENT, BACKGROUND, FOREGROUND = (int(r) for r in (
@@ -39,7 +38,7 @@ class PhaseModel(QAbstractTableModel):
         self._phases: list = []
         self._series = 1
         self._training = False
-        self._rows: dict[int, tuple] = {}
+        self._rows: dict[int, dict[int, tuple]] = {}     # row -> role -> a value per column
 
     def set_result(self, result) -> None:
         self.beginResetModel()
@@ -114,7 +113,7 @@ class PhaseModel(QAbstractTableModel):
         tips[NOTES_COLUMN] = "\n".join(p.notes)
         n = len(COLUMNS)
         tint = SECTION_TINT.get(p.section)
-        roles = {DISPLAY: cells, TOOLTIP: tuple(tips), ALIGNMENT: ALIGNMENTS, OFFSET_ROLE: (p.offset,) * n}
+        roles = {DISPLAY: cells, TOOLTIP: tuple(tips), ALIGNMENT: ALIGNMENTS}
         if flag:
             roles[FOREGROUND] = (WARN_FG,) * n
             roles[BACKGROUND] = (WARN_BG,) * n
