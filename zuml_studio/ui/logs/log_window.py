@@ -15,8 +15,9 @@ from .log_document import LogDocument, Prepared, prepare
 
 TITLE = "Logs — ZUML Studio"
 FILTER = "Charger logs and captures (*.txt *.lov *.osd *.csv *.log *.cap *.bin);;All files (*)"
-# Reads still running, kept from being collected (a window closed and deleted meanwhile drops
-# their results, which Qt does for a receiver that is gone).
+# Reads not yet handed over, kept from being collected while their thread runs (a window
+# deleted meanwhile leaves its read here: its results go nowhere, as Qt drops a signal to a
+# receiver that is gone).
 _READING: set[BackgroundCall] = set()
 
 
@@ -60,6 +61,7 @@ class LogWindow(QMainWindow):
         self._queue: list[tuple[str, str]] = []        # ("open" or "add", path) not started yet
         self._job: BackgroundCall | None = None
         self._reading: tuple[str, str] | None = None
+        self._outcome: Prepared | Exception | None = None
         self.busy_label = QLabel()
         self.busy_label.setObjectName("logReading")
         self.busy = QProgressBar()
@@ -93,12 +95,14 @@ class LogWindow(QMainWindow):
     def _next(self) -> None:
         if self._job is None and self._queue:
             self._reading = kind, path = self._queue.pop(0)
+            self._outcome = None
             self._job = job = BackgroundCall(lambda: _read_and_prepare(path))
             _READING.add(job)
-            job.done.connect(self._read_done)
-            job.failed.connect(self._read_failed)
+            # The outcome is kept and handled once the thread has finished (queued after it):
+            # whoever hears the signals sees the window done with that file.
+            job.done.connect(self._keep_outcome)
+            job.failed.connect(self._keep_outcome)
             job.finished.connect(self._read_ended)
-            job.finished.connect(lambda: _READING.discard(job))
             job.start()
         self._show_reading()
 
@@ -113,8 +117,21 @@ class LogWindow(QMainWindow):
         self.busy_label.setVisible(reading)
         self.busy.setVisible(reading)
 
-    def _read_done(self, prepared: Prepared) -> None:
-        kind, path = self._reading
+    def _keep_outcome(self, outcome: Prepared | Exception) -> None:
+        self._outcome = outcome
+
+    def _read_ended(self) -> None:
+        (kind, path), outcome = self._reading, self._outcome
+        self._job.wait()                # finished comes from the thread's last moments: let it end
+        _READING.discard(self._job)     # before the object can go (a QThread deleted running aborts)
+        self._job = self._reading = self._outcome = None
+        self._next()
+        if isinstance(outcome, Prepared):
+            self._read_done(kind, path, outcome)
+        else:
+            self._read_failed(path, outcome or RuntimeError("the reader ended without a result"))
+
+    def _read_done(self, kind: str, path: str, prepared: Prepared) -> None:
         document = self.current()
         if kind == "add" and document is not None:
             document.add_overlay(Path(path).name, prepared.log)
@@ -132,8 +149,7 @@ class LogWindow(QMainWindow):
                                      + (f", {log.bad_records} bad records skipped" if log.bad_records else ""), 8000)
         self.documentOpened.emit(document)
 
-    def _read_failed(self, exc: Exception) -> None:
-        path = self._reading[1]
+    def _read_failed(self, path: str, exc: Exception) -> None:
         # A reader's own failure is a LogFormatError that names the file; anything else is a bug
         # in a reader, said all the same instead of leaving the window waiting.
         message = str(exc) if isinstance(exc, LogFormatError) else _(
@@ -141,10 +157,6 @@ class LogWindow(QMainWindow):
                                                                            error=f"{type(exc).__name__}: {exc}")
         self.show_error(message)
         self.readFailed.emit(message)
-
-    def _read_ended(self) -> None:
-        self._job = self._reading = None
-        self._next()
 
     def closeEvent(self, event) -> None:  # noqa: N802 - Qt's name
         self._queue.clear()             # what was not started yet is not wanted any more
