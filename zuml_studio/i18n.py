@@ -17,8 +17,6 @@ import gettext
 import os
 from importlib import resources
 
-from .data import DataFileError
-
 DOMAIN = "zuml_studio"
 SOURCE_LANGUAGE = "en"
 LANGUAGES: dict[str, str] = {"en": "English", "ru": "Русский"}   # each in its own language
@@ -71,19 +69,24 @@ def install(language: str) -> None:
     """Make ``language`` the one `_` answers in, for the whole process."""
     global _translation, _language
     if language not in LANGUAGES:
-        raise ValueError(f"unsupported language {language!r}; supported: {', '.join(LANGUAGES)}")
+        raise ValueError(_("unsupported language {language!r}; supported: {supported}").format(
+            language=language, supported=", ".join(LANGUAGES)))
     if language == SOURCE_LANGUAGE:
         _translation, _language = gettext.NullTranslations(), language
         return
+    from .data import DataFileError   # here, not at the top: data/ itself translates its errors
+
     path = catalogue_path(language)
     try:
         with open(path, "rb") as fp:
             _translation = gettext.GNUTranslations(fp)
     except FileNotFoundError:
-        raise DataFileError(f"translation catalogue {path} is missing: the installation is incomplete, "
-                            "reinstall ZUML Studio (from a source checkout, `./dev` compiles it)") from None
+        raise DataFileError(_("translation catalogue {path} is missing: the installation is incomplete, "
+                              "reinstall ZUML Studio (from a source checkout, `./dev` compiles it)").format(
+                                  path=path)) from None
     except OSError as exc:
-        raise DataFileError(f"translation catalogue {path} is unreadable ({exc}): reinstall ZUML Studio") from None
+        raise DataFileError(_("translation catalogue {path} is unreadable ({error}): reinstall ZUML Studio").format(
+            path=path, error=exc)) from None
     _language = language
 
 

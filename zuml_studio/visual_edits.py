@@ -24,6 +24,7 @@ from .lang.formatter import INDENT, format_statement
 from .lang.opcodes import Op, Place, Role
 from .lang.operands import (AKK_TYPE, CELSIUS, CURRENT, INPUT_U16, RELATIVE_FLAG, TIME, VOLTAGE, OperandKind,
                             ValueProblem, format_scaled, parse_akk_type)
+from .i18n import _
 
 
 class EditError(ValueError):
@@ -48,7 +49,7 @@ def path_of(macro: Macro, node: object) -> Path:
         found = _path_in(section.items, node, (section.kind,))
         if found is not None:
             return found
-    raise LookupError("this part of the macro is no longer in the text")
+    raise LookupError(_("this part of the macro is no longer in the text"))
 
 
 def _path_in(items: list, node: object, prefix: Path) -> Path | None:
@@ -82,7 +83,7 @@ def node_at(macro: Macro, path: Path):
                 node = node.items[step]
         return node
     except (AttributeError, IndexError, TypeError, KeyError):
-        raise LookupError(f"nothing at {path} in this macro") from None
+        raise LookupError(_("nothing at {path} in this macro").format(path=path)) from None
 
 
 def shape(macro: Macro) -> tuple:
@@ -159,7 +160,7 @@ def _apply(text: str, changes: list[tuple[int, int, str]]) -> str:
     last = None
     for start, end, new in sorted(changes, key=lambda c: (c[0], c[1]), reverse=True):
         if last is not None and end > last:
-            raise EditError("overlapping edits")
+            raise EditError(_("overlapping edits"))
         out = out[:start] + new + out[end:]
         last = start
     return out
@@ -199,7 +200,7 @@ def parse_value(operand: ops.Operand, text: str, subject: str = "The value") -> 
     value was rounded to what the charger keeps."""
     text = text.strip()
     if not text:
-        raise EditError(f"{subject} is empty")
+        raise EditError(_("{subject} is empty").format(subject=subject))
     try:
         if operand.kind is AKK_TYPE:
             return parse_akk_type(text), None
@@ -220,7 +221,7 @@ def new_statement_text(op: Op, texts: list[str]) -> str:
     raws = [parse_value(o, t, _subject(op, o))[0] for o, t in zip(op.operands, texts)]
     raws += [o.default for o in op.operands[len(texts):]]
     if any(r is None for r in raws):
-        raise EditError(f"{op.keyword} needs {len(op.operands)} values")
+        raise EditError(_("{keyword} needs {n_operands} values").format(keyword=op.keyword, n_operands=len(op.operands)))
     return statement_text(op, raws)
 
 
@@ -251,7 +252,7 @@ def set_value(text: str, stmt: Statement, index: int, value_text: str) -> str:
 def set_action_value(text: str, stmt: Statement, index: int, value_text: str) -> str:
     """``set_value`` for an action (CONSTANT_I, CONSTANT_V, CHARGE_EX, TRICKLE)."""
     if stmt.op.role is not Role.ACTION:
-        raise EditError(f"{stmt.op.keyword} is not an action")
+        raise EditError(_("{keyword} is not an action").format(keyword=stmt.op.keyword))
     return set_value(text, stmt, index, value_text)
 
 
@@ -301,14 +302,14 @@ def _content_indent(t: _Text, phase: Phase) -> str:
 def add_condition(text: str, phase: Phase, op: Op, value_text: str) -> str:
     """A new ``IF(...)`` line after the phase's last statement, indented like its statements."""
     if op.condition is None or Place.PHASE not in op.places:
-        raise EditError(f"{op.signature()} is not a phase condition")
+        raise EditError(_("{signature} is not a phase condition").format(signature=op.signature()))
     new = new_statement_text(op, [value_text])
     t = _Text(text)
     if not phase.statements:
-        raise EditError("the phase is empty")
+        raise EditError(_("the phase is empty"))
     last = phase.statements[-1]
     if phase.end_span and last.span.end_line == phase.end_span.line:
-        start, _ = t.span(phase.end_span)
+        start, __ = t.span(phase.end_span)
         return _apply(text, [(start, start, f"{new} ")])
     return _apply(text, [_insert_after_statement(t, last.span, new, _content_indent(t, phase))])
 
@@ -425,7 +426,7 @@ def _action_texts(key: str, phase: Phase, macro: Macro | None, section: str) -> 
         else:
             v1_text = VOLTAGE.format(max(1, (v2 & 0x7FFF) - 10) | (v2 & RELATIVE_FLAG))
         return [new_statement_text(ops.TRICKLE, ["0.1C", v1_text, volt])]
-    raise EditError(f"unknown action {key!r}")
+    raise EditError(_("unknown action {key!r}").format(key=key))
 
 
 def set_action(text: str, phase: Phase, key: str, macro: Macro | None = None, section: str = "charge") -> str:
@@ -435,7 +436,7 @@ def set_action(text: str, phase: Phase, key: str, macro: Macro | None = None, se
     new = _action_texts(key, phase, macro, section)
     actions = phase_actions(phase)
     if not actions:
-        raise EditError("the phase has no action to change")
+        raise EditError(_("the phase has no action to change"))
     t = _Text(text)
     first = actions[0]
     start, end = t.span(first.span)
@@ -461,8 +462,8 @@ def _block(t: _Text, item) -> tuple[int, int]:
     if not t.starts_line(first) or not t.ends_line(last):
         what = ("FAZE" if isinstance(item, Phase) else "CYCLE" if isinstance(item, Cycle) else
                 getattr(getattr(item, "op", None), "keyword", "the section"))
-        raise EditError(f"line {first.line}: {what} shares its line with other statements; "
-                        "put it on its own lines to move it here")
+        raise EditError(_("line {line}: {what} shares its line with other statements; put it on its own lines to "
+                          "move it here").format(line=first.line, what=what))
     top = first.line
     while top > 1 and t.line(top - 1).strip().startswith("//"):
         top -= 1
@@ -478,19 +479,19 @@ def move_item(text: str, container: Section | Cycle, from_index: int, to_index: 
     whole lines move, with the comment lines directly above the item."""
     items = container.items
     if not (0 <= from_index < len(items) and 0 <= to_index < len(items)):
-        raise EditError("no such position")
+        raise EditError(_("no such position"))
     if from_index == to_index:
         return text
     t = _Text(text)
     top, bottom = _block(t, items[from_index])
     moved = _lines_text(t, top, bottom)
     if to_index < from_index:
-        anchor_top, _ = _block(t, items[to_index])
+        anchor_top, __ = _block(t, items[to_index])
         at = t.starts[anchor_top - 1]
     else:
-        _, anchor_bottom = _block(t, items[to_index])
+        __, anchor_bottom = _block(t, items[to_index])
         if anchor_bottom >= len(t.lines):
-            raise EditError("the section has no end line")
+            raise EditError(_("the section has no end line"))
         at = t.starts[anchor_bottom]
     start, end = t.starts[top - 1], t.starts[bottom] if bottom < len(t.lines) else len(text)
     return _apply(text, [(start, end, ""), (at, at, moved)])
@@ -523,11 +524,11 @@ def wrap_in_cycle(text: str, phase: Phase | list, count: int = 2) -> str:
     """Put ``CYCLE(count)`` / ``END_CYCLE`` lines around a phase (or consecutive items, given
     as a list), its lines indented one level more. Cycles do not nest: the check refuses that."""
     if not 1 <= count <= 255:
-        raise EditError("a cycle repeats 1 to 255 times")
+        raise EditError(_("a cycle repeats 1 to 255 times"))
     items = phase if isinstance(phase, list) else [phase]
     t = _Text(text)
-    top, _ = _block(t, items[0])
-    _, bottom = _block(t, items[-1])
+    top, __ = _block(t, items[0])
+    __, bottom = _block(t, items[-1])
     first_span = _item_first_last(items[0])[0]
     indent = t.indent(first_span.line)
     body = _indent_lines(t.lines[top - 1:bottom], "\t" if indent.endswith("\t") else INDENT)
@@ -548,11 +549,11 @@ def unwrap_cycle(text: str, cycle: Cycle) -> str:
     """Remove a cycle's CYCLE(n) and END_CYCLE lines; its contents move out one level.
     A comment on either line stays, on a line of its own."""
     if cycle.end_span is None:
-        raise EditError("the cycle has no END_CYCLE")
+        raise EditError(_("the cycle has no END_CYCLE"))
     t = _Text(text)
     first, last = cycle.span.line, cycle.end_span.line
     if first == last:
-        raise EditError(f"line {first}: the cycle is written on one line; split it to unwrap it here")
+        raise EditError(_("line {first}: the cycle is written on one line; split it to unwrap it here").format(first=first))
     indent = t.indent(first)
     inner = t.lines[first:last - 1]
     deeper = next((n for n in range(first + 1, last) if t.line(n).strip()), None)
@@ -637,7 +638,7 @@ def add_phase(text: str, macro: Macro, kind: str) -> str:
     inner, sec_indent = _style(t, macro)
     if section.present:
         if section.end_span is None or not t.starts_line(section.end_span):
-            raise EditError("the section's END_SECTION shares its line; put it on its own line to add a phase")
+            raise EditError(_("the section's END_SECTION shares its line; put it on its own line to add a phase"))
         indent = t.indent(section.span.line) + INDENT
         for item in section.items:
             indent = t.indent(_item_first_last(item)[0].line)
@@ -651,10 +652,10 @@ def add_phase(text: str, macro: Macro, kind: str) -> str:
     block = "\n".join(lines) + "\n"
     other = macro.charge if kind == "discharge" else macro.discharge
     if kind == "discharge" and other.present:
-        top, _ = _block(t, _SectionItem(other))
+        top, __ = _block(t, _SectionItem(other))
         at = t.starts[top - 1]
     elif kind == "charge" and other.present:
-        _, bottom = _block(t, _SectionItem(other))
+        __, bottom = _block(t, _SectionItem(other))
         at = t.starts[bottom]
     else:
         at = _after_intro(t, macro)
@@ -680,7 +681,7 @@ def set_declaration(text: str, macro: Macro, op: Op, value_text: str) -> str:
     """Set a declaration or macro-wide condition (a Place.INTRO op): rewrite it when declared,
     else insert it in the introduction, in table order among the others."""
     if Place.INTRO not in op.places:
-        raise EditError(f"{op.keyword} does not stand in the introduction")
+        raise EditError(_("{keyword} does not stand in the introduction").format(keyword=op.keyword))
     existing = macro.declared(op)
     if existing is not None:
         return set_value(text, existing, 0, value_text)
@@ -711,7 +712,7 @@ def remove_declaration(text: str, macro: Macro, op: Op) -> str:
 def set_name(text: str, macro: Macro, name: str) -> str:
     name = name.strip()
     if not name:
-        raise EditError("the macro needs a name")
+        raise EditError(_("the macro needs a name"))
     t = _Text(text)
     start, end = t.span(macro.name_span)
     return _apply(text, [(start, end, name)])

@@ -13,6 +13,7 @@ import sys
 
 from ..data import DataFileError
 from .common import CliError
+from ..i18n import _
 
 AREAS: dict[str, dict[str, str]] = {
     "lang_commands": {
@@ -64,8 +65,7 @@ def area_of(command: str) -> str | None:
 def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     """The parser with ``command``'s module registered in full (None: every module); every
     other command is a name with its help line, enough to list it and to pick it."""
-    parser = argparse.ArgumentParser(prog="zuml", description="ZUML 2.0 charger macros: check, compile, "
-                                     "simulate, flash.")
+    parser = argparse.ArgumentParser(prog="zuml", description=_("ZUML 2.0 charger macros: check, compile, simulate, flash."))
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     wanted = area_of(command) if command is not None else None
     for module, commands in AREAS.items():
@@ -84,13 +84,13 @@ def main(argv: list[str] | None = None) -> int:
     try:
         return args.run(args)
     except CliError as exc:
-        sys.stderr.write(f"zuml: error: {exc}\n")
+        sys.stderr.write(_("zuml: error: {exc}\n").format(exc=exc))
         return exc.code
     except DataFileError as exc:
-        sys.stderr.write(f"zuml: error: {exc}\n")
+        sys.stderr.write(_("zuml: error: {exc}\n").format(exc=exc))
         return 2
     except KeyboardInterrupt:
-        sys.stderr.write("zuml: interrupted\n")
+        sys.stderr.write(_("zuml: interrupted\n"))
         return 130
     except BrokenPipeError:
         return 0

@@ -12,32 +12,33 @@ from ..sim.start_check import start_warnings
 from ..sim.start_templates import TEMPLATE_COUNT
 from .common import CliError, check_start_options, out, read_bytes
 from .lang_commands import compile_file
+from ..i18n import _
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("simulate", help="run a macro's byte code against a battery model")
-    p.add_argument("file", metavar="FILE", help="a .zuml macro or a compiled .bin record")
+    p = sub.add_parser("simulate", help=_("run a macro's byte code against a battery model"))
+    p.add_argument("file", metavar="FILE", help=_("a .zuml macro or a compiled .bin record"))
     p.add_argument("--task", choices=("charge", "discharge", "train"), default="charge")
-    p.add_argument("--cycles", type=int, default=1, metavar="N", help="training: discharge+charge N times")
-    p.add_argument("--capacity", type=float, metavar="MAH", help="capacity entered at start")
-    p.add_argument("--current", type=float, metavar="A", help="current entered at start (INPUT)")
-    p.add_argument("--voltage", type=float, metavar="V", help="voltage entered at start (INPUT)")
-    p.add_argument("--series", type=int, metavar="N", help="cells in series entered at start")
-    p.add_argument("--template", type=int, metavar="N", help="start with the charger's start template N "
-                   "(the factory table; a macro's START_SHABLON wins)")
-    p.add_argument("--soc", type=float, metavar="0..1", help="initial state of charge "
-                   "(default: empty for charge, full for discharge and training)")
+    p.add_argument("--cycles", type=int, default=1, metavar="N", help=_("training: discharge+charge N times"))
+    p.add_argument("--capacity", type=float, metavar="MAH", help=_("capacity entered at start"))
+    p.add_argument("--current", type=float, metavar="A", help=_("current entered at start (INPUT)"))
+    p.add_argument("--voltage", type=float, metavar="V", help=_("voltage entered at start (INPUT)"))
+    p.add_argument("--series", type=int, metavar="N", help=_("cells in series entered at start"))
+    p.add_argument("--template", type=int, metavar="N", help=_("start with the charger's start template N (the factory "
+                                                               "table; a macro's START_SHABLON wins)"))
+    p.add_argument("--soc", type=float, metavar="0..1", help=_("initial state of charge (default: empty for charge, full "
+                                                               "for discharge and training)"))
     p.add_argument("--ambient", type=float, default=25.0, metavar="C")
-    p.add_argument("--no-sensor", action="store_true", help="no battery temperature sensor connected")
-    p.add_argument("--model", metavar="CHEMISTRY", help="battery model (default: the macro's AKK_TYPE)")
-    p.add_argument("--battery", metavar="NAME", help="a saved fitted battery (zuml fit --save): its model, "
-                   "capacity and cells unless given")
-    p.add_argument("--tick", type=float, default=1.0, metavar="S", help="interpreter tick (default 1 s)")
-    p.add_argument("--noise", type=float, default=0.0, metavar="MV", help="voltage measurement noise, sigma")
-    p.add_argument("--adc-lsb", type=float, default=0.0, metavar="MV", help="voltage ADC step")
+    p.add_argument("--no-sensor", action="store_true", help=_("no battery temperature sensor connected"))
+    p.add_argument("--model", metavar="CHEMISTRY", help=_("battery model (default: the macro's AKK_TYPE)"))
+    p.add_argument("--battery", metavar="NAME", help=_("a saved fitted battery (zuml fit --save): its model, "
+                                                       "capacity and cells unless given"))
+    p.add_argument("--tick", type=float, default=1.0, metavar="S", help=_("interpreter tick (default 1 s)"))
+    p.add_argument("--noise", type=float, default=0.0, metavar="MV", help=_("voltage measurement noise, sigma"))
+    p.add_argument("--adc-lsb", type=float, default=0.0, metavar="MV", help=_("voltage ADC step"))
     p.add_argument("--seed", type=int, default=1)
-    p.add_argument("--csv", metavar="OUT.csv", help="write every sample")
-    p.add_argument("--json", action="store_true", help="print one JSON object instead of the table")
+    p.add_argument("--csv", metavar="OUT.csv", help=_("write every sample"))
+    p.add_argument("--json", action="store_true", help=_("print one JSON object instead of the table"))
     p.set_defaults(run=cmd_simulate)
 
 
@@ -47,12 +48,12 @@ def _record(path: str) -> bytes:
 
 def _check(args: argparse.Namespace) -> None:
     if args.soc is not None and not 0.0 <= args.soc <= 1.0:
-        raise CliError("--soc is a fraction from 0 to 1")
+        raise CliError(_("--soc is a fraction from 0 to 1"))
     check_start_options(args)
     if not 0.05 <= args.tick <= 60:
-        raise CliError("--tick must be 0.05 to 60 seconds")
+        raise CliError(_("--tick must be 0.05 to 60 seconds"))
     if args.template is not None and not 1 <= args.template <= TEMPLATE_COUNT:
-        raise CliError(f"--template must be 1 to {TEMPLATE_COUNT}")
+        raise CliError(_("--template must be 1 to {template_count}").format(template_count=TEMPLATE_COUNT))
 
 
 def cmd_simulate(args: argparse.Namespace) -> int:
@@ -75,7 +76,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
             with open(args.csv, "w", encoding="utf-8", newline="") as fh:
                 result.log.write_csv(fh)
         except OSError as exc:
-            raise CliError(f"{args.csv}: cannot write: {exc.strerror or exc}") from None
+            raise CliError(_("{csv}: cannot write: {value}").format(csv=args.csv, value=exc.strerror or exc)) from None
     warnings = start_warnings(record, params, result.interpreter.charger.limits)
     if args.json:
         json.dump({**result.to_json(), "warnings": warnings}, sys.stdout, indent=2)
@@ -94,10 +95,8 @@ def hms(seconds: float) -> str:
 
 def _table(args: argparse.Namespace, result: SimResult) -> None:
     p = result.interpreter.params
-    out(f"{result.interpreter.program.name}: {p.task}"
-        f"{f' x{p.repetitions}' if p.task == 'train' else ''}, {result.chemistry} model "
-        f"{result.capacity_mah:g} mAh x {result.series} cell(s), {args.ambient:g} °C, "
-        f"sensor {'on' if p.sensor else 'off'}")
+    out(_("{name}: {task}{value}, {chemistry} model {capacity_mah:g} mAh x {series} cell(s), {ambient:g} °C, "
+          "sensor {value2}").format(name=result.interpreter.program.name, task=p.task, value=f' x{p.repetitions}' if p.task == 'train' else '', chemistry=result.chemistry, capacity_mah=result.capacity_mah, series=result.series, ambient=args.ambient, value2='on' if p.sensor else 'off'))
     width = max([len(ph.reason) for ph in result.phases] + [6])
     out(f"{'#':>3}  {'section':<9} {'phase':>5}  {'start':>8}  {'end':>8}  {'reason':<{width}}  "
         f"{'in mAh':>8}  {'out mAh':>8}  {'V end':>7}  {'T end':>6}  notes")
@@ -108,14 +107,13 @@ def _table(args: argparse.Namespace, result: SimResult) -> None:
              f"{ph.reason:<{width}}  {ph.mah_in:>8.1f}  {ph.mah_out:>8.1f}  {ph.v_end:>7.3f}  {ph.temp_end:>6.1f}  "
              f"{'⚠ ' if ph.timer_before_full else ''}{notes}").rstrip())
     t = result.totals()
-    out(f"total {hms(t['duration_s'])}, in {t['mah_in']:.1f} mAh, out {t['mah_out']:.1f} mAh; end: {t['end']}")
+    out(_("total {hms}, in {t:.1f} mAh, out {t2:.1f} mAh; end: {t3}").format(hms=hms(t['duration_s']), t=t['mah_in'], t2=t['mah_out'], t3=t['end']))
     if p.task == "train":
         for rep in result.repetitions():
-            out(f"repetition {rep['repetition']}: discharged {rep['discharged_mah']:.1f} mAh "
-                f"(measured capacity), charged {rep['charged_mah']:.1f} mAh")
+            out(_("repetition {rep}: discharged {rep2:.1f} mAh (measured capacity), charged {rep3:.1f} mAh").format(rep=rep['repetition'], rep2=rep['discharged_mah'], rep3=rep['charged_mah']))
     for ph in result.phases:
         if ph.by_default:
-            out(f"note: phase {ph.run} ({ph.section}) ended by {ph.reason}, not by a condition of the macro")
+            out(_("note: phase {run} ({section}) ended by {reason}, not by a condition of the macro").format(run=ph.run, section=ph.section, reason=ph.reason))
         if ph.timer_before_full:
-            out(f"⚠ phase {ph.run} ({ph.section}): timer before full: {ph.reason} ended it with "
-                f"{ph.mah_in:.0f} mAh put in, less than the {result.capacity_mah:g} mAh capacity")
+            out(_("⚠ phase {run} ({section}): timer before full: {reason} ended it with {mah_in:.0f} mAh put in, "
+                  "less than the {capacity_mah:g} mAh capacity").format(run=ph.run, section=ph.section, reason=ph.reason, mah_in=ph.mah_in, capacity_mah=result.capacity_mah))

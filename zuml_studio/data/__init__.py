@@ -14,6 +14,7 @@ from importlib import resources
 from pathlib import Path
 
 from ..macro_file import EXTENSION
+from ..i18n import _
 
 
 class DataFileError(Exception):
@@ -24,7 +25,7 @@ class DataFileError(Exception):
 
 
 def _missing(where: object, what: str = "data file") -> DataFileError:
-    return DataFileError(f"{what} {where} is missing: the installation is incomplete, reinstall ZUML Studio")
+    return DataFileError(_("{what} {where} is missing: the installation is incomplete, reinstall ZUML Studio").format(what=what, where=where))
 
 
 def location(relative: str) -> str:
@@ -39,7 +40,7 @@ def read_text(relative: str) -> str:
     except FileNotFoundError:
         raise _missing(location(relative)) from None
     except (OSError, UnicodeDecodeError) as exc:
-        raise DataFileError(f"data file {location(relative)} is unreadable ({exc}): reinstall ZUML Studio") from None
+        raise DataFileError(_("data file {location} is unreadable ({exc}): reinstall ZUML Studio").format(location=location(relative), exc=exc)) from None
 
 
 def read_toml(relative: str) -> dict:
@@ -47,7 +48,7 @@ def read_toml(relative: str) -> dict:
     try:
         return tomllib.loads(read_text(relative))
     except tomllib.TOMLDecodeError as exc:
-        raise DataFileError(f"data file {location(relative)} is not valid TOML: {exc}") from None
+        raise DataFileError(_("data file {location} is not valid TOML: {exc}").format(location=location(relative), exc=exc)) from None
 
 
 def names(folder: str, suffix: str = ".toml") -> list[str]:
@@ -79,8 +80,8 @@ def standard_macros() -> list[Path]:
     folder = standard_macros_dir()
     found = sorted(folder.glob(f"*{EXTENSION}"), key=lambda p: p.name.lower())
     if not found:
-        raise DataFileError(f"data folder {folder} holds no macros: the installation is incomplete, "
-                            "reinstall ZUML Studio")
+        raise DataFileError(_("data folder {folder} holds no macros: the installation is incomplete, reinstall "
+                              "ZUML Studio").format(folder=folder))
     return found
 
 

@@ -32,6 +32,7 @@ from ..lang import opcodes as ops
 from ..lang.formatter import format_args
 from ..lang.opcodes import canonical_text
 from ..lang.operands import AKK_TYPE as AKK_KIND, AKK_TYPE_ALIASES, DISPLAY_NAMES, absolute_value
+from ..i18n import _
 
 MAGIC = 0xA7
 VERSION = 0x01
@@ -99,9 +100,9 @@ def akk_code(text: str | int) -> int:
             code = int(t, 0)
         except ValueError:
             names = ", ".join(DISPLAY_NAMES[k] for k in AKK_KIND.names)
-            raise PassportError(f"'{text}' is not a battery type; use one of {names} or 0..255") from None
+            raise PassportError(_("'{text}' is not a battery type; use one of {names} or 0..255").format(text=text, names=names)) from None
     if not 0 <= code <= 255:
-        raise PassportError(f"battery type {code} is not 0..255")
+        raise PassportError(_("battery type {code} is not 0..255").format(code=code))
     return code
 
 
@@ -149,12 +150,12 @@ class Passport:
     def from_bytes(cls, data: bytes) -> "Passport":
         data = bytes(data)
         if len(data) != SIZE:
-            raise PassportError(f"a passport is {SIZE} bytes, not {len(data)}")
+            raise PassportError(_("a passport is {size} bytes, not {n_data}").format(size=SIZE, n_data=len(data)))
         if data[0] != MAGIC:
-            raise PassportError(f"passport magic is 0x{data[0]:02x}, expected 0x{MAGIC:02x}")
+            raise PassportError(_("passport magic is 0x{data:02x}, expected 0x{magic:02x}").format(data=data[0], magic=MAGIC))
         stored, expected = int.from_bytes(data[0x1E:0x20], "little"), check_word(data)
         if stored != expected:
-            raise PassportError(f"passport check is 0x{stored:04x}, expected 0x{expected:04x}")
+            raise PassportError(_("passport check is 0x{stored:04x}, expected 0x{expected:04x}").format(stored=stored, expected=expected))
         magic, version, serial, vendor, typ, err, crit, vl, al, temp = _BODY.unpack(data[:0x1E])
         return cls(_text(serial), _text(vendor), typ, err, crit, vl, al, temp, version)
 
@@ -163,7 +164,7 @@ class Passport:
         battery lets the charger write is the battery's decision (``PassportChip``)."""
         field = field.strip().lower()
         if field not in FIELDS:
-            raise PassportError(f"'{field}' is not a passport field; fields: {', '.join(FIELDS)}")
+            raise PassportError(_("'{field}' is not a passport field; fields: {fields}").format(field=field, fields=', '.join(FIELDS)))
         if field in ("serial", "vendor"):
             value = str(value)
             _ascii(value, LAYOUT[field][1], field)
@@ -173,7 +174,7 @@ class Passport:
             try:
                 value = int(value, 0) if isinstance(value, str) else int(value)
             except ValueError:
-                raise PassportError(f"{field} takes a whole number, not '{value}'") from None
+                raise PassportError(_("{field} takes a whole number, not '{value}'").format(field=field, value=value)) from None
             _u(value, 0xFFFF if field in ("err", "crit") else 0xFF, field)
         return replace(self, **{field: value})
 
@@ -182,11 +183,11 @@ def _ascii(text: str, size: int, what: str) -> bytes:
     try:
         raw = text.encode("ascii")
     except UnicodeEncodeError:
-        raise PassportError(f"{what} must be ASCII") from None
+        raise PassportError(_("{what} must be ASCII").format(what=what)) from None
     if len(raw) > size:
-        raise PassportError(f"{what} has at most {size} characters, not {len(raw)}")
+        raise PassportError(_("{what} has at most {size} characters, not {n_raw}").format(what=what, size=size, n_raw=len(raw)))
     if any(b < 0x20 or b > 0x7E for b in raw):
-        raise PassportError(f"{what} must be printable ASCII")
+        raise PassportError(_("{what} must be printable ASCII").format(what=what))
     return raw.ljust(size, b"\0")
 
 
@@ -202,7 +203,7 @@ def printable(text: str) -> str:
 
 def _u(value: int, top: int, what: str) -> int:
     if not isinstance(value, int) or not 0 <= value <= top:
-        raise PassportError(f"{what} must be 0..{top}, not {value}")
+        raise PassportError(_("{what} must be 0..{top}, not {value}").format(what=what, top=top, value=value))
     return value
 
 
@@ -210,7 +211,7 @@ def _u(value: int, top: int, what: str) -> int:
 
 def make_request(rw_index: int, page: int = 0, data: bytes = b"\0\0\0\0") -> bytes:
     if len(data) != PAGE_SIZE:
-        raise PassportError("a request carries exactly 4 data bytes")
+        raise PassportError(_("a request carries exactly 4 data bytes"))
     body = bytes((MAGIC, rw_index & 0xFF, page & 0xFF)) + bytes(data)
     x = 0
     for b in body:
@@ -234,7 +235,7 @@ def write_page_request(page: int, data: bytes) -> bytes:
 
 def _page(page: int) -> None:
     if not 0 <= page < PAGES:
-        raise PassportError(f"a passport page is 0..{PAGES - 1}, not {page}")
+        raise PassportError(_("a passport page is 0..{pages}, not {page}").format(pages=PAGES - 1, page=page))
 
 
 class BadRequest(PassportError):
@@ -299,8 +300,8 @@ def page_writes(old: bytes, new: bytes) -> list[bytes]:
     PassportError when a differing byte lies beyond page 6 (A_LIMIT: no request reaches it)."""
     beyond = [i for i in range(PAGES * PAGE_SIZE, SIZE) if i not in _OWN_BYTES and old[i] != new[i]]
     if beyond:
-        raise PassportError("A_LIMIT lies on page 7, which no passport request addresses (pages 0..6): "
-                            "it is set when the battery is made")
+        raise PassportError(_("A_LIMIT lies on page 7, which no passport request addresses (pages 0..6): it is "
+                              "set when the battery is made"))
     out = []
     for page in range(PAGES):
         lo = PAGE_SIZE * page

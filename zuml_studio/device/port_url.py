@@ -10,6 +10,7 @@ from __future__ import annotations
 from urllib.parse import parse_qsl, urlsplit
 
 from .errors import DeviceLinkError
+from ..i18n import _
 
 EXAMPLE = "socket://127.0.0.1:7777 (a `zuml virtual-charger --tcp`), /dev/ttyUSB0 or COM3"
 NETWORK = {"socket": ("logging",), "rfc2217": ("logging", "ign_set_control", "poll_modem", "timeout")}
@@ -69,4 +70,4 @@ def _number(text: str) -> bool:
 
 
 def _bad(url: str, why: str) -> None:
-    raise BadPortUrl(f"{url}: not a valid port: {why}; a valid one looks like {EXAMPLE}")
+    raise BadPortUrl(_("{url}: not a valid port: {why}; a valid one looks like {example}").format(url=url, why=why, example=EXAMPLE))

@@ -29,6 +29,7 @@ import time
 from pathlib import Path
 
 from ..sim.samples import COLUMNS as SIM_COLUMNS
+from ..i18n import _
 
 COLUMNS = tuple(SIM_COLUMNS) + ("event",)
 FLUSH_S = 0.5
@@ -129,7 +130,7 @@ class SessionLog:
     def add_row(self, row: tuple) -> None:
         self._header(0)
         if len(row) != len(COLUMNS) + self.cells:
-            raise ValueError(f"a session row has {len(COLUMNS) + self.cells} values")
+            raise ValueError(_("a session row has {n_columns} values").format(n_columns=len(COLUMNS) + self.cells))
         self._put(tuple(row))
 
     def _header(self, cells: int) -> None:
