@@ -90,6 +90,29 @@ def install(language: str) -> None:
     _language = language
 
 
+# argparse's own words, which it puts through its module's `_` (gettext's global domain, which
+# this package never installs): listed here so that extraction puts them in our catalogue, and
+# `translate_argparse` routes argparse to it. The msgids are CPython's, letter for letter.
+ARGPARSE_TEXTS = (
+    N_("usage: "), N_("positional arguments"), N_("options"), N_("show this help message and exit"),
+    N_("%(prog)s: error: %(message)s\n"), N_("argument %(argument_name)s: %(message)s"),
+    N_("the following arguments are required: %s"), N_("unrecognized arguments: %s"),
+    N_("invalid choice: %(value)r (choose from %(choices)s)"), N_("invalid %(type)s value: %(value)r"),
+    N_("expected one argument"), N_("expected at most one argument"), N_("expected at least one argument"),
+    N_("ambiguous option: %(option)s could match %(matches)s"), N_("not allowed with argument %s"),
+    N_("one of the arguments %s is required"), N_("ignored explicit argument %r"),
+    N_("unexpected option string: %s"), N_("can't open '%(filename)s': %(error)s"),
+)
+
+
+def translate_argparse() -> None:
+    """Make argparse's usage, section titles and error messages answer in the installed language."""
+    import argparse
+
+    argparse._ = _
+    argparse.ngettext = ngettext
+
+
 def current_language() -> str:
     """The installed language's code (``en``, ``ru``)."""
     return _language

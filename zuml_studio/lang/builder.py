@@ -49,7 +49,7 @@ class Builder:
         if self.ended is None:
             line, col = self.raw.end
             end = Span(line, col, line, col)
-            self.close_all(end, "the end of the text")
+            self.close_all(end, None)
             self.error(end, "E139", _("END_MACRO is missing at the end"), _("add END_MACRO as the last line"))
         else:
             self.macro.end_span = self.ended
@@ -99,7 +99,7 @@ class Builder:
         if op in (ops.DISCHARGE_SECTION, ops.CHARGE_SECTION):
             self.open_section(st, op)
         elif op is ops.END_SECTION:
-            self.close_until("section", st, "END_SECTION", "E134", "END_SECTION without an open section")
+            self.close_until("section", st, "END_SECTION", "E134", _("END_SECTION without an open section"))
         elif op is ops.FAZE:
             self.close_phase(st)
             self.open("phase", Phase([], span=st.span), st, "FAZE")
@@ -109,7 +109,7 @@ class Builder:
             else:
                 self.error(st.span, "E136", _("END_FAZE without FAZE"))
         elif op is ops.END_CYCLE:
-            self.close_until("cycle", st, "END_CYCLE", "E137", "END_CYCLE without CYCLE", stop_at="section")
+            self.close_until("cycle", st, "END_CYCLE", "E137", _("END_CYCLE without CYCLE"), stop_at="section")
         elif op is ops.END_MACRO:
             self.close_all(st.span, "END_MACRO")
             self.ended = st.span
@@ -166,13 +166,15 @@ class Builder:
             self.unclosed(self.stack.pop(), st.span, keyword)
         self.stack.pop().node.end_span = st.span
 
-    def close_all(self, span: Span, before: str) -> None:
+    def close_all(self, span: Span, before: str | None) -> None:
         while self.stack:
             self.unclosed(self.stack.pop(), span, before)
 
-    def unclosed(self, frame: _Frame, at: Span, before: str) -> None:
+    def unclosed(self, frame: _Frame, at: Span, before: str | None) -> None:
+        """``before``: the keyword that closed it too early, None for the end of the text."""
         closer = {"phase": "END_FAZE", "cycle": "END_CYCLE", "section": "END_SECTION"}[frame.kind]
-        where = f"{before} at line {at.line}" if before != "the end of the text" else before
+        where = (_("{keyword} at line {line}").format(keyword=before, line=at.line) if before is not None
+                 else _("the end of the text"))
         self.error(frame.node.span, "E130", _("{keyword} is not closed").format(keyword=frame.keyword), _("{closer} expected before {where}").format(closer=closer, where=where))
 
     def mark_incomplete(self) -> None:
@@ -227,7 +229,8 @@ class Builder:
         out: list[Arg] = []
         ok = True
         for operand, tok in zip(op.operands, given):
-            subject = op.keyword if len(op.operands) == 1 else f"{operand.name} of {op.keyword}"
+            subject = (op.keyword if len(op.operands) == 1
+                       else _("{operand} of {keyword}").format(operand=operand.name, keyword=op.keyword))
             raw = self.value(st, tok, operand, subject)
             ok = ok and raw is not None
             out.append(Arg(raw if raw is not None else 0, st.at(tok), tok.value))
@@ -252,29 +255,30 @@ class Builder:
         if not candidates:
             sensitive = [v for o in ops.CONDITIONS for v in o.condition.variables if o.condition.case_sensitive]
             near = [v for v in sensitive if v.upper() == var.upper()]
-            hint = (f"did you mean {near[0]}? T, t, Tc, tm and tf are case-sensitive" if near
-                    else "conditions test T, V, I, Tc, tm, tf (or t) and DELTA_PEAK")
+            hint = (_("did you mean {name}? T, t, Tc, tm and tf are case-sensitive").format(name=near[0]) if near
+                    else _("conditions test T, V, I, Tc, tm, tf (or t) and DELTA_PEAK"))
             self.error(st.at(st.raw.name), "E120", _("Unknown condition variable '{var}'").format(var=var), hint,
                        fix=near[0] if near else "")
             return None
         op = next((o for o in candidates
                    if cmp == o.condition.comparison or cmp in o.condition.also_accepts), None)
         if op is None:
-            allowed = " or ".join(o.signature() for o in candidates)
+            allowed = _(" or ").join(o.signature() for o in candidates)
             self.error(st.at(st.raw.cmp), "E121", _("IF({var}{cmp}x) is not a condition ZUML knows").format(var=var, cmp=cmp),
-                       f"allowed: {allowed}")
+                       _("allowed: {allowed}").format(allowed=allowed))
             return None
         shown = f"IF({var}{op.condition.comparison}x)"
         if st.raw.outcome is None:
             self.error(st.span, "E122", _("{shown} needs what to do when it holds").format(shown=shown),
-                       f"write {shown.replace('x', st.raw.args[0].value)} {op.condition.outcome}")
+                       _("write {statement}").format(
+                           statement=f"{shown.replace('x', st.raw.args[0].value)} {op.condition.outcome}"))
             return None
         if st.raw.outcome.value.upper() != op.condition.outcome:
             self.error(st.at(st.raw.outcome), "E123",
                        _("{shown} can only {outcome}, not {value}").format(shown=shown, outcome=op.condition.outcome, value=st.raw.outcome.value),
-                       f"write {op.condition.outcome}")
+                       _("write {statement}").format(statement=op.condition.outcome))
             return None
-        raw = self.value(st, st.raw.args[0], op.operands[0], f"The limit of {shown}")
+        raw = self.value(st, st.raw.args[0], op.operands[0], _("The limit of {condition}").format(condition=shown))
         if raw is None:
             return None
         return Statement(op, [Arg(raw, st.at(st.raw.args[0]), st.raw.args[0].value)], span=st.span)

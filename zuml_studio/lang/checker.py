@@ -35,7 +35,7 @@ def name_problem(name: str) -> tuple[str, str, str] | None:
         return "E141", _("The name '{name}' is {n_name} characters long; at most {max_name}").format(name=name, n_name=len(name), max_name=MAX_NAME), _("shorten it")
     bad = sorted({c for c in name if not " " <= c <= "~" or c in FORBIDDEN_NAME_CHARS})
     if bad or name != name.strip() or name.startswith("("):
-        shown = " ".join(repr(c) for c in bad) or "spaces at the ends or a leading '('"
+        shown = " ".join(repr(c) for c in bad) or _("spaces at the ends or a leading '('")
         return ("E142", _("The name '{name}' has characters the charger cannot store: {shown}").format(name=name, shown=shown),
                 _('use printable ASCII without < > : " / \\ | ? *'))
     return None
@@ -68,12 +68,12 @@ class Checker:
     def placed(self, st: Statement, place: Place) -> bool:
         if place in st.op.places:
             return True
-        where = " or ".join(p.value for p in st.op.places)
+        where = _(" or ").join(_(p.value) for p in st.op.places)
         if st.op.role is Role.CONDITION:
             shown = st.op.signature()
         else:
             shown = st.op.keyword
-        self.report(st, "E150", _("{shown} cannot stand in {value}").format(shown=shown, value=place.value), _("it belongs in {where}").format(where=where))
+        self.report(st, "E150", _("{shown} cannot stand in {value}").format(shown=shown, value=_(place.value)), _("it belongs in {where}").format(where=where))
         return False
 
     def intro(self) -> None:

@@ -89,7 +89,7 @@ def decode_record(data: bytes) -> Decoded:
     macro.discharge = _section(r, "discharge")
     while r.peek().op.role is not Role.STRUCTURE:
         macro.between.append(_statement(r.take()))
-    r.expect(ops.CHARGE_SECTION, "after the discharge section")
+    r.expect(ops.CHARGE_SECTION, _("after the discharge section"))
     if data[2] != r.pc:
         raise DecodeError(2, _("charge section offset is {data}, expected {pc}").format(data=data[2], pc=r.pc))
     macro.charge = _section(r, "charge")

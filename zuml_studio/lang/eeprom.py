@@ -16,7 +16,7 @@ END_MARKERS = (0x00, 0xFF)
 
 class ImageError(Exception):
     def __init__(self, offset: int, message: str):
-        super().__init__(f"offset {offset}: {message}" if offset >= 0 else message)
+        super().__init__(_("offset {offset}: {message}").format(offset=offset, message=message) if offset >= 0 else message)
         self.offset = offset
         self.message = message
 

@@ -144,11 +144,11 @@ def _voltage_limits(ctx: Context) -> Iterator[tuple[Statement, int, str]]:
     for phase in _phases(ctx.macro.charge.items):
         for st in phase.statements:
             if st.op is ops.CONSTANT_V:
-                yield st, st.args[0].raw, "holds"
+                yield st, st.args[0].raw, _("holds")
             elif st.op.code == 83:
-                yield st, st.args[0].raw, "charges to"
+                yield st, st.args[0].raw, _("charges to")
             elif st.op is ops.TRICKLE:
-                yield st, st.args[2].raw, "tops up to"
+                yield st, st.args[2].raw, _("tops up to")
 
 
 def rule_charge_voltage(ctx: Context) -> Iterator[Finding]:
@@ -204,7 +204,7 @@ def _dpeak_rate(ctx: Context, st: Statement, raw: int, min_rate: float) -> Itera
     """W306: the -dV is unreliable below min_rate; said for a known rate, and for a current entered at
     start (or in amperes without a declared capacity) as the current where it stops being reliable."""
     name = ctx.chem_name
-    hint = "charge faster, or end by time and temperature instead"
+    hint = _("charge faster, or end by time and temperature instead")
     rate = ctx.c_rate(raw)
     if rate is not None:
         if rate < min_rate:
@@ -234,8 +234,8 @@ def rule_nickel_rate(ctx: Context) -> Iterator[Finding]:
         st = _charge_current(phase)
         rate = ctx.c_rate(_current_raw(st)) if st else None
         if rate is not None and rate > top:
-            hint = ("1-4C is for sintered NiCd cells made for very fast charging" if ctx.chemistry == "NICD"
-                    else "fast-charge NiMh cells take 0.5-2C")
+            hint = (_("1-4C is for sintered NiCd cells made for very fast charging") if ctx.chemistry == "NICD"
+                    else _("fast-charge NiMh cells take 0.5-2C"))
             yield _warn(st, "W307", _("Charging {chem_name} at {rate:g}C is above {top:g}C").format(chem_name=ctx.chem_name, rate=rate, top=top), hint)
 
 
@@ -342,7 +342,8 @@ def rule_slow_charge_time(ctx: Context) -> Iterator[Finding]:
             continue
         timer = _code(phase, 88)
         if timer is None or timer.args[0].raw > NORMAL_MAX_S * 10:
-            what = f"its timer allows {TIME.format(timer.args[0].raw)}" if timer else "no timer ends it"
+            what = (_("its timer allows {time}").format(time=TIME.format(timer.args[0].raw)) if timer
+                    else _("no timer ends it"))
             yield _warn(timer or current, "W314", _("This {rate:g}C charge may run well past 16 h: {what}").format(rate=rate, what=what),
                         _("seed 001: a 0.1C charge takes 14-16 h; add IF(tf>16h) STOP_FAZE"))
 

@@ -22,7 +22,7 @@ from .ast import Span
 from .diagnostics import Diagnostic, Severity
 from .opcodes import CONDITION_OUTCOMES
 from .record import MAX_RECORD
-from ..i18n import _
+from ..i18n import N_, _
 
 
 @dataclass(frozen=True, slots=True)
@@ -214,10 +214,10 @@ def _moved_diagnostic(d: Diagnostic, line: int) -> Diagnostic:
 
 
 _WORDS = {
-    "NAME": "a command", "NUMBER": "a number", "RPAR": "')'", "LPAR": "'('", "COMMA": "','",
-    "EQUAL": "'='", "CMP": "a comparison such as > or <", "IF": "IF", "MACRO": "MACRO",
-    "OUTCOME": "STOP_FAZE, PAUSE_MACRO, CONTINUE_MACRO or STOP_MACRO", "$END": "the end of the line",
-    "LINE_NAME": "the macro's name", "PAREN_NAME": "the macro's name", "EMPTY_PARENS": "'()'",
+    "NAME": N_("a command"), "NUMBER": N_("a number"), "RPAR": "')'", "LPAR": "'('", "COMMA": "','",
+    "EQUAL": "'='", "CMP": N_("a comparison such as > or <"), "IF": "IF", "MACRO": "MACRO",
+    "OUTCOME": N_("STOP_FAZE, PAUSE_MACRO, CONTINUE_MACRO or STOP_MACRO"), "$END": N_("the end of the line"),
+    "LINE_NAME": N_("the macro's name"), "PAREN_NAME": N_("the macro's name"), "EMPTY_PARENS": "'()'",
 }
 
 
@@ -234,13 +234,15 @@ def _syntax_diagnostic(exc: UnexpectedInput, text: str) -> Diagnostic:
                       _("ZUML uses letters, digits, = ( ) , . < > and // comments"))
     if isinstance(exc, UnexpectedEOF):
         return _error(1, end_of_line, 1, end_of_line, "E103", _("The line ends in the middle of a statement"),
-                      _expected(exc.expected) + " (a statement never continues on the next line)")
+                      _("{expected} (a statement never continues on the next line)").format(
+                          expected=_expected(exc.expected)))
     assert isinstance(exc, UnexpectedToken)
     tok = exc.token
     expected = set(exc.expected)
     if tok.type == "$END":
         return _error(1, end_of_line, 1, end_of_line, "E103", _("The line ends in the middle of a statement"),
-                      _expected(expected) + " (a statement never continues on the next line)")
+                      _("{expected} (a statement never continues on the next line)").format(
+                          expected=_expected(expected)))
     col = tok.column
     end_col = getattr(tok, "end_column", None) or col + 1
     if "MACRO" in expected:
@@ -265,9 +267,9 @@ def _syntax_diagnostic(exc: UnexpectedInput, text: str) -> Diagnostic:
 def _expected(expected) -> str:
     expected = set(expected)
     if expected >= {"NAME", "NUMBER"} and len(expected) == 2:
-        return "expected a value such as 2A, 4.2S, 60 or INPUT"
-    words = sorted({_WORDS.get(e, e) for e in expected})
-    return "expected " + " or ".join(words) if words else ""
+        return _("expected a value such as 2A, 4.2S, 60 or INPUT")
+    words = sorted({_(_WORDS[e]) if e in _WORDS else e for e in expected})
+    return _("expected {words}").format(words=_(" or ").join(words)) if words else ""
 
 
 def _error(line: int, col: int, end_line: int, end_col: int, code: str, message: str, hint: str) -> Diagnostic:

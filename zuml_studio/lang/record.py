@@ -24,14 +24,15 @@ class DecodeError(Exception):
     """Bytes that are not a valid record: where, and what was expected."""
 
     def __init__(self, offset: int, message: str):
-        super().__init__(f"offset {offset}: {message}")
+        super().__init__(_("offset {offset}: {message}").format(offset=offset, message=message))
         self.offset = offset
         self.message = message
 
 
 class RecordTooLarge(Exception):
     def __init__(self, size: int, node: object):
-        super().__init__(f"the macro needs {size} bytes; a record holds at most {MAX_RECORD}")
+        super().__init__(_("the macro needs {size} bytes; a record holds at most {max_record}").format(
+            size=size, max_record=MAX_RECORD))
         self.size = size
         self.node = node
 
@@ -67,7 +68,7 @@ def read_instruction(data: bytes, pc: int, end: int) -> Instruction:
     code = data[pc]
     op = ops.BY_CODE.get(code)
     if op is None or not op.emitted:
-        what = "reserved for the header" if op else "not a ZUML command"
+        what = _("reserved for the header") if op else _("not a ZUML command")
         raise DecodeError(pc, _("byte 0x{code:02x} ({code}) is {what}").format(code=code, what=what))
     raws: list[int] = []
     at = pc + 1
