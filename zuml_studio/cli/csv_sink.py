@@ -47,6 +47,6 @@ class CsvSink:
         try:
             action()
         except OSError as exc:
-            self.failed = f"{self.path}: cannot write: {exc.strerror or exc}"
+            self.failed = _("{path}: cannot write: {error}").format(path=self.path, error=exc.strerror or exc)
             sys.stderr.write(_("zuml: error: {failed}; the CSV ends here, the monitor goes on on screen\n").format(failed=self.failed))
             sys.stderr.flush()

@@ -22,7 +22,7 @@ from ..lang.eeprom import ImageError, Slot, records, used_bytes
 from ..lang.record import DecodeError
 from .common import CliError, add_force_unsafe, check_start_options, out, read_bytes, refuse_unsafe, write_bytes
 from .lang_commands import compile_file
-from ..i18n import _
+from ..i18n import _, ngettext
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -191,7 +191,7 @@ def _record(path: str, force: bool) -> bytes:
     try:
         decode_record(data)
     except DecodeError as exc:
-        hint = " (a whole EEPROM image? use `zuml restore`)" if len(data) > 255 else ""
+        hint = _(" (a whole EEPROM image? use `zuml restore`)") if len(data) > 255 else ""
         raise CliError(_("{path}: not a valid record: byte {offset}: {message}{hint}").format(path=path, offset=exc.offset, message=exc.message, hint=hint), 1) from None
     return data
 
@@ -249,8 +249,8 @@ def _settle(args: argparse.Namespace, lost: CommitUncertain | CommitUnverified, 
                              "written, flash again"), 1)
         raise CliError(_("reconnected and read back: the EEPROM is neither the new image nor the previous one "
                          "(changed since by another program?); check it with `zuml slots`"), 1)
-    known = ("the charger confirmed the new image, unverified" if lost.holds == "new"
-             else "the charger holds either the new image or its previous one, never a mix")
+    known = (_("the charger confirmed the new image, unverified") if lost.holds == "new"
+             else _("the charger holds either the new image or its previous one, never a mix"))
     raise CliError(_("could not reconnect to read it back: {known}; run `zuml slots` when it is back").format(known=known), 1)
 
 
@@ -260,9 +260,10 @@ def cmd_backup(args: argparse.Namespace) -> int:
         image = client.read_image()
     write_bytes(args.output, image)
     try:
-        count = f"{len(records(image))} macro(s)"
+        found = len(records(image))
+        count = ngettext("{n} macro", "{n} macros", found).format(n=found)
     except ImageError:
-        count = "a broken record list"
+        count = _("a broken record list")
     out(_("saved {n_image} bytes ({count}) to {output}").format(n_image=len(image), count=count, output=args.output))
     return 0
 
@@ -496,7 +497,7 @@ def _monitor_charger(args: argparse.Namespace) -> int:
                 error = item
         if log:
             log.close()
-    name = link.driver.name if link.driver else "no charger recognised"
+    name = link.driver.name if link.driver else _("no charger recognised")
     sys.stderr.write(_("{name}: {samples} sample(s), {bad} bad record(s)\n").format(name=name, samples=link.samples, bad=link.bad))
     if error:
         raise CliError(error, 1)
@@ -569,10 +570,10 @@ def cmd_passport(args: argparse.Namespace) -> int:
     out(f"vendor   {printable(p.vendor)}")
     out(_("type     {type_name} ({type})").format(type_name=p.type_name, type=p.type))
     warnings = fitness_warnings(p)
-    out(f"err      {p.err}" + (f"  (warning: {warnings[0]})" if warnings else ""))
-    out(f"crit     {p.crit}" + ("  (not fit for use: the charger refuses to start)" if p.crit else ""))
-    out(f"v_limit  {p.v_limit} V" + ("  (not set)" if not p.v_limit else ""))
-    out(f"a_limit  {p.a_limit} A" + ("  (not set)" if not p.a_limit else ""))
+    out(f"err      {p.err}" + (_("  (warning: {warning})").format(warning=warnings[0]) if warnings else ""))
+    out(f"crit     {p.crit}" + (_("  (not fit for use: the charger refuses to start)") if p.crit else ""))
+    out(f"v_limit  {p.v_limit} V" + (_("  (not set)") if not p.v_limit else ""))
+    out(f"a_limit  {p.a_limit} A" + (_("  (not set)") if not p.a_limit else ""))
     out(_("temp     {temp} C").format(temp=p.temp))
     if p.unprintable_fields:
         out(_("warning: the passport's {unprintable_fields} hold non-printable bytes (shown as \\xNN): a damaged "

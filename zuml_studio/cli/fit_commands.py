@@ -77,7 +77,7 @@ def _log_chemistry(args: argparse.Namespace, curve: Curve) -> str:
     try:
         return load_chemistry(curve.chemistry).name
     except KeyError:
-        named = f" (it names '{curve.chemistry}')" if curve.chemistry else ""
+        named = _(" (it names '{chemistry}')").format(chemistry=curve.chemistry) if curve.chemistry else ""
         raise CliError(_("{log}: the log does not name a modelled chemistry{named}: give --chemistry").format(log=args.log, named=named)) from None
 
 

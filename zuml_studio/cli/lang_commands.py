@@ -13,7 +13,7 @@ from ..lang.listing import format_listing, listing_rows
 from ..lang.opcodes import AKK_TYPE
 from ..lang.record import DecodeError
 from .common import CliError, add_force_unsafe, out, read_bytes, read_text, refuse_unsafe, write_bytes
-from ..i18n import _
+from ..i18n import _, ngettext
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -63,8 +63,20 @@ def cmd_check(args: argparse.Namespace) -> int:
     for path in args.files:
         result = compile_source(read_text(path), charger=charger)
         _report(path, result, not args.no_hints)
+        _summary(path, result)
         failed = failed or not result.ok
     return 1 if failed else 0
+
+
+def _summary(path: str, result: CompileResult) -> None:
+    """``FILE: 2 errors, 1 warning`` on stderr, after a file's diagnostics (none for a clean file)."""
+    errors = len(result.errors)
+    warnings = len(result.diagnostics) - errors
+    if not result.diagnostics:
+        return
+    sys.stderr.write(_("{path}: {errors}, {warnings}").format(
+        path=path, errors=ngettext("{n} error", "{n} errors", errors).format(n=errors),
+        warnings=ngettext("{n} warning", "{n} warnings", warnings).format(n=warnings)) + "\n")
 
 
 def compile_file(path: str, unsafe_ok: bool = False) -> bytes:
@@ -74,8 +86,11 @@ def compile_file(path: str, unsafe_ok: bool = False) -> bytes:
     if not result.ok:
         _report(path, result, stream=sys.stderr)
         safety_only = all(d.code.startswith("E3") for d in result.errors)
-        hint = " (safety errors only: --force-unsafe writes it anyway)" if safety_only else ""
-        raise CliError(_("{path}: {n_errors} error(s); nothing written{hint}").format(path=path, n_errors=len(result.errors), hint=hint), 1)
+        errors = ngettext("{n} error", "{n} errors", len(result.errors)).format(n=len(result.errors))
+        if safety_only:
+            raise CliError(_("{path}: {errors}; nothing written (safety errors only: --force-unsafe writes it "
+                             "anyway)").format(path=path, errors=errors), 1)
+        raise CliError(_("{path}: {errors}; nothing written").format(path=path, errors=errors), 1)
     return result.record
 
 

@@ -10,7 +10,7 @@ from ..logs.export import write_csv
 from ..logs.summary import summarize
 from .common import CliError, out, read_bytes
 from .sim_commands import hms
-from ..i18n import _
+from ..i18n import _, ngettext
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -46,13 +46,15 @@ def cmd_info(args: argparse.Namespace) -> int:
     _num = lambda v, fmt: "–" if v is None else format(v, fmt)  # noqa: E731
     out(f"{args.file}: {info['format']}, {info['device']}")
     out(_("  samples      {info} ({info2} bad records), {hms}").format(info=info['samples'], info2=info['bad_records'], hms=hms(info['duration_s'])))
-    out(f"  voltage      {_num(info['v_min'], '.3f')} to {_num(info['v_max'], '.3f')} V"
-        + (f", {info['cells']} cells" if info["cells"] else ""))
+    voltage = _("  voltage      {low} to {high} V").format(low=_num(info['v_min'], '.3f'), high=_num(info['v_max'], '.3f'))
+    if info["cells"]:
+        voltage += ngettext(", {n} cell", ", {n} cells", info["cells"]).format(n=info["cells"])
+    out(voltage)
     out(_("  current      up to {num} A").format(num=_num(info['i_max_a'], '.3f')))
     out(_("  charge       in {num} mAh, out {num2} mAh").format(num=_num(info['charge_in_mah'], '.0f'), num2=_num(info['charge_out_mah'], '.0f')))
     if info["t_max_c"] is not None:
         out(_("  temperature  {info:.1f} to {info2:.1f} °C").format(info=info['t_min_c'], info2=info['t_max_c']))
-    out(f"  phases       {len(info['phases'])}")
+    out(_("  phases       {n}").format(n=len(info['phases'])))
     for p in info["phases"]:
         out(f"    {p['state']:<10} {hms(p['start_s'])} – {hms(p['end_s'])}")
     return 0
