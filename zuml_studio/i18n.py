@@ -7,7 +7,7 @@ the import still applies. ZUML keywords, opcode names, units, file formats and d
 (E303) are never put through `_`: they are the same in every language.
 
 The chosen language: ``ZUML_LANG``, else the user's preference, else the system locale
-(``LC_ALL``, ``LC_MESSAGES``, ``LANG``), else English. English is the source language and needs no
+(the first set of ``LC_ALL``, ``LC_MESSAGES``, ``LANG``), else English. English is the source language and needs no
 catalogue; any other supported language must have its compiled catalogue in the package, and a
 missing one is a broken installation (`DataFileError`), not a silent fall-back to English.
 """
@@ -51,13 +51,15 @@ def _supported(tag: str | None) -> str | None:
 
 def choose_language(preference: str | None = None) -> str:
     """The language to use: ``ZUML_LANG``, then ``preference`` (the user's choice, None or "" for
-    "as the system"), then the system locale, then English."""
-    for tag in (os.environ.get("ZUML_LANG"), preference,
-                os.environ.get("LC_ALL"), os.environ.get("LC_MESSAGES"), os.environ.get("LANG")):
+    "as the system"), then the system locale, then English. The system locale is the first of
+    ``LC_ALL``, ``LC_MESSAGES``, ``LANG`` that is set, as POSIX has it: ``LC_ALL=C`` means English
+    even when ``LANG`` is Russian."""
+    for tag in (os.environ.get("ZUML_LANG"), preference):
         code = _supported(tag)
         if code:
             return code
-    return SOURCE_LANGUAGE
+    system = next((os.environ[name] for name in ("LC_ALL", "LC_MESSAGES", "LANG") if os.environ.get(name)), None)
+    return _supported(system) or SOURCE_LANGUAGE
 
 
 def catalogue_path(language: str) -> str:
