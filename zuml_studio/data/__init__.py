@@ -24,8 +24,12 @@ class DataFileError(Exception):
     swallow a broken installation."""
 
 
-def _missing(where: object, what: str = "data file") -> DataFileError:
-    return DataFileError(_("{what} {where} is missing: the installation is incomplete, reinstall ZUML Studio").format(what=what, where=where))
+def _missing(where: object, folder: bool = False) -> DataFileError:
+    if folder:
+        return DataFileError(_("data folder {where} is missing: the installation is incomplete, reinstall ZUML "
+                               "Studio").format(where=where))
+    return DataFileError(_("data file {where} is missing: the installation is incomplete, reinstall ZUML "
+                           "Studio").format(where=where))
 
 
 def location(relative: str) -> str:
@@ -55,7 +59,7 @@ def names(folder: str, suffix: str = ".toml") -> list[str]:
     """The stems of the data files in ``folder`` (``chargers`` -> ``['imax_b6']``), sorted."""
     entry = resources.files(__name__).joinpath(folder)
     if not entry.is_dir():
-        raise _missing(location(folder), "data folder")
+        raise _missing(location(folder), folder=True)
     return sorted(f.name[: -len(suffix)] for f in entry.iterdir() if f.name.endswith(suffix))
 
 
@@ -71,7 +75,7 @@ def standard_macros_dir() -> Path:
     """The folder of the standard macros, a real directory (the editor opens them as files)."""
     folder = Path(location("macros"))
     if not folder.is_dir():
-        raise _missing(folder, "data folder")
+        raise _missing(folder, folder=True)
     return folder
 
 

@@ -32,7 +32,7 @@ from ..lang import opcodes as ops
 from ..lang.formatter import format_args
 from ..lang.opcodes import canonical_text
 from ..lang.operands import AKK_TYPE as AKK_KIND, AKK_TYPE_ALIASES, DISPLAY_NAMES, absolute_value
-from ..i18n import _
+from ..i18n import N_, _
 
 MAGIC = 0xA7
 VERSION = 0x01
@@ -56,13 +56,13 @@ class AnswerError(enum.IntEnum):
 
 
 ANSWER_ERROR_TEXT = {
-    AnswerError.BAD_LENGTH: "the request is not 8 bytes",
-    AnswerError.BAD_MAGIC: "the request's magic is not 0xA7",
-    AnswerError.BAD_XOR: "the request's XOR byte is wrong",
-    AnswerError.BAD_COMMAND: "RW_INDEX is not a passport command",
-    AnswerError.BAD_PAGE: "the page is not 0..6 (or PAGE differs from RW_INDEX's page)",
-    AnswerError.READ_ONLY: "the write touches read-only fields (on a production battery only ERR and CRIT "
-                           "are writable)",
+    AnswerError.BAD_LENGTH: N_("the request is not 8 bytes"),
+    AnswerError.BAD_MAGIC: N_("the request's magic is not 0xA7"),
+    AnswerError.BAD_XOR: N_("the request's XOR byte is wrong"),
+    AnswerError.BAD_COMMAND: N_("RW_INDEX is not a passport command"),
+    AnswerError.BAD_PAGE: N_("the page is not 0..6 (or PAGE differs from RW_INDEX's page)"),
+    AnswerError.READ_ONLY: N_("the write touches read-only fields (on a production battery only ERR and CRIT "
+                           "are writable)"),
 }
 
 # field -> (offset, size)
@@ -249,22 +249,22 @@ def parse_request(req: bytes) -> tuple[str, int, bytes]:
     for a request the battery cannot serve."""
     req = bytes(req)
     if len(req) != REQUEST_SIZE:
-        raise BadRequest(AnswerError.BAD_LENGTH, f"a passport request is {REQUEST_SIZE} bytes, not {len(req)}")
+        raise BadRequest(AnswerError.BAD_LENGTH, _("a passport request is {request_size} bytes, not {n_req}").format(request_size=REQUEST_SIZE, n_req=len(req)))
     if req[0] != MAGIC:
-        raise BadRequest(AnswerError.BAD_MAGIC, f"request magic 0x{req[0]:02x}, expected 0x{MAGIC:02x}")
+        raise BadRequest(AnswerError.BAD_MAGIC, _("request magic 0x{req:02x}, expected 0x{magic:02x}").format(req=req[0], magic=MAGIC))
     x = 0
     for b in req[:7]:
         x ^= b
     if x != req[7]:
-        raise BadRequest(AnswerError.BAD_XOR, f"request XOR 0x{req[7]:02x}, expected 0x{x:02x}")
+        raise BadRequest(AnswerError.BAD_XOR, _("request XOR 0x{req:02x}, expected 0x{x:02x}").format(req=req[7], x=x))
     rw, page, data = req[1], req[2], req[3:7]
     if rw == READ_ALL:
         return "all", 0, data
     op = {READ_PAGE: "read", WRITE_PAGE: "write"}.get(rw & 0xF0)
     if op is None:
-        raise BadRequest(AnswerError.BAD_COMMAND, f"RW_INDEX 0x{rw:02x} is not a passport command")
+        raise BadRequest(AnswerError.BAD_COMMAND, _("RW_INDEX 0x{rw:02x} is not a passport command").format(rw=rw))
     if (rw & 0x0F) != page or page >= PAGES:
-        raise BadRequest(AnswerError.BAD_PAGE, f"RW_INDEX 0x{rw:02x} with PAGE {page} is not a page 0..{PAGES - 1}")
+        raise BadRequest(AnswerError.BAD_PAGE, _("RW_INDEX 0x{rw:02x} with PAGE {page} is not a page 0..{pages}").format(rw=rw, page=page, pages=PAGES - 1))
     return op, page, data
 
 
@@ -283,10 +283,10 @@ def answer_error(answer: bytes) -> str | None:
     """What an error answer says ("the battery refused: ..."), or None for a passport answer."""
     if len(answer) == SIZE and answer[0] == MAGIC and answer[1] == ERROR_MARK:
         try:
-            text = ANSWER_ERROR_TEXT[AnswerError(answer[2])]
+            text = _(ANSWER_ERROR_TEXT[AnswerError(answer[2])])
         except ValueError:
-            text = "an unknown error"
-        return f"{text} (passport error {answer[2]})"
+            text = _("an unknown error")
+        return _("{text} (passport error {code})").format(text=text, code=answer[2])
     return None
 
 
@@ -376,7 +376,7 @@ def default_passport(chemistry: str, capacity_mah: float, series: int, serial: s
 def fitness_warnings(passport: Passport) -> list[str]:
     """What a charger shows before a start without refusing it: errors (ERR) the battery counted."""
     if passport.err:
-        return [f"the battery reports {passport.err} error(s) (ERR={passport.err})"]
+        return [_("the battery reports {n} error(s) (ERR={n})").format(n=passport.err)]
     return []
 
 
@@ -392,14 +392,16 @@ def conflicts(passport: Passport, record: bytes, start, *, charger_max_a: float 
     program = Program(record)          # DecodeError for bytes that are not a record
     out: list[str] = []
     if passport.crit:
-        out.append(f"the battery reports {passport.crit} critical error(s) (CRIT={passport.crit}): "
-                   "it is not fit for use")
+        out.append(_("the battery reports {n} critical error(s) (CRIT={n}): it is not fit for use").format(
+            n=passport.crit))
     akk = program.intro.declarations.get(ops.AKK_TYPE.code, 0)
     if akk != passport.type:
         if akk == 0:
-            out.append(f"the macro sets no battery type (AKK_TYPE Undef); the battery is {akk_name(passport.type)}")
+            out.append(_("the macro sets no battery type (AKK_TYPE Undef); the battery is {battery}").format(
+                battery=akk_name(passport.type)))
         else:
-            out.append(f"the macro is for {akk_name(akk)}; the battery is {akk_name(passport.type)}")
+            out.append(_("the macro is for {macro}; the battery is {battery}").format(
+                macro=akk_name(akk), battery=akk_name(passport.type)))
     capacity_ah = program.intro.capacity_ah(start.capacity_mah)
     series = program.intro.series(start.series)
 
@@ -427,7 +429,8 @@ def conflicts(passport: Passport, record: bytes, start, *, charger_max_a: float 
         charging = step.section == "charge" or 62 in by_code or 63 in by_code
         if not charging:
             continue
-        where = f"{step.section} phase {step.index}"
+        where = (_("charge phase {index}") if step.section == "charge"
+                 else _("discharge phase {index}")).format(index=step.index)
         if a_lim:
             charge_currents = []
             if 62 in by_code:
@@ -439,24 +442,31 @@ def conflicts(passport: Passport, record: bytes, start, *, charger_max_a: float 
             for raw, ins in charge_currents:
                 amps = current(raw)
                 if amps is not None and amps > a_lim + 1e-9:
-                    add(f"the macro charges at {amps:.2f} A ({where}: {text(ins)}); the battery allows {a_lim} A")
+                    add(_("the macro charges at {amps:.2f} A ({where}: {statement}); the battery allows {limit} "
+                          "A").format(amps=amps, where=where, statement=text(ins), limit=a_lim))
             if 61 in by_code and 60 not in by_code:
                 amps = start.current_a if start.current_a else charger_max_a
                 if amps is not None and amps > a_lim + 1e-9:
-                    how = "the current entered at start" if start.current_a else "the charger's limit, no current entered"
-                    add(f"the macro charges at up to {amps:.2f} A ({where}: {text(by_code[61])} limited to {how}); "
-                        f"the battery allows {a_lim} A")
+                    how = (_("the current entered at start") if start.current_a
+                           else _("the charger's limit, no current entered"))
+                    add(_("the macro charges at up to {amps:.2f} A ({where}: {statement} limited to {how}); the "
+                          "battery allows {limit} A").format(amps=amps, where=where, statement=text(by_code[61]),
+                                                             how=how, limit=a_lim))
         if v_lim:
             checks = []
             if 61 in by_code:
-                checks.append((by_code[61].raws[0], by_code[61], "holds"))
+                checks.append((by_code[61].raws[0], by_code[61],
+                               _("the macro holds {volts:.2f} V ({where}: {statement}); the battery allows {limit} V")))
             if 63 in by_code:
-                checks.append((by_code[63].raws[2], by_code[63], "tops up to"))
+                checks.append((by_code[63].raws[2], by_code[63],
+                               _("the macro tops up to {volts:.2f} V ({where}: {statement}); the battery allows "
+                                 "{limit} V")))
             for ins in step.conditions:
                 if ins.op.code == 83:
-                    checks.append((ins.raws[0], ins, "lets the voltage rise to"))
-            for raw, ins, verb in checks:
+                    checks.append((ins.raws[0], ins, _("the macro lets the voltage rise to {volts:.2f} V ({where}: "
+                                                       "{statement}); the battery allows {limit} V")))
+            for raw, ins, sentence in checks:
                 volts = voltage(raw)
                 if volts is not None and volts > v_lim + 1e-9:
-                    add(f"the macro {verb} {volts:.2f} V ({where}: {text(ins)}); the battery allows {v_lim} V")
+                    add(sentence.format(volts=volts, where=where, statement=text(ins), limit=v_lim))
     return out
