@@ -178,7 +178,7 @@ class ChargerClient:
         except Disconnected:
             self.close()
             # Only a TCP charger that already serves another program closes a new connection at once.
-            maybe = " (or it serves another program already)" if url.lower().startswith("socket://") \
+            maybe = _(" (or it serves another program already)") if url.lower().startswith("socket://") \
                 and not self._heard else ""
             raise Disconnected(_("{url}: the connection closed before the charger answered: it stopped or went "
                                  "away{maybe}").format(url=url, maybe=maybe)) from None
@@ -584,9 +584,10 @@ class ChargerClient:
             back = self.read_image(progress, stage="verify")
         except DeviceLinkError as exc:
             if confirmed:
-                raise CommitUnverified(f"{self.url}: the charger confirmed the new image ({changed} byte(s) "
-                                       f"changed), then the link failed while reading it back ({exc}): "
-                                       "reconnect to verify it", image, current) from None
+                raise CommitUnverified(_("{url}: the charger confirmed the new image ({changed} byte(s) changed), "
+                                         "then the link failed while reading it back ({error}): reconnect to "
+                                         "verify it").format(url=self.url, changed=changed, error=exc),
+                                       image, current) from None
             raise self._uncertain(exc, image, current) from None
         if back != image:
             if not confirmed and back == current:
@@ -604,9 +605,9 @@ class ChargerClient:
                 pass
 
     def _uncertain(self, exc: DeviceLinkError, image: bytes, current: bytes) -> CommitUncertain:
-        return CommitUncertain(f"{self.url}: the link failed right after COMMIT ({exc}); the charger holds "
-                               "either the new image or its previous one, never a mix: reconnect to tell "
-                               "which", image, current)
+        return CommitUncertain(_("{url}: the link failed right after COMMIT ({error}); the charger holds "
+                                 "either the new image or its previous one, never a mix: reconnect to tell "
+                                 "which").format(url=self.url, error=exc), image, current)
 
     def start(self, slot: int, task: str = "charge", repetitions: int = 1, capacity_mah: float | None = None,
               current_a: float | None = None, voltage_v: float | None = None, series: int | None = None,
@@ -728,7 +729,7 @@ def _why_lost(exc: Exception) -> str:
     access on port?)" is what any closed pty or socket says, and nothing here shares a port."""
     text = str(exc)
     if "returned no data" in text or "multiple access" in text:
-        return "the charger closed the line: it stopped, or its cable was pulled"
+        return _("the charger closed the line: it stopped, or its cable was pulled")
     return text
 
 

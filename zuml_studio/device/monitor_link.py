@@ -145,14 +145,15 @@ class MonitorLink:
             if det.winner is not None:
                 self.driver = DRIVERS[det.winner]
                 self._decoder = det.decoders[det.winner]
-                self._on_status(f"recognised {self.driver.title} at {self.current_baud} baud")
+                self._on_status(_("recognised {title} at {baud} baud").format(title=self.driver.title,
+                                                                              baud=self.current_baud))
                 self._emit(samples)
                 continue
             if self._sweep.advance(time.monotonic(), data):
                 self.current_baud = self._sweep.baud
                 dev.baudrate = self.current_baud
                 det.new_baud()
-                self._on_status(f"listening at {self.current_baud} baud")
+                self._on_status(_("listening at {baud} baud").format(baud=self.current_baud))
             elif self._sweep.done:
                 message = self._sweep.message(self.port, det)
                 if self.give_up:

@@ -157,7 +157,8 @@ class SessionLog:
                 self.rows += sum(1 for _, header in rows if not header)
                 self._dirty = True
             except (OSError, ValueError) as exc:
-                self.error = f"cannot write {self.path}: {getattr(exc, 'strerror', None) or exc}"
+                self.error = _("cannot write {path}: {error}").format(path=self.path,
+                                                                      error=getattr(exc, "strerror", None) or exc)
 
     def flush(self) -> None:
         with self._lock:
@@ -166,7 +167,7 @@ class SessionLog:
             try:
                 self._fh.flush()
             except OSError as exc:
-                self.error = f"cannot write {self.path}: {exc.strerror or exc}"
+                self.error = _("cannot write {path}: {error}").format(path=self.path, error=exc.strerror or exc)
             self._dirty = False
             self._flushed_at = time.monotonic()
 

@@ -61,7 +61,7 @@ def load_battery(name: str, root: Path | None = None) -> Battery:
     try:
         doc = json.loads(path.read_text("utf-8"))
     except FileNotFoundError:
-        known = ", ".join(battery_names(root)) or "none saved yet (zuml fit LOG --save NAME)"
+        known = ", ".join(battery_names(root)) or _("none saved yet (zuml fit LOG --save NAME)")
         raise BatteryFileError(_("no saved battery {name!r}; saved: {known}").format(name=name, known=known)) from None
     except (OSError, ValueError) as exc:
         raise BatteryFileError(_("{path}: not a battery file: {exc}").format(path=path, exc=exc)) from None
