@@ -24,7 +24,7 @@ from .lang.formatter import INDENT, format_statement
 from .lang.opcodes import Op, Place, Role
 from .lang.operands import (AKK_TYPE, CELSIUS, CURRENT, INPUT_U16, RELATIVE_FLAG, TIME, VOLTAGE, OperandKind,
                             ValueProblem, format_scaled, parse_akk_type)
-from .i18n import _
+from .i18n import N_, _
 
 
 class EditError(ValueError):
@@ -195,9 +195,10 @@ def common_patch(old: str, new: str) -> tuple[int, int, str]:
 
 # -- values ----------------------------------------------------------------------------------
 
-def parse_value(operand: ops.Operand, text: str, subject: str = "The value") -> tuple[int, str | None]:
+def parse_value(operand: ops.Operand, text: str, subject: str | None = None) -> tuple[int, str | None]:
     """Text of one operand -> (raw, note); EditError when it cannot be stored. A note says the
-    value was rounded to what the charger keeps."""
+    value was rounded to what the charger keeps. ``subject`` names the value in messages."""
+    subject = subject or _("The value")
     text = text.strip()
     if not text:
         raise EditError(_("{subject} is empty").format(subject=subject))
@@ -227,8 +228,9 @@ def new_statement_text(op: Op, texts: list[str]) -> str:
 
 def _subject(op: Op, operand: ops.Operand) -> str:
     if op.condition:
-        return f"The limit of {op.signature().split(' ')[0]}"
-    return op.keyword if len(op.operands) == 1 else f"{operand.name} of {op.keyword}"
+        return _("The limit of {condition}").format(condition=op.signature().split(" ")[0])
+    return (op.keyword if len(op.operands) == 1
+            else _("{operand} of {keyword}").format(operand=operand.name, keyword=op.keyword))
 
 
 # -- statements ------------------------------------------------------------------------------
@@ -323,15 +325,16 @@ class ActionKind:
     ops: tuple[Op, ...]
 
 
-_ACTION_LABELS = {ops.CONSTANT_I: "Constant current", ops.CONSTANT_V: "Constant voltage",
-                  ops.CHARGE_EX: "Pulse charge", ops.TRICKLE: "Top up (trickle)"}
+_ACTION_LABELS = {ops.CONSTANT_I: N_("Constant current"), ops.CONSTANT_V: N_("Constant voltage"),
+                  ops.CHARGE_EX: N_("Pulse charge"), ops.TRICKLE: N_("Top up (trickle)")}
 
 
 def action_kinds() -> list[ActionKind]:
     """The actions a phase may hold, from the opcode table, plus CC-CV (CONSTANT_I with CONSTANT_V)."""
     out = []
     for op in ops.ACTIONS:
-        out.append(ActionKind(op.keyword, _ACTION_LABELS.get(op, op.keyword.title()), (op,)))
+        label = _(_ACTION_LABELS[op]) if op in _ACTION_LABELS else op.keyword.title()
+        out.append(ActionKind(op.keyword, label, (op,)))
         if op is ops.CONSTANT_V:
             out.append(ActionKind("CC-CV", "CC-CV", (ops.CONSTANT_I, ops.CONSTANT_V)))
     return out
@@ -461,7 +464,7 @@ def _block(t: _Text, item) -> tuple[int, int]:
     first, last = _item_first_last(item)
     if not t.starts_line(first) or not t.ends_line(last):
         what = ("FAZE" if isinstance(item, Phase) else "CYCLE" if isinstance(item, Cycle) else
-                getattr(getattr(item, "op", None), "keyword", "the section"))
+                getattr(getattr(item, "op", None), "keyword", None) or _("the section"))
         raise EditError(_("line {line}: {what} shares its line with other statements; put it on its own lines to "
                           "move it here").format(line=first.line, what=what))
     top = first.line
@@ -567,7 +570,7 @@ def unwrap_cycle(text: str, cycle: Cycle) -> str:
 
 
 def set_cycle_count(text: str, cycle: Cycle, count: int | str) -> str:
-    raw, _ = parse_value(ops.CYCLE.operands[0], str(count), "The cycle count")
+    raw, __ = parse_value(ops.CYCLE.operands[0], str(count), _("The cycle count"))
     t = _Text(text)
     start, end = t.span(cycle.span)
     return _apply(text, [(start, end, f"CYCLE({raw})")])
@@ -739,15 +742,17 @@ def human_value(kind: OperandKind, raw: int) -> str:
     return kind.format(raw)
 
 
-_VARIABLE_WORDS = {"V": "V", "I": "I", "T": "T", "Tc": "heat-sink", "tm": "macro time", "tf": "", "DELTA_PEAK": "−ΔV"}
-CONDITION_LABELS = {"V": "Voltage", "I": "Current", "T": "Temperature", "Tc": "Heat-sink", "tm": "Macro time",
-                    "tf": "Phase time", "DELTA_PEAK": "−ΔV from peak"}
+# Words for the condition variables that are not symbols (V, I, T, −ΔV stay as they are).
+_VARIABLE_WORDS = {"Tc": N_("heat-sink")}
+CONDITION_LABELS = {"V": N_("Voltage"), "I": N_("Current"), "T": N_("Temperature"), "Tc": N_("Heat-sink"),
+                    "tm": N_("Macro time"), "tf": N_("Phase time"), "DELTA_PEAK": N_("−ΔV from peak")}
 
 
 def condition_label(op: Op) -> str:
     """'Voltage >' for the condition rows."""
     c = op.condition
-    return f"{CONDITION_LABELS.get(c.variables[0], c.variables[0])} {c.comparison}"
+    var = c.variables[0]
+    return f"{_(CONDITION_LABELS[var]) if var in CONDITION_LABELS else var} {c.comparison}"
 
 
 def condition_phrase(st: Statement) -> str:
@@ -757,24 +762,28 @@ def condition_phrase(st: Statement) -> str:
     if var == "tf":
         return value
     if var == "tm":
-        return f"macro time > {value}"
+        return _("macro time > {value}").format(value=value)
     if var == "DELTA_PEAK":
         return f"−ΔV > {value}"
-    return f"{_VARIABLE_WORDS.get(var, var)} {c.comparison} {value}"
+    return f"{_(_VARIABLE_WORDS[var]) if var in _VARIABLE_WORDS else var} {c.comparison} {value}"
 
 
 def intro_condition_phrase(st: Statement) -> str:
     c = st.op.condition
     value = human_value(st.op.operands[0].kind, st.args[0].raw)
     if c.variables[0] == "Tc":
-        return f"{'Pause' if c.comparison == '>' else 'Resume'} when heat-sink {c.comparison} {value}"
+        if c.comparison == ">":
+            return _("Pause when heat-sink > {value}").format(value=value)
+        return _("Resume when heat-sink {comparison} {value}").format(comparison=c.comparison, value=value)
     if c.variables[0] == "tm":
-        return f"Stop the macro after {value}"
+        return _("Stop the macro after {value}").format(value=value)
     return condition_phrase(st)
 
 
-def _amount(kind: OperandKind, raw: int, what: str) -> str:
-    return f"the {what} entered at start" if raw == INPUT_U16 else human_value(kind, raw)
+def _amount(kind: OperandKind, raw: int) -> str:
+    if raw != INPUT_U16:
+        return human_value(kind, raw)
+    return _("the current entered at start") if kind is CURRENT else _("the voltage entered at start")
 
 
 def describe_phase(phase: Phase, section: str = "charge", nbsp: bool = False) -> str:
@@ -783,24 +792,27 @@ def describe_phase(phase: Phase, section: str = "charge", nbsp: bool = False) ->
     actions = {s.op: s for s in phase_actions(phase)}
     if ops.CONSTANT_I in actions and ops.CONSTANT_V in actions:
         i, v = actions[ops.CONSTANT_I].args[0].raw, actions[ops.CONSTANT_V].args[0].raw
-        head = f"CC-CV {_amount(CURRENT, i, 'current')} to {_amount(VOLTAGE, v, 'voltage')}"
+        head = _("CC-CV {current} to {voltage}").format(current=_amount(CURRENT, i), voltage=_amount(VOLTAGE, v))
     elif ops.CONSTANT_I in actions:
-        i = actions[ops.CONSTANT_I].args[0].raw
-        head = f"{'Discharge' if section == 'discharge' else 'Charge'} at {_amount(CURRENT, i, 'current')}"
+        current = _amount(CURRENT, actions[ops.CONSTANT_I].args[0].raw)
+        head = (_("Discharge at {current}") if section == "discharge" else _("Charge at {current}")).format(
+            current=current)
     elif ops.CONSTANT_V in actions:
-        head = f"Hold {_amount(VOLTAGE, actions[ops.CONSTANT_V].args[0].raw, 'voltage')}"
+        head = _("Hold {voltage}").format(voltage=_amount(VOLTAGE, actions[ops.CONSTANT_V].args[0].raw))
     elif ops.CHARGE_EX in actions:
         tch, ich, tdis, idis, _tv = actions[ops.CHARGE_EX].raws()
-        head = f"Pulse-charge {tch} s at {human_value(CURRENT, ich)}"
-        head += f", discharge {tdis} s at {human_value(CURRENT, idis)}" if tdis else ""
+        head = _("Pulse-charge {seconds} s at {current}").format(seconds=tch, current=human_value(CURRENT, ich))
+        if tdis:
+            head += _(", discharge {seconds} s at {current}").format(seconds=tdis, current=human_value(CURRENT, idis))
     elif ops.TRICKLE in actions:
         i, v1, v2 = actions[ops.TRICKLE].raws()
         low, high = human_value(VOLTAGE, v1), human_value(VOLTAGE, v2)
         if INPUT_U16 not in (v1, v2) and (v1 & RELATIVE_FLAG) == (v2 & RELATIVE_FLAG):
             low = low.split(" ")[0]
-        head = f"Top up at {human_value(CURRENT, i)} between {low} and {high}"
+        head = _("Top up at {current} between {low} and {high}").format(current=human_value(CURRENT, i), low=low,
+                                                                       high=high)
     else:
-        head = "No action"
+        head = _("No action")
     stops = phase_conditions(phase)
     conds = [condition_phrase(s) for s in stops]
     only_time = len(stops) == 1 and stops[0].op.condition.variables[0] == "tf"
@@ -808,10 +820,10 @@ def describe_phase(phase: Phase, section: str = "charge", nbsp: bool = False) ->
         conds = [c.replace(" ", "\u00a0") for c in conds]
         head = re.sub(r"(\d) (A|V|V/cell|s|h|min|°C)\b", "\\1\u00a0\\2", head)
     if not conds:
-        return head + ", with no stop condition"
+        return _("{action}, with no stop condition").format(action=head)
     if only_time:
-        return f"{head} for {conds[0]}"
-    return f"{head} until {' or '.join(conds)}"
+        return _("{action} for {time}").format(action=head, time=conds[0])
+    return _("{action} until {conditions}").format(action=head, conditions=_(" or ").join(conds))
 
 
 def missing_conditions(phase: Phase) -> list[Op]:
