@@ -153,8 +153,8 @@ class SessionLog:
             if self._fh.closed or self.error:
                 return
             try:
-                self._writer.writerows(row for row, _ in rows)
-                self.rows += sum(1 for _, header in rows if not header)
+                self._writer.writerows(row for row, __ in rows)
+                self.rows += sum(1 for __, header in rows if not header)
                 self._dirty = True
             except (OSError, ValueError) as exc:
                 self.error = _("cannot write {path}: {error}").format(path=self.path,
