@@ -48,5 +48,5 @@ def write_macro_file(path: str | Path, text: str, like: MacroFile | None = None)
     try:
         atomic_write(Path(path), saved.encode())
     except OSError as exc:
-        raise MacroFileError(_("{path}: cannot save: {value}").format(path=path, value=exc.strerror or exc)) from None
+        raise MacroFileError(_("{path}: cannot save: {error}").format(path=path, error=exc.strerror or exc)) from None
     return saved

@@ -85,8 +85,8 @@ def _nickel(chem: Chemistry, c: dict, a: Answers, rate: float) -> list[str]:
     elif rate <= c["timed_max_rate_c"]:
         ends = [f"      IF(V>{_num(chem.max_v)}S) STOP_FAZE"]
     else:
-        raise WizardError(_("{name} at {num}C shows no reliable -dV and is too fast for a timed charge: choose "
-                            "{c}C or more, or {c2}C or less").format(name=chem.name, num=_num(rate), c=c['min_delta_rate_c'], c2=c['timed_max_rate_c']))
+        raise WizardError(_("{name} at {rate}C shows no reliable -dV and is too fast for a timed charge: choose "
+                            "{low}C or more, or {high}C or less").format(name=chem.name, rate=_num(rate), low=c['min_delta_rate_c'], high=c['timed_max_rate_c']))
     main = ["    FAZE", f"      CONSTANT_I={_num(rate)}C"] + ends + _sensor(c, a) + \
            [f"      IF(tf>{timer}min) STOP_FAZE", "    END_FAZE"]
     topoff = ["    FAZE", f"      TRICKLE({_num(c['topoff_rate_c'])}C, {_num(c['topoff_v1'])}S, "

@@ -35,7 +35,7 @@ def write_bytes(path: str, data: bytes) -> None:
     try:
         Path(path).write_bytes(data)
     except OSError as exc:
-        raise CliError(_("{path}: cannot write: {value}").format(path=path, value=exc.strerror or exc)) from None
+        raise CliError(_("{path}: cannot write: {error}").format(path=path, error=exc.strerror or exc)) from None
 
 
 def refuse_unsafe(problems: list[str], force: bool, what: str) -> None:

@@ -21,7 +21,7 @@ class CsvSink:
         try:
             self._fh = open(path, "w", encoding="utf-8", newline="")
         except OSError as exc:
-            raise CliError(_("{path}: cannot write: {value}").format(path=path, value=exc.strerror or exc)) from None
+            raise CliError(_("{path}: cannot write: {error}").format(path=path, error=exc.strerror or exc)) from None
         self._writer = csv.writer(self._fh, lineterminator="\n")
         self._flushed = time.monotonic()
         self.row(columns)

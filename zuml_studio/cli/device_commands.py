@@ -172,7 +172,7 @@ def cmd_slots(args: argparse.Namespace) -> int:
         check = "ok" if s.ok else f"BAD ({s.error.message})"
         out(f"{s.index:>3}  {s.offset:>6}  {len(s.record):>4}  {s.name:<16}  {_chemistry(s):<9}  {check}")
     used = used_bytes(image)
-    out(_("{n_found} macro(s); free {n_image} of {n_image2} bytes").format(n_found=len(found), n_image=len(image) - used, n_image2=len(image)))
+    out(_("{count} macro(s); free {free} of {size} bytes").format(count=len(found), free=len(image) - used, size=len(image)))
     return 0
 
 
@@ -210,7 +210,7 @@ def cmd_flash(args: argparse.Namespace) -> int:
         try:
             merged = merge_record(current, record, args.slot)
         except SlotOutOfRange as exc:
-            raise CliError(_("--slot {slot}: the charger has slots 0..{count} ({count2} appends)").format(slot=args.slot, count=exc.count - 1, count2=exc.count), 1) from None
+            raise CliError(_("--slot {slot}: the charger has slots 0..{last} ({count} appends)").format(slot=args.slot, last=exc.count - 1, count=exc.count), 1) from None
         except ImageFull as exc:
             raise CliError(_("{name} does not fit: {exc}").format(name=name, exc=exc), 1) from None
         try:
@@ -454,7 +454,7 @@ def _monitor_charger(args: argparse.Namespace) -> int:
         try:
             log = SessionLog(args.csv, threaded=False, cells=None)
         except OSError as exc:
-            raise CliError(_("{csv}: cannot write: {value}").format(csv=args.csv, value=exc.strerror or exc)) from None
+            raise CliError(_("{csv}: cannot write: {error}").format(csv=args.csv, error=exc.strerror or exc)) from None
     feed: queue.SimpleQueue = queue.SimpleQueue()
     try:
         link = MonitorLink(args.port, args.driver, args.baud, on_sample=lambda t: feed.put(("sample", t)),
@@ -530,7 +530,7 @@ def cmd_replay(args: argparse.Namespace) -> int:
         try:
             where, stop, device = serve_replay(recording, args.speed)
         except OSError as exc:
-            raise CliError(_("cannot open a pty for the replay: {value}").format(value=exc.strerror or exc), 1) from None
+            raise CliError(_("cannot open a pty for the replay: {error}").format(error=exc.strerror or exc), 1) from None
         sys.stdout.write(where + "\n")
         sys.stdout.flush()
         sys.stderr.write(_("replay: {file} as {title}, {n_records} record(s) over {duration_s:.0f} s, speed "
@@ -604,7 +604,7 @@ def cmd_virtual_charger(args: argparse.Namespace) -> int:
             else:
                 where, stop = serve_pty(device, baud)
         except OSError as exc:
-            raise CliError(_("cannot open the virtual charger's port: {value}").format(value=exc.strerror or exc), 1) from None
+            raise CliError(_("cannot open the virtual charger's port: {error}").format(error=exc.strerror or exc), 1) from None
         sys.stdout.write(where + "\n")
         sys.stdout.flush()
         sys.stderr.write(_("virtual charger: {model}, battery {battery}, speed x{speed:g}, passport {value}; "

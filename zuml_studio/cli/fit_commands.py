@@ -96,7 +96,7 @@ def cmd_fit(args: argparse.Namespace) -> int:
         json.dump({"params": result.params, **result.figures}, sys.stdout, indent=2)
         out()
         return 0
-    out(_("{log}: {chemistry} {series}S, {n_t} samples, {t:.0f} min of charge").format(log=args.log, chemistry=chemistry, series=series, n_t=len(curve.t), t=curve.t[-1] / 60))
+    out(_("{log}: {chemistry} {series}S, {samples} samples, {minutes:.0f} min of charge").format(log=args.log, chemistry=chemistry, series=series, samples=len(curve.t), minutes=curve.t[-1] / 60))
     for k, v in result.params.items():
         out(f"  {k:14s}{v:g}")
     for line in _figure_lines(result.figures):

@@ -162,7 +162,7 @@ def cmd_image(args: argparse.Namespace) -> int:
         raise CliError(str(exc), 1) from None
     write_bytes(args.output, image)
     used = sum(len(r) for r in records)
-    out(_("{output}: {n_records} record(s), {used} of {size} bytes used, {size2} free").format(output=args.output, n_records=len(records), used=used, size=args.size, size2=args.size - used))
+    out(_("{output}: {count} record(s), {used} of {size} bytes used, {free} free").format(output=args.output, count=len(records), used=used, size=args.size, free=args.size - used))
     return 0
 
 
@@ -179,5 +179,5 @@ def _list(path: str, image: bytes, found) -> int:
             out(_("{index:>4}  {offset:>6}  {n_record:>4}  {value:<16}  {value:<6}  BAD: byte {offset2}: "
                   "{message}").format(index=slot.index, offset=slot.offset, n_record=len(slot.record), value='?', offset2=slot.error.offset, message=slot.error.message))
     used = sum(len(s.record) for s in found)
-    out(_("{n_found} record(s), {used} of {n_image} bytes used, {n_image2} free").format(n_found=len(found), used=used, n_image=len(image), n_image2=len(image) - used))
+    out(_("{count} record(s), {used} of {size} bytes used, {free} free").format(count=len(found), used=used, size=len(image), free=len(image) - used))
     return 1 if bad else 0

@@ -52,7 +52,7 @@ def cmd_new(args: argparse.Namespace) -> int:
         try:
             atomic_write(Path(args.output), text.encode("utf-8"))
         except OSError as exc:
-            raise CliError(_("{output}: cannot write: {value}").format(output=args.output, value=exc.strerror or exc)) from None
+            raise CliError(_("{output}: cannot write: {error}").format(output=args.output, error=exc.strerror or exc)) from None
         out(_("{output}: {name}, {n_record} bytes").format(output=args.output, name=result.macro.name, n_record=len(result.record)) if result.ok else args.output)
     else:
         sys.stdout.write(text)

@@ -76,7 +76,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
             with open(args.csv, "w", encoding="utf-8", newline="") as fh:
                 result.log.write_csv(fh)
         except OSError as exc:
-            raise CliError(_("{csv}: cannot write: {value}").format(csv=args.csv, value=exc.strerror or exc)) from None
+            raise CliError(_("{csv}: cannot write: {error}").format(csv=args.csv, error=exc.strerror or exc)) from None
     warnings = start_warnings(record, params, result.interpreter.charger.limits)
     if args.json:
         json.dump({**result.to_json(), "warnings": warnings}, sys.stdout, indent=2)
@@ -107,10 +107,11 @@ def _table(args: argparse.Namespace, result: SimResult) -> None:
              f"{ph.reason:<{width}}  {ph.mah_in:>8.1f}  {ph.mah_out:>8.1f}  {ph.v_end:>7.3f}  {ph.temp_end:>6.1f}  "
              f"{'⚠ ' if ph.timer_before_full else ''}{notes}").rstrip())
     t = result.totals()
-    out(_("total {hms}, in {t:.1f} mAh, out {t2:.1f} mAh; end: {t3}").format(hms=hms(t['duration_s']), t=t['mah_in'], t2=t['mah_out'], t3=t['end']))
+    out(_("total {duration}, in {charge_in:.1f} mAh, out {charge_out:.1f} mAh; end: {end}").format(duration=hms(t['duration_s']), charge_in=t['mah_in'], charge_out=t['mah_out'], end=t['end']))
     if p.task == "train":
         for rep in result.repetitions():
-            out(_("repetition {rep}: discharged {rep2:.1f} mAh (measured capacity), charged {rep3:.1f} mAh").format(rep=rep['repetition'], rep2=rep['discharged_mah'], rep3=rep['charged_mah']))
+            out(_("repetition {repetition}: discharged {discharged:.1f} mAh (measured capacity), charged "
+                  "{charged:.1f} mAh").format(repetition=rep['repetition'], discharged=rep['discharged_mah'], charged=rep['charged_mah']))
     for ph in result.phases:
         if ph.by_default:
             out(_("note: phase {run} ({section}) ended by {reason}, not by a condition of the macro").format(run=ph.run, section=ph.section, reason=ph.reason))

@@ -704,7 +704,7 @@ class ChargerClient:
         now = self.passport_read()
         key = field.strip().lower()
         if getattr(now, key) != getattr(wanted, key):
-            raise VerifyFailed(_("the passport's {key} reads {getattr!r} after writing {getattr2!r}").format(key=key, getattr=getattr(now, key), getattr2=getattr(wanted, key)))
+            raise VerifyFailed(_("the passport's {key} reads {read!r} after writing {written!r}").format(key=key, read=getattr(now, key), written=getattr(wanted, key)))
         return now
 
 

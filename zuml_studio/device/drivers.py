@@ -162,5 +162,5 @@ def decode_recording(data: bytes, driver: str | None = None) -> Capture:
         if samples and (best is None or (len(samples), -bad) > (len(best.samples), -best.bad)):
             best = Capture(name, stream, samples, bad)
     if best is None:
-        raise CaptureError(_("no recording recognised in {n_data} bytes (tried {value})").format(n_data=len(data), value=driver or ', '.join(DRIVERS)))
+        raise CaptureError(_("no recording recognised in {n_data} bytes (tried {tried})").format(n_data=len(data), tried=driver or ', '.join(DRIVERS)))
     return best

@@ -21,7 +21,7 @@ class SlotOutOfRange(MergeError):
     def __init__(self, slot: int, count: int):
         self.slot = slot
         self.count = count
-        super().__init__(_("slot {slot}: the charger has slots 0..{count} ({count2} appends)").format(slot=slot, count=count - 1, count2=count) if count
+        super().__init__(_("slot {slot}: the charger has slots 0..{last} ({count} appends)").format(slot=slot, last=count - 1, count=count) if count
                          else _("slot {slot}: the charger has no macros yet (0 appends)").format(slot=slot))
 
 

@@ -407,7 +407,7 @@ class VirtualCharger:
         if not 1 <= length <= m.MAX_DATA:
             raise _Refused(m.ErrorCode.BAD_RANGE, _("length {length}: 1..{max_data} bytes per request").format(length=length, max_data=m.MAX_DATA))
         if offset + length > size:
-            raise _Refused(m.ErrorCode.BAD_RANGE, _("bytes {offset}..{offset2} are outside the {size}-byte EEPROM").format(offset=offset, offset2=offset + length - 1, size=size))
+            raise _Refused(m.ErrorCode.BAD_RANGE, _("bytes {first}..{last} are outside the {size}-byte EEPROM").format(first=offset, last=offset + length - 1, size=size))
 
     def _do_read_eeprom(self, offset: int, length: int) -> bytes:
         self._range(offset, length)
@@ -568,7 +568,7 @@ class VirtualCharger:
             template = self.templates.get(number)
         if template is None:
             raise _Refused(m.ErrorCode.NO_TEMPLATE, _("there is no start template {number}; the charger holds "
-                                                      "{value}").format(number=number, value=', '.join(map(str, sorted(self.templates))) or 'none'))
+                                                      "{stored}").format(number=number, stored=', '.join(map(str, sorted(self.templates))) or 'none'))
         return m.encode_response("GET_TEMPLATE", **m.template_fields(number, template))
 
     def _do_set_template(self, **fields) -> bytes:

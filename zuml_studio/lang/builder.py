@@ -275,7 +275,7 @@ class Builder:
             return None
         if st.raw.outcome.value.upper() != op.condition.outcome:
             self.error(st.at(st.raw.outcome), "E123",
-                       _("{shown} can only {outcome}, not {value}").format(shown=shown, outcome=op.condition.outcome, value=st.raw.outcome.value),
+                       _("{shown} can only {outcome}, not {written}").format(shown=shown, outcome=op.condition.outcome, written=st.raw.outcome.value),
                        _("write {statement}").format(statement=op.condition.outcome))
             return None
         raw = self.value(st, st.raw.args[0], op.operands[0], _("The limit of {condition}").format(condition=shown))

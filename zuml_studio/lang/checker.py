@@ -73,7 +73,7 @@ class Checker:
             shown = st.op.signature()
         else:
             shown = st.op.keyword
-        self.report(st, "E150", _("{shown} cannot stand in {value}").format(shown=shown, value=_(place.value)), _("it belongs in {where}").format(where=where))
+        self.report(st, "E150", _("{shown} cannot stand in {place}").format(shown=shown, place=_(place.value)), _("it belongs in {where}").format(where=where))
         return False
 
     def intro(self) -> None:
@@ -82,7 +82,7 @@ class Checker:
             if not self.placed(st, Place.INTRO):
                 continue
             if st.op.code in seen:
-                self.report(st, "E151", _("{value} is declared twice").format(value=st.op.signature() if st.op.condition else st.op.keyword), _("keep one"))
+                self.report(st, "E151", _("{statement} is declared twice").format(statement=st.op.signature() if st.op.condition else st.op.keyword), _("keep one"))
             seen[st.op.code] = st
 
     def section(self, section: Section) -> None:

@@ -39,7 +39,7 @@ class _Reader:
     def expect(self, op: ops.Op, where: str) -> Instruction:
         ins = self.take()
         if ins.op is not op:
-            raise DecodeError(ins.offset, _("expected {keyword} ({code}) {where}, found {keyword2}").format(keyword=op.keyword, code=op.code, where=where, keyword2=ins.op.keyword))
+            raise DecodeError(ins.offset, _("expected {keyword} ({code}) {where}, found {found}").format(keyword=op.keyword, code=op.code, where=where, found=ins.op.keyword))
         return ins
 
 

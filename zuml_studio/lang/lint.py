@@ -217,13 +217,13 @@ def _dpeak_rate(ctx: Context, st: Statement, raw: int, min_rate: float) -> Itera
             yield _warn(st, "W306", _("The current is entered at start: below {amps:.2f} A ({min_rate:g}C of the "
                                       "declared {capacity_mah} mAh) a {name} cell shows no reliable -dV").format(amps=amps, min_rate=min_rate, capacity_mah=ctx.capacity_mah, name=name), hint)
         else:
-            yield _warn(st, "W306", _("The current is entered at start: below {min_rate:g}C ({min_rate2:g} A for "
-                                      "a 2000 mAh pack) a {name} cell shows no reliable -dV; the simulator and "
-                                      "the device panel check the values entered").format(min_rate=min_rate, min_rate2=min_rate * 2, name=name), hint)
+            yield _warn(st, "W306", _("The current is entered at start: below {min_rate:g}C ({amps:g} A for a "
+                                      "2000 mAh pack) a {name} cell shows no reliable -dV; the simulator and the "
+                                      "device panel check the values entered").format(min_rate=min_rate, amps=min_rate * 2, name=name), hint)
     elif not raw & RELATIVE_FLAG:
         amps = raw / 100
-        yield _warn(st, "W306", _("At {amps:g} A the -dV of a {name} cell is reliable only up to {amps2:.0f} mAh "
-                                  "({min_rate:g}C); the capacity is not declared").format(amps=amps, name=name, amps2=amps / min_rate * 1000, min_rate=min_rate), hint)
+        yield _warn(st, "W306", _("At {amps:g} A the -dV of a {name} cell is reliable only up to {capacity:.0f} "
+                                  "mAh ({min_rate:g}C); the capacity is not declared").format(amps=amps, name=name, capacity=amps / min_rate * 1000, min_rate=min_rate), hint)
 
 
 def rule_nickel_rate(ctx: Context) -> Iterator[Finding]:

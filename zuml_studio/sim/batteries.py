@@ -67,7 +67,7 @@ def load_battery(name: str, root: Path | None = None) -> Battery:
         raise BatteryFileError(_("{path}: not a battery file: {exc}").format(path=path, exc=exc)) from None
     try:
         if doc.get("format") != _FORMAT:
-            raise ValueError(_("format {get!r}, expected {format}").format(get=doc.get('format'), format=_FORMAT))
+            raise ValueError(_("format {found!r}, expected {expected}").format(found=doc.get('format'), expected=_FORMAT))
         chem = load_chemistry(str(doc["chemistry"]))
         wanted = {f.name: f.type for f in fields(Chemistry)}
         params = {}

@@ -106,7 +106,7 @@ def _from_toml(name: str, parsed: dict) -> Chemistry:
     missing = wanted - flat.keys()
     extra = flat.keys() - wanted
     if missing or extra:
-        raise ValueError(_("missing keys {sorted}, unknown keys {sorted2}").format(sorted=sorted(missing), sorted2=sorted(extra)))
+        raise ValueError(_("missing keys {missing}, unknown keys {unknown}").format(missing=sorted(missing), unknown=sorted(extra)))
     chem = Chemistry(**flat)  # type: ignore[arg-type]
     _check(chem)
     return chem
