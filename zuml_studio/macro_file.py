@@ -36,9 +36,11 @@ def read_macro_file(path: str | Path) -> MacroFile:
     try:
         text = data[3 if bom else 0:].decode("utf-8")
     except UnicodeDecodeError as exc:
-        raise MacroFileError(_("{path}: not UTF-8 text (byte 0x{data:02x} at offset {start})").format(path=path, data=data[exc.start], start=exc.start)) from None
+        raise MacroFileError(_("{path}: not UTF-8 text (byte 0x{data:02x} at offset {start})").format(
+                path=path, data=data[exc.start], start=exc.start)) from None
     if "\x00" in text:
-        raise MacroFileError(_("{path}: a binary file, not a macro (a compiled record? open it with Decompile)").format(path=path))
+        raise MacroFileError(_("{path}: a binary file, not a macro (a compiled record? open it with Decompile)").format(
+                path=path))
     newline = "\r\n" if "\r\n" in text else "\n"
     return MacroFile(text.replace("\r\n", "\n"), newline, bom)
 

@@ -222,7 +222,8 @@ def new_statement_text(op: Op, texts: list[str]) -> str:
     raws = [parse_value(o, t, _subject(op, o))[0] for o, t in zip(op.operands, texts)]
     raws += [o.default for o in op.operands[len(texts):]]
     if any(r is None for r in raws):
-        raise EditError(_("{keyword} needs {n_operands} values").format(keyword=op.keyword, n_operands=len(op.operands)))
+        raise EditError(_("{keyword} needs {n_operands} values").format(
+                keyword=op.keyword, n_operands=len(op.operands)))
     return statement_text(op, raws)
 
 
@@ -556,7 +557,8 @@ def unwrap_cycle(text: str, cycle: Cycle) -> str:
     t = _Text(text)
     first, last = cycle.span.line, cycle.end_span.line
     if first == last:
-        raise EditError(_("line {first}: the cycle is written on one line; split it to unwrap it here").format(first=first))
+        raise EditError(_("line {first}: the cycle is written on one line; split it to unwrap it here").format(
+                first=first))
     indent = t.indent(first)
     inner = t.lines[first:last - 1]
     deeper = next((n for n in range(first + 1, last) if t.line(n).strip()), None)

@@ -35,7 +35,8 @@ def choices(name: str) -> dict:
     """The template's choices for a chemistry (its canonical name), e.g. ``default_rate_c``."""
     table = data.read_toml(TEMPLATES).get(name)
     if not isinstance(table, dict):
-        raise data.DataFileError(_("data file {location} has no [{name}] table").format(location=data.location(TEMPLATES), name=name))
+        raise data.DataFileError(_("data file {location} has no [{name}] table").format(
+                location=data.location(TEMPLATES), name=name))
     return table
 
 
@@ -47,7 +48,8 @@ def new_macro(a: Answers) -> str:
     try:
         chem = load_chemistry(a.chemistry)
     except KeyError:
-        raise WizardError(_("no template for {chemistry!r}; choose one of {chemistry_names}").format(chemistry=a.chemistry, chemistry_names=', '.join(chemistry_names()))) from None
+        raise WizardError(_("no template for {chemistry!r}; choose one of {chemistry_names}").format(
+                chemistry=a.chemistry, chemistry_names=', '.join(chemistry_names()))) from None
     if not 1 <= a.series <= 255:
         raise WizardError(_("cells in series: 1 to 255"))
     if not 2 <= a.capacity_mah <= 65534:
@@ -86,7 +88,8 @@ def _nickel(chem: Chemistry, c: dict, a: Answers, rate: float) -> list[str]:
         ends = [f"      IF(V>{_num(chem.max_v)}S) STOP_FAZE"]
     else:
         raise WizardError(_("{name} at {rate}C shows no reliable -dV and is too fast for a timed charge: choose "
-                            "{low}C or more, or {high}C or less").format(name=chem.name, rate=_num(rate), low=c['min_delta_rate_c'], high=c['timed_max_rate_c']))
+                            "{low}C or more, or {high}C or less").format(
+                name=chem.name, rate=_num(rate), low=c['min_delta_rate_c'], high=c['timed_max_rate_c']))
     main = ["    FAZE", f"      CONSTANT_I={_num(rate)}C"] + ends + _sensor(c, a) + \
            [f"      IF(tf>{timer}min) STOP_FAZE", "    END_FAZE"]
     topoff = ["    FAZE", f"      TRICKLE({_num(c['topoff_rate_c'])}C, {_num(c['topoff_v1'])}S, "

@@ -28,7 +28,8 @@ def read_text(path: str) -> str:
     try:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
-        raise CliError(_("{path}: not UTF-8 text (byte 0x{data:02x} at offset {start})").format(path=path, data=data[exc.start], start=exc.start)) from None
+        raise CliError(_("{path}: not UTF-8 text (byte 0x{data:02x} at offset {start})").format(
+                path=path, data=data[exc.start], start=exc.start)) from None
 
 
 def write_bytes(path: str, data: bytes) -> None:
@@ -45,8 +46,10 @@ def refuse_unsafe(problems: list[str], force: bool, what: str) -> None:
     for line in problems:
         sys.stderr.write(f"  {line}\n")
     if not force:
-        raise CliError(_("{what}: refused, {n_problems} safety problem(s) above (--force-unsafe overrides)").format(what=what, n_problems=len(problems)), 1)
-    sys.stderr.write(_("zuml: warning: {what}: --force-unsafe: going ahead despite the problem(s) above\n").format(what=what))
+        raise CliError(_("{what}: refused, {n_problems} safety problem(s) above (--force-unsafe overrides)").format(
+                what=what, n_problems=len(problems)), 1)
+    sys.stderr.write(_("zuml: warning: {what}: --force-unsafe: going ahead despite the problem(s) above\n").format(
+            what=what))
 
 
 def add_force_unsafe(p) -> None:

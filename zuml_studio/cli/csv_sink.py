@@ -48,5 +48,6 @@ class CsvSink:
             action()
         except OSError as exc:
             self.failed = _("{path}: cannot write: {error}").format(path=self.path, error=exc.strerror or exc)
-            sys.stderr.write(_("zuml: error: {failed}; the CSV ends here, the monitor goes on on screen\n").format(failed=self.failed))
+            sys.stderr.write(_("zuml: error: {failed}; the CSV ends here, the monitor goes on on screen\n").format(
+                    failed=self.failed))
             sys.stderr.flush()

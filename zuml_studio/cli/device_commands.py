@@ -74,7 +74,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 
     p = _with_port(sub.add_parser("passport", help=_("read (or write fields of) the battery's passport")))
     p.add_argument("--write", action="append", default=[], metavar="FIELD=VALUE",
-                   help=_("set a field ({writable}; a factory battery also {items}); may be repeated").format(writable=', '.join(WRITABLE), items=', '.join(f for f in FACTORY_WRITABLE if f not in WRITABLE)))
+                   help=_("set a field ({writable}; a factory battery also {items}); may be repeated").format(
+                           writable=', '.join(WRITABLE),
+                           items=', '.join(f for f in FACTORY_WRITABLE if f not in WRITABLE)))
     p.set_defaults(run=cmd_passport)
 
     p = sub.add_parser("virtual-charger", help=_("run a simulated charger behind a serial port (pty) or TCP"))
@@ -105,7 +107,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                                                   "or an iCharger DUO/X .txt log"))
     p.add_argument("--speed", type=float, default=1.0, metavar="N", help=_("recorded pace x N (default 1)"))
     p.add_argument("--as", dest="as_format", choices=tuple(DRIVERS), metavar="FORMAT",
-                   help=_("read FILE as this driver's stream ({drivers}; default: recognise it)").format(drivers=', '.join(DRIVERS)))
+                   help=_("read FILE as this driver's stream ({drivers}; default: recognise it)").format(
+                           drivers=', '.join(DRIVERS)))
     p.set_defaults(run=cmd_replay)
 
 
@@ -114,7 +117,8 @@ def _with_port(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
                    metavar="PORT", help=_("serial port, e.g. /dev/ttyUSB0, COM3, socket://HOST:PORT (default: "
                                           "$ZUML_PORT)"))
     p.add_argument("--baud", type=int, metavar="B",
-                   help=_("default {default_baud} for a ZUML charger, the charger's own for the other drivers").format(default_baud=DEFAULT_BAUD))
+                   help=_("default {default_baud} for a ZUML charger, the charger's own for the other drivers").format(
+                           default_baud=DEFAULT_BAUD))
     p.add_argument("--timeout", type=float, metavar="S", help=_("seconds per request attempt (default: from the baud)"))
     return p
 
@@ -172,7 +176,8 @@ def cmd_slots(args: argparse.Namespace) -> int:
         check = "ok" if s.ok else f"BAD ({s.error.message})"
         out(f"{s.index:>3}  {s.offset:>6}  {len(s.record):>4}  {s.name:<16}  {_chemistry(s):<9}  {check}")
     used = used_bytes(image)
-    out(_("{count} macro(s); free {free} of {size} bytes").format(count=len(found), free=len(image) - used, size=len(image)))
+    out(_("{count} macro(s); free {free} of {size} bytes").format(
+            count=len(found), free=len(image) - used, size=len(image)))
     return 0
 
 
@@ -181,7 +186,8 @@ def _slots_or_error(image: bytes) -> list[Slot]:
     try:
         return slots(image)
     except ImageError as exc:
-        raise CliError(_("the charger's record list is broken ({exc}); `zuml restore` a backup").format(exc=exc), 1) from None
+        raise CliError(_("the charger's record list is broken ({exc}); `zuml restore` a backup").format(
+                exc=exc), 1) from None
 
 
 def _record(path: str, force: bool) -> bytes:
@@ -192,7 +198,8 @@ def _record(path: str, force: bool) -> bytes:
         decode_record(data)
     except DecodeError as exc:
         hint = _(" (a whole EEPROM image? use `zuml restore`)") if len(data) > 255 else ""
-        raise CliError(_("{path}: not a valid record: byte {offset}: {message}{hint}").format(path=path, offset=exc.offset, message=exc.message, hint=hint), 1) from None
+        raise CliError(_("{path}: not a valid record: byte {offset}: {message}{hint}").format(
+                path=path, offset=exc.offset, message=exc.message, hint=hint), 1) from None
     return data
 
 
@@ -210,7 +217,8 @@ def cmd_flash(args: argparse.Namespace) -> int:
         try:
             merged = merge_record(current, record, args.slot)
         except SlotOutOfRange as exc:
-            raise CliError(_("--slot {slot}: the charger has slots 0..{last} ({count} appends)").format(slot=args.slot, last=exc.count - 1, count=exc.count), 1) from None
+            raise CliError(_("--slot {slot}: the charger has slots 0..{last} ({count} appends)").format(
+                    slot=args.slot, last=exc.count - 1, count=exc.count), 1) from None
         except ImageFull as exc:
             raise CliError(_("{name} does not fit: {exc}").format(name=name, exc=exc), 1) from None
         try:
@@ -218,7 +226,8 @@ def cmd_flash(args: argparse.Namespace) -> int:
         except (CommitUncertain, CommitUnverified) as exc:
             lost = exc
         else:
-            out(_("{name}: {action}; {changed} byte(s) written, verified").format(name=name, action=merged.action, changed=result.changed))
+            out(_("{name}: {action}; {changed} byte(s) written, verified").format(
+                    name=name, action=merged.action, changed=result.changed))
             return 0
     _settle(args, lost, f"{name}: {merged.action}")
     return 0
@@ -251,7 +260,8 @@ def _settle(args: argparse.Namespace, lost: CommitUncertain | CommitUnverified, 
                          "(changed since by another program?); check it with `zuml slots`"), 1)
     known = (_("the charger confirmed the new image, unverified") if lost.holds == "new"
              else _("the charger holds either the new image or its previous one, never a mix"))
-    raise CliError(_("could not reconnect to read it back: {known}; run `zuml slots` when it is back").format(known=known), 1)
+    raise CliError(_("could not reconnect to read it back: {known}; run `zuml slots` when it is back").format(
+            known=known), 1)
 
 
 @_device_errors
@@ -283,7 +293,8 @@ def cmd_restore(args: argparse.Namespace) -> int:
         except (CommitUncertain, CommitUnverified) as exc:
             lost = exc
         else:
-            out(_("restored {file}: {changed} byte(s) written, verified").format(file=args.file, changed=result.changed))
+            out(_("restored {file}: {changed} byte(s) written, verified").format(
+                    file=args.file, changed=result.changed))
             return 0
     _settle(args, lost, f"restored {args.file}")
     return 0
@@ -299,7 +310,8 @@ def cmd_run(args: argparse.Namespace) -> int:
             name = client.start(args.slot, args.task, args.cycles, args.capacity, args.current, args.voltage,
                                 args.series, not args.no_sensor)
         except DeviceError as exc:
-            raise CliError(_("the charger refused to start slot {slot} ({code_name}): {exc}").format(slot=args.slot, code_name=exc.code_name, exc=exc), 1) from None
+            raise CliError(_("the charger refused to start slot {slot} ({code_name}): {exc}").format(
+                    slot=args.slot, code_name=exc.code_name, exc=exc), 1) from None
     out(_("started slot {slot} ({name}): {task}").format(slot=args.slot, name=name, task=args.task))
     return 0
 
@@ -399,7 +411,8 @@ def cmd_monitor(args: argparse.Namespace) -> int:
                     break
             sys.stdout.flush()
         if client.missed_events:
-            out(_("note: {n_missed_events} event(s) were lost on the line").format(n_missed_events=len(client.missed_events)))
+            out(_("note: {n_missed_events} event(s) were lost on the line").format(
+                    n_missed_events=len(client.missed_events)))
     except KeyboardInterrupt:
         pass
     finally:
@@ -443,7 +456,8 @@ def _monitor_charger(args: argparse.Namespace) -> int:
     from ..device.monitor_link import MonitorLink
     from ..device.session_log import SessionLog
     if args.driver not in (AUTO,) + tuple(DRIVERS):
-        raise CliError(_("--driver {driver}: choose {zuml}, {auto} or one of {drivers}").format(driver=args.driver, zuml=ZUML, auto=AUTO, drivers=', '.join(DRIVERS)))
+        raise CliError(_("--driver {driver}: choose {zuml}, {auto} or one of {drivers}").format(
+                driver=args.driver, zuml=ZUML, auto=AUTO, drivers=', '.join(DRIVERS)))
     if args.rate is not None or args.until_end:
         raise CliError(_("--rate and --until-end need a ZUML charger; a monitor-only charger sends at its own "
                          "pace"))
@@ -498,11 +512,13 @@ def _monitor_charger(args: argparse.Namespace) -> int:
         if log:
             log.close()
     name = link.driver.name if link.driver else _("no charger recognised")
-    sys.stderr.write(_("{name}: {samples} sample(s), {bad} bad record(s)\n").format(name=name, samples=link.samples, bad=link.bad))
+    sys.stderr.write(_("{name}: {samples} sample(s), {bad} bad record(s)\n").format(
+            name=name, samples=link.samples, bad=link.bad))
     if error:
         raise CliError(error, 1)
     if link.driver is None and link.received == 0:
-        sys.stderr.write(_("{port}: nothing arrived (a charger sends only while a program runs)\n").format(port=args.port))
+        sys.stderr.write(_("{port}: nothing arrived (a charger sends only while a program runs)\n").format(
+                port=args.port))
     if log and log.error:             # the samples went on to the screen; the CSV stopped there
         sys.stderr.write(_("zuml: error: session CSV: {error}\n").format(error=log.error))
         return 1
@@ -530,11 +546,14 @@ def cmd_replay(args: argparse.Namespace) -> int:
         try:
             where, stop, device = serve_replay(recording, args.speed)
         except OSError as exc:
-            raise CliError(_("cannot open a pty for the replay: {error}").format(error=exc.strerror or exc), 1) from None
+            raise CliError(_("cannot open a pty for the replay: {error}").format(
+                    error=exc.strerror or exc), 1) from None
         sys.stdout.write(where + "\n")
         sys.stdout.flush()
         sys.stderr.write(_("replay: {file} as {title}, {n_records} record(s) over {duration_s:.0f} s, speed "
-                           "x{speed:g}; starts when a reader opens the port; Ctrl+C ends\n").format(file=args.file, title=DRIVERS[recording.driver].title, n_records=len(recording.records), duration_s=recording.duration_s, speed=args.speed))
+                           "x{speed:g}; starts when a reader opens the port; Ctrl+C ends\n").format(
+                file=args.file, title=DRIVERS[recording.driver].title, n_records=len(recording.records),
+                duration_s=recording.duration_s, speed=args.speed))
         sys.stderr.flush()
         told = False
         try:
@@ -554,7 +573,8 @@ def cmd_passport(args: argparse.Namespace) -> int:
     for item in args.write:
         field, sep, value = item.partition("=")
         if not sep:
-            raise CliError(_("--write {item}: write FIELD=VALUE ({factory_writable})").format(item=item, factory_writable=', '.join(FACTORY_WRITABLE)))
+            raise CliError(_("--write {item}: write FIELD=VALUE ({factory_writable})").format(
+                    item=item, factory_writable=', '.join(FACTORY_WRITABLE)))
         Passport().with_field(field, value)          # a bad field or value fails before the port opens
         writes.append((field, value))
     with _connect(args) as client:
@@ -600,15 +620,19 @@ def cmd_virtual_charger(args: argparse.Namespace) -> int:
                 try:
                     where, stop = serve_tcp(device, host.strip("[]") or "127.0.0.1", int(port), baud)
                 except ValueError:
-                    raise CliError(_("--tcp {tcp}: write HOST:PORT, e.g. 127.0.0.1:7777").format(tcp=args.tcp)) from None
+                    raise CliError(_("--tcp {tcp}: write HOST:PORT, e.g. 127.0.0.1:7777").format(
+                            tcp=args.tcp)) from None
             else:
                 where, stop = serve_pty(device, baud)
         except OSError as exc:
-            raise CliError(_("cannot open the virtual charger's port: {error}").format(error=exc.strerror or exc), 1) from None
+            raise CliError(_("cannot open the virtual charger's port: {error}").format(
+                    error=exc.strerror or exc), 1) from None
         sys.stdout.write(where + "\n")
         sys.stdout.flush()
         sys.stderr.write(_("virtual charger: {model}, battery {battery}, speed x{speed:g}, passport {value}; "
-                           "Ctrl+C ends\n").format(model=device.model, battery=device.battery, speed=device.speed, value='none' if device.chip is None else device.chip.passport.type_name))
+                           "Ctrl+C ends\n").format(
+                model=device.model, battery=device.battery, speed=device.speed,
+                value='none' if device.chip is None else device.chip.passport.type_name))
         sys.stderr.flush()
         try:
             while not stop_requested.wait(0.5):

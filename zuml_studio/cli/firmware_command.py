@@ -39,10 +39,12 @@ def build_device(board: str) -> list[str]:
     """`make` the board's targets in firmware/ (a no-op when up to date); the device's command."""
     targets, tools, command = BOARDS[board]
     if not (FIRMWARE / "Makefile").is_file():
-        raise CliError(_("the firmware sources are not here ({firmware}): run from a ZUML Studio checkout").format(firmware=FIRMWARE))
+        raise CliError(_("the firmware sources are not here ({firmware}): run from a ZUML Studio checkout").format(
+                firmware=FIRMWARE))
     missing = [tool for tool in tools if shutil.which(tool) is None]
     if missing:
-        raise CliError(_("{missing} not found: the firmware cannot be built ({install})").format(missing=', '.join(missing), install=INSTALL))
+        raise CliError(_("{missing} not found: the firmware cannot be built ({install})").format(
+                missing=', '.join(missing), install=INSTALL))
     done = subprocess.run(["make", "-s", "-C", str(FIRMWARE), *targets], capture_output=True, text=True)
     if done.returncode != 0:
         raise CliError(f"the firmware did not build ({INSTALL}?):\n{done.stdout}{done.stderr}".rstrip())

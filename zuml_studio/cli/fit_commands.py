@@ -78,7 +78,8 @@ def _log_chemistry(args: argparse.Namespace, curve: Curve) -> str:
         return load_chemistry(curve.chemistry).name
     except KeyError:
         named = _(" (it names '{chemistry}')").format(chemistry=curve.chemistry) if curve.chemistry else ""
-        raise CliError(_("{log}: the log does not name a modelled chemistry{named}: give --chemistry").format(log=args.log, named=named)) from None
+        raise CliError(_("{log}: the log does not name a modelled chemistry{named}: give --chemistry").format(
+                log=args.log, named=named)) from None
 
 
 def cmd_fit(args: argparse.Namespace) -> int:
@@ -96,7 +97,8 @@ def cmd_fit(args: argparse.Namespace) -> int:
         json.dump({"params": result.params, **result.figures}, sys.stdout, indent=2)
         out()
         return 0
-    out(_("{log}: {chemistry} {series}S, {samples} samples, {minutes:.0f} min of charge").format(log=args.log, chemistry=chemistry, series=series, samples=len(curve.t), minutes=curve.t[-1] / 60))
+    out(_("{log}: {chemistry} {series}S, {samples} samples, {minutes:.0f} min of charge").format(
+            log=args.log, chemistry=chemistry, series=series, samples=len(curve.t), minutes=curve.t[-1] / 60))
     for k, v in result.params.items():
         out(f"  {k:14s}{v:g}")
     for line in _figure_lines(result.figures):
@@ -131,5 +133,6 @@ def cmd_compare(args: argparse.Namespace) -> int:
         out(line)
     for who in ("real", "model"):
         e = result.report["ends"][who]
-        out(_("{who:6s} ended {e:.1f} min, {e2} mAh: {e3}").format(who=who, e=e['time_s'] / 60, e2=e['mah'], e3=e['why']))
+        out(_("{who:6s} ended {e:.1f} min, {e2} mAh: {e3}").format(
+                who=who, e=e['time_s'] / 60, e2=e['mah'], e3=e['why']))
     return 0

@@ -38,7 +38,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("image", help=_("pack records into an EEPROM image, or list one"))
     p.add_argument("files", nargs="+", metavar="FILE", help=_(".zuml or .bin files, or the image with --list"))
     p.add_argument("-o", "--output", metavar="eeprom.bin")
-    p.add_argument("--size", type=int, default=DEFAULT_SIZE, help=_("EEPROM size in bytes (default {default_size})").format(default_size=DEFAULT_SIZE))
+    p.add_argument("--size", type=int, default=DEFAULT_SIZE, help=_("EEPROM size in bytes (default {default_size})").format(
+            default_size=DEFAULT_SIZE))
     p.add_argument("--list", action="store_true", help=_("list the records in an image"))
     p.add_argument("--extract", type=int, metavar="N", help=_("write slot N of the image to -o"))
     add_force_unsafe(p)
@@ -98,7 +99,8 @@ def cmd_compile(args: argparse.Namespace) -> int:
     result = compile_source(read_text(args.file))
     _report(args.file, result, stream=sys.stderr)
     if not result.ok:
-        raise CliError(_("{file}: {n_errors} error(s); nothing written").format(file=args.file, n_errors=len(result.errors)), 1)
+        raise CliError(_("{file}: {n_errors} error(s); nothing written").format(
+                file=args.file, n_errors=len(result.errors)), 1)
     enc = result.encoded
     if args.hex:
         out(enc.record.hex(" "))
@@ -116,7 +118,8 @@ def _decode(path: str, data: bytes):
     try:
         return decode_record(data)
     except DecodeError as exc:
-        raise CliError(_("{path}: not a valid ZUML record: byte {offset}: {message}").format(path=path, offset=exc.offset, message=exc.message), 1) from None
+        raise CliError(_("{path}: not a valid ZUML record: byte {offset}: {message}").format(
+                path=path, offset=exc.offset, message=exc.message), 1) from None
 
 
 def cmd_decompile(args: argparse.Namespace) -> int:
@@ -162,7 +165,8 @@ def cmd_image(args: argparse.Namespace) -> int:
         raise CliError(str(exc), 1) from None
     write_bytes(args.output, image)
     used = sum(len(r) for r in records)
-    out(_("{output}: {count} record(s), {used} of {size} bytes used, {free} free").format(output=args.output, count=len(records), used=used, size=args.size, free=args.size - used))
+    out(_("{output}: {count} record(s), {used} of {size} bytes used, {free} free").format(
+            output=args.output, count=len(records), used=used, size=args.size, free=args.size - used))
     return 0
 
 
@@ -177,7 +181,10 @@ def _list(path: str, image: bytes, found) -> int:
         else:
             bad += 1
             out(_("{index:>4}  {offset:>6}  {n_record:>4}  {value:<16}  {value:<6}  BAD: byte {offset2}: "
-                  "{message}").format(index=slot.index, offset=slot.offset, n_record=len(slot.record), value='?', offset2=slot.error.offset, message=slot.error.message))
+                  "{message}").format(
+                    index=slot.index, offset=slot.offset, n_record=len(slot.record), value='?',
+                    offset2=slot.error.offset, message=slot.error.message))
     used = sum(len(s.record) for s in found)
-    out(_("{count} record(s), {used} of {size} bytes used, {free} free").format(count=len(found), used=used, size=len(image), free=len(image) - used))
+    out(_("{count} record(s), {used} of {size} bytes used, {free} free").format(
+            count=len(found), used=used, size=len(image), free=len(image) - used))
     return 1 if bad else 0

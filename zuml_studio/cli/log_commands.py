@@ -45,13 +45,16 @@ def cmd_info(args: argparse.Namespace) -> int:
         return 0
     _num = lambda v, fmt: "–" if v is None else format(v, fmt)  # noqa: E731
     out(f"{args.file}: {info['format']}, {info['device']}")
-    out(_("  samples      {samples} ({bad} bad records), {duration}").format(samples=info['samples'], bad=info['bad_records'], duration=hms(info['duration_s'])))
-    voltage = _("  voltage      {low} to {high} V").format(low=_num(info['v_min'], '.3f'), high=_num(info['v_max'], '.3f'))
+    out(_("  samples      {samples} ({bad} bad records), {duration}").format(
+            samples=info['samples'], bad=info['bad_records'], duration=hms(info['duration_s'])))
+    voltage = _("  voltage      {low} to {high} V").format(
+            low=_num(info['v_min'], '.3f'), high=_num(info['v_max'], '.3f'))
     if info["cells"]:
         voltage += ngettext(", {n} cell", ", {n} cells", info["cells"]).format(n=info["cells"])
     out(voltage)
     out(_("  current      up to {current} A").format(current=_num(info['i_max_a'], '.3f')))
-    out(_("  charge       in {charge_in} mAh, out {charge_out} mAh").format(charge_in=_num(info['charge_in_mah'], '.0f'), charge_out=_num(info['charge_out_mah'], '.0f')))
+    out(_("  charge       in {charge_in} mAh, out {charge_out} mAh").format(
+            charge_in=_num(info['charge_in_mah'], '.0f'), charge_out=_num(info['charge_out_mah'], '.0f')))
     if info["t_max_c"] is not None:
         out(_("  temperature  {low:.1f} to {high:.1f} °C").format(low=info['t_min_c'], high=info['t_max_c']))
     out(_("  phases       {n}").format(n=len(info['phases'])))
@@ -66,6 +69,7 @@ def cmd_export(args: argparse.Namespace) -> int:
         with open(args.output, "w", encoding="utf-8", newline="") as fh:
             rows = write_csv(log, fh)
     except OSError as exc:
-        raise CliError(_("{output}: cannot write: {error}").format(output=args.output, error=exc.strerror or exc)) from None
+        raise CliError(_("{output}: cannot write: {error}").format(
+                output=args.output, error=exc.strerror or exc)) from None
     out(_("wrote {rows} rows to {output}").format(rows=rows, output=args.output))
     return 0

@@ -18,7 +18,8 @@ def _rate(text: str) -> float:
     try:
         return float(value)
     except ValueError:
-        raise argparse.ArgumentTypeError(_("{text!r} is not a charge rate such as 1C or 0.5C").format(text=text)) from None
+        raise argparse.ArgumentTypeError(_("{text!r} is not a charge rate such as 1C or 0.5C").format(
+                text=text)) from None
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -52,8 +53,10 @@ def cmd_new(args: argparse.Namespace) -> int:
         try:
             atomic_write(Path(args.output), text.encode("utf-8"))
         except OSError as exc:
-            raise CliError(_("{output}: cannot write: {error}").format(output=args.output, error=exc.strerror or exc)) from None
-        out(_("{output}: {name}, {n_record} bytes").format(output=args.output, name=result.macro.name, n_record=len(result.record)) if result.ok else args.output)
+            raise CliError(_("{output}: cannot write: {error}").format(
+                    output=args.output, error=exc.strerror or exc)) from None
+        out(_("{output}: {name}, {n_record} bytes").format(
+                output=args.output, name=result.macro.name, n_record=len(result.record)) if result.ok else args.output)
     else:
         sys.stdout.write(text)
     return 0 if result.ok else 1

@@ -96,7 +96,11 @@ def hms(seconds: float) -> str:
 def _table(args: argparse.Namespace, result: SimResult) -> None:
     p = result.interpreter.params
     out(_("{name}: {task}{value}, {chemistry} model {capacity_mah:g} mAh x {series} cell(s), {ambient:g} °C, "
-          "sensor {value2}").format(name=result.interpreter.program.name, task=p.task, value=f' x{p.repetitions}' if p.task == 'train' else '', chemistry=result.chemistry, capacity_mah=result.capacity_mah, series=result.series, ambient=args.ambient, value2='on' if p.sensor else 'off'))
+          "sensor {value2}").format(
+            name=result.interpreter.program.name, task=p.task,
+            value=f' x{p.repetitions}' if p.task == 'train' else '', chemistry=result.chemistry,
+            capacity_mah=result.capacity_mah, series=result.series, ambient=args.ambient,
+            value2='on' if p.sensor else 'off'))
     width = max([len(ph.reason) for ph in result.phases] + [6])
     out(f"{'#':>3}  {'section':<9} {'phase':>5}  {'start':>8}  {'end':>8}  {'reason':<{width}}  "
         f"{'in mAh':>8}  {'out mAh':>8}  {'V end':>7}  {'T end':>6}  notes")
@@ -107,14 +111,19 @@ def _table(args: argparse.Namespace, result: SimResult) -> None:
              f"{ph.reason:<{width}}  {ph.mah_in:>8.1f}  {ph.mah_out:>8.1f}  {ph.v_end:>7.3f}  {ph.temp_end:>6.1f}  "
              f"{'⚠ ' if ph.timer_before_full else ''}{notes}").rstrip())
     t = result.totals()
-    out(_("total {duration}, in {charge_in:.1f} mAh, out {charge_out:.1f} mAh; end: {end}").format(duration=hms(t['duration_s']), charge_in=t['mah_in'], charge_out=t['mah_out'], end=t['end']))
+    out(_("total {duration}, in {charge_in:.1f} mAh, out {charge_out:.1f} mAh; end: {end}").format(
+            duration=hms(t['duration_s']), charge_in=t['mah_in'], charge_out=t['mah_out'], end=t['end']))
     if p.task == "train":
         for rep in result.repetitions():
             out(_("repetition {repetition}: discharged {discharged:.1f} mAh (measured capacity), charged "
-                  "{charged:.1f} mAh").format(repetition=rep['repetition'], discharged=rep['discharged_mah'], charged=rep['charged_mah']))
+                  "{charged:.1f} mAh").format(
+                    repetition=rep['repetition'], discharged=rep['discharged_mah'], charged=rep['charged_mah']))
     for ph in result.phases:
         if ph.by_default:
-            out(_("note: phase {run} ({section}) ended by {reason}, not by a condition of the macro").format(run=ph.run, section=ph.section, reason=ph.reason))
+            out(_("note: phase {run} ({section}) ended by {reason}, not by a condition of the macro").format(
+                    run=ph.run, section=ph.section, reason=ph.reason))
         if ph.timer_before_full:
             out(_("⚠ phase {run} ({section}): timer before full: {reason} ended it with {mah_in:.0f} mAh put in, "
-                  "less than the {capacity_mah:g} mAh capacity").format(run=ph.run, section=ph.section, reason=ph.reason, mah_in=ph.mah_in, capacity_mah=result.capacity_mah))
+                  "less than the {capacity_mah:g} mAh capacity").format(
+                    run=ph.run, section=ph.section, reason=ph.reason, mah_in=ph.mah_in,
+                    capacity_mah=result.capacity_mah))

@@ -44,7 +44,8 @@ def read_text(relative: str) -> str:
     except FileNotFoundError:
         raise _missing(location(relative)) from None
     except (OSError, UnicodeDecodeError) as exc:
-        raise DataFileError(_("data file {location} is unreadable ({exc}): reinstall ZUML Studio").format(location=location(relative), exc=exc)) from None
+        raise DataFileError(_("data file {location} is unreadable ({exc}): reinstall ZUML Studio").format(
+                location=location(relative), exc=exc)) from None
 
 
 def read_toml(relative: str) -> dict:
@@ -52,7 +53,8 @@ def read_toml(relative: str) -> dict:
     try:
         return tomllib.loads(read_text(relative))
     except tomllib.TOMLDecodeError as exc:
-        raise DataFileError(_("data file {location} is not valid TOML: {exc}").format(location=location(relative), exc=exc)) from None
+        raise DataFileError(_("data file {location} is not valid TOML: {exc}").format(
+                location=location(relative), exc=exc)) from None
 
 
 def names(folder: str, suffix: str = ".toml") -> list[str]:

@@ -121,7 +121,8 @@ def _open_error(url: str, exc: Exception) -> DeviceLinkError:
     if code in (errno.EBUSY, errno.EAGAIN) or "busy" in low or "exclusively lock" in low or "errno 16" in low:
         return PortBusy(url, text)
     if code == errno.ENOENT or "no such file" in low or "errno 2]" in low or "filenotfound" in low:
-        return PortNotFound(_("{url}: no such port (unplugged? run `zuml ports`).{vanished_hint}").format(url=url, vanished_hint=vanished_hint(url)))
+        return PortNotFound(_("{url}: no such port (unplugged? run `zuml ports`).{vanished_hint}").format(
+                url=url, vanished_hint=vanished_hint(url)))
     if "refused" in low or code == errno.ECONNREFUSED:
         return PortNotFound(_("{url}: nothing listens there (is the virtual charger running?)").format(url=url))
     return DeviceLinkError(_("{url}: cannot open: {text}").format(url=url, text=text))
@@ -171,10 +172,12 @@ class ChargerClient:
             self.info = self.identify()
         except DeviceTimeout:
             self.close()
-            raise NotACharger(_("{url}: no ZUML charger answered (wrong port or baud rate? tried {baudrate} baud)").format(url=url, baudrate=self.baudrate)) from None
+            raise NotACharger(_("{url}: no ZUML charger answered (wrong port or baud rate? tried {baudrate} baud)").format(
+                    url=url, baudrate=self.baudrate)) from None
         except DeviceError as exc:
             self.close()
-            raise NotACharger(_("{url}: the device refused IDENTIFY ({exc}); not a ZUML charger?").format(url=url, exc=exc)) from None
+            raise NotACharger(_("{url}: the device refused IDENTIFY ({exc}); not a ZUML charger?").format(
+                    url=url, exc=exc)) from None
         except Disconnected:
             self.close()
             # Only a TCP charger that already serves another program closes a new connection at once.
@@ -189,7 +192,8 @@ class ChargerClient:
             version = self.info.protocol
             self.close()
             raise NotACharger(_("{url}: the charger speaks protocol {version}; this ZUML Studio speaks "
-                                "{protocol_version}").format(url=url, version=version, protocol_version=m.PROTOCOL_VERSION))
+                                "{protocol_version}").format(
+                    url=url, version=version, protocol_version=m.PROTOCOL_VERSION))
         self._chunk = max(MIN_CHUNK, min(self.info.max_data, m.MAX_DATA))
 
     # -- lifecycle -----------------------------------------------------------------------------
@@ -251,7 +255,8 @@ class ChargerClient:
                 data = ser.read(ser.in_waiting or 1)
             except Exception as exc:   # noqa: BLE001 - SerialException, OSError, a closed port
                 if not self._closing:
-                    self._lost(Disconnected(_("{url}: the connection was lost ({why_lost})").format(url=self.url, why_lost=_why_lost(exc))))
+                    self._lost(Disconnected(_("{url}: the connection was lost ({why_lost})").format(
+                            url=self.url, why_lost=_why_lost(exc))))
                 return
             if not data:
                 if parser.pending:           # the line went quiet inside a frame: its LEN was garbage
@@ -424,7 +429,8 @@ class ChargerClient:
                     self.stats["timeouts"] += 1
                     if timeouts > self.retries or time.monotonic() >= deadline_total + per_try:
                         raise DeviceTimeout(_("{url}: no answer to {name} after {timeouts} tries ({per_try:.2f} "
-                                              "s each)").format(url=self.url, name=name, timeouts=timeouts, per_try=per_try))
+                                              "s each)").format(
+                                url=self.url, name=name, timeouts=timeouts, per_try=per_try))
                     self.stats["retries"] += 1
             finally:
                 with self._cv:
@@ -441,7 +447,8 @@ class ChargerClient:
         except Exception as exc:   # noqa: BLE001
             import serial
             if isinstance(exc, serial.SerialTimeoutException):
-                raise DeviceTimeout(_("{url}: the port does not take data (flow control?)").format(url=self.url)) from None
+                raise DeviceTimeout(_("{url}: the port does not take data (flow control?)").format(
+                        url=self.url)) from None
             err = Disconnected(_("{url}: the connection was lost ({exc})").format(url=self.url, exc=exc))
             self._lost(err)
             raise err from None
@@ -464,7 +471,8 @@ class ChargerClient:
         try:
             return m.decode_response(m.BY_NAME[name].code, answer)
         except m.PayloadError as exc:
-            raise DeviceError(m.ErrorCode.BAD_REQUEST, _("the charger's answer to {name} does not fit: {exc}").format(name=name, exc=exc)) from None
+            raise DeviceError(m.ErrorCode.BAD_REQUEST, _("the charger's answer to {name} does not fit: {exc}").format(
+                    name=name, exc=exc)) from None
 
     # -- the API -------------------------------------------------------------------------------------
     def identify(self) -> DeviceInfo:
@@ -476,7 +484,8 @@ class ChargerClient:
     def read_eeprom(self, offset: int, length: int) -> bytes:
         v = self._call("READ_EEPROM", response_len=length + 2, offset=offset, length=length)
         if v["offset"] != offset or len(v["data"]) != length:
-            raise DeviceError(m.ErrorCode.BAD_REQUEST, _("asked for {length} bytes at {offset}, got {n_v} at {v}").format(length=length, offset=offset, n_v=len(v['data']), v=v['offset']))
+            raise DeviceError(m.ErrorCode.BAD_REQUEST, _("asked for {length} bytes at {offset}, got {n_v} at {v}").format(
+                    length=length, offset=offset, n_v=len(v['data']), v=v['offset']))
         return v["data"]
 
     def read_image(self, progress: Callable[[str, int, int], None] | None = None, *, stage: str = "read") -> bytes:
@@ -591,9 +600,11 @@ class ChargerClient:
             raise self._uncertain(exc, image, current) from None
         if back != image:
             if not confirmed and back == current:
-                raise DeviceTimeout(_("{url}: the charger did not take COMMIT; it keeps its previous image").format(url=self.url))
+                raise DeviceTimeout(_("{url}: the charger did not take COMMIT; it keeps its previous image").format(
+                        url=self.url))
             at = next(i for i in range(size) if back[i] != image[i])
-            raise VerifyFailed(_("verify failed: byte {at} reads 0x{back:02x}, wrote 0x{image:02x}").format(at=at, back=back[at], image=image[at]))
+            raise VerifyFailed(_("verify failed: byte {at} reads 0x{back:02x}, wrote 0x{image:02x}").format(
+                    at=at, back=back[at], image=image[at]))
         return WriteResult(size, changed, sent, chunks, time.monotonic() - started)
 
     def _abort(self, token: int) -> None:
@@ -661,7 +672,8 @@ class ChargerClient:
         """Pass an 8-byte passport request to the battery; its 32-byte answer."""
         answer = self._call("PASSPORT", response_len=pp.SIZE, request=bytes(request))["answer"]
         if len(answer) != pp.SIZE:
-            raise DeviceError(m.ErrorCode.PASSPORT_ERROR, _("the passport answer has {n_answer} bytes, not 32").format(n_answer=len(answer)))
+            raise DeviceError(m.ErrorCode.PASSPORT_ERROR, _("the passport answer has {n_answer} bytes, not 32").format(
+                    n_answer=len(answer)))
         return answer
 
     def _passport_answer(self, request: bytes) -> bytes:
@@ -677,7 +689,8 @@ class ChargerClient:
         try:
             return pp.Passport.from_bytes(answer)
         except pp.PassportError as exc:
-            raise DeviceError(m.ErrorCode.PASSPORT_ERROR, _("the battery's passport is unreadable: {exc}").format(exc=exc)) from None
+            raise DeviceError(m.ErrorCode.PASSPORT_ERROR, _("the battery's passport is unreadable: {exc}").format(
+                    exc=exc)) from None
 
     def passport_if_any(self) -> pp.Passport | None:
         """The passport, or None when the battery has no chip or an unreadable one (the charger's
@@ -697,14 +710,16 @@ class ChargerClient:
         try:
             current = pp.Passport.from_bytes(old)
         except pp.PassportError as exc:
-            raise DeviceError(m.ErrorCode.PASSPORT_ERROR, _("the battery's passport is unreadable: {exc}").format(exc=exc)) from None
+            raise DeviceError(m.ErrorCode.PASSPORT_ERROR, _("the battery's passport is unreadable: {exc}").format(
+                    exc=exc)) from None
         wanted = current.with_field(field, value)
         for req in pp.page_writes(old, wanted.to_bytes()):
             self._passport_answer(req)
         now = self.passport_read()
         key = field.strip().lower()
         if getattr(now, key) != getattr(wanted, key):
-            raise VerifyFailed(_("the passport's {key} reads {read!r} after writing {written!r}").format(key=key, read=getattr(now, key), written=getattr(wanted, key)))
+            raise VerifyFailed(_("the passport's {key} reads {read!r} after writing {written!r}").format(
+                    key=key, read=getattr(now, key), written=getattr(wanted, key)))
         return now
 
 
@@ -717,7 +732,8 @@ def check_image(image: bytes) -> None:
     bad = [s for s in found if not s.ok]
     if bad:
         s = bad[0]
-        raise InvalidImage(_("slot {index} at offset {offset} does not decode: {error}").format(index=s.index, offset=s.offset, error=s.error))
+        raise InvalidImage(_("slot {index} at offset {offset} does not decode: {error}").format(
+                index=s.index, offset=s.offset, error=s.error))
 
 
 def _pause(seconds: float) -> None:
@@ -750,7 +766,8 @@ def _template(fields: dict):
     try:
         return m.template_of(fields)[1]
     except TemplateError as exc:
-        raise DeviceError(m.ErrorCode.BAD_REQUEST, _("the charger's start template does not fit: {exc}").format(exc=exc)) from None
+        raise DeviceError(m.ErrorCode.BAD_REQUEST, _("the charger's start template does not fit: {exc}").format(
+                exc=exc)) from None
 
 
 def _u16(value: float | None, scale: float) -> int:
@@ -758,5 +775,6 @@ def _u16(value: float | None, scale: float) -> int:
         return 0
     raw = round(value * scale)
     if raw > 0xFFFF:
-        raise ValueError(_("{value} does not fit the start request (at most {value2:g})").format(value=value, value2=0xFFFF / scale))
+        raise ValueError(_("{value} does not fit the start request (at most {value2:g})").format(
+                value=value, value2=0xFFFF / scale))
     return max(1, raw)

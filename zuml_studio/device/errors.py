@@ -21,7 +21,8 @@ class PermissionDenied(DeviceLinkError):
     """errno 13 opening the port."""
 
     def __init__(self, port: str, detail: str = ""):
-        super().__init__(_("{port}: permission denied; {refused_advice}").format(port=port, refused_advice=refused_advice(port)))
+        super().__init__(_("{port}: permission denied; {refused_advice}").format(
+                port=port, refused_advice=refused_advice(port)))
         self.port = port
         self.detail = detail
 
@@ -83,7 +84,8 @@ class ImageTooLarge(DeviceLinkError):
     """An EEPROM image larger than the device's EEPROM."""
 
     def __init__(self, size: int, eeprom_size: int):
-        super().__init__(_("the image is {size} bytes; the charger's EEPROM holds {eeprom_size}").format(size=size, eeprom_size=eeprom_size))
+        super().__init__(_("the image is {size} bytes; the charger's EEPROM holds {eeprom_size}").format(
+                size=size, eeprom_size=eeprom_size))
         self.size = size
         self.eeprom_size = eeprom_size
 

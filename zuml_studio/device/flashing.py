@@ -21,7 +21,8 @@ class SlotOutOfRange(MergeError):
     def __init__(self, slot: int, count: int):
         self.slot = slot
         self.count = count
-        super().__init__(_("slot {slot}: the charger has slots 0..{last} ({count} appends)").format(slot=slot, last=count - 1, count=count) if count
+        super().__init__(_("slot {slot}: the charger has slots 0..{last} ({count} appends)").format(
+                slot=slot, last=count - 1, count=count) if count
                          else _("slot {slot}: the charger has no macros yet (0 appends)").format(slot=slot))
 
 
@@ -33,7 +34,8 @@ class ImageFull(MergeError):
         self.count = count
         self.needed = needed
         self.size = size
-        super().__init__(_("{count} record(s) need {needed} bytes; the EEPROM has {size}").format(count=count, needed=needed, size=size))
+        super().__init__(_("{count} record(s) need {needed} bytes; the EEPROM has {size}").format(
+                count=count, needed=needed, size=size))
 
 
 @dataclass(frozen=True)

@@ -51,7 +51,8 @@ def encode_frame(type: int, seq: int, payload: bytes = b"") -> bytes:
     if not 0 <= type <= 0xFF or not 0 <= seq <= 0xFF:
         raise ValueError(_("type and seq are bytes (0..255)"))
     if len(payload) > MAX_PAYLOAD:
-        raise ValueError(_("a payload has at most {max_payload} bytes, not {n_payload}").format(max_payload=MAX_PAYLOAD, n_payload=len(payload)))
+        raise ValueError(_("a payload has at most {max_payload} bytes, not {n_payload}").format(
+                max_payload=MAX_PAYLOAD, n_payload=len(payload)))
     body = bytes((len(payload), type, seq)) + bytes(payload)
     crc = crc16(body)
     return b"\xa5" + body + bytes((crc & 0xFF, crc >> 8))

@@ -20,7 +20,8 @@ def _hid():
     try:
         import hid
     except ImportError as exc:
-        raise DeviceLinkError(_("USB-HID chargers need the hidapi package (pip install hidapi): {exc}").format(exc=exc)) from None
+        raise DeviceLinkError(_("USB-HID chargers need the hidapi package (pip install hidapi): {exc}").format(
+                exc=exc)) from None
     return hid
 
 
@@ -64,7 +65,8 @@ def parse_port(port: str) -> tuple[int, int, int]:
         if len(parts) > 3 or not (0 <= vid <= 0xFFFF and 0 <= pid <= 0xFFFF) or index < 0:
             raise ValueError
     except (ValueError, IndexError):
-        raise DeviceLinkError(_("{port}: write a HID port as hid:VVVV:PPPP (hex ids), e.g. hid:0483:5751").format(port=port)) from None
+        raise DeviceLinkError(_("{port}: write a HID port as hid:VVVV:PPPP (hex ids), e.g. hid:0483:5751").format(
+                port=port)) from None
     return vid, pid, index
 
 

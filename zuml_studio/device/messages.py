@@ -176,7 +176,8 @@ def pack_fields(fields: tuple[Field, ...], values: dict) -> bytes:
 def unpack_fields(fields: tuple[Field, ...], payload: bytes) -> dict:
     st, names, tail = _layout(fields)
     if len(payload) < st.size or (not tail and len(payload) != st.size):
-        raise PayloadError(_("payload of {n_payload} bytes; the layout needs {size}").format(n_payload=len(payload), size=st.size))
+        raise PayloadError(_("payload of {n_payload} bytes; the layout needs {size}").format(
+                n_payload=len(payload), size=st.size))
     values = dict(zip(names, st.unpack_from(payload)))
     at = st.size
     for f in tail:
@@ -196,7 +197,8 @@ def unpack_fields(fields: tuple[Field, ...], payload: bytes) -> dict:
             values[f.name] = bytes(payload[at:]).decode("utf-8", "replace")
             at = len(payload)
     if at != len(payload):
-        raise PayloadError(_("{n_payload} extra byte(s) after the payload's fields").format(n_payload=len(payload) - at))
+        raise PayloadError(_("{n_payload} extra byte(s) after the payload's fields").format(
+                n_payload=len(payload) - at))
     return values
 
 
@@ -277,7 +279,8 @@ class Telemetry:
     @classmethod
     def decode(cls, payload: bytes) -> "Telemetry":
         if len(payload) != _TELEMETRY_STRUCT.size:
-            raise PayloadError(_("TELEMETRY has {size} bytes, not {n_payload}").format(size=_TELEMETRY_STRUCT.size, n_payload=len(payload)))
+            raise PayloadError(_("TELEMETRY has {size} bytes, not {n_payload}").format(
+                    size=_TELEMETRY_STRUCT.size, n_payload=len(payload)))
         (t, task, section, rep, cycle, phase, run, flags, mv, ma, tc, hs, qi, qo) = \
             _TELEMETRY_STRUCT.unpack(payload)
         return cls(t / 1000.0, TASKS[task] if task < len(TASKS) else "charge",

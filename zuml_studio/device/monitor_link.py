@@ -32,7 +32,8 @@ class MonitorLink:
         self.port = port
         self.hid = port.startswith(PREFIX)
         if driver != AUTO and driver not in DRIVERS:
-            raise DeviceLinkError(_("unknown driver {driver!r}; drivers: auto, {drivers}").format(driver=driver, drivers=', '.join(DRIVERS)))
+            raise DeviceLinkError(_("unknown driver {driver!r}; drivers: auto, {drivers}").format(
+                    driver=driver, drivers=', '.join(DRIVERS)))
         self.requested = driver
         self.baud = baud
         self.give_up = give_up              # auto: stop with a message after a sweep with no charger
@@ -74,11 +75,13 @@ class MonitorLink:
                 self.driver = driver_for(dev.vid, dev.pid)
                 if self.driver is None:
                     dev.close()
-                    raise DeviceLinkError(_("{port}: no driver for USB id {vid:04x}:{pid:04x}").format(port=self.port, vid=dev.vid, pid=dev.pid))
+                    raise DeviceLinkError(_("{port}: no driver for USB id {vid:04x}:{pid:04x}").format(
+                            port=self.port, vid=dev.vid, pid=dev.pid))
                 self._decoder = self.driver.decoder()
             elif self.driver.transport != "hid":
                 dev.close()
-                raise DeviceLinkError(_("{port}: {name} is a serial charger, not USB HID").format(port=self.port, name=self.driver.name))
+                raise DeviceLinkError(_("{port}: {name} is a serial charger, not USB HID").format(
+                        port=self.port, name=self.driver.name))
             return dev
         # A HID driver on a serial port reads a replayed report dump (``zuml replay``): the reports
         # come as a byte stream and nothing is polled.

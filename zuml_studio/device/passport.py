@@ -100,7 +100,8 @@ def akk_code(text: str | int) -> int:
             code = int(t, 0)
         except ValueError:
             names = ", ".join(DISPLAY_NAMES[k] for k in AKK_KIND.names)
-            raise PassportError(_("'{text}' is not a battery type; use one of {names} or 0..255").format(text=text, names=names)) from None
+            raise PassportError(_("'{text}' is not a battery type; use one of {names} or 0..255").format(
+                    text=text, names=names)) from None
     if not 0 <= code <= 255:
         raise PassportError(_("battery type {code} is not 0..255").format(code=code))
     return code
@@ -152,10 +153,12 @@ class Passport:
         if len(data) != SIZE:
             raise PassportError(_("a passport is {size} bytes, not {n_data}").format(size=SIZE, n_data=len(data)))
         if data[0] != MAGIC:
-            raise PassportError(_("passport magic is 0x{data:02x}, expected 0x{magic:02x}").format(data=data[0], magic=MAGIC))
+            raise PassportError(_("passport magic is 0x{data:02x}, expected 0x{magic:02x}").format(
+                    data=data[0], magic=MAGIC))
         stored, expected = int.from_bytes(data[0x1E:0x20], "little"), check_word(data)
         if stored != expected:
-            raise PassportError(_("passport check is 0x{stored:04x}, expected 0x{expected:04x}").format(stored=stored, expected=expected))
+            raise PassportError(_("passport check is 0x{stored:04x}, expected 0x{expected:04x}").format(
+                    stored=stored, expected=expected))
         magic, version, serial, vendor, typ, err, crit, vl, al, temp = _BODY.unpack(data[:0x1E])
         return cls(_text(serial), _text(vendor), typ, err, crit, vl, al, temp, version)
 
@@ -164,7 +167,8 @@ class Passport:
         battery lets the charger write is the battery's decision (``PassportChip``)."""
         field = field.strip().lower()
         if field not in FIELDS:
-            raise PassportError(_("'{field}' is not a passport field; fields: {fields}").format(field=field, fields=', '.join(FIELDS)))
+            raise PassportError(_("'{field}' is not a passport field; fields: {fields}").format(
+                    field=field, fields=', '.join(FIELDS)))
         if field in ("serial", "vendor"):
             value = str(value)
             _ascii(value, LAYOUT[field][1], field)
@@ -174,7 +178,8 @@ class Passport:
             try:
                 value = int(value, 0) if isinstance(value, str) else int(value)
             except ValueError:
-                raise PassportError(_("{field} takes a whole number, not '{value}'").format(field=field, value=value)) from None
+                raise PassportError(_("{field} takes a whole number, not '{value}'").format(
+                        field=field, value=value)) from None
             _u(value, 0xFFFF if field in ("err", "crit") else 0xFF, field)
         return replace(self, **{field: value})
 
@@ -185,7 +190,8 @@ def _ascii(text: str, size: int, what: str) -> bytes:
     except UnicodeEncodeError:
         raise PassportError(_("{what} must be ASCII").format(what=what)) from None
     if len(raw) > size:
-        raise PassportError(_("{what} has at most {size} characters, not {n_raw}").format(what=what, size=size, n_raw=len(raw)))
+        raise PassportError(_("{what} has at most {size} characters, not {n_raw}").format(
+                what=what, size=size, n_raw=len(raw)))
     if any(b < 0x20 or b > 0x7E for b in raw):
         raise PassportError(_("{what} must be printable ASCII").format(what=what))
     return raw.ljust(size, b"\0")
@@ -249,9 +255,11 @@ def parse_request(req: bytes) -> tuple[str, int, bytes]:
     for a request the battery cannot serve."""
     req = bytes(req)
     if len(req) != REQUEST_SIZE:
-        raise BadRequest(AnswerError.BAD_LENGTH, _("a passport request is {request_size} bytes, not {n_req}").format(request_size=REQUEST_SIZE, n_req=len(req)))
+        raise BadRequest(AnswerError.BAD_LENGTH, _("a passport request is {request_size} bytes, not {n_req}").format(
+                request_size=REQUEST_SIZE, n_req=len(req)))
     if req[0] != MAGIC:
-        raise BadRequest(AnswerError.BAD_MAGIC, _("request magic 0x{req:02x}, expected 0x{magic:02x}").format(req=req[0], magic=MAGIC))
+        raise BadRequest(AnswerError.BAD_MAGIC, _("request magic 0x{req:02x}, expected 0x{magic:02x}").format(
+                req=req[0], magic=MAGIC))
     x = 0
     for b in req[:7]:
         x ^= b
@@ -264,7 +272,8 @@ def parse_request(req: bytes) -> tuple[str, int, bytes]:
     if op is None:
         raise BadRequest(AnswerError.BAD_COMMAND, _("RW_INDEX 0x{rw:02x} is not a passport command").format(rw=rw))
     if (rw & 0x0F) != page or page >= PAGES:
-        raise BadRequest(AnswerError.BAD_PAGE, _("RW_INDEX 0x{rw:02x} with PAGE {page} is not a page 0..{pages}").format(rw=rw, page=page, pages=PAGES - 1))
+        raise BadRequest(AnswerError.BAD_PAGE, _("RW_INDEX 0x{rw:02x} with PAGE {page} is not a page 0..{pages}").format(
+                rw=rw, page=page, pages=PAGES - 1))
     return op, page, data
 
 

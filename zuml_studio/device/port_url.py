@@ -55,9 +55,11 @@ def check_port_url(url: str) -> None:
     for key, value in parse_qsl(parts.query, keep_blank_values=True):
         allowed = NETWORK[scheme]
         if key not in allowed:
-            _bad(url, _("'{key}' is not an option of {scheme}:// (options: {allowed})").format(key=key, scheme=scheme, allowed=', '.join(allowed)))
+            _bad(url, _("'{key}' is not an option of {scheme}:// (options: {allowed})").format(
+                    key=key, scheme=scheme, allowed=', '.join(allowed)))
         if key == "logging" and value not in LOG_LEVELS:
-            _bad(url, _("logging={value}: the levels are {log_levels}").format(value=value, log_levels=', '.join(LOG_LEVELS)))
+            _bad(url, _("logging={value}: the levels are {log_levels}").format(
+                    value=value, log_levels=', '.join(LOG_LEVELS)))
         if key == "timeout" and not _number(value):
             _bad(url, _("timeout={value}: give seconds, e.g. timeout=3").format(value=value))
 
@@ -70,4 +72,5 @@ def _number(text: str) -> bool:
 
 
 def _bad(url: str, why: str) -> None:
-    raise BadPortUrl(_("{url}: not a valid port: {why}; a valid one looks like {example}").format(url=url, why=why, example=_(EXAMPLE)))
+    raise BadPortUrl(_("{url}: not a valid port: {why}; a valid one looks like {example}").format(
+            url=url, why=why, example=_(EXAMPLE)))

@@ -89,11 +89,13 @@ class BatterySpec:
         try:
             chem = load_chemistry(parts[0]).name
         except KeyError:
-            raise DeviceSetupError(_("battery '{text}': no model for '{parts}'; use one of {chemistry_names}").format(text=text, parts=parts[0], chemistry_names=', '.join(chemistry_names()))) from None
+            raise DeviceSetupError(_("battery '{text}': no model for '{parts}'; use one of {chemistry_names}").format(
+                    text=text, parts=parts[0], chemistry_names=', '.join(chemistry_names()))) from None
         try:
             cap, cells = float(parts[1]), int(parts[2])
         except ValueError:
-            raise DeviceSetupError(_("battery '{text}': capacity (mAh) and cells must be numbers").format(text=text)) from None
+            raise DeviceSetupError(_("battery '{text}': capacity (mAh) and cells must be numbers").format(
+                    text=text)) from None
         if not 1 < cap < 65535 or not 1 <= cells <= 255 or not math.isfinite(cap):
             raise DeviceSetupError(_("battery '{text}': capacity 2..65534 mAh, cells 1..255").format(text=text))
         return cls(chem, cap, cells)
@@ -216,7 +218,8 @@ class VirtualCharger:
     def _check_speed(speed: float) -> float:
         speed = float(speed)
         if not MIN_SPEED <= speed <= MAX_SPEED:
-            raise DeviceSetupError(_("speed must be {min_speed:g}..{max_speed:g}").format(min_speed=MIN_SPEED, max_speed=MAX_SPEED))
+            raise DeviceSetupError(_("speed must be {min_speed:g}..{max_speed:g}").format(
+                    min_speed=MIN_SPEED, max_speed=MAX_SPEED))
         return speed
 
     def _load_eeprom(self, size: int) -> bytearray:
@@ -227,7 +230,8 @@ class VirtualCharger:
             except OSError as exc:
                 raise DeviceSetupError(f"{self.eeprom_path}: {exc.strerror or exc}") from None
             if len(data) > size:
-                raise DeviceSetupError(_("{eeprom_path}: {n_data} bytes; the EEPROM holds {size}").format(eeprom_path=self.eeprom_path, n_data=len(data), size=size))
+                raise DeviceSetupError(_("{eeprom_path}: {n_data} bytes; the EEPROM holds {size}").format(
+                        eeprom_path=self.eeprom_path, n_data=len(data), size=size))
             image[:len(data)] = data
         return image
 
@@ -405,9 +409,11 @@ class VirtualCharger:
     def _range(self, offset: int, length: int) -> None:
         size = len(self.eeprom)
         if not 1 <= length <= m.MAX_DATA:
-            raise _Refused(m.ErrorCode.BAD_RANGE, _("length {length}: 1..{max_data} bytes per request").format(length=length, max_data=m.MAX_DATA))
+            raise _Refused(m.ErrorCode.BAD_RANGE, _("length {length}: 1..{max_data} bytes per request").format(
+                    length=length, max_data=m.MAX_DATA))
         if offset + length > size:
-            raise _Refused(m.ErrorCode.BAD_RANGE, _("bytes {first}..{last} are outside the {size}-byte EEPROM").format(first=offset, last=offset + length - 1, size=size))
+            raise _Refused(m.ErrorCode.BAD_RANGE, _("bytes {first}..{last} are outside the {size}-byte EEPROM").format(
+                    first=offset, last=offset + length - 1, size=size))
 
     def _do_read_eeprom(self, offset: int, length: int) -> bytes:
         self._range(offset, length)
@@ -443,14 +449,16 @@ class VirtualCharger:
             actual = crc16(staged)
             if actual != crc:
                 raise _Refused(m.ErrorCode.CRC_MISMATCH, _("the staged image's CRC is 0x{actual:04x}, the host says "
-                                                           "0x{crc:04x}: nothing written").format(actual=actual, crc=crc))
+                                                           "0x{crc:04x}: nothing written").format(
+                        actual=actual, crc=crc))
             changed = [i for i in range(len(staged)) if staged[i] != self.eeprom[i]]
             if self.eeprom_path is not None and changed:
                 from ..recovery import atomic_write
                 try:
                     atomic_write(self.eeprom_path, staged)      # the file first: a failure changes nothing
                 except OSError as exc:
-                    raise _Refused(m.ErrorCode.INTERNAL, _("the EEPROM file could not be written: {exc}").format(exc=exc)) from None
+                    raise _Refused(m.ErrorCode.INTERNAL, _("the EEPROM file could not be written: {exc}").format(
+                            exc=exc)) from None
             for i in changed:
                 if self.eeprom_write_s:
                     time.sleep(self.eeprom_write_s)
@@ -484,7 +492,8 @@ class VirtualCharger:
             try:
                 passport = Passport.from_bytes(self.chip.image)
             except PassportError as exc:
-                raise _Refused(m.ErrorCode.PASSPORT_CONFLICT, _("the battery's passport is unreadable ({exc}); not starting").format(exc=exc)) from None
+                raise _Refused(m.ErrorCode.PASSPORT_CONFLICT, _("the battery's passport is unreadable ({exc}); not starting").format(
+                        exc=exc)) from None
             from ..safety import record_problems      # the host's check, again: the last line
             found = record_problems(record, passport, params, charger_max_a=self.limits.max_charge_a)
             if found:
@@ -507,12 +516,15 @@ class VirtualCharger:
         try:
             found = slots(image)
         except ImageError as exc:
-            raise _Refused(m.ErrorCode.INVALID_RECORD, _("the EEPROM's record list is broken: {exc}").format(exc=exc)) from None
+            raise _Refused(m.ErrorCode.INVALID_RECORD, _("the EEPROM's record list is broken: {exc}").format(
+                    exc=exc)) from None
         if slot >= len(found):
-            raise _Refused(m.ErrorCode.BAD_SLOT, _("there is no slot {slot}; the EEPROM holds {n_found} macro(s)").format(slot=slot, n_found=len(found)))
+            raise _Refused(m.ErrorCode.BAD_SLOT, _("there is no slot {slot}; the EEPROM holds {n_found} macro(s)").format(
+                    slot=slot, n_found=len(found)))
         s = found[slot]
         if not s.ok:
-            raise _Refused(m.ErrorCode.INVALID_RECORD, _("slot {slot} does not decode: {error}").format(slot=slot, error=s.error))
+            raise _Refused(m.ErrorCode.INVALID_RECORD, _("slot {slot} does not decode: {error}").format(
+                    slot=slot, error=s.error))
         return s.record, s.name
 
     def _interpreter(self, record: bytes, params: StartParams) -> Interpreter:
@@ -556,7 +568,8 @@ class VirtualCharger:
         with self._lock:
             events = self._run.events if self._run else []
             if number >= len(events):
-                raise _Refused(m.ErrorCode.BAD_RANGE, _("there is no event {number}; the run has {n_events}").format(number=number, n_events=len(events)))
+                raise _Refused(m.ErrorCode.BAD_RANGE, _("there is no event {number}; the run has {n_events}").format(
+                        number=number, n_events=len(events)))
             return events[number].encode()
 
     def _do_list_templates(self) -> bytes:
@@ -568,7 +581,8 @@ class VirtualCharger:
             template = self.templates.get(number)
         if template is None:
             raise _Refused(m.ErrorCode.NO_TEMPLATE, _("there is no start template {number}; the charger holds "
-                                                      "{stored}").format(number=number, stored=', '.join(map(str, sorted(self.templates))) or 'none'))
+                                                      "{stored}").format(
+                    number=number, stored=', '.join(map(str, sorted(self.templates))) or 'none'))
         return m.encode_response("GET_TEMPLATE", **m.template_fields(number, template))
 
     def _do_set_template(self, **fields) -> bytes:
@@ -576,7 +590,8 @@ class VirtualCharger:
             number, template = m.template_of(fields)
             check_number(number)
         except TemplateError as exc:
-            raise _Refused(m.ErrorCode.BAD_RANGE, _("start template {fields}: {exc}").format(fields=fields['number'], exc=exc)) from None
+            raise _Refused(m.ErrorCode.BAD_RANGE, _("start template {fields}: {exc}").format(
+                    fields=fields['number'], exc=exc)) from None
         with self._lock:
             self.templates[number] = template
         return m.encode_response("SET_TEMPLATE", **m.template_fields(number, template))

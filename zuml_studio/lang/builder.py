@@ -94,7 +94,9 @@ class Builder:
             self.open("cycle", cycle, st, "CYCLE")
             return
         if st.raw.shape != "bare":
-            self.error(st.span, "E111", _("{keyword} takes no value").format(keyword=op.keyword), _("write {keyword} alone on its line").format(keyword=op.keyword))
+            self.error(st.span, "E111", _("{keyword} takes no value").format(
+                    keyword=op.keyword), _("write {keyword} alone on its line").format(
+                    keyword=op.keyword))
             return
         if op in (ops.DISCHARGE_SECTION, ops.CHARGE_SECTION):
             self.open_section(st, op)
@@ -120,7 +122,9 @@ class Builder:
         section = getattr(self.macro, kind)
         detached = False
         if section.present:
-            self.error(st.span, "E131", _("A second {keyword}").format(keyword=op.keyword), _("the first one is at line {line}").format(line=section.span.line))
+            self.error(st.span, "E131", _("A second {keyword}").format(
+                    keyword=op.keyword), _("the first one is at line {line}").format(
+                    line=section.span.line))
             detached = True
         elif kind == "discharge" and self.macro.charge.present:
             self.error(st.span, "E132", _("DISCHARGE_SECTION must come before CHARGE_SECTION"),
@@ -175,7 +179,9 @@ class Builder:
         closer = {"phase": "END_FAZE", "cycle": "END_CYCLE", "section": "END_SECTION"}[frame.kind]
         where = (_("{keyword} at line {line}").format(keyword=before, line=at.line) if before is not None
                  else _("the end of the text"))
-        self.error(frame.node.span, "E130", _("{keyword} is not closed").format(keyword=frame.keyword), _("{closer} expected before {where}").format(closer=closer, where=where))
+        self.error(frame.node.span, "E130", _("{keyword} is not closed").format(
+                keyword=frame.keyword), _("{closer} expected before {where}").format(
+                closer=closer, where=where))
 
     def mark_incomplete(self) -> None:
         if self.stack and isinstance(self.stack[-1].node, Phase):
@@ -199,16 +205,20 @@ class Builder:
         known = list(ops.BY_KEYWORD) + sorted(ops.CONDITION_OUTCOMES)
         close = difflib.get_close_matches(word.upper(), known, n=1, cutoff=0.6)
         if word.upper() in ops.CONDITION_OUTCOMES:
-            self.error(st.span, "E104", _("{word} must follow a condition").format(word=word), _("write IF(...) {upper}").format(upper=word.upper()))
+            self.error(st.span, "E104", _("{word} must follow a condition").format(
+                    word=word), _("write IF(...) {upper}").format(
+                    upper=word.upper()))
         else:
             self.error(st.at(st.raw.name), "E110", _("Unknown command '{word}'").format(word=word),
-                       _("did you mean {close}?").format(close=close[0]) if close else _("see Help > Commands for the list"),
+                       _("did you mean {close}?").format(
+                               close=close[0]) if close else _("see Help > Commands for the list"),
                        fix=close[0] if close else "")
 
     def command(self, st: Located, op: Op) -> Statement | None:
         if op.form is Form.ASSIGN and st.raw.shape != "assign":
             example = f"{op.keyword}={op.operands[0].kind.example.split(' ')[0]}"
-            self.error(st.span, "E111", _("{keyword} needs '=' and a value").format(keyword=op.keyword), f"write {example}")
+            self.error(st.span, "E111", _("{keyword} needs '=' and a value").format(
+                    keyword=op.keyword), f"write {example}")
             return None
         if op.form is Form.CALL and st.raw.shape != "call":
             self.error(st.span, "E111", _("{keyword} takes its values in parentheses").format(keyword=op.keyword),
@@ -223,7 +233,8 @@ class Builder:
         if not required <= len(given) <= len(op.operands):
             count = str(required) if required == len(op.operands) else f"{required} or {len(op.operands)}"
             noun = "value" if len(op.operands) == 1 else "values"
-            self.error(st.span, "E112", _("{keyword} takes {count} {noun}, not {n_given}").format(keyword=op.keyword, count=count, noun=noun, n_given=len(given)),
+            self.error(st.span, "E112", _("{keyword} takes {count} {noun}, not {n_given}").format(
+                    keyword=op.keyword, count=count, noun=noun, n_given=len(given)),
                        f"write {op.signature()}")
             return None
         out: list[Arg] = []
@@ -264,7 +275,8 @@ class Builder:
                    if cmp == o.condition.comparison or cmp in o.condition.also_accepts), None)
         if op is None:
             allowed = _(" or ").join(o.signature() for o in candidates)
-            self.error(st.at(st.raw.cmp), "E121", _("IF({var}{cmp}x) is not a condition ZUML knows").format(var=var, cmp=cmp),
+            self.error(st.at(st.raw.cmp), "E121", _("IF({var}{cmp}x) is not a condition ZUML knows").format(
+                    var=var, cmp=cmp),
                        _("allowed: {allowed}").format(allowed=allowed))
             return None
         shown = f"IF({var}{op.condition.comparison}x)"
@@ -275,7 +287,8 @@ class Builder:
             return None
         if st.raw.outcome.value.upper() != op.condition.outcome:
             self.error(st.at(st.raw.outcome), "E123",
-                       _("{shown} can only {outcome}, not {written}").format(shown=shown, outcome=op.condition.outcome, written=st.raw.outcome.value),
+                       _("{shown} can only {outcome}, not {written}").format(
+                               shown=shown, outcome=op.condition.outcome, written=st.raw.outcome.value),
                        _("write {statement}").format(statement=op.condition.outcome))
             return None
         raw = self.value(st, st.raw.args[0], op.operands[0], _("The limit of {condition}").format(condition=shown))

@@ -32,11 +32,13 @@ def name_problem(name: str) -> tuple[str, str, str] | None:
     if not name:
         return "E140", _("The macro needs a name"), _("write MACRO LiPo")
     if len(name) > MAX_NAME:
-        return "E141", _("The name '{name}' is {n_name} characters long; at most {max_name}").format(name=name, n_name=len(name), max_name=MAX_NAME), _("shorten it")
+        return "E141", _("The name '{name}' is {n_name} characters long; at most {max_name}").format(
+                name=name, n_name=len(name), max_name=MAX_NAME), _("shorten it")
     bad = sorted({c for c in name if not " " <= c <= "~" or c in FORBIDDEN_NAME_CHARS})
     if bad or name != name.strip() or name.startswith("("):
         shown = " ".join(repr(c) for c in bad) or _("spaces at the ends or a leading '('")
-        return ("E142", _("The name '{name}' has characters the charger cannot store: {shown}").format(name=name, shown=shown),
+        return ("E142", _("The name '{name}' has characters the charger cannot store: {shown}").format(
+                name=name, shown=shown),
                 _('use printable ASCII without < > : " / \\ | ? *'))
     return None
 
@@ -73,7 +75,9 @@ class Checker:
             shown = st.op.signature()
         else:
             shown = st.op.keyword
-        self.report(st, "E150", _("{shown} cannot stand in {place}").format(shown=shown, place=_(place.value)), _("it belongs in {where}").format(where=where))
+        self.report(st, "E150", _("{shown} cannot stand in {place}").format(
+                shown=shown, place=_(place.value)), _("it belongs in {where}").format(
+                where=where))
         return False
 
     def intro(self) -> None:
@@ -82,7 +86,8 @@ class Checker:
             if not self.placed(st, Place.INTRO):
                 continue
             if st.op.code in seen:
-                self.report(st, "E151", _("{statement} is declared twice").format(statement=st.op.signature() if st.op.condition else st.op.keyword), _("keep one"))
+                self.report(st, "E151", _("{statement} is declared twice").format(
+                        statement=st.op.signature() if st.op.condition else st.op.keyword), _("keep one"))
             seen[st.op.code] = st
 
     def section(self, section: Section) -> None:
@@ -124,7 +129,8 @@ class Checker:
         kinds = [a.op for a in actions]
         cc_cv = sorted(op.code for op in kinds) == [ops.CONSTANT_I.code, ops.CONSTANT_V.code]
         if len(actions) > 1 and not cc_cv:
-            self.report(actions[1], "E154", _("A phase holds one action; this one already has {keyword}").format(keyword=kinds[0].keyword),
+            self.report(actions[1], "E154", _("A phase holds one action; this one already has {keyword}").format(
+                    keyword=kinds[0].keyword),
                         _("CONSTANT_I and CONSTANT_V together make CC-CV; anything else needs its own FAZE"))
 
     def trickle(self, st: Statement) -> None:
@@ -142,7 +148,8 @@ class Checker:
             encode(self.macro)
         except RecordTooLarge as too_large:
             self.report(too_large.node, "E160",
-                        _("The macro needs {size} bytes; a record holds at most {max_record}").format(size=too_large.size, max_record=MAX_RECORD),
+                        _("The macro needs {size} bytes; a record holds at most {max_record}").format(
+                                size=too_large.size, max_record=MAX_RECORD),
                         _("this is where it stops fitting: shorten the macro or split it"))
 
 

@@ -62,7 +62,8 @@ def compile_source(text: str, *, charger=None, unsafe_ok: bool = False) -> Compi
         at = raw.statements[MAX_RECORD - 1].span
         return CompileResult(None, [Diagnostic(Severity.ERROR, at.line, at.column, (at.end_line, at.end_column),
                                                "E160", _("The macro has {max_record} statements or more; each takes a "
-                                                         "byte or more and a record holds at most {max_record}").format(max_record=MAX_RECORD),
+                                                         "byte or more and a record holds at most {max_record}").format(
+                                                       max_record=MAX_RECORD),
                                                _("this is where it stops fitting: shorten the macro or split it"))])
     macro, diagnostics = build(raw)
     from .lint import lint   # the lint reads the checked AST; imported here to keep layers one-way

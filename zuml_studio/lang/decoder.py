@@ -39,7 +39,8 @@ class _Reader:
     def expect(self, op: ops.Op, where: str) -> Instruction:
         ins = self.take()
         if ins.op is not op:
-            raise DecodeError(ins.offset, _("expected {keyword} ({code}) {where}, found {found}").format(keyword=op.keyword, code=op.code, where=where, found=ins.op.keyword))
+            raise DecodeError(ins.offset, _("expected {keyword} ({code}) {where}, found {found}").format(
+                    keyword=op.keyword, code=op.code, where=where, found=ins.op.keyword))
         return ins
 
 
@@ -52,25 +53,30 @@ def _header(data: bytes) -> tuple[int, str, int]:
         raise DecodeError(0, _("no bytes: a record starts with its length"))
     length = data[0]
     if length < MIN_RECORD:
-        raise DecodeError(0, _("record length {length} is below the minimum {min_record}").format(length=length, min_record=MIN_RECORD))
+        raise DecodeError(0, _("record length {length} is below the minimum {min_record}").format(
+                length=length, min_record=MIN_RECORD))
     if len(data) < length:
-        raise DecodeError(len(data), _("the record says {length} bytes but only {n_data} are there").format(length=length, n_data=len(data)))
+        raise DecodeError(len(data), _("the record says {length} bytes but only {n_data} are there").format(
+                length=length, n_data=len(data)))
     if len(data) > length:
         raise DecodeError(length, _("{n_data} byte(s) follow the record's end at {length} (an EEPROM image? use "
                                     "the image commands)").format(n_data=len(data) - length, length=length))
     expected = check_byte(data[:length - 1])
     if data[length - 1] != expected:
-        raise DecodeError(length - 1, _("check byte is 0x{data:02x}, expected 0x{expected:02x}").format(data=data[length - 1], expected=expected))
+        raise DecodeError(length - 1, _("check byte is 0x{data:02x}, expected 0x{expected:02x}").format(
+                data=data[length - 1], expected=expected))
     zero = data.find(0, HEADER_SIZE, min(length - 1, HEADER_SIZE + MAX_NAME + 1))
     if zero < 0:
-        raise DecodeError(HEADER_SIZE, _("the name has no terminating 0 within {max_name} characters").format(max_name=MAX_NAME))
+        raise DecodeError(HEADER_SIZE, _("the name has no terminating 0 within {max_name} characters").format(
+                max_name=MAX_NAME))
     name = data[HEADER_SIZE:zero].decode("latin-1")
     problem = name_problem(name)
     if problem:
         raise DecodeError(HEADER_SIZE, problem[1])
     start = zero + 1
     if data[1] != start:
-        raise DecodeError(1, _("program start offset is {data}, expected {start} (right after the name)").format(data=data[1], start=start))
+        raise DecodeError(1, _("program start offset is {data}, expected {start} (right after the name)").format(
+                data=data[1], start=start))
     return length, name, start
 
 
@@ -83,7 +89,8 @@ def decode_record(data: bytes) -> Decoded:
     while r.peek().op is not ops.DISCHARGE_SECTION:
         ins = r.take()
         if ins.op.role is Role.STRUCTURE:
-            raise DecodeError(ins.offset, _("expected DISCHARGE_SECTION (3), found {keyword}").format(keyword=ins.op.keyword))
+            raise DecodeError(ins.offset, _("expected DISCHARGE_SECTION (3), found {keyword}").format(
+                    keyword=ins.op.keyword))
         macro.intro.append(_statement(ins))
     r.take()
     macro.discharge = _section(r, "discharge")
@@ -100,10 +107,12 @@ def decode_record(data: bytes) -> Decoded:
         if ins.op is ops.END_MACRO:
             break
         if ins.op.role is Role.STRUCTURE:
-            raise DecodeError(ins.offset, _("{keyword} cannot follow the charge section").format(keyword=ins.op.keyword))
+            raise DecodeError(ins.offset, _("{keyword} cannot follow the charge section").format(
+                    keyword=ins.op.keyword))
         macro.conclusion.append(_statement(ins))
     if r.pc != length - 1:
-        raise DecodeError(r.pc, _("END_MACRO at {pc} but the program runs on to {length}").format(pc=r.pc - 1, length=length - 2))
+        raise DecodeError(r.pc, _("END_MACRO at {pc} but the program runs on to {length}").format(
+                pc=r.pc - 1, length=length - 2))
     for finding in check(macro):
         if finding.severity is Severity.ERROR:
             raise DecodeError(_offset(finding.node, start), finding.message)
@@ -121,7 +130,8 @@ def _section(r: _Reader, kind: str) -> Section:
             if open_blocks:
                 block = open_blocks[-1]
                 closer = "END_FAZE" if isinstance(block, Phase) else "END_CYCLE"
-                raise DecodeError(ins.offset, _("{closer} expected before END_SECTION (block at {offset})").format(closer=closer, offset=block.offset))
+                raise DecodeError(ins.offset, _("{closer} expected before END_SECTION (block at {offset})").format(
+                        closer=closer, offset=block.offset))
             return Section(kind, items, present=bool(items))
         in_phase = bool(open_blocks) and isinstance(open_blocks[-1], Phase)
         if op is ops.FAZE:

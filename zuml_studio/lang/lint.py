@@ -126,9 +126,11 @@ def rule_chemistry_declared(ctx: Context) -> Iterator[Finding]:
         yield _warn("name", "W301", _("No AKK_TYPE: the charger cannot check the battery against the macro"),
                     _("declare the chemistry, e.g. AKK_TYPE=LiPo"))
     elif ctx.chemistry in NO_DEFAULTS:
-        yield _warn(akk, "W301", _("AKK_TYPE={format} has no reference limits, so nothing here is checked "
-                                   "against the chemistry").format(format=ops.AKK_TYPE.operands[0].kind.format(akk.args[0].raw)),
-                    _("give explicit voltage limits in every phase"))
+        message = _("AKK_TYPE={format} has no reference limits, so nothing here is checked against the "
+                    "chemistry").format(
+            format=ops.AKK_TYPE.operands[0].kind.format(akk.args[0].raw))
+        hint = _("give explicit voltage limits in every phase")
+        yield _warn(akk, "W301", message, hint)
 
 
 def rule_charge_ends_only_by_default(ctx: Context) -> Iterator[Finding]:
@@ -160,10 +162,16 @@ def rule_charge_voltage(ctx: Context) -> Iterator[Finding]:
         if v is None:
             continue
         if v > lim.max_v + 1e-9:
-            yield Finding(st, Severity.ERROR, "E303", _("This {what} {v:.2f} V per cell: above the absolute maximum "
-                                                        "for {name}, {max_v:.2f} V").format(what=what, v=v, name=lim.name, max_v=lim.max_v), _("{name} charges to {charge_end_v:.2f} V per cell").format(name=lim.name, charge_end_v=lim.charge_end_v))
+            message = _("This {what} {v:.2f} V per cell: above the absolute maximum for {name}, {max_v:.2f} V").format(
+                what=what, v=v, name=lim.name, max_v=lim.max_v)
+            hint = _("{name} charges to {charge_end_v:.2f} V per cell").format(
+                name=lim.name, charge_end_v=lim.charge_end_v)
+            yield Finding(st, Severity.ERROR, "E303", message, hint)
         elif v > lim.charge_end_v + 1e-9:
-            yield _warn(st, "W303", _("This {what} {v:.2f} V per cell, above {name}'s usual {charge_end_v:.2f} V").format(what=what, v=v, name=lim.name, charge_end_v=lim.charge_end_v), _("the absolute limit is {max_v:.2f} V per cell").format(max_v=lim.max_v))
+            message = _("This {what} {v:.2f} V per cell, above {name}'s usual {charge_end_v:.2f} V").format(
+                what=what, v=v, name=lim.name, charge_end_v=lim.charge_end_v)
+            hint = _("the absolute limit is {max_v:.2f} V per cell").format(max_v=lim.max_v)
+            yield _warn(st, "W303", message, hint)
 
 
 def rule_discharge_voltage(ctx: Context) -> Iterator[Finding]:
@@ -174,8 +182,11 @@ def rule_discharge_voltage(ctx: Context) -> Iterator[Finding]:
         st = _code(phase, 82)
         v = ctx.per_cell(st.args[0].raw) if st else None
         if v is not None and v < lim.discharge_end_v - 1e-9:
-            yield _warn(st, "W304", _("Discharging to {v:.2f} V per cell goes below {name}'s minimum, "
-                                      "{discharge_end_v:.2f} V").format(v=v, name=lim.name, discharge_end_v=lim.discharge_end_v), _("write IF(V<{discharge_end_v:g}S) STOP_FAZE").format(discharge_end_v=lim.discharge_end_v))
+            message = _("Discharging to {v:.2f} V per cell goes below {name}'s minimum, "
+                        "{discharge_end_v:.2f} V").format(
+                v=v, name=lim.name, discharge_end_v=lim.discharge_end_v)
+            hint = _("write IF(V<{discharge_end_v:g}S) STOP_FAZE").format(discharge_end_v=lim.discharge_end_v)
+            yield _warn(st, "W304", message, hint)
 
 
 def _current_raw(st: Statement) -> int:
@@ -190,9 +201,12 @@ def rule_delta_peak(ctx: Context) -> Iterator[Finding]:
             continue
         v = ctx.per_cell(st.args[0].raw)
         if v is not None and not DPEAK_MIN_V <= v <= DPEAK_MAX_V:
-            yield _warn(st, "W305", _("A -dV of {v:.0f} mV per cell is implausible: real cells dip "
-                                      "{dpeak_min_v:.0f}-{dpeak_max_v:.0f} mV").format(v=v * 1000, dpeak_min_v=DPEAK_MIN_V * 1000, dpeak_max_v=DPEAK_MAX_V * 1000), _("NiMh about 0.005-0.01 V per cell, NiCd 0.01-0.015 V; "
-                                                                                   "without a real -dV the charge ends only by a default"))
+            message = _("A -dV of {v:.0f} mV per cell is implausible: real cells dip "
+                        "{dpeak_min_v:.0f}-{dpeak_max_v:.0f} mV").format(
+                v=v * 1000, dpeak_min_v=DPEAK_MIN_V * 1000, dpeak_max_v=DPEAK_MAX_V * 1000)
+            hint = _("NiMh about 0.005-0.01 V per cell, NiCd 0.01-0.015 V; without a real -dV the charge ends "
+                     "only by a default")
+            yield _warn(st, "W305", message, hint)
         min_rate = DPEAK_MIN_RATE.get(ctx.chemistry)
         current = _find(phase, ops.CONSTANT_I) or _find(phase, ops.CHARGE_EX)
         if not min_rate or current is None:
@@ -214,16 +228,21 @@ def _dpeak_rate(ctx: Context, st: Statement, raw: int, min_rate: float) -> Itera
     if raw == INPUT_U16:
         if ctx.capacity_mah:
             amps = min_rate * ctx.capacity_mah / 1000
-            yield _warn(st, "W306", _("The current is entered at start: below {amps:.2f} A ({min_rate:g}C of the "
-                                      "declared {capacity_mah} mAh) a {name} cell shows no reliable -dV").format(amps=amps, min_rate=min_rate, capacity_mah=ctx.capacity_mah, name=name), hint)
+            message = _("The current is entered at start: below {amps:.2f} A ({min_rate:g}C of the declared "
+                        "{capacity_mah} mAh) a {name} cell shows no reliable -dV").format(
+                amps=amps, min_rate=min_rate, capacity_mah=ctx.capacity_mah, name=name)
+            yield _warn(st, "W306", message, hint)
         else:
-            yield _warn(st, "W306", _("The current is entered at start: below {min_rate:g}C ({amps:g} A for a "
-                                      "2000 mAh pack) a {name} cell shows no reliable -dV; the simulator and the "
-                                      "device panel check the values entered").format(min_rate=min_rate, amps=min_rate * 2, name=name), hint)
+            message = _("The current is entered at start: below {min_rate:g}C ({amps:g} A for a 2000 mAh pack) a "
+                        "{name} cell shows no reliable -dV; the simulator and the device panel check the values "
+                        "entered").format(min_rate=min_rate, amps=min_rate * 2, name=name)
+            yield _warn(st, "W306", message, hint)
     elif not raw & RELATIVE_FLAG:
         amps = raw / 100
-        yield _warn(st, "W306", _("At {amps:g} A the -dV of a {name} cell is reliable only up to {capacity:.0f} "
-                                  "mAh ({min_rate:g}C); the capacity is not declared").format(amps=amps, name=name, capacity=amps / min_rate * 1000, min_rate=min_rate), hint)
+        message = _("At {amps:g} A the -dV of a {name} cell is reliable only up to {capacity:.0f} mAh "
+                    "({min_rate:g}C); the capacity is not declared").format(
+            amps=amps, name=name, capacity=amps / min_rate * 1000, min_rate=min_rate)
+        yield _warn(st, "W306", message, hint)
 
 
 def rule_nickel_rate(ctx: Context) -> Iterator[Finding]:
@@ -236,7 +255,9 @@ def rule_nickel_rate(ctx: Context) -> Iterator[Finding]:
         if rate is not None and rate > top:
             hint = (_("1-4C is for sintered NiCd cells made for very fast charging") if ctx.chemistry == "NICD"
                     else _("fast-charge NiMh cells take 0.5-2C"))
-            yield _warn(st, "W307", _("Charging {chem_name} at {rate:g}C is above {top:g}C").format(chem_name=ctx.chem_name, rate=rate, top=top), hint)
+            message = _("Charging {chem_name} at {rate:g}C is above {top:g}C").format(
+                chem_name=ctx.chem_name, rate=rate, top=top)
+            yield _warn(st, "W307", message, hint)
 
 
 def rule_timer_only(ctx: Context) -> Iterator[Finding]:
@@ -246,10 +267,11 @@ def rule_timer_only(ctx: Context) -> Iterator[Finding]:
         rate = ctx.c_rate(current.args[0].raw) if current else None
         if conditions and all(s.op.code == 88 for s in conditions) and rate is not None \
                 and rate > TIMER_ONLY_MAX_RATE and not _find(phase, ops.CONSTANT_V):
-            yield _warn(conditions[0], "W308", _("Only a timer ends this {rate:g}C charge: above "
-                                                 "{timer_only_max_rate:g}C the battery needs a voltage, -dV or "
-                                                 "temperature end").format(rate=rate, timer_only_max_rate=TIMER_ONLY_MAX_RATE),
-                        _("add IF(V>…) or IF(DELTA_PEAK>…)"))
+            message = _("Only a timer ends this {rate:g}C charge: above {timer_only_max_rate:g}C the battery "
+                        "needs a voltage, -dV or temperature end").format(
+                rate=rate, timer_only_max_rate=TIMER_ONLY_MAX_RATE)
+            hint = _("add IF(V>…) or IF(DELTA_PEAK>…)")
+            yield _warn(conditions[0], "W308", message, hint)
 
 
 def rule_bare_time(ctx: Context) -> Iterator[Finding]:
@@ -261,9 +283,11 @@ def rule_bare_time(ctx: Context) -> Iterator[Finding]:
             tenths = arg.raw
             human = TIME.format(tenths)
             shown = human if not human.isdigit() else f"{tenths / 10:g} s"
-            yield _warn(arg, "W309", _("A bare {text} is in tenths of a second: {shown}, not {text} seconds or "
-                                       "minutes").format(text=arg.text, shown=shown), _("write {replace} to say so, or {text}min if minutes were "
-                                                            "meant").format(replace=shown.replace(' ', ''), text=arg.text))
+            message = _("A bare {text} is in tenths of a second: {shown}, not {text} seconds or minutes").format(
+                text=arg.text, shown=shown)
+            hint = _("write {replace} to say so, or {text}min if minutes were meant").format(
+                replace=shown.replace(' ', ''), text=arg.text)
+            yield _warn(arg, "W309", message, hint)
 
 
 def rule_relative_units_at_start(ctx: Context) -> Iterator[Finding]:
@@ -276,11 +300,14 @@ def rule_relative_units_at_start(ctx: Context) -> Iterator[Finding]:
                 elif operand.kind.name == "voltage" and needs_series is None:
                     needs_series = st
     if needs_capacity is not None and ctx.capacity_mah is None:
-        yield _warn(needs_capacity, "W310", _("Currents in C need the capacity, which is not declared: it must "
-                                              "be entered at start"), _("declare CAPACITY=… in the introduction if it is always the same"))
+        message = _("Currents in C need the capacity, which is not declared: it must be entered at start")
+        hint = _("declare CAPACITY=… in the introduction if it is always the same")
+        yield _warn(needs_capacity, "W310", message, hint)
     if needs_series is not None and ctx.series is None:
-        yield _warn(needs_series, "W310", _("Voltages per cell (S) need the cell count, which is not declared: "
-                                            "it must be entered at start"), _("declare SERIES=… if it is always the same"))
+        message = _("Voltages per cell (S) need the cell count, which is not declared: it must be entered at "
+                    "start")
+        hint = _("declare SERIES=… if it is always the same")
+        yield _warn(needs_series, "W310", message, hint)
 
 
 def rule_trickle_lithium(ctx: Context) -> Iterator[Finding]:
@@ -301,8 +328,10 @@ def rule_unreachable_phase(ctx: Context) -> Iterator[Finding]:
             actions = {s.op for s in phase.statements if s.op.role is Role.ACTION}
             if st and previous and actions == {ops.CONSTANT_I} and _same_unit(st, previous) \
                     and better(st.args[0].raw & 0x7FFF, previous.args[0].raw & 0x7FFF):
-                yield _warn(phase, "W312", _("This phase can never run: the phase before it already ended beyond "
-                                             "its limit ({text})").format(text=_text(previous)), _("lower or remove one of the two limits"))
+                message = _("This phase can never run: the phase before it already ended beyond its limit "
+                            "({text})").format(text=_text(previous))
+                hint = _("lower or remove one of the two limits")
+                yield _warn(phase, "W312", message, hint)
             previous = st if st is not None else previous
     for st in ctx.macro.intro:
         if st.op.code == 87 and st.args[0].raw == 0:
@@ -327,9 +356,10 @@ def rule_trickle_rate(ctx: Context) -> Iterator[Finding]:
     for st in _statements(ctx.macro):
         rate = ctx.c_rate(st.args[0].raw) if st.op is ops.TRICKLE else None
         if rate is not None and rate > TRICKLE_MAX_RATE + 1e-9:
-            yield _warn(st, "W313", _("A trickle of {rate:g}C is above {trickle_max_rate:g}C: held for long it "
-                                      "overcharges the cell").format(rate=rate, trickle_max_rate=TRICKLE_MAX_RATE), _("seed 001: a permanent top-up is 0.025-0.06C, at most 0.1C for "
-                                                  "cells made for it"))
+            message = _("A trickle of {rate:g}C is above {trickle_max_rate:g}C: held for long it overcharges the "
+                        "cell").format(rate=rate, trickle_max_rate=TRICKLE_MAX_RATE)
+            hint = _("seed 001: a permanent top-up is 0.025-0.06C, at most 0.1C for cells made for it")
+            yield _warn(st, "W313", message, hint)
 
 
 def rule_slow_charge_time(ctx: Context) -> Iterator[Finding]:
@@ -344,8 +374,9 @@ def rule_slow_charge_time(ctx: Context) -> Iterator[Finding]:
         if timer is None or timer.args[0].raw > NORMAL_MAX_S * 10:
             what = (_("its timer allows {time}").format(time=TIME.format(timer.args[0].raw)) if timer
                     else _("no timer ends it"))
-            yield _warn(timer or current, "W314", _("This {rate:g}C charge may run well past 16 h: {what}").format(rate=rate, what=what),
-                        _("seed 001: a 0.1C charge takes 14-16 h; add IF(tf>16h) STOP_FAZE"))
+            message = _("This {rate:g}C charge may run well past 16 h: {what}").format(rate=rate, what=what)
+            hint = _("seed 001: a 0.1C charge takes 14-16 h; add IF(tf>16h) STOP_FAZE")
+            yield _warn(timer or current, "W314", message, hint)
 
 
 def rule_lithium_temperature(ctx: Context) -> Iterator[Finding]:
@@ -354,10 +385,11 @@ def rule_lithium_temperature(ctx: Context) -> Iterator[Finding]:
     for phase in _phases(ctx.macro.charge.items):
         t_max = _code(phase, 81)
         if t_max is None or t_max.args[0].raw > LITHIUM_T_MAX:
-            yield _warn(t_max or phase, "W315", _("This lithium charge has no temperature limit at or below "
-                                                  "{lithium_t_max} °C: the charger's default stops only at 60 °C").format(lithium_t_max=LITHIUM_T_MAX),
-                        _("add IF(T>{lithium_t_max}) STOP_FAZE; lithium charges between 0 and {lithium_t_max} °C "
-                          "(ZUML cannot test T<0: do not start a charge below 0 °C)").format(lithium_t_max=LITHIUM_T_MAX))
+            message = _("This lithium charge has no temperature limit at or below {lithium_t_max} °C: the "
+                        "charger's default stops only at 60 °C").format(lithium_t_max=LITHIUM_T_MAX)
+            hint = _("add IF(T>{lithium_t_max}) STOP_FAZE; lithium charges between 0 and {lithium_t_max} °C "
+                     "(ZUML cannot test T<0: do not start a charge below 0 °C)").format(lithium_t_max=LITHIUM_T_MAX)
+            yield _warn(t_max or phase, "W315", message, hint)
 
 
 def rule_delta_peak_misplaced(ctx: Context) -> Iterator[Finding]:
@@ -370,8 +402,10 @@ def rule_delta_peak_misplaced(ctx: Context) -> Iterator[Finding]:
         for phase in _phases(ctx.macro.charge.items):
             st = _code(phase, 89)
             if st is not None:
-                yield _warn(st, "W316", _("-dV on {chem_name}: lithium cells show no -dV at full charge").format(chem_name=ctx.chem_name),
-                            _("end with CONSTANT_V and IF(I<…)"))
+                message = _("-dV on {chem_name}: lithium cells show no -dV at full charge").format(
+                    chem_name=ctx.chem_name)
+                hint = _("end with CONSTANT_V and IF(I<…)")
+                yield _warn(st, "W316", message, hint)
 
 
 def rule_nimh_voltage_only(ctx: Context) -> Iterator[Finding]:
@@ -405,12 +439,17 @@ def rule_charger_limits(ctx: Context) -> Iterator[Finding]:
             if amps is None:
                 continue
             if amps > max_a + 1e-9:
-                yield _warn(st, "W318", _("The macro asks {amps:.2f} A; the {name} gives at most {max_a:g} A "
-                                          "({what})").format(amps=amps, name=lim.name, max_a=max_a, what=what), _("the phase runs at the charger's limit and takes longer"))
+                message = _("The macro asks {amps:.2f} A; the {name} gives at most {max_a:g} A ({what})").format(
+                    amps=amps, name=lim.name, max_a=max_a, what=what)
+                hint = _("the phase runs at the charger's limit and takes longer")
+                yield _warn(st, "W318", message, hint)
             elif nominal and amps * nominal > max_w + 1e-9:
-                yield _warn(st, "W318", _("The macro asks {amps:.2f} A; at the nominal {nominal:.1f} V that is "
-                                          "{amps2:.0f} W, the {name} gives at most {max_w:g} W ({what}): about "
-                                          "{max_w2:.2f} A").format(amps=amps, nominal=nominal, amps2=amps * nominal, name=lim.name, max_w=max_w, what=what, max_w2=max_w / nominal), _("the phase runs at the charger's limit and takes longer"))
+                message = _("The macro asks {amps:.2f} A; at the nominal {nominal:.1f} V that is {amps2:.0f} W, "
+                            "the {name} gives at most {max_w:g} W ({what}): about {max_w2:.2f} A").format(
+                    amps=amps, nominal=nominal, amps2=amps * nominal, name=lim.name, max_w=max_w, what=what,
+                    max_w2=max_w / nominal)
+                hint = _("the phase runs at the charger's limit and takes longer")
+                yield _warn(st, "W318", message, hint)
 
 
 def _amps(ctx: Context, raw: int) -> float | None:

@@ -57,7 +57,8 @@ def listing_rows(record: bytes, instructions: tuple[Instruction, ...], nodes: tu
                         ins.op.mnemonic, detail, span.line if span else None, node))
     last = len(record) - 1
     ok = _("ok") if check_byte(record[:last]) == record[last] else _("BAD")
-    rows.append(Row(last, record[last:], "check", "CHECK", _("XOR of bytes 0..{last}: {ok}").format(last=last - 1, ok=ok)))
+    rows.append(Row(last, record[last:], "check", "CHECK", _("XOR of bytes 0..{last}: {ok}").format(
+            last=last - 1, ok=ok)))
     return rows
 
 

@@ -143,7 +143,9 @@ def _scaled_units(units: Mapping[str, tuple[Decimal, int]]):
             return INPUT_U16
         parsed = split_number(text)
         if parsed is None:
-            raise ValueProblem("E203", _("'{text}' is not {what}").format(text=text, what=_(kind.what)), _("write it like {example}").format(example=_(kind.example)))
+            raise ValueProblem("E203", _("'{text}' is not {what}").format(
+                    text=text, what=_(kind.what)), _("write it like {example}").format(
+                    example=_(kind.example)))
         number, unit = parsed
         if not unit:
             ways = " or ".join(f"{text}{u}" for u in units if not u.startswith("m"))
@@ -166,7 +168,8 @@ def _scaled_units(units: Mapping[str, tuple[Decimal, int]]):
                                _("at most {in_unit}{unit}").format(in_unit=_in_unit(top, mult), unit=unit))
         if raw != exact:
             raise ValueProblem(
-                "W205", _("{text} is stored as {in_unit}{unit} (the charger keeps steps of {in_unit2}{unit})").format(text=text, in_unit=_in_unit(raw, mult), unit=unit, in_unit2=_in_unit(1, mult)),
+                "W205", _("{text} is stored as {in_unit}{unit} (the charger keeps steps of {in_unit2}{unit})").format(
+                        text=text, in_unit=_in_unit(raw, mult), unit=unit, in_unit2=_in_unit(1, mult)),
                 _("write the stored value to make it explicit"), warning_raw=raw | flag)
         return raw | flag
 
@@ -201,8 +204,11 @@ def _parse_integer(units: Mapping[str, int] | None = None):
         if parsed is None:
             if kind.names:
                 raise ValueProblem("E203", _("'{text}' is not {what}").format(text=text, what=_(kind.what)),
-                                   _("use a number or one of {display_names}").format(display_names=', '.join(_display_names(kind))))
-            raise ValueProblem("E203", _("'{text}' is not {what}").format(text=text, what=_(kind.what)), _("write it like {example}").format(example=_(kind.example)))
+                                   _("use a number or one of {display_names}").format(
+                                           display_names=', '.join(_display_names(kind))))
+            raise ValueProblem("E203", _("'{text}' is not {what}").format(
+                    text=text, what=_(kind.what)), _("write it like {example}").format(
+                    example=_(kind.example)))
         number, unit = parsed
         if unit:
             spelled = {u.upper(): u for u in units}
@@ -267,17 +273,20 @@ def _parse_capacity(kind: OperandKind, text: str, lo: int, hi: int) -> int:
         return CAPACITY_AUTO
     parsed = split_number(text)
     if parsed is None:
-        raise ValueProblem("E203", _("'{text}' is not a capacity").format(text=text), _("write it in mAh like 4200, or INPUT or AUTO"))
+        raise ValueProblem("E203", _("'{text}' is not a capacity").format(
+                text=text), _("write it in mAh like 4200, or INPUT or AUTO"))
     number, unit = parsed
     mult = {"": 1, "MAH": 1, "AH": 1000}.get(unit.upper())
     if mult is None:
-        raise ValueProblem("E202", _("'{unit}' is not a unit of capacity").format(unit=unit), _("write mAh (4200) or Ah (4.2Ah)"))
+        raise ValueProblem("E202", _("'{unit}' is not a unit of capacity").format(
+                unit=unit), _("write mAh (4200) or Ah (4.2Ah)"))
     exact = number * mult
     raw = round_half_away(exact)
     if raw != exact:
         raise ValueProblem("E203", _("Capacity is a whole number of mAh, not {text}").format(text=text))
     if not 1 < raw < 65535:
-        raise ValueProblem("E204", _("Capacity {text} is out of range").format(text=text), _("allowed: 2 to 65534 mAh, INPUT or AUTO"))
+        raise ValueProblem("E204", _("Capacity {text} is out of range").format(
+                text=text), _("allowed: 2 to 65534 mAh, INPUT or AUTO"))
     return raw
 
 

@@ -176,7 +176,8 @@ def parse_raw(text: str) -> RawMacro:
     if len(text) > MAX_TEXT_CHARS:
         raise SyntaxProblem(_error(1, 1, 1, 1, "E161", _("The text is {n_text:,} characters long: no macro is (a "
                                                          "record holds 255 bytes), so it is not checked past "
-                                                         "{max_text_chars:,}").format(n_text=len(text), max_text_chars=MAX_TEXT_CHARS),
+                                                         "{max_text_chars:,}").format(
+                n_text=len(text), max_text_chars=MAX_TEXT_CHARS),
                                    _("is this the right file?")))
     statements: list[Located] = []
     header = None
@@ -259,7 +260,8 @@ def _syntax_diagnostic(exc: UnexpectedInput, text: str) -> Diagnostic:
         return _error(1, col, 1, end_col, "E104", _("{value} must follow a condition").format(value=tok.value),
                       _("write IF(...) {upper}").format(upper=tok.value.upper()))
     if tok.type == "NUMBER" and expected >= {"NAME"} and "RPAR" not in expected:
-        return _error(1, col, 1, end_col, "E105", _("A number cannot start a statement: '{value}'").format(value=tok.value),
+        return _error(1, col, 1, end_col, "E105", _("A number cannot start a statement: '{value}'").format(
+                value=tok.value),
                       _("values follow '=' or stand inside ( )"))
     return _error(1, col, 1, end_col, "E100", _("Unexpected '{value}'").format(value=tok.value), _expected(expected))
 

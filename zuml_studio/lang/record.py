@@ -75,10 +75,12 @@ def read_instruction(data: bytes, pc: int, end: int) -> Instruction:
     for operand in op.operands:
         kind = operand.kind
         if at + kind.size > end:
-            raise DecodeError(at, _("{keyword} needs {size} byte(s) for {name}; the program ends first").format(keyword=op.keyword, size=kind.size, name=operand.name))
+            raise DecodeError(at, _("{keyword} needs {size} byte(s) for {name}; the program ends first").format(
+                    keyword=op.keyword, size=kind.size, name=operand.name))
         raw = int.from_bytes(data[at:at + kind.size], "little", signed=kind.signed)
         if not kind.raw_valid(raw, operand.lo, operand.hi):
-            raise DecodeError(at, _("{keyword}: {name} = {raw} is out of range").format(keyword=op.keyword, name=operand.name, raw=raw))
+            raise DecodeError(at, _("{keyword}: {name} = {raw} is out of range").format(
+                    keyword=op.keyword, name=operand.name, raw=raw))
         raws.append(raw)
         at += kind.size
     return Instruction(pc, op, tuple(raws), at - pc)

@@ -73,7 +73,8 @@ def read_duo(data: bytes) -> Log:
     decoder = _DuoLogDecoder()
     samples = decoder.feed(data if data.endswith(b"\n") else data + b"\n")
     if not samples:
-        raise LogFormatError(_("no iCharger DUO/X record read ({good} records, {bad} bad)").format(good=decoder.good + decoder.bad + decoder.skipped, bad=decoder.bad))
+        raise LogFormatError(_("no iCharger DUO/X record read ({good} records, {bad} bad)").format(
+                good=decoder.good + decoder.bad + decoder.skipped, bad=decoder.bad))
     device = f"Junsi iCharger {model}".strip() if model else "Junsi iCharger (DUO/X log)"
     meta: dict = {"channel": int(decoder.channel)} if decoder.channel else {}
     if header:

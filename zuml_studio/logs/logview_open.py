@@ -195,7 +195,8 @@ def read(data: bytes) -> Log:
             t_next += ch.increment_s if ch.increment_s is not None else DEFAULT_STEP_S
         add_row(builder, roles, numbers, t)
     if not len(builder):
-        raise LogFormatError(_("no data line read ({bad} bad lines)").format(bad=bad) if channels else _("no '$X$;' header line"))
+        raise LogFormatError(_("no data line read ({bad} bad lines)").format(
+                bad=bad) if channels else _("no '$X$;' header line"))
     meta = {"channel": chosen, "columns": [n for n, __ in channels[chosen].columns]}
     if other:
         meta["other_channel_lines"] = other

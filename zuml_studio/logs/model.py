@@ -134,7 +134,8 @@ class SampleBuilder:
             mah_in: float | None = None, mah_out: float | None = None, cycle: int = 0) -> None:
         for name, value in (("time", t), ("voltage", v), ("current", i)):
             if not math.isfinite(value):
-                raise LogFormatError(_("sample {n_t}: {name} is {value}").format(n_t=len(self.t) + 1, name=name, value=value))
+                raise LogFormatError(_("sample {n_t}: {name} is {value}").format(
+                        n_t=len(self.t) + 1, name=name, value=value))
         if state not in STATES:
             raise ValueError(f"state {state!r}")
         self.t.append(float(t))

@@ -50,14 +50,16 @@ def _unzip(data: bytes) -> bytes:
                 raise LogFormatError(_("an empty ZIP archive"))
             info = infos[0]
             if info.file_size > MAX_UNZIPPED:
-                raise LogFormatError(_("the .osd inside the ZIP is {file_size} bytes; at most {max_unzipped}").format(file_size=info.file_size, max_unzipped=MAX_UNZIPPED))
+                raise LogFormatError(_("the .osd inside the ZIP is {file_size} bytes; at most {max_unzipped}").format(
+                        file_size=info.file_size, max_unzipped=MAX_UNZIPPED))
             with z.open(info) as fh:
                 out = fh.read(MAX_UNZIPPED + 1)
     except (zipfile.BadZipFile, zipfile.LargeZipFile, zlib.error, EOFError, NotImplementedError, RuntimeError,
             ValueError, OSError) as exc:
         raise LogFormatError(_("a damaged ZIP around the .osd: {exc}").format(exc=exc)) from None
     if len(out) > MAX_UNZIPPED:
-        raise LogFormatError(_("the .osd inside the ZIP is larger than {max_unzipped} bytes").format(max_unzipped=MAX_UNZIPPED))
+        raise LogFormatError(_("the .osd inside the ZIP is larger than {max_unzipped} bytes").format(
+                max_unzipped=MAX_UNZIPPED))
     return out
 
 
@@ -185,17 +187,20 @@ def read(data: bytes) -> Log:
 def _set_data(data: bytes, d: dict, bounds: list[int], step_ms: float, name: str):
     n, pointer = d["size"], d["pointer"]
     if pointer > len(data):
-        raise LogFormatError(_("record set '{name}': data pointer {pointer} past the end ({n_data} bytes)").format(name=name, pointer=pointer, n_data=len(data)))
+        raise LogFormatError(_("record set '{name}': data pointer {pointer} past the end ({n_data} bytes)").format(
+                name=name, pointer=pointer, n_data=len(data)))
     if n == 0:
         return np.zeros(0), np.zeros((0, 0))
     block_end = next(b for b in bounds if b > pointer) if pointer < len(data) else pointer
     block = block_end - pointer
     stamps = 4 * n if step_ms <= 0 else 0
     if block < stamps or (block - stamps) % (4 * n):
-        raise LogFormatError(_("record set '{name}': {block} data bytes do not hold {n} points").format(name=name, block=block, n=n))
+        raise LogFormatError(_("record set '{name}': {block} data bytes do not hold {n} points").format(
+                name=name, block=block, n=n))
     k = (block - stamps) // (4 * n)
     if k == 0 or k > len(d["records"]):
-        raise LogFormatError(_("record set '{name}': {k} stored values per point for {n_d} records").format(name=name, k=k, n_d=len(d['records'])))
+        raise LogFormatError(_("record set '{name}': {k} stored values per point for {n_d} records").format(
+                name=name, k=k, n_d=len(d['records'])))
     raw = np.frombuffer(data, dtype=">i4", count=stamps // 4 + n * k, offset=pointer)
     if stamps:
         t = raw[:n].astype(float) / 10000.0
@@ -224,7 +229,8 @@ def _match(records: list[dict], columns: np.ndarray, name: str) -> list[int]:
                 break
             r += 1
         else:
-            raise LogFormatError(_("record set '{name}': stored column {c} matches no record").format(name=name, c=c + 1))
+            raise LogFormatError(_("record set '{name}': stored column {c} matches no record").format(
+                    name=name, c=c + 1))
     return out
 
 

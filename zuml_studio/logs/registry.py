@@ -56,7 +56,8 @@ def read_log(data: bytes, name: str = "", fmt: str | None = None) -> Log:
     if fmt is not None:
         reader = BY_NAME.get(fmt)
         if reader is None:
-            raise LogFormatError(_("unknown log format '{fmt}' (known: {by_name})").format(fmt=fmt, by_name=', '.join(BY_NAME)))
+            raise LogFormatError(_("unknown log format '{fmt}' (known: {by_name})").format(
+                    fmt=fmt, by_name=', '.join(BY_NAME)))
     else:
         if not data:
             raise LogFormatError(_("the file is empty"))

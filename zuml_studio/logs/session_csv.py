@@ -45,7 +45,8 @@ def read(data: bytes) -> Log:
     try:
         text = data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
-        raise LogFormatError(_("not UTF-8 text (byte 0x{data:02x} at offset {start})").format(data=data[exc.start], start=exc.start)) from None
+        raise LogFormatError(_("not UTF-8 text (byte 0x{data:02x} at offset {start})").format(
+                data=data[exc.start], start=exc.start)) from None
     if "\0" in text:
         raise LogFormatError(_("a NUL character in a CSV file"))
     rows = csv.reader(io.StringIO(text, newline=""))
@@ -56,7 +57,8 @@ def read(data: bytes) -> Log:
     for head, session in ((SESSION_HEAD, True), (EXPORT_HEAD, False)):
         if set(head.split(",")) <= set(header) and ",".join(header).startswith(head):
             return _read_rows(rows, header, session=session)
-    raise LogFormatError(_("header is neither '{session_head}…' nor '{export_head}…'").format(session_head=SESSION_HEAD, export_head=EXPORT_HEAD))
+    raise LogFormatError(_("header is neither '{session_head}…' nor '{export_head}…'").format(
+            session_head=SESSION_HEAD, export_head=EXPORT_HEAD))
 
 
 def _cell_columns(header: list[str]) -> list[int]:

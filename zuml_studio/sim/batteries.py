@@ -27,7 +27,8 @@ def batteries_dir(root: Path | None = None) -> Path:
 
 def _file_name(name: str) -> str:
     if not _NAME.match(name) or name.strip() != name:
-        raise BatteryFileError(_("battery name {name!r}: use letters, digits, spaces and . , + ( ) - (at most 80)").format(name=name))
+        raise BatteryFileError(_("battery name {name!r}: use letters, digits, spaces and . , + ( ) - (at most 80)").format(
+                name=name))
     return re.sub(r"[^\w.-]", "_", name) + ".json"
 
 
@@ -67,7 +68,8 @@ def load_battery(name: str, root: Path | None = None) -> Battery:
         raise BatteryFileError(_("{path}: not a battery file: {exc}").format(path=path, exc=exc)) from None
     try:
         if doc.get("format") != _FORMAT:
-            raise ValueError(_("format {found!r}, expected {expected}").format(found=doc.get('format'), expected=_FORMAT))
+            raise ValueError(_("format {found!r}, expected {expected}").format(
+                    found=doc.get('format'), expected=_FORMAT))
         chem = load_chemistry(str(doc["chemistry"]))
         wanted = {f.name: f.type for f in fields(Chemistry)}
         params = {}

@@ -42,9 +42,11 @@ def load_charger(name: str = "imax_b6") -> ChargerLimits:
     try:
         return _from_toml(data.read_toml(relative))
     except KeyError as exc:
-        raise DataFileError(_("data file {location}: missing key {exc}").format(location=data.location(relative), exc=exc)) from None
+        raise DataFileError(_("data file {location}: missing key {exc}").format(
+                location=data.location(relative), exc=exc)) from None
     except (TypeError, ValueError) as exc:
-        raise DataFileError(_("data file {location}: {exc}").format(location=data.location(relative), exc=exc)) from None
+        raise DataFileError(_("data file {location}: {exc}").format(
+                location=data.location(relative), exc=exc)) from None
 
 
 def _from_toml(parsed: dict) -> ChargerLimits:

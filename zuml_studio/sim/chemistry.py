@@ -86,7 +86,8 @@ def _load(canonical: str) -> Chemistry:
     try:
         return _from_toml(canonical, data.read_toml(relative))
     except (TypeError, ValueError) as exc:
-        raise DataFileError(_("data file {location}: {exc}").format(location=data.location(relative), exc=exc)) from None
+        raise DataFileError(_("data file {location}: {exc}").format(
+                location=data.location(relative), exc=exc)) from None
 
 
 def _from_toml(name: str, parsed: dict) -> Chemistry:
@@ -106,7 +107,8 @@ def _from_toml(name: str, parsed: dict) -> Chemistry:
     missing = wanted - flat.keys()
     extra = flat.keys() - wanted
     if missing or extra:
-        raise ValueError(_("missing keys {missing}, unknown keys {unknown}").format(missing=sorted(missing), unknown=sorted(extra)))
+        raise ValueError(_("missing keys {missing}, unknown keys {unknown}").format(
+                missing=sorted(missing), unknown=sorted(extra)))
     chem = Chemistry(**flat)  # type: ignore[arg-type]
     _check(chem)
     return chem

@@ -39,7 +39,8 @@ class Curve:
 
     def __post_init__(self) -> None:
         if len(self.t) < 10:
-            raise CurveError(_("{value}: only {n_t} samples of charge").format(value=self.name or 'curve', n_t=len(self.t)))
+            raise CurveError(_("{value}: only {n_t} samples of charge").format(
+                    value=self.name or 'curve', n_t=len(self.t)))
 
     @property
     def mah(self) -> np.ndarray:
@@ -109,16 +110,19 @@ def read_curve_csv(text: str, name: str = "") -> Curve:
     lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
     rows = list(csv.reader(lines))
     if not rows or tuple(c.strip() for c in rows[0][:3]) != _CSV_COLUMNS:
-        raise CurveError(_("{name}: a curve CSV starts with the header {csv_columns}[,temp_c]").format(name=name, csv_columns=','.join(_CSV_COLUMNS)))
+        raise CurveError(_("{name}: a curve CSV starts with the header {csv_columns}[,temp_c]").format(
+                name=name, csv_columns=','.join(_CSV_COLUMNS)))
     has_temp = len(rows[0]) > 3 and rows[0][3].strip() == "temp_c"
     cols: list[list[float]] = [[], [], [], []]
     for n, row in enumerate(rows[1:], start=2):
         try:
             values = [float(x) for x in row[:4 if has_temp else 3]]
         except ValueError:
-            raise CurveError(_("{name}: data line {n}: not a number in {row!r}").format(name=name, n=n, row=row)) from None
+            raise CurveError(_("{name}: data line {n}: not a number in {row!r}").format(
+                    name=name, n=n, row=row)) from None
         if len(values) < (4 if has_temp else 3) or not all(math.isfinite(x) for x in values):
-            raise CurveError(_("{name}: data line {n}: expected {value} finite numbers").format(name=name, n=n, value=4 if has_temp else 3))
+            raise CurveError(_("{name}: data line {n}: expected {value} finite numbers").format(
+                    name=name, n=n, value=4 if has_temp else 3))
         for c, x in zip(cols, values):
             c.append(x)
     t = np.array(cols[0])

@@ -94,7 +94,8 @@ def start_values(record: bytes, params: StartParams,
     try:
         program = Program(record)
     except DecodeError as exc:
-        raise StartError(_("not a valid record: byte {offset}: {message}").format(offset=exc.offset, message=exc.message)) from None
+        raise StartError(_("not a valid record: byte {offset}: {message}").format(
+                offset=exc.offset, message=exc.message)) from None
     params = with_template(program, params, templates)
     declared_ah = program.intro.capacity_ah(None)
     capacity = params.capacity_mah or (round(declared_ah * 1000) if declared_ah else None)

@@ -35,7 +35,8 @@ class StartTemplate:
 
     def __post_init__(self) -> None:
         if self.task not in TASKS:
-            raise TemplateError(_("task must be one of {tasks}, not {task!r}").format(tasks=', '.join(TASKS), task=self.task))
+            raise TemplateError(_("task must be one of {tasks}, not {task!r}").format(
+                    tasks=', '.join(TASKS), task=self.task))
         if not 1 <= self.repetitions <= 255:
             raise TemplateError(_("repetitions must be 1..255"))
         if self.capacity_mah is not None and not 1 < self.capacity_mah < 65535:
@@ -62,7 +63,8 @@ class StartTemplate:
 
 def check_number(number: int) -> int:
     if not 1 <= number <= TEMPLATE_COUNT:
-        raise TemplateError(_("a start template is numbered 1..{template_count}, not {number}").format(template_count=TEMPLATE_COUNT, number=number))
+        raise TemplateError(_("a start template is numbered 1..{template_count}, not {number}").format(
+                template_count=TEMPLATE_COUNT, number=number))
     return number
 
 
@@ -78,7 +80,8 @@ def factory_templates() -> Mapping[int, StartTemplate]:
             try:
                 table[number] = StartTemplate(**entry)
             except (TypeError, TemplateError) as exc:
-                raise DataFileError(_("data file {where}: template {number}: {exc}").format(where=where, number=number, exc=exc)) from None
+                raise DataFileError(_("data file {where}: template {number}: {exc}").format(
+                        where=where, number=number, exc=exc)) from None
     except (KeyError, TypeError, ValueError) as exc:
         raise DataFileError(_("data file {where}: {exc}").format(where=where, exc=exc)) from None
     return table
