@@ -204,3 +204,12 @@ def test_the_ast_check_catches_what_it_should(tmp_path):
                    '_("ok {x}").format(x=x)\n_(TABLE[x])\n')
     problems = list(_problems(bad, root=tmp_path))
     assert [p.split(":")[1] for p in problems] == ["2", "3", "4", "5"], problems
+
+
+def test_opcode_help_follows_the_installed_language(english_afterwards):
+    """The editor's hover, completion and F1 help read ``Op.help``; the generated docs the English."""
+    from zuml_studio.lang import opcodes as ops
+    english = ops.CONSTANT_I.help
+    i18n.install("ru")
+    assert ops.CONSTANT_I.help.startswith("Держать ток") and ops.CONSTANT_I.help_text == english
+    assert all(re.search("[а-я]", op.help) for op in ops.OPCODES)

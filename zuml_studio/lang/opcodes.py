@@ -10,7 +10,7 @@ from functools import lru_cache
 from enum import Enum
 
 from . import operands as k
-from ..i18n import N_
+from ..i18n import N_, _
 
 
 class Form(Enum):
@@ -67,9 +67,14 @@ class Op:
     role: Role
     operands: tuple[Operand, ...]
     places: frozenset[Place]
-    help: str
+    help_text: str                 # English, marked for the catalogue; `help` is it translated
     condition: Condition | None = None
     emitted: bool = True           # MACRO (code 1) is reserved, never in byte code
+
+    @property
+    def help(self) -> str:
+        """What the command does, in the installed language (hover, completion, F1 help, tooltips)."""
+        return _(self.help_text)
 
     @property
     def size(self) -> int:
