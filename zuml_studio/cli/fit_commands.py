@@ -22,8 +22,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("log", metavar="LOG", help=_("a charger log (any format `zuml log info` reads) or a curve CSV"))
     p.add_argument("--chemistry", metavar="C", help=_("Pb, NiCd, NiMh, LiPo, LiIon or LiFe (default: the battery "
                                                       "type the log names, where it names one)"))
-    p.add_argument("--cells", type=int, metavar="N", help=_("cells in series (default: the log's balance taps, else from "
-                                                            "its highest voltage)"))
+    p.add_argument("--cells", type=int, metavar="N",
+                   help=_("cells in series (default: the log's balance taps, else from its highest voltage)"))
     p.add_argument("--save", metavar="NAME", help=_("save the fitted battery under this name"))
     p.add_argument("--json", action="store_true", help=_("print one JSON object"))
     p.set_defaults(run=cmd_fit)
@@ -33,7 +33,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     c.add_argument("--chemistry", metavar="C", help=_("battery model (default: the macro's AKK_TYPE)"))
     c.add_argument("--battery", metavar="NAME", help=_("a saved fitted battery instead of the default model"))
     c.add_argument("--cells", type=int, metavar="N")
-    c.add_argument("--capacity", type=float, metavar="MAH", help=_("default: the saved battery's, else the charge the log put in"))
+    c.add_argument("--capacity", type=float, metavar="MAH",
+                   help=_("default: the saved battery's, else the charge the log put in"))
     c.add_argument("--json", action="store_true")
     c.set_defaults(run=cmd_compare)
 

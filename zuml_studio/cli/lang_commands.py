@@ -38,8 +38,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("image", help=_("pack records into an EEPROM image, or list one"))
     p.add_argument("files", nargs="+", metavar="FILE", help=_(".zuml or .bin files, or the image with --list"))
     p.add_argument("-o", "--output", metavar="eeprom.bin")
-    p.add_argument("--size", type=int, default=DEFAULT_SIZE, help=_("EEPROM size in bytes (default {default_size})").format(
-            default_size=DEFAULT_SIZE))
+    p.add_argument("--size", type=int, default=DEFAULT_SIZE,
+                   help=_("EEPROM size in bytes (default {default_size})").format(default_size=DEFAULT_SIZE))
     p.add_argument("--list", action="store_true", help=_("list the records in an image"))
     p.add_argument("--extract", type=int, metavar="N", help=_("write slot N of the image to -o"))
     add_force_unsafe(p)

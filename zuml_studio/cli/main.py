@@ -66,7 +66,8 @@ def area_of(command: str) -> str | None:
 def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     """The parser with ``command``'s module registered in full (None: every module); every
     other command is a name with its help line, enough to list it and to pick it."""
-    parser = argparse.ArgumentParser(prog="zuml", description=_("ZUML 2.0 charger macros: check, compile, simulate, flash."))
+    parser = argparse.ArgumentParser(prog="zuml",
+                                     description=_("ZUML 2.0 charger macros: check, compile, simulate, flash."))
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     wanted = area_of(command) if command is not None else None
     for module, commands in AREAS.items():

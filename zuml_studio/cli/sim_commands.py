@@ -26,8 +26,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--series", type=int, metavar="N", help=_("cells in series entered at start"))
     p.add_argument("--template", type=int, metavar="N", help=_("start with the charger's start template N (the factory "
                                                                "table; a macro's START_SHABLON wins)"))
-    p.add_argument("--soc", type=float, metavar="0..1", help=_("initial state of charge (default: empty for charge, full "
-                                                               "for discharge and training)"))
+    p.add_argument("--soc", type=float, metavar="0..1",
+                   help=_("initial state of charge (default: empty for charge, full for discharge and training)"))
     p.add_argument("--ambient", type=float, default=25.0, metavar="C")
     p.add_argument("--no-sensor", action="store_true", help=_("no battery temperature sensor connected"))
     p.add_argument("--model", metavar="CHEMISTRY", help=_("battery model (default: the macro's AKK_TYPE)"))

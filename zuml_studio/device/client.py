@@ -172,7 +172,8 @@ class ChargerClient:
             self.info = self.identify()
         except DeviceTimeout:
             self.close()
-            raise NotACharger(_("{url}: no ZUML charger answered (wrong port or baud rate? tried {baudrate} baud)").format(
+            raise NotACharger(_("{url}: no ZUML charger answered (wrong port or baud rate? tried {baudrate} "
+                                  "baud)").format(
                     url=url, baudrate=self.baudrate)) from None
         except DeviceError as exc:
             self.close()
@@ -484,7 +485,8 @@ class ChargerClient:
     def read_eeprom(self, offset: int, length: int) -> bytes:
         v = self._call("READ_EEPROM", response_len=length + 2, offset=offset, length=length)
         if v["offset"] != offset or len(v["data"]) != length:
-            raise DeviceError(m.ErrorCode.BAD_REQUEST, _("asked for {length} bytes at {offset}, got {n_v} at {v}").format(
+            raise DeviceError(m.ErrorCode.BAD_REQUEST,
+                              _("asked for {length} bytes at {offset}, got {n_v} at {v}").format(
                     length=length, offset=offset, n_v=len(v['data']), v=v['offset']))
         return v["data"]
 

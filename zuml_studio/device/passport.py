@@ -272,7 +272,8 @@ def parse_request(req: bytes) -> tuple[str, int, bytes]:
     if op is None:
         raise BadRequest(AnswerError.BAD_COMMAND, _("RW_INDEX 0x{rw:02x} is not a passport command").format(rw=rw))
     if (rw & 0x0F) != page or page >= PAGES:
-        raise BadRequest(AnswerError.BAD_PAGE, _("RW_INDEX 0x{rw:02x} with PAGE {page} is not a page 0..{pages}").format(
+        raise BadRequest(AnswerError.BAD_PAGE,
+                         _("RW_INDEX 0x{rw:02x} with PAGE {page} is not a page 0..{pages}").format(
                 rw=rw, page=page, pages=PAGES - 1))
     return op, page, data
 

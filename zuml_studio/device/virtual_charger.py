@@ -492,7 +492,8 @@ class VirtualCharger:
             try:
                 passport = Passport.from_bytes(self.chip.image)
             except PassportError as exc:
-                raise _Refused(m.ErrorCode.PASSPORT_CONFLICT, _("the battery's passport is unreadable ({exc}); not starting").format(
+                raise _Refused(m.ErrorCode.PASSPORT_CONFLICT,
+                               _("the battery's passport is unreadable ({exc}); not starting").format(
                         exc=exc)) from None
             from ..safety import record_problems      # the host's check, again: the last line
             found = record_problems(record, passport, params, charger_max_a=self.limits.max_charge_a)
@@ -519,7 +520,8 @@ class VirtualCharger:
             raise _Refused(m.ErrorCode.INVALID_RECORD, _("the EEPROM's record list is broken: {exc}").format(
                     exc=exc)) from None
         if slot >= len(found):
-            raise _Refused(m.ErrorCode.BAD_SLOT, _("there is no slot {slot}; the EEPROM holds {n_found} macro(s)").format(
+            raise _Refused(m.ErrorCode.BAD_SLOT,
+                           _("there is no slot {slot}; the EEPROM holds {n_found} macro(s)").format(
                     slot=slot, n_found=len(found)))
         s = found[slot]
         if not s.ok:

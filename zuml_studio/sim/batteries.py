@@ -27,7 +27,8 @@ def batteries_dir(root: Path | None = None) -> Path:
 
 def _file_name(name: str) -> str:
     if not _NAME.match(name) or name.strip() != name:
-        raise BatteryFileError(_("battery name {name!r}: use letters, digits, spaces and . , + ( ) - (at most 80)").format(
+        raise BatteryFileError(_("battery name {name!r}: use letters, digits, spaces and . , + ( ) - (at most "
+                                 "80)").format(
                 name=name))
     return re.sub(r"[^\w.-]", "_", name) + ".json"
 

@@ -518,7 +518,8 @@ def with_template(program: Program, params: StartParams,
     if template is None:
         stored = ", ".join(str(n) for n in sorted(table)) or "none"
         how = f"START_SHABLON={number}" if ops.START_SHABLON.code in program.intro.declarations else "chosen at start"
-        raise StartError(_("start template {number} ({how}) does not exist on this charger (templates: {stored})").format(
+        raise StartError(_("start template {number} ({how}) does not exist on this charger (templates: "
+                           "{stored})").format(
                 number=number, how=how, stored=stored))
     return replace(apply_template(params, template), template=number)
 
