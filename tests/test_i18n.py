@@ -193,6 +193,17 @@ def test_no_fstring_concatenation_or_computed_value_is_translated():
     assert not problems, "\n".join(problems)
 
 
+def test_no_translation_hides_inside_an_fstring():
+    """pybabel does not look inside f-strings: a text written in a `_()` there never reaches the
+    catalogue (a variable holding an N_-marked text may be translated there)."""
+    hidden = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        tree = ast.parse(path.read_text(encoding="utf-8"), str(path))
+        for fstring in (n for n in ast.walk(tree) if isinstance(n, ast.JoinedStr)):
+            hidden += [f"{path.relative_to(ROOT)}:{c.lineno}" for c in _calls(fstring) if _literal(c.args[0])]
+    assert not hidden, hidden
+
+
 def test_no_function_shadows_the_translator():
     problems = [p for path in sorted(PACKAGE.rglob("*.py")) for p in _shadowing(path)]
     assert not problems, "\n".join(problems)

@@ -83,7 +83,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         out()
     else:
         for text in warnings:
-            out(f"warning: {text}")
+            out(_("warning: {text}").format(text=text))
         _table(args, result)
     return 0
 
@@ -95,21 +95,26 @@ def hms(seconds: float) -> str:
 
 def _table(args: argparse.Namespace, result: SimResult) -> None:
     p = result.interpreter.params
-    out(_("{name}: {task}{value}, {chemistry} model {capacity_mah:g} mAh x {series} cell(s), {ambient:g} °C, "
-          "sensor {value2}").format(
+    out(_("{name}: {task}{repetitions}, {chemistry} model {capacity_mah:g} mAh x {series} cell(s), {ambient:g} °C, "
+          "sensor {sensor}").format(
             name=result.interpreter.program.name, task=p.task,
-            value=f' x{p.repetitions}' if p.task == 'train' else '', chemistry=result.chemistry,
+            repetitions=f' x{p.repetitions}' if p.task == 'train' else '', chemistry=result.chemistry,
             capacity_mah=result.capacity_mah, series=result.series, ambient=args.ambient,
-            value2='on' if p.sensor else 'off'))
-    width = max([len(ph.reason) for ph in result.phases] + [6])
-    out(f"{'#':>3}  {'section':<9} {'phase':>5}  {'start':>8}  {'end':>8}  {'reason':<{width}}  "
-        f"{'in mAh':>8}  {'out mAh':>8}  {'V end':>7}  {'T end':>6}  notes")
+            sensor=_("on") if p.sensor else _("off")))
+    # Column titles are translated; the columns stay wide enough for the longest of title and values.
+    section, phase, start, end, reason = _("section"), _("phase"), _("start"), _("end"), _("reason")
+    charge_in, charge_out, v_end, t_end, notes_title = _("in mAh"), _("out mAh"), _("V end"), _("T end"), _("notes")
+    width = max([len(ph.reason) for ph in result.phases] + [len(reason)])
+    w = [max(len(title), least) for title, least in ((section, 9), (phase, 5), (start, 8), (end, 8), (charge_in, 8),
+                                                     (charge_out, 8), (v_end, 7), (t_end, 6))]
+    out(f"{'#':>3}  {section:<{w[0]}} {phase:>{w[1]}}  {start:>{w[2]}}  {end:>{w[3]}}  {reason:<{width}}  "
+        f"{charge_in:>{w[4]}}  {charge_out:>{w[5]}}  {v_end:>{w[6]}}  {t_end:>{w[7]}}  {notes_title}")
     for ph in result.phases:
         index = str(ph.index) if ph.index else "dflt"
         notes = "; ".join(ph.notes)
-        out((f"{ph.run:>3}  {ph.section:<9} {index:>5}  {hms(ph.start_s):>8}  {hms(ph.end_s):>8}  "
-             f"{ph.reason:<{width}}  {ph.mah_in:>8.1f}  {ph.mah_out:>8.1f}  {ph.v_end:>7.3f}  {ph.temp_end:>6.1f}  "
-             f"{'⚠ ' if ph.timer_before_full else ''}{notes}").rstrip())
+        out((f"{ph.run:>3}  {ph.section:<{w[0]}} {index:>{w[1]}}  {hms(ph.start_s):>{w[2]}}  {hms(ph.end_s):>{w[3]}}  "
+             f"{ph.reason:<{width}}  {ph.mah_in:>{w[4]}.1f}  {ph.mah_out:>{w[5]}.1f}  {ph.v_end:>{w[6]}.3f}  "
+             f"{ph.temp_end:>{w[7]}.1f}  {'⚠ ' if ph.timer_before_full else ''}{notes}").rstrip())
     t = result.totals()
     out(_("total {duration}, in {charge_in:.1f} mAh, out {charge_out:.1f} mAh; end: {end}").format(
             duration=hms(t['duration_s']), charge_in=t['mah_in'], charge_out=t['mah_out'], end=t['end']))
