@@ -20,7 +20,7 @@ CLI = "import sys; from zuml_studio.cli.main import main; sys.exit(main())"
 
 def cpu_seconds(args: list[str], language: str = "en") -> float:
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    subprocess.run([sys.executable, *args], check=True, stdout=subprocess.DEVNULL,
+    subprocess.run([sys.executable, *args], check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                    env=os.environ | {"LC_ALL": "C", "ZUML_LANG": language})
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
