@@ -332,7 +332,7 @@ def _check_start(client: ChargerClient, args: argparse.Namespace) -> None:
                         not args.no_sensor)
     problems = record_problems(found[args.slot].record, client.passport_if_any(), start,
                                charger_max_a=client.info.max_charge_a)
-    refuse_unsafe(problems, False, f"slot {args.slot} ({found[args.slot].name})")
+    refuse_unsafe(problems, False, _("slot {slot} ({name})").format(slot=args.slot, name=found[args.slot].name))
 
 
 @_device_errors
