@@ -4,6 +4,9 @@ import tempfile
 
 # Before any Qt import anywhere: the GUI tests render offscreen, with no display.
 os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
+# The suite's expected texts are English whatever the machine's locale; tests of other languages
+# set ZUML_LANG (or drop it and set LANG) themselves.
+os.environ["ZUML_LANG"] = "en"
 # Settings, recovery files and user macros of the tests never touch the user's own.
 os.environ["ZUML_STUDIO_CONFIG_DIR"] = tempfile.mkdtemp(prefix="zuml-studio-tests-")
 

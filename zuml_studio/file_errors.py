@@ -3,6 +3,7 @@ command line and the editor's Open."""
 from __future__ import annotations
 
 from pathlib import Path
+from .i18n import _
 
 
 class FileReadError(Exception):
@@ -13,10 +14,10 @@ def read_file_bytes(path: str | Path) -> bytes:
     try:
         return Path(path).read_bytes()
     except FileNotFoundError:
-        raise FileReadError(f"{path}: no such file") from None
+        raise FileReadError(_("{path}: no such file").format(path=path)) from None
     except IsADirectoryError:
-        raise FileReadError(f"{path}: is a folder, not a file") from None
+        raise FileReadError(_("{path}: is a folder, not a file").format(path=path)) from None
     except PermissionError:
-        raise FileReadError(f"{path}: permission denied") from None
+        raise FileReadError(_("{path}: permission denied").format(path=path)) from None
     except OSError as exc:
         raise FileReadError(f"{path}: {exc.strerror or exc}") from None

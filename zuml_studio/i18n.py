@@ -7,7 +7,7 @@ the import still applies. ZUML keywords, opcode names, units, file formats and d
 (E303) are never put through `_`: they are the same in every language.
 
 The chosen language: ``ZUML_LANG``, else the user's preference, else the system locale
-(``LC_ALL``, ``LC_MESSAGES``, ``LANG``), else English. English is the source language and needs no
+(the first set of ``LC_ALL``, ``LC_MESSAGES``, ``LANG``), else English. English is the source language and needs no
 catalogue; any other supported language must have its compiled catalogue in the package, and a
 missing one is a broken installation (`DataFileError`), not a silent fall-back to English.
 """
@@ -16,8 +16,6 @@ from __future__ import annotations
 import gettext
 import os
 from importlib import resources
-
-from .data import DataFileError
 
 DOMAIN = "zuml_studio"
 SOURCE_LANGUAGE = "en"
@@ -53,13 +51,15 @@ def _supported(tag: str | None) -> str | None:
 
 def choose_language(preference: str | None = None) -> str:
     """The language to use: ``ZUML_LANG``, then ``preference`` (the user's choice, None or "" for
-    "as the system"), then the system locale, then English."""
-    for tag in (os.environ.get("ZUML_LANG"), preference,
-                os.environ.get("LC_ALL"), os.environ.get("LC_MESSAGES"), os.environ.get("LANG")):
+    "as the system"), then the system locale, then English. The system locale is the first of
+    ``LC_ALL``, ``LC_MESSAGES``, ``LANG`` that is set, as POSIX has it: ``LC_ALL=C`` means English
+    even when ``LANG`` is Russian."""
+    for tag in (os.environ.get("ZUML_LANG"), preference):
         code = _supported(tag)
         if code:
             return code
-    return SOURCE_LANGUAGE
+    system = next((os.environ[name] for name in ("LC_ALL", "LC_MESSAGES", "LANG") if os.environ.get(name)), None)
+    return _supported(system) or SOURCE_LANGUAGE
 
 
 def catalogue_path(language: str) -> str:
@@ -71,20 +71,48 @@ def install(language: str) -> None:
     """Make ``language`` the one `_` answers in, for the whole process."""
     global _translation, _language
     if language not in LANGUAGES:
-        raise ValueError(f"unsupported language {language!r}; supported: {', '.join(LANGUAGES)}")
+        raise ValueError(_("unsupported language {language!r}; supported: {supported}").format(
+            language=language, supported=", ".join(LANGUAGES)))
     if language == SOURCE_LANGUAGE:
         _translation, _language = gettext.NullTranslations(), language
         return
+    from .data import DataFileError   # here, not at the top: data/ itself translates its errors
+
     path = catalogue_path(language)
     try:
         with open(path, "rb") as fp:
             _translation = gettext.GNUTranslations(fp)
     except FileNotFoundError:
-        raise DataFileError(f"translation catalogue {path} is missing: the installation is incomplete, "
-                            "reinstall ZUML Studio (from a source checkout, `./dev` compiles it)") from None
+        raise DataFileError(_("translation catalogue {path} is missing: the installation is incomplete, "
+                              "reinstall ZUML Studio (from a source checkout, `./dev` compiles it)").format(
+                                  path=path)) from None
     except OSError as exc:
-        raise DataFileError(f"translation catalogue {path} is unreadable ({exc}): reinstall ZUML Studio") from None
+        raise DataFileError(_("translation catalogue {path} is unreadable ({error}): reinstall ZUML Studio").format(
+            path=path, error=exc)) from None
     _language = language
+
+
+# argparse's own words, which it puts through its module's `_` (gettext's global domain, which
+# this package never installs): listed here so that extraction puts them in our catalogue, and
+# `translate_argparse` routes argparse to it. The msgids are CPython's, letter for letter.
+ARGPARSE_TEXTS = (
+    N_("usage: "), N_("positional arguments"), N_("options"), N_("show this help message and exit"),
+    N_("%(prog)s: error: %(message)s\n"), N_("argument %(argument_name)s: %(message)s"),
+    N_("the following arguments are required: %s"), N_("unrecognized arguments: %s"),
+    N_("invalid choice: %(value)r (choose from %(choices)s)"), N_("invalid %(type)s value: %(value)r"),
+    N_("expected one argument"), N_("expected at most one argument"), N_("expected at least one argument"),
+    N_("ambiguous option: %(option)s could match %(matches)s"), N_("not allowed with argument %s"),
+    N_("one of the arguments %s is required"), N_("ignored explicit argument %r"),
+    N_("unexpected option string: %s"), N_("can't open '%(filename)s': %(error)s"),
+)
+
+
+def translate_argparse() -> None:
+    """Make argparse's usage, section titles and error messages answer in the installed language."""
+    import argparse
+
+    argparse._ = _
+    argparse.ngettext = ngettext
 
 
 def current_language() -> str:

@@ -7,6 +7,7 @@ from pathlib import Path
 
 from .file_errors import FileReadError, read_file_bytes
 from .recovery import atomic_write
+from .i18n import _
 
 EXTENSION = ".zuml"
 
@@ -35,9 +36,11 @@ def read_macro_file(path: str | Path) -> MacroFile:
     try:
         text = data[3 if bom else 0:].decode("utf-8")
     except UnicodeDecodeError as exc:
-        raise MacroFileError(f"{path}: not UTF-8 text (byte 0x{data[exc.start]:02x} at offset {exc.start})") from None
+        raise MacroFileError(_("{path}: not UTF-8 text (byte 0x{data:02x} at offset {start})").format(
+                path=path, data=data[exc.start], start=exc.start)) from None
     if "\x00" in text:
-        raise MacroFileError(f"{path}: a binary file, not a macro (a compiled record? open it with Decompile)")
+        raise MacroFileError(_("{path}: a binary file, not a macro (a compiled record? open it with Decompile)").format(
+                path=path))
     newline = "\r\n" if "\r\n" in text else "\n"
     return MacroFile(text.replace("\r\n", "\n"), newline, bom)
 
@@ -47,5 +50,5 @@ def write_macro_file(path: str | Path, text: str, like: MacroFile | None = None)
     try:
         atomic_write(Path(path), saved.encode())
     except OSError as exc:
-        raise MacroFileError(f"{path}: cannot save: {exc.strerror or exc}") from None
+        raise MacroFileError(_("{path}: cannot save: {error}").format(path=path, error=exc.strerror or exc)) from None
     return saved

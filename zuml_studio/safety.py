@@ -21,6 +21,7 @@ from .lang.diagnostics import Severity
 from .lang.eeprom import slots
 from .lang.lint import lint
 from .sim.interpreter import StartParams
+from .i18n import _
 
 
 class UnsafeMacro(Exception):
@@ -55,11 +56,12 @@ def image_problems(image: bytes, passport: Passport | None = None, *,
                    charger_max_a: float | None = None) -> list[str]:
     """``record_problems`` of every record in an EEPROM image that decodes, each line prefixed with
     its slot. Raises ``lang.eeprom.ImageError`` for a broken record list."""
-    return [f"slot {s.index} ({s.name}): {line}" for s in slots(image) if s.ok
+    return [_("slot {index} ({name}): {problem}").format(index=s.index, name=s.name, problem=line)
+            for s in slots(image) if s.ok
             for line in record_problems(s.record, passport, charger_max_a=charger_max_a)]
 
 
 def _lint_line(finding) -> str:
     offset = getattr(finding.node, "offset", None)
-    where = f" (byte {offset})" if offset is not None else ""
+    where = _(" (byte {offset})").format(offset=offset) if offset is not None else ""
     return f"{finding.code}{where}: {finding.message}"

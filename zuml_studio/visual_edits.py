@@ -24,6 +24,7 @@ from .lang.formatter import INDENT, format_statement
 from .lang.opcodes import Op, Place, Role
 from .lang.operands import (AKK_TYPE, CELSIUS, CURRENT, INPUT_U16, RELATIVE_FLAG, TIME, VOLTAGE, OperandKind,
                             ValueProblem, format_scaled, parse_akk_type)
+from .i18n import N_, _
 
 
 class EditError(ValueError):
@@ -48,7 +49,7 @@ def path_of(macro: Macro, node: object) -> Path:
         found = _path_in(section.items, node, (section.kind,))
         if found is not None:
             return found
-    raise LookupError("this part of the macro is no longer in the text")
+    raise LookupError(_("this part of the macro is no longer in the text"))
 
 
 def _path_in(items: list, node: object, prefix: Path) -> Path | None:
@@ -82,7 +83,7 @@ def node_at(macro: Macro, path: Path):
                 node = node.items[step]
         return node
     except (AttributeError, IndexError, TypeError, KeyError):
-        raise LookupError(f"nothing at {path} in this macro") from None
+        raise LookupError(_("nothing at {path} in this macro").format(path=path)) from None
 
 
 def shape(macro: Macro) -> tuple:
@@ -159,7 +160,7 @@ def _apply(text: str, changes: list[tuple[int, int, str]]) -> str:
     last = None
     for start, end, new in sorted(changes, key=lambda c: (c[0], c[1]), reverse=True):
         if last is not None and end > last:
-            raise EditError("overlapping edits")
+            raise EditError(_("overlapping edits"))
         out = out[:start] + new + out[end:]
         last = start
     return out
@@ -194,12 +195,13 @@ def common_patch(old: str, new: str) -> tuple[int, int, str]:
 
 # -- values ----------------------------------------------------------------------------------
 
-def parse_value(operand: ops.Operand, text: str, subject: str = "The value") -> tuple[int, str | None]:
+def parse_value(operand: ops.Operand, text: str, subject: str | None = None) -> tuple[int, str | None]:
     """Text of one operand -> (raw, note); EditError when it cannot be stored. A note says the
-    value was rounded to what the charger keeps."""
+    value was rounded to what the charger keeps. ``subject`` names the value in messages."""
+    subject = subject or _("The value")
     text = text.strip()
     if not text:
-        raise EditError(f"{subject} is empty")
+        raise EditError(_("{subject} is empty").format(subject=subject))
     try:
         if operand.kind is AKK_TYPE:
             return parse_akk_type(text), None
@@ -220,14 +222,16 @@ def new_statement_text(op: Op, texts: list[str]) -> str:
     raws = [parse_value(o, t, _subject(op, o))[0] for o, t in zip(op.operands, texts)]
     raws += [o.default for o in op.operands[len(texts):]]
     if any(r is None for r in raws):
-        raise EditError(f"{op.keyword} needs {len(op.operands)} values")
+        raise EditError(_("{keyword} needs {n_operands} values").format(
+                keyword=op.keyword, n_operands=len(op.operands)))
     return statement_text(op, raws)
 
 
 def _subject(op: Op, operand: ops.Operand) -> str:
     if op.condition:
-        return f"The limit of {op.signature().split(' ')[0]}"
-    return op.keyword if len(op.operands) == 1 else f"{operand.name} of {op.keyword}"
+        return _("The limit of {condition}").format(condition=op.signature().split(" ")[0])
+    return (op.keyword if len(op.operands) == 1
+            else _("{operand} of {keyword}").format(operand=operand.name, keyword=op.keyword))
 
 
 # -- statements ------------------------------------------------------------------------------
@@ -251,7 +255,7 @@ def set_value(text: str, stmt: Statement, index: int, value_text: str) -> str:
 def set_action_value(text: str, stmt: Statement, index: int, value_text: str) -> str:
     """``set_value`` for an action (CONSTANT_I, CONSTANT_V, CHARGE_EX, TRICKLE)."""
     if stmt.op.role is not Role.ACTION:
-        raise EditError(f"{stmt.op.keyword} is not an action")
+        raise EditError(_("{keyword} is not an action").format(keyword=stmt.op.keyword))
     return set_value(text, stmt, index, value_text)
 
 
@@ -301,14 +305,14 @@ def _content_indent(t: _Text, phase: Phase) -> str:
 def add_condition(text: str, phase: Phase, op: Op, value_text: str) -> str:
     """A new ``IF(...)`` line after the phase's last statement, indented like its statements."""
     if op.condition is None or Place.PHASE not in op.places:
-        raise EditError(f"{op.signature()} is not a phase condition")
+        raise EditError(_("{signature} is not a phase condition").format(signature=op.signature()))
     new = new_statement_text(op, [value_text])
     t = _Text(text)
     if not phase.statements:
-        raise EditError("the phase is empty")
+        raise EditError(_("the phase is empty"))
     last = phase.statements[-1]
     if phase.end_span and last.span.end_line == phase.end_span.line:
-        start, _ = t.span(phase.end_span)
+        start, __ = t.span(phase.end_span)
         return _apply(text, [(start, start, f"{new} ")])
     return _apply(text, [_insert_after_statement(t, last.span, new, _content_indent(t, phase))])
 
@@ -322,15 +326,16 @@ class ActionKind:
     ops: tuple[Op, ...]
 
 
-_ACTION_LABELS = {ops.CONSTANT_I: "Constant current", ops.CONSTANT_V: "Constant voltage",
-                  ops.CHARGE_EX: "Pulse charge", ops.TRICKLE: "Top up (trickle)"}
+_ACTION_LABELS = {ops.CONSTANT_I: N_("Constant current"), ops.CONSTANT_V: N_("Constant voltage"),
+                  ops.CHARGE_EX: N_("Pulse charge"), ops.TRICKLE: N_("Top up (trickle)")}
 
 
 def action_kinds() -> list[ActionKind]:
     """The actions a phase may hold, from the opcode table, plus CC-CV (CONSTANT_I with CONSTANT_V)."""
     out = []
     for op in ops.ACTIONS:
-        out.append(ActionKind(op.keyword, _ACTION_LABELS.get(op, op.keyword.title()), (op,)))
+        label = _(_ACTION_LABELS[op]) if op in _ACTION_LABELS else op.keyword.title()
+        out.append(ActionKind(op.keyword, label, (op,)))
         if op is ops.CONSTANT_V:
             out.append(ActionKind("CC-CV", "CC-CV", (ops.CONSTANT_I, ops.CONSTANT_V)))
     return out
@@ -425,7 +430,7 @@ def _action_texts(key: str, phase: Phase, macro: Macro | None, section: str) -> 
         else:
             v1_text = VOLTAGE.format(max(1, (v2 & 0x7FFF) - 10) | (v2 & RELATIVE_FLAG))
         return [new_statement_text(ops.TRICKLE, ["0.1C", v1_text, volt])]
-    raise EditError(f"unknown action {key!r}")
+    raise EditError(_("unknown action {key!r}").format(key=key))
 
 
 def set_action(text: str, phase: Phase, key: str, macro: Macro | None = None, section: str = "charge") -> str:
@@ -435,7 +440,7 @@ def set_action(text: str, phase: Phase, key: str, macro: Macro | None = None, se
     new = _action_texts(key, phase, macro, section)
     actions = phase_actions(phase)
     if not actions:
-        raise EditError("the phase has no action to change")
+        raise EditError(_("the phase has no action to change"))
     t = _Text(text)
     first = actions[0]
     start, end = t.span(first.span)
@@ -460,9 +465,9 @@ def _block(t: _Text, item) -> tuple[int, int]:
     first, last = _item_first_last(item)
     if not t.starts_line(first) or not t.ends_line(last):
         what = ("FAZE" if isinstance(item, Phase) else "CYCLE" if isinstance(item, Cycle) else
-                getattr(getattr(item, "op", None), "keyword", "the section"))
-        raise EditError(f"line {first.line}: {what} shares its line with other statements; "
-                        "put it on its own lines to move it here")
+                getattr(getattr(item, "op", None), "keyword", None) or _("the section"))
+        raise EditError(_("line {line}: {what} shares its line with other statements; put it on its own lines to "
+                          "move it here").format(line=first.line, what=what))
     top = first.line
     while top > 1 and t.line(top - 1).strip().startswith("//"):
         top -= 1
@@ -478,19 +483,19 @@ def move_item(text: str, container: Section | Cycle, from_index: int, to_index: 
     whole lines move, with the comment lines directly above the item."""
     items = container.items
     if not (0 <= from_index < len(items) and 0 <= to_index < len(items)):
-        raise EditError("no such position")
+        raise EditError(_("no such position"))
     if from_index == to_index:
         return text
     t = _Text(text)
     top, bottom = _block(t, items[from_index])
     moved = _lines_text(t, top, bottom)
     if to_index < from_index:
-        anchor_top, _ = _block(t, items[to_index])
+        anchor_top, __ = _block(t, items[to_index])
         at = t.starts[anchor_top - 1]
     else:
-        _, anchor_bottom = _block(t, items[to_index])
+        __, anchor_bottom = _block(t, items[to_index])
         if anchor_bottom >= len(t.lines):
-            raise EditError("the section has no end line")
+            raise EditError(_("the section has no end line"))
         at = t.starts[anchor_bottom]
     start, end = t.starts[top - 1], t.starts[bottom] if bottom < len(t.lines) else len(text)
     return _apply(text, [(start, end, ""), (at, at, moved)])
@@ -523,11 +528,11 @@ def wrap_in_cycle(text: str, phase: Phase | list, count: int = 2) -> str:
     """Put ``CYCLE(count)`` / ``END_CYCLE`` lines around a phase (or consecutive items, given
     as a list), its lines indented one level more. Cycles do not nest: the check refuses that."""
     if not 1 <= count <= 255:
-        raise EditError("a cycle repeats 1 to 255 times")
+        raise EditError(_("a cycle repeats 1 to 255 times"))
     items = phase if isinstance(phase, list) else [phase]
     t = _Text(text)
-    top, _ = _block(t, items[0])
-    _, bottom = _block(t, items[-1])
+    top, __ = _block(t, items[0])
+    __, bottom = _block(t, items[-1])
     first_span = _item_first_last(items[0])[0]
     indent = t.indent(first_span.line)
     body = _indent_lines(t.lines[top - 1:bottom], "\t" if indent.endswith("\t") else INDENT)
@@ -548,11 +553,12 @@ def unwrap_cycle(text: str, cycle: Cycle) -> str:
     """Remove a cycle's CYCLE(n) and END_CYCLE lines; its contents move out one level.
     A comment on either line stays, on a line of its own."""
     if cycle.end_span is None:
-        raise EditError("the cycle has no END_CYCLE")
+        raise EditError(_("the cycle has no END_CYCLE"))
     t = _Text(text)
     first, last = cycle.span.line, cycle.end_span.line
     if first == last:
-        raise EditError(f"line {first}: the cycle is written on one line; split it to unwrap it here")
+        raise EditError(_("line {first}: the cycle is written on one line; split it to unwrap it here").format(
+                first=first))
     indent = t.indent(first)
     inner = t.lines[first:last - 1]
     deeper = next((n for n in range(first + 1, last) if t.line(n).strip()), None)
@@ -566,7 +572,7 @@ def unwrap_cycle(text: str, cycle: Cycle) -> str:
 
 
 def set_cycle_count(text: str, cycle: Cycle, count: int | str) -> str:
-    raw, _ = parse_value(ops.CYCLE.operands[0], str(count), "The cycle count")
+    raw, __ = parse_value(ops.CYCLE.operands[0], str(count), _("The cycle count"))
     t = _Text(text)
     start, end = t.span(cycle.span)
     return _apply(text, [(start, end, f"CYCLE({raw})")])
@@ -637,7 +643,7 @@ def add_phase(text: str, macro: Macro, kind: str) -> str:
     inner, sec_indent = _style(t, macro)
     if section.present:
         if section.end_span is None or not t.starts_line(section.end_span):
-            raise EditError("the section's END_SECTION shares its line; put it on its own line to add a phase")
+            raise EditError(_("the section's END_SECTION shares its line; put it on its own line to add a phase"))
         indent = t.indent(section.span.line) + INDENT
         for item in section.items:
             indent = t.indent(_item_first_last(item)[0].line)
@@ -651,10 +657,10 @@ def add_phase(text: str, macro: Macro, kind: str) -> str:
     block = "\n".join(lines) + "\n"
     other = macro.charge if kind == "discharge" else macro.discharge
     if kind == "discharge" and other.present:
-        top, _ = _block(t, _SectionItem(other))
+        top, __ = _block(t, _SectionItem(other))
         at = t.starts[top - 1]
     elif kind == "charge" and other.present:
-        _, bottom = _block(t, _SectionItem(other))
+        __, bottom = _block(t, _SectionItem(other))
         at = t.starts[bottom]
     else:
         at = _after_intro(t, macro)
@@ -680,7 +686,7 @@ def set_declaration(text: str, macro: Macro, op: Op, value_text: str) -> str:
     """Set a declaration or macro-wide condition (a Place.INTRO op): rewrite it when declared,
     else insert it in the introduction, in table order among the others."""
     if Place.INTRO not in op.places:
-        raise EditError(f"{op.keyword} does not stand in the introduction")
+        raise EditError(_("{keyword} does not stand in the introduction").format(keyword=op.keyword))
     existing = macro.declared(op)
     if existing is not None:
         return set_value(text, existing, 0, value_text)
@@ -711,7 +717,7 @@ def remove_declaration(text: str, macro: Macro, op: Op) -> str:
 def set_name(text: str, macro: Macro, name: str) -> str:
     name = name.strip()
     if not name:
-        raise EditError("the macro needs a name")
+        raise EditError(_("the macro needs a name"))
     t = _Text(text)
     start, end = t.span(macro.name_span)
     return _apply(text, [(start, end, name)])
@@ -738,15 +744,17 @@ def human_value(kind: OperandKind, raw: int) -> str:
     return kind.format(raw)
 
 
-_VARIABLE_WORDS = {"V": "V", "I": "I", "T": "T", "Tc": "heat-sink", "tm": "macro time", "tf": "", "DELTA_PEAK": "−ΔV"}
-CONDITION_LABELS = {"V": "Voltage", "I": "Current", "T": "Temperature", "Tc": "Heat-sink", "tm": "Macro time",
-                    "tf": "Phase time", "DELTA_PEAK": "−ΔV from peak"}
+# Words for the condition variables that are not symbols (V, I, T, −ΔV stay as they are).
+_VARIABLE_WORDS = {"Tc": N_("heat-sink")}
+CONDITION_LABELS = {"V": N_("Voltage"), "I": N_("Current"), "T": N_("Temperature"), "Tc": N_("Heat-sink"),
+                    "tm": N_("Macro time"), "tf": N_("Phase time"), "DELTA_PEAK": N_("−ΔV from peak")}
 
 
 def condition_label(op: Op) -> str:
     """'Voltage >' for the condition rows."""
     c = op.condition
-    return f"{CONDITION_LABELS.get(c.variables[0], c.variables[0])} {c.comparison}"
+    var = c.variables[0]
+    return f"{_(CONDITION_LABELS[var]) if var in CONDITION_LABELS else var} {c.comparison}"
 
 
 def condition_phrase(st: Statement) -> str:
@@ -756,24 +764,28 @@ def condition_phrase(st: Statement) -> str:
     if var == "tf":
         return value
     if var == "tm":
-        return f"macro time > {value}"
+        return _("macro time > {value}").format(value=value)
     if var == "DELTA_PEAK":
         return f"−ΔV > {value}"
-    return f"{_VARIABLE_WORDS.get(var, var)} {c.comparison} {value}"
+    return f"{_(_VARIABLE_WORDS[var]) if var in _VARIABLE_WORDS else var} {c.comparison} {value}"
 
 
 def intro_condition_phrase(st: Statement) -> str:
     c = st.op.condition
     value = human_value(st.op.operands[0].kind, st.args[0].raw)
     if c.variables[0] == "Tc":
-        return f"{'Pause' if c.comparison == '>' else 'Resume'} when heat-sink {c.comparison} {value}"
+        if c.comparison == ">":
+            return _("Pause when heat-sink > {value}").format(value=value)
+        return _("Resume when heat-sink {comparison} {value}").format(comparison=c.comparison, value=value)
     if c.variables[0] == "tm":
-        return f"Stop the macro after {value}"
+        return _("Stop the macro after {value}").format(value=value)
     return condition_phrase(st)
 
 
-def _amount(kind: OperandKind, raw: int, what: str) -> str:
-    return f"the {what} entered at start" if raw == INPUT_U16 else human_value(kind, raw)
+def _amount(kind: OperandKind, raw: int) -> str:
+    if raw != INPUT_U16:
+        return human_value(kind, raw)
+    return _("the current entered at start") if kind is CURRENT else _("the voltage entered at start")
 
 
 def describe_phase(phase: Phase, section: str = "charge", nbsp: bool = False) -> str:
@@ -782,24 +794,27 @@ def describe_phase(phase: Phase, section: str = "charge", nbsp: bool = False) ->
     actions = {s.op: s for s in phase_actions(phase)}
     if ops.CONSTANT_I in actions and ops.CONSTANT_V in actions:
         i, v = actions[ops.CONSTANT_I].args[0].raw, actions[ops.CONSTANT_V].args[0].raw
-        head = f"CC-CV {_amount(CURRENT, i, 'current')} to {_amount(VOLTAGE, v, 'voltage')}"
+        head = _("CC-CV {current} to {voltage}").format(current=_amount(CURRENT, i), voltage=_amount(VOLTAGE, v))
     elif ops.CONSTANT_I in actions:
-        i = actions[ops.CONSTANT_I].args[0].raw
-        head = f"{'Discharge' if section == 'discharge' else 'Charge'} at {_amount(CURRENT, i, 'current')}"
+        current = _amount(CURRENT, actions[ops.CONSTANT_I].args[0].raw)
+        head = (_("Discharge at {current}") if section == "discharge" else _("Charge at {current}")).format(
+            current=current)
     elif ops.CONSTANT_V in actions:
-        head = f"Hold {_amount(VOLTAGE, actions[ops.CONSTANT_V].args[0].raw, 'voltage')}"
+        head = _("Hold {voltage}").format(voltage=_amount(VOLTAGE, actions[ops.CONSTANT_V].args[0].raw))
     elif ops.CHARGE_EX in actions:
         tch, ich, tdis, idis, _tv = actions[ops.CHARGE_EX].raws()
-        head = f"Pulse-charge {tch} s at {human_value(CURRENT, ich)}"
-        head += f", discharge {tdis} s at {human_value(CURRENT, idis)}" if tdis else ""
+        head = _("Pulse-charge {seconds} s at {current}").format(seconds=tch, current=human_value(CURRENT, ich))
+        if tdis:
+            head += _(", discharge {seconds} s at {current}").format(seconds=tdis, current=human_value(CURRENT, idis))
     elif ops.TRICKLE in actions:
         i, v1, v2 = actions[ops.TRICKLE].raws()
         low, high = human_value(VOLTAGE, v1), human_value(VOLTAGE, v2)
         if INPUT_U16 not in (v1, v2) and (v1 & RELATIVE_FLAG) == (v2 & RELATIVE_FLAG):
             low = low.split(" ")[0]
-        head = f"Top up at {human_value(CURRENT, i)} between {low} and {high}"
+        head = _("Top up at {current} between {low} and {high}").format(current=human_value(CURRENT, i), low=low,
+                                                                       high=high)
     else:
-        head = "No action"
+        head = _("No action")
     stops = phase_conditions(phase)
     conds = [condition_phrase(s) for s in stops]
     only_time = len(stops) == 1 and stops[0].op.condition.variables[0] == "tf"
@@ -807,10 +822,10 @@ def describe_phase(phase: Phase, section: str = "charge", nbsp: bool = False) ->
         conds = [c.replace(" ", "\u00a0") for c in conds]
         head = re.sub(r"(\d) (A|V|V/cell|s|h|min|°C)\b", "\\1\u00a0\\2", head)
     if not conds:
-        return head + ", with no stop condition"
+        return _("{action}, with no stop condition").format(action=head)
     if only_time:
-        return f"{head} for {conds[0]}"
-    return f"{head} until {' or '.join(conds)}"
+        return _("{action} for {time}").format(action=head, time=conds[0])
+    return _("{action} until {conditions}").format(action=head, conditions=_(" or ").join(conds))
 
 
 def missing_conditions(phase: Phase) -> list[Op]:

@@ -8,6 +8,7 @@ from decimal import Decimal
 
 from . import data
 from .sim.chemistry import Chemistry, chemistry_names, load_chemistry
+from .i18n import _
 
 TEMPLATES = "templates.toml"
 
@@ -34,7 +35,8 @@ def choices(name: str) -> dict:
     """The template's choices for a chemistry (its canonical name), e.g. ``default_rate_c``."""
     table = data.read_toml(TEMPLATES).get(name)
     if not isinstance(table, dict):
-        raise data.DataFileError(f"data file {data.location(TEMPLATES)} has no [{name}] table")
+        raise data.DataFileError(_("data file {location} has no [{name}] table").format(
+                location=data.location(TEMPLATES), name=name))
     return table
 
 
@@ -46,15 +48,16 @@ def new_macro(a: Answers) -> str:
     try:
         chem = load_chemistry(a.chemistry)
     except KeyError:
-        raise WizardError(f"no template for {a.chemistry!r}; choose one of {', '.join(chemistry_names())}") from None
+        raise WizardError(_("no template for {chemistry!r}; choose one of {chemistry_names}").format(
+                chemistry=a.chemistry, chemistry_names=', '.join(chemistry_names()))) from None
     if not 1 <= a.series <= 255:
-        raise WizardError("cells in series: 1 to 255")
+        raise WizardError(_("cells in series: 1 to 255"))
     if not 2 <= a.capacity_mah <= 65534:
-        raise WizardError("capacity: 2 to 65534 mAh")
+        raise WizardError(_("capacity: 2 to 65534 mAh"))
     c = choices(chem.name)
     rate = c["default_rate_c"] if a.rate_c is None else a.rate_c
     if not 0.01 <= rate <= 5:
-        raise WizardError("charge rate: 0.01C to 5C")
+        raise WizardError(_("charge rate: 0.01C to 5C"))
     head = [f"MACRO {default_name(a, chem)}",
             f"  // {chem.name}, {a.series} cell(s), {a.capacity_mah} mAh, charge at {_num(rate)}C, "
             f"temperature sensor {'fitted' if a.sensor else 'not fitted'} (written by zuml new)",
@@ -84,8 +87,9 @@ def _nickel(chem: Chemistry, c: dict, a: Answers, rate: float) -> list[str]:
     elif rate <= c["timed_max_rate_c"]:
         ends = [f"      IF(V>{_num(chem.max_v)}S) STOP_FAZE"]
     else:
-        raise WizardError(f"{chem.name} at {_num(rate)}C shows no reliable -dV and is too fast for a timed charge: "
-                          f"choose {c['min_delta_rate_c']}C or more, or {c['timed_max_rate_c']}C or less")
+        raise WizardError(_("{name} at {rate}C shows no reliable -dV and is too fast for a timed charge: choose "
+                            "{low}C or more, or {high}C or less").format(
+                name=chem.name, rate=_num(rate), low=c['min_delta_rate_c'], high=c['timed_max_rate_c']))
     main = ["    FAZE", f"      CONSTANT_I={_num(rate)}C"] + ends + _sensor(c, a) + \
            [f"      IF(tf>{timer}min) STOP_FAZE", "    END_FAZE"]
     topoff = ["    FAZE", f"      TRICKLE({_num(c['topoff_rate_c'])}C, {_num(c['topoff_v1'])}S, "

@@ -1,6 +1,6 @@
 """The frozen bundle, built the way a release is (packaging/pyinstaller/build.sh, what `./dev package`
 runs), works on its own: its zuml fails the dangerous macro, its zuml-studio renders the window
-offscreen, Qt's Russian translation is inside, and install.sh installs it (issue 10). Slow: it builds
+offscreen, Qt's Russian translation and ours are inside, and install.sh installs it (issue 10). Slow: it builds
 a clean venv and freezes it (a few minutes on a loaded 2-core machine); `-m 'not slow'` skips it."""
 import os
 import re
@@ -59,6 +59,17 @@ def test_the_bundles_zuml_studio_renders_a_1600x1000_screenshot(built, tmp_path)
 def test_qts_russian_translation_is_in_the_bundle(built):
     bundle, _ = built
     assert any(bundle.rglob("qtbase_ru.qm"))
+
+
+def test_the_bundles_zuml_speaks_russian_from_its_own_catalogue(built, tmp_path):
+    bundle, _ = built
+    assert (bundle / "_internal" / "zuml_studio" / "locale" / "ru" / "LC_MESSAGES" / "zuml_studio.mo").is_file()
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "ZUML_LANG", "LC_ALL", "LC_MESSAGES")}
+    env["LANG"] = "ru_RU.UTF-8"
+    proc = subprocess.run([str(bundle / "zuml"), "check", str(DANGEROUS)], cwd=tmp_path, env=env,
+                          capture_output=True, text=True, timeout=180)
+    assert proc.returncode == 1 and proc.stdout.count("[E303]") == 2, proc.stdout + proc.stderr
+    assert "ошибка" in proc.stdout and "подсказка" in proc.stdout, proc.stdout
 
 
 def test_install_sh_installs_the_bundle_that_then_runs(built, tmp_path):

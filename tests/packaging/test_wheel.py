@@ -11,7 +11,7 @@ import pytest
 from helpers import ROOT
 
 DANGEROUS = ROOT / "tests" / "data" / "LiPo-4V5.zuml"
-SOURCES = ("pyproject.toml", "README.md", "LICENSE", "zuml_studio")
+SOURCES = ("pyproject.toml", "setup.py", "README.md", "LICENSE", "zuml_studio")
 
 
 def _run(*cmd, cwd, env=None, timeout=180) -> subprocess.CompletedProcess:
@@ -27,7 +27,8 @@ def installed(tmp_path_factory):
     src = tmp / "src"
     for name in SOURCES:
         if (ROOT / name).is_dir():
-            shutil.copytree(ROOT / name, src / name, ignore=shutil.ignore_patterns("__pycache__"))
+            # No .mo from ./dev: the wheel's own build step must compile the catalogues.
+            shutil.copytree(ROOT / name, src / name, ignore=shutil.ignore_patterns("__pycache__", "*.mo"))
         else:
             src.mkdir(exist_ok=True)
             shutil.copy2(ROOT / name, src / name)
@@ -70,6 +71,17 @@ def test_installed_zuml_check_fails_the_dangerous_macro(installed):
     proc = _run(bin_ / "zuml", "check", DANGEROUS, cwd=outside, env=_env(site))
     assert proc.returncode == 1, proc.stdout + proc.stderr
     assert proc.stdout.count("[E303]") == 2
+
+
+def test_installed_zuml_speaks_russian_under_a_russian_locale(installed):
+    site, bin_, outside = installed
+    assert (site / "zuml_studio" / "locale" / "ru" / "LC_MESSAGES" / "zuml_studio.mo").is_file()
+    env = {k: v for k, v in _env(site).items() if k not in ("ZUML_LANG", "LC_ALL", "LC_MESSAGES")}
+    env["LANG"] = "ru_RU.UTF-8"
+    proc = _run(bin_ / "zuml", "check", DANGEROUS, cwd=outside, env=env)
+    assert proc.returncode == 1, proc.stdout + proc.stderr
+    assert proc.stdout.count("[E303]") == 2
+    assert "ошибка" in proc.stdout and "на элемент" in proc.stdout, proc.stdout
 
 
 def test_installed_zuml_simulates_and_writes_a_new_macro(installed):

@@ -5,6 +5,7 @@ import sys
 from pathlib import Path
 
 from ..file_errors import FileReadError, read_file_bytes
+from ..i18n import _
 
 
 class CliError(Exception):
@@ -27,14 +28,15 @@ def read_text(path: str) -> str:
     try:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
-        raise CliError(f"{path}: not UTF-8 text (byte 0x{data[exc.start]:02x} at offset {exc.start})") from None
+        raise CliError(_("{path}: not UTF-8 text (byte 0x{data:02x} at offset {start})").format(
+                path=path, data=data[exc.start], start=exc.start)) from None
 
 
 def write_bytes(path: str, data: bytes) -> None:
     try:
         Path(path).write_bytes(data)
     except OSError as exc:
-        raise CliError(f"{path}: cannot write: {exc.strerror or exc}") from None
+        raise CliError(_("{path}: cannot write: {error}").format(path=path, error=exc.strerror or exc)) from None
 
 
 def refuse_unsafe(problems: list[str], force: bool, what: str) -> None:
@@ -44,14 +46,15 @@ def refuse_unsafe(problems: list[str], force: bool, what: str) -> None:
     for line in problems:
         sys.stderr.write(f"  {line}\n")
     if not force:
-        raise CliError(f"{what}: refused, {len(problems)} safety problem(s) above "
-                       "(--force-unsafe overrides)", 1)
-    sys.stderr.write(f"zuml: warning: {what}: --force-unsafe: going ahead despite the problem(s) above\n")
+        raise CliError(_("{what}: refused, {n_problems} safety problem(s) above (--force-unsafe overrides)").format(
+                what=what, n_problems=len(problems)), 1)
+    sys.stderr.write(_("zuml: warning: {what}: --force-unsafe: going ahead despite the problem(s) above\n").format(
+            what=what))
 
 
 def add_force_unsafe(p) -> None:
     p.add_argument("--force-unsafe", action="store_true",
-                   help="write (or start) even what the safety check refuses (chemistry limits, passport)")
+                   help=_("write (or start) even what the safety check refuses (chemistry limits, passport)"))
 
 
 def out(text: str = "") -> None:
@@ -63,9 +66,9 @@ def check_start_options(args, capacity_max: float = 65534.0, amps_max: float = 3
     for name in ("cycles", "series"):
         value = getattr(args, name, None)
         if value is not None and not 1 <= value <= 255:
-            raise CliError(f"--{name} must be 1 to 255")
+            raise CliError(_("--{name} must be 1 to 255").format(name=name))
     limits = {"capacity": capacity_max, "current": amps_max, "voltage": amps_max}
     for name, top in limits.items():
         value = getattr(args, name, None)
         if value is not None and not 0 < value <= top:
-            raise CliError(f"--{name} must be above 0 and at most {top:g}")
+            raise CliError(_("--{name} must be above 0 and at most {top:g}").format(name=name, top=top))

@@ -9,6 +9,7 @@ import sys
 import time
 
 from .common import CliError
+from ..i18n import _
 
 FLUSH_S = 0.5
 
@@ -20,7 +21,7 @@ class CsvSink:
         try:
             self._fh = open(path, "w", encoding="utf-8", newline="")
         except OSError as exc:
-            raise CliError(f"{path}: cannot write: {exc.strerror or exc}") from None
+            raise CliError(_("{path}: cannot write: {error}").format(path=path, error=exc.strerror or exc)) from None
         self._writer = csv.writer(self._fh, lineterminator="\n")
         self._flushed = time.monotonic()
         self.row(columns)
@@ -46,6 +47,7 @@ class CsvSink:
         try:
             action()
         except OSError as exc:
-            self.failed = f"{self.path}: cannot write: {exc.strerror or exc}"
-            sys.stderr.write(f"zuml: error: {self.failed}; the CSV ends here, the monitor goes on on screen\n")
+            self.failed = _("{path}: cannot write: {error}").format(path=self.path, error=exc.strerror or exc)
+            sys.stderr.write(_("zuml: error: {failed}; the CSV ends here, the monitor goes on on screen\n").format(
+                    failed=self.failed))
             sys.stderr.flush()

@@ -22,100 +22,104 @@ from ..lang.eeprom import ImageError, Slot, records, used_bytes
 from ..lang.record import DecodeError
 from .common import CliError, add_force_unsafe, check_start_options, out, read_bytes, refuse_unsafe, write_bytes
 from .lang_commands import compile_file
+from ..i18n import _, ngettext
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("ports", help="list serial ports (and how to get a virtual charger)")
+    p = sub.add_parser("ports", help=_("list serial ports (and how to get a virtual charger)"))
     p.set_defaults(run=cmd_ports)
 
-    p = _with_port(sub.add_parser("slots", help="list the macros in a charger's EEPROM"))
+    p = _with_port(sub.add_parser("slots", help=_("list the macros in a charger's EEPROM")))
     p.set_defaults(run=cmd_slots)
 
-    p = _with_port(sub.add_parser("flash", help="write a macro to the charger (replace by name, or append)"))
-    p.add_argument("file", metavar="FILE", help="a .zuml macro or a compiled .bin record")
-    p.add_argument("--slot", type=int, metavar="N", help="replace slot N (N = the slot count appends)")
+    p = _with_port(sub.add_parser("flash", help=_("write a macro to the charger (replace by name, or append)")))
+    p.add_argument("file", metavar="FILE", help=_("a .zuml macro or a compiled .bin record"))
+    p.add_argument("--slot", type=int, metavar="N", help=_("replace slot N (N = the slot count appends)"))
     add_force_unsafe(p)
     p.set_defaults(run=cmd_flash)
 
-    p = _with_port(sub.add_parser("backup", help="save the charger's whole EEPROM image"))
+    p = _with_port(sub.add_parser("backup", help=_("save the charger's whole EEPROM image")))
     p.add_argument("-o", "--output", required=True, metavar="image.bin")
     p.set_defaults(run=cmd_backup)
 
-    p = _with_port(sub.add_parser("restore", help="write a saved EEPROM image back to the charger"))
+    p = _with_port(sub.add_parser("restore", help=_("write a saved EEPROM image back to the charger")))
     p.add_argument("file", metavar="image.bin")
     add_force_unsafe(p)
     p.set_defaults(run=cmd_restore)
 
-    p = _with_port(sub.add_parser("run", help="start the macro in a slot"))
+    p = _with_port(sub.add_parser("run", help=_("start the macro in a slot")))
     p.add_argument("--slot", type=int, required=True, metavar="N")
     p.add_argument("--task", choices=msg.TASKS, default="charge")
-    p.add_argument("--cycles", type=int, default=1, metavar="N", help="training: discharge+charge N times")
-    p.add_argument("--capacity", type=float, metavar="MAH", help="capacity entered at start")
-    p.add_argument("--current", type=float, metavar="A", help="current entered at start (INPUT)")
-    p.add_argument("--voltage", type=float, metavar="V", help="voltage entered at start (INPUT)")
-    p.add_argument("--series", type=int, metavar="N", help="cells in series entered at start")
-    p.add_argument("--no-sensor", action="store_true", help="no battery temperature sensor connected")
+    p.add_argument("--cycles", type=int, default=1, metavar="N", help=_("training: discharge+charge N times"))
+    p.add_argument("--capacity", type=float, metavar="MAH", help=_("capacity entered at start"))
+    p.add_argument("--current", type=float, metavar="A", help=_("current entered at start (INPUT)"))
+    p.add_argument("--voltage", type=float, metavar="V", help=_("voltage entered at start (INPUT)"))
+    p.add_argument("--series", type=int, metavar="N", help=_("cells in series entered at start"))
+    p.add_argument("--no-sensor", action="store_true", help=_("no battery temperature sensor connected"))
     add_force_unsafe(p)
     p.set_defaults(run=cmd_run)
 
-    p = _with_port(sub.add_parser("stop", help="stop the running macro"))
+    p = _with_port(sub.add_parser("stop", help=_("stop the running macro")))
     p.set_defaults(run=cmd_stop)
 
-    p = _with_port(sub.add_parser("monitor", help="print telemetry and events as they come (Ctrl+C ends)"))
+    p = _with_port(sub.add_parser("monitor", help=_("print telemetry and events as they come (Ctrl+C ends)")))
     p.add_argument("--driver", default=ZUML, metavar="NAME",
-                   help=f"the charger's protocol: {ZUML} (ours, default), auto (detect a monitor-only charger), "
-                        f"or one of {', '.join(DRIVERS)}")
-    p.add_argument("--csv", metavar="OUT.csv", help="also write every line to a CSV file")
-    p.add_argument("--seconds", type=float, metavar="S", help="end after S seconds")
-    p.add_argument("--rate", type=int, metavar="HZ", help="telemetry rate to set, 1..50")
-    p.add_argument("--until-end", action="store_true", help="end when the running macro finishes")
+                   help=_("the charger's protocol: {zuml} (ours, default), auto (detect a monitor-only charger), "
+                          "or one of {drivers}").format(zuml=ZUML, drivers=', '.join(DRIVERS)))
+    p.add_argument("--csv", metavar="OUT.csv", help=_("also write every line to a CSV file"))
+    p.add_argument("--seconds", type=float, metavar="S", help=_("end after S seconds"))
+    p.add_argument("--rate", type=int, metavar="HZ", help=_("telemetry rate to set, 1..50"))
+    p.add_argument("--until-end", action="store_true", help=_("end when the running macro finishes"))
     p.set_defaults(run=cmd_monitor)
 
-    p = _with_port(sub.add_parser("passport", help="read (or write fields of) the battery's passport"))
+    p = _with_port(sub.add_parser("passport", help=_("read (or write fields of) the battery's passport")))
     p.add_argument("--write", action="append", default=[], metavar="FIELD=VALUE",
-                   help=f"set a field ({', '.join(WRITABLE)}; a factory battery also "
-                        f"{', '.join(f for f in FACTORY_WRITABLE if f not in WRITABLE)}); may be repeated")
+                   help=_("set a field ({writable}; a factory battery also {items}); may be repeated").format(
+                           writable=', '.join(WRITABLE),
+                           items=', '.join(f for f in FACTORY_WRITABLE if f not in WRITABLE)))
     p.set_defaults(run=cmd_passport)
 
-    p = sub.add_parser("virtual-charger", help="run a simulated charger behind a serial port (pty) or TCP")
+    p = sub.add_parser("virtual-charger", help=_("run a simulated charger behind a serial port (pty) or TCP"))
     p.add_argument("--battery", default="NiMh:2000:4", metavar="CHEM:MAH:CELLS|battery:NAME",
-                   help="the simulated pack (default NiMh:2000:4)")
-    p.add_argument("--speed", type=float, default=1.0, metavar="X", help="real time x X (1..100000)")
-    p.add_argument("--eeprom", metavar="FILE", help="load the EEPROM from FILE and save every commit there")
+                   help=_("the simulated pack (default NiMh:2000:4)"))
+    p.add_argument("--speed", type=float, default=1.0, metavar="X", help=_("real time x X (1..100000)"))
+    p.add_argument("--eeprom", metavar="FILE", help=_("load the EEPROM from FILE and save every commit there"))
     p.add_argument("--eeprom-size", type=int, default=1024, metavar="BYTES")
-    p.add_argument("--tcp", metavar="HOST:PORT", help="listen on TCP (socket://HOST:PORT) instead of a pty")
-    p.add_argument("--baud", type=int, default=DEFAULT_BAUD, help="pace the line at this rate (0: unpaced)")
-    p.add_argument("--ber", type=float, default=0.0, metavar="P", help="bit error rate, both directions")
-    p.add_argument("--drop", type=float, default=0.0, metavar="P", help="probability a received byte is lost")
-    p.add_argument("--disconnect-after", type=int, metavar="N", help="close the link after N bytes received")
-    p.add_argument("--eeprom-write-ms", type=float, default=0.0, metavar="MS", help="write time per EEPROM byte")
-    p.add_argument("--seed", type=int, help="seed for the faults and the measurement noise")
-    p.add_argument("--soc", type=float, default=0.0, metavar="F", help="initial state of charge 0..1 (default 0)")
+    p.add_argument("--tcp", metavar="HOST:PORT", help=_("listen on TCP (socket://HOST:PORT) instead of a pty"))
+    p.add_argument("--baud", type=int, default=DEFAULT_BAUD, help=_("pace the line at this rate (0: unpaced)"))
+    p.add_argument("--ber", type=float, default=0.0, metavar="P", help=_("bit error rate, both directions"))
+    p.add_argument("--drop", type=float, default=0.0, metavar="P", help=_("probability a received byte is lost"))
+    p.add_argument("--disconnect-after", type=int, metavar="N", help=_("close the link after N bytes received"))
+    p.add_argument("--eeprom-write-ms", type=float, default=0.0, metavar="MS", help=_("write time per EEPROM byte"))
+    p.add_argument("--seed", type=int, help=_("seed for the faults and the measurement noise"))
+    p.add_argument("--soc", type=float, default=0.0, metavar="F", help=_("initial state of charge 0..1 (default 0)"))
     p.add_argument("--ambient", type=float, default=25.0, metavar="C")
-    p.add_argument("--no-sensor", action="store_true", help="no battery temperature sensor")
+    p.add_argument("--no-sensor", action="store_true", help=_("no battery temperature sensor"))
     p.add_argument("--passport", default="match", metavar="TYPE",
-                   help="the battery passport's chemistry (default: the battery's; 'none': no passport)")
+                   help=_("the battery passport's chemistry (default: the battery's; 'none': no passport)"))
     p.add_argument("--passport-factory", action="store_true",
-                   help="a factory battery: its passport lets the charger write serial, vendor, type, v_limit "
-                        "(default: a production battery, only err and crit)")
+                   help=_("a factory battery: its passport lets the charger write serial, vendor, type, v_limit "
+                          "(default: a production battery, only err and crit)"))
     p.set_defaults(run=cmd_virtual_charger)
 
-    p = sub.add_parser("replay", help="play a charger recording onto a serial port (pty) at its recorded pace")
-    p.add_argument("file", metavar="FILE", help="raw $ lines, {..} frames, Ultramat frames, a HID report dump, "
-                                                "or an iCharger DUO/X .txt log")
-    p.add_argument("--speed", type=float, default=1.0, metavar="N", help="recorded pace x N (default 1)")
+    p = sub.add_parser("replay", help=_("play a charger recording onto a serial port (pty) at its recorded pace"))
+    p.add_argument("file", metavar="FILE", help=_("raw $ lines, {..} frames, Ultramat frames, a HID report dump, "
+                                                  "or an iCharger DUO/X .txt log"))
+    p.add_argument("--speed", type=float, default=1.0, metavar="N", help=_("recorded pace x N (default 1)"))
     p.add_argument("--as", dest="as_format", choices=tuple(DRIVERS), metavar="FORMAT",
-                   help=f"read FILE as this driver's stream ({', '.join(DRIVERS)}; default: recognise it)")
+                   help=_("read FILE as this driver's stream ({drivers}; default: recognise it)").format(
+                           drivers=', '.join(DRIVERS)))
     p.set_defaults(run=cmd_replay)
 
 
 def _with_port(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
     p.add_argument("--port", default=os.environ.get("ZUML_PORT"), required="ZUML_PORT" not in os.environ,
-                   metavar="PORT", help="serial port, e.g. /dev/ttyUSB0, COM3, socket://HOST:PORT "
-                                        "(default: $ZUML_PORT)")
+                   metavar="PORT", help=_("serial port, e.g. /dev/ttyUSB0, COM3, socket://HOST:PORT (default: "
+                                          "$ZUML_PORT)"))
     p.add_argument("--baud", type=int, metavar="B",
-                   help=f"default {DEFAULT_BAUD} for a ZUML charger, the charger's own for the other drivers")
-    p.add_argument("--timeout", type=float, metavar="S", help="seconds per request attempt (default: from the baud)")
+                   help=_("default {default_baud} for a ZUML charger, the charger's own for the other drivers").format(
+                           default_baud=DEFAULT_BAUD))
+    p.add_argument("--timeout", type=float, metavar="S", help=_("seconds per request attempt (default: from the baud)"))
     return p
 
 
@@ -126,11 +130,11 @@ def _device_errors(fn):
         try:
             return fn(args)
         except DeviceError as exc:
-            raise CliError(f"the charger refused: {exc}", 1) from None
+            raise CliError(_("the charger refused: {exc}").format(exc=exc), 1) from None
         except DeviceLinkError as exc:
             raise CliError(str(exc), 1) from None
         except ImageError as exc:
-            raise CliError(f"EEPROM image: {exc}", 1) from None
+            raise CliError(_("EEPROM image: {exc}").format(exc=exc), 1) from None
         except PassportError as exc:
             raise CliError(f"passport: {exc}", 2) from None
     return run
@@ -138,7 +142,7 @@ def _device_errors(fn):
 
 def _connect(args: argparse.Namespace) -> ChargerClient:
     if not args.port:
-        raise CliError("give the port: --port /dev/ttyUSB0 (see `zuml ports`)")
+        raise CliError(_("give the port: --port /dev/ttyUSB0 (see `zuml ports`)"))
     return ChargerClient(args.port, args.baud or DEFAULT_BAUD, args.timeout)
 
 
@@ -155,10 +159,10 @@ def cmd_ports(args: argparse.Namespace) -> int:
     from ..device.ports import list_ports
     found = list_ports(include_virtual=False)
     if not found:
-        out("no serial ports found")
+        out(_("no serial ports found"))
     for p in found:
         out(p.label())
-    out("virtual - a simulated charger: run `zuml virtual-charger` and use the port it prints")
+    out(_("virtual - a simulated charger: run `zuml virtual-charger` and use the port it prints"))
     return 0
 
 
@@ -172,7 +176,8 @@ def cmd_slots(args: argparse.Namespace) -> int:
         check = "ok" if s.ok else f"BAD ({s.error.message})"
         out(f"{s.index:>3}  {s.offset:>6}  {len(s.record):>4}  {s.name:<16}  {_chemistry(s):<9}  {check}")
     used = used_bytes(image)
-    out(f"{len(found)} macro(s); free {len(image) - used} of {len(image)} bytes")
+    out(_("{count} macro(s); free {free} of {size} bytes").format(
+            count=len(found), free=len(image) - used, size=len(image)))
     return 0
 
 
@@ -181,7 +186,8 @@ def _slots_or_error(image: bytes) -> list[Slot]:
     try:
         return slots(image)
     except ImageError as exc:
-        raise CliError(f"the charger's record list is broken ({exc}); `zuml restore` a backup", 1) from None
+        raise CliError(_("the charger's record list is broken ({exc}); `zuml restore` a backup").format(
+                exc=exc), 1) from None
 
 
 def _record(path: str, force: bool) -> bytes:
@@ -191,8 +197,9 @@ def _record(path: str, force: bool) -> bytes:
     try:
         decode_record(data)
     except DecodeError as exc:
-        hint = " (a whole EEPROM image? use `zuml restore`)" if len(data) > 255 else ""
-        raise CliError(f"{path}: not a valid record: byte {exc.offset}: {exc.message}{hint}", 1) from None
+        hint = _(" (a whole EEPROM image? use `zuml restore`)") if len(data) > 255 else ""
+        raise CliError(_("{path}: not a valid record: byte {offset}: {message}{hint}").format(
+                path=path, offset=exc.offset, message=exc.message, hint=hint), 1) from None
     return data
 
 
@@ -210,16 +217,17 @@ def cmd_flash(args: argparse.Namespace) -> int:
         try:
             merged = merge_record(current, record, args.slot)
         except SlotOutOfRange as exc:
-            raise CliError(f"--slot {args.slot}: the charger has slots 0..{exc.count - 1}"
-                           f" ({exc.count} appends)", 1) from None
+            raise CliError(_("--slot {slot}: the charger has slots 0..{last} ({count} appends)").format(
+                    slot=args.slot, last=exc.count - 1, count=exc.count), 1) from None
         except ImageFull as exc:
-            raise CliError(f"{name} does not fit: {exc}", 1) from None
+            raise CliError(_("{name} does not fit: {exc}").format(name=name, exc=exc), 1) from None
         try:
             result = client.write_image(merged.image, current=current)
         except (CommitUncertain, CommitUnverified) as exc:
             lost = exc
         else:
-            out(f"{name}: {merged.action}; {result.changed} byte(s) written, verified")
+            out(_("{name}: {action}; {changed} byte(s) written, verified").format(
+                    name=name, action=merged.action, changed=result.changed))
             return 0
     _settle(args, lost, f"{name}: {merged.action}")
     return 0
@@ -232,9 +240,9 @@ SETTLE_PAUSE_S = 0.5
 def _settle(args: argparse.Namespace, lost: CommitUncertain | CommitUnverified, done: str) -> None:
     """The link failed once COMMIT was out: say what is known, reconnect, read the EEPROM back and
     say what is there (returns only when it holds the new image)."""
-    sys.stderr.write(f"zuml: warning: {lost}\n")
+    sys.stderr.write(_("zuml: warning: {lost}\n").format(lost=lost))
     sys.stderr.flush()
-    for _ in range(SETTLE_TRIES):
+    for __ in range(SETTLE_TRIES):
         time.sleep(SETTLE_PAUSE_S)
         try:
             with _connect(args) as client:
@@ -243,16 +251,17 @@ def _settle(args: argparse.Namespace, lost: CommitUncertain | CommitUnverified, 
             continue
         verdict = lost.settle(now)
         if verdict == "new":
-            out(f"{done}; verified after reconnecting")
+            out(_("{done}; verified after reconnecting").format(done=done))
             return
         if verdict == "previous":
-            raise CliError("reconnected and read back: the charger kept its previous image; nothing was "
-                           "written, flash again", 1)
-        raise CliError("reconnected and read back: the EEPROM is neither the new image nor the previous one "
-                       "(changed since by another program?); check it with `zuml slots`", 1)
-    known = ("the charger confirmed the new image, unverified" if lost.holds == "new"
-             else "the charger holds either the new image or its previous one, never a mix")
-    raise CliError(f"could not reconnect to read it back: {known}; run `zuml slots` when it is back", 1)
+            raise CliError(_("reconnected and read back: the charger kept its previous image; nothing was "
+                             "written, flash again"), 1)
+        raise CliError(_("reconnected and read back: the EEPROM is neither the new image nor the previous one "
+                         "(changed since by another program?); check it with `zuml slots`"), 1)
+    known = (_("the charger confirmed the new image, unverified") if lost.holds == "new"
+             else _("the charger holds either the new image or its previous one, never a mix"))
+    raise CliError(_("could not reconnect to read it back: {known}; run `zuml slots` when it is back").format(
+            known=known), 1)
 
 
 @_device_errors
@@ -261,10 +270,11 @@ def cmd_backup(args: argparse.Namespace) -> int:
         image = client.read_image()
     write_bytes(args.output, image)
     try:
-        count = f"{len(records(image))} macro(s)"
+        found = len(records(image))
+        count = ngettext("{n} macro", "{n} macros", found).format(n=found)
     except ImageError:
-        count = "a broken record list"
-    out(f"saved {len(image)} bytes ({count}) to {args.output}")
+        count = _("a broken record list")
+    out(_("saved {n_image} bytes ({count}) to {output}").format(n_image=len(image), count=count, output=args.output))
     return 0
 
 
@@ -283,7 +293,8 @@ def cmd_restore(args: argparse.Namespace) -> int:
         except (CommitUncertain, CommitUnverified) as exc:
             lost = exc
         else:
-            out(f"restored {args.file}: {result.changed} byte(s) written, verified")
+            out(_("restored {file}: {changed} byte(s) written, verified").format(
+                    file=args.file, changed=result.changed))
             return 0
     _settle(args, lost, f"restored {args.file}")
     return 0
@@ -299,8 +310,9 @@ def cmd_run(args: argparse.Namespace) -> int:
             name = client.start(args.slot, args.task, args.cycles, args.capacity, args.current, args.voltage,
                                 args.series, not args.no_sensor)
         except DeviceError as exc:
-            raise CliError(f"the charger refused to start slot {args.slot} ({exc.code_name}): {exc}", 1) from None
-    out(f"started slot {args.slot} ({name}): {args.task}")
+            raise CliError(_("the charger refused to start slot {slot} ({code_name}): {exc}").format(
+                    slot=args.slot, code_name=exc.code_name, exc=exc), 1) from None
+    out(_("started slot {slot} ({name}): {task}").format(slot=args.slot, name=name, task=args.task))
     return 0
 
 
@@ -320,14 +332,14 @@ def _check_start(client: ChargerClient, args: argparse.Namespace) -> None:
                         not args.no_sensor)
     problems = record_problems(found[args.slot].record, client.passport_if_any(), start,
                                charger_max_a=client.info.max_charge_a)
-    refuse_unsafe(problems, False, f"slot {args.slot} ({found[args.slot].name})")
+    refuse_unsafe(problems, False, _("slot {slot} ({name})").format(slot=args.slot, name=found[args.slot].name))
 
 
 @_device_errors
 def cmd_stop(args: argparse.Namespace) -> int:
     with _connect(args) as client:
         state = client.stop()
-    out(f"stopped ({state})")
+    out(_("stopped ({state})").format(state=state))
     return 0
 
 
@@ -366,7 +378,7 @@ def cmd_monitor(args: argparse.Namespace) -> int:
     if args.driver != ZUML:
         return _monitor_charger(args)
     if args.rate is not None and not 1 <= args.rate <= 50:
-        raise CliError("--rate must be 1 to 50 Hz")
+        raise CliError(_("--rate must be 1 to 50 Hz"))
     from .csv_sink import CsvSink
     sink = CsvSink(args.csv, CSV_COLUMNS) if args.csv else None
     client = None
@@ -376,7 +388,7 @@ def cmd_monitor(args: argparse.Namespace) -> int:
         if args.rate:
             client.set_telemetry_rate(args.rate)
         if args.until_end and client.status().state in ("idle", "finished"):
-            out("nothing is running")
+            out(_("nothing is running"))
             return 0
         end = time.monotonic() + args.seconds if args.seconds is not None else None
         for kind, item in _until(feed, end, sink.flush_if_due if sink else None):
@@ -399,7 +411,8 @@ def cmd_monitor(args: argparse.Namespace) -> int:
                     break
             sys.stdout.flush()
         if client.missed_events:
-            out(f"note: {len(client.missed_events)} event(s) were lost on the line")
+            out(_("note: {n_missed_events} event(s) were lost on the line").format(
+                    n_missed_events=len(client.missed_events)))
     except KeyboardInterrupt:
         pass
     finally:
@@ -443,17 +456,19 @@ def _monitor_charger(args: argparse.Namespace) -> int:
     from ..device.monitor_link import MonitorLink
     from ..device.session_log import SessionLog
     if args.driver not in (AUTO,) + tuple(DRIVERS):
-        raise CliError(f"--driver {args.driver}: choose {ZUML}, {AUTO} or one of {', '.join(DRIVERS)}")
+        raise CliError(_("--driver {driver}: choose {zuml}, {auto} or one of {drivers}").format(
+                driver=args.driver, zuml=ZUML, auto=AUTO, drivers=', '.join(DRIVERS)))
     if args.rate is not None or args.until_end:
-        raise CliError("--rate and --until-end need a ZUML charger; a monitor-only charger sends at its own pace")
+        raise CliError(_("--rate and --until-end need a ZUML charger; a monitor-only charger sends at its own "
+                         "pace"))
     if not args.port:
-        raise CliError("give the port: --port /dev/ttyUSB0 (see `zuml ports`)")
+        raise CliError(_("give the port: --port /dev/ttyUSB0 (see `zuml ports`)"))
     log = None
     if args.csv:
         try:
             log = SessionLog(args.csv, threaded=False, cells=None)
         except OSError as exc:
-            raise CliError(f"{args.csv}: cannot write: {exc.strerror or exc}") from None
+            raise CliError(_("{csv}: cannot write: {error}").format(csv=args.csv, error=exc.strerror or exc)) from None
     feed: queue.SimpleQueue = queue.SimpleQueue()
     try:
         link = MonitorLink(args.port, args.driver, args.baud, on_sample=lambda t: feed.put(("sample", t)),
@@ -496,14 +511,16 @@ def _monitor_charger(args: argparse.Namespace) -> int:
                 error = item
         if log:
             log.close()
-    name = link.driver.name if link.driver else "no charger recognised"
-    sys.stderr.write(f"{name}: {link.samples} sample(s), {link.bad} bad record(s)\n")
+    name = link.driver.name if link.driver else _("no charger recognised")
+    sys.stderr.write(_("{name}: {samples} sample(s), {bad} bad record(s)\n").format(
+            name=name, samples=link.samples, bad=link.bad))
     if error:
         raise CliError(error, 1)
     if link.driver is None and link.received == 0:
-        sys.stderr.write(f"{args.port}: nothing arrived (a charger sends only while a program runs)\n")
+        sys.stderr.write(_("{port}: nothing arrived (a charger sends only while a program runs)\n").format(
+                port=args.port))
     if log and log.error:             # the samples went on to the screen; the CSV stopped there
-        sys.stderr.write(f"zuml: error: session CSV: {log.error}\n")
+        sys.stderr.write(_("zuml: error: session CSV: {error}\n").format(error=log.error))
         return 1
     return 0
 
@@ -518,9 +535,9 @@ def cmd_replay(args: argparse.Namespace) -> int:
     from ..device.drivers import CaptureError
     from ..device.replay import load_recording, serve_replay
     if not 0 < args.speed <= 100000:
-        raise CliError("--speed must be more than 0 and at most 100000")
+        raise CliError(_("--speed must be more than 0 and at most 100000"))
     if os.name != "posix":
-        raise CliError("zuml replay needs a pty (Linux, macOS)")
+        raise CliError(_("zuml replay needs a pty (Linux, macOS)"))
     try:
         recording = load_recording(read_bytes(args.file), args.as_format)
     except CaptureError as exc:
@@ -529,18 +546,20 @@ def cmd_replay(args: argparse.Namespace) -> int:
         try:
             where, stop, device = serve_replay(recording, args.speed)
         except OSError as exc:
-            raise CliError(f"cannot open a pty for the replay: {exc.strerror or exc}", 1) from None
+            raise CliError(_("cannot open a pty for the replay: {error}").format(
+                    error=exc.strerror or exc), 1) from None
         sys.stdout.write(where + "\n")
         sys.stdout.flush()
-        sys.stderr.write(f"replay: {args.file} as {DRIVERS[recording.driver].title}, {len(recording.records)} "
-                         f"record(s) over {recording.duration_s:.0f} s, speed x{args.speed:g}; starts when a "
-                         "reader opens the port; Ctrl+C ends\n")
+        sys.stderr.write(_("replay: {file} as {title}, {n_records} record(s) over {duration_s:.0f} s, speed "
+                           "x{speed:g}; starts when a reader opens the port; Ctrl+C ends\n").format(
+                file=args.file, title=DRIVERS[recording.driver].title, n_records=len(recording.records),
+                duration_s=recording.duration_s, speed=args.speed))
         sys.stderr.flush()
         told = False
         try:
             while not stop_requested.wait(0.2):
                 if device.finished.is_set() and not told:
-                    sys.stderr.write("replay: end of the recording (the port stays open)\n")
+                    sys.stderr.write(_("replay: end of the recording (the port stays open)\n"))
                     sys.stderr.flush()
                     told = True
         finally:
@@ -554,7 +573,8 @@ def cmd_passport(args: argparse.Namespace) -> int:
     for item in args.write:
         field, sep, value = item.partition("=")
         if not sep:
-            raise CliError(f"--write {item}: write FIELD=VALUE ({', '.join(FACTORY_WRITABLE)})")
+            raise CliError(_("--write {item}: write FIELD=VALUE ({factory_writable})").format(
+                    item=item, factory_writable=', '.join(FACTORY_WRITABLE)))
         Passport().with_field(field, value)          # a bad field or value fails before the port opens
         writes.append((field, value))
     with _connect(args) as client:
@@ -564,20 +584,20 @@ def cmd_passport(args: argparse.Namespace) -> int:
             except DeviceError as exc:
                 if exc.code != msg.ErrorCode.PASSPORT_ERROR:
                     raise
-                raise CliError(f"passport: {field}: {exc.message}", 1) from None
+                raise CliError(_("passport: {field}: {message}").format(field=field, message=exc.message), 1) from None
         p = client.passport_read()
     out(f"serial   {printable(p.serial)}")
     out(f"vendor   {printable(p.vendor)}")
-    out(f"type     {p.type_name} ({p.type})")
+    out(_("type     {type_name} ({type})").format(type_name=p.type_name, type=p.type))
     warnings = fitness_warnings(p)
-    out(f"err      {p.err}" + (f"  (warning: {warnings[0]})" if warnings else ""))
-    out(f"crit     {p.crit}" + ("  (not fit for use: the charger refuses to start)" if p.crit else ""))
-    out(f"v_limit  {p.v_limit} V" + ("  (not set)" if not p.v_limit else ""))
-    out(f"a_limit  {p.a_limit} A" + ("  (not set)" if not p.a_limit else ""))
-    out(f"temp     {p.temp} C")
+    out(f"err      {p.err}" + (_("  (warning: {warning})").format(warning=warnings[0]) if warnings else ""))
+    out(f"crit     {p.crit}" + (_("  (not fit for use: the charger refuses to start)") if p.crit else ""))
+    out(f"v_limit  {p.v_limit} V" + (_("  (not set)") if not p.v_limit else ""))
+    out(f"a_limit  {p.a_limit} A" + (_("  (not set)") if not p.a_limit else ""))
+    out(_("temp     {temp} C").format(temp=p.temp))
     if p.unprintable_fields:
-        out(f"warning: the passport's {' and '.join(p.unprintable_fields)} hold non-printable bytes (shown "
-            "as \\xNN): a damaged or forged passport")
+        out(_("warning: the passport's {unprintable_fields} hold non-printable bytes (shown as \\xNN): a damaged "
+              "or forged passport").format(unprintable_fields=' and '.join(p.unprintable_fields)))
     return 0
 
 
@@ -596,20 +616,23 @@ def cmd_virtual_charger(args: argparse.Namespace) -> int:
     with _stop_on_signal() as stop_requested:
         try:
             if args.tcp or os.name != "posix":
-                host, _, port = (args.tcp or "127.0.0.1:0").rpartition(":")
+                host, __, port = (args.tcp or "127.0.0.1:0").rpartition(":")
                 try:
                     where, stop = serve_tcp(device, host.strip("[]") or "127.0.0.1", int(port), baud)
                 except ValueError:
-                    raise CliError(f"--tcp {args.tcp}: write HOST:PORT, e.g. 127.0.0.1:7777") from None
+                    raise CliError(_("--tcp {tcp}: write HOST:PORT, e.g. 127.0.0.1:7777").format(
+                            tcp=args.tcp)) from None
             else:
                 where, stop = serve_pty(device, baud)
         except OSError as exc:
-            raise CliError(f"cannot open the virtual charger's port: {exc.strerror or exc}", 1) from None
+            raise CliError(_("cannot open the virtual charger's port: {error}").format(
+                    error=exc.strerror or exc), 1) from None
         sys.stdout.write(where + "\n")
         sys.stdout.flush()
-        sys.stderr.write(f"virtual charger: {device.model}, battery {device.battery}, speed x{device.speed:g}, "
-                         f"passport {'none' if device.chip is None else device.chip.passport.type_name}; "
-                         "Ctrl+C ends\n")
+        sys.stderr.write(_("virtual charger: {model}, battery {battery}, speed x{speed:g}, passport {value}; "
+                           "Ctrl+C ends\n").format(
+                model=device.model, battery=device.battery, speed=device.speed,
+                value='none' if device.chip is None else device.chip.passport.type_name))
         sys.stderr.flush()
         try:
             while not stop_requested.wait(0.5):

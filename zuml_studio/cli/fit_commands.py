@@ -14,26 +14,27 @@ from ..sim.fit import fit, guess_series
 from ..sim.interpreter import StartError
 from .common import CliError, out
 from .sim_commands import _record
+from ..i18n import _
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("fit", help="fit a chemistry's battery model to a real charge log")
-    p.add_argument("log", metavar="LOG", help="a charger log (any format `zuml log info` reads) or a curve CSV")
-    p.add_argument("--chemistry", metavar="C", help="Pb, NiCd, NiMh, LiPo, LiIon or LiFe (default: the battery "
-                   "type the log names, where it names one)")
-    p.add_argument("--cells", type=int, metavar="N", help="cells in series (default: the log's balance taps, "
-                   "else from its highest voltage)")
-    p.add_argument("--save", metavar="NAME", help="save the fitted battery under this name")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p = sub.add_parser("fit", help=_("fit a chemistry's battery model to a real charge log"))
+    p.add_argument("log", metavar="LOG", help=_("a charger log (any format `zuml log info` reads) or a curve CSV"))
+    p.add_argument("--chemistry", metavar="C", help=_("Pb, NiCd, NiMh, LiPo, LiIon or LiFe (default: the battery "
+                                                      "type the log names, where it names one)"))
+    p.add_argument("--cells", type=int, metavar="N",
+                   help=_("cells in series (default: the log's balance taps, else from its highest voltage)"))
+    p.add_argument("--save", metavar="NAME", help=_("save the fitted battery under this name"))
+    p.add_argument("--json", action="store_true", help=_("print one JSON object"))
     p.set_defaults(run=cmd_fit)
-    c = sub.add_parser("compare", help="simulate a macro from a real log's start and compare the two")
+    c = sub.add_parser("compare", help=_("simulate a macro from a real log's start and compare the two"))
     c.add_argument("log", metavar="LOG")
-    c.add_argument("macro", metavar="MACRO", help="a .zuml macro or a compiled .bin record")
-    c.add_argument("--chemistry", metavar="C", help="battery model (default: the macro's AKK_TYPE)")
-    c.add_argument("--battery", metavar="NAME", help="a saved fitted battery instead of the default model")
+    c.add_argument("macro", metavar="MACRO", help=_("a .zuml macro or a compiled .bin record"))
+    c.add_argument("--chemistry", metavar="C", help=_("battery model (default: the macro's AKK_TYPE)"))
+    c.add_argument("--battery", metavar="NAME", help=_("a saved fitted battery instead of the default model"))
     c.add_argument("--cells", type=int, metavar="N")
-    c.add_argument("--capacity", type=float, metavar="MAH", help="default: the saved battery's, else the "
-                   "charge the log put in")
+    c.add_argument("--capacity", type=float, metavar="MAH",
+                   help=_("default: the saved battery's, else the charge the log put in"))
     c.add_argument("--json", action="store_true")
     c.set_defaults(run=cmd_compare)
 
@@ -54,7 +55,7 @@ def _chemistry(name: str) -> str:
 
 def _cells(args: argparse.Namespace, curve: Curve, chemistry: str) -> int:
     if args.cells is not None and not 1 <= args.cells <= 255:
-        raise CliError("--cells must be 1 to 255")
+        raise CliError(_("--cells must be 1 to 255"))
     return args.cells or guess_series(curve, chemistry)
 
 
@@ -77,8 +78,9 @@ def _log_chemistry(args: argparse.Namespace, curve: Curve) -> str:
     try:
         return load_chemistry(curve.chemistry).name
     except KeyError:
-        named = f" (it names '{curve.chemistry}')" if curve.chemistry else ""
-        raise CliError(f"{args.log}: the log does not name a modelled chemistry{named}: give --chemistry") from None
+        named = _(" (it names '{chemistry}')").format(chemistry=curve.chemistry) if curve.chemistry else ""
+        raise CliError(_("{log}: the log does not name a modelled chemistry{named}: give --chemistry").format(
+                log=args.log, named=named)) from None
 
 
 def cmd_fit(args: argparse.Namespace) -> int:
@@ -96,13 +98,14 @@ def cmd_fit(args: argparse.Namespace) -> int:
         json.dump({"params": result.params, **result.figures}, sys.stdout, indent=2)
         out()
         return 0
-    out(f"{args.log}: {chemistry} {series}S, {len(curve.t)} samples, {curve.t[-1] / 60:.0f} min of charge")
+    out(_("{log}: {chemistry} {series}S, {samples} samples, {minutes:.0f} min of charge").format(
+            log=args.log, chemistry=chemistry, series=series, samples=len(curve.t), minutes=curve.t[-1] / 60))
     for k, v in result.params.items():
         out(f"  {k:14s}{v:g}")
     for line in _figure_lines(result.figures):
         out(line)
     if saved:
-        out(f"saved as {args.save!r} ({saved})")
+        out(_("saved as {save!r} ({saved})").format(save=args.save, saved=saved))
     return 0
 
 
@@ -131,5 +134,6 @@ def cmd_compare(args: argparse.Namespace) -> int:
         out(line)
     for who in ("real", "model"):
         e = result.report["ends"][who]
-        out(f"{who:6s} ended {e['time_s'] / 60:.1f} min, {e['mah']} mAh: {e['why']}")
+        out(_("{who:6s} ended {e:.1f} min, {e2} mAh: {e3}").format(
+                who=who, e=e['time_s'] / 60, e2=e['mah'], e3=e['why']))
     return 0

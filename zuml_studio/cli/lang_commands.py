@@ -13,33 +13,35 @@ from ..lang.listing import format_listing, listing_rows
 from ..lang.opcodes import AKK_TYPE
 from ..lang.record import DecodeError
 from .common import CliError, add_force_unsafe, out, read_bytes, read_text, refuse_unsafe, write_bytes
+from ..i18n import _, ngettext
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("check", help="check macros and print their errors and warnings")
+    p = sub.add_parser("check", help=_("check macros and print their errors and warnings"))
     p.add_argument("files", nargs="+", metavar="FILE")
-    p.add_argument("--no-hints", action="store_true", help="print only the diagnostic lines")
-    p.add_argument("--charger", metavar="MODEL", help="also warn where this charger model (e.g. imax_b6) will "
-                   "not give a current the macro asks")
+    p.add_argument("--no-hints", action="store_true", help=_("print only the diagnostic lines"))
+    p.add_argument("--charger", metavar="MODEL", help=_("also warn where this charger model (e.g. imax_b6) will not "
+                                                        "give a current the macro asks"))
     p.set_defaults(run=cmd_check)
 
-    p = sub.add_parser("compile", help="compile a macro to its byte record")
+    p = sub.add_parser("compile", help=_("compile a macro to its byte record"))
     p.add_argument("file", metavar="FILE")
     p.add_argument("-o", "--output", metavar="OUT.bin")
-    p.add_argument("--hex", action="store_true", help="print the record as hex on one line")
-    p.add_argument("--listing", action="store_true", help="print a dis-style listing")
+    p.add_argument("--hex", action="store_true", help=_("print the record as hex on one line"))
+    p.add_argument("--listing", action="store_true", help=_("print a dis-style listing"))
     p.set_defaults(run=cmd_compile)
 
-    p = sub.add_parser("decompile", help="print the canonical text of a byte record")
+    p = sub.add_parser("decompile", help=_("print the canonical text of a byte record"))
     p.add_argument("file", metavar="FILE.bin")
     p.set_defaults(run=cmd_decompile)
 
-    p = sub.add_parser("image", help="pack records into an EEPROM image, or list one")
-    p.add_argument("files", nargs="+", metavar="FILE", help=".zuml or .bin files, or the image with --list")
+    p = sub.add_parser("image", help=_("pack records into an EEPROM image, or list one"))
+    p.add_argument("files", nargs="+", metavar="FILE", help=_(".zuml or .bin files, or the image with --list"))
     p.add_argument("-o", "--output", metavar="eeprom.bin")
-    p.add_argument("--size", type=int, default=DEFAULT_SIZE, help=f"EEPROM size in bytes (default {DEFAULT_SIZE})")
-    p.add_argument("--list", action="store_true", help="list the records in an image")
-    p.add_argument("--extract", type=int, metavar="N", help="write slot N of the image to -o")
+    p.add_argument("--size", type=int, default=DEFAULT_SIZE,
+                   help=_("EEPROM size in bytes (default {default_size})").format(default_size=DEFAULT_SIZE))
+    p.add_argument("--list", action="store_true", help=_("list the records in an image"))
+    p.add_argument("--extract", type=int, metavar="N", help=_("write slot N of the image to -o"))
     add_force_unsafe(p)
     p.set_defaults(run=cmd_image)
 
@@ -62,8 +64,20 @@ def cmd_check(args: argparse.Namespace) -> int:
     for path in args.files:
         result = compile_source(read_text(path), charger=charger)
         _report(path, result, not args.no_hints)
+        _summary(path, result)
         failed = failed or not result.ok
     return 1 if failed else 0
+
+
+def _summary(path: str, result: CompileResult) -> None:
+    """``FILE: 2 errors, 1 warning`` on stderr, after a file's diagnostics (none for a clean file)."""
+    errors = len(result.errors)
+    warnings = len(result.diagnostics) - errors
+    if not result.diagnostics:
+        return
+    sys.stderr.write(_("{path}: {errors}, {warnings}").format(
+        path=path, errors=ngettext("{n} error", "{n} errors", errors).format(n=errors),
+        warnings=ngettext("{n} warning", "{n} warnings", warnings).format(n=warnings)) + "\n")
 
 
 def compile_file(path: str, unsafe_ok: bool = False) -> bytes:
@@ -73,8 +87,11 @@ def compile_file(path: str, unsafe_ok: bool = False) -> bytes:
     if not result.ok:
         _report(path, result, stream=sys.stderr)
         safety_only = all(d.code.startswith("E3") for d in result.errors)
-        hint = " (safety errors only: --force-unsafe writes it anyway)" if safety_only else ""
-        raise CliError(f"{path}: {len(result.errors)} error(s); nothing written{hint}", 1)
+        errors = ngettext("{n} error", "{n} errors", len(result.errors)).format(n=len(result.errors))
+        if safety_only:
+            raise CliError(_("{path}: {errors}; nothing written (safety errors only: --force-unsafe writes it "
+                             "anyway)").format(path=path, errors=errors), 1)
+        raise CliError(_("{path}: {errors}; nothing written").format(path=path, errors=errors), 1)
     return result.record
 
 
@@ -82,7 +99,8 @@ def cmd_compile(args: argparse.Namespace) -> int:
     result = compile_source(read_text(args.file))
     _report(args.file, result, stream=sys.stderr)
     if not result.ok:
-        raise CliError(f"{args.file}: {len(result.errors)} error(s); nothing written", 1)
+        raise CliError(_("{file}: {n_errors} error(s); nothing written").format(
+                file=args.file, n_errors=len(result.errors)), 1)
     enc = result.encoded
     if args.hex:
         out(enc.record.hex(" "))
@@ -92,7 +110,7 @@ def cmd_compile(args: argparse.Namespace) -> int:
     if target:
         write_bytes(target, enc.record)
         if not (args.hex or args.listing):
-            out(f"{target}: {len(enc.record)} bytes")
+            out(_("{target}: {n_record} bytes").format(target=target, n_record=len(enc.record)))
     return 0
 
 
@@ -100,7 +118,8 @@ def _decode(path: str, data: bytes):
     try:
         return decode_record(data)
     except DecodeError as exc:
-        raise CliError(f"{path}: not a valid ZUML record: byte {exc.offset}: {exc.message}", 1) from None
+        raise CliError(_("{path}: not a valid ZUML record: byte {offset}: {message}").format(
+                path=path, offset=exc.offset, message=exc.message), 1) from None
 
 
 def cmd_decompile(args: argparse.Namespace) -> int:
@@ -123,10 +142,10 @@ def _record_of(path: str, force: bool) -> bytes:
 def cmd_image(args: argparse.Namespace) -> int:
     if args.list or args.extract is not None:
         if len(args.files) != 1:
-            raise CliError("give exactly one image file")
+            raise CliError(_("give exactly one image file"))
         image = read_bytes(args.files[0])
         if args.extract is not None and not args.output:
-            raise CliError("--extract needs -o FILE.bin")
+            raise CliError(_("--extract needs -o FILE.bin"))
         try:
             if args.extract is not None:
                 write_bytes(args.output, extract(image, args.extract))
@@ -136,9 +155,9 @@ def cmd_image(args: argparse.Namespace) -> int:
             raise CliError(f"{args.files[0]}: {exc}", 1) from None
         return _list(args.files[0], image, found)
     if not args.output:
-        raise CliError("image needs -o eeprom.bin (or --list IMAGE)")
+        raise CliError(_("image needs -o eeprom.bin (or --list IMAGE)"))
     if not 16 <= args.size <= 1 << 20:
-        raise CliError(f"--size {args.size} is not an EEPROM size (16 bytes to 1 MiB)")
+        raise CliError(_("--size {size} is not an EEPROM size (16 bytes to 1 MiB)").format(size=args.size))
     records = [_record_of(path, args.force_unsafe) for path in args.files]
     try:
         image = pack(records, args.size)
@@ -146,7 +165,8 @@ def cmd_image(args: argparse.Namespace) -> int:
         raise CliError(str(exc), 1) from None
     write_bytes(args.output, image)
     used = sum(len(r) for r in records)
-    out(f"{args.output}: {len(records)} record(s), {used} of {args.size} bytes used, {args.size - used} free")
+    out(_("{output}: {count} record(s), {used} of {size} bytes used, {free} free").format(
+            output=args.output, count=len(records), used=used, size=args.size, free=args.size - used))
     return 0
 
 
@@ -160,8 +180,11 @@ def _list(path: str, image: bytes, found) -> int:
             out(f"{slot.index:>4}  {slot.offset:>6}  {len(slot.record):>4}  {slot.name:<16}  {kind:<6}  ok")
         else:
             bad += 1
-            out(f"{slot.index:>4}  {slot.offset:>6}  {len(slot.record):>4}  {'?':<16}  {'?':<6}  "
-                f"BAD: byte {slot.error.offset}: {slot.error.message}")
+            out(_("{index:>4}  {offset:>6}  {n_record:>4}  {value:<16}  {value:<6}  BAD: byte {offset2}: "
+                  "{message}").format(
+                    index=slot.index, offset=slot.offset, n_record=len(slot.record), value='?',
+                    offset2=slot.error.offset, message=slot.error.message))
     used = sum(len(s.record) for s in found)
-    out(f"{len(found)} record(s), {used} of {len(image)} bytes used, {len(image) - used} free")
+    out(_("{count} record(s), {used} of {size} bytes used, {free} free").format(
+            count=len(found), used=used, size=len(image), free=len(image) - used))
     return 1 if bad else 0

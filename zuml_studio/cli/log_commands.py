@@ -10,21 +10,22 @@ from ..logs.export import write_csv
 from ..logs.summary import summarize
 from .common import CliError, out, read_bytes
 from .sim_commands import hms
+from ..i18n import _, ngettext
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("log", help="read a charger's log file: summary, CSV export")
+    p = sub.add_parser("log", help=_("read a charger's log file: summary, CSV export"))
     logsub = p.add_subparsers(dest="log_command", required=True, metavar="ACTION")
     formats = [f.name for f in FORMATS]
-    info = logsub.add_parser("info", help="what the log holds: charger, samples, ranges, charge, phases")
+    info = logsub.add_parser("info", help=_("what the log holds: charger, samples, ranges, charge, phases"))
     info.add_argument("file", metavar="FILE")
-    info.add_argument("--json", action="store_true", help="print one JSON object")
-    info.add_argument("--format", choices=formats, help="read as this format (default: recognised from the bytes)")
+    info.add_argument("--json", action="store_true", help=_("print one JSON object"))
+    info.add_argument("--format", choices=formats, help=_("read as this format (default: recognised from the bytes)"))
     info.set_defaults(run=cmd_info)
-    export = logsub.add_parser("export", help="one CSV row per sample, SI units, charge current positive")
+    export = logsub.add_parser("export", help=_("one CSV row per sample, SI units, charge current positive"))
     export.add_argument("file", metavar="FILE")
     export.add_argument("-o", "--output", required=True, metavar="OUT.csv")
-    export.add_argument("--format", choices=formats, help="read as this format (default: recognised from the bytes)")
+    export.add_argument("--format", choices=formats, help=_("read as this format (default: recognised from the bytes)"))
     export.set_defaults(run=cmd_export)
 
 
@@ -44,14 +45,19 @@ def cmd_info(args: argparse.Namespace) -> int:
         return 0
     _num = lambda v, fmt: "–" if v is None else format(v, fmt)  # noqa: E731
     out(f"{args.file}: {info['format']}, {info['device']}")
-    out(f"  samples      {info['samples']} ({info['bad_records']} bad records), {hms(info['duration_s'])}")
-    out(f"  voltage      {_num(info['v_min'], '.3f')} to {_num(info['v_max'], '.3f')} V"
-        + (f", {info['cells']} cells" if info["cells"] else ""))
-    out(f"  current      up to {_num(info['i_max_a'], '.3f')} A")
-    out(f"  charge       in {_num(info['charge_in_mah'], '.0f')} mAh, out {_num(info['charge_out_mah'], '.0f')} mAh")
+    out(_("  samples      {samples} ({bad} bad records), {duration}").format(
+            samples=info['samples'], bad=info['bad_records'], duration=hms(info['duration_s'])))
+    voltage = _("  voltage      {low} to {high} V").format(
+            low=_num(info['v_min'], '.3f'), high=_num(info['v_max'], '.3f'))
+    if info["cells"]:
+        voltage += ngettext(", {n} cell", ", {n} cells", info["cells"]).format(n=info["cells"])
+    out(voltage)
+    out(_("  current      up to {current} A").format(current=_num(info['i_max_a'], '.3f')))
+    out(_("  charge       in {charge_in} mAh, out {charge_out} mAh").format(
+            charge_in=_num(info['charge_in_mah'], '.0f'), charge_out=_num(info['charge_out_mah'], '.0f')))
     if info["t_max_c"] is not None:
-        out(f"  temperature  {info['t_min_c']:.1f} to {info['t_max_c']:.1f} °C")
-    out(f"  phases       {len(info['phases'])}")
+        out(_("  temperature  {low:.1f} to {high:.1f} °C").format(low=info['t_min_c'], high=info['t_max_c']))
+    out(_("  phases       {n}").format(n=len(info['phases'])))
     for p in info["phases"]:
         out(f"    {p['state']:<10} {hms(p['start_s'])} – {hms(p['end_s'])}")
     return 0
@@ -63,6 +69,7 @@ def cmd_export(args: argparse.Namespace) -> int:
         with open(args.output, "w", encoding="utf-8", newline="") as fh:
             rows = write_csv(log, fh)
     except OSError as exc:
-        raise CliError(f"{args.output}: cannot write: {exc.strerror or exc}") from None
-    out(f"wrote {rows} rows to {args.output}")
+        raise CliError(_("{output}: cannot write: {error}").format(
+                output=args.output, error=exc.strerror or exc)) from None
+    out(_("wrote {rows} rows to {output}").format(rows=rows, output=args.output))
     return 0

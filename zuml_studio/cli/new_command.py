@@ -10,6 +10,7 @@ from ..recovery import atomic_write
 from ..sim.chemistry import chemistry_names
 from ..wizard import Answers, WizardError, new_macro
 from .common import CliError, out
+from ..i18n import _
 
 
 def _rate(text: str) -> float:
@@ -17,18 +18,19 @@ def _rate(text: str) -> float:
     try:
         return float(value)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a charge rate such as 1C or 0.5C") from None
+        raise argparse.ArgumentTypeError(_("{text!r} is not a charge rate such as 1C or 0.5C").format(
+                text=text)) from None
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("new", help="write a new macro for a chemistry, pack and charge rate")
+    p = sub.add_parser("new", help=_("write a new macro for a chemistry, pack and charge rate"))
     p.add_argument("--chemistry", required=True, choices=chemistry_names(), type=_chemistry, metavar="NAME",
-                   help=f"one of {', '.join(chemistry_names())}")
-    p.add_argument("--series", type=int, required=True, metavar="N", help="cells in series")
+                   help=_("one of {chemistry_names}").format(chemistry_names=', '.join(chemistry_names())))
+    p.add_argument("--series", type=int, required=True, metavar="N", help=_("cells in series"))
     p.add_argument("--capacity", type=int, required=True, metavar="MAH")
-    p.add_argument("--rate", type=_rate, metavar="XC", help="charge rate, e.g. 1C (default per chemistry)")
-    p.add_argument("--sensor", action="store_true", help="a battery temperature sensor is fitted")
-    p.add_argument("-o", "--output", metavar="FILE", help="write here instead of printing")
+    p.add_argument("--rate", type=_rate, metavar="XC", help=_("charge rate, e.g. 1C (default per chemistry)"))
+    p.add_argument("--sensor", action="store_true", help=_("a battery temperature sensor is fitted"))
+    p.add_argument("-o", "--output", metavar="FILE", help=_("write here instead of printing"))
     p.set_defaults(run=cmd_new)
 
 
@@ -51,8 +53,10 @@ def cmd_new(args: argparse.Namespace) -> int:
         try:
             atomic_write(Path(args.output), text.encode("utf-8"))
         except OSError as exc:
-            raise CliError(f"{args.output}: cannot write: {exc.strerror or exc}") from None
-        out(f"{args.output}: {result.macro.name}, {len(result.record)} bytes" if result.ok else args.output)
+            raise CliError(_("{output}: cannot write: {error}").format(
+                    output=args.output, error=exc.strerror or exc)) from None
+        out(_("{output}: {name}, {n_record} bytes").format(
+                output=args.output, name=result.macro.name, n_record=len(result.record)) if result.ok else args.output)
     else:
         sys.stdout.write(text)
     return 0 if result.ok else 1

@@ -12,32 +12,33 @@ from ..sim.start_check import start_warnings
 from ..sim.start_templates import TEMPLATE_COUNT
 from .common import CliError, check_start_options, out, read_bytes
 from .lang_commands import compile_file
+from ..i18n import _
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("simulate", help="run a macro's byte code against a battery model")
-    p.add_argument("file", metavar="FILE", help="a .zuml macro or a compiled .bin record")
+    p = sub.add_parser("simulate", help=_("run a macro's byte code against a battery model"))
+    p.add_argument("file", metavar="FILE", help=_("a .zuml macro or a compiled .bin record"))
     p.add_argument("--task", choices=("charge", "discharge", "train"), default="charge")
-    p.add_argument("--cycles", type=int, default=1, metavar="N", help="training: discharge+charge N times")
-    p.add_argument("--capacity", type=float, metavar="MAH", help="capacity entered at start")
-    p.add_argument("--current", type=float, metavar="A", help="current entered at start (INPUT)")
-    p.add_argument("--voltage", type=float, metavar="V", help="voltage entered at start (INPUT)")
-    p.add_argument("--series", type=int, metavar="N", help="cells in series entered at start")
-    p.add_argument("--template", type=int, metavar="N", help="start with the charger's start template N "
-                   "(the factory table; a macro's START_SHABLON wins)")
-    p.add_argument("--soc", type=float, metavar="0..1", help="initial state of charge "
-                   "(default: empty for charge, full for discharge and training)")
+    p.add_argument("--cycles", type=int, default=1, metavar="N", help=_("training: discharge+charge N times"))
+    p.add_argument("--capacity", type=float, metavar="MAH", help=_("capacity entered at start"))
+    p.add_argument("--current", type=float, metavar="A", help=_("current entered at start (INPUT)"))
+    p.add_argument("--voltage", type=float, metavar="V", help=_("voltage entered at start (INPUT)"))
+    p.add_argument("--series", type=int, metavar="N", help=_("cells in series entered at start"))
+    p.add_argument("--template", type=int, metavar="N", help=_("start with the charger's start template N (the factory "
+                                                               "table; a macro's START_SHABLON wins)"))
+    p.add_argument("--soc", type=float, metavar="0..1",
+                   help=_("initial state of charge (default: empty for charge, full for discharge and training)"))
     p.add_argument("--ambient", type=float, default=25.0, metavar="C")
-    p.add_argument("--no-sensor", action="store_true", help="no battery temperature sensor connected")
-    p.add_argument("--model", metavar="CHEMISTRY", help="battery model (default: the macro's AKK_TYPE)")
-    p.add_argument("--battery", metavar="NAME", help="a saved fitted battery (zuml fit --save): its model, "
-                   "capacity and cells unless given")
-    p.add_argument("--tick", type=float, default=1.0, metavar="S", help="interpreter tick (default 1 s)")
-    p.add_argument("--noise", type=float, default=0.0, metavar="MV", help="voltage measurement noise, sigma")
-    p.add_argument("--adc-lsb", type=float, default=0.0, metavar="MV", help="voltage ADC step")
+    p.add_argument("--no-sensor", action="store_true", help=_("no battery temperature sensor connected"))
+    p.add_argument("--model", metavar="CHEMISTRY", help=_("battery model (default: the macro's AKK_TYPE)"))
+    p.add_argument("--battery", metavar="NAME", help=_("a saved fitted battery (zuml fit --save): its model, "
+                                                       "capacity and cells unless given"))
+    p.add_argument("--tick", type=float, default=1.0, metavar="S", help=_("interpreter tick (default 1 s)"))
+    p.add_argument("--noise", type=float, default=0.0, metavar="MV", help=_("voltage measurement noise, sigma"))
+    p.add_argument("--adc-lsb", type=float, default=0.0, metavar="MV", help=_("voltage ADC step"))
     p.add_argument("--seed", type=int, default=1)
-    p.add_argument("--csv", metavar="OUT.csv", help="write every sample")
-    p.add_argument("--json", action="store_true", help="print one JSON object instead of the table")
+    p.add_argument("--csv", metavar="OUT.csv", help=_("write every sample"))
+    p.add_argument("--json", action="store_true", help=_("print one JSON object instead of the table"))
     p.set_defaults(run=cmd_simulate)
 
 
@@ -47,12 +48,12 @@ def _record(path: str) -> bytes:
 
 def _check(args: argparse.Namespace) -> None:
     if args.soc is not None and not 0.0 <= args.soc <= 1.0:
-        raise CliError("--soc is a fraction from 0 to 1")
+        raise CliError(_("--soc is a fraction from 0 to 1"))
     check_start_options(args)
     if not 0.05 <= args.tick <= 60:
-        raise CliError("--tick must be 0.05 to 60 seconds")
+        raise CliError(_("--tick must be 0.05 to 60 seconds"))
     if args.template is not None and not 1 <= args.template <= TEMPLATE_COUNT:
-        raise CliError(f"--template must be 1 to {TEMPLATE_COUNT}")
+        raise CliError(_("--template must be 1 to {template_count}").format(template_count=TEMPLATE_COUNT))
 
 
 def cmd_simulate(args: argparse.Namespace) -> int:
@@ -75,14 +76,14 @@ def cmd_simulate(args: argparse.Namespace) -> int:
             with open(args.csv, "w", encoding="utf-8", newline="") as fh:
                 result.log.write_csv(fh)
         except OSError as exc:
-            raise CliError(f"{args.csv}: cannot write: {exc.strerror or exc}") from None
+            raise CliError(_("{csv}: cannot write: {error}").format(csv=args.csv, error=exc.strerror or exc)) from None
     warnings = start_warnings(record, params, result.interpreter.charger.limits)
     if args.json:
         json.dump({**result.to_json(), "warnings": warnings}, sys.stdout, indent=2)
         out()
     else:
         for text in warnings:
-            out(f"warning: {text}")
+            out(_("warning: {text}").format(text=text))
         _table(args, result)
     return 0
 
@@ -94,28 +95,40 @@ def hms(seconds: float) -> str:
 
 def _table(args: argparse.Namespace, result: SimResult) -> None:
     p = result.interpreter.params
-    out(f"{result.interpreter.program.name}: {p.task}"
-        f"{f' x{p.repetitions}' if p.task == 'train' else ''}, {result.chemistry} model "
-        f"{result.capacity_mah:g} mAh x {result.series} cell(s), {args.ambient:g} °C, "
-        f"sensor {'on' if p.sensor else 'off'}")
-    width = max([len(ph.reason) for ph in result.phases] + [6])
-    out(f"{'#':>3}  {'section':<9} {'phase':>5}  {'start':>8}  {'end':>8}  {'reason':<{width}}  "
-        f"{'in mAh':>8}  {'out mAh':>8}  {'V end':>7}  {'T end':>6}  notes")
+    out(_("{name}: {task}{repetitions}, {chemistry} model {capacity_mah:g} mAh x {series} cell(s), {ambient:g} °C, "
+          "sensor {sensor}").format(
+            name=result.interpreter.program.name, task=p.task,
+            repetitions=f' x{p.repetitions}' if p.task == 'train' else '', chemistry=result.chemistry,
+            capacity_mah=result.capacity_mah, series=result.series, ambient=args.ambient,
+            sensor=_("on") if p.sensor else _("off")))
+    # Column titles are translated; the columns stay wide enough for the longest of title and values.
+    section, phase, start, end, reason = _("section"), _("phase"), _("start"), _("end"), _("reason")
+    charge_in, charge_out, v_end, t_end, notes_title = _("in mAh"), _("out mAh"), _("V end"), _("T end"), _("notes")
+    width = max([len(ph.reason) for ph in result.phases] + [len(reason)])
+    w = [max(len(title), least) for title, least in ((section, 9), (phase, 5), (start, 8), (end, 8), (charge_in, 8),
+                                                     (charge_out, 8), (v_end, 7), (t_end, 6))]
+    out(f"{'#':>3}  {section:<{w[0]}} {phase:>{w[1]}}  {start:>{w[2]}}  {end:>{w[3]}}  {reason:<{width}}  "
+        f"{charge_in:>{w[4]}}  {charge_out:>{w[5]}}  {v_end:>{w[6]}}  {t_end:>{w[7]}}  {notes_title}")
     for ph in result.phases:
         index = str(ph.index) if ph.index else "dflt"
         notes = "; ".join(ph.notes)
-        out((f"{ph.run:>3}  {ph.section:<9} {index:>5}  {hms(ph.start_s):>8}  {hms(ph.end_s):>8}  "
-             f"{ph.reason:<{width}}  {ph.mah_in:>8.1f}  {ph.mah_out:>8.1f}  {ph.v_end:>7.3f}  {ph.temp_end:>6.1f}  "
-             f"{'⚠ ' if ph.timer_before_full else ''}{notes}").rstrip())
+        out((f"{ph.run:>3}  {ph.section:<{w[0]}} {index:>{w[1]}}  {hms(ph.start_s):>{w[2]}}  {hms(ph.end_s):>{w[3]}}  "
+             f"{ph.reason:<{width}}  {ph.mah_in:>{w[4]}.1f}  {ph.mah_out:>{w[5]}.1f}  {ph.v_end:>{w[6]}.3f}  "
+             f"{ph.temp_end:>{w[7]}.1f}  {'⚠ ' if ph.timer_before_full else ''}{notes}").rstrip())
     t = result.totals()
-    out(f"total {hms(t['duration_s'])}, in {t['mah_in']:.1f} mAh, out {t['mah_out']:.1f} mAh; end: {t['end']}")
+    out(_("total {duration}, in {charge_in:.1f} mAh, out {charge_out:.1f} mAh; end: {end}").format(
+            duration=hms(t['duration_s']), charge_in=t['mah_in'], charge_out=t['mah_out'], end=t['end']))
     if p.task == "train":
         for rep in result.repetitions():
-            out(f"repetition {rep['repetition']}: discharged {rep['discharged_mah']:.1f} mAh "
-                f"(measured capacity), charged {rep['charged_mah']:.1f} mAh")
+            out(_("repetition {repetition}: discharged {discharged:.1f} mAh (measured capacity), charged "
+                  "{charged:.1f} mAh").format(
+                    repetition=rep['repetition'], discharged=rep['discharged_mah'], charged=rep['charged_mah']))
     for ph in result.phases:
         if ph.by_default:
-            out(f"note: phase {ph.run} ({ph.section}) ended by {ph.reason}, not by a condition of the macro")
+            out(_("note: phase {run} ({section}) ended by {reason}, not by a condition of the macro").format(
+                    run=ph.run, section=ph.section, reason=ph.reason))
         if ph.timer_before_full:
-            out(f"⚠ phase {ph.run} ({ph.section}): timer before full: {ph.reason} ended it with "
-                f"{ph.mah_in:.0f} mAh put in, less than the {result.capacity_mah:g} mAh capacity")
+            out(_("⚠ phase {run} ({section}): timer before full: {reason} ended it with {mah_in:.0f} mAh put in, "
+                  "less than the {capacity_mah:g} mAh capacity").format(
+                    run=ph.run, section=ph.section, reason=ph.reason, mah_in=ph.mah_in,
+                    capacity_mah=result.capacity_mah))

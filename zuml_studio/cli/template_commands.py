@@ -7,24 +7,25 @@ from ..device import messages as msg
 from ..sim.start_templates import TEMPLATE_COUNT, StartTemplate, TemplateError
 from .common import CliError, out
 from .device_commands import _connect, _device_errors, _with_port
+from ..i18n import _
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("templates", help="list, read or store the charger's start templates (START_SHABLON)")
+    p = sub.add_parser("templates", help=_("list, read or store the charger's start templates (START_SHABLON)"))
     actions = p.add_subparsers(dest="action", required=True, metavar="ACTION")
-    q = _with_port(actions.add_parser("list", help="every start template the charger holds"))
+    q = _with_port(actions.add_parser("list", help=_("every start template the charger holds")))
     q.set_defaults(run=cmd_list)
-    q = _with_port(actions.add_parser("get", help="one start template"))
+    q = _with_port(actions.add_parser("get", help=_("one start template")))
     q.add_argument("number", type=int, metavar="N")
     q.set_defaults(run=cmd_get)
-    q = _with_port(actions.add_parser("set", help="store a start template (the values a user would enter at "
-                                                  "start; one not given is left to the user)"))
+    q = _with_port(actions.add_parser("set", help=_("store a start template (the values a user would enter at "
+                                                    "start; one not given is left to the user)")))
     q.add_argument("number", type=int, metavar="N", help=f"1..{TEMPLATE_COUNT}")
     q.add_argument("--task", choices=msg.TASKS, default="charge")
-    q.add_argument("--cycles", type=int, default=1, metavar="N", help="training: discharge+charge N times")
+    q.add_argument("--cycles", type=int, default=1, metavar="N", help=_("training: discharge+charge N times"))
     q.add_argument("--capacity", type=float, metavar="MAH")
     q.add_argument("--current", type=float, metavar="A")
-    q.add_argument("--voltage", type=float, metavar="V", help="whole pack")
+    q.add_argument("--voltage", type=float, metavar="V", help=_("whole pack"))
     q.add_argument("--series", type=int, metavar="N")
     q.set_defaults(run=cmd_set)
 
@@ -35,7 +36,7 @@ def line(number: int, template: StartTemplate) -> str:
 
 def _number(number: int) -> int:
     if not 1 <= number <= TEMPLATE_COUNT:
-        raise CliError(f"a start template is numbered 1 to {TEMPLATE_COUNT}")
+        raise CliError(_("a start template is numbered 1 to {template_count}").format(template_count=TEMPLATE_COUNT))
     return number
 
 
@@ -44,7 +45,7 @@ def cmd_list(args: argparse.Namespace) -> int:
     with _connect(args) as client:
         table = [(n, client.get_template(n)) for n in client.list_templates()]
     if not table:
-        out("the charger holds no start template")
+        out(_("the charger holds no start template"))
     for number, template in table:
         out(line(number, template))
     return 0
@@ -64,7 +65,7 @@ def cmd_set(args: argparse.Namespace) -> int:
     try:
         template = StartTemplate(args.task, args.cycles, args.capacity, args.current, args.voltage, args.series)
     except TemplateError as exc:
-        raise CliError(f"start template {number}: {exc}") from None
+        raise CliError(_("start template {number}: {exc}").format(number=number, exc=exc)) from None
     with _connect(args) as client:
         stored = client.set_template(number, template)
     out(line(number, stored))

@@ -14,6 +14,7 @@ from importlib import resources
 from pathlib import Path
 
 from ..macro_file import EXTENSION
+from ..i18n import _
 
 
 class DataFileError(Exception):
@@ -23,8 +24,12 @@ class DataFileError(Exception):
     swallow a broken installation."""
 
 
-def _missing(where: object, what: str = "data file") -> DataFileError:
-    return DataFileError(f"{what} {where} is missing: the installation is incomplete, reinstall ZUML Studio")
+def _missing(where: object, folder: bool = False) -> DataFileError:
+    if folder:
+        return DataFileError(_("data folder {where} is missing: the installation is incomplete, reinstall ZUML "
+                               "Studio").format(where=where))
+    return DataFileError(_("data file {where} is missing: the installation is incomplete, reinstall ZUML "
+                           "Studio").format(where=where))
 
 
 def location(relative: str) -> str:
@@ -39,7 +44,8 @@ def read_text(relative: str) -> str:
     except FileNotFoundError:
         raise _missing(location(relative)) from None
     except (OSError, UnicodeDecodeError) as exc:
-        raise DataFileError(f"data file {location(relative)} is unreadable ({exc}): reinstall ZUML Studio") from None
+        raise DataFileError(_("data file {location} is unreadable ({exc}): reinstall ZUML Studio").format(
+                location=location(relative), exc=exc)) from None
 
 
 def read_toml(relative: str) -> dict:
@@ -47,14 +53,15 @@ def read_toml(relative: str) -> dict:
     try:
         return tomllib.loads(read_text(relative))
     except tomllib.TOMLDecodeError as exc:
-        raise DataFileError(f"data file {location(relative)} is not valid TOML: {exc}") from None
+        raise DataFileError(_("data file {location} is not valid TOML: {exc}").format(
+                location=location(relative), exc=exc)) from None
 
 
 def names(folder: str, suffix: str = ".toml") -> list[str]:
     """The stems of the data files in ``folder`` (``chargers`` -> ``['imax_b6']``), sorted."""
     entry = resources.files(__name__).joinpath(folder)
     if not entry.is_dir():
-        raise _missing(location(folder), "data folder")
+        raise _missing(location(folder), folder=True)
     return sorted(f.name[: -len(suffix)] for f in entry.iterdir() if f.name.endswith(suffix))
 
 
@@ -70,7 +77,7 @@ def standard_macros_dir() -> Path:
     """The folder of the standard macros, a real directory (the editor opens them as files)."""
     folder = Path(location("macros"))
     if not folder.is_dir():
-        raise _missing(folder, "data folder")
+        raise _missing(folder, folder=True)
     return folder
 
 
@@ -79,8 +86,8 @@ def standard_macros() -> list[Path]:
     folder = standard_macros_dir()
     found = sorted(folder.glob(f"*{EXTENSION}"), key=lambda p: p.name.lower())
     if not found:
-        raise DataFileError(f"data folder {folder} holds no macros: the installation is incomplete, "
-                            "reinstall ZUML Studio")
+        raise DataFileError(_("data folder {folder} holds no macros: the installation is incomplete, reinstall "
+                              "ZUML Studio").format(folder=folder))
     return found
 
 

@@ -13,6 +13,7 @@ import re
 
 from .drivers import SERIAL_DRIVERS
 from .messages import Telemetry
+from ..i18n import _
 
 PER_BAUD_S = 2.5                 # an iCharger sends one line every 2 s
 JUNK_BYTES = 200                 # this many bytes at one baud without a record: wrong baud
@@ -124,5 +125,5 @@ class BaudSweep:
         return True
 
     def message(self, port: str, detector: Detector) -> str:
-        return (f"{port}: nothing recognisable in {detector.received} bytes; tried {detector.tried()} "
-                f"at {', '.join(str(b) for b in self.bauds)} baud")
+        return _("{port}: nothing recognisable in {received} bytes; tried {tried} at {bauds} baud").format(
+            port=port, received=detector.received, tried=detector.tried(), bauds=", ".join(str(b) for b in self.bauds))

@@ -17,6 +17,7 @@ for an absent thermistor).
 from __future__ import annotations
 
 from .stream_decoder import DollarLineDecoder, Reading, integers
+from ..i18n import _
 
 
 # programType + 1 (firmware >= 1.00): name, section, task, running
@@ -41,7 +42,7 @@ LAYOUTS = {25: (STATES_0X, 6), 27: (STATES_1X, 6), 31: (STATES_1X, 8)}
 def _time(text: str) -> float:
     whole, dot, tenth = text.partition(".")
     if not whole.isdigit() or not whole.isascii() or (dot and (len(tenth) != 1 or not tenth.isdigit())):
-        raise ValueError(f"bad time {text!r}")
+        raise ValueError(_("bad time {text!r}").format(text=text))
     return int(whole) + (int(tenth) / 10 if dot else 0.0)
 
 
@@ -56,14 +57,14 @@ class ChealiDecoder(DollarLineDecoder):
         if fields[0] in ("2", "3"):
             return None
         if fields[0] != "1":
-            raise ValueError("not channel 1")
+            raise ValueError(_("not channel 1"))
         layout = LAYOUTS.get(len(fields))
         if layout is None:
-            raise ValueError(f"{len(fields)} fields fit no cheali layout")
+            raise ValueError(_("{n_fields} fields fit no cheali layout").format(n_fields=len(fields)))
         states, cells = layout
         state = int(fields[1]) if fields[1].isdigit() and fields[1].isascii() else -1
         if state not in states:
-            raise ValueError(f"unknown state {fields[1]}")
+            raise ValueError(_("unknown state {fields}").format(fields=fields[1]))
         name, section, task, running = states[state]
         v = integers(fields[3:3 + 8 + cells], 0, 0xFFFF)
         mv, ma, mah, _pw, _wh, text, tint, _vin = v[:8]

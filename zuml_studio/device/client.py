@@ -29,6 +29,7 @@ from .errors import (CommitUncertain, CommitUnverified, DeviceError, DeviceLinkE
                      InvalidImage, NotACharger, PermissionDenied, PortBusy, PortNotFound, VerifyFailed)
 from .frames import MAX_FRAME, OVERHEAD, FrameParser, encode_frame
 from .port_access import vanished_hint
+from ..i18n import _
 
 log = logging.getLogger(__name__)
 
@@ -106,7 +107,7 @@ def open_serial(url: str, baudrate: int = DEFAULT_BAUD, exclusive: bool = True):
     except serial.SerialException as exc:
         raise _open_error(url, exc) from None
     except (ValueError, OSError) as exc:
-        raise DeviceLinkError(f"{url}: cannot open: {exc}") from None
+        raise DeviceLinkError(_("{url}: cannot open: {exc}").format(url=url, exc=exc)) from None
 
 
 def _open_error(url: str, exc: Exception) -> DeviceLinkError:
@@ -120,10 +121,11 @@ def _open_error(url: str, exc: Exception) -> DeviceLinkError:
     if code in (errno.EBUSY, errno.EAGAIN) or "busy" in low or "exclusively lock" in low or "errno 16" in low:
         return PortBusy(url, text)
     if code == errno.ENOENT or "no such file" in low or "errno 2]" in low or "filenotfound" in low:
-        return PortNotFound(f"{url}: no such port (unplugged? run `zuml ports`).{vanished_hint(url)}")
+        return PortNotFound(_("{url}: no such port (unplugged? run `zuml ports`).{vanished_hint}").format(
+                url=url, vanished_hint=vanished_hint(url)))
     if "refused" in low or code == errno.ECONNREFUSED:
-        return PortNotFound(f"{url}: nothing listens there (is the virtual charger running?)")
-    return DeviceLinkError(f"{url}: cannot open: {text}")
+        return PortNotFound(_("{url}: nothing listens there (is the virtual charger running?)").format(url=url))
+    return DeviceLinkError(_("{url}: cannot open: {text}").format(url=url, text=text))
 
 
 class ChargerClient:
@@ -170,26 +172,29 @@ class ChargerClient:
             self.info = self.identify()
         except DeviceTimeout:
             self.close()
-            raise NotACharger(f"{url}: no ZUML charger answered (wrong port or baud rate? "
-                              f"tried {self.baudrate} baud)") from None
+            raise NotACharger(_("{url}: no ZUML charger answered (wrong port or baud rate? tried {baudrate} "
+                                  "baud)").format(
+                    url=url, baudrate=self.baudrate)) from None
         except DeviceError as exc:
             self.close()
-            raise NotACharger(f"{url}: the device refused IDENTIFY ({exc}); not a ZUML charger?") from None
+            raise NotACharger(_("{url}: the device refused IDENTIFY ({exc}); not a ZUML charger?").format(
+                    url=url, exc=exc)) from None
         except Disconnected:
             self.close()
             # Only a TCP charger that already serves another program closes a new connection at once.
-            maybe = " (or it serves another program already)" if url.lower().startswith("socket://") \
+            maybe = _(" (or it serves another program already)") if url.lower().startswith("socket://") \
                 and not self._heard else ""
-            raise Disconnected(f"{url}: the connection closed before the charger answered: it stopped or "
-                               f"went away{maybe}") from None
+            raise Disconnected(_("{url}: the connection closed before the charger answered: it stopped or went "
+                                 "away{maybe}").format(url=url, maybe=maybe)) from None
         except BaseException:
             self.close()
             raise
         if self.info.protocol != m.PROTOCOL_VERSION:
             version = self.info.protocol
             self.close()
-            raise NotACharger(f"{url}: the charger speaks protocol {version}; this ZUML Studio speaks "
-                              f"{m.PROTOCOL_VERSION}")
+            raise NotACharger(_("{url}: the charger speaks protocol {version}; this ZUML Studio speaks "
+                                "{protocol_version}").format(
+                    url=url, version=version, protocol_version=m.PROTOCOL_VERSION))
         self._chunk = max(MIN_CHUNK, min(self.info.max_data, m.MAX_DATA))
 
     # -- lifecycle -----------------------------------------------------------------------------
@@ -208,7 +213,7 @@ class ChargerClient:
             pass
         with self._cv:
             if self._disconnected is None:
-                self._disconnected = Disconnected(f"{self.url}: closed")
+                self._disconnected = Disconnected(_("{url}: closed").format(url=self.url))
             self._cv.notify_all()
 
     def __enter__(self) -> "ChargerClient":
@@ -251,7 +256,8 @@ class ChargerClient:
                 data = ser.read(ser.in_waiting or 1)
             except Exception as exc:   # noqa: BLE001 - SerialException, OSError, a closed port
                 if not self._closing:
-                    self._lost(Disconnected(f"{self.url}: the connection was lost ({_why_lost(exc)})"))
+                    self._lost(Disconnected(_("{url}: the connection was lost ({why_lost})").format(
+                            url=self.url, why_lost=_why_lost(exc))))
                 return
             if not data:
                 if parser.pending:           # the line went quiet inside a frame: its LEN was garbage
@@ -373,8 +379,8 @@ class ChargerClient:
         Raises DeviceError (the device refused), DeviceTimeout, Disconnected."""
         code = m.BY_NAME[name].code
         if threading.current_thread() is self._reader:
-            raise RuntimeError("a request from a telemetry/event callback would wait for its own reader "
-                               "thread; hand the work to another thread")
+            raise RuntimeError(_("a request from a telemetry/event callback would wait for its own reader "
+                                 "thread; hand the work to another thread"))
         with self._req_lock:
             if self._disconnected is not None:
                 raise self._disconnected
@@ -423,8 +429,9 @@ class ChargerClient:
                     timeouts += 1
                     self.stats["timeouts"] += 1
                     if timeouts > self.retries or time.monotonic() >= deadline_total + per_try:
-                        raise DeviceTimeout(f"{self.url}: no answer to {name} after {timeouts} tries "
-                                            f"({per_try:.2f} s each)")
+                        raise DeviceTimeout(_("{url}: no answer to {name} after {timeouts} tries ({per_try:.2f} "
+                                              "s each)").format(
+                                url=self.url, name=name, timeouts=timeouts, per_try=per_try))
                     self.stats["retries"] += 1
             finally:
                 with self._cv:
@@ -441,8 +448,9 @@ class ChargerClient:
         except Exception as exc:   # noqa: BLE001
             import serial
             if isinstance(exc, serial.SerialTimeoutException):
-                raise DeviceTimeout(f"{self.url}: the port does not take data (flow control?)") from None
-            err = Disconnected(f"{self.url}: the connection was lost ({exc})")
+                raise DeviceTimeout(_("{url}: the port does not take data (flow control?)").format(
+                        url=self.url)) from None
+            err = Disconnected(_("{url}: the connection was lost ({exc})").format(url=self.url, exc=exc))
             self._lost(err)
             raise err from None
 
@@ -464,7 +472,8 @@ class ChargerClient:
         try:
             return m.decode_response(m.BY_NAME[name].code, answer)
         except m.PayloadError as exc:
-            raise DeviceError(m.ErrorCode.BAD_REQUEST, f"the charger's answer to {name} does not fit: {exc}") from None
+            raise DeviceError(m.ErrorCode.BAD_REQUEST, _("the charger's answer to {name} does not fit: {exc}").format(
+                    name=name, exc=exc)) from None
 
     # -- the API -------------------------------------------------------------------------------------
     def identify(self) -> DeviceInfo:
@@ -476,8 +485,9 @@ class ChargerClient:
     def read_eeprom(self, offset: int, length: int) -> bytes:
         v = self._call("READ_EEPROM", response_len=length + 2, offset=offset, length=length)
         if v["offset"] != offset or len(v["data"]) != length:
-            raise DeviceError(m.ErrorCode.BAD_REQUEST, f"asked for {length} bytes at {offset}, got "
-                                                       f"{len(v['data'])} at {v['offset']}")
+            raise DeviceError(m.ErrorCode.BAD_REQUEST,
+                              _("asked for {length} bytes at {offset}, got {n_v} at {v}").format(
+                    length=length, offset=offset, n_v=len(v['data']), v=v['offset']))
         return v["data"]
 
     def read_image(self, progress: Callable[[str, int, int], None] | None = None, *, stage: str = "read") -> bytes:
@@ -546,7 +556,7 @@ class ChargerClient:
         sent = chunks = 0
         commit_sent = confirmed = False
         try:
-            total = sum(len(d) for _, d in runs)
+            total = sum(len(d) for __, d in runs)
             for offset, data in runs:
                 at = 0
                 while at < len(data):
@@ -557,7 +567,7 @@ class ChargerClient:
                         piece = rest[:n]
                         v = self._call("WRITE_STAGE", response_len=3, token=token, offset=start, data=piece)
                         if v["offset"] != start or v["length"] != len(piece):
-                            raise DeviceError(m.ErrorCode.BAD_REQUEST, "the charger staged other bytes than sent")
+                            raise DeviceError(m.ErrorCode.BAD_REQUEST, _("the charger staged other bytes than sent"))
                         return len(piece)
                     done = self._in_pieces(min(self._chunk, len(rest)), stage)
                     at += done
@@ -585,15 +595,18 @@ class ChargerClient:
             back = self.read_image(progress, stage="verify")
         except DeviceLinkError as exc:
             if confirmed:
-                raise CommitUnverified(f"{self.url}: the charger confirmed the new image ({changed} byte(s) "
-                                       f"changed), then the link failed while reading it back ({exc}): "
-                                       "reconnect to verify it", image, current) from None
+                raise CommitUnverified(_("{url}: the charger confirmed the new image ({changed} byte(s) changed), "
+                                         "then the link failed while reading it back ({error}): reconnect to "
+                                         "verify it").format(url=self.url, changed=changed, error=exc),
+                                       image, current) from None
             raise self._uncertain(exc, image, current) from None
         if back != image:
             if not confirmed and back == current:
-                raise DeviceTimeout(f"{self.url}: the charger did not take COMMIT; it keeps its previous image")
+                raise DeviceTimeout(_("{url}: the charger did not take COMMIT; it keeps its previous image").format(
+                        url=self.url))
             at = next(i for i in range(size) if back[i] != image[i])
-            raise VerifyFailed(f"verify failed: byte {at} reads 0x{back[at]:02x}, wrote 0x{image[at]:02x}")
+            raise VerifyFailed(_("verify failed: byte {at} reads 0x{back:02x}, wrote 0x{image:02x}").format(
+                    at=at, back=back[at], image=image[at]))
         return WriteResult(size, changed, sent, chunks, time.monotonic() - started)
 
     def _abort(self, token: int) -> None:
@@ -605,9 +618,9 @@ class ChargerClient:
                 pass
 
     def _uncertain(self, exc: DeviceLinkError, image: bytes, current: bytes) -> CommitUncertain:
-        return CommitUncertain(f"{self.url}: the link failed right after COMMIT ({exc}); the charger holds "
-                               "either the new image or its previous one, never a mix: reconnect to tell "
-                               "which", image, current)
+        return CommitUncertain(_("{url}: the link failed right after COMMIT ({error}); the charger holds "
+                                 "either the new image or its previous one, never a mix: reconnect to tell "
+                                 "which").format(url=self.url, error=exc), image, current)
 
     def start(self, slot: int, task: str = "charge", repetitions: int = 1, capacity_mah: float | None = None,
               current_a: float | None = None, voltage_v: float | None = None, series: int | None = None,
@@ -615,7 +628,7 @@ class ChargerClient:
         """Start the macro in ``slot``; returns its name. DeviceError lists a refusal's reasons
         (``.lines``: one passport conflict per line)."""
         if task not in m.TASKS:
-            raise ValueError(f"task must be one of {', '.join(m.TASKS)}")
+            raise ValueError(_("task must be one of {tasks}").format(tasks=', '.join(m.TASKS)))
         v = self._call("START", response_len=40, slot=slot, task=m.TASKS.index(task),
                        repetitions=max(1, min(255, int(repetitions))),
                        capacity_mah=_u16(capacity_mah, 1), current_ma=_u16(current_a, 1000),
@@ -661,7 +674,8 @@ class ChargerClient:
         """Pass an 8-byte passport request to the battery; its 32-byte answer."""
         answer = self._call("PASSPORT", response_len=pp.SIZE, request=bytes(request))["answer"]
         if len(answer) != pp.SIZE:
-            raise DeviceError(m.ErrorCode.PASSPORT_ERROR, f"the passport answer has {len(answer)} bytes, not 32")
+            raise DeviceError(m.ErrorCode.PASSPORT_ERROR, _("the passport answer has {n_answer} bytes, not 32").format(
+                    n_answer=len(answer)))
         return answer
 
     def _passport_answer(self, request: bytes) -> bytes:
@@ -669,7 +683,7 @@ class ChargerClient:
         answer = self.passport_raw(request)
         refused = pp.answer_error(answer)
         if refused is not None:
-            raise DeviceError(m.ErrorCode.PASSPORT_ERROR, f"the battery refused: {refused}")
+            raise DeviceError(m.ErrorCode.PASSPORT_ERROR, _("the battery refused: {refused}").format(refused=refused))
         return answer
 
     def passport_read(self) -> pp.Passport:
@@ -677,7 +691,8 @@ class ChargerClient:
         try:
             return pp.Passport.from_bytes(answer)
         except pp.PassportError as exc:
-            raise DeviceError(m.ErrorCode.PASSPORT_ERROR, f"the battery's passport is unreadable: {exc}") from None
+            raise DeviceError(m.ErrorCode.PASSPORT_ERROR, _("the battery's passport is unreadable: {exc}").format(
+                    exc=exc)) from None
 
     def passport_if_any(self) -> pp.Passport | None:
         """The passport, or None when the battery has no chip or an unreadable one (the charger's
@@ -697,15 +712,16 @@ class ChargerClient:
         try:
             current = pp.Passport.from_bytes(old)
         except pp.PassportError as exc:
-            raise DeviceError(m.ErrorCode.PASSPORT_ERROR, f"the battery's passport is unreadable: {exc}") from None
+            raise DeviceError(m.ErrorCode.PASSPORT_ERROR, _("the battery's passport is unreadable: {exc}").format(
+                    exc=exc)) from None
         wanted = current.with_field(field, value)
         for req in pp.page_writes(old, wanted.to_bytes()):
             self._passport_answer(req)
         now = self.passport_read()
         key = field.strip().lower()
         if getattr(now, key) != getattr(wanted, key):
-            raise VerifyFailed(f"the passport's {key} reads {getattr(now, key)!r} after writing "
-                               f"{getattr(wanted, key)!r}")
+            raise VerifyFailed(_("the passport's {key} reads {read!r} after writing {written!r}").format(
+                    key=key, read=getattr(now, key), written=getattr(wanted, key)))
         return now
 
 
@@ -714,11 +730,12 @@ def check_image(image: bytes) -> None:
     try:
         found = slots(image)
     except ImageError as exc:
-        raise InvalidImage(f"the image's record list is broken: {exc}") from None
+        raise InvalidImage(_("the image's record list is broken: {exc}").format(exc=exc)) from None
     bad = [s for s in found if not s.ok]
     if bad:
         s = bad[0]
-        raise InvalidImage(f"slot {s.index} at offset {s.offset} does not decode: {s.error}")
+        raise InvalidImage(_("slot {index} at offset {offset} does not decode: {error}").format(
+                index=s.index, offset=s.offset, error=s.error))
 
 
 def _pause(seconds: float) -> None:
@@ -730,7 +747,7 @@ def _why_lost(exc: Exception) -> str:
     access on port?)" is what any closed pty or socket says, and nothing here shares a port."""
     text = str(exc)
     if "returned no data" in text or "multiple access" in text:
-        return "the charger closed the line: it stopped, or its cable was pulled"
+        return _("the charger closed the line: it stopped, or its cable was pulled")
     return text
 
 
@@ -751,7 +768,8 @@ def _template(fields: dict):
     try:
         return m.template_of(fields)[1]
     except TemplateError as exc:
-        raise DeviceError(m.ErrorCode.BAD_REQUEST, f"the charger's start template does not fit: {exc}") from None
+        raise DeviceError(m.ErrorCode.BAD_REQUEST, _("the charger's start template does not fit: {exc}").format(
+                exc=exc)) from None
 
 
 def _u16(value: float | None, scale: float) -> int:
@@ -759,5 +777,6 @@ def _u16(value: float | None, scale: float) -> int:
         return 0
     raw = round(value * scale)
     if raw > 0xFFFF:
-        raise ValueError(f"{value} does not fit the start request (at most {0xFFFF / scale:g})")
+        raise ValueError(_("{value} does not fit the start request (at most {value2:g})").format(
+                value=value, value2=0xFFFF / scale))
     return max(1, raw)

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 from .messages import Telemetry
 from .stream_decoder import StreamDecoder
+from ..i18n import _
 
 AUTO = "auto"
 ZUML = "zuml"
@@ -61,7 +62,8 @@ def driver(name: str) -> Driver:
     try:
         return DRIVERS[name]
     except KeyError:
-        raise CaptureError(f"unknown driver {name!r}; drivers: {', '.join(DRIVERS)}") from None
+        raise CaptureError(_("unknown driver {name!r}; drivers: {drivers}").format(
+                name=name, drivers=', '.join(DRIVERS))) from None
 
 
 def hex_dump_reports(data: bytes) -> bytes | None:
@@ -113,7 +115,8 @@ def decode_capture(data: bytes, driver: str | None = None) -> tuple[str, list[Te
     assert best is not None
     good, bad, name, samples = best
     if not good and driver is None:
-        raise CaptureError(f"no charger format recognised in {len(data)} bytes (tried {', '.join(names)})")
+        raise CaptureError(_("no charger format recognised in {n_data} bytes (tried {names})").format(
+                n_data=len(data), names=', '.join(names)))
     return name, samples, bad
 
 
@@ -161,5 +164,6 @@ def decode_recording(data: bytes, driver: str | None = None) -> Capture:
         if samples and (best is None or (len(samples), -bad) > (len(best.samples), -best.bad)):
             best = Capture(name, stream, samples, bad)
     if best is None:
-        raise CaptureError(f"no recording recognised in {len(data)} bytes (tried {driver or ', '.join(DRIVERS)})")
+        raise CaptureError(_("no recording recognised in {n_data} bytes (tried {tried})").format(
+                n_data=len(data), tried=driver or ', '.join(DRIVERS)))
     return best

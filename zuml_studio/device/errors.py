@@ -6,6 +6,7 @@ shows it in a dialog. None of them carries a traceback-worthy surprise.
 from __future__ import annotations
 
 from .port_access import refused_advice
+from ..i18n import _
 
 
 class DeviceLinkError(Exception):
@@ -20,7 +21,8 @@ class PermissionDenied(DeviceLinkError):
     """errno 13 opening the port."""
 
     def __init__(self, port: str, detail: str = ""):
-        super().__init__(f"{port}: permission denied; {refused_advice(port)}")
+        super().__init__(_("{port}: permission denied; {refused_advice}").format(
+                port=port, refused_advice=refused_advice(port)))
         self.port = port
         self.detail = detail
 
@@ -29,8 +31,8 @@ class PortBusy(DeviceLinkError):
     """errno 16, or another program holds the port's exclusive lock."""
 
     def __init__(self, port: str, detail: str = ""):
-        super().__init__(f"{port}: the port is busy: another program (a serial monitor, another "
-                         "ZUML Studio?) has it open; close it and try again")
+        super().__init__(_("{port}: the port is busy: another program (a serial monitor, another ZUML Studio?) "
+                           "has it open; close it and try again").format(port=port))
         self.port = port
         self.detail = detail
 
@@ -82,7 +84,8 @@ class ImageTooLarge(DeviceLinkError):
     """An EEPROM image larger than the device's EEPROM."""
 
     def __init__(self, size: int, eeprom_size: int):
-        super().__init__(f"the image is {size} bytes; the charger's EEPROM holds {eeprom_size}")
+        super().__init__(_("the image is {size} bytes; the charger's EEPROM holds {eeprom_size}").format(
+                size=size, eeprom_size=eeprom_size))
         self.size = size
         self.eeprom_size = eeprom_size
 
@@ -107,7 +110,7 @@ class DeviceError(DeviceLinkError):
         self.message = message
         self.request_type = request_type
         self.lines = [line for line in message.split("\n") if line]
-        super().__init__("; ".join(self.lines) or f"device error {code}")
+        super().__init__("; ".join(self.lines) or _("device error {code}").format(code=code))
 
     @property
     def code_name(self) -> str:

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 from ..lang.decoder import decode_record
 from ..lang.eeprom import pack, slots
+from ..i18n import _
 
 
 class MergeError(ValueError):
@@ -20,8 +21,9 @@ class SlotOutOfRange(MergeError):
     def __init__(self, slot: int, count: int):
         self.slot = slot
         self.count = count
-        super().__init__(f"slot {slot}: the charger has slots 0..{count - 1} ({count} appends)" if count
-                         else f"slot {slot}: the charger has no macros yet (0 appends)")
+        super().__init__(_("slot {slot}: the charger has slots 0..{last} ({count} appends)").format(
+                slot=slot, last=count - 1, count=count) if count
+                         else _("slot {slot}: the charger has no macros yet (0 appends)").format(slot=slot))
 
 
 class ImageFull(MergeError):
@@ -32,7 +34,8 @@ class ImageFull(MergeError):
         self.count = count
         self.needed = needed
         self.size = size
-        super().__init__(f"{count} record(s) need {needed} bytes; the EEPROM has {size}")
+        super().__init__(_("{count} record(s) need {needed} bytes; the EEPROM has {size}").format(
+                count=count, needed=needed, size=size))
 
 
 @dataclass(frozen=True)
@@ -52,8 +55,8 @@ class Merge:
     def action(self) -> str:
         """``replaced slot 0 (NiMh-dV)`` or ``appended as slot 2``."""
         if self.replaced is None:
-            return f"appended as slot {self.index}"
-        return f"replaced slot {self.index} ({self.replaced})"
+            return _("appended as slot {index}").format(index=self.index)
+        return _("replaced slot {index} ({name})").format(index=self.index, name=self.replaced)
 
 
 def merge_record(image: bytes, record: bytes, slot: int | None = None) -> Merge:

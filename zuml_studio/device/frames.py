@@ -14,6 +14,7 @@ with a good CRC later in the buffer proves the earlier candidate false.
 from __future__ import annotations
 
 from .crc import INIT, TABLE, _word_table, crc16
+from ..i18n import _
 
 SYNC = 0xA5
 MAX_PAYLOAD = 250
@@ -48,9 +49,10 @@ class Frame:
 
 def encode_frame(type: int, seq: int, payload: bytes = b"") -> bytes:
     if not 0 <= type <= 0xFF or not 0 <= seq <= 0xFF:
-        raise ValueError("type and seq are bytes (0..255)")
+        raise ValueError(_("type and seq are bytes (0..255)"))
     if len(payload) > MAX_PAYLOAD:
-        raise ValueError(f"a payload has at most {MAX_PAYLOAD} bytes, not {len(payload)}")
+        raise ValueError(_("a payload has at most {max_payload} bytes, not {n_payload}").format(
+                max_payload=MAX_PAYLOAD, n_payload=len(payload)))
     body = bytes((len(payload), type, seq)) + bytes(payload)
     crc = crc16(body)
     return b"\xa5" + body + bytes((crc & 0xFF, crc >> 8))

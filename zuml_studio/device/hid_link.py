@@ -10,6 +10,7 @@ from __future__ import annotations
 from .drivers import HID_DRIVERS, Driver
 from .errors import DeviceLinkError, PortNotFound
 from .ports import PortInfo
+from ..i18n import _
 
 PREFIX = "hid:"
 REPORT = 64
@@ -19,7 +20,8 @@ def _hid():
     try:
         import hid
     except ImportError as exc:
-        raise DeviceLinkError(f"USB-HID chargers need the hidapi package (pip install hidapi): {exc}") from None
+        raise DeviceLinkError(_("USB-HID chargers need the hidapi package (pip install hidapi): {exc}").format(
+                exc=exc)) from None
     return hid
 
 
@@ -63,7 +65,8 @@ def parse_port(port: str) -> tuple[int, int, int]:
         if len(parts) > 3 or not (0 <= vid <= 0xFFFF and 0 <= pid <= 0xFFFF) or index < 0:
             raise ValueError
     except (ValueError, IndexError):
-        raise DeviceLinkError(f"{port}: write a HID port as hid:VVVV:PPPP (hex ids), e.g. hid:0483:5751") from None
+        raise DeviceLinkError(_("{port}: write a HID port as hid:VVVV:PPPP (hex ids), e.g. hid:0483:5751").format(
+                port=port)) from None
     return vid, pid, index
 
 
@@ -75,27 +78,27 @@ class HidPort:
         hid = _hid()
         found = [d for d in hid.enumerate() if d.get("vendor_id") == vid and d.get("product_id") == pid]
         if index >= len(found):
-            raise PortNotFound(f"{port}: no such USB device plugged in (run `zuml ports`)")
+            raise PortNotFound(_("{port}: no such USB device plugged in (run `zuml ports`)").format(port=port))
         self.port = port
         self.vid, self.pid = vid, pid
         self._dev = hid.device()
         try:
             self._dev.open_path(found[index]["path"])
         except (OSError, IOError) as exc:
-            raise DeviceLinkError(f"{port}: cannot open: {exc} (on Linux a udev rule gives your user access "
-                                  f"to {vid:04x}:{pid:04x})") from None
+            raise DeviceLinkError(_("{port}: cannot open: {exc} (on Linux a udev rule gives your user access to "
+                                    "{vid:04x}:{pid:04x})").format(port=port, exc=exc, vid=vid, pid=pid)) from None
 
     def read(self, timeout_s: float) -> bytes:
         try:
             return bytes(self._dev.read(REPORT, max(1, int(timeout_s * 1000))))
         except (OSError, IOError, ValueError) as exc:
-            raise DeviceLinkError(f"{self.port}: the device went away: {exc}") from None
+            raise DeviceLinkError(_("{port}: the device went away: {exc}").format(port=self.port, exc=exc)) from None
 
     def write(self, data: bytes) -> None:
         try:
             self._dev.write(b"\x00" + bytes(data).ljust(REPORT, b"\x00"))
         except (OSError, IOError, ValueError) as exc:
-            raise DeviceLinkError(f"{self.port}: cannot write: {exc}") from None
+            raise DeviceLinkError(_("{port}: cannot write: {exc}").format(port=self.port, exc=exc)) from None
 
     def close(self) -> None:
         try:

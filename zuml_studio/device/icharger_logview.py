@@ -16,6 +16,7 @@ negative; temperatures in 0.1 °C (0 = no sensor); a file header line
 from __future__ import annotations
 
 from .stream_decoder import DollarLineDecoder, Reading, integers
+from ..i18n import _
 
 LEGACY_STEP_S = 2.0
 U16 = 0xFFFF
@@ -66,7 +67,7 @@ class IChargerLineDecoder(DollarLineDecoder):
 
     def record(self, fields: list[str]) -> Reading | None:
         if fields[0] not in ("1", "2"):
-            raise ValueError("not a channel")
+            raise ValueError(_("not a channel"))
         state = integers(fields[1:2], 0, 255)[0]
         if self.channel is not None and fields[0] != self.channel:
             integers(fields[1:2] + fields[3:])          # well-formed, just the other channel
@@ -84,7 +85,7 @@ class IChargerLineDecoder(DollarLineDecoder):
     def _legacy(self, state: int, fields: list[str]) -> Reading:
         n = LEGACY_CELLS.get(len(fields))
         if n is None or state not in LEGACY_STATES:
-            raise ValueError("no legacy layout")
+            raise ValueError(_("no legacy layout"))
         vin, vbat = integers(fields[3:5], 0, U16)
         (i10,) = integers(fields[5:6], *S16)
         cells = integers(fields[6:6 + n], 0, U16)
@@ -103,7 +104,7 @@ class IChargerLineDecoder(DollarLineDecoder):
     def _duo(self, state: int, fields: list[str]) -> Reading:
         n = DUO_CELLS.get(len(fields))
         if n is None or state not in DUO_STATES:
-            raise ValueError("no DUO/X layout")
+            raise ValueError(_("no DUO/X layout"))
         (ms,) = integers(fields[2:3], 0, (1 << 32) - 1)
         integers(fields[3:5], 0, 255)                        # battery type, cycle
         (i10,) = integers(fields[5:6], *S16)

@@ -13,6 +13,7 @@ from __future__ import annotations
 import enum
 import struct
 from dataclasses import dataclass
+from ..i18n import _
 
 PROTOCOL_VERSION = 1
 RESPONSE_FLAG = 0x80
@@ -157,7 +158,7 @@ def pack_fields(fields: tuple[Field, ...], values: dict) -> bytes:
     try:
         out = st.pack(*(values[n] for n in names))
     except (struct.error, KeyError) as exc:
-        raise PayloadError(f"cannot pack {names}: {exc}") from None
+        raise PayloadError(_("cannot pack {names}: {exc}").format(names=names, exc=exc)) from None
     for f in tail:
         v = values.get(f.name, b"" if f.fmt == "s*" else "")
         if f.fmt == "s*":
@@ -175,17 +176,18 @@ def pack_fields(fields: tuple[Field, ...], values: dict) -> bytes:
 def unpack_fields(fields: tuple[Field, ...], payload: bytes) -> dict:
     st, names, tail = _layout(fields)
     if len(payload) < st.size or (not tail and len(payload) != st.size):
-        raise PayloadError(f"payload of {len(payload)} bytes; the layout needs {st.size}")
+        raise PayloadError(_("payload of {n_payload} bytes; the layout needs {size}").format(
+                n_payload=len(payload), size=st.size))
     values = dict(zip(names, st.unpack_from(payload)))
     at = st.size
     for f in tail:
         if f.fmt == "p":
             if at >= len(payload):
-                raise PayloadError("a length-prefixed text is missing")
+                raise PayloadError(_("a length-prefixed text is missing"))
             n = payload[at]
             raw = payload[at + 1:at + 1 + n]
             if len(raw) != n:
-                raise PayloadError("a length-prefixed text runs past the payload")
+                raise PayloadError(_("a length-prefixed text runs past the payload"))
             values[f.name] = raw.decode("utf-8", "replace")
             at += 1 + n
         elif f.fmt == "s*":
@@ -195,7 +197,8 @@ def unpack_fields(fields: tuple[Field, ...], payload: bytes) -> dict:
             values[f.name] = bytes(payload[at:]).decode("utf-8", "replace")
             at = len(payload)
     if at != len(payload):
-        raise PayloadError(f"{len(payload) - at} extra byte(s) after the payload's fields")
+        raise PayloadError(_("{n_payload} extra byte(s) after the payload's fields").format(
+                n_payload=len(payload) - at))
     return values
 
 
@@ -223,7 +226,7 @@ def encode_error(request_type: int, code: int, message: str) -> bytes:
 
 def decode_error(payload: bytes) -> tuple[int, int, str]:
     if len(payload) < 2:
-        raise PayloadError("an ERROR payload has at least 2 bytes")
+        raise PayloadError(_("an ERROR payload has at least 2 bytes"))
     return payload[0], payload[1], bytes(payload[2:]).decode("utf-8", "replace")
 
 
@@ -276,7 +279,8 @@ class Telemetry:
     @classmethod
     def decode(cls, payload: bytes) -> "Telemetry":
         if len(payload) != _TELEMETRY_STRUCT.size:
-            raise PayloadError(f"TELEMETRY has {_TELEMETRY_STRUCT.size} bytes, not {len(payload)}")
+            raise PayloadError(_("TELEMETRY has {size} bytes, not {n_payload}").format(
+                    size=_TELEMETRY_STRUCT.size, n_payload=len(payload)))
         (t, task, section, rep, cycle, phase, run, flags, mv, ma, tc, hs, qi, qo) = \
             _TELEMETRY_STRUCT.unpack(payload)
         return cls(t / 1000.0, TASKS[task] if task < len(TASKS) else "charge",
@@ -315,7 +319,7 @@ class DeviceEvent:
     def decode(cls, payload: bytes) -> "DeviceEvent":
         v = unpack_fields(BY_NAME["EVENT"].response, payload)
         if v["kind"] >= len(EVENT_KINDS):
-            raise PayloadError(f"unknown event kind {v['kind']}")
+            raise PayloadError(_("unknown event kind {v}").format(v=v['kind']))
         return cls(v["number"], v["time_ms"] / 1000.0, EVENT_KINDS[v["kind"]],
                    SECTIONS[v["section"]] if v["section"] < len(SECTIONS) else "", v["index"], v["repetition"],
                    -1 if v["offset"] == NO_OFFSET else v["offset"], v["detail"])
@@ -332,7 +336,7 @@ def template_of(fields: dict):
     """GET_TEMPLATE/SET_TEMPLATE fields -> (number, StartTemplate); TemplateError for values it refuses."""
     from ..sim.start_templates import StartTemplate, TemplateError
     if fields["task"] >= len(TASKS):
-        raise TemplateError(f"task {fields['task']}: 0 charge, 1 discharge, 2 train")
+        raise TemplateError(_("task {fields}: 0 charge, 1 discharge, 2 train").format(fields=fields['task']))
     return fields["number"], StartTemplate(
         TASKS[fields["task"]], fields["repetitions"], float(fields["capacity_mah"]) or None,
         fields["current_ma"] / 1000.0 or None, fields["voltage_mv"] / 1000.0 or None, fields["series"] or None)

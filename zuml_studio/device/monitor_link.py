@@ -17,6 +17,7 @@ from .autodetect import BaudSweep, Detector
 from .drivers import AUTO, DRIVERS, Driver
 from .errors import DeviceLinkError
 from .messages import Telemetry
+from ..i18n import _
 
 READ_S = 0.05
 
@@ -31,7 +32,8 @@ class MonitorLink:
         self.port = port
         self.hid = port.startswith(PREFIX)
         if driver != AUTO and driver not in DRIVERS:
-            raise DeviceLinkError(f"unknown driver {driver!r}; drivers: auto, {', '.join(DRIVERS)}")
+            raise DeviceLinkError(_("unknown driver {driver!r}; drivers: auto, {drivers}").format(
+                    driver=driver, drivers=', '.join(DRIVERS)))
         self.requested = driver
         self.baud = baud
         self.give_up = give_up              # auto: stop with a message after a sweep with no charger
@@ -73,11 +75,13 @@ class MonitorLink:
                 self.driver = driver_for(dev.vid, dev.pid)
                 if self.driver is None:
                     dev.close()
-                    raise DeviceLinkError(f"{self.port}: no driver for USB id {dev.vid:04x}:{dev.pid:04x}")
+                    raise DeviceLinkError(_("{port}: no driver for USB id {vid:04x}:{pid:04x}").format(
+                            port=self.port, vid=dev.vid, pid=dev.pid))
                 self._decoder = self.driver.decoder()
             elif self.driver.transport != "hid":
                 dev.close()
-                raise DeviceLinkError(f"{self.port}: {self.driver.name} is a serial charger, not USB HID")
+                raise DeviceLinkError(_("{port}: {name} is a serial charger, not USB HID").format(
+                        port=self.port, name=self.driver.name))
             return dev
         # A HID driver on a serial port reads a replayed report dump (``zuml replay``): the reports
         # come as a byte stream and nothing is polled.
@@ -134,7 +138,7 @@ class MonitorLink:
             try:
                 data = dev.read(max(1, dev.in_waiting))
             except Exception as exc:    # noqa: BLE001 - pyserial raises several types for a lost port
-                raise DeviceLinkError(f"{self.port}: the port went away ({exc})") from None
+                raise DeviceLinkError(_("{port}: the port went away ({exc})").format(port=self.port, exc=exc)) from None
             if self._decoder is not None:
                 if data:
                     self._emit(self._decoder.feed(data))
@@ -144,14 +148,15 @@ class MonitorLink:
             if det.winner is not None:
                 self.driver = DRIVERS[det.winner]
                 self._decoder = det.decoders[det.winner]
-                self._on_status(f"recognised {self.driver.title} at {self.current_baud} baud")
+                self._on_status(_("recognised {title} at {baud} baud").format(title=self.driver.title,
+                                                                              baud=self.current_baud))
                 self._emit(samples)
                 continue
             if self._sweep.advance(time.monotonic(), data):
                 self.current_baud = self._sweep.baud
                 dev.baudrate = self.current_baud
                 det.new_baud()
-                self._on_status(f"listening at {self.current_baud} baud")
+                self._on_status(_("listening at {baud} baud").format(baud=self.current_baud))
             elif self._sweep.done:
                 message = self._sweep.message(self.port, det)
                 if self.give_up:

@@ -32,6 +32,7 @@ from ..lang import opcodes as ops
 from ..lang.formatter import format_args
 from ..lang.opcodes import canonical_text
 from ..lang.operands import AKK_TYPE as AKK_KIND, AKK_TYPE_ALIASES, DISPLAY_NAMES, absolute_value
+from ..i18n import N_, _
 
 MAGIC = 0xA7
 VERSION = 0x01
@@ -55,13 +56,13 @@ class AnswerError(enum.IntEnum):
 
 
 ANSWER_ERROR_TEXT = {
-    AnswerError.BAD_LENGTH: "the request is not 8 bytes",
-    AnswerError.BAD_MAGIC: "the request's magic is not 0xA7",
-    AnswerError.BAD_XOR: "the request's XOR byte is wrong",
-    AnswerError.BAD_COMMAND: "RW_INDEX is not a passport command",
-    AnswerError.BAD_PAGE: "the page is not 0..6 (or PAGE differs from RW_INDEX's page)",
-    AnswerError.READ_ONLY: "the write touches read-only fields (on a production battery only ERR and CRIT "
-                           "are writable)",
+    AnswerError.BAD_LENGTH: N_("the request is not 8 bytes"),
+    AnswerError.BAD_MAGIC: N_("the request's magic is not 0xA7"),
+    AnswerError.BAD_XOR: N_("the request's XOR byte is wrong"),
+    AnswerError.BAD_COMMAND: N_("RW_INDEX is not a passport command"),
+    AnswerError.BAD_PAGE: N_("the page is not 0..6 (or PAGE differs from RW_INDEX's page)"),
+    AnswerError.READ_ONLY: N_("the write touches read-only fields (on a production battery only ERR and CRIT "
+                           "are writable)"),
 }
 
 # field -> (offset, size)
@@ -99,9 +100,10 @@ def akk_code(text: str | int) -> int:
             code = int(t, 0)
         except ValueError:
             names = ", ".join(DISPLAY_NAMES[k] for k in AKK_KIND.names)
-            raise PassportError(f"'{text}' is not a battery type; use one of {names} or 0..255") from None
+            raise PassportError(_("'{text}' is not a battery type; use one of {names} or 0..255").format(
+                    text=text, names=names)) from None
     if not 0 <= code <= 255:
-        raise PassportError(f"battery type {code} is not 0..255")
+        raise PassportError(_("battery type {code} is not 0..255").format(code=code))
     return code
 
 
@@ -149,12 +151,14 @@ class Passport:
     def from_bytes(cls, data: bytes) -> "Passport":
         data = bytes(data)
         if len(data) != SIZE:
-            raise PassportError(f"a passport is {SIZE} bytes, not {len(data)}")
+            raise PassportError(_("a passport is {size} bytes, not {n_data}").format(size=SIZE, n_data=len(data)))
         if data[0] != MAGIC:
-            raise PassportError(f"passport magic is 0x{data[0]:02x}, expected 0x{MAGIC:02x}")
+            raise PassportError(_("passport magic is 0x{data:02x}, expected 0x{magic:02x}").format(
+                    data=data[0], magic=MAGIC))
         stored, expected = int.from_bytes(data[0x1E:0x20], "little"), check_word(data)
         if stored != expected:
-            raise PassportError(f"passport check is 0x{stored:04x}, expected 0x{expected:04x}")
+            raise PassportError(_("passport check is 0x{stored:04x}, expected 0x{expected:04x}").format(
+                    stored=stored, expected=expected))
         magic, version, serial, vendor, typ, err, crit, vl, al, temp = _BODY.unpack(data[:0x1E])
         return cls(_text(serial), _text(vendor), typ, err, crit, vl, al, temp, version)
 
@@ -163,7 +167,8 @@ class Passport:
         battery lets the charger write is the battery's decision (``PassportChip``)."""
         field = field.strip().lower()
         if field not in FIELDS:
-            raise PassportError(f"'{field}' is not a passport field; fields: {', '.join(FIELDS)}")
+            raise PassportError(_("'{field}' is not a passport field; fields: {fields}").format(
+                    field=field, fields=', '.join(FIELDS)))
         if field in ("serial", "vendor"):
             value = str(value)
             _ascii(value, LAYOUT[field][1], field)
@@ -173,7 +178,8 @@ class Passport:
             try:
                 value = int(value, 0) if isinstance(value, str) else int(value)
             except ValueError:
-                raise PassportError(f"{field} takes a whole number, not '{value}'") from None
+                raise PassportError(_("{field} takes a whole number, not '{value}'").format(
+                        field=field, value=value)) from None
             _u(value, 0xFFFF if field in ("err", "crit") else 0xFF, field)
         return replace(self, **{field: value})
 
@@ -182,11 +188,12 @@ def _ascii(text: str, size: int, what: str) -> bytes:
     try:
         raw = text.encode("ascii")
     except UnicodeEncodeError:
-        raise PassportError(f"{what} must be ASCII") from None
+        raise PassportError(_("{what} must be ASCII").format(what=what)) from None
     if len(raw) > size:
-        raise PassportError(f"{what} has at most {size} characters, not {len(raw)}")
+        raise PassportError(_("{what} has at most {size} characters, not {n_raw}").format(
+                what=what, size=size, n_raw=len(raw)))
     if any(b < 0x20 or b > 0x7E for b in raw):
-        raise PassportError(f"{what} must be printable ASCII")
+        raise PassportError(_("{what} must be printable ASCII").format(what=what))
     return raw.ljust(size, b"\0")
 
 
@@ -202,7 +209,7 @@ def printable(text: str) -> str:
 
 def _u(value: int, top: int, what: str) -> int:
     if not isinstance(value, int) or not 0 <= value <= top:
-        raise PassportError(f"{what} must be 0..{top}, not {value}")
+        raise PassportError(_("{what} must be 0..{top}, not {value}").format(what=what, top=top, value=value))
     return value
 
 
@@ -210,7 +217,7 @@ def _u(value: int, top: int, what: str) -> int:
 
 def make_request(rw_index: int, page: int = 0, data: bytes = b"\0\0\0\0") -> bytes:
     if len(data) != PAGE_SIZE:
-        raise PassportError("a request carries exactly 4 data bytes")
+        raise PassportError(_("a request carries exactly 4 data bytes"))
     body = bytes((MAGIC, rw_index & 0xFF, page & 0xFF)) + bytes(data)
     x = 0
     for b in body:
@@ -234,7 +241,7 @@ def write_page_request(page: int, data: bytes) -> bytes:
 
 def _page(page: int) -> None:
     if not 0 <= page < PAGES:
-        raise PassportError(f"a passport page is 0..{PAGES - 1}, not {page}")
+        raise PassportError(_("a passport page is 0..{pages}, not {page}").format(pages=PAGES - 1, page=page))
 
 
 class BadRequest(PassportError):
@@ -248,22 +255,26 @@ def parse_request(req: bytes) -> tuple[str, int, bytes]:
     for a request the battery cannot serve."""
     req = bytes(req)
     if len(req) != REQUEST_SIZE:
-        raise BadRequest(AnswerError.BAD_LENGTH, f"a passport request is {REQUEST_SIZE} bytes, not {len(req)}")
+        raise BadRequest(AnswerError.BAD_LENGTH, _("a passport request is {request_size} bytes, not {n_req}").format(
+                request_size=REQUEST_SIZE, n_req=len(req)))
     if req[0] != MAGIC:
-        raise BadRequest(AnswerError.BAD_MAGIC, f"request magic 0x{req[0]:02x}, expected 0x{MAGIC:02x}")
+        raise BadRequest(AnswerError.BAD_MAGIC, _("request magic 0x{req:02x}, expected 0x{magic:02x}").format(
+                req=req[0], magic=MAGIC))
     x = 0
     for b in req[:7]:
         x ^= b
     if x != req[7]:
-        raise BadRequest(AnswerError.BAD_XOR, f"request XOR 0x{req[7]:02x}, expected 0x{x:02x}")
+        raise BadRequest(AnswerError.BAD_XOR, _("request XOR 0x{req:02x}, expected 0x{x:02x}").format(req=req[7], x=x))
     rw, page, data = req[1], req[2], req[3:7]
     if rw == READ_ALL:
         return "all", 0, data
     op = {READ_PAGE: "read", WRITE_PAGE: "write"}.get(rw & 0xF0)
     if op is None:
-        raise BadRequest(AnswerError.BAD_COMMAND, f"RW_INDEX 0x{rw:02x} is not a passport command")
+        raise BadRequest(AnswerError.BAD_COMMAND, _("RW_INDEX 0x{rw:02x} is not a passport command").format(rw=rw))
     if (rw & 0x0F) != page or page >= PAGES:
-        raise BadRequest(AnswerError.BAD_PAGE, f"RW_INDEX 0x{rw:02x} with PAGE {page} is not a page 0..{PAGES - 1}")
+        raise BadRequest(AnswerError.BAD_PAGE,
+                         _("RW_INDEX 0x{rw:02x} with PAGE {page} is not a page 0..{pages}").format(
+                rw=rw, page=page, pages=PAGES - 1))
     return op, page, data
 
 
@@ -282,10 +293,10 @@ def answer_error(answer: bytes) -> str | None:
     """What an error answer says ("the battery refused: ..."), or None for a passport answer."""
     if len(answer) == SIZE and answer[0] == MAGIC and answer[1] == ERROR_MARK:
         try:
-            text = ANSWER_ERROR_TEXT[AnswerError(answer[2])]
+            text = _(ANSWER_ERROR_TEXT[AnswerError(answer[2])])
         except ValueError:
-            text = "an unknown error"
-        return f"{text} (passport error {answer[2]})"
+            text = _("an unknown error")
+        return _("{text} (passport error {code})").format(text=text, code=answer[2])
     return None
 
 
@@ -299,8 +310,8 @@ def page_writes(old: bytes, new: bytes) -> list[bytes]:
     PassportError when a differing byte lies beyond page 6 (A_LIMIT: no request reaches it)."""
     beyond = [i for i in range(PAGES * PAGE_SIZE, SIZE) if i not in _OWN_BYTES and old[i] != new[i]]
     if beyond:
-        raise PassportError("A_LIMIT lies on page 7, which no passport request addresses (pages 0..6): "
-                            "it is set when the battery is made")
+        raise PassportError(_("A_LIMIT lies on page 7, which no passport request addresses (pages 0..6): it is "
+                              "set when the battery is made"))
     out = []
     for page in range(PAGES):
         lo = PAGE_SIZE * page
@@ -375,7 +386,7 @@ def default_passport(chemistry: str, capacity_mah: float, series: int, serial: s
 def fitness_warnings(passport: Passport) -> list[str]:
     """What a charger shows before a start without refusing it: errors (ERR) the battery counted."""
     if passport.err:
-        return [f"the battery reports {passport.err} error(s) (ERR={passport.err})"]
+        return [_("the battery reports {n} error(s) (ERR={n})").format(n=passport.err)]
     return []
 
 
@@ -391,14 +402,16 @@ def conflicts(passport: Passport, record: bytes, start, *, charger_max_a: float 
     program = Program(record)          # DecodeError for bytes that are not a record
     out: list[str] = []
     if passport.crit:
-        out.append(f"the battery reports {passport.crit} critical error(s) (CRIT={passport.crit}): "
-                   "it is not fit for use")
+        out.append(_("the battery reports {n} critical error(s) (CRIT={n}): it is not fit for use").format(
+            n=passport.crit))
     akk = program.intro.declarations.get(ops.AKK_TYPE.code, 0)
     if akk != passport.type:
         if akk == 0:
-            out.append(f"the macro sets no battery type (AKK_TYPE Undef); the battery is {akk_name(passport.type)}")
+            out.append(_("the macro sets no battery type (AKK_TYPE Undef); the battery is {battery}").format(
+                battery=akk_name(passport.type)))
         else:
-            out.append(f"the macro is for {akk_name(akk)}; the battery is {akk_name(passport.type)}")
+            out.append(_("the macro is for {macro}; the battery is {battery}").format(
+                macro=akk_name(akk), battery=akk_name(passport.type)))
     capacity_ah = program.intro.capacity_ah(start.capacity_mah)
     series = program.intro.series(start.series)
 
@@ -426,7 +439,8 @@ def conflicts(passport: Passport, record: bytes, start, *, charger_max_a: float 
         charging = step.section == "charge" or 62 in by_code or 63 in by_code
         if not charging:
             continue
-        where = f"{step.section} phase {step.index}"
+        where = (_("charge phase {index}") if step.section == "charge"
+                 else _("discharge phase {index}")).format(index=step.index)
         if a_lim:
             charge_currents = []
             if 62 in by_code:
@@ -438,24 +452,31 @@ def conflicts(passport: Passport, record: bytes, start, *, charger_max_a: float 
             for raw, ins in charge_currents:
                 amps = current(raw)
                 if amps is not None and amps > a_lim + 1e-9:
-                    add(f"the macro charges at {amps:.2f} A ({where}: {text(ins)}); the battery allows {a_lim} A")
+                    add(_("the macro charges at {amps:.2f} A ({where}: {statement}); the battery allows {limit} "
+                          "A").format(amps=amps, where=where, statement=text(ins), limit=a_lim))
             if 61 in by_code and 60 not in by_code:
                 amps = start.current_a if start.current_a else charger_max_a
                 if amps is not None and amps > a_lim + 1e-9:
-                    how = "the current entered at start" if start.current_a else "the charger's limit, no current entered"
-                    add(f"the macro charges at up to {amps:.2f} A ({where}: {text(by_code[61])} limited to {how}); "
-                        f"the battery allows {a_lim} A")
+                    how = (_("the current entered at start") if start.current_a
+                           else _("the charger's limit, no current entered"))
+                    add(_("the macro charges at up to {amps:.2f} A ({where}: {statement} limited to {how}); the "
+                          "battery allows {limit} A").format(amps=amps, where=where, statement=text(by_code[61]),
+                                                             how=how, limit=a_lim))
         if v_lim:
             checks = []
             if 61 in by_code:
-                checks.append((by_code[61].raws[0], by_code[61], "holds"))
+                checks.append((by_code[61].raws[0], by_code[61],
+                               _("the macro holds {volts:.2f} V ({where}: {statement}); the battery allows {limit} V")))
             if 63 in by_code:
-                checks.append((by_code[63].raws[2], by_code[63], "tops up to"))
+                checks.append((by_code[63].raws[2], by_code[63],
+                               _("the macro tops up to {volts:.2f} V ({where}: {statement}); the battery allows "
+                                 "{limit} V")))
             for ins in step.conditions:
                 if ins.op.code == 83:
-                    checks.append((ins.raws[0], ins, "lets the voltage rise to"))
-            for raw, ins, verb in checks:
+                    checks.append((ins.raws[0], ins, _("the macro lets the voltage rise to {volts:.2f} V ({where}: "
+                                                       "{statement}); the battery allows {limit} V")))
+            for raw, ins, sentence in checks:
                 volts = voltage(raw)
                 if volts is not None and volts > v_lim + 1e-9:
-                    add(f"the macro {verb} {volts:.2f} V ({where}: {text(ins)}); the battery allows {v_lim} V")
+                    add(sentence.format(volts=volts, where=where, statement=text(ins), limit=v_lim))
     return out

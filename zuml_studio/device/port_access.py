@@ -12,31 +12,35 @@ import shutil
 import sys
 from pathlib import Path
 
+from ..i18n import N_, _
+
 RULE_NAME = "60-zuml-studio-serial.rules"
 BRLTTY_RULES = ("/usr/lib/udev/rules.d/85-brltty.rules", "/lib/udev/rules.d/85-brltty.rules")
-BRLTTY = ("On Ubuntu 22.04 and some later releases brltty (a braille display driver) takes CH340 and "
-          "CP210x ports; without a braille display: sudo apt remove brltty, then replug the charger.")
+BRLTTY = N_("On Ubuntu 22.04 and some later releases brltty (a braille display driver) takes CH340 and "
+            "CP210x ports; without a braille display: sudo apt remove brltty, then replug the charger.")
 
 
 def refused_advice(port: str) -> str:
     """The lines after "PORT: permission denied": how to get the right to open the port."""
     if not sys.platform.startswith("linux"):
-        return f"check who may open it: ls -l {port}"
+        return _("check who may open it: ls -l {port}").format(port=port)
     group = _owning_group(port)
     rule = _bundled_rule()
-    where = "" if rule else f" (linux/{RULE_NAME} in the release bundle, packaging/linux/ in the sources)"
-    return (f"to use the port, either\n"
-            f"  - join the group that owns it (dialout on Debian, Ubuntu and Fedora, uucp on Arch): "
-            f"sudo usermod -aG {group} $USER, then log out and in again, or\n"
-            f"  - install ZUML Studio's udev rule{where}, which gives chargers' USB-serial ports to the "
-            f"logged-in user: sudo install -m 644 {rule or RULE_NAME} /etc/udev/rules.d/ && "
-            f"sudo udevadm control --reload-rules && sudo udevadm trigger, then replug the charger.\n{BRLTTY}")
+    where = "" if rule else _(" (linux/{rule} in the release bundle, packaging/linux/ in the sources)").format(
+        rule=RULE_NAME)
+    return (_("to use the port, either\n"
+              "  - join the group that owns it (dialout on Debian, Ubuntu and Fedora, uucp on Arch): "
+              "sudo usermod -aG {group} $USER, then log out and in again, or\n"
+              "  - install ZUML Studio's udev rule{where}, which gives chargers' USB-serial ports to the "
+              "logged-in user: sudo install -m 644 {rule} /etc/udev/rules.d/ && "
+              "sudo udevadm control --reload-rules && sudo udevadm trigger, then replug the charger.").format(
+                  group=group, where=where, rule=rule or RULE_NAME) + "\n" + _(BRLTTY))
 
 
 def vanished_hint(port: str) -> str:
     """A sentence to add when a USB-serial port does not exist and brltty may have taken it; else ''."""
     if sys.platform.startswith("linux") and port.startswith("/dev/ttyUSB") and _brltty_installed():
-        return " " + BRLTTY
+        return " " + _(BRLTTY)
     return ""
 
 

@@ -10,8 +10,9 @@ from __future__ import annotations
 from urllib.parse import parse_qsl, urlsplit
 
 from .errors import DeviceLinkError
+from ..i18n import N_, _
 
-EXAMPLE = "socket://127.0.0.1:7777 (a `zuml virtual-charger --tcp`), /dev/ttyUSB0 or COM3"
+EXAMPLE = N_("socket://127.0.0.1:7777 (a `zuml virtual-charger --tcp`), /dev/ttyUSB0 or COM3")
 NETWORK = {"socket": ("logging",), "rfc2217": ("logging", "ign_set_control", "poll_modem", "timeout")}
 PASS_THROUGH = ("loop", "spy", "hwgrep", "alt")
 LOG_LEVELS = ("debug", "info", "warning", "error")
@@ -25,40 +26,42 @@ def check_port_url(url: str) -> None:
     """Raise BadPortUrl for a malformed URL; a plain device name passes."""
     if "://" not in url:
         if not url.strip():
-            _bad(url, "the port is empty")
+            _bad(url, _("the port is empty"))
         return
     scheme = url.split("://", 1)[0].lower()
     if scheme in PASS_THROUGH:
         return
     if scheme not in NETWORK:
-        _bad(url, f"'{scheme}://' is not a kind of port ZUML Studio knows")
+        _bad(url, _("'{scheme}://' is not a kind of port ZUML Studio knows").format(scheme=scheme))
     try:
         parts = urlsplit(url)
     except ValueError:                  # brackets that hold no IPv6 address
-        _bad(url, "the host in [ ] is not an IPv6 address")
+        _bad(url, _("the host in [ ] is not an IPv6 address"))
     try:
         port = parts.port
     except ValueError:
         after = parts.netloc.rpartition(":")[2]
-        _bad(url, f"the TCP port '{after}' is not a number from 1 to 65535")
+        _bad(url, _("the TCP port '{after}' is not a number from 1 to 65535").format(after=after))
     if not parts.hostname:
-        _bad(url, "the host is missing")
+        _bad(url, _("the host is missing"))
     if any(not "!" <= c <= "~" for c in parts.hostname):
-        _bad(url, f"the host {parts.hostname!r} has characters no host name has")
+        _bad(url, _("the host {hostname!r} has characters no host name has").format(hostname=parts.hostname))
     if port is None:
-        _bad(url, "the TCP port is missing")
+        _bad(url, _("the TCP port is missing"))
     if not 1 <= port <= 65535:
-        _bad(url, f"the TCP port {port} is not from 1 to 65535")
+        _bad(url, _("the TCP port {port} is not from 1 to 65535").format(port=port))
     if parts.path not in ("", "/"):
-        _bad(url, f"'{parts.path}' after the port means nothing here")
+        _bad(url, _("'{path}' after the port means nothing here").format(path=parts.path))
     for key, value in parse_qsl(parts.query, keep_blank_values=True):
         allowed = NETWORK[scheme]
         if key not in allowed:
-            _bad(url, f"'{key}' is not an option of {scheme}:// (options: {', '.join(allowed)})")
+            _bad(url, _("'{key}' is not an option of {scheme}:// (options: {allowed})").format(
+                    key=key, scheme=scheme, allowed=', '.join(allowed)))
         if key == "logging" and value not in LOG_LEVELS:
-            _bad(url, f"logging={value}: the levels are {', '.join(LOG_LEVELS)}")
+            _bad(url, _("logging={value}: the levels are {log_levels}").format(
+                    value=value, log_levels=', '.join(LOG_LEVELS)))
         if key == "timeout" and not _number(value):
-            _bad(url, f"timeout={value}: give seconds, e.g. timeout=3")
+            _bad(url, _("timeout={value}: give seconds, e.g. timeout=3").format(value=value))
 
 
 def _number(text: str) -> bool:
@@ -69,4 +72,5 @@ def _number(text: str) -> bool:
 
 
 def _bad(url: str, why: str) -> None:
-    raise BadPortUrl(f"{url}: not a valid port: {why}; a valid one looks like {EXAMPLE}")
+    raise BadPortUrl(_("{url}: not a valid port: {why}; a valid one looks like {example}").format(
+            url=url, why=why, example=_(EXAMPLE)))

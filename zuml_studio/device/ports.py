@@ -6,6 +6,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ..i18n import N_, _
+
 VIRTUAL = "virtual"
 
 
@@ -20,10 +22,11 @@ class PortInfo:
 
     def label(self) -> str:
         ids = f" [{self.vid:04X}:{self.pid:04X}]" if self.vid is not None and self.pid is not None else ""
-        return f"{self.device} - {self.description}{ids}"
+        return f"{self.device} - {_(self.description) if self.virtual else self.description}{ids}"
 
 
-VIRTUAL_PORT = PortInfo(VIRTUAL, "built-in virtual charger (the simulator behind the protocol)", virtual=True)
+# Its description is shown through _() (PortInfo.label), so the list follows the installed language.
+VIRTUAL_PORT = PortInfo(VIRTUAL, N_("built-in virtual charger (the simulator behind the protocol)"), virtual=True)
 
 
 def list_ports(include_virtual: bool = True, include_hid: bool = True) -> list[PortInfo]:
@@ -35,7 +38,7 @@ def list_ports(include_virtual: bool = True, include_hid: bool = True) -> list[P
     except Exception:   # noqa: BLE001 - a platform quirk must not break the port list
         found = []
     for p in sorted(found, key=lambda p: p.device):
-        desc = p.description if p.description and p.description != "n/a" else (p.product or "serial port")
+        desc = p.description if p.description and p.description != "n/a" else (p.product or _("serial port"))
         out.append(PortInfo(p.device, desc, p.hwid or "", p.vid, p.pid))
     if include_hid:
         from .hid_link import list_hid_chargers

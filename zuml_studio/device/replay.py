@@ -21,6 +21,7 @@ from typing import Callable
 
 from .drivers import DRIVERS, decode_recording
 from .virtual_charger import Faults
+from ..i18n import _
 
 MAX_GAP_S = 60.0                 # a longer pause in a recording (a restart, a joined file) plays as this
 SETTLE_S = 0.3                   # after the reader set the line up, before the first byte
@@ -75,7 +76,7 @@ class ReplayDevice:
 
     def __init__(self, recording: Recording, speed: float = 1.0, wait_for_reader: bool = True):
         if not speed > 0:
-            raise ValueError("speed must be > 0")
+            raise ValueError(_("speed must be > 0"))
         self.recording = recording
         self.speed = float(speed)
         self.wait_for_reader = wait_for_reader

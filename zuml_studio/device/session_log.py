@@ -29,6 +29,7 @@ import time
 from pathlib import Path
 
 from ..sim.samples import COLUMNS as SIM_COLUMNS
+from ..i18n import _
 
 COLUMNS = tuple(SIM_COLUMNS) + ("event",)
 FLUSH_S = 0.5
@@ -129,7 +130,7 @@ class SessionLog:
     def add_row(self, row: tuple) -> None:
         self._header(0)
         if len(row) != len(COLUMNS) + self.cells:
-            raise ValueError(f"a session row has {len(COLUMNS) + self.cells} values")
+            raise ValueError(_("a session row has {n_columns} values").format(n_columns=len(COLUMNS) + self.cells))
         self._put(tuple(row))
 
     def _header(self, cells: int) -> None:
@@ -152,11 +153,12 @@ class SessionLog:
             if self._fh.closed or self.error:
                 return
             try:
-                self._writer.writerows(row for row, _ in rows)
-                self.rows += sum(1 for _, header in rows if not header)
+                self._writer.writerows(row for row, __ in rows)
+                self.rows += sum(1 for __, header in rows if not header)
                 self._dirty = True
             except (OSError, ValueError) as exc:
-                self.error = f"cannot write {self.path}: {getattr(exc, 'strerror', None) or exc}"
+                self.error = _("cannot write {path}: {error}").format(path=self.path,
+                                                                      error=getattr(exc, "strerror", None) or exc)
 
     def flush(self) -> None:
         with self._lock:
@@ -165,7 +167,7 @@ class SessionLog:
             try:
                 self._fh.flush()
             except OSError as exc:
-                self.error = f"cannot write {self.path}: {exc.strerror or exc}"
+                self.error = _("cannot write {path}: {error}").format(path=self.path, error=exc.strerror or exc)
             self._dirty = False
             self._flushed_at = time.monotonic()
 

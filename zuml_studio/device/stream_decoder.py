@@ -23,6 +23,7 @@ from functools import reduce
 
 from .charge_counter import ChargeCounter
 from .messages import Telemetry
+from ..i18n import _
 
 
 @dataclass(frozen=True)
@@ -180,9 +181,9 @@ def integers(fields: list[str], lo: int = -(1 << 31), hi: int = (1 << 31) - 1) -
     for f in fields:
         body = f[1:] if f.startswith("-") else f
         if not body.isdigit() or not body.isascii():
-            raise ValueError(f"not an integer: {f!r}")
+            raise ValueError(_("not an integer: {f!r}").format(f=f))
         v = int(f)
         if not lo <= v <= hi:
-            raise ValueError(f"out of range: {v}")
+            raise ValueError(_("out of range: {v}").format(v=v))
         out.append(v)
     return out

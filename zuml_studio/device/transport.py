@@ -23,6 +23,7 @@ import time
 from typing import Callable
 
 from .virtual_charger import VirtualCharger
+from ..i18n import _
 
 BITS_PER_BYTE = 10          # start + 8 data + stop
 READ_SIZE = 4096
@@ -268,7 +269,7 @@ class _PtyLink(_Link):
 def serve_pty(device: VirtualCharger, baud: int | None = 115200) -> tuple[str, Callable[[], None]]:
     """Serve the device on a new pty; returns the port path (``/dev/pts/N``) and a stop function."""
     if os.name != "posix":
-        raise OSError("ptys need a POSIX system; use serve_tcp (socket://) instead")
+        raise OSError(_("ptys need a POSIX system; use serve_tcp (socket://) instead"))
     device.attach()
     try:
         link = _PtyLink(device, baud)

@@ -43,6 +43,7 @@ from . import messages as m
 from .crc import crc16
 from .frames import Frame, FrameParser, encode_frame
 from .passport import Passport, PassportChip, PassportError, akk_code, default_passport
+from ..i18n import _
 
 FIRMWARE = "zuml-virtual 1.0"
 MIN_SPEED, MAX_SPEED = 1.0, 100000.0
@@ -84,18 +85,19 @@ class BatterySpec:
             return cls(named.chem.name, named.capacity_mah, named.series, text[len("battery:"):])
         parts = text.split(":")
         if len(parts) != 3:
-            raise DeviceSetupError(f"battery '{text}': write CHEMISTRY:MAH:CELLS, e.g. NiMh:2000:4")
+            raise DeviceSetupError(_("battery '{text}': write CHEMISTRY:MAH:CELLS, e.g. NiMh:2000:4").format(text=text))
         try:
             chem = load_chemistry(parts[0]).name
         except KeyError:
-            raise DeviceSetupError(f"battery '{text}': no model for '{parts[0]}'; "
-                                   f"use one of {', '.join(chemistry_names())}") from None
+            raise DeviceSetupError(_("battery '{text}': no model for '{parts}'; use one of {chemistry_names}").format(
+                    text=text, parts=parts[0], chemistry_names=', '.join(chemistry_names()))) from None
         try:
             cap, cells = float(parts[1]), int(parts[2])
         except ValueError:
-            raise DeviceSetupError(f"battery '{text}': capacity (mAh) and cells must be numbers") from None
+            raise DeviceSetupError(_("battery '{text}': capacity (mAh) and cells must be numbers").format(
+                    text=text)) from None
         if not 1 < cap < 65535 or not 1 <= cells <= 255 or not math.isfinite(cap):
-            raise DeviceSetupError(f"battery '{text}': capacity 2..65534 mAh, cells 1..255")
+            raise DeviceSetupError(_("battery '{text}': capacity 2..65534 mAh, cells 1..255").format(text=text))
         return cls(chem, cap, cells)
 
     def __str__(self) -> str:
@@ -113,9 +115,9 @@ class Faults:
 
     def __post_init__(self):
         if not 0.0 <= self.ber <= 0.5 or not 0.0 <= self.drop <= 1.0:
-            raise DeviceSetupError("ber must be 0..0.5 and drop 0..1")
+            raise DeviceSetupError(_("ber must be 0..0.5 and drop 0..1"))
         if self.disconnect_after is not None and self.disconnect_after < 0:
-            raise DeviceSetupError("disconnect-after must be >= 0")
+            raise DeviceSetupError(_("disconnect-after must be >= 0"))
 
 
 class _Run:
@@ -152,13 +154,13 @@ class VirtualCharger:
         self.battery = BatterySpec.parse(battery) if isinstance(battery, str) else battery
         self.speed = self._check_speed(speed)
         if not 16 <= eeprom_size <= 65535:
-            raise DeviceSetupError("eeprom size must be 16..65535 bytes")
+            raise DeviceSetupError(_("eeprom size must be 16..65535 bytes"))
         if not 0.0 <= soc <= 1.0:
-            raise DeviceSetupError("soc is a fraction 0..1")
+            raise DeviceSetupError(_("soc is a fraction 0..1"))
         if eeprom_write_ms < 0:
-            raise DeviceSetupError("eeprom write time must be >= 0")
+            raise DeviceSetupError(_("eeprom write time must be >= 0"))
         if not 1 <= telemetry_hz <= 50:
-            raise DeviceSetupError("telemetry rate must be 1..50 Hz")
+            raise DeviceSetupError(_("telemetry rate must be 1..50 Hz"))
         self.faults = faults
         self.rng = random.Random(seed)
         self.tick_s = float(tick_s)
@@ -216,7 +218,8 @@ class VirtualCharger:
     def _check_speed(speed: float) -> float:
         speed = float(speed)
         if not MIN_SPEED <= speed <= MAX_SPEED:
-            raise DeviceSetupError(f"speed must be {MIN_SPEED:g}..{MAX_SPEED:g}")
+            raise DeviceSetupError(_("speed must be {min_speed:g}..{max_speed:g}").format(
+                    min_speed=MIN_SPEED, max_speed=MAX_SPEED))
         return speed
 
     def _load_eeprom(self, size: int) -> bytearray:
@@ -227,7 +230,8 @@ class VirtualCharger:
             except OSError as exc:
                 raise DeviceSetupError(f"{self.eeprom_path}: {exc.strerror or exc}") from None
             if len(data) > size:
-                raise DeviceSetupError(f"{self.eeprom_path}: {len(data)} bytes; the EEPROM holds {size}")
+                raise DeviceSetupError(_("{eeprom_path}: {n_data} bytes; the EEPROM holds {size}").format(
+                        eeprom_path=self.eeprom_path, n_data=len(data), size=size))
             image[:len(data)] = data
         return image
 
@@ -277,7 +281,7 @@ class VirtualCharger:
         One transport at a time (a charger has one serial port)."""
         with self._lock:
             if self._links:
-                raise DeviceSetupError("this virtual charger is already served on a port")
+                raise DeviceSetupError(_("this virtual charger is already served on a port"))
             self._links += 1
         self.reset_link()
         self.start()
@@ -376,7 +380,7 @@ class VirtualCharger:
         spec = m.BY_CODE.get(frame.type)
         try:
             if spec is None or spec.request is None:
-                raise _Refused(m.ErrorCode.UNKNOWN_TYPE, f"unknown request type 0x{frame.type:02x}")
+                raise _Refused(m.ErrorCode.UNKNOWN_TYPE, _("unknown request type 0x{type:02x}").format(type=frame.type))
             try:
                 fields = m.decode_request(frame.type, frame.payload)
             except m.PayloadError as exc:
@@ -405,10 +409,11 @@ class VirtualCharger:
     def _range(self, offset: int, length: int) -> None:
         size = len(self.eeprom)
         if not 1 <= length <= m.MAX_DATA:
-            raise _Refused(m.ErrorCode.BAD_RANGE, f"length {length}: 1..{m.MAX_DATA} bytes per request")
+            raise _Refused(m.ErrorCode.BAD_RANGE, _("length {length}: 1..{max_data} bytes per request").format(
+                    length=length, max_data=m.MAX_DATA))
         if offset + length > size:
-            raise _Refused(m.ErrorCode.BAD_RANGE, f"bytes {offset}..{offset + length - 1} are outside the "
-                                                  f"{size}-byte EEPROM")
+            raise _Refused(m.ErrorCode.BAD_RANGE, _("bytes {first}..{last} are outside the {size}-byte EEPROM").format(
+                    first=offset, last=offset + length - 1, size=size))
 
     def _do_read_eeprom(self, offset: int, length: int) -> bytes:
         self._range(offset, length)
@@ -429,7 +434,7 @@ class VirtualCharger:
         self._range(offset, len(data))
         with self._eeprom_lock:
             if self._staging is None or token != self._token:
-                raise _Refused(m.ErrorCode.BAD_TOKEN, "no write in progress with this token (BEGIN_WRITE first)")
+                raise _Refused(m.ErrorCode.BAD_TOKEN, _("no write in progress with this token (BEGIN_WRITE first)"))
             self._staging[offset:offset + len(data)] = data
         return m.encode_response("WRITE_STAGE", offset=offset, length=len(data))
 
@@ -439,19 +444,21 @@ class VirtualCharger:
             if done is not None and token == done[0] and crc == done[1]:
                 return m.encode_response("COMMIT", changed=done[2], crc=done[1])   # a repeated COMMIT
             if self._staging is None or token != self._token:
-                raise _Refused(m.ErrorCode.BAD_TOKEN, "no write in progress with this token")
+                raise _Refused(m.ErrorCode.BAD_TOKEN, _("no write in progress with this token"))
             staged = bytes(self._staging)
             actual = crc16(staged)
             if actual != crc:
-                raise _Refused(m.ErrorCode.CRC_MISMATCH, f"the staged image's CRC is 0x{actual:04x}, the host "
-                                                         f"says 0x{crc:04x}: nothing written")
+                raise _Refused(m.ErrorCode.CRC_MISMATCH, _("the staged image's CRC is 0x{actual:04x}, the host says "
+                                                           "0x{crc:04x}: nothing written").format(
+                        actual=actual, crc=crc))
             changed = [i for i in range(len(staged)) if staged[i] != self.eeprom[i]]
             if self.eeprom_path is not None and changed:
                 from ..recovery import atomic_write
                 try:
                     atomic_write(self.eeprom_path, staged)      # the file first: a failure changes nothing
                 except OSError as exc:
-                    raise _Refused(m.ErrorCode.INTERNAL, f"the EEPROM file could not be written: {exc}") from None
+                    raise _Refused(m.ErrorCode.INTERNAL, _("the EEPROM file could not be written: {exc}").format(
+                            exc=exc)) from None
             for i in changed:
                 if self.eeprom_write_s:
                     time.sleep(self.eeprom_write_s)
@@ -472,7 +479,7 @@ class VirtualCharger:
     def _do_start(self, slot: int, task: int, repetitions: int, capacity_mah: int, current_ma: int,
                   voltage_mv: int, series: int, sensor: int) -> bytes:
         if task >= len(m.TASKS):
-            raise _Refused(m.ErrorCode.BAD_REQUEST, f"task {task}: 0 charge, 1 discharge, 2 train")
+            raise _Refused(m.ErrorCode.BAD_REQUEST, _("task {task}: 0 charge, 1 discharge, 2 train").format(task=task))
         params = StartParams(m.TASKS[task], max(1, repetitions), float(capacity_mah) if capacity_mah else None,
                              current_ma / 1000.0 if current_ma else None, voltage_mv / 1000.0 if voltage_mv else None,
                              series or None, bool(sensor) and self.sensor)
@@ -485,8 +492,9 @@ class VirtualCharger:
             try:
                 passport = Passport.from_bytes(self.chip.image)
             except PassportError as exc:
-                raise _Refused(m.ErrorCode.PASSPORT_CONFLICT, f"the battery's passport is unreadable ({exc}); "
-                                                              "not starting") from None
+                raise _Refused(m.ErrorCode.PASSPORT_CONFLICT,
+                               _("the battery's passport is unreadable ({exc}); not starting").format(
+                        exc=exc)) from None
             from ..safety import record_problems      # the host's check, again: the last line
             found = record_problems(record, passport, params, charger_max_a=self.limits.max_charge_a)
             if found:
@@ -509,13 +517,16 @@ class VirtualCharger:
         try:
             found = slots(image)
         except ImageError as exc:
-            raise _Refused(m.ErrorCode.INVALID_RECORD, f"the EEPROM's record list is broken: {exc}") from None
+            raise _Refused(m.ErrorCode.INVALID_RECORD, _("the EEPROM's record list is broken: {exc}").format(
+                    exc=exc)) from None
         if slot >= len(found):
-            raise _Refused(m.ErrorCode.BAD_SLOT, f"there is no slot {slot}; the EEPROM holds "
-                                                 f"{len(found)} macro(s)")
+            raise _Refused(m.ErrorCode.BAD_SLOT,
+                           _("there is no slot {slot}; the EEPROM holds {n_found} macro(s)").format(
+                    slot=slot, n_found=len(found)))
         s = found[slot]
         if not s.ok:
-            raise _Refused(m.ErrorCode.INVALID_RECORD, f"slot {slot} does not decode: {s.error}")
+            raise _Refused(m.ErrorCode.INVALID_RECORD, _("slot {slot} does not decode: {error}").format(
+                    slot=slot, error=s.error))
         return s.record, s.name
 
     def _interpreter(self, record: bytes, params: StartParams) -> Interpreter:
@@ -549,7 +560,7 @@ class VirtualCharger:
 
     def _do_set_telemetry_rate(self, hz: int) -> bytes:
         if not 1 <= hz <= 50:
-            raise _Refused(m.ErrorCode.BAD_RANGE, f"telemetry rate {hz} Hz: 1..50")
+            raise _Refused(m.ErrorCode.BAD_RANGE, _("telemetry rate {hz} Hz: 1..50").format(hz=hz))
         with self._lock:
             self.telemetry_hz = hz
             self._next_telemetry = time.monotonic()
@@ -559,7 +570,8 @@ class VirtualCharger:
         with self._lock:
             events = self._run.events if self._run else []
             if number >= len(events):
-                raise _Refused(m.ErrorCode.BAD_RANGE, f"there is no event {number}; the run has {len(events)}")
+                raise _Refused(m.ErrorCode.BAD_RANGE, _("there is no event {number}; the run has {n_events}").format(
+                        number=number, n_events=len(events)))
             return events[number].encode()
 
     def _do_list_templates(self) -> bytes:
@@ -570,8 +582,9 @@ class VirtualCharger:
         with self._lock:
             template = self.templates.get(number)
         if template is None:
-            raise _Refused(m.ErrorCode.NO_TEMPLATE, f"there is no start template {number}; the charger holds "
-                                                    f"{', '.join(map(str, sorted(self.templates))) or 'none'}")
+            raise _Refused(m.ErrorCode.NO_TEMPLATE, _("there is no start template {number}; the charger holds "
+                                                      "{stored}").format(
+                    number=number, stored=', '.join(map(str, sorted(self.templates))) or 'none'))
         return m.encode_response("GET_TEMPLATE", **m.template_fields(number, template))
 
     def _do_set_template(self, **fields) -> bytes:
@@ -579,14 +592,15 @@ class VirtualCharger:
             number, template = m.template_of(fields)
             check_number(number)
         except TemplateError as exc:
-            raise _Refused(m.ErrorCode.BAD_RANGE, f"start template {fields['number']}: {exc}") from None
+            raise _Refused(m.ErrorCode.BAD_RANGE, _("start template {fields}: {exc}").format(
+                    fields=fields['number'], exc=exc)) from None
         with self._lock:
             self.templates[number] = template
         return m.encode_response("SET_TEMPLATE", **m.template_fields(number, template))
 
     def _do_passport(self, request: bytes) -> bytes:
         if self.chip is None:
-            raise _Refused(m.ErrorCode.NO_PASSPORT, "the battery has no passport")
+            raise _Refused(m.ErrorCode.NO_PASSPORT, _("the battery has no passport"))
         with self._lock:
             answer = self.chip.answer(request)      # 32 bytes, an error answer included
         return m.encode_response("PASSPORT", answer=answer)

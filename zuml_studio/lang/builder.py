@@ -12,6 +12,7 @@ from .diagnostics import Diagnostic, Severity
 from .operands import AKK_TYPE, ValueProblem, parse_akk_type
 from .opcodes import Form, Op
 from .parser import Located, RawMacro, Tok
+from ..i18n import _
 
 
 @dataclass
@@ -42,14 +43,14 @@ class Builder:
     def build(self) -> Macro:
         for st in self.raw.statements:
             if self.ended is not None:
-                self.error(st.span, "E138", "Text after END_MACRO", "END_MACRO must be the last statement")
+                self.error(st.span, "E138", _("Text after END_MACRO"), _("END_MACRO must be the last statement"))
                 continue
             self.statement(st)
         if self.ended is None:
             line, col = self.raw.end
             end = Span(line, col, line, col)
-            self.close_all(end, "the end of the text")
-            self.error(end, "E139", "END_MACRO is missing at the end", "add END_MACRO as the last line")
+            self.close_all(end, None)
+            self.error(end, "E139", _("END_MACRO is missing at the end"), _("add END_MACRO as the last line"))
         else:
             self.macro.end_span = self.ended
         self.macro.conclusion = self.after_section
@@ -81,11 +82,11 @@ class Builder:
     # -- blocks -----------------------------------------------------------------
     def structure(self, st: Located, op: Op) -> None:
         if op is ops.MACRO:
-            self.error(st.span, "E106", "MACRO may only start the text", "one macro per file")
+            self.error(st.span, "E106", _("MACRO may only start the text"), _("one macro per file"))
             return
         if op is ops.CYCLE:
             if st.raw.shape != "call":
-                self.error(st.span, "E111", "CYCLE needs its count: CYCLE(3)")
+                self.error(st.span, "E111", _("CYCLE needs its count: CYCLE(3)"))
                 return
             self.close_phase(st)
             arg = self.args(st, op)
@@ -93,12 +94,14 @@ class Builder:
             self.open("cycle", cycle, st, "CYCLE")
             return
         if st.raw.shape != "bare":
-            self.error(st.span, "E111", f"{op.keyword} takes no value", f"write {op.keyword} alone on its line")
+            self.error(st.span, "E111", _("{keyword} takes no value").format(
+                    keyword=op.keyword), _("write {keyword} alone on its line").format(
+                    keyword=op.keyword))
             return
         if op in (ops.DISCHARGE_SECTION, ops.CHARGE_SECTION):
             self.open_section(st, op)
         elif op is ops.END_SECTION:
-            self.close_until("section", st, "END_SECTION", "E134", "END_SECTION without an open section")
+            self.close_until("section", st, "END_SECTION", "E134", _("END_SECTION without an open section"))
         elif op is ops.FAZE:
             self.close_phase(st)
             self.open("phase", Phase([], span=st.span), st, "FAZE")
@@ -106,9 +109,9 @@ class Builder:
             if self.stack and self.stack[-1].kind == "phase":
                 self.stack.pop().node.end_span = st.span
             else:
-                self.error(st.span, "E136", "END_FAZE without FAZE")
+                self.error(st.span, "E136", _("END_FAZE without FAZE"))
         elif op is ops.END_CYCLE:
-            self.close_until("cycle", st, "END_CYCLE", "E137", "END_CYCLE without CYCLE", stop_at="section")
+            self.close_until("cycle", st, "END_CYCLE", "E137", _("END_CYCLE without CYCLE"), stop_at="section")
         elif op is ops.END_MACRO:
             self.close_all(st.span, "END_MACRO")
             self.ended = st.span
@@ -119,20 +122,22 @@ class Builder:
         section = getattr(self.macro, kind)
         detached = False
         if section.present:
-            self.error(st.span, "E131", f"A second {op.keyword}", f"the first one is at line {section.span.line}")
+            self.error(st.span, "E131", _("A second {keyword}").format(
+                    keyword=op.keyword), _("the first one is at line {line}").format(
+                    line=section.span.line))
             detached = True
         elif kind == "discharge" and self.macro.charge.present:
-            self.error(st.span, "E132", "DISCHARGE_SECTION must come before CHARGE_SECTION",
-                       "move the discharge section up")
+            self.error(st.span, "E132", _("DISCHARGE_SECTION must come before CHARGE_SECTION"),
+                       _("move the discharge section up"))
             detached = True
         if kind == "charge" and not detached and self.macro.discharge.present and not self.macro.charge.present:
             # Seed 000, byte layout item 8: commands may stand between the sections; they run where they stand.
             self.macro.between = self.after_section
         else:
             for stray in self.after_section:
-                self.error(stray.span, "E133", f"{stray.op.keyword} stands between sections",
-                           "commands go inside a section, between the discharge and the charge section, "
-                           "or after the last one")
+                self.error(stray.span, "E133", _("{keyword} stands between sections").format(keyword=stray.op.keyword),
+                           _("commands go inside a section, between the discharge and the charge section, or "
+                             "after the last one"))
         self.after_section = []
         self.seen_section = True
         if detached:
@@ -143,8 +148,8 @@ class Builder:
 
     def open(self, kind: str, node, st: Located, keyword: str, detached: bool = False) -> None:
         if kind != "section" and not any(f.kind == "section" for f in self.stack):
-            self.error(st.span, "E135", f"{keyword} outside a section",
-                       "phases and cycles belong in DISCHARGE_SECTION or CHARGE_SECTION")
+            self.error(st.span, "E135", _("{keyword} outside a section").format(keyword=keyword),
+                       _("phases and cycles belong in DISCHARGE_SECTION or CHARGE_SECTION"))
             detached = True
         if not detached and self.stack:
             parent = self.stack[-1].node
@@ -165,14 +170,18 @@ class Builder:
             self.unclosed(self.stack.pop(), st.span, keyword)
         self.stack.pop().node.end_span = st.span
 
-    def close_all(self, span: Span, before: str) -> None:
+    def close_all(self, span: Span, before: str | None) -> None:
         while self.stack:
             self.unclosed(self.stack.pop(), span, before)
 
-    def unclosed(self, frame: _Frame, at: Span, before: str) -> None:
+    def unclosed(self, frame: _Frame, at: Span, before: str | None) -> None:
+        """``before``: the keyword that closed it too early, None for the end of the text."""
         closer = {"phase": "END_FAZE", "cycle": "END_CYCLE", "section": "END_SECTION"}[frame.kind]
-        where = f"{before} at line {at.line}" if before != "the end of the text" else before
-        self.error(frame.node.span, "E130", f"{frame.keyword} is not closed", f"{closer} expected before {where}")
+        where = (_("{keyword} at line {line}").format(keyword=before, line=at.line) if before is not None
+                 else _("the end of the text"))
+        self.error(frame.node.span, "E130", _("{keyword} is not closed").format(
+                keyword=frame.keyword), _("{closer} expected before {where}").format(
+                closer=closer, where=where))
 
     def mark_incomplete(self) -> None:
         if self.stack and isinstance(self.stack[-1].node, Phase):
@@ -196,19 +205,23 @@ class Builder:
         known = list(ops.BY_KEYWORD) + sorted(ops.CONDITION_OUTCOMES)
         close = difflib.get_close_matches(word.upper(), known, n=1, cutoff=0.6)
         if word.upper() in ops.CONDITION_OUTCOMES:
-            self.error(st.span, "E104", f"{word} must follow a condition", f"write IF(...) {word.upper()}")
+            self.error(st.span, "E104", _("{word} must follow a condition").format(
+                    word=word), _("write IF(...) {upper}").format(
+                    upper=word.upper()))
         else:
-            self.error(st.at(st.raw.name), "E110", f"Unknown command '{word}'",
-                       f"did you mean {close[0]}?" if close else "see Help > Commands for the list",
+            self.error(st.at(st.raw.name), "E110", _("Unknown command '{word}'").format(word=word),
+                       _("did you mean {close}?").format(
+                               close=close[0]) if close else _("see Help > Commands for the list"),
                        fix=close[0] if close else "")
 
     def command(self, st: Located, op: Op) -> Statement | None:
         if op.form is Form.ASSIGN and st.raw.shape != "assign":
             example = f"{op.keyword}={op.operands[0].kind.example.split(' ')[0]}"
-            self.error(st.span, "E111", f"{op.keyword} needs '=' and a value", f"write {example}")
+            self.error(st.span, "E111", _("{keyword} needs '=' and a value").format(
+                    keyword=op.keyword), f"write {example}")
             return None
         if op.form is Form.CALL and st.raw.shape != "call":
-            self.error(st.span, "E111", f"{op.keyword} takes its values in parentheses",
+            self.error(st.span, "E111", _("{keyword} takes its values in parentheses").format(keyword=op.keyword),
                        f"write {op.signature()}")
             return None
         args = self.args(st, op)
@@ -220,13 +233,15 @@ class Builder:
         if not required <= len(given) <= len(op.operands):
             count = str(required) if required == len(op.operands) else f"{required} or {len(op.operands)}"
             noun = "value" if len(op.operands) == 1 else "values"
-            self.error(st.span, "E112", f"{op.keyword} takes {count} {noun}, not {len(given)}",
+            self.error(st.span, "E112", _("{keyword} takes {count} {noun}, not {n_given}").format(
+                    keyword=op.keyword, count=count, noun=noun, n_given=len(given)),
                        f"write {op.signature()}")
             return None
         out: list[Arg] = []
         ok = True
         for operand, tok in zip(op.operands, given):
-            subject = op.keyword if len(op.operands) == 1 else f"{operand.name} of {op.keyword}"
+            subject = (op.keyword if len(op.operands) == 1
+                       else _("{operand} of {keyword}").format(operand=operand.name, keyword=op.keyword))
             raw = self.value(st, tok, operand, subject)
             ok = ok and raw is not None
             out.append(Arg(raw if raw is not None else 0, st.at(tok), tok.value))
@@ -251,29 +266,32 @@ class Builder:
         if not candidates:
             sensitive = [v for o in ops.CONDITIONS for v in o.condition.variables if o.condition.case_sensitive]
             near = [v for v in sensitive if v.upper() == var.upper()]
-            hint = (f"did you mean {near[0]}? T, t, Tc, tm and tf are case-sensitive" if near
-                    else "conditions test T, V, I, Tc, tm, tf (or t) and DELTA_PEAK")
-            self.error(st.at(st.raw.name), "E120", f"Unknown condition variable '{var}'", hint,
+            hint = (_("did you mean {name}? T, t, Tc, tm and tf are case-sensitive").format(name=near[0]) if near
+                    else _("conditions test T, V, I, Tc, tm, tf (or t) and DELTA_PEAK"))
+            self.error(st.at(st.raw.name), "E120", _("Unknown condition variable '{var}'").format(var=var), hint,
                        fix=near[0] if near else "")
             return None
         op = next((o for o in candidates
                    if cmp == o.condition.comparison or cmp in o.condition.also_accepts), None)
         if op is None:
-            allowed = " or ".join(o.signature() for o in candidates)
-            self.error(st.at(st.raw.cmp), "E121", f"IF({var}{cmp}x) is not a condition ZUML knows",
-                       f"allowed: {allowed}")
+            allowed = _(" or ").join(o.signature() for o in candidates)
+            self.error(st.at(st.raw.cmp), "E121", _("IF({var}{cmp}x) is not a condition ZUML knows").format(
+                    var=var, cmp=cmp),
+                       _("allowed: {allowed}").format(allowed=allowed))
             return None
         shown = f"IF({var}{op.condition.comparison}x)"
         if st.raw.outcome is None:
-            self.error(st.span, "E122", f"{shown} needs what to do when it holds",
-                       f"write {shown.replace('x', st.raw.args[0].value)} {op.condition.outcome}")
+            self.error(st.span, "E122", _("{shown} needs what to do when it holds").format(shown=shown),
+                       _("write {statement}").format(
+                           statement=f"{shown.replace('x', st.raw.args[0].value)} {op.condition.outcome}"))
             return None
         if st.raw.outcome.value.upper() != op.condition.outcome:
             self.error(st.at(st.raw.outcome), "E123",
-                       f"{shown} can only {op.condition.outcome}, not {st.raw.outcome.value}",
-                       f"write {op.condition.outcome}")
+                       _("{shown} can only {outcome}, not {written}").format(
+                               shown=shown, outcome=op.condition.outcome, written=st.raw.outcome.value),
+                       _("write {statement}").format(statement=op.condition.outcome))
             return None
-        raw = self.value(st, st.raw.args[0], op.operands[0], f"The limit of {shown}")
+        raw = self.value(st, st.raw.args[0], op.operands[0], _("The limit of {condition}").format(condition=shown))
         if raw is None:
             return None
         return Statement(op, [Arg(raw, st.at(st.raw.args[0]), st.raw.args[0].value)], span=st.span)

@@ -13,6 +13,7 @@ from .diagnostics import Severity
 from .operands import INPUT_U16, RELATIVE_FLAG
 from .opcodes import Place, Role
 from .record import MAX_NAME, MAX_RECORD, RecordTooLarge, encode, encoded_size
+from ..i18n import _
 
 FORBIDDEN_NAME_CHARS = set('<>:"/\\|?*')
 
@@ -29,14 +30,16 @@ class Finding:
 def name_problem(name: str) -> tuple[str, str, str] | None:
     """(code, message, hint) when the name cannot be stored and shown, else None."""
     if not name:
-        return "E140", "The macro needs a name", "write MACRO LiPo"
+        return "E140", _("The macro needs a name"), _("write MACRO LiPo")
     if len(name) > MAX_NAME:
-        return "E141", f"The name '{name}' is {len(name)} characters long; at most {MAX_NAME}", "shorten it"
+        return "E141", _("The name '{name}' is {n_name} characters long; at most {max_name}").format(
+                name=name, n_name=len(name), max_name=MAX_NAME), _("shorten it")
     bad = sorted({c for c in name if not " " <= c <= "~" or c in FORBIDDEN_NAME_CHARS})
     if bad or name != name.strip() or name.startswith("("):
-        shown = " ".join(repr(c) for c in bad) or "spaces at the ends or a leading '('"
-        return ("E142", f"The name '{name}' has characters the charger cannot store: {shown}",
-                "use printable ASCII without < > : \" / \\ | ? *")
+        shown = " ".join(repr(c) for c in bad) or _("spaces at the ends or a leading '('")
+        return ("E142", _("The name '{name}' has characters the charger cannot store: {shown}").format(
+                name=name, shown=shown),
+                _('use printable ASCII without < > : " / \\ | ? *'))
     return None
 
 
@@ -67,12 +70,14 @@ class Checker:
     def placed(self, st: Statement, place: Place) -> bool:
         if place in st.op.places:
             return True
-        where = " or ".join(p.value for p in st.op.places)
+        where = _(" or ").join(_(p.value) for p in st.op.places)
         if st.op.role is Role.CONDITION:
             shown = st.op.signature()
         else:
             shown = st.op.keyword
-        self.report(st, "E150", f"{shown} cannot stand in {place.value}", f"it belongs in {where}")
+        self.report(st, "E150", _("{shown} cannot stand in {place}").format(
+                shown=shown, place=_(place.value)), _("it belongs in {where}").format(
+                where=where))
         return False
 
     def intro(self) -> None:
@@ -81,8 +86,8 @@ class Checker:
             if not self.placed(st, Place.INTRO):
                 continue
             if st.op.code in seen:
-                self.report(st, "E151", f"{st.op.signature() if st.op.condition else st.op.keyword} "
-                                        "is declared twice", "keep one")
+                self.report(st, "E151", _("{statement} is declared twice").format(
+                        statement=st.op.signature() if st.op.condition else st.op.keyword), _("keep one"))
             seen[st.op.code] = st
 
     def section(self, section: Section) -> None:
@@ -94,9 +99,9 @@ class Checker:
             self.phase(item)
         elif isinstance(item, Cycle):
             if in_cycle:
-                self.report(item, "E152", "Cycles do not nest", "close the outer CYCLE first, or merge the two")
+                self.report(item, "E152", _("Cycles do not nest"), _("close the outer CYCLE first, or merge the two"))
             if not any(isinstance(i, (Phase, Cycle)) for i in item.items):
-                self.report(item, "W153", "This CYCLE repeats no phase", "put FAZE … END_FAZE inside it",
+                self.report(item, "W153", _("This CYCLE repeats no phase"), _("put FAZE … END_FAZE inside it"),
                             Severity.WARNING)
             for inner in item.items:
                 self.item(inner, in_cycle=True)
@@ -112,28 +117,29 @@ class Checker:
             if st.op.role is Role.ACTION:
                 actions.append(st)
             elif st.op.code in conditions:
-                self.report(st, "W156", f"A second {st.op.signature()} in this phase",
-                            "only one of them can end it first; keep one", Severity.WARNING)
+                self.report(st, "W156", _("A second {signature} in this phase").format(signature=st.op.signature()),
+                            _("only one of them can end it first; keep one"), Severity.WARNING)
             else:
                 conditions[st.op.code] = st
             if st.op is ops.TRICKLE:
                 self.trickle(st)
         if not actions and not phase.incomplete:
-            self.report(phase, "E155", "This phase has no action",
-                        "add CONSTANT_I, CONSTANT_V, CHARGE_EX or TRICKLE")
+            self.report(phase, "E155", _("This phase has no action"),
+                        _("add CONSTANT_I, CONSTANT_V, CHARGE_EX or TRICKLE"))
         kinds = [a.op for a in actions]
         cc_cv = sorted(op.code for op in kinds) == [ops.CONSTANT_I.code, ops.CONSTANT_V.code]
         if len(actions) > 1 and not cc_cv:
-            self.report(actions[1], "E154", f"A phase holds one action; this one already has {kinds[0].keyword}",
-                        "CONSTANT_I and CONSTANT_V together make CC-CV; anything else needs its own FAZE")
+            self.report(actions[1], "E154", _("A phase holds one action; this one already has {keyword}").format(
+                    keyword=kinds[0].keyword),
+                        _("CONSTANT_I and CONSTANT_V together make CC-CV; anything else needs its own FAZE"))
 
     def trickle(self, st: Statement) -> None:
-        _, v1, v2 = st.raws()
+        __, v1, v2 = st.raws()
         if INPUT_U16 in (v1, v2) or (v1 & RELATIVE_FLAG) != (v2 & RELATIVE_FLAG):
             return
         if v1 >= v2:
-            self.report(st, "E157", "TRICKLE switches on at V1 and off at V2, so V1 must be below V2",
-                        "for example TRICKLE(0.1C, 2.3S, 2.4S)")
+            self.report(st, "E157", _("TRICKLE switches on at V1 and off at V2, so V1 must be below V2"),
+                        _("for example TRICKLE(0.1C, 2.3S, 2.4S)"))
 
     def size(self) -> None:
         if encoded_size(self.macro) <= MAX_RECORD:
@@ -142,8 +148,9 @@ class Checker:
             encode(self.macro)
         except RecordTooLarge as too_large:
             self.report(too_large.node, "E160",
-                        f"The macro needs {too_large.size} bytes; a record holds at most {MAX_RECORD}",
-                        "this is where it stops fitting: shorten the macro or split it")
+                        _("The macro needs {size} bytes; a record holds at most {max_record}").format(
+                                size=too_large.size, max_record=MAX_RECORD),
+                        _("this is where it stops fitting: shorten the macro or split it"))
 
 
 def check(macro: Macro) -> list[Finding]:

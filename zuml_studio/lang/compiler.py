@@ -9,6 +9,7 @@ from .checker import Finding, check
 from .diagnostics import Diagnostic, Severity, sort_key
 from .parser import SyntaxProblem, parse_raw
 from .record import MAX_RECORD, Encoded, encode
+from ..i18n import _
 
 
 @dataclass
@@ -24,7 +25,7 @@ class CompileResult:
     @property
     def record(self) -> bytes:
         if self.encoded is None:
-            raise ValueError("the macro has errors; there are no bytes")
+            raise ValueError(_("the macro has errors; there are no bytes"))
         return self.encoded.record
 
     @property
@@ -60,9 +61,10 @@ def compile_source(text: str, *, charger=None, unsafe_ok: bool = False) -> Compi
         # and checks, which would take long on a file of thousands of lines.
         at = raw.statements[MAX_RECORD - 1].span
         return CompileResult(None, [Diagnostic(Severity.ERROR, at.line, at.column, (at.end_line, at.end_column),
-                                               "E160", f"The macro has {MAX_RECORD} statements or more; each takes "
-                                               f"a byte or more and a record holds at most {MAX_RECORD}",
-                                               "this is where it stops fitting: shorten the macro or split it")])
+                                               "E160", _("The macro has {max_record} statements or more; each takes a "
+                                                         "byte or more and a record holds at most {max_record}").format(
+                                                       max_record=MAX_RECORD),
+                                               _("this is where it stops fitting: shorten the macro or split it"))])
     macro, diagnostics = build(raw)
     from .lint import lint   # the lint reads the checked AST; imported here to keep layers one-way
     findings = check(macro)

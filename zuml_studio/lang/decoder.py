@@ -12,6 +12,7 @@ from .diagnostics import Severity
 from .opcodes import Role
 from .record import (HEADER_SIZE, MAX_NAME, MIN_RECORD, DecodeError, Instruction, check_byte,
                      read_instruction)
+from ..i18n import _
 
 
 @dataclass(frozen=True)
@@ -38,7 +39,8 @@ class _Reader:
     def expect(self, op: ops.Op, where: str) -> Instruction:
         ins = self.take()
         if ins.op is not op:
-            raise DecodeError(ins.offset, f"expected {op.keyword} ({op.code}) {where}, found {ins.op.keyword}")
+            raise DecodeError(ins.offset, _("expected {keyword} ({code}) {where}, found {found}").format(
+                    keyword=op.keyword, code=op.code, where=where, found=ins.op.keyword))
         return ins
 
 
@@ -48,28 +50,33 @@ def _statement(ins: Instruction) -> Statement:
 
 def _header(data: bytes) -> tuple[int, str, int]:
     if not data:
-        raise DecodeError(0, "no bytes: a record starts with its length")
+        raise DecodeError(0, _("no bytes: a record starts with its length"))
     length = data[0]
     if length < MIN_RECORD:
-        raise DecodeError(0, f"record length {length} is below the minimum {MIN_RECORD}")
+        raise DecodeError(0, _("record length {length} is below the minimum {min_record}").format(
+                length=length, min_record=MIN_RECORD))
     if len(data) < length:
-        raise DecodeError(len(data), f"the record says {length} bytes but only {len(data)} are there")
+        raise DecodeError(len(data), _("the record says {length} bytes but only {n_data} are there").format(
+                length=length, n_data=len(data)))
     if len(data) > length:
-        raise DecodeError(length, f"{len(data) - length} byte(s) follow the record's end at {length}"
-                                  " (an EEPROM image? use the image commands)")
+        raise DecodeError(length, _("{n_data} byte(s) follow the record's end at {length} (an EEPROM image? use "
+                                    "the image commands)").format(n_data=len(data) - length, length=length))
     expected = check_byte(data[:length - 1])
     if data[length - 1] != expected:
-        raise DecodeError(length - 1, f"check byte is 0x{data[length - 1]:02x}, expected 0x{expected:02x}")
+        raise DecodeError(length - 1, _("check byte is 0x{data:02x}, expected 0x{expected:02x}").format(
+                data=data[length - 1], expected=expected))
     zero = data.find(0, HEADER_SIZE, min(length - 1, HEADER_SIZE + MAX_NAME + 1))
     if zero < 0:
-        raise DecodeError(HEADER_SIZE, f"the name has no terminating 0 within {MAX_NAME} characters")
+        raise DecodeError(HEADER_SIZE, _("the name has no terminating 0 within {max_name} characters").format(
+                max_name=MAX_NAME))
     name = data[HEADER_SIZE:zero].decode("latin-1")
     problem = name_problem(name)
     if problem:
         raise DecodeError(HEADER_SIZE, problem[1])
     start = zero + 1
     if data[1] != start:
-        raise DecodeError(1, f"program start offset is {data[1]}, expected {start} (right after the name)")
+        raise DecodeError(1, _("program start offset is {data}, expected {start} (right after the name)").format(
+                data=data[1], start=start))
     return length, name, start
 
 
@@ -82,27 +89,30 @@ def decode_record(data: bytes) -> Decoded:
     while r.peek().op is not ops.DISCHARGE_SECTION:
         ins = r.take()
         if ins.op.role is Role.STRUCTURE:
-            raise DecodeError(ins.offset, f"expected DISCHARGE_SECTION (3), found {ins.op.keyword}")
+            raise DecodeError(ins.offset, _("expected DISCHARGE_SECTION (3), found {keyword}").format(
+                    keyword=ins.op.keyword))
         macro.intro.append(_statement(ins))
     r.take()
     macro.discharge = _section(r, "discharge")
     while r.peek().op.role is not Role.STRUCTURE:
         macro.between.append(_statement(r.take()))
-    r.expect(ops.CHARGE_SECTION, "after the discharge section")
+    r.expect(ops.CHARGE_SECTION, _("after the discharge section"))
     if data[2] != r.pc:
-        raise DecodeError(2, f"charge section offset is {data[2]}, expected {r.pc}")
+        raise DecodeError(2, _("charge section offset is {data}, expected {pc}").format(data=data[2], pc=r.pc))
     macro.charge = _section(r, "charge")
     if data[3] != r.pc:
-        raise DecodeError(3, f"conclusion offset is {data[3]}, expected {r.pc}")
+        raise DecodeError(3, _("conclusion offset is {data}, expected {pc}").format(data=data[3], pc=r.pc))
     while True:
         ins = r.take()
         if ins.op is ops.END_MACRO:
             break
         if ins.op.role is Role.STRUCTURE:
-            raise DecodeError(ins.offset, f"{ins.op.keyword} cannot follow the charge section")
+            raise DecodeError(ins.offset, _("{keyword} cannot follow the charge section").format(
+                    keyword=ins.op.keyword))
         macro.conclusion.append(_statement(ins))
     if r.pc != length - 1:
-        raise DecodeError(r.pc, f"END_MACRO at {r.pc - 1} but the program runs on to {length - 2}")
+        raise DecodeError(r.pc, _("END_MACRO at {pc} but the program runs on to {length}").format(
+                pc=r.pc - 1, length=length - 2))
     for finding in check(macro):
         if finding.severity is Severity.ERROR:
             raise DecodeError(_offset(finding.node, start), finding.message)
@@ -120,34 +130,35 @@ def _section(r: _Reader, kind: str) -> Section:
             if open_blocks:
                 block = open_blocks[-1]
                 closer = "END_FAZE" if isinstance(block, Phase) else "END_CYCLE"
-                raise DecodeError(ins.offset, f"{closer} expected before END_SECTION (block at {block.offset})")
+                raise DecodeError(ins.offset, _("{closer} expected before END_SECTION (block at {offset})").format(
+                        closer=closer, offset=block.offset))
             return Section(kind, items, present=bool(items))
         in_phase = bool(open_blocks) and isinstance(open_blocks[-1], Phase)
         if op is ops.FAZE:
             if in_phase:
-                raise DecodeError(ins.offset, "FAZE inside a phase: END_FAZE expected first")
+                raise DecodeError(ins.offset, _("FAZE inside a phase: END_FAZE expected first"))
             phase = Phase([], offset=ins.offset)
             stack[-1].append(phase)
             open_blocks.append(phase)
         elif op is ops.END_FAZE:
             if not in_phase:
-                raise DecodeError(ins.offset, "END_FAZE without FAZE")
+                raise DecodeError(ins.offset, _("END_FAZE without FAZE"))
             open_blocks.pop()
         elif op is ops.CYCLE:
             if in_phase:
-                raise DecodeError(ins.offset, "CYCLE inside a phase: END_FAZE expected first")
+                raise DecodeError(ins.offset, _("CYCLE inside a phase: END_FAZE expected first"))
             cycle = Cycle(Arg(ins.raws[0]), [], offset=ins.offset)
             stack[-1].append(cycle)
             stack.append(cycle.items)
             open_blocks.append(cycle)
         elif op is ops.END_CYCLE:
             if not open_blocks or in_phase:
-                raise DecodeError(ins.offset, "END_CYCLE without CYCLE" if not open_blocks
-                                  else "END_FAZE expected before END_CYCLE")
+                raise DecodeError(ins.offset, _("END_CYCLE without CYCLE") if not open_blocks
+                                  else _("END_FAZE expected before END_CYCLE"))
             open_blocks.pop()
             stack.pop()
         elif op.role is Role.STRUCTURE:
-            raise DecodeError(ins.offset, f"{op.keyword} cannot stand inside a section")
+            raise DecodeError(ins.offset, _("{keyword} cannot stand inside a section").format(keyword=op.keyword))
         elif in_phase:
             open_blocks[-1].statements.append(_statement(ins))
         else:

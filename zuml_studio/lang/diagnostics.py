@@ -4,6 +4,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from enum import Enum
 
+from ..i18n import _
+
 
 class Severity(str, Enum):
     ERROR = "error"
@@ -29,8 +31,9 @@ class Diagnostic:
 
     def render(self, filename: str) -> str:
         """``FILE:LINE:COL: error: MESSAGE [CODE]`` as ``zuml check`` prints it."""
-        text = f"{filename}:{self.line}:{self.column}: {self.severity.value}: {self.message} [{self.code}]"
-        return text + (f"\n    hint: {self.hint}" if self.hint else "")
+        severity = _("error") if self.is_error else _("warning")
+        text = f"{filename}:{self.line}:{self.column}: {severity}: {self.message} [{self.code}]"
+        return text + ("\n    " + _("hint: {hint}").format(hint=self.hint) if self.hint else "")
 
 
 def sort_key(d: Diagnostic) -> tuple[int, int, int]:

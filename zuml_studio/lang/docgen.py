@@ -41,7 +41,8 @@ def commands_markdown() -> str:
     ]
     for op in OPCODES:
         written = op.signature().replace("|", "\\|")
-        lines.append(f"| {op.code} | `{written}` | {op.mnemonic} | {operands_text(op)} | {places_text(op)} | {op.help} |")
+        lines.append(f"| {op.code} | `{written}` | {op.mnemonic} | {operands_text(op)} | {places_text(op)} "
+                     f"| {op.help_text} |")
     return "\n".join(lines) + "\n"
 
 

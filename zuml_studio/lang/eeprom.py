@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 from .decoder import Decoded, decode_record
 from .record import MIN_RECORD, DecodeError
+from ..i18n import _
 
 DEFAULT_SIZE = 1024
 ERASED = 0xFF
@@ -15,7 +16,8 @@ END_MARKERS = (0x00, 0xFF)
 
 class ImageError(Exception):
     def __init__(self, offset: int, message: str):
-        super().__init__(f"offset {offset}: {message}" if offset >= 0 else message)
+        super().__init__(_("offset {offset}: {message}").format(
+                offset=offset, message=message) if offset >= 0 else message)
         self.offset = offset
         self.message = message
 
@@ -44,9 +46,11 @@ def slots(image: bytes) -> list[Slot]:
     while at < len(image) and image[at] not in END_MARKERS:
         length = image[at]
         if length < MIN_RECORD:
-            raise ImageError(at, f"record {len(out)} says it is {length} bytes long; a record has at least {MIN_RECORD}")
+            raise ImageError(at, _("record {n_out} says it is {length} bytes long; a record has at least "
+                                   "{min_record}").format(n_out=len(out), length=length, min_record=MIN_RECORD))
         if at + length > len(image):
-            raise ImageError(at, f"record {len(out)} runs past the end of memory ({at} + {length} > {len(image)})")
+            raise ImageError(at, _("record {n_out} runs past the end of memory ({at} + {length} > {n_image})").format(
+                    n_out=len(out), at=at, length=length, n_image=len(image)))
         record = bytes(image[at:at + length])
         try:
             decoded, error = decode_record(record), None
@@ -66,10 +70,11 @@ def pack(records: list[bytes], size: int = DEFAULT_SIZE) -> bytes:
     """Records back to back, the rest erased. Raises ImageError when they do not fit."""
     body = b"".join(records)
     if len(body) > size:
-        raise ImageError(-1, f"{len(records)} record(s) need {len(body)} bytes; the EEPROM has {size}")
+        raise ImageError(-1, _("{n_records} record(s) need {n_body} bytes; the EEPROM has {size}").format(
+                n_records=len(records), n_body=len(body), size=size))
     for record in records:
         if not record or record[0] != len(record):
-            raise ImageError(-1, "a record's first byte must be its length")
+            raise ImageError(-1, _("a record's first byte must be its length"))
     return body + bytes([ERASED]) * (size - len(body))
 
 
@@ -80,7 +85,8 @@ def records(image: bytes) -> list[bytes]:
 def replace(image: bytes, index: int, record: bytes) -> bytes:
     current = records(image)
     if not 0 <= index < len(current):
-        raise ImageError(-1, f"there is no slot {index}; the image has {len(current)}")
+        raise ImageError(-1, _("there is no slot {index}; the image has {n_current}").format(
+                index=index, n_current=len(current)))
     current[index] = record
     return pack(current, len(image))
 
@@ -88,5 +94,6 @@ def replace(image: bytes, index: int, record: bytes) -> bytes:
 def extract(image: bytes, index: int) -> bytes:
     current = records(image)
     if not 0 <= index < len(current):
-        raise ImageError(-1, f"there is no slot {index}; the image has {len(current)}")
+        raise ImageError(-1, _("there is no slot {index}; the image has {n_current}").format(
+                index=index, n_current=len(current)))
     return current[index]

@@ -19,6 +19,7 @@ from .checker import Finding
 from .diagnostics import Severity
 from .opcodes import Role
 from .operands import DISPLAY_NAMES, INPUT_U16, RELATIVE_FLAG, TIME, relative_value
+from ..i18n import _
 
 # -dV per cell that a charger can tell from noise, and that a cell really shows (seed 001; spec §5).
 DPEAK_MIN_V = 0.003
@@ -122,20 +123,22 @@ def _warn(node, code: str, message: str, hint: str = "") -> Finding:
 def rule_chemistry_declared(ctx: Context) -> Iterator[Finding]:
     akk = ctx.macro.declared(ops.AKK_TYPE)
     if akk is None:
-        yield _warn("name", "W301", "No AKK_TYPE: the charger cannot check the battery against the macro",
-                    "declare the chemistry, e.g. AKK_TYPE=LiPo")
+        yield _warn("name", "W301", _("No AKK_TYPE: the charger cannot check the battery against the macro"),
+                    _("declare the chemistry, e.g. AKK_TYPE=LiPo"))
     elif ctx.chemistry in NO_DEFAULTS:
-        yield _warn(akk, "W301", f"AKK_TYPE={ops.AKK_TYPE.operands[0].kind.format(akk.args[0].raw)} has no "
-                    "reference limits, so nothing here is checked against the chemistry",
-                    "give explicit voltage limits in every phase")
+        message = _("AKK_TYPE={format} has no reference limits, so nothing here is checked against the "
+                    "chemistry").format(
+            format=ops.AKK_TYPE.operands[0].kind.format(akk.args[0].raw))
+        hint = _("give explicit voltage limits in every phase")
+        yield _warn(akk, "W301", message, hint)
 
 
 def rule_charge_ends_only_by_default(ctx: Context) -> Iterator[Finding]:
     for phase in _phases(ctx.macro.charge.items):
         if not any(s.op.role is Role.CONDITION for s in phase.statements):
-            yield _warn(phase, "W302", "This charge phase has no end of its own: only the charger's defaults "
-                        "(temperature, or 1.5 x the capacity without a sensor) will stop it",
-                        "add a stop condition such as IF(V>4.2S), IF(I<0.05C) or IF(DELTA_PEAK>0.01S)")
+            yield _warn(phase, "W302", _("This charge phase has no end of its own: only the charger's defaults "
+                                         "(temperature, or 1.5 x the capacity without a sensor) will stop it"),
+                        _("add a stop condition such as IF(V>4.2S), IF(I<0.05C) or IF(DELTA_PEAK>0.01S)"))
 
 
 def _voltage_limits(ctx: Context) -> Iterator[tuple[Statement, int, str]]:
@@ -143,11 +146,11 @@ def _voltage_limits(ctx: Context) -> Iterator[tuple[Statement, int, str]]:
     for phase in _phases(ctx.macro.charge.items):
         for st in phase.statements:
             if st.op is ops.CONSTANT_V:
-                yield st, st.args[0].raw, "holds"
+                yield st, st.args[0].raw, _("holds")
             elif st.op.code == 83:
-                yield st, st.args[0].raw, "charges to"
+                yield st, st.args[0].raw, _("charges to")
             elif st.op is ops.TRICKLE:
-                yield st, st.args[2].raw, "tops up to"
+                yield st, st.args[2].raw, _("tops up to")
 
 
 def rule_charge_voltage(ctx: Context) -> Iterator[Finding]:
@@ -159,12 +162,16 @@ def rule_charge_voltage(ctx: Context) -> Iterator[Finding]:
         if v is None:
             continue
         if v > lim.max_v + 1e-9:
-            yield Finding(st, Severity.ERROR, "E303", f"This {what} {v:.2f} V per cell: above the absolute "
-                          f"maximum for {lim.name}, {lim.max_v:.2f} V", f"{lim.name} charges to "
-                          f"{lim.charge_end_v:.2f} V per cell")
+            message = _("This {what} {v:.2f} V per cell: above the absolute maximum for {name}, {max_v:.2f} V").format(
+                what=what, v=v, name=lim.name, max_v=lim.max_v)
+            hint = _("{name} charges to {charge_end_v:.2f} V per cell").format(
+                name=lim.name, charge_end_v=lim.charge_end_v)
+            yield Finding(st, Severity.ERROR, "E303", message, hint)
         elif v > lim.charge_end_v + 1e-9:
-            yield _warn(st, "W303", f"This {what} {v:.2f} V per cell, above {lim.name}'s usual "
-                        f"{lim.charge_end_v:.2f} V", f"the absolute limit is {lim.max_v:.2f} V per cell")
+            message = _("This {what} {v:.2f} V per cell, above {name}'s usual {charge_end_v:.2f} V").format(
+                what=what, v=v, name=lim.name, charge_end_v=lim.charge_end_v)
+            hint = _("the absolute limit is {max_v:.2f} V per cell").format(max_v=lim.max_v)
+            yield _warn(st, "W303", message, hint)
 
 
 def rule_discharge_voltage(ctx: Context) -> Iterator[Finding]:
@@ -175,8 +182,11 @@ def rule_discharge_voltage(ctx: Context) -> Iterator[Finding]:
         st = _code(phase, 82)
         v = ctx.per_cell(st.args[0].raw) if st else None
         if v is not None and v < lim.discharge_end_v - 1e-9:
-            yield _warn(st, "W304", f"Discharging to {v:.2f} V per cell goes below {lim.name}'s minimum, "
-                        f"{lim.discharge_end_v:.2f} V", f"write IF(V<{lim.discharge_end_v:g}S) STOP_FAZE")
+            message = _("Discharging to {v:.2f} V per cell goes below {name}'s minimum, "
+                        "{discharge_end_v:.2f} V").format(
+                v=v, name=lim.name, discharge_end_v=lim.discharge_end_v)
+            hint = _("write IF(V<{discharge_end_v:g}S) STOP_FAZE").format(discharge_end_v=lim.discharge_end_v)
+            yield _warn(st, "W304", message, hint)
 
 
 def _current_raw(st: Statement) -> int:
@@ -191,9 +201,12 @@ def rule_delta_peak(ctx: Context) -> Iterator[Finding]:
             continue
         v = ctx.per_cell(st.args[0].raw)
         if v is not None and not DPEAK_MIN_V <= v <= DPEAK_MAX_V:
-            yield _warn(st, "W305", f"A -dV of {v * 1000:.0f} mV per cell is implausible: real cells dip "
-                        f"{DPEAK_MIN_V * 1000:.0f}-{DPEAK_MAX_V * 1000:.0f} mV", "NiMh about 0.005-0.01 V per "
-                        "cell, NiCd 0.01-0.015 V; without a real -dV the charge ends only by a default")
+            message = _("A -dV of {v:.0f} mV per cell is implausible: real cells dip "
+                        "{dpeak_min_v:.0f}-{dpeak_max_v:.0f} mV").format(
+                v=v * 1000, dpeak_min_v=DPEAK_MIN_V * 1000, dpeak_max_v=DPEAK_MAX_V * 1000)
+            hint = _("NiMh about 0.005-0.01 V per cell, NiCd 0.01-0.015 V; without a real -dV the charge ends "
+                     "only by a default")
+            yield _warn(st, "W305", message, hint)
         min_rate = DPEAK_MIN_RATE.get(ctx.chemistry)
         current = _find(phase, ops.CONSTANT_I) or _find(phase, ops.CHARGE_EX)
         if not min_rate or current is None:
@@ -205,26 +218,31 @@ def _dpeak_rate(ctx: Context, st: Statement, raw: int, min_rate: float) -> Itera
     """W306: the -dV is unreliable below min_rate; said for a known rate, and for a current entered at
     start (or in amperes without a declared capacity) as the current where it stops being reliable."""
     name = ctx.chem_name
-    hint = "charge faster, or end by time and temperature instead"
+    hint = _("charge faster, or end by time and temperature instead")
     rate = ctx.c_rate(raw)
     if rate is not None:
         if rate < min_rate:
-            yield _warn(st, "W306", f"At {rate:g}C a {name} cell shows no reliable -dV (it needs about "
-                        f"{min_rate:g}C or more)", hint)
+            yield _warn(st, "W306", _("At {rate:g}C a {name} cell shows no reliable -dV (it needs about "
+                                      "{min_rate:g}C or more)").format(rate=rate, name=name, min_rate=min_rate), hint)
         return
     if raw == INPUT_U16:
         if ctx.capacity_mah:
             amps = min_rate * ctx.capacity_mah / 1000
-            yield _warn(st, "W306", f"The current is entered at start: below {amps:.2f} A ({min_rate:g}C of the "
-                        f"declared {ctx.capacity_mah} mAh) a {name} cell shows no reliable -dV", hint)
+            message = _("The current is entered at start: below {amps:.2f} A ({min_rate:g}C of the declared "
+                        "{capacity_mah} mAh) a {name} cell shows no reliable -dV").format(
+                amps=amps, min_rate=min_rate, capacity_mah=ctx.capacity_mah, name=name)
+            yield _warn(st, "W306", message, hint)
         else:
-            yield _warn(st, "W306", f"The current is entered at start: below {min_rate:g}C ({min_rate * 2:g} A "
-                        f"for a 2000 mAh pack) a {name} cell shows no reliable -dV; the simulator and the device "
-                        "panel check the values entered", hint)
+            message = _("The current is entered at start: below {min_rate:g}C ({amps:g} A for a 2000 mAh pack) a "
+                        "{name} cell shows no reliable -dV; the simulator and the device panel check the values "
+                        "entered").format(min_rate=min_rate, amps=min_rate * 2, name=name)
+            yield _warn(st, "W306", message, hint)
     elif not raw & RELATIVE_FLAG:
         amps = raw / 100
-        yield _warn(st, "W306", f"At {amps:g} A the -dV of a {name} cell is reliable only up to "
-                    f"{amps / min_rate * 1000:.0f} mAh ({min_rate:g}C); the capacity is not declared", hint)
+        message = _("At {amps:g} A the -dV of a {name} cell is reliable only up to {capacity:.0f} mAh "
+                    "({min_rate:g}C); the capacity is not declared").format(
+            amps=amps, name=name, capacity=amps / min_rate * 1000, min_rate=min_rate)
+        yield _warn(st, "W306", message, hint)
 
 
 def rule_nickel_rate(ctx: Context) -> Iterator[Finding]:
@@ -235,9 +253,11 @@ def rule_nickel_rate(ctx: Context) -> Iterator[Finding]:
         st = _charge_current(phase)
         rate = ctx.c_rate(_current_raw(st)) if st else None
         if rate is not None and rate > top:
-            hint = ("1-4C is for sintered NiCd cells made for very fast charging" if ctx.chemistry == "NICD"
-                    else "fast-charge NiMh cells take 0.5-2C")
-            yield _warn(st, "W307", f"Charging {ctx.chem_name} at {rate:g}C is above {top:g}C", hint)
+            hint = (_("1-4C is for sintered NiCd cells made for very fast charging") if ctx.chemistry == "NICD"
+                    else _("fast-charge NiMh cells take 0.5-2C"))
+            message = _("Charging {chem_name} at {rate:g}C is above {top:g}C").format(
+                chem_name=ctx.chem_name, rate=rate, top=top)
+            yield _warn(st, "W307", message, hint)
 
 
 def rule_timer_only(ctx: Context) -> Iterator[Finding]:
@@ -247,9 +267,11 @@ def rule_timer_only(ctx: Context) -> Iterator[Finding]:
         rate = ctx.c_rate(current.args[0].raw) if current else None
         if conditions and all(s.op.code == 88 for s in conditions) and rate is not None \
                 and rate > TIMER_ONLY_MAX_RATE and not _find(phase, ops.CONSTANT_V):
-            yield _warn(conditions[0], "W308", f"Only a timer ends this {rate:g}C charge: above "
-                        f"{TIMER_ONLY_MAX_RATE:g}C the battery needs a voltage, -dV or temperature end",
-                        "add IF(V>…) or IF(DELTA_PEAK>…)")
+            message = _("Only a timer ends this {rate:g}C charge: above {timer_only_max_rate:g}C the battery "
+                        "needs a voltage, -dV or temperature end").format(
+                rate=rate, timer_only_max_rate=TIMER_ONLY_MAX_RATE)
+            hint = _("add IF(V>…) or IF(DELTA_PEAK>…)")
+            yield _warn(conditions[0], "W308", message, hint)
 
 
 def rule_bare_time(ctx: Context) -> Iterator[Finding]:
@@ -261,9 +283,11 @@ def rule_bare_time(ctx: Context) -> Iterator[Finding]:
             tenths = arg.raw
             human = TIME.format(tenths)
             shown = human if not human.isdigit() else f"{tenths / 10:g} s"
-            yield _warn(arg, "W309", f"A bare {arg.text} is in tenths of a second: {shown}, not "
-                        f"{arg.text} seconds or minutes", f"write {shown.replace(' ', '')} to say so, "
-                        f"or {arg.text}min if minutes were meant")
+            message = _("A bare {text} is in tenths of a second: {shown}, not {text} seconds or minutes").format(
+                text=arg.text, shown=shown)
+            hint = _("write {replace} to say so, or {text}min if minutes were meant").format(
+                replace=shown.replace(' ', ''), text=arg.text)
+            yield _warn(arg, "W309", message, hint)
 
 
 def rule_relative_units_at_start(ctx: Context) -> Iterator[Finding]:
@@ -276,11 +300,14 @@ def rule_relative_units_at_start(ctx: Context) -> Iterator[Finding]:
                 elif operand.kind.name == "voltage" and needs_series is None:
                     needs_series = st
     if needs_capacity is not None and ctx.capacity_mah is None:
-        yield _warn(needs_capacity, "W310", "Currents in C need the capacity, which is not declared: it must "
-                    "be entered at start", "declare CAPACITY=… in the introduction if it is always the same")
+        message = _("Currents in C need the capacity, which is not declared: it must be entered at start")
+        hint = _("declare CAPACITY=… in the introduction if it is always the same")
+        yield _warn(needs_capacity, "W310", message, hint)
     if needs_series is not None and ctx.series is None:
-        yield _warn(needs_series, "W310", "Voltages per cell (S) need the cell count, which is not declared: "
-                    "it must be entered at start", "declare SERIES=… if it is always the same")
+        message = _("Voltages per cell (S) need the cell count, which is not declared: it must be entered at "
+                    "start")
+        hint = _("declare SERIES=… if it is always the same")
+        yield _warn(needs_series, "W310", message, hint)
 
 
 def rule_trickle_lithium(ctx: Context) -> Iterator[Finding]:
@@ -288,8 +315,8 @@ def rule_trickle_lithium(ctx: Context) -> Iterator[Finding]:
         return
     for st in _statements(ctx.macro):
         if st.op is ops.TRICKLE:
-            yield Finding(st, Severity.ERROR, "E311", "Lithium cells must never be trickle-charged",
-                          "end the charge with CONSTANT_V and IF(I<…) instead")
+            yield Finding(st, Severity.ERROR, "E311", _("Lithium cells must never be trickle-charged"),
+                          _("end the charge with CONSTANT_V and IF(I<…) instead"))
 
 
 def rule_unreachable_phase(ctx: Context) -> Iterator[Finding]:
@@ -301,16 +328,18 @@ def rule_unreachable_phase(ctx: Context) -> Iterator[Finding]:
             actions = {s.op for s in phase.statements if s.op.role is Role.ACTION}
             if st and previous and actions == {ops.CONSTANT_I} and _same_unit(st, previous) \
                     and better(st.args[0].raw & 0x7FFF, previous.args[0].raw & 0x7FFF):
-                yield _warn(phase, "W312", "This phase can never run: the phase before it already ended beyond "
-                            f"its limit ({_text(previous)})", "lower or remove one of the two limits")
+                message = _("This phase can never run: the phase before it already ended beyond its limit "
+                            "({text})").format(text=_text(previous))
+                hint = _("lower or remove one of the two limits")
+                yield _warn(phase, "W312", message, hint)
             previous = st if st is not None else previous
     for st in ctx.macro.intro:
         if st.op.code == 87 and st.args[0].raw == 0:
-            yield _warn(st, "W312", "IF(tm>0) stops the macro before any phase can run")
+            yield _warn(st, "W312", _("IF(tm>0) stops the macro before any phase can run"))
     for phase in _phases(ctx.macro.discharge.items + ctx.macro.charge.items):
         st = _code(phase, 88)
         if st is not None and st.args[0].raw == 0:
-            yield _warn(st, "W312", "IF(tf>0) ends this phase before it does anything")
+            yield _warn(st, "W312", _("IF(tf>0) ends this phase before it does anything"))
 
 
 def _same_unit(a: Statement, b: Statement) -> bool:
@@ -327,9 +356,10 @@ def rule_trickle_rate(ctx: Context) -> Iterator[Finding]:
     for st in _statements(ctx.macro):
         rate = ctx.c_rate(st.args[0].raw) if st.op is ops.TRICKLE else None
         if rate is not None and rate > TRICKLE_MAX_RATE + 1e-9:
-            yield _warn(st, "W313", f"A trickle of {rate:g}C is above {TRICKLE_MAX_RATE:g}C: held for long it "
-                        "overcharges the cell", "seed 001: a permanent top-up is 0.025-0.06C, at most 0.1C "
-                        "for cells made for it")
+            message = _("A trickle of {rate:g}C is above {trickle_max_rate:g}C: held for long it overcharges the "
+                        "cell").format(rate=rate, trickle_max_rate=TRICKLE_MAX_RATE)
+            hint = _("seed 001: a permanent top-up is 0.025-0.06C, at most 0.1C for cells made for it")
+            yield _warn(st, "W313", message, hint)
 
 
 def rule_slow_charge_time(ctx: Context) -> Iterator[Finding]:
@@ -342,9 +372,11 @@ def rule_slow_charge_time(ctx: Context) -> Iterator[Finding]:
             continue
         timer = _code(phase, 88)
         if timer is None or timer.args[0].raw > NORMAL_MAX_S * 10:
-            what = f"its timer allows {TIME.format(timer.args[0].raw)}" if timer else "no timer ends it"
-            yield _warn(timer or current, "W314", f"This {rate:g}C charge may run well past 16 h: {what}",
-                        "seed 001: a 0.1C charge takes 14-16 h; add IF(tf>16h) STOP_FAZE")
+            what = (_("its timer allows {time}").format(time=TIME.format(timer.args[0].raw)) if timer
+                    else _("no timer ends it"))
+            message = _("This {rate:g}C charge may run well past 16 h: {what}").format(rate=rate, what=what)
+            hint = _("seed 001: a 0.1C charge takes 14-16 h; add IF(tf>16h) STOP_FAZE")
+            yield _warn(timer or current, "W314", message, hint)
 
 
 def rule_lithium_temperature(ctx: Context) -> Iterator[Finding]:
@@ -353,24 +385,27 @@ def rule_lithium_temperature(ctx: Context) -> Iterator[Finding]:
     for phase in _phases(ctx.macro.charge.items):
         t_max = _code(phase, 81)
         if t_max is None or t_max.args[0].raw > LITHIUM_T_MAX:
-            yield _warn(t_max or phase, "W315", f"This lithium charge has no temperature limit at or below "
-                        f"{LITHIUM_T_MAX} °C: the charger's default stops only at 60 °C",
-                        f"add IF(T>{LITHIUM_T_MAX}) STOP_FAZE; lithium charges between 0 and {LITHIUM_T_MAX} °C "
-                        "(ZUML cannot test T<0: do not start a charge below 0 °C)")
+            message = _("This lithium charge has no temperature limit at or below {lithium_t_max} °C: the "
+                        "charger's default stops only at 60 °C").format(lithium_t_max=LITHIUM_T_MAX)
+            hint = _("add IF(T>{lithium_t_max}) STOP_FAZE; lithium charges between 0 and {lithium_t_max} °C "
+                     "(ZUML cannot test T<0: do not start a charge below 0 °C)").format(lithium_t_max=LITHIUM_T_MAX)
+            yield _warn(t_max or phase, "W315", message, hint)
 
 
 def rule_delta_peak_misplaced(ctx: Context) -> Iterator[Finding]:
     for phase in _phases(ctx.macro.discharge.items):
         st = _code(phase, 89)
         if st is not None:
-            yield _warn(st, "W316", "-dV in a discharge phase: a discharging cell shows no -dV peak, so this "
-                        "never ends the phase as meant", "end a discharge with IF(V<…)")
+            yield _warn(st, "W316", _("-dV in a discharge phase: a discharging cell shows no -dV peak, so this "
+                                      "never ends the phase as meant"), _("end a discharge with IF(V<…)"))
     if ctx.chemistry in LITHIUM:
         for phase in _phases(ctx.macro.charge.items):
             st = _code(phase, 89)
             if st is not None:
-                yield _warn(st, "W316", f"-dV on {ctx.chem_name}: lithium cells show no -dV at full charge",
-                            "end with CONSTANT_V and IF(I<…)")
+                message = _("-dV on {chem_name}: lithium cells show no -dV at full charge").format(
+                    chem_name=ctx.chem_name)
+                hint = _("end with CONSTANT_V and IF(I<…)")
+                yield _warn(st, "W316", message, hint)
 
 
 def rule_nimh_voltage_only(ctx: Context) -> Iterator[Finding]:
@@ -381,10 +416,11 @@ def rule_nimh_voltage_only(ctx: Context) -> Iterator[Finding]:
         cut_off = _code(phase, 83)
         if cut_off is not None and _charge_current(phase) is not None and not _code(phase, 89) \
                 and not _code(phase, 81) and not _code(phase, 88):
-            yield _warn(cut_off, "W317", "NiMh charged to a voltage limit only: its voltage at full charge "
-                        "moves with current and temperature, so the limit ends it early or late",
-                        "seed 001: end NiMh by -dV or temperature (IF(DELTA_PEAK>0.01S), IF(T>45)); keep the "
-                        "voltage as a backup")
+            yield _warn(cut_off, "W317", _("NiMh charged to a voltage limit only: its voltage at full charge "
+                                           "moves with current and temperature, so the limit ends it early or "
+                                           "late"),
+                        _("seed 001: end NiMh by -dV or temperature (IF(DELTA_PEAK>0.01S), IF(T>45)); keep the "
+                          "voltage as a backup"))
 
 
 def rule_charger_limits(ctx: Context) -> Iterator[Finding]:
@@ -403,12 +439,17 @@ def rule_charger_limits(ctx: Context) -> Iterator[Finding]:
             if amps is None:
                 continue
             if amps > max_a + 1e-9:
-                yield _warn(st, "W318", f"The macro asks {amps:.2f} A; the {lim.name} gives at most {max_a:g} A "
-                            f"({what})", "the phase runs at the charger's limit and takes longer")
+                message = _("The macro asks {amps:.2f} A; the {name} gives at most {max_a:g} A ({what})").format(
+                    amps=amps, name=lim.name, max_a=max_a, what=what)
+                hint = _("the phase runs at the charger's limit and takes longer")
+                yield _warn(st, "W318", message, hint)
             elif nominal and amps * nominal > max_w + 1e-9:
-                yield _warn(st, "W318", f"The macro asks {amps:.2f} A; at the nominal {nominal:.1f} V that is "
-                            f"{amps * nominal:.0f} W, the {lim.name} gives at most {max_w:g} W ({what}): about "
-                            f"{max_w / nominal:.2f} A", "the phase runs at the charger's limit and takes longer")
+                message = _("The macro asks {amps:.2f} A; at the nominal {nominal:.1f} V that is {amps2:.0f} W, "
+                            "the {name} gives at most {max_w:g} W ({what}): about {max_w2:.2f} A").format(
+                    amps=amps, nominal=nominal, amps2=amps * nominal, name=lim.name, max_w=max_w, what=what,
+                    max_w2=max_w / nominal)
+                hint = _("the phase runs at the charger's limit and takes longer")
+                yield _warn(st, "W318", message, hint)
 
 
 def _amps(ctx: Context, raw: int) -> float | None:

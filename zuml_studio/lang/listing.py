@@ -9,6 +9,7 @@ from . import opcodes as ops
 from .ast import Span
 from .formatter import format_args
 from .record import HEADER_SIZE, Instruction, check_byte
+from ..i18n import _
 
 _CLOSERS = {ops.END_FAZE, ops.END_CYCLE, ops.END_SECTION, ops.END_MACRO}
 
@@ -38,10 +39,10 @@ class Row:
 def listing_rows(record: bytes, instructions: tuple[Instruction, ...], nodes: tuple[object, ...] = ()) -> list[Row]:
     name_end = record[1]
     rows = [
-        Row(0, record[0:1], "header", "LENGTH", f"{record[0]} bytes"),
-        Row(1, record[1:2], "header", "PROGRAM", f"program starts at {record[1]}"),
-        Row(2, record[2:3], "header", "CHARGE", f"charge section starts at {record[2]}"),
-        Row(3, record[3:4], "header", "CONCLUSION", f"conclusion starts at {record[3]}"),
+        Row(0, record[0:1], "header", "LENGTH", _("{n} bytes").format(n=record[0])),
+        Row(1, record[1:2], "header", "PROGRAM", _("program starts at {offset}").format(offset=record[1])),
+        Row(2, record[2:3], "header", "CHARGE", _("charge section starts at {offset}").format(offset=record[2])),
+        Row(3, record[3:4], "header", "CONCLUSION", _("conclusion starts at {offset}").format(offset=record[3])),
         Row(HEADER_SIZE, record[HEADER_SIZE:name_end], "name", "NAME",
             repr(record[HEADER_SIZE:name_end - 1].decode("latin-1"))),
     ]
@@ -55,8 +56,9 @@ def listing_rows(record: bytes, instructions: tuple[Instruction, ...], nodes: tu
         rows.append(Row(ins.offset, record[ins.offset:ins.offset + ins.size], "instruction",
                         ins.op.mnemonic, detail, span.line if span else None, node))
     last = len(record) - 1
-    ok = "ok" if check_byte(record[:last]) == record[last] else "BAD"
-    rows.append(Row(last, record[last:], "check", "CHECK", f"XOR of bytes 0..{last - 1}: {ok}"))
+    ok = _("ok") if check_byte(record[:last]) == record[last] else _("BAD")
+    rows.append(Row(last, record[last:], "check", "CHECK", _("XOR of bytes 0..{last}: {ok}").format(
+            last=last - 1, ok=ok)))
     return rows
 
 

@@ -10,6 +10,7 @@ from functools import lru_cache
 from enum import Enum
 
 from . import operands as k
+from ..i18n import N_, _
 
 
 class Form(Enum):
@@ -32,11 +33,11 @@ class Role(Enum):
 class Place(Enum):
     """Where a statement may stand."""
 
-    INTRO = "the introduction"
-    PHASE = "a phase (FAZE … END_FAZE)"
-    BETWEEN = "a section between phases"
-    SECTIONS = "the gap between the two sections"
-    CONCLUSION = "the conclusion"
+    INTRO = N_("the introduction")
+    PHASE = N_("a phase (FAZE … END_FAZE)")
+    BETWEEN = N_("a section between phases")
+    SECTIONS = N_("the gap between the two sections")
+    CONCLUSION = N_("the conclusion")
 
 
 @dataclass(frozen=True)
@@ -66,9 +67,14 @@ class Op:
     role: Role
     operands: tuple[Operand, ...]
     places: frozenset[Place]
-    help: str
+    help_text: str                 # English, marked for the catalogue; `help` is it translated
     condition: Condition | None = None
     emitted: bool = True           # MACRO (code 1) is reserved, never in byte code
+
+    @property
+    def help(self) -> str:
+        """What the command does, in the installed language (hover, completion, F1 help, tooltips)."""
+        return _(self.help_text)
 
     @property
     def size(self) -> int:
@@ -101,69 +107,69 @@ def _cond(code: int, var: tuple[str, ...], cs: bool, cmp: str, outcome: str, kin
 
 OPCODES: tuple[Op, ...] = (
     Op(1, "MACRO", "MACRO", Form.KEYWORD, Role.STRUCTURE, (), _NOWHERE,
-       "Header: MACRO name (or MACRO(name)). The name, at most 16 characters, names the file "
-       "and is shown in the charger's menu. Reserved code, never stored.", emitted=False),
+       N_("Header: MACRO name (or MACRO(name)). The name, at most 16 characters, names the file "
+       "and is shown in the charger's menu. Reserved code, never stored."), emitted=False),
     Op(2, "END_MACRO", "END_MACRO", Form.KEYWORD, Role.STRUCTURE, (), _NOWHERE,
-       "End of the macro; stored as the last command."),
+       N_("End of the macro; stored as the last command.")),
     Op(3, "DISCHARGE_SECTION", "DISCHARGE_SECTION", Form.KEYWORD, Role.STRUCTURE, (), _NOWHERE,
-       "Discharge section, always first. Empty or absent: discharge at 0.1 A to the chemistry's end voltage."),
+       N_("Discharge section, always first. Empty or absent: discharge at 0.1 A to the chemistry's end voltage.")),
     Op(4, "CHARGE_SECTION", "CHARGE_SECTION", Form.KEYWORD, Role.STRUCTURE, (), _NOWHERE,
-       "Charge section, always after the discharge section."),
+       N_("Charge section, always after the discharge section.")),
     Op(5, "END_SECTION", "END_SECTION", Form.KEYWORD, Role.STRUCTURE, (), _NOWHERE,
-       "Closes a discharge or charge section."),
+       N_("Closes a discharge or charge section.")),
     Op(6, "CYCLE", "CYCLE", Form.CALL, Role.STRUCTURE, (Operand("n", k.COUNT, 1, 255),), _NOWHERE,
-       "Repeats the phases up to END_CYCLE n times (1..255). Cycles do not nest."),
+       N_("Repeats the phases up to END_CYCLE n times (1..255). Cycles do not nest.")),
     Op(7, "END_CYCLE", "END_CYCLE", Form.KEYWORD, Role.STRUCTURE, (), _NOWHERE,
-       "End of a cycle: counts down and repeats while non-zero."),
+       N_("End of a cycle: counts down and repeats while non-zero.")),
     Op(8, "FAZE", "FAZE", Form.KEYWORD, Role.STRUCTURE, (), _NOWHERE,
-       "Start of a phase: one action held until a stop condition holds."),
+       N_("Start of a phase: one action held until a stop condition holds.")),
     Op(9, "END_FAZE", "END_FAZE", Form.KEYWORD, Role.STRUCTURE, (), _NOWHERE,
-       "End of a phase."),
+       N_("End of a phase.")),
     Op(20, "START_SHABLON", "START_SHABLON", Form.ASSIGN, Role.DECLARATION, (Operand("n", k.COUNT),), _INTRO,
-       "Run start template n when the macro starts."),
+       N_("Run start template n when the macro starts.")),
     Op(21, "AKK_TYPE", "AKK_TYPE", Form.ASSIGN, Role.DECLARATION, (Operand("type", k.AKK_TYPE, 0, 8),), _INTRO,
-       "Battery type: Undef, Pb, NiCd, NiMh, LiPo, LiIon, LiS, LiFe, New (or 0..8)."),
+       N_("Battery type: Undef, Pb, NiCd, NiMh, LiPo, LiIon, LiS, LiFe, New (or 0..8).")),
     Op(22, "SERIES", "SERIES", Form.ASSIGN, Role.DECLARATION, (Operand("cells", k.COUNT, 1, 255),), _INTRO,
-       "Cells in series. Needed by voltages per cell (S) unless entered at start."),
+       N_("Cells in series. Needed by voltages per cell (S) unless entered at start.")),
     Op(23, "CAPACITY", "CAPACITY", Form.ASSIGN, Role.DECLARATION, (Operand("mAh", k.CAPACITY, 2, 65534),), _INTRO,
-       "Capacity of each cell in mAh (2..65534), INPUT (entered at start) or AUTO. Needed by currents in C."),
+       N_("Capacity of each cell in mAh (2..65534), INPUT (entered at start) or AUTO. Needed by currents in C.")),
     Op(60, "CONSTANT_I", "CONSTANT_I", Form.ASSIGN, Role.ACTION, (Operand("I", k.CURRENT),), _IN_PHASE,
-       "Hold the current: 2A, 0.5C (times the capacity) or INPUT (entered at start). "
-       "With CONSTANT_V in the same phase: CC-CV."),
+       N_("Hold the current: 2A, 0.5C (times the capacity) or INPUT (entered at start). "
+       "With CONSTANT_V in the same phase: CC-CV.")),
     Op(61, "CONSTANT_V", "CONSTANT_V", Form.ASSIGN, Role.ACTION, (Operand("V", k.VOLTAGE),), _IN_PHASE,
-       "Hold the voltage: 12.6V for the pack, 4.2S per cell, or INPUT. The current is limited to the "
-       "charge current entered at start, else to the charger's limit."),
+       N_("Hold the voltage: 12.6V for the pack, 4.2S per cell, or INPUT. The current is limited to the "
+       "charge current entered at start, else to the charger's limit.")),
     Op(62, "CHARGE_EX", "CHARGE_EX", Form.CALL, Role.ACTION,
        (Operand("tch", k.SECONDS, 1, 255), Operand("Ich", k.CURRENT), Operand("tdis", k.SECONDS, 0, 255),
         Operand("Idis", k.CURRENT), Operand("tV", k.MEASURE_POINT, 0, 2, default=0)), _IN_PHASE,
-       "Pulse charge: tch seconds at Ich, tdis seconds of discharge at Idis, then measure the voltage "
-       "(tV: 0 power stage off, 1 end of the charge pulse, 2 end of the discharge pulse)."),
+       N_("Pulse charge: tch seconds at Ich, tdis seconds of discharge at Idis, then measure the voltage "
+       "(tV: 0 power stage off, 1 end of the charge pulse, 2 end of the discharge pulse).")),
     Op(63, "TRICKLE", "TRICKLE", Form.CALL, Role.ACTION,
        (Operand("I", k.CURRENT), Operand("V1", k.VOLTAGE), Operand("V2", k.VOLTAGE)), _IN_PHASE,
-       "Top-up: charge at I when the voltage falls to V1, switch off at V2."),
+       N_("Top-up: charge at I when the voltage falls to V1, switch off at V2.")),
     _cond(81, ("T",), True, ">", "STOP_FAZE", k.CELSIUS, _IN_PHASE,
-          "End the phase when the battery temperature (°C) rises above x.", "IF_T_GT"),
+          N_("End the phase when the battery temperature (°C) rises above x."), "IF_T_GT"),
     _cond(82, ("V",), False, "<", "STOP_FAZE", k.VOLTAGE, _IN_PHASE,
-          "End the phase when the battery voltage falls below x.", "IF_V_LT"),
+          N_("End the phase when the battery voltage falls below x."), "IF_V_LT"),
     _cond(83, ("V",), False, ">", "STOP_FAZE", k.VOLTAGE, _IN_PHASE,
-          "End the phase when the battery voltage rises above x.", "IF_V_GT"),
+          N_("End the phase when the battery voltage rises above x."), "IF_V_GT"),
     _cond(84, ("I",), False, "<", "STOP_FAZE", k.CURRENT, _IN_PHASE,
-          "End the phase when the current falls below x (the end of a CV phase).", "IF_I_LT"),
+          N_("End the phase when the current falls below x (the end of a CV phase)."), "IF_I_LT"),
     _cond(85, ("Tc",), True, ">", "PAUSE_MACRO", k.CELSIUS, _INTRO,
-          "Pause the macro when the power stage's heat-sink (°C) is above x.", "IF_TC_GT"),
+          N_("Pause the macro when the power stage's heat-sink (°C) is above x."), "IF_TC_GT"),
     _cond(86, ("Tc",), True, "<", "CONTINUE_MACRO", k.CELSIUS, _INTRO,
-          "Continue a paused macro once the heat-sink (°C) is below x.", "IF_TC_LT"),
+          N_("Continue a paused macro once the heat-sink (°C) is below x."), "IF_TC_LT"),
     _cond(87, ("tm",), True, ">", "STOP_MACRO", k.TIME, _INTRO,
-          "Stop the macro when it has run longer than x (tenths of a second, or 12s, 30min, 2h).", "IF_TM_GT"),
+          N_("Stop the macro when it has run longer than x (tenths of a second, or 12s, 30min, 2h)."), "IF_TM_GT"),
     _cond(88, ("tf", "t"), True, ">", "STOP_FAZE", k.TIME, _IN_PHASE,
-          "End the phase when it has run longer than x (tenths of a second, or 12s, 30min, 2h).", "IF_TF_GT"),
+          N_("End the phase when it has run longer than x (tenths of a second, or 12s, 30min, 2h)."), "IF_TF_GT"),
     _cond(89, ("DELTA_PEAK",), False, ">", "STOP_FAZE", k.VOLTAGE, _IN_PHASE,
-          "End the phase when the voltage has fallen x below its peak in this phase (-dV).",
+          N_("End the phase when the voltage has fallen x below its peak in this phase (-dV)."),
           "IF_DPEAK_GT", also=("=",)),
     Op(100, "MUSIC", "MUSIC", Form.CALL, Role.COMMAND, (Operand("n", k.MELODY, 1, 255),), _BETWEEN,
-       "Play melody n once: START, STOP, ERROR, ATTENTION or a number."),
+       N_("Play melody n once: START, STOP, ERROR, ATTENTION or a number.")),
     Op(101, "LIGHT", "LIGHT", Form.CALL, Role.COMMAND, (Operand("n", k.LIGHT, 1, 103),), _BETWEEN,
-       "LED: n short blinks then a pause (1..99); SLOW, FAST, ON, or FAZE (blink the phase number)."),
+       N_("LED: n short blinks then a pause (1..99); SLOW, FAST, ON, or FAZE (blink the phase number).")),
 )
 
 BY_CODE: dict[int, Op] = {op.code: op for op in OPCODES}

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 from decimal import ROUND_HALF_UP, Decimal, InvalidOperation
 import re
 from typing import Callable, Mapping
+from ..i18n import N_, _
 
 INPUT_U16 = 0xFFFF          # current/voltage entered at start (spec §2 decision)
 RELATIVE_FLAG = 0x8000      # C for currents, S for voltages
@@ -142,32 +143,34 @@ def _scaled_units(units: Mapping[str, tuple[Decimal, int]]):
             return INPUT_U16
         parsed = split_number(text)
         if parsed is None:
-            raise ValueProblem("E203", f"'{text}' is not {kind.what}", f"write it like {kind.example}")
+            raise ValueProblem("E203", _("'{text}' is not {what}").format(
+                    text=text, what=_(kind.what)), _("write it like {example}").format(
+                    example=_(kind.example)))
         number, unit = parsed
         if not unit:
             ways = " or ".join(f"{text}{u}" for u in units if not u.startswith("m"))
-            raise ValueProblem("E201", f"{{subject}} needs a unit: {kind.example}",
-                               f"a bare {text} is never guessed: write {ways}, or INPUT")
+            raise ValueProblem("E201", _("{{subject}} needs a unit: {example}").format(example=_(kind.example)),
+                               _("a bare {text} is never guessed: write {ways}, or INPUT").format(text=text, ways=ways))
         spelled = {u.upper(): u for u in units}
         key = spelled.get(unit.upper())
         if key is None:
-            raise ValueProblem("E202", f"'{unit}' is not a unit of {kind.what}",
+            raise ValueProblem("E202", _("'{unit}' is not a unit of {what}").format(unit=unit, what=_(kind.what)),
                                f"allowed: {', '.join(units)}")
         unit = key
         mult, flag = units[key]
         if number < 0:
-            raise ValueProblem("E204", f"{{subject}} cannot be negative: {text}")
+            raise ValueProblem("E204", _("{{subject}} cannot be negative: {text}").format(text=text))
         exact = number * mult
         raw = round_half_away(exact)
         top = 0x7FFF if not flag else 0x7FFE   # 0xFFFF with the flag set would read as INPUT
         if raw > top:
-            raise ValueProblem("E204", f"{text} is too large to store",
-                               f"at most {_in_unit(top, mult)}{unit}")
+            raise ValueProblem("E204", _("{text} is too large to store").format(text=text),
+                               _("at most {in_unit}{unit}").format(in_unit=_in_unit(top, mult), unit=unit))
         if raw != exact:
             raise ValueProblem(
-                "W205", f"{text} is stored as {_in_unit(raw, mult)}{unit}"
-                f" (the charger keeps steps of {_in_unit(1, mult)}{unit})",
-                "write the stored value to make it explicit", warning_raw=raw | flag)
+                "W205", _("{text} is stored as {in_unit}{unit} (the charger keeps steps of {in_unit2}{unit})").format(
+                        text=text, in_unit=_in_unit(raw, mult), unit=unit, in_unit2=_in_unit(1, mult)),
+                _("write the stored value to make it explicit"), warning_raw=raw | flag)
         return raw | flag
 
     return parse
@@ -200,17 +203,20 @@ def _parse_integer(units: Mapping[str, int] | None = None):
         parsed = split_number(text)
         if parsed is None:
             if kind.names:
-                raise ValueProblem("E203", f"'{text}' is not {kind.what}",
-                                   f"use a number or one of {', '.join(_display_names(kind))}")
-            raise ValueProblem("E203", f"'{text}' is not {kind.what}", f"write it like {kind.example}")
+                raise ValueProblem("E203", _("'{text}' is not {what}").format(text=text, what=_(kind.what)),
+                                   _("use a number or one of {display_names}").format(
+                                           display_names=', '.join(_display_names(kind))))
+            raise ValueProblem("E203", _("'{text}' is not {what}").format(
+                    text=text, what=_(kind.what)), _("write it like {example}").format(
+                    example=_(kind.example)))
         number, unit = parsed
         if unit:
             spelled = {u.upper(): u for u in units}
             if unit.upper() not in spelled:
                 if not units:
-                    raise ValueProblem("E202", f"{{subject}} takes no unit: write {number}",
-                                       f"for example {kind.example}")
-                raise ValueProblem("E202", f"'{unit}' is not a unit of {kind.what}",
+                    raise ValueProblem("E202", _("{{subject}} takes no unit: write {number}").format(number=number),
+                                       _("for example {example}").format(example=_(kind.example)))
+                raise ValueProblem("E202", _("'{unit}' is not a unit of {what}").format(unit=unit, what=_(kind.what)),
                                    f"allowed: {', '.join(units)}")
             mult = units[spelled[unit.upper()]]
         else:
@@ -218,13 +224,13 @@ def _parse_integer(units: Mapping[str, int] | None = None):
         exact = number * mult
         raw = round_half_away(exact)
         if raw < lo or raw > hi:
-            raise ValueProblem("E204", f"{text} is out of range for {kind.what}",
+            raise ValueProblem("E204", _("{text} is out of range for {what}").format(text=text, what=_(kind.what)),
                                f"allowed: {_range_text(kind, lo, hi)}")
         if raw != exact:
             if mult == 1:
-                raise ValueProblem("E203", f"{{subject}} must be a whole number, not {text}")
-            raise ValueProblem("W205", f"{text} is stored as {kind.format(raw)}",
-                               "write the stored value to make it explicit", warning_raw=raw)
+                raise ValueProblem("E203", _("{{subject}} must be a whole number, not {text}").format(text=text))
+            raise ValueProblem("W205", _("{text} is stored as {format}").format(text=text, format=kind.format(raw)),
+                               _("write the stored value to make it explicit"), warning_raw=raw)
         return raw
 
     return parse
@@ -267,17 +273,20 @@ def _parse_capacity(kind: OperandKind, text: str, lo: int, hi: int) -> int:
         return CAPACITY_AUTO
     parsed = split_number(text)
     if parsed is None:
-        raise ValueProblem("E203", f"'{text}' is not a capacity", "write it in mAh like 4200, or INPUT or AUTO")
+        raise ValueProblem("E203", _("'{text}' is not a capacity").format(
+                text=text), _("write it in mAh like 4200, or INPUT or AUTO"))
     number, unit = parsed
     mult = {"": 1, "MAH": 1, "AH": 1000}.get(unit.upper())
     if mult is None:
-        raise ValueProblem("E202", f"'{unit}' is not a unit of capacity", "write mAh (4200) or Ah (4.2Ah)")
+        raise ValueProblem("E202", _("'{unit}' is not a unit of capacity").format(
+                unit=unit), _("write mAh (4200) or Ah (4.2Ah)"))
     exact = number * mult
     raw = round_half_away(exact)
     if raw != exact:
-        raise ValueProblem("E203", f"Capacity is a whole number of mAh, not {text}")
+        raise ValueProblem("E203", _("Capacity is a whole number of mAh, not {text}").format(text=text))
     if not 1 < raw < 65535:
-        raise ValueProblem("E204", f"Capacity {text} is out of range", "allowed: 2 to 65534 mAh, INPUT or AUTO")
+        raise ValueProblem("E204", _("Capacity {text} is out of range").format(
+                text=text), _("allowed: 2 to 65534 mAh, INPUT or AUTO"))
     return raw
 
 
@@ -300,27 +309,27 @@ AKK_TYPES = {"UNDEF": 0, "PB": 1, "NICD": 2, "NIMH": 3, "LIPO": 4, "LIION": 5, "
 AKK_TYPE_ALIASES = {"LILON": 5}
 
 CURRENT = OperandKind(
-    "current", 2, False, "a current", "2A or 0.5C",
+    "current", 2, False, N_("a current"), N_("2A or 0.5C"),
     _scaled_units({"A": (Decimal(100), 0), "mA": (Decimal("0.1"), 0), "C": (Decimal(100), RELATIVE_FLAG)}),
     _format_current_like("A", "C"))
 VOLTAGE = OperandKind(
-    "voltage", 2, False, "a voltage", "4.2V or 4.2S",
+    "voltage", 2, False, N_("a voltage"), N_("4.2V or 4.2S"),
     _scaled_units({"V": (Decimal(100), 0), "mV": (Decimal("0.1"), 0), "S": (Decimal(100), RELATIVE_FLAG)}),
     _format_current_like("V", "S"))
-CAPACITY = OperandKind("capacity", 2, False, "a capacity", "4200", _parse_capacity, _format_capacity,
+CAPACITY = OperandKind("capacity", 2, False, N_("a capacity"), "4200", _parse_capacity, _format_capacity,
                        reserved_ok=frozenset({CAPACITY_INPUT, CAPACITY_AUTO}))
-TIME = OperandKind("time", 4, False, "a time", "120 (tenths of a second), 12s, 30min or 2h",
+TIME = OperandKind("time", 4, False, N_("a time"), N_("120 (tenths of a second), 12s, 30min or 2h"),
                    _parse_integer(_TIME_UNITS), _format_time)
-CELSIUS = OperandKind("celsius", 1, True, "a temperature in °C", "60", _parse_integer(), _format_int)
-COUNT = OperandKind("count", 1, False, "a whole number", "3", _parse_integer(), _format_int)
-SECONDS = OperandKind("seconds", 1, False, "a time in seconds", "30", _parse_integer({"s": 1}), _format_int)
-AKK_TYPE = OperandKind("akk_type", 1, False, "a battery type", "LiPo", _parse_integer(), _format_named,
+CELSIUS = OperandKind("celsius", 1, True, N_("a temperature in °C"), "60", _parse_integer(), _format_int)
+COUNT = OperandKind("count", 1, False, N_("a whole number"), "3", _parse_integer(), _format_int)
+SECONDS = OperandKind("seconds", 1, False, N_("a time in seconds"), "30", _parse_integer({"s": 1}), _format_int)
+AKK_TYPE = OperandKind("akk_type", 1, False, N_("a battery type"), "LiPo", _parse_integer(), _format_named,
                        names={**AKK_TYPES})
-MELODY = OperandKind("melody", 1, False, "a melody", "STOP", _parse_integer(), _format_named,
+MELODY = OperandKind("melody", 1, False, N_("a melody"), "STOP", _parse_integer(), _format_named,
                      names={"START": 1, "STOP": 2, "ERROR": 3, "ATTENTION": 4})
-LIGHT = OperandKind("light", 1, False, "a light pattern", "FAST", _parse_integer(), _format_named,
+LIGHT = OperandKind("light", 1, False, N_("a light pattern"), "FAST", _parse_integer(), _format_named,
                     names={"SLOW": 100, "FAST": 101, "ON": 102, "FAZE": 103})
-MEASURE_POINT = OperandKind("measure_point", 1, False, "a measuring point (0, 1 or 2)", "0",
+MEASURE_POINT = OperandKind("measure_point", 1, False, N_("a measuring point (0, 1 or 2)"), "0",
                             _parse_integer(), _format_int)
 
 

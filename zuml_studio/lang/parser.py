@@ -22,6 +22,7 @@ from .ast import Span
 from .diagnostics import Diagnostic, Severity
 from .opcodes import CONDITION_OUTCOMES
 from .record import MAX_RECORD
+from ..i18n import N_, _
 
 
 @dataclass(frozen=True, slots=True)
@@ -173,9 +174,11 @@ def parse_raw(text: str) -> RawMacro:
     """Raises SyntaxProblem for the first syntax error (one error, no cascade). Stops after
     MAX_RECORD statements: no record holds that many (the compiler reports E160)."""
     if len(text) > MAX_TEXT_CHARS:
-        raise SyntaxProblem(_error(1, 1, 1, 1, "E161", f"The text is {len(text):,} characters long: no macro is "
-                                   f"(a record holds 255 bytes), so it is not checked past {MAX_TEXT_CHARS:,}",
-                                   "is this the right file?"))
+        raise SyntaxProblem(_error(1, 1, 1, 1, "E161", _("The text is {n_text:,} characters long: no macro is (a "
+                                                         "record holds 255 bytes), so it is not checked past "
+                                                         "{max_text_chars:,}").format(
+                n_text=len(text), max_text_chars=MAX_TEXT_CHARS),
+                                   _("is this the right file?")))
     statements: list[Located] = []
     header = None
     header_line = 0
@@ -198,9 +201,9 @@ def parse_raw(text: str) -> RawMacro:
             break
     last_line = len(lines)
     if header is None:
-        raise SyntaxProblem(_error(last_line, 1, last_line, 1, "E101", "A macro starts with its header: MACRO name",
-                                   "for example: MACRO LiPo"))
-    _, macro_tok, name_tok = header
+        raise SyntaxProblem(_error(last_line, 1, last_line, 1, "E101", _("A macro starts with its header: MACRO name"),
+                                   _("for example: MACRO LiPo")))
+    __, macro_tok, name_tok = header
     stripped = str(name_tok).rstrip()
     name_span = Span(header_line, name_tok.column, header_line, name_tok.column + len(stripped))
     header_span = Span(header_line, macro_tok.column, header_line, name_span.end_column)
@@ -212,10 +215,10 @@ def _moved_diagnostic(d: Diagnostic, line: int) -> Diagnostic:
 
 
 _WORDS = {
-    "NAME": "a command", "NUMBER": "a number", "RPAR": "')'", "LPAR": "'('", "COMMA": "','",
-    "EQUAL": "'='", "CMP": "a comparison such as > or <", "IF": "IF", "MACRO": "MACRO",
-    "OUTCOME": "STOP_FAZE, PAUSE_MACRO, CONTINUE_MACRO or STOP_MACRO", "$END": "the end of the line",
-    "LINE_NAME": "the macro's name", "PAREN_NAME": "the macro's name", "EMPTY_PARENS": "'()'",
+    "NAME": N_("a command"), "NUMBER": N_("a number"), "RPAR": "')'", "LPAR": "'('", "COMMA": "','",
+    "EQUAL": "'='", "CMP": N_("a comparison such as > or <"), "IF": "IF", "MACRO": "MACRO",
+    "OUTCOME": N_("STOP_FAZE, PAUSE_MACRO, CONTINUE_MACRO or STOP_MACRO"), "$END": N_("the end of the line"),
+    "LINE_NAME": N_("the macro's name"), "PAREN_NAME": N_("the macro's name"), "EMPTY_PARENS": "'()'",
 }
 
 
@@ -226,46 +229,49 @@ def _syntax_diagnostic(exc: UnexpectedInput, text: str) -> Diagnostic:
         col = exc.column
         char = text[exc.pos_in_stream] if exc.pos_in_stream < len(text) else ""
         if "MACRO" in exc.allowed:
-            return _error(1, col, 1, col + 1, "E101", "A macro starts with its header: MACRO name",
-                          "for example: MACRO LiPo")
-        return _error(1, col, 1, col + 1, "E102", f"Unexpected character '{char}'",
-                      "ZUML uses letters, digits, = ( ) , . < > and // comments")
+            return _error(1, col, 1, col + 1, "E101", _("A macro starts with its header: MACRO name"),
+                          _("for example: MACRO LiPo"))
+        return _error(1, col, 1, col + 1, "E102", _("Unexpected character '{char}'").format(char=char),
+                      _("ZUML uses letters, digits, = ( ) , . < > and // comments"))
     if isinstance(exc, UnexpectedEOF):
-        return _error(1, end_of_line, 1, end_of_line, "E103", "The line ends in the middle of a statement",
-                      _expected(exc.expected) + " (a statement never continues on the next line)")
+        return _error(1, end_of_line, 1, end_of_line, "E103", _("The line ends in the middle of a statement"),
+                      _("{expected} (a statement never continues on the next line)").format(
+                          expected=_expected(exc.expected)))
     assert isinstance(exc, UnexpectedToken)
     tok = exc.token
     expected = set(exc.expected)
     if tok.type == "$END":
-        return _error(1, end_of_line, 1, end_of_line, "E103", "The line ends in the middle of a statement",
-                      _expected(expected) + " (a statement never continues on the next line)")
+        return _error(1, end_of_line, 1, end_of_line, "E103", _("The line ends in the middle of a statement"),
+                      _("{expected} (a statement never continues on the next line)").format(
+                          expected=_expected(expected)))
     col = tok.column
     end_col = getattr(tok, "end_column", None) or col + 1
     if "MACRO" in expected:
-        return _error(1, col, 1, end_col, "E101", "A macro starts with its header: MACRO name",
-                      "for example: MACRO LiPo")
+        return _error(1, col, 1, end_col, "E101", _("A macro starts with its header: MACRO name"),
+                      _("for example: MACRO LiPo"))
     if tok.type in ("PAREN_NAME", "LINE_NAME"):
         # The lexer fell back to a name pattern: the real problem is the first character.
         char = tok.value[0]
         if char in "()=,<>":
-            return _error(1, col, 1, col + 1, "E100", f"Unexpected '{char}'", _expected(expected))
-        return _error(1, col, 1, col + 1, "E102", f"Unexpected character '{char}'",
-                      "ZUML uses letters, digits, = ( ) , . < > and // comments")
+            return _error(1, col, 1, col + 1, "E100", _("Unexpected '{char}'").format(char=char), _expected(expected))
+        return _error(1, col, 1, col + 1, "E102", _("Unexpected character '{char}'").format(char=char),
+                      _("ZUML uses letters, digits, = ( ) , . < > and // comments"))
     if tok.type == "OUTCOME":
-        return _error(1, col, 1, end_col, "E104", f"{tok.value} must follow a condition",
-                      f"write IF(...) {tok.value.upper()}")
+        return _error(1, col, 1, end_col, "E104", _("{value} must follow a condition").format(value=tok.value),
+                      _("write IF(...) {upper}").format(upper=tok.value.upper()))
     if tok.type == "NUMBER" and expected >= {"NAME"} and "RPAR" not in expected:
-        return _error(1, col, 1, end_col, "E105", f"A number cannot start a statement: '{tok.value}'",
-                      "values follow '=' or stand inside ( )")
-    return _error(1, col, 1, end_col, "E100", f"Unexpected '{tok.value}'", _expected(expected))
+        return _error(1, col, 1, end_col, "E105", _("A number cannot start a statement: '{value}'").format(
+                value=tok.value),
+                      _("values follow '=' or stand inside ( )"))
+    return _error(1, col, 1, end_col, "E100", _("Unexpected '{value}'").format(value=tok.value), _expected(expected))
 
 
 def _expected(expected) -> str:
     expected = set(expected)
     if expected >= {"NAME", "NUMBER"} and len(expected) == 2:
-        return "expected a value such as 2A, 4.2S, 60 or INPUT"
-    words = sorted({_WORDS.get(e, e) for e in expected})
-    return "expected " + " or ".join(words) if words else ""
+        return _("expected a value such as 2A, 4.2S, 60 or INPUT")
+    words = sorted({_(_WORDS[e]) if e in _WORDS else e for e in expected})
+    return _("expected {words}").format(words=_(" or ").join(words)) if words else ""
 
 
 def _error(line: int, col: int, end_line: int, end_col: int, code: str, message: str, hint: str) -> Diagnostic:

@@ -12,6 +12,7 @@ from operator import xor
 from . import opcodes as ops
 from .ast import Cycle, Macro, Phase
 from .opcodes import Op
+from ..i18n import _
 
 HEADER_SIZE = 4
 MAX_RECORD = 255
@@ -23,14 +24,15 @@ class DecodeError(Exception):
     """Bytes that are not a valid record: where, and what was expected."""
 
     def __init__(self, offset: int, message: str):
-        super().__init__(f"offset {offset}: {message}")
+        super().__init__(_("offset {offset}: {message}").format(offset=offset, message=message))
         self.offset = offset
         self.message = message
 
 
 class RecordTooLarge(Exception):
     def __init__(self, size: int, node: object):
-        super().__init__(f"the macro needs {size} bytes; a record holds at most {MAX_RECORD}")
+        super().__init__(_("the macro needs {size} bytes; a record holds at most {max_record}").format(
+            size=size, max_record=MAX_RECORD))
         self.size = size
         self.node = node
 
@@ -62,21 +64,23 @@ def encode_instruction(op: Op, raws: tuple[int, ...]) -> bytes:
 def read_instruction(data: bytes, pc: int, end: int) -> Instruction:
     """The instruction at ``pc``; ``end`` is where the program stops (the check byte)."""
     if pc >= end:
-        raise DecodeError(pc, "the program ends without END_MACRO")
+        raise DecodeError(pc, _("the program ends without END_MACRO"))
     code = data[pc]
     op = ops.BY_CODE.get(code)
     if op is None or not op.emitted:
-        what = "reserved for the header" if op else "not a ZUML command"
-        raise DecodeError(pc, f"byte 0x{code:02x} ({code}) is {what}")
+        what = _("reserved for the header") if op else _("not a ZUML command")
+        raise DecodeError(pc, _("byte 0x{code:02x} ({code}) is {what}").format(code=code, what=what))
     raws: list[int] = []
     at = pc + 1
     for operand in op.operands:
         kind = operand.kind
         if at + kind.size > end:
-            raise DecodeError(at, f"{op.keyword} needs {kind.size} byte(s) for {operand.name}; the program ends first")
+            raise DecodeError(at, _("{keyword} needs {size} byte(s) for {name}; the program ends first").format(
+                    keyword=op.keyword, size=kind.size, name=operand.name))
         raw = int.from_bytes(data[at:at + kind.size], "little", signed=kind.signed)
         if not kind.raw_valid(raw, operand.lo, operand.hi):
-            raise DecodeError(at, f"{op.keyword}: {operand.name} = {raw} is out of range")
+            raise DecodeError(at, _("{keyword}: {name} = {raw} is out of range").format(
+                    keyword=op.keyword, name=operand.name, raw=raw))
         raws.append(raw)
         at += kind.size
     return Instruction(pc, op, tuple(raws), at - pc)

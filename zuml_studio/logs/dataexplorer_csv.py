@@ -12,6 +12,7 @@ import re
 
 from .columns import add_row, parse_column, roles
 from .model import Log, LogFormatError, SampleBuilder
+from ..i18n import _
 
 MAX_COLUMNS = 256
 _HEADER = re.compile(r"^\s*(?:Zeit|Time)\s*\[[^\]]*\]\s*;")
@@ -48,12 +49,12 @@ def _seconds(text: str) -> float:
 def read(data: bytes) -> Log:
     lines = _lines(data)
     if len(lines) < 2 or not _HEADER.match(lines[1]):
-        raise LogFormatError("not a DataExplorer CSV export: no 'Zeit [sec];…' header on line 2")
+        raise LogFormatError(_("not a DataExplorer CSV export: no 'Zeit [sec];…' header on line 2"))
     device = lines[0].split(";")[0].strip() or "DataExplorer CSV"
     columns = [parse_column(part) for part in lines[1].split(";")[1:MAX_COLUMNS + 1]]
     r = roles(columns)
     if r.voltage is None:
-        raise LogFormatError("no column in volts ([V]) for the pack voltage")
+        raise LogFormatError(_("no column in volts ([V]) for the pack voltage"))
     builder = SampleBuilder()
     bad = 0
     for line in lines[2:]:
@@ -71,6 +72,6 @@ def read(data: bytes) -> Log:
             continue
         add_row(builder, r, numbers, t)
     if not len(builder):
-        raise LogFormatError(f"no data row ({bad} bad rows)")
+        raise LogFormatError(_("no data row ({bad} bad rows)").format(bad=bad))
     meta = {} if r.current is not None else {"current_measured": False}
     return builder.build("dataexplorer-csv", device, bad, **meta)

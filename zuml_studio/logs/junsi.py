@@ -10,6 +10,7 @@ from dataclasses import replace
 from ..device.icharger_logview import IChargerLineDecoder
 from ..device.stream_decoder import Reading, integers
 from .model import Log, LogFormatError, from_samples
+from ..i18n import _
 
 SNIFF_LINES = 8
 IR_STATE = 128                 # LOG_EX_IR: internal resistance, 0.1 mΩ
@@ -72,8 +73,8 @@ def read_duo(data: bytes) -> Log:
     decoder = _DuoLogDecoder()
     samples = decoder.feed(data if data.endswith(b"\n") else data + b"\n")
     if not samples:
-        raise LogFormatError(f"no iCharger DUO/X record read ({decoder.good + decoder.bad + decoder.skipped} "
-                             f"records, {decoder.bad} bad)")
+        raise LogFormatError(_("no iCharger DUO/X record read ({good} records, {bad} bad)").format(
+                good=decoder.good + decoder.bad + decoder.skipped, bad=decoder.bad))
     device = f"Junsi iCharger {model}".strip() if model else "Junsi iCharger (DUO/X log)"
     meta: dict = {"channel": int(decoder.channel)} if decoder.channel else {}
     if header:

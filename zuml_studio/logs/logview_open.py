@@ -19,6 +19,7 @@ import re
 
 from .columns import Roles, add_row, parse_column, roles as column_roles
 from .model import Log, LogFormatError, SampleBuilder
+from ..i18n import _
 
 MAX_LINE = 4096
 MAX_COLUMNS = 256
@@ -162,17 +163,17 @@ def read(data: bytes) -> Log:
         if roles is None:
             roles = column_roles(ch.columns)
             if roles.voltage is None:
-                raise LogFormatError("no column in volts ([V]) for the pack voltage")
+                raise LogFormatError(_("no column in volts ([V]) for the pack voltage"))
         values = body.split(";")
         given = ch.time_index
         try:
             if given is not None:
                 if given >= len(values):
-                    raise ValueError("no time")
+                    raise ValueError(_("no time"))
                 t_given = _given_seconds(values[given].strip(), ch.time_format)
                 values = values[:given] + values[given + 1:]
             if len(values) < len(ch.columns):
-                raise ValueError("too few values")
+                raise ValueError(_("too few values"))
             numbers = []
             for k in range(len(ch.columns)):
                 item = values[k].strip()
@@ -194,8 +195,9 @@ def read(data: bytes) -> Log:
             t_next += ch.increment_s if ch.increment_s is not None else DEFAULT_STEP_S
         add_row(builder, roles, numbers, t)
     if not len(builder):
-        raise LogFormatError(f"no data line read ({bad} bad lines)" if channels else "no '$X$;' header line")
-    meta = {"channel": chosen, "columns": [n for n, _ in channels[chosen].columns]}
+        raise LogFormatError(_("no data line read ({bad} bad lines)").format(
+                bad=bad) if channels else _("no '$X$;' header line"))
+    meta = {"channel": chosen, "columns": [n for n, __ in channels[chosen].columns]}
     if other:
         meta["other_channel_lines"] = other
     if messages:

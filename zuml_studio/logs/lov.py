@@ -22,6 +22,7 @@ from dataclasses import replace
 from ..device.drivers import DRIVERS
 from ..device.messages import Telemetry
 from .model import Log, LogFormatError, from_samples
+from ..i18n import _
 
 MAGIC = b"LogView-Stream:"
 SLACK = 16
@@ -91,15 +92,15 @@ RECORDS = {"icharger": text_records, "cheali": text_records, "imaxb6": frame_rec
 
 def read(data: bytes) -> Log:
     if MAGIC not in data[:64]:
-        raise LogFormatError("not a LogView file: no 'LogView-Stream:' header")
+        raise LogFormatError(_("not a LogView file: no 'LogView-Stream:' header"))
     device = device_name(data)
     if not device:
-        raise LogFormatError("LogView file without a device .ini (no 'Name=' entry)")
+        raise LogFormatError(_("LogView file without a device .ini (no 'Name=' entry)"))
     name = driver_for(device)
     if name is None:
         readers = ", ".join(DRIVERS[d].title for d in RECORDS)
-        raise LogFormatError(f"LogView file from '{device}': .lov records are read for {readers}; "
-                             f"export it from LogView as text")
+        raise LogFormatError(_("LogView file from '{device}': .lov records are read for {readers}; export it "
+                               "from LogView as text").format(device=device, readers=readers))
     records, bad = RECORDS[name](data)
     decoder = DRIVERS[name].decoder()
     samples: list[Telemetry] = []
@@ -112,6 +113,6 @@ def read(data: bytes) -> Log:
             samples.append(sample)
     bad += decoder.bad
     if not samples:
-        raise LogFormatError(f"LogView file from '{device}': no {name} record read "
-                             f"({len(records)} records, {bad} bad)")
+        raise LogFormatError(_("LogView file from '{device}': no {name} record read ({n_records} records, {bad} "
+                               "bad)").format(device=device, name=name, n_records=len(records), bad=bad))
     return from_samples("logview-lov", device, samples, bad, driver=name)

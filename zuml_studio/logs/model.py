@@ -10,6 +10,7 @@ import numpy as np
 
 from ..device.messages import Telemetry
 from .charge import charge_from_counter, integrate_current
+from ..i18n import _
 
 # The states a log sample can be in; every format maps its own onto these.
 STATES = ("charge", "discharge", "pause", "idle")
@@ -150,7 +151,8 @@ class SampleBuilder:
             mah_in: float | None = None, mah_out: float | None = None, cycle: int = 0) -> None:
         for name, value in (("time", t), ("voltage", v), ("current", i)):
             if not math.isfinite(value):
-                raise LogFormatError(f"sample {len(self.t) + 1}: {name} is {value}")
+                raise LogFormatError(_("sample {n_t}: {name} is {value}").format(
+                        n_t=len(self.t) + 1, name=name, value=value))
         if state not in STATES:
             raise ValueError(f"state {state!r}")
         self.t.append(float(t))

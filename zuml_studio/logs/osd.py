@@ -23,6 +23,7 @@ import zlib
 import numpy as np
 
 from .model import Log, LogFormatError, SampleBuilder, state_from_current
+from ..i18n import _
 
 MAX_UNZIPPED = 512 * 1024 * 1024
 MAX_SETS = 10000
@@ -46,17 +47,19 @@ def _unzip(data: bytes) -> bytes:
         with zipfile.ZipFile(io.BytesIO(data)) as z:
             infos = z.infolist()
             if not infos:
-                raise LogFormatError("an empty ZIP archive")
+                raise LogFormatError(_("an empty ZIP archive"))
             info = infos[0]
             if info.file_size > MAX_UNZIPPED:
-                raise LogFormatError(f"the .osd inside the ZIP is {info.file_size} bytes; at most {MAX_UNZIPPED}")
+                raise LogFormatError(_("the .osd inside the ZIP is {file_size} bytes; at most {max_unzipped}").format(
+                        file_size=info.file_size, max_unzipped=MAX_UNZIPPED))
             with z.open(info) as fh:
                 out = fh.read(MAX_UNZIPPED + 1)
     except (zipfile.BadZipFile, zipfile.LargeZipFile, zlib.error, EOFError, NotImplementedError, RuntimeError,
             ValueError, OSError) as exc:
-        raise LogFormatError(f"a damaged ZIP around the .osd: {exc}") from None
+        raise LogFormatError(_("a damaged ZIP around the .osd: {exc}").format(exc=exc)) from None
     if len(out) > MAX_UNZIPPED:
-        raise LogFormatError(f"the .osd inside the ZIP is larger than {MAX_UNZIPPED} bytes")
+        raise LogFormatError(_("the .osd inside the ZIP is larger than {max_unzipped} bytes").format(
+                max_unzipped=MAX_UNZIPPED))
     return out
 
 
@@ -67,22 +70,22 @@ class _Stream:
 
     def utf(self) -> str:
         if self.pos + 2 > len(self.data):
-            raise LogFormatError(f"the header ends early (offset {self.pos})")
+            raise LogFormatError(_("the header ends early (offset {pos})").format(pos=self.pos))
         (n,) = struct.unpack_from(">H", self.data, self.pos)
         return self._text(self.pos + 2, n)
 
     def int_text(self) -> str:
         if self.pos + 4 > len(self.data):
-            raise LogFormatError(f"the header ends early (offset {self.pos})")
+            raise LogFormatError(_("the header ends early (offset {pos})").format(pos=self.pos))
         (n,) = struct.unpack_from(">i", self.data, self.pos)
         if n < 0:
-            raise LogFormatError(f"a negative string length at offset {self.pos}")
+            raise LogFormatError(_("a negative string length at offset {pos}").format(pos=self.pos))
         return self._text(self.pos + 4, n)
 
     def _text(self, start: int, n: int) -> str:
         end = start + n
         if end > len(self.data):
-            raise LogFormatError(f"a header string runs past the end of the file (offset {self.pos})")
+            raise LogFormatError(_("a header string runs past the end of the file (offset {pos})").format(pos=self.pos))
         self.pos = end
         return self.data[start:end].decode("utf-8", errors="replace")
 
@@ -107,7 +110,7 @@ def _float(props: dict, key: str, default: float) -> float:
 def _int(text: str, what: str) -> int:
     text = text.strip()
     if not text.isdigit() or len(text) > 10:
-        raise LogFormatError(f"{what} is not a number: {text[:20]!r}")
+        raise LogFormatError(_("{what} is not a number: {text!r}").format(what=what, text=text[:20]))
     return int(text)
 
 
@@ -134,22 +137,22 @@ def read(data: bytes) -> Log:
     header: dict[str, str] = {}
     first = s.utf()
     if not first.startswith(("DataExplorer version", "OpenSerialData version")):
-        raise LogFormatError("not a DataExplorer file: no 'DataExplorer version' line")
+        raise LogFormatError(_("not a DataExplorer file: no 'DataExplorer version' line"))
     m = _VERSION.search(first)
     version = int(m.group(1)) if m else 0
     header["version"] = str(version)
     while True:
         line = s.utf().strip()
-        key, _, value = line.partition(" : ")
+        key, __, value = line.partition(" : ")
         header[key.strip()] = value.strip()
         if key.strip() == "NumberRecordSets":
             break
         if len(header) > 64:
-            raise LogFormatError("no 'NumberRecordSets' line in the header")
+            raise LogFormatError(_("no 'NumberRecordSets' line in the header"))
     count = _int(header["NumberRecordSets"], "NumberRecordSets")
     if not 0 < count <= MAX_SETS:
-        raise LogFormatError(f"NumberRecordSets is {count}")
-    sets = [_descriptor(s.int_text() if version >= 4 else s.utf()) for _ in range(count)]
+        raise LogFormatError(_("NumberRecordSets is {count}").format(count=count))
+    sets = [_descriptor(s.int_text() if version >= 4 else s.utf()) for __ in range(count)]
     for d in sets:
         d["size"] = _int(d.get("RecordDataSize", ""), "RecordDataSize")
         d["pointer"] = _int(d.get("RecordSetDataPointer", ""), "RecordSetDataPointer")
@@ -176,7 +179,7 @@ def read(data: bytes) -> Log:
         _add_set(builder, d["records"], columns, t + offset, name)
         end_s = float(t[-1] + offset)
     if not len(builder):
-        raise LogFormatError("no data points in any record set")
+        raise LogFormatError(_("no data points in any record set"))
     device = header.get("DeviceName", "") or "DataExplorer"
     return builder.build("dataexplorer-osd", device, 0, record_sets=names, comment=header.get("FileComment", ""))
 
@@ -184,17 +187,20 @@ def read(data: bytes) -> Log:
 def _set_data(data: bytes, d: dict, bounds: list[int], step_ms: float, name: str):
     n, pointer = d["size"], d["pointer"]
     if pointer > len(data):
-        raise LogFormatError(f"record set '{name}': data pointer {pointer} past the end ({len(data)} bytes)")
+        raise LogFormatError(_("record set '{name}': data pointer {pointer} past the end ({n_data} bytes)").format(
+                name=name, pointer=pointer, n_data=len(data)))
     if n == 0:
         return np.zeros(0), np.zeros((0, 0))
     block_end = next(b for b in bounds if b > pointer) if pointer < len(data) else pointer
     block = block_end - pointer
     stamps = 4 * n if step_ms <= 0 else 0
     if block < stamps or (block - stamps) % (4 * n):
-        raise LogFormatError(f"record set '{name}': {block} data bytes do not hold {n} points")
+        raise LogFormatError(_("record set '{name}': {block} data bytes do not hold {n} points").format(
+                name=name, block=block, n=n))
     k = (block - stamps) // (4 * n)
     if k == 0 or k > len(d["records"]):
-        raise LogFormatError(f"record set '{name}': {k} stored values per point for {len(d['records'])} records")
+        raise LogFormatError(_("record set '{name}': {k} stored values per point for {n_d} records").format(
+                name=name, k=k, n_d=len(d['records'])))
     raw = np.frombuffer(data, dtype=">i4", count=stamps // 4 + n * k, offset=pointer)
     if stamps:
         t = raw[:n].astype(float) / 10000.0
@@ -223,7 +229,8 @@ def _match(records: list[dict], columns: np.ndarray, name: str) -> list[int]:
                 break
             r += 1
         else:
-            raise LogFormatError(f"record set '{name}': stored column {c + 1} matches no record")
+            raise LogFormatError(_("record set '{name}': stored column {c} matches no record").format(
+                    name=name, c=c + 1))
     return out
 
 
@@ -247,14 +254,14 @@ def _add_set(builder: SampleBuilder, records: list[dict], columns: np.ndarray, t
 
     volts = find(("V",), avoid=_NOT_PACK)
     if volts is None:
-        raise LogFormatError(f"record set '{name}': no pack voltage record (unit V)")
+        raise LogFormatError(_("record set '{name}': no pack voltage record (unit V)").format(name=name))
     amps = find(("A",))
     mah = find(("mAh",))
     temp = find(("°C",), ("temp",), ("int",))
     heatsink = find(("°C",), ("temp", "int"))
     cells = sorted((int(m.group(1)), r) for r in values
                    if records[r].get("_unit") == "V" and (m := _CELL.search(records[r].get("_name", "").strip())))
-    cell_cols = [values[r] for _, r in cells]
+    cell_cols = [values[r] for __, r in cells]
     lower = name.lower()
     direction = "discharge" if ("entlad" in lower or "discharg" in lower) else \
         "charge" if ("lad" in lower or "charg" in lower) else "pause" if "pause" in lower else ""

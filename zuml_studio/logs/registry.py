@@ -15,6 +15,7 @@ from pathlib import Path
 from ..file_errors import FileReadError, read_file_bytes
 from . import dataexplorer_csv, junsi, logview_open, lov, osd, raw_capture, session_csv
 from .model import Log, LogFormatError
+from ..i18n import _
 
 HEAD_BYTES = 4096
 
@@ -47,7 +48,7 @@ def detect(data: bytes, name: str = "") -> LogReader:
         if reader.sniff(head, name):
             return reader
     tried = ", ".join(f.description for f in FORMATS)
-    raise LogFormatError(f"not a log file ZUML Studio reads (tried: {tried})")
+    raise LogFormatError(_("not a log file ZUML Studio reads (tried: {tried})").format(tried=tried))
 
 
 def read_log(data: bytes, name: str = "", fmt: str | None = None) -> Log:
@@ -55,10 +56,11 @@ def read_log(data: bytes, name: str = "", fmt: str | None = None) -> Log:
     if fmt is not None:
         reader = BY_NAME.get(fmt)
         if reader is None:
-            raise LogFormatError(f"unknown log format '{fmt}' (known: {', '.join(BY_NAME)})")
+            raise LogFormatError(_("unknown log format '{fmt}' (known: {by_name})").format(
+                    fmt=fmt, by_name=', '.join(BY_NAME)))
     else:
         if not data:
-            raise LogFormatError("the file is empty")
+            raise LogFormatError(_("the file is empty"))
         reader = detect(data, name)
     return reader.read(data)
 

@@ -14,6 +14,7 @@ import math
 from ..sim.samples import COLUMNS as SIM_COLUMNS
 from . import export
 from .model import STATES, Log, LogFormatError, SampleBuilder
+from ..i18n import _
 
 SESSION_HEAD = ",".join(SIM_COLUMNS)          # the session CSV adds "event" and the cells after these
 EXPORT_HEAD = ",".join(export.COLUMNS)
@@ -36,7 +37,7 @@ def _num(text: str, empty_ok: bool) -> float | None:
         raise ValueError("empty")
     value = float(text)
     if not math.isfinite(value):
-        raise ValueError("not finite")
+        raise ValueError(_("not finite"))
     return value
 
 
@@ -44,18 +45,20 @@ def read(data: bytes) -> Log:
     try:
         text = data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
-        raise LogFormatError(f"not UTF-8 text (byte 0x{data[exc.start]:02x} at offset {exc.start})") from None
+        raise LogFormatError(_("not UTF-8 text (byte 0x{data:02x} at offset {start})").format(
+                data=data[exc.start], start=exc.start)) from None
     if "\0" in text:
-        raise LogFormatError("a NUL character in a CSV file")
+        raise LogFormatError(_("a NUL character in a CSV file"))
     rows = csv.reader(io.StringIO(text, newline=""))
     try:
         header = next(rows)
     except (StopIteration, csv.Error):
-        raise LogFormatError("no header line") from None
+        raise LogFormatError(_("no header line")) from None
     for head, session in ((SESSION_HEAD, True), (EXPORT_HEAD, False)):
         if set(head.split(",")) <= set(header) and ",".join(header).startswith(head):
             return _read_rows(rows, header, session=session)
-    raise LogFormatError(f"header is neither '{SESSION_HEAD}…' nor '{EXPORT_HEAD}…'")
+    raise LogFormatError(_("header is neither '{session_head}…' nor '{export_head}…'").format(
+            session_head=SESSION_HEAD, export_head=EXPORT_HEAD))
 
 
 def _cell_columns(header: list[str]) -> list[int]:
@@ -109,9 +112,9 @@ def _read_rows(rows, header: list[str], session: bool) -> Log:
             last_t = max(last_t, t)
             builder.add(t, v, i, state, temp=temp, heatsink=heatsink, cells=cell_v, mah_in=q_in, mah_out=q_out)
     except csv.Error as exc:
-        raise LogFormatError(f"CSV line {rows.line_num}: {exc}") from None
+        raise LogFormatError(_("CSV line {line_num}: {exc}").format(line_num=rows.line_num, exc=exc)) from None
     if not len(builder):
-        raise LogFormatError(f"no sample row ({bad} bad rows, {events} event rows)")
+        raise LogFormatError(_("no sample row ({bad} bad rows, {events} event rows)").format(bad=bad, events=events))
     fmt = "session-csv" if session else "export-csv"
     device = "ZUML Studio session" if session else "ZUML Studio export"
     return builder.build(fmt, device, bad, events=events)

@@ -11,6 +11,7 @@ from pathlib import Path
 from ..recovery import atomic_write, config_dir
 from .chemistry import Chemistry, _check, load_chemistry
 from .fit import Battery
+from ..i18n import _
 
 _NAME = re.compile(r"^[\w][\w .,+()-]{0,79}$")
 _FORMAT = 1
@@ -26,7 +27,9 @@ def batteries_dir(root: Path | None = None) -> Path:
 
 def _file_name(name: str) -> str:
     if not _NAME.match(name) or name.strip() != name:
-        raise BatteryFileError(f"battery name {name!r}: use letters, digits, spaces and . , + ( ) - (at most 80)")
+        raise BatteryFileError(_("battery name {name!r}: use letters, digits, spaces and . , + ( ) - (at most "
+                                 "80)").format(
+                name=name))
     return re.sub(r"[^\w.-]", "_", name) + ".json"
 
 
@@ -60,25 +63,26 @@ def load_battery(name: str, root: Path | None = None) -> Battery:
     try:
         doc = json.loads(path.read_text("utf-8"))
     except FileNotFoundError:
-        known = ", ".join(battery_names(root)) or "none saved yet (zuml fit LOG --save NAME)"
-        raise BatteryFileError(f"no saved battery {name!r}; saved: {known}") from None
+        known = ", ".join(battery_names(root)) or _("none saved yet (zuml fit LOG --save NAME)")
+        raise BatteryFileError(_("no saved battery {name!r}; saved: {known}").format(name=name, known=known)) from None
     except (OSError, ValueError) as exc:
-        raise BatteryFileError(f"{path}: not a battery file: {exc}") from None
+        raise BatteryFileError(_("{path}: not a battery file: {exc}").format(path=path, exc=exc)) from None
     try:
         if doc.get("format") != _FORMAT:
-            raise ValueError(f"format {doc.get('format')!r}, expected {_FORMAT}")
+            raise ValueError(_("format {found!r}, expected {expected}").format(
+                    found=doc.get('format'), expected=_FORMAT))
         chem = load_chemistry(str(doc["chemistry"]))
         wanted = {f.name: f.type for f in fields(Chemistry)}
         params = {}
         for key, value in doc["parameters"].items():
             if key not in wanted or key == "name":
-                raise ValueError(f"unknown parameter {key!r}")
+                raise ValueError(_("unknown parameter {key!r}").format(key=key))
             params[key] = tuple(float(x) for x in value) if isinstance(value, list) else float(value)
         fitted = replace(chem, **params)
         _check(fitted)
         capacity, series = float(doc["capacity_mah"]), int(doc["series"])
         if not capacity > 0 or not 1 <= series <= 255:
-            raise ValueError("capacity_mah must be > 0 and series 1..255")
+            raise ValueError(_("capacity_mah must be > 0 and series 1..255"))
     except (KeyError, TypeError, ValueError, AttributeError) as exc:
-        raise BatteryFileError(f"{path}: bad battery file: {exc}") from None
+        raise BatteryFileError(_("{path}: bad battery file: {exc}").format(path=path, exc=exc)) from None
     return Battery(fitted, capacity, series)

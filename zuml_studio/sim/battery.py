@@ -25,6 +25,7 @@ from bisect import bisect_right
 from math import exp
 
 from .chemistry import Chemistry
+from ..i18n import _
 
 _GAS_R = 8.314462618          # J/(mol K), physical constant
 _T_REF_K = 298.15             # parameters are given at 25 °C
@@ -43,7 +44,7 @@ class Pack:
     def __init__(self, chem: Chemistry, capacity_mah: float, series: int, soc: float = 0.0,
                  ambient_c: float = 25.0) -> None:
         if capacity_mah <= 0 or series < 1:
-            raise ValueError("capacity_mah must be > 0 and series >= 1")
+            raise ValueError(_("capacity_mah must be > 0 and series >= 1"))
         self.chem = chem
         self.capacity_mah = float(capacity_mah)
         self.series = int(series)

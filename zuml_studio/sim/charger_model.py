@@ -11,6 +11,7 @@ from math import exp
 
 from .. import data
 from ..data import DataFileError
+from ..i18n import _
 
 
 @dataclass(frozen=True)
@@ -36,14 +37,16 @@ def load_charger(name: str = "imax_b6") -> ChargerLimits:
     """Load ``data/chargers/<name>.toml``; KeyError names the chargers there are."""
     known = data.names("chargers")
     if name not in known:
-        raise KeyError(f"no charger {name!r}; known chargers: {', '.join(known)}")
+        raise KeyError(_("no charger {name!r}; known chargers: {known}").format(name=name, known=', '.join(known)))
     relative = f"chargers/{name}.toml"
     try:
         return _from_toml(data.read_toml(relative))
     except KeyError as exc:
-        raise DataFileError(f"data file {data.location(relative)}: missing key {exc}") from None
+        raise DataFileError(_("data file {location}: missing key {exc}").format(
+                location=data.location(relative), exc=exc)) from None
     except (TypeError, ValueError) as exc:
-        raise DataFileError(f"data file {data.location(relative)}: {exc}") from None
+        raise DataFileError(_("data file {location}: {exc}").format(
+                location=data.location(relative), exc=exc)) from None
 
 
 def _from_toml(parsed: dict) -> ChargerLimits:
@@ -64,9 +67,9 @@ def _from_toml(parsed: dict) -> ChargerLimits:
         dpeak_holdoff_s=float(dpeak["holdoff_s"]),
     )
     if not 0.0 < limits.charge_efficiency <= 1.0 or limits.heatsink_r_k_per_w <= 0 or limits.heatsink_c_j_per_k <= 0:
-        raise ValueError("efficiency must be in (0, 1], heat-sink R and C > 0")
+        raise ValueError(_("efficiency must be in (0, 1], heat-sink R and C > 0"))
     if limits.dpeak_window_s <= 0 or limits.dpeak_holdoff_s < 0:
-        raise ValueError("-dV window must be > 0 s and its hold-off >= 0 s")
+        raise ValueError(_("-dV window must be > 0 s and its hold-off >= 0 s"))
     return limits
 
 

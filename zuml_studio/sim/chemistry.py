@@ -12,6 +12,7 @@ from dataclasses import dataclass, fields
 
 from .. import data
 from ..data import DataFileError
+from ..i18n import _
 
 # ZUML AKK_TYPE names with a model; LiS/New/Undef deliberately have none (spec §5).
 _NAMES = ("Pb", "NiCd", "NiMh", "LiPo", "LiIon", "LiFe")
@@ -68,8 +69,8 @@ def _canonical(name: str) -> str:
         if known.lower() == name.strip().lower():
             return known
     raise KeyError(
-        f"no battery model for chemistry {name!r}; "
-        f"modelled chemistries are {', '.join(_NAMES)} (LiS, New and Undef have no defaults)"
+        _("no battery model for chemistry {name!r}; modelled chemistries are {names} (LiS, New and Undef have no "
+          "defaults)").format(name=name, names=', '.join(_NAMES))
     )
 
 
@@ -85,7 +86,8 @@ def _load(canonical: str) -> Chemistry:
     try:
         return _from_toml(canonical, data.read_toml(relative))
     except (TypeError, ValueError) as exc:
-        raise DataFileError(f"data file {data.location(relative)}: {exc}") from None
+        raise DataFileError(_("data file {location}: {exc}").format(
+                location=data.location(relative), exc=exc)) from None
 
 
 def _from_toml(name: str, parsed: dict) -> Chemistry:
@@ -93,7 +95,7 @@ def _from_toml(name: str, parsed: dict) -> Chemistry:
     for section in _SECTIONS:
         table = parsed.get(section)
         if not isinstance(table, dict):
-            raise ValueError(f"missing [{section}] table")
+            raise ValueError(_("missing [{section}] table").format(section=section))
         for key, value in table.items():
             if key == "sources":
                 continue
@@ -105,7 +107,8 @@ def _from_toml(name: str, parsed: dict) -> Chemistry:
     missing = wanted - flat.keys()
     extra = flat.keys() - wanted
     if missing or extra:
-        raise ValueError(f"missing keys {sorted(missing)}, unknown keys {sorted(extra)}")
+        raise ValueError(_("missing keys {missing}, unknown keys {unknown}").format(
+                missing=sorted(missing), unknown=sorted(extra)))
     chem = Chemistry(**flat)  # type: ignore[arg-type]
     _check(chem)
     return chem
@@ -114,19 +117,19 @@ def _from_toml(name: str, parsed: dict) -> Chemistry:
 def _check(c: Chemistry) -> None:
     soc, v = c.ocv_soc, c.ocv_v
     if len(soc) != len(v) or len(soc) < 2:
-        raise ValueError("ocv soc and v must have the same length >= 2")
+        raise ValueError(_("ocv soc and v must have the same length >= 2"))
     if soc[0] != 0.0 or soc[-1] != 1.0 or any(b <= a for a, b in zip(soc, soc[1:])):
-        raise ValueError("ocv soc must rise strictly from 0 to 1")
+        raise ValueError(_("ocv soc must rise strictly from 0 to 1"))
     if any(b < a for a, b in zip(v, v[1:])):
-        raise ValueError("ocv v must not fall with soc")
+        raise ValueError(_("ocv v must not fall with soc"))
     positive = ("ref_capacity_ah", "r0_ohm", "tau1_s", "tau2_s", "w0", "cth_j_per_k", "ha_w_per_k", "pol_eps",
                 "pol_tau_s", "pol_max_v")
     for key in positive:
         if not getattr(c, key) > 0.0:
-            raise ValueError(f"{key} must be > 0")
+            raise ValueError(_("{key} must be > 0").format(key=key))
     for f in fields(Chemistry):
         value = getattr(c, f.name)
         if isinstance(value, float) and not math.isfinite(value):
-            raise ValueError(f"{f.name} is not finite")
+            raise ValueError(_("{name} is not finite").format(name=f.name))
     if not c.discharge_end_v < c.nominal_v < c.charge_end_v <= c.max_v:
-        raise ValueError("limits must satisfy discharge_end < nominal < charge_end <= max")
+        raise ValueError(_("limits must satisfy discharge_end < nominal < charge_end <= max"))

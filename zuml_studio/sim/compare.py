@@ -11,6 +11,7 @@ from .fit import NI, Run, cc_current, cv_mask, figures, soc_at_ocv
 from .chemistry import load_chemistry
 from .interpreter import StartParams
 from .simulate import BatterySetup, SimResult, model_chemistry, simulate
+from ..i18n import _
 
 
 @dataclass
@@ -61,7 +62,7 @@ def compare(curve: Curve, record: bytes, chemistry: str | None, series: int, cap
     m_t, m_v, m_i, m_temp = a["time_s"], a["voltage_v"], np.clip(a["current_a"], 0.0, None), a["temp_c"]
     over = curve.t <= (m_t[-1] if len(m_t) else 0.0)
     if over.sum() < 10:
-        raise ValueError("the simulation ended within the log's first samples: nothing to compare")
+        raise ValueError(_("the simulation ended within the log's first samples: nothing to compare"))
     part = Curve(curve.t[over], curve.v[over], curve.i[over], None if curve.temp is None else curve.temp[over],
                  curve.cells, curve.name)
     run = Run(np.interp(part.t, m_t, m_v), np.interp(part.t, m_t, m_i), np.interp(part.t, m_t, m_temp))

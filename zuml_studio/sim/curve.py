@@ -15,6 +15,7 @@ import numpy as np
 
 from ..file_errors import read_file_bytes
 from ..logs import Log, LogFormatError, read_log
+from ..i18n import _
 
 # Chargers drop out of "charge" for a sample or two (a measurement pause); gaps up to this
 # long are part of the same charge.
@@ -38,7 +39,8 @@ class Curve:
 
     def __post_init__(self) -> None:
         if len(self.t) < 10:
-            raise CurveError(f"{self.name or 'curve'}: only {len(self.t)} samples of charge")
+            raise CurveError(_("{value}: only {n_t} samples of charge").format(
+                    value=self.name or 'curve', n_t=len(self.t)))
 
     @property
     def mah(self) -> np.ndarray:
@@ -86,7 +88,7 @@ def charge_from_log(log: Log, name: str = "") -> Curve:
     a = log.arrays()
     charging = np.array([s.section == "charge" and s.running and not s.paused for s in log.samples], bool)
     if not charging.any():
-        raise CurveError(f"{name or 'log'}: no charge in the log")
+        raise CurveError(_("{value}: no charge in the log").format(value=name or 'log'))
     runs: list[list[int]] = []
     for k in np.flatnonzero(charging):
         if runs and a["t"][k] - a["t"][runs[-1][1]] <= _MERGE_GAP_S:
@@ -108,21 +110,24 @@ def read_curve_csv(text: str, name: str = "") -> Curve:
     lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
     rows = list(csv.reader(lines))
     if not rows or tuple(c.strip() for c in rows[0][:3]) != _CSV_COLUMNS:
-        raise CurveError(f"{name}: a curve CSV starts with the header {','.join(_CSV_COLUMNS)}[,temp_c]")
+        raise CurveError(_("{name}: a curve CSV starts with the header {csv_columns}[,temp_c]").format(
+                name=name, csv_columns=','.join(_CSV_COLUMNS)))
     has_temp = len(rows[0]) > 3 and rows[0][3].strip() == "temp_c"
     cols: list[list[float]] = [[], [], [], []]
     for n, row in enumerate(rows[1:], start=2):
         try:
             values = [float(x) for x in row[:4 if has_temp else 3]]
         except ValueError:
-            raise CurveError(f"{name}: data line {n}: not a number in {row!r}") from None
+            raise CurveError(_("{name}: data line {n}: not a number in {row!r}").format(
+                    name=name, n=n, row=row)) from None
         if len(values) < (4 if has_temp else 3) or not all(math.isfinite(x) for x in values):
-            raise CurveError(f"{name}: data line {n}: expected {4 if has_temp else 3} finite numbers")
+            raise CurveError(_("{name}: data line {n}: expected {value} finite numbers").format(
+                    name=name, n=n, value=4 if has_temp else 3))
         for c, x in zip(cols, values):
             c.append(x)
     t = np.array(cols[0])
     if np.any(np.diff(t) <= 0):
-        raise CurveError(f"{name}: time must rise from line to line")
+        raise CurveError(_("{name}: time must rise from line to line").format(name=name))
     return Curve(t - t[0], np.array(cols[1]), np.array(cols[2]), np.array(cols[3]) if has_temp else None, 0, name)
 
 

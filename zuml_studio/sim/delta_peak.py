@@ -9,13 +9,15 @@ ignore the first 5-10 minutes). The charger model sets both numbers
 """
 from __future__ import annotations
 
+from ..i18n import _
+
 
 class DeltaPeakDetector:
     """Held-peak -dV on window averages; `update` returns the drop below the peak in volts."""
 
     def __init__(self, window_s: float = 30.0, holdoff_s: float = 300.0) -> None:
         if window_s <= 0 or holdoff_s < 0:
-            raise ValueError("window_s must be > 0 and holdoff_s >= 0")
+            raise ValueError(_("window_s must be > 0 and holdoff_s >= 0"))
         self.window_s = float(window_s)
         self.holdoff_s = float(holdoff_s)
         self.reset()

@@ -22,6 +22,7 @@ from .delta_peak import DeltaPeakDetector
 from .program import CommandStep, DefaultDischarge, PhaseCode, Program, SectionStart
 from .samples import SampleLog
 from .start_templates import StartTemplate, apply_template, chosen_template, factory_templates
+from ..i18n import _
 
 # Defaults of spec §3. A macro's IF(Tc>x), IF(Tc<x) and IF(T>x) replace the matching default; dT/dt and
 # the 1.5 x capacity guard cannot be written in ZUML and always apply.
@@ -204,7 +205,7 @@ class Interpreter:
         self.tc_continue = cond[86].raws[0] if 86 in cond else DEFAULT_TC_CONTINUE
         self.tm_stop = (cond[87].raws[0] / 10.0, _reason(cond[87])) if 87 in cond else None
         if p.repetitions < 1:
-            raise StartError("training needs at least 1 repetition")
+            raise StartError(_("training needs at least 1 repetition"))
         # As the charger asks for every INPUT value at start: a missing one is an error now, not mid-run.
         for step in self.program.steps(p.task):
             for ins in (step.actions + step.conditions) if isinstance(step, PhaseCode) else ():
@@ -218,15 +219,15 @@ class Interpreter:
         amps = absolute_value(raw, self.params.current_a, self.capacity_ah)
         if amps is not None:
             return round(amps, 6)   # the charger's fixed point: 1 µA
-        raise StartError("the macro takes a current at start (INPUT): give the current" if raw == INPUT_U16
-                         else "a current in C needs the capacity: declare CAPACITY or give it at start")
+        raise StartError(_("the macro takes a current at start (INPUT): give the current") if raw == INPUT_U16
+                         else _("a current in C needs the capacity: declare CAPACITY or give it at start"))
 
     def voltage(self, raw: int) -> float:
         volts = absolute_value(raw, self.params.voltage_v, self.series)
         if volts is not None:
             return round(volts, 6)  # the charger's fixed point: 1 µV
-        raise StartError("the macro takes a voltage at start (INPUT): give the voltage" if raw == INPUT_U16
-                         else "a voltage per cell (S) needs the cell count: declare SERIES or give it at start")
+        raise StartError(_("the macro takes a voltage at start (INPUT): give the voltage") if raw == INPUT_U16
+                         else _("a voltage per cell (S) needs the cell count: declare SERIES or give it at start"))
 
     # -- running ----------------------------------------------------------------------------
     def stop(self, reason: str = "stopped") -> None:
@@ -517,7 +518,9 @@ def with_template(program: Program, params: StartParams,
     if template is None:
         stored = ", ".join(str(n) for n in sorted(table)) or "none"
         how = f"START_SHABLON={number}" if ops.START_SHABLON.code in program.intro.declarations else "chosen at start"
-        raise StartError(f"start template {number} ({how}) does not exist on this charger (templates: {stored})")
+        raise StartError(_("start template {number} ({how}) does not exist on this charger (templates: "
+                           "{stored})").format(
+                number=number, how=how, stored=stored))
     return replace(apply_template(params, template), template=number)
 
 

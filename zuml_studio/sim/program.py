@@ -13,6 +13,7 @@ from ..lang.decoder import decode_record
 from ..lang.opcodes import Op, Role
 from ..lang.operands import CAPACITY_AUTO, CAPACITY_INPUT
 from ..lang.record import HEADER_SIZE, Instruction, read_instruction
+from ..i18n import _
 
 TASKS = ("charge", "discharge", "train")
 
@@ -122,7 +123,7 @@ class Program:
         reads on from it (discharge and training); a charge-only run jumps to the charge section
         (header byte 2) and skips them."""
         if task not in TASKS:
-            raise ValueError(f"task must be one of {', '.join(TASKS)}")
+            raise ValueError(_("task must be one of {tasks}").format(tasks=', '.join(TASKS)))
         reps = repetitions if task == "train" else 1
         for rep in range(1, reps + 1):
             if task in ("discharge", "train"):

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 from typing import NamedTuple, TextIO
 
 import numpy as np
+from ..i18n import _
 
 COLUMNS = ("time_s", "section", "phase", "voltage_v", "current_a", "temp_c", "heatsink_c", "mah_in", "mah_out")
 SECTION_NAMES = ("discharge", "charge")
@@ -95,7 +96,7 @@ class SampleLog:
         section = np.array(stage["section"], np.int8)
         spans = [(a, min(n, a + CHUNK)) for a in range(0, n, CHUNK)]
         if any(int(np.ptp(phase[a:b])) > np.iinfo(np.uint16).max for a, b in spans):
-            raise ValueError("more than 65 536 phase numbers in one chunk of samples")
+            raise ValueError(_("more than 65 536 phase numbers in one chunk of samples"))
         self._learn_sections(phase, section)
         for a, b in spans:
             t0, phase0 = float(t[a]), int(phase[a:b].min())
@@ -111,11 +112,11 @@ class SampleLog:
         if not len(phase):
             return
         if np.any((section[1:] != section[:-1]) & (phase[1:] == phase[:-1])):
-            raise ValueError("a phase's samples must all be in one section")
+            raise ValueError(_("a phase's samples must all be in one section"))
         for k in np.flatnonzero(np.r_[True, phase[1:] != phase[:-1]]):
             number, sec = int(phase[k]), int(section[k])
             if self._sections.setdefault(number, sec) != sec:
-                raise ValueError(f"phase {number} has samples in two sections")
+                raise ValueError(_("phase {number} has samples in two sections").format(number=number))
 
     def keep_last(self) -> None:
         """Forget every sample but the newest (a stream that does not store)."""

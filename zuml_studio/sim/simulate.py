@@ -13,6 +13,7 @@ from .chemistry import load_chemistry
 from .interpreter import AKK_NAMES, Interpreter, Measurement, PhaseResult, StartError, StartParams, with_template
 from .program import Program
 from .start_templates import StartTemplate
+from ..i18n import _
 
 
 @dataclass(frozen=True)
@@ -79,8 +80,8 @@ def model_chemistry(record: bytes, setup: BatterySetup) -> str:
     try:
         return load_chemistry(name).name
     except KeyError:
-        raise StartError(f"AKK_TYPE {ops.AKK_TYPE.operands[0].kind.format(akk)} has no battery model: "
-                         "choose one (Pb, NiCd, NiMh, LiPo, LiIon, LiFe)") from None
+        raise StartError(_("AKK_TYPE {format} has no battery model: choose one (Pb, NiCd, NiMh, LiPo, LiIon, "
+                           "LiFe)").format(format=ops.AKK_TYPE.operands[0].kind.format(akk))) from None
 
 
 def start_values(record: bytes, params: StartParams,
@@ -93,15 +94,16 @@ def start_values(record: bytes, params: StartParams,
     try:
         program = Program(record)
     except DecodeError as exc:
-        raise StartError(f"not a valid record: byte {exc.offset}: {exc.message}") from None
+        raise StartError(_("not a valid record: byte {offset}: {message}").format(
+                offset=exc.offset, message=exc.message)) from None
     params = with_template(program, params, templates)
     declared_ah = program.intro.capacity_ah(None)
     capacity = params.capacity_mah or (round(declared_ah * 1000) if declared_ah else None)
     if not capacity:
-        raise StartError("the battery's capacity is needed: the macro takes it at start (give --capacity MAH)")
+        raise StartError(_("the battery's capacity is needed: the macro takes it at start (give --capacity MAH)"))
     series = program.intro.series(params.series)
     if not series:
-        raise StartError("the number of cells is needed: the macro takes it at start (give --series N)")
+        raise StartError(_("the number of cells is needed: the macro takes it at start (give --series N)"))
     return program, replace(params, capacity_mah=capacity, series=series)
 
 

@@ -10,6 +10,7 @@ from ..lang.operands import DISPLAY_NAMES, absolute_value
 from .charger_model import ChargerLimits
 from .interpreter import AKK_NAMES, StartParams, with_template
 from .program import PhaseCode, Program
+from ..i18n import _
 
 
 def start_warnings(record: bytes, params: StartParams, charger: ChargerLimits | None = None,
@@ -29,7 +30,8 @@ def start_warnings(record: bytes, params: StartParams, charger: ChargerLimits | 
         if not isinstance(step, PhaseCode):
             continue
         by_code = {a.op.code: a for a in step.actions}
-        where = f"{step.section} phase {step.index}"
+        where = (_("charge phase {index}") if step.section == "charge"
+                 else _("discharge phase {index}")).format(index=step.index)
         if 62 in by_code:
             raw = by_code[62].raws[1]
         elif 60 in by_code:
@@ -42,12 +44,14 @@ def start_warnings(record: bytes, params: StartParams, charger: ChargerLimits | 
         charging = step.section == "charge" or 62 in by_code
         has_dpeak = any(c.op.code == 89 for c in step.conditions)
         if charging and has_dpeak and min_rate and capacity_ah and amps / capacity_ah < min_rate - 1e-9:
-            out.append(f"{where}: {amps:.2f} A is {amps / capacity_ah:.2f}C of {capacity_ah * 1000:g} mAh; "
-                       f"{DISPLAY_NAMES[akk]} shows no reliable -dV below {min_rate:g}C "
-                       f"({min_rate * capacity_ah:.2f} A): a timer or a default will end this charge")
+            out.append(_("{where}: {amps:.2f} A is {rate:.2f}C of {capacity:g} mAh; {chemistry} shows no reliable -dV "
+                         "below {min_rate:g}C ({min_amps:.2f} A): a timer or a default will end this charge").format(
+                where=where, amps=amps, rate=amps / capacity_ah, capacity=capacity_ah * 1000,
+                chemistry=DISPLAY_NAMES[akk], min_rate=min_rate, min_amps=min_rate * capacity_ah))
         if charger is not None:
             top = charger.max_charge_a if charging else charger.max_discharge_a
             if amps > top + 1e-9:
-                out.append(f"{where}: asks {amps:.2f} A; the {charger.name} gives at most {top:g} A "
-                           f"({'charge' if charging else 'discharge'})")
+                direction = _("charge") if charging else _("discharge")
+                out.append(_("{where}: asks {amps:.2f} A; the {charger} gives at most {top:g} A ({direction})").format(
+                    where=where, amps=amps, charger=charger.name, top=top, direction=direction))
     return out

@@ -13,6 +13,7 @@ from typing import Mapping
 
 from .. import data
 from ..data import DataFileError
+from ..i18n import _
 
 TEMPLATE_COUNT = 16
 TEMPLATES_FILE = "start_templates.toml"
@@ -34,17 +35,18 @@ class StartTemplate:
 
     def __post_init__(self) -> None:
         if self.task not in TASKS:
-            raise TemplateError(f"task must be one of {', '.join(TASKS)}, not {self.task!r}")
+            raise TemplateError(_("task must be one of {tasks}, not {task!r}").format(
+                    tasks=', '.join(TASKS), task=self.task))
         if not 1 <= self.repetitions <= 255:
-            raise TemplateError("repetitions must be 1..255")
+            raise TemplateError(_("repetitions must be 1..255"))
         if self.capacity_mah is not None and not 1 < self.capacity_mah < 65535:
-            raise TemplateError("capacity must be 2..65534 mAh")
+            raise TemplateError(_("capacity must be 2..65534 mAh"))
         for name in ("current_a", "voltage_v"):
             value = getattr(self, name)
             if value is not None and not 0 < value <= 65.535:
-                raise TemplateError(f"{name.split('_')[0]} must be above 0 and at most 65.535")
+                raise TemplateError(_("{split} must be above 0 and at most 65.535").format(split=name.split('_')[0]))
         if self.series is not None and not 1 <= self.series <= 255:
-            raise TemplateError("cells must be 1..255")
+            raise TemplateError(_("cells must be 1..255"))
 
     def describe(self) -> str:
         parts = [self.task + (f" x{self.repetitions}" if self.task == "train" else "")]
@@ -61,7 +63,8 @@ class StartTemplate:
 
 def check_number(number: int) -> int:
     if not 1 <= number <= TEMPLATE_COUNT:
-        raise TemplateError(f"a start template is numbered 1..{TEMPLATE_COUNT}, not {number}")
+        raise TemplateError(_("a start template is numbered 1..{template_count}, not {number}").format(
+                template_count=TEMPLATE_COUNT, number=number))
     return number
 
 
@@ -77,9 +80,10 @@ def factory_templates() -> Mapping[int, StartTemplate]:
             try:
                 table[number] = StartTemplate(**entry)
             except (TypeError, TemplateError) as exc:
-                raise DataFileError(f"data file {where}: template {number}: {exc}") from None
+                raise DataFileError(_("data file {where}: template {number}: {exc}").format(
+                        where=where, number=number, exc=exc)) from None
     except (KeyError, TypeError, ValueError) as exc:
-        raise DataFileError(f"data file {where}: {exc}") from None
+        raise DataFileError(_("data file {where}: {exc}").format(where=where, exc=exc)) from None
     return table
 
 
