@@ -33,7 +33,7 @@ def figures_text(report: dict) -> str:
     if report.get("rmse_v_per_cell_mv") is not None:
         lines.append(_("RMSE voltage: {n} mV per cell").format(n=f"{report['rmse_v_per_cell_mv']:g}"))
     if report.get("rmse_i_cv_pct") is not None:
-        lines.append(_("RMSE current in CV: {n} % of the CC current").format(n=f"{report['rmse_i_cv_pct']:g}"))
+        lines.append(_("RMSE current in CV: {share} of the CC current").format(share=f"{report['rmse_i_cv_pct']:g} %"))
     if report.get("peak"):
         p = report["peak"]
         lines.append(_("peak at {real} mAh (real), {model} mAh (model)").format(real=f"{p['real_mah']:g}",

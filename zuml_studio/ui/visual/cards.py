@@ -26,7 +26,7 @@ _OPERAND_LABELS = {
     ops.CHARGE_EX: [N_("Charge for"), N_("at"), N_("Discharge for"), N_("at"), N_("Measure at")],
     ops.TRICKLE: [N_("Current"), N_("On below"), N_("Off at")],
 }
-_COMMAND_LABELS = {ops.BY_KEYWORD["MUSIC"]: ("♪", N_("Music")), ops.BY_KEYWORD["LIGHT"]: ("✦", N_("Light"))}
+_COMMAND_LABELS = {ops.BY_KEYWORD["MUSIC"]: ("♪", N_("Music")), ops.BY_KEYWORD["LIGHT"]: ("✦", N_("Lights"))}
 
 
 ADD_PHASE_TIPS = {"charge": N_("Add a phase at the end of the charge section"),
