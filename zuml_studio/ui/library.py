@@ -65,10 +65,11 @@ class LibraryBrowser(QTreeWidget):
         for title, folder in self.folders():
             root = QTreeWidgetItem([title, "", ""])
             root.setToolTip(0, str(folder))
+            self.addTopLevelItem(root)
+            root.setFirstColumnSpanned(True)        # the folder's name may use the whole width
             font = root.font(0)
             font.setBold(True)
             root.setFont(0, font)
-            self.addTopLevelItem(root)
             files = sorted(folder.glob(f"*{EXTENSION}"), key=lambda p: p.name.lower()) if folder.is_dir() else []
             for path in files:
                 item = QTreeWidgetItem([path.stem, "", "…"])
@@ -80,6 +81,7 @@ class LibraryBrowser(QTreeWidget):
                 empty = QTreeWidgetItem([_("(no macros yet)") if folder == self.user_dir else _("(none)"), "", ""])
                 empty.setForeground(0, QColor("#888888"))
                 root.addChild(empty)
+                empty.setFirstColumnSpanned(True)
             root.setExpanded(True)
             if folder.is_dir() and str(folder) not in self._watcher.directories():
                 self._watcher.addPath(str(folder))

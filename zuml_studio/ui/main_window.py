@@ -353,11 +353,8 @@ class MainWindow(QMainWindow):
             self.state_label.setText("✖ " + ngettext("{n} error", "{n} errors", errors).format(n=errors))
             self.state_label.setStyleSheet(f"color:{theme.colours(self.palette()).error};")
             self.sim_panel.set_record(None)
-        self.problems_dock.setWindowTitle(
-            _("Problems ({errors}, {warnings})").format(
-                errors=ngettext("{n} error", "{n} errors", errors).format(n=errors),
-                warnings=ngettext("{n} warning", "{n} warnings", warnings).format(n=warnings))
-            if result.diagnostics else _("Problems"))
+        # The counts by sign, not in words: the dock is narrow and its title cannot wrap.
+        self.problems_dock.setWindowTitle(_("Problems") + (f"  ✖ {errors}  ⚠ {warnings}" if result.diagnostics else ""))
 
     @staticmethod
     def _declared(result: CompileResult) -> dict:
@@ -674,9 +671,10 @@ class MainWindow(QMainWindow):
     def ask_recover(self, found: Recovered) -> bool:
         """Whether to restore text a crash left behind (tests replace this)."""
         where = found.original or _("an untitled macro")
-        answer = QMessageBox.question(self, APP_NAME, _("ZUML Studio did not close cleanly.\n\nRecover the unsaved "
-                                                        "text of {macro}?").format(macro=where))
-        return answer == QMessageBox.StandardButton.Yes
+        box = QMessageBox(QMessageBox.Icon.Question, APP_NAME,
+                          _("ZUML Studio did not close cleanly.\n\nRecover the unsaved text of {macro}?").format(
+                              macro=where), QMessageBox.StandardButton.Yes | QMessageBox.StandardButton.No, self)
+        return box.exec() == QMessageBox.StandardButton.Yes
 
     def offer_recovery(self) -> bool:
         """At start: offer back what a crash left; returns whether a text was restored."""
