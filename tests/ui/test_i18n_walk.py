@@ -211,6 +211,9 @@ def clipped(root: QWidget, skip=lambda w: False) -> list[str]:
             need = edit.fontMetrics().horizontalAdvance(edit.text())
             if need > edit.contentsRect().width() - 4:
                 out.append(f"{where} {edit.text()!r}: {need} px in {edit.contentsRect().width()}")
+        elif isinstance(w, QLineEdit) and not w.text() and w.placeholderText() and \
+                w.fontMetrics().horizontalAdvance(w.placeholderText()) > w.contentsRect().width() - 4:
+            out.append(f"{where} placeholder {w.placeholderText()!r}: {w.width()} px")
         elif isinstance(w, QDockWidget) and not w.isFloating() and _dock_title_cut(w):
             out.append(f"dock title {w.windowTitle()!r} is elided")
         elif isinstance(w, QHeaderView) and isinstance(w.parent(), QAbstractItemView):

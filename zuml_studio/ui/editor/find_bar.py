@@ -14,6 +14,7 @@ if TYPE_CHECKING:
     from .code_editor import CodeEditor
 
 MAX_HIGHLIGHTED = 2000
+FIELD_PADDING_PX = 28       # the frame and the text margins (the clear button shows only over a typed text)
 
 
 class FindBar(QWidget):
@@ -35,7 +36,7 @@ class FindBar(QWidget):
         self.match_case.setObjectName("findMatchCase")
         self.status = QLabel("")
         self.status.setObjectName("findStatus")
-        self.status.setMinimumWidth(90)
+        self.status.setMinimumWidth(70)
 
         self.prev_button = self._tool("▲", _("Previous match (Shift+Enter)"), lambda: self.find_next(backward=True))
         self.next_button = self._tool("▼", _("Next match (Enter)"), lambda: self.find_next())
@@ -64,6 +65,8 @@ class FindBar(QWidget):
         grid.addLayout(row1, 1, 1)
         grid.setColumnStretch(0, 2)
         grid.setColumnStretch(1, 3)
+        for edit in (self.find_edit, self.replace_edit):     # never squeezed below what they say they are for
+            edit.setMinimumWidth(edit.fontMetrics().horizontalAdvance(edit.placeholderText()) + FIELD_PADDING_PX)
         self._replace_row = (self.replace_edit, self.replace_button, self.replace_all_button)
 
         self.find_edit.textChanged.connect(self._query_changed)

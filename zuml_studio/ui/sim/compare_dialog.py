@@ -102,7 +102,7 @@ class CompareDialog(QDialog):
         self.plots = pg.GraphicsLayoutWidget()
         self.plots.setBackground("w")
         self.v_plot = self.plots.addPlot(row=0, col=0)
-        self.v_plot.setLabel("left", _("voltage per cell"), units="V")
+        self.v_plot.setLabel("left", _("per cell"), units="V")
         self.v_plot.addLegend(offset=(10, 10))
         self.d_plot = self.plots.addPlot(row=1, col=0)
         self.d_plot.setLabel("left", _("model − real"), units="mV/cell")
