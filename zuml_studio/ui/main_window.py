@@ -774,12 +774,16 @@ class MainWindow(QMainWindow):
     def show_preferences(self) -> None:
         dialog = PreferencesDialog(self.prefs, self.editor.font_size(), self)
         if dialog.exec():
-            chosen = dialog.chosen()
-            language_changed = chosen.language != self.prefs.language
-            chosen.save(self.settings)
-            self.apply_preferences(chosen)
-            if language_changed and self.ask_restart():
-                self.restart()
+            self.set_preferences(dialog.chosen())
+
+    def set_preferences(self, chosen: Preferences) -> None:
+        """Keep and apply what the Preferences dialog chose; a new language needs a restart,
+        which is offered."""
+        language_changed = chosen.language != self.prefs.language
+        chosen.save(self.settings)
+        self.apply_preferences(chosen)
+        if language_changed and self.ask_restart():
+            self.restart()
 
     def ask_restart(self) -> bool:
         """The language applies at the next start: whether to restart now (tests replace this)."""
