@@ -23,17 +23,22 @@ from zuml_studio.lang import opcodes
 from zuml_studio.lang.operands import AKK_TYPE, DISPLAY_NAMES
 from zuml_studio.sim.chemistry import chemistry_names
 
+# AT THE MERGE THE LEAD EMPTIES THESE TWO (``()`` and ``False``); nothing else is left out of the walk.
 # The device panel (zuml_studio/ui/device/) is translated on the "panel" branch at the same time:
-# its dock and its dialogs stay out of the walk until that branch is merged. THE LEAD DELETES THIS
-# LIST AT THE MERGE; nothing else is left out of the walk.
+# its dock and its dialogs stay out of the walk until that branch is merged.
 _DEVICE_PANEL_PENDING = ("deviceDock", "confirm_dialogs", "unsafe_dialog")
+# The texts the Qt-free packages make (opcode help, visual edits, start templates) are translated
+# on the "i18n-core" branch at the same time (see ``_qt_free_pending``).
+_I18N_CORE_PENDING = True
 
 
 def _qt_free_pending(macro) -> list[str]:
     """English texts the Qt-free packages make and the window shows (the opcode table's help, the
     visual edits' labels and sentences, the charger's start templates): translated on the
     "i18n-core" branch at the same time, so recognized here by their English source and left out.
-    THE LEAD DELETES THIS AT THE MERGE too (with ``_DEVICE_PANEL_PENDING``)."""
+    Nothing once ``_I18N_CORE_PENDING`` is False."""
+    if not _I18N_CORE_PENDING:
+        return []
     from zuml_studio import visual_edits as ve
     from zuml_studio.sim.start_templates import factory_templates
 
