@@ -64,7 +64,7 @@ class LogDocument(QWidget):
         self.readout = QLabel(_("move the mouse over the plot to read the log"))
         self.readout.setObjectName("logReadout")
         self.readout.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
-        self.readout.setStyleSheet("color:#303030; padding:2px 6px;")
+        self.readout.setStyleSheet("padding:2px 6px;")      # the palette's text colour: readable when dark too
         # A long readout (many cells, overlays) is cut at the window's edge, never widens it.
         self.readout.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
         self.plot.cursorMoved.connect(lambda text: self.readout.setText(text or " "))
