@@ -27,8 +27,6 @@ _OPERAND_LABELS = {
     ops.TRICKLE: [N_("Current"), N_("On below"), N_("Off at")],
 }
 _COMMAND_LABELS = {ops.BY_KEYWORD["MUSIC"]: ("♪", N_("Music")), ops.BY_KEYWORD["LIGHT"]: ("✦", N_("Lights"))}
-
-
 ADD_PHASE_TIPS = {"charge": N_("Add a phase at the end of the charge section"),
                   "discharge": N_("Add a phase at the end of the discharge section")}
 NO_SECTION_TEXTS = {"charge": N_("No charge section: the charger uses its default."),
@@ -236,7 +234,7 @@ class DropZone(QFrame):
 
 # -- shared menu -------------------------------------------------------------------------------
 
-def _item_menu(host, path: tuple, what: str, parent: QWidget, first: bool, last: bool, in_cycle: bool,
+def _item_menu(host, path: tuple, parent: QWidget, first: bool, last: bool, in_cycle: bool,
                is_phase: bool) -> QMenu:
     menu = QMenu(parent)
     menu.setObjectName("itemMenu")
@@ -254,7 +252,7 @@ def _item_menu(host, path: tuple, what: str, parent: QWidget, first: bool, last:
         add(_("Wrap in cycle"), lambda: host.wrap(path), not in_cycle)
         add(_("Remove from cycle"), lambda: host.remove_from_cycle(path), in_cycle)
         menu.addSeparator()
-    add(_("Delete phase") if is_phase else _("Delete {what}").format(what=what), lambda: host.delete_item(path))
+    add(_("Delete phase"), lambda: host.delete_item(path))
     return menu
 
 
@@ -396,7 +394,7 @@ class PhaseCard(DraggableFrame):
             self.host.set_action(self.path, key)
 
     def _menu(self) -> QMenu:
-        return _item_menu(self.host, self.path, "phase", self, self.first, self.last, self.in_cycle, True)
+        return _item_menu(self.host, self.path, self, self.first, self.last, self.in_cycle, True)
 
     def contextMenuEvent(self, event) -> None:  # noqa: N802
         self._menu().exec(event.globalPos())
