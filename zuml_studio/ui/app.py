@@ -5,13 +5,15 @@ import argparse
 import os
 import sys
 
+from ..i18n import _
+
 
 def _parse(argv: list[str] | None) -> argparse.Namespace:
-    parser = argparse.ArgumentParser(prog="zuml-studio", description="The IDE for ZUML 2.0 charger macros.")
-    parser.add_argument("file", nargs="?", metavar="FILE", help="a .zuml macro to open")
+    parser = argparse.ArgumentParser(prog="zuml-studio", description=_("The IDE for ZUML 2.0 charger macros."))
+    parser.add_argument("file", nargs="?", metavar="FILE", help=_("a .zuml macro to open"))
     parser.add_argument("--screenshot", metavar="OUT.png",
-                        help="render the window offscreen with FILE open, checked and simulated, save it, exit")
-    parser.add_argument("--size", default="1600x1000", metavar="WxH", help="window size for --screenshot")
+                        help=_("render the window offscreen with FILE open, checked and simulated, save it, exit"))
+    parser.add_argument("--size", default="1600x1000", metavar="WxH", help=_("window size for --screenshot"))
     return parser.parse_args(argv)
 
 
@@ -48,8 +50,23 @@ def data_errors_shown(previous):
     return hook
 
 
+def _install_language() -> str:
+    """Our language, before the command line is parsed (its help is translated) and before any
+    window is built (every text is translated where it is made)."""
+    from ..recovery import config_dir
+    from .language import install_language, saved_preference
+
+    return install_language(saved_preference(config_dir()))
+
+
 def main(argv: list[str] | None = None) -> int:
     _ensure_streams()
+    from ..data import DataFileError
+    try:
+        language = _install_language()
+    except DataFileError as exc:
+        sys.stderr.write(f"zuml-studio: error: {exc}\n")
+        return 2
     args = _parse(argv)
     if args.screenshot:
         os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
@@ -63,15 +80,20 @@ def main(argv: list[str] | None = None) -> int:
     from PySide6.QtWidgets import QApplication, QMessageBox
 
     from .. import APP_ID, data
-    from ..data import DataFileError
     from . import create_main_window
+    from .language import install_qt_catalogue
 
     app = QApplication.instance() or QApplication(sys.argv[:1])
     app.setApplicationName("ZUML Studio")
     app.setOrganizationName("ZUML Studio")
     app.setDesktopFileName(APP_ID)
+    try:
+        install_qt_catalogue(language)
+    except DataFileError as exc:
+        sys.stderr.write(f"zuml-studio: error: {exc}\n")
+        return 2
     if args.file and not os.path.isfile(args.file):
-        sys.stderr.write(f"zuml-studio: error: {args.file}: no such file\n")
+        sys.stderr.write("zuml-studio: error: " + _("{file}: no such file").format(file=args.file) + "\n")
         return 2
     try:
         app.setWindowIcon(QIcon(str(data.file_path("icon.svg"))))
@@ -98,7 +120,7 @@ def _screenshot(app, window, out: str, size: str) -> int:
     try:
         width, height = (int(x) for x in size.lower().split("x"))
     except ValueError:
-        sys.stderr.write(f"zuml-studio: error: --size {size!r} is not WxH\n")
+        sys.stderr.write("zuml-studio: error: " + _("--size {size!r} is not WxH").format(size=size) + "\n")
         return 2
     window.resize(width, height)
     window.device_panel          # built now, not by its timer in the middle of the settling below
@@ -113,7 +135,7 @@ def _screenshot(app, window, out: str, size: str) -> int:
     QTimer.singleShot(SETTLE_MS, loop.quit)
     loop.exec()
     if not window.grab().save(out):
-        sys.stderr.write(f"zuml-studio: error: cannot write {out}\n")
+        sys.stderr.write("zuml-studio: error: " + _("cannot write {path}").format(path=out) + "\n")
         return 2
     window.editor.document().setModified(False)
     window.close()

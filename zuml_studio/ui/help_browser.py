@@ -8,6 +8,7 @@ from PySide6.QtCore import Qt
 from PySide6.QtWidgets import (QDialog, QLineEdit, QListWidget, QListWidgetItem, QSplitter,
                                QTextBrowser, QVBoxLayout, QWidget)
 
+from ..i18n import _, ngettext
 from ..lang import opcodes
 from ..lang.docgen import operands_text, places_text
 
@@ -21,8 +22,9 @@ def topic_title(op: opcodes.Op) -> str:
 def topic_html(op: opcodes.Op) -> str:
     """A command's page: how it is written, what it does, its operands, where it may stand, its code."""
     where = places_text(op)
-    rows = [("Operands", operands_text(op).replace("`", "")), ("Where", where),
-            ("Byte code", f"{op.code} ({op.mnemonic}), {op.size} byte{'s' if op.size != 1 else ''}")]
+    size = ngettext("{n} byte", "{n} bytes", op.size).format(n=op.size)
+    rows = [(_("Operands"), operands_text(op).replace("`", "")), (_("Where"), where),
+            (_("Byte code"), f"{op.code} ({op.mnemonic}), {size}")]
     table = "".join(f"<tr><td><b>{html.escape(k)}</b>&nbsp;&nbsp;</td><td>{html.escape(v)}</td></tr>"
                     for k, v in rows)
     return (f"<h2><code>{html.escape(op.signature())}</code></h2><p>{html.escape(op.help)}</p>"
@@ -39,10 +41,10 @@ class HelpBrowser(QDialog):
     def __init__(self, parent: QWidget | None = None):
         super().__init__(parent)
         self.setObjectName("helpBrowser")
-        self.setWindowTitle("ZUML 2.0 commands")
+        self.setWindowTitle(_("ZUML 2.0 commands"))
         self.search = QLineEdit()
         self.search.setObjectName("helpSearch")
-        self.search.setPlaceholderText("Search commands (e.g. voltage, pulse, IF)")
+        self.search.setPlaceholderText(_("Search commands (e.g. voltage, pulse, IF)"))
         self.search.setClearButtonEnabled(True)
         self.topics = QListWidget()
         self.topics.setObjectName("helpTopics")

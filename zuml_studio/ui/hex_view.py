@@ -9,13 +9,14 @@ from PySide6.QtGui import QColor, QFontDatabase
 from PySide6.QtWidgets import (QAbstractItemView, QButtonGroup, QHBoxLayout, QHeaderView, QLabel, QRadioButton,
                                QTreeWidget, QTreeWidgetItem, QVBoxLayout, QWidget)
 
+from ..i18n import N_, _, ngettext
 from ..lang.compiler import CompileResult
 from ..lang.listing import Row, listing_rows
 from ..lang.record import MAX_RECORD
 from . import theme
 
 _LINE = Qt.ItemDataRole.UserRole
-_COLUMNS = ["Line", "Offset", "Bytes", "Instruction", "Operands"]
+_COLUMNS = [N_("Line"), N_("Offset"), N_("Bytes"), N_("Instruction"), N_("Operands")]
 
 
 class HexView(QWidget):
@@ -29,16 +30,16 @@ class HexView(QWidget):
         self._stale = False
         self._syncing = False
 
-        self.banner = QLabel("The text has errors: these are the bytes of the last valid version.")
+        self.banner = QLabel(_("The text has errors: these are the bytes of the last valid version."))
         self.banner.setObjectName("hexBanner")
         self.banner.setWordWrap(True)
         self.banner.setStyleSheet("background:#fff4d6; color:#6b4a00; padding:4px 6px; border:1px solid #e8c872;")
         self.banner.hide()
-        self.summary = QLabel("No bytes yet")
+        self.summary = QLabel(_("No bytes yet"))
         self.summary.setObjectName("hexSummary")
 
-        self.mode_bytes = QRadioButton("Bytes")
-        self.mode_listing = QRadioButton("Listing")
+        self.mode_bytes = QRadioButton(_("Bytes"))
+        self.mode_listing = QRadioButton(_("Listing"))
         self.mode_bytes.setChecked(True)
         group = QButtonGroup(self)
         group.addButton(self.mode_bytes)
@@ -48,7 +49,7 @@ class HexView(QWidget):
         self.tree = QTreeWidget()
         self.tree.setObjectName("hexTree")
         self.tree.setColumnCount(len(_COLUMNS))
-        self.tree.setHeaderLabels(_COLUMNS)
+        self.tree.setHeaderLabels([_(c) for c in _COLUMNS])
         self.tree.setRootIsDecorated(False)
         self.tree.setUniformRowHeights(True)
         self.tree.setSelectionMode(QAbstractItemView.SelectionMode.ExtendedSelection)
@@ -82,13 +83,14 @@ class HexView(QWidget):
         if shown is None:
             self._rows = []
             self.tree.clear()
-            self.summary.setText("No bytes: the macro has errors")
+            self.summary.setText(_("No bytes: the macro has errors"))
             return
         enc = shown.encoded
         self._rows = listing_rows(enc.record, enc.instructions, enc.nodes)
         self._fill()
         record = enc.record
-        self.summary.setText(f"{len(record)} of {MAX_RECORD} bytes · check byte 0x{record[-1]:02x}")
+        self.summary.setText(_("{size} of {max} bytes · check byte {check}").format(
+            size=len(record), max=MAX_RECORD, check=f"0x{record[-1]:02x}"))
 
     def record_hex(self) -> str:
         return " ".join(r.hex for r in self._rows)
@@ -103,7 +105,8 @@ class HexView(QWidget):
             label = r.mnemonic if r.kind == "instruction" else r.mnemonic.title()
             item = QTreeWidgetItem([str(r.line or ""), f"{r.offset:3d}", r.hex, label, r.detail])
             item.setData(0, _LINE, r.line)
-            item.setToolTip(2, f"offset {r.offset}, {len(r.data)} byte(s)")
+            item.setToolTip(2, ngettext("offset {offset}, {n} byte", "offset {offset}, {n} bytes", len(r.data)).format(
+                offset=r.offset, n=len(r.data)))
             if r.kind in kind_colours:
                 for col in range(len(_COLUMNS)):
                     item.setBackground(col, QColor(kind_colours[r.kind]))

@@ -11,6 +11,7 @@ from PySide6.QtGui import QColor
 from PySide6.QtWidgets import QHeaderView, QTreeWidget, QTreeWidgetItem
 
 from .. import data
+from ..i18n import _, ngettext
 from ..lang import opcodes as ops
 from ..lang.compiler import compile_source
 from ..macro_file import EXTENSION, MacroFileError, read_macro_file
@@ -23,12 +24,12 @@ def describe(path: Path) -> tuple[str, str, bool]:
     try:
         text = read_macro_file(path).text
     except MacroFileError:
-        return "?", "unreadable", False
+        return "?", _("unreadable"), False
     result = compile_source(text)
     akk = result.macro.declared(ops.AKK_TYPE) if result.macro else None
     chemistry = ops.AKK_TYPE.operands[0].kind.format(akk.args[0].raw) if akk else "-"
     if not result.ok:
-        return chemistry, f"{len(result.errors)} error(s)", False
+        return chemistry, ngettext("{n} error", "{n} errors", len(result.errors)).format(n=len(result.errors)), False
     return chemistry, f"{len(result.record)} B", True
 
 
@@ -40,7 +41,7 @@ class LibraryBrowser(QTreeWidget):
         self.setObjectName("libraryBrowser")
         self.user_dir = user_dir
         self.setColumnCount(3)
-        self.setHeaderLabels(["Macro", "Type", "Size"])
+        self.setHeaderLabels([_("Macro"), _("Type"), _("Size")])
         header = self.header()
         header.setSectionResizeMode(0, QHeaderView.ResizeMode.Stretch)
         header.setSectionResizeMode(1, QHeaderView.ResizeMode.ResizeToContents)
@@ -56,7 +57,7 @@ class LibraryBrowser(QTreeWidget):
         self.refresh()
 
     def folders(self) -> list[tuple[str, Path]]:
-        return [("Standard macros", data.standard_macros_dir()), ("My macros", self.user_dir)]
+        return [(_("Standard macros"), data.standard_macros_dir()), (_("My macros"), self.user_dir)]
 
     def refresh(self) -> None:
         self.clear()
@@ -64,10 +65,11 @@ class LibraryBrowser(QTreeWidget):
         for title, folder in self.folders():
             root = QTreeWidgetItem([title, "", ""])
             root.setToolTip(0, str(folder))
+            self.addTopLevelItem(root)
+            root.setFirstColumnSpanned(True)        # the folder's name may use the whole width
             font = root.font(0)
             font.setBold(True)
             root.setFont(0, font)
-            self.addTopLevelItem(root)
             files = sorted(folder.glob(f"*{EXTENSION}"), key=lambda p: p.name.lower()) if folder.is_dir() else []
             for path in files:
                 item = QTreeWidgetItem([path.stem, "", "…"])
@@ -76,9 +78,10 @@ class LibraryBrowser(QTreeWidget):
                 root.addChild(item)
                 self._undescribed.append(item)
             if not files:
-                empty = QTreeWidgetItem(["(no macros yet)" if folder == self.user_dir else "(none)", "", ""])
+                empty = QTreeWidgetItem([_("(no macros yet)") if folder == self.user_dir else _("(none)"), "", ""])
                 empty.setForeground(0, QColor("#888888"))
                 root.addChild(empty)
+                empty.setFirstColumnSpanned(True)
             root.setExpanded(True)
             if folder.is_dir() and str(folder) not in self._watcher.directories():
                 self._watcher.addPath(str(folder))

@@ -11,6 +11,7 @@ from PySide6.QtGui import QAction, QKeySequence
 from PySide6.QtWidgets import QDockWidget, QFileDialog, QLabel, QMainWindow, QMessageBox, QStyle, QToolBar, QWidget
 
 from .. import data
+from ..i18n import _, ngettext
 from ..lang import opcodes as ops
 from ..lang.compiler import CompileResult, compile_source
 from ..macro_file import EXTENSION, MacroFile, MacroFileError, read_macro_file, write_macro_file
@@ -20,6 +21,7 @@ from .editor.code_editor import EditorWithFind
 from .editor.highlighter import ops_at
 from .help_browser import HelpBrowser
 from .hex_view import HexView
+from .language import restart
 from .library import LibraryBrowser
 from .plot_export import PlotExportDialog
 from .preferences import Preferences, PreferencesDialog
@@ -104,16 +106,16 @@ class MainWindow(QMainWindow):
         self.visual = VisualEditor(self.editor)
         self._device_panel = None
 
-        self.library_dock = self._dock("Library", "libraryDock", self.library, Qt.DockWidgetArea.LeftDockWidgetArea)
-        self.hex_dock = self._dock("Bytes", "hexDock", self.hex_view, Qt.DockWidgetArea.RightDockWidgetArea)
-        self.visual_dock = self._dock("Visual", "visualDock", self.visual, Qt.DockWidgetArea.RightDockWidgetArea)
+        self.library_dock = self._dock(_("Library"), "libraryDock", self.library, Qt.DockWidgetArea.LeftDockWidgetArea)
+        self.hex_dock = self._dock(_("Bytes"), "hexDock", self.hex_view, Qt.DockWidgetArea.RightDockWidgetArea)
+        self.visual_dock = self._dock(_("Visual"), "visualDock", self.visual, Qt.DockWidgetArea.RightDockWidgetArea)
         self.tabifyDockWidget(self.hex_dock, self.visual_dock)
         self.visual_dock.visibilityChanged.connect(self._visual_shown)
         self.hex_dock.raise_()
-        self.problems_dock = self._dock("Problems", "problemsDock", self.problems,
+        self.problems_dock = self._dock(_("Problems"), "problemsDock", self.problems,
                                         Qt.DockWidgetArea.BottomDockWidgetArea)
-        self.sim_dock = self._dock("Simulator", "simulatorDock", self.sim_panel, Qt.DockWidgetArea.BottomDockWidgetArea)
-        self.device_dock = self._dock("Device", "deviceDock", QWidget(), Qt.DockWidgetArea.BottomDockWidgetArea)
+        self.sim_dock = self._dock(_("Simulator"), "simulatorDock", self.sim_panel, Qt.DockWidgetArea.BottomDockWidgetArea)
+        self.device_dock = self._dock(_("Device"), "deviceDock", QWidget(), Qt.DockWidgetArea.BottomDockWidgetArea)
         self.device_dock.visibilityChanged.connect(lambda visible: visible and self.device_panel)
         QTimer.singleShot(DEVICE_PANEL_DELAY_MS, self, lambda: self.isVisible() and self.device_panel)
         self.splitDockWidget(self.problems_dock, self.sim_dock, Qt.Orientation.Horizontal)
@@ -168,56 +170,56 @@ class MainWindow(QMainWindow):
 
     def _build_actions(self) -> None:
         K = QKeySequence.StandardKey
-        self.act_new = self._action("&New", lambda: self.new_file(EMPTY_MACRO), K.New, "A new macro")
-        self.act_wizard = self._action("New from &Wizard…", self.new_from_wizard, "Ctrl+Shift+N",
-                                       "Answer a few questions about the battery")
-        self.act_visual = self._action("&Visual Editor", self.show_visual, "Ctrl+Shift+V")
-        self.act_open = self._action("&Open…", self.open_dialog, K.Open)
-        self.act_open_log = self._action("Open &Log…", lambda: self.open_log(), "Ctrl+L",
-                                         "View a charger's log file: iCharger, LogView, DataExplorer, session CSV")
-        self.act_save = self._action("&Save", self.save, K.Save, "Save the macro (a standard macro: as a copy)")
-        self.act_save_as = self._action("Save &As…", self.save_as, K.SaveAs)
-        self.act_export = self._action("Export &Byte Record…", self.export_record, "Ctrl+Shift+E",
-                                       "Write the compiled record (.bin)")
-        self.act_quit = self._action("&Quit", self.close, K.Quit)
-        self.act_toggle_comment = self._action("Toggle &Comment", lambda: self.editor.toggle_comment(), "Ctrl+/")
-        self.act_find = self._action("&Find…", lambda: self.editor.show_find(False), K.Find)
+        self.act_new = self._action(_("&New"), lambda: self.new_file(EMPTY_MACRO), K.New, _("A new macro"))
+        self.act_wizard = self._action(_("New from &Wizard…"), self.new_from_wizard, "Ctrl+Shift+N",
+                                       _("Answer a few questions about the battery"))
+        self.act_visual = self._action(_("&Visual Editor"), self.show_visual, "Ctrl+Shift+V")
+        self.act_open = self._action(_("&Open…"), self.open_dialog, K.Open)
+        self.act_open_log = self._action(_("Open &Log…"), lambda: self.open_log(), "Ctrl+L",
+                                         _("View a charger's log file: iCharger, LogView, DataExplorer, session CSV"))
+        self.act_save = self._action(_("&Save"), self.save, K.Save, _("Save the macro (a standard macro: as a copy)"))
+        self.act_save_as = self._action(_("Save &As…"), self.save_as, K.SaveAs)
+        self.act_export = self._action(_("Export &Byte Record…"), self.export_record, "Ctrl+Shift+E",
+                                       _("Write the compiled record (.bin)"))
+        self.act_quit = self._action(_("&Quit"), self.close, K.Quit)
+        self.act_toggle_comment = self._action(_("Toggle &Comment"), lambda: self.editor.toggle_comment(), "Ctrl+/")
+        self.act_find = self._action(_("&Find…"), lambda: self.editor.show_find(False), K.Find)
         # Ctrl+H, which the editor also handles: the platform's Replace key is empty on some desktops.
-        self.act_replace = self._action("&Replace…", lambda: self.editor.show_find(True), "Ctrl+H")
-        self.act_prefs = self._action("&Preferences…", self.show_preferences, K.Preferences)
+        self.act_replace = self._action(_("&Replace…"), lambda: self.editor.show_find(True), "Ctrl+H")
+        self.act_prefs = self._action(_("&Preferences…"), self.show_preferences, K.Preferences)
         if self.act_prefs.shortcut().isEmpty():
             self.act_prefs.setShortcut(QKeySequence("Ctrl+,"))
-        self.act_zoom_in = self._action("Zoom &In", lambda: self.editor.zoom(1), "Ctrl+=")
+        self.act_zoom_in = self._action(_("Zoom &In"), lambda: self.editor.zoom(1), "Ctrl+=")
         self.act_zoom_in.setShortcuts([QKeySequence("Ctrl+="), QKeySequence("Ctrl++")])
-        self.act_zoom_out = self._action("Zoom &Out", lambda: self.editor.zoom(-1), "Ctrl+-")
-        self.act_zoom_reset = self._action("&Reset Zoom", self.reset_zoom, "Ctrl+0")
-        self.act_verify = self._action("&Verify", self.verify, "Ctrl+R", "Check and compile the macro")
-        self.act_upload = self._action("&Upload", self.upload, "Ctrl+U",
-                                       "Compile & Flash the macro to the charger (connecting first if needed)")
-        self.act_connect = self._action("&Connect", lambda: self._device_call(self.device_panel.connect_to))
-        self.act_disconnect = self._action("&Disconnect", lambda: self._device_call(self.device_panel.disconnect))
-        self.act_start = self._action("&Start the Macro", lambda: self._device_call(self.device_panel.start))
-        self.act_stop = self._action("S&top the Charger", lambda: self._device_call(self.device_panel.stop))
-        self.act_simulate = self._action("&Simulate", lambda: self.sim_panel.simulate(), "F5")
-        self.act_cancel_sim = self._action("&Cancel Simulation", lambda: self.sim_panel.cancel(), "Shift+F5")
-        self.act_export_csv = self._action("Export Samples as &CSV…", self.export_csv)
-        self.act_export_png = self._action("Export Plot as &PNG…", self.export_png)
-        self.act_compare_log = self._action("Compare with &Log…", self.compare_with_log, None,
-                                            "A real charge log against the simulation; fit the model to it")
-        self.act_reference = self._action("&Command Reference", self.show_help, K.HelpContents,
-                                          "Help on the command under the cursor")
-        self.act_about = self._action("&About ZUML Studio", self.show_about)
+        self.act_zoom_out = self._action(_("Zoom &Out"), lambda: self.editor.zoom(-1), "Ctrl+-")
+        self.act_zoom_reset = self._action(_("&Reset Zoom"), self.reset_zoom, "Ctrl+0")
+        self.act_verify = self._action(_("&Verify"), self.verify, "Ctrl+R", _("Check and compile the macro"))
+        self.act_upload = self._action(_("&Upload"), self.upload, "Ctrl+U",
+                                       _("Compile & Flash the macro to the charger (connecting first if needed)"))
+        self.act_connect = self._action(_("&Connect"), lambda: self._device_call(self.device_panel.connect_to))
+        self.act_disconnect = self._action(_("&Disconnect"), lambda: self._device_call(self.device_panel.disconnect))
+        self.act_start = self._action(_("&Start the Macro"), lambda: self._device_call(self.device_panel.start))
+        self.act_stop = self._action(_("S&top the Charger"), lambda: self._device_call(self.device_panel.stop))
+        self.act_simulate = self._action(_("&Simulate"), lambda: self.sim_panel.simulate(), "F5")
+        self.act_cancel_sim = self._action(_("&Cancel Simulation"), lambda: self.sim_panel.cancel(), "Shift+F5")
+        self.act_export_csv = self._action(_("Export Samples as &CSV…"), self.export_csv)
+        self.act_export_png = self._action(_("Export Plot as &PNG…"), self.export_png)
+        self.act_compare_log = self._action(_("Compare with &Log…"), self.compare_with_log, None,
+                                            _("A real charge log against the simulation; fit the model to it"))
+        self.act_reference = self._action(_("&Command Reference"), self.show_help, K.HelpContents,
+                                          _("Help on the command under the cursor"))
+        self.act_about = self._action(_("&About ZUML Studio"), self.show_about)
 
     def _build_menus(self) -> None:
         bar = self.menuBar()
-        file_menu = bar.addMenu("&File")
+        file_menu = bar.addMenu(_("&File"))
         file_menu.addAction(self.act_new)
         file_menu.addAction(self.act_wizard)
-        templates = file_menu.addMenu("New from &Template")
+        templates = file_menu.addMenu(_("New from &Template"))
         for path in data.standard_macros():
             templates.addAction(path.stem, lambda p=path: self.new_from_template(p))
         file_menu.addAction(self.act_open)
-        self.recent_menu = file_menu.addMenu("Open &Recent")
+        self.recent_menu = file_menu.addMenu(_("Open &Recent"))
         file_menu.addAction(self.act_open_log)
         file_menu.addSeparator()
         file_menu.addAction(self.act_save)
@@ -227,9 +229,9 @@ class MainWindow(QMainWindow):
         file_menu.addAction(self.act_quit)
         self._fill_recent()
 
-        edit = bar.addMenu("&Edit")
-        undo = self._action("&Undo", lambda: self.editor.undo(), QKeySequence.StandardKey.Undo)
-        redo = self._action("&Redo", lambda: self.editor.redo(), "Ctrl+Y")
+        edit = bar.addMenu(_("&Edit"))
+        undo = self._action(_("&Undo"), lambda: self.editor.undo(), QKeySequence.StandardKey.Undo)
+        redo = self._action(_("&Redo"), lambda: self.editor.redo(), "Ctrl+Y")
         redo.setShortcuts([QKeySequence("Ctrl+Y")] + QKeySequence.keyBindings(QKeySequence.StandardKey.Redo))
         self.editor.undoAvailable.connect(undo.setEnabled)
         self.editor.redoAvailable.connect(redo.setEnabled)
@@ -242,7 +244,7 @@ class MainWindow(QMainWindow):
         edit.addSeparator()
         edit.addAction(self.act_prefs)
 
-        view = bar.addMenu("&View")
+        view = bar.addMenu(_("&View"))
         view.addAction(self.act_visual)
         view.addSeparator()
         for action in (self.act_zoom_in, self.act_zoom_out, self.act_zoom_reset):
@@ -252,16 +254,16 @@ class MainWindow(QMainWindow):
                      self.device_dock):
             view.addAction(dock.toggleViewAction())
 
-        sketch = bar.addMenu("&Macro")
+        sketch = bar.addMenu(_("&Macro"))
         sketch.addAction(self.act_verify)
         sketch.addAction(self.act_upload)
 
-        device = bar.addMenu("&Device")
+        device = bar.addMenu(_("&Device"))
         for action in (self.act_connect, self.act_disconnect, None, self.act_upload, self.act_start, self.act_stop,
                        None, self.device_dock.toggleViewAction()):
             device.addSeparator() if action is None else device.addAction(action)
 
-        sim = bar.addMenu("&Simulate")
+        sim = bar.addMenu(_("&Simulate"))
         for action in (self.act_simulate, self.act_cancel_sim):
             sim.addAction(action)
         sim.addSeparator()
@@ -270,13 +272,13 @@ class MainWindow(QMainWindow):
         sim.addSeparator()
         sim.addAction(self.act_compare_log)
 
-        help_menu = bar.addMenu("&Help")
+        help_menu = bar.addMenu(_("&Help"))
         help_menu.addAction(self.act_reference)
         help_menu.addAction(self.act_about)
 
     def _build_toolbar(self) -> None:
         """The Arduino-style row: files, then Verify and Upload, then Simulate."""
-        bar = QToolBar("Main", self)
+        bar = QToolBar(_("Main"), self)
         bar.setObjectName("mainToolBar")
         bar.setMovable(False)
         bar.setToolButtonStyle(Qt.ToolButtonStyle.ToolButtonTextBesideIcon)
@@ -345,19 +347,20 @@ class MainWindow(QMainWindow):
         errors = len(result.errors)
         warnings = len(result.diagnostics) - errors
         if result.ok:
-            self.size_label.setText(f"{len(result.record)} / 255 bytes")
-            self.state_label.setText("✔ valid" + (f", {warnings} warning(s)" if warnings else ""))
+            self.size_label.setText(_("{size} / 255 bytes").format(size=len(result.record)))
+            self.state_label.setText("✔ " + _("valid") + (", " + ngettext("{n} warning", "{n} warnings", warnings)
+                                                           .format(n=warnings) if warnings else ""))
             self.state_label.setStyleSheet(f"color:{theme.colours(self.palette()).ok};")
             self.sim_panel.set_record(result.record, result.macro.name, self._declared(result))
             if self._device_panel is not None:      # else it is given the record when it is built
                 self._device_panel.macro_changed(result.record)
         else:
-            self.size_label.setText("– / 255 bytes")
-            self.state_label.setText(f"✖ {errors} error(s)")
+            self.size_label.setText(_("– / 255 bytes"))
+            self.state_label.setText("✖ " + ngettext("{n} error", "{n} errors", errors).format(n=errors))
             self.state_label.setStyleSheet(f"color:{theme.colours(self.palette()).error};")
             self.sim_panel.set_record(None)
-        self.problems_dock.setWindowTitle(f"Problems ({errors} errors, {warnings} warnings)"
-                                          if result.diagnostics else "Problems")
+        # The counts by sign, not in words: the dock is narrow and its title cannot wrap.
+        self.problems_dock.setWindowTitle(_("Problems") + (f"  ✖ {errors}  ⚠ {warnings}" if result.diagnostics else ""))
 
     @staticmethod
     def _declared(result: CompileResult) -> dict:
@@ -387,7 +390,8 @@ class MainWindow(QMainWindow):
 
     def _cursor_moved(self) -> None:
         cursor = self.editor.textCursor()
-        self.pos_label.setText(f"Ln {cursor.blockNumber() + 1}, Col {cursor.positionInBlock() + 1}")
+        self.pos_label.setText(_("Ln {line}, Col {column}").format(line=cursor.blockNumber() + 1,
+                                                                   column=cursor.positionInBlock() + 1))
 
     def _cursor_line_changed(self, line: int) -> None:
         # The cursor leads again: the bytes follow it and a highlight from an earlier row click goes.
@@ -425,9 +429,9 @@ class MainWindow(QMainWindow):
         self.autosave()
 
     def _update_title(self) -> None:
-        name = Path(self.path).name if self.path else "untitled"
+        name = Path(self.path).name if self.path else _("untitled")
         if self.is_read_only():
-            name += " (standard macro, read-only: Save makes a copy in My macros)"
+            name += " " + _("(standard macro, read-only: Save makes a copy in My macros)")
         self.setWindowTitle(f"{name}[*] — {APP_NAME}")
 
     def is_read_only(self) -> bool:
@@ -487,7 +491,8 @@ class MainWindow(QMainWindow):
         if not self.maybe_save():
             return
         start = self.settings.value("lastDir", str(self.user_macros))
-        path = self.ask_open_path("Open macro", start, f"ZUML macros (*{EXTENSION});;All files (*)")
+        path = self.ask_open_path(_("Open macro"), start,
+                                  _("ZUML macros") + f" (*{EXTENSION});;" + _("All files") + " (*)")
         if path:
             self.open_file(path, ask=False)
 
@@ -523,13 +528,13 @@ class MainWindow(QMainWindow):
 
     def save_as(self) -> bool:
         suggested = str(self._save_folder() / f"{self.suggested_name()}{EXTENSION}")
-        path = self.ask_save_path("Save macro as", suggested, f"ZUML macros (*{EXTENSION})")
+        path = self.ask_save_path(_("Save macro as"), suggested, _("ZUML macros") + f" (*{EXTENSION})")
         if not path:
             return False
         if not path.endswith(EXTENSION):
             path += EXTENSION
         if is_standard(path):
-            self.show_error("The standard macros are read-only: save the macro into My macros or another folder.")
+            self.show_error(_("The standard macros are read-only: save the macro into My macros or another folder."))
             return False
         return self._write(path)
 
@@ -565,7 +570,7 @@ class MainWindow(QMainWindow):
         self.editor.document().setModified(False)
         self._update_title()
         self._remember(self.path)
-        self.statusBar().showMessage(f"Saved {self.path}", 4000)
+        self.statusBar().showMessage(_("Saved {path}").format(path=self.path), 4000)
         if Path(self.path).parent == self.user_macros.resolve():
             self.library.refresh()
         return True
@@ -573,10 +578,10 @@ class MainWindow(QMainWindow):
     def export_record(self) -> bool:
         result = self.validate_now()
         if not result.ok:
-            self.show_error("The macro has errors; fix them before exporting its bytes.")
+            self.show_error(_("The macro has errors; fix them before exporting its bytes."))
             return False
-        path = self.ask_save_path("Export byte record", str(self._save_folder() / f"{self.suggested_name()}.bin"),
-                                  "Byte records (*.bin)")
+        path = self.ask_save_path(_("Export byte record"), str(self._save_folder() / f"{self.suggested_name()}.bin"),
+                                  _("Byte records") + " (*.bin)")
         if not path:
             return False
         try:
@@ -584,29 +589,34 @@ class MainWindow(QMainWindow):
         except OSError as exc:
             self.show_error(f"{path}: {exc.strerror or exc}")
             return False
-        self.statusBar().showMessage(f"Wrote {len(result.record)} bytes to {path}", 4000)
+        self.statusBar().showMessage(ngettext("Wrote {n} byte to {path}", "Wrote {n} bytes to {path}",
+                                               len(result.record)).format(n=len(result.record), path=path), 4000)
         return True
 
     def export_csv(self) -> None:
         if self.sim_panel.result() is None:
-            self.show_error("Simulate first: there are no samples yet.")
+            self.show_error(_("Simulate first: there are no samples yet."))
             return
-        path = self.ask_save_path("Export samples", str(documents_dir() / f"{self.suggested_name()}.csv"),
+        path = self.ask_save_path(_("Export samples"), str(documents_dir() / f"{self.suggested_name()}.csv"),
                                   "CSV (*.csv)")
         if path and self.sim_panel.export_csv(path):
-            self.statusBar().showMessage(f"Wrote {len(self.sim_panel.result().log)} samples to {path}", 6000)
+            count = len(self.sim_panel.result().log)
+            self.statusBar().showMessage(ngettext("Wrote {n} sample to {path}", "Wrote {n} samples to {path}",
+                                                  count).format(n=count, path=path), 6000)
 
     def export_png(self) -> None:
         if self.sim_panel.result() is None:
-            self.show_error("Simulate first: there is no plot yet.")
+            self.show_error(_("Simulate first: there is no plot yet."))
             return
         options = self.ask_png_options(self.suggested_name())
         if options is None:
             return
         title, size = options
-        path = self.ask_save_path("Export plot", str(documents_dir() / f"{self.suggested_name()}.png"), "PNG (*.png)")
+        path = self.ask_save_path(_("Export plot"), str(documents_dir() / f"{self.suggested_name()}.png"),
+                                  "PNG (*.png)")
         if path and self.sim_panel.export_png(path, size, title):
-            self.statusBar().showMessage(f"Wrote the plot ({size.width()}×{size.height()}) to {path}", 6000)
+            self.statusBar().showMessage(_("Wrote the plot ({width}×{height}) to {path}").format(
+                width=size.width(), height=size.height(), path=path), 6000)
 
     def ask_png_options(self, title: str) -> tuple[str, QSize] | None:
         """The title and size of an exported plot, None when cancelled (tests replace this)."""
@@ -637,11 +647,11 @@ class MainWindow(QMainWindow):
     # -- unsaved work -----------------------------------------------------------------
     def ask_unsaved(self) -> str:
         """'save', 'discard' or 'cancel' (tests replace this)."""
-        name = Path(self.path).name if self.path else "untitled"
-        box = QMessageBox(QMessageBox.Icon.Warning, APP_NAME, f"{name} has unsaved changes.",
+        name = Path(self.path).name if self.path else _("untitled")
+        box = QMessageBox(QMessageBox.Icon.Warning, APP_NAME, _("{name} has unsaved changes.").format(name=name),
                           QMessageBox.StandardButton.Save | QMessageBox.StandardButton.Discard |
                           QMessageBox.StandardButton.Cancel, self)
-        box.setInformativeText("Save them before closing it?")
+        box.setInformativeText(_("Save them before closing it?"))
         answer = box.exec()
         return {QMessageBox.StandardButton.Save: "save",
                 QMessageBox.StandardButton.Discard: "discard"}.get(QMessageBox.StandardButton(answer), "cancel")
@@ -664,15 +674,16 @@ class MainWindow(QMainWindow):
             self._saver.wait()
 
     def _recovery_failed(self, exc: OSError) -> None:
-        self.statusBar().showMessage(f"Crash recovery cannot write {self.recovery.root}: "
-                                     f"{exc.strerror or exc}", 10000)
+        self.statusBar().showMessage(_("Crash recovery cannot write {folder}: {reason}").format(
+            folder=self.recovery.root, reason=exc.strerror or exc), 10000)
 
     def ask_recover(self, found: Recovered) -> bool:
         """Whether to restore text a crash left behind (tests replace this)."""
-        where = found.original or "an untitled macro"
-        answer = QMessageBox.question(self, APP_NAME, f"ZUML Studio did not close cleanly.\n\nRecover the unsaved "
-                                      f"text of {where}?")
-        return answer == QMessageBox.StandardButton.Yes
+        where = found.original or _("an untitled macro")
+        box = QMessageBox(QMessageBox.Icon.Question, APP_NAME,
+                          _("ZUML Studio did not close cleanly.\n\nRecover the unsaved text of {macro}?").format(
+                              macro=where), QMessageBox.StandardButton.Yes | QMessageBox.StandardButton.No, self)
+        return box.exec() == QMessageBox.StandardButton.Yes
 
     def offer_recovery(self) -> bool:
         """At start: offer back what a crash left; returns whether a text was restored."""
@@ -707,7 +718,7 @@ class MainWindow(QMainWindow):
                 event.ignore()
                 return
             if answer == "stop" and not self.device_panel.stop_and_wait():
-                self.statusBar().showMessage("The charger did not confirm the stop: check it.", 10000)
+                self.statusBar().showMessage(_("The charger did not confirm the stop: check it."), 10000)
         self.sim_panel.cancel()
         if self._device_panel is not None:
             self._device_panel.shutdown()
@@ -760,7 +771,7 @@ class MainWindow(QMainWindow):
         from importlib.metadata import version      # 15 ms to import: not before the first paint
 
         return (f"ZUML Studio {version('zuml-studio')}\n\n"
-                "Write, check, simulate and flash ZUML 2.0 charger macros.")
+                + _("Write, check, simulate and flash ZUML 2.0 charger macros."))
 
     def show_about(self) -> None:
         QMessageBox.about(self, APP_NAME, self.about_text())
@@ -775,9 +786,37 @@ class MainWindow(QMainWindow):
     def show_preferences(self) -> None:
         dialog = PreferencesDialog(self.prefs, self.editor.font_size(), self)
         if dialog.exec():
-            chosen = dialog.chosen()
-            chosen.save(self.settings)
-            self.apply_preferences(chosen)
+            self.set_preferences(dialog.chosen())
+
+    def set_preferences(self, chosen: Preferences) -> None:
+        """Keep and apply what the Preferences dialog chose; a new language needs a restart,
+        which is offered."""
+        language_changed = chosen.language != self.prefs.language
+        chosen.save(self.settings)
+        self.apply_preferences(chosen)
+        if language_changed and self.ask_restart():
+            self.restart()
+
+    def ask_restart(self) -> bool:
+        """The language applies at the next start: whether to restart now (tests replace this)."""
+        box = QMessageBox(QMessageBox.Icon.Information, APP_NAME,
+                          _("The new language applies when ZUML Studio starts again."), QMessageBox.StandardButton.NoButton,
+                          self)
+        now = box.addButton(_("Restart Now"), QMessageBox.ButtonRole.AcceptRole)
+        box.addButton(_("Later"), QMessageBox.ButtonRole.RejectRole)
+        box.exec()
+        return box.clickedButton() is now
+
+    def restart(self) -> bool:
+        """Close (asking about unsaved work as always), then start again; False if the user
+        kept the window open or the new process could not start."""
+        self.settings.sync()
+        if not self.close():
+            return False
+        if not restart():
+            QMessageBox.warning(None, APP_NAME, _("ZUML Studio could not start again: start it yourself."))
+            return False
+        return True
 
     def reset_zoom(self) -> None:
         self.prefs.font_size = 0
@@ -800,9 +839,12 @@ class MainWindow(QMainWindow):
         errors = len(result.errors)
         warnings = len(result.diagnostics) - errors
         if result.ok:
-            message = f"Verified: {len(result.record)} of 255 bytes" + (f", {warnings} warning(s)" if warnings else "")
+            message = _("Verified: {size} of 255 bytes").format(size=len(result.record))
+            if warnings:
+                message += ", " + ngettext("{n} warning", "{n} warnings", warnings).format(n=warnings)
         else:
-            message = f"Not verified: {errors} error(s)"
+            message = _("Not verified: {errors}").format(
+                errors=ngettext("{n} error", "{n} errors", errors).format(n=errors))
             self.problems_dock.show()
             self.problems_dock.raise_()
         self.statusBar().showMessage(message, 8000)

@@ -8,6 +8,8 @@ from PySide6.QtGui import QColor, QFont, QFontMetrics, QImage, QPainter
 from PySide6.QtWidgets import (QApplication, QDialog, QDialogButtonBox, QFormLayout, QHBoxLayout, QLabel, QLineEdit,
                                QSpinBox, QWidget)
 
+from ..i18n import _
+
 MIN_SIZE, MAX_SIZE = 320, 8000
 DEFAULT_SIZE = (1600, 1000)
 MARGIN_PX = 12
@@ -53,7 +55,7 @@ class PlotExportDialog(QDialog):
     def __init__(self, title: str, parent: QWidget | None = None):
         super().__init__(parent)
         self.setObjectName("plotExportDialog")
-        self.setWindowTitle("Export plot as PNG")
+        self.setWindowTitle(_("Export plot as PNG"))
         self.title = QLineEdit(title)
         self.title.setObjectName("exportTitle")
         self.width_box, self.height_box = QSpinBox(), QSpinBox()
@@ -70,9 +72,9 @@ class PlotExportDialog(QDialog):
         buttons.accepted.connect(self.accept)
         buttons.rejected.connect(self.reject)
         form = QFormLayout(self)
-        form.addRow("Title", self.title)
-        form.addRow("Size", size_row)
-        form.addRow(QLabel("The macro, the battery and the parameters are written under the title."))
+        form.addRow(_("Title"), self.title)
+        form.addRow(_("Size"), size_row)
+        form.addRow(QLabel(_("The macro, the battery and the parameters are written under the title.")))
         form.addRow(buttons)
 
     def chosen(self) -> tuple[str, QSize]:

@@ -5,6 +5,7 @@ from PySide6.QtCore import Qt, Signal
 from PySide6.QtGui import QColor
 from PySide6.QtWidgets import QHeaderView, QStyle, QTreeWidget, QTreeWidgetItem
 
+from ..i18n import _
 from ..lang.diagnostics import Diagnostic
 from . import theme
 
@@ -21,7 +22,7 @@ class ProblemsView(QTreeWidget):
         self.setUniformRowHeights(True)
         self.setAlternatingRowColors(True)
         self.setColumnCount(4)
-        self.setHeaderLabels(["", "Line:Col", "Message", "Code"])
+        self.setHeaderLabels(["", _("Line:Col"), _("Message"), _("Code")])
         header = self.header()
         header.setSectionResizeMode(0, QHeaderView.ResizeMode.ResizeToContents)
         header.setSectionResizeMode(1, QHeaderView.ResizeMode.ResizeToContents)

@@ -16,6 +16,8 @@ import sys
 from importlib.util import find_spec
 from pathlib import Path
 
+from ..i18n import _
+
 # Where the soname rule (libFOO.so.N -> libfooN, libfoo-x.so.N -> libfoo-x-N) gives the wrong name.
 DEBIAN_PACKAGE = {"libglib-2.0.so.0": "libglib2.0-0", "libgthread-2.0.so.0": "libglib2.0-0",
                   "libgobject-2.0.so.0": "libglib2.0-0"}
@@ -59,13 +61,14 @@ def xcb_plugin() -> Path | None:
 
 def advice(missing: list[str], has_apt: bool) -> str:
     """What to print for the missing libraries."""
-    text = ("Qt's X11 platform plugin needs libraries this system lacks: " + ", ".join(missing) + ".\n")
+    text = _("Qt's X11 platform plugin needs libraries this system lacks: {libraries}.").format(
+        libraries=", ".join(missing)) + "\n"
     if has_apt:
         packages = " ".join(dict.fromkeys(debian_package(s) for s in missing))
-        text += f"Install them with:\n  sudo apt install {packages}\n"
+        text += _("Install them with:") + f"\n  sudo apt install {packages}\n"
     else:
-        text += "Install the packages that provide them with your distribution's package manager.\n"
-    return text + "(Without them Qt stops with \"xcb-cursor0 is needed\", whichever library is missing.)\n"
+        text += _("Install the packages that provide them with your distribution's package manager.") + "\n"
+    return text + _("(Without them Qt stops with \"xcb-cursor0 is needed\", whichever library is missing.)") + "\n"
 
 
 def lacking() -> str:

@@ -11,6 +11,7 @@ import pyqtgraph as pg
 from PySide6.QtCore import QRectF, Qt
 from PySide6.QtGui import QFont, QFontMetrics
 
+from ..i18n import N_, _
 from .timefmt import TimeAxisItem
 
 # Colours: light paper, dark ink, one hue per quantity.
@@ -38,18 +39,19 @@ AXIS_WIDTH = 54               # left and right axes, fixed: the three view boxes
 LABEL_PT = 8
 TICK_PT = 8
 # Vertical axis titles in words, or just the unit when the plots are too low for the words.
-AXIS_LABELS = {"long": ("pack (V)", "per cell (V)", "current (A)", "temp. (°C)"),
+# Quantities are translated, units are not.
+AXIS_LABELS = {"long": (N_("pack (V)"), N_("per cell (V)"), N_("current (A)"), N_("temp. (°C)")),
                "short": ("V", "V/cell", "A", "°C")}
 
 
 def band_label(p, short: bool = False) -> str:
     """``C1: IF(V>4.1S) STOP_FAZE``; a phase a default ended, or a charge a timer cut before full,
     gets a warning sign (and the latter says so)."""
-    head = ("C" if p.section == "charge" else "D") + (str(p.index) if p.index else "")
+    head = (_("C{index}") if p.section == "charge" else _("D{index}")).format(index=p.index or "")
     warn = "⚠ " if band_warns(p) else ""
     if short:
         return warn + head
-    short_of_full = " (timer before full)" if getattr(p, "timer_before_full", False) else ""
+    short_of_full = " " + _("(timer before full)") if getattr(p, "timer_before_full", False) else ""
     return f"{warn}{head}: {p.reason or '…'}{short_of_full}"
 
 
@@ -235,7 +237,7 @@ class StackedPlot(pg.GraphicsLayoutWidget):
             return
         self._short_labels = short
         for axis, text in zip(self._title_axes(), AXIS_LABELS["short" if short else "long"]):
-            self._axis_label(axis, text)
+            self._axis_label(axis, _(text) if not short else text)
 
     def _title_axes(self) -> tuple[pg.AxisItem, ...]:
         return (self.vplot.getAxis("left"), self.vplot.getAxis("right"), self.iplot.getAxis("left"),
@@ -253,7 +255,7 @@ class StackedPlot(pg.GraphicsLayoutWidget):
         self.vplot.getAxis("right").setScale(1.0 / max(1, int(cells or 1)))
 
     def set_sensor(self, sensor: bool) -> None:
-        name = "battery" if sensor else "battery (no sensor)"
+        name = _("battery") if sensor else _("battery (no sensor)")
         self.curves["temp"].opts["name"] = name
         self.legends[self.tplot].rename(0, name)
 

@@ -8,6 +8,8 @@ import math
 
 import pyqtgraph as pg
 
+from ..i18n import _
+
 # Round tick steps in seconds: what a person reads off a clock.
 TICK_STEPS_S = (1, 2, 5, 10, 15, 30, 60, 120, 300, 600, 900, 1800, 3600, 2 * 3600, 3 * 3600, 6 * 3600,
                 12 * 3600, 24 * 3600, 48 * 3600)
@@ -105,4 +107,4 @@ class TimeAxisItem(pg.AxisItem):
         """Title the axis with the labels' format (only when it changes: a title costs a relayout)."""
         if name != self.shown_format:
             self.shown_format = name
-            self.setLabel(f"time ({name})", **self.title_style)
+            self.setLabel(_("time ({format})").format(format=name), **self.title_style)

@@ -7,6 +7,7 @@ import logging
 
 from PySide6.QtCore import QObject, QTimer, Signal
 
+from ..i18n import _
 from ..lang.compiler import CompileResult, compile_source
 from ..lang.diagnostics import Diagnostic, Severity
 
@@ -44,8 +45,9 @@ class Validator(QObject):
         except Exception as exc:   # noqa: BLE001 - a checker bug must not leave the last result standing
             log.exception("checking the macro failed")
             result = CompileResult(None, [Diagnostic(
-                Severity.ERROR, 1, 1, (1, 1), "E000", f"The check itself failed ({type(exc).__name__}: {exc}); "
-                "nothing can be compiled or flashed until it passes", "please report this with the macro")])
+                Severity.ERROR, 1, 1, (1, 1), "E000", _("The check itself failed ({error}); nothing can be compiled or flashed until it "
+                                   "passes").format(error=f"{type(exc).__name__}: {exc}"),
+                _("please report this with the macro"))])
         self.last = result
         if result.ok:
             self.last_valid = result

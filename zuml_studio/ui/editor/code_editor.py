@@ -18,6 +18,7 @@ from PySide6.QtGui import (QAction, QColor, QFontDatabase, QKeySequence, QTextCh
                            QTextFormat, QTextLine)
 from PySide6.QtWidgets import QPlainTextDocumentLayout, QPlainTextEdit, QTextEdit, QToolTip, QVBoxLayout, QWidget
 
+from ...i18n import _
 from ...lang.diagnostics import Diagnostic, Severity
 from .. import theme
 from . import indent
@@ -278,7 +279,7 @@ class CodeEditor(QPlainTextEdit):
         found = self.fix_at(position)
         if found is not None:
             first = menu.actions()[0] if menu.actions() else None
-            action = QAction(f"Write {found[1].fix} (Ctrl+.)", menu)
+            action = QAction(_("Write {fix}").format(fix=found[1].fix) + " (Ctrl+.)", menu)
             action.triggered.connect(lambda: self.quick_fix(position))
             menu.insertAction(first, action)
             menu.insertSeparator(first)
@@ -313,7 +314,7 @@ class CodeEditor(QPlainTextEdit):
         diags = self.diagnostics_at(position)
         if diags:
             return "\n\n".join(d.message + (f"\n{d.hint}" if d.hint else "")
-                                 + (f"\nCtrl+. writes {d.fix}" if d.fix else "") for d in diags)
+                                 + ("\n" + _("Ctrl+. writes {fix}").format(fix=d.fix) if d.fix else "") for d in diags)
         return self.help_at(position)
 
     def tooltip_at_line_column(self, line: int, column: int) -> str:

@@ -16,6 +16,7 @@ from PySide6.QtCore import QModelIndex, Qt
 from PySide6.QtGui import QStandardItem, QStandardItemModel, QTextCursor
 from PySide6.QtWidgets import QCompleter, QPlainTextEdit
 
+from ...i18n import _
 from ...lang import opcodes, operands
 from ...lang.opcodes import Form
 from .highlighter import SYMBOLIC_VALUES
@@ -103,7 +104,8 @@ def _outcome_items() -> list[CompletionItem]:
     out = []
     for outcome in sorted(opcodes.CONDITION_OUTCOMES):
         ops = [op for op in opcodes.CONDITIONS if op.condition.outcome == outcome]
-        out.append(CompletionItem(outcome, "Outcome of " + ", ".join(op.signature() for op in ops)))
+        out.append(CompletionItem(outcome, _("Outcome of {commands}").format(
+            commands=", ".join(op.signature() for op in ops))))
     return out
 
 
@@ -111,7 +113,8 @@ def _value_items(op: opcodes.Op | None, index: int) -> list[CompletionItem]:
     if op is None or not 0 <= index < len(op.operands):
         return []
     operand = op.operands[index]
-    detail = f"{operand.name} of {op.signature()}: {operand.kind.what}"
+    detail = _("{operand} of {command}: {what}").format(operand=operand.name, command=op.signature(),
+                                                      what=operand.kind.what)
     return [CompletionItem(word, detail) for word in _operand_values(operand)]
 
 

@@ -8,10 +8,13 @@ from PySide6.QtGui import QKeySequence, QTextCursor, QTextDocument
 from PySide6.QtWidgets import (QCheckBox, QGridLayout, QHBoxLayout, QLabel, QLineEdit, QPushButton, QToolButton,
                                QWidget)
 
+from ...i18n import _
+
 if TYPE_CHECKING:
     from .code_editor import CodeEditor
 
 MAX_HIGHLIGHTED = 2000
+FIELD_PADDING_PX = 28       # the frame and the text margins (the clear button shows only over a typed text)
 
 
 class FindBar(QWidget):
@@ -24,23 +27,23 @@ class FindBar(QWidget):
 
         self.find_edit = QLineEdit()
         self.find_edit.setObjectName("findEdit")
-        self.find_edit.setPlaceholderText("Find")
+        self.find_edit.setPlaceholderText(_("Find"))
         self.find_edit.setClearButtonEnabled(True)
         self.replace_edit = QLineEdit()
         self.replace_edit.setObjectName("replaceEdit")
-        self.replace_edit.setPlaceholderText("Replace with")
-        self.match_case = QCheckBox("Match case")
+        self.replace_edit.setPlaceholderText(_("Replace with"))
+        self.match_case = QCheckBox(_("Match case"))
         self.match_case.setObjectName("findMatchCase")
         self.status = QLabel("")
         self.status.setObjectName("findStatus")
-        self.status.setMinimumWidth(90)
+        self.status.setMinimumWidth(70)
 
-        self.prev_button = self._tool("▲", "Previous match (Shift+Enter)", lambda: self.find_next(backward=True))
-        self.next_button = self._tool("▼", "Next match (Enter)", lambda: self.find_next())
-        self.close_button = self._tool("✕", "Close (Esc)", self.close_bar)
-        self.replace_button = QPushButton("Replace")
+        self.prev_button = self._tool("▲", _("Previous match (Shift+Enter)"), lambda: self.find_next(backward=True))
+        self.next_button = self._tool("▼", _("Next match (Enter)"), lambda: self.find_next())
+        self.close_button = self._tool("✕", _("Close (Esc)"), self.close_bar)
+        self.replace_button = QPushButton(_("Replace"))
         self.replace_button.clicked.connect(self.replace)
-        self.replace_all_button = QPushButton("Replace All")
+        self.replace_all_button = QPushButton(_("Replace All"))
         self.replace_all_button.clicked.connect(self.replace_all)
 
         grid = QGridLayout(self)
@@ -62,6 +65,8 @@ class FindBar(QWidget):
         grid.addLayout(row1, 1, 1)
         grid.setColumnStretch(0, 2)
         grid.setColumnStretch(1, 3)
+        for edit in (self.find_edit, self.replace_edit):     # never squeezed below what they say they are for
+            edit.setMinimumWidth(edit.fontMetrics().horizontalAdvance(edit.placeholderText()) + FIELD_PADDING_PX)
         self._replace_row = (self.replace_edit, self.replace_button, self.replace_all_button)
 
         self.find_edit.textChanged.connect(self._query_changed)
@@ -160,14 +165,15 @@ class FindBar(QWidget):
             return
         matches = self._matches() if matches is None else matches
         if not matches:
-            self.status.setText("No results")
+            self.status.setText(_("No results"))
             self.status.setStyleSheet("color:#c5221f;")
             return
         self.status.setStyleSheet("")
         here = self.editor.textCursor()
         index = next((i for i, m in enumerate(matches)
                       if m.selectionStart() == here.selectionStart() and m.selectionEnd() == here.selectionEnd()), None)
-        self.status.setText(f"{index + 1} of {len(matches)}" if index is not None else f"{len(matches)} found")
+        self.status.setText(_("{n} of {total}").format(n=index + 1, total=len(matches)) if index is not None
+                            else _("{total} found").format(total=len(matches)))
 
     def _query_changed(self) -> None:
         """Incremental search: the first match from where the current selection starts."""
@@ -235,5 +241,5 @@ class FindBar(QWidget):
         edit.endEditBlock()
         self._highlight_all()
         self.status.setStyleSheet("")
-        self.status.setText(f"{count} replaced")
+        self.status.setText(_("{n} replaced").format(n=count))
         return count

@@ -12,6 +12,7 @@ from typing import NamedTuple
 
 from PySide6.QtGui import QColor, QFont, QSyntaxHighlighter, QTextCharFormat, QTextDocument
 
+from ...i18n import _
 from ...lang import opcodes, operands
 from ...lang.opcodes import Role
 from ..theme import LIGHT, Colours
@@ -212,7 +213,7 @@ def help_text(text: str, column: int) -> str:
     opcode table ('' when the column is not on a keyword)."""
     ops = ops_at(text, column)
     if ops == opcodes.CONDITIONS:
-        return "IF(variable comparison x) outcome\n" + "\n".join(op.signature() for op in ops)
+        return _("IF(variable comparison x) outcome") + "\n" + "\n".join(op.signature() for op in ops)
     return "\n\n".join(_op_help(op) for op in ops)
 
 

@@ -10,11 +10,12 @@ from PySide6.QtCore import Qt, Signal
 from PySide6.QtWidgets import (QCheckBox, QHBoxLayout, QLabel, QListWidget, QListWidgetItem, QPushButton,
                                QSizePolicy, QVBoxLayout, QWidget)
 
+from ...i18n import N_, _, ngettext
 from ...logs import Log
 from ...logs.cycles import split_cycles
 from ...logs.summary import summarize
 from ..timefmt import duration
-from .log_plot import LogPlot
+from .log_plot import STATE_WORDS, LogPlot
 
 SIDE_WIDTH = 250
 
@@ -24,24 +25,26 @@ def totals_html(name: str, info: dict) -> str:
     def num(value, fmt: str, unit: str) -> str:
         return "–" if value is None else f"{format(value, fmt)} {unit}"
 
-    rows = [("charger", html.escape(info["device"])), ("format", info["format"]),
-            ("samples", f"{info['samples']}" + (f" ({info['bad_records']} bad)" if info["bad_records"] else "")),
-            ("length", duration(info["duration_s"])),
-            ("voltage", f"{num(info['v_min'], '.3f', '')}– {num(info['v_max'], '.3f', 'V')}"),
-            ("current max", num(info["i_max_a"], ".2f", "A")),
-            ("charged", num(info["charge_in_mah"], ".0f", "mAh")),
-            ("discharged", num(info["charge_out_mah"], ".0f", "mAh"))]
+    bad = info["bad_records"]
+    rows = [(_("charger"), html.escape(info["device"])), (_("format"), info["format"]),
+            (_("samples"), f"{info['samples']}" + (" " + _("({n} bad)").format(n=bad) if bad else "")),
+            (_("length"), duration(info["duration_s"])),
+            (_("voltage"), f"{num(info['v_min'], '.3f', '')}– {num(info['v_max'], '.3f', 'V')}"),
+            (_("current max"), num(info["i_max_a"], ".2f", "A")),
+            (_("charged"), num(info["charge_in_mah"], ".0f", "mAh")),
+            (_("discharged"), num(info["charge_out_mah"], ".0f", "mAh"))]
     if info["t_max_c"] is not None:
-        rows.append(("temperature", f"{info['t_min_c']:.1f} – {info['t_max_c']:.1f} °C"))
+        rows.append((_("temperature"), f"{info['t_min_c']:.1f} – {info['t_max_c']:.1f} °C"))
     if info["cells"]:
-        rows.append(("cells", str(info["cells"])))
+        rows.append((_("cells"), str(info["cells"])))
     if "battery" in info:
-        rows.append(("battery", html.escape(str(info["battery"]))))
+        rows.append((_("battery"), html.escape(str(info["battery"]))))
     if "resistance" in info:
         r = info["resistance"]
         pack = "–" if r["last_pack_mohm"] is None else f"{r['last_pack_mohm']:.1f} mΩ"
-        rows.append(("resistance", f"pack {pack}, cells " + " ".join(f"{c:.1f}" for c in r["last_cells_mohm"])))
-    rows.append(("phases", str(len(info["phases"]))))
+        rows.append((_("resistance"), _("pack {pack}, cells {cells}").format(
+            pack=pack, cells=" ".join(f"{c:.1f}" for c in r["last_cells_mohm"]))))
+    rows.append((_("phases"), str(len(info["phases"]))))
     body = "".join(f"<tr><td style='color:#606060; padding-right:8px'>{k}</td><td>{v}</td></tr>" for k, v in rows)
     return f"<b>{html.escape(name)}</b><table cellspacing='0' cellpadding='1'>{body}</table>"
 
@@ -78,10 +81,10 @@ class LogDocument(QWidget):
         self.cycles = prepared.cycles
 
         self.plot = LogPlot()
-        self.readout = QLabel("move the mouse over the plot to read the log")
+        self.readout = QLabel(_("move the mouse over the plot to read the log"))
         self.readout.setObjectName("logReadout")
         self.readout.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
-        self.readout.setStyleSheet("color:#303030; padding:2px 6px;")
+        self.readout.setStyleSheet("padding:2px 6px;")      # the palette's text colour: readable when dark too
         # A long readout (many cells, overlays) is cut at the window's edge, never widens it.
         self.readout.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
         self.plot.cursorMoved.connect(lambda text: self.readout.setText(text or " "))
@@ -94,20 +97,25 @@ class LogDocument(QWidget):
         self.layer_list = QListWidget()
         self.layer_list.setObjectName("logLayers")
         self.layer_list.itemChanged.connect(lambda _item: self.redraw())
-        self.cycles_box = QCheckBox(f"its {len(self.cycles)} {self.cycles[0][0].split()[0]} phases, each from 0"
-                                    if self.cycles else "its cycles, each from 0")
+        if self.cycles:
+            state = self.cycles[0][0].split()[0]
+            text = ngettext("its {n} {state} phase, each from 0", "its {n} {state} phases, each from 0",
+                            len(self.cycles)).format(n=len(self.cycles), state=_(STATE_WORDS.get(state, state)))
+        else:
+            text = _("its cycles, each from 0")
+        self.cycles_box = QCheckBox(text)
         self.cycles_box.setEnabled(bool(self.cycles))
-        self.cycles_box.setToolTip("each phase from time 0" if self.cycles else
-                                   "this log has fewer than two charge or discharge phases")
+        self.cycles_box.setToolTip(_("each phase from time 0") if self.cycles else
+                                   _("this log has fewer than two charge or discharge phases"))
         self.cycles_box.toggled.connect(lambda _on: self.redraw())
-        add = QPushButton("Add a log to compare…")
+        add = QPushButton(_("Add a log to compare…"))
         add.clicked.connect(self.addRequested)
 
         side = QVBoxLayout()
         side.setContentsMargins(6, 4, 6, 4)
         side.addWidget(self.totals)
         side.addSpacing(6)
-        side.addWidget(QLabel("<b>laid over</b>"))
+        side.addWidget(QLabel("<b>" + _("laid over") + "</b>"))
         side.addWidget(self.cycles_box)
         side.addWidget(self.layer_list, 1)
         side.addWidget(add)

@@ -11,6 +11,7 @@ import numpy as np
 import pyqtgraph as pg
 from PySide6.QtCore import Signal
 
+from ...i18n import N_, _, ngettext
 from ...logs import Log
 from ...logs.model import Phase, state_of
 from ..plot_backdrop import BackdropItem
@@ -23,7 +24,8 @@ CELL_COLORS = ("#4f81bd", "#c0504d", "#9bbb59", "#8064a2", "#4bacc6", "#f79646",
                "#5f7530", "#4d3b62", "#276a7c", "#b65708")
 OVERLAY_COLORS = ("#e08a00", "#8e44ad", "#16a085", "#c0392b", "#7f8c8d", "#2c3e50", "#d35400", "#27ae60")
 BAND_STATES = ("charge", "discharge", "pause")
-SHORT = {"charge": "C", "discharge": "D", "pause": "P"}
+SHORT = {"charge": N_("C{index}"), "discharge": N_("D{index}"), "pause": N_("P{index}")}
+STATE_WORDS = {"charge": N_("charge"), "discharge": N_("discharge"), "pause": N_("pause")}
 
 
 @dataclass
@@ -38,7 +40,7 @@ class LogPlot(StackedPlot):
     cursorMoved = Signal(str)      # the readout at the crosshair
 
     def __init__(self, parent=None):
-        super().__init__("logPlot", "no log open: File ▸ Open Log…", grid=True, parent=parent)
+        super().__init__("logPlot", _("no log open: File ▸ Open Log…"), grid=True, parent=parent)
         self.layers: list[Layer] = []
         self.items: list[tuple[pg.PlotItem, pg.GraphicsObject]] = []
         # Every band of a plot in one item: a LinearRegionItem per phase and plot took a third
@@ -144,17 +146,18 @@ class LogPlot(StackedPlot):
             entries = [(first.name, VOLTAGE_PEN.color().name())] + [(layer.name, layer.color)
                                                                     for layer in self.layers[1:]]
         else:
-            entries = [("pack voltage", VOLTAGE_PEN.color().name())]
+            entries = [(_("pack voltage"), VOLTAGE_PEN.color().name())]
             if cells:
-                entries.append((f"{cells} cell{'s' if cells > 1 else ''} (right axis)", CELL_COLORS[0]))
+                entries.append((ngettext("{n} cell (right axis)", "{n} cells (right axis)", cells).format(n=cells),
+                                CELL_COLORS[0]))
         self.legends[self.vplot].set_entries(entries)
-        self.legends[self.iplot].set_entries([("+ charge, − discharge", CURRENT_PEN.color().name())])
+        self.legends[self.iplot].set_entries([(_("+ charge, − discharge"), CURRENT_PEN.color().name())])
         temps = []
         if np.isfinite(first.data["temp"]).any():
-            temps.append(("battery", BATTERY_T_PEN.color().name()))
+            temps.append((_("battery"), BATTERY_T_PEN.color().name()))
         if len(self.layers) == 1 and np.isfinite(first.data["heatsink"]).any():
-            temps.append(("charger inside", HEATSINK_T_PEN.color().name()))
-        self.legends[self.tplot].set_entries(temps or [("no temperature in this log", INK)])
+            temps.append((_("charger inside"), HEATSINK_T_PEN.color().name()))
+        self.legends[self.tplot].set_entries(temps or [(_("no temperature in this log"), INK)])
         for legend in self.legends.values():
             legend.setVisible(True)
 
@@ -173,7 +176,8 @@ class LogPlot(StackedPlot):
             band_item.set_bands(spans)
 
     def _label_texts(self, p) -> tuple[str, ...]:
-        return f"{p.state} {p.index}", f"{SHORT[p.state]}{p.index}", SHORT[p.state]
+        short = _(SHORT[p.state])
+        return (f"{_(STATE_WORDS[p.state])} {p.index}", short.format(index=p.index), short.format(index=""))
 
     # -- view --------------------------------------------------------------------------------
     def _view_changed(self, *_) -> None:
@@ -222,7 +226,7 @@ class LogPlot(StackedPlot):
             items.append(f"{d['temp'][k]:.1f} °C")
         items.append(state_of(sample))
         if sample.cells_v:
-            items.append("cells " + " ".join(f"{c:.3f}" for c in sample.cells_v))
+            items.append(_("cells {voltages}").format(voltages=" ".join(f"{c:.3f}" for c in sample.cells_v)))
         return "  ".join(items)
 
     def set_cursor(self, seconds: float | None) -> str:

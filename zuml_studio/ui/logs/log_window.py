@@ -7,14 +7,13 @@ from PySide6.QtCore import QSettings, Qt, Signal
 from PySide6.QtGui import QAction, QKeySequence
 from PySide6.QtWidgets import QFileDialog, QLabel, QMainWindow, QMessageBox, QProgressBar, QTabWidget
 
-from ...i18n import _, ngettext
+from ...i18n import N_, _, ngettext
 from ...logs import LogFormatError, read_log_file
 from ...logs.export import write_csv
 from ..background import BackgroundCall
 from .log_document import LogDocument, Prepared, prepare
 
-TITLE = "Logs — ZUML Studio"
-FILTER = "Charger logs and captures (*.txt *.lov *.osd *.csv *.log *.cap *.bin);;All files (*)"
+TITLE = N_("Logs — ZUML Studio")
 # Reads not yet handed over, kept from being collected while their thread runs (a window
 # deleted meanwhile leaves its read here: its results go nowhere, as Qt drops a signal to a
 # receiver that is gone).
@@ -23,6 +22,11 @@ _READING: set[BackgroundCall] = set()
 
 def _read_and_prepare(path: str) -> Prepared:
     return prepare(read_log_file(path))
+
+
+def file_filter() -> str:
+    return (_("Charger logs and captures") + " (*.txt *.lov *.osd *.csv *.log *.cap *.bin);;"
+            + _("All files") + " (*)")
 
 
 class LogWindow(QMainWindow):
@@ -37,7 +41,7 @@ class LogWindow(QMainWindow):
     def __init__(self, settings: QSettings | None = None, parent=None):
         super().__init__(parent)
         self.setObjectName("logWindow")
-        self.setWindowTitle(TITLE)
+        self.setWindowTitle(_(TITLE))
         # Owned by the main window: closing that ends the application, this one goes with it.
         self.setAttribute(Qt.WidgetAttribute.WA_QuitOnClose, parent is None)
         self.settings = settings
@@ -46,12 +50,12 @@ class LogWindow(QMainWindow):
         self.tabs.setDocumentMode(True)
         self.tabs.tabCloseRequested.connect(self._close_tab)
         self.setCentralWidget(self.tabs)
-        menu = self.menuBar().addMenu("&File")
-        for text, slot, key in (("&Open Log…", self.open_dialog, QKeySequence.StandardKey.Open),
-                                ("&Add a Log to Compare…", self.add_dialog, "Ctrl+Shift+O"),
-                                ("Export as &CSV…", self.export_csv_dialog, "Ctrl+E"),
-                                ("Export Plot as &PNG…", self.export_png_dialog, None),
-                                ("&Close Log", lambda: self._close_tab(self.tabs.currentIndex()),
+        menu = self.menuBar().addMenu(_("&File"))
+        for text, slot, key in ((_("&Open Log…"), self.open_dialog, QKeySequence.StandardKey.Open),
+                                (_("&Add a Log to Compare…"), self.add_dialog, "Ctrl+Shift+O"),
+                                (_("Export as &CSV…"), self.export_csv_dialog, "Ctrl+E"),
+                                (_("Export Plot as &PNG…"), self.export_png_dialog, None),
+                                (_("&Close Log"), lambda: self._close_tab(self.tabs.currentIndex()),
                                  QKeySequence.StandardKey.Close)):
             action = QAction(text, self)
             if key is not None:
@@ -145,8 +149,12 @@ class LogWindow(QMainWindow):
         self.tabs.setTabToolTip(index, f"{path}\n{log.device}")
         self.tabs.setCurrentIndex(index)
         self._remember(path)
-        self.statusBar().showMessage(f"{document.name}: {len(log.samples)} samples from {log.device}"
-                                     + (f", {log.bad_records} bad records skipped" if log.bad_records else ""), 8000)
+        message = ngettext("{name}: {n} sample from {device}", "{name}: {n} samples from {device}",
+                           len(log.samples)).format(name=document.name, n=len(log.samples), device=log.device)
+        if log.bad_records:
+            message += ", " + ngettext("{n} bad record skipped", "{n} bad records skipped",
+                                       log.bad_records).format(n=log.bad_records)
+        self.statusBar().showMessage(message, 8000)
         self.documentOpened.emit(document)
 
     def _read_failed(self, path: str, exc: Exception) -> None:
@@ -177,12 +185,12 @@ class LogWindow(QMainWindow):
             self.settings.setValue("lastLogDir", str(Path(path).parent))
 
     def open_dialog(self) -> None:
-        paths, _filter = QFileDialog.getOpenFileNames(self, "Open charger logs", self._folder(), FILTER)
+        paths = QFileDialog.getOpenFileNames(self, _("Open charger logs"), self._folder(), file_filter())[0]
         for path in paths:
             self.open_path(path)
 
     def add_dialog(self) -> None:
-        paths, _filter = QFileDialog.getOpenFileNames(self, "Logs to compare", self._folder(), FILTER)
+        paths = QFileDialog.getOpenFileNames(self, _("Logs to compare"), self._folder(), file_filter())[0]
         for path in paths:
             self.add_path(path)
 
@@ -191,7 +199,7 @@ class LogWindow(QMainWindow):
         if document is None:
             return
         suggested = str(Path(document.path).with_suffix("")) + "-export.csv"
-        path, _filter = QFileDialog.getSaveFileName(self, "Export log as CSV", suggested, "CSV (*.csv)")
+        path = QFileDialog.getSaveFileName(self, _("Export log as CSV"), suggested, "CSV (*.csv)")[0]
         if path:
             self.export_csv(path)
 
@@ -203,24 +211,25 @@ class LogWindow(QMainWindow):
             with open(path, "w", encoding="utf-8", newline="") as fh:
                 rows = write_csv(document.log, fh)
         except OSError as exc:
-            self.show_error(f"{path}: cannot write: {exc.strerror or exc}")
+            self.show_error(_("{path}: cannot write: {reason}").format(path=path, reason=exc.strerror or exc))
             return False
-        self.statusBar().showMessage(f"Wrote {rows} rows to {path}", 6000)
+        self.statusBar().showMessage(ngettext("Wrote {n} row to {path}", "Wrote {n} rows to {path}", rows).format(
+            n=rows, path=path), 6000)
         return True
 
     def export_png_dialog(self) -> None:
         document = self.current()
         if document is None:
             return
-        path, _filter = QFileDialog.getSaveFileName(self, "Export plot", str(Path(document.path).with_suffix(".png")),
-                                              "PNG (*.png)")
+        path = QFileDialog.getSaveFileName(self, _("Export plot"), str(Path(document.path).with_suffix(".png")),
+                                           "PNG (*.png)")[0]
         if path and not document.plot.export_png(path):
-            self.show_error(f"{path}: cannot write the PNG")
+            self.show_error(_("{path}: cannot write the PNG").format(path=path))
 
     def show_error(self, message: str) -> None:
         """Non-modal, like the main window's: an error never blocks (nor a test)."""
         self.statusBar().showMessage(message, 8000)
-        box = QMessageBox(QMessageBox.Icon.Warning, TITLE, message, QMessageBox.StandardButton.Ok, self)
+        box = QMessageBox(QMessageBox.Icon.Warning, _(TITLE), message, QMessageBox.StandardButton.Ok, self)
         box.setObjectName("logErrorBox")
         box.setAttribute(Qt.WidgetAttribute.WA_DeleteOnClose)
         box.open()

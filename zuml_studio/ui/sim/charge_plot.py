@@ -13,6 +13,7 @@ import numpy as np
 import pyqtgraph as pg
 from PySide6.QtCore import QTimer, Signal
 
+from ...i18n import _
 from ..plot_backdrop import BackdropItem, over_paper
 from ..plot_cursor import CursorReadout
 from ..stacked_plot import (BAND_ALPHA, BATTERY_T_PEN, CURRENT_PEN, HEATSINK_T_PEN, LABEL_COLOR,
@@ -31,7 +32,7 @@ class ChargePlot(StackedPlot):
     phaseClicked = Signal(int)          # row (phase run - 1) of a clicked band, -1 outside bands
 
     def __init__(self, parent=None):
-        super().__init__("simPlot", "no simulation yet: Simulate (F5)", grid=False, parent=parent)
+        super().__init__("simPlot", _("no simulation yet: Simulate (F5)"), grid=False, parent=parent)
         self._t = np.zeros(0)
         self._v = np.zeros(0)
         self._run: PlotData | None = None
@@ -39,10 +40,10 @@ class ChargePlot(StackedPlot):
         self._alphas: list[int] = []
         self.level = 0                  # the envelope level drawn (0: the samples themselves)
         self.curves = {
-            "voltage": self._curve(self.vplot, VOLTAGE_PEN, "pack voltage"),
-            "current": self._curve(self.iplot, CURRENT_PEN, "+ charge, − discharge"),
-            "temp": self._curve(self.tplot, BATTERY_T_PEN, "battery"),
-            "heatsink": self._curve(self.tplot, HEATSINK_T_PEN, "heat sink"),
+            "voltage": self._curve(self.vplot, VOLTAGE_PEN, _("pack voltage")),
+            "current": self._curve(self.iplot, CURRENT_PEN, _("+ charge, − discharge")),
+            "temp": self._curve(self.tplot, BATTERY_T_PEN, _("battery")),
+            "heatsink": self._curve(self.tplot, HEATSINK_T_PEN, _("heat sink")),
         }
         self.band_items = [BackdropItem(plot, self.time_axis) for plot in self.plots]
         self.pause_items = [BackdropItem(plot, self.time_axis, grid=False) for plot in self.plots]
@@ -134,7 +135,8 @@ class ChargePlot(StackedPlot):
         for p in phases:
             for start, end in p.pauses:
                 spans.append((start, max(end, start), pg.mkBrush(*PAUSE_RGBA), pg.mkPen(None)))
-                tips.append(f"heat-sink pause {hmmss(start)}–{hmmss(end)}: the power stage was too hot (Tc)")
+                tips.append(_("heat-sink pause {start}–{end}: the power stage was too hot (Tc)").format(
+                    start=hmmss(start), end=hmmss(end)))
         for item in self.pause_items:
             item.set_bands(spans, tips)
 
@@ -146,7 +148,7 @@ class ChargePlot(StackedPlot):
             spans.append((p.start_s, end, pg.mkBrush(over_paper(r, g, b, SELECTED_ALPHA if row == self._selected
                                                                   else alpha)),
                           pg.mkPen(over_paper(r, g, b, BAND_EDGE_ALPHA), width=1)))
-            tips.append(f"{band_label(p)}\ndouble-click: show the FAZE in the editor")
+            tips.append(band_label(p) + "\n" + _("double-click: show the FAZE in the editor"))
         for item in self.band_items:
             item.set_bands(spans, tips)
 

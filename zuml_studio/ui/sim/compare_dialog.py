@@ -12,6 +12,7 @@ from PySide6.QtWidgets import (QComboBox, QDialog, QFileDialog, QFormLayout, QHB
                                QInputDialog, QLabel, QPushButton, QSpinBox, QVBoxLayout, QWidget)
 
 from ...file_errors import FileReadError
+from ...i18n import N_, _
 from ...logs import LogFormatError
 from ...sim.batteries import BatteryFileError, save_battery
 from ...sim.chemistry import chemistry_names
@@ -23,24 +24,29 @@ from ..background import BackgroundCall
 REAL_PEN = pg.mkPen("#202020", width=2)
 MODEL_PEN = pg.mkPen("#1f5fd0", width=1.5)
 DIFF_PEN = pg.mkPen("#c03030", width=1.5)
+WHO = {"real": N_("real"), "model": N_("model")}      # the report's keys, shown translated
 
 
 def figures_text(report: dict) -> str:
     """The figures as lines of text (the same keys as ``zuml fit/compare --json``)."""
     lines = []
     if report.get("rmse_v_per_cell_mv") is not None:
-        lines.append(f"RMSE voltage: {report['rmse_v_per_cell_mv']:g} mV per cell")
+        lines.append(_("RMSE voltage: {n} mV per cell").format(n=f"{report['rmse_v_per_cell_mv']:g}"))
     if report.get("rmse_i_cv_pct") is not None:
-        lines.append(f"RMSE current in CV: {report['rmse_i_cv_pct']:g} % of the CC current")
+        lines.append(_("RMSE current in CV: {share} of the CC current").format(share=f"{report['rmse_i_cv_pct']:g} %"))
     if report.get("peak"):
         p = report["peak"]
-        lines.append(f"peak at {p['real_mah']:g} mAh (real), {p['model_mah']:g} mAh (model)")
-        lines.append(f"-dV {p['real_dv_mv_per_cell']:g} mV/cell (real), {p['model_dv_mv_per_cell']:g} (model)")
+        lines.append(_("peak at {real} mAh (real), {model} mAh (model)").format(real=f"{p['real_mah']:g}",
+                                                                                 model=f"{p['model_mah']:g}"))
+        lines.append(_("-dV {real} mV/cell (real), {model} (model)").format(real=f"{p['real_dv_mv_per_cell']:g}",
+                                                                            model=f"{p['model_dv_mv_per_cell']:g}"))
     if report.get("temp_rise"):
         t = report["temp_rise"]
-        lines.append(f"temperature rise {t['real_c']:g} °C (real), {t['model_c']:g} °C (model)")
+        lines.append(_("temperature rise {real} °C (real), {model} °C (model)").format(real=f"{t['real_c']:g}",
+                                                                                        model=f"{t['model_c']:g}"))
     for who, end in report.get("ends", {}).items():
-        lines.append(f"{who} ended at {end['time_s'] / 60:.1f} min, {end['mah']:g} mAh: {end['why']}")
+        lines.append(_("{who} ended at {minutes} min, {mah} mAh: {why}").format(
+            who=_(WHO.get(who, who)), minutes=f"{end['time_s'] / 60:.1f}", mah=f"{end['mah']:g}", why=end["why"]))
     return "\n".join(lines)
 
 
@@ -51,16 +57,16 @@ class CompareDialog(QDialog):
     def __init__(self, record: Callable[[], bytes | None], parent: QWidget | None = None,
                  on_saved: Callable[[], None] | None = None, chemistry: str | None = None):
         super().__init__(parent)
-        self.setWindowTitle("Compare with Log")
+        self.setWindowTitle(_("Compare with Log"))
         self.setObjectName("compareDialog")
         self._record, self._on_saved = record, on_saved
         self.curve: Curve | None = None
         self.fitted: FitResult | None = None
         self._job: BackgroundCall | None = None
 
-        self.log_label = QLabel("no log chosen")
+        self.log_label = QLabel(_("no log chosen"))
         self.log_label.setTextInteractionFlags(Qt.TextSelectableByMouse)
-        open_button = QPushButton("Log…")
+        open_button = QPushButton(_("Log…"))
         open_button.clicked.connect(self._choose)
         self.chemistry = QComboBox()
         for name in chemistry_names():
@@ -71,15 +77,15 @@ class CompareDialog(QDialog):
         self.capacity = QSpinBox()
         self.capacity.setRange(0, 65534)
         self.capacity.setSuffix(" mAh")
-        self.capacity.setSpecialValueText("from the log")
-        self.simulate_button = QPushButton("Simulate Macro")
-        self.simulate_button.setToolTip("Run the open macro from the log's start and compare")
+        self.capacity.setSpecialValueText(_("from the log"))
+        self.simulate_button = QPushButton(_("Simulate Macro"))
+        self.simulate_button.setToolTip(_("Run the open macro from the log's start and compare"))
         self.simulate_button.clicked.connect(self.compare_macro)
-        self.fit_button = QPushButton("Fit")
-        self.fit_button.setToolTip("Fit the battery model to the log (seconds)")
+        self.fit_button = QPushButton(_("Fit"))
+        self.fit_button.setToolTip(_("Fit the battery model to the log (seconds)"))
         self.fit_button.clicked.connect(self.fit_log)
-        self.save_button = QPushButton("Save Battery…")
-        self.save_button.setToolTip("Keep the fitted model as a named battery for the Model box")
+        self.save_button = QPushButton(_("Save Battery…"))
+        self.save_button.setToolTip(_("Keep the fitted model as a named battery for the Model box"))
         self.save_button.clicked.connect(self.save_fitted)
         for b in (self.simulate_button, self.fit_button, self.save_button):
             b.setEnabled(False)
@@ -88,24 +94,24 @@ class CompareDialog(QDialog):
         row = QHBoxLayout()
         row.addWidget(open_button)
         row.addWidget(self.log_label, 1)
-        form.addRow("Log", row)
-        form.addRow("Chemistry", self.chemistry)
-        form.addRow("Cells", self.cells)
-        form.addRow("Capacity", self.capacity)
+        form.addRow(_("Log"), row)
+        form.addRow(_("Chemistry"), self.chemistry)
+        form.addRow(_("Cells"), self.cells)
+        form.addRow(_("Capacity"), self.capacity)
 
         self.plots = pg.GraphicsLayoutWidget()
         self.plots.setBackground("w")
         self.v_plot = self.plots.addPlot(row=0, col=0)
-        self.v_plot.setLabel("left", "V per cell")
+        self.v_plot.setLabel("left", _("per cell"), units="V")
         self.v_plot.addLegend(offset=(10, 10))
         self.d_plot = self.plots.addPlot(row=1, col=0)
-        self.d_plot.setLabel("left", "model − real", units="mV/cell")
-        self.d_plot.setLabel("bottom", "time", units="min")
+        self.d_plot.setLabel("left", _("model − real"), units="mV/cell")
+        self.d_plot.setLabel("bottom", _("time"), units="min")
         self.d_plot.setXLink(self.v_plot)
         self.plots.ci.layout.setRowStretchFactor(0, 3)
         self.plots.ci.layout.setRowStretchFactor(1, 1)
 
-        self.figures = QLabel("Choose a charge log, then Simulate Macro or Fit.")
+        self.figures = QLabel(_("Choose a charge log, then Simulate Macro or Fit."))
         self.figures.setTextInteractionFlags(Qt.TextSelectableByMouse)
         self.figures.setWordWrap(True)
         buttons = QHBoxLayout()
@@ -121,7 +127,8 @@ class CompareDialog(QDialog):
 
     # -- actions -----------------------------------------------------------------------
     def _choose(self) -> None:
-        path, _ = QFileDialog.getOpenFileName(self, "Charge Log", "", "Logs (*.txt *.csv *.osd *.lov);;All (*)")
+        path = QFileDialog.getOpenFileName(self, _("Charge Log"), "", _("Logs") + " (*.txt *.csv *.osd *.lov);;"
+                                           + _("All files") + " (*)")[0]
         if path:
             self.load_log(path)
 
@@ -141,7 +148,7 @@ class CompareDialog(QDialog):
         self.fit_button.setEnabled(True)
         self.save_button.setEnabled(False)
         self._draw(None, None, "")
-        self.figures.setText("Simulate Macro or Fit.")
+        self.figures.setText(_("Simulate Macro or Fit."))
         return True
 
     def fit_log(self) -> None:
@@ -149,13 +156,13 @@ class CompareDialog(QDialog):
         if self.curve is None or self._job is not None:
             return
         curve, chemistry, cells = self.curve, self.chemistry.currentData(), self.cells.value()
-        self._run("Fitting the model to the log…", lambda: fit(curve, chemistry, cells), self._fitted)
+        self._run(_("Fitting the model to the log…"), lambda: fit(curve, chemistry, cells), self._fitted)
 
     def _fitted(self, fitted: FitResult) -> None:
         self.fitted = fitted
-        self._draw(self.curve.t, fitted.run.v, "fitted model")
+        self._draw(self.curve.t, fitted.run.v, _("fitted model"))
         params = ", ".join(f"{k} {v:.4g}" for k, v in fitted.params.items())
-        self.figures.setText(figures_text(fitted.figures) + f"\nfitted: {params}")
+        self.figures.setText(figures_text(fitted.figures) + "\n" + _("fitted: {parameters}").format(parameters=params))
         self.save_button.setEnabled(True)
 
     def compare_macro(self) -> None:
@@ -165,15 +172,15 @@ class CompareDialog(QDialog):
         if self.curve is None or self._job is not None:
             return
         if record is None:
-            self._error("the open macro has errors: fix them to compare it with the log")
+            self._error(_("the open macro has errors: fix them to compare it with the log"))
             return
         curve, chemistry, cells = self.curve, self.chemistry.currentData(), self.cells.value()
         capacity = self.capacity.value() or float(curve.mah[-1])
-        self._run("Simulating the macro from the log's start…",
+        self._run(_("Simulating the macro from the log's start…"),
                   lambda: compare(curve, record, chemistry, cells, capacity), self._compared)
 
     def _compared(self, result) -> None:
-        self._draw(result.t, result.run.v, "simulation")
+        self._draw(result.t, result.run.v, _("simulation"))
         self.figures.setText(figures_text(result.report))
 
     def _run(self, what: str, fn, on_done) -> None:
@@ -188,7 +195,8 @@ class CompareDialog(QDialog):
 
     def _failed(self, exc: Exception) -> None:
         expected = (StartError, ValueError, KeyError, ArithmeticError)
-        self._error(str(exc) if isinstance(exc, expected) else f"internal error: {type(exc).__name__}: {exc}")
+        self._error(str(exc) if isinstance(exc, expected)
+                    else _("internal error: {error}").format(error=f"{type(exc).__name__}: {exc}"))
 
     def _job_ended(self) -> None:
         self._job = None
@@ -205,7 +213,7 @@ class CompareDialog(QDialog):
     def save_fitted(self) -> None:
         if self.fitted is None:
             return
-        name, ok = QInputDialog.getText(self, "Save Battery", "Name (e.g. 4S 2000 NiMH receiver pack):")
+        name, ok = QInputDialog.getText(self, _("Save Battery"), _("Name (e.g. 4S 2000 NiMH receiver pack):"))
         if ok and name.strip():
             self.save_as(name.strip())
 
@@ -215,7 +223,7 @@ class CompareDialog(QDialog):
         except (BatteryFileError, OSError) as exc:
             self._error(str(exc))
             return False
-        self.figures.setText(self.figures.text() + f"\nsaved as '{name}'")
+        self.figures.setText(self.figures.text() + "\n" + _("saved as '{name}'").format(name=name))
         if self._on_saved:
             self._on_saved()
         return True
@@ -227,7 +235,7 @@ class CompareDialog(QDialog):
         if self.curve is None:
             return
         n = self.cells.value()
-        self.v_plot.plot(self.curve.t / 60.0, self.curve.v / n, pen=REAL_PEN, name="log")
+        self.v_plot.plot(self.curve.t / 60.0, self.curve.v / n, pen=REAL_PEN, name=_("log"))
         if t is None or v_model is None:
             return
         self.v_plot.plot(t / 60.0, v_model / n, pen=MODEL_PEN, name=label)

@@ -7,6 +7,7 @@ from PySide6.QtCore import Qt, Signal
 from PySide6.QtWidgets import (QCheckBox, QComboBox, QDoubleSpinBox, QGridLayout, QHBoxLayout,
                                QLabel, QProgressBar, QPushButton, QSpinBox, QWidget)
 
+from ...i18n import N_, _
 from ...sim.batteries import battery_names
 from ...sim.chemistry import chemistry_names
 from ...sim.interpreter import StartParams
@@ -15,10 +16,10 @@ from ...sim.start_templates import factory_templates
 from ..number_boxes import double_spin_box, form_field, spin_box
 from ..timefmt import elapsed
 
-TASKS = (("charge", "Charge"), ("discharge", "Discharge"), ("train", "Train"))
-FROM_AKK = "from AKK_TYPE"
+TASKS = (("charge", N_("Charge")), ("discharge", N_("Discharge")), ("train", N_("Train")))
+FROM_AKK = N_("from AKK_TYPE")
 NAMED = "battery:"      # Model box data of a saved fitted battery
-MODEL_TIP = "the battery model; 'from AKK_TYPE' uses the chemistry the macro declares"
+MODEL_TIP = N_("the battery model; 'from AKK_TYPE' uses the chemistry the macro declares")
 FIELD_WIDTH = 104
 
 DEFAULTS = {"task": "charge", "repetitions": 3, "capacity_mah": 2000, "current_a": 2.0, "series": 4,
@@ -42,53 +43,55 @@ class ParamsForm(QWidget):
 
         self.task = QComboBox()
         for key, text in TASKS:
-            self.task.addItem(text, key)
-        self.task.setToolTip("What the charger is started for: charge, discharge, or training "
-                             "(discharge + charge, repeated)")
-        self.repetitions = self._spin_box(1, 255, DEFAULTS["repetitions"], "", "training: discharge+charge this many times")
+            self.task.addItem(_(text), key)
+        self.task.setToolTip(_("What the charger is started for: charge, discharge, or training "
+                               "(discharge + charge, repeated)"))
+        self.repetitions = self._spin_box(1, 255, DEFAULTS["repetitions"], "",
+                                          _("training: discharge+charge this many times"))
         self.repetitions.setPrefix("× ")
         self.capacity = self._spin_box(10, 65000, DEFAULTS["capacity_mah"], " mAh",
-                                   "the battery's capacity, entered at start (and the model's size)")
+                                   _("the battery's capacity, entered at start (and the model's size)"))
         self.capacity.setSingleStep(100)
         self.current = self._double_box(0.01, 50.0, DEFAULTS["current_a"], " A", 2, 0.1,
-                                   "the current entered at start (CONSTANT_I=INPUT; the limit of a CONSTANT_V phase)")
-        self.series = self._spin_box(1, 255, DEFAULTS["series"], "", "cells in series (used when the macro has no SERIES)")
-        self.series.setSuffix(" cells")
+                                   _("the current entered at start (CONSTANT_I=INPUT; the limit of a CONSTANT_V phase)"))
+        self.series = self._spin_box(1, 255, DEFAULTS["series"], "",
+                                     _("cells in series (used when the macro has no SERIES)"))
+        self.series.setSuffix(" " + _("cells"))
         self.voltage = self._double_box(0.0, 100.0, 0.0, " V", 2, 0.1,
-                                   "the voltage entered at start, for macros that take one (INPUT); — none")
+                                   _("the voltage entered at start, for macros that take one (INPUT); — none"))
         self.voltage.setSpecialValueText("—")
         self.model = QComboBox()
-        self.model.addItem(FROM_AKK, None)
+        self.model.addItem(_(FROM_AKK), None)
         for name in chemistry_names():
             self.model.addItem(name, name)
         self.add_named_batteries()
-        self.model.setToolTip(MODEL_TIP)
+        self.model.setToolTip(_(MODEL_TIP))
         form_field(self.model, max_width=FIELD_WIDTH).setMaximumWidth(2 * FIELD_WIDTH)
         self.template = QComboBox()
         self.template.addItem("—", None)
         for number, template in sorted(factory_templates().items()):
             self.template.addItem(f"{number}: {template.describe()}", number)
-        self.template.setToolTip("start with one of the charger's start templates (its values replace those "
-                                 "above); a macro's START_SHABLON=n chooses its own")
+        self.template.setToolTip(_("start with one of the charger's start templates (its values replace those "
+                                   "above); a macro's START_SHABLON=n chooses its own"))
         form_field(self.template, max_width=FIELD_WIDTH).setMaximumWidth(2 * FIELD_WIDTH)
         form_field(self.task, max_width=FIELD_WIDTH)
-        self.initial = self._spin_box(-1, 100, -1, " %", "initial state of charge: auto = empty for a charge, "
-                                  "full for a discharge or a training")
-        self.initial.setSpecialValueText("auto")
-        self.ambient = self._double_box(-20.0, 60.0, DEFAULTS["ambient_c"], " °C", 0, 1.0, "ambient temperature")
-        self.sensor = QCheckBox("T sensor")
+        self.initial = self._spin_box(-1, 100, -1, " %", _("initial state of charge: auto = empty for a charge, "
+                                                           "full for a discharge or a training"))
+        self.initial.setSpecialValueText(_("auto"))
+        self.ambient = self._double_box(-20.0, 60.0, DEFAULTS["ambient_c"], " °C", 0, 1.0, _("ambient temperature"))
+        self.sensor = QCheckBox(_("T sensor"))
         self.sensor.setChecked(DEFAULTS["sensor"])
-        self.sensor.setToolTip("a battery temperature sensor is connected (without one, the default "
-                               "T and dT/dt stops cannot act)")
-        self.auto = QCheckBox("Auto re-simulate")
+        self.sensor.setToolTip(_("a battery temperature sensor is connected (without one, the default "
+                                 "T and dT/dt stops cannot act)"))
+        self.auto = QCheckBox(_("Auto re-simulate"))
         self.auto.setChecked(DEFAULTS["auto"])
-        self.auto.setToolTip("simulate again whenever the macro compiles to a new record or a parameter changes")
+        self.auto.setToolTip(_("simulate again whenever the macro compiles to a new record or a parameter changes"))
 
-        self.simulate_button = QPushButton("Simulate")
-        self.simulate_button.setToolTip("Run the macro against the battery model (F5)")
+        self.simulate_button = QPushButton(_("Simulate"))
+        self.simulate_button.setToolTip(_("Run the macro against the battery model (F5)"))
         self.simulate_button.setDefault(True)
-        self.cancel_button = QPushButton("Cancel")
-        self.cancel_button.setToolTip("Stop the running simulation (Shift+F5)")
+        self.cancel_button = QPushButton(_("Cancel"))
+        self.cancel_button.setToolTip(_("Stop the running simulation (Shift+F5)"))
         self.cancel_button.setEnabled(False)
         self.progress = QProgressBar()
         self.progress.setObjectName("simProgress")
@@ -103,12 +106,12 @@ class ParamsForm(QWidget):
         grid.setContentsMargins(6, 4, 6, 4)
         grid.setHorizontalSpacing(6)
         grid.setVerticalSpacing(3)
-        rows = ((("Task", self.task), ("Reps", self.repetitions)),
-                (("Capacity", self.capacity), ("Current", self.current)),
-                (("Cells", self.series), ("Voltage", self.voltage)),
-                (("Model", self.model),),
-                (("Template", self.template),),
-                (("Initial", self.initial), ("Ambient", self.ambient)),
+        rows = (((_("Task"), self.task), (_("Reps"), self.repetitions)),
+                ((_("Capacity"), self.capacity), (_("Current"), self.current)),
+                ((_("Cells"), self.series), (_("Voltage"), self.voltage)),
+                ((_("Model"), self.model),),
+                ((_("Template"), self.template),),
+                ((_("Initial"), self.initial), (_("Ambient"), self.ambient)),
                 ((None, self.sensor), (None, self.auto)))
         for r, pair in enumerate(rows):
             for c, (text, widget) in enumerate(pair):
@@ -190,7 +193,7 @@ class ParamsForm(QWidget):
         """Offer the saved fitted batteries (zuml fit --save, Compare with Log > Save) after the chemistries."""
         for name in battery_names():
             if self.model.findData(NAMED + name) < 0:
-                self.model.addItem(f"{name} (fitted)", NAMED + name)
+                self.model.addItem(_("{name} (fitted)").format(name=name), NAMED + name)
 
     def battery_setup(self) -> BatterySetup:
         soc = self.initial.value()
@@ -249,7 +252,8 @@ class ParamsForm(QWidget):
         akk = str(declared.get("chemistry") or "")
         if akk != self._declared_akk:
             self._declared_akk = akk
-            tip = f"{MODEL_TIP} (this one declares AKK_TYPE={akk})" if akk else MODEL_TIP
+            tip = _(MODEL_TIP) + (" " + _("(this one declares {declaration})").format(declaration=f"AKK_TYPE={akk}")
+                                  if akk else "")
             self.model.setToolTip(tip)
             self.model.setItemData(0, tip, Qt.ItemDataRole.ToolTipRole)
         return changed
@@ -264,7 +268,7 @@ class ParamsForm(QWidget):
         self.progress.setValue(0)
         self.progress.setVisible(running)
         if running:
-            self.progress_label.setText("starting…")
+            self.progress_label.setText(_("starting…"))
 
     def set_progress(self, seconds: float) -> None:
-        self.progress_label.setText(f"{elapsed(seconds)} simulated")
+        self.progress_label.setText(_("{time} simulated").format(time=elapsed(seconds)))

@@ -8,14 +8,16 @@ from PySide6.QtCore import QAbstractTableModel, QModelIndex, Qt, Signal
 from PySide6.QtGui import QColor
 from PySide6.QtWidgets import QAbstractItemView, QHeaderView, QStyle, QTableView
 
+from ...i18n import N_, _, ngettext
 from ..timefmt import duration, hmm, hmmss
 
-COLUMNS = ("#", "section", "phase", "start", "end", "duration", "end reason", "mAh in", "mAh out", "V end", "T end",
-           "notes")
+COLUMNS = ("#", N_("section"), N_("phase"), N_("start"), N_("end"), N_("duration"), N_("end reason"), N_("mAh in"),
+           N_("mAh out"), N_("V end"), N_("T end"), N_("notes"))
 REASON_COLUMN = COLUMNS.index("end reason")
 NOTES_COLUMN = COLUMNS.index("notes")
-DEFAULT_TIP = "ended by a default safety condition, not by the macro"
-TIMER_TIP = "timer before full: a timer ended this charge with less than the capacity put in"
+DEFAULT_TIP = N_("ended by a default safety condition, not by the macro")
+TIMER_TIP = N_("timer before full: a timer ended this charge with less than the capacity put in")
+SECTION_WORDS = {"charge": N_("charge"), "discharge": N_("discharge")}
 WARN_FG = QColor("#a04000")
 WARN_BG = QColor("#fff3d6")
 SECTION_TINT = {"charge": QColor(74, 134, 232, 60), "discharge": QColor(232, 96, 74, 60)}   # as the plot's bands
@@ -58,7 +60,7 @@ class PhaseModel(QAbstractTableModel):
         if orientation != Qt.Orientation.Horizontal or not 0 <= section < len(COLUMNS):
             return None
         if role == Qt.ItemDataRole.DisplayRole:
-            return COLUMNS[section]
+            return _(COLUMNS[section])
         if role == Qt.ItemDataRole.ToolTipRole:
             return self._tips.get(COLUMNS[section])
         return None
@@ -82,7 +84,7 @@ class PhaseModel(QAbstractTableModel):
     def flag_tip(self, row: int) -> str:
         """Why the row is flagged ("" if it is not)."""
         p = self._phases[row]
-        return DEFAULT_TIP if p.by_default else TIMER_TIP if p.timer_before_full else ""
+        return _(DEFAULT_TIP) if p.by_default else _(TIMER_TIP) if p.timer_before_full else ""
 
     def data(self, index: QModelIndex, role: int = DISPLAY):
         # Called several times per cell for every paint and size hint: one dictionary look-up
@@ -96,11 +98,13 @@ class PhaseModel(QAbstractTableModel):
             return {}
         p = self._phases[row]
         ended = bool(p.reason)
-        section = p.section + (f" · rep {p.repetition}" if self._training else "")
-        phase = f"{p.index}" + (f" (pass {p.cycle_pass})" if p.cycle_pass else "") if p.index else "default"
+        section = _(SECTION_WORDS.get(p.section, p.section)) + (
+            " · " + _("rep {n}").format(n=p.repetition) if self._training else "")
+        phase = (f"{p.index}" + (" " + _("(pass {n})").format(n=p.cycle_pass) if p.cycle_pass else "")
+                 if p.index else _("default"))
         cells = (str(p.run or row + 1), section, phase, hmmss(p.start_s),
                  hmmss(p.end_s) if ended else "…", duration(p.end_s - p.start_s) if ended else "",
-                 p.reason or "(running)", f"{p.mah_in:.1f}", f"{p.mah_out:.1f}",
+                 p.reason or _("(running)"), f"{p.mah_in:.1f}", f"{p.mah_out:.1f}",
                  f"{p.v_end:.3f}" if ended else "", f"{p.temp_end:.1f}" if ended else "",
                  "; ".join(p.notes))
         flag = self.flag_tip(row)
@@ -108,7 +112,8 @@ class PhaseModel(QAbstractTableModel):
         tips = [summary] * len(COLUMNS)
         if not flag and ended:
             tips[4] = hmm(p.end_s)
-            tips[9] = f"{p.v_end:.3f} V pack, {p.v_end / self._series:.3f} V per cell"
+            tips[9] = _("{pack} V pack, {cell} V per cell").format(pack=f"{p.v_end:.3f}",
+                                                                  cell=f"{p.v_end / self._series:.3f}")
         tips[REASON_COLUMN] = f"{cells[REASON_COLUMN]}: {flag}" if flag else p.reason
         tips[NOTES_COLUMN] = "\n".join(p.notes)
         n = len(COLUMNS)
@@ -131,10 +136,10 @@ class PhaseTable(QTableView):
     def __init__(self, parent=None):
         super().__init__(parent)
         self.setObjectName("phaseTable")
-        tips = {"phase": "position of the FAZE in its section (and the CYCLE pass)",
-                "end reason": "the condition that ended the phase", "V end": "pack voltage at the end",
-                "T end": "battery temperature at the end (the model's, also without a sensor)",
-                "notes": "timer before full, heat-sink pauses, the charger's limits cutting the current"}
+        tips = {"phase": _("position of the FAZE in its section (and the CYCLE pass)"),
+                "end reason": _("the condition that ended the phase"), "V end": _("pack voltage at the end"),
+                "T end": _("battery temperature at the end (the model's, also without a sensor)"),
+                "notes": _("timer before full, heat-sink pauses, the charger's limits cutting the current")}
         warn_icon = self.style().standardIcon(QStyle.StandardPixmap.SP_MessageBoxWarning)
         self.phases = PhaseModel(tips, warn_icon, self)
         self.setModel(self.phases)
@@ -158,7 +163,7 @@ class PhaseTable(QTableView):
         header.setDefaultAlignment(Qt.AlignmentFlag.AlignLeft | Qt.AlignmentFlag.AlignVCenter)
         self.doubleClicked.connect(self._double_clicked)
         self.selectionModel().selectionChanged.connect(self._selection_changed)
-        self.setToolTip("Double-click a phase to show its FAZE in the editor")
+        self.setToolTip(_("Double-click a phase to show its FAZE in the editor"))
 
     def set_result(self, result) -> None:
         """Fill from a SimResult (or clear with None)."""
@@ -213,12 +218,17 @@ class PhaseTable(QTableView):
 
 def row_summary(p, series: int) -> str:
     """One phase in words, for the tooltip of its row."""
-    head = f"{p.section} phase {p.index or 'default'}"
+    head = _("{section} phase {index}").format(section=_(SECTION_WORDS.get(p.section, p.section)),
+                                               index=p.index or _("default"))
+    charge = _("{charged} mAh in, {discharged} mAh out").format(charged=f"{p.mah_in:.1f}",
+                                                                discharged=f"{p.mah_out:.1f}")
     if not p.reason:
-        return f"{head}: running since {hmmss(p.start_s)}; {p.mah_in:.1f} mAh in, {p.mah_out:.1f} mAh out"
-    return (f"{head}: {hmmss(p.start_s)} to {hmmss(p.end_s)} ({duration(p.end_s - p.start_s)}), ended by "
-            f"{p.reason}\n{p.mah_in:.1f} mAh in, {p.mah_out:.1f} mAh out; at the end {p.v_end:.3f} V "
-            f"({p.v_end / max(series, 1):.3f} V per cell), {p.temp_end:.1f} °C")
+        return _("{phase}: running since {start}; {charge}").format(phase=head, start=hmmss(p.start_s), charge=charge)
+    return _("{phase}: {start} to {end} ({duration}), ended by {reason}\n{charge}; at the end {pack} V "
+             "({cell} V per cell), {temperature} °C").format(
+        phase=head, start=hmmss(p.start_s), end=hmmss(p.end_s), duration=duration(p.end_s - p.start_s),
+        reason=p.reason, charge=charge, pack=f"{p.v_end:.3f}", cell=f"{p.v_end / max(series, 1):.3f}",
+        temperature=f"{p.temp_end:.1f}")
 
 
 def totals_text(result) -> str:
@@ -227,18 +237,20 @@ def totals_text(result) -> str:
     if result is None:
         return ""
     t = result.totals()
-    parts = [f"total {hmmss(t['duration_s'])}", f"in {t['mah_in']:.0f} mAh", f"out {t['mah_out']:.0f} mAh",
-             f"end: {t['end'] or '—'}"]
+    parts = [_("total {time}").format(time=hmmss(t["duration_s"])), _("in {n} mAh").format(n=f"{t['mah_in']:.0f}"),
+             _("out {n} mAh").format(n=f"{t['mah_out']:.0f}"), _("end: {reason}").format(reason=t["end"] or "—")]
     defaults = sum(1 for p in result.phases if p.by_default)
     if defaults:
-        parts.append(f"⚠ {defaults} phase{'s' if defaults > 1 else ''} ended by a default")
+        parts.append("⚠ " + ngettext("{n} phase ended by a default", "{n} phases ended by a default",
+                                     defaults).format(n=defaults))
     short = sum(1 for p in result.phases if p.timer_before_full)
     if short:
-        parts.append(f"⚠ {short} charge{'s' if short > 1 else ''} cut by a timer before full")
+        parts.append("⚠ " + ngettext("{n} charge cut by a timer before full", "{n} charges cut by a timer before full",
+                                     short).format(n=short))
     pauses = sum(len(p.pauses) for p in result.phases)
     if pauses:
-        parts.append(f"{pauses} heat-sink pause{'s' if pauses > 1 else ''}, "
-                     f"{sum(p.paused_s for p in result.phases) / 60:.0f} min")
+        parts.append(ngettext("{n} heat-sink pause, {minutes} min", "{n} heat-sink pauses, {minutes} min",
+                              pauses).format(n=pauses, minutes=f"{sum(p.paused_s for p in result.phases) / 60:.0f}"))
     text = " · ".join(parts)
     if result.interpreter.params.task == "train":
         measured = [r["discharged_mah"] for r in result.repetitions() if r["discharged_mah"] > 0]
@@ -247,6 +259,6 @@ def totals_text(result) -> str:
                 caps = ", ".join(f"{m:.0f}" for m in measured)
             else:
                 caps = (", ".join(f"{m:.0f}" for m in measured[:3]) + ", … " + f"{measured[-1]:.0f}"
-                        + f" (avg {sum(measured) / len(measured):.0f})")
-            text += f"\nmeasured capacity per discharge: {caps} mAh"
+                        + " " + _("(avg {n})").format(n=f"{sum(measured) / len(measured):.0f}"))
+            text += "\n" + _("measured capacity per discharge: {capacities} mAh").format(capacities=caps)
     return text

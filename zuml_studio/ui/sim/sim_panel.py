@@ -8,6 +8,7 @@ from PySide6.QtCore import QElapsedTimer, QEventLoop, QSize, Qt, QTimer, Signal
 from PySide6.QtWidgets import (QApplication, QHBoxLayout, QLabel, QScrollArea, QSizePolicy, QSplitter, QVBoxLayout,
                                QWidget)
 
+from ...i18n import N_, _, ngettext
 from ...sim.charger_model import load_charger
 from ...sim.start_check import start_warnings
 from ..plot_export import render_with_header
@@ -18,8 +19,9 @@ from .phase_table import PhaseTable, totals_text
 from .worker import SimJob, SimRequest
 
 DEBOUNCE_MS = 300
-STALE_HINT = "showing the last valid version (the macro has errors)"
-OUTDATED_HINT = "the macro or the parameters changed since this run: Simulate (F5)"
+STALE_HINT = N_("showing the last valid version (the macro has errors)")
+OUTDATED_HINT = N_("the macro or the parameters changed since this run: Simulate (F5)")
+TASK_WORDS = {"charge": N_("charge"), "discharge": N_("discharge"), "train": N_("train")}
 COLORS = {"info": "#6a6a6a", "error": "#b00020", "warn": "#a04000"}
 
 
@@ -116,7 +118,7 @@ class SimulatorPanel(QWidget):
         self.plot.phaseActivated.connect(self.phaseActivated)
         self.table.phaseSelected.connect(self.plot.highlight)
         self.plot.phaseClicked.connect(self._band_clicked)
-        self._show_message("no simulation yet: Simulate (F5) runs the macro against a battery model", "info")
+        self._show_message(_("no simulation yet: Simulate (F5) runs the macro against a battery model"), "info")
 
     # -- the interface the main window uses ------------------------------------------------
     def set_record(self, record: bytes | None, macro_name: str = "", declared: dict | None = None) -> None:
@@ -147,7 +149,7 @@ class SimulatorPanel(QWidget):
         """Start now (the previous run, if any, is dropped)."""
         self._debounce.stop()
         if self._record is None:
-            self._show_message("nothing to simulate: the macro has not compiled yet", "error")
+            self._show_message(_("nothing to simulate: the macro has not compiled yet"), "error")
             return
         self._drop_job()
         request = SimRequest(self._record, self.form.start_params(), self.form.battery_setup(), self._macro_name)
@@ -171,7 +173,7 @@ class SimulatorPanel(QWidget):
         self._debounce.stop()
         if self._job is not None:
             self._job.cancel()
-            self._show_message("cancelling…", "warn")
+            self._show_message(_("cancelling…"), "warn")
 
     def result(self):
         """The SimResult shown (a cancelled run's partial one included), None before any."""
@@ -179,13 +181,13 @@ class SimulatorPanel(QWidget):
 
     def export_csv(self, path: str) -> bool:
         if self._result is None:
-            self._show_message("nothing to export: simulate first", "error")
+            self._show_message(_("nothing to export: simulate first"), "error")
             return False
         try:
             with open(path, "w", encoding="utf-8", newline="") as fh:
                 self._result.log.write_csv(fh)
         except OSError as exc:
-            self._show_message(f"cannot write {path}: {exc.strerror or exc}", "error")
+            self._show_message(_("cannot write {path}: {reason}").format(path=path, reason=exc.strerror or exc), "error")
             return False
         return True
 
@@ -199,7 +201,7 @@ class SimulatorPanel(QWidget):
             details = [self._describe(self._result), totals_text(self._result)] if self._result is not None else []
             ok = render_with_header(self.plot, size, title, details).save(path, "PNG")
         if not ok:
-            self._show_message(f"cannot write {path}", "error")
+            self._show_message(_("cannot write {path}").format(path=path), "error")
         return ok
 
     # -- extras (tests, screenshots) -------------------------------------------------------
@@ -241,8 +243,8 @@ class SimulatorPanel(QWidget):
             return
         result = run.result
         self._show(run, finished=True)
-        self.form.progress_label.setText(f"{elapsed(result.interpreter.time_s)} simulated "
-                                         f"in {self._clock.elapsed() / 1000:.1f} s")
+        self.form.progress_label.setText(_("{time} simulated in {seconds} s").format(
+            time=elapsed(result.interpreter.time_s), seconds=f"{self._clock.elapsed() / 1000:.1f}"))
         self._refresh_hint()
 
     def _on_cancelled(self, job_id: int, run) -> None:
@@ -252,17 +254,18 @@ class SimulatorPanel(QWidget):
             result = run.result
             self._show(run)
             at = elapsed(result.interpreter.time_s)
-            self.form.progress_label.setText(f"cancelled after {at}")
-            self._show_message(f"cancelled after {at} of simulated time: showing the run so far", "warn")
+            self.form.progress_label.setText(_("cancelled after {time}").format(time=at))
+            self._show_message(_("cancelled after {time} of simulated time: showing the run so far").format(time=at),
+                               "warn")
         else:
-            self.form.progress_label.setText("cancelled")
-            self._show_message("cancelled", "warn")
+            self.form.progress_label.setText(_("cancelled"))
+            self._show_message(_("cancelled"), "warn")
 
     def _on_failed(self, job_id: int, message: str) -> None:
         if not self._current(job_id):
             return
-        self.form.progress_label.setText("failed")
-        self._show_message(f"cannot simulate: {message}", "error")
+        self.form.progress_label.setText(_("failed"))
+        self._show_message(_("cannot simulate: {reason}").format(reason=message), "error")
 
     def _on_ended(self, job_id: int) -> None:
         if self._current(job_id):
@@ -295,18 +298,20 @@ class SimulatorPanel(QWidget):
     def _describe(self, result) -> str:
         it = result.interpreter
         params = it.params
-        task = params.task + (f" ×{params.repetitions}" if params.task == "train" else "")
+        task = _(TASK_WORDS[params.task]) + (f" ×{params.repetitions}" if params.task == "train" else "")
         name = it.program.name or self._macro_name
-        return (f"{name}: {task} · {result.chemistry} model {result.capacity_mah:.0f} mAh × {result.series} "
-                f"cell{'s' if result.series != 1 else ''} · {it.pack.ambient_c:g} °C · "
-                f"sensor {'on' if params.sensor else 'off'}")
+        cells = ngettext("{n} cell", "{n} cells", result.series).format(n=result.series)
+        return _("{name}: {task} · {chemistry} model {capacity} mAh × {cells} · {ambient} °C · {sensor}").format(
+            name=name, task=task, chemistry=result.chemistry, capacity=f"{result.capacity_mah:.0f}", cells=cells,
+            ambient=f"{it.pack.ambient_c:g}", sensor=_("sensor on") if params.sensor else _("sensor off"))
 
     @staticmethod
     def _repetitions_tip(result) -> str:
         if result.interpreter.params.task != "train":
             return ""
-        lines = [f"repetition {r['repetition']}: discharged {r['discharged_mah']:.1f} mAh, "
-                 f"charged {r['charged_mah']:.1f} mAh" for r in result.repetitions()]
+        lines = [_("repetition {n}: discharged {discharged} mAh, charged {charged} mAh").format(
+                 n=r["repetition"], discharged=f"{r['discharged_mah']:.1f}", charged=f"{r['charged_mah']:.1f}")
+                 for r in result.repetitions()]
         return "\n".join(lines[:40] + (["…"] if len(lines) > 40 else []))
 
     # -- changes -----------------------------------------------------------------------------
@@ -340,8 +345,8 @@ class SimulatorPanel(QWidget):
     def _refresh_hint(self) -> None:
         """The grey hint: what is shown is older than the editor's text."""
         shown = self._result is not None
-        text = (STALE_HINT if self._stale and shown else
-                OUTDATED_HINT if self._outdated and shown and self._job is None else "")
+        text = (_(STALE_HINT) if self._stale and shown else
+                _(OUTDATED_HINT) if self._outdated and shown and self._job is None else "")
         self.hint.setText(text)
         self.hint.setVisible(bool(text))
 

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from PySide6.QtCore import QObject, Qt, QThread, Signal, Slot
 
 from ...data import DataFileError
+from ...i18n import _
 from ...sim.batteries import BatteryFileError
 from ...sim.interpreter import StartError, StartParams
 from ...sim.simulate import BatterySetup, prepare
@@ -68,12 +69,12 @@ class SimWorker(QObject):
         except DataFileError as exc:        # a broken installation: the message names the file
             self.failed.emit(jid, str(exc))
         except KeyError as exc:             # a battery model that does not exist
-            self.failed.emit(jid, str(exc.args[0]) if exc.args else "unknown battery model")
+            self.failed.emit(jid, str(exc.args[0]) if exc.args else _("unknown battery model"))
         except BatteryFileError as exc:     # a saved fitted battery deleted or damaged since it was listed
             self.failed.emit(jid, str(exc))
         except Exception as exc:            # a bug: say so in the panel, never take the IDE down
             log.exception("simulation failed")
-            self.failed.emit(jid, f"internal error in the simulator: {type(exc).__name__}: {exc}")
+            self.failed.emit(jid, _("internal error in the simulator: {error}").format(error=f"{type(exc).__name__}: {exc}"))
         finally:
             self.ended.emit(jid)
 

@@ -13,6 +13,7 @@ from PySide6.QtWidgets import (QApplication, QComboBox, QFrame, QGridLayout, QHB
                                QSpinBox, QToolButton, QVBoxLayout, QWidget)
 
 from ... import visual_edits as ve
+from ...i18n import N_, _, ngettext
 from ...lang import opcodes as ops
 from ...lang.ast import Cycle, Phase, Statement
 from .fields import Field, make_field
@@ -21,11 +22,23 @@ from .style import SECTION_TITLES, colours
 MIME = "application/x-zuml-visual-item"
 
 _OPERAND_LABELS = {
-    ops.CONSTANT_I: ["Current"], ops.CONSTANT_V: ["Voltage"],
-    ops.CHARGE_EX: ["Charge for", "at", "Discharge for", "at", "Measure at"],
-    ops.TRICKLE: ["Current", "On below", "Off at"],
+    ops.CONSTANT_I: [N_("Current")], ops.CONSTANT_V: [N_("Voltage")],
+    ops.CHARGE_EX: [N_("Charge for"), N_("at"), N_("Discharge for"), N_("at"), N_("Measure at")],
+    ops.TRICKLE: [N_("Current"), N_("On below"), N_("Off at")],
 }
-_COMMAND_LABELS = {ops.BY_KEYWORD["MUSIC"]: "♪ Music", ops.BY_KEYWORD["LIGHT"]: "✦ Light"}
+_COMMAND_LABELS = {ops.BY_KEYWORD["MUSIC"]: ("♪", N_("Music")), ops.BY_KEYWORD["LIGHT"]: ("✦", N_("Lights"))}
+ADD_PHASE_TIPS = {"charge": N_("Add a phase at the end of the charge section"),
+                  "discharge": N_("Add a phase at the end of the discharge section")}
+NO_SECTION_TEXTS = {"charge": N_("No charge section: the charger uses its default."),
+                    "discharge": N_("No discharge section: the charger uses its default.")}
+
+
+def _command_label(op: ops.Op) -> str:
+    """MUSIC and LIGHT by a sign and a word; another command by its keyword."""
+    if op in _COMMAND_LABELS:
+        sign, word = _COMMAND_LABELS[op]
+        return f"{sign} {_(word)}"
+    return op.keyword.title()
 
 
 def _label(text: str, role: str = "field", tip: str = "") -> QLabel:
@@ -221,7 +234,7 @@ class DropZone(QFrame):
 
 # -- shared menu -------------------------------------------------------------------------------
 
-def _item_menu(host, path: tuple, what: str, parent: QWidget, first: bool, last: bool, in_cycle: bool,
+def _item_menu(host, path: tuple, parent: QWidget, first: bool, last: bool, in_cycle: bool,
                is_phase: bool) -> QMenu:
     menu = QMenu(parent)
     menu.setObjectName("itemMenu")
@@ -232,14 +245,14 @@ def _item_menu(host, path: tuple, what: str, parent: QWidget, first: bool, last:
         action.setEnabled(enabled)
         return action
 
-    add("Move up", lambda: host.move_item(path, -1), not first)
-    add("Move down", lambda: host.move_item(path, +1), not last)
+    add(_("Move up"), lambda: host.move_item(path, -1), not first)
+    add(_("Move down"), lambda: host.move_item(path, +1), not last)
     menu.addSeparator()
     if is_phase:
-        add("Wrap in cycle", lambda: host.wrap(path), not in_cycle)
-        add("Remove from cycle", lambda: host.remove_from_cycle(path), in_cycle)
+        add(_("Wrap in cycle"), lambda: host.wrap(path), not in_cycle)
+        add(_("Remove from cycle"), lambda: host.remove_from_cycle(path), in_cycle)
         menu.addSeparator()
-    add(f"Delete {what}", lambda: host.delete_item(path))
+    add(_("Delete phase"), lambda: host.delete_item(path))
     return menu
 
 
@@ -259,11 +272,11 @@ class PhaseCard(DraggableFrame):
         self.in_cycle = len(path) > 2
         self.first = self.last = False
 
-        self.grip = _label("⠿", "grip", "Drag to reorder")
-        self.badge = _label("PHASE", "badge")
-        self.up = _tool("▲", "Move up", name="moveUp")
-        self.down = _tool("▼", "Move down", name="moveDown")
-        self.more = _tool("⋯", "More", name="more")
+        self.grip = _label("⠿", "grip", _("Drag to reorder"))
+        self.badge = _label(_("PHASE"), "badge")
+        self.up = _tool("▲", _("Move up"), name="moveUp")
+        self.down = _tool("▼", _("Move down"), name="moveDown")
+        self.more = _tool("⋯", _("More"), name="more")
         self.up.clicked.connect(lambda: self.host.move_item(self.path, -1))
         self.down.clicked.connect(lambda: self.host.move_item(self.path, +1))
         self.more.clicked.connect(lambda: self._menu().exec(self.more.mapToGlobal(QPoint(0, self.more.height()))))
@@ -296,7 +309,7 @@ class PhaseCard(DraggableFrame):
         row = 0
         self.action_combo.setSizePolicy(QSizePolicy.Policy.Maximum, QSizePolicy.Policy.Fixed)
         self.action_combo.setMinimumContentsLength(14)
-        self.grid.addWidget(_label("Action"), row, 0)
+        self.grid.addWidget(_label(_("Action")), row, 0)
         self.grid.addWidget(self.action_combo, row, 1, 1, 3, Qt.AlignmentFlag.AlignLeft)
         row += 1
 
@@ -310,13 +323,13 @@ class PhaseCard(DraggableFrame):
                 field = make_field(operand)
                 field.setToolTip(st.op.help)
                 field.committed.connect(lambda text, k=k, i=i: self.host.edit_value(self.path + ("st", k), i, text))
-                self.grid.addWidget(_label(names[i] if i < len(names) else operand.name, tip=st.op.help), row, 0)
+                self.grid.addWidget(_label(_(names[i]) if i < len(names) else operand.name, tip=st.op.help), row, 0)
                 self.grid.addWidget(field, row, 1)
                 self.action_fields.append((k, i, field))
                 row += 1
 
         conditions = [(k, st) for k, st in enumerate(phase.statements) if st.op.role is ops.Role.CONDITION]
-        self.stop_label = _label("STOP WHEN" if conditions else "NO STOP CONDITION", "group")
+        self.stop_label = _label(_("STOP WHEN") if conditions else _("NO STOP CONDITION"), "group")
         self.stop_label.setIndent(0)
         self.grid.addWidget(self.stop_label, row, 0)
         stop_row = row
@@ -325,7 +338,7 @@ class PhaseCard(DraggableFrame):
             field = make_field(st.op.operands[0])
             field.setToolTip(st.op.help)
             field.committed.connect(lambda text, k=k: self.host.edit_value(self.path + ("st", k), 0, text))
-            remove = _tool("✕", "Remove this condition", "remove", name="removeCondition")
+            remove = _tool("✕", _("Remove this condition"), "remove", name="removeCondition")
             remove.clicked.connect(lambda _=False, k=k: self.host.remove_statement(self.path + ("st", k)))
             self.grid.addWidget(_label(ve.condition_label(st.op), tip=st.op.help), row, 0)
             self.grid.addWidget(field, row, 1)
@@ -333,7 +346,7 @@ class PhaseCard(DraggableFrame):
             self.condition_fields.append((k, field))
             row += 1
 
-        self.add_condition = _tool("+ Condition", "Add a stop condition", "add", name="addCondition")
+        self.add_condition = _tool("+ " + _("Condition"), _("Add a stop condition"), "add", name="addCondition")
         self.add_condition.setPopupMode(QToolButton.ToolButtonPopupMode.InstantPopup)
         self.add_menu = QMenu(self.add_condition)
         self.add_menu.setObjectName("addConditionMenu")
@@ -352,7 +365,7 @@ class PhaseCard(DraggableFrame):
     def bind(self, phase: Phase, number: int, first: bool, last: bool) -> None:
         self.phase = phase
         self.first, self.last = first, last
-        self.badge.setText(f"PHASE {number}")
+        self.badge.setText(_("PHASE {n}").format(n=number))
         self.sentence.setText(ve.describe_phase(phase, self.section, nbsp=True))
         self.up.setEnabled(not first)
         self.down.setEnabled(not last)
@@ -381,7 +394,7 @@ class PhaseCard(DraggableFrame):
             self.host.set_action(self.path, key)
 
     def _menu(self) -> QMenu:
-        return _item_menu(self.host, self.path, "phase", self, self.first, self.last, self.in_cycle, True)
+        return _item_menu(self.host, self.path, self, self.first, self.last, self.in_cycle, True)
 
     def contextMenuEvent(self, event) -> None:  # noqa: N802
         self._menu().exec(event.globalPos())
@@ -399,8 +412,8 @@ class CycleBox(DragSource, DropZone):
         self.setSizePolicy(QSizePolicy.Policy.Preferred, QSizePolicy.Policy.Maximum)
         self.first = self.last = False
 
-        self.grip = _label("⠿", "grip", "Drag to reorder")
-        title = _label("↻ Repeat", "cycleTitle")
+        self.grip = _label("⠿", "grip", _("Drag to reorder"))
+        title = _label("↻ " + _("Repeat"), "cycleTitle")
         self.count = QSpinBox()
         self.count.setObjectName("cycleCount")
         self.count.setRange(1, 255)
@@ -412,10 +425,10 @@ class CycleBox(DragSource, DropZone):
         self.count.valueChanged.connect(self._count_stepped)
         self._count_shown = None
         self._setting = False
-        self.up = _tool("▲", "Move up", name="moveUp")
-        self.down = _tool("▼", "Move down", name="moveDown")
-        self.unwrap_button = _tool("Unwrap", "Remove CYCLE/END_CYCLE, keep the phases", name="unwrapCycle")
-        self.more = _tool("⋯", "More", name="more")
+        self.up = _tool("▲", _("Move up"), name="moveUp")
+        self.down = _tool("▼", _("Move down"), name="moveDown")
+        self.unwrap_button = _tool(_("Unwrap"), _("Remove CYCLE/END_CYCLE, keep the phases"), name="unwrapCycle")
+        self.more = _tool("⋯", _("More"), name="more")
         self.up.clicked.connect(lambda: self.host.move_item(self.path, -1))
         self.down.clicked.connect(lambda: self.host.move_item(self.path, +1))
         self.unwrap_button.clicked.connect(lambda: self.host.unwrap(self.path))
@@ -456,14 +469,14 @@ class CycleBox(DragSource, DropZone):
 
     def _menu(self) -> QMenu:
         menu = QMenu(self)
-        menu.addAction("Unwrap cycle", lambda: self.host.unwrap(self.path))
+        menu.addAction(_("Unwrap cycle"), lambda: self.host.unwrap(self.path))
         menu.addSeparator()
-        up = menu.addAction("Move up", lambda: self.host.move_item(self.path, -1))
+        up = menu.addAction(_("Move up"), lambda: self.host.move_item(self.path, -1))
         up.setEnabled(not self.first)
-        down = menu.addAction("Move down", lambda: self.host.move_item(self.path, +1))
+        down = menu.addAction(_("Move down"), lambda: self.host.move_item(self.path, +1))
         down.setEnabled(not self.last)
         menu.addSeparator()
-        menu.addAction("Delete cycle and its phases", lambda: self.host.delete_item(self.path))
+        menu.addAction(_("Delete cycle and its phases"), lambda: self.host.delete_item(self.path))
         return menu
 
     def contextMenuEvent(self, event) -> None:  # noqa: N802
@@ -487,12 +500,12 @@ class CommandChip(DraggableFrame):
         self.first = self.last = False
         self.field = make_field(st.op.operands[0])
         self.field.committed.connect(lambda text: self.host.edit_value(self.path, 0, text))
-        remove = _tool("✕", f"Remove {st.op.keyword}", "remove", name="removeCommand")
+        remove = _tool("✕", _("Remove {command}").format(command=st.op.keyword), "remove", name="removeCommand")
         remove.clicked.connect(lambda: self.host.remove_statement(self.path))
         layout = QHBoxLayout(self)
         layout.setContentsMargins(10, 2, 4, 2)
         layout.setSpacing(6)
-        layout.addWidget(_label(_COMMAND_LABELS.get(st.op, st.op.keyword.title()), "field"))
+        layout.addWidget(_label(_command_label(st.op), "field"))
         layout.addWidget(self.field)
         layout.addWidget(remove)
         self.bind(st, True, True)
@@ -510,12 +523,12 @@ class CommandChip(DraggableFrame):
         if not self.movable:
             return
         menu = QMenu(self)
-        up = menu.addAction("Move up", lambda: self.host.move_item(self.path, -1))
+        up = menu.addAction(_("Move up"), lambda: self.host.move_item(self.path, -1))
         up.setEnabled(not self.first)
-        down = menu.addAction("Move down", lambda: self.host.move_item(self.path, +1))
+        down = menu.addAction(_("Move down"), lambda: self.host.move_item(self.path, +1))
         down.setEnabled(not self.last)
         menu.addSeparator()
-        menu.addAction("Remove", lambda: self.host.remove_statement(self.path))
+        menu.addAction(_("Remove"), lambda: self.host.remove_statement(self.path))
         menu.exec(event.globalPos())
 
 
@@ -528,7 +541,7 @@ class SectionColumn(DropZone):
         super().__init__(host, (kind,), parent)
         self.kind = kind
         self.setObjectName(f"{kind}Column")
-        title = _label(SECTION_TITLES[kind], "sectionTitle")
+        title = _label(_(SECTION_TITLES[kind]), "sectionTitle")
         title.setProperty("section", kind)
         self.count = _label("", "count")
         self.count.setObjectName(f"{kind}Count")
@@ -543,7 +556,7 @@ class SectionColumn(DropZone):
         bar.setFixedHeight(3)
         self.empty = _label("", "empty")
         self.empty.setWordWrap(True)
-        self.add_phase = _tool("+ Phase", f"Add a phase at the end of the {kind} section", "add", name="addPhase")
+        self.add_phase = _tool("+ " + _("Phase"), _(ADD_PHASE_TIPS[kind]), "add", name="addPhase")
         self.add_phase.clicked.connect(lambda: self.host.add_phase(self.kind))
         foot = QHBoxLayout()
         foot.addWidget(self.add_phase)
@@ -566,10 +579,9 @@ class SectionColumn(DropZone):
         self.item_widgets = []
 
     def set_empty_text(self, present: bool, count: int, phases: int = 0) -> None:
-        self.count.setText(f"{phases} phase{'s' if phases != 1 else ''}" if present else "")
+        self.count.setText(ngettext("{n} phase", "{n} phases", phases).format(n=phases) if present else "")
         if count:
             self.empty.hide()
             return
-        self.empty.setText(f"No {self.kind} section: the charger uses its default." if not present
-                           else "This section has no phase yet.")
+        self.empty.setText(_(NO_SECTION_TEXTS[self.kind]) if not present else _("This section has no phase yet."))
         self.empty.show()

@@ -8,17 +8,18 @@ from __future__ import annotations
 from PySide6.QtCore import Qt, Signal
 from PySide6.QtWidgets import QComboBox, QHBoxLayout, QLabel, QLineEdit, QSpinBox, QWidget
 
+from ...i18n import N_, _
 from ...lang import operands as k
 from ...lang.opcodes import Operand
 from ...lang.operands import format_scaled
 
 _UNITS = {
     k.CURRENT: [("A", "A"), ("C", "C"), ("INPUT", "INPUT")],
-    k.VOLTAGE: [("V", "V"), ("S", "V/cell"), ("INPUT", "INPUT")],
+    k.VOLTAGE: [("V", "V"), ("S", "V/cell"), ("INPUT", "INPUT")],      # units: never translated
     k.TIME: [("s", "s"), ("min", "min"), ("h", "h")],
 }
 _SUFFIX = {k.CELSIUS: "°C"}
-_UNIT_TIPS = {"C": "times the capacity", "S": "per cell (S)", "INPUT": "entered on the charger at start"}
+_UNIT_TIPS = {"C": N_("times the capacity"), "S": N_("per cell (S)"), "INPUT": N_("entered on the charger at start")}
 
 
 class Field(QWidget):
@@ -62,7 +63,7 @@ class NumberUnitField(Field):
             for key, label in _UNITS[self.kind]:
                 self.unit.addItem(label, key)
                 if key in _UNIT_TIPS:
-                    self.unit.setItemData(self.unit.count() - 1, _UNIT_TIPS[key], Qt.ItemDataRole.ToolTipRole)
+                    self.unit.setItemData(self.unit.count() - 1, _(_UNIT_TIPS[key]), Qt.ItemDataRole.ToolTipRole)
             self.unit.activated.connect(self._unit_picked)
             layout.addWidget(self.unit)
         elif self.kind in _SUFFIX:

@@ -7,8 +7,9 @@ from string import Template
 from PySide6.QtGui import QPalette
 
 from .. import theme
+from ...i18n import N_
 
-SECTION_TITLES = {"discharge": "Discharge", "charge": "Charge"}
+SECTION_TITLES = {"discharge": N_("Discharge"), "charge": N_("Charge")}
 
 LIGHT = dict(
     page="#f3f5f8", card="#ffffff", card_off="#f6f7f9", drag="#f7f9fc", line="#d6dce4", line_off="#e0e3e8",

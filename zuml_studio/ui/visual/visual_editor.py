@@ -21,6 +21,7 @@ from PySide6.QtWidgets import (QApplication, QComboBox, QFrame, QGridLayout, QHB
                                QPlainTextEdit, QScrollArea, QSizePolicy, QSpinBox, QToolButton, QVBoxLayout, QWidget)
 
 from ... import visual_edits as ve
+from ...i18n import N_, _, ngettext
 from ...lang import opcodes as ops
 from ...lang.ast import Cycle, Macro, Phase, Statement
 from ...lang.compiler import CompileResult, compile_source
@@ -29,9 +30,10 @@ from .cards import CommandChip, CycleBox, PhaseCard, SectionColumn, _label, _too
 from .fields import make_field
 from .style import style_sheet
 
-HINT = "Drag a card (or use ▲ ▼) to reorder · right-click for more · Ctrl+Z undoes here and in the text"
-STALE_BANNER = "The text has errors: showing the last valid version. Fix the text to edit here."
-NO_MACRO = "The text has errors and there is no valid version to show yet. Fix the text to edit here."
+HINT = N_("Drag a card (or use ▲ ▼) to reorder · right-click for more · Ctrl+Z undoes here and in the text")
+STALE_BANNER = N_("The text has errors: showing the last valid version. Fix the text to edit here.")
+ADDED_PHASE = {"charge": N_("Added a charge phase"), "discharge": N_("Added a discharge phase")}
+NO_MACRO = N_("The text has errors and there is no valid version to show yet. Fix the text to edit here.")
 
 
 def _utf16(text: str) -> int:
@@ -64,9 +66,9 @@ class IntroForm(QFrame):
 
         self.series = QSpinBox()
         self.series.setObjectName("series")
-        self.series.setToolTip(ops.SERIES.help + " 'at start': not declared, entered on the charger.")
+        self.series.setToolTip(ops.SERIES.help + " " + _("'at start': not declared, entered on the charger."))
         self.series.setRange(0, 255)
-        self.series.setSpecialValueText("at start")
+        self.series.setSpecialValueText(_("at start"))
         self.series.setKeyboardTracking(False)
         self.series.setMinimumWidth(78)
         self.series.editingFinished.connect(self._series_done)
@@ -85,10 +87,10 @@ class IntroForm(QFrame):
         self.capacity.valueChanged.connect(lambda _v: self._capacity_stepped())
         self.capacity_mode = QComboBox()
         self.capacity_mode.setObjectName("capacityMode")
-        for label, key, tip in (("fixed", "mAh", "a fixed capacity"),
-                                ("INPUT", "INPUT", "entered on the charger at start"),
-                                ("AUTO", "AUTO", "measured by the charger"),
-                                ("—", None, "not declared")):
+        for label, key, tip in ((_("fixed"), "mAh", _("a fixed capacity")),
+                                ("INPUT", "INPUT", _("entered on the charger at start")),
+                                ("AUTO", "AUTO", _("measured by the charger")),
+                                ("—", None, _("not declared"))):
             self.capacity_mode.addItem(label, key)
             self.capacity_mode.setItemData(self.capacity_mode.count() - 1, tip, Qt.ItemDataRole.ToolTipRole)
         self.capacity_mode.activated.connect(self._capacity_mode_picked)
@@ -97,13 +99,13 @@ class IntroForm(QFrame):
         grid = QGridLayout()
         grid.setHorizontalSpacing(6)
         grid.setVerticalSpacing(6)
-        pairs = [("Macro", self.name), ("Battery", self.akk), ("Cells", self.series)]
+        pairs = [(_("Macro"), self.name), (_("Battery"), self.akk), (_("Cells"), self.series)]
         col = 0
         for text, widget in pairs:
             grid.addWidget(_label(text), 0, col)
             grid.addWidget(widget, 0, col + 1)
             col += 2
-        grid.addWidget(_label("Capacity"), 0, col)
+        grid.addWidget(_label(_("Capacity")), 0, col)
         cap = QHBoxLayout()
         cap.setSpacing(4)
         cap.addWidget(self.capacity)
@@ -113,9 +115,9 @@ class IntroForm(QFrame):
 
         self.limits_row = QHBoxLayout()
         self.limits_row.setSpacing(6)
-        self.limits_label = _label("Limits")
-        self.limits_label.setToolTip("Macro-wide conditions (heat-sink temperature, total time)")
-        self.add_limit = _tool("+ Limit", "Add a macro-wide condition", "add", name="addLimit")
+        self.limits_label = _label(_("Limits"))
+        self.limits_label.setToolTip(_("Macro-wide conditions (heat-sink temperature, total time)"))
+        self.add_limit = _tool("+ " + _("Limit"), _("Add a macro-wide condition"), "add", name="addLimit")
         self.add_limit.setPopupMode(QToolButton.ToolButtonPopupMode.InstantPopup)
         self.add_limit_menu = QMenu(self.add_limit)
         self.add_limit.setMenu(self.add_limit_menu)
@@ -176,12 +178,12 @@ class IntroForm(QFrame):
                 row.setSpacing(4)
                 words = ve.intro_condition_phrase(st)
                 row.addWidget(_label(words.rsplit(" ", 2)[0] if st.op.condition.variables[0] == "Tc"
-                                     else "Stop after", "field"))
+                                     else _("Stop after"), "field"))
                 field = make_field(st.op.operands[0])
                 field.setObjectName("limitField")
                 field.committed.connect(lambda text, i=i: self.host.edit_value(("intro", i), 0, text))
                 row.addWidget(field)
-                remove = _tool("✕", "Remove this limit", "remove", name="removeLimit")
+                remove = _tool("✕", _("Remove this limit"), "remove", name="removeLimit")
                 remove.clicked.connect(lambda _=False, i=i: self.host.remove_statement(("intro", i)))
                 row.addWidget(remove)
                 chip.field = field
@@ -287,16 +289,16 @@ class VisualEditor(QWidget):
         self.items: dict[tuple, QWidget] = {}         # path -> card / cycle box / chip
         self._note: str | None = None                 # a rounding note from the last value edit
 
-        self.banner = QLabel(STALE_BANNER)
+        self.banner = QLabel(_(STALE_BANNER))
         self.banner.setObjectName("visualBanner")
         self.banner.setWordWrap(True)
         self.banner.hide()
 
         self.intro = IntroForm(self)
         self.columns = {kind: SectionColumn(self, kind) for kind in ("discharge", "charge")}
-        self.between_box, self.between_row = _chip_box("betweenBox", "Between the sections")
+        self.between_box, self.between_row = _chip_box("betweenBox", _("Between the sections"))
         self.between_chips: list[CommandChip] = []
-        self.conclusion_box, self.conclusion_row = _chip_box("conclusionBox", "At the end")
+        self.conclusion_box, self.conclusion_row = _chip_box("conclusionBox", _("At the end"))
         self.conclusion_chips: list[CommandChip] = []
 
         self.content = QWidget()
@@ -321,7 +323,7 @@ class VisualEditor(QWidget):
         self.scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAsNeeded)
         self.scroll.setWidget(self.content)
 
-        self.status = QLabel(HINT)
+        self.status = QLabel(_(HINT))
         self.status.setObjectName("visualStatus")
         self.status.setWordWrap(True)
 
@@ -355,7 +357,7 @@ class VisualEditor(QWidget):
             self._show(result.macro)
         else:
             self._stale = True
-            self.banner.setText(STALE_BANNER if self._valid else NO_MACRO)
+            self.banner.setText(_(STALE_BANNER) if self._valid else _(NO_MACRO))
             self.banner.show()
             self._set_editable(False)
 
@@ -454,7 +456,7 @@ class VisualEditor(QWidget):
         text = self.editor.toPlainText()
         current = compile_source(text)
         if self._stale or not current.ok:
-            self.say("The text has errors: fix the text to edit here.", problem=True)
+            self.say(_("The text has errors: fix the text to edit here."), problem=True)
             return False
         try:
             new = edit(text, current.macro)
@@ -467,14 +469,17 @@ class VisualEditor(QWidget):
         check = compile_source(new)
         if not check.ok:
             first = check.errors[0]
-            self.say(f"Not changed: {first.message}" + (f" ({first.hint})" if first.hint else ""), problem=True)
+            self.say(_("Not changed: {reason}").format(reason=first.message) + (f" ({first.hint})" if first.hint else ""),
+                     problem=True)
             self._bind(self._valid.macro)
             return False
         self.patch_document(text, new)
         dropped = ve.dropped_comments(text, new)
         message = done
         if dropped:
-            message = (message + ". " if message else "") + "Removed comment(s): " + "; ".join(dropped)
+            message = (message + ". " if message else "") + ngettext(
+                "Removed comment: {comments}", "Removed comments: {comments}", len(dropped)).format(
+                comments="; ".join(dropped))
         self.say(message, problem=False)
         self.show_result(check)
         return True
@@ -493,7 +498,7 @@ class VisualEditor(QWidget):
         cursor.endEditBlock()
 
     def say(self, message: str, problem: bool = False) -> None:
-        self.status.setText(message or HINT)
+        self.status.setText(message or _(HINT))
         self.status.setProperty("problem", problem)
         self.status.style().unpolish(self.status)
         self.status.style().polish(self.status)
@@ -515,15 +520,15 @@ class VisualEditor(QWidget):
 
     def set_action(self, path: tuple, key: str) -> bool:
         return self.apply(lambda text, m: ve.set_action(text, ve.node_at(m, path), key, m, path[0]),
-                          f"Action: {key}")
+                          _("Action: {action}").format(action=key))
 
     def add_condition(self, path: tuple, op) -> bool:
         def edit(text: str, macro: Macro) -> str:
             return ve.add_condition(text, ve.node_at(macro, path), op, ve.default_value(op, macro, path[0]))
-        return self.apply(edit, f"Added {op.signature()}")
+        return self.apply(edit, _("Added {command}").format(command=op.signature()))
 
     def remove_statement(self, path: tuple) -> bool:
-        return self.apply(lambda text, m: ve.remove_statement(text, ve.node_at(m, path)), "Removed")
+        return self.apply(lambda text, m: ve.remove_statement(text, ve.node_at(m, path)), _("Removed"))
 
     def move_item(self, path: tuple, delta: int) -> bool:
         container_path, index = tuple(path[:-1]), path[-1]
@@ -534,32 +539,32 @@ class VisualEditor(QWidget):
             if not 0 <= to < len(container.items):
                 return text
             return ve.move_item(text, container, index, to)
-        return self.apply(edit, "Moved")
+        return self.apply(edit, _("Moved"))
 
     def drop_item(self, container_path: tuple, from_index: int, to_index: int) -> bool:
         """What a drop does: item ``from_index`` of the section or cycle goes to ``to_index``."""
         return self.apply(lambda text, m: ve.move_item(text, ve.node_at(m, tuple(container_path)), from_index,
-                                                       to_index), "Moved")
+                                                       to_index), _("Moved"))
 
     def wrap(self, path: tuple, count: int = 2) -> bool:
         return self.apply(lambda text, m: ve.wrap_in_cycle(text, ve.node_at(m, path), count),
-                          f"Wrapped in CYCLE({count})")
+                          _("Wrapped in {cycle}").format(cycle=f"CYCLE({count})"))
 
     def unwrap(self, path: tuple) -> bool:
-        return self.apply(lambda text, m: ve.unwrap_cycle(text, ve.node_at(m, path)), "Cycle removed")
+        return self.apply(lambda text, m: ve.unwrap_cycle(text, ve.node_at(m, path)), _("Cycle removed"))
 
     def remove_from_cycle(self, path: tuple) -> bool:
         return self.apply(lambda text, m: ve.remove_from_cycle(text, ve.node_at(m, tuple(path[:-1])), path[-1]),
-                          "Taken out of the cycle")
+                          _("Taken out of the cycle"))
 
     def set_cycle_count(self, path: tuple, count: int) -> bool:
         return self.apply(lambda text, m: ve.set_cycle_count(text, ve.node_at(m, path), count))
 
     def delete_item(self, path: tuple) -> bool:
-        return self.apply(lambda text, m: ve.delete_item(text, ve.node_at(m, path)), "Deleted")
+        return self.apply(lambda text, m: ve.delete_item(text, ve.node_at(m, path)), _("Deleted"))
 
     def add_phase(self, kind: str) -> bool:
-        return self.apply(lambda text, m: ve.add_phase(text, m, kind), f"Added a {kind} phase")
+        return self.apply(lambda text, m: ve.add_phase(text, m, kind), _(ADDED_PHASE[kind]))
 
     def set_declaration(self, op, value_text: str) -> bool:
         return self.apply(lambda text, m: ve.set_declaration(text, m, op, value_text))

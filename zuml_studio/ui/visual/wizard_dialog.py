@@ -7,6 +7,7 @@ from PySide6.QtGui import QFontDatabase
 from PySide6.QtWidgets import (QCheckBox, QComboBox, QDialog, QDialogButtonBox, QFormLayout, QHBoxLayout, QLabel,
                                QLineEdit, QPlainTextEdit, QSpinBox, QVBoxLayout, QWidget)
 
+from ...i18n import _, ngettext
 from ...lang.compiler import compile_source
 from ...sim.chemistry import chemistry_names
 from ...wizard import Answers, WizardError, choices, new_macro
@@ -27,9 +28,9 @@ def parse_rate(text: str) -> float | None:
     try:
         value = float(text)
     except ValueError:
-        raise WizardError("charge rate: a number of C, like 0.5 (or leave it empty for the default)") from None
+        raise WizardError(_("charge rate: a number of C, like 0.5 (or leave it empty for the default)")) from None
     if value != value or value in (float("inf"), float("-inf")):
-        raise WizardError("charge rate: a number of C, like 0.5")
+        raise WizardError(_("charge rate: a number of C, like 0.5"))
     return value
 
 
@@ -39,7 +40,7 @@ class NewMacroWizard(QDialog):
     def __init__(self, parent: QWidget | None = None, chemistry: str = "LiPo"):
         super().__init__(parent)
         self.setObjectName("newMacroWizard")
-        self.setWindowTitle("New macro")
+        self.setWindowTitle(_("New macro"))
         self._text = ""
         self._error = ""
 
@@ -52,7 +53,7 @@ class NewMacroWizard(QDialog):
         self.cells.setObjectName("wizardCells")
         self.cells.setRange(1, 255)
         self.cells.setValue(3)
-        self.cells.setSuffix(" in series")
+        self.cells.setSuffix(" " + _("in series"))
         self.capacity = QSpinBox()
         self.capacity.setObjectName("wizardCapacity")
         self.capacity.setRange(2, 65534)
@@ -62,8 +63,8 @@ class NewMacroWizard(QDialog):
         self.rate = QLineEdit()
         self.rate.setObjectName("wizardRate")
         self.rate.setClearButtonEnabled(True)
-        self.rate.setToolTip("Charge rate in C (times the capacity). Empty: the chemistry's default.")
-        self.sensor = QCheckBox("A temperature sensor is fitted")
+        self.rate.setToolTip(_("Charge rate in C (times the capacity). Empty: the chemistry's default."))
+        self.sensor = QCheckBox(_("A temperature sensor is fitted"))
         self.sensor.setObjectName("wizardSensor")
 
         rate_row = QHBoxLayout()
@@ -71,10 +72,10 @@ class NewMacroWizard(QDialog):
         rate_row.addWidget(QLabel("C"))
         form = QFormLayout()
         form.setFieldGrowthPolicy(QFormLayout.FieldGrowthPolicy.AllNonFixedFieldsGrow)
-        form.addRow("Chemistry", self.chemistry)
-        form.addRow("Cells", self.cells)
-        form.addRow("Capacity", self.capacity)
-        form.addRow("Charge rate", rate_row)
+        form.addRow(_("Chemistry"), self.chemistry)
+        form.addRow(_("Cells"), self.cells)
+        form.addRow(_("Capacity"), self.capacity)
+        form.addRow(_("Charge rate"), rate_row)
         form.addRow("", self.sensor)
 
         self.error = QLabel("")
@@ -93,7 +94,7 @@ class NewMacroWizard(QDialog):
         self.preview.setMinimumWidth(420)
 
         self.buttons = QDialogButtonBox(QDialogButtonBox.StandardButton.Ok | QDialogButtonBox.StandardButton.Cancel)
-        self.buttons.button(QDialogButtonBox.StandardButton.Ok).setText("Create")
+        self.buttons.button(QDialogButtonBox.StandardButton.Ok).setText(_("Create"))
         self.buttons.accepted.connect(self.accept)
         self.buttons.rejected.connect(self.reject)
 
@@ -101,7 +102,7 @@ class NewMacroWizard(QDialog):
         left.addLayout(form)
         left.addStretch(1)
         right = QVBoxLayout()
-        right.addWidget(QLabel("Preview"))
+        right.addWidget(QLabel(_("Preview")))
         right.addWidget(self.preview, 1)
         right.addWidget(self.summary)
         top = QHBoxLayout()
@@ -125,7 +126,7 @@ class NewMacroWizard(QDialog):
 
     def _chemistry_changed(self, name: str) -> None:
         rate = default_rate(name)
-        self.rate.setPlaceholderText(f"default {rate:g}")
+        self.rate.setPlaceholderText(_("default {rate}").format(rate=f"{rate:g}"))
         self.update_preview()
 
     def answers(self) -> Answers:
@@ -152,10 +153,13 @@ class NewMacroWizard(QDialog):
         result = compile_source(text)
         if result.ok:
             warnings = len(result.diagnostics)
-            self.summary.setText(f"✔ valid, {len(result.record)} bytes" +
-                                 (f", {warnings} warning(s)" if warnings else ""))
+            self.summary.setText("✔ " + _("valid, {size} bytes").format(size=len(result.record)) +
+                                 (", " + ngettext("{n} warning", "{n} warnings", warnings).format(n=warnings)
+                                  if warnings else ""))
         else:
-            self.summary.setText(f"✖ {len(result.errors)} error(s): {result.errors[0].message}")
+            errors = len(result.errors)
+            self.summary.setText("✖ " + ngettext("{n} error", "{n} errors", errors).format(n=errors)
+                                 + f": {result.errors[0].message}")
         self.ok_button().setEnabled(result.ok)
 
     def text(self) -> str:

@@ -1,0 +1,92 @@
+"""The window's language (issue 17): ZUML_LANG, then the Preferences choice, then the system
+locale; ours and Qt's own catalogue installed before any window is built; a change in
+Preferences applies at the next start, which is offered."""
+import pytest
+from PySide6.QtCore import QCoreApplication, QSettings
+
+from zuml_studio import i18n
+from zuml_studio.data import DataFileError
+from zuml_studio.ui import language
+from zuml_studio.ui.preferences import Preferences
+
+
+@pytest.fixture(autouse=True)
+def english_after(qapp):
+    yield
+    i18n.install("en")
+    language.install_qt_catalogue("en")
+
+
+def _qt_cancel() -> str:
+    return QCoreApplication.translate("QPlatformTheme", "Cancel")
+
+
+def test_zuml_lang_then_the_preference_then_the_system_locale(monkeypatch):
+    for name in ("ZUML_LANG", "LC_ALL", "LC_MESSAGES"):
+        monkeypatch.delenv(name, raising=False)
+    monkeypatch.setenv("LANG", "ru_RU.UTF-8")
+    assert language.install_language("") == "ru" and i18n.current_language() == "ru"
+    assert language.install_language("en") == "en"
+    monkeypatch.setenv("ZUML_LANG", "ru")
+    assert language.install_language("en") == "ru"
+    assert i18n._("&File") == "&Файл"
+
+
+def test_the_preference_is_read_from_the_window_settings_file(tmp_path):
+    assert language.saved_preference(tmp_path) == ""
+    settings = QSettings(str(tmp_path / language.SETTINGS_FILE), QSettings.Format.IniFormat)
+    Preferences(0, "system", "ru").save(settings)
+    settings.sync()
+    assert language.saved_preference(tmp_path) == "ru"
+    settings.setValue(language.LANGUAGE_KEY, "xx")
+    settings.sync()
+    assert language.saved_preference(tmp_path) == ""          # unknown: as the system
+
+
+def test_qt_own_texts_follow_the_language():
+    language.install_qt_catalogue("ru")
+    assert _qt_cancel() == "Отмена"
+    language.install_qt_catalogue("en")
+    assert _qt_cancel() == "Cancel"
+
+
+def test_a_missing_qt_catalogue_is_a_broken_installation(monkeypatch, tmp_path):
+    monkeypatch.setattr(language, "qt_catalogue_dir", lambda: str(tmp_path))
+    with pytest.raises(DataFileError, match="qtbase_ru.qm"):
+        language.install_qt_catalogue("ru")
+
+
+def test_the_application_installs_the_language_before_the_window(monkeypatch, tmp_path):
+    from zuml_studio.ui import app
+
+    class Built(Exception):
+        """Stops main() where the window would be built."""
+
+    def build(path):
+        raise Built(i18n.current_language(), _qt_cancel())
+    monkeypatch.setenv("ZUML_LANG", "ru")
+    monkeypatch.setattr("zuml_studio.ui.create_main_window", build)
+    with pytest.raises(Built) as built:
+        app.main(["--screenshot", str(tmp_path / "x.png")])
+    assert built.value.args == ("ru", "Отмена")
+
+
+def test_a_new_language_in_preferences_offers_a_restart(make_window, monkeypatch):
+    w = make_window()
+    asked, restarted = [], []
+    w.ask_restart = lambda: asked.append(True) or True
+    w.restart = lambda: restarted.append(True)
+    w.set_preferences(Preferences(w.prefs.font_size, w.prefs.theme, w.prefs.language))
+    assert not asked                                  # nothing that needs a restart changed
+    w.set_preferences(Preferences(w.prefs.font_size, "dark", "ru"))
+    assert asked and restarted
+    assert language.saved_preference(w.config) == "ru"
+    assert i18n.current_language() == "en"            # this window stays as it was built
+
+
+def test_restart_starts_the_same_command_again_after_closing(make_window, monkeypatch):
+    w = make_window()
+    started = []
+    monkeypatch.setattr("zuml_studio.ui.main_window.restart", lambda: started.append(True) or True)
+    assert w.restart()
+    assert started and not w.isVisible()
