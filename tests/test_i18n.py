@@ -150,7 +150,10 @@ def _literal(node) -> bool:
 
 def _marked_text_variable(node) -> bool:
     """A name, attribute or item holding a text marked with N_ where it was defined (a table's help
-    line, an opcode's help): the one kind of non-literal `_` may take."""
+    line, an opcode's help), or looked up in such a table (``WORDS.get(key, key)``: an unknown key
+    passes through untranslated): the one kind of non-literal `_` may take."""
+    if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "get":
+        return isinstance(node.func.value, (ast.Name, ast.Attribute))
     return isinstance(node, (ast.Name, ast.Attribute, ast.Subscript))
 
 

@@ -2,6 +2,27 @@
 import pytest
 
 
+@pytest.fixture(scope="session", autouse=True)
+def gc_on_the_gui_thread(qapp):
+    """As the application does (ui/gui_thread_gc.py): a worker thread must never collect a
+    previous test's widgets."""
+    import gc
+
+    from zuml_studio.ui.gui_thread_gc import collect_on_gui_thread
+
+    collector = collect_on_gui_thread()
+    yield collector
+    collector.timer.stop()
+    gc.enable()
+
+
+@pytest.fixture(autouse=True)
+def collect_between_tests(gc_on_the_gui_thread):
+    """The timer only fires while a test spins the event loop: catch up after each test."""
+    yield
+    gc_on_the_gui_thread.check()
+
+
 @pytest.fixture
 def make_window(qtbot, tmp_path):
     from zuml_studio.ui import create_main_window

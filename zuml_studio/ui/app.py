@@ -81,12 +81,14 @@ def main(argv: list[str] | None = None) -> int:
 
     from .. import APP_ID, data
     from . import create_main_window
+    from .gui_thread_gc import collect_on_gui_thread
     from .language import install_qt_catalogue
 
     app = QApplication.instance() or QApplication(sys.argv[:1])
     app.setApplicationName("ZUML Studio")
     app.setOrganizationName("ZUML Studio")
     app.setDesktopFileName(APP_ID)
+    app.collector = collect_on_gui_thread()
     try:
         install_qt_catalogue(language)
     except DataFileError as exc:
