@@ -188,8 +188,8 @@ static void send_telemetry(void)
     tx32((uint32_t)(hal_current_ua() / 1000L));
     tx16((uint16_t)(hal_battery_sensor() ? centi(hal_battery_uc()) : 0x7FFF));
     tx16((uint16_t)centi(hal_heatsink_uc()));
-    tx32((uint32_t)(run.total_in / 360000000LL));
-    tx32((uint32_t)(run.total_out / 360000000LL));
+    tx32(run.total_in.uah / 100);        /* 0.1 mAh */
+    tx32(run.total_out.uah / 100);
     tx_end();
 }
 

@@ -86,6 +86,13 @@ uint8_t zc_template(uint8_t number, zc_start_t *s);
 #define ZC_TEMPLATE_SIZE 9
 void zc_template_apply(zc_start_t *s, const uint8_t *t);
 
+/* A charge, exact: whole uAh and the uA*ms below one (the AVR has no cheap 64-bit arithmetic). */
+#define ZC_UAMS_PER_UAH 3600000UL
+typedef struct {
+    uint32_t uah;
+    uint32_t uams;                 /* < ZC_UAMS_PER_UAH */
+} zc_charge_t;
+
 typedef struct {
     int32_t max_charge_ua;         /* a CONSTANT_V alone holds at most this without an entered current */
     int32_t max_discharge_ua;
@@ -122,11 +129,12 @@ typedef struct {
     uint8_t tv;
     int32_t measured_v, dtdt_t0;
     uint32_t t_phase, dtdt_next, time_ms;
-    int64_t q_in, q_out;                   /* uA*ms, phase */
-    int64_t total_in, total_out;           /* uA*ms, run */
-    /* -dV: window sums and the held peak as a sum over its window (exact averages) */
-    int64_t dp_sum, dp_peak_sum;
-    uint16_t dp_count, dp_peak_count;
+    zc_charge_t q_in, q_out;               /* phase */
+    zc_charge_t total_in, total_out;       /* run */
+    /* -dV: the window's sum (64 bits as two words), the held peak as an exact average: whole uV
+     * and the remainder over its window's count */
+    uint32_t dp_sum_lo, dp_sum_hi, dp_peak_uv;
+    uint16_t dp_count, dp_peak_rem, dp_peak_count;
     uint32_t dp_window_end;
     uint8_t dp_window_open, dp_hit;
 } zc_run_t;

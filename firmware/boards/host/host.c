@@ -111,14 +111,14 @@ uint16_t zh_validate(const uint8_t *rec, uint16_t len) { return zc_validate(rec,
 int32_t zh_chemistry_end_uv(uint8_t akk_type) { return zc_chemistry_end_uv(akk_type); }
 void zh_totals(int64_t *in_uams, int64_t *out_uams)
 {
-    *in_uams = run.total_in;
-    *out_uams = run.total_out;
+    *in_uams = (int64_t)run.total_in.uah * ZC_UAMS_PER_UAH + run.total_in.uams;
+    *out_uams = (int64_t)run.total_out.uah * ZC_UAMS_PER_UAH + run.total_out.uams;
 }
 
 void zh_phase_counts(int64_t *in_uams, int64_t *out_uams)
 {
-    *in_uams = run.q_in;
-    *out_uams = run.q_out;
+    *in_uams = (int64_t)run.q_in.uah * ZC_UAMS_PER_UAH + run.q_in.uams;
+    *out_uams = (int64_t)run.q_out.uah * ZC_UAMS_PER_UAH + run.q_out.uams;
 }
 
 /* The per-cell end voltage an empty discharge section runs to (the reason's text names it). */
