@@ -5,8 +5,9 @@
 #include "record.h"
 #include "pgm.h"
 
-/* s is in flash */
-static char *put(char *p, const char *s)
+#define put zc_put_P
+
+char *zc_put_P(char *p, const char *s)
 {
     char c;
     while ((c = (char)pgm_read_byte(s++)) != 0)
@@ -47,6 +48,16 @@ static char *put_hundredths(char *p, uint16_t v)
         if (v % 10)
             *p++ = (char)('0' + v % 10);
     }
+    return p;
+}
+
+char *zc_put_2f(char *p, uint32_t micro)
+{
+    uint32_t c = (micro + 5000UL) / 10000UL;
+    p = zc_put_uint(p, c / 100);
+    *p++ = '.';
+    *p++ = (char)('0' + c % 100 / 10);
+    *p++ = (char)('0' + c % 10);
     return p;
 }
 
@@ -123,15 +134,9 @@ uint8_t zc_reason_text(const zc_run_t *r, uint8_t reason, uint8_t offset, char *
     case ZC_R_DEFAULT_EMPTY: {
         /* the per-cell end voltage to 10 mV, as Python's {:.2f} */
         int32_t per_cell = zc_chemistry_end_uv(r->akk_type);
-        uint32_t cv;
         if (!per_cell)
             per_cell = r->board.fallback_end_uv_per_cell;
-        cv = ((uint32_t)per_cell + 5000UL) / 10000UL;
-        p = zc_put_uint(put(p, PSTR("default: empty discharge section, V<")), cv / 100);
-        *p++ = '.';
-        *p++ = (char)('0' + cv % 100 / 10);
-        *p++ = (char)('0' + cv % 10);
-        p = put(p, PSTR("V/cell"));
+        p = put(zc_put_2f(put(p, PSTR("default: empty discharge section, V<")), (uint32_t)per_cell), PSTR("V/cell"));
         break;
     }
     case ZC_R_STOPPED: p = put(p, PSTR("stopped")); break;
