@@ -329,18 +329,42 @@ static void status(uint8_t seq)
     tx_end();
 }
 
+/* Each request's payload length (docs/protocol.md): ANY_LEN takes any, AT_LEAST_6 a header of 6 and
+ * data; UNKNOWN for a type that is no request. */
+#define ANY_LEN 0xFD
+#define AT_LEAST_6 0xFE
+#define UNKNOWN 0xFF
+static const uint8_t request_len[] PROGMEM = {
+    /* 0x01 IDENTIFY .. 0x06 ABORT */ 0, 3, 0, AT_LEAST_6, 6, 4,
+    /* 0x07 .. 0x0F */ UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN,
+    /* 0x10 START .. 0x17 SET_TEMPLATE */ 11, 0, 0, 1, 4, 0, 1, 1 + ZC_TEMPLATE_SIZE,
+    /* 0x18 .. 0x1F */ UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN,
+    /* 0x20 PASSPORT: the battery judges the request */ ANY_LEN
+};
+
+static uint8_t expected_len(uint8_t type)
+{
+    return type >= T_IDENTIFY && type <= T_PASSPORT ? pgm_read_byte(&request_len[type - T_IDENTIFY]) : UNKNOWN;
+}
+
+static uint8_t known_type(uint8_t t)
+{
+    return expected_len(t) != UNKNOWN;
+}
+
 static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uint8_t retry)
 {
+    uint8_t want = expected_len(type);       /* parse() passes known types only */
+    if (want == AT_LEAST_6 ? len < 6 : want != ANY_LEN && len != want) {
+        send_error(type, seq, E_BAD_REQUEST, PSTR("the payload does not fit the request's layout"));
+        return;
+    }
     switch (type) {
     case T_IDENTIFY:
-        if (len)
-            break;
         identify(seq);
         return;
     case T_READ: {
         uint16_t at, off;
-        if (len != 3)
-            break;
         off = le16(p);
         if (p[2] == 0 || p[2] > MAX_DATA || (uint32_t)off + p[2] > store_size()) {
             send_error(type, seq, E_BAD_RANGE, outside_eeprom);
@@ -354,8 +378,6 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
         return;
     }
     case T_BEGIN:
-        if (len)
-            break;
         if (!retry) {
             store_stage_begin();
             token = ++token_counter * 2654435761UL;
@@ -369,8 +391,6 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
         return;
     case T_STAGE: {
         uint16_t off, k;
-        if (len < 6)
-            break;
         off = le16(p + 4);
         if (!token || le32(p) != token) {
             send_error(type, seq, E_BAD_TOKEN, no_token);
@@ -390,8 +410,6 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
     }
     case T_COMMIT: {
         uint32_t t;
-        if (len != 6)
-            break;
         t = le32(p);
         if (t && t == committed_token) {
             /* a retry whose answer was lost: committed already */
@@ -414,16 +432,12 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
         return;
     }
     case T_ABORT:
-        if (len != 4)
-            break;
         if (le32(p) == 0 || le32(p) == token)
             token = 0;
         tx_begin(T_ABORT | RESPONSE, seq, 0);
         tx_end();
         return;
     case T_START:
-        if (len != 11)
-            break;
         if (retry && slot == p[0]) {
             answer_start(seq);
             return;
@@ -431,8 +445,6 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
         start(seq, p);
         return;
     case T_STOP:
-        if (len)
-            break;
         if (state == ST_RUNNING || state == ST_PAUSED) {
             zc_stop(&run);
             state = ST_FINISHED;
@@ -442,13 +454,9 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
         tx_end();
         return;
     case T_STATUS:
-        if (len)
-            break;
         status(seq);
         return;
     case T_RATE:
-        if (len != 1)
-            break;
         if (p[0] < 1 || p[0] > 50) {
             send_error(type, seq, E_BAD_RANGE, PSTR("the telemetry rate is 1..50 Hz"));
             return;
@@ -460,8 +468,6 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
         return;
     case T_GET_EVENT: {
         uint32_t number;
-        if (len != 4)
-            break;
         number = le32(p);
         if (number >= events || events - number > EVENT_RING) {
             send_error(type, seq, E_BAD_RANGE, PSTR("no such event (the device keeps the last 4)"));
@@ -472,8 +478,6 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
     }
     case T_LIST_TEMPLATES: {
         uint8_t t[ZC_TEMPLATE_SIZE], held[STORE_TEMPLATES], k, n = 0;
-        if (len)
-            break;
         for (k = 1; k <= STORE_TEMPLATES; k++)
             if (store_template(k, t))
                 held[n++] = k;
@@ -483,8 +487,6 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
         return;
     }
     case T_SET_TEMPLATE:
-        if (len != 1 + ZC_TEMPLATE_SIZE)
-            break;
         /* task 0..2, repetitions 1..255, capacity 0 (not given) or 2..65534 (StartTemplate's ranges) */
         if (p[0] < 1 || p[0] > STORE_TEMPLATES || p[1] > ZC_TRAIN || p[2] == 0 || le16(p + 3) == 1 ||
             le16(p + 3) == 0xFFFF) {
@@ -496,8 +498,6 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
         /* fall through */
     case T_GET_TEMPLATE: {
         uint8_t t[ZC_TEMPLATE_SIZE], k;
-        if (type == T_GET_TEMPLATE && len != 1)
-            break;
         if (!store_template(p[0], t)) {
             send_error(type, seq, E_NO_TEMPLATE, no_template);
             return;
@@ -511,9 +511,7 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
     }
     case T_PASSPORT: {
         uint8_t answer[32], k;
-        if (len != 8)
-            break;
-        if (!hal_passport_exchange(p, answer)) {
+        if (!hal_passport_exchange(p, len, answer)) {
             send_error(type, seq, E_NO_PASSPORT, PSTR("the battery has no passport"));
             return;
         }
@@ -523,16 +521,7 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
         tx_end();
         return;
     }
-    default:
-        send_error(type, seq, E_UNKNOWN_TYPE, PSTR("unknown request type"));
-        return;
     }
-    send_error(type, seq, E_BAD_REQUEST, PSTR("the payload does not fit the request's layout"));
-}
-
-static uint8_t known_type(uint8_t t)
-{
-    return (t >= T_IDENTIFY && t <= T_ABORT) || (t >= T_START && t <= T_SET_TEMPLATE) || t == T_PASSPORT;
 }
 
 static void drop(uint16_t n)

@@ -30,7 +30,7 @@ static uint8_t later_than(uint32_t t_ms, uint32_t tenths)
     return t_ms && (t_ms - 1) / 100 >= tenths;
 }
 
-static void charge_add(zc_charge_t *c, const zc_charge_t *d)
+static ZC_NOINLINE void charge_add(zc_charge_t *c, const zc_charge_t *d)
 {
     c->uah += d->uah;
     c->uams += d->uams;
@@ -52,7 +52,7 @@ static void charge_of(zc_charge_t *c, uint32_t ua, uint16_t dt_ms)
 
 /* A stored current or voltage: INPUT takes the value entered, a relative one (C, S) is raw hundredths
  * of per_unit (0: unknown, ZC_NONE), an absolute one is hundredths of A or V. */
-static int32_t resolve(uint16_t raw, int32_t entered, int32_t per_unit)
+static ZC_NOINLINE int32_t resolve(uint16_t raw, int32_t entered, int32_t per_unit)
 {
     if (raw == RAW_INPUT)
         return entered;
@@ -108,29 +108,33 @@ static void emit(zc_run_t *r, uint8_t kind, uint8_t offset)
 
 /* A start refused for an INPUT or a relative value nothing resolves (checked for every phase of
  * the task before the run, as the charger asks for every value at start). */
+static uint8_t value_missing(const zc_run_t *r, const uint8_t *operand, uint8_t is_current)
+{
+    uint16_t raw = zc_u16(operand);
+    if ((is_current ? zc_current_ua(r, raw) : zc_voltage_uv(r, raw)) != ZC_NONE)
+        return ZC_OK;
+    /* ZC_ERR_INPUT_CURRENT, _C_NEEDS_CAPACITY, _INPUT_VOLTAGE, _S_NEEDS_SERIES in that order */
+    return (uint8_t)(ZC_ERR_INPUT_CURRENT + (is_current ? 0 : 2) + (raw == RAW_INPUT ? 0 : 1));
+}
+
 static uint8_t value_error(const zc_run_t *r, uint8_t at)
 {
     const uint8_t *p = r->rec + at;
-    uint8_t k, n = 0, is_current[2], pos[2];
+    uint8_t err;
     switch (p[0]) {
-    case OP_CONSTANT_I: case OP_IF_I_LT: n = 1; is_current[0] = 1; pos[0] = 1; break;
+    case OP_CONSTANT_I: case OP_IF_I_LT:
+        return value_missing(r, p + 1, 1);
     case OP_CONSTANT_V: case OP_IF_V_LT: case OP_IF_V_GT: case OP_IF_DPEAK_GT:
-        n = 1; is_current[0] = 0; pos[0] = 1; break;
-    case OP_CHARGE_EX: n = 2; is_current[0] = is_current[1] = 1; pos[0] = 2; pos[1] = 5; break;
-    case OP_TRICKLE: n = 2; is_current[0] = 1; is_current[1] = 0; pos[0] = 1; pos[1] = 3; break;
-    default: break;
+        return value_missing(r, p + 1, 0);
+    case OP_CHARGE_EX:
+        return (err = value_missing(r, p + 2, 1)) != ZC_OK ? err : value_missing(r, p + 5, 1);
+    case OP_TRICKLE:
+        if ((err = value_missing(r, p + 1, 1)) != ZC_OK || (err = value_missing(r, p + 3, 0)) != ZC_OK)
+            return err;
+        return value_missing(r, p + 5, 0);
+    default:
+        return ZC_OK;
     }
-    for (k = 0; k < n; k++) {
-        uint16_t raw = zc_u16(p + pos[k]);
-        if (is_current[k] && zc_current_ua(r, raw) == ZC_NONE)
-            return raw == RAW_INPUT ? ZC_ERR_INPUT_CURRENT : ZC_ERR_C_NEEDS_CAPACITY;
-        if (!is_current[k] && zc_voltage_uv(r, raw) == ZC_NONE)
-            return raw == RAW_INPUT ? ZC_ERR_INPUT_VOLTAGE : ZC_ERR_S_NEEDS_SERIES;
-    }
-    /* TRICKLE's second voltage */
-    if (p[0] == OP_TRICKLE && zc_voltage_uv(r, zc_u16(p + 5)) == ZC_NONE)
-        return zc_u16(p + 5) == RAW_INPUT ? ZC_ERR_INPUT_VOLTAGE : ZC_ERR_S_NEEDS_SERIES;
-    return ZC_OK;
 }
 
 static uint8_t section_values(const zc_run_t *r, uint8_t pc)
@@ -253,19 +257,15 @@ static void command(zc_run_t *r, uint8_t at)
 /* Turns the phase's byte code into set points once, at its start. */
 static void compile_phase(zc_run_t *r, uint8_t at)
 {
-    uint8_t pc, a_i = 0, a_v = 0, a_ex = 0, a_tr = 0;
+    uint8_t last[ZC_PHASE_OPS], a_i, a_v, a_ex, a_tr;
     int32_t sign = r->charging ? 1 : -1;
-    for (pc = (uint8_t)(at + 1); r->rec[pc] != OP_END_FAZE; pc = (uint8_t)(pc + zc_op_size(r->rec[pc]))) {
-        switch (r->rec[pc]) {
-        case OP_CONSTANT_I: a_i = pc; break;
-        case OP_CONSTANT_V: a_v = pc; break;
-        case OP_CHARGE_EX: a_ex = pc; break;
-        case OP_TRICKLE: a_tr = pc; break;
-        case OP_IF_T_GT: r->own_t = 1; break;
-        case OP_IF_DPEAK_GT: r->dpeak_at = pc; break;
-        default: break;
-        }
-    }
+    zc_phase_ops(r->rec, at, last);
+    a_i = last[OP_CONSTANT_I - OP_CONSTANT_I];
+    a_v = last[OP_CONSTANT_V - OP_CONSTANT_I];
+    a_ex = last[OP_CHARGE_EX - OP_CONSTANT_I];
+    a_tr = last[OP_TRICKLE - OP_CONSTANT_I];
+    r->own_t = last[OP_IF_T_GT - OP_CONSTANT_I] != 0;
+    r->dpeak_at = last[OP_IF_DPEAK_GT - OP_CONSTANT_I];
     if (a_ex) {
         const uint8_t *p = r->rec + a_ex;
         r->mode = M_PULSE;
@@ -317,7 +317,7 @@ static void begin_phase(zc_run_t *r, uint8_t at, uint8_t is_default)
     memset(&r->q_in, 0, sizeof r->q_in);
     memset(&r->q_out, 0, sizeof r->q_out);
     r->dtdt_next = DTDT_WINDOW_MS;
-    r->dp_sum_lo = r->dp_sum_hi = 0;
+    memset(r->dp_sum, 0, sizeof r->dp_sum);
     r->dp_count = 0;
     r->dp_peak_uv = 0;
     r->dp_peak_rem = 0;
@@ -494,10 +494,10 @@ static int32_t pulse_reading(const zc_run_t *r, int32_t v)
  * division of the 64-bit sum by 16-bit digits). */
 static uint16_t window_average(const zc_run_t *r, uint32_t *uv)
 {
-    uint32_t words[2] = {r->dp_sum_hi, r->dp_sum_lo}, rem = 0, q = 0;
+    uint32_t rem = 0, q = 0;
     uint8_t k;
     for (k = 0; k < 4; k++) {
-        uint32_t x = rem << 16 | (uint16_t)(words[k / 2] >> (k % 2 ? 0 : 16));
+        uint32_t x = rem << 16 | r->dp_sum[k];
         q = q << 16 | x / r->dp_count;
         rem = x % r->dp_count;
     }
@@ -509,14 +509,17 @@ static uint16_t window_average(const zc_run_t *r, uint32_t *uv)
  * and remainder fractions. Returns whether the drop below the peak exceeds the threshold. */
 static uint8_t minus_dv(zc_run_t *r, int32_t v, int32_t threshold)
 {
-    uint32_t window_ms = r->board.dp_window_s * 1000UL, avg, uv = v > 0 ? (uint32_t)v : 0;
+    uint32_t window_ms = r->board.dp_window_s * 1000UL, avg, carry = v > 0 ? (uint32_t)v : 0;
     uint16_t rem;
+    uint8_t k;
     if (!r->dp_window_open) {
         r->dp_window_open = 1;
         r->dp_window_end = (r->t_phase / window_ms + 1) * window_ms;
     }
-    r->dp_sum_lo += uv;
-    r->dp_sum_hi += r->dp_sum_lo < uv;
+    for (k = 4; k--; carry >>= 16) {       /* v < 2^31: the carry never overflows */
+        carry += r->dp_sum[k];
+        r->dp_sum[k] = (uint16_t)carry;
+    }
     r->dp_count++;
     if (r->t_phase >= r->dp_window_end) {
         r->dp_window_end = (r->t_phase / window_ms + 1) * window_ms;
@@ -534,7 +537,7 @@ static uint8_t minus_dv(zc_run_t *r, int32_t v, int32_t threshold)
             r->dp_hit = threshold < 0 || whole > (uint32_t)threshold || (whole == (uint32_t)threshold &&
                         (uint32_t)r->dp_peak_rem * r->dp_count > (uint32_t)rem * r->dp_peak_count);
         }
-        r->dp_sum_lo = r->dp_sum_hi = 0;
+        memset(r->dp_sum, 0, sizeof r->dp_sum);
         r->dp_count = 0;
     }
     return r->dp_hit;

@@ -20,7 +20,7 @@ uint8_t zc_passport_read(uint8_t p[PASSPORT_SIZE])
     uint16_t check = 0;
     for (k = 0; k < 7; k++)
         request[7] ^= request[k];
-    if (!hal_passport_exchange(request, p))
+    if (!hal_passport_exchange(request, sizeof request, p))
         return PASSPORT_NONE;
     for (k = 0; k < 0x1E; k += 2)
         check ^= zc_u16(p + k);
@@ -71,16 +71,15 @@ static void section(lines_t *l, const zc_run_t *r, uint8_t pc, uint8_t section, 
 {
     uint8_t index = 0;
     for (; r->rec[pc] != OP_END_SECTION; pc = (uint8_t)(pc + zc_op_size(r->rec[pc]))) {
-        uint8_t at, a_i = 0, a_v = 0, a_ex = 0, a_tr = 0;
+        uint8_t at, last[ZC_PHASE_OPS], a_i, a_v, a_ex, a_tr;
         if (r->rec[pc] != OP_FAZE)
             continue;
         index++;
-        for (at = (uint8_t)(pc + 1); r->rec[at] != OP_END_FAZE; at = (uint8_t)(at + zc_op_size(r->rec[at]))) {
-            a_i = r->rec[at] == OP_CONSTANT_I ? at : a_i;
-            a_v = r->rec[at] == OP_CONSTANT_V ? at : a_v;
-            a_ex = r->rec[at] == OP_CHARGE_EX ? at : a_ex;
-            a_tr = r->rec[at] == OP_TRICKLE ? at : a_tr;
-        }
+        zc_phase_ops(r->rec, pc, last);
+        a_i = last[OP_CONSTANT_I - OP_CONSTANT_I];
+        a_v = last[OP_CONSTANT_V - OP_CONSTANT_I];
+        a_ex = last[OP_CHARGE_EX - OP_CONSTANT_I];
+        a_tr = last[OP_TRICKLE - OP_CONSTANT_I];
         if (!section && !a_ex && !a_tr)
             continue;                        /* a discharge: no charge current, no charge voltage */
         if (a_lim) {

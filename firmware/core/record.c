@@ -2,6 +2,7 @@
  * a record passes before it runs. The PC's checker does the rest (lint, units); the firmware only
  * makes sure that the walk through the bytes can never leave the record or meet a phase with no
  * action. */
+#include <string.h>
 #include "zuml.h"
 #include "record.h"
 
@@ -39,6 +40,15 @@ uint8_t zc_op_role(uint8_t code)
     if (code <= OP_IF_DPEAK_GT)
         return (code >= OP_IF_TC_GT && code <= OP_IF_TM_GT) ? ROLE_INTRO_CONDITION : ROLE_CONDITION;
     return ROLE_COMMAND;
+}
+
+void zc_phase_ops(const uint8_t *rec, uint8_t faze_at, uint8_t last[ZC_PHASE_OPS])
+{
+    uint8_t pc;
+    memset(last, 0, ZC_PHASE_OPS);
+    for (pc = (uint8_t)(faze_at + 1); rec[pc] != OP_END_FAZE; pc = (uint8_t)(pc + zc_op_size(rec[pc])))
+        if (rec[pc] >= OP_CONSTANT_I && rec[pc] <= OP_IF_DPEAK_GT)
+            last[rec[pc] - OP_CONSTANT_I] = pc;
 }
 
 uint16_t zc_u16(const uint8_t *p) { return (uint16_t)(p[0] | ((uint16_t)p[1] << 8)); }

@@ -37,28 +37,24 @@ static char *put_int(char *p, int32_t v)
     return zc_put_uint(p, (uint32_t)v);
 }
 
-/* value/100 in its shortest decimal form: 410 -> 4.1, 5 -> 0.05 */
-static char *put_hundredths(char *p, uint16_t v)
+/* value/100 in its shortest decimal form (410 -> 4.1, 5 -> 0.05), or with both decimals (fixed) */
+static char *put_hundredths(char *p, uint32_t v, uint8_t fixed)
 {
+    uint8_t cents;
     p = zc_put_uint(p, v / 100);
-    v %= 100;
-    if (v) {
+    cents = (uint8_t)(v % 100);
+    if (cents || fixed) {
         *p++ = '.';
-        *p++ = (char)('0' + v / 10);
-        if (v % 10)
-            *p++ = (char)('0' + v % 10);
+        *p++ = (char)('0' + cents / 10);
+        if (cents % 10 || fixed)
+            *p++ = (char)('0' + cents % 10);
     }
     return p;
 }
 
 char *zc_put_2f(char *p, uint32_t micro)
 {
-    uint32_t c = (micro + 5000UL) / 10000UL;
-    p = zc_put_uint(p, c / 100);
-    *p++ = '.';
-    *p++ = (char)('0' + c % 100 / 10);
-    *p++ = (char)('0' + c % 10);
-    return p;
+    return put_hundredths(p, (micro + 5000UL) / 10000UL, 1);
 }
 
 /* A current (absolute 'A', relative 'C') or a voltage ('V'/'S'). */
@@ -66,7 +62,7 @@ static char *put_scaled(char *p, uint16_t raw, char abs_unit, char rel_unit)
 {
     if (raw == RAW_INPUT)
         return put(p, PSTR("INPUT"));
-    p = put_hundredths(p, raw & 0x7FFF);
+    p = put_hundredths(p, raw & 0x7FFF, 0);
     *p++ = (raw & RAW_RELATIVE) ? rel_unit : abs_unit;
     return p;
 }

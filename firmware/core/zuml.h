@@ -131,9 +131,10 @@ typedef struct {
     uint32_t t_phase, dtdt_next, time_ms;
     zc_charge_t q_in, q_out;               /* phase */
     zc_charge_t total_in, total_out;       /* run */
-    /* -dV: the window's sum (64 bits as two words), the held peak as an exact average: whole uV
-     * and the remainder over its window's count */
-    uint32_t dp_sum_lo, dp_sum_hi, dp_peak_uv;
+    /* -dV: the window's sum (64 bits as 16-bit digits, the most significant first), the held peak
+     * as an exact average: whole uV and the remainder over its window's count */
+    uint16_t dp_sum[4];
+    uint32_t dp_peak_uv;
     uint16_t dp_count, dp_peak_rem, dp_peak_count;
     uint32_t dp_window_end;
     uint8_t dp_window_open, dp_hit;

@@ -37,9 +37,9 @@ int16_t hal_uart_read(void) { return -1; }
 void hal_uart_write(uint8_t byte) { (void)byte; }
 void hal_buzzer(uint8_t melody) { hw.music = melody; }
 void hal_led(uint8_t pattern) { hw.light = pattern; }
-uint8_t hal_passport_exchange(const uint8_t request[8], uint8_t answer[32])
+uint8_t hal_passport_exchange(const uint8_t *request, uint8_t len, uint8_t answer[32])
 {
-    (void)request; (void)answer;
+    (void)request; (void)len; (void)answer;
     return 0;
 }
 
