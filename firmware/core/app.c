@@ -7,9 +7,7 @@
 #include "text.h"
 #include "record.h"
 #include "pgm.h"
-#ifdef ZUML_PASSPORT
 #include "passport.h"
-#endif
 
 #define SYNC 0xA5
 #define MAX_PAYLOAD 250
@@ -110,7 +108,6 @@ static void send_error(uint8_t request_type, uint8_t seq, uint8_t code, const ch
     tx_end();
 }
 
-#ifdef ZUML_PASSPORT
 /* message is in RAM */
 static void send_error_text(uint8_t request_type, uint8_t seq, uint8_t code, const char *message)
 {
@@ -121,7 +118,6 @@ static void send_error_text(uint8_t request_type, uint8_t seq, uint8_t code, con
     tx_text(message, n);
     tx_end();
 }
-#endif
 
 /* -- events and telemetry ---------------------------------------------------------------------- */
 
@@ -239,9 +235,8 @@ static void answer_start(uint8_t seq)
     tx_end();
 }
 
-#ifdef ZUML_PASSPORT
 /* The battery's passport against the started run: refuses (and answers) when they conflict. */
-static uint8_t lockout(uint8_t seq)
+static ZC_NOINLINE uint8_t lockout(uint8_t seq)
 {
     uint8_t passport[PASSPORT_SIZE], found = zc_passport_read(passport);
     char why[MAX_PAYLOAD - 2];
@@ -257,14 +252,6 @@ static uint8_t lockout(uint8_t seq)
     run.finished = 1;
     return 1;
 }
-#else
-/* A board without a passport line has nothing to check a macro against. */
-static uint8_t lockout(uint8_t seq)
-{
-    (void)seq;
-    return 0;
-}
-#endif
 
 static void start(uint8_t seq, const uint8_t *p)
 {

@@ -2,6 +2,7 @@
  * tick, its conditions and the charger's defaults (spec section 3, docs/simulator.md).
  * zuml_studio/sim/interpreter.py is the reference; the differential test in
  * tests/firmware/ runs both on the same battery model and compares every phase. */
+#include <stddef.h>
 #include <string.h>
 #include "zuml.h"
 #include "record.h"
@@ -25,7 +26,7 @@ static int32_t mul_sat(uint32_t a, uint32_t b)
 }
 
 /* t_ms > tenths x 100 ms, without the product overflowing */
-static uint8_t later_than(uint32_t t_ms, uint32_t tenths)
+static ZC_NOINLINE uint8_t later_than(uint32_t t_ms, uint32_t tenths)
 {
     return t_ms && (t_ms - 1) / 100 >= tenths;
 }
@@ -235,7 +236,7 @@ static void finish(zc_run_t *r, uint8_t reason, uint8_t offset)
     emit(r, ZC_EV_FINISH, 0);
 }
 
-static void end_phase(zc_run_t *r, uint8_t reason, uint8_t offset)
+static ZC_NOINLINE void end_phase(zc_run_t *r, uint8_t reason, uint8_t offset)
 {
     r->end_reason = reason;
     r->end_offset = offset;
@@ -298,7 +299,7 @@ static void compile_phase(zc_run_t *r, uint8_t at)
     }
 }
 
-static void begin_phase(zc_run_t *r, uint8_t at, uint8_t is_default)
+static ZC_NOINLINE void begin_phase(zc_run_t *r, uint8_t at, uint8_t is_default)
 {
     r->active = 1;
     r->run_no++;
@@ -310,25 +311,14 @@ static void begin_phase(zc_run_t *r, uint8_t at, uint8_t is_default)
     r->phase_rep = r->rep;
     r->charging = r->section;
     r->check_defaults = r->section;
-    r->own_t = 0;
-    r->dpeak_at = 0;
     r->trickle_on = 1;
-    r->t_phase = 0;
-    memset(&r->q_in, 0, sizeof r->q_in);
-    memset(&r->q_out, 0, sizeof r->q_out);
     r->dtdt_next = DTDT_WINDOW_MS;
-    memset(r->dp_sum, 0, sizeof r->dp_sum);
-    r->dp_count = 0;
-    r->dp_peak_uv = 0;
-    r->dp_peak_rem = 0;
+    memset(&r->own_t, 0, sizeof *r - offsetof(zc_run_t, own_t));
     r->dp_peak_count = 1;          /* the held peak starts at 0 V */
-    r->dp_window_open = 0;
-    r->dp_hit = 0;
     if (is_default) {
         int32_t per_cell = zc_chemistry_end_uv(r->akk_type);
         if (!per_cell)
             per_cell = r->board.fallback_end_uv_per_cell;
-        r->mode = M_CC;
         r->i_set = -DEFAULT_DISCHARGE_UA;
         r->v_low = mul_sat((uint32_t)per_cell, r->series > 0 ? (uint32_t)r->series : 1);
     } else {

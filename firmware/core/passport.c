@@ -49,7 +49,7 @@ static void keep(lines_t *l, const char *line_end)
     l->at += n;
 }
 
-static char *put_type(char *p, uint8_t type)
+static ZC_NOINLINE char *put_type(char *p, uint8_t type)
 {
     static const char names[9][6] PROGMEM = {"Undef", "Pb", "NiCd", "NiMh", "LiPo", "LiIon", "LiS", "LiFe", "New"};
     return type < 9 ? zc_put_P(p, names[type]) : zc_put_uint(p, type);

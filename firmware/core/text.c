@@ -38,7 +38,7 @@ static char *put_int(char *p, int32_t v)
 }
 
 /* value/100 in its shortest decimal form (410 -> 4.1, 5 -> 0.05), or with both decimals (fixed) */
-static char *put_hundredths(char *p, uint32_t v, uint8_t fixed)
+static ZC_NOINLINE char *put_hundredths(char *p, uint32_t v, uint8_t fixed)
 {
     uint8_t cents;
     p = zc_put_uint(p, v / 100);

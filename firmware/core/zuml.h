@@ -119,18 +119,19 @@ typedef struct {
     uint8_t stage, section, rep, reps, pc, faze_index, ran;
     uint8_t loop_left, loop_pc, loop_pass, loop_faze;
     /* the running phase */
-    uint8_t active, mode, charging, own_t, check_defaults, trickle_on, paused, finished;
-    uint8_t phase_at, phase_index, phase_pass, phase_rep, phase_section, dpeak_at, is_default;
-    uint8_t end_reason, end_offset;
-    uint16_t run_no;                       /* phases started in this run */        /* of the last phase end, or of the macro once finished */
+    uint8_t active, charging, check_defaults, trickle_on, paused, finished;
+    uint8_t phase_at, phase_index, phase_pass, phase_rep, phase_section, is_default;
+    uint8_t end_reason, end_offset;        /* of the last phase end, or of the macro once finished */
+    uint16_t run_no;                       /* phases started in this run */
+    int32_t measured_v, dtdt_t0;
+    uint32_t dtdt_next, time_ms;
+    zc_charge_t total_in, total_out;       /* run */
+    /* From own_t to the end: cleared at every phase start. */
+    uint8_t own_t, dpeak_at, mode, tv;
     int32_t i_set, v_set, i_max, v_low;    /* v_low: TRICKLE V1, or the default discharge end */
     int32_t i2;                            /* CHARGE_EX discharge current */
-    uint32_t tch_ms, period_ms;
-    uint8_t tv;
-    int32_t measured_v, dtdt_t0;
-    uint32_t t_phase, dtdt_next, time_ms;
+    uint32_t tch_ms, period_ms, t_phase;
     zc_charge_t q_in, q_out;               /* phase */
-    zc_charge_t total_in, total_out;       /* run */
     /* -dV: the window's sum (64 bits as 16-bit digits, the most significant first), the held peak
      * as an exact average: whole uV and the remainder over its window's count */
     uint16_t dp_sum[4];
