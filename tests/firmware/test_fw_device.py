@@ -221,3 +221,18 @@ def test_the_batterys_passport_takes_err_and_crit_only_and_answers_every_request
         bad_page[7] ^= b
     answer = c.passport_raw(bytes(bad_page))
     assert len(answer) == 32 and pp.answer_error(answer) is not None and answer[2] == pp.AnswerError.BAD_PAGE
+
+
+@pytest.mark.parametrize("request_", [b"", b"\xa7\x00\x00", bytes(9), b"\xa7" + bytes(6) + b"\xa7" + b"\x00",
+                                      b"\x00" * 8])
+def test_a_malformed_passport_request_gets_the_same_32_bytes_from_the_firmware_and_the_virtual_charger(
+        client, make_charger, request_):
+    firmware = client("--passport", "3:8:2")
+    _, port = make_charger(battery="NiMh:2000:4", passport=pp.Passport("ZUML-HOST-0001", "ZUML", 3, 0, 0, 8, 2))
+    virtual = ChargerClient(port, timeout=2)
+    try:
+        mine, theirs = firmware.passport_raw(request_), virtual.passport_raw(request_)
+    finally:
+        virtual.close()
+    assert len(mine) == 32 and pp.answer_error(mine) is not None
+    assert mine == theirs
