@@ -20,9 +20,10 @@ def simavr_missing() -> str:
     return ", ".join(tools + headers)
 
 
-FIRMWARE_SIM = pytest.param("firmware-sim", marks=pytest.mark.skipif(
+NEEDS_FIRMWARE_SIM = pytest.mark.skipif(
     os.name != "posix" or bool(simavr_missing()),
-    reason=f"{simavr_missing() or 'a POSIX pty'} missing: the firmware on simavr cannot run ({INSTALL})"))
+    reason=f"{simavr_missing() or 'a POSIX pty'} missing: the firmware on simavr cannot run ({INSTALL})")
+FIRMWARE_SIM = pytest.param("firmware-sim", marks=NEEDS_FIRMWARE_SIM)
 KINDS = ["virtual", FIRMWARE_SIM]
 
 

@@ -308,15 +308,16 @@ def test_one_port_per_charger_and_a_taken_tcp_port(make_charger):
 
 
 def test_a_run_reports_telemetry_and_events_and_stops(any_charger, make_client):
-    charger = any_charger(battery="NiMh:2000:4", speed=1)      # the wall's time, as the firmware's
+    # the wall's time, as the firmware's; its battery is a 3-cell lithium one
+    charger = any_charger(battery="LiPo:2000:3", passport=None, speed=1)
     client = make_client(charger.port, timeout=2)
-    client.write_image(pack([compiled("NiMh-dV")], client.info.eeprom_size))
+    client.write_image(pack([compiled("LiPo")], client.info.eeprom_size))
     events = []
     client.on_event(events.append)
-    assert client.start(0, "charge", capacity_mah=2000, current_a=1.0, series=4, sensor=False) == "NiMh-dV"
+    assert client.start(0, "charge", capacity_mah=2000, current_a=1.0, series=3, sensor=False) == "LiPo"
     assert wait_for(lambda: client.last_telemetry is not None and client.last_telemetry.phase == 1)
     status = client.status()
-    assert status.state == "running" and status.name == "NiMh-dV" and status.slot == 0
+    assert status.state == "running" and status.name == "LiPo" and status.slot == 0
     telemetry = client.last_telemetry
     assert telemetry.section == "charge" and telemetry.current_a == pytest.approx(1.0, abs=0.05)
     assert client.stop() == "finished"
