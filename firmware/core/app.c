@@ -156,7 +156,7 @@ static const uint8_t factory_templates[FACTORY_TEMPLATES][1 + ZC_TEMPLATE_SIZE] 
     {3, ZC_CHARGE, 1, 7000 & 0xFF, 7000 >> 8, 1750 & 0xFF, 1750 >> 8, 0, 0, 6},
 };
 
-uint8_t zc_template(uint8_t number, zc_start_t *s)
+ZC_NOINLINE uint8_t zc_template(uint8_t number, zc_start_t *s)
 {
     uint8_t t[ZC_TEMPLATE_SIZE];
     if (!store_template(number, t))
@@ -165,7 +165,7 @@ uint8_t zc_template(uint8_t number, zc_start_t *s)
     return 1;
 }
 
-static int16_t centi(int32_t micro) { return (int16_t)(micro / 10000L); }
+static ZC_NOINLINE int16_t centi(int32_t micro) { return (int16_t)(micro / 10000L); }
 
 static void send_telemetry(void)
 {
@@ -297,7 +297,7 @@ static void start(uint8_t seq, const uint8_t *p)
     zc_control(&run);
 }
 
-static void status(uint8_t seq)
+static ZC_NOINLINE void status(uint8_t seq)
 {
     char reason[ZC_TEXT_MAX];
     uint8_t name_n = slot == 0xFF ? 0 : (uint8_t)strlen((const char *)run.rec + 4);

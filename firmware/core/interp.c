@@ -256,7 +256,7 @@ static void command(zc_run_t *r, uint8_t at)
 }
 
 /* Turns the phase's byte code into set points once, at its start. */
-static void compile_phase(zc_run_t *r, uint8_t at)
+static ZC_NOINLINE void compile_phase(zc_run_t *r, uint8_t at)
 {
     uint8_t last[ZC_PHASE_OPS], a_i, a_v, a_ex, a_tr;
     int32_t sign = r->charging ? 1 : -1;

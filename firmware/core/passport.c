@@ -105,7 +105,20 @@ static void section(lines_t *l, const zc_run_t *r, uint8_t pc, uint8_t section, 
     }
 }
 
-uint8_t zc_passport_conflicts(const zc_run_t *r, const uint8_t p[PASSPORT_SIZE], char *out, uint8_t max)
+/* The charger's own check at START, as the virtual charger's (docs/safety.md): lint E311, a lithium
+ * trickle charge (LiPo, LiIon, LiS, LiFe). */
+static void lithium_trickle(lines_t *l, const zc_run_t *r)
+{
+    uint8_t pc;
+    if (r->akk_type < 4 || r->akk_type > 7)
+        return;
+    for (pc = r->rec[1]; r->rec[pc] != OP_END_MACRO; pc = (uint8_t)(pc + zc_op_size(r->rec[pc])))
+        if (r->rec[pc] == OP_TRICKLE)
+            keep(l, zc_put_P(zc_put_uint(zc_put_P(l->line, PSTR("E311 (byte ")), pc),
+                             PSTR("): Lithium cells must never be trickle-charged")));
+}
+
+ZC_NOINLINE uint8_t zc_passport_conflicts(const zc_run_t *r, const uint8_t p[PASSPORT_SIZE], char *out, uint8_t max)
 {
     lines_t l;
     uint16_t crit = zc_u16(p + 0x19);
@@ -113,6 +126,7 @@ uint8_t zc_passport_conflicts(const zc_run_t *r, const uint8_t p[PASSPORT_SIZE],
     l.at = out;
     l.end = out + max - 1;
     l.count = l.full = 0;
+    lithium_trickle(&l, r);
     if (r->akk_type != p[0x16]) {
         at = put_type(zc_put_P(l.line, r->akk_type ? PSTR("the macro is for ") :
                                PSTR("the macro sets no battery type (AKK_TYPE ")), r->akk_type);

@@ -4,6 +4,7 @@
  * action. */
 #include <string.h>
 #include "zuml.h"
+#include "pgm.h"
 #include "record.h"
 
 uint8_t zc_op_size(uint8_t code)
@@ -72,7 +73,7 @@ static uint8_t operands_ok(const uint8_t *p)
 }
 
 /* Reads the instruction at pc; 0 when it is not one or runs past `end`. */
-static uint8_t take(const uint8_t *rec, uint8_t pc, uint8_t end)
+static ZC_NOINLINE uint8_t take(const uint8_t *rec, uint8_t pc, uint8_t end)
 {
     uint8_t size;
     if (pc >= end)

@@ -52,7 +52,7 @@ static ZC_NOINLINE char *put_hundredths(char *p, uint32_t v, uint8_t fixed)
     return p;
 }
 
-char *zc_put_2f(char *p, uint32_t micro)
+ZC_NOINLINE char *zc_put_2f(char *p, uint32_t micro)
 {
     return put_hundredths(p, (micro + 5000UL) / 10000UL, 1);
 }
