@@ -499,6 +499,7 @@ static uint16_t window_average(const zc_run_t *r, uint32_t *uv)
  * and remainder fractions. Returns whether the drop below the peak exceeds the threshold. */
 static uint8_t minus_dv(zc_run_t *r, int32_t v, int32_t threshold)
 {
+    /* a pack voltage below 0 V (a reading's noise on a shorted pack) counts as 0 V */
     uint32_t window_ms = r->board.dp_window_s * 1000UL, avg, carry = v > 0 ? (uint32_t)v : 0;
     uint16_t rem;
     uint8_t k;
