@@ -127,15 +127,15 @@ ZC_NOINLINE uint8_t zc_passport_conflicts(const zc_run_t *r, const uint8_t p[PAS
     l.end = out + max - 1;
     l.count = l.full = 0;
     lithium_trickle(&l, r);
+    if (crit) {
+        at = zc_put_uint(zc_put_P(l.line, PSTR("the battery has ")), crit);
+        keep(&l, zc_put_P(at, PSTR(" critical error(s) (CRIT): it is not fit for use")));
+    }
     if (r->akk_type != p[0x16]) {
         at = put_type(zc_put_P(l.line, r->akk_type ? PSTR("the macro is for ") :
                                PSTR("the macro sets no battery type (AKK_TYPE ")), r->akk_type);
         keep(&l, put_type(zc_put_P(at, r->akk_type ? PSTR("; the battery is ") : PSTR("); the battery is ")),
                           p[0x16]));
-    }
-    if (crit) {
-        at = zc_put_uint(zc_put_P(l.line, PSTR("the battery has ")), crit);
-        keep(&l, zc_put_P(at, PSTR(" critical error(s) (CRIT): it is not fit for use")));
     }
     if (r->start.task != ZC_CHARGE)
         section(&l, r, r->discharge_at, 0, p[0x1C], p[0x1B]);
