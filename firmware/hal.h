@@ -52,7 +52,8 @@ void hal_uart_write(uint8_t byte);
 void hal_buzzer(uint8_t melody);                  /* MUSIC(n): play melody n once */
 void hal_led(uint8_t pattern);                    /* LIGHT(n) */
 
-/* The battery passport line (seed 003): send 8 request bytes, receive 32; 0 when nothing answers. */
-uint8_t hal_passport_exchange(const uint8_t request[8], uint8_t answer[32]);
+/* The battery passport line (seed 003): send the request (len bytes, 8 when well formed: the battery
+ * answers any other length with an error answer), receive 32; 0 when nothing answers. */
+uint8_t hal_passport_exchange(const uint8_t *request, uint8_t len, uint8_t answer[32]);
 
 #endif

@@ -11,6 +11,7 @@ os.environ["ZUML_LANG"] = "en"
 os.environ["ZUML_STUDIO_CONFIG_DIR"] = tempfile.mkdtemp(prefix="zuml-studio-tests-")
 
 import pytest  # noqa: E402
+from chargers import KINDS  # noqa: E402
 from hypothesis import HealthCheck, settings  # noqa: E402
 
 # Reproducible in CI: the same examples every run, no flaky deadlines on a loaded 2-core machine.
@@ -39,3 +40,22 @@ def make_charger():
     for device, stop in made:
         stop()
         device.close()
+
+
+@pytest.fixture(params=KINDS)
+def any_charger(request, make_charger, tmp_path):
+    """any_charger(**VirtualCharger kwargs) -> chargers.Charger: a virtual charger on a pty (the
+    kwargs), then, as the second parameter, the firmware on simavr (`zuml firmware-sim`; the kwargs
+    do not apply: its battery is its own, 3 cells 2000 mAh, and it holds no passport)."""
+    from chargers import Charger, FirmwareSims
+    sims = FirmwareSims(tmp_path)
+
+    def make(**kw):
+        if request.param == "virtual":
+            kw.setdefault("speed", 20000)
+            device, port = make_charger(**kw)
+            return Charger("virtual", port, device)
+        return Charger("firmware-sim", sims.start())
+
+    yield make
+    sims.stop()

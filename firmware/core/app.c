@@ -7,9 +7,7 @@
 #include "text.h"
 #include "record.h"
 #include "pgm.h"
-#ifdef ZUML_PASSPORT
 #include "passport.h"
-#endif
 
 #define SYNC 0xA5
 #define MAX_PAYLOAD 250
@@ -110,7 +108,6 @@ static void send_error(uint8_t request_type, uint8_t seq, uint8_t code, const ch
     tx_end();
 }
 
-#ifdef ZUML_PASSPORT
 /* message is in RAM */
 static void send_error_text(uint8_t request_type, uint8_t seq, uint8_t code, const char *message)
 {
@@ -121,7 +118,6 @@ static void send_error_text(uint8_t request_type, uint8_t seq, uint8_t code, con
     tx_text(message, n);
     tx_end();
 }
-#endif
 
 /* -- events and telemetry ---------------------------------------------------------------------- */
 
@@ -160,7 +156,7 @@ static const uint8_t factory_templates[FACTORY_TEMPLATES][1 + ZC_TEMPLATE_SIZE] 
     {3, ZC_CHARGE, 1, 7000 & 0xFF, 7000 >> 8, 1750 & 0xFF, 1750 >> 8, 0, 0, 6},
 };
 
-uint8_t zc_template(uint8_t number, zc_start_t *s)
+ZC_NOINLINE uint8_t zc_template(uint8_t number, zc_start_t *s)
 {
     uint8_t t[ZC_TEMPLATE_SIZE];
     if (!store_template(number, t))
@@ -169,7 +165,7 @@ uint8_t zc_template(uint8_t number, zc_start_t *s)
     return 1;
 }
 
-static int16_t centi(int32_t micro) { return (int16_t)(micro / 10000L); }
+static ZC_NOINLINE int16_t centi(int32_t micro) { return (int16_t)(micro / 10000L); }
 
 static void send_telemetry(void)
 {
@@ -188,8 +184,8 @@ static void send_telemetry(void)
     tx32((uint32_t)(hal_current_ua() / 1000L));
     tx16((uint16_t)(hal_battery_sensor() ? centi(hal_battery_uc()) : 0x7FFF));
     tx16((uint16_t)centi(hal_heatsink_uc()));
-    tx32((uint32_t)(run.total_in / 360000000LL));
-    tx32((uint32_t)(run.total_out / 360000000LL));
+    tx32(run.total_in.uah / 100);        /* 0.1 mAh */
+    tx32(run.total_out.uah / 100);
     tx_end();
 }
 
@@ -239,9 +235,8 @@ static void answer_start(uint8_t seq)
     tx_end();
 }
 
-#ifdef ZUML_PASSPORT
 /* The battery's passport against the started run: refuses (and answers) when they conflict. */
-static uint8_t lockout(uint8_t seq)
+static ZC_NOINLINE uint8_t lockout(uint8_t seq)
 {
     uint8_t passport[PASSPORT_SIZE], found = zc_passport_read(passport);
     char why[MAX_PAYLOAD - 2];
@@ -257,14 +252,6 @@ static uint8_t lockout(uint8_t seq)
     run.finished = 1;
     return 1;
 }
-#else
-/* A board without a passport line has nothing to check a macro against. */
-static uint8_t lockout(uint8_t seq)
-{
-    (void)seq;
-    return 0;
-}
-#endif
 
 static void start(uint8_t seq, const uint8_t *p)
 {
@@ -310,7 +297,7 @@ static void start(uint8_t seq, const uint8_t *p)
     zc_control(&run);
 }
 
-static void status(uint8_t seq)
+static ZC_NOINLINE void status(uint8_t seq)
 {
     char reason[ZC_TEXT_MAX];
     uint8_t name_n = slot == 0xFF ? 0 : (uint8_t)strlen((const char *)run.rec + 4);
@@ -329,18 +316,42 @@ static void status(uint8_t seq)
     tx_end();
 }
 
+/* Each request's payload length (docs/protocol.md): ANY_LEN takes any, AT_LEAST_6 a header of 6 and
+ * data; UNKNOWN for a type that is no request. */
+#define ANY_LEN 0xFD
+#define AT_LEAST_6 0xFE
+#define UNKNOWN 0xFF
+static const uint8_t request_len[] PROGMEM = {
+    /* 0x01 IDENTIFY .. 0x06 ABORT */ 0, 3, 0, AT_LEAST_6, 6, 4,
+    /* 0x07 .. 0x0F */ UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN,
+    /* 0x10 START .. 0x17 SET_TEMPLATE */ 11, 0, 0, 1, 4, 0, 1, 1 + ZC_TEMPLATE_SIZE,
+    /* 0x18 .. 0x1F */ UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN,
+    /* 0x20 PASSPORT: the battery judges the request */ ANY_LEN
+};
+
+static uint8_t expected_len(uint8_t type)
+{
+    return type >= T_IDENTIFY && type <= T_PASSPORT ? pgm_read_byte(&request_len[type - T_IDENTIFY]) : UNKNOWN;
+}
+
+static uint8_t known_type(uint8_t t)
+{
+    return expected_len(t) != UNKNOWN;
+}
+
 static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uint8_t retry)
 {
+    uint8_t want = expected_len(type);       /* parse() passes known types only */
+    if (want == AT_LEAST_6 ? len < 6 : want != ANY_LEN && len != want) {
+        send_error(type, seq, E_BAD_REQUEST, PSTR("the payload does not fit the request's layout"));
+        return;
+    }
     switch (type) {
     case T_IDENTIFY:
-        if (len)
-            break;
         identify(seq);
         return;
     case T_READ: {
         uint16_t at, off;
-        if (len != 3)
-            break;
         off = le16(p);
         if (p[2] == 0 || p[2] > MAX_DATA || (uint32_t)off + p[2] > store_size()) {
             send_error(type, seq, E_BAD_RANGE, outside_eeprom);
@@ -354,8 +365,6 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
         return;
     }
     case T_BEGIN:
-        if (len)
-            break;
         if (!retry) {
             store_stage_begin();
             token = ++token_counter * 2654435761UL;
@@ -369,8 +378,6 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
         return;
     case T_STAGE: {
         uint16_t off, k;
-        if (len < 6)
-            break;
         off = le16(p + 4);
         if (!token || le32(p) != token) {
             send_error(type, seq, E_BAD_TOKEN, no_token);
@@ -390,8 +397,6 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
     }
     case T_COMMIT: {
         uint32_t t;
-        if (len != 6)
-            break;
         t = le32(p);
         if (t && t == committed_token) {
             /* a retry whose answer was lost: committed already */
@@ -414,16 +419,12 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
         return;
     }
     case T_ABORT:
-        if (len != 4)
-            break;
         if (le32(p) == 0 || le32(p) == token)
             token = 0;
         tx_begin(T_ABORT | RESPONSE, seq, 0);
         tx_end();
         return;
     case T_START:
-        if (len != 11)
-            break;
         if (retry && slot == p[0]) {
             answer_start(seq);
             return;
@@ -431,8 +432,6 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
         start(seq, p);
         return;
     case T_STOP:
-        if (len)
-            break;
         if (state == ST_RUNNING || state == ST_PAUSED) {
             zc_stop(&run);
             state = ST_FINISHED;
@@ -442,13 +441,9 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
         tx_end();
         return;
     case T_STATUS:
-        if (len)
-            break;
         status(seq);
         return;
     case T_RATE:
-        if (len != 1)
-            break;
         if (p[0] < 1 || p[0] > 50) {
             send_error(type, seq, E_BAD_RANGE, PSTR("the telemetry rate is 1..50 Hz"));
             return;
@@ -460,8 +455,6 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
         return;
     case T_GET_EVENT: {
         uint32_t number;
-        if (len != 4)
-            break;
         number = le32(p);
         if (number >= events || events - number > EVENT_RING) {
             send_error(type, seq, E_BAD_RANGE, PSTR("no such event (the device keeps the last 4)"));
@@ -472,8 +465,6 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
     }
     case T_LIST_TEMPLATES: {
         uint8_t t[ZC_TEMPLATE_SIZE], held[STORE_TEMPLATES], k, n = 0;
-        if (len)
-            break;
         for (k = 1; k <= STORE_TEMPLATES; k++)
             if (store_template(k, t))
                 held[n++] = k;
@@ -483,8 +474,6 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
         return;
     }
     case T_SET_TEMPLATE:
-        if (len != 1 + ZC_TEMPLATE_SIZE)
-            break;
         /* task 0..2, repetitions 1..255, capacity 0 (not given) or 2..65534 (StartTemplate's ranges) */
         if (p[0] < 1 || p[0] > STORE_TEMPLATES || p[1] > ZC_TRAIN || p[2] == 0 || le16(p + 3) == 1 ||
             le16(p + 3) == 0xFFFF) {
@@ -496,8 +485,6 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
         /* fall through */
     case T_GET_TEMPLATE: {
         uint8_t t[ZC_TEMPLATE_SIZE], k;
-        if (type == T_GET_TEMPLATE && len != 1)
-            break;
         if (!store_template(p[0], t)) {
             send_error(type, seq, E_NO_TEMPLATE, no_template);
             return;
@@ -511,9 +498,7 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
     }
     case T_PASSPORT: {
         uint8_t answer[32], k;
-        if (len != 8)
-            break;
-        if (!hal_passport_exchange(p, answer)) {
+        if (!hal_passport_exchange(p, len, answer)) {
             send_error(type, seq, E_NO_PASSPORT, PSTR("the battery has no passport"));
             return;
         }
@@ -523,16 +508,7 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
         tx_end();
         return;
     }
-    default:
-        send_error(type, seq, E_UNKNOWN_TYPE, PSTR("unknown request type"));
-        return;
     }
-    send_error(type, seq, E_BAD_REQUEST, PSTR("the payload does not fit the request's layout"));
-}
-
-static uint8_t known_type(uint8_t t)
-{
-    return (t >= T_IDENTIFY && t <= T_ABORT) || (t >= T_START && t <= T_SET_TEMPLATE) || t == T_PASSPORT;
 }
 
 static void drop(uint16_t n)

@@ -2,6 +2,7 @@
  * tick, its conditions and the charger's defaults (spec section 3, docs/simulator.md).
  * zuml_studio/sim/interpreter.py is the reference; the differential test in
  * tests/firmware/ runs both on the same battery model and compares every phase. */
+#include <stddef.h>
 #include <string.h>
 #include "zuml.h"
 #include "record.h"
@@ -14,23 +15,50 @@
 #define DTDT_WINDOW_MS 60000UL
 #define DTDT_HOLDOFF_MS 120000UL
 #define DEFAULT_DISCHARGE_UA 100000L
-#define CAPACITY_LIMIT_UAMS_PER_MAH 5400000000LL   /* 1.5 x 1 mAh in uA*ms */
+#define CAPACITY_LIMIT_UAH_PER_MAH 1500UL        /* 1.5 x 1 mAh */
 
 enum { S_BEGIN_REP, S_SECTION_START, S_IN_SECTION, S_AFTER_SECTION, S_CONCLUSION, S_DONE };
 
-static int32_t saturate(int64_t x)
+/* a x b, both >= 0, saturating at INT32_MAX */
+static int32_t mul_sat(uint32_t a, uint32_t b)
 {
-    return x > INT32_MAX ? INT32_MAX : (x < INT32_MIN ? INT32_MIN : (int32_t)x);
+    return b && a > INT32_MAX / b ? INT32_MAX : (int32_t)(a * b);
+}
+
+/* t_ms > tenths x 100 ms, without the product overflowing */
+static ZC_NOINLINE uint8_t later_than(uint32_t t_ms, uint32_t tenths)
+{
+    return t_ms && (t_ms - 1) / 100 >= tenths;
+}
+
+static ZC_NOINLINE void charge_add(zc_charge_t *c, const zc_charge_t *d)
+{
+    c->uah += d->uah;
+    c->uams += d->uams;
+    if (c->uams >= ZC_UAMS_PER_UAH) {
+        c->uams -= ZC_UAMS_PER_UAH;
+        c->uah++;
+    }
+}
+
+/* ua x dt_ms as a charge, exact in 32-bit steps: ua = q x 3.6e6 + r1 x 1000 + r0 */
+static void charge_of(zc_charge_t *c, uint32_t ua, uint16_t dt_ms)
+{
+    uint32_t r = ua % ZC_UAMS_PER_UAH, uas = r / 1000 * dt_ms;
+    c->uah = ua / ZC_UAMS_PER_UAH * dt_ms + uas / 3600;
+    c->uams = uas % 3600 * 1000 + r % 1000 * dt_ms;
+    c->uah += c->uams / ZC_UAMS_PER_UAH;
+    c->uams %= ZC_UAMS_PER_UAH;
 }
 
 /* A stored current or voltage: INPUT takes the value entered, a relative one (C, S) is raw hundredths
  * of per_unit (0: unknown, ZC_NONE), an absolute one is hundredths of A or V. */
-static int32_t resolve(uint16_t raw, int32_t entered, int32_t per_unit)
+static ZC_NOINLINE int32_t resolve(uint16_t raw, int32_t entered, int32_t per_unit)
 {
     if (raw == RAW_INPUT)
         return entered;
     if (raw & RAW_RELATIVE)
-        return per_unit > 0 ? saturate((int64_t)(raw & 0x7FFF) * per_unit) : ZC_NONE;
+        return per_unit > 0 ? mul_sat(raw & 0x7FFF, (uint32_t)per_unit) : ZC_NONE;
     return (int32_t)raw * 10000L;
 }
 
@@ -73,37 +101,41 @@ static void emit(zc_run_t *r, uint8_t kind, uint8_t offset)
     } else if (kind == ZC_EV_MUSIC || kind == ZC_EV_LIGHT) {
         e.arg = r->rec[offset + 1];
     } else if (kind == ZC_EV_PHASE_END) {
-        e.mah_in_x1000 = (uint32_t)(r->q_in / 3600000LL);
-        e.mah_out_x1000 = (uint32_t)(r->q_out / 3600000LL);
+        e.mah_in_x1000 = r->q_in.uah;
+        e.mah_out_x1000 = r->q_out.uah;
     }
     zc_event(&e);
 }
 
 /* A start refused for an INPUT or a relative value nothing resolves (checked for every phase of
  * the task before the run, as the charger asks for every value at start). */
+static uint8_t value_missing(const zc_run_t *r, const uint8_t *operand, uint8_t is_current)
+{
+    uint16_t raw = zc_u16(operand);
+    if ((is_current ? zc_current_ua(r, raw) : zc_voltage_uv(r, raw)) != ZC_NONE)
+        return ZC_OK;
+    /* ZC_ERR_INPUT_CURRENT, _C_NEEDS_CAPACITY, _INPUT_VOLTAGE, _S_NEEDS_SERIES in that order */
+    return (uint8_t)(ZC_ERR_INPUT_CURRENT + (is_current ? 0 : 2) + (raw == RAW_INPUT ? 0 : 1));
+}
+
 static uint8_t value_error(const zc_run_t *r, uint8_t at)
 {
     const uint8_t *p = r->rec + at;
-    uint8_t k, n = 0, is_current[2], pos[2];
+    uint8_t err;
     switch (p[0]) {
-    case OP_CONSTANT_I: case OP_IF_I_LT: n = 1; is_current[0] = 1; pos[0] = 1; break;
+    case OP_CONSTANT_I: case OP_IF_I_LT:
+        return value_missing(r, p + 1, 1);
     case OP_CONSTANT_V: case OP_IF_V_LT: case OP_IF_V_GT: case OP_IF_DPEAK_GT:
-        n = 1; is_current[0] = 0; pos[0] = 1; break;
-    case OP_CHARGE_EX: n = 2; is_current[0] = is_current[1] = 1; pos[0] = 2; pos[1] = 5; break;
-    case OP_TRICKLE: n = 2; is_current[0] = 1; is_current[1] = 0; pos[0] = 1; pos[1] = 3; break;
-    default: break;
+        return value_missing(r, p + 1, 0);
+    case OP_CHARGE_EX:
+        return (err = value_missing(r, p + 2, 1)) != ZC_OK ? err : value_missing(r, p + 5, 1);
+    case OP_TRICKLE:
+        if ((err = value_missing(r, p + 1, 1)) != ZC_OK || (err = value_missing(r, p + 3, 0)) != ZC_OK)
+            return err;
+        return value_missing(r, p + 5, 0);
+    default:
+        return ZC_OK;
     }
-    for (k = 0; k < n; k++) {
-        uint16_t raw = zc_u16(p + pos[k]);
-        if (is_current[k] && zc_current_ua(r, raw) == ZC_NONE)
-            return raw == RAW_INPUT ? ZC_ERR_INPUT_CURRENT : ZC_ERR_C_NEEDS_CAPACITY;
-        if (!is_current[k] && zc_voltage_uv(r, raw) == ZC_NONE)
-            return raw == RAW_INPUT ? ZC_ERR_INPUT_VOLTAGE : ZC_ERR_S_NEEDS_SERIES;
-    }
-    /* TRICKLE's second voltage */
-    if (p[0] == OP_TRICKLE && zc_voltage_uv(r, zc_u16(p + 5)) == ZC_NONE)
-        return zc_u16(p + 5) == RAW_INPUT ? ZC_ERR_INPUT_VOLTAGE : ZC_ERR_S_NEEDS_SERIES;
-    return ZC_OK;
 }
 
 static uint8_t section_values(const zc_run_t *r, uint8_t pc)
@@ -204,7 +236,7 @@ static void finish(zc_run_t *r, uint8_t reason, uint8_t offset)
     emit(r, ZC_EV_FINISH, 0);
 }
 
-static void end_phase(zc_run_t *r, uint8_t reason, uint8_t offset)
+static ZC_NOINLINE void end_phase(zc_run_t *r, uint8_t reason, uint8_t offset)
 {
     r->end_reason = reason;
     r->end_offset = offset;
@@ -224,21 +256,17 @@ static void command(zc_run_t *r, uint8_t at)
 }
 
 /* Turns the phase's byte code into set points once, at its start. */
-static void compile_phase(zc_run_t *r, uint8_t at)
+static ZC_NOINLINE void compile_phase(zc_run_t *r, uint8_t at)
 {
-    uint8_t pc, a_i = 0, a_v = 0, a_ex = 0, a_tr = 0;
+    uint8_t last[ZC_PHASE_OPS], a_i, a_v, a_ex, a_tr;
     int32_t sign = r->charging ? 1 : -1;
-    for (pc = (uint8_t)(at + 1); r->rec[pc] != OP_END_FAZE; pc = (uint8_t)(pc + zc_op_size(r->rec[pc]))) {
-        switch (r->rec[pc]) {
-        case OP_CONSTANT_I: a_i = pc; break;
-        case OP_CONSTANT_V: a_v = pc; break;
-        case OP_CHARGE_EX: a_ex = pc; break;
-        case OP_TRICKLE: a_tr = pc; break;
-        case OP_IF_T_GT: r->own_t = 1; break;
-        case OP_IF_DPEAK_GT: r->dpeak_at = pc; break;
-        default: break;
-        }
-    }
+    zc_phase_ops(r->rec, at, last);
+    a_i = last[OP_CONSTANT_I - OP_CONSTANT_I];
+    a_v = last[OP_CONSTANT_V - OP_CONSTANT_I];
+    a_ex = last[OP_CHARGE_EX - OP_CONSTANT_I];
+    a_tr = last[OP_TRICKLE - OP_CONSTANT_I];
+    r->own_t = last[OP_IF_T_GT - OP_CONSTANT_I] != 0;
+    r->dpeak_at = last[OP_IF_DPEAK_GT - OP_CONSTANT_I];
     if (a_ex) {
         const uint8_t *p = r->rec + a_ex;
         r->mode = M_PULSE;
@@ -271,7 +299,7 @@ static void compile_phase(zc_run_t *r, uint8_t at)
     }
 }
 
-static void begin_phase(zc_run_t *r, uint8_t at, uint8_t is_default)
+static ZC_NOINLINE void begin_phase(zc_run_t *r, uint8_t at, uint8_t is_default)
 {
     r->active = 1;
     r->run_no++;
@@ -283,25 +311,16 @@ static void begin_phase(zc_run_t *r, uint8_t at, uint8_t is_default)
     r->phase_rep = r->rep;
     r->charging = r->section;
     r->check_defaults = r->section;
-    r->own_t = 0;
-    r->dpeak_at = 0;
     r->trickle_on = 1;
-    r->t_phase = 0;
-    r->q_in = r->q_out = 0;
     r->dtdt_next = DTDT_WINDOW_MS;
-    r->dp_sum = 0;
-    r->dp_count = 0;
-    r->dp_peak_sum = 0;
+    memset(&r->own_t, 0, sizeof *r - offsetof(zc_run_t, own_t));
     r->dp_peak_count = 1;          /* the held peak starts at 0 V */
-    r->dp_window_open = 0;
-    r->dp_hit = 0;
     if (is_default) {
         int32_t per_cell = zc_chemistry_end_uv(r->akk_type);
         if (!per_cell)
             per_cell = r->board.fallback_end_uv_per_cell;
-        r->mode = M_CC;
         r->i_set = -DEFAULT_DISCHARGE_UA;
-        r->v_low = saturate((int64_t)per_cell * (r->series > 0 ? r->series : 1));
+        r->v_low = mul_sat((uint32_t)per_cell, r->series > 0 ? (uint32_t)r->series : 1);
     } else {
         compile_phase(r, at);
     }
@@ -461,28 +480,55 @@ static int32_t pulse_reading(const zc_run_t *r, int32_t v)
     return r->measured_v;
 }
 
-/* -dV on window averages with a held peak (delta_peak.py); averages compared exactly as
- * sum/count fractions. Returns whether the drop below the peak exceeds the threshold. */
+/* The window's average, exact: whole uV into *uv, the remainder over dp_count returned (long
+ * division of the 64-bit sum by 16-bit digits). */
+static uint16_t window_average(const zc_run_t *r, uint32_t *uv)
+{
+    uint32_t rem = 0, q = 0;
+    uint8_t k;
+    for (k = 0; k < 4; k++) {
+        uint32_t x = rem << 16 | r->dp_sum[k];
+        q = q << 16 | x / r->dp_count;
+        rem = x % r->dp_count;
+    }
+    *uv = q;
+    return (uint16_t)rem;
+}
+
+/* -dV on window averages with a held peak (delta_peak.py); averages compared exactly as whole uV
+ * and remainder fractions. Returns whether the drop below the peak exceeds the threshold. */
 static uint8_t minus_dv(zc_run_t *r, int32_t v, int32_t threshold)
 {
-    uint32_t window_ms = r->board.dp_window_s * 1000UL;
+    /* a pack voltage below 0 V (a reading's noise on a shorted pack) counts as 0 V */
+    uint32_t window_ms = r->board.dp_window_s * 1000UL, avg, carry = v > 0 ? (uint32_t)v : 0;
+    uint16_t rem;
+    uint8_t k;
     if (!r->dp_window_open) {
         r->dp_window_open = 1;
         r->dp_window_end = (r->t_phase / window_ms + 1) * window_ms;
     }
-    r->dp_sum += v;
+    for (k = 4; k--; carry >>= 16) {       /* v < 2^31: the carry never overflows */
+        carry += r->dp_sum[k];
+        r->dp_sum[k] = (uint16_t)carry;
+    }
     r->dp_count++;
     if (r->t_phase >= r->dp_window_end) {
         r->dp_window_end = (r->t_phase / window_ms + 1) * window_ms;
-        if (r->t_phase <= r->board.dp_holdoff_s * 1000UL || r->dp_sum * r->dp_peak_count >= r->dp_peak_sum * r->dp_count) {
-            r->dp_peak_sum = r->dp_sum;
+        rem = window_average(r, &avg);
+        /* avg + rem/count against peak + peak_rem/peak_count; fractions below 1, products < 2^32 */
+        if (r->t_phase <= r->board.dp_holdoff_s * 1000UL || avg > r->dp_peak_uv || (avg == r->dp_peak_uv &&
+            (uint32_t)rem * r->dp_peak_count >= (uint32_t)r->dp_peak_rem * r->dp_count)) {
+            r->dp_peak_uv = avg;
+            r->dp_peak_rem = rem;
             r->dp_peak_count = r->dp_count;
             r->dp_hit = threshold < 0;
         } else {
-            r->dp_hit = r->dp_peak_sum * r->dp_count - r->dp_sum * r->dp_peak_count >
-                        (int64_t)threshold * r->dp_count * r->dp_peak_count;
+            /* drop = (peak - avg) + (peak_rem/peak_count - rem/count), the fraction within (-1, 1) */
+            uint32_t whole = r->dp_peak_uv - avg;
+            r->dp_hit = threshold < 0 || whole > (uint32_t)threshold || (whole == (uint32_t)threshold &&
+                        (uint32_t)r->dp_peak_rem * r->dp_count > (uint32_t)rem * r->dp_peak_count);
         }
-        r->dp_sum = 0;
+        memset(r->dp_sum, 0, sizeof r->dp_sum);
         r->dp_count = 0;
     }
     return r->dp_hit;
@@ -498,8 +544,12 @@ static uint8_t own_condition(zc_run_t *r, int32_t v, int32_t i, int32_t temp, ui
         switch (p[0]) {
         case OP_IF_V_GT: hit = v > zc_voltage_uv(r, zc_u16(p + 1)); break;
         case OP_IF_V_LT: hit = v < zc_voltage_uv(r, zc_u16(p + 1)); break;
-        case OP_IF_TF_GT: hit = (uint64_t)r->t_phase > (uint64_t)zc_u32(p + 1) * 100U; break;
-        case OP_IF_I_LT: hit = !r->paused && (i < 0 ? -(int64_t)i : i) < zc_current_ua(r, zc_u16(p + 1)); break;
+        case OP_IF_TF_GT: hit = later_than(r->t_phase, zc_u32(p + 1)); break;
+        case OP_IF_I_LT: {
+            int32_t limit = zc_current_ua(r, zc_u16(p + 1));
+            hit = !r->paused && limit > 0 && (i < 0 ? 0U - (uint32_t)i : (uint32_t)i) < (uint32_t)limit;
+            break;
+        }
         case OP_IF_T_GT: hit = sensor && temp > (int32_t)(int8_t)p[1] * 1000000L; break;
         default: break;
         }
@@ -513,7 +563,8 @@ void zc_measure(zc_run_t *r)
 {
     int32_t v, i, temp;
     uint8_t sensor, reason = ZC_R_NONE, at = 0;
-    uint32_t dt;
+    uint16_t dt;
+    zc_charge_t dq;
     if (!r->active)
         return;
     dt = r->board.tick_ms;
@@ -524,13 +575,9 @@ void zc_measure(zc_run_t *r)
     r->time_ms += dt;
     if (!r->paused)
         r->t_phase += dt;
-    if (i > 0) {
-        r->q_in += (int64_t)i * dt;
-        r->total_in += (int64_t)i * dt;
-    } else {
-        r->q_out -= (int64_t)i * dt;
-        r->total_out -= (int64_t)i * dt;
-    }
+    charge_of(&dq, i < 0 ? 0U - (uint32_t)i : (uint32_t)i, dt);
+    charge_add(i > 0 ? &r->q_in : &r->q_out, &dq);
+    charge_add(i > 0 ? &r->total_in : &r->total_out, &dq);
     if (r->mode == M_PULSE)
         v = pulse_reading(r, v);
     r->measured_v = v;
@@ -556,13 +603,13 @@ void zc_measure(zc_run_t *r)
                 if (r->t_phase > DTDT_HOLDOFF_MS && rise > DTDT_RISE_UC)
                     reason = ZC_R_DEFAULT_DTDT;
             }
-        } else if (r->check_defaults && r->capacity_mah > 0 &&
-                   r->q_in > (int64_t)r->capacity_mah * CAPACITY_LIMIT_UAMS_PER_MAH) {
-            reason = ZC_R_DEFAULT_CAPACITY;
+        } else if (r->check_defaults && r->capacity_mah > 0) {
+            uint32_t limit = (uint32_t)r->capacity_mah * CAPACITY_LIMIT_UAH_PER_MAH;
+            if (r->q_in.uah > limit || (r->q_in.uah == limit && r->q_in.uams))
+                reason = ZC_R_DEFAULT_CAPACITY;
         }
     }
-    if (!reason && r->tm_stop_at &&
-        (uint64_t)r->time_ms > (uint64_t)zc_u32(r->rec + r->tm_stop_at + 1) * 100U) {
+    if (!reason && r->tm_stop_at && later_than(r->time_ms, zc_u32(r->rec + r->tm_stop_at + 1))) {
         /* STOP_MACRO: the remaining phases and sections are skipped; the conclusion still runs */
         end_phase(r, ZC_R_STOP_MACRO, r->tm_stop_at);
         r->stop_macro = 1;

@@ -10,6 +10,9 @@
 #include "../hal.h"
 
 #define MAGIC 0xA7
+/* the longest conflict: "the macro lets the voltage rise to 2147.48 V (discharge phase 255); the
+ * battery allows 255 V" (92) */
+#define LINE_MAX 100
 
 uint8_t zc_passport_read(uint8_t p[PASSPORT_SIZE])
 {
@@ -17,88 +20,66 @@ uint8_t zc_passport_read(uint8_t p[PASSPORT_SIZE])
     uint16_t check = 0;
     for (k = 0; k < 7; k++)
         request[7] ^= request[k];
-    if (!hal_passport_exchange(request, p))
+    if (!hal_passport_exchange(request, sizeof request, p))
         return PASSPORT_NONE;
     for (k = 0; k < 0x1E; k += 2)
-        check ^= (uint16_t)(p[k] | (p[k + 1] << 8));
+        check ^= zc_u16(p + k);
     /* an error answer (0xEE where the version stands) is no passport */
-    return p[0] == MAGIC && p[1] != 0xEE && check == (uint16_t)(p[0x1E] | (p[0x1F] << 8)) ? PASSPORT_OK : PASSPORT_BAD;
+    return p[0] == MAGIC && p[1] != 0xEE && check == zc_u16(p + 0x1E) ? PASSPORT_OK : PASSPORT_BAD;
 }
 
+/* The conflicts, one a line; each is built in `line` and kept only whole. */
 typedef struct {
-    char *at, *end, *complete;           /* complete: the end of the last whole line */
-    uint8_t count;
+    char *at, *end;
+    uint8_t count, full;
+    char line[LINE_MAX];
 } lines_t;
 
-static void put(lines_t *l, const char *flash_text)
+static void keep(lines_t *l, const char *line_end)
 {
-    char c;
-    while ((c = (char)pgm_read_byte(flash_text++)) != 0 && l->at < l->end)
-        *l->at++ = c;
-}
-
-static void put_uint(lines_t *l, uint32_t v)
-{
-    char digits[10];
-    const char *p = digits, *end = zc_put_uint(digits, v);
-    while (p < end && l->at < l->end)
-        *l->at++ = *p++;
-}
-
-/* micro-units with two decimals, as Python's {:.2f} */
-static void put_2f(lines_t *l, int32_t micro)
-{
-    uint32_t c = ((uint32_t)micro + 5000UL) / 10000UL;
-    put_uint(l, c / 100);
-    if (l->at + 3 <= l->end) {
-        *l->at++ = '.';
-        *l->at++ = (char)('0' + c % 100 / 10);
-        *l->at++ = (char)('0' + c % 10);
-    }
-}
-
-static void begin_line(lines_t *l)
-{
-    if (l->at < l->end)
-        l->complete = l->at;
-    if (l->count && l->at < l->end)
-        *l->at++ = '\n';
+    uint8_t n = (uint8_t)(line_end - l->line), sep = l->count != 0;
     l->count++;
+    if (l->full || l->at + sep + n > l->end) {
+        l->full = 1;                     /* a line that does not fit ends the message */
+        return;
+    }
+    if (sep)
+        *l->at++ = '\n';
+    memcpy(l->at, l->line, n);
+    l->at += n;
 }
 
-static void put_type(lines_t *l, uint8_t type)
+static ZC_NOINLINE char *put_type(char *p, uint8_t type)
 {
     static const char names[9][6] PROGMEM = {"Undef", "Pb", "NiCd", "NiMh", "LiPo", "LiIon", "LiS", "LiFe", "New"};
-    if (type < 9)
-        put(l, names[type]);
-    else
-        put_uint(l, type);
+    return type < 9 ? zc_put_P(p, names[type]) : zc_put_uint(p, type);
 }
 
-/* " (charge phase 2); the battery allows 4 A" */
-static void where(lines_t *l, uint8_t section, uint8_t index, uint8_t limit, uint8_t volts)
+/* "the macro charges at 3.00 A (charge phase 2); the battery allows 2 A" */
+static void conflict(lines_t *l, const char *what, int32_t micro, uint8_t volts, uint8_t section, uint8_t index,
+                     uint8_t limit)
 {
-    put(l, section ? PSTR(" (charge phase ") : PSTR(" (discharge phase "));
-    put_uint(l, index);
-    put(l, PSTR("); the battery allows "));
-    put_uint(l, limit);
-    put(l, volts ? PSTR(" V") : PSTR(" A"));
+    char *p = zc_put_2f(zc_put_P(l->line, what), (uint32_t)micro);
+    p = zc_put_P(p, volts ? PSTR(" V") : PSTR(" A"));
+    p = zc_put_P(p, section ? PSTR(" (charge phase ") : PSTR(" (discharge phase "));
+    p = zc_put_uint(p, index);
+    p = zc_put_uint(zc_put_P(p, PSTR("); the battery allows ")), limit);
+    keep(l, zc_put_P(p, volts ? PSTR(" V") : PSTR(" A")));
 }
 
 static void section(lines_t *l, const zc_run_t *r, uint8_t pc, uint8_t section, uint8_t a_lim, uint8_t v_lim)
 {
     uint8_t index = 0;
     for (; r->rec[pc] != OP_END_SECTION; pc = (uint8_t)(pc + zc_op_size(r->rec[pc]))) {
-        uint8_t at, a_i = 0, a_v = 0, a_ex = 0, a_tr = 0;
+        uint8_t at, last[ZC_PHASE_OPS], a_i, a_v, a_ex, a_tr;
         if (r->rec[pc] != OP_FAZE)
             continue;
         index++;
-        for (at = (uint8_t)(pc + 1); r->rec[at] != OP_END_FAZE; at = (uint8_t)(at + zc_op_size(r->rec[at]))) {
-            a_i = r->rec[at] == OP_CONSTANT_I ? at : a_i;
-            a_v = r->rec[at] == OP_CONSTANT_V ? at : a_v;
-            a_ex = r->rec[at] == OP_CHARGE_EX ? at : a_ex;
-            a_tr = r->rec[at] == OP_TRICKLE ? at : a_tr;
-        }
+        zc_phase_ops(r->rec, pc, last);
+        a_i = last[OP_CONSTANT_I - OP_CONSTANT_I];
+        a_v = last[OP_CONSTANT_V - OP_CONSTANT_I];
+        a_ex = last[OP_CHARGE_EX - OP_CONSTANT_I];
+        a_tr = last[OP_TRICKLE - OP_CONSTANT_I];
         if (!section && !a_ex && !a_tr)
             continue;                        /* a discharge: no charge current, no charge voltage */
         if (a_lim) {
@@ -106,60 +87,60 @@ static void section(lines_t *l, const zc_run_t *r, uint8_t pc, uint8_t section, 
             int32_t ua = c ? zc_current_ua(r, zc_u16(r->rec + c)) : ZC_NONE;
             if (!c && a_v)
                 ua = r->start.current_ua > 0 ? r->start.current_ua : r->board.max_charge_ua;
-            if (ua != ZC_NONE && ua > (int32_t)a_lim * 1000000L) {
-                begin_line(l);
-                put(l, c ? PSTR("the macro charges at ") : PSTR("the macro charges at up to "));
-                put_2f(l, ua);
-                put(l, PSTR(" A"));
-                where(l, section, index, a_lim, 0);
-            }
+            if (ua != ZC_NONE && ua > (int32_t)a_lim * 1000000L)
+                conflict(l, c ? PSTR("the macro charges at ") : PSTR("the macro charges at up to "), ua, 0,
+                         section, index, a_lim);
         }
-        if (v_lim) {
-            for (at = (uint8_t)(pc + 1); r->rec[at] != OP_END_FAZE; at = (uint8_t)(at + zc_op_size(r->rec[at]))) {
-                uint8_t op = r->rec[at];
-                int32_t uv;
-                if (op != OP_CONSTANT_V && op != OP_TRICKLE && op != OP_IF_V_GT)
-                    continue;
-                uv = zc_voltage_uv(r, zc_u16(r->rec + at + (op == OP_TRICKLE ? 5 : 1)));
-                if (uv != ZC_NONE && uv > (int32_t)v_lim * 1000000L) {
-                    begin_line(l);
-                    put(l, op == OP_CONSTANT_V ? PSTR("the macro holds ") : op == OP_TRICKLE ?
-                        PSTR("the macro tops up to ") : PSTR("the macro lets the voltage rise to "));
-                    put_2f(l, uv);
-                    put(l, PSTR(" V"));
-                    where(l, section, index, v_lim, 1);
-                }
-            }
+        for (at = (uint8_t)(pc + 1); v_lim && r->rec[at] != OP_END_FAZE; at = (uint8_t)(at + zc_op_size(r->rec[at]))) {
+            uint8_t op = r->rec[at];
+            int32_t uv;
+            if (op != OP_CONSTANT_V && op != OP_TRICKLE && op != OP_IF_V_GT)
+                continue;
+            uv = zc_voltage_uv(r, zc_u16(r->rec + at + (op == OP_TRICKLE ? 5 : 1)));
+            if (uv != ZC_NONE && uv > (int32_t)v_lim * 1000000L)
+                conflict(l, op == OP_CONSTANT_V ? PSTR("the macro holds ") : op == OP_TRICKLE ?
+                         PSTR("the macro tops up to ") : PSTR("the macro lets the voltage rise to "), uv, 1,
+                         section, index, v_lim);
         }
     }
 }
 
-uint8_t zc_passport_conflicts(const zc_run_t *r, const uint8_t p[PASSPORT_SIZE], char *out, uint8_t max)
+/* The charger's own check at START, as the virtual charger's (docs/safety.md): lint E311, a lithium
+ * trickle charge (LiPo, LiIon, LiS, LiFe). */
+static void lithium_trickle(lines_t *l, const zc_run_t *r)
 {
-    lines_t l = {out, out + max - 1, out, 0};
-    uint16_t crit = (uint16_t)(p[0x19] | (p[0x1A] << 8));
-    if (r->akk_type != p[0x16]) {
-        begin_line(&l);
-        put(&l, r->akk_type ? PSTR("the macro is for ") : PSTR("the macro sets no battery type (AKK_TYPE "));
-        put_type(&l, r->akk_type);
-        put(&l, r->akk_type ? PSTR("; the battery is ") : PSTR("); the battery is "));
-        put_type(&l, p[0x16]);
-    }
+    uint8_t pc;
+    if (r->akk_type < 4 || r->akk_type > 7)
+        return;
+    for (pc = r->rec[1]; r->rec[pc] != OP_END_MACRO; pc = (uint8_t)(pc + zc_op_size(r->rec[pc])))
+        if (r->rec[pc] == OP_TRICKLE)
+            keep(l, zc_put_P(zc_put_uint(zc_put_P(l->line, PSTR("E311 (byte ")), pc),
+                             PSTR("): Lithium cells must never be trickle-charged")));
+}
+
+ZC_NOINLINE uint8_t zc_passport_conflicts(const zc_run_t *r, const uint8_t p[PASSPORT_SIZE], char *out, uint8_t max)
+{
+    lines_t l;
+    uint16_t crit = zc_u16(p + 0x19);
+    char *at;
+    l.at = out;
+    l.end = out + max - 1;
+    l.count = l.full = 0;
+    lithium_trickle(&l, r);
     if (crit) {
-        begin_line(&l);
-        put(&l, PSTR("the battery has "));
-        put_uint(&l, crit);
-        put(&l, PSTR(" critical error(s) (CRIT): it is not fit for use"));
+        at = zc_put_uint(zc_put_P(l.line, PSTR("the battery has ")), crit);
+        keep(&l, zc_put_P(at, PSTR(" critical error(s) (CRIT): it is not fit for use")));
+    }
+    if (r->akk_type != p[0x16]) {
+        at = put_type(zc_put_P(l.line, r->akk_type ? PSTR("the macro is for ") :
+                               PSTR("the macro sets no battery type (AKK_TYPE ")), r->akk_type);
+        keep(&l, put_type(zc_put_P(at, r->akk_type ? PSTR("; the battery is ") : PSTR("); the battery is ")),
+                          p[0x16]));
     }
     if (r->start.task != ZC_CHARGE)
         section(&l, r, r->discharge_at, 0, p[0x1C], p[0x1B]);
     if (r->start.task != ZC_DISCHARGE)
         section(&l, r, r->charge_at, 1, p[0x1C], p[0x1B]);
-    /* only whole lines: one that did not fit the message is left out */
-    if (l.at >= l.end)
-        l.at = l.complete;
-    else
-        l.complete = l.at;
     *l.at = 0;
     return l.count;
 }

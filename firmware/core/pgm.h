@@ -13,4 +13,11 @@
 #define strlen_P strlen
 #endif
 
+/* A helper called from several places stays one copy (LTO would inline it at each). */
+#ifdef __GNUC__
+#define ZC_NOINLINE __attribute__((noinline))
+#else
+#define ZC_NOINLINE
+#endif
+
 #endif

@@ -2,7 +2,9 @@
  * a record passes before it runs. The PC's checker does the rest (lint, units); the firmware only
  * makes sure that the walk through the bytes can never leave the record or meet a phase with no
  * action. */
+#include <string.h>
 #include "zuml.h"
+#include "pgm.h"
 #include "record.h"
 
 uint8_t zc_op_size(uint8_t code)
@@ -41,6 +43,15 @@ uint8_t zc_op_role(uint8_t code)
     return ROLE_COMMAND;
 }
 
+void zc_phase_ops(const uint8_t *rec, uint8_t faze_at, uint8_t last[ZC_PHASE_OPS])
+{
+    uint8_t pc;
+    memset(last, 0, ZC_PHASE_OPS);
+    for (pc = (uint8_t)(faze_at + 1); rec[pc] != OP_END_FAZE; pc = (uint8_t)(pc + zc_op_size(rec[pc])))
+        if (rec[pc] >= OP_CONSTANT_I && rec[pc] <= OP_IF_DPEAK_GT)
+            last[rec[pc] - OP_CONSTANT_I] = pc;
+}
+
 uint16_t zc_u16(const uint8_t *p) { return (uint16_t)(p[0] | ((uint16_t)p[1] << 8)); }
 
 uint32_t zc_u32(const uint8_t *p)
@@ -62,7 +73,7 @@ static uint8_t operands_ok(const uint8_t *p)
 }
 
 /* Reads the instruction at pc; 0 when it is not one or runs past `end`. */
-static uint8_t take(const uint8_t *rec, uint8_t pc, uint8_t end)
+static ZC_NOINLINE uint8_t take(const uint8_t *rec, uint8_t pc, uint8_t end)
 {
     uint8_t size;
     if (pc >= end)

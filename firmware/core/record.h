@@ -22,6 +22,10 @@ enum { ROLE_STRUCTURE, ROLE_DECLARATION, ROLE_ACTION, ROLE_CONDITION, ROLE_INTRO
 #define CAPACITY_AUTO 0xFFFFu
 
 uint8_t zc_op_role(uint8_t code);
+/* The phase at faze_at (its FAZE byte): last[op - OP_CONSTANT_I] the offset of its last instruction
+ * op (actions and conditions, OP_CONSTANT_I..OP_IF_DPEAK_GT), 0 for one it does not have. */
+#define ZC_PHASE_OPS (OP_IF_DPEAK_GT - OP_CONSTANT_I + 1)
+void zc_phase_ops(const uint8_t *rec, uint8_t faze_at, uint8_t last[ZC_PHASE_OPS]);
 uint16_t zc_u16(const uint8_t *p);
 uint32_t zc_u32(const uint8_t *p);
 

@@ -1,4 +1,5 @@
 #include "store.h"
+#include "pgm.h"
 #include "zuml.h"
 #include "../hal.h"
 
@@ -17,14 +18,14 @@ uint16_t zc_crc16(uint16_t crc, uint8_t byte)
 
 uint16_t store_size(void) { return (uint16_t)((hal_eeprom_size() - 2 - TEMPLATE_AREA) / 2); }
 
-static uint16_t journal(void) { return (uint16_t)(hal_eeprom_size() - 1); }
-static uint16_t templates_mark(void) { return (uint16_t)(hal_eeprom_size() - 2); }
+static ZC_NOINLINE uint16_t journal(void) { return (uint16_t)(hal_eeprom_size() - 1); }
+static ZC_NOINLINE uint16_t templates_mark(void) { return (uint16_t)(hal_eeprom_size() - 2); }
 static uint16_t template_at(uint8_t number)
 {
     return (uint16_t)(2 * store_size() + (uint16_t)(number - 1) * ZC_TEMPLATE_SIZE);
 }
 
-static void update(uint16_t addr, uint8_t value)
+static ZC_NOINLINE void update(uint16_t addr, uint8_t value)
 {
     /* an EEPROM byte wears with every write: write only what changes */
     if (hal_eeprom_read(addr) != value)

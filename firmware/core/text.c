@@ -5,8 +5,9 @@
 #include "record.h"
 #include "pgm.h"
 
-/* s is in flash */
-static char *put(char *p, const char *s)
+#define put zc_put_P
+
+char *zc_put_P(char *p, const char *s)
 {
     char c;
     while ((c = (char)pgm_read_byte(s++)) != 0)
@@ -36,18 +37,24 @@ static char *put_int(char *p, int32_t v)
     return zc_put_uint(p, (uint32_t)v);
 }
 
-/* value/100 in its shortest decimal form: 410 -> 4.1, 5 -> 0.05 */
-static char *put_hundredths(char *p, uint16_t v)
+/* value/100 in its shortest decimal form (410 -> 4.1, 5 -> 0.05), or with both decimals (fixed) */
+static ZC_NOINLINE char *put_hundredths(char *p, uint32_t v, uint8_t fixed)
 {
+    uint8_t cents;
     p = zc_put_uint(p, v / 100);
-    v %= 100;
-    if (v) {
+    cents = (uint8_t)(v % 100);
+    if (cents || fixed) {
         *p++ = '.';
-        *p++ = (char)('0' + v / 10);
-        if (v % 10)
-            *p++ = (char)('0' + v % 10);
+        *p++ = (char)('0' + cents / 10);
+        if (cents % 10 || fixed)
+            *p++ = (char)('0' + cents % 10);
     }
     return p;
+}
+
+ZC_NOINLINE char *zc_put_2f(char *p, uint32_t micro)
+{
+    return put_hundredths(p, (micro + 5000UL) / 10000UL, 1);
 }
 
 /* A current (absolute 'A', relative 'C') or a voltage ('V'/'S'). */
@@ -55,7 +62,7 @@ static char *put_scaled(char *p, uint16_t raw, char abs_unit, char rel_unit)
 {
     if (raw == RAW_INPUT)
         return put(p, PSTR("INPUT"));
-    p = put_hundredths(p, raw & 0x7FFF);
+    p = put_hundredths(p, raw & 0x7FFF, 0);
     *p++ = (raw & RAW_RELATIVE) ? rel_unit : abs_unit;
     return p;
 }
@@ -123,15 +130,9 @@ uint8_t zc_reason_text(const zc_run_t *r, uint8_t reason, uint8_t offset, char *
     case ZC_R_DEFAULT_EMPTY: {
         /* the per-cell end voltage to 10 mV, as Python's {:.2f} */
         int32_t per_cell = zc_chemistry_end_uv(r->akk_type);
-        uint32_t cv;
         if (!per_cell)
             per_cell = r->board.fallback_end_uv_per_cell;
-        cv = ((uint32_t)per_cell + 5000UL) / 10000UL;
-        p = zc_put_uint(put(p, PSTR("default: empty discharge section, V<")), cv / 100);
-        *p++ = '.';
-        *p++ = (char)('0' + cv % 100 / 10);
-        *p++ = (char)('0' + cv % 10);
-        p = put(p, PSTR("V/cell"));
+        p = put(zc_put_2f(put(p, PSTR("default: empty discharge section, V<")), (uint32_t)per_cell), PSTR("V/cell"));
         break;
     }
     case ZC_R_STOPPED: p = put(p, PSTR("stopped")); break;

@@ -86,6 +86,13 @@ uint8_t zc_template(uint8_t number, zc_start_t *s);
 #define ZC_TEMPLATE_SIZE 9
 void zc_template_apply(zc_start_t *s, const uint8_t *t);
 
+/* A charge, exact: whole uAh and the uA*ms below one (the AVR has no cheap 64-bit arithmetic). */
+#define ZC_UAMS_PER_UAH 3600000UL
+typedef struct {
+    uint32_t uah;
+    uint32_t uams;                 /* < ZC_UAMS_PER_UAH */
+} zc_charge_t;
+
 typedef struct {
     int32_t max_charge_ua;         /* a CONSTANT_V alone holds at most this without an entered current */
     int32_t max_discharge_ua;
@@ -112,21 +119,24 @@ typedef struct {
     uint8_t stage, section, rep, reps, pc, faze_index, ran;
     uint8_t loop_left, loop_pc, loop_pass, loop_faze;
     /* the running phase */
-    uint8_t active, mode, charging, own_t, check_defaults, trickle_on, paused, finished;
-    uint8_t phase_at, phase_index, phase_pass, phase_rep, phase_section, dpeak_at, is_default;
-    uint8_t end_reason, end_offset;
-    uint16_t run_no;                       /* phases started in this run */        /* of the last phase end, or of the macro once finished */
+    uint8_t active, charging, check_defaults, trickle_on, paused, finished;
+    uint8_t phase_at, phase_index, phase_pass, phase_rep, phase_section, is_default;
+    uint8_t end_reason, end_offset;        /* of the last phase end, or of the macro once finished */
+    uint16_t run_no;                       /* phases started in this run */
+    int32_t measured_v, dtdt_t0;
+    uint32_t dtdt_next, time_ms;
+    zc_charge_t total_in, total_out;       /* run */
+    /* From own_t to the end: cleared at every phase start. */
+    uint8_t own_t, dpeak_at, mode, tv;
     int32_t i_set, v_set, i_max, v_low;    /* v_low: TRICKLE V1, or the default discharge end */
     int32_t i2;                            /* CHARGE_EX discharge current */
-    uint32_t tch_ms, period_ms;
-    uint8_t tv;
-    int32_t measured_v, dtdt_t0;
-    uint32_t t_phase, dtdt_next, time_ms;
-    int64_t q_in, q_out;                   /* uA*ms, phase */
-    int64_t total_in, total_out;           /* uA*ms, run */
-    /* -dV: window sums and the held peak as a sum over its window (exact averages) */
-    int64_t dp_sum, dp_peak_sum;
-    uint16_t dp_count, dp_peak_count;
+    uint32_t tch_ms, period_ms, t_phase;
+    zc_charge_t q_in, q_out;               /* phase */
+    /* -dV: the window's sum (64 bits as 16-bit digits, the most significant first), the held peak
+     * as an exact average: whole uV and the remainder over its window's count */
+    uint16_t dp_sum[4];
+    uint32_t dp_peak_uv;
+    uint16_t dp_count, dp_peak_rem, dp_peak_count;
     uint32_t dp_window_end;
     uint8_t dp_window_open, dp_hit;
 } zc_run_t;

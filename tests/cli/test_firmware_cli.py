@@ -6,23 +6,17 @@ import sys
 
 import pytest
 
+from chargers import INSTALL, simavr_missing
 from helpers import MACROS
 
-INSTALL = "apt-get install -y make gcc gcc-avr avr-libc binutils-avr simavr libsimavr-dev libelf-dev"
 pytestmark = pytest.mark.skipif(os.name != "posix", reason="ptys need POSIX")
-
-
-def _simavr_missing() -> str:
-    tools = [t for t in ("make", "gcc", "avr-gcc", "avr-size") if not shutil.which(t)]
-    headers = [h for h in ("/usr/include/simavr/sim_avr.h", "/usr/include/libelf.h") if not os.path.exists(h)]
-    return ", ".join(tools + headers)
 
 
 BOARDS = [
     pytest.param("host", marks=pytest.mark.skipif(not (shutil.which("gcc") and shutil.which("make")),
                                                   reason=f"gcc/make not found: the firmware cannot be built ({INSTALL})")),
-    pytest.param("atmega32", marks=pytest.mark.skipif(bool(_simavr_missing()),
-                                                      reason=f"{_simavr_missing()} missing: no AVR build on simavr "
+    pytest.param("atmega32", marks=pytest.mark.skipif(bool(simavr_missing()),
+                                                      reason=f"{simavr_missing()} missing: no AVR build on simavr "
                                                              f"({INSTALL})")),
 ]
 

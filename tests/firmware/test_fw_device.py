@@ -6,7 +6,7 @@ import tty
 
 import pytest
 
-from helpers import compiled, needs_pty
+from helpers import compiled, needs_pty, unsafe_record
 from zuml_studio.device import messages as m
 from zuml_studio.device import passport as pp
 from zuml_studio.device.client import ChargerClient
@@ -221,3 +221,42 @@ def test_the_batterys_passport_takes_err_and_crit_only_and_answers_every_request
         bad_page[7] ^= b
     answer = c.passport_raw(bytes(bad_page))
     assert len(answer) == 32 and pp.answer_error(answer) is not None and answer[2] == pp.AnswerError.BAD_PAGE
+
+
+@pytest.mark.parametrize("request_", [b"", b"\xa7\x00\x00", bytes(9), b"\xa7" + bytes(6) + b"\xa7" + b"\x00",
+                                      b"\x00" * 8])
+def test_a_malformed_passport_request_gets_the_same_32_bytes_from_the_firmware_and_the_virtual_charger(
+        client, make_charger, request_):
+    firmware = client("--passport", "3:8:2")
+    _, port = make_charger(battery="NiMh:2000:4", passport=pp.Passport("ZUML-HOST-0001", "ZUML", 3, 0, 0, 8, 2))
+    virtual = ChargerClient(port, timeout=2)
+    try:
+        mine, theirs = firmware.passport_raw(request_), virtual.passport_raw(request_)
+    finally:
+        virtual.close()
+    assert len(mine) == 32 and pp.answer_error(mine) is not None
+    assert mine == theirs
+
+
+LITHIUM_TRICKLE = ("MACRO LiT\nAKK_TYPE=LiPo\nCHARGE_SECTION\nFAZE CONSTANT_I=1A IF(V>4.1S) STOP_FAZE END_FAZE\n"
+                   "FAZE TRICKLE(0.05C, 4.0S, 4.1S) IF(tf>1h) STOP_FAZE END_FAZE\nEND_SECTION\nEND_MACRO\n")
+
+
+def test_a_lithium_trickle_charge_is_refused_as_the_virtual_charger_refuses_it(client, make_charger):
+    record = unsafe_record(LITHIUM_TRICKLE)
+    firmware = client("--passport", "4:20:5")                       # LiPo, 20 V, 5 A
+    _, port = make_charger(battery="LiPo:2000:3", passport=pp.Passport("ZUML-HOST-0001", "ZUML", 4, 0, 0, 20, 5))
+    virtual = ChargerClient(port, timeout=2)
+    refusals = []
+    try:
+        for c in (firmware, virtual):
+            c.write_image(eeprom.pack([record], c.info.eeprom_size))
+            with pytest.raises(DeviceError) as refused:
+                c.start(0, "charge", capacity_mah=2000, current_a=1.0, series=3)
+            refusals.append(refused.value)
+    finally:
+        virtual.close()
+    mine, theirs = refusals
+    assert mine.code == theirs.code == m.ErrorCode.PASSPORT_CONFLICT
+    assert mine.lines == theirs.lines == [f"E311 (byte {record.index(63)}): Lithium cells must never be "
+                                          "trickle-charged"]

@@ -177,10 +177,11 @@ void hal_led(uint8_t pattern)
         PORTB &= (uint8_t)~_BV(PB1);
 }
 
-uint8_t hal_passport_exchange(const uint8_t request[8], uint8_t answer[32])
+uint8_t hal_passport_exchange(const uint8_t *request, uint8_t len, uint8_t answer[32])
 {
     /* the B6 has no passport line wired: nothing answers */
     (void)request;
+    (void)len;
     (void)answer;
     return 0;
 }

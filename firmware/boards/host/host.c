@@ -37,9 +37,9 @@ int16_t hal_uart_read(void) { return -1; }
 void hal_uart_write(uint8_t byte) { (void)byte; }
 void hal_buzzer(uint8_t melody) { hw.music = melody; }
 void hal_led(uint8_t pattern) { hw.light = pattern; }
-uint8_t hal_passport_exchange(const uint8_t request[8], uint8_t answer[32])
+uint8_t hal_passport_exchange(const uint8_t *request, uint8_t len, uint8_t answer[32])
 {
-    (void)request; (void)answer;
+    (void)request; (void)len; (void)answer;
     return 0;
 }
 
@@ -111,14 +111,14 @@ uint16_t zh_validate(const uint8_t *rec, uint16_t len) { return zc_validate(rec,
 int32_t zh_chemistry_end_uv(uint8_t akk_type) { return zc_chemistry_end_uv(akk_type); }
 void zh_totals(int64_t *in_uams, int64_t *out_uams)
 {
-    *in_uams = run.total_in;
-    *out_uams = run.total_out;
+    *in_uams = (int64_t)run.total_in.uah * ZC_UAMS_PER_UAH + run.total_in.uams;
+    *out_uams = (int64_t)run.total_out.uah * ZC_UAMS_PER_UAH + run.total_out.uams;
 }
 
 void zh_phase_counts(int64_t *in_uams, int64_t *out_uams)
 {
-    *in_uams = run.q_in;
-    *out_uams = run.q_out;
+    *in_uams = (int64_t)run.q_in.uah * ZC_UAMS_PER_UAH + run.q_in.uams;
+    *out_uams = (int64_t)run.q_out.uah * ZC_UAMS_PER_UAH + run.q_out.uams;
 }
 
 /* The per-cell end voltage an empty discharge section runs to (the reason's text names it). */

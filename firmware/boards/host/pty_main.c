@@ -111,14 +111,16 @@ void hal_led(uint8_t pattern) { (void)pattern; }
 /* The battery's passport chip as device/passport.py's PassportChip (production, seed 003): 32 bytes
  * to every request, the passport or an error answer (MAGIC, 0xEE, code, RW_INDEX, PAGE, zeros,
  * check); pages 0..6; the charger may change only ERR and CRIT (0x17..0x1A). */
-uint8_t hal_passport_exchange(const uint8_t request[8], uint8_t answer[32])
+uint8_t hal_passport_exchange(const uint8_t *request, uint8_t len, uint8_t answer[32])
 {
-    uint8_t x = 0, k, rw = request[1], page = request[2], code = 0;
+    uint8_t x = 0, k, rw = len > 1 ? request[1] : 0, page = len > 2 ? request[2] : 0, code = 0;
     if (!has_passport)
         return 0;
-    for (k = 0; k < 7; k++)
+    for (k = 0; k < 7 && k < len; k++)
         x ^= request[k];
-    if (request[0] != 0xA7)
+    if (len != 8)
+        code = 1;                       /* BAD_LENGTH */
+    else if (request[0] != 0xA7)
         code = 2;                       /* BAD_MAGIC */
     else if (x != request[7])
         code = 3;                       /* BAD_XOR */

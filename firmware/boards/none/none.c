@@ -1,6 +1,7 @@
 /* A board with no hardware behind the HAL: the firmware core alone, linked for the ATmega32 to
  * measure what the core takes (`make core-size`); every driver a real board adds comes on top. */
 #include "../../core/app.h"
+#include "../../core/pgm.h"
 
 /* Readings from volatile memory, so the compiler keeps every path of the core. */
 static volatile int32_t v32;
@@ -23,15 +24,15 @@ int16_t hal_uart_read(void) { return (int16_t)v32; }
 void hal_uart_write(uint8_t byte) { v8 = byte; }
 void hal_buzzer(uint8_t melody) { (void)melody; }
 void hal_led(uint8_t pattern) { (void)pattern; }
-uint8_t hal_passport_exchange(const uint8_t request[8], uint8_t answer[32])
+uint8_t hal_passport_exchange(const uint8_t *request, uint8_t len, uint8_t answer[32])
 {
-    answer[0] = request[0];
+    answer[0] = len ? request[0] : 0;
     return v8;
 }
 
 int main(void)
 {
-    static const char model[] = "none", firmware[] = "zuml-fw";
+    static const char model[] PROGMEM = "none", firmware[] PROGMEM = "zuml-fw";
     static const app_board_t board = {model, firmware, 0, 0, 0, 0, 0, 0, {0, 0, 0, 1000, 30, 300}};
     app_init(&board);
     for (;;)

@@ -1,0 +1,68 @@
+"""Every device test that needs only a port runs against both chargers: the Python virtual
+charger and the C firmware (`zuml firmware-sim`: the ATmega32 image on simavr), so the two answer
+alike. The firmware runs skip, naming the tool they lack, where simavr or avr-gcc are missing."""
+import os
+import shutil
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+INSTALL = "apt-get install -y make gcc gcc-avr avr-libc binutils-avr simavr libsimavr-dev libelf-dev"
+
+
+def simavr_missing() -> str:
+    """What the firmware-sim lacks here ('' when nothing): tools, then headers."""
+    tools = [t for t in ("make", "gcc", "avr-gcc", "avr-size", "avr-objcopy") if not shutil.which(t)]
+    headers = [h for h in ("/usr/include/simavr/sim_avr.h", "/usr/include/libelf.h") if not os.path.exists(h)]
+    return ", ".join(tools + headers)
+
+
+NEEDS_FIRMWARE_SIM = pytest.mark.skipif(
+    os.name != "posix" or bool(simavr_missing()),
+    reason=f"{simavr_missing() or 'a POSIX pty'} missing: the firmware on simavr cannot run ({INSTALL})")
+FIRMWARE_SIM = pytest.param("firmware-sim", marks=NEEDS_FIRMWARE_SIM)
+KINDS = ["virtual", FIRMWARE_SIM]
+
+
+@dataclass
+class Charger:
+    kind: str                          # "virtual" or "firmware-sim"
+    port: str
+    device: object = None              # the VirtualCharger (None for the firmware)
+
+    @property
+    def virtual(self) -> bool:
+        return self.kind == "virtual"
+
+
+class FirmwareSims:
+    """`zuml firmware-sim` subprocesses, each with its EEPROM in a file of its own; stopped at the end."""
+
+    def __init__(self, tmp_path: Path):
+        self.tmp_path = tmp_path
+        self.procs: list[subprocess.Popen] = []
+
+    def start(self, *args: str) -> str:
+        eeprom = self.tmp_path / f"fw-ee-{len(self.procs)}.bin"
+        proc = subprocess.Popen([sys.executable, "-m", "zuml_studio.cli.main", "firmware-sim", "--eeprom", str(eeprom),
+                                 *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        self.procs.append(proc)
+        port = proc.stdout.readline().strip()
+        if not port.startswith("/dev/"):
+            proc.wait(timeout=10)
+            raise AssertionError(f"firmware-sim did not start: {port} {proc.stderr.read()}")
+        return port
+
+    def stop(self) -> None:
+        for proc in self.procs:
+            proc.terminate()
+            try:
+                proc.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                proc.kill()
+                proc.wait()
+            proc.stdout.close()
+            proc.stderr.close()
