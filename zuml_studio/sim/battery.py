@@ -186,17 +186,17 @@ class Pack:
         f = exp(ea_r / (t + _KELVIN) - ea_r_ref)
         # target = U(s + g*i) + rest + r*i, with everything that does not depend on i in `rest`.
         vp = self._vp * a_p
-        # The dip from the overcharge this step adds is left out: it is second order over one step.
         rest = self._v1 * a1 + self._v2 * a2 - k_t * (t - _T_REF_C) + vp - k_dip * self._oc * a_o
         r_ohmic = (r0 + r1b + r2b) * f
         target = v_pack / series
         eta = 1.0 - exp((s - 1.0) * inv_w0 / max(_W_FLOOR, 1.0 + w_t * (t - _T_REF_C)))
         r_pol = kc / (1.0 - s + eps) * (1.0 - a_p)
         charge_rhs = target - rest - (1.0 - eta) * dv_o2
-        i = self._solve_ocv(charge_rhs, r_ohmic + r_pol, eta * ds_k)
+        r_dip = k_dip * (1.0 - eta) * ds_k     # the overcharge this step adds deepens the dip, linear in i
+        i = self._solve_ocv(charge_rhs, r_ohmic + r_pol - r_dip, eta * ds_k)
         if i > 0.0 and vp + i * r_pol > vp_max:
             # The gassing cap holds: polarisation is a constant, not a resistance, for this step.
-            i = self._solve_ocv(charge_rhs + vp - vp_max, r_ohmic, eta * ds_k)
+            i = self._solve_ocv(charge_rhs + vp - vp_max, r_ohmic - r_dip, eta * ds_k)
         if i > 0.0:
             return i
         i = self._solve_ocv(target - rest, r_ohmic + kd / ((s if s > 0.0 else 0.0) + eps), ds_k)
