@@ -200,7 +200,9 @@ def _residuals(curve: Curve, run: Run, cv: np.ndarray, series: int, chemistry: s
         parts.append((run.i[cv] - curve.i[cv]) / cc_current(curve, cv) * 150.0 / math.sqrt(cv.sum()))
     if curve.temp is not None:
         parts.append((run.temp - curve.temp) * _TEMP_WEIGHT / math.sqrt(len(curve.t)))
-        # The rise itself: it comes in the last minutes, which weigh little among all the samples.
+    if curve.temp is not None and peak_real is not None:
+        # NiCd/NiMH's rise itself (an issue figure): it comes in the last minutes, which weigh little
+        # among all the samples.
         rise = (float(run.temp.max() - run.temp[0]) - float(curve.temp.max() - curve.temp[0])) * _RISE_WEIGHT
         parts.append(np.array([rise]))
     if peak_real is not None:
