@@ -256,6 +256,17 @@ def main() -> int:
         "",
         _pb_rest(samples, next(f for e, _, f in answers.values() if e["chemistry"] == "Pb")),
         "",
+        "### Where the default model misses",
+        "",
+        "One default cannot meet the Ultramat NiMH pack and the other three together: at a fifth of its "
+        "charge it reads 1.449 V/cell at 0.45C, where the AkkuMaster pack reads 1.351 at 0.2C, the Polaron "
+        "1.373 at 0.3C and the eStation 1.489 at 1.1C: 60 mV above the line through the others, 100 mV "
+        "near the end. The default model misses it by "
+        f"{defaults['nimh_4s_ultramat_05c'].figures['rmse_v_per_cell_mv']:.0f} mV/cell RMSE (limit 40); "
+        "a default lifted enough for it (lower resistance, a higher and flatter OCV, a broad "
+        "end-of-charge climb) loses the 0.2–0.3C peak and dip the other packs show. The test marks it "
+        "(strict xfail); fitted, the pack meets the limits.",
+        "",
         "## What changed in the models (the data win)",
         "",
         "Each changed value in `zuml_studio/data/chemistries/*.toml` names the recordings it was fitted to "

@@ -202,6 +202,19 @@ def test_1c_discharge_delivers_most_of_the_capacity(name):
 
 # -- solver and bookkeeping ----------------------------------------------------------------------
 
+@pytest.mark.parametrize("name", ["NiCd", "NiMh"])
+def test_current_for_voltage_on_a_full_nickel_pack_with_its_dip_and_a_long_tick(name):
+    # Past the peak the overcharge dip deepens; the solve must still find the one current (the dip
+    # of a step depends on the overcharge before it, so the voltage rises with the current).
+    pack = Pack(load_chemistry(name), 300, 3, soc=0.99)
+    for _ in range(60):
+        pack.step(0.3, 30.0)
+    target = pack.voltage + 0.003       # a current the step does not cap at full (s = 1)
+    i = pack.current_for_voltage(target, 30.0)
+    assert i > 0
+    assert pack.step(i, 30.0) == pytest.approx(target, abs=1e-9)
+
+
 @pytest.mark.parametrize("name", list(CAPACITY))
 @pytest.mark.parametrize("offset", [0.15, -0.15])
 def test_current_for_voltage_hits_the_set_point(name, offset):

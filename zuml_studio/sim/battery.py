@@ -11,16 +11,18 @@ Per cell (I > 0 = charge, T in °C, s = stored charge / capacity):
              over minutes, and gassing caps it)
     Vk    = Vk * a_k + I * Rk * f * (1 - a_k),   a_k = exp(-dt / tau_k)   (exact for constant I)
     E     = U(s) - kT * (T - 25)
-    o     = o * a_o + (1 - eta) * I * dt / (3600 * Q) [charge only],   a_o = exp(-dt / tau_dip)
-    D     = k_dip * o
+    D     = k_dip * o * a_o,   a_o = exp(-dt / tau_dip)
     V     = E + (1 - eta) * dV_O2 [charge only] - D + I * (R0 * f + Rpol) + V1 + V2 + Vp
     q     = I * (V - eta * E) + eta * I * q_rev     (all input power not stored as chemistry is heat)
     Cth * dT/dt = q - hA * (T - T_amb)       (stepped exactly for q held over the step)
+    o     = o * a_o + (1 - eta) * I * dt / (3600 * Q) [charge only]
 
 o is the overcharge (the charge the O2 cycle took, as a fraction of the capacity) that has not yet
 relaxed: the oxygen it makes depolarises the negative electrode, so past the peak the voltage falls
 by D however little the pack heats (the NiCd/NiMH -dV). It relaxes with tau_dip, so in a long
-overcharge the dip levels off at k_dip * C-rate * tau_dip / 3600: deeper at a higher rate.
+overcharge the dip levels off at k_dip * C-rate * tau_dip / 3600: deeper at a higher rate. D uses
+the overcharge before this step's: the terminal voltage then rises with the current, as the CV
+solve needs (a dip that deepened within the step could make it fall).
 
 `step` is the simulator's hot loop: the constants live in one tuple built in
 ``__init__`` (and re-built only when dt changes) so each step is plain float
@@ -160,7 +162,7 @@ class Pack:
             if j > last:
                 j = last
             e = ys[j - 1] + (s - xs[j - 1]) * slopes[j - 1] - k_t * (t - _T_REF_C)
-        v = e - k_dip * oc + extra + i * r + v1 + v2 + vp
+        v = e - k_dip * self._oc * a_o + extra + i * r + v1 + v2 + vp
         q = i * (v - eta * e) + eta * i * q_rev
         t_final = self.ambient_c + q * inv_ha
         self.temp_c = t_final + (t - t_final) * a_th
@@ -192,11 +194,10 @@ class Pack:
         eta = 1.0 - exp((s - 1.0) * inv_w0 / max(_W_FLOOR, 1.0 + w_t * (t - _T_REF_C)))
         r_pol = kc / (1.0 - s + eps) * (1.0 - a_p)
         charge_rhs = target - rest - (1.0 - eta) * dv_o2
-        r_dip = k_dip * (1.0 - eta) * ds_k     # the overcharge this step adds deepens the dip, linear in i
-        i = self._solve_ocv(charge_rhs, r_ohmic + r_pol - r_dip, eta * ds_k)
+        i = self._solve_ocv(charge_rhs, r_ohmic + r_pol, eta * ds_k)
         if i > 0.0 and vp + i * r_pol > vp_max:
             # The gassing cap holds: polarisation is a constant, not a resistance, for this step.
-            i = self._solve_ocv(charge_rhs + vp - vp_max, r_ohmic - r_dip, eta * ds_k)
+            i = self._solve_ocv(charge_rhs + vp - vp_max, r_ohmic, eta * ds_k)
         if i > 0.0:
             return i
         i = self._solve_ocv(target - rest, r_ohmic + kd / ((s if s > 0.0 else 0.0) + eps), ds_k)
