@@ -126,6 +126,8 @@ def _check(c: Chemistry) -> None:
     for key in positive:
         if not getattr(c, key) > 0.0:
             raise ValueError(f"{key} must be > 0")
+    if c.dip_v_per_charge < 0.0:
+        raise ValueError("dip_v_per_charge must be >= 0 (the voltage falls past the peak, never rises)")
     for f in fields(Chemistry):
         value = getattr(c, f.name)
         if isinstance(value, float) and not math.isfinite(value):
