@@ -12,6 +12,7 @@ from dataclasses import dataclass, fields
 
 from .. import data
 from ..data import DataFileError
+from ..i18n import _
 
 # ZUML AKK_TYPE names with a model; LiS/New/Undef deliberately have none (spec §5).
 _NAMES = ("Pb", "NiCd", "NiMh", "LiPo", "LiIon", "LiFe")
@@ -127,7 +128,8 @@ def _check(c: Chemistry) -> None:
         if not getattr(c, key) > 0.0:
             raise ValueError(f"{key} must be > 0")
     if c.dip_v_per_charge < 0.0:
-        raise ValueError("dip_v_per_charge must be >= 0 (the voltage falls past the peak, never rises)")
+        raise ValueError(_("{key} must be >= 0 (the voltage falls past the peak, never rises)").format(
+            key="dip_v_per_charge"))
     for f in fields(Chemistry):
         value = getattr(c, f.name)
         if isinstance(value, float) and not math.isfinite(value):
