@@ -183,6 +183,7 @@ def main() -> int:
         "chemistry's TOML and fits only the capacity and the start state of charge; **fitted** also fits the "
         "resistance (one factor on R0, R1 and, where not fitted itself, R2), an OCV offset and scale per cell "
         "(about the table's mean), and per family: NiCd/NiMH charge acceptance `w0`, O2 overvoltage `dv_o2_v`, "
+        "the overcharge dip `dip_v_per_charge` and `dip_tau_s`, "
         "temperature coefficient `k_t_v_per_k`, heat loss `ha_w_per_k`; Li the slow RC pair `r2_ohm`, "
         "`tau2_s` (the CV tail); Pb the charge polarisation `k_charge_ohm`, `pol_tau_s`, `pol_max_v` "
         "(absorption and taper). The model is driven by the log's current, and in the CV part (voltage within "
@@ -214,20 +215,26 @@ def main() -> int:
         "* -dV deepens with rate: NiMH 3–5 mV/cell at 0.2–0.45C (where the charger stopped it), 12 mV/cell "
         "at 1.1C; NiCd 10 mV/cell at 0.85C. 0.5C vs 1C is 3–5 vs 12 mV/cell for NiMH; no 2C recording is "
         "in the set, so 2C is not settled by data. The model's -dV threshold per cell in the macros "
-        "(5 mV NiMH, 10–12 mV NiCd) is reached on every one of these packs.",
+        "(5 mV NiMH, 10–12 mV NiCd) is reached on every one of these packs. The model's dip comes from the "
+        "overcharge the O2 cycle has taken and not yet relaxed (`dip_tau_s`), so it levels off at "
+        "`dip_v_per_charge` × C-rate × `dip_tau_s` / 3600: for the default NiMH 15 mV/cell at 0.2C, 75 at 1C, "
+        "150 at 2C, deeper at a higher rate as the data say.",
         "* NiMH **does** show -dV at 0.2C: the AkkuMaster C4 AA pack at 0.15 A falls 4.8 mV/cell after its "
         "peak, the Polaron 5S pack at 0.3C 4.2 mV/cell. This contradicts the old model note (\"NiMH 0.2C: "
         "plateau, no -ΔV\", battery-models.md §2.4) and agrees with seed 001 (about 5 mV). The only 0.1C "
         "recording (iCharger 3010B, 2500 mAh at 0.24 A) was stopped at 684 mAh, before any peak, so 0.1C "
-        "stays open. The old model plateaued at 0.2C; the data win: the retuned default NiMH (a pack's heat "
-        "capacity, 66 J/K per 2 Ah, and 5 mV/K, from the fits) dips at 0.2C too "
+        "stays open. The old model plateaued at 0.2C; the data win: the retuned default NiMH dips at 0.2C too "
         f"({defaults['nimh_4s_akkumaster_02c'].figures['peak']['model_dv_mv_per_cell']:.1f} mV/cell on the "
         "AkkuMaster curve), and tests/sim/test_acceptance.py and test_battery.py now assert a dip there.",
         "* NiMH temperature rise before the end: the Polaron pack (0.3C) rose 2.1 °C over the three hours "
         "to its peak and 2.5 °C more in the five minutes after it: the heat comes at the very end. The "
         f"retuned default model rises {defaults['nimh_5s_polaron_03c'].figures['temp_rise']['model_c']:.1f} °C "
-        f"over the same charge, the fitted one {answers['nimh_5s_polaron_03c'][2].figures['temp_rise']['model_c']:.1f} °C. The NiCd pack's case sensor (1 °C steps) rose 1 °C to the peak and 1 °C after it; no "
-        "lumped model makes its 10 mV/cell dip with so little heat (see the NiCd section below).",
+        f"over the same charge, the fitted one {answers['nimh_5s_polaron_03c'][2].figures['temp_rise']['model_c']:.1f} °C. The NiCd pack's case sensor (1 °C steps) rose 1 °C to the peak and 1 °C after it. "
+        "A model that makes its -dV from heat cannot have both (the earlier one fitted the NiCd dip with a "
+        "13 °C rise, and its retuned NiMH fired a false -dV 10 minutes into a 2C charge); with the dip "
+        "driven by the overcharge, the NiCd default rises "
+        f"{defaults['nicd_5s_akkumatik_08c'].figures['temp_rise']['model_c']:.1f} °C and dips "
+        f"{defaults['nicd_5s_akkumatik_08c'].figures['peak']['model_dv_mv_per_cell']:.1f} mV/cell on this curve.",
         "",
         "### CV tail: LiPo vs LiFe, and the Pb absorption",
         "",
@@ -239,7 +246,9 @@ def main() -> int:
         "the time and 7–9 % of the charge, ending at 13 % of CC. LiFe at 0.5C (a top-up): 8.4 minutes, 56 % "
         "of the time and 24 % of the charge, ending at 10 %: even at a sixth of the rate the LFP tail is "
         "twice as long, consistent with the LFP voltage rising only in the last few percent, so the "
-        "charger reaches its limit with more charge still to go. The slow RC pair of the Li models carries this tail "
+        "charger reaches its limit with more charge still to go. That rise is curved, not the straight line "
+        "from 90 to 100 % of the PyBaMM-based table: the LiFe OCV now has points at 95 % (3.40 V) and 98 % "
+        "(3.48 V) fitted to this recording. The slow RC pair of the Li models carries this tail "
         "(fitted `tau2_s` in the sections below). The Pb absorption takes 3 hours (55 % of the time, 18 % "
         "of the charge) and ends at 3 % of the bulk current.",
         "",
@@ -247,27 +256,44 @@ def main() -> int:
         "",
         _pb_rest(samples, next(f for e, _, f in answers.values() if e["chemistry"] == "Pb")),
         "",
+        "### Where the default model misses",
+        "",
+        "One default cannot meet the Ultramat NiMH pack and the other three together: at a fifth of its "
+        "charge it reads 1.449 V/cell at 0.45C, where the AkkuMaster pack reads 1.351 at 0.2C, the Polaron "
+        "1.373 at 0.3C and the eStation 1.489 at 1.1C: 60 mV above the line through the others, 100 mV "
+        "near the end. The default model misses it by "
+        f"{defaults['nimh_4s_ultramat_05c'].figures['rmse_v_per_cell_mv']:.0f} mV/cell RMSE (limit 40); "
+        "a default lifted enough for it (lower resistance, a higher and flatter OCV, a broad "
+        "end-of-charge climb) loses the 0.2–0.3C peak and dip the other packs show. The test marks it "
+        "(strict xfail); fitted, the pack meets the limits.",
+        "",
         "## What changed in the models (the data win)",
         "",
         "Each changed value in `zuml_studio/data/chemistries/*.toml` names the recordings it was fitted to "
         "and its old value.",
         "",
+        "* NiCd/NiMH: a new end-of-charge dip, `dip_v_per_charge` × the overcharge not yet relaxed "
+        "(`dip_tau_s`): the -dV no longer needs heat. Tuned on the recordings with the default model (capacity "
+        "and start fitted): NiMH 0.3 V per capacity, 900 s; NiCd 0.8 V, 3600 s.",
         "* NiMH: resistance ×3.3 (hobby AA packs with leads and welds, 66 + 50 mΩ per cell at 2 Ah), OCV 1.3× "
         "steeper and 17 mV higher, `w0` 0.032, `dv_o2_v` 0.035 V (the geometric means of the four NiMH fits); "
-        "heat capacity 66 J/K (was 28: a pack, not a bare AA), heat loss 0.08 W/K (was 0.05), "
-        "`k_t_v_per_k` 5 mV/K (was 2), within the fitted 50–98 J/K, 0.01–0.08 W/K and 2–15 mV/K: this is "
-        "what makes the 0.2C dip.",
-        "* NiCd: resistance ×0.15 (the Akkumatik pack is a high-rate pack), OCV 37 mV lower, `w0` 0.057, "
-        "`dv_o2_v` 0.09 V, `k_t_v_per_k` 5 mV/K.",
+        "heat capacity 93 J/K and heat loss 0.10 W/K (the Polaron pack's sensor; were 28 J/K and 0.05 W/K "
+        "before issue 14), `k_t_v_per_k` 1 mV/K (was 2, then 5 while heat made the dip).",
+        "* NiCd: resistance ×0.15 (the Akkumatik pack is a high-rate pack), OCV 37 mV lower, `w0` 0.067, "
+        "`dv_o2_v` 0.11 V, `k_t_v_per_k` 1.6 mV/K, heat capacity 32 J/K and heat loss 0.55 W/K (its case "
+        "sensor rose 2 °C; was 21 J/K and 0.05 W/K: 17 °C).",
         "* LiPo: resistance ×0.37 (both hobby LiPo packs fit 0.23–0.58× the Ai2020 pouch).",
         "* Pb: charge polarisation `k_charge_ohm` 0.028 Ω, `pol_tau_s` 204 s, `pol_max_v` 0.31 V, OCV 25 mV "
         "higher and 7 % steeper (UB121000 AGM).",
-        "* LiIon and LiFe: unchanged (their default already meets twice the limits on these curves).",
+        "* LiFe: OCV points at 95 % (3.40 V) and 98 % (3.48 V), the knee of the 308DUO recording (was one "
+        "straight line from 90 to 100 %); R0 30 mΩ (Prada2013's model value; was 20).",
+        "* LiIon: unchanged (its default already meets twice the limits on this curve).",
         "* Test figures moved with the data (tests/sim): NiMH 1C peak window 1.42–1.52 → 1.45–1.68 V/cell "
         "(eStation 1C 1.625, Ultramat 1.65); NiCd -dV end at ≤ 1.20 × capacity (Akkumatik 1.09–1.18); "
         "\"NiCd dips more than NiMH\" dropped (eStation NiMH fell 1.9 mV/cell/min, Akkumatik NiCd 1.3); "
         "NiMH 60 % overcharge peaks above 50 °C, not 60 (the fitted heat loss); NiMH at 0.2C dips "
-        "(3–20 mV/cell) instead of plateauing; the trickle test's thresholds follow the new NiMH OCV.",
+        "(3–20 mV/cell) instead of plateauing; the trickle test's thresholds follow the new NiMH OCV; "
+        "a 2C NiMH charge ends by -dV at full (new test).",
         "",
         "## Per curve",
         "",

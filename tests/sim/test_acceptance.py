@@ -50,7 +50,16 @@ def test_nimh_at_0_2c_is_outside_the_macros_stated_use_and_its_timer_is_flagged_
     assert phase.timer_before_full and r.to_json()["phases"][0]["timer_before_full"] is True
 
 
-@pytest.mark.parametrize("name, capacity, c_rates", [("NiMh-dV", 2000, (0.3, 0.5, 1.0)),
+def test_nimh_at_2c_ends_by_minus_dv_at_full_not_on_early_heating():
+    # The model's -dV comes from the overcharge, not from heat: a 2C charge heats from the start, and
+    # when the dip came from heat alone it fired a third of the way in (docs/validation.md).
+    r = run("NiMh-dV", capacity=2000, series=4, current=4.0, sensor=False)
+    (phase,) = r.phases
+    assert phase.reason == "IF(DELTA_PEAK>0.01S) STOP_FAZE" and not phase.timer_before_full
+    assert 1.0 <= phase.mah_in / 2000 <= 1.15
+
+
+@pytest.mark.parametrize("name, capacity, c_rates", [("NiMh-dV", 2000, (0.3, 0.5, 1.0, 2.0)),
                                                      ("NiCd-dV", 1000, (0.5, 1.0, 2.0))])
 def test_standard_nickel_macros_fill_the_battery_over_their_stated_range(name, capacity, c_rates):
     for rate in c_rates:

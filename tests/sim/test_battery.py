@@ -120,8 +120,9 @@ def test_nimh_1c_peak_then_delta_v_then_faster_heating():
 
 def test_nimh_02c_dips_about_5mv_per_cell_as_real_packs_do():
     # AkkuMaster C4 AA pack at 0.15 A (0.2C): peak, then 4.8 mV/cell down when the charger stopped at
-    # 1.25x its fitted capacity (docs/validation.md). The old model plateaued with no dip.
-    volts, _, fired = ni_charge("NiMh", 2000, 0.2, 1.5, 5)
+    # 1.25x its fitted capacity; the default model makes 4.6 on that recording and 3.4 on this 2 Ah
+    # pack (docs/validation.md). The old model plateaued with no dip.
+    volts, _, fired = ni_charge("NiMh", 2000, 0.2, 1.5, 3)
     assert fired is not None and 1.0 <= fired <= 1.3
     peak = max(range(len(volts)), key=volts.__getitem__)
     assert 0.003 <= volts[peak] - min(volts[peak:]) <= 0.02
@@ -200,6 +201,19 @@ def test_1c_discharge_delivers_most_of_the_capacity(name):
 
 
 # -- solver and bookkeeping ----------------------------------------------------------------------
+
+@pytest.mark.parametrize("name", ["NiCd", "NiMh"])
+def test_current_for_voltage_on_a_full_nickel_pack_with_its_dip_and_a_long_tick(name):
+    # Past the peak the overcharge dip deepens; the solve must still find the one current (the dip
+    # of a step depends on the overcharge before it, so the voltage rises with the current).
+    pack = Pack(load_chemistry(name), 300, 3, soc=0.99)
+    for _ in range(60):
+        pack.step(0.3, 30.0)
+    target = pack.voltage + 0.003       # a current the step does not cap at full (s = 1)
+    i = pack.current_for_voltage(target, 30.0)
+    assert i > 0
+    assert pack.step(i, 30.0) == pytest.approx(target, abs=1e-9)
+
 
 @pytest.mark.parametrize("name", list(CAPACITY))
 @pytest.mark.parametrize("offset", [0.15, -0.15])

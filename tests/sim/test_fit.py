@@ -96,6 +96,10 @@ def test_a_damaged_or_missing_battery_file_says_which_and_why(tmp_path):
     f.write_text(json.dumps(doc))
     with pytest.raises(BatteryFileError, match="r0_ohm must be > 0"):
         load_battery("pack", tmp_path)
+    doc["parameters"] = {"dip_v_per_charge": -0.1}
+    f.write_text(json.dumps(doc))
+    with pytest.raises(BatteryFileError, match="dip_v_per_charge must be >= 0"):
+        load_battery("pack", tmp_path)
     f.write_text("{not json")
     with pytest.raises(BatteryFileError, match="not a battery file"):
         load_battery("pack", tmp_path)

@@ -11,9 +11,18 @@ Per cell (I > 0 = charge, T in °C, s = stored charge / capacity):
              over minutes, and gassing caps it)
     Vk    = Vk * a_k + I * Rk * f * (1 - a_k),   a_k = exp(-dt / tau_k)   (exact for constant I)
     E     = U(s) - kT * (T - 25)
-    V     = E + (1 - eta) * dV_O2 [charge only] + I * (R0 * f + Rpol) + V1 + V2 + Vp
+    D     = k_dip * o * a_o,   a_o = exp(-dt / tau_dip)
+    V     = E + (1 - eta) * dV_O2 [charge only] - D + I * (R0 * f + Rpol) + V1 + V2 + Vp
     q     = I * (V - eta * E) + eta * I * q_rev     (all input power not stored as chemistry is heat)
     Cth * dT/dt = q - hA * (T - T_amb)       (stepped exactly for q held over the step)
+    o     = o * a_o + (1 - eta) * I * dt / (3600 * Q) [charge only]
+
+o is the overcharge (the charge the O2 cycle took, as a fraction of the capacity) that has not yet
+relaxed: the oxygen it makes depolarises the negative electrode, so past the peak the voltage falls
+by D however little the pack heats (the NiCd/NiMH -dV). It relaxes with tau_dip, so in a long
+overcharge the dip levels off at k_dip * C-rate * tau_dip / 3600: deeper at a higher rate. D uses
+the overcharge before this step's: the terminal voltage then rises with the current, as the CV
+solve needs (a dip that deepened within the step could make it fall).
 
 `step` is the simulator's hot loop: the constants live in one tuple built in
 ``__init__`` (and re-built only when dt changes) so each step is plain float
@@ -55,6 +64,7 @@ class Pack:
         self._v1 = 0.0
         self._v2 = 0.0
         self._vp = 0.0
+        self._oc = 0.0
 
         q_ah = self.capacity_mah / 1000.0
         scale_r = chem.ref_capacity_ah / q_ah       # R x Ah is constant within a family [N11]
@@ -90,6 +100,7 @@ class Pack:
             dt / self._q_as, exp(-dt * self._ha / self._cth), 1.0 / self._ha,
             self._xs, self._ys, self._slopes, len(self._xs) - 1, self.series,
             exp(-dt / c.pol_tau_s), c.pol_max_v,
+            c.dip_v_per_charge, exp(-dt / c.dip_tau_s),
         )
 
     def _cell_ocv(self) -> float:
@@ -106,14 +117,17 @@ class Pack:
     def open_circuit_voltage(self) -> float:
         """Pack voltage at zero current now: U(s) with its temperature term plus the RC voltages
         that have not relaxed yet, i.e. what a charger reads when it switches its power stage off."""
-        return (self._cell_ocv() + self._v1 + self._v2 + self._vp) * self.series
+        return (self._cell_ocv() + self._v1 + self._v2 + self._vp - self._dip()) * self.series
+
+    def _dip(self) -> float:
+        return self.chem.dip_v_per_charge * self._oc
 
     def step(self, current_a: float, dt: float) -> float:
         """Advance dt seconds at `current_a` (+ = charge); returns the pack terminal voltage."""
         if dt != self._dt:
             self._set_dt(dt)
         (r0, r1b, a1, r2b, a2, ea_r, ea_r_ref, kc, kd, eps, inv_w0, w_t, dv_o2, k_t, q_rev,
-         ds_k, a_th, inv_ha, xs, ys, slopes, last, series, a_p, vp_max) = self._k
+         ds_k, a_th, inv_ha, xs, ys, slopes, last, series, a_p, vp_max, k_dip, a_o) = self._k
         i = current_a
         s = self.soc
         t = self.temp_c
@@ -129,7 +143,9 @@ class Pack:
             if vp > vp_max:
                 vp = vp_max
             extra = (1.0 - eta) * dv_o2
+            oc = self._oc * a_o + (1.0 - eta) * i * ds_k
         else:
+            oc = self._oc * a_o
             eta = 1.0
             r = r0 * f + kd / ((s if s > 0.0 else 0.0) + eps)
             extra = 0.0
@@ -147,7 +163,7 @@ class Pack:
             if j > last:
                 j = last
             e = ys[j - 1] + (s - xs[j - 1]) * slopes[j - 1] - k_t * (t - _T_REF_C)
-        v = e + extra + i * r + v1 + v2 + vp
+        v = e - k_dip * self._oc * a_o + extra + i * r + v1 + v2 + vp
         q = i * (v - eta * e) + eta * i * q_rev
         t_final = self.ambient_c + q * inv_ha
         self.temp_c = t_final + (t - t_final) * a_th
@@ -155,6 +171,7 @@ class Pack:
         self._v1 = v1
         self._v2 = v2
         self._vp = vp
+        self._oc = oc
         self.current = i
         self.cell_voltage = v
         v *= series
@@ -166,13 +183,13 @@ class Pack:
         if dt != self._dt:
             self._set_dt(dt)
         (r0, r1b, a1, r2b, a2, ea_r, ea_r_ref, kc, kd, eps, inv_w0, w_t, dv_o2, k_t, q_rev,
-         ds_k, a_th, inv_ha, xs, ys, slopes, last, series, a_p, vp_max) = self._k
+         ds_k, a_th, inv_ha, xs, ys, slopes, last, series, a_p, vp_max, k_dip, a_o) = self._k
         s = self.soc
         t = self.temp_c
         f = exp(ea_r / (t + _KELVIN) - ea_r_ref)
         # target = U(s + g*i) + rest + r*i, with everything that does not depend on i in `rest`.
         vp = self._vp * a_p
-        rest = self._v1 * a1 + self._v2 * a2 - k_t * (t - _T_REF_C) + vp
+        rest = self._v1 * a1 + self._v2 * a2 - k_t * (t - _T_REF_C) + vp - k_dip * self._oc * a_o
         r_ohmic = (r0 + r1b + r2b) * f
         target = v_pack / series
         eta = 1.0 - exp((s - 1.0) * inv_w0 / max(_W_FLOOR, 1.0 + w_t * (t - _T_REF_C)))

@@ -51,6 +51,8 @@ class Chemistry:
     dv_o2_v: float               # O2-cycle overvoltage, weighted by (1 - eta)
     k_t_v_per_k: float           # terminal voltage falls k_t per K above 25 °C
     q_rev_v: float               # reversible heat per ampere stored (negative = endothermic charge)
+    dip_v_per_charge: float      # end-of-charge dip, V per cell per capacity's worth of O2-cycle overcharge
+    dip_tau_s: float             # ... which relaxes with this time constant
     # [thermal]
     cth_j_per_k: float
     ha_w_per_k: float
@@ -123,10 +125,13 @@ def _check(c: Chemistry) -> None:
     if any(b < a for a, b in zip(v, v[1:])):
         raise ValueError(_("ocv v must not fall with soc"))
     positive = ("ref_capacity_ah", "r0_ohm", "tau1_s", "tau2_s", "w0", "cth_j_per_k", "ha_w_per_k", "pol_eps",
-                "pol_tau_s", "pol_max_v")
+                "pol_tau_s", "pol_max_v", "dip_tau_s")
     for key in positive:
         if not getattr(c, key) > 0.0:
             raise ValueError(_("{key} must be > 0").format(key=key))
+    if c.dip_v_per_charge < 0.0:
+        raise ValueError(_("{key} must be >= 0 (the voltage falls past the peak, never rises)").format(
+            key="dip_v_per_charge"))
     for f in fields(Chemistry):
         value = getattr(c, f.name)
         if isinstance(value, float) and not math.isfinite(value):

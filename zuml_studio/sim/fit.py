@@ -28,6 +28,7 @@ _PAUSE_FRACTION = 0.5      # CC samples below this fraction of the CC current ar
 _FIT_SAMPLES = 1500          # ... or coarser, so that a long charge has at most about this many samples
 _FIT_STEP_S = 10.0          # curves are decimated to this before a fit: seconds per fit, not minutes
 _TEMP_WEIGHT = 1.0           # 1 °C of temperature error weighs as 1 mV per cell
+_RISE_WEIGHT = 3.0           # 1 °C of error in the temperature rise weighs as 3 mV per cell
 _TAIL_WEIGHT = 3.0           # the fall after the peak weighs 3x the rest of the voltage
 _NFEV_PER_PARAM = 15         # evaluations per fitted parameter and start: keeps a fit to seconds
 
@@ -46,7 +47,8 @@ _COMMON = (Param("capacity_mah", 0.0, 0.0, True), Param("start_soc", 0.0, 0.95),
            Param("r_scale", 0.1, 10.0, True), Param("ocv_offset_v", -0.15, 0.15), Param("ocv_scale", 0.3, 3.0, True))
 _FAMILY = {
     "ni": (Param("w0", 0.005, 0.3, True), Param("dv_o2_v", 0.0, 0.3), Param("k_t_v_per_k", 0.0, 0.03),
-           Param("ha_w_per_k", 0.005, 0.5, True), Param("cth_j_per_k", 5.0, 300.0, True)),
+           Param("ha_w_per_k", 0.005, 0.5, True), Param("cth_j_per_k", 5.0, 300.0, True),
+           Param("dip_v_per_charge", 0.0, 5.0), Param("dip_tau_s", 60.0, 36000.0, True)),
     "li": (Param("r2_ohm", 1e-4, 2.0, True), Param("tau2_s", 60.0, 36000.0, True)),
     "pb": (Param("k_charge_ohm", 1e-5, 0.1, True), Param("pol_tau_s", 30.0, 20000.0, True),
            Param("pol_max_v", 0.01, 0.6, True)),
@@ -198,6 +200,11 @@ def _residuals(curve: Curve, run: Run, cv: np.ndarray, series: int, chemistry: s
         parts.append((run.i[cv] - curve.i[cv]) / cc_current(curve, cv) * 150.0 / math.sqrt(cv.sum()))
     if curve.temp is not None:
         parts.append((run.temp - curve.temp) * _TEMP_WEIGHT / math.sqrt(len(curve.t)))
+    if curve.temp is not None and peak_real is not None:
+        # NiCd/NiMH's rise itself (an issue figure): it comes in the last minutes, which weigh little
+        # among all the samples.
+        rise = (float(run.temp.max() - run.temp[0]) - float(curve.temp.max() - curve.temp[0])) * _RISE_WEIGHT
+        parts.append(np.array([rise]))
     if peak_real is not None:
         model_mah, model_dv = _peak(curve.t[cc], run.v[cc], curve.mah[cc], series)
         parts.append(np.array([(model_mah - peak_real[0]) / max(peak_real[0], 1.0) * 400.0,
@@ -272,7 +279,9 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
     # charge has two answers, a pack filled within the log (peak and dip) and a larger one that
     # never fills: try capacities on both sides.
     if chemistry in LI:
-        begins = [{**start, "start_soc": soc} for soc in (start["start_soc"], 0.1, 0.5, 0.8, 0.95)]
+        # A charge from s to full puts in (1 - s) of the capacity: begin each start state there.
+        begins = [{**start, "start_soc": soc, "capacity_mah": min(mah / (1.0 - soc), params[0].hi * 0.99)}
+                  for soc in (start["start_soc"], 0.1, 0.5, 0.8, 0.95)]
     elif chemistry in NI:
         begins = [{**start, "capacity_mah": mah * f} for f in (0.85, 1.05, 1.3)]
     else:
@@ -287,7 +296,7 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
         shape = [p for p in params if p.name not in ("k_t_v_per_k", "ha_w_per_k", "cth_j_per_k")]
         first, _, n1 = solve(shape, values, False)
         candidates = [solve(params, first, True),
-                      solve(params, {**first, "k_t_v_per_k": 0.006, "ha_w_per_k": 0.05}, True)]
+                      solve(params, {**first, "k_t_v_per_k": 0.001, "dip_v_per_charge": 0.5}, True)]
         values = min(candidates, key=lambda c: c[1])[0]
         nfev += n1 + sum(c[2] for c in candidates)
     elif not only_capacity:
