@@ -29,7 +29,7 @@ from zuml_studio.sim.chemistry import chemistry_names
 _DEVICE_PANEL_PENDING = ("deviceDock", "confirm_dialogs", "unsafe_dialog")
 # The texts the Qt-free packages make (opcode help, visual edits, start templates) are translated
 # on the "i18n-core" branch at the same time (see ``_qt_free_pending``).
-_I18N_CORE_PENDING = True
+_I18N_CORE_PENDING = False
 
 
 def _qt_free_pending(macro) -> list[str]:
