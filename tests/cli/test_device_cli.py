@@ -251,9 +251,9 @@ def test_templates_list_get_set(any_charger, zuml):
     code, out, err = zuml("templates", "set", "--port", port, "4", "--capacity", "1200", "--current", "0.6",
                           "--series", "2")
     assert code == 0, err
-    assert out.strip() == "4  charge, 1200 mAh, 0.6 A, 2 cell(s)"
+    assert out.strip() == "4  charge, 1200 mAh, 0.6 A, 2 cells"
     code, out, err = zuml("templates", "list", "--port", port)
-    assert code == 0 and "  4  charge, 1200 mAh, 0.6 A, 2 cell(s)" in out.splitlines()
+    assert code == 0 and "  4  charge, 1200 mAh, 0.6 A, 2 cells" in out.splitlines()
     assert len(out.splitlines()) == 4
     code, out, err = zuml("templates", "get", "--port", port, "1")
     assert code == 0 and out.startswith("  1  charge, 2000 mAh")

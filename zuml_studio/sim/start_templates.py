@@ -13,11 +13,12 @@ from typing import Mapping
 
 from .. import data
 from ..data import DataFileError
-from ..i18n import _
+from ..i18n import N_, _, ngettext
 
 TEMPLATE_COUNT = 16
 TEMPLATES_FILE = "start_templates.toml"
 TASKS = ("charge", "discharge", "train")
+TASK_WORDS = {"charge": N_("charge"), "discharge": N_("discharge"), "train": N_("train")}
 
 
 class TemplateError(ValueError):
@@ -49,7 +50,8 @@ class StartTemplate:
             raise TemplateError(_("cells must be 1..255"))
 
     def describe(self) -> str:
-        parts = [self.task + (f" x{self.repetitions}" if self.task == "train" else "")]
+        """The template in a line of the installed language (the numbers and units as they are)."""
+        parts = [_(TASK_WORDS[self.task]) + (f" x{self.repetitions}" if self.task == "train" else "")]
         if self.capacity_mah:
             parts.append(f"{self.capacity_mah:g} mAh")
         if self.current_a:
@@ -57,7 +59,7 @@ class StartTemplate:
         if self.voltage_v:
             parts.append(f"{self.voltage_v:g} V")
         if self.series:
-            parts.append(f"{self.series} cell(s)")
+            parts.append(ngettext("{n} cell", "{n} cells", self.series).format(n=self.series))
         return ", ".join(parts)
 
 
