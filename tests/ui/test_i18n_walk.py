@@ -6,7 +6,6 @@ font metrics and size hints decide, never a particular font)."""
 from __future__ import annotations
 
 import re
-from pathlib import Path
 
 import pytest
 from PySide6.QtCore import QEventLoop, Qt, QTimer
@@ -23,38 +22,10 @@ from zuml_studio.lang import opcodes
 from zuml_studio.lang.operands import AKK_TYPE, DISPLAY_NAMES
 from zuml_studio.sim.chemistry import chemistry_names
 
-# AT THE MERGE THE LEAD EMPTIES THESE TWO (``()`` and ``False``); nothing else is left out of the walk.
+# AT THE MERGE THE LEAD EMPTIES THIS; nothing else is left out of the walk.
 # The device panel (zuml_studio/ui/device/) is translated on the "panel" branch at the same time:
 # its dock and its dialogs stay out of the walk until that branch is merged.
 _DEVICE_PANEL_PENDING = ("deviceDock", "confirm_dialogs", "unsafe_dialog")
-# The texts the Qt-free packages make (opcode help, visual edits, start templates) are translated
-# on the "i18n-core" branch at the same time (see ``_qt_free_pending``).
-_I18N_CORE_PENDING = False
-
-
-def _qt_free_pending(macro) -> list[str]:
-    """English texts the Qt-free packages make and the window shows (the opcode table's help, the
-    visual edits' labels and sentences, the charger's start templates): translated on the
-    "i18n-core" branch at the same time, so recognized here by their English source and left out.
-    Nothing once ``_I18N_CORE_PENDING`` is False."""
-    if not _I18N_CORE_PENDING:
-        return []
-    from zuml_studio import visual_edits as ve
-    from zuml_studio.sim.start_templates import factory_templates
-
-    texts = [op.help for op in opcodes.OPCODES] + [kind.label for kind in ve.action_kinds()]
-    texts += [ve.condition_label(op) for op in opcodes.CONDITIONS]
-    texts += [template.describe() for template in factory_templates().values()]
-    if macro is not None:
-        for section in macro.sections():
-            texts += [ve.describe_phase(p, section.kind, nbsp=True) for p in section.phases()]
-        texts += [ve.intro_condition_phrase(st) for st in macro.intro if st.op.condition]
-    return [" ".join(t.split()) for t in texts if t]
-
-
-def _pending_on_core(text: str, pending: list[str]) -> bool:
-    plain = " ".join(text.split())
-    return len(plain) > 3 and any(plain in t or t in plain for t in pending)
 
 
 CURVES = ROOT / "tests" / "data" / "curves"
@@ -165,9 +136,8 @@ def walk(root: QWidget, skip=lambda w: False) -> list[tuple[str, str]]:
     return out
 
 
-def english(texts: list[tuple[str, str]], pending: list[str] = ()) -> list[str]:
-    return sorted({f"{where}: {text!r}" for where, text in texts
-                   if untranslated(text) and not _pending_on_core(text, pending)})
+def english(texts: list[tuple[str, str]]) -> list[str]:
+    return sorted({f"{where}: {text!r}" for where, text in texts if untranslated(text)})
 
 
 # -- clipping --------------------------------------------------------------------------------------
@@ -333,7 +303,7 @@ def test_every_text_of_the_main_window_is_russian(window, message_boxes):
     window.ask_unsaved()
     texts += [t for walked, _cut in message_boxes for t in walked]
     assert any("Сохранить" in text for _where, text in texts), "Qt's own buttons are not in Russian"
-    found = english(texts, _qt_free_pending(window.validator.last_valid.macro))
+    found = english(texts)
     assert not found, "\n".join(found)
 
 
@@ -378,7 +348,7 @@ def test_every_dialog_is_russian_and_cuts_nothing_off(window, qtbot, message_box
             qtbot.addWidget(dialog)
         dialog.show()
         _settle()
-        english_texts += [f"{name}: {line}" for line in english(walk(dialog), _qt_free_pending(None))]
+        english_texts += [f"{name}: {line}" for line in english(walk(dialog))]
         problems += [f"{name}: {p}" for p in clipped(dialog)]
         dialog.close()
     window.ask_recover(type("Found", (), {"original": "/tmp/a/NiMh.zuml"})())
