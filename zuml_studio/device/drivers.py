@@ -50,7 +50,6 @@ DRIVERS: dict[str, Driver] = {d.name: d for d in (
 )}
 SERIAL_DRIVERS = tuple(d for d in DRIVERS.values() if d.transport == "serial")
 HID_DRIVERS = tuple(d for d in DRIVERS.values() if d.transport == "hid")
-MONITOR_ONLY_REASON = "{title} cannot run ZUML macros: it is monitor-only"
 
 
 class CaptureError(ValueError):

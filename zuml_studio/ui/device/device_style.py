@@ -1,8 +1,10 @@
-"""What the device panel's parts share: message colours, headings, rules and form fields."""
+"""What the device panel's parts share: message colours, headings, rules, form fields, elided labels and
+the controls' scroll area."""
 from __future__ import annotations
 
 from PySide6.QtCore import Qt
-from PySide6.QtWidgets import QDoubleSpinBox, QFrame, QLabel, QSizePolicy, QSpinBox, QWidget
+from PySide6.QtWidgets import (QDoubleSpinBox, QFrame, QHBoxLayout, QLabel, QScrollArea, QSizePolicy, QSpinBox,
+                               QVBoxLayout, QWidget)
 
 from .. import theme
 from ..number_boxes import double_spin_box, form_field, spin_box
@@ -68,3 +70,59 @@ class ElidedLabel(QLabel):
     def _elide(self) -> None:
         width = max(10, self.width() - 2)
         super().setText(self.fontMetrics().elidedText(self._full, self._mode, width))
+
+
+class ControlsScroll(QScrollArea):
+    """The controls in two narrow columns (what is on the charger; the run and the passport),
+    preferring the width its columns want (QScrollArea caps its size hint at 36 lines of text,
+    which would squeeze the fields), and scrolling vertically only when the dock is too low."""
+
+    def __init__(self, charger: QWidget, run: QWidget, passport: QWidget, parent: QWidget | None = None):
+        super().__init__(parent)
+        col_b = QWidget()
+        col_b.setObjectName("runColumn")
+        b = QVBoxLayout(col_b)
+        b.setContentsMargins(0, 0, 0, 0)
+        b.setSpacing(3)
+        b.addWidget(run)
+        b.addWidget(passport)
+        b.addStretch(1)
+        columns = QWidget()
+        cols = QHBoxLayout(columns)
+        cols.setContentsMargins(0, 0, 4, 0)
+        cols.setSpacing(10)
+        cols.addWidget(charger, 10)
+        cols.addWidget(vline())
+        cols.addWidget(col_b, 11)
+        self.setObjectName("deviceControls")
+        self.setWidget(columns)
+        self.setWidgetResizable(True)
+        self.setFrameShape(QFrame.Shape.NoFrame)
+        self.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        charger.setMinimumWidth(215)
+        col_b.setMinimumWidth(265)
+        self.setMinimumWidth(columns.minimumSizeHint().width() + 14)
+
+    def sizeHint(self):  # noqa: N802
+        hint = super().sizeHint()
+        widget = self.widget()
+        if widget is not None:
+            hint.setWidth(widget.sizeHint().width() + self.verticalScrollBar().sizeHint().width()
+                          + 2 * self.frameWidth())
+        return hint
+
+
+class MessageLine(QLabel):
+    """The panel's message line: the last thing that happened, coloured by its kind."""
+
+    def __init__(self, parent: QWidget | None = None):
+        super().__init__("", parent)
+        self.setObjectName("deviceMessage")
+        self.setWordWrap(True)
+        self.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+        self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Preferred)
+
+    def say(self, text: str, kind: str = "info") -> None:
+        self.setText(text)
+        self.setStyleSheet(f"color:{colour(self, kind)};")
+        self.setToolTip(text if len(text) > 80 else "")
