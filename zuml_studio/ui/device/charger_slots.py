@@ -19,7 +19,7 @@ from ...safety import image_problems, record_problems
 from . import confirm_dialogs, unsafe_dialog
 from .connection import DeviceConnection, describe_error
 from .connection_bar import record_chemistry
-from .device_style import colour, heading
+from .device_style import colour, heading, tint
 
 FLASH_TIP = N_("Write the editor's macro to the charger, verify it (Ctrl+Shift+F)")
 STAGES = {"read": N_("reading {done} of {total} bytes"), "write": N_("writing {done} of {total} bytes"),
@@ -288,7 +288,7 @@ class ChargerSlots(QWidget):
 
     def _flash_done(self, ok: bool, text: str) -> None:
         self.result_label.setText(text)
-        self.result_label.setStyleSheet(f"color:{colour(self, 'ok' if ok else 'error')};")
+        tint(self.result_label, "ok" if ok else "error")
         self.message.emit(text, "ok" if ok else "error")
         self.changed.emit()
         self.flashFinished.emit(ok, text)

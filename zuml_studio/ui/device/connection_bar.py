@@ -13,7 +13,7 @@ from ...device.passport import akk_name
 from ...device.ports import VIRTUAL
 from ...i18n import _
 from .connection import VirtualSpec
-from .device_style import colour, DEFAULT_BATTERY, FIELD_WIDTH, ElidedLabel, field_spin
+from .device_style import DEFAULT_BATTERY, FIELD_WIDTH, ElidedLabel, field_spin, tint
 from .port_chooser import PortChooser
 
 NAMED_BATTERY = "battery:"      # virtual chemistry box data of a saved fitted battery
@@ -125,7 +125,7 @@ class ConnectionBar(QWidget):
         second.setSpacing(6)
         self.info_label = ElidedLabel("")
         self.info_label.setObjectName("deviceInfo")
-        self.info_label.setStyleSheet(f"color:{colour(self, 'info')};")
+        tint(self.info_label, "info")
         for box in (self.v_mah, self.v_cells):
             box.setMinimumWidth(box.sizeHint().width())     # the note gives way, not the numbers
         self.battery_note = ElidedLabel("")
@@ -208,7 +208,7 @@ class ConnectionBar(QWidget):
         limits = _("charge {ca:g} A/{cw:g} W, discharge {da:g} A/{dw:g} W, {v:g} V max").format(
             ca=info.max_charge_a, cw=info.max_charge_w, da=info.max_discharge_a, dw=info.max_discharge_w,
             v=info.max_v)
-        self.info_label.setStyleSheet(f"color:{colour(self, 'info')};")
+        tint(self.info_label, "info")
         self.info_label.set_full_text(_("{model} · {firmware} · EEPROM {size} bytes · {limits}").format(
             model=info.model, firmware=info.firmware, size=info.eeprom_size, limits=limits))
         self.info_label.setToolTip(
@@ -229,10 +229,10 @@ class ConnectionBar(QWidget):
             _("{port}: {name}").format(port=link.port, name=name) + "\n"
             + _("{good} records decoded; {bad} bad (checksum, torn line or garbage: counted, never plotted)")
             .format(good=link.good, bad=link.bad))
-        self.info_label.setStyleSheet(f"color:{colour(self, 'warn' if link.bad else 'info')};")
+        tint(self.info_label, "warn" if link.bad else "info")
 
     def show_disconnected(self) -> None:
-        self.info_label.setStyleSheet(f"color:{colour(self, 'info')};")
+        tint(self.info_label, "info")
         self.info_label.set_full_text(_("not connected"))
 
     def ask_recording(self) -> str:

@@ -2,9 +2,12 @@
 the controls' scroll area."""
 from __future__ import annotations
 
+import weakref
+
 from PySide6.QtCore import Qt
-from PySide6.QtWidgets import (QDoubleSpinBox, QFrame, QHBoxLayout, QLabel, QScrollArea, QSizePolicy, QSpinBox,
-                               QVBoxLayout, QWidget)
+from PySide6.QtGui import QPalette
+from PySide6.QtWidgets import (QApplication, QDoubleSpinBox, QFrame, QHBoxLayout, QLabel, QScrollArea, QSizePolicy,
+                               QSpinBox, QVBoxLayout, QWidget)
 
 from .. import theme
 from ..number_boxes import double_spin_box, form_field, spin_box
@@ -19,6 +22,46 @@ def colour(widget: QWidget, kind: str) -> str:
     return {"ok": c.ok, "error": c.error, "warn": c.warning}.get(kind, c.muted)
 
 
+class _Tints:
+    """Gives each tinted widget its colour again when the application's palette changes (light
+    <-> dark): a widget with a style sheet gets no PaletteChange of its own."""
+
+    def __init__(self):
+        self.widgets: weakref.WeakSet = weakref.WeakSet()
+        QApplication.instance().paletteChanged.connect(self._recolour)
+
+    def _recolour(self, _palette=None) -> None:
+        for widget in list(self.widgets):
+            try:
+                _apply_tint(widget)
+            except RuntimeError:        # its C++ side is gone
+                self.widgets.discard(widget)
+
+
+_tints: _Tints | None = None
+
+
+def _apply_tint(widget: QWidget) -> None:
+    kind = widget.property("tint")
+    c = theme.colours(QApplication.palette())
+    hue = {"ok": c.ok, "error": c.error, "warn": c.warning, "none": ""}.get(kind, c.muted)
+    sheet = f"color:{hue};" if hue else ""
+    if widget.styleSheet() != sheet:        # a new sheet re-polishes the widget: only when it changes
+        widget.setStyleSheet(sheet)
+
+
+def tint(widget: QWidget, kind: str) -> None:
+    """Draw ``widget``'s text in the colour of ``kind`` ("info", "ok", "error", "warn"; "none":
+    the palette's own), from the application palette's light or dark set, now and after the
+    palette changes."""
+    global _tints
+    if _tints is None:
+        _tints = _Tints()
+    _tints.widgets.add(widget)
+    widget.setProperty("tint", kind)
+    _apply_tint(widget)
+
+
 def heading(text: str) -> QLabel:
     label = QLabel(text)
     font = label.font()
@@ -28,10 +71,11 @@ def heading(text: str) -> QLabel:
 
 
 def vline() -> QFrame:
+    """A thin rule between the columns, in the palette's own mid tone (light or dark)."""
     line = QFrame()
     line.setFrameShape(QFrame.Shape.VLine)
     line.setFrameShadow(QFrame.Shadow.Plain)
-    line.setStyleSheet("color:#d8d8d8;")
+    line.setForegroundRole(QPalette.ColorRole.Mid)
     return line
 
 
@@ -124,5 +168,5 @@ class MessageLine(QLabel):
 
     def say(self, text: str, kind: str = "info") -> None:
         self.setText(text)
-        self.setStyleSheet(f"color:{colour(self, kind)};")
+        tint(self, kind)
         self.setToolTip(text if len(text) > 80 else "")

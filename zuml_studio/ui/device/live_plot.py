@@ -189,6 +189,9 @@ class LivePlot(StackedPlot):
         self.vplot.sigXRangeChanged.connect(self._view_changed)
         self.vplot.vb.sigResized.connect(self._view_changed)
         for plot in self.plots:
+            # The y ranges follow the data after a redraw: the legends are placed again then.
+            plot.sigYRangeChanged.connect(self._legends_later)
+        for plot in self.plots:
             plot.vb.sigRangeChangedManually.connect(self._user_moved)
         self.scene().sigMouseClicked.connect(self._scene_clicked)
 
@@ -411,6 +414,9 @@ class LivePlot(StackedPlot):
         self._fit_live_voltage()
         self._place_labels()
         self._place_placeholder()
+        self._legends_later()
+
+    def _legends_later(self, *_) -> None:
         if not self._legend_timer.isActive():
             self._legend_timer.start()
 

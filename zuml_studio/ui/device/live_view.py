@@ -3,10 +3,11 @@ the run chooser and the live plot below them. It owns the runs: the current one'
 into it from the reader thread) and up to ``KEEP_RUNS`` earlier ones."""
 from __future__ import annotations
 
-from PySide6.QtCore import Qt, Signal
+from PySide6.QtCore import QEvent, Qt, Signal
 from PySide6.QtWidgets import QCheckBox, QComboBox, QHBoxLayout, QLabel, QSizePolicy, QToolButton, QVBoxLayout, QWidget
 
 from ...i18n import N_, _
+from .. import theme
 from ..plot_cursor import CursorReadout
 from .device_style import field_spin
 from .live_plot import DEFAULT_FOLLOW_MIN, LivePlot, LiveSeries
@@ -26,6 +27,7 @@ class LiveView(QWidget):
         self._before_run: tuple[str, LiveSeries] | None = None   # the run a pending START replaced
         self.start_frames = 0               # frames of the series before the last START or STOP
         self._finished_seen = 0
+        self._shown = None                  # the frame the readout shows
         self.plot = LivePlot(self.series)
         self.plot.setMinimumWidth(280)
         self.readings = QLabel("")
@@ -83,18 +85,26 @@ class LiveView(QWidget):
         return cols["t"], {"voltage_v": cols["voltage"], "current_a": cols["current"], "temp_c": cols["temp"]}
 
     def show_readings(self, tel) -> None:
-        """The newest frame's values, in the plot's colours."""
+        """The newest frame's values, in the plot's hues from the palette's colour set (light or dark)."""
+        self._shown = tel
+        hue = theme.colours(self.palette()).quantities
         t = "—" if tel.temp_c is None else f"{tel.temp_c:.1f} °C"
         tc = "—" if tel.heatsink_c is None else f"{tel.heatsink_c:.1f} °C"
+        amounts = _("charged in {mah_in} mAh · discharged out {mah_out} mAh").format(
+            mah_in=f"{tel.mah_in:.0f}", mah_out=f"{tel.mah_out:.0f}")
         self.readings.setText(
-            f"<span style='color:#1f4e9c;'><b>{tel.voltage_v:.3f} V</b></span>&nbsp;&nbsp;"
-            f"<span style='color:#23803a;'><b>{tel.current_a:+.3f} A</b></span>&nbsp;&nbsp;"
-            f"<span style='color:#d0481c;'>T {t}</span>&nbsp;&nbsp;"
-            f"<span style='color:#7b5ea7;'>Tc {tc}</span><br>"
-            f"charged in {tel.mah_in:.0f} mAh · discharged out {tel.mah_out:.0f} mAh")
+            f"<span style='color:{hue['voltage']};'><b>{tel.voltage_v:.3f} V</b></span>&nbsp;&nbsp;"
+            f"<span style='color:{hue['current']};'><b>{tel.current_a:+.3f} A</b></span>&nbsp;&nbsp;"
+            f"<span style='color:{hue['temp']};'>T {t}</span>&nbsp;&nbsp;"
+            f"<span style='color:{hue['heatsink']};'>Tc {tc}</span><br>{amounts}")
         # Two lines in a row of its own: whole at 1366 px; the tooltip says what T and Tc are.
-        self.readings.setToolTip(f"{tel.voltage_v:.3f} V · {tel.current_a:+.3f} A · battery T {t} · heat sink "
-                                 f"Tc {tc} · charged in {tel.mah_in:.0f} mAh · discharged out {tel.mah_out:.0f} mAh")
+        self.readings.setToolTip(_("{v} V · {a} A · battery T {t} · heat sink Tc {tc} · {amounts}").format(
+            v=f"{tel.voltage_v:.3f}", a=f"{tel.current_a:+.3f}", t=t, tc=tc, amounts=amounts))
+
+    def changeEvent(self, event) -> None:  # noqa: N802
+        super().changeEvent(event)
+        if event.type() == QEvent.Type.PaletteChange and self._shown is not None:
+            self.show_readings(self._shown)
 
     def set_runs(self, labels: list[str]) -> None:
         """The runs of the session, the current one last (and chosen); shown from the second run."""

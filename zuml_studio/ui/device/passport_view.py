@@ -10,7 +10,7 @@ from ...device.errors import DeviceError
 from ...device.passport import printable
 from ...i18n import _
 from .connection import DeviceConnection, describe_error
-from .device_style import colour, heading
+from .device_style import heading, tint
 
 POLL_MS = 5000
 
@@ -44,7 +44,7 @@ class PassportView(QWidget):
         pp.setVerticalSpacing(1)
         for r, (key, text) in enumerate((("serial", _("Serial")), ("type", _("Type")), ("limits", _("Limits")))):
             name = QLabel(text)
-            name.setStyleSheet(f"color:{colour(self, 'info')};")
+            tint(name, "info")
             pp.addWidget(name, r, 0)
             pp.addWidget(self.pp_labels[key], r, 1)
         pp.setColumnStretch(1, 1)
@@ -67,7 +67,7 @@ class PassportView(QWidget):
             _("serial · vendor. ⚠ The {fields} hold non-printable bytes (shown as \\xNN): a damaged or forged "
               "passport").format(fields=_(" and ").join(fields.get(f, f) for f in odd))
             if odd else _("serial · vendor"))
-        self.pp_labels["serial"].setStyleSheet(f"color:{colour(self, 'warn')};" if odd else "")
+        tint(self.pp_labels["serial"], "warn" if odd else "none")
         self.pp_labels["type"].setText(f"{passport.type_name} · TEMP {passport.temp} °C")
         v = f"{passport.v_limit} V" if passport.v_limit else _("V not set")
         a = f"{passport.a_limit} A" if passport.a_limit else _("A not set")

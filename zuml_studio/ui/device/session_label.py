@@ -9,14 +9,14 @@ from PySide6.QtWidgets import QWidget
 
 from ...device.session_log import IDLE_LOG_S, SessionLog, display_path, session_path
 from ...i18n import _, ngettext
-from .device_style import ElidedLabel, colour
+from .device_style import ElidedLabel, tint
 
 
 class SessionLabel(ElidedLabel):
     def __init__(self, folder: Path, parent: QWidget | None = None):
         super().__init__("", parent, mode=Qt.TextElideMode.ElideMiddle)
         self.setObjectName("sessionLabel")
-        self.setStyleSheet(f"color:{colour(self, 'info')};")
+        tint(self, "info")
         self.setAlignment(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
         self.folder = Path(folder)
         self.log: SessionLog | None = None
