@@ -11,6 +11,8 @@ import importlib
 import re
 from dataclasses import dataclass
 
+from ..i18n import N_
+
 from .messages import Telemetry
 from .stream_decoder import StreamDecoder
 
@@ -21,7 +23,7 @@ ZUML = "zuml"
 @dataclass(frozen=True)
 class Driver:
     name: str
-    title: str                  # what the panel calls the charger
+    title: str                  # what the panel calls it; shown as _(title) (N_ marks those with words)
     module: str                 # zuml_studio.device.<module>
     baud: int | None            # default baud (None: USB HID)
     bauds: tuple[int, ...]      # other bauds the charger can be set to
@@ -39,10 +41,10 @@ class Driver:
 
 
 DRIVERS: dict[str, Driver] = {d.name: d for d in (
-    Driver("cheali", "cheali-charger (iMAX B6 clone, open firmware)", "cheali", 57600,
+    Driver("cheali", N_("cheali-charger (iMAX B6 clone, open firmware)"), "cheali", 57600,
            (9600, 19200, 38400, 115200), "serial"),
     Driver("icharger", "Junsi iCharger (106B/206B/208B/306B/3010B)", "icharger_logview", 128000, (9600,), "serial"),
-    Driver("imaxb6", "iMAX B6 / e-Station (original firmware)", "imaxb6_serial", 9600, (), "serial"),
+    Driver("imaxb6", N_("iMAX B6 / e-Station (original firmware)"), "imaxb6_serial", 9600, (), "serial"),
     Driver("ultramat", "Graupner Ultramat / Ultra Duo Plus", "ultramat", 9600, (), "serial"),
     Driver("skyrc", "SkyRC USB (B6 mini, B6AC v2, Q200)", "skyrc_hid", None, (), "hid"),
     Driver("icharger-hid", "Junsi iCharger DUO/X (USB)", "icharger_hid", None, (), "hid"),

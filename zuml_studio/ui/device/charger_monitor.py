@@ -81,7 +81,7 @@ class ChargerMonitor(QObject):
         """Why Flash and Start are off while watching ("" when not watching)."""
         if self.link is None:
             return ""
-        title = self.link.driver.title if self.link.driver else _("this charger")
+        title = _(self.link.driver.title) if self.link.driver else _("this charger")
         return _("{why}: Flash and Start are off").format(why=monitor_reason(title))
 
     def _said(self, text: str) -> None:
@@ -91,7 +91,7 @@ class ChargerMonitor(QObject):
         if link.driver is not None:
             self.placeholder.emit(_("monitoring: waiting for the charger's first record"))
             self.message.emit(_("{status} on {port}. {why}.").format(
-                status=text[:1].upper() + text[1:], port=link.port, why=monitor_reason(link.driver.title)), "ok")
+                status=text[:1].upper() + text[1:], port=link.port, why=monitor_reason(_(link.driver.title))), "ok")
         else:
             self.message.emit(text, "warn" if "nothing recognisable" in text else "info")
 
@@ -127,7 +127,7 @@ class ChargerMonitor(QObject):
 
     def say_replaying(self, path: Path, port: str, recording) -> None:
         self.message.emit(_("Replaying {file} ({charger}, {n} records) on {port}.").format(
-            file=path.name, charger=DRIVERS[recording.driver].title, n=len(recording.records), port=port), "ok")
+            file=path.name, charger=_(DRIVERS[recording.driver].title), n=len(recording.records), port=port), "ok")
 
     def stop_replay(self) -> None:
         stop, self._stop_replay = self._stop_replay, None

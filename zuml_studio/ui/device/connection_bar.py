@@ -70,7 +70,7 @@ class ConnectionBar(QWidget):
         self.driver_combo.addItem(_("Auto"), AUTO)
         self.driver_combo.addItem(_("ZUML charger"), ZUML)
         for d in DRIVERS.values():
-            self.driver_combo.addItem(d.title, d.name)
+            self.driver_combo.addItem(_(d.title), d.name)
         self.driver_combo.setSizeAdjustPolicy(QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
         self.driver_combo.setMinimumContentsLength(10)
         self.driver_combo.setToolTip(_("The charger's protocol. Auto: a ZUML charger if one answers, else a "
@@ -117,7 +117,7 @@ class ConnectionBar(QWidget):
         vrow = QHBoxLayout(self.virtual_box)
         vrow.setContentsMargins(0, 0, 0, 0)
         vrow.setSpacing(4)
-        for w in (QLabel(_("Battery")), self.v_chem, self.v_mah, self.v_cells, QLabel(_("Passport")), self.v_passport,
+        for w in (QLabel(_("Pack")), self.v_chem, self.v_mah, self.v_cells, QLabel(_("Passport")), self.v_passport,
                   QLabel(_("Speed")), self.v_speed):
             vrow.addWidget(w)
         second = QHBoxLayout()
@@ -222,7 +222,7 @@ class ConnectionBar(QWidget):
         is, its counts."""
         if link is None:
             return
-        name = link.driver.title if link.driver else _("recognising…")
+        name = _(link.driver.title) if link.driver else _("recognising…")
         self.info_label.set_full_text(_("{name} · monitor-only · {good} records · {bad} bad").format(
             name=name, good=link.good, bad=link.bad))
         self.info_label.setToolTip(

@@ -143,8 +143,9 @@ class ControlsScroll(QScrollArea):
         self.setWidgetResizable(True)
         self.setFrameShape(QFrame.Shape.NoFrame)
         self.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
-        charger.setMinimumWidth(215)
-        col_b.setMinimumWidth(265)
+        # At least this narrow-column width, and never narrower than the texts (Russian runs longer).
+        charger.setMinimumWidth(max(215, charger.minimumSizeHint().width()))
+        col_b.setMinimumWidth(max(265, col_b.minimumSizeHint().width()))
         self.setMinimumWidth(columns.minimumSizeHint().width() + 14)
 
     def sizeHint(self):  # noqa: N802

@@ -27,6 +27,7 @@ import numpy as np
 import pyqtgraph as pg
 from PySide6.QtCore import QTimer, Signal
 
+from ...i18n import _
 from ..plot_backdrop import BackdropItem, over_paper
 from ..stacked_plot import (BAND_ALPHA, BATTERY_T_PEN, CURRENT_PEN, HEATSINK_T_PEN, LABEL_COLOR,
                             VOLTAGE_PEN, WARNING_COLOR, StackedPlot, band_label, band_rgb)
@@ -107,10 +108,10 @@ class LiveSeries:
             elif ev.kind == "phase_end":
                 for p in reversed(self.phases):
                     if not p.closed and p.section == ev.section and p.index == ev.index:
-                        p.end_s, p.reason, p.closed = max(x, p.start_s), ev.detail or "ended", True
+                        p.end_s, p.reason, p.closed = max(x, p.start_s), ev.detail or _("ended"), True
                         break
             elif ev.kind == "finish":
-                self._close_open(x, ev.detail or "finished")
+                self._close_open(x, ev.detail or _("finished"))
             else:
                 return
             self.phase_version += 1
@@ -172,15 +173,15 @@ class LivePlot(StackedPlot):
         self._legend_timer.timeout.connect(self._place_legends)
         self.redraws = 0
         self.curves = {
-            "voltage": self._curve(self.vplot, VOLTAGE_PEN, "pack voltage"),
-            "current": self._curve(self.iplot, CURRENT_PEN, "+ charge, − discharge"),
-            "temp": self._curve(self.tplot, BATTERY_T_PEN, "battery", connect="finite"),
-            "heatsink": self._curve(self.tplot, HEATSINK_T_PEN, "heat sink", connect="finite"),
+            "voltage": self._curve(self.vplot, VOLTAGE_PEN, _("pack voltage")),
+            "current": self._curve(self.iplot, CURRENT_PEN, _("+ charge, − discharge")),
+            "temp": self._curve(self.tplot, BATTERY_T_PEN, _("battery"), connect="finite"),
+            "heatsink": self._curve(self.tplot, HEATSINK_T_PEN, _("heat sink"), connect="finite"),
         }
         self.band_items = [BackdropItem(plot, self.time_axis) for plot in self.plots]
         for plot, item in zip(self.plots, self.band_items):
             plot.addItem(item, ignoreBounds=True)
-        self.set_placeholder("not connected: pick a port and Connect")
+        self.set_placeholder(_("not connected: pick a port and Connect"))
         for legend in self.legends.values():
             legend.setVisible(False)
         for plot in self.plots:
@@ -386,8 +387,7 @@ class LivePlot(StackedPlot):
 
     @staticmethod
     def _tip(p: LivePhase) -> str:
-        state = "" if p.closed else " (running)"
-        return f"{band_label(p)}{state}"
+        return band_label(p) if p.closed else _("{phase} (running)").format(phase=band_label(p))
 
     def _grow_open_bands(self, last_x: float) -> None:
         for k, p in enumerate(self._phases):
