@@ -4,6 +4,7 @@ units, numbers and names aside; and at 1366x768 none of it is cut off."""
 import html
 import os
 import re
+from pathlib import Path
 
 import pytest
 from PySide6.QtWidgets import (QAbstractButton, QAbstractSpinBox, QComboBox, QLabel, QLineEdit, QTableWidget,
@@ -11,10 +12,13 @@ from PySide6.QtWidgets import (QAbstractButton, QAbstractSpinBox, QComboBox, QLa
 
 from device_helpers import WAIT_MS, connect, flash_and_start
 from zuml_studio import i18n
-from zuml_studio.ui.device.device_style import ElidedLabel
+from zuml_studio.ui.device.confirm_dialogs import restore_text
+from zuml_studio.ui.device.device_style import ElidedCombo, ElidedLabel
+from zuml_studio.ui.device.unsafe_dialog import unsafe_dialog
 
 pytestmark = pytest.mark.skipif(os.name != "posix", reason="the built-in virtual charger uses a pty here")
 
+DATA = Path(__file__).resolve().parents[2] / "data" / "realdata"
 CYRILLIC = re.compile("[А-Яа-яЁё]")
 # What stays as it is in every language: units, ZUML keywords and passport fields, protocol and file
 # names, chemistries, the charger's own words (its model, its firmware, the macro names).
@@ -68,6 +72,8 @@ def _clipped(widget: QWidget) -> str:
     if isinstance(widget, QAbstractButton) and widget.text():
         need = widget.sizeHint().width()
         return f"{widget.text()} ({widget.width()} < {need} px)" if widget.width() + 1 < need else ""
+    if isinstance(widget, ElidedCombo):           # elides its face; the tooltip heads with the whole choice
+        return ""
     if isinstance(widget, QComboBox) and widget.currentText():
         room = widget.width() - widget.style().pixelMetric(widget.style().PixelMetric.PM_ScrollBarExtent) - 12
         return widget.currentText() if fm.horizontalAdvance(widget.currentText()) > room else ""
@@ -81,12 +87,8 @@ def russian():
     i18n.install("en")
 
 
-def test_the_panel_speaks_russian_during_a_run_and_cuts_nothing_off(qtbot, make_panel, russian):
-    panel = make_panel(size=(1354, 358))          # the Device dock's room in a 1366x768 window
-    connect(qtbot, panel)
-    ok, message = flash_and_start(qtbot, panel)
-    assert ok and CYRILLIC.search(message), message
-    qtbot.waitUntil(lambda: panel.plot.points > 10 and "C1" in panel.run_label.full_text(), timeout=WAIT_MS)
+def _walk(panel) -> tuple[dict, dict]:
+    """The panel's English texts and clipped texts, by widget."""
     english, clipped = {}, {}
     for widget in [panel] + panel.findChildren(QWidget):
         if not widget.isVisibleTo(panel) or widget.objectName().startswith("qt_"):
@@ -98,11 +100,49 @@ def test_the_panel_speaks_russian_during_a_run_and_cuts_nothing_off(qtbot, make_
         cut = _clipped(widget)
         if cut:
             clipped[f"{type(widget).__name__} {widget.objectName()}"] = cut
-    for plot_item, legend in panel.plot.legends.items():
+    for legend in panel.plot.legends.values():
         for name in legend.names():
             if _english_words(name):
                 english.setdefault("legend", []).append((name, _english_words(name)))
+    return english, clipped
+
+
+def test_the_panel_speaks_russian_during_a_run_and_cuts_nothing_off(qtbot, make_panel, russian):
+    panel = make_panel(size=(1354, 358))          # the Device dock's room in a 1366x768 window
+    english, clipped = _walk(panel)
+    assert not english and not clipped, (english, clipped)
+    connect(qtbot, panel)
+    ok, message = flash_and_start(qtbot, panel)
+    assert ok and CYRILLIC.search(message), message
+    qtbot.waitUntil(lambda: panel.plot.points > 10 and "C1" in panel.run_label.full_text(), timeout=WAIT_MS)
+    english, clipped = _walk(panel)
     assert not english, english
     assert not clipped, clipped
     assert CYRILLIC.search(panel.message_text())
     assert CYRILLIC.search(panel.session_label.full_text())
+
+
+def test_a_monitor_only_charger_in_russian(qtbot, make_panel, russian, tmp_path):
+    src = tmp_path / "icharger.txt"
+    src.write_bytes(b"".join((DATA / "icharger306B_RB_1000_lines_head300.txt").read_bytes().splitlines(True)[:40]))
+    panel = make_panel(size=(1354, 358))
+    with qtbot.waitSignal(panel.connectedChanged, timeout=WAIT_MS):
+        assert panel.replay(src, speed=1000)
+    qtbot.waitUntil(lambda: panel.monitor.link.good == 40, timeout=WAIT_MS)
+    qtbot.waitUntil(lambda: "40" in panel.info_label.full_text(), timeout=WAIT_MS)
+    english, clipped = _walk(panel)
+    assert not english and not clipped, (english, clipped)
+    assert CYRILLIC.search(panel.flash_button.toolTip()) and CYRILLIC.search(panel.info_label.full_text())
+    with qtbot.waitSignal(panel.connectedChanged, timeout=WAIT_MS):
+        panel.disconnect()
+    assert CYRILLIC.search(panel.message_text()), panel.message_text()
+
+
+def test_the_device_questions_in_russian(qtbot, russian):
+    box = unsafe_dialog(None, i18n._("Flash"), ["V > 4.25 V/cell"])
+    qtbot.addWidget(box)
+    for text in (box.windowTitle(), box.text(), box.informativeText(), box.go_ahead.text()):
+        assert CYRILLIC.search(text), text
+    assert "1 опасность" in box.text()             # the singular of three forms
+    text = restore_text("backup.bin", ["NiMh-dV", "LiPo"], ["NiMh-dV"])
+    assert "2 макроса" in text and "1 макрос:" in text and not _english_words(text.replace("backup.bin", ""))

@@ -93,7 +93,9 @@ class ChargerMonitor(QObject):
             self.message.emit(_("{status} on {port}. {why}.").format(
                 status=text[:1].upper() + text[1:], port=link.port, why=monitor_reason(_(link.driver.title))), "ok")
         else:
-            self.message.emit(text, "warn" if "nothing recognisable" in text else "info")
+            # A sweep of every baud that found nothing names the port first, in any language
+            # (device.autodetect); "listening at …" does not.
+            self.message.emit(text, "warn" if text.startswith(f"{link.port}:") else "info")
 
     def _closed(self, error: str) -> None:
         link, self.link = self.link, None

@@ -19,7 +19,7 @@ from ...safety import image_problems, record_problems
 from . import confirm_dialogs, unsafe_dialog
 from .connection import DeviceConnection, describe_error
 from .connection_bar import record_chemistry
-from .device_style import colour, heading, tint
+from .device_style import ElidedCombo, colour, heading, tint
 
 FLASH_TIP = N_("Write the editor's macro to the charger, verify it (Ctrl+Shift+F)")
 STAGES = {"read": N_("reading {done} of {total} bytes"), "write": N_("writing {done} of {total} bytes"),
@@ -84,7 +84,7 @@ class ChargerSlots(QWidget):
         self.table.setToolTip(_("The macros in the charger's EEPROM, in slot order; select one to run it"))
         self.free_label = QLabel("")
         self.free_label.setObjectName("freeLabel")
-        self.flash_slot = QComboBox()
+        self.flash_slot = ElidedCombo()
         self.flash_slot.setObjectName("flashSlot")
         self.flash_slot.addItem(_("By name"), None)
         self.flash_slot.setSizeAdjustPolicy(QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)

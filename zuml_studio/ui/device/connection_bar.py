@@ -13,7 +13,7 @@ from ...device.passport import akk_name
 from ...device.ports import VIRTUAL
 from ...i18n import _
 from .connection import VirtualSpec
-from .device_style import DEFAULT_BATTERY, FIELD_WIDTH, ElidedLabel, field_spin, tint
+from .device_style import DEFAULT_BATTERY, FIELD_WIDTH, ElidedCombo, ElidedLabel, field_spin, tint
 from .port_chooser import PortChooser
 
 NAMED_BATTERY = "battery:"      # virtual chemistry box data of a saved fitted battery
@@ -65,7 +65,7 @@ class ConnectionBar(QWidget):
         top = QHBoxLayout()
         top.setContentsMargins(0, 0, 0, 0)
         top.setSpacing(6)
-        self.driver_combo = QComboBox()
+        self.driver_combo = ElidedCombo()
         self.driver_combo.setObjectName("driverCombo")
         self.driver_combo.addItem(_("Auto"), AUTO)
         self.driver_combo.addItem(_("ZUML charger"), ZUML)
@@ -87,7 +87,7 @@ class ConnectionBar(QWidget):
         top.addWidget(self.connect_button)
         top.addWidget(self.replay_button)
 
-        self.v_chem = QComboBox()
+        self.v_chem = ElidedCombo()
         self.v_chem.setObjectName("virtualChemistry")
         self.v_chem.addItem(_("from the macro"), None)
         for name in chemistry_names():
@@ -99,7 +99,7 @@ class ConnectionBar(QWidget):
         self.v_mah = field_spin(100, 65000, DEFAULT_BATTERY[1], " mAh", _("the virtual battery's capacity"))
         self.v_mah.setSingleStep(100)
         self.v_cells = field_spin(1, 24, DEFAULT_BATTERY[2], _(" cells"), _("cells in series in the virtual battery"))
-        self.v_passport = QComboBox()
+        self.v_passport = ElidedCombo()
         self.v_passport.setObjectName("virtualPassport")
         self.v_passport.addItem(_("as battery"), MATCH)
         for name in chemistry_names():

@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import weakref
 
-from PySide6.QtCore import Qt
+from PySide6.QtCore import QEvent, Qt
 from PySide6.QtGui import QPalette
-from PySide6.QtWidgets import (QApplication, QDoubleSpinBox, QFrame, QHBoxLayout, QLabel, QScrollArea, QSizePolicy,
-                               QSpinBox, QVBoxLayout, QWidget)
+from PySide6.QtWidgets import (QApplication, QComboBox, QDoubleSpinBox, QFrame, QHBoxLayout, QLabel, QScrollArea,
+                               QSizePolicy, QSpinBox, QStyle, QStyleOptionComboBox, QStylePainter, QToolTip,
+                               QVBoxLayout, QWidget)
 
 from .. import theme
 from ..number_boxes import double_spin_box, form_field, spin_box
@@ -85,6 +86,38 @@ def field_spin(*args) -> QSpinBox:
 
 def field_double(*args) -> QDoubleSpinBox:
     return form_field(double_spin_box(*args), min_width=60)
+
+
+class ElidedCombo(QComboBox):
+    """A combo box whose closed face elides a choice too long for it ("Junsi iCharger (106B/…"),
+    its whole text then heading the tooltip; the list shows every choice whole."""
+
+    def elided(self) -> bool:
+        return self._face()[1]
+
+    def _face(self) -> tuple[str, bool]:
+        opt = QStyleOptionComboBox()
+        self.initStyleOption(opt)
+        room = self.style().subControlRect(QStyle.ComplexControl.CC_ComboBox, opt,
+                                           QStyle.SubControl.SC_ComboBoxEditField, self).width()
+        text = self.currentText()
+        shown = self.fontMetrics().elidedText(text, Qt.TextElideMode.ElideRight, max(10, room - 2))
+        return shown, shown != text
+
+    def paintEvent(self, event) -> None:  # noqa: N802
+        painter = QStylePainter(self)
+        opt = QStyleOptionComboBox()
+        self.initStyleOption(opt)
+        opt.currentText = self._face()[0]
+        painter.drawComplexControl(QStyle.ComplexControl.CC_ComboBox, opt)
+        painter.drawControl(QStyle.ControlElement.CE_ComboBoxLabel, opt)
+
+    def event(self, event) -> bool:  # noqa: A003
+        if event.type() == QEvent.Type.ToolTip and self.elided():
+            tip = self.toolTip()
+            QToolTip.showText(event.globalPos(), self.currentText() + ("\n\n" + tip if tip else ""), self)
+            return True
+        return super().event(event)
 
 
 class ElidedLabel(QLabel):

@@ -9,7 +9,7 @@ from PySide6.QtWidgets import QCheckBox, QComboBox, QHBoxLayout, QLabel, QSizePo
 from ...i18n import N_, _
 from .. import theme
 from ..plot_cursor import CursorReadout
-from .device_style import field_spin
+from .device_style import ElidedCombo, field_spin
 from .live_plot import DEFAULT_FOLLOW_MIN, LivePlot, LiveSeries
 
 
@@ -47,7 +47,7 @@ class LiveView(QWidget):
         self.clear_button = QToolButton()
         self.clear_button.setText(_("Clear"))
         self.clear_button.setToolTip(_("Forget the plotted session (the session CSV keeps everything)"))
-        self.run_choice = QComboBox()
+        self.run_choice = ElidedCombo()
         self.run_choice.setObjectName("runChoice")
         self.run_choice.setToolTip(_(RUNS_TIP))
         # Narrow (the readout needs the room); the list shows the runs' whole names.

@@ -14,6 +14,7 @@ from PySide6.QtWidgets import QComboBox, QHBoxLayout, QLineEdit, QSizePolicy, QW
 
 from ...device.ports import VIRTUAL, PortInfo, list_ports
 from ...i18n import N_, _
+from .device_style import ElidedCombo
 
 log = logging.getLogger(__name__)
 
@@ -61,7 +62,7 @@ class PortChooser(QWidget):
         self.auto_refresh = True
         self.scans = 0
 
-        self.combo = QComboBox()
+        self.combo = ElidedCombo()
         self.combo.setObjectName("portCombo")
         self.combo.addItem(_(VIRTUAL_LABEL), VIRTUAL)
         self.combo.setToolTip(_("The charger's port. The built-in virtual charger runs the simulator behind a "

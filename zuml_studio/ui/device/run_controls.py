@@ -13,7 +13,7 @@ from ...sim.start_check import start_warnings
 from ..timefmt import hmmss
 from . import unsafe_dialog
 from .connection import DeviceConnection, describe_error
-from .device_style import DEFAULT_BATTERY, ElidedLabel, field_double, field_spin, heading
+from .device_style import DEFAULT_BATTERY, ElidedCombo, ElidedLabel, field_double, field_spin, heading
 
 START_TIP = N_("Check the battery's passport, then start the slot's macro")
 TASKS = (("charge", N_("Charge")), ("discharge", N_("Discharge")), ("train", N_("Train")))
@@ -37,7 +37,7 @@ class RunControls(QWidget):
         self.run_name = ""                      # the macro started last
         self.running = False                    # it runs (started here, or the newest frame says so)
         self.charger_max_a: float | None = None
-        self.run_slot = QComboBox()
+        self.run_slot = ElidedCombo()
         self.run_slot.setObjectName("runSlot")
         self.run_slot.setToolTip(_("The slot to start (default: the macro just flashed)"))
         self.task = QComboBox()
@@ -187,7 +187,9 @@ class RunControls(QWidget):
     def _show_state(self, tel) -> None:
         if tel.running:
             where = f"{'C' if tel.section == 'charge' else 'D'}{tel.phase}" if tel.section else "—"
-            state = tel.state or (_("paused") if tel.paused else _("running"))
+            state = _("paused") if tel.paused else _("running")
+            if tel.state:                   # a monitor-only charger's own word for it, as it sends it
+                state += f" ({tel.state})"
             self.run_label.set_full_text(f"{state} · {where} · {hmmss(tel.time_s)}")
         else:
             self.run_label.set_full_text(_("{name} ended").format(name=self.run_name) if self.run_name
