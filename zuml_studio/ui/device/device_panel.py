@@ -9,9 +9,8 @@ the runs and the plot). Below: the message line and the session CSV (``session_l
 module opens and closes the link (a ZUML charger through ``connection``, a monitor-only one
 through ``charger_monitor``), routes the parts' signals and says which control is enabled when.
 
-A port's driver is "Auto" by default: a ZUML charger (it answers IDENTIFY), else a
-monitor-only charger recognised from what it sends (``device.drivers``). Monitor-only
-chargers plot and log like ours; Flash and Start are disabled with the reason.
+A port's driver is "Auto" by default: a ZUML charger (it answers IDENTIFY), else a monitor-only charger
+recognised from what it sends (``device.drivers``), plotted and logged like ours, Flash and Start off.
 
 Nothing here waits for the charger: requests run on the connection's worker thread and come back as
 signals; telemetry goes from the reader thread into the live series and the session CSV without Qt.
@@ -120,7 +119,6 @@ class DevicePanel(QWidget):
         self.flash_shortcut.setContext(Qt.ShortcutContext.WidgetWithChildrenShortcut)
         self.flash_shortcut.activated.connect(lambda: self.flash())
         self.monitor.status.connect(self._monitor_status)
-        self.monitor.message.connect(self.show_message)
         self.monitor.placeholder.connect(self.plot.set_placeholder)
         self.monitor.ended.connect(self._closed)
         self.connection.connected.connect(self._on_connected)
@@ -135,8 +133,9 @@ class DevicePanel(QWidget):
         self.v_mah.valueChanged.connect(self.capacity.setValue)
         self.v_cells.valueChanged.connect(self.series_spin.setValue)
         self.v_chem.currentIndexChanged.connect(lambda _i: self._battery_choice_changed())
-        for part in (self.charger, self.run):
+        for part in (self.charger, self.run, self.monitor):
             part.message.connect(self.show_message)
+        for part in (self.charger, self.run):
             part.changed.connect(self._update_enabled)
         for part in (self.charger, self.run, self.passport):
             part.operationFinished.connect(self.operationFinished)
@@ -185,7 +184,8 @@ class DevicePanel(QWidget):
             return self._watch(target, watch_with)
         auto = target != VIRTUAL and (self.driver_combo.currentData() or AUTO) == AUTO
         self._auto_fallback = (target, self.ports.baudrate()) if auto else None
-        virtual = self.bar.virtual_spec(self.virtual_battery(), self.virtual_eeprom_path()) if target == VIRTUAL else None
+        virtual = (self.bar.virtual_spec(self.virtual_battery(), self.virtual_eeprom_path())
+                   if target == VIRTUAL else None)
         self.session.open()
         ok = self.connection.open(target, self.ports.baudrate(), virtual, self.rate.value())
         if not ok:

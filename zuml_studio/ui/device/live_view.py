@@ -39,7 +39,8 @@ class LiveView(QWidget):
         self.follow.setObjectName("followCheck")
         self.follow.setChecked(True)
         self.follow.setToolTip(_("Keep the newest minutes in view; zooming or panning the plot turns this off"))
-        self.follow_minutes = field_spin(1, 24 * 60, DEFAULT_FOLLOW_MIN, " min", _("how much of the run to keep in view"))
+        self.follow_minutes = field_spin(1, 24 * 60, DEFAULT_FOLLOW_MIN, " min",
+                                         _("how much of the run to keep in view"))
         self.follow_minutes.setMaximumWidth(80)
         self.all_button = QToolButton()
         self.all_button.setText(_("All"))

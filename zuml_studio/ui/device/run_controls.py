@@ -101,7 +101,8 @@ class RunControls(QWidget):
         buttons.addWidget(self.stop_button)
         buttons.addWidget(self.run_label, 1)
         b.addLayout(buttons)
-        self.task.currentIndexChanged.connect(lambda _i: self.repetitions.setEnabled(self.task.currentData() == "train"))
+        self.task.currentIndexChanged.connect(
+            lambda _i: self.repetitions.setEnabled(self.task.currentData() == "train"))
         self.repetitions.setEnabled(False)
         self.start_button.clicked.connect(lambda: self.start())
         self.stop_button.clicked.connect(self.stop)
