@@ -88,7 +88,7 @@ class ChargerSlots(QWidget):
         self.flash_slot.setObjectName("flashSlot")
         self.flash_slot.addItem(_("By name"), None)
         self.flash_slot.setSizeAdjustPolicy(QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
-        self.flash_slot.setMinimumContentsLength(12)
+        self.flash_slot.setMinimumContentsLength(9)         # a long choice elides (ElidedCombo)
         self.flash_slot.setToolTip(_("Where Compile & Flash puts the macro: over the one of the same name "
                                      "(else appended), or into a slot you pick"))
         self.flash_button = QPushButton(_("Compile && Flash"))
