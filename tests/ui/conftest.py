@@ -1,6 +1,4 @@
 """Main-window fixtures: each test gets its own window and config folder."""
-import gc
-
 import pytest
 
 
@@ -25,16 +23,6 @@ def make_window(qtbot, tmp_path):
     for window in made:
         window.sim_panel.cancel()
         window.device_panel.shutdown()
-
-
-@pytest.fixture(autouse=True)
-def garbage_collected_in_the_gui_thread(qapp):
-    """As the application does (ui/gui_gc.py): the collector never runs in a device thread, where
-    destroying a Qt object deadlocks with the GUI thread; each test's garbage goes here."""
-    from zuml_studio.ui.gui_gc import collect_in_gui_thread
-    collect_in_gui_thread()
-    yield
-    gc.collect()
 
 
 @pytest.fixture(autouse=True)

@@ -65,13 +65,11 @@ def main(argv: list[str] | None = None) -> int:
     from .. import APP_ID, data
     from ..data import DataFileError
     from . import create_main_window
-    from .gui_gc import collect_in_gui_thread
 
     app = QApplication.instance() or QApplication(sys.argv[:1])
     app.setApplicationName("ZUML Studio")
     app.setOrganizationName("ZUML Studio")
     app.setDesktopFileName(APP_ID)
-    collect_in_gui_thread()          # never in the device threads (ui/gui_gc.py)
     if args.file and not os.path.isfile(args.file):
         sys.stderr.write(f"zuml-studio: error: {args.file}: no such file\n")
         return 2
