@@ -50,12 +50,12 @@ def make_window(qtbot, tmp_path):
 def no_unexpected_unsafe_dialog(monkeypatch):
     """A modal dialog would block an offscreen test forever: a test that expects the safety
     dialog replaces ``confirm_unsafe`` itself; anywhere else it fails the test at once."""
-    from zuml_studio.ui.device import device_panel
+    from zuml_studio.ui.device import confirm_dialogs, unsafe_dialog
 
     def unexpected(parent, action, problems):
         raise AssertionError(f"unexpected safety dialog ({action}): {problems}")
-    monkeypatch.setattr(device_panel, "confirm_unsafe", unexpected)
+    monkeypatch.setattr(unsafe_dialog, "confirm_unsafe", unexpected)
 
     def unexpected_restore(parent, text):
         raise AssertionError(f"unexpected Restore question: {text}")
-    monkeypatch.setattr(device_panel, "confirm_restore", unexpected_restore)
+    monkeypatch.setattr(confirm_dialogs, "confirm_restore", unexpected_restore)

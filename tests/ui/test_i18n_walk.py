@@ -22,10 +22,6 @@ from zuml_studio.lang import opcodes
 from zuml_studio.lang.operands import AKK_TYPE, DISPLAY_NAMES
 from zuml_studio.sim.chemistry import chemistry_names
 
-# AT THE MERGE THE LEAD EMPTIES THIS; nothing else is left out of the walk.
-# The device panel (zuml_studio/ui/device/) is translated on the "panel" branch at the same time:
-# its dock and its dialogs stay out of the walk until that branch is merged.
-_DEVICE_PANEL_PENDING = ("deviceDock", "confirm_dialogs", "unsafe_dialog")
 
 
 CURVES = ROOT / "tests" / "data" / "curves"
@@ -245,14 +241,6 @@ def window(russian, make_window, qtbot):
     return w
 
 
-def _device_panel_pending(w: QMainWindow):
-    dock = w.device_dock
-
-    def skip(widget: QWidget) -> bool:
-        return "deviceDock" in _DEVICE_PANEL_PENDING and (widget is dock or dock.isAncestorOf(widget))
-    return skip
-
-
 def _views(w: QMainWindow):
     """The window with each tabified dock in front in turn (and the Visual tab with its cards)."""
     yield "editor side"
@@ -288,10 +276,9 @@ def test_the_allow_list_lets_through_only_what_is_never_translated():
 
 
 def test_every_text_of_the_main_window_is_russian(window, message_boxes):
-    skip = _device_panel_pending(window)
     texts = []
     for _view in _views(window):
-        texts += walk(window, skip)
+        texts += walk(window)
     window.editor.setPlainText("MACRO X\n  FAZE\nEND_MACRO\n")
     window.validate_now()
     window.export_record()              # the macro has errors: a (non-modal) error box
@@ -308,10 +295,9 @@ def test_every_text_of_the_main_window_is_russian(window, message_boxes):
 
 
 def test_nothing_of_the_main_window_is_cut_off_in_russian_at_1366x768(window):
-    skip = _device_panel_pending(window)
     problems = []
     for view in _views(window):
-        problems += [f"{view}: {p}" for p in clipped(window, skip)]
+        problems += [f"{view}: {p}" for p in clipped(window)]
     assert not problems, "\n".join(problems)
 
 
@@ -362,8 +348,6 @@ def test_every_dialog_is_russian_and_cuts_nothing_off(window, qtbot, message_box
 
 @pytest.mark.parametrize("which", ["confirm_dialogs", "unsafe_dialog"])
 def test_the_device_confirmations_are_russian_and_cut_nothing_off(russian, qtbot, message_boxes, which):
-    if which in _DEVICE_PANEL_PENDING:
-        pytest.skip(f"ui/device/{which}.py is translated on the panel branch (_DEVICE_PANEL_PENDING)")
     from zuml_studio.ui.device import confirm_dialogs
     from zuml_studio.ui.device.unsafe_dialog import confirm_unsafe
 

@@ -64,13 +64,13 @@ def test_a_recovery_folder_that_cannot_be_written_is_said_once_not_raised(make_w
 def test_compile_and_flash_of_a_macro_past_its_chemistry_asks_naming_the_danger(make_window, qtbot,
                                                                                   monkeypatch, tmp_path):
     from helpers import HOT_LIION
-    from zuml_studio.ui.device import device_panel
+    from zuml_studio.ui.device import unsafe_dialog
     path = tmp_path / "hot.zuml"
     path.write_text(HOT_LIION)
     w = make_window(str(path))
     assert "E303" in _codes(w)
     asked = []
-    monkeypatch.setattr(device_panel, "confirm_unsafe", lambda parent, action, problems:
+    monkeypatch.setattr(unsafe_dialog, "confirm_unsafe", lambda parent, action, problems:
                         asked.append(problems) or len(asked) > 1)      # cancel, then go ahead
     panel = w.device_panel
     with qtbot.waitSignal(panel.connectedChanged, timeout=30_000):

@@ -11,9 +11,9 @@ import importlib
 import re
 from dataclasses import dataclass
 
+from ..i18n import N_, _
 from .messages import Telemetry
 from .stream_decoder import StreamDecoder
-from ..i18n import _
 
 AUTO = "auto"
 ZUML = "zuml"
@@ -22,7 +22,7 @@ ZUML = "zuml"
 @dataclass(frozen=True)
 class Driver:
     name: str
-    title: str                  # what the panel calls the charger
+    title: str                  # what the panel calls it; shown as _(title) (N_ marks those with words)
     module: str                 # zuml_studio.device.<module>
     baud: int | None            # default baud (None: USB HID)
     bauds: tuple[int, ...]      # other bauds the charger can be set to
@@ -40,10 +40,10 @@ class Driver:
 
 
 DRIVERS: dict[str, Driver] = {d.name: d for d in (
-    Driver("cheali", "cheali-charger (iMAX B6 clone, open firmware)", "cheali", 57600,
+    Driver("cheali", N_("cheali-charger (iMAX B6 clone, open firmware)"), "cheali", 57600,
            (9600, 19200, 38400, 115200), "serial"),
     Driver("icharger", "Junsi iCharger (106B/206B/208B/306B/3010B)", "icharger_logview", 128000, (9600,), "serial"),
-    Driver("imaxb6", "iMAX B6 / e-Station (original firmware)", "imaxb6_serial", 9600, (), "serial"),
+    Driver("imaxb6", N_("iMAX B6 / e-Station (original firmware)"), "imaxb6_serial", 9600, (), "serial"),
     Driver("ultramat", "Graupner Ultramat / Ultra Duo Plus", "ultramat", 9600, (), "serial"),
     Driver("skyrc", "SkyRC USB (B6 mini, B6AC v2, Q200)", "skyrc_hid", None, (), "hid"),
     Driver("icharger-hid", "Junsi iCharger DUO/X (USB)", "icharger_hid", None, (), "hid"),
@@ -51,7 +51,6 @@ DRIVERS: dict[str, Driver] = {d.name: d for d in (
 )}
 SERIAL_DRIVERS = tuple(d for d in DRIVERS.values() if d.transport == "serial")
 HID_DRIVERS = tuple(d for d in DRIVERS.values() if d.transport == "hid")
-MONITOR_ONLY_REASON = "{title} cannot run ZUML macros: it is monitor-only"
 
 
 class CaptureError(ValueError):

@@ -63,6 +63,21 @@ def band_rgb(section: str) -> tuple[int, int, int]:
     return BAND_RGB.get(section, (150, 150, 150))
 
 
+def covered(t: np.ndarray, y: np.ndarray, x0: float, x1: float, y0: float, y1: float) -> int:
+    """How many segments of the trace (t, y) pass through the rectangle x0..x1 × y0..y1: a
+    steep edge between two samples outside it still crosses it (a gap, NaN, crosses nothing)."""
+    if not len(t):
+        return 0
+    i0, i1 = np.searchsorted(t, [x0, x1])
+    i0, i1 = max(0, i0 - 1), min(len(t), i1 + 1)      # the segments entering and leaving it
+    seg = np.asarray(y[i0:i1], dtype=float)
+    if len(seg) == 1:
+        return int(y0 <= seg[0] <= y1)
+    lo, hi = np.fmin(seg[:-1], seg[1:]), np.fmax(seg[:-1], seg[1:])
+    with np.errstate(invalid="ignore"):
+        return int(np.count_nonzero((hi >= y0) & (lo <= y1) & np.isfinite(seg[:-1]) & np.isfinite(seg[1:])))
+
+
 class InlineLegend(pg.TextItem):
     """A one-line legend ("━ battery  ━ heat sink") in the corner of a plot where it
     hides the least data: a fraction of the height pyqtgraph's LegendItem takes, which
@@ -121,7 +136,7 @@ class InlineLegend(pg.TextItem):
         self.setPos(r.left(), r.top())
 
     def place(self, series: list[tuple[np.ndarray, np.ndarray]], reserved_top_px: float = 0.0) -> None:
-        """Move to the corner that covers the fewest visible samples of ``series`` (t, y)."""
+        """Move to the corner that covers the least of the traces ``series`` (t, y)."""
         best, best_hits = self.corner, None
         for corner in self.corners:
             r = self._corner_rect(corner)
@@ -130,13 +145,7 @@ class InlineLegend(pg.TextItem):
             a, b = self.vb.mapToView(r.topLeft()), self.vb.mapToView(r.bottomRight())
             x0, x1 = sorted((a.x(), b.x()))
             y0, y1 = sorted((a.y(), b.y()))
-            hits = 0
-            for t, y in series:
-                if not len(t):
-                    continue
-                i0, i1 = np.searchsorted(t, [x0, x1])
-                seg = y[i0:i1]
-                hits += int(np.count_nonzero((seg >= y0) & (seg <= y1)))
+            hits = sum(covered(t, y, x0, x1, y0, y1) for t, y in series)
             if best_hits is None or hits < best_hits:
                 best, best_hits = corner, hits
             if hits == 0:

@@ -28,6 +28,7 @@ class Colours:
     error: str                                    # "✖ 2 error(s)", error messages
     warning: str
     muted: str                                    # placeholders, hints
+    quantities: dict[str, str]                    # "voltage", "current", "temp", "heatsink": a readout's values
 
 
 LIGHT = Colours(
@@ -48,6 +49,8 @@ LIGHT = Colours(
     header_row="#eef3fb", check_row="#eef8ee", stale_text="#9a9a9a",
     current_line="#edf2fa", linked_line="#e2f4e8", find_match="#ffe68a",
     ok="#1b7f3b", error="#b00020", warning="#9a5b00", muted="#888888",
+    # the plots' hues (ui/stacked_plot.py), current and temperature a shade darker for text on a grey window
+    quantities={"voltage": "#1f4e9c", "current": "#1c7033", "temp": "#b83d14", "heatsink": "#7b5ea7"},
 )
 
 # The same hues, lighter, for a background near #1e1e1e (each at least 4.5:1 against it).
@@ -69,6 +72,7 @@ DARK = Colours(
     header_row="#26344d", check_row="#253d2c", stale_text="#7a7a7a",
     current_line="#2a2f3a", linked_line="#23452f", find_match="#6b5a12",
     ok="#5cc97a", error="#ff6b7a", warning="#f0a848", muted="#9a9a9a",
+    quantities={"voltage": "#8fb8ff", "current": "#6fd08a", "temp": "#ff9a6b", "heatsink": "#c9a8f5"},
 )
 
 

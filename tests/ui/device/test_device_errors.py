@@ -75,7 +75,7 @@ def test_something_that_is_not_a_charger(qtbot, make_panel):
 
 
 def test_a_passport_of_another_chemistry_refuses_start(qtbot, make_panel, monkeypatch):
-    import zuml_studio.ui.device.device_panel as dp
+    import zuml_studio.ui.device.unsafe_dialog as dp
     monkeypatch.setattr(dp, "confirm_unsafe", lambda *a, **k: False)     # the user cancels the override
     panel = make_panel()
     panel.v_passport.setCurrentIndex(panel.v_passport.findData("LiPo"))
@@ -188,7 +188,7 @@ def test_flash_into_a_chosen_slot_and_backup_restore(qtbot, make_panel, editor, 
     backup = tmp_path / "backup.bin"
     with qtbot.waitSignal(panel.operationFinished, timeout=WAIT_MS) as saved:
         panel.backup(backup)
-    assert saved.args[:2] == ["backup", True] and "2 macro(s)" in saved.args[2]
+    assert saved.args[:2] == ["backup", True] and "2 macros" in saved.args[2]
     assert backup.read_bytes() == panel.connection.virtual_device.eeprom_image
 
     editor.set("NiCd")

@@ -38,7 +38,7 @@ def test_passport_control_bytes_are_shown_escaped_and_flagged(qtbot, make_panel)
 def test_a_session_csv_write_failure_is_said_once_and_the_plot_goes_on(qtbot, make_panel):
     panel = make_panel()
     connect(qtbot, panel)
-    log = panel._log
+    log = panel.session.log
     log.idle_s = 0.0            # every idle frame written: the failure comes at once
     log._fh = FullDisk()
     log._writer = csv.writer(log._fh)

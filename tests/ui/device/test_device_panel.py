@@ -167,3 +167,20 @@ def test_layout_fits_a_small_dock(qtbot, make_panel):
     assert panel.plot.width() >= 700
     # at the dock's size nothing in the controls scrolls
     assert not panel.controls_scroll.verticalScrollBar().isVisible()
+
+
+@pytest.mark.parametrize("choice", ["dark", "light"])
+def test_the_panel_s_coloured_texts_follow_the_palette(qtbot, make_panel, choice):
+    from PySide6.QtWidgets import QApplication
+    from zuml_studio.ui import theme
+    panel = make_panel()
+    panel.show_message("Flashed", "ok")
+    try:
+        theme.apply_theme(choice)
+        QApplication.processEvents()
+        colours = theme.DARK if choice == "dark" else theme.LIGHT
+        assert panel.message.styleSheet() == f"color:{colours.ok};"
+        assert panel.info_label.styleSheet() == f"color:{colours.muted};"
+        assert panel.session_label.styleSheet() == f"color:{colours.muted};"
+    finally:
+        theme.apply_theme("system")

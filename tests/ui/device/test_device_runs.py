@@ -19,7 +19,7 @@ def _flash(qtbot, panel):
 
 
 def test_restore_asks_first_naming_the_macros_it_would_lose(qtbot, make_panel, editor, tmp_path, monkeypatch):
-    from zuml_studio.ui.device import device_panel
+    from zuml_studio.ui.device import confirm_dialogs
     panel = make_panel()
     connect(qtbot, panel)
     _flash(qtbot, panel)
@@ -30,11 +30,11 @@ def test_restore_asks_first_naming_the_macros_it_would_lose(qtbot, make_panel, e
     _flash(qtbot, panel)
     assert panel.slot_names() == ["NiMh-dV", "LiPo"]
     asked = []
-    monkeypatch.setattr(device_panel, "confirm_restore", lambda parent, text: asked.append(text) or False)
+    monkeypatch.setattr(confirm_dialogs, "confirm_restore", lambda parent, text: asked.append(text) or False)
     monkeypatch.setattr(QFileDialog, "getOpenFileName", lambda *a, **k: (str(backup), ""))
     panel.restore_button.click()
     assert len(asked) == 1
-    assert "It replaces the 2 macro(s) on the charger: NiMh-dV, LiPo." in asked[0]
+    assert "It replaces the 2 macros on the charger: NiMh-dV, LiPo." in asked[0]
     assert "Lost (not in the image): LiPo." in asked[0]
     assert panel.message_text().startswith("Not restored")
     with qtbot.waitSignal(panel.operationFinished, timeout=WAIT_MS):

@@ -8,7 +8,7 @@ from PySide6.QtWidgets import QMessageBox
 from device_helpers import WAIT_MS, connect
 from helpers import compiled, unsafe_record
 from zuml_studio.lang.eeprom import pack, slots
-from zuml_studio.ui.device import device_panel as dp
+from zuml_studio.ui.device import unsafe_dialog as dp
 from zuml_studio.ui.device.unsafe_dialog import confirm_unsafe, unsafe_dialog
 
 pytestmark = pytest.mark.skipif(os.name != "posix", reason="the virtual chargers use ptys here")
@@ -42,7 +42,7 @@ def asked(monkeypatch):
 def test_the_dialog_names_each_danger_and_defaults_to_cancel(qtbot):
     box = unsafe_dialog(None, "Flash", ["the macro charges at 5.00 A; the battery allows 4 A"])
     qtbot.addWidget(box)
-    assert "1 danger(s)" in box.text()
+    assert "1 danger" in box.text()
     assert "• the macro charges at 5.00 A; the battery allows 4 A" in box.informativeText()
     assert "fire" in box.informativeText()
     assert box.defaultButton() is not box.go_ahead and box.go_ahead.text() == "Flash anyway"

@@ -2,7 +2,7 @@
 import pytest
 from PySide6.QtCore import QEventLoop, QRect, QTimer
 from PySide6.QtGui import QColor
-from PySide6.QtWidgets import QApplication
+from PySide6.QtWidgets import QApplication, QBoxLayout
 
 from helpers import MACROS
 from zuml_studio.ui import theme
@@ -62,3 +62,28 @@ def test_the_height_the_visual_tab_borrows_goes_back_when_it_leaves(make_window)
     _settle()
     # Given back (the layout may round by a tab bar's height): far nearer the old height than the squeezed one.
     assert abs(w.sim_dock.height() - before) < (before - shrunk) / 4, (before, shrunk, w.sim_dock.height())
+
+
+@pytest.mark.parametrize("name", ["LiPo", "NiMh-dV", "LiIon-CCCV", "Pb-float"])
+def test_the_cards_fit_the_width_at_1366x768_without_a_horizontal_scroll_bar(make_window, name):
+    w = make_window(str(MACROS / f"{name}.zuml"))
+    w.resize(1366, 768)
+    _settle()
+    w.show_visual()
+    _settle()
+    bar = w.visual.scroll.horizontalScrollBar()
+    assert bar.maximum() == 0 and not bar.isVisible(), (bar.maximum(), w.visual.scroll.viewport().width())
+    assert w.visual.cols.direction() == QBoxLayout.Direction.LeftToRight      # the sections side by side
+
+
+def test_too_narrow_for_both_sections_they_stack_instead_of_scrolling_sideways(visual):
+    v = visual(size=(800, 650))
+    _settle()
+    assert v.view.cols.direction() == QBoxLayout.Direction.LeftToRight
+    v.view.resize(420, 650)
+    _settle()
+    assert v.view.cols.direction() == QBoxLayout.Direction.TopToBottom
+    assert v.view.scroll.horizontalScrollBar().maximum() == 0
+    v.view.resize(800, 650)
+    _settle()
+    assert v.view.cols.direction() == QBoxLayout.Direction.LeftToRight

@@ -1,16 +1,39 @@
 """What is on the charger: its macros (the slot table and free bytes), Compile & Flash with
-its target slot and progress, Backup and Restore. It owns the last EEPROM image read."""
+its target slot and progress, Backup and Restore. It owns the last EEPROM image read, the slot
+flashed last and a write whose end the link lost (settled by the next image read)."""
 from __future__ import annotations
 
-from PySide6.QtCore import Qt
-from PySide6.QtWidgets import (QAbstractItemView, QComboBox, QHBoxLayout, QHeaderView, QLabel, QProgressBar,
-                               QPushButton, QTableWidget, QTableWidgetItem, QToolButton, QVBoxLayout, QWidget)
+from pathlib import Path
+from typing import Callable
 
+from PySide6.QtCore import Qt, Signal
+from PySide6.QtWidgets import (QAbstractItemView, QComboBox, QFileDialog, QHBoxLayout, QHeaderView, QLabel,
+                               QProgressBar, QPushButton, QTableWidget, QTableWidgetItem, QToolButton, QVBoxLayout,
+                               QWidget)
+
+from ...device.errors import CommitUncertain, CommitUnverified, ImageTooLarge
+from ...device.flashing import merge_record
+from ...i18n import N_, _, ngettext
 from ...lang.eeprom import Slot, slots, used_bytes
+from ...safety import image_problems, record_problems
+from . import confirm_dialogs, unsafe_dialog
+from .connection import DeviceConnection, describe_error
 from .connection_bar import record_chemistry
-from .device_style import colour, heading
+from .device_style import ElidedCombo, colour, heading, tint
 
-FLASH_TIP = "Write the editor's macro to the charger, verify it (Ctrl+Shift+F)"
+FLASH_TIP = N_("Write the editor's macro to the charger, verify it (Ctrl+Shift+F)")
+STAGES = {"read": N_("reading {done} of {total} bytes"), "write": N_("writing {done} of {total} bytes"),
+          "verify": N_("verifying {done} of {total} bytes")}
+
+
+class Unsafe:
+    """What a job hands back instead of writing: the safety check's problems, for the dialog."""
+
+    def __init__(self, problems: list[str]):
+        self.problems = problems
+
+    def summary(self) -> str:
+        return _("the safety check refused it:") + "\n" + "\n".join(f"• {line}" for line in self.problems)
 
 
 class SlotTable(QTableWidget):
@@ -26,14 +49,26 @@ class SlotTable(QTableWidget):
 
 
 class ChargerSlots(QWidget):
-    def __init__(self, parent: QWidget | None = None):
+    message = Signal(str, str)                  # text, kind ("info", "ok", "warn", "error")
+    flashFinished = Signal(bool, str)
+    operationFinished = Signal(str, bool, str)  # "backup" | "restore" | "slots", ok, message
+    imageShown = Signal()                       # a new image is shown (``slots``, ``flashed_slot``)
+    slotChosen = Signal(int)                    # the user selected this slot in the table
+    changed = Signal()                          # what may be enabled changed
+
+    def __init__(self, connection: DeviceConnection, get_record: Callable[[], tuple[bytes, str] | None],
+                 parent: QWidget | None = None):
         super().__init__(parent)
         self.setObjectName("deviceColumn")
+        self.connection = connection
+        self._get_record = get_record
         self.image: bytes | None = None
         self.slots: list[Slot] = []
+        self.flashed_slot: int | None = None
+        self._unsettled: tuple[str, CommitUncertain | CommitUnverified] | None = None   # (what, error)
         self.table = SlotTable(0, 5)
         self.table.setObjectName("slotTable")
-        self.table.setHorizontalHeaderLabels(["#", "Macro", "Bytes", "Type", "Check"])
+        self.table.setHorizontalHeaderLabels(["#", _("Macro"), _("Bytes"), _("Type"), _("Check")])
         self.table.verticalHeader().setVisible(False)
         self.table.verticalHeader().setDefaultSectionSize(self.fontMetrics().height() + 6)
         self.table.setEditTriggers(QAbstractItemView.EditTrigger.NoEditTriggers)
@@ -46,19 +81,19 @@ class ChargerSlots(QWidget):
         header.setSectionResizeMode(1, QHeaderView.ResizeMode.Stretch)
         header.setHighlightSections(False)
         self.table.setMinimumHeight(2 * self.table.verticalHeader().defaultSectionSize() + 26)
-        self.table.setToolTip("The macros in the charger's EEPROM, in slot order; select one to run it")
+        self.table.setToolTip(_("The macros in the charger's EEPROM, in slot order; select one to run it"))
         self.free_label = QLabel("")
         self.free_label.setObjectName("freeLabel")
-        self.flash_slot = QComboBox()
+        self.flash_slot = ElidedCombo()
         self.flash_slot.setObjectName("flashSlot")
-        self.flash_slot.addItem("By name", None)
+        self.flash_slot.addItem(_("By name"), None)
         self.flash_slot.setSizeAdjustPolicy(QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
-        self.flash_slot.setMinimumContentsLength(12)
-        self.flash_slot.setToolTip("Where Compile & Flash puts the macro: over the one of the same name "
-                                   "(else appended), or into a slot you pick")
-        self.flash_button = QPushButton("Compile && Flash")
+        self.flash_slot.setMinimumContentsLength(9)         # a long choice elides (ElidedCombo)
+        self.flash_slot.setToolTip(_("Where Compile & Flash puts the macro: over the one of the same name "
+                                     "(else appended), or into a slot you pick"))
+        self.flash_button = QPushButton(_("Compile && Flash"))
         self.flash_button.setObjectName("flashButton")
-        self.flash_button.setToolTip(FLASH_TIP)
+        self.flash_button.setToolTip(_(FLASH_TIP))
         self.progress = QProgressBar()
         self.progress.setObjectName("flashProgress")
         self.progress.setTextVisible(False)
@@ -69,20 +104,20 @@ class ChargerSlots(QWidget):
         self.result_label.setObjectName("flashResult")
         self.result_label.setWordWrap(True)
         self.result_label.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
-        self.backup_button = QPushButton("Backup…")
-        self.backup_button.setToolTip("Save the charger's whole EEPROM to a file")
-        self.restore_button = QPushButton("Restore…")
-        self.restore_button.setToolTip("Write a saved EEPROM image back (every record is checked first)")
+        self.backup_button = QPushButton(_("Backup…"))
+        self.backup_button.setToolTip(_("Save the charger's whole EEPROM to a file"))
+        self.restore_button = QPushButton(_("Restore…"))
+        self.restore_button.setToolTip(_("Write a saved EEPROM image back (every record is checked first)"))
         self.reload_button = QToolButton()
         self.reload_button.setText("⟳")
-        self.reload_button.setToolTip("Read the macros on the charger again")
+        self.reload_button.setToolTip(_("Read the macros on the charger again"))
 
         a = QVBoxLayout(self)
         a.setContentsMargins(0, 0, 0, 0)
         a.setSpacing(3)
         head = QHBoxLayout()
         head.setSpacing(4)
-        head.addWidget(heading("Macros on the charger"), 1)
+        head.addWidget(heading(_("Macros on the charger")), 1)
         head.addWidget(self.reload_button)
         a.addLayout(head)
         a.addWidget(self.table, 1)
@@ -101,6 +136,26 @@ class ChargerSlots(QWidget):
         file_row.addStretch(1)
         a.addLayout(file_row)
 
+        self.flash_button.clicked.connect(lambda: self.flash())
+        self.backup_button.clicked.connect(self._backup_clicked)
+        self.restore_button.clicked.connect(self._restore_clicked)
+        self.reload_button.clicked.connect(self.refresh_slots)
+        self.table.itemSelectionChanged.connect(self._table_selected)
+        connection.progress.connect(self.on_progress)
+
+    def set_enabled(self, idle: bool, monitor_reason: str = "") -> None:
+        """``idle``: connected to a ZUML charger that does nothing else; ``monitor_reason``: why a
+        monitor-only charger cannot flash (then everything is off)."""
+        for w in (self.flash_button, self.backup_button, self.restore_button, self.reload_button, self.flash_slot):
+            w.setEnabled(idle and not monitor_reason)
+        self.flash_button.setToolTip(monitor_reason or _(FLASH_TIP))
+        if monitor_reason:
+            self.result_label.setText(f"<span style='color:{colour(self, 'warn')};'>{monitor_reason}.</span>")
+            self.result_label.setProperty("monitorReason", True)
+        elif self.result_label.property("monitorReason"):
+            self.result_label.setText("")
+            self.result_label.setProperty("monitorReason", False)
+
     # -- progress -----------------------------------------------------------------------------
     def progress_busy(self) -> None:
         self.progress.setRange(0, 0)
@@ -108,8 +163,8 @@ class ChargerSlots(QWidget):
     def on_progress(self, stage: str, done: int, total: int) -> None:
         self.progress.setRange(0, max(1, total))
         self.progress.setValue(min(done, total))
-        verbs = {"read": "reading", "write": "writing", "verify": "verifying"}
-        self.progress.setToolTip(f"{verbs.get(stage, stage)} {done} of {total} bytes")
+        text = STAGES.get(stage)
+        self.progress.setToolTip(_(text).format(done=done, total=total) if text else f"{stage} {done}/{total}")
 
     def progress_complete(self, tip: str) -> None:
         """A flash went through: the bar stays full (until the next operation) and says what."""
@@ -123,7 +178,7 @@ class ChargerSlots(QWidget):
 
     # -- the image ----------------------------------------------------------------------------
     def show_image(self, image: bytes) -> list[Slot]:
-        """Show the macros in ``image``; returns them."""
+        """Show the macros in ``image``; returns them (and says so with ``imageShown``)."""
         self.image = bytes(image)
         try:
             found = slots(self.image)
@@ -134,7 +189,7 @@ class ChargerSlots(QWidget):
         self.slots = found
         self.table.setRowCount(len(found))
         for row, s in enumerate(found):
-            check = "ok" if s.ok else "BAD"
+            check = _("ok") if s.ok else _("BAD")
             values = (str(s.index), s.name, str(len(s.record)), record_chemistry(s.record) if s.ok else "?", check)
             for col, value in enumerate(values):
                 item = QTableWidgetItem(value)
@@ -146,23 +201,231 @@ class ChargerSlots(QWidget):
                 self.table.setItem(row, col, item)
         size = len(self.image)
         if broken:
-            self.free_label.setText(f"<span style='color:{colour(self, 'error')};'>broken record list: {broken}</span>")
+            self.free_label.setText(f"<span style='color:{colour(self, 'error')};'>"
+                                    + _("broken record list: {error}").format(error=broken) + "</span>")
         else:
-            self.free_label.setText(f"{size - used} of {size} bytes free · {len(found)} macro(s)")
+            self.free_label.setText(ngettext("{free} of {size} bytes free · {n} macro",
+                                             "{free} of {size} bytes free · {n} macros", len(found))
+                                    .format(free=size - used, size=size, n=len(found)))
         keep_flash = self.flash_slot.currentData()
         self.flash_slot.clear()
-        self.flash_slot.addItem("By name", None)
+        self.flash_slot.addItem(_("By name"), None)
         for s in found:
-            self.flash_slot.addItem(f"Replace slot {s.index} ({s.name})", s.index)
-        self.flash_slot.addItem(f"Append as slot {len(found)}", len(found))
+            self.flash_slot.addItem(_("Replace slot {index} ({name})").format(index=s.index, name=s.name), s.index)
+        self.flash_slot.addItem(_("Append as slot {index}").format(index=len(found)), len(found))
         k = self.flash_slot.findData(keep_flash)
         self.flash_slot.setCurrentIndex(k if k >= 0 and keep_flash is not None and keep_flash < len(found) else 0)
+        self.imageShown.emit()
         return found
 
-    def selected_row(self) -> int | None:
+    def _table_selected(self) -> None:
         rows = self.table.selectionModel().selectedRows()
-        return rows[0].row() if rows else None
+        if rows:
+            self.slotChosen.emit(rows[0].row())
 
-    def set_result(self, ok: bool, text: str) -> None:
+    def slot_names(self) -> list[str]:
+        return [s.name for s in self.slots]
+
+    # -- Compile & Flash ----------------------------------------------------------------------
+    def flash(self, force: bool = False) -> None:
+        """Compile & Flash: the editor's record into the charger (same name replaced, else appended,
+        or the slot chosen), written, verified; ``flashFinished(ok, message)``. The safety check
+        runs first; what it refuses is written only after the user confirms (or with ``force``)."""
+        if not self.connection.is_connected():
+            self._flash_done(False, _("Connect to a charger first, then Compile & Flash."))
+            return
+        got = self._get_record()
+        if got is None:
+            self._flash_done(False, _("The macro has errors: fix them (see Problems), then Compile & Flash."))
+            return
+        record, name = bytes(got[0]), got[1]
+        slot = self.flash_slot.currentData()
+        self.result_label.setText("")
+        self.message.emit(_("Flashing {name}…").format(name=name), "info")
+        self.progress_busy()
+
+        def job(client, progress):
+            if not force:
+                problems = record_problems(record, client.passport_if_any(), charger_max_a=client.info.max_charge_a)
+                if problems:
+                    return Unsafe(problems)
+            current = client.read_image(progress)
+            merged = merge_record(current, record, slot)
+            result = client.write_image(merged.image, progress, current=current)
+            return merged, result
+
+        self.connection.call(job, self._flashed, self._flash_failed)
+        self.changed.emit()
+
+    def _flashed(self, answer) -> None:
+        if isinstance(answer, Unsafe):
+            self.progress_done()
+            if unsafe_dialog.confirm_unsafe(self, _("Flash"), answer.problems):
+                self.flash(force=True)
+            else:
+                self._flash_done(False, _("Not flashed: {why}").format(why=answer.summary()))
+            return
+        merged, result = answer
+        self.progress_complete(_("flashed {name}: {size} bytes, verified").format(name=merged.name, size=merged.size))
+        self.flashed_slot = merged.index
+        self.show_image(merged.image)
+        if result.changed:
+            text = _("Flashed {name} into slot {index}: {size} bytes, {changed} bytes changed, verified").format(
+                name=merged.name, index=merged.index, size=merged.size, changed=result.changed)
+        else:
+            text = _("{name} is already in slot {index} ({size} bytes): nothing to write").format(
+                name=merged.name, index=merged.index, size=merged.size)
+        if merged.replaced is not None and merged.replaced != merged.name:
+            text += " " + _("(it replaced {name})").format(name=merged.replaced)
+        self._flash_done(True, text + ".")
+
+    def _flash_failed(self, exc) -> None:
+        self.progress_done()
+        self._note_unsettled("flash", exc)
+        self._flash_done(False, describe_error(exc, "flash"))
+        if self.connection.is_connected():
+            self.refresh_slots()
+
+    def _flash_done(self, ok: bool, text: str) -> None:
         self.result_label.setText(text)
-        self.result_label.setStyleSheet(f"color:{colour(self, 'ok' if ok else 'error')};")
+        tint(self.result_label, "ok" if ok else "error")
+        self.message.emit(text, "ok" if ok else "error")
+        self.changed.emit()
+        self.flashFinished.emit(ok, text)
+
+    # -- Backup, Restore, the slot list -------------------------------------------------------
+    def backup(self, path: str | Path) -> None:
+        """Save the charger's whole EEPROM to ``path``; ``operationFinished("backup", ok, message)``."""
+        if not self.connection.is_connected():
+            self._failed("backup", _("Connect to a charger first."))
+            return
+        path = Path(path)
+
+        def job(client, progress):
+            image = client.read_image(progress)
+            path.write_bytes(image)
+            return image
+
+        def done(image):
+            self.show_image(image)
+            try:
+                count = len(slots(image))
+                text = ngettext("Saved the charger's EEPROM ({size} bytes, {n} macro) to {path}.",
+                                "Saved the charger's EEPROM ({size} bytes, {n} macros) to {path}.", count)
+            except Exception:   # noqa: BLE001
+                count, text = 0, _("Saved the charger's EEPROM ({size} bytes, a broken record list) to {path}.")
+            text = text.format(size=len(image), n=count, path=path)
+            self.progress_done()
+            self.message.emit(text, "ok")
+            self.operationFinished.emit("backup", True, text)
+
+        self.progress_busy()
+        self.connection.call(job, done, lambda exc: self._failed("backup", exc))
+
+    def restore(self, path: str | Path, force: bool = False) -> None:
+        """Write a saved image back (checked first, then written and verified); records the safety
+        check refuses are written only after the user confirms (or with ``force``)."""
+        if not self.connection.is_connected():
+            self._failed("restore", _("Connect to a charger first."))
+            return
+        path = Path(path)
+
+        def job(client, progress):
+            from ...device.client import check_image
+            image = path.read_bytes()
+            check_image(image)
+            if len(image) > client.info.eeprom_size:
+                raise ImageTooLarge(len(image), client.info.eeprom_size)
+            if not force:
+                problems = image_problems(image, client.passport_if_any(), charger_max_a=client.info.max_charge_a)
+                if problems:
+                    return Unsafe(problems)
+            result = client.write_image(image, progress, validate=False)
+            return image + b"\xff" * (client.info.eeprom_size - len(image)), result
+
+        def done(answer):
+            if isinstance(answer, Unsafe):
+                self.progress_done()
+                if unsafe_dialog.confirm_unsafe(self, _("Restore"), answer.problems):
+                    self.restore(path, force=True)
+                else:
+                    self._failed("restore", _("Not restored: {why}").format(why=answer.summary()))
+                return
+            image, result = answer
+            self.show_image(image)
+            text = _("Restored {file}: {changed} bytes changed, verified.").format(file=path.name,
+                                                                                   changed=result.changed)
+            self.progress_done()
+            self.message.emit(text, "ok")
+            self.operationFinished.emit("restore", True, text)
+
+        self.progress_busy()
+        self.connection.call(job, done, lambda exc: self._failed("restore", exc))
+
+    def refresh_slots(self) -> None:
+        """Read the slot list again (it settles a write whose end the link lost)."""
+        if not self.connection.is_connected():
+            return
+
+        def done(image):
+            self.show_image(image)
+            self._settle(image)
+            self.operationFinished.emit("slots", True, "")
+
+        self.connection.call(lambda client, progress: client.read_image(), done,
+                             lambda exc: self._failed("slots", exc))
+
+    def _note_unsettled(self, what: str, exc) -> None:
+        if isinstance(exc, (CommitUncertain, CommitUnverified)):
+            self._unsettled = (what, exc)
+
+    def _settle(self, image: bytes) -> None:
+        """The first image read after a write whose end was lost tells what the charger holds."""
+        if self._unsettled is None:
+            return
+        (what, exc), self._unsettled = self._unsettled, None
+        verdict = exc.settle(image)
+        flash = what == "flash"
+        if verdict == "new":
+            self.message.emit(_("Read back after the lost link: the flash is on the charger, verified.") if flash
+                              else _("Read back after the lost link: the restored image is on the charger, "
+                                     "verified."), "ok")
+        elif verdict == "previous":
+            self.message.emit(_("Read back after the lost link: the charger kept its previous image; the flash "
+                                "was not written. Do it again.") if flash
+                              else _("Read back after the lost link: the charger kept its previous image; the "
+                                     "restore was not written. Do it again."), "warn")
+        else:
+            self.message.emit(_("Read back after the lost link: the charger holds neither the new image nor the "
+                                "previous one (changed since by another program?). Check its macros."), "warn")
+
+    def _failed(self, op: str, exc) -> None:
+        self.progress_done()
+        self._note_unsettled(op, exc)
+        text = exc if isinstance(exc, str) else describe_error(exc, op)
+        self.message.emit(text, "error")
+        self.changed.emit()
+        self.operationFinished.emit(op, False, text)
+
+    def _backup_clicked(self) -> None:
+        path, _filter = QFileDialog.getSaveFileName(self, _("Back up the charger's EEPROM"),
+                                                    str(Path(confirm_dialogs.documents_folder()) / "eeprom-backup.bin"),
+                                                    _("EEPROM images (*.bin);;All files (*)"))
+        if path:
+            self.backup(path)
+
+    def _restore_clicked(self) -> None:
+        path, _filter = QFileDialog.getOpenFileName(self, _("Restore an EEPROM image"),
+                                                    confirm_dialogs.documents_folder(),
+                                                    _("EEPROM images (*.bin);;All files (*)"))
+        if not path:
+            return
+        try:
+            in_image = [s.name for s in slots(Path(path).read_bytes())]
+        except Exception:   # noqa: BLE001 - unreadable or broken: restore() says precisely why
+            in_image = None
+        text = confirm_dialogs.restore_text(Path(path).name, self.slot_names(), in_image)
+        if confirm_dialogs.confirm_restore(self, text):
+            self.restore(path)
+        else:
+            self.message.emit(_("Not restored: {file} was not written.").format(file=Path(path).name), "info")

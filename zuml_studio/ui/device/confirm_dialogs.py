@@ -5,6 +5,8 @@ from __future__ import annotations
 from PySide6.QtCore import QStandardPaths
 from PySide6.QtWidgets import QMessageBox, QWidget
 
+from ...i18n import _, ngettext
+
 STOP, LEAVE, CANCEL = "stop", "leave", "cancel"
 
 
@@ -15,22 +17,25 @@ def documents_folder() -> str:
 
 def restore_text(file_name: str, on_charger: list[str], in_image: list[str] | None) -> str:
     """What Restore will replace, and which macros on the charger it will lose."""
-    if not on_charger:
-        head = f"Write {file_name} over the charger's EEPROM?"
-    else:
-        head = (f"Write {file_name} over the charger's EEPROM? It replaces the {len(on_charger)} macro(s) "
-                f"on the charger: {', '.join(on_charger)}.")
+    head = _("Write {file} over the charger's EEPROM?").format(file=file_name)
+    if on_charger:
+        head += " " + ngettext("It replaces the {n} macro on the charger: {names}.",
+                               "It replaces the {n} macros on the charger: {names}.",
+                               len(on_charger)).format(n=len(on_charger), names=", ".join(on_charger))
     if in_image is None:
         return head
     lost = [name for name in on_charger if name not in in_image]
-    return head + (f"\nLost (not in the image): {', '.join(lost)}." if lost
-                   else "\nEvery macro on the charger is also in the image.") + \
-        f"\nThe image holds {len(in_image)} macro(s){': ' + ', '.join(in_image) if in_image else ''}."
+    head += "\n" + (_("Lost (not in the image): {names}.").format(names=", ".join(lost)) if lost
+                    else _("Every macro on the charger is also in the image."))
+    if not in_image:
+        return head + "\n" + _("The image holds no macro.")
+    return head + "\n" + ngettext("The image holds {n} macro: {names}.", "The image holds {n} macros: {names}.",
+                                  len(in_image)).format(n=len(in_image), names=", ".join(in_image))
 
 
 def confirm_restore(parent: QWidget | None, text: str) -> bool:
-    box = QMessageBox(QMessageBox.Icon.Warning, "Restore the charger's EEPROM", text, parent=parent)
-    go = box.addButton("Restore", QMessageBox.ButtonRole.DestructiveRole)
+    box = QMessageBox(QMessageBox.Icon.Warning, _("Restore the charger's EEPROM"), text, parent=parent)
+    go = box.addButton(_("Restore"), QMessageBox.ButtonRole.DestructiveRole)
     cancel = box.addButton(QMessageBox.StandardButton.Cancel)
     box.setDefaultButton(cancel)
     box.setEscapeButton(cancel)
@@ -40,13 +45,13 @@ def confirm_restore(parent: QWidget | None, text: str) -> bool:
 
 def ask_close_during_run(parent: QWidget | None, run: str, virtual: bool) -> str:
     """STOP, LEAVE or CANCEL."""
-    text = f"{run or 'A macro'} is running on the charger."
+    text = _("{name} is running on the charger.").format(name=run or _("A macro"))
     if virtual:
-        text += "\nThe built-in virtual charger ends with ZUML Studio either way."
-    box = QMessageBox(QMessageBox.Icon.Question, "A charge is running", text, parent=parent)
-    box.setInformativeText("Stop the charger before closing, or leave it running on its own?")
-    stop = box.addButton("Stop the charger", QMessageBox.ButtonRole.DestructiveRole)
-    leave = box.addButton("Leave it running", QMessageBox.ButtonRole.AcceptRole)
+        text += "\n" + _("The built-in virtual charger ends with ZUML Studio either way.")
+    box = QMessageBox(QMessageBox.Icon.Question, _("A charge is running"), text, parent=parent)
+    box.setInformativeText(_("Stop the charger before closing, or leave it running on its own?"))
+    stop = box.addButton(_("Stop the charger"), QMessageBox.ButtonRole.DestructiveRole)
+    leave = box.addButton(_("Leave it running"), QMessageBox.ButtonRole.AcceptRole)
     cancel = box.addButton(QMessageBox.StandardButton.Cancel)
     box.setDefaultButton(cancel)
     box.setEscapeButton(cancel)

@@ -28,6 +28,7 @@ from ...device.client import ChargerClient, DeviceInfo
 from ...device.errors import (CommitUncertain, CommitUnverified, DeviceError, DeviceLinkError, DeviceTimeout, Disconnected, ImageTooLarge,
                               InvalidImage, NotACharger, PermissionDenied, PortBusy, PortNotFound, VerifyFailed)
 from ...device.flashing import ImageFull, SlotOutOfRange
+from ...i18n import _
 from ...lang.eeprom import ImageError
 from ...lang.record import DecodeError
 
@@ -148,7 +149,7 @@ class DeviceConnection(QObject):
         def job(progress):
             client = self._client
             if client is None:
-                raise Disconnected("not connected to a charger")
+                raise Disconnected(_("not connected to a charger"))
             return fn(client, progress)
         return self.submit(job, on_done, on_error)
 
@@ -160,13 +161,13 @@ class DeviceConnection(QObject):
 
     @Slot(int, object)
     def _job_done(self, job_id: int, result) -> None:
-        on_done, _ = self._finish(job_id)
+        on_done, _on_error = self._finish(job_id)
         if on_done is not None and not self._closing:
             on_done(result)
 
     @Slot(int, object)
     def _job_failed(self, job_id: int, exc) -> None:
-        _, on_error = self._finish(job_id)
+        _on_done, on_error = self._finish(job_id)
         if self._closing:
             return
         if on_error is not None:
@@ -222,7 +223,7 @@ class DeviceConnection(QObject):
         with self._res_lock:
             self._client = client
         if self._closing:
-            raise Disconnected("closing")
+            raise Disconnected(_("closing"))
         if self._on_telemetry is not None:
             client.on_telemetry(self._on_telemetry)
         if self._on_event is not None:
@@ -237,7 +238,8 @@ class DeviceConnection(QObject):
     def _opened(self, opened: Opened) -> None:
         client = self._client
         if client is None or not client.connected:
-            self._open_failed(Disconnected(f"{opened.url}: the connection closed right after it opened"))
+            self._open_failed(Disconnected(_("{port}: the connection closed right after it opened").format(
+                port=opened.url)))
             return
         self.state = "connected"
         self.opened = opened
@@ -255,7 +257,7 @@ class DeviceConnection(QObject):
         if self.state in ("disconnected", "disconnecting"):
             return
         self.state = "disconnecting"
-        self.submit(lambda progress: self._release(), lambda _: self._closed(""), lambda exc: self._closed(""))
+        self.submit(lambda progress: self._release(), lambda _result: self._closed(""), lambda exc: self._closed(""))
 
     def _closed(self, reason: str) -> None:
         was = self.state
@@ -363,59 +365,63 @@ def describe_error(exc: BaseException, action: str = "") -> str:
     ``action``: connect, flash, restore, backup, start, stop, passport, link, slots."""
     text = str(exc).strip() or type(exc).__name__
     if action == "connect":
-        if isinstance(exc, (PortNotFound, PermissionDenied, PortBusy, NotACharger)):
-            return f"Cannot connect: {text}"
-        if isinstance(exc, DeviceLinkError):
-            return f"Cannot connect: {text}"
+        if isinstance(exc, (PortNotFound, PermissionDenied, PortBusy, NotACharger, DeviceLinkError)):
+            return _("Cannot connect: {error}").format(error=text)
         if isinstance(exc, ValueError):       # a virtual charger set up wrong (battery, speed)
-            return f"Cannot start the virtual charger: {text}"
+            return _("Cannot start the virtual charger: {error}").format(error=text)
         if isinstance(exc, OSError):
-            return f"Cannot connect: {exc.strerror or text}"
+            return _("Cannot connect: {error}").format(error=exc.strerror or text)
     if action in ("flash", "restore"):
-        what = "flashing" if action == "flash" else "restoring"
+        flash = action == "flash"
         if isinstance(exc, (ImageFull, ImageTooLarge)):
             needed = getattr(exc, "needed", None) or getattr(exc, "size", 0)
             size = exc.size if isinstance(exc, ImageFull) else exc.eeprom_size
-            return f"The image needs {needed} bytes; the charger has {size}. Nothing was written."
+            return _("The image needs {needed} bytes; the charger has {size}. Nothing was written.").format(
+                needed=needed, size=size)
         if isinstance(exc, SlotOutOfRange):
-            return f"Cannot flash: {text}"
+            return _("Cannot flash: {error}").format(error=text)
         if isinstance(exc, DecodeError):
-            return f"Nothing was written: the compiled macro does not decode ({text})."
+            return _("Nothing was written: the compiled macro does not decode ({error}).").format(error=text)
         if isinstance(exc, CommitUnverified):
-            return (f"The charger confirmed the new image, then the connection was lost while reading it "
-                    f"back to verify it. Reconnect: the image is read back then and the result said. ({text})")
+            return _("The charger confirmed the new image, then the connection was lost while reading it back to "
+                     "verify it. Reconnect: the image is read back then and the result said. ({error})").format(
+                         error=text)
         if isinstance(exc, CommitUncertain):
-            return (f"The connection was lost just as the charger committed the new image: it holds "
-                    f"either the new image or its previous one, never a mix. Reconnect: the image is read "
-                    f"back then and which one said. ({text})")
+            return _("The connection was lost just as the charger committed the new image: it holds either the "
+                     "new image or its previous one, never a mix. Reconnect: the image is read back then and "
+                     "which one said. ({error})").format(error=text)
         if isinstance(exc, Disconnected):
-            return (f"The connection was lost while {what}: nothing was written, the charger keeps "
-                    f"its previous image. ({text})")
+            return (_("The connection was lost while flashing: nothing was written, the charger keeps its "
+                      "previous image. ({error})") if flash else
+                    _("The connection was lost while restoring: nothing was written, the charger keeps its "
+                      "previous image. ({error})")).format(error=text)
         if isinstance(exc, DeviceTimeout):
-            return (f"The charger stopped answering while {what}: nothing was written, the charger "
-                    f"keeps its previous image. ({text})")
+            return (_("The charger stopped answering while flashing: nothing was written, the charger keeps its "
+                      "previous image. ({error})") if flash else
+                    _("The charger stopped answering while restoring: nothing was written, the charger keeps its "
+                      "previous image. ({error})")).format(error=text)
         if isinstance(exc, VerifyFailed):
-            return f"The write did not verify: {text}. Flash again, or restore a backup."
+            return _("The write did not verify: {error}. Flash again, or restore a backup.").format(error=text)
         if isinstance(exc, InvalidImage):
-            return f"Nothing was written: {text}"
+            return _("Nothing was written: {error}").format(error=text)
         if isinstance(exc, ImageError):
-            return (f"The charger's record list is broken ({text}): restore a backup of its EEPROM, "
-                    "then flash again.")
+            return _("The charger's record list is broken ({error}): restore a backup of its EEPROM, then flash "
+                     "again.").format(error=text)
         if isinstance(exc, DeviceError):
-            return f"The charger refused the write: {text}. Nothing was written."
+            return _("The charger refused the write: {error}. Nothing was written.").format(error=text)
     if action == "start" and isinstance(exc, DeviceError):
         lines = exc.lines or [text]
-        return "The charger refused to start:\n" + "\n".join(f"• {line}" for line in lines)
+        return _("The charger refused to start:") + "\n" + "\n".join(f"• {line}" for line in lines)
     if action == "link":
-        return f"Disconnected: {text}"
+        return _("Disconnected: {error}").format(error=text)
     if isinstance(exc, Disconnected):
-        return f"Not connected: {text}"
+        return _("Not connected: {error}").format(error=text)
     if isinstance(exc, DeviceTimeout):
-        return f"The charger does not answer: {text}"
+        return _("The charger does not answer: {error}").format(error=text)
     if isinstance(exc, DeviceError):
-        return f"The charger refused: {text}"
+        return _("The charger refused: {error}").format(error=text)
     if isinstance(exc, (DeviceLinkError, ImageError, ValueError)):
         return text[:1].upper() + text[1:]
     if isinstance(exc, OSError):
         return f"{getattr(exc, 'filename', '') or ''} {exc.strerror or text}".strip()
-    return f"Internal error: {type(exc).__name__}: {text}"
+    return _("Internal error: {error}").format(error=f"{type(exc).__name__}: {text}")

@@ -1,15 +1,19 @@
 """The connection bar: the port, the driver, Connect and Replay; for the built-in virtual
 charger its battery, passport chip and speed; what the charger said about itself; the
-telemetry rate."""
+telemetry rate. It owns the virtual battery's choice and the line about the connected charger."""
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Callable
 
-from PySide6.QtWidgets import QComboBox, QHBoxLayout, QLabel, QPushButton, QVBoxLayout, QWidget
+from PySide6.QtWidgets import QComboBox, QFileDialog, QHBoxLayout, QLabel, QPushButton, QVBoxLayout, QWidget
 
 from ...device.drivers import AUTO, DRIVERS, ZUML
 from ...device.passport import akk_name
-from .device_style import colour, DEFAULT_BATTERY, FIELD_WIDTH, ElidedLabel, field_spin
+from ...device.ports import VIRTUAL
+from ...i18n import _
+from .connection import VirtualSpec
+from .device_style import DEFAULT_BATTERY, FIELD_WIDTH, ElidedCombo, ElidedLabel, field_spin, tint
 from .port_chooser import PortChooser
 
 NAMED_BATTERY = "battery:"      # virtual chemistry box data of a saved fitted battery
@@ -52,76 +56,76 @@ class ConnectionBar(QWidget):
     def __init__(self, port_lister: Callable | None = None, parent: QWidget | None = None):
         super().__init__(parent)
         self.ports = PortChooser(port_lister)
-        self.connect_button = QPushButton("Connect")
+        self.connect_button = QPushButton(_("Connect"))
         self.connect_button.setObjectName("connectButton")
-        self.connect_button.setToolTip("Connect to the charger on the chosen port (or Disconnect)")
+        self.connect_button.setToolTip(_("Connect to the charger on the chosen port (or Disconnect)"))
         self.connect_button.setMinimumWidth(96)
-        port_label = QLabel("Port")
+        port_label = QLabel(_("Port"))
         port_label.setBuddy(self.ports.combo)
         top = QHBoxLayout()
         top.setContentsMargins(0, 0, 0, 0)
         top.setSpacing(6)
-        self.driver_combo = QComboBox()
+        self.driver_combo = ElidedCombo()
         self.driver_combo.setObjectName("driverCombo")
-        self.driver_combo.addItem("Auto", AUTO)
-        self.driver_combo.addItem("ZUML charger", ZUML)
+        self.driver_combo.addItem(_("Auto"), AUTO)
+        self.driver_combo.addItem(_("ZUML charger"), ZUML)
         for d in DRIVERS.values():
-            self.driver_combo.addItem(d.title, d.name)
+            self.driver_combo.addItem(_(d.title), d.name)
         self.driver_combo.setSizeAdjustPolicy(QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
         self.driver_combo.setMinimumContentsLength(10)
-        self.driver_combo.setToolTip("The charger's protocol. Auto: a ZUML charger if one answers, else a "
-                                     "monitor-only charger (cheali, iCharger, iMAX B6, Ultramat, SkyRC, ISDT) "
-                                     "recognised from what it sends")
-        self.replay_button = QPushButton("Replay a recording…")
+        self.driver_combo.setToolTip(_("The charger's protocol. Auto: a ZUML charger if one answers, else a "
+                                       "monitor-only charger (cheali, iCharger, iMAX B6, Ultramat, SkyRC, ISDT) "
+                                       "recognised from what it sends"))
+        self.replay_button = QPushButton(_("Replay a recording…"))
         self.replay_button.setObjectName("replayButton")
-        self.replay_button.setToolTip("Play a charger recording ($ lines, {…} frames, Ultramat frames, a HID "
-                                      "report dump, an iCharger DUO/X log) onto a port and watch it here, at the "
-                                      "virtual charger's speed ×")
+        self.replay_button.setToolTip(_("Play a charger recording ($ lines, {…} frames, Ultramat frames, a HID "
+                                        "report dump, an iCharger DUO/X log) onto a port and watch it here, at the "
+                                        "virtual charger's speed ×"))
         top.addWidget(port_label)
         top.addWidget(self.ports, 1)
         top.addWidget(self.driver_combo)
         top.addWidget(self.connect_button)
         top.addWidget(self.replay_button)
 
-        self.v_chem = QComboBox()
+        self.v_chem = ElidedCombo()
         self.v_chem.setObjectName("virtualChemistry")
-        self.v_chem.addItem("from the macro", None)
+        self.v_chem.addItem(_("from the macro"), None)
         for name in chemistry_names():
             self.v_chem.addItem(name, name)
         self.add_named_batteries()
-        self.v_chem.setToolTip("The virtual battery's chemistry; 'from the macro' uses the editor macro's "
-                               "AKK_TYPE (NiMh if it has none); a saved fitted battery brings its own "
-                               "capacity and cells")
-        self.v_mah = field_spin(100, 65000, DEFAULT_BATTERY[1], " mAh", "the virtual battery's capacity")
+        self.v_chem.setToolTip(_("The virtual battery's chemistry; 'from the macro' uses the editor macro's "
+                                 "AKK_TYPE (NiMh if it has none); a saved fitted battery brings its own "
+                                 "capacity and cells"))
+        self.v_mah = field_spin(100, 65000, DEFAULT_BATTERY[1], " mAh", _("the virtual battery's capacity"))
         self.v_mah.setSingleStep(100)
-        self.v_cells = field_spin(1, 24, DEFAULT_BATTERY[2], " cells", "cells in series in the virtual battery")
-        self.v_passport = QComboBox()
+        self.v_cells = field_spin(1, 24, DEFAULT_BATTERY[2], _(" cells"), _("cells in series in the virtual battery"))
+        self.v_passport = ElidedCombo()
         self.v_passport.setObjectName("virtualPassport")
-        self.v_passport.addItem("as battery", MATCH)
+        self.v_passport.addItem(_("as battery"), MATCH)
         for name in chemistry_names():
             self.v_passport.addItem(name, name)
-        self.v_passport.addItem("none", "none")
-        self.v_passport.setToolTip("The battery passport chip (spec §4): its chemistry as the battery's, "
-                                   "another one (to see the lockout), or no chip")
-        self.v_speed = field_spin(1, 100000, 60, "×", "the virtual charger runs the macro this many times "
-                                  "faster than real time (changes at once)")
+        self.v_passport.addItem(_("none"), "none")
+        self.v_passport.setToolTip(_("The battery passport chip (spec §4): its chemistry as the battery's, "
+                                     "another one (to see the lockout), or no chip"))
+        self.v_speed = field_spin(1, 100000, 60, "×", _("the virtual charger runs the macro this many times "
+                                                           "faster than real time (changes at once)"))
         self.v_speed.setObjectName("virtualSpeed")
         self.v_speed.setMaximumWidth(FIELD_WIDTH)
-        self.rate = field_spin(1, 50, 10, " Hz", "telemetry frames per second the charger sends")
+        self.rate = field_spin(1, 50, 10, " Hz", _("telemetry frames per second the charger sends"))
         self.rate.setObjectName("telemetryRate")
         self.virtual_box = QWidget()
         vrow = QHBoxLayout(self.virtual_box)
         vrow.setContentsMargins(0, 0, 0, 0)
         vrow.setSpacing(4)
-        for w in (QLabel("Battery"), self.v_chem, self.v_mah, self.v_cells, QLabel("Passport"), self.v_passport,
-                  QLabel("Speed"), self.v_speed):
+        for w in (QLabel(_("Pack")), self.v_chem, self.v_mah, self.v_cells, QLabel(_("Passport")), self.v_passport,
+                  QLabel(_("Speed")), self.v_speed):
             vrow.addWidget(w)
         second = QHBoxLayout()
         second.setContentsMargins(0, 0, 0, 0)
         second.setSpacing(6)
         self.info_label = ElidedLabel("")
         self.info_label.setObjectName("deviceInfo")
-        self.info_label.setStyleSheet(f"color:{colour(self, 'info')};")
+        tint(self.info_label, "info")
         for box in (self.v_mah, self.v_cells):
             box.setMinimumWidth(box.sizeHint().width())     # the note gives way, not the numbers
         self.battery_note = ElidedLabel("")
@@ -130,7 +134,7 @@ class ConnectionBar(QWidget):
         vrow.insertWidget(4, self.battery_note, 1)
         second.addWidget(self.virtual_box, 2)
         second.addWidget(self.info_label, 3)
-        second.addWidget(QLabel("Telemetry"))
+        second.addWidget(QLabel(_("Telemetry")))
         second.addWidget(self.rate)
 
         layout = QVBoxLayout(self)
@@ -144,7 +148,7 @@ class ConnectionBar(QWidget):
         from ...sim.batteries import battery_names
         for name in battery_names():
             if self.v_chem.findData(NAMED_BATTERY + name) < 0:
-                self.v_chem.addItem(f"{name} (fitted)", NAMED_BATTERY + name)
+                self.v_chem.addItem(_("{name} (fitted)").format(name=name), NAMED_BATTERY + name)
 
     def virtual_battery(self, record: bytes | None, entered_mah: int, entered_cells: int) -> str:
         """``CHEM:MAH:CELLS`` for the built-in virtual charger; ``battery:NAME`` for a saved fitted
@@ -155,7 +159,7 @@ class ConnectionBar(QWidget):
         chem = self.v_chem.currentData()
         from_macro = chem is None
         if isinstance(chem, str) and chem.startswith(NAMED_BATTERY):
-            self.battery_note.set_full_text("capacity and cells: the fitted battery's")
+            self.battery_note.set_full_text(_("capacity and cells: the fitted battery's"))
             return chem
         if not from_macro:
             self.battery_note.set_full_text("")
@@ -164,10 +168,76 @@ class ConnectionBar(QWidget):
         chem = akk if akk in chemistry_names() else DEFAULT_BATTERY[0]
         mah_used = mah or entered_mah or self.v_mah.value()
         cells_used = cells or entered_cells or self.v_cells.value()
-        def source(declared) -> str:
-            return "the macro's" if declared else "as entered for the run"
+        macro, entered = _("the macro's"), _("as entered for the run")
         self.battery_note.set_full_text(
-            f"{chem} {cells_used}S {mah_used} mAh: chemistry "
-            + ("the macro's" if akk in chemistry_names() else "NiMh (the macro names none)")
-            + f", cells {source(cells)}, capacity {source(mah)}")
+            _("{chem} {cells}S {mah} mAh: chemistry {chem_source}, cells {cells_source}, capacity {mah_source}").format(
+                chem=chem, cells=cells_used, mah=mah_used,
+                chem_source=macro if akk in chemistry_names() else _("NiMh (the macro names none)"),
+                cells_source=macro if cells else entered, mah_source=macro if mah else entered))
         return f"{chem}:{mah_used}:{cells_used}"
+
+    def monitor_driver(self, target: str) -> str | None:
+        """The driver to watch ``target`` with, or None to talk to a ZUML charger there."""
+        driver = self.driver_combo.currentData() or AUTO
+        if target.startswith("hid:"):
+            # ZUML chargers are serial: a HID charger is watched with its chosen driver, or by its USB ids
+            return driver if driver in DRIVERS else AUTO
+        return driver if target != VIRTUAL and driver in DRIVERS else None
+
+    def virtual_spec(self, battery: str, eeprom: Path) -> VirtualSpec:
+        """The built-in virtual charger as chosen here, with ``battery`` and its EEPROM file."""
+        return VirtualSpec(battery, float(self.v_speed.value()), self.v_passport.currentData() or MATCH, eeprom)
+
+    # -- the connected charger ----------------------------------------------------------------
+    def set_link_state(self, state: str, monitoring: bool, shut: bool) -> None:
+        """What may change in this state ("disconnected", "connecting", "connected")."""
+        free = state == "disconnected" and not monitoring
+        self.connect_button.setText(_("Connect") if free else _("Disconnect"))
+        self.connect_button.setEnabled(not shut and state != "disconnecting")
+        self.replay_button.setEnabled(free and not shut)
+        self.driver_combo.setEnabled(free and not self.ports.is_virtual())
+        for w in (self.ports, self.v_chem, self.v_mah, self.v_cells, self.v_passport):
+            w.setEnabled(free)
+        self.rate.setEnabled(not monitoring)
+        self.virtual_box.setVisible(self.ports.is_virtual())
+
+    def show_charger(self, opened) -> None:
+        """What a ZUML charger said about itself (``connection.Opened``)."""
+        info = opened.info
+        where = _("built-in virtual charger") if opened.virtual else opened.url
+        limits = _("charge {ca:g} A/{cw:g} W, discharge {da:g} A/{dw:g} W, {v:g} V max").format(
+            ca=info.max_charge_a, cw=info.max_charge_w, da=info.max_discharge_a, dw=info.max_discharge_w,
+            v=info.max_v)
+        tint(self.info_label, "info")
+        self.info_label.set_full_text(_("{model} · {firmware} · EEPROM {size} bytes · {limits}").format(
+            model=info.model, firmware=info.firmware, size=info.eeprom_size, limits=limits))
+        self.info_label.setToolTip(
+            _("{where}: {model}, firmware {firmware}, protocol {protocol}").format(
+                where=where, model=info.model, firmware=info.firmware, protocol=info.protocol) + "\n"
+            + _("EEPROM {size} bytes; {limits}").format(size=info.eeprom_size, limits=limits) + "\n"
+            + _("{hz} telemetry frames/s").format(hz=opened.telemetry_hz))
+
+    def show_monitor(self, link) -> None:
+        """A monitor-only charger's link (``device.monitor_link.MonitorLink``, None: none): what it
+        is, its counts."""
+        if link is None:
+            return
+        name = _(link.driver.title) if link.driver else _("recognising…")
+        self.info_label.set_full_text(_("{name} · monitor-only · {good} records · {bad} bad").format(
+            name=name, good=link.good, bad=link.bad))
+        self.info_label.setToolTip(
+            _("{port}: {name}").format(port=link.port, name=name) + "\n"
+            + _("{good} records decoded; {bad} bad (checksum, torn line or garbage: counted, never plotted)")
+            .format(good=link.good, bad=link.bad))
+        tint(self.info_label, "warn" if link.bad else "info")
+
+    def show_disconnected(self) -> None:
+        tint(self.info_label, "info")
+        self.info_label.set_full_text(_("not connected"))
+
+    def ask_recording(self) -> str:
+        """The recording to replay ("" if the user cancels)."""
+        path, _filter = QFileDialog.getOpenFileName(
+            self, _("Replay a charger recording"), "",
+            _("Recordings (*.txt *.log *.bin *.hex *.csv);;All files (*)"))
+        return path

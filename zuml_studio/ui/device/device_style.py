@@ -1,8 +1,14 @@
-"""What the device panel's parts share: message colours, headings, rules and form fields."""
+"""What the device panel's parts share: message colours, headings, rules, form fields, elided labels and
+the controls' scroll area."""
 from __future__ import annotations
 
-from PySide6.QtCore import Qt
-from PySide6.QtWidgets import QDoubleSpinBox, QFrame, QLabel, QSizePolicy, QSpinBox, QWidget
+import weakref
+
+from PySide6.QtCore import QEvent, Qt
+from PySide6.QtGui import QPalette
+from PySide6.QtWidgets import (QApplication, QComboBox, QDoubleSpinBox, QFrame, QHBoxLayout, QLabel, QScrollArea,
+                               QSizePolicy, QSpinBox, QStyle, QStyleOptionComboBox, QStylePainter, QToolTip,
+                               QVBoxLayout, QWidget)
 
 from .. import theme
 from ..number_boxes import double_spin_box, form_field, spin_box
@@ -17,6 +23,46 @@ def colour(widget: QWidget, kind: str) -> str:
     return {"ok": c.ok, "error": c.error, "warn": c.warning}.get(kind, c.muted)
 
 
+class _Tints:
+    """Gives each tinted widget its colour again when the application's palette changes (light
+    <-> dark): a widget with a style sheet gets no PaletteChange of its own."""
+
+    def __init__(self):
+        self.widgets: weakref.WeakSet = weakref.WeakSet()
+        QApplication.instance().paletteChanged.connect(self._recolour)
+
+    def _recolour(self, _palette=None) -> None:
+        for widget in list(self.widgets):
+            try:
+                _apply_tint(widget)
+            except RuntimeError:        # its C++ side is gone
+                self.widgets.discard(widget)
+
+
+_tints: _Tints | None = None
+
+
+def _apply_tint(widget: QWidget) -> None:
+    kind = widget.property("tint")
+    c = theme.colours(QApplication.palette())
+    hue = {"ok": c.ok, "error": c.error, "warn": c.warning, "none": ""}.get(kind, c.muted)
+    sheet = f"color:{hue};" if hue else ""
+    if widget.styleSheet() != sheet:        # a new sheet re-polishes the widget: only when it changes
+        widget.setStyleSheet(sheet)
+
+
+def tint(widget: QWidget, kind: str) -> None:
+    """Draw ``widget``'s text in the colour of ``kind`` ("info", "ok", "error", "warn"; "none":
+    the palette's own), from the application palette's light or dark set, now and after the
+    palette changes."""
+    global _tints
+    if _tints is None:
+        _tints = _Tints()
+    _tints.widgets.add(widget)
+    widget.setProperty("tint", kind)
+    _apply_tint(widget)
+
+
 def heading(text: str) -> QLabel:
     label = QLabel(text)
     font = label.font()
@@ -26,10 +72,11 @@ def heading(text: str) -> QLabel:
 
 
 def vline() -> QFrame:
+    """A thin rule between the columns, in the palette's own mid tone (light or dark)."""
     line = QFrame()
     line.setFrameShape(QFrame.Shape.VLine)
     line.setFrameShadow(QFrame.Shadow.Plain)
-    line.setStyleSheet("color:#d8d8d8;")
+    line.setForegroundRole(QPalette.ColorRole.Mid)
     return line
 
 
@@ -39,6 +86,38 @@ def field_spin(*args) -> QSpinBox:
 
 def field_double(*args) -> QDoubleSpinBox:
     return form_field(double_spin_box(*args), min_width=60)
+
+
+class ElidedCombo(QComboBox):
+    """A combo box whose closed face elides a choice too long for it ("Junsi iCharger (106B/…"),
+    its whole text then heading the tooltip; the list shows every choice whole."""
+
+    def elided(self) -> bool:
+        return self._face()[1]
+
+    def _face(self) -> tuple[str, bool]:
+        opt = QStyleOptionComboBox()
+        self.initStyleOption(opt)
+        room = self.style().subControlRect(QStyle.ComplexControl.CC_ComboBox, opt,
+                                           QStyle.SubControl.SC_ComboBoxEditField, self).width()
+        text = self.currentText()
+        shown = self.fontMetrics().elidedText(text, Qt.TextElideMode.ElideRight, max(10, room - 2))
+        return shown, shown != text
+
+    def paintEvent(self, event) -> None:  # noqa: N802
+        painter = QStylePainter(self)
+        opt = QStyleOptionComboBox()
+        self.initStyleOption(opt)
+        opt.currentText = self._face()[0]
+        painter.drawComplexControl(QStyle.ComplexControl.CC_ComboBox, opt)
+        painter.drawControl(QStyle.ControlElement.CE_ComboBoxLabel, opt)
+
+    def event(self, event) -> bool:  # noqa: A003
+        if event.type() == QEvent.Type.ToolTip and self.elided():
+            tip = self.toolTip()
+            QToolTip.showText(event.globalPos(), self.currentText() + ("\n\n" + tip if tip else ""), self)
+            return True
+        return super().event(event)
 
 
 class ElidedLabel(QLabel):
@@ -68,3 +147,60 @@ class ElidedLabel(QLabel):
     def _elide(self) -> None:
         width = max(10, self.width() - 2)
         super().setText(self.fontMetrics().elidedText(self._full, self._mode, width))
+
+
+class ControlsScroll(QScrollArea):
+    """The controls in two narrow columns (what is on the charger; the run and the passport),
+    preferring the width its columns want (QScrollArea caps its size hint at 36 lines of text,
+    which would squeeze the fields), and scrolling vertically only when the dock is too low."""
+
+    def __init__(self, charger: QWidget, run: QWidget, passport: QWidget, parent: QWidget | None = None):
+        super().__init__(parent)
+        col_b = QWidget()
+        col_b.setObjectName("runColumn")
+        b = QVBoxLayout(col_b)
+        b.setContentsMargins(0, 0, 0, 0)
+        b.setSpacing(3)
+        b.addWidget(run)
+        b.addWidget(passport)
+        b.addStretch(1)
+        columns = QWidget()
+        cols = QHBoxLayout(columns)
+        cols.setContentsMargins(0, 0, 4, 0)
+        cols.setSpacing(10)
+        cols.addWidget(charger, 10)
+        cols.addWidget(vline())
+        cols.addWidget(col_b, 11)
+        self.setObjectName("deviceControls")
+        self.setWidget(columns)
+        self.setWidgetResizable(True)
+        self.setFrameShape(QFrame.Shape.NoFrame)
+        self.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        # At least this narrow-column width, and never narrower than the texts (Russian runs longer).
+        charger.setMinimumWidth(max(215, charger.minimumSizeHint().width()))
+        col_b.setMinimumWidth(max(265, col_b.minimumSizeHint().width()))
+        self.setMinimumWidth(columns.minimumSizeHint().width() + 14)
+
+    def sizeHint(self):  # noqa: N802
+        hint = super().sizeHint()
+        widget = self.widget()
+        if widget is not None:
+            hint.setWidth(widget.sizeHint().width() + self.verticalScrollBar().sizeHint().width()
+                          + 2 * self.frameWidth())
+        return hint
+
+
+class MessageLine(QLabel):
+    """The panel's message line: the last thing that happened, coloured by its kind."""
+
+    def __init__(self, parent: QWidget | None = None):
+        super().__init__("", parent)
+        self.setObjectName("deviceMessage")
+        self.setWordWrap(True)
+        self.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+        self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Preferred)
+
+    def say(self, text: str, kind: str = "info") -> None:
+        self.setText(text)
+        tint(self, kind)
+        self.setToolTip(text if len(text) > 80 else "")

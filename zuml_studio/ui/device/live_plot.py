@@ -27,6 +27,7 @@ import numpy as np
 import pyqtgraph as pg
 from PySide6.QtCore import QTimer, Signal
 
+from ...i18n import _
 from ..plot_backdrop import BackdropItem, over_paper
 from ..stacked_plot import (BAND_ALPHA, BATTERY_T_PEN, CURRENT_PEN, HEATSINK_T_PEN, LABEL_COLOR,
                             VOLTAGE_PEN, WARNING_COLOR, StackedPlot, band_label, band_rgb)
@@ -107,10 +108,10 @@ class LiveSeries:
             elif ev.kind == "phase_end":
                 for p in reversed(self.phases):
                     if not p.closed and p.section == ev.section and p.index == ev.index:
-                        p.end_s, p.reason, p.closed = max(x, p.start_s), ev.detail or "ended", True
+                        p.end_s, p.reason, p.closed = max(x, p.start_s), ev.detail or _("ended"), True
                         break
             elif ev.kind == "finish":
-                self._close_open(x, ev.detail or "finished")
+                self._close_open(x, ev.detail or _("finished"))
             else:
                 return
             self.phase_version += 1
@@ -172,15 +173,15 @@ class LivePlot(StackedPlot):
         self._legend_timer.timeout.connect(self._place_legends)
         self.redraws = 0
         self.curves = {
-            "voltage": self._curve(self.vplot, VOLTAGE_PEN, "pack voltage"),
-            "current": self._curve(self.iplot, CURRENT_PEN, "+ charge, − discharge"),
-            "temp": self._curve(self.tplot, BATTERY_T_PEN, "battery", connect="finite"),
-            "heatsink": self._curve(self.tplot, HEATSINK_T_PEN, "heat sink", connect="finite"),
+            "voltage": self._curve(self.vplot, VOLTAGE_PEN, _("pack voltage")),
+            "current": self._curve(self.iplot, CURRENT_PEN, _("+ charge, − discharge")),
+            "temp": self._curve(self.tplot, BATTERY_T_PEN, _("battery"), connect="finite"),
+            "heatsink": self._curve(self.tplot, HEATSINK_T_PEN, _("heat sink"), connect="finite"),
         }
         self.band_items = [BackdropItem(plot, self.time_axis) for plot in self.plots]
         for plot, item in zip(self.plots, self.band_items):
             plot.addItem(item, ignoreBounds=True)
-        self.set_placeholder("not connected: pick a port and Connect")
+        self.set_placeholder(_("not connected: pick a port and Connect"))
         for legend in self.legends.values():
             legend.setVisible(False)
         for plot in self.plots:
@@ -188,6 +189,9 @@ class LivePlot(StackedPlot):
         self.tplot.setXRange(0.0, MIN_VIEW_S * 10, padding=0)
         self.vplot.sigXRangeChanged.connect(self._view_changed)
         self.vplot.vb.sigResized.connect(self._view_changed)
+        for plot in self.plots:
+            # The y ranges follow the data after a redraw: the legends are placed again then.
+            plot.sigYRangeChanged.connect(self._legends_later)
         for plot in self.plots:
             plot.vb.sigRangeChangedManually.connect(self._user_moved)
         self.scene().sigMouseClicked.connect(self._scene_clicked)
@@ -383,8 +387,7 @@ class LivePlot(StackedPlot):
 
     @staticmethod
     def _tip(p: LivePhase) -> str:
-        state = "" if p.closed else " (running)"
-        return f"{band_label(p)}{state}"
+        return band_label(p) if p.closed else _("{phase} (running)").format(phase=band_label(p))
 
     def _grow_open_bands(self, last_x: float) -> None:
         for k, p in enumerate(self._phases):
@@ -411,6 +414,9 @@ class LivePlot(StackedPlot):
         self._fit_live_voltage()
         self._place_labels()
         self._place_placeholder()
+        self._legends_later()
+
+    def _legends_later(self, *_) -> None:
         if not self._legend_timer.isActive():
             self._legend_timer.start()
 

@@ -1,51 +1,62 @@
 """The live view: the readout of the newest frame (two lines over the plot), following the last minutes, All, Clear,
-and the live plot below them."""
+the run chooser and the live plot below them. It owns the runs: the current one's series (telemetry goes
+into it from the reader thread) and up to ``KEEP_RUNS`` earlier ones."""
 from __future__ import annotations
 
-from PySide6.QtCore import Qt, Signal
+from PySide6.QtCore import QEvent, Qt, Signal
 from PySide6.QtWidgets import QCheckBox, QComboBox, QHBoxLayout, QLabel, QSizePolicy, QToolButton, QVBoxLayout, QWidget
 
+from ...i18n import N_, _
+from .. import theme
 from ..plot_cursor import CursorReadout
-from .device_style import field_spin
+from .device_style import ElidedCombo, field_spin
 from .live_plot import DEFAULT_FOLLOW_MIN, LivePlot, LiveSeries
 
 
-RUNS_TIP = "Each Start begins a new run, plotted from 0; earlier runs stay here to look at"
+RUNS_TIP = N_("Each Start begins a new run, plotted from 0; earlier runs stay here to look at")
+KEEP_RUNS = 10          # earlier runs kept for the run chooser (the session CSV keeps them all)
 
 
 class LiveView(QWidget):
     runChosen = Signal(int)             # index in the run chooser (the last: the current run)
 
-    def __init__(self, series: LiveSeries, parent: QWidget | None = None):
+    def __init__(self, parent: QWidget | None = None):
         super().__init__(parent)
-        self.plot = LivePlot(series)
+        self.series = LiveSeries()
+        self.runs: list[tuple[str, LiveSeries]] = []             # earlier runs, oldest first
+        self._before_run: tuple[str, LiveSeries] | None = None   # the run a pending START replaced
+        self.start_frames = 0               # frames of the series before the last START or STOP
+        self._finished_seen = 0
+        self._shown = None                  # the frame the readout shows
+        self.plot = LivePlot(self.series)
         self.plot.setMinimumWidth(280)
         self.readings = QLabel("")
         self.readings.setObjectName("readings")
         self.readings.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
         self.readings.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
         self.readings.setText("<br>")      # its two lines from the start: the plot does not jump at the first frame
-        self.follow = QCheckBox("Follow last")
+        self.follow = QCheckBox(_("Follow last"))
         self.follow.setObjectName("followCheck")
         self.follow.setChecked(True)
-        self.follow.setToolTip("Keep the newest minutes in view; zooming or panning the plot turns this off")
-        self.follow_minutes = field_spin(1, 24 * 60, DEFAULT_FOLLOW_MIN, " min", "how much of the run to keep in view")
+        self.follow.setToolTip(_("Keep the newest minutes in view; zooming or panning the plot turns this off"))
+        self.follow_minutes = field_spin(1, 24 * 60, DEFAULT_FOLLOW_MIN, " min",
+                                         _("how much of the run to keep in view"))
         self.follow_minutes.setMaximumWidth(80)
         self.all_button = QToolButton()
-        self.all_button.setText("All")
-        self.all_button.setToolTip("Show the whole session (stops following)")
+        self.all_button.setText(_("All"))
+        self.all_button.setToolTip(_("Show the whole session (stops following)"))
         self.clear_button = QToolButton()
-        self.clear_button.setText("Clear")
-        self.clear_button.setToolTip("Forget the plotted session (the session CSV keeps everything)")
-        self.run_choice = QComboBox()
+        self.clear_button.setText(_("Clear"))
+        self.clear_button.setToolTip(_("Forget the plotted session (the session CSV keeps everything)"))
+        self.run_choice = ElidedCombo()
         self.run_choice.setObjectName("runChoice")
-        self.run_choice.setToolTip(RUNS_TIP)
+        self.run_choice.setToolTip(_(RUNS_TIP))
         # Narrow (the readout needs the room); the list shows the runs' whole names.
         self.run_choice.setSizeAdjustPolicy(QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
         self.run_choice.setMinimumContentsLength(6)
         self.run_choice.setVisible(False)
         self.run_choice.activated.connect(self.runChosen)
-        self.run_choice.currentTextChanged.connect(lambda text: self.run_choice.setToolTip(f"{text}\n{RUNS_TIP}"))
+        self.run_choice.currentTextChanged.connect(lambda text: self.run_choice.setToolTip(f"{text}\n{_(RUNS_TIP)}"))
         plot_bar = QHBoxLayout()
         plot_bar.setContentsMargins(4, 0, 0, 0)
         plot_bar.setSpacing(4)
@@ -67,6 +78,7 @@ class LiveView(QWidget):
         self.follow_minutes.valueChanged.connect(lambda v: self.plot.set_follow(self.plot.follow, v))
         self.plot.followChanged.connect(self._plot_follow_changed)
         self.all_button.clicked.connect(self._show_all)
+        self.runChosen.connect(self._run_chosen)
 
     def _cursor_samples(self):
         """The drawn session's samples under the cursor readout's names."""
@@ -74,18 +86,26 @@ class LiveView(QWidget):
         return cols["t"], {"voltage_v": cols["voltage"], "current_a": cols["current"], "temp_c": cols["temp"]}
 
     def show_readings(self, tel) -> None:
-        """The newest frame's values, in the plot's colours."""
+        """The newest frame's values, in the plot's hues from the palette's colour set (light or dark)."""
+        self._shown = tel
+        hue = theme.colours(self.palette()).quantities
         t = "—" if tel.temp_c is None else f"{tel.temp_c:.1f} °C"
         tc = "—" if tel.heatsink_c is None else f"{tel.heatsink_c:.1f} °C"
+        amounts = _("charged in {mah_in} mAh · discharged out {mah_out} mAh").format(
+            mah_in=f"{tel.mah_in:.0f}", mah_out=f"{tel.mah_out:.0f}")
         self.readings.setText(
-            f"<span style='color:#1f4e9c;'><b>{tel.voltage_v:.3f} V</b></span>&nbsp;&nbsp;"
-            f"<span style='color:#23803a;'><b>{tel.current_a:+.3f} A</b></span>&nbsp;&nbsp;"
-            f"<span style='color:#d0481c;'>T {t}</span>&nbsp;&nbsp;"
-            f"<span style='color:#7b5ea7;'>Tc {tc}</span><br>"
-            f"charged in {tel.mah_in:.0f} mAh · discharged out {tel.mah_out:.0f} mAh")
+            f"<span style='color:{hue['voltage']};'><b>{tel.voltage_v:.3f} V</b></span>&nbsp;&nbsp;"
+            f"<span style='color:{hue['current']};'><b>{tel.current_a:+.3f} A</b></span>&nbsp;&nbsp;"
+            f"<span style='color:{hue['temp']};'>T {t}</span>&nbsp;&nbsp;"
+            f"<span style='color:{hue['heatsink']};'>Tc {tc}</span><br>{amounts}")
         # Two lines in a row of its own: whole at 1366 px; the tooltip says what T and Tc are.
-        self.readings.setToolTip(f"{tel.voltage_v:.3f} V · {tel.current_a:+.3f} A · battery T {t} · heat sink "
-                                 f"Tc {tc} · charged in {tel.mah_in:.0f} mAh · discharged out {tel.mah_out:.0f} mAh")
+        self.readings.setToolTip(_("{v} V · {a} A · battery T {t} · heat sink Tc {tc} · {amounts}").format(
+            v=f"{tel.voltage_v:.3f}", a=f"{tel.current_a:+.3f}", t=t, tc=tc, amounts=amounts))
+
+    def changeEvent(self, event) -> None:  # noqa: N802
+        super().changeEvent(event)
+        if event.type() == QEvent.Type.PaletteChange and self._shown is not None:
+            self.show_readings(self._shown)
 
     def set_runs(self, labels: list[str]) -> None:
         """The runs of the session, the current one last (and chosen); shown from the second run."""
@@ -97,7 +117,7 @@ class LiveView(QWidget):
             self.run_choice.setItemData(i, label, Qt.ItemDataRole.ToolTipRole)
         self.run_choice.blockSignals(False)
         self.run_choice.setVisible(len(labels) > 1)
-        self.run_choice.setToolTip(f"{labels[-1]}\n{RUNS_TIP}" if labels else RUNS_TIP)
+        self.run_choice.setToolTip(f"{labels[-1]}\n{_(RUNS_TIP)}" if labels else _(RUNS_TIP))
 
     def follow_again(self) -> None:
         if not self.plot.follow:
@@ -112,3 +132,67 @@ class LiveView(QWidget):
     def _show_all(self) -> None:
         self.follow.setChecked(False)
         self.plot.show_all()
+
+    # -- runs ---------------------------------------------------------------------------------
+    def new_run(self, current_name: str) -> None:
+        """A START makes a new session of the plot (its axis from 0); the run before it (of the
+        macro ``current_name``) is kept."""
+        if len(self.series) == 0 and not self.series.events:
+            return
+        self._before_run = (current_name, self.series)
+        self.runs = (self.runs + [self._before_run])[-KEEP_RUNS:]
+        self.series = LiveSeries()
+        self._finished_seen = 0
+        self.start_frames = 0
+        self.plot.set_series(self.series)
+        self._show_runs(current_name)
+
+    def undo_new_run(self) -> str | None:
+        """START did not start: show the run before it again, as the current one; returns its
+        macro's name (None: nothing to undo)."""
+        before, self._before_run = self._before_run, None
+        if before is None or len(self.series):
+            return None
+        self.runs = [r for r in self.runs if r is not before]
+        name, self.series = before
+        self._finished_seen = len(self.series.events)
+        self.start_frames = self.series.frames
+        self.plot.set_series(self.series)
+        self._show_runs(name)
+        return name
+
+    def run_started(self, name: str, cells: int) -> None:
+        self._before_run = None
+        self.mark_start()
+        self._show_runs(name)
+        self.plot.set_series_count(cells)
+        self.follow_again()
+
+    def mark_start(self) -> None:
+        """Frames from now on tell whether the macro runs (older ones may still say it does)."""
+        self.start_frames = self.series.frames
+
+    def fresh_telemetry(self):
+        """The newest frame if it came after the last START or STOP, else None."""
+        tel = self.series.last_telemetry
+        return tel if tel is not None and self.series.frames > self.start_frames else None
+
+    def new_finishes(self) -> list:
+        """The run's finish events not asked for before."""
+        with self.series.lock:
+            events = self.series.events[self._finished_seen:]
+            self._finished_seen = len(self.series.events)
+        return [ev for _t, ev in events if ev.kind == "finish"]
+
+    def _show_runs(self, current_name: str) -> None:
+        labels = [_("Run {n}: {name}").format(n=i + 1, name=name or "?") for i, (name, _s) in enumerate(self.runs)]
+        labels.append(_("Run {n}: {name} (now)").format(n=len(self.runs) + 1, name=current_name or "?"))
+        self.set_runs(labels)
+
+    def _run_chosen(self, index: int) -> None:
+        series = self.runs[index][1] if index < len(self.runs) else self.series
+        if series is not self.plot.series:
+            self.plot.set_series(series)
+            if series is not self.series:
+                self.follow.setChecked(False)
+                self.plot.show_all()

@@ -13,10 +13,12 @@ from PySide6.QtCore import QObject, QRunnable, QThreadPool, QTimer, Signal
 from PySide6.QtWidgets import QComboBox, QHBoxLayout, QLineEdit, QSizePolicy, QWidget
 
 from ...device.ports import VIRTUAL, PortInfo, list_ports
+from ...i18n import N_, _
+from .device_style import ElidedCombo
 
 log = logging.getLogger(__name__)
 
-VIRTUAL_LABEL = "Virtual charger (built-in)"
+VIRTUAL_LABEL = N_("Virtual charger (built-in)")
 BAUDS = (9600, 19200, 38400, 57600, 115200, 128000, 230400, 460800, 921600)
 DEFAULT_BAUD = 115200
 REFRESH_MS = 2000
@@ -60,19 +62,19 @@ class PortChooser(QWidget):
         self.auto_refresh = True
         self.scans = 0
 
-        self.combo = QComboBox()
+        self.combo = ElidedCombo()
         self.combo.setObjectName("portCombo")
-        self.combo.addItem(VIRTUAL_LABEL, VIRTUAL)
-        self.combo.setToolTip("The charger's port. The built-in virtual charger runs the simulator behind a "
-                              "real serial line (a pty), so everything works without hardware.")
+        self.combo.addItem(_(VIRTUAL_LABEL), VIRTUAL)
+        self.combo.setToolTip(_("The charger's port. The built-in virtual charger runs the simulator behind a "
+                                "real serial line (a pty), so everything works without hardware."))
         self.combo.setSizeAdjustPolicy(QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
         self.combo.setMinimumContentsLength(16)
         self.combo.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
         self.url = QLineEdit()
         self.url.setObjectName("portUrl")
-        self.url.setPlaceholderText("or a port / URL: socket://127.0.0.1:7777")
-        self.url.setToolTip("A port path or URL to use instead of the list: /dev/ttyUSB0, COM3, /dev/pts/3 "
-                            "(a `zuml virtual-charger`), socket://127.0.0.1:7777. Empty: use the list.")
+        self.url.setPlaceholderText(_("or a port / URL: {example}").format(example="socket://127.0.0.1:7777"))
+        self.url.setToolTip(_("A port path or URL to use instead of the list: {examples}. Empty: use the list.").format(
+            examples="/dev/ttyUSB0, COM3, /dev/pts/3 (`zuml virtual-charger`), socket://127.0.0.1:7777"))
         self.url.setClearButtonEnabled(True)
         self.url.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
         self.baud = QComboBox()
@@ -80,7 +82,7 @@ class PortChooser(QWidget):
         for b in BAUDS:
             self.baud.addItem(str(b), b)
         self.baud.setCurrentIndex(BAUDS.index(DEFAULT_BAUD))
-        self.baud.setToolTip("Baud rate (8N1). ZUML chargers use 115200.")
+        self.baud.setToolTip(_("Baud rate (8N1). ZUML chargers use 115200."))
 
         layout = QHBoxLayout(self)
         layout.setContentsMargins(0, 0, 0, 0)
@@ -90,8 +92,8 @@ class PortChooser(QWidget):
         layout.addWidget(self.baud, 0)
 
         self.combo.activated.connect(self._picked)
-        self.combo.currentIndexChanged.connect(lambda _: self.changed.emit())
-        self.url.textChanged.connect(lambda _: self.changed.emit())
+        self.combo.currentIndexChanged.connect(lambda _value: self.changed.emit())
+        self.url.textChanged.connect(lambda _value: self.changed.emit())
         self._timer = QTimer(self, interval=REFRESH_MS)
         self._timer.timeout.connect(self._tick)
 

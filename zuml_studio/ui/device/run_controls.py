@@ -1,67 +1,90 @@
 """The run: which slot, the task and the values entered at start, Start/Stop and the run's
-state. It owns the start parameters."""
+state. It owns the start parameters, the macro started last and whether it runs."""
 from __future__ import annotations
 
+from PySide6.QtCore import QEventLoop, QTimer, Signal
 from PySide6.QtWidgets import QCheckBox, QComboBox, QGridLayout, QHBoxLayout, QLabel, QPushButton, QVBoxLayout, QWidget
 
+from ...device.passport import fitness_warnings
+from ...i18n import N_, _
 from ...lang.eeprom import Slot
-from .device_style import DEFAULT_BATTERY, ElidedLabel, field_double, field_spin, heading
+from ...safety import record_problems
+from ...sim.start_check import start_warnings
+from ..timefmt import hmmss
+from . import unsafe_dialog
+from .connection import DeviceConnection, describe_error
+from .device_style import DEFAULT_BATTERY, ElidedCombo, ElidedLabel, field_double, field_spin, heading
 
-START_TIP = "Check the battery's passport, then start the slot's macro"
-TASKS = (("charge", "Charge"), ("discharge", "Discharge"), ("train", "Train"))
+START_TIP = N_("Check the battery's passport, then start the slot's macro")
+TASKS = (("charge", N_("Charge")), ("discharge", N_("Discharge")), ("train", N_("Train")))
 
 
 class RunControls(QWidget):
-    def __init__(self, parent: QWidget | None = None):
+    message = Signal(str, str)                  # text, kind
+    startFinished = Signal(bool, str)           # START done (or refused: the reasons)
+    operationFinished = Signal(str, bool, str)  # "stop", ok, message
+    runStarting = Signal()                      # a START goes out: a new run begins
+    runUndone = Signal()                        # ... and did not start
+    runStarted = Signal(str, int)               # the macro's name, the cells entered (1 if none)
+    passportRead = Signal(object)               # the passport START read (None: no chip)
+    stopping = Signal()                         # STOP goes out
+    changed = Signal()                          # what may be enabled changed
+
+    def __init__(self, connection: DeviceConnection, parent: QWidget | None = None):
         super().__init__(parent)
-        self.run_slot = QComboBox()
+        self.connection = connection
+        self.slots: list[Slot] = []
+        self.run_name = ""                      # the macro started last
+        self.running = False                    # it runs (started here, or the newest frame says so)
+        self.charger_max_a: float | None = None
+        self.run_slot = ElidedCombo()
         self.run_slot.setObjectName("runSlot")
-        self.run_slot.setToolTip("The slot to start (default: the macro just flashed)")
+        self.run_slot.setToolTip(_("The slot to start (default: the macro just flashed)"))
         self.task = QComboBox()
         self.task.setObjectName("runTask")
         for key, text in TASKS:
-            self.task.addItem(text, key)
-        self.task.setToolTip("charge, discharge, or training (discharge + charge, repeated)")
-        self.capacity = field_spin(10, 65000, DEFAULT_BATTERY[1], " mAh", "the capacity entered at start")
+            self.task.addItem(_(text), key)
+        self.task.setToolTip(_("charge, discharge, or training (discharge + charge, repeated)"))
+        self.capacity = field_spin(10, 65000, DEFAULT_BATTERY[1], " mAh", _("the capacity entered at start"))
         self.capacity.setSingleStep(100)
-        self.current = field_double(0.0, 50.0, 2.0, " A", 2, 0.1, "the current entered at start "
-                                    "(CONSTANT_I=INPUT; limits a CONSTANT_V phase); — none")
+        self.current = field_double(0.0, 50.0, 2.0, " A", 2, 0.1, _("the current entered at start "
+                                    "(CONSTANT_I=INPUT; limits a CONSTANT_V phase); — none"))
         self.current.setSpecialValueText("—")
-        self.series_spin = field_spin(0, 255, DEFAULT_BATTERY[2], " cells", "cells in series entered at start; "
-                                      "— none")
+        self.series_spin = field_spin(0, 255, DEFAULT_BATTERY[2], _(" cells"), _("cells in series entered at start; "
+                                      "— none"))
         self.series_spin.setSpecialValueText("—")
-        self.voltage = field_double(0.0, 65.0, 0.0, " V", 2, 0.1, "the voltage entered at start (INPUT); — none")
+        self.voltage = field_double(0.0, 65.0, 0.0, " V", 2, 0.1, _("the voltage entered at start (INPUT); — none"))
         self.voltage.setSpecialValueText("—")
-        self.repetitions = field_spin(1, 255, 1, "", "training: discharge+charge this many times")
+        self.repetitions = field_spin(1, 255, 1, "", _("training: discharge+charge this many times"))
         self.repetitions.setPrefix("× ")
-        self.sensor = QCheckBox("T sensor")
+        self.sensor = QCheckBox(_("T sensor"))
         self.sensor.setObjectName("runSensor")
         self.sensor.setChecked(True)
-        self.sensor.setToolTip("a battery temperature sensor is connected")
-        self.start_button = QPushButton("Start")
+        self.sensor.setToolTip(_("a battery temperature sensor is connected"))
+        self.start_button = QPushButton(_("Start"))
         self.start_button.setObjectName("startButton")
-        self.start_button.setToolTip(START_TIP)
-        self.stop_button = QPushButton("Stop")
+        self.start_button.setToolTip(_(START_TIP))
+        self.stop_button = QPushButton(_("Stop"))
         self.stop_button.setObjectName("stopButton")
-        self.stop_button.setToolTip("Stop the running macro")
+        self.stop_button.setToolTip(_("Stop the running macro"))
         self.run_label = ElidedLabel("")
         self.run_label.setObjectName("runState")
 
         b = QVBoxLayout(self)
         b.setContentsMargins(0, 0, 0, 0)
         b.setSpacing(3)
-        b.addWidget(heading("Run"))
+        b.addWidget(heading(_("Run")))
         grid = QGridLayout()
         grid.setHorizontalSpacing(4)
         grid.setVerticalSpacing(3)
-        slot_label = QLabel("Slot")
+        slot_label = QLabel(_("Slot"))
         slot_label.setBuddy(self.run_slot)
         grid.addWidget(slot_label, 0, 0)
         grid.addWidget(self.run_slot, 0, 1, 1, 2)
         grid.addWidget(self.sensor, 0, 3)
-        rows = ((("Task", self.task), ("Reps", self.repetitions)),
-                (("Capacity", self.capacity), ("Current", self.current)),
-                (("Cells", self.series_spin), ("Voltage", self.voltage)))
+        rows = (((_("Task"), self.task), (_("Reps"), self.repetitions)),
+                ((_("Capacity"), self.capacity), (_("Current"), self.current)),
+                ((_("Cells"), self.series_spin), (_("Voltage"), self.voltage)))
         for r, pair in enumerate(rows, start=1):
             for c, (text, widget) in enumerate(pair):
                 label = QLabel(text)
@@ -78,11 +101,15 @@ class RunControls(QWidget):
         buttons.addWidget(self.stop_button)
         buttons.addWidget(self.run_label, 1)
         b.addLayout(buttons)
-        self.task.currentIndexChanged.connect(lambda _: self.repetitions.setEnabled(self.task.currentData() == "train"))
+        self.task.currentIndexChanged.connect(
+            lambda _i: self.repetitions.setEnabled(self.task.currentData() == "train"))
         self.repetitions.setEnabled(False)
+        self.start_button.clicked.connect(lambda: self.start())
+        self.stop_button.clicked.connect(self.stop)
 
     def set_slots(self, found: list[Slot], prefer: int | None) -> None:
         """Offer ``found``; select ``prefer`` (the slot just flashed), else keep the choice."""
+        self.slots = list(found)
         keep = self.run_slot.currentData()
         self.run_slot.clear()
         for s in found:
@@ -124,3 +151,165 @@ class RunControls(QWidget):
             self.series_spin.setValue(int(series))
         if sensor is not None:
             self.sensor.setChecked(bool(sensor))
+
+    # -- running ------------------------------------------------------------------------------
+    def is_running(self) -> bool:
+        """A macro runs on the connected charger (just started here, or as its newest frame says)."""
+        return self.running and self.connection.is_connected()
+
+    def set_enabled(self, connected: bool, idle: bool, monitor_reason: str = "") -> None:
+        """``monitor_reason``: why a monitor-only charger cannot be started (then all is off)."""
+        if monitor_reason:
+            for w in (self.start_button, self.stop_button, self.run_slot):
+                w.setEnabled(False)
+            self.start_button.setToolTip(monitor_reason)
+            return
+        self.start_button.setEnabled(idle and bool(self.slots) and not self.is_running())
+        self.start_button.setToolTip(
+            _("{name} is running: Stop it first").format(name=self.run_name or _("A macro"))
+            if self.is_running() else _(START_TIP))
+        self.stop_button.setEnabled(connected)
+        self.run_slot.setEnabled(connected)
+
+    def follow(self, fresh, newest, finishes: list) -> bool:
+        """Follow the charger's frames: ``fresh``, the newest frame since the last START or STOP
+        (None: none yet), says whether the macro runs; ``newest`` (or None) shows its state;
+        ``finishes``, the finish events not seen before, are said. True if ``running`` changed."""
+        changed = fresh is not None and fresh.running != self.running
+        if changed:
+            self.running = fresh.running
+        if newest is not None:
+            self._show_state(newest)
+        for ev in finishes:
+            self.message.emit(_("{name} finished at {time}: {how}.").format(
+                name=self.run_name or _("The macro"), time=hmmss(ev.time_s), how=ev.detail or _("end")), "ok")
+        return changed
+
+    def _show_state(self, tel) -> None:
+        if tel.running:
+            where = f"{'C' if tel.section == 'charge' else 'D'}{tel.phase}" if tel.section else "—"
+            state = _("paused") if tel.paused else _("running")
+            if tel.state:                   # a monitor-only charger's own word for it, as it sends it
+                state += f" ({tel.state})"
+            self.run_label.set_full_text(f"{state} · {where} · {hmmss(tel.time_s)}")
+        else:
+            self.run_label.set_full_text(_("{name} ended").format(name=self.run_name) if self.run_name
+                                         else _("idle"))
+
+    def start(self, slot: int | None = None, force: bool = False) -> None:
+        """START the macro in ``slot`` (default: the Slot field, which follows the last flash) with
+        the task parameters; the safety check (chemistry limits, the battery's passport) runs here
+        first, and what it refuses starts only after the user confirms (or with ``force``; the
+        charger still has its own check). ``startFinished``."""
+        if not self.connection.is_connected():
+            self._start_done(False, _("Connect to a charger first."))
+            return
+        if slot is None:
+            slot = self.run_slot.currentData()
+        if slot is None or not 0 <= slot < len(self.slots):
+            self._start_done(False, _("There is no macro on the charger to start: Compile & Flash one first."))
+            return
+        if self.is_running():
+            self._start_done(False, _("{name} is running: Stop it first, then Start.").format(
+                name=self.run_name or _("A macro")))
+            return
+        params = self.start_params()
+        record = self.slots[slot].record
+        name = self.slots[slot].name
+        charger_max = self.charger_max_a
+
+        def job(client, progress):
+            from ...lang.record import DecodeError
+            from ...sim.interpreter import StartParams
+            passport = client.passport_if_any()
+            if not force:
+                try:
+                    found = record_problems(record, passport, StartParams(**params), charger_max_a=charger_max)
+                except DecodeError:     # a record that does not decode: the charger refuses it
+                    found = []
+                if found:
+                    return ("refused", found, passport, [])
+            started = client.start(slot, params["task"], params["repetitions"], params["capacity_mah"],
+                                   params["current_a"], params["voltage_v"], params["series"], params["sensor"])
+            # What the charger does not refuse but the user should know: the battery's error count,
+            # and values entered at start that the lint could not check (seed 001's -dV rates).
+            warnings = (fitness_warnings(passport) if passport is not None else []) + \
+                start_warnings(record, StartParams(**params))
+            return ("started", started, passport, warnings)
+
+        self.message.emit(_("Starting {name} (slot {slot})…").format(name=name, slot=slot), "info")
+        self.runStarting.emit()
+        self.connection.call(job, lambda r: self._started(r, slot, params), self._start_failed)
+        self.changed.emit()
+
+    def _started(self, answer, slot: int, params: dict) -> None:
+        kind, value, passport, warnings = answer
+        self.passportRead.emit(passport)
+        name = self.slots[slot].name if slot < len(self.slots) else "?"
+        if kind == "refused":
+            # A battery unfit for use (CRIT) is refused by the charger whatever the user says: no override.
+            unfit = passport is not None and passport.crit
+            self.runUndone.emit()
+            if not unfit and unsafe_dialog.confirm_unsafe(self, _("Start"), value):
+                self.start(slot, force=True)
+                return
+            text = (_("Not started: the safety check forbids {name}:").format(name=name) + "\n"
+                    + "\n".join(f"• {line}" for line in value))
+            self._start_done(False, text)
+            return
+        self.run_name = value
+        self.running = True
+        self.runStarted.emit(value, params["series"] or 1)
+        task = dict(TASKS).get(params["task"])
+        self._start_done(True, _("Started {name} (slot {slot}): {task}.").format(
+            name=value, slot=slot, task=_(task).lower() if task else params["task"])
+            + "".join(f"\n⚠ {w}" for w in warnings))
+
+    def _start_failed(self, exc) -> None:
+        self.runUndone.emit()
+        self._start_done(False, describe_error(exc, "start"))
+
+    def _start_done(self, ok: bool, text: str) -> None:
+        self.message.emit(text, "ok" if ok else "error")
+        self.changed.emit()
+        self.startFinished.emit(ok, text)
+
+    def stop(self) -> None:
+        if not self.connection.is_connected():
+            return
+
+        def done(state):
+            self.message.emit(_("Stopped ({state}).").format(state=state), "info")
+            self.operationFinished.emit("stop", True, state)
+
+        def failed(exc):
+            text = describe_error(exc, "stop")
+            self.message.emit(text, "error")
+            self.changed.emit()
+            self.operationFinished.emit("stop", False, text)
+
+        # STOP goes before anything asked after it: a Start from now on finds the charger stopped
+        # (should STOP fail, the next running frame says so again).
+        self.running = False
+        self.stopping.emit()
+        self.changed.emit()
+        self.connection.call(lambda client, progress: client.stop(), done, failed)
+
+    def stop_and_wait(self, msecs: int = 5000) -> bool:
+        """Send STOP and wait for the answer (closing during a run); True if the charger stopped."""
+        if not self.connection.is_connected():
+            return False
+        loop = QEventLoop()
+        answer = []
+
+        def finished(op, ok, _text):
+            if op == "stop":
+                answer.append(ok)
+                loop.quit()
+        self.operationFinished.connect(finished)
+        QTimer.singleShot(msecs, loop.quit)
+        self.stop()
+        if not answer:
+            loop.exec()
+        self.operationFinished.disconnect(finished)
+        return bool(answer and answer[0])

@@ -297,7 +297,7 @@ class PhaseCard(DraggableFrame):
         self.grid.setHorizontalSpacing(8)
         self.grid.setVerticalSpacing(2)
         self.grid.setColumnStretch(3, 1)
-        self.grid.setColumnMinimumWidth(0, 84)           # the fields line up from card to card
+        self.grid.setColumnMinimumWidth(0, 72)           # the fields line up from card to card
 
         self.action_combo = QComboBox()
         self.action_combo.setObjectName("actionKind")

@@ -15,10 +15,11 @@ from __future__ import annotations
 
 from typing import Callable
 
-from PySide6.QtCore import Qt, QTimer, Signal
+from PySide6.QtCore import QEvent, Qt, QTimer, Signal
 from PySide6.QtGui import QKeySequence, QPalette, QTextCursor
-from PySide6.QtWidgets import (QApplication, QComboBox, QFrame, QGridLayout, QHBoxLayout, QLabel, QLineEdit, QMenu,
-                               QPlainTextEdit, QScrollArea, QSizePolicy, QSpinBox, QToolButton, QVBoxLayout, QWidget)
+from PySide6.QtWidgets import (QApplication, QBoxLayout, QComboBox, QFrame, QGridLayout, QHBoxLayout, QLabel,
+                               QLineEdit, QMenu, QPlainTextEdit, QScrollArea, QSizePolicy, QSpinBox, QToolButton,
+                               QVBoxLayout, QWidget)
 
 from ... import visual_edits as ve
 from ...i18n import N_, _, ngettext
@@ -303,15 +304,15 @@ class VisualEditor(QWidget):
 
         self.content = QWidget()
         self.content.setObjectName("visualContent")
-        cols = QHBoxLayout()
-        cols.setSpacing(14)
+        self.cols = QBoxLayout(QBoxLayout.Direction.LeftToRight)
+        self.cols.setSpacing(12)
         for column in self.columns.values():
             column.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Preferred)
-            cols.addWidget(column, 1, Qt.AlignmentFlag.AlignTop)
+            self.cols.addWidget(column, 1, Qt.AlignmentFlag.AlignTop)
         body = QVBoxLayout(self.content)
-        body.setContentsMargins(10, 10, 10, 10)
+        body.setContentsMargins(8, 10, 8, 10)
         body.setSpacing(10)
-        body.addLayout(cols)
+        body.addLayout(self.cols)
         body.addWidget(self.between_box)
         body.addWidget(self.conclusion_box)
         body.addStretch(1)
@@ -322,6 +323,7 @@ class VisualEditor(QWidget):
         self.scroll.setFrameShape(QFrame.Shape.NoFrame)
         self.scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAsNeeded)
         self.scroll.setWidget(self.content)
+        self.scroll.viewport().installEventFilter(self)
 
         self.status = QLabel(_(HINT))
         self.status.setObjectName("visualStatus")
@@ -335,6 +337,22 @@ class VisualEditor(QWidget):
         layout.addWidget(self.scroll, 1)
         layout.addWidget(self.status)
         self._set_editable(False)
+
+    def eventFilter(self, watched, event) -> bool:  # noqa: N802
+        if watched is self.scroll.viewport() and event.type() == QEvent.Type.Resize:
+            self._fit_columns()
+        return super().eventFilter(watched, event)
+
+    def _fit_columns(self) -> None:
+        """The sections side by side when both fit the width, else one above the other: the
+        cards never need a horizontal scroll bar (only a card wider than the whole view would)."""
+        margins = self.content.layout().contentsMargins()
+        side_by_side = (sum(c.minimumSizeHint().width() for c in self.columns.values()) + self.cols.spacing()
+                        + margins.left() + margins.right())
+        direction = (QBoxLayout.Direction.LeftToRight if side_by_side <= self.scroll.viewport().width()
+                     else QBoxLayout.Direction.TopToBottom)
+        if self.cols.direction() != direction:
+            self.cols.setDirection(direction)
 
     def _follow_palette(self, palette: QPalette) -> None:
         # Its own palette is the sheet's, so no PaletteChange tells it: the application's palette
@@ -393,6 +411,7 @@ class VisualEditor(QWidget):
         self.conclusion_chips = self._chips("conclusion", macro.conclusion, self.conclusion_row,
                                             self.conclusion_chips)
         self.conclusion_box.setVisible(bool(macro.conclusion))
+        self._fit_columns()
         if focus_inside:
             self.setFocus()
         # Restored once the new cards are laid out; bound to the scroll bar so a view closed
