@@ -72,7 +72,7 @@ class PortChooser(QWidget):
         self.combo.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
         self.url = QLineEdit()
         self.url.setObjectName("portUrl")
-        self.url.setPlaceholderText(_("or a port / URL: {example}").format(example="socket://127.0.0.1:7777"))
+        self.url.setPlaceholderText(_("or a port / URL"))      # the examples are in the tooltip
         self.url.setToolTip(_("A port path or URL to use instead of the list: {examples}. Empty: use the list.").format(
             examples="/dev/ttyUSB0, COM3, /dev/pts/3 (`zuml virtual-charger`), socket://127.0.0.1:7777"))
         self.url.setClearButtonEnabled(True)
