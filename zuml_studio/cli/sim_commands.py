@@ -7,6 +7,7 @@ import sys
 
 from ..sim.batteries import BatteryFileError
 from ..sim.interpreter import Measurement, StartError, StartParams
+from ..sim.reasons import shown_reason
 from ..sim.simulate import BatterySetup, SimResult, simulate
 from ..sim.start_check import start_warnings
 from ..sim.start_templates import TEMPLATE_COUNT
@@ -104,7 +105,7 @@ def _table(args: argparse.Namespace, result: SimResult) -> None:
     # Column titles are translated; the columns stay wide enough for the longest of title and values.
     section, phase, start, end, reason = _("section"), _("phase"), _("start"), _("end"), _("reason")
     charge_in, charge_out, v_end, t_end, notes_title = _("in mAh"), _("out mAh"), _("V end"), _("T end"), _("notes")
-    width = max([len(ph.reason) for ph in result.phases] + [len(reason)])
+    width = max([len(shown_reason(ph.reason)) for ph in result.phases] + [len(reason)])
     w = [max(len(title), least) for title, least in ((section, 9), (phase, 5), (start, 8), (end, 8), (charge_in, 8),
                                                      (charge_out, 8), (v_end, 7), (t_end, 6))]
     out(f"{'#':>3}  {section:<{w[0]}} {phase:>{w[1]}}  {start:>{w[2]}}  {end:>{w[3]}}  {reason:<{width}}  "
@@ -113,11 +114,11 @@ def _table(args: argparse.Namespace, result: SimResult) -> None:
         index = str(ph.index) if ph.index else "dflt"
         notes = "; ".join(ph.notes)
         out((f"{ph.run:>3}  {ph.section:<{w[0]}} {index:>{w[1]}}  {hms(ph.start_s):>{w[2]}}  {hms(ph.end_s):>{w[3]}}  "
-             f"{ph.reason:<{width}}  {ph.mah_in:>{w[4]}.1f}  {ph.mah_out:>{w[5]}.1f}  {ph.v_end:>{w[6]}.3f}  "
+             f"{shown_reason(ph.reason):<{width}}  {ph.mah_in:>{w[4]}.1f}  {ph.mah_out:>{w[5]}.1f}  {ph.v_end:>{w[6]}.3f}  "
              f"{ph.temp_end:>{w[7]}.1f}  {'⚠ ' if ph.timer_before_full else ''}{notes}").rstrip())
     t = result.totals()
     out(_("total {duration}, in {charge_in:.1f} mAh, out {charge_out:.1f} mAh; end: {end}").format(
-            duration=hms(t['duration_s']), charge_in=t['mah_in'], charge_out=t['mah_out'], end=t['end']))
+            duration=hms(t['duration_s']), charge_in=t['mah_in'], charge_out=t['mah_out'], end=shown_reason(t['end'])))
     if p.task == "train":
         for rep in result.repetitions():
             out(_("repetition {repetition}: discharged {discharged:.1f} mAh (measured capacity), charged "
@@ -126,9 +127,9 @@ def _table(args: argparse.Namespace, result: SimResult) -> None:
     for ph in result.phases:
         if ph.by_default:
             out(_("note: phase {run} ({section}) ended by {reason}, not by a condition of the macro").format(
-                    run=ph.run, section=ph.section, reason=ph.reason))
+                    run=ph.run, section=ph.section, reason=shown_reason(ph.reason)))
         if ph.timer_before_full:
             out(_("⚠ phase {run} ({section}): timer before full: {reason} ended it with {mah_in:.0f} mAh put in, "
                   "less than the {capacity_mah:g} mAh capacity").format(
-                    run=ph.run, section=ph.section, reason=ph.reason, mah_in=ph.mah_in,
+                    run=ph.run, section=ph.section, reason=shown_reason(ph.reason), mah_in=ph.mah_in,
                     capacity_mah=result.capacity_mah))

@@ -106,10 +106,11 @@ class Charger:
         lim = self.limits
         charging = requested_a > 0.0
         amps, watts = (lim.max_charge_a, lim.max_charge_w) if charging else (lim.max_discharge_a, lim.max_discharge_w)
-        what = "charge" if charging else "discharge"
         if pack_v > 0.0 and watts / pack_v < amps:
-            return f"{watts:g} W {what} limit"
-        return f"{amps:g} A {what} limit"
+            text = _("{watts} W charge limit") if charging else _("{watts} W discharge limit")
+            return text.format(watts=f"{watts:g}")
+        text = _("{amps} A charge limit") if charging else _("{amps} A discharge limit")
+        return text.format(amps=f"{amps:g}")
 
     def step(self, current_a: float, pack_v: float, dt: float) -> float:
         """Advance the heat sink dt seconds; returns heatsink_c."""

@@ -121,17 +121,18 @@ class PhaseResult:
         """'asked 2.00 A, charger gave 1.00 A: 5 W discharge limit', or ''."""
         if not self.clip_limit:
             return ""
-        return (f"asked {abs(self.clip_asked_a):.2f} A, charger gave {abs(self.clip_given_a):.2f} A: "
-                f"{self.clip_limit}")
+        return _("asked {asked} A, charger gave {given} A: {limit}").format(
+            asked=f"{abs(self.clip_asked_a):.2f}", given=f"{abs(self.clip_given_a):.2f}", limit=self.clip_limit)
 
     @property
     def notes(self) -> list[str]:
         """What a phase row must say besides its end reason."""
         out = []
         if self.timer_before_full:
-            out.append(f"timer before full: {self.mah_in:.0f} mAh put in")
+            out.append(_("timer before full: {mah} mAh put in").format(mah=f"{self.mah_in:.0f}"))
         if self.pauses:
-            out.append(f"heat-sink pause {len(self.pauses)}x, {self.paused_s / 60:.0f} min")
+            out.append(_("heat-sink pause {n}x, {minutes} min").format(n=len(self.pauses),
+                                                                        minutes=f"{self.paused_s / 60:.0f}"))
         if self.clip_limit:
             out.append(self.clip_text)
         return out

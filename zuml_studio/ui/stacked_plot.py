@@ -12,6 +12,7 @@ from PySide6.QtCore import QRectF, Qt
 from PySide6.QtGui import QFont, QFontMetrics
 
 from ..i18n import N_, _
+from ..sim.reasons import shown_reason
 from .timefmt import TimeAxisItem
 
 # Colours: light paper, dark ink, one hue per quantity.
@@ -52,7 +53,7 @@ def band_label(p, short: bool = False) -> str:
     if short:
         return warn + head
     short_of_full = " " + _("(timer before full)") if getattr(p, "timer_before_full", False) else ""
-    return f"{warn}{head}: {p.reason or '…'}{short_of_full}"
+    return f"{warn}{head}: {shown_reason(p.reason) or '…'}{short_of_full}"
 
 
 def band_warns(p) -> bool:

@@ -9,6 +9,7 @@ from PySide6.QtGui import QColor
 from PySide6.QtWidgets import QAbstractItemView, QHeaderView, QStyle, QTableView
 
 from ...i18n import N_, _, ngettext
+from ...sim.reasons import shown_reason
 from ..timefmt import duration, hmm, hmmss
 
 COLUMNS = ("#", N_("section"), N_("phase"), N_("start"), N_("end"), N_("duration"), N_("end reason"), N_("mAh in"),
@@ -104,7 +105,7 @@ class PhaseModel(QAbstractTableModel):
                  if p.index else _("default"))
         cells = (str(p.run or row + 1), section, phase, hmmss(p.start_s),
                  hmmss(p.end_s) if ended else "…", duration(p.end_s - p.start_s) if ended else "",
-                 p.reason or _("(running)"), f"{p.mah_in:.1f}", f"{p.mah_out:.1f}",
+                 shown_reason(p.reason) or _("(running)"), f"{p.mah_in:.1f}", f"{p.mah_out:.1f}",
                  f"{p.v_end:.3f}" if ended else "", f"{p.temp_end:.1f}" if ended else "",
                  "; ".join(p.notes))
         flag = self.flag_tip(row)
@@ -114,7 +115,7 @@ class PhaseModel(QAbstractTableModel):
             tips[4] = hmm(p.end_s)
             tips[9] = _("{pack} V pack, {cell} V per cell").format(pack=f"{p.v_end:.3f}",
                                                                   cell=f"{p.v_end / self._series:.3f}")
-        tips[REASON_COLUMN] = f"{cells[REASON_COLUMN]}: {flag}" if flag else p.reason
+        tips[REASON_COLUMN] = f"{cells[REASON_COLUMN]}: {flag}" if flag else cells[REASON_COLUMN]
         tips[NOTES_COLUMN] = "\n".join(p.notes)
         n = len(COLUMNS)
         tint = SECTION_TINT.get(p.section)
@@ -227,7 +228,7 @@ def row_summary(p, series: int) -> str:
     return _("{phase}: {start} to {end} ({duration}), ended by {reason}\n{charge}; at the end {pack} V "
              "({cell} V per cell), {temperature} °C").format(
         phase=head, start=hmmss(p.start_s), end=hmmss(p.end_s), duration=duration(p.end_s - p.start_s),
-        reason=p.reason, charge=charge, pack=f"{p.v_end:.3f}", cell=f"{p.v_end / max(series, 1):.3f}",
+        reason=shown_reason(p.reason), charge=charge, pack=f"{p.v_end:.3f}", cell=f"{p.v_end / max(series, 1):.3f}",
         temperature=f"{p.temp_end:.1f}")
 
 
@@ -238,7 +239,7 @@ def totals_text(result) -> str:
         return ""
     t = result.totals()
     parts = [_("total {time}").format(time=hmmss(t["duration_s"])), _("in {n} mAh").format(n=f"{t['mah_in']:.0f}"),
-             _("out {n} mAh").format(n=f"{t['mah_out']:.0f}"), _("end: {reason}").format(reason=t["end"] or "—")]
+             _("out {n} mAh").format(n=f"{t['mah_out']:.0f}"), _("end: {reason}").format(reason=shown_reason(t["end"]) or "—")]
     defaults = sum(1 for p in result.phases if p.by_default)
     if defaults:
         parts.append("⚠ " + ngettext("{n} phase ended by a default", "{n} phases ended by a default",
