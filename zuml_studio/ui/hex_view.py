@@ -16,6 +16,11 @@ from ..lang.record import MAX_RECORD
 from . import theme
 
 _LINE = Qt.ItemDataRole.UserRole
+
+# The record's own parts (not opcodes): named in the user's language in the view; the CLI's
+# listing keeps their upper-case codes.
+RECORD_PARTS = {"LENGTH": N_("Length"), "PROGRAM": N_("Program"), "CHARGE": N_("Charge"),
+                "CONCLUSION": N_("Conclusion"), "NAME": N_("Name"), "CHECK": N_("Check")}
 _COLUMNS = [N_("Line"), N_("Offset"), N_("Bytes"), N_("Instruction"), N_("Operands")]
 
 
@@ -102,7 +107,7 @@ class HexView(QWidget):
         kind_colours = {"header": scheme.header_row, "name": scheme.header_row, "check": scheme.check_row}
         items = []
         for r in self._rows:
-            label = r.mnemonic if r.kind == "instruction" else r.mnemonic.title()
+            label = r.mnemonic if r.kind == "instruction" else _(RECORD_PARTS.get(r.mnemonic, r.mnemonic))
             item = QTreeWidgetItem([str(r.line or ""), f"{r.offset:3d}", r.hex, label, r.detail])
             item.setData(0, _LINE, r.line)
             item.setToolTip(2, ngettext("offset {offset}, {n} byte", "offset {offset}, {n} bytes", len(r.data)).format(
