@@ -114,7 +114,8 @@ def test_the_panel_speaks_russian_during_a_run_and_cuts_nothing_off(qtbot, make_
     connect(qtbot, panel)
     ok, message = flash_and_start(qtbot, panel)
     assert ok and CYRILLIC.search(message), message
-    qtbot.waitUntil(lambda: panel.plot.points > 10 and "C1" in panel.run_label.full_text(), timeout=WAIT_MS)
+    first_phase = i18n._("C{index}").format(index=1)          # Зар1
+    qtbot.waitUntil(lambda: panel.plot.points > 10 and first_phase in panel.run_label.full_text(), timeout=WAIT_MS)
     english, clipped = _walk(panel)
     assert not english, english
     assert not clipped, clipped

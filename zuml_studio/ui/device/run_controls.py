@@ -9,6 +9,7 @@ from ...device.passport import fitness_warnings
 from ...i18n import N_, _
 from ...lang.eeprom import Slot
 from ...safety import record_problems
+from ...sim.reasons import shown_reason
 from ...sim.start_check import start_warnings
 from ..timefmt import hmmss
 from . import unsafe_dialog
@@ -69,6 +70,9 @@ class RunControls(QWidget):
         self.stop_button.setToolTip(_("Stop the running macro"))
         self.run_label = ElidedLabel("")
         self.run_label.setObjectName("runState")
+        # Room for the usual "running · C1 · 0:12:34": a run's state is not cut off at 1366 px.
+        self.run_label.setMinimumWidth(self.run_label.fontMetrics().horizontalAdvance(
+            _("running") + " · " + _("C{index}").format(index=10) + " · 00:00:00"))
 
         b = QVBoxLayout(self)
         b.setContentsMargins(0, 0, 0, 0)
@@ -181,13 +185,15 @@ class RunControls(QWidget):
         if newest is not None:
             self._show_state(newest)
         for ev in finishes:
+            how = shown_reason(ev.detail) or _("end")
             self.message.emit(_("{name} finished at {time}: {how}.").format(
-                name=self.run_name or _("The macro"), time=hmmss(ev.time_s), how=ev.detail or _("end")), "ok")
+                name=self.run_name or _("The macro"), time=hmmss(ev.time_s), how=how), "ok")
         return changed
 
     def _show_state(self, tel) -> None:
         if tel.running:
-            where = f"{'C' if tel.section == 'charge' else 'D'}{tel.phase}" if tel.section else "—"
+            where = ((_("C{index}") if tel.section == "charge" else _("D{index}")).format(index=tel.phase)
+                     if tel.section else "—")
             state = _("paused") if tel.paused else _("running")
             if tel.state:                   # a monitor-only charger's own word for it, as it sends it
                 state += f" ({tel.state})"
