@@ -75,3 +75,13 @@ def lose_link_after_commit(monkeypatch, commit_arrives=True, confirmed=True):
             raise Disconnected("the connection was lost")
         return real(self, name, payload, **kw)
     monkeypatch.setattr(ChargerClient, "request", request)
+
+
+def contrast_ratio(a, b) -> float:
+    """WCAG contrast ratio of two QColors (4.5 is the least for normal text)."""
+    def lum(c) -> float:
+        def ch(v: float) -> float:
+            return v / 12.92 if v <= 0.03928 else ((v + 0.055) / 1.055) ** 2.4
+        return 0.2126 * ch(c.redF()) + 0.7152 * ch(c.greenF()) + 0.0722 * ch(c.blueF())
+    hi, lo = sorted((lum(a), lum(b)), reverse=True)
+    return (hi + 0.05) / (lo + 0.05)

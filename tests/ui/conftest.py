@@ -59,3 +59,12 @@ def no_unexpected_unsafe_dialog(monkeypatch):
     def unexpected_restore(parent, text):
         raise AssertionError(f"unexpected Restore question: {text}")
     monkeypatch.setattr(confirm_dialogs, "confirm_restore", unexpected_restore)
+
+
+@pytest.fixture
+def system_theme():
+    """Give the application back the desktop's palette after a test chose one."""
+    from zuml_studio.ui import theme
+
+    yield
+    theme.apply_theme("system")

@@ -4,35 +4,20 @@ import pytest
 from PySide6.QtGui import QColor, QGuiApplication
 from PySide6.QtWidgets import QApplication
 
-from helpers import MACROS
+from helpers import MACROS, contrast_ratio
 from zuml_studio.ui import theme
 from zuml_studio.ui.editor.highlighter import CATEGORIES
 
 LIPO = str(MACROS / "LiPo.zuml")
 
 
-def _contrast(a: QColor, b: QColor) -> float:
-    def lum(c: QColor) -> float:
-        def ch(v: float) -> float:
-            return v / 12.92 if v <= 0.03928 else ((v + 0.055) / 1.055) ** 2.4
-        return 0.2126 * ch(c.redF()) + 0.7152 * ch(c.greenF()) + 0.0722 * ch(c.blueF())
-    hi, lo = sorted((lum(a), lum(b)), reverse=True)
-    return (hi + 0.05) / (lo + 0.05)
-
-
-@pytest.fixture
-def system_theme():
-    yield
-    theme.apply_theme("system")
-
-
 @pytest.mark.parametrize("scheme, base", [(theme.LIGHT, "#ffffff"), (theme.DARK, "#1e1e1e")])
 def test_every_syntax_colour_is_readable_on_its_background(scheme, base):
     assert set(scheme.syntax) == set(CATEGORIES)
     for category, (colour, _bold, _italic) in scheme.syntax.items():
-        assert _contrast(QColor(colour), QColor(base)) >= 4.5, category
+        assert contrast_ratio(QColor(colour), QColor(base)) >= 4.5, category
     for row in (scheme.header_row, scheme.check_row):
-        assert _contrast(QColor(row), QColor(base)) < 1.6          # a tint, not a block of paper
+        assert contrast_ratio(QColor(row), QColor(base)) < 1.6          # a tint, not a block of paper
 
 
 @pytest.mark.parametrize("choice", ["dark", "light"])
@@ -49,7 +34,7 @@ def test_the_window_follows_the_chosen_palette(make_window, system_theme, choice
     header = w.hex_view.tree.topLevelItem(0)
     assert header.background(1).color() == QColor(scheme.header_row)
     text = w.hex_view.tree.palette().color(w.hex_view.tree.palette().ColorRole.Text)
-    assert _contrast(text, header.background(1).color()) >= 7
+    assert contrast_ratio(text, header.background(1).color()) >= 7
 
 
 def test_system_means_the_desktops_palette(make_window, system_theme):

@@ -5,6 +5,7 @@ import pytest
 from PySide6.QtGui import QColor
 from PySide6.QtWidgets import QApplication
 
+from helpers import contrast_ratio
 from zuml_studio.device.messages import Telemetry
 from zuml_studio.ui import theme
 from zuml_studio.ui.device.live_view import LiveView
@@ -14,21 +15,6 @@ from zuml_studio.ui.stacked_plot import covered
 def frame(t, v, i, temp=25.0, heatsink=30.0):
     return Telemetry(t, "charge", "charge", 1, 0, 1, 1, True, False, temp is not None, v, i, temp, heatsink,
                      t / 3.6 * max(i, 0.0), 0.0)
-
-
-def _contrast(a: QColor, b: QColor) -> float:
-    def lum(c: QColor) -> float:
-        def ch(v: float) -> float:
-            return v / 12.92 if v <= 0.03928 else ((v + 0.055) / 1.055) ** 2.4
-        return 0.2126 * ch(c.redF()) + 0.7152 * ch(c.greenF()) + 0.0722 * ch(c.blueF())
-    hi, lo = sorted((lum(a), lum(b)), reverse=True)
-    return (hi + 0.05) / (lo + 0.05)
-
-
-@pytest.fixture
-def system_theme():
-    yield
-    theme.apply_theme("system")
 
 
 @pytest.mark.parametrize("choice", ["light", "dark"])
@@ -46,14 +32,14 @@ def test_the_readout_takes_its_colours_from_the_palette(qtbot, system_theme, cho
     for name in ("voltage", "current", "temp", "heatsink"):
         hue = colours.quantities[name]
         assert f"color:{hue};" in text, (name, text)                    # redrawn on the palette change
-        assert _contrast(QColor(hue), background) >= 4.5, (name, hue, background.name())
+        assert contrast_ratio(QColor(hue), background) >= 4.5, (name, hue, background.name())
 
 
 @pytest.mark.parametrize("scheme, base", [(theme.LIGHT, "#ffffff"), (theme.LIGHT, "#efefef"), (theme.DARK, "#1e1e1e"),
                                           (theme.DARK, "#353535")])
 def test_every_readout_colour_is_readable_on_its_background(scheme, base):
     for name, hue in scheme.quantities.items():
-        assert _contrast(QColor(hue), QColor(base)) >= 4.5, name
+        assert contrast_ratio(QColor(hue), QColor(base)) >= 4.5, name
 
 
 def test_a_steep_edge_between_two_samples_counts_as_crossing():

@@ -16,12 +16,6 @@ def _settle():
     loop.exec()
 
 
-@pytest.fixture
-def system_theme():
-    yield
-    theme.apply_theme("system")
-
-
 @pytest.mark.parametrize("choice", ["dark", "light"])
 def test_the_cards_take_their_colours_from_the_palette(visual, system_theme, choice):
     v = visual()
