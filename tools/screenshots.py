@@ -1,5 +1,6 @@
-"""Refresh the screenshots in docs/: the main window (docs/screenshot*.png) and the device panel
-during a charge on the built-in virtual charger (docs/device-panel*.png), in English and Russian.
+"""Refresh the screenshots in docs/: the main window (docs/screenshot*.png), the device panel
+during a charge on the built-in virtual charger (docs/device-panel*.png) and the Visual tab with
+the LiPo macro (docs/visual-editor*.png), in English and Russian.
 
     .venv/bin/python tools/screenshots.py            # both languages
     .venv/bin/python tools/screenshots.py --lang ru
@@ -19,25 +20,56 @@ ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
 SUFFIX = {"en": "", "ru": "-ru"}
 PANEL_SIZE = (1366, 360)
+VISUAL_SIZE = (800, 650)
 RUN_S = 6.0
 
 
-def _panel_shot(out: Path) -> None:
-    """The device panel alone, 1366 px wide, connected to the virtual charger during a charge."""
+def _application():
+    """The QApplication in the chosen language, collecting on the GUI thread as the app does."""
     os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
-    from PySide6.QtCore import QEventLoop, QTimer
     from PySide6.QtWidgets import QApplication
 
-    from zuml_studio import data, i18n
-    from zuml_studio.lang.compiler import compile_source
-    from zuml_studio.ui.device import DevicePanel
+    from zuml_studio import i18n
     from zuml_studio.ui.gui_thread_gc import collect_on_gui_thread
     from zuml_studio.ui.language import install_qt_catalogue
 
     i18n.install(i18n.choose_language())
     app = QApplication.instance() or QApplication([])
     install_qt_catalogue(i18n.current_language())
-    collector = collect_on_gui_thread()
+    return app, collect_on_gui_thread()
+
+
+def _visual_shot(out: Path) -> None:
+    """The Visual tab alone at 800x650 with the LiPo macro, as the window wires it."""
+    app, collector = _application()
+    from zuml_studio import data
+    from zuml_studio.ui.editor.code_editor import CodeEditor
+    from zuml_studio.ui.validation import Validator
+    from zuml_studio.ui.visual import VisualEditor
+
+    editor = CodeEditor()
+    editor.setPlainText(data.read_text("macros/LiPo.zuml"))
+    validator = Validator(delay_ms=10)
+    view = VisualEditor(editor)
+    validator.validated.connect(view.show_result)
+    validator.run_now(editor.toPlainText())
+    view.resize(*VISUAL_SIZE)
+    view.show()
+    for _round in range(20):
+        app.processEvents()
+    view.grab().save(str(out))
+    collector.timer.stop()
+
+
+def _panel_shot(out: Path) -> None:
+    """The device panel alone, 1366 px wide, connected to the virtual charger during a charge."""
+    app, collector = _application()
+    from PySide6.QtCore import QEventLoop, QTimer
+
+    from zuml_studio import data
+    from zuml_studio.lang.compiler import compile_source
+    from zuml_studio.ui.device import DevicePanel
+
     record = compile_source(data.read_text("macros/NiMh-dV.zuml")).record
     sessions = Path(os.environ.get("TMPDIR", "/tmp")) / "zuml-screenshot-sessions"
     panel = DevicePanel(lambda: (record, "NiMh-dV"), sessions, port_lister=lambda: [])
@@ -81,18 +113,22 @@ def _shots(language: str) -> None:
     window = DOCS / f"screenshot{suffix}.png"
     subprocess.run([sys.executable, "-m", "zuml_studio.ui.app", str(ROOT / "zuml_studio/data/macros/NiMh.zuml"),
                     "--screenshot", str(window)], env=env, check=True)
-    subprocess.run([sys.executable, __file__, "--panel-only", str(DOCS / f"device-panel{suffix}.png")], env=env,
-                   check=True)
-    print(f"{language}: {window.relative_to(ROOT)}, docs/device-panel{suffix}.png")
+    for kind in ("device-panel", "visual-editor"):
+        subprocess.run([sys.executable, __file__, f"--{kind}", str(DOCS / f"{kind}{suffix}.png")], env=env, check=True)
+    print(f"{language}: docs/screenshot{suffix}.png, docs/device-panel{suffix}.png, docs/visual-editor{suffix}.png")
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--lang", choices=["en", "ru", "all"], default="all")
-    parser.add_argument("--panel-only", metavar="OUT.png", help=argparse.SUPPRESS)
+    parser.add_argument("--device-panel", metavar="OUT.png", help=argparse.SUPPRESS)
+    parser.add_argument("--visual-editor", metavar="OUT.png", help=argparse.SUPPRESS)
     args = parser.parse_args()
-    if args.panel_only:
-        _panel_shot(Path(args.panel_only))
+    if args.device_panel:
+        _panel_shot(Path(args.device_panel))
+        return
+    if args.visual_editor:
+        _visual_shot(Path(args.visual_editor))
         return
     for language in (["en", "ru"] if args.lang == "all" else [args.lang]):
         _shots(language)
