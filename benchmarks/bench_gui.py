@@ -18,6 +18,7 @@
 from __future__ import annotations
 
 import os
+import gc
 import statistics
 import sys
 import tempfile
@@ -296,13 +297,20 @@ def live_plot_50hz(app, probe: Probe, hours: float) -> None:
     print(f"live plot at 50 Hz, {hours:g} h in it, whole session in view: longest GUI stall {stall:.0f} ms "
           f"(p99 gap {p99gap:.1f} ms; target <= 16 ms), longest GUI-thread CPU in one go {busy:.1f} ms, "
           f"{plot.redraws} redraws")
-    plot.close()
+    # Hidden and left to Qt as the window leaves its plots: pyqtgraph's GraphicsView.close()
+    # (setViewport(None)) crashes PySide6 here.
+    plot.hide()
+    plot.deleteLater()
 
 
 def main() -> None:
     quick = "--quick" in sys.argv
     app = QApplication.instance() or QApplication(sys.argv[:1])
     from zuml_studio.ui import create_main_window
+    from zuml_studio.ui.gui_thread_gc import collect_on_gui_thread
+
+    collector = collect_on_gui_thread()         # as the application does (ui/app.py)
+    collections = _CollectionTimes()
 
     painted = _FirstPaint()
     app.installEventFilter(painted)
@@ -327,6 +335,24 @@ def main() -> None:
     window.editor.document().setModified(False)
     window.close()
     live_plot_50hz(app, probe, 24.0)
+    print(f"garbage collections (all on the GUI thread): {len(collections.ms)}, longest "
+          f"{max(collections.ms, default=0.0):.1f} ms")
+    collector.timer.stop()
+
+
+class _CollectionTimes:
+    """How long each cyclic collection took (they run on the GUI thread's timer now)."""
+
+    def __init__(self):
+        self.ms: list[float] = []
+        self._at = 0.0
+        gc.callbacks.append(self._callback)
+
+    def _callback(self, phase: str, info: dict) -> None:
+        if phase == "start":
+            self._at = time.perf_counter()
+        else:
+            self.ms.append((time.perf_counter() - self._at) * 1000.0)
 
 
 if __name__ == "__main__":
