@@ -262,10 +262,51 @@ def main() -> int:
         "charge it reads 1.449 V/cell at 0.45C, where the AkkuMaster pack reads 1.351 at 0.2C, the Polaron "
         "1.373 at 0.3C and the eStation 1.489 at 1.1C: 60 mV above the line through the others, 100 mV "
         "near the end. The default model misses it by "
-        f"{defaults['nimh_4s_ultramat_05c'].figures['rmse_v_per_cell_mv']:.0f} mV/cell RMSE (limit 40); "
-        "a default lifted enough for it (lower resistance, a higher and flatter OCV, a broad "
-        "end-of-charge climb) loses the 0.2–0.3C peak and dip the other packs show. The test marks it "
-        "(strict xfail); fitted, the pack meets the limits.",
+        f"{defaults['nimh_4s_ultramat_05c'].figures['rmse_v_per_cell_mv']:.0f} mV/cell RMSE (limit 40). "
+        "The test marks it (strict xfail); fitted, the pack meets the limits.",
+        "",
+        "Why, from the recordings themselves (the whole `.osd` files, not only the extracted charges):",
+        "",
+        "* **The pack's resistance.** The Ultramat log has a rest after every charge and before every "
+        "discharge (5 cycles). One second after the 0.50 A charge current stops the pack falls 0.368–0.381 V "
+        "(0.730–0.756 Ω): 183, 183, 189, 183, 184 mΩ per cell (mean 184; the extracted charge is cycle 2, 183). The step from "
+        "rest into the 0.5 A discharge gives 0.72–0.83 Ω per pack (179–208 mΩ per cell). The Polaron Pro "
+        "pack falls 0.161 V at 0.593 A (54 mΩ per cell) and the Polaron's own `BatteríeRi` channel reads "
+        "286–293 mΩ per 5S pack (57–59 mΩ per cell); the eStation BC6 pauses its 1 A charge every minute "
+        "and the pack falls 121–125 mΩ per cell (median, 3 s into the pause; 67 at the first 1.5 s sample, "
+        "which often straddles the pause's start). Per capacity (R × C at 2 Ah) that is 101 mΩ for the "
+        "Ultramat pack (1.1 Ah), 53 for the Polaron (1.85 Ah) and 54 for the eStation (0.9 Ah): the "
+        "Ultramat pack, as its charger sees it through leads and connectors, has about twice the "
+        "resistance of the others. At 0.5 A that is 0.5 × (184 − 96) ≈ 44 mV per cell more drop than a "
+        "1.1 Ah pack like the others from the 1 s step alone, more with the slower polarisation: most of "
+        "the offset above. The default model's step at the capacity it fits "
+        "(1206 mAh) is 112 mΩ per cell; the fitted `r_scale` 1.31 (at 1008 mAh) gives 176 mΩ, close to the "
+        "measured 184. The AkkuMaster log (one 0.15 A charge, no rest) shows no step.",
+        "* **Not the measuring convention.** The Ultramat charge current is 0.499–0.505 A at every 1 s "
+        "sample of every charge: it measures with the current flowing, as the Polaron does and as the "
+        "compared eStation samples are (the fit leaves out its pause samples). The AkkuMaster CSV shows "
+        "0.150 A at every sample; nothing in `realdata/` says it measures in current-off pauses.",
+        "* **Not the start.** Every charge starts right after a discharge: the Ultramat's after 0.5 A down to "
+        "0.80 V/cell and a 3 min rest (1.185 V/cell at its end), the Polaron's after 0.6 A down to "
+        "0.80 V/cell and a 3 min rest (1.126 V/cell), the eStation's after 1 A down to 0.95 V/cell with no "
+        "rest. No Ultramat temperature is recorded.",
+        "* **Not the cell count or capacity.** 4 cells: 1.52 V/cell 3 min after the charge, 1.16 V/cell "
+        "on average under the 0.5 A discharge (5 cells would read 0.93 there and peak at 1.32 V/cell); the five cycles discharge "
+        "970–1031 mAh and charge 1085–1139 mAh, so 0.5 A is 0.45–0.5C.",
+        "",
+        "So the cause is a property of this pack (its resistance), not of the charger or the start; the "
+        "log measures it, but in the rests around the charges, not in the extracted charge (its own start, "
+        "from rest into 0.33 then 0.50 A, reads 300 mΩ per cell: the overvoltage of an emptied cell, not "
+        "its resistance). Tried by hand, not built: with the default model's R0 and R1 scaled so that its "
+        "step, at the same delay, equals each pack's measured one (capacity and start fitted as before) the "
+        "Ultramat pack lands at 27.8 mV/cell (limit 40; R × 1.49), the Polaron at 8.7 (was 12.4; × 0.78); "
+        "the eStation at 28.1–31.4 with its 3 s drop (123 mΩ per cell) but 40.3 with a 105 mΩ one at "
+        "1.5 s, its capacity fit jumping between 960 and 1172 mAh; the AkkuMaster log has no step and "
+        "keeps 33.4. That would meet twice the limits on all four, but only by taking a second parameter, "
+        "the resistance, from each log: the issue's default fits the capacity and start only (what a user "
+        "without a log gets), and the figure for the eStation hangs on which sample after the step is "
+        "read. Whether a measured resistance may count as a start condition is left to a decision; until "
+        "then the miss stays marked.",
         "",
         "## What changed in the models (the data win)",
         "",
