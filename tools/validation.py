@@ -5,8 +5,8 @@ against the default model (only capacity and start fitted) and the fitted model.
 
 The figures are drawn with pyqtgraph (the project's plotting library) offscreen. The answers to
 the issue's questions are computed here from the recordings, so the page says what the data say.
-SHARED_SAMPLES_DIR (default /work/shared/realdata/samples) is read for the Pb rest after charge,
-which the test curve leaves out."""
+SHARED_SAMPLES_DIR (default /work/shared/realdata/samples) is read for the Pb rest after charge
+and the NiMH packs' voltage steps where the current stops, which the test curves leave out."""
 from __future__ import annotations
 
 import csv
@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from zuml_studio.sim.chemistry import load_chemistry
 from zuml_studio.sim.curve import Curve, read_curve
 from zuml_studio.sim.fit import LI, NI, cc_current, fit, simulate_curve, smooth
 
@@ -125,6 +126,137 @@ def _pb_rest(samples: Path, fitted) -> str:
             f"(`pol_tau_s` {fitted.params['pol_tau_s']:.0f} s), is gone within minutes and its OCV is the table's. "
             "Here the data contradict the model; a second, slow polarisation time constant would be needed "
             "to simulate a rest or a float after absorption (not done: the charge itself fits within the limits).")
+
+
+def _recordsets(path: Path) -> list[tuple[str, dict[str, np.ndarray]]]:
+    """The notes' conversion of a DataExplorer .osd (realdata/samples/curves/*.csv): '### RECORDSET'
+    blocks of a '# ... recordset='NAME' ...' line, a header and rows; columns keyed by their first word."""
+    sets = []
+    for block in path.read_text(encoding="utf-8").split("### RECORDSET")[1:]:
+        lines = [ln for ln in block.strip().splitlines() if ln]
+        name = lines[0].split("recordset='", 1)[1].split("'", 1)[0]
+        head = next(csv.reader([lines[1]]))
+        rows = np.array([[float(x) for x in ln.split(",")] for ln in lines[2:] if not ln.startswith("#")])
+        sets.append((name, {h.split(" [")[0].split()[0]: rows[:, k] for k, h in enumerate(head)}))
+    return sets
+
+
+def _ni_resistance(samples: Path) -> dict | None:
+    """Each NiMH pack's resistance per cell (Ω) where its recording shows the voltage step of the charge
+    current stopping: 1 s after the end of every charge (Ultramat, Polaron Pro), 3 s into the eStation
+    BC6's once-a-minute pauses (its first 1.5 s sample often straddles the pause's start); plus the
+    Polaron's own Ri channel and the Ultramat's charge current range."""
+    files = {"ultramat": (4, "NiMH_4S_Ultramat_ACDC_EQ_cycle.csv"), "polaron": (5, "NiMH_5S_PolaronPro_cycle_with_temp.csv"),
+             "estation": (4, "NiMH_AA_Rx_eStationBC6_cycle.csv")}
+    if not all((samples / "curves" / f).is_file() for _, f in files.values()):
+        return None
+    out: dict = {}
+    for key, (cells, fname) in files.items():
+        sets = _recordsets(samples / "curves" / fname)
+        charges = [(k, d) for k, (n, d) in enumerate(sets) if "laden" in n.lower() and "entladen" not in n.lower()]
+        steps = []
+        for k, d in charges:
+            v, i = d["Spannung"], d["Strom"]
+            if key == "estation":
+                on = float(np.median(i))
+                pauses = [j for j in range(1, len(i) - 1) if i[j - 1] > 0.9 * on and i[j] < 0.1 * on and i[j + 1] < 0.1 * on]
+                steps += [(v[j - 1] - v[j + 1]) / i[j - 1] / cells for j in pauses]
+                out.setdefault("estation_first", []).extend((v[j - 1] - v[j]) / i[j - 1] / cells for j in pauses)
+            elif k + 1 < len(sets):
+                steps.append((v[-1] - sets[k + 1][1]["Spannung"][1]) / i[-1] / cells)
+        out[key] = np.array(steps)
+        if "BatteríeRi" in charges[0][1]:
+            ri = np.concatenate([d["BatteríeRi"] for _, d in charges])
+            out["polaron_ri"] = ri[ri > 0] / 1000.0 / cells
+        if key == "ultramat":
+            out["ultramat_i"] = np.concatenate([d["Strom"][5:] for _, d in charges])
+    return out
+
+
+def _ultramat_resistance(samples: Path, answers: dict, default) -> str:
+    r = _ni_resistance(samples)
+    if r is None:
+        return "(the source recordings were not found, so the packs' resistance is not measured here)"
+    u, p, e = r["ultramat"], r["polaron"], r["estation"]
+    mohm = ", ".join(f"{x * 1000:.0f}" for x in u)
+    peak = {k: answers[n][2].figures["peak"]["real_mah"] / 1000.0 for k, n in
+            (("u", "nimh_4s_ultramat_05c"), ("p", "nimh_5s_polaron_03c"), ("e", "nimh_4s_estation_1c"))}
+    rc = {"u": u.mean() * peak["u"] / 2, "p": p.mean() * peak["p"] / 2, "e": np.median(e) * peak["e"] / 2}
+    like = rc["p"] * 2 / peak["u"]        # a pack of the Ultramat's capacity with the Polaron's R × C
+    return ("* **The pack's resistance.** The Ultramat log rests after every charge. One second after the "
+            f"0.5 A charge current stops the pack's fall per cell and ampere is {mohm} mΩ (mean "
+            f"{u.mean() * 1000:.0f}). The Polaron Pro pack's is {p.mean() * 1000:.0f} mΩ at the end "
+            f"of its charge, and its charger's own Ri channel reads {np.median(r['polaron_ri']) * 1000:.0f} mΩ "
+            "per cell (median over the charge); the eStation BC6 pauses its 1 A charge every minute "
+            f"and its pack's is {np.median(e) * 1000:.0f} mΩ (median of {len(e)} pauses, 3 s into "
+            "them). Per capacity (R × C at 2 Ah, C the charge at the peak) that is "
+            f"{rc['u'] * 1000:.0f} mΩ for the Ultramat pack, {rc['p'] * 1000:.0f} for the Polaron and "
+            f"{rc['e'] * 1000:.0f} for the eStation: the Ultramat pack, as its charger sees it through leads and "
+            "connectors, has about twice the resistance of the others. At 0.5 A that is "
+            f"{0.5 * (u.mean() - like) * 1000:.0f} mV per cell more drop than a pack of its capacity with the "
+            "Polaron's R × C from the 1 s step alone, more with the slower polarisation: most of the offset "
+            "above. The default model's step at the capacity it fits "
+            f"({default.params['capacity_mah']:.0f} mAh) is {_model_step(default) * 1000:.0f} mΩ per cell, the "
+            f"fitted model's {_model_step(answers['nimh_4s_ultramat_05c'][2]) * 1000:.0f}. The AkkuMaster log "
+            "(one 0.15 A charge, no rest) shows no step.\n"
+            f"* **Not the measuring convention.** The Ultramat charge current is {r['ultramat_i'].min():.3f}–"
+            f"{r['ultramat_i'].max():.3f} A at every 1 s sample of its five charges: it measures with the current "
+            "flowing, as the Polaron does and as the compared eStation samples are (the fit leaves out its "
+            "pause samples). The AkkuMaster CSV shows 0.150 A at every sample; nothing in `realdata/` says it "
+            "measures in current-off pauses.")
+
+
+def _model_step(result, after_s: float = 1.0) -> float:
+    """The model's fall per cell and ampere `after_s` after the current stops: R0 and that much of R1."""
+    b = result.battery
+    scale = b.chem.ref_capacity_ah * 1000.0 / b.capacity_mah
+    return scale * (b.chem.r0_ohm + b.chem.r1_ohm * (1.0 - np.exp(-after_s / b.chem.tau1_s)))
+
+
+def _with_measured_r(answers: dict, defaults: dict, r: dict) -> dict:
+    """The default model (capacity and start fitted) with R0 and R1 scaled so that its step, at the same
+    delay, equals the pack's measured one: RMSE V per cell and the scale, per pack (twice, as the fitted
+    capacity moves R)."""
+    from dataclasses import replace
+
+    out = {}
+    for key, name, ohm, after in (("u", "nimh_4s_ultramat_05c", r["ultramat"].mean(), 1.0),
+                                  ("p", "nimh_5s_polaron_03c", r["polaron"].mean(), 1.0),
+                                  ("e", "nimh_4s_estation_1c", float(np.median(r["estation"])), 3.0),
+                                  ("e1", "nimh_4s_estation_1c", float(np.median(r["estation_first"])), 1.5)):
+        entry, curve, _ = answers[name]
+        result, scale = defaults[name], 1.0
+        for _ in range(2):
+            scale *= ohm / _model_step(result, after)
+            chem = load_chemistry(entry["chemistry"])
+            chem = replace(chem, r0_ohm=chem.r0_ohm * scale, r1_ohm=chem.r1_ohm * scale)
+            result = fit(curve, entry["chemistry"], entry["cells"], only_capacity=True, base=chem)
+        out[key] = (result.figures["rmse_v_per_cell_mv"], scale, ohm)
+    return out
+
+
+def _measured_r_text(samples: Path, answers: dict, defaults: dict) -> str:
+    r = _ni_resistance(samples)
+    if r is None:
+        return ""
+    m = _with_measured_r(answers, defaults, r)
+    d = {k: defaults[n].figures["rmse_v_per_cell_mv"] for k, n in
+         (("u", "nimh_4s_ultramat_05c"), ("p", "nimh_5s_polaron_03c"), ("e", "nimh_4s_estation_1c"))}
+    return ("So the cause is a property of this pack (its resistance), not of the charger or the start; the "
+            "log measures it, but in the rests around the charges, not in the extracted charge (its own start, "
+            "from rest into 0.33 then 0.50 A, reads 300 mΩ per cell: the overvoltage of an emptied cell, not "
+            "its resistance). Computed here, not built into the model or `zuml fit`: with the default model's "
+            "R0 and R1 scaled so that its step, at the same delay, equals the pack's measured one (capacity and "
+            f"start fitted as before) the Ultramat pack lands at {m['u'][0]:.1f} mV/cell (was {d['u']:.1f}, "
+            f"limit 40; R × {m['u'][1]:.2f}), the Polaron at {m['p'][0]:.1f} (was {d['p']:.1f}; × {m['p'][1]:.2f}), "
+            f"the eStation at {m['e'][0]:.1f} (was {d['e']:.1f}; × {m['e'][1]:.2f}) with its 3 s drop "
+            f"({m['e'][2] * 1000:.0f} mΩ per cell) but {m['e1'][0]:.1f} (× {m['e1'][1]:.2f}) with its first, "
+            f"1.5 s sample ({m['e1'][2] * 1000:.0f} mΩ); the AkkuMaster log has no step and keeps its "
+            f"{defaults['nimh_4s_akkumaster_02c'].figures['rmse_v_per_cell_mv']:.1f}. Taking the resistance "
+            "from each log is a second fitted parameter, while the issue's default fits the capacity and start "
+            "only (what a user without a log gets), and the eStation figure hangs on which sample after the "
+            "step is read; whether a measured resistance may count as a start condition is left to a "
+            "decision. Until then the miss stays marked.")
 
 
 def main() -> int:
@@ -262,10 +394,21 @@ def main() -> int:
         "charge it reads 1.449 V/cell at 0.45C, where the AkkuMaster pack reads 1.351 at 0.2C, the Polaron "
         "1.373 at 0.3C and the eStation 1.489 at 1.1C: 60 mV above the line through the others, 100 mV "
         "near the end. The default model misses it by "
-        f"{defaults['nimh_4s_ultramat_05c'].figures['rmse_v_per_cell_mv']:.0f} mV/cell RMSE (limit 40); "
-        "a default lifted enough for it (lower resistance, a higher and flatter OCV, a broad "
-        "end-of-charge climb) loses the 0.2–0.3C peak and dip the other packs show. The test marks it "
-        "(strict xfail); fitted, the pack meets the limits.",
+        f"{defaults['nimh_4s_ultramat_05c'].figures['rmse_v_per_cell_mv']:.0f} mV/cell RMSE (limit 40). "
+        "The test marks it (strict xfail); fitted, the pack meets the limits.",
+        "",
+        "Why, from the recordings themselves (the whole `.osd` files, not only the extracted charges):",
+        "",
+        _ultramat_resistance(samples, answers, defaults["nimh_4s_ultramat_05c"]),
+        "* **Not the start.** Every charge starts right after a discharge: the Ultramat's after 0.5 A down to "
+        "0.80 V/cell and a 3 min rest (1.185 V/cell at its end), the Polaron's after 0.6 A down to "
+        "0.80 V/cell and a 3 min rest (1.126 V/cell), the eStation's after 1 A down to 0.95 V/cell with no "
+        "rest. No Ultramat temperature is recorded.",
+        "* **Not the cell count or capacity.** 4 cells: 1.52 V/cell 3 min after the charge, 1.16 V/cell "
+        "on average under the 0.5 A discharge (5 cells would read 0.93 there and peak at 1.32 V/cell); the five cycles discharge "
+        "970–1031 mAh and charge 1085–1139 mAh, so 0.5 A is 0.45–0.5C.",
+        "",
+        _measured_r_text(samples, answers, defaults),
         "",
         "## What changed in the models (the data win)",
         "",
