@@ -13,12 +13,11 @@ from typing import Mapping
 
 from .. import data
 from ..data import DataFileError
-from ..i18n import N_, _, ngettext
+from ..i18n import _, ngettext
+from .program import TASK_WORDS, TASKS
 
 TEMPLATE_COUNT = 16
 TEMPLATES_FILE = "start_templates.toml"
-TASKS = ("charge", "discharge", "train")
-TASK_WORDS = {"charge": N_("charge"), "discharge": N_("discharge"), "train": N_("train")}
 
 
 class TemplateError(ValueError):

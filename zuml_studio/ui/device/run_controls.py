@@ -9,6 +9,7 @@ from ...device.passport import fitness_warnings
 from ...i18n import N_, _
 from ...lang.eeprom import Slot
 from ...safety import record_problems
+from ...sim.program import TASK_LABELS, TASK_WORDS
 from ...sim.reasons import shown_reason
 from ...sim.start_check import start_warnings
 from ..timefmt import hmmss
@@ -17,7 +18,6 @@ from .connection import DeviceConnection, describe_error
 from .device_style import DEFAULT_BATTERY, ElidedCombo, ElidedLabel, field_double, field_spin, heading
 
 START_TIP = N_("Check the battery's passport, then start the slot's macro")
-TASKS = (("charge", N_("Charge")), ("discharge", N_("Discharge")), ("train", N_("Train")))
 
 
 class RunControls(QWidget):
@@ -43,7 +43,7 @@ class RunControls(QWidget):
         self.run_slot.setToolTip(_("The slot to start (default: the macro just flashed)"))
         self.task = QComboBox()
         self.task.setObjectName("runTask")
-        for key, text in TASKS:
+        for key, text in TASK_LABELS.items():
             self.task.addItem(_(text), key)
         self.task.setToolTip(_("charge, discharge, or training (discharge + charge, repeated)"))
         self.capacity = field_spin(10, 65000, DEFAULT_BATTERY[1], " mAh", _("the capacity entered at start"))
@@ -266,9 +266,9 @@ class RunControls(QWidget):
         self.run_name = value
         self.running = True
         self.runStarted.emit(value, params["series"] or 1)
-        task = dict(TASKS).get(params["task"])
+        task = TASK_WORDS.get(params["task"])
         self._start_done(True, _("Started {name} (slot {slot}): {task}.").format(
-            name=value, slot=slot, task=_(task).lower() if task else params["task"])
+            name=value, slot=slot, task=_(task) if task else params["task"])
             + "".join(f"\n⚠ {w}" for w in warnings))
 
     def _start_failed(self, exc) -> None:

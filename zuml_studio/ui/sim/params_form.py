@@ -11,12 +11,12 @@ from ...i18n import N_, _
 from ...sim.batteries import battery_names
 from ...sim.chemistry import chemistry_names
 from ...sim.interpreter import StartParams
+from ...sim.program import TASK_LABELS
 from ...sim.simulate import BatterySetup
 from ...sim.start_templates import factory_templates
 from ..number_boxes import double_spin_box, form_field, spin_box
 from ..timefmt import elapsed
 
-TASKS = (("charge", N_("Charge")), ("discharge", N_("Discharge")), ("train", N_("Train")))
 FROM_AKK = N_("from AKK_TYPE")
 NAMED = "battery:"      # Model box data of a saved fitted battery
 MODEL_TIP = N_("the battery model; 'from AKK_TYPE' uses the chemistry the macro declares")
@@ -42,7 +42,7 @@ class ParamsForm(QWidget):
         self._declared_akk = ""
 
         self.task = QComboBox()
-        for key, text in TASKS:
+        for key, text in TASK_LABELS.items():
             self.task.addItem(_(text), key)
         self.task.setToolTip(_("What the charger is started for: charge, discharge, or training "
                                "(discharge + charge, repeated)"))
