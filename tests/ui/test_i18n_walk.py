@@ -22,6 +22,7 @@ from zuml_studio.lang import opcodes
 from zuml_studio.lang.operands import AKK_TYPE, DISPLAY_NAMES
 from zuml_studio.device.drivers import DRIVERS
 from zuml_studio.ui.device import confirm_dialogs, unsafe_dialog
+from zuml_studio.ui.device.device_style import ElidedCombo
 from zuml_studio.sim.chemistry import chemistry_names
 
 
@@ -180,7 +181,8 @@ def clipped(root: QWidget, skip=lambda w: False) -> list[str]:
             for i in range(w.count()):
                 if w.isTabVisible(i) and w.tabRect(i).width() < w.tabSizeHint(i).width():
                     out.append(f"tab {w.tabText(i)!r}: {w.tabRect(i).width()} px of {w.tabSizeHint(i).width()}")
-        elif isinstance(w, QComboBox) and not w.isEditable() and w.currentText() and _combo_cut(w):
+        elif isinstance(w, QComboBox) and not isinstance(w, ElidedCombo) and not w.isEditable() \
+                and w.currentText() and _combo_cut(w):       # an ElidedCombo shows the whole choice on hover
             out.append(f"{where} {w.currentText()!r}: wider than its box ({w.width()} px)")
         elif isinstance(w, QAbstractSpinBox):
             edit = w.findChild(QLineEdit)
