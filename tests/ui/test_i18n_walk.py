@@ -22,7 +22,7 @@ from zuml_studio.lang import opcodes
 from zuml_studio.lang.operands import AKK_TYPE, DISPLAY_NAMES
 from zuml_studio.device.drivers import DRIVERS
 from zuml_studio.ui.device import confirm_dialogs, unsafe_dialog
-from zuml_studio.ui.device.device_style import ElidedCombo
+from zuml_studio.ui.device.device_style import ElidedCombo, ElidedLabel
 from zuml_studio.sim.chemistry import chemistry_names
 
 
@@ -94,7 +94,9 @@ def _own_texts(w: QWidget) -> list[tuple[str, str]]:
     texts = [("tooltip", w.toolTip()), ("status tip", w.statusTip()), ("what's this", w.whatsThis())]
     if w.isWindow() or isinstance(w, QDockWidget):
         texts.append(("title", w.windowTitle()))
-    if isinstance(w, (QLabel, QAbstractButton)):
+    if isinstance(w, ElidedLabel):          # its whole text, wherever the width cuts it
+        texts.append(("text", w.full_text()))
+    elif isinstance(w, (QLabel, QAbstractButton)):
         texts.append(("text", w.text()))
     if isinstance(w, QLineEdit):
         texts.append(("placeholder", w.placeholderText()))
