@@ -18,19 +18,10 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
+from .user_dirs import config_dir
+
 
 log = logging.getLogger(__name__)
-
-
-def config_dir() -> Path:
-    """Where settings, recovery files and user macros live (ZUML_STUDIO_CONFIG_DIR overrides it)."""
-    override = os.environ.get("ZUML_STUDIO_CONFIG_DIR")
-    if override:
-        return Path(override)
-    base = os.environ.get("XDG_CONFIG_HOME") or (Path.home() / ".config")
-    if os.name == "nt":
-        base = os.environ.get("APPDATA") or base
-    return Path(base) / "zuml-studio"
 
 
 def atomic_write(path: Path, data: bytes, sync: bool = True) -> None:

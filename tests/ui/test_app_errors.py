@@ -3,7 +3,7 @@ sys.stderr set to None: the app writes to a log beside its settings instead of c
 warning. A broken installation's DataFileError raised in a slot is shown, not only printed."""
 import sys
 
-from zuml_studio.recovery import config_dir
+from zuml_studio.user_dirs import config_dir
 from zuml_studio.ui.app import _ensure_streams
 
 

@@ -17,7 +17,7 @@ import re
 from lark import Lark, Token, Transformer
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
-from ..cache_dir import cache_file
+from ..user_dirs import cache_file
 from .ast import Span
 from .diagnostics import Diagnostic, Severity
 from .opcodes import CONDITION_OUTCOMES

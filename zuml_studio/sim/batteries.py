@@ -1,5 +1,5 @@
 """Named batteries: a chemistry with fitted parameters, a capacity and a cell count, saved as
-``<config>/batteries/<name>.json`` (config dir as in ``recovery.config_dir``), offered wherever a
+``<config>/batteries/<name>.json`` (config dir as in ``user_dirs.config_dir``), offered wherever a
 battery model is chosen (``zuml simulate --battery``, the simulator panel, the virtual charger)."""
 from __future__ import annotations
 
@@ -8,7 +8,8 @@ import re
 from dataclasses import fields, replace
 from pathlib import Path
 
-from ..recovery import atomic_write, config_dir
+from ..recovery import atomic_write
+from ..user_dirs import config_dir
 from .chemistry import Chemistry, _check, load_chemistry
 from .fit import Battery
 from ..i18n import _

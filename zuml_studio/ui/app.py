@@ -22,7 +22,7 @@ def _ensure_streams() -> None:
     warning or a traceback there would raise. Send them to a log beside the settings instead."""
     if sys.stdout is not None and sys.stderr is not None:
         return
-    from ..recovery import config_dir
+    from ..user_dirs import config_dir
 
     try:
         folder = config_dir()
@@ -53,7 +53,7 @@ def data_errors_shown(previous):
 def _install_language() -> str:
     """Our language, before the command line is parsed (its help is translated) and before any
     window is built (every text is translated where it is made)."""
-    from ..recovery import config_dir
+    from ..user_dirs import config_dir
     from .language import install_language, saved_preference
 
     return install_language(saved_preference(config_dir()))

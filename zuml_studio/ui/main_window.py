@@ -15,7 +15,8 @@ from ..i18n import _, ngettext
 from ..lang import opcodes as ops
 from ..lang.compiler import CompileResult, compile_source
 from ..macro_file import EXTENSION, MacroFile, MacroFileError, read_macro_file, write_macro_file
-from ..recovery import BackgroundSaver, Recovered, RecoveryStore, atomic_write, config_dir
+from ..recovery import BackgroundSaver, Recovered, RecoveryStore, atomic_write
+from ..user_dirs import config_dir
 from . import theme
 from .editor.code_editor import EditorWithFind
 from .editor.highlighter import ops_at

@@ -19,7 +19,7 @@ from ...safety import image_problems, record_problems
 from . import confirm_dialogs, unsafe_dialog
 from .connection import DeviceConnection, describe_error
 from .connection_bar import record_chemistry
-from .device_style import ElidedCombo, colour, heading, tint
+from .device_style import ElidedCombo, colour, heading_row, tint
 
 FLASH_TIP = N_("Write the editor's macro to the charger, verify it (Ctrl+Shift+F)")
 STAGES = {"read": N_("reading {done} of {total} bytes"), "write": N_("writing {done} of {total} bytes"),
@@ -115,11 +115,7 @@ class ChargerSlots(QWidget):
         a = QVBoxLayout(self)
         a.setContentsMargins(0, 0, 0, 0)
         a.setSpacing(3)
-        head = QHBoxLayout()
-        head.setSpacing(4)
-        head.addWidget(heading(_("Macros on the charger")), 1)
-        head.addWidget(self.reload_button)
-        a.addLayout(head)
+        a.addLayout(heading_row(_("Macros on the charger"), self.reload_button))
         a.addWidget(self.table, 1)
         a.addWidget(self.free_label)
         flash_row = QHBoxLayout()

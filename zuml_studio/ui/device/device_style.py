@@ -71,6 +71,15 @@ def heading(text: str) -> QLabel:
     return label
 
 
+def heading_row(text: str, button: QWidget) -> QHBoxLayout:
+    """A part's bold title with its one tool button at the right (⟳ read again)."""
+    row = QHBoxLayout()
+    row.setSpacing(4)
+    row.addWidget(heading(text), 1)
+    row.addWidget(button)
+    return row
+
+
 def vline() -> QFrame:
     """A thin rule between the columns, in the palette's own mid tone (light or dark)."""
     line = QFrame()

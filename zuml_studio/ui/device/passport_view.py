@@ -3,14 +3,14 @@ error counts, as the charger last read them (on connecting, on ⟳, and every fe
 from __future__ import annotations
 
 from PySide6.QtCore import Qt, QTimer, Signal
-from PySide6.QtWidgets import QGridLayout, QHBoxLayout, QLabel, QToolButton, QVBoxLayout, QWidget
+from PySide6.QtWidgets import QGridLayout, QLabel, QToolButton, QVBoxLayout, QWidget
 
 from ...device import messages as msg
 from ...device.errors import DeviceError
 from ...device.passport import printable
 from ...i18n import _
 from .connection import DeviceConnection, describe_error
-from .device_style import heading, tint
+from .device_style import heading_row, tint
 
 POLL_MS = 5000
 
@@ -34,11 +34,7 @@ class PassportView(QWidget):
         b = QVBoxLayout(self)
         b.setContentsMargins(0, 0, 0, 0)
         b.setSpacing(3)
-        pp_head = QHBoxLayout()
-        pp_head.setSpacing(4)
-        pp_head.addWidget(heading(_("Battery passport")), 1)
-        pp_head.addWidget(self.pp_refresh)
-        b.addLayout(pp_head)
+        b.addLayout(heading_row(_("Battery passport"), self.pp_refresh))
         pp = QGridLayout()
         pp.setHorizontalSpacing(6)
         pp.setVerticalSpacing(1)
