@@ -65,7 +65,7 @@ def test_flash_slots_backup_restore(any_charger, zuml, tmp_path):
     assert zuml("compile", str(MACROS / "LiPo.zuml"), "-o", str(tmp_path / "LiPo.bin"))[0] == 0
     assert zuml("flash", "--port", port, str(tmp_path / "LiPo.bin"))[0] == 0
     code, out, err = zuml("flash", "--port", port, str(MACROS / "NiMh-dV.zuml"))
-    assert "replaced slot 0 (NiMh-dV); 0 byte(s) written" in out
+    assert "replaced slot 0 (NiMh-dV); 0 bytes written" in out
     code, out, err = zuml("flash", "--port", port, "--slot", "1", str(MACROS / "NiCd.zuml"))
     assert code == 0 and "replaced slot 1 (LiPo)" in out
     code, out, err = run_zuml("slots", "--port", port)           # once as a user would
@@ -73,7 +73,7 @@ def test_flash_slots_backup_restore(any_charger, zuml, tmp_path):
     lines = out.splitlines()
     assert lines[1].split()[:6] == ["0", "0", "38", "NiMh-dV", "NiMh", "ok"]
     assert lines[2].split()[3:6] == ["NiCd", "NiCd", "ok"]
-    assert lines[-1].startswith("2 macro(s); free ")
+    assert lines[-1].startswith("2 macros; free ")
     code, out, err = zuml("backup", "--port", port, "-o", str(tmp_path / "image.bin"))
     saved = read_image(port)
     assert code == 0 and (tmp_path / "image.bin").read_bytes() == saved
@@ -170,7 +170,7 @@ def test_refusals_and_link_errors_are_one_line(vc, zuml, tmp_path):
     # The safety check's refusal: its diagnostics, then one error line.
     assert code == 1 and "Traceback" not in err
     assert err.splitlines() == ["  the macro is for NiMh; the battery is LiPo", "zuml: error: slot 0 (NiMh-dV): "
-                                "refused, 1 safety problem(s) above (--force-unsafe overrides)"]
+                                "refused, 1 safety problem above (--force-unsafe overrides)"]
     code, out, err = zuml("run", "--port", port, "--slot", "0", "--capacity", "2000", "--current", "2",
                           "--series", "4", "--force-unsafe")
     one_error_line(code, out, err)
@@ -227,7 +227,7 @@ def test_virtual_charger_on_tcp(tmp_path):
     with virtual_charger("--tcp", "127.0.0.1:0", "--speed", "100", stop=signal.SIGINT) as url:
         assert url.startswith("socket://127.0.0.1:")
         code, out, err = run_zuml("slots", "--port", url)
-        assert code == 0 and out.splitlines()[-1] == "0 macro(s); free 1024 of 1024 bytes", err
+        assert code == 0 and out.splitlines()[-1] == "0 macros; free 1024 of 1024 bytes", err
     code, out, err = run_zuml("virtual-charger", "--battery", "Foo:1:1")
     one_error_line(code, out, err)
     assert code == 2 and "no model for 'Foo'" in err

@@ -56,4 +56,4 @@ def test_flash_whose_commit_never_arrived_says_so_after_reconnecting(any_charger
     assert lines[-1] == ("zuml: error: reconnected and read back: the charger kept its previous image; "
                          "nothing was written, flash again")
     code, out, err = zuml("slots", "--port", charger.port)
-    assert code == 0 and out.splitlines()[-1].startswith("0 macro(s)"), out
+    assert code == 0 and out.splitlines()[-1].startswith("0 macros"), out

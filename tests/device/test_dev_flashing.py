@@ -31,4 +31,4 @@ def test_refusals():
     with pytest.raises(ImageFull) as full:
         merge_record(b"\xff" * 32, a)
     assert (full.value.needed, full.value.size) == (len(a), 32)
-    assert str(full.value) == f"1 record(s) need {len(a)} bytes; the EEPROM has 32"
+    assert str(full.value) == f"1 record needs {len(a)} bytes; the EEPROM has 32"

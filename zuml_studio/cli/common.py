@@ -5,7 +5,7 @@ import sys
 from pathlib import Path
 
 from ..file_errors import FileReadError, read_file_bytes
-from ..i18n import _
+from ..i18n import _, ngettext
 
 
 class CliError(Exception):
@@ -46,10 +46,12 @@ def refuse_unsafe(problems: list[str], force: bool, what: str) -> None:
     for line in problems:
         sys.stderr.write(f"  {line}\n")
     if not force:
-        raise CliError(_("{what}: refused, {n_problems} safety problem(s) above (--force-unsafe overrides)").format(
-                what=what, n_problems=len(problems)), 1)
-    sys.stderr.write(_("zuml: warning: {what}: --force-unsafe: going ahead despite the problem(s) above\n").format(
-            what=what))
+        raise CliError(ngettext("{what}: refused, {n_problems} safety problem above (--force-unsafe overrides)",
+                                "{what}: refused, {n_problems} safety problems above (--force-unsafe overrides)",
+                                len(problems)).format(what=what, n_problems=len(problems)), 1)
+    sys.stderr.write(ngettext("zuml: warning: {what}: --force-unsafe: going ahead despite the problem above\n",
+                              "zuml: warning: {what}: --force-unsafe: going ahead despite the problems above\n",
+                              len(problems)).format(what=what))
 
 
 def add_force_unsafe(p) -> None:

@@ -176,7 +176,8 @@ def cmd_slots(args: argparse.Namespace) -> int:
         check = "ok" if s.ok else f"BAD ({s.error.message})"
         out(f"{s.index:>3}  {s.offset:>6}  {len(s.record):>4}  {s.name:<16}  {_chemistry(s):<9}  {check}")
     used = used_bytes(image)
-    out(_("{count} macro(s); free {free} of {size} bytes").format(
+    out(ngettext("{count} macro; free {free} of {size} bytes", "{count} macros; free {free} of {size} bytes",
+                 len(found)).format(
             count=len(found), free=len(image) - used, size=len(image)))
     return 0
 
@@ -226,7 +227,8 @@ def cmd_flash(args: argparse.Namespace) -> int:
         except (CommitUncertain, CommitUnverified) as exc:
             lost = exc
         else:
-            out(_("{name}: {action}; {changed} byte(s) written, verified").format(
+            out(ngettext("{name}: {action}; {changed} byte written, verified",
+                         "{name}: {action}; {changed} bytes written, verified", result.changed).format(
                     name=name, action=merged.action, changed=result.changed))
             return 0
     _settle(args, lost, f"{name}: {merged.action}")
@@ -293,7 +295,8 @@ def cmd_restore(args: argparse.Namespace) -> int:
         except (CommitUncertain, CommitUnverified) as exc:
             lost = exc
         else:
-            out(_("restored {file}: {changed} byte(s) written, verified").format(
+            out(ngettext("restored {file}: {changed} byte written, verified",
+                         "restored {file}: {changed} bytes written, verified", result.changed).format(
                     file=args.file, changed=result.changed))
             return 0
     _settle(args, lost, f"restored {args.file}")
@@ -411,7 +414,8 @@ def cmd_monitor(args: argparse.Namespace) -> int:
                     break
             sys.stdout.flush()
         if client.missed_events:
-            out(_("note: {n_missed_events} event(s) were lost on the line").format(
+            out(ngettext("note: {n_missed_events} event was lost on the line",
+                         "note: {n_missed_events} events were lost on the line", len(client.missed_events)).format(
                     n_missed_events=len(client.missed_events)))
     except KeyboardInterrupt:
         pass
@@ -512,7 +516,8 @@ def _monitor_charger(args: argparse.Namespace) -> int:
         if log:
             log.close()
     name = link.driver.name if link.driver else _("no charger recognised")
-    sys.stderr.write(_("{name}: {samples} sample(s), {bad} bad record(s)\n").format(
+    sys.stderr.write((ngettext("{name}: {samples} sample", "{name}: {samples} samples", link.samples)
+                     + ngettext(", {bad} bad record\n", ", {bad} bad records\n", link.bad)).format(
             name=name, samples=link.samples, bad=link.bad))
     if error:
         raise CliError(error, 1)
@@ -550,9 +555,12 @@ def cmd_replay(args: argparse.Namespace) -> int:
                     error=exc.strerror or exc), 1) from None
         sys.stdout.write(where + "\n")
         sys.stdout.flush()
-        sys.stderr.write(_("replay: {file} as {title}, {n_records} record(s) over {duration_s:.0f} s, speed "
-                           "x{speed:g}; starts when a reader opens the port; Ctrl+C ends\n").format(
-                file=args.file, title=DRIVERS[recording.driver].title, n_records=len(recording.records),
+        sys.stderr.write(ngettext("replay: {file} as {title}, {n_records} record over {duration_s:.0f} s, speed "
+                                  "x{speed:g}; starts when a reader opens the port; Ctrl+C ends\n",
+                                  "replay: {file} as {title}, {n_records} records over {duration_s:.0f} s, speed "
+                                  "x{speed:g}; starts when a reader opens the port; Ctrl+C ends\n",
+                                  len(recording.records)).format(
+                file=args.file, title=_(DRIVERS[recording.driver].title), n_records=len(recording.records),
                 duration_s=recording.duration_s, speed=args.speed))
         sys.stderr.flush()
         told = False

@@ -99,8 +99,10 @@ def cmd_compile(args: argparse.Namespace) -> int:
     result = compile_source(read_text(args.file))
     _report(args.file, result, stream=sys.stderr)
     if not result.ok:
-        raise CliError(_("{file}: {n_errors} error(s); nothing written").format(
-                file=args.file, n_errors=len(result.errors)), 1)
+        n_errors = len(result.errors)
+        raise CliError(ngettext("{file}: {n_errors} error; nothing written",
+                                "{file}: {n_errors} errors; nothing written", n_errors).format(
+                file=args.file, n_errors=n_errors), 1)
     enc = result.encoded
     if args.hex:
         out(enc.record.hex(" "))
@@ -165,7 +167,8 @@ def cmd_image(args: argparse.Namespace) -> int:
         raise CliError(str(exc), 1) from None
     write_bytes(args.output, image)
     used = sum(len(r) for r in records)
-    out(_("{output}: {count} record(s), {used} of {size} bytes used, {free} free").format(
+    out(ngettext("{output}: {count} record, {used} of {size} bytes used, {free} free",
+                 "{output}: {count} records, {used} of {size} bytes used, {free} free", len(records)).format(
             output=args.output, count=len(records), used=used, size=args.size, free=args.size - used))
     return 0
 
@@ -185,6 +188,7 @@ def _list(path: str, image: bytes, found) -> int:
                     index=slot.index, offset=slot.offset, n_record=len(slot.record), value='?',
                     offset2=slot.error.offset, message=slot.error.message))
     used = sum(len(s.record) for s in found)
-    out(_("{count} record(s), {used} of {size} bytes used, {free} free").format(
+    out(ngettext("{count} record, {used} of {size} bytes used, {free} free",
+                 "{count} records, {used} of {size} bytes used, {free} free", len(found)).format(
             count=len(found), used=used, size=len(image), free=len(image) - used))
     return 1 if bad else 0

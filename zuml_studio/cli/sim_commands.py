@@ -13,7 +13,7 @@ from ..sim.start_check import start_warnings
 from ..sim.start_templates import TEMPLATE_COUNT
 from .common import CliError, check_start_options, out, read_bytes
 from .lang_commands import compile_file
-from ..i18n import _
+from ..i18n import _, ngettext
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -96,8 +96,10 @@ def hms(seconds: float) -> str:
 
 def _table(args: argparse.Namespace, result: SimResult) -> None:
     p = result.interpreter.params
-    out(_("{name}: {task}{repetitions}, {chemistry} model {capacity_mah:g} mAh x {series} cell(s), {ambient:g} °C, "
-          "sensor {sensor}").format(
+    out(ngettext("{name}: {task}{repetitions}, {chemistry} model {capacity_mah:g} mAh x {series} cell, "
+                 "{ambient:g} °C, sensor {sensor}",
+                 "{name}: {task}{repetitions}, {chemistry} model {capacity_mah:g} mAh x {series} cells, "
+                 "{ambient:g} °C, sensor {sensor}", result.series).format(
             name=result.interpreter.program.name, task=p.task,
             repetitions=f' x{p.repetitions}' if p.task == 'train' else '', chemistry=result.chemistry,
             capacity_mah=result.capacity_mah, series=result.series, ambient=args.ambient,

@@ -29,7 +29,7 @@ from .errors import (CommitUncertain, CommitUnverified, DeviceError, DeviceLinkE
                      InvalidImage, NotACharger, PermissionDenied, PortBusy, PortNotFound, VerifyFailed)
 from .frames import MAX_FRAME, OVERHEAD, FrameParser, encode_frame
 from .port_access import vanished_hint
-from ..i18n import _
+from ..i18n import _, ngettext
 
 log = logging.getLogger(__name__)
 
@@ -595,9 +595,12 @@ class ChargerClient:
             back = self.read_image(progress, stage="verify")
         except DeviceLinkError as exc:
             if confirmed:
-                raise CommitUnverified(_("{url}: the charger confirmed the new image ({changed} byte(s) changed), "
-                                         "then the link failed while reading it back ({error}): reconnect to "
-                                         "verify it").format(url=self.url, changed=changed, error=exc),
+                raise CommitUnverified(ngettext("{url}: the charger confirmed the new image ({changed} byte changed), "
+                                                "then the link failed while reading it back ({error}): reconnect to "
+                                                "verify it",
+                                                "{url}: the charger confirmed the new image ({changed} bytes changed), "
+                                                "then the link failed while reading it back ({error}): reconnect to "
+                                                "verify it", changed).format(url=self.url, changed=changed, error=exc),
                                        image, current) from None
             raise self._uncertain(exc, image, current) from None
         if back != image:

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 from ..lang.decoder import decode_record
 from ..lang.eeprom import pack, slots
-from ..i18n import _
+from ..i18n import _, ngettext
 
 
 class MergeError(ValueError):
@@ -34,7 +34,8 @@ class ImageFull(MergeError):
         self.count = count
         self.needed = needed
         self.size = size
-        super().__init__(_("{count} record(s) need {needed} bytes; the EEPROM has {size}").format(
+        super().__init__(ngettext("{count} record needs {needed} bytes; the EEPROM has {size}",
+                                  "{count} records need {needed} bytes; the EEPROM has {size}", count).format(
                 count=count, needed=needed, size=size))
 
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 import enum
 import struct
 from dataclasses import dataclass
-from ..i18n import _
+from ..i18n import _, ngettext
 
 PROTOCOL_VERSION = 1
 RESPONSE_FLAG = 0x80
@@ -197,7 +197,8 @@ def unpack_fields(fields: tuple[Field, ...], payload: bytes) -> dict:
             values[f.name] = bytes(payload[at:]).decode("utf-8", "replace")
             at = len(payload)
     if at != len(payload):
-        raise PayloadError(_("{n_payload} extra byte(s) after the payload's fields").format(
+        raise PayloadError(ngettext("{n_payload} extra byte after the payload's fields",
+                                    "{n_payload} extra bytes after the payload's fields", len(payload) - at).format(
                 n_payload=len(payload) - at))
     return values
 

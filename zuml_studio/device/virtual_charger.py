@@ -43,7 +43,7 @@ from . import messages as m
 from .crc import crc16
 from .frames import Frame, FrameParser, encode_frame
 from .passport import Passport, PassportChip, PassportError, akk_code, default_passport
-from ..i18n import _
+from ..i18n import _, ngettext
 
 FIRMWARE = "zuml-virtual 1.0"
 MIN_SPEED, MAX_SPEED = 1.0, 100000.0
@@ -521,7 +521,8 @@ class VirtualCharger:
                     exc=exc)) from None
         if slot >= len(found):
             raise _Refused(m.ErrorCode.BAD_SLOT,
-                           _("there is no slot {slot}; the EEPROM holds {n_found} macro(s)").format(
+                           ngettext("there is no slot {slot}; the EEPROM holds {n_found} macro",
+                                    "there is no slot {slot}; the EEPROM holds {n_found} macros", len(found)).format(
                     slot=slot, n_found=len(found)))
         s = found[slot]
         if not s.ok:

@@ -12,7 +12,7 @@ from .diagnostics import Severity
 from .opcodes import Role
 from .record import (HEADER_SIZE, MAX_NAME, MIN_RECORD, DecodeError, Instruction, check_byte,
                      read_instruction)
-from ..i18n import _
+from ..i18n import _, ngettext
 
 
 @dataclass(frozen=True)
@@ -59,8 +59,11 @@ def _header(data: bytes) -> tuple[int, str, int]:
         raise DecodeError(len(data), _("the record says {length} bytes but only {n_data} are there").format(
                 length=length, n_data=len(data)))
     if len(data) > length:
-        raise DecodeError(length, _("{n_data} byte(s) follow the record's end at {length} (an EEPROM image? use "
-                                    "the image commands)").format(n_data=len(data) - length, length=length))
+        extra = len(data) - length
+        raise DecodeError(length, ngettext("{n_data} byte follows the record's end at {length} (an EEPROM image? use "
+                                           "the image commands)",
+                                           "{n_data} bytes follow the record's end at {length} (an EEPROM image? use "
+                                           "the image commands)", extra).format(n_data=extra, length=length))
     expected = check_byte(data[:length - 1])
     if data[length - 1] != expected:
         raise DecodeError(length - 1, _("check byte is 0x{data:02x}, expected 0x{expected:02x}").format(

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 from .decoder import Decoded, decode_record
 from .record import MIN_RECORD, DecodeError
-from ..i18n import _
+from ..i18n import _, ngettext
 
 DEFAULT_SIZE = 1024
 ERASED = 0xFF
@@ -70,7 +70,9 @@ def pack(records: list[bytes], size: int = DEFAULT_SIZE) -> bytes:
     """Records back to back, the rest erased. Raises ImageError when they do not fit."""
     body = b"".join(records)
     if len(body) > size:
-        raise ImageError(-1, _("{n_records} record(s) need {n_body} bytes; the EEPROM has {size}").format(
+        raise ImageError(-1, ngettext("{n_records} record needs {n_body} bytes; the EEPROM has {size}",
+                                      "{n_records} records need {n_body} bytes; the EEPROM has {size}",
+                                      len(records)).format(
                 n_records=len(records), n_body=len(body), size=size))
     for record in records:
         if not record or record[0] != len(record):

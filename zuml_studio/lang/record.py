@@ -12,7 +12,7 @@ from operator import xor
 from . import opcodes as ops
 from .ast import Cycle, Macro, Phase
 from .opcodes import Op
-from ..i18n import _
+from ..i18n import _, ngettext
 
 HEADER_SIZE = 4
 MAX_RECORD = 255
@@ -75,7 +75,9 @@ def read_instruction(data: bytes, pc: int, end: int) -> Instruction:
     for operand in op.operands:
         kind = operand.kind
         if at + kind.size > end:
-            raise DecodeError(at, _("{keyword} needs {size} byte(s) for {name}; the program ends first").format(
+            raise DecodeError(at, ngettext("{keyword} needs {size} byte for {name}; the program ends first",
+                                           "{keyword} needs {size} bytes for {name}; the program ends first",
+                                           kind.size).format(
                     keyword=op.keyword, size=kind.size, name=operand.name))
         raw = int.from_bytes(data[at:at + kind.size], "little", signed=kind.signed)
         if not kind.raw_valid(raw, operand.lo, operand.hi):
