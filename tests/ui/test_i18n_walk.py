@@ -126,11 +126,11 @@ def _own_texts(w: QWidget) -> list[tuple[str, str]]:
     return [(f"{where} ({kind})", _plain(str(text))) for kind, text in texts if text and str(text).strip()]
 
 
-def walk(root: QWidget, skip=lambda w: False) -> list[tuple[str, str]]:
+def walk(root: QWidget) -> list[tuple[str, str]]:
     """Every visible text under ``root`` (menus and actions included), as (where, text)."""
     out = []
     for w in [root] + root.findChildren(QWidget):
-        if skip(w) or not w.isVisible() or isinstance(w, QMenu):
+        if not w.isVisible() or isinstance(w, QMenu):
             continue
         out += _own_texts(w)
         if isinstance(w, (QMainWindow, QToolBar)) or w.actions():
@@ -163,13 +163,13 @@ def _dock_title_cut(dock: QDockWidget) -> bool:
     return dock.fontMetrics().horizontalAdvance(dock.windowTitle()) + 2 * margin > right
 
 
-def clipped(root: QWidget, skip=lambda w: False) -> list[str]:
+def clipped(root: QWidget) -> list[str]:
     """Texts under ``root`` that do not fit where they are shown: labels (as test_truncation
     has it), buttons, check boxes, tabs, combo and spin boxes narrower than their text, dock
     titles, and menus or tool buttons pushed into an overflow."""
     out = [line for line in _cut_labels(root)]
     for w in [root] + root.findChildren(QWidget):
-        if skip(w) or not w.isVisible():
+        if not w.isVisible():
             continue
         where = f"{type(w).__name__} {w.objectName()!r}"
         if isinstance(w, (QPushButton, QCheckBox, QRadioButton)) and w.text():
