@@ -91,3 +91,13 @@ def test_cli_errors_are_russian(tmp_path):
     assert proc.returncode == 2
     assert proc.stderr.startswith("zuml: ошибка: ") and "нет такого файла" in proc.stderr
 
+
+
+def test_compare_speaks_russian_every_line_but_the_macros_own_condition():
+    curve = ROOT / "tests" / "data" / "curves" / "nimh_4s_estation_1c.csv"
+    russian = zuml("compare", str(curve), str(ROOT / "zuml_studio" / "data" / "macros" / "NiMh-dV.zuml"),
+                   lang="ru_RU.UTF-8")
+    assert russian.returncode == 0, russian.stderr
+    for line in russian.stdout.splitlines():
+        assert CYRILLIC.search(line), line
+    assert "ниже пика (-dV)" in russian.stdout

@@ -34,7 +34,7 @@ def test_fit_of_a_nimh_log_reports_the_peak_and_reads_the_charger_file_itself(zu
 def test_fit_reads_a_charger_log_through_the_log_readers(zuml):
     rc, out, err = zuml("fit", str(LOGS / "X8_LiPo_5S_2200mA_Charge_4.txt"))
     assert rc == 0, err
-    assert "LiPo 5S" in out and "RMSE V" in out       # the log names LiPo; 5 cells from its balance taps
+    assert "LiPo 5S" in out and "RMSE voltage" in out       # the log names LiPo; 5 cells from its balance taps
 
 
 def test_fit_of_a_log_that_names_no_chemistry_asks_for_one(zuml):

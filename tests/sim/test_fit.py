@@ -1,5 +1,6 @@
 """The curve reader, the fit's pieces and the saved batteries (issue #14)."""
 import json
+import tomllib
 
 import numpy as np
 import pytest
@@ -8,9 +9,10 @@ from helpers import ROOT
 from zuml_studio.sim.batteries import BatteryFileError, battery_names, load_battery, save_battery
 from zuml_studio.sim.chemistry import load_chemistry
 from zuml_studio.sim.curve import Curve, CurveError, read_curve, read_curve_csv
-from zuml_studio.sim.fit import Battery, cv_mask, fit, simulate_curve
+from zuml_studio.sim.fit import Battery, cv_mask, fit, guess_series, simulate_curve
 
 CURVES = ROOT / "tests" / "data" / "curves"
+TRAINING = tomllib.loads((CURVES / "training.toml").read_text())
 
 
 def synthetic(chem: str = "LiPo", capacity: float = 1500.0, series: int = 3) -> Curve:
@@ -113,3 +115,22 @@ def test_scipy_is_imported_only_when_a_fit_runs():
             "zuml_studio.ui.main_window, zuml_studio.ui.sim.compare_dialog; print('scipy' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert out.stdout.strip() == "False", out.stderr
+
+
+@pytest.mark.parametrize("name", sorted(TRAINING))
+def test_the_cell_count_is_guessed_right_on_every_real_charge(name):
+    # The Ultramat 4S NiMH pack peaks at 1.65 V per cell: from its highest voltage it looked like 5 cells.
+    entry = TRAINING[name]
+    assert guess_series(read_curve(CURVES / f"{name}.csv"), entry["chemistry"]) == entry["cells"]
+
+
+def test_a_nimh_logs_single_tap_is_not_taken_for_its_cell_count():
+    curve = read_curve(ROOT / "tests" / "data" / "realdata" / "icharger3010B_2500NiMh_lines.txt")
+    assert curve.cells == 1
+    assert guess_series(curve, "NiMh") == 4
+
+
+def test_a_lone_sensor_dropout_is_not_taken_for_the_packs_temperature():
+    # The 308DUO log reads 0 °C for one second amid 21-23 °C.
+    curve = read_curve(ROOT / "tests" / "data" / "logs" / "308DUO_LiFe_2.3Ah_Laden_0_CH1.txt")
+    assert curve.temp is not None and curve.temp.min() > 15.0

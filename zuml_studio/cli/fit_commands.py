@@ -11,7 +11,9 @@ from ..sim.batteries import BatteryFileError, save_battery
 from ..sim.chemistry import load_chemistry
 from ..sim.curve import Curve, CurveError, read_curve
 from ..sim.fit import fit, guess_series
+from ..sim.fit_report import figure_lines
 from ..sim.interpreter import StartError
+from ..sim.simulate import BatterySetup, model_chemistry
 from .common import CliError, out
 from .sim_commands import _record
 from ..i18n import _
@@ -34,7 +36,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     c.add_argument("--battery", metavar="NAME", help=_("a saved fitted battery instead of the default model"))
     c.add_argument("--cells", type=int, metavar="N")
     c.add_argument("--capacity", type=float, metavar="MAH",
-                   help=_("default: the saved battery's, else the charge the log put in"))
+                   help=_("default: the saved battery's, else what the log's charge implies (the charge it put in, "
+                           "over the part of the capacity it filled)"))
     c.add_argument("--json", action="store_true")
     c.set_defaults(run=cmd_compare)
 
@@ -57,19 +60,6 @@ def _cells(args: argparse.Namespace, curve: Curve, chemistry: str) -> int:
     if args.cells is not None and not 1 <= args.cells <= 255:
         raise CliError(_("--cells must be 1 to 255"))
     return args.cells or guess_series(curve, chemistry)
-
-
-def _figure_lines(fig: dict) -> list[str]:
-    lines = [f"RMSE V        {fig['rmse_v_per_cell_mv']} mV/cell"]
-    if fig["rmse_i_cv_pct"] is not None:
-        lines.append(f"RMSE I (CV)   {fig['rmse_i_cv_pct']} % of CC")
-    if fig["peak"]:
-        p = fig["peak"]
-        lines.append(f"peak at       {p['real_mah']} mAh real, {p['model_mah']} mAh model")
-        lines.append(f"-dV           {p['real_dv_mv_per_cell']} mV/cell real, {p['model_dv_mv_per_cell']} model")
-    if fig["temp_rise"]:
-        lines.append(f"temp rise     {fig['temp_rise']['real_c']} °C real, {fig['temp_rise']['model_c']} °C model")
-    return lines
 
 
 def _log_chemistry(args: argparse.Namespace, curve: Curve) -> str:
@@ -102,7 +92,7 @@ def cmd_fit(args: argparse.Namespace) -> int:
             log=args.log, chemistry=chemistry, series=series, samples=len(curve.t), minutes=curve.t[-1] / 60))
     for k, v in result.params.items():
         out(f"  {k:14s}{v:g}")
-    for line in _figure_lines(result.figures):
+    for line in figure_lines(result.figures):
         out(line)
     if saved:
         out(_("saved as {save!r} ({saved})").format(save=args.save, saved=saved))
@@ -121,8 +111,10 @@ def cmd_compare(args: argparse.Namespace) -> int:
         raise CliError(str(exc)) from None
     try:
         chemistry = named.chem.name if named else (_chemistry(args.chemistry) if args.chemistry else None)
-        series = args.cells or (named.series if named else None) or guess_series(curve, chemistry or "NiMh")
-        capacity = args.capacity or (named.capacity_mah if named else float(curve.mah[-1]))
+        # The cell count is guessed with the model that will run: the macro's AKK_TYPE where none is given.
+        series = args.cells or (named.series if named else None) or guess_series(
+            curve, chemistry or model_chemistry(record, BatterySetup()))
+        capacity = args.capacity or (named.capacity_mah if named else None)
         result = compare(curve, record, chemistry, series, capacity, args.battery)
     except (StartError, ValueError) as exc:
         raise CliError(f"{args.macro}: {exc}", 1) from None
@@ -130,10 +122,11 @@ def cmd_compare(args: argparse.Namespace) -> int:
         json.dump(result.report, sys.stdout, indent=2)
         out()
         return 0
-    for line in _figure_lines(result.report):
+    sim = result.sim
+    out(_("{log}: {chemistry} {series}S, {capacity} mAh, {current} A from the log, {model}").format(
+            log=args.log, chemistry=sim.chemistry, series=sim.series, capacity=f"{sim.capacity_mah:.0f}",
+            current=f"{result.current_a:g}",
+            model=_("battery {name!r}").format(name=args.battery) if args.battery else _("default model")))
+    for line in figure_lines(result.report):
         out(line)
-    for who in ("real", "model"):
-        e = result.report["ends"][who]
-        out(_("{who:6s} ended {e:.1f} min, {e2} mAh: {e3}").format(
-                who=who, e=e['time_s'] / 60, e2=e['mah'], e3=e['why']))
     return 0

@@ -28,6 +28,7 @@ class Chemistry:
     charge_end_v: float
     max_v: float
     discharge_end_v: float
+    charging_v: float            # typical voltage under charge (a charge's median): a log's cell count
     delta_v_per_cell: float      # typical -dV termination, V per cell (0 = not a -dV chemistry)
     # [ocv]
     ocv_soc: tuple[float, ...]   # 0 .. 1, strictly increasing
@@ -124,7 +125,7 @@ def _check(c: Chemistry) -> None:
         raise ValueError(_("ocv soc must rise strictly from 0 to 1"))
     if any(b < a for a, b in zip(v, v[1:])):
         raise ValueError(_("ocv v must not fall with soc"))
-    positive = ("ref_capacity_ah", "r0_ohm", "tau1_s", "tau2_s", "w0", "cth_j_per_k", "ha_w_per_k", "pol_eps",
+    positive = ("charging_v", "ref_capacity_ah", "r0_ohm", "tau1_s", "tau2_s", "w0", "cth_j_per_k", "ha_w_per_k", "pol_eps",
                 "pol_tau_s", "pol_max_v", "dip_tau_s")
     for key in positive:
         if not getattr(c, key) > 0.0:

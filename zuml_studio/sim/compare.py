@@ -2,12 +2,14 @@
 figures as a fit, plus when and why each charge ended."""
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .charger_model import ChargerLimits, load_charger
 from .curve import Curve
-from .fit import NI, Run, cc_current, cv_mask, figures, soc_at_ocv
+from .fit import NI, Run, cc_current, charging, cv_mask, figures, measured, peak, soc_at_ocv
+from .fit_report import real_end_why
 from .chemistry import load_chemistry
 from .interpreter import StartParams
 from .simulate import BatterySetup, SimResult, model_chemistry, simulate
@@ -21,6 +23,7 @@ class Comparison:
     run: Run             # the simulation resampled onto it
     cv: np.ndarray
     report: dict
+    current_a: float     # the log's CC current, entered as the INPUT current
 
 
 def start_setup(curve: Curve, chemistry: str, series: int) -> tuple[float, float]:
@@ -33,21 +36,44 @@ def start_setup(curve: Curve, chemistry: str, series: int) -> tuple[float, float
 
 
 def real_end(curve: Curve, chemistry: str, series: int) -> dict:
-    """When the logged charge ended and the state change that shows why."""
+    """When the logged charge ended and the state change that shows why: ``why`` in English (the
+    report is a contract), ``kind`` and ``values`` to say it in the user's language."""
     t, v, i = float(curve.t[-1]), float(curve.v[-1]), float(curve.i[-1])
     end = {"time_s": round(t, 1), "mah": round(float(curve.mah[-1]), 1), "v": round(v, 3), "a": round(i, 3)}
     cv = cv_mask(curve, chemistry)
     if chemistry in NI:
-        drop = (float(curve.v.max()) - v) / series * 1000.0
-        end["why"] = f"voltage {drop:.1f} mV per cell below its peak (-dV)" if drop > 0.5 else "log ends"
+        use = measured(curve, cv)
+        drop = peak(curve.t[use], curve.v[use], curve.mah[use], series)[1]     # as the figures read it
+        kind, values = ("dv", {"drop": f"{drop:.1f}"}) if drop > 0.5 else ("log_ends", {})
     elif cv.any():
-        end["why"] = f"current tapered to {i:.3g} A ({100 * i / cc_current(curve, cv):.0f} % of CC) at {v:.3f} V"
+        kind, values = "cv", {"a": f"{i:.3g}", "share": f"{100 * i / cc_current(curve, cv):.0f} %", "v": f"{v:.3f}"}
     else:
-        end["why"] = "log ends during constant current"
-    return end
+        kind, values = "cc", {}
+    return {**end, "why": real_end_why(kind, values, translate=False), "kind": kind, "values": values}
 
 
-def compare(curve: Curve, record: bytes, chemistry: str | None, series: int, capacity_mah: float,
+def _model_peak(sim: SimResult, series: int, i_cc: float) -> tuple[float, float]:
+    """The simulation's own peak (mAh) and -dV (mV per cell) over its whole charge: a model that
+    runs on past the log's end peaks where the log no longer is."""
+    a = sim.log.arrays()
+    use = charging(a["current_a"], i_cc)
+    if use.sum() < 2:
+        return 0.0, 0.0
+    return peak(a["time_s"][use], a["voltage_v"][use], a["mah_in"][use], series)
+
+
+def log_charger(curve: Curve, base: str) -> ChargerLimits:
+    """``base``'s power stage with its charge limits raised to what the log's charger delivered: a
+    log from a 1 kW iCharger is not to be held to a B6's 50 W (the simulation would charge at a
+    third of the log's current and say nothing about the macro)."""
+    limits = load_charger(base)
+    margin = 1.02
+    return replace(limits, max_charge_a=max(limits.max_charge_a, float(curve.i.max()) * margin),
+                   max_charge_w=max(limits.max_charge_w, float((curve.v * curve.i).max()) * margin),
+                   max_v=max(limits.max_v, float(curve.v.max()) * margin))
+
+
+def compare(curve: Curve, record: bytes, chemistry: str | None, series: int, capacity_mah: float | None,
             battery: str | None = None, charger: str = "imax_b6") -> Comparison:
     if battery:
         from .batteries import load_battery
@@ -55,9 +81,12 @@ def compare(curve: Curve, record: bytes, chemistry: str | None, series: int, cap
     else:
         chem_name = load_chemistry(chemistry).name if chemistry else model_chemistry(record, BatterySetup())
     soc, ambient = start_setup(curve, chem_name, series)
+    if capacity_mah is None:
+        # What the log's charge implies: it filled the pack from where it started.
+        capacity_mah = float(curve.mah[-1]) / (1.0 - soc)
     cv = cv_mask(curve, chem_name)
     params = StartParams("charge", 1, round(capacity_mah), round(cc_current(curve, cv), 2), None, series)
-    sim = simulate(record, params, BatterySetup(chem_name, soc, ambient, charger, battery))
+    sim = simulate(record, params, BatterySetup(chem_name, soc, ambient, log_charger(curve, charger), battery))
     a = sim.log.arrays()
     m_t, m_v, m_i, m_temp = a["time_s"], a["voltage_v"], np.clip(a["current_a"], 0.0, None), a["temp_c"]
     over = curve.t <= (m_t[-1] if len(m_t) else 0.0)
@@ -68,6 +97,13 @@ def compare(curve: Curve, record: bytes, chemistry: str | None, series: int, cap
     run = Run(np.interp(part.t, m_t, m_v), np.interp(part.t, m_t, m_i), np.interp(part.t, m_t, m_temp))
     part_cv = cv[over]
     report = figures(part, run, part_cv, series, sim.chemistry)
+    if report["peak"] is not None:
+        # Each peak over its own whole charge; the RMSE above is over the time both ran.
+        use = measured(curve, cv)
+        real_mah, real_dv = peak(curve.t[use], curve.v[use], curve.mah[use], series)
+        model_mah, model_dv = _model_peak(sim, series, cc_current(curve, cv))
+        report["peak"] = {"real_mah": round(real_mah, 1), "model_mah": round(model_mah, 1),
+                          "real_dv_mv_per_cell": round(real_dv, 2), "model_dv_mv_per_cell": round(model_dv, 2)}
     last = sim.phases[-1] if sim.phases else None
     report["ends"] = {
         "real": real_end(curve, sim.chemistry, series),
@@ -75,4 +111,4 @@ def compare(curve: Curve, record: bytes, chemistry: str | None, series: int, cap
                   "mah": round(sim.interpreter.q_in / 3.6, 1),
                   "why": (last.reason if last else "") or sim.interpreter.end_reason},
     }
-    return Comparison(sim, part.t, run, part_cv, report)
+    return Comparison(sim, part.t, run, part_cv, report, params.current_a)

@@ -20,6 +20,7 @@ from ..i18n import _
 # Chargers drop out of "charge" for a sample or two (a measurement pause); gaps up to this
 # long are part of the same charge.
 _MERGE_GAP_S = 120.0
+_DROPOUT_C = 5.0             # a sensor sample this far from both neighbours is a dropout
 _CSV_COLUMNS = ("time_s", "voltage_v", "current_a")
 
 
@@ -98,11 +99,22 @@ def charge_from_log(log: Log, name: str = "") -> Curve:
     lo, hi = max(runs, key=lambda r: a["t"][r[1]] - a["t"][r[0]])
     sel = np.arange(lo, hi + 1)
     sel = sel[charging[sel]]
-    temp = a["temp"][sel]
     t = a["t"][sel]
-    return Curve(t - t[0], a["voltage"][sel], np.abs(a["current"][sel]),
-                 temp if np.isfinite(temp).sum() > len(temp) // 2 and np.nanmax(temp) > np.nanmin(temp) else None,
+    return Curve(t - t[0], a["voltage"][sel], np.abs(a["current"][sel]), _sensor(t, a["temp"][sel]),
                  log.cells, name, str(log.meta.get("battery", "")))
+
+
+def _sensor(t: np.ndarray, temp: np.ndarray) -> np.ndarray | None:
+    """The temperature channel, None where the log has none worth the name (mostly missing, or flat).
+    A lone sample far from both neighbours is a dropout, not the pack (the iCharger 308DUO log reads
+    0 °C for one second amid 22 °C): it and missing samples take the line between their neighbours."""
+    ok = np.isfinite(temp)
+    if ok.sum() <= len(temp) // 2:
+        return None
+    inner = np.abs(temp[1:-1] - temp[:-2]), np.abs(temp[1:-1] - temp[2:])
+    ok[1:-1] &= ~((inner[0] > _DROPOUT_C) & (inner[1] > _DROPOUT_C))
+    clean = np.interp(t, t[ok], temp[ok])
+    return clean if clean.max() > clean.min() else None
 
 
 def read_curve_csv(text: str, name: str = "") -> Curve:

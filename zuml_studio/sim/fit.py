@@ -30,6 +30,7 @@ _FIT_STEP_S = 10.0          # curves are decimated to this before a fit: seconds
 _TEMP_WEIGHT = 1.0           # 1 °C of temperature error weighs as 1 mV per cell
 _RISE_WEIGHT = 3.0           # 1 °C of error in the temperature rise weighs as 3 mV per cell
 _TAIL_WEIGHT = 3.0           # the fall after the peak weighs 3x the rest of the voltage
+_TAPS_AGREE = 0.25           # taps whose count is further off the pack voltage are not one per cell (a NiMH log's one tap)
 _NFEV_PER_PARAM = 15         # evaluations per fitted parameter and start: keeps a fit to seconds
 
 
@@ -116,7 +117,12 @@ def measured(curve: Curve, cv: np.ndarray) -> np.ndarray:
     """Samples whose voltage is compared: charging at constant current, not the CV part and not a
     charger's measurement pause (current off for a moment: the eStation BC6 pauses every minute, and
     a 10 s sample held at 0 A would make the model relax far more than the cell did)."""
-    return ~cv & (curve.i >= _PAUSE_FRACTION * cc_current(curve, cv))
+    return ~cv & charging(curve.i, cc_current(curve, cv))
+
+
+def charging(current: np.ndarray, i_cc: float) -> np.ndarray:
+    """Samples at the charge current, not in a measurement pause."""
+    return current >= _PAUSE_FRACTION * i_cc
 
 
 def simulate_curve(battery: Battery, curve: Curve, cv: np.ndarray, start_soc: float) -> Run:
@@ -150,7 +156,7 @@ def smooth(t: np.ndarray, y: np.ndarray, window_s: float = _SMOOTH_S) -> np.ndar
     return np.convolve(padded, kernel, mode="valid")
 
 
-def _peak(t: np.ndarray, v: np.ndarray, mah: np.ndarray, series: int) -> tuple[float, float]:
+def peak(t: np.ndarray, v: np.ndarray, mah: np.ndarray, series: int) -> tuple[float, float]:
     """(mAh at the smoothed voltage's maximum, its fall from there to the end in mV per cell)."""
     s = smooth(t, v)
     k = int(np.argmax(s))
@@ -168,8 +174,8 @@ def figures(curve: Curve, run: Run, cv: np.ndarray, series: int, chemistry: str)
         out["rmse_i_cv_pct"] = round(float(np.sqrt(np.mean(err_i ** 2))), 2)
     if chemistry in NI:
         t, mah = curve.t[cc], curve.mah[cc]
-        real_mah, real_dv = _peak(t, curve.v[cc], mah, series)
-        model_mah, model_dv = _peak(t, run.v[cc], mah, series)
+        real_mah, real_dv = peak(t, curve.v[cc], mah, series)
+        model_mah, model_dv = peak(t, run.v[cc], mah, series)
         out["peak"] = {"real_mah": round(real_mah, 1), "model_mah": round(model_mah, 1),
                        "real_dv_mv_per_cell": round(real_dv, 2), "model_dv_mv_per_cell": round(model_dv, 2)}
     if curve.temp is not None:
@@ -206,7 +212,7 @@ def _residuals(curve: Curve, run: Run, cv: np.ndarray, series: int, chemistry: s
         rise = (float(run.temp.max() - run.temp[0]) - float(curve.temp.max() - curve.temp[0])) * _RISE_WEIGHT
         parts.append(np.array([rise]))
     if peak_real is not None:
-        model_mah, model_dv = _peak(curve.t[cc], run.v[cc], curve.mah[cc], series)
+        model_mah, model_dv = peak(curve.t[cc], run.v[cc], curve.mah[cc], series)
         parts.append(np.array([(model_mah - peak_real[0]) / max(peak_real[0], 1.0) * 400.0,
                                (model_dv - peak_real[1]) * 12.0]))
         # The fall after the real peak, point by point: unlike the peak figures it changes smoothly
@@ -249,7 +255,7 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
         use = measured(work, cv)
         real_s = smooth(work.t[use], work.v[use])
         k_peak = int(np.argmax(real_s))
-        real_peak = (*_peak(work.t[use], work.v[use], work.mah[use], series), k_peak,
+        real_peak = (*peak(work.t[use], work.v[use], work.mah[use], series), k_peak,
                      real_s[k_peak:] - real_s[k_peak])
 
     def solve(free: list[Param], begin: dict, end_terms: bool):
@@ -316,9 +322,11 @@ def soc_at_ocv(chem: Chemistry, v_cell: float) -> float:
 
 
 def guess_series(curve: Curve, chemistry: str) -> int:
-    """The cell count from the log's balance taps, else from its highest voltage and the chemistry's limits."""
-    if curve.cells:
+    """The cell count: the log's balance taps where they fit its pack voltage, else the charge's median
+    voltage over the chemistry's typical voltage under charge. The median, not the highest voltage: a
+    NiMH peak lies anywhere from 1.47 to 1.65 V per cell (docs/validation.md), so the top of a 4-cell
+    pack with leads reads like 5 cells, while the median stays within 5 % of ``charging_v``."""
+    per_cell = float(np.median(curve.v)) / load_chemistry(chemistry).charging_v
+    if curve.cells and abs(per_cell / curve.cells - 1.0) < _TAPS_AGREE:
         return curve.cells
-    chem = load_chemistry(chemistry)
-    top = chem.charge_end_v if chemistry not in NI else 1.45
-    return max(1, int(round(float(curve.v.max()) / top)))
+    return max(1, int(round(per_cell)))

@@ -8,7 +8,7 @@ from typing import Mapping
 from ..lang import opcodes as ops
 from ..lang.record import DecodeError
 from .battery import Pack
-from .charger_model import Charger, load_charger
+from .charger_model import Charger, ChargerLimits, load_charger
 from .chemistry import load_chemistry
 from .interpreter import AKK_NAMES, Interpreter, Measurement, PhaseResult, StartError, StartParams, with_template
 from .program import Program
@@ -21,7 +21,7 @@ class BatterySetup:
     chemistry: str | None = None        # battery model; None: the macro's AKK_TYPE
     soc: float | None = None            # None: empty for charge, full for discharge and training
     ambient_c: float = 25.0
-    charger: str = "imax_b6"
+    charger: str | ChargerLimits = "imax_b6"   # a data/chargers name, or limits made for the run
     battery: str | None = None          # a saved named battery (batteries.py): its model, capacity and cells
 
 
@@ -122,7 +122,8 @@ def models(record: bytes, params: StartParams, setup: BatterySetup = BatterySetu
     soc = setup.soc if setup.soc is not None else (0.0 if params.task == "charge" else 1.0)
     pack = Pack(named.chem if named else load_chemistry(chemistry), params.capacity_mah, params.series, soc,
                 setup.ambient_c)
-    charger = Charger(load_charger(setup.charger), setup.ambient_c)
+    limits = load_charger(setup.charger) if isinstance(setup.charger, str) else setup.charger
+    charger = Charger(limits, setup.ambient_c)
     return params, chemistry, pack, charger
 
 

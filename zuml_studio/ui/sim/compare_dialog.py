@@ -12,42 +12,23 @@ from PySide6.QtWidgets import (QComboBox, QDialog, QFileDialog, QFormLayout, QHB
                                QInputDialog, QLabel, QPushButton, QSpinBox, QVBoxLayout, QWidget)
 
 from ...file_errors import FileReadError
-from ...i18n import N_, _
+from ...i18n import _
 from ...logs import LogFormatError
 from ...sim.batteries import BatteryFileError, save_battery
 from ...sim.chemistry import chemistry_names
 from ...sim.curve import Curve, CurveError, read_curve
 from ...sim.fit import FitResult, fit, guess_series
+from ...sim.fit_report import figure_lines
 from ...sim.interpreter import StartError
 from ..background import BackgroundCall
 
 REAL_PEN = pg.mkPen("#202020", width=2)
 MODEL_PEN = pg.mkPen("#1f5fd0", width=1.5)
 DIFF_PEN = pg.mkPen("#c03030", width=1.5)
-WHO = {"real": N_("real"), "model": N_("model")}      # the report's keys, shown translated
 
 
 def figures_text(report: dict) -> str:
-    """The figures as lines of text (the same keys as ``zuml fit/compare --json``)."""
-    lines = []
-    if report.get("rmse_v_per_cell_mv") is not None:
-        lines.append(_("RMSE voltage: {n} mV per cell").format(n=f"{report['rmse_v_per_cell_mv']:g}"))
-    if report.get("rmse_i_cv_pct") is not None:
-        lines.append(_("RMSE current in CV: {share} of the CC current").format(share=f"{report['rmse_i_cv_pct']:g} %"))
-    if report.get("peak"):
-        p = report["peak"]
-        lines.append(_("peak at {real} mAh (real), {model} mAh (model)").format(real=f"{p['real_mah']:g}",
-                                                                                 model=f"{p['model_mah']:g}"))
-        lines.append(_("-dV {real} mV/cell (real), {model} (model)").format(real=f"{p['real_dv_mv_per_cell']:g}",
-                                                                            model=f"{p['model_dv_mv_per_cell']:g}"))
-    if report.get("temp_rise"):
-        t = report["temp_rise"]
-        lines.append(_("temperature rise {real} °C (real), {model} °C (model)").format(real=f"{t['real_c']:g}",
-                                                                                        model=f"{t['model_c']:g}"))
-    for who, end in report.get("ends", {}).items():
-        lines.append(_("{who} ended at {minutes} min, {mah} mAh: {why}").format(
-            who=_(WHO.get(who, who)), minutes=f"{end['time_s'] / 60:.1f}", mah=f"{end['mah']:g}", why=end["why"]))
-    return "\n".join(lines)
+    return "\n".join(figure_lines(report))
 
 
 class CompareDialog(QDialog):
@@ -175,7 +156,7 @@ class CompareDialog(QDialog):
             self._error(_("the open macro has errors: fix them to compare it with the log"))
             return
         curve, chemistry, cells = self.curve, self.chemistry.currentData(), self.cells.value()
-        capacity = self.capacity.value() or float(curve.mah[-1])
+        capacity = self.capacity.value() or None
         self._run(_("Simulating the macro from the log's start…"),
                   lambda: compare(curve, record, chemistry, cells, capacity), self._compared)
 
