@@ -84,7 +84,7 @@ LIGHT = Colours(
     # current and temperature dark enough for text on a grey window too (the live readout)
     quantities={"voltage": "#1f4e9c", "current": "#1c7033", "temp": "#b83d14", "heatsink": "#7b5ea7"},
     plot=PlotColours(
-        paper="#ffffff", ink="#303030", axis="#9a9a9a", grid="#e7e7e7", grid_alpha=0.12, zero="#707070",
+        paper="#ffffff", ink="#303030", axis="#8a8a8a", grid="#e7e7e7", grid_alpha=0.12, zero="#707070",
         cursor="#505050", placeholder="#8a8a8a", legend_fill=(255, 255, 255, 215), readout_border="#b0b0b0",
         band_label="#1c2a44", band_warning="#b34700",
         bands={"charge": (74, 134, 232), "discharge": (232, 96, 74), "pause": (150, 150, 150)},
