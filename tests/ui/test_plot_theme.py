@@ -8,6 +8,7 @@ from typing import Callable
 
 import numpy as np
 import pytest
+from PySide6.QtCore import Qt
 from PySide6.QtGui import QColor
 from PySide6.QtWidgets import QApplication
 
@@ -35,7 +36,7 @@ def _settle(rounds: int = 5) -> None:
         QApplication.processEvents()
 
 
-def _simulator(qtbot) -> Shown:
+def _simulator(qtbot, macro: str = "LiPo", battery: dict | None = None) -> Shown:
     from zuml_studio.lang.compiler import compile_source
     from zuml_studio.ui.sim.sim_panel import SimulatorPanel
 
@@ -43,8 +44,8 @@ def _simulator(qtbot) -> Shown:
     qtbot.addWidget(panel)
     panel.resize(1000, 400)
     panel.show()
-    panel.set_record(compile_source((MACROS / "LiPo.zuml").read_text()).record, "LiPo",
-                     {"chemistry": "LiPo", "series": 3, "capacity_mah": 2200})
+    panel.set_record(compile_source((MACROS / f"{macro}.zuml").read_text()).record, macro,
+                     battery or {"chemistry": "LiPo", "series": 3, "capacity_mah": 2200})
     panel.simulate()
     assert panel.wait(60_000)
     qtbot.waitUntil(lambda: len(panel.plot.labels) == len(panel.plot._phases) > 0, timeout=10_000)
@@ -234,3 +235,33 @@ def test_the_short_axis_titles_are_translated_where_they_hold_a_word(qtbot):
     finally:
         i18n.install("en")
     assert titles == ["V", "V/эл.", "A", "°C"]
+
+
+def test_the_phase_tables_flagged_row_and_section_tints_follow_the_theme(qtbot, system_theme):
+    """The table beside the simulator's plot: a phase a default ended is flagged in the warning
+    colours of the palette's set, a section cell is tinted in its band's hue."""
+    from zuml_studio.ui.sim.phase_table import PhaseTable
+
+    # A NiMH charge with a sensor that its dT/dt default ends: a flagged row.
+    shown = _simulator(qtbot, "NiMh", {"chemistry": "NiMh", "series": 4, "capacity_mah": 2000})
+    table = shown.owner.findChild(PhaseTable)
+    model = table.phases
+    assert any(table.is_flagged(row) for row in range(model.rowCount()))
+    for choice, scheme in (("dark", theme.DARK), ("light", theme.LIGHT)):
+        theme.apply_theme(choice)
+        _settle()
+        assert model.colours is scheme
+        for row in range(model.rowCount()):
+            background = model.data(model.index(row, 1), Qt.ItemDataRole.BackgroundRole)
+            if table.is_flagged(row):
+                assert background == QColor(scheme.warning_row)
+                foreground = model.data(model.index(row, 1), Qt.ItemDataRole.ForegroundRole)
+                assert contrast_ratio(foreground, background) >= 4.5
+            else:
+                hue = scheme.plot.bands[model.phase(row).section]
+                assert background.getRgb()[:3] == hue
+
+
+@pytest.mark.parametrize("scheme", [theme.LIGHT, theme.DARK], ids=["light", "dark"])
+def test_a_flagged_rows_text_is_readable_on_its_background(scheme):
+    assert contrast_ratio(QColor(scheme.warning), QColor(scheme.warning_row)) >= 4.5
