@@ -265,3 +265,16 @@ def test_the_phase_tables_flagged_row_and_section_tints_follow_the_theme(qtbot, 
 @pytest.mark.parametrize("scheme", [theme.LIGHT, theme.DARK], ids=["light", "dark"])
 def test_a_flagged_rows_text_is_readable_on_its_background(scheme):
     assert contrast_ratio(QColor(scheme.warning), QColor(scheme.warning_row)) >= 4.5
+
+
+def test_a_logs_totals_follow_the_theme(qtbot, system_theme):
+    theme.apply_theme("light")
+    _settle()
+    window = _log(qtbot).owner
+    totals = window.tabs.currentWidget().totals
+    assert f"color:{theme.LIGHT.key_text};" in totals.text()
+    theme.apply_theme("dark")
+    _settle()
+    assert f"color:{theme.DARK.key_text};" in totals.text()
+    window_colour = totals.palette().color(totals.backgroundRole())
+    assert contrast_ratio(QColor(theme.DARK.key_text), window_colour) >= 4.5

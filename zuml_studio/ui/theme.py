@@ -60,6 +60,7 @@ class Colours:
     warning: str
     warning_row: str                              # a flagged row's background (the phase table)
     muted: str                                    # placeholders, hints
+    key_text: str                                 # the names in a table of figures (a log's totals)
     quantities: dict[str, str]                    # "voltage", "current", "temp", "heatsink": curves and readouts
     plot: PlotColours
 
@@ -82,6 +83,7 @@ LIGHT = Colours(
     header_row="#eef3fb", check_row="#eef8ee", stale_text="#9a9a9a",
     current_line="#edf2fa", linked_line="#e2f4e8", find_match="#ffe68a",
     ok="#1b7f3b", error="#b00020", warning="#9a5b00", warning_row="#fff3d6", muted="#888888",
+    key_text="#606060",
     # current and temperature dark enough for text on a grey window too (the live readout)
     quantities={"voltage": "#1f4e9c", "current": "#1c7033", "temp": "#b83d14", "heatsink": "#7b5ea7"},
     plot=PlotColours(
@@ -116,6 +118,7 @@ DARK = Colours(
     header_row="#26344d", check_row="#253d2c", stale_text="#7a7a7a",
     current_line="#2a2f3a", linked_line="#23452f", find_match="#6b5a12",
     ok="#5cc97a", error="#ff6b7a", warning="#f0a848", warning_row="#4a3d17", muted="#9a9a9a",
+    key_text="#a8a8a8",
     quantities={"voltage": "#8fb8ff", "current": "#6fd08a", "temp": "#ff9a6b", "heatsink": "#c9a8f5"},
     # The paper is the dark palette's Base; bands need more strength to show on it.
     plot=PlotColours(
