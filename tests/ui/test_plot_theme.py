@@ -278,3 +278,15 @@ def test_a_logs_totals_follow_the_theme(qtbot, system_theme):
     assert f"color:{theme.DARK.key_text};" in totals.text()
     window_colour = totals.palette().color(totals.backgroundRole())
     assert contrast_ratio(QColor(theme.DARK.key_text), window_colour) >= 4.5
+
+
+def test_an_exported_plot_has_its_title_block_on_the_plots_paper(qtbot, system_theme):
+    from PySide6.QtCore import QSize
+
+    from zuml_studio.ui.plot_export import render_with_header
+
+    theme.apply_theme("dark")
+    _settle()
+    plot = _simulator(qtbot).view
+    image = render_with_header(plot, QSize(800, 500), "LiPo", ["3S 2200 mAh"])
+    assert image.pixelColor(1, 1) == QColor(theme.DARK.plot.paper)
