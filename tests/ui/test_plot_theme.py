@@ -287,6 +287,6 @@ def test_an_exported_plot_has_its_title_block_on_the_plots_paper(qtbot, system_t
 
     theme.apply_theme("dark")
     _settle()
-    plot = _simulator(qtbot).view
-    image = render_with_header(plot, QSize(800, 500), "LiPo", ["3S 2200 mAh"])
+    shown = _simulator(qtbot)
+    image = render_with_header(shown.view, QSize(800, 500), "LiPo", ["3S 2200 mAh"])
     assert image.pixelColor(1, 1) == QColor(theme.DARK.plot.paper)
