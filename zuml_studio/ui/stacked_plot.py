@@ -249,7 +249,7 @@ class StackedPlot(pg.GraphicsLayoutWidget):
         look = colours.plot
         self.setBackground(look.paper)
         for plot in self.plots:
-            colour_axes(plot, self.colours.plot)
+            colour_axes(plot, look)
             if self.grid:
                 plot.showGrid(x=True, y=True, alpha=look.grid_alpha)
         self.time_axis.title_style = {**self.time_axis.title_style, "color": look.ink}   # its next title
@@ -268,13 +268,11 @@ class StackedPlot(pg.GraphicsLayoutWidget):
     def current_fill_brush(self) -> QBrush:
         return pg.mkBrush(*rgba(self.hue("current"), self.colours.plot.current_fill_alpha))
 
-    def band_looks(self, section: str, alpha: int, edge_alpha: int | None = None, opaque: bool = True
-                   ) -> tuple[QBrush, QPen]:
+    def band_looks(self, section: str, alpha: int, opaque: bool = True) -> tuple[QBrush, QPen]:
         """A phase band's fill and edge in the section's hue (``opaque``: mixed over the paper
         beforehand, which the raster engine fills eight times faster)."""
         look = self.colours.plot
-        rgb = look.band_rgb(section)
-        edge = look.band_edge_alpha if edge_alpha is None else edge_alpha
+        rgb, edge = look.band_rgb(section), look.band_edge_alpha
         if opaque:
             return (pg.mkBrush(over_paper(rgb, alpha, look.paper)),
                     pg.mkPen(over_paper(rgb, edge, look.paper), width=1))
