@@ -4,6 +4,7 @@ the LiPo macro (docs/visual-editor*.png), in English and Russian.
 
     .venv/bin/python tools/screenshots.py            # both languages
     .venv/bin/python tools/screenshots.py --lang ru
+    .venv/bin/python tools/screenshots.py --theme dark   # docs/screenshot-dark.png: the window, English
 
 Each language runs in a process of its own: the language is chosen once, at start (ZUML_LANG).
 Offscreen Qt; the virtual charger runs at its default speed, so the panel shows about 25 minutes
@@ -14,6 +15,7 @@ import argparse
 import os
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -22,6 +24,7 @@ SUFFIX = {"en": "", "ru": "-ru"}
 PANEL_SIZE = (1366, 360)
 VISUAL_SIZE = (800, 650)
 RUN_S = 6.0
+THEME_ENV = "ZUML_SCREENSHOT_THEME"     # the theme of a part shot (--device-panel, --visual-editor)
 
 
 def _application():
@@ -36,6 +39,10 @@ def _application():
     i18n.install(i18n.choose_language())
     app = QApplication.instance() or QApplication([])
     install_qt_catalogue(i18n.current_language())
+    if os.environ.get(THEME_ENV):
+        from zuml_studio.ui.theme import apply_theme
+
+        apply_theme(os.environ[THEME_ENV])
     return app, collect_on_gui_thread()
 
 
@@ -118,12 +125,30 @@ def _shots(language: str) -> None:
     print(f"{language}: docs/screenshot{suffix}.png, docs/device-panel{suffix}.png, docs/visual-editor{suffix}.png")
 
 
+def _dark_shot() -> None:
+    """The main window in English in the dark theme (a settings file of its own chooses it)."""
+    with tempfile.TemporaryDirectory() as config:
+        Path(config, "settings.ini").write_text("[appearance]\ntheme=dark\n", encoding="utf-8")
+        env = dict(os.environ, ZUML_LANG="en", QT_QPA_PLATFORM="offscreen", ZUML_STUDIO_CONFIG_DIR=config)
+        out = DOCS / "screenshot-dark.png"
+        subprocess.run([sys.executable, "-m", "zuml_studio.ui.app", str(ROOT / "zuml_studio/data/macros/NiMh.zuml"),
+                        "--screenshot", str(out)], env=env, check=True)
+    print("dark: docs/screenshot-dark.png")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--lang", choices=["en", "ru", "all"], default="all")
+    parser.add_argument("--theme", choices=["light", "dark"], default="light",
+                        help="dark: only docs/screenshot-dark.png, the window in English in the dark theme")
     parser.add_argument("--device-panel", metavar="OUT.png", help=argparse.SUPPRESS)
     parser.add_argument("--visual-editor", metavar="OUT.png", help=argparse.SUPPRESS)
     args = parser.parse_args()
+    if args.theme == "dark" and not (args.device_panel or args.visual_editor):
+        _dark_shot()
+        return
+    if args.theme == "dark":
+        os.environ[THEME_ENV] = "dark"
     if args.device_panel:
         _panel_shot(Path(args.device_panel))
         return

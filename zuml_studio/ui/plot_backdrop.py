@@ -7,16 +7,6 @@ import math
 import numpy as np
 import pyqtgraph as pg
 from PySide6.QtCore import QLine, QRect, QRectF
-from PySide6.QtGui import QColor
-
-from .stacked_plot import GRID_ALPHA
-
-
-def over_paper(r: int, g: int, b: int, alpha: int) -> QColor:
-    """The opaque colour a translucent one makes over the white background."""
-    a = alpha / 255.0
-    return QColor(*(int(round(255 - (255 - c) * a)) for c in (r, g, b)))
-
 
 class BackdropItem(pg.GraphicsObject):
     """What lies under a plot's curves, in one item: the grid (major ticks) and every phase
@@ -27,18 +17,23 @@ class BackdropItem(pg.GraphicsObject):
     phase and plot costs more per frame than curves of a million points; one item drawing
     a few batched lines costs well under a millisecond."""
 
-    def __init__(self, plot: pg.PlotItem, time_axis: pg.AxisItem, grid: bool = True):
+    def __init__(self, plot: pg.PlotItem, time_axis: pg.AxisItem, grid_colour: str | None = None):
         super().__init__()
         self.plot = plot
-        self.grid = grid              # False: bands only (an item laid over another's bands)
+        self.grid = grid_colour is not None     # False: bands only (an item laid over another's bands)
         self.time_axis = time_axis
         self._bands: list[tuple[float, float, object, object]] = []   # x0, x1, brush, pen
         self._tips: list[str] = []
-        # Everything here is opaque, its translucent colour mixed over the white paper
-        # beforehand: the raster engine blends a translucent fill at ~20 ns a pixel, eight
-        # times an opaque one, and this item lies under everything on a white background.
-        self.grid_pen = pg.mkPen(over_paper(154, 154, 154, int(255 * GRID_ALPHA * 2)), width=1)
+        # Everything here is opaque, its translucent colour mixed over the paper beforehand
+        # (``StackedPlot.band_looks``, ``PlotColours.grid``): the raster engine blends a
+        # translucent fill at ~20 ns a pixel, eight times an opaque one, and this item lies
+        # under everything.
+        self.grid_pen = pg.mkPen(grid_colour, width=1)
         self.setZValue(-20)
+
+    def set_grid_colour(self, colour: str) -> None:
+        self.grid_pen = pg.mkPen(colour, width=1)
+        self.update()
 
     def set_bands(self, bands: list[tuple[float, float, object, object]], tips: list[str] | None = None) -> None:
         """``tips``: one tooltip per band, shown while the mouse is over it."""

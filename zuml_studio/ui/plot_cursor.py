@@ -11,10 +11,9 @@ import numpy as np
 import pyqtgraph as pg
 from PySide6.QtCore import QPointF, Qt
 
-from .stacked_plot import INK, StackedPlot, band_label
+from .stacked_plot import StackedPlot, band_label
 from .timefmt import hmmss
 
-CURSOR_PEN = pg.mkPen("#505050", width=1, style=Qt.PenStyle.DotLine)
 GAP_PX = 6
 
 
@@ -53,18 +52,29 @@ class CursorReadout:
         self.samples = samples
         self.lines = []
         for p in plot.plots:
-            line = pg.InfiniteLine(angle=90, movable=False, pen=CURSOR_PEN)
+            line = pg.InfiniteLine(angle=90, movable=False)
             line.setZValue(40)
             line.hide()
             p.addItem(line, ignoreBounds=True)
             self.lines.append(line)
-        self.label = pg.TextItem("", color=INK, anchor=(0, 0), fill=pg.mkBrush(255, 255, 255, 225),
-                                 border=pg.mkPen("#b0b0b0"))
+        self.label = pg.TextItem("", anchor=(0, 0))
         self.label.setFont(plot._label_font)
         self.label.setZValue(60)
         self.label.setParentItem(plot.vplot.vb)        # view box pixels: stays readable at any zoom
         self.label.hide()
+        self._colour()
+        plot.coloursChanged.connect(self._colour)
         plot.scene().sigMouseMoved.connect(self._mouse_moved)
+
+    def _colour(self) -> None:
+        """The plot's colour set: the line, the text, and the paper behind it."""
+        look = self.plot.colours.plot
+        for line in self.lines:
+            line.setPen(pg.mkPen(look.cursor, width=1, style=Qt.PenStyle.DotLine))
+        self.label.setColor(look.ink)
+        self.label.fill = pg.mkBrush(*look.legend_fill)
+        self.label.border = pg.mkPen(look.readout_border)
+        self.label.update()
 
     def text(self) -> str:
         return self.label.toPlainText() if self.label.isVisible() else ""

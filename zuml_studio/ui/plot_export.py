@@ -1,6 +1,7 @@
 """Export a plot as a PNG a report can use: a title and lines of details (the macro, the
 battery, the parameters) above the plot, laid out at the size asked for (not a scaled
-screen grab: text keeps its size, the plot gets the room)."""
+screen grab: text keeps its size, the plot gets the room). The header is on the plot's paper, in
+its ink (a dark theme exports a dark image)."""
 from __future__ import annotations
 
 from PySide6.QtCore import QEvent, QSize, Qt
@@ -9,11 +10,11 @@ from PySide6.QtWidgets import (QApplication, QDialog, QDialogButtonBox, QFormLay
                                QSpinBox, QWidget)
 
 from ..i18n import _
+from . import theme
 
 MIN_SIZE, MAX_SIZE = 320, 8000
 DEFAULT_SIZE = (1600, 1000)
 MARGIN_PX = 12
-INK = QColor("#202020")
 
 
 def _fonts(base: QFont) -> tuple[QFont, QFont]:
@@ -24,7 +25,8 @@ def _fonts(base: QFont) -> tuple[QFont, QFont]:
 
 
 def render_with_header(widget: QWidget, size: QSize, title: str, details: list[str]) -> QImage:
-    """The widget laid out at ``size`` less the header, under the title and details, on white."""
+    """The widget laid out at ``size`` less the header, under the title and details, on the
+    widget's paper."""
     title_font, detail_font = _fonts(widget.font())
     lines = [(title_font, title)] * bool(title) + [(detail_font, line) for line in details if line]
     header = MARGIN_PX + sum(QFontMetrics(font).lineSpacing() for font, _ in lines) + MARGIN_PX // 2 * bool(lines)
@@ -34,9 +36,10 @@ def render_with_header(widget: QWidget, size: QSize, title: str, details: list[s
     plot = widget.grab()
     widget.resize(old)
     image = QImage(size, QImage.Format.Format_RGB32)
-    image.fill(Qt.GlobalColor.white)
+    look = theme.colours(widget.palette()).plot
+    image.fill(QColor(look.paper))
     painter = QPainter(image)
-    painter.setPen(INK)
+    painter.setPen(QColor(look.ink))
     y = MARGIN_PX
     for font, text in lines:
         painter.setFont(font)

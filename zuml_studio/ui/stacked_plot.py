@@ -2,36 +2,24 @@
 temperature stacked over one h:mm time axis, in one look (colours, axes, legends), with
 the phases as labelled bands and a strip on top of the voltage plot kept for their labels.
 
+Colours come from the palette's colour set (``theme.colours``: light or dark paper) and are
+applied again when the palette changes (``set_colours``); the data and the view stay.
+
 Performance follows the research notes (ide.md §3): clip to view, peak downsampling,
 no antialiasing, no OpenGL."""
 from __future__ import annotations
 
 import numpy as np
 import pyqtgraph as pg
-from PySide6.QtCore import QRectF, Qt
-from PySide6.QtGui import QFont, QFontMetrics
+from PySide6.QtCore import QEvent, QRectF, Qt, Signal
+from PySide6.QtGui import QBrush, QColor, QFont, QFontMetrics, QPen
 
 from ..i18n import N_, _
 from ..sim.reasons import shown_reason
+from . import theme
 from .timefmt import TimeAxisItem
 
-# Colours: light paper, dark ink, one hue per quantity.
-BACKGROUND = "w"
-INK = "#303030"
-AXIS_PEN = "#9a9a9a"
-GRID_ALPHA = 0.12
-VOLTAGE_PEN = pg.mkPen("#1f4e9c", width=2)
-CURRENT_PEN = pg.mkPen("#23803a", width=2)
-CURRENT_FILL = pg.mkBrush(35, 128, 58, 28)
-BATTERY_T_PEN = pg.mkPen("#d0481c", width=2)
-HEATSINK_T_PEN = pg.mkPen("#7b5ea7", width=2)
-ZERO_PEN = pg.mkPen("#707070", width=1, style=Qt.PenStyle.DashLine)
-# Bands: charge bluish, discharge reddish; neighbours alternate between two strengths.
-BAND_RGB = {"charge": (74, 134, 232), "discharge": (232, 96, 74)}
-BAND_ALPHA = (34, 16)
-LABEL_COLOR = "#1c2a44"
-WARNING_COLOR = "#b34700"
-PLACEHOLDER_COLOR = "#8a8a8a"
+CURVE_WIDTH = 2
 
 # Smallest y spans: a flat 25 °C reads 24–26, not 24.995–25.005.
 MIN_SPAN = {"current": 0.2, "temp": 2.0}
@@ -40,9 +28,9 @@ AXIS_WIDTH = 54               # left and right axes, fixed: the three view boxes
 LABEL_PT = 8
 TICK_PT = 8
 # Vertical axis titles in words, or just the unit when the plots are too low for the words.
-# Quantities are translated, units are not.
+# Quantities are translated, units are not (a short title with a word in it is translated too).
 AXIS_LABELS = {"long": (N_("pack (V)"), N_("per cell (V)"), N_("current (A)"), N_("temp. (°C)")),
-               "short": ("V", "V/cell", "A", "°C")}
+               "short": ("V", N_("V/cell"), "A", "°C")}
 
 
 def band_label(p, short: bool = False) -> str:
@@ -60,8 +48,20 @@ def band_warns(p) -> bool:
     return p.by_default or getattr(p, "timer_before_full", False)
 
 
-def band_rgb(section: str) -> tuple[int, int, int]:
-    return BAND_RGB.get(section, (150, 150, 150))
+def curve_pen(colour: str, width: float = CURVE_WIDTH) -> QPen:
+    return pg.mkPen(colour, width=width)
+
+
+def colour_axes(plot: pg.PlotItem, look: theme.PlotColours) -> None:
+    for name in ("left", "right", "bottom"):
+        axis = plot.getAxis(name)
+        axis.setPen(look.axis)
+        axis.setTextPen(look.ink)            # after the pen: both set the title's colour
+
+
+def rgba(colour: str, alpha: int) -> tuple[int, int, int, int]:
+    c = QColor(colour)
+    return c.red(), c.green(), c.blue(), alpha
 
 
 def covered(t: np.ndarray, y: np.ndarray, x0: float, x1: float, y0: float, y1: float) -> int:
@@ -86,16 +86,25 @@ class InlineLegend(pg.TextItem):
 
     CORNERS = ("top-right", "bottom-right", "top-left", "bottom-left")
 
-    def __init__(self, plot: pg.PlotItem, font: QFont, corners: tuple[str, ...] = CORNERS):
-        super().__init__("", anchor=(1, 0), fill=pg.mkBrush(255, 255, 255, 215))
+    def __init__(self, plot: pg.PlotItem, font: QFont, look: theme.PlotColours,
+                 corners: tuple[str, ...] = CORNERS):
+        super().__init__("", anchor=(1, 0))
         self.setFont(font)
         self.entries: list[tuple[str, str]] = []      # (name, colour)
+        self.ink = look.ink
+        self.fill = pg.mkBrush(*look.legend_fill)
         self.corners = corners
         self.corner = corners[0]
         self.vb = plot.vb
         self.setParentItem(self.vb)                    # view box pixels, not data coordinates
         self.setZValue(50)
         self.vb.sigResized.connect(self.reposition)
+
+    def set_look(self, look: theme.PlotColours, entries: list[tuple[str, str]]) -> None:
+        """The palette's ink and fill, and the entries again in their new colours."""
+        self.ink = look.ink
+        self.fill = pg.mkBrush(*look.legend_fill)
+        self.set_entries(entries)
 
     def add(self, name: str, color: str) -> None:
         self.entries.append((name, color))
@@ -115,7 +124,7 @@ class InlineLegend(pg.TextItem):
 
     def _render(self) -> None:
         parts = [f'<span style="color:{color}; font-weight:bold;">&#9473;&#9473;</span>&nbsp;'
-                 f'<span style="color:{INK};">{name}</span>' for name, color in self.entries]
+                 f'<span style="color:{self.ink};">{name}</span>' for name, color in self.entries]
         self.setHtml("&nbsp;&nbsp;&nbsp;".join(parts))
         self.reposition()
 
@@ -161,12 +170,19 @@ class StackedPlot(pg.GraphicsLayoutWidget):
     """The three x-linked plots (``vplot``, ``iplot``, ``tplot``) with their axes, legends,
     zero line, placeholder text and phase labels. Subclasses add the curves and the bands
     (``self._phases``: objects with section, index, reason, by_default, start_s, end_s;
-    ``self.curves``: name -> PlotDataItem)."""
+    ``self.curves``: quantity -> PlotDataItem, drawn in the quantity's hue).
+
+    ``colours`` is the colour set drawn with; a palette change that turns it (light to dark
+    or back) applies the other (``set_colours``), and subclasses re-colour what they added
+    in ``_recolour``."""
+    coloursChanged = Signal()           # after the plot took another colour set
 
     def __init__(self, object_name: str, placeholder: str, grid: bool, parent=None):
         super().__init__(parent)
         self.setObjectName(object_name)
-        self.setBackground(BACKGROUND)
+        self.colours = theme.colours(self.palette())
+        look = self.colours.plot
+        self.setBackground(look.paper)
         self.ci.setContentsMargins(2, 4, 4, 2)
         self.ci.setSpacing(0)
         self._label_font = QFont(self.font())
@@ -177,6 +193,8 @@ class StackedPlot(pg.GraphicsLayoutWidget):
         self._short_labels: bool | None = None
         self._phases: list = []
         self.labels: list[pg.TextItem] = []
+        self.curves: dict[str, pg.PlotDataItem] = {}
+        self.grid = grid
 
         self.time_axis = TimeAxisItem("bottom")
         self.vplot = self.addPlot(row=0, col=0)
@@ -188,7 +206,7 @@ class StackedPlot(pg.GraphicsLayoutWidget):
         for plot in self.plots[:-1]:
             plot.setXLink(self.tplot)
             plot.hideAxis("bottom")
-        self.time_axis.title_style = {"color": INK, "font-size": f"{LABEL_PT}pt"}
+        self.time_axis.title_style = {"color": look.ink, "font-size": f"{LABEL_PT}pt"}
         self.time_axis.set_format("h:mm")
         self.tplot.getAxis("bottom").setHeight(34)
         self._label_axes(short=False)
@@ -200,14 +218,14 @@ class StackedPlot(pg.GraphicsLayoutWidget):
         self.ci.layout.setRowStretchFactor(1, 10)
         self.ci.layout.setRowStretchFactor(2, 12)
 
-        self.legends = {plot: InlineLegend(plot, self._label_font) for plot in self.plots}
-        self.zero_line = pg.InfiniteLine(pos=0.0, angle=0, pen=ZERO_PEN, movable=False)
+        self.legends = {plot: InlineLegend(plot, self._label_font, look) for plot in self.plots}
+        self.zero_line = pg.InfiniteLine(pos=0.0, angle=0, pen=self._zero_pen(), movable=False)
         self.iplot.addItem(self.zero_line, ignoreBounds=True)
         # The area under the current (``_set_current_fill``), drawn apart from its curve.
-        self.current_fill = pg.PlotDataItem([], [], pen=None, fillLevel=0.0, fillBrush=CURRENT_FILL, antialias=False,
-                                            skipFiniteCheck=True)
+        self.current_fill = pg.PlotDataItem([], [], pen=None, fillLevel=0.0, fillBrush=self.current_fill_brush(),
+                                            antialias=False, skipFiniteCheck=True)
         self.iplot.addItem(self.current_fill)
-        self.placeholder = pg.TextItem(placeholder, color=PLACEHOLDER_COLOR, anchor=(0.5, 0.5))
+        self.placeholder = pg.TextItem(placeholder, color=look.placeholder, anchor=(0.5, 0.5))
         self.placeholder.setFont(self._label_font)
         self.vplot.addItem(self.placeholder, ignoreBounds=True)
         for plot in (self.iplot, self.tplot):
@@ -216,6 +234,70 @@ class StackedPlot(pg.GraphicsLayoutWidget):
         self.iplot.setLimits(minYRange=MIN_SPAN["current"])
         self.tplot.setLimits(minYRange=MIN_SPAN["temp"])
 
+    # -- colours ----------------------------------------------------------------------------
+    def changeEvent(self, event) -> None:  # noqa: N802
+        super().changeEvent(event)
+        if event.type() == QEvent.Type.PaletteChange and hasattr(self, "legends"):
+            colours = theme.colours(self.palette())
+            if colours is not self.colours:
+                self.set_colours(colours)
+
+    def set_colours(self, colours: theme.Colours) -> None:
+        """Draw with another colour set: paper, axes, titles, legends, bands, labels and curves
+        (the data and the view stay)."""
+        self.colours = colours
+        look = colours.plot
+        self.setBackground(look.paper)
+        for plot in self.plots:
+            colour_axes(plot, look)
+            if self.grid:
+                plot.showGrid(x=True, y=True, alpha=look.grid_alpha)
+        self.time_axis.title_style = {**self.time_axis.title_style, "color": look.ink}   # its next title
+        self.zero_line.setPen(self._zero_pen())
+        self.current_fill.setFillBrush(self.current_fill_brush())
+        self.placeholder.setColor(look.placeholder)
+        self._recolour()
+        self.coloursChanged.emit()
+
+    def _recolour(self) -> None:
+        """The subclass's share of ``set_colours``: its curves, bands and labels."""
+
+    def hue(self, quantity: str) -> str:
+        return self.colours.quantities[quantity]
+
+    def current_fill_brush(self) -> QBrush:
+        return pg.mkBrush(*rgba(self.hue("current"), self.colours.plot.current_fill_alpha))
+
+    def band_looks(self, section: str, alpha: int, opaque: bool = True) -> tuple[QBrush, QPen]:
+        """A phase band's fill and edge in the section's hue (``opaque``: mixed over the paper
+        beforehand, which the raster engine fills eight times faster)."""
+        look = self.colours.plot
+        rgb, edge = look.band_rgb(section), look.band_edge_alpha
+        if opaque:
+            return (pg.mkBrush(over_paper(rgb, alpha, look.paper)),
+                    pg.mkPen(over_paper(rgb, edge, look.paper), width=1))
+        return pg.mkBrush(*rgb, alpha), pg.mkPen(*rgb, edge, width=1)
+
+    def label_colour(self, warns: bool) -> str:
+        return self.colours.plot.band_warning if warns else self.colours.plot.band_label
+
+    def _zero_pen(self) -> QPen:
+        return pg.mkPen(self.colours.plot.zero, width=1, style=Qt.PenStyle.DashLine)
+
+    def _recolour_curves(self) -> None:
+        """``self.curves`` in their quantities' hues (a thinned curve stays thin), and the legends
+        of the plots they lie in."""
+        for name, curve in self.curves.items():
+            curve.full_pen = curve_pen(self.hue(name))
+            pen = pg.mkPen(curve.full_pen)
+            if getattr(curve, "thin", False):
+                pen.setWidthF(1.0)
+            curve.setPen(pen)
+        for plot, legend in self.legends.items():
+            items = plot.listDataItems()
+            legend.set_look(self.colours.plot, [(curve.opts["name"], self.hue(name))
+                                                for name, curve in self.curves.items() if curve in items])
+
     # -- construction ------------------------------------------------------------------------
     def _style(self, plot: pg.PlotItem, grid: bool) -> None:
         plot.showAxis("right")
@@ -223,31 +305,30 @@ class StackedPlot(pg.GraphicsLayoutWidget):
         plot.setMenuEnabled(True)
         plot.setMouseEnabled(x=True, y=False)       # zoom and pan in time; y follows the data
         if grid:
-            plot.showGrid(x=True, y=True, alpha=GRID_ALPHA)
+            plot.showGrid(x=True, y=True, alpha=self.colours.plot.grid_alpha)
         plot.setClipToView(True)
         plot.setDownsampling(auto=True, mode="peak")
         plot.getViewBox().setDefaultPadding(0.04)
         for name in ("left", "right", "bottom"):
             axis = plot.getAxis(name)
-            axis.setPen(AXIS_PEN)
-            axis.setTextPen(INK)
             axis.setTickFont(self._tick_font)
             axis.enableAutoSIPrefix(False)
             if name != "bottom":
                 axis.setWidth(AXIS_WIDTH)
+        colour_axes(plot, self.colours.plot)
         plot.getAxis("right").setStyle(showValues=False)
         plot.getAxis("top").enableAutoSIPrefix(False)   # hidden, but would re-render its label every frame
         plot.layout.setContentsMargins(0, 0, 0, 0)
 
     def _axis_label(self, axis: pg.AxisItem, text: str) -> None:
-        axis.setLabel(text, **{"color": INK, "font-size": f"{LABEL_PT}pt"})
+        axis.setLabel(text, **{"color": self.colours.plot.ink, "font-size": f"{LABEL_PT}pt"})
 
     def _label_axes(self, short: bool) -> None:
         if short == self._short_labels:
             return
         self._short_labels = short
         for axis, text in zip(self._title_axes(), AXIS_LABELS["short" if short else "long"]):
-            self._axis_label(axis, _(text) if not short else text)
+            self._axis_label(axis, _(text))
 
     def _title_axes(self) -> tuple[pg.AxisItem, ...]:
         return (self.vplot.getAxis("left"), self.vplot.getAxis("right"), self.iplot.getAxis("left"),
@@ -304,7 +385,7 @@ class StackedPlot(pg.GraphicsLayoutWidget):
             self.placeholder.setPos((x0 + x1) / 2, (y0 + y1) / 2)
 
     def _new_label(self) -> pg.TextItem:
-        label = pg.TextItem("", anchor=(0, 0))
+        label = pg.TextItem("", color=self.label_colour(False), anchor=(0, 0))
         label.setFont(self._label_font)
         label.setZValue(20)
         self.vplot.addItem(label, ignoreBounds=True)
@@ -360,6 +441,12 @@ class StackedPlot(pg.GraphicsLayoutWidget):
 
     def export_png(self, path: str) -> bool:
         return self.grab().save(path, "PNG")
+
+
+def over_paper(rgb: tuple[int, int, int], alpha: int, paper: str) -> QColor:
+    """The opaque colour a translucent one makes over the paper."""
+    a, under = alpha / 255.0, QColor(paper)
+    return QColor(*(int(round(p + (c - p) * a)) for c, p in zip(rgb, (under.red(), under.green(), under.blue()))))
 
 
 def area_outline(x: np.ndarray, y: np.ndarray, points: int, pairs: bool) -> tuple[np.ndarray, np.ndarray]:

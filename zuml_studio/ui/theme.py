@@ -2,7 +2,8 @@
 application-wide theme choice ("system", "light" or "dark").
 
 Colours that sit on the text background (syntax, the bytes view's labelled rows, status
-texts) come from here, so each has a readable pair on both backgrounds; a widget asks
+texts) and every plot's colours (``PlotColours``: paper, ink, bands, curve hues) come from
+here, so each has a readable pair on both backgrounds; a widget asks
 ``colours(self.palette())`` whenever its palette changes."""
 from __future__ import annotations
 
@@ -12,6 +13,36 @@ from PySide6.QtGui import QColor, QPalette
 from PySide6.QtWidgets import QApplication
 
 THEMES = ("system", "light", "dark")
+
+
+@dataclass(frozen=True)
+class PlotColours:
+    """What a plot is drawn with besides the quantities' hues (``Colours.quantities``). Every
+    hue drawn as a curve, and the ink, is at least 3:1 against the paper."""
+    paper: str                                    # the plot's background
+    ink: str                                      # tick labels, axis titles, legend and readout text
+    axis: str                                     # axis lines and ticks
+    grid: str                                     # grid lines, opaque (mixed over the paper)
+    grid_alpha: float                             # pyqtgraph's own grid (the log viewer): axis colour at this share
+    zero: str                                     # the current plot's zero line
+    cursor: str                                   # the readout's vertical line
+    placeholder: str                              # "no simulation yet"
+    legend_fill: tuple[int, int, int, int]        # behind a legend or the readout: the paper, nearly opaque
+    readout_border: str
+    band_label: str                               # a phase band's label
+    band_warning: str                             # ... of a phase a default ended
+    bands: dict[str, tuple[int, int, int]]        # "charge", "discharge", "pause": the band's hue
+    band_alpha: tuple[int, int]                   # neighbouring bands alternate between two strengths
+    band_edge_alpha: int
+    selected_alpha: int                           # the phase selected in the table
+    pause: tuple[int, int, int, int]              # a heat-sink pause, translucent over the bands
+    current_fill_alpha: int                       # the area under the current, in the current's hue
+    cells: tuple[str, ...]                        # a log's cell voltages
+    overlays: tuple[str, ...]                     # logs or cycles laid over the first
+    compare: dict[str, str]                       # Compare with Log: "real", "model", "diff"
+
+    def band_rgb(self, section: str) -> tuple[int, int, int]:
+        return self.bands.get(section, self.bands["pause"])
 
 
 @dataclass(frozen=True)
@@ -27,8 +58,11 @@ class Colours:
     ok: str                                       # "✔ valid"
     error: str                                    # "✖ 2 error(s)", error messages
     warning: str
+    warning_row: str                              # a flagged row's background (the phase table)
     muted: str                                    # placeholders, hints
-    quantities: dict[str, str]                    # "voltage", "current", "temp", "heatsink": a readout's values
+    key_text: str                                 # the names in a table of figures (a log's totals)
+    quantities: dict[str, str]                    # "voltage", "current", "temp", "heatsink": curves and readouts
+    plot: PlotColours
 
 
 LIGHT = Colours(
@@ -48,9 +82,21 @@ LIGHT = Colours(
     },
     header_row="#eef3fb", check_row="#eef8ee", stale_text="#9a9a9a",
     current_line="#edf2fa", linked_line="#e2f4e8", find_match="#ffe68a",
-    ok="#1b7f3b", error="#b00020", warning="#9a5b00", muted="#888888",
-    # the plots' hues (ui/stacked_plot.py), current and temperature a shade darker for text on a grey window
+    ok="#1b7f3b", error="#b00020", warning="#9a5b00", warning_row="#fff3d6", muted="#888888",
+    key_text="#606060",
+    # current and temperature dark enough for text on a grey window too (the live readout)
     quantities={"voltage": "#1f4e9c", "current": "#1c7033", "temp": "#b83d14", "heatsink": "#7b5ea7"},
+    plot=PlotColours(
+        paper="#ffffff", ink="#303030", axis="#8a8a8a", grid="#e7e7e7", grid_alpha=0.12, zero="#707070",
+        cursor="#505050", placeholder="#8a8a8a", legend_fill=(255, 255, 255, 215), readout_border="#b0b0b0",
+        band_label="#1c2a44", band_warning="#b34700",
+        bands={"charge": (74, 134, 232), "discharge": (232, 96, 74), "pause": (150, 150, 150)},
+        band_alpha=(34, 16), band_edge_alpha=110, selected_alpha=80, pause=(90, 90, 90, 70), current_fill_alpha=28,
+        cells=("#2f6db5", "#c0392b", "#5a7d1e", "#7048a8", "#1f7f95", "#c25e00", "#1d3f6e", "#7a2b28", "#4f6628",
+               "#4d3b62", "#276a7c", "#a14f0a"),
+        overlays=("#b06c00", "#8e44ad", "#127d68", "#c0392b", "#66737a", "#2c3e50", "#b34700", "#1e8449"),
+        compare={"real": "#202020", "model": "#1f5fd0", "diff": "#c03030"},
+    ),
 )
 
 # The same hues, lighter, for a background near #1e1e1e (each at least 4.5:1 against it).
@@ -71,8 +117,22 @@ DARK = Colours(
     },
     header_row="#26344d", check_row="#253d2c", stale_text="#7a7a7a",
     current_line="#2a2f3a", linked_line="#23452f", find_match="#6b5a12",
-    ok="#5cc97a", error="#ff6b7a", warning="#f0a848", muted="#9a9a9a",
+    ok="#5cc97a", error="#ff6b7a", warning="#f0a848", warning_row="#4a3d17", muted="#9a9a9a",
+    key_text="#a8a8a8",
     quantities={"voltage": "#8fb8ff", "current": "#6fd08a", "temp": "#ff9a6b", "heatsink": "#c9a8f5"},
+    # The paper is the dark palette's Base; bands need more strength to show on it.
+    plot=PlotColours(
+        paper="#1e1e1e", ink="#d8d8d8", axis="#8c8c8c", grid="#363636", grid_alpha=0.18, zero="#9a9a9a",
+        cursor="#b0b0b0", placeholder="#9a9a9a", legend_fill=(30, 30, 30, 215), readout_border="#5a5a5a",
+        band_label="#c8d6f0", band_warning="#ffa657",
+        bands={"charge": (90, 150, 240), "discharge": (240, 110, 90), "pause": (150, 150, 150)},
+        band_alpha=(52, 28), band_edge_alpha=130, selected_alpha=100, pause=(200, 200, 200, 40),
+        current_fill_alpha=40,
+        cells=("#6fa0e0", "#ef7a6e", "#a9cf6a", "#b294dc", "#6cc6dc", "#f7a55e", "#a9c4f0", "#f5aaa3", "#cfe3a3",
+               "#d2bff0", "#a6e0ee", "#fbc996"),
+        overlays=("#f0a030", "#c08adf", "#3fcfae", "#f07868", "#b0bcbd", "#8fa8c8", "#ff9550", "#5fd08a"),
+        compare={"real": "#e6e6e6", "model": "#7fb0ff", "diff": "#ff7a7a"},
+    ),
 )
 
 

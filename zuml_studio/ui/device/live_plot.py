@@ -28,9 +28,8 @@ import pyqtgraph as pg
 from PySide6.QtCore import QTimer, Signal
 
 from ...i18n import _
-from ..plot_backdrop import BackdropItem, over_paper
-from ..stacked_plot import (BAND_ALPHA, BATTERY_T_PEN, CURRENT_PEN, HEATSINK_T_PEN, LABEL_COLOR,
-                            VOLTAGE_PEN, WARNING_COLOR, StackedPlot, band_label, band_rgb)
+from ..plot_backdrop import BackdropItem
+from ..stacked_plot import StackedPlot, band_label, curve_pen
 from .envelope import Envelope
 from .growing_buffer import GrowingBuffer
 
@@ -173,12 +172,12 @@ class LivePlot(StackedPlot):
         self._legend_timer.timeout.connect(self._place_legends)
         self.redraws = 0
         self.curves = {
-            "voltage": self._curve(self.vplot, VOLTAGE_PEN, _("pack voltage")),
-            "current": self._curve(self.iplot, CURRENT_PEN, _("+ charge, − discharge")),
-            "temp": self._curve(self.tplot, BATTERY_T_PEN, _("battery"), connect="finite"),
-            "heatsink": self._curve(self.tplot, HEATSINK_T_PEN, _("heat sink"), connect="finite"),
+            "voltage": self._curve(self.vplot, "voltage", _("pack voltage")),
+            "current": self._curve(self.iplot, "current", _("+ charge, − discharge")),
+            "temp": self._curve(self.tplot, "temp", _("battery"), connect="finite"),
+            "heatsink": self._curve(self.tplot, "heatsink", _("heat sink"), connect="finite"),
         }
-        self.band_items = [BackdropItem(plot, self.time_axis) for plot in self.plots]
+        self.band_items = [BackdropItem(plot, self.time_axis, self.colours.plot.grid) for plot in self.plots]
         for plot, item in zip(self.plots, self.band_items):
             plot.addItem(item, ignoreBounds=True)
         self.set_placeholder(_("not connected: pick a port and Connect"))
@@ -200,10 +199,10 @@ class LivePlot(StackedPlot):
         self.timer.timeout.connect(self.refresh)
 
     # -- construction ------------------------------------------------------------------------
-    def _curve(self, plot: pg.PlotItem, pen, name: str, connect: str = "all", **kw) -> pg.PlotDataItem:
-        self.legends[plot].add(name, pen.color().name())
+    def _curve(self, plot: pg.PlotItem, quantity: str, name: str, connect: str = "all", **kw) -> pg.PlotDataItem:
+        self.legends[plot].add(name, self.hue(quantity))
         finite = connect == "all"
-        curve = pg.PlotDataItem([], [], pen=pen, name=name, antialias=False, connect=connect,
+        curve = pg.PlotDataItem([], [], pen=curve_pen(self.hue(quantity)), name=name, antialias=False, connect=connect,
                                 skipFiniteCheck=finite, **kw)
         plot.addItem(curve)
         # The envelope hands over the view's points already clipped and decimated.
@@ -372,18 +371,22 @@ class LivePlot(StackedPlot):
         spans = []
         parity: dict[str, int] = {}
         for k, p in enumerate(phases):
-            alpha = BAND_ALPHA[parity.get(p.section, 0) % 2]
+            alpha = self.colours.plot.band_alpha[parity.get(p.section, 0) % 2]
             parity[p.section] = parity.get(p.section, 0) + 1
-            r, g, b = band_rgb(p.section)
-            spans.append((p.start_s, p.end_s, pg.mkBrush(over_paper(r, g, b, alpha)),
-                          pg.mkPen(over_paper(r, g, b, 110), width=1)))
+            spans.append((p.start_s, p.end_s, *self.band_looks(p.section, alpha)))
             if k >= len(self.labels):
                 self._new_label()
-            self.labels[k].setColor(WARNING_COLOR if p.by_default else LABEL_COLOR)
+            self.labels[k].setColor(self.label_colour(p.by_default))
             self.labels[k].setToolTip(self._tip(p))
         for item in self.band_items:
             item.set_bands(spans)
         self._phases = phases
+
+    def _recolour(self) -> None:
+        self._recolour_curves()
+        for item in self.band_items:
+            item.set_grid_colour(self.colours.plot.grid)
+        self._set_bands(self._phases)
 
     @staticmethod
     def _tip(p: LivePhase) -> str:

@@ -6,7 +6,7 @@ import html
 from dataclasses import dataclass
 from pathlib import Path
 
-from PySide6.QtCore import Qt, Signal
+from PySide6.QtCore import QEvent, Qt, Signal
 from PySide6.QtWidgets import (QCheckBox, QHBoxLayout, QLabel, QListWidget, QListWidgetItem, QPushButton,
                                QSizePolicy, QVBoxLayout, QWidget)
 
@@ -14,14 +14,15 @@ from ...i18n import N_, _, ngettext
 from ...logs import Log
 from ...logs.cycles import split_cycles
 from ...logs.summary import summarize
+from .. import theme
 from ..timefmt import duration
 from .log_plot import STATE_WORDS, LogPlot
 
 SIDE_WIDTH = 250
 
 
-def totals_html(name: str, info: dict) -> str:
-    """The side panel's summary of a log (``logs.summary``), as a small table."""
+def totals_html(name: str, info: dict, key_colour: str) -> str:
+    """The side panel's summary of a log (``logs.summary``), as a small table, its names in ``key_colour``."""
     def num(value, fmt: str, unit: str) -> str:
         return "–" if value is None else f"{format(value, fmt)} {unit}"
 
@@ -45,7 +46,7 @@ def totals_html(name: str, info: dict) -> str:
         rows.append((_("resistance"), _("pack {pack}, cells {cells}").format(
             pack=pack, cells=" ".join(f"{c:.1f}" for c in r["last_cells_mohm"]))))
     rows.append((_("phases"), str(len(info["phases"]))))
-    body = "".join(f"<tr><td style='color:#606060; padding-right:8px'>{k}</td><td>{v}</td></tr>" for k, v in rows)
+    body = "".join(f"<tr><td style='color:{key_colour}; padding-right:8px'>{k}</td><td>{v}</td></tr>" for k, v in rows)
     return f"<b>{html.escape(name)}</b><table cellspacing='0' cellpadding='1'>{body}</table>"
 
 
@@ -132,8 +133,17 @@ class LogDocument(QWidget):
         row.setContentsMargins(0, 0, 0, 0)
         row.addLayout(left, 1)
         row.addWidget(panel)
-        self.totals.setText(totals_html(self.name, prepared.summary))
+        self.summary = prepared.summary
+        self._show_totals()
         self.redraw()
+
+    def _show_totals(self) -> None:
+        self.totals.setText(totals_html(self.name, self.summary, theme.colours(self.palette()).key_text))
+
+    def changeEvent(self, event) -> None:  # noqa: N802
+        super().changeEvent(event)
+        if event.type() == QEvent.Type.PaletteChange and hasattr(self, "summary"):
+            self._show_totals()
 
     def add_overlay(self, name: str, log: Log) -> None:
         self.overlays.append((name, log))

@@ -15,14 +15,9 @@ from ...i18n import N_, _, ngettext
 from ...logs import Log
 from ...logs.model import Phase, state_of
 from ..plot_backdrop import BackdropItem
-from ..stacked_plot import (BAND_ALPHA, BATTERY_T_PEN, CURRENT_FILL, CURRENT_PEN, HEATSINK_T_PEN, INK,
-                            LABEL_COLOR, VOLTAGE_PEN, StackedPlot, band_rgb)
+from ..stacked_plot import StackedPlot, curve_pen
 from ..timefmt import hmmss
 
-CURSOR_PEN = pg.mkPen("#505050", width=1)
-CELL_COLORS = ("#4f81bd", "#c0504d", "#9bbb59", "#8064a2", "#4bacc6", "#f79646", "#2c4d75", "#772c2a",
-               "#5f7530", "#4d3b62", "#276a7c", "#b65708")
-OVERLAY_COLORS = ("#e08a00", "#8e44ad", "#16a085", "#c0392b", "#7f8c8d", "#2c3e50", "#d35400", "#27ae60")
 BAND_STATES = ("charge", "discharge", "pause")
 SHORT = {"charge": N_("C{index}"), "discharge": N_("D{index}"), "pause": N_("P{index}")}
 STATE_WORDS = {"charge": N_("charge"), "discharge": N_("discharge"), "pause": N_("pause")}
@@ -33,7 +28,12 @@ class Layer:
     name: str
     log: Log
     data: dict
-    color: str | None = None      # None: the first log, in the quantities' own colours
+    overlay: int | None = None    # which of the overlay colours; None: the first log, in the quantities' own
+
+
+# What a curve shows, which picks its pen from the colour set: a quantity ("voltage", "current",
+# "temp", "heatsink"), ("cell", k) or ("overlay", k).
+Role = str | tuple[str, int]
 
 
 class LogPlot(StackedPlot):
@@ -42,17 +42,17 @@ class LogPlot(StackedPlot):
     def __init__(self, parent=None):
         super().__init__("logPlot", _("no log open: File ▸ Open Log…"), grid=True, parent=parent)
         self.layers: list[Layer] = []
-        self.items: list[tuple[pg.PlotItem, pg.GraphicsObject]] = []
+        self.items: list[tuple[pg.PlotItem, pg.PlotDataItem, Role]] = []
         # Every band of a plot in one item: a LinearRegionItem per phase and plot took a third
         # of a second to add for a log of 28 phases, on the GUI thread.
-        self.band_items = [BackdropItem(plot, self.time_axis, grid=False) for plot in self.plots]
+        self.band_items = [BackdropItem(plot, self.time_axis) for plot in self.plots]
         for plot, item in zip(self.plots, self.band_items):
             plot.addItem(item, ignoreBounds=True)
         self._t = np.zeros(0)
         self._v = np.zeros(0)
         self.cursor_lines = []
         for plot in self.plots:
-            line = pg.InfiniteLine(angle=90, movable=False, pen=CURSOR_PEN)
+            line = pg.InfiniteLine(angle=90, movable=False, pen=self.colours.plot.cursor)
             line.setZValue(30)
             line.setVisible(False)
             plot.addItem(line, ignoreBounds=True)
@@ -70,7 +70,7 @@ class LogPlot(StackedPlot):
     def show_layers(self, layers: list[tuple[str, Log]], bands: bool = True) -> None:
         """Draw logs over one time axis: the first in the quantities' colours with its phase
         bands (``bands``), the others each in one colour."""
-        for plot, item in self.items:
+        for plot, item, _role in self.items:
             plot.removeItem(item)
         self.items.clear()
         for band_item in self.band_items:
@@ -78,8 +78,7 @@ class LogPlot(StackedPlot):
         for label in self.labels:
             self.vplot.removeItem(label)
         self.labels.clear()
-        self.layers = [Layer(name, log, log.arrays(), None if k == 0 else OVERLAY_COLORS[(k - 1) % len(OVERLAY_COLORS)])
-                       for k, (name, log) in enumerate(layers)]
+        self.layers = [Layer(name, log, log.arrays(), None if k == 0 else k - 1) for k, (name, log) in enumerate(layers)]
         self._phases = []
         if not self.layers:
             self._t, self._v = np.zeros(0), np.zeros(0)
@@ -108,72 +107,98 @@ class LogPlot(StackedPlot):
         self.tplot.setXRange(start, start + span, padding=0.01)
         self._view_changed()
 
-    def _curve(self, plot: pg.PlotItem, x, y, pen, **kw) -> None:
+    def _colour(self, role: Role) -> str:
+        if isinstance(role, str):
+            return self.hue(role)
+        kind, k = role
+        hues = self.colours.plot.cells if kind == "cell" else self.colours.plot.overlays
+        return hues[k % len(hues)]
+
+    def _pen(self, role: Role):
+        return curve_pen(self._colour(role), width=1 if isinstance(role, tuple) and role[0] == "cell" else 2)
+
+    def _curve(self, plot: pg.PlotItem, x, y, role: Role, **kw) -> None:
         finite = np.isfinite(y)
         if not finite.any():
             return
-        curve = plot.plot(x, y, pen=pen, antialias=False, connect="finite", **kw)
+        curve = plot.plot(x, y, pen=self._pen(role), antialias=False, connect="finite", **kw)
         curve.setClipToView(True)
         curve.setDownsampling(auto=True, method="peak")
-        self.items.append((plot, curve))
+        self.items.append((plot, curve, role))
 
     def _draw(self, layer: Layer, cells: int, alone: bool) -> None:
         """The first log in the quantities' colours (with its cells and the charger's inside
         temperature when it is alone), an overlay in its one colour."""
         d = layer.data
         t = d["t"]
-        if layer.color is None:
-            self._curve(self.vplot, t, d["voltage"], VOLTAGE_PEN)
+        if layer.overlay is None:
+            self._curve(self.vplot, t, d["voltage"], "voltage")
             # Cells on the pack axis times the cell count: the right axis reads them in V per cell.
             for k in range(d["cells"].shape[1] if alone else 0):
-                pen = pg.mkPen(CELL_COLORS[k % len(CELL_COLORS)], width=1)
-                self._curve(self.vplot, t, d["cells"][:, k] * cells, pen)
+                self._curve(self.vplot, t, d["cells"][:, k] * cells, ("cell", k))
             if layer.log.meta.get("current_measured", True):
-                self._curve(self.iplot, t, d["current"], CURRENT_PEN, fillLevel=0.0, fillBrush=CURRENT_FILL)
-            self._curve(self.tplot, t, d["temp"], BATTERY_T_PEN)
+                self._curve(self.iplot, t, d["current"], "current", fillLevel=0.0, fillBrush=self.current_fill_brush())
+            self._curve(self.tplot, t, d["temp"], "temp")
             if alone:
-                self._curve(self.tplot, t, d["heatsink"], HEATSINK_T_PEN)
+                self._curve(self.tplot, t, d["heatsink"], "heatsink")
             return
-        pen = pg.mkPen(layer.color, width=2)
-        self._curve(self.vplot, t, d["voltage"], pen)
+        role = ("overlay", layer.overlay)
+        self._curve(self.vplot, t, d["voltage"], role)
         if layer.log.meta.get("current_measured", True):
-            self._curve(self.iplot, t, d["current"], pen)
-        self._curve(self.tplot, t, d["temp"], pen)
+            self._curve(self.iplot, t, d["current"], role)
+        self._curve(self.tplot, t, d["temp"], role)
 
     def _set_legends(self, cells: int) -> None:
         first = self.layers[0]
         if len(self.layers) > 1:
-            entries = [(first.name, VOLTAGE_PEN.color().name())] + [(layer.name, layer.color)
-                                                                    for layer in self.layers[1:]]
+            entries = [(first.name, self.hue("voltage"))] + [(layer.name, self._colour(("overlay", layer.overlay)))
+                                                             for layer in self.layers[1:]]
         else:
-            entries = [(_("pack voltage"), VOLTAGE_PEN.color().name())]
+            entries = [(_("pack voltage"), self.hue("voltage"))]
             if cells:
                 entries.append((ngettext("{n} cell (right axis)", "{n} cells (right axis)", cells).format(n=cells),
-                                CELL_COLORS[0]))
-        self.legends[self.vplot].set_entries(entries)
-        self.legends[self.iplot].set_entries([(_("+ charge, − discharge"), CURRENT_PEN.color().name())])
+                                self._colour(("cell", 0))))
+        look = self.colours.plot
+        self.legends[self.vplot].set_look(look, entries)
+        self.legends[self.iplot].set_look(look, [(_("+ charge, − discharge"), self.hue("current"))])
         temps = []
         if np.isfinite(first.data["temp"]).any():
-            temps.append((_("battery"), BATTERY_T_PEN.color().name()))
+            temps.append((_("battery"), self.hue("temp")))
         if len(self.layers) == 1 and np.isfinite(first.data["heatsink"]).any():
-            temps.append((_("charger inside"), HEATSINK_T_PEN.color().name()))
-        self.legends[self.tplot].set_entries(temps or [(_("no temperature in this log"), INK)])
+            temps.append((_("charger inside"), self.hue("heatsink")))
+        self.legends[self.tplot].set_look(look, temps or [(_("no temperature in this log"), look.ink)])
         for legend in self.legends.values():
             legend.setVisible(True)
 
     def _set_bands(self, phases: list[Phase]) -> None:
         self._phases = phases
+        for _p in phases:
+            self._new_label()
+        self._draw_bands()
+
+    def _draw_bands(self) -> None:
+        """Translucent over pyqtgraph's grid (drawn in the axes' pictures, under everything)."""
         parity = {state: 0 for state in BAND_STATES}
         spans = []
-        for p in phases:
-            alpha = BAND_ALPHA[parity[p.state] % 2]
+        for p in self._phases:
+            alpha = self.colours.plot.band_alpha[parity[p.state] % 2]
             parity[p.state] += 1
-            r, g, b = band_rgb(p.state)
-            spans.append((p.start_s, p.end_s, pg.mkBrush(r, g, b, alpha), pg.mkPen(r, g, b, 110, width=1)))
-            label = self._new_label()
-            label.setColor(LABEL_COLOR)
+            spans.append((p.start_s, p.end_s, *self.band_looks(p.state, alpha, opaque=False)))
         for band_item in self.band_items:
             band_item.set_bands(spans)
+
+    def _recolour(self) -> None:
+        for plot, curve, role in self.items:
+            curve.setPen(self._pen(role))
+            if role == "current":
+                curve.setFillBrush(self.current_fill_brush())
+        for line in self.cursor_lines:
+            line.setPen(self.colours.plot.cursor)
+        for label in self.labels:
+            label.setColor(self.label_colour(False))
+        self._draw_bands()
+        if self.layers:
+            self._set_legends(self.layers[0].data["cells"].shape[1])
 
     def _label_texts(self, p) -> tuple[str, ...]:
         short = _(SHORT[p.state])

@@ -14,16 +14,12 @@ import pyqtgraph as pg
 from PySide6.QtCore import QTimer, Signal
 
 from ...i18n import _
-from ..plot_backdrop import BackdropItem, over_paper
+from ..plot_backdrop import BackdropItem
 from ..plot_cursor import CursorReadout
-from ..stacked_plot import (BAND_ALPHA, BATTERY_T_PEN, CURRENT_PEN, HEATSINK_T_PEN, LABEL_COLOR,
-                            VOLTAGE_PEN, WARNING_COLOR, StackedPlot, band_label, band_rgb, band_warns)
+from ..stacked_plot import StackedPlot, band_label, band_warns, curve_pen
 from ..timefmt import hmmss
 from .plot_data import CLOCK, CURVES, PlotData
 
-SELECTED_ALPHA = 80
-BAND_EDGE_ALPHA = 110
-PAUSE_RGBA = (90, 90, 90, 70)
 LABELS_PER_TURN = 8
 
 
@@ -37,16 +33,16 @@ class ChargePlot(StackedPlot):
         self._v = np.zeros(0)
         self._run: PlotData | None = None
         self._selected = -1
-        self._alphas: list[int] = []
+        self._strengths: list[int] = []    # per band: which of the two alternating strengths
         self.level = 0                  # the envelope level drawn (0: the samples themselves)
         self.curves = {
-            "voltage": self._curve(self.vplot, VOLTAGE_PEN, _("pack voltage")),
-            "current": self._curve(self.iplot, CURRENT_PEN, _("+ charge, − discharge")),
-            "temp": self._curve(self.tplot, BATTERY_T_PEN, _("battery")),
-            "heatsink": self._curve(self.tplot, HEATSINK_T_PEN, _("heat sink")),
+            "voltage": self._curve(self.vplot, "voltage", _("pack voltage")),
+            "current": self._curve(self.iplot, "current", _("+ charge, − discharge")),
+            "temp": self._curve(self.tplot, "temp", _("battery")),
+            "heatsink": self._curve(self.tplot, "heatsink", _("heat sink")),
         }
-        self.band_items = [BackdropItem(plot, self.time_axis) for plot in self.plots]
-        self.pause_items = [BackdropItem(plot, self.time_axis, grid=False) for plot in self.plots]
+        self.band_items = [BackdropItem(plot, self.time_axis, self.colours.plot.grid) for plot in self.plots]
+        self.pause_items = [BackdropItem(plot, self.time_axis) for plot in self.plots]
         for plot, item, pauses in zip(self.plots, self.band_items, self.pause_items):
             plot.addItem(item, ignoreBounds=True)
             pauses.setZValue(-15)
@@ -63,9 +59,10 @@ class ChargePlot(StackedPlot):
         self.readout = CursorReadout(self, lambda: (self._t, self.data))
 
     # -- construction ------------------------------------------------------------------------
-    def _curve(self, plot: pg.PlotItem, pen, name: str, **kw) -> pg.PlotDataItem:
-        self.legends[plot].add(name, pen.color().name())
-        curve = plot.plot([], [], pen=pen, name=name, antialias=False, skipFiniteCheck=True, **kw)
+    def _curve(self, plot: pg.PlotItem, quantity: str, name: str, **kw) -> pg.PlotDataItem:
+        self.legends[plot].add(name, self.hue(quantity))
+        curve = plot.plot([], [], pen=curve_pen(self.hue(quantity)), name=name, antialias=False, skipFiniteCheck=True,
+                          **kw)
         # The envelope hands over the view's points already clipped and decimated.
         curve.setClipToView(False)
         curve.setDownsampling(ds=1, auto=False)
@@ -111,9 +108,9 @@ class ChargePlot(StackedPlot):
         self._phases = phases
         self._selected = -1
         parity = {"charge": 0, "discharge": 0}
-        self._alphas = []
+        self._strengths = []
         for p in phases:
-            self._alphas.append(BAND_ALPHA[parity.get(p.section, 0) % 2])
+            self._strengths.append(parity.get(p.section, 0) % 2)
             parity[p.section] = parity.get(p.section, 0) + 1
         self._draw_bands()
         self._add_labels()
@@ -123,18 +120,22 @@ class ChargePlot(StackedPlot):
         (a label costs about a millisecond to make; a long training has hundreds of phases)."""
         for _ in range(min(LABELS_PER_TURN, len(self._phases) - len(self.labels))):
             self._new_label()
-        for p, label in zip(self._phases, self.labels):
-            label.setColor(WARNING_COLOR if band_warns(p) else LABEL_COLOR)
+        self._colour_labels()
         self._place_labels()
         if len(self.labels) < len(self._phases):
             QTimer.singleShot(0, self, self._add_labels)
 
+    def _colour_labels(self) -> None:
+        for p, label in zip(self._phases, self.labels):
+            label.setColor(self.label_colour(band_warns(p)))
+
     def _set_pauses(self, phases: list) -> None:
         """The heat-sink pauses, a translucent grey over the phase bands: one more item per plot."""
         spans, tips = [], []
+        brush = pg.mkBrush(*self.colours.plot.pause)
         for p in phases:
             for start, end in p.pauses:
-                spans.append((start, max(end, start), pg.mkBrush(*PAUSE_RGBA), pg.mkPen(None)))
+                spans.append((start, max(end, start), brush, pg.mkPen(None)))
                 tips.append(_("heat-sink pause {start}–{end}: the power stage was too hot (Tc)").format(
                     start=hmmss(start), end=hmmss(end)))
         for item in self.pause_items:
@@ -142,12 +143,11 @@ class ChargePlot(StackedPlot):
 
     def _draw_bands(self) -> None:
         spans, tips = [], []
-        for row, (p, alpha) in enumerate(zip(self._phases, self._alphas)):
-            r, g, b = band_rgb(p.section)
+        look = self.colours.plot
+        for row, (p, strength) in enumerate(zip(self._phases, self._strengths)):
             end = p.end_s if p.reason else max(p.end_s, p.start_s)
-            spans.append((p.start_s, end, pg.mkBrush(over_paper(r, g, b, SELECTED_ALPHA if row == self._selected
-                                                                  else alpha)),
-                          pg.mkPen(over_paper(r, g, b, BAND_EDGE_ALPHA), width=1)))
+            alpha = look.selected_alpha if row == self._selected else look.band_alpha[strength]
+            spans.append((p.start_s, end, *self.band_looks(p.section, alpha)))
             tips.append(band_label(p) + "\n" + _("double-click: show the FAZE in the editor"))
         for item in self.band_items:
             item.set_bands(spans, tips)
@@ -158,6 +158,14 @@ class ChargePlot(StackedPlot):
             return
         self._selected = row
         self._draw_bands()
+
+    def _recolour(self) -> None:
+        self._recolour_curves()
+        for item in self.band_items:
+            item.set_grid_colour(self.colours.plot.grid)
+        self._draw_bands()
+        self._set_pauses(self._phases)
+        self._colour_labels()
 
     # -- view --------------------------------------------------------------------------------
     def _view_changed(self, *_) -> None:

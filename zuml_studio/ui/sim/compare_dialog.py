@@ -6,7 +6,6 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import numpy as np
-import pyqtgraph as pg
 from PySide6.QtCore import Qt, Signal
 from PySide6.QtWidgets import (QComboBox, QDialog, QFileDialog, QFormLayout, QHBoxLayout,
                                QInputDialog, QLabel, QPushButton, QSpinBox, QVBoxLayout, QWidget)
@@ -20,11 +19,10 @@ from ...sim.curve import Curve, CurveError, read_curve
 from ...sim.fit import FitResult, fit, guess_series
 from ...sim.fit_report import figure_lines
 from ...sim.interpreter import StartError
+from .. import theme
 from ..background import BackgroundCall
+from .compare_plots import ComparePlots
 
-REAL_PEN = pg.mkPen("#202020", width=2)
-MODEL_PEN = pg.mkPen("#1f5fd0", width=1.5)
-DIFF_PEN = pg.mkPen("#c03030", width=1.5)
 
 
 def figures_text(report: dict) -> str:
@@ -80,17 +78,8 @@ class CompareDialog(QDialog):
         form.addRow(_("Cells"), self.cells)
         form.addRow(_("Capacity"), self.capacity)
 
-        self.plots = pg.GraphicsLayoutWidget()
-        self.plots.setBackground("w")
-        self.v_plot = self.plots.addPlot(row=0, col=0)
-        self.v_plot.setLabel("left", _("per cell"), units="V")
-        self.v_plot.addLegend(offset=(10, 10))
-        self.d_plot = self.plots.addPlot(row=1, col=0)
-        self.d_plot.setLabel("left", _("model − real"), units="mV/cell")
-        self.d_plot.setLabel("bottom", _("time"), units="min")
-        self.d_plot.setXLink(self.v_plot)
-        self.plots.ci.layout.setRowStretchFactor(0, 3)
-        self.plots.ci.layout.setRowStretchFactor(1, 1)
+        self.plots = ComparePlots()
+        self.v_plot, self.d_plot = self.plots.v_plot, self.plots.d_plot
 
         self.figures = QLabel(_("Choose a charge log, then Simulate Macro or Fit."))
         self.figures.setTextInteractionFlags(Qt.TextSelectableByMouse)
@@ -211,17 +200,15 @@ class CompareDialog(QDialog):
 
     # -- drawing -----------------------------------------------------------------------
     def _draw(self, t: np.ndarray | None, v_model: np.ndarray | None, label: str) -> None:
-        self.v_plot.clear()
-        self.d_plot.clear()
-        if self.curve is None:
-            return
-        n = self.cells.value()
-        self.v_plot.plot(self.curve.t / 60.0, self.curve.v / n, pen=REAL_PEN, name=_("log"))
-        if t is None or v_model is None:
-            return
-        self.v_plot.plot(t / 60.0, v_model / n, pen=MODEL_PEN, name=label)
-        real = np.interp(t, self.curve.t, self.curve.v)
-        self.d_plot.plot(t / 60.0, (v_model - real) / n * 1000.0, pen=DIFF_PEN)
+        lines = []
+        if self.curve is not None:
+            n = self.cells.value()
+            lines.append((self.v_plot, self.curve.t / 60.0, self.curve.v / n, "real", _("log")))
+            if t is not None and v_model is not None:
+                real = np.interp(t, self.curve.t, self.curve.v)
+                lines += [(self.v_plot, t / 60.0, v_model / n, "model", label),
+                          (self.d_plot, t / 60.0, (v_model - real) / n * 1000.0, "diff", None)]
+        self.plots.show_lines(lines)
 
     def _error(self, message: str) -> None:
-        self.figures.setText(f"<span style='color:#b00020'>{message}</span>")
+        self.figures.setText(f"<span style='color:{theme.colours(self.palette()).error}'>{message}</span>")

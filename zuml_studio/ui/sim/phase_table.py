@@ -4,12 +4,13 @@ default safety condition ended (not the macro), and charges a timer ended before
 capacity was in, are flagged."""
 from __future__ import annotations
 
-from PySide6.QtCore import QAbstractTableModel, QModelIndex, Qt, Signal
+from PySide6.QtCore import QAbstractTableModel, QEvent, QModelIndex, Qt, Signal
 from PySide6.QtGui import QColor
 from PySide6.QtWidgets import QAbstractItemView, QHeaderView, QStyle, QTableView
 
 from ...i18n import N_, _, ngettext
 from ...sim.reasons import shown_reason
+from .. import theme
 from ..timefmt import duration, hmm, hmmss
 
 COLUMNS = ("#", N_("section"), N_("phase"), N_("start"), N_("end"), N_("duration"), N_("end reason"), N_("mAh in"),
@@ -19,9 +20,7 @@ NOTES_COLUMN = COLUMNS.index("notes")
 DEFAULT_TIP = N_("ended by a default safety condition, not by the macro")
 TIMER_TIP = N_("timer before full: a timer ended this charge with less than the capacity put in")
 SECTION_WORDS = {"charge": N_("charge"), "discharge": N_("discharge")}
-WARN_FG = QColor("#a04000")
-WARN_BG = QColor("#fff3d6")
-SECTION_TINT = {"charge": QColor(74, 134, 232, 60), "discharge": QColor(232, 96, 74, 60)}   # as the plot's bands
+SECTION_TINT_ALPHA = 60          # the section cell in the plot's band hue
 ALIGNMENTS = tuple(int((Qt.AlignmentFlag.AlignRight if col in (0, 3, 4, 5, 7, 8, 9, 10) else Qt.AlignmentFlag.AlignLeft)
                        | Qt.AlignmentFlag.AlignVCenter) for col in range(len(COLUMNS)))
 DISPLAY, DECORATION, TOOLTIP, ALIGNMENT, BACKGROUND, FOREGROUND = (int(r) for r in (
@@ -42,6 +41,14 @@ class PhaseModel(QAbstractTableModel):
         self._series = 1
         self._training = False
         self._rows: dict[int, dict[int, tuple]] = {}     # row -> role -> a value per column
+        self.colours = theme.LIGHT
+
+    def set_colours(self, colours: theme.Colours) -> None:
+        """The palette's colour set for the flagged rows and the section tints."""
+        self.colours = colours
+        self._rows = {}
+        if self._phases:
+            self.dataChanged.emit(self.index(0, 0), self.index(len(self._phases) - 1, len(COLUMNS) - 1))
 
     def set_result(self, result) -> None:
         self.beginResetModel()
@@ -118,13 +125,13 @@ class PhaseModel(QAbstractTableModel):
         tips[REASON_COLUMN] = f"{cells[REASON_COLUMN]}: {flag}" if flag else cells[REASON_COLUMN]
         tips[NOTES_COLUMN] = "\n".join(p.notes)
         n = len(COLUMNS)
-        tint = SECTION_TINT.get(p.section)
         roles = {DISPLAY: cells, TOOLTIP: tuple(tips), ALIGNMENT: ALIGNMENTS}
         if flag:
-            roles[FOREGROUND] = (WARN_FG,) * n
-            roles[BACKGROUND] = (WARN_BG,) * n
+            roles[FOREGROUND] = (QColor(self.colours.warning),) * n
+            roles[BACKGROUND] = (QColor(self.colours.warning_row),) * n
             roles[DECORATION] = tuple(self._warn_icon if col == REASON_COLUMN else None for col in range(n))
-        elif tint is not None:
+        elif p.section in self.colours.plot.bands:
+            tint = QColor(*self.colours.plot.bands[p.section], SECTION_TINT_ALPHA)
             roles[BACKGROUND] = (None, tint) + (None,) * (n - 2)
         self._rows[row] = roles
         return roles
@@ -143,6 +150,7 @@ class PhaseTable(QTableView):
                 "notes": _("timer before full, heat-sink pauses, the charger's limits cutting the current")}
         warn_icon = self.style().standardIcon(QStyle.StandardPixmap.SP_MessageBoxWarning)
         self.phases = PhaseModel(tips, warn_icon, self)
+        self.phases.set_colours(theme.colours(self.palette()))
         self.setModel(self.phases)
         self.setEditTriggers(QAbstractItemView.EditTrigger.NoEditTriggers)
         self.setSelectionBehavior(QAbstractItemView.SelectionBehavior.SelectRows)
@@ -165,6 +173,11 @@ class PhaseTable(QTableView):
         self.doubleClicked.connect(self._double_clicked)
         self.selectionModel().selectionChanged.connect(self._selection_changed)
         self.setToolTip(_("Double-click a phase to show its FAZE in the editor"))
+
+    def changeEvent(self, event) -> None:  # noqa: N802
+        super().changeEvent(event)
+        if event.type() == QEvent.Type.PaletteChange and theme.colours(self.palette()) is not self.phases.colours:
+            self.phases.set_colours(theme.colours(self.palette()))
 
     def set_result(self, result) -> None:
         """Fill from a SimResult (or clear with None)."""
