@@ -290,3 +290,18 @@ def test_an_exported_plot_has_its_title_block_on_the_plots_paper(qtbot, system_t
     shown = _simulator(qtbot)
     image = render_with_header(shown.view, QSize(800, 500), "LiPo", ["3S 2200 mAh"])
     assert image.pixelColor(1, 1) == QColor(theme.DARK.plot.paper)
+
+
+def test_the_simulators_run_line_hint_and_message_follow_the_theme(qtbot, system_theme):
+    theme.apply_theme("light")
+    _settle()
+    panel = _simulator(qtbot).owner
+    assert f"color:{theme.LIGHT.muted};" in panel.run_label.styleSheet()
+    panel._show_message("no battery model", "error")
+    assert f"color:{theme.LIGHT.error};" in panel.message.styleSheet()
+    theme.apply_theme("dark")
+    _settle()
+    assert f"color:{theme.DARK.error};" in panel.message.styleSheet()
+    for label in (panel.run_label, panel.hint):
+        assert f"color:{theme.DARK.muted};" in label.styleSheet()
+        assert contrast_ratio(QColor(theme.DARK.muted), label.palette().color(label.backgroundRole())) >= 4.5

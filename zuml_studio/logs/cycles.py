@@ -4,11 +4,11 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from .model import Log
+from .model import Log, Phase
 
 
-def split_cycles(log: Log) -> list[tuple[str, Log]]:
-    """[(label, piece)]; fewer than two phases of either kind: [] (nothing to lay over)."""
+def split_cycles(log: Log) -> list[tuple[Phase, Log]]:
+    """[(phase, piece)]; fewer than two phases of either kind: [] (nothing to lay over)."""
     phases = log.phases()
     for state in ("charge", "discharge"):
         chosen = [p for p in phases if p.state == state]
@@ -28,5 +28,5 @@ def split_cycles(log: Log) -> list[tuple[str, Log]]:
         first = log.samples[lo]
         samples = tuple(replace(s, time_s=s.time_s - first.time_s, mah_in=s.mah_in - first.mah_in,
                                 mah_out=s.mah_out - first.mah_out) for s in log.samples[lo:hi])
-        pieces.append((f"{state} {p.index}", replace(log, samples=samples, resistance=())))
+        pieces.append((p, replace(log, samples=samples, resistance=())))
     return pieces

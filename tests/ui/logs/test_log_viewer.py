@@ -146,3 +146,16 @@ def test_a_reader_bug_is_said_in_the_window(viewer, qtbot, monkeypatch):
         viewer.open_path(X8)
     assert "internal error: ZeroDivisionError" in blocker.args[0] and "X8_LiPo" in blocker.args[0]
     assert viewer.findChild(object, "logErrorBox") is not None and viewer.tabs.count() == 0
+
+
+def test_the_readout_and_the_cycles_are_named_in_the_users_language(viewer, qtbot):
+    from zuml_studio import i18n
+
+    i18n.install("ru")
+    try:
+        document = opened(viewer, qtbot, str(LOGS / "eStationBC6_2008-07-05_EmpfaengerAA.osd"))
+        assert document.plot.set_cursor(600.0).endswith("  разряд")        # the cycle starts with a discharge
+        document.cycles_box.setChecked(True)
+        assert [layer.name for layer in document.plot.layers] == ["заряд 1", "заряд 2"]
+    finally:
+        i18n.install("en")

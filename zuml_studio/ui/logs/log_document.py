@@ -12,6 +12,7 @@ from PySide6.QtWidgets import (QCheckBox, QHBoxLayout, QLabel, QListWidget, QLis
 
 from ...i18n import N_, _, ngettext
 from ...logs import Log
+from ...logs.model import Phase
 from ...logs.cycles import split_cycles
 from ...logs.summary import summarize
 from .. import theme
@@ -54,7 +55,7 @@ def totals_html(name: str, info: dict, key_colour: str) -> str:
 class Prepared:
     """What a document needs of its log besides drawing it, worked out off the GUI thread."""
     log: Log
-    cycles: list[tuple[str, Log]]
+    cycles: list[tuple[Phase, Log]]
     summary: dict
 
 
@@ -64,7 +65,7 @@ def prepare(log: Log) -> Prepared:
     log.arrays()
     log.phases()
     cycles = split_cycles(log)
-    for _label, piece in cycles:
+    for _phase, piece in cycles:
         piece.arrays()
     return Prepared(log, cycles, summarize(log))
 
@@ -79,7 +80,8 @@ class LogDocument(QWidget):
         self.path = path
         self.name = Path(path).name
         self.overlays: list[tuple[str, Log]] = []
-        self.cycles = prepared.cycles
+        # Each cycle by its state and number in the user's language ("charge 2", "заряд 2").
+        self.cycles = [(f"{_(STATE_WORDS[p.state])} {p.index}", piece) for p, piece in prepared.cycles]
 
         self.plot = LogPlot()
         self.readout = QLabel(_("move the mouse over the plot to read the log"))
@@ -99,7 +101,7 @@ class LogDocument(QWidget):
         self.layer_list.setObjectName("logLayers")
         self.layer_list.itemChanged.connect(lambda _item: self.redraw())
         if self.cycles:
-            state = self.cycles[0][0].split()[0]
+            state = prepared.cycles[0][0].state
             text = ngettext("its {n} {state} phase, each from 0", "its {n} {state} phases, each from 0",
                             len(self.cycles)).format(n=len(self.cycles), state=_(STATE_WORDS.get(state, state)))
         else:

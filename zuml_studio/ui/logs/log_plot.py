@@ -20,7 +20,7 @@ from ..timefmt import hmmss
 
 BAND_STATES = ("charge", "discharge", "pause")
 SHORT = {"charge": N_("C{index}"), "discharge": N_("D{index}"), "pause": N_("P{index}")}
-STATE_WORDS = {"charge": N_("charge"), "discharge": N_("discharge"), "pause": N_("pause")}
+STATE_WORDS = {"charge": N_("charge"), "discharge": N_("discharge"), "pause": N_("pause"), "idle": N_("idle")}
 
 
 @dataclass
@@ -249,7 +249,7 @@ class LogPlot(StackedPlot):
             items.append(f"{d['current'][k]:+.3f} A")
         if not math.isnan(d["temp"][k]):
             items.append(f"{d['temp'][k]:.1f} °C")
-        items.append(state_of(sample))
+        items.append(_(STATE_WORDS[state_of(sample)]))
         if sample.cells_v:
             items.append(_("cells {voltages}").format(voltages=" ".join(f"{c:.3f}" for c in sample.cells_v)))
         return "  ".join(items)

@@ -24,7 +24,6 @@ from ..background import BackgroundCall
 from .compare_plots import ComparePlots
 
 
-
 def figures_text(report: dict) -> str:
     return "\n".join(figure_lines(report))
 

@@ -4,13 +4,15 @@ again on every change if asked to, and keeps showing the last run while the
 macro has errors."""
 from __future__ import annotations
 
-from PySide6.QtCore import QElapsedTimer, QEventLoop, QSize, Qt, QTimer, Signal
+from PySide6.QtCore import QElapsedTimer, QEvent, QEventLoop, QSize, Qt, QTimer, Signal
 from PySide6.QtWidgets import (QApplication, QHBoxLayout, QLabel, QScrollArea, QSizePolicy, QSplitter, QVBoxLayout,
                                QWidget)
 
 from ...i18n import N_, _, ngettext
 from ...sim.charger_model import load_charger
+from ...sim.program import TASK_WORDS
 from ...sim.start_check import start_warnings
+from .. import theme
 from ..plot_export import render_with_header
 from ..timefmt import elapsed
 from .charge_plot import ChargePlot
@@ -21,8 +23,6 @@ from .worker import SimJob, SimRequest
 DEBOUNCE_MS = 300
 STALE_HINT = N_("showing the last valid version (the macro has errors)")
 OUTDATED_HINT = N_("the macro or the parameters changed since this run: Simulate (F5)")
-TASK_WORDS = {"charge": N_("charge"), "discharge": N_("discharge"), "train": N_("train")}
-COLORS = {"info": "#6a6a6a", "error": "#b00020", "warn": "#a04000"}
 
 
 class SimulatorPanel(QWidget):
@@ -41,13 +41,13 @@ class SimulatorPanel(QWidget):
         self._clock = QElapsedTimer()
         self._sized = False
         self._table_pending = None          # a run whose phases are still to be listed
+        self._message_kind = "info"
 
         self.form = ParamsForm()
         self.plot = ChargePlot()
         self.table = PhaseTable()
         self.run_label = QLabel("")
         self.run_label.setObjectName("simRunLabel")
-        self.run_label.setStyleSheet(f"color:{COLORS['info']};")
         self.run_label.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
         self.run_label.setVisible(False)
         self.message = QLabel("")
@@ -58,8 +58,8 @@ class SimulatorPanel(QWidget):
         self.message.setAlignment(Qt.AlignmentFlag.AlignLeft | Qt.AlignmentFlag.AlignVCenter)
         self.hint = QLabel("")
         self.hint.setObjectName("simHint")
-        self.hint.setStyleSheet(f"color:{COLORS['info']}; font-style:italic;")
         self.hint.setVisible(False)
+        self._style_texts()
         self.totals = QLabel("")
         self.totals.setObjectName("simTotals")
         self.totals.setWordWrap(True)
@@ -338,9 +338,22 @@ class SimulatorPanel(QWidget):
     def _show_message(self, text: str, kind: str) -> None:
         self.message.setText(text)
         self.message.setToolTip(text)
-        self.message.setStyleSheet(f"color:{COLORS.get(kind, COLORS['info'])};"
-                                   + ("font-weight:bold;" if kind == "error" else ""))
+        self._message_kind = kind
+        self._style_texts()
         self.message.setVisible(bool(text))
+
+    def _style_texts(self) -> None:
+        """The run line, the hint and the message in the palette's colours (light or dark)."""
+        c = theme.colours(self.palette())
+        colour = {"error": c.error, "warn": c.warning}.get(self._message_kind, c.muted)
+        self.message.setStyleSheet(f"color:{colour};" + ("font-weight:bold;" if self._message_kind == "error" else ""))
+        self.run_label.setStyleSheet(f"color:{c.muted};")
+        self.hint.setStyleSheet(f"color:{c.muted}; font-style:italic;")
+
+    def changeEvent(self, event) -> None:  # noqa: N802
+        super().changeEvent(event)
+        if event.type() == QEvent.Type.PaletteChange:
+            self._style_texts()
 
     def _refresh_hint(self) -> None:
         """The grey hint: what is shown is older than the editor's text."""
