@@ -213,6 +213,18 @@ def test_screenshot_command_renders_and_exits_zero(tmp_path):
     assert out.stat().st_size > 20000
 
 
+def test_the_screenshot_grabs_the_docks_at_rest(make_window, tmp_path):
+    """A restored layout's dock animation still running at the grab left a stray tab bar in the
+    picture on a busy machine: the screenshot turns the animation off (nothing to wait for)."""
+    from PySide6.QtWidgets import QApplication
+
+    from zuml_studio.ui import app
+    w = make_window(str(MACROS / "NiMh.zuml"))
+    assert w.isAnimated()
+    assert app._screenshot(QApplication.instance(), w, str(tmp_path / "shot.png"), "1200x800") == 0
+    assert not w.isAnimated() and (tmp_path / "shot.png").stat().st_size > 20000
+
+
 def test_visual_editor_is_docked_and_follows_the_text(make_window, qtbot):
     w = make_window(LIPO)
     visual = w.findChild(object, "visualEditor")

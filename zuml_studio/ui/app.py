@@ -8,13 +8,13 @@ import sys
 from ..i18n import _
 
 
-def _parse(argv: list[str] | None) -> argparse.Namespace:
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="zuml-studio", description=_("The IDE for ZUML 2.0 charger macros."))
     parser.add_argument("file", nargs="?", metavar="FILE", help=_("a .zuml macro to open"))
     parser.add_argument("--screenshot", metavar="OUT.png",
                         help=_("render the window offscreen with FILE open, checked and simulated, save it, exit"))
     parser.add_argument("--size", default="1600x1000", metavar="WxH", help=_("window size for --screenshot"))
-    return parser.parse_args(argv)
+    return parser
 
 
 def _ensure_streams() -> None:
@@ -67,7 +67,7 @@ def main(argv: list[str] | None = None) -> int:
     except DataFileError as exc:
         sys.stderr.write(f"zuml-studio: error: {exc}\n")
         return 2
-    args = _parse(argv)
+    args = build_parser().parse_args(argv)
     if args.screenshot:
         os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
     from .qt_platform_libs import check
@@ -125,6 +125,9 @@ def _screenshot(app, window, out: str, size: str) -> int:
         sys.stderr.write("zuml-studio: error: " + _("--size {size!r} is not WxH").format(size=size) + "\n")
         return 2
     window.resize(width, height)
+    # A dock animation still running at the grab (Qt runs one when a saved layout is restored)
+    # leaves its tab bar half-way across the picture on a busy machine.
+    window.setAnimated(False)
     window.device_panel          # built now, not by its timer in the middle of the settling below
     window.show()
     window.validate_now()
