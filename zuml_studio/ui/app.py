@@ -73,7 +73,7 @@ def main(argv: list[str] | None = None) -> int:
     from .qt_platform_libs import check
 
     lacking = check()
-    if lacking:          # Qt would abort with a misleading message; say what to install instead
+    if lacking:          # Qt would abort with a misleading message; say what is wrong instead
         sys.stderr.write(f"zuml-studio: {lacking}")
         return 1
     from PySide6.QtGui import QIcon
