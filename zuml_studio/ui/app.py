@@ -117,7 +117,7 @@ SETTLE_MS = 300
 
 
 def _screenshot(app, window, out: str, size: str) -> int:
-    from PySide6.QtCore import QEventLoop, QTimer
+    from PySide6.QtCore import QCoreApplication, QEvent, QEventLoop, QTimer
 
     try:
         width, height = (int(x) for x in size.lower().split("x"))
@@ -125,9 +125,6 @@ def _screenshot(app, window, out: str, size: str) -> int:
         sys.stderr.write("zuml-studio: error: " + _("--size {size!r} is not WxH").format(size=size) + "\n")
         return 2
     window.resize(width, height)
-    # A dock animation still running at the grab (Qt runs one when a saved layout is restored)
-    # leaves its tab bar half-way across the picture on a busy machine.
-    window.setAnimated(False)
     window.device_panel          # built now, not by its timer in the middle of the settling below
     window.show()
     window.validate_now()
@@ -139,6 +136,9 @@ def _screenshot(app, window, out: str, size: str) -> int:
     loop = QEventLoop()
     QTimer.singleShot(SETTLE_MS, loop.quit)
     loop.exec()
+    # Restoring a saved layout replaces the docks' tab bars and deletes the old ones later; outside
+    # app.exec() this loop never gets to them, and they would be in the picture where they were.
+    QCoreApplication.sendPostedEvents(None, QEvent.Type.DeferredDelete)
     if not window.grab().save(out):
         sys.stderr.write("zuml-studio: error: " + _("cannot write {path}").format(path=out) + "\n")
         return 2
