@@ -98,7 +98,8 @@ def _check(command: str) -> list[str]:
         for name, parser in parsers:
             children = _subparsers(parser)
             # `list|get N|set N`: the alternatives after a placeholder are in the words that follow
-            later = [piece for w in rest[1:] if not w.startswith("-") for piece in w.split("|")[1:] if piece in children]
+            later = [piece for w in rest[1:] if not w.startswith("-")
+                     for piece in w.split("|")[1:] if piece in children]
             for alternative in [*filter(None, re.split(r"[|/]", word)), *later]:
                 if alternative not in children:
                     return [f"{name} has no command {alternative!r}"]
@@ -116,7 +117,7 @@ def _check(command: str) -> list[str]:
         value = word.split("=", 1)[1] if "=" in word else (rest[i + 1] if i + 1 < len(rest) else "")
         for name, action in known:
             if action.choices and action.nargs != 0 and value and not value.startswith("-"):
-                for choice in re.split(r"[|]", value):
+                for choice in value.split("|"):
                     if not PLACEHOLDER.fullmatch(choice) and choice not in OMITTED and choice not in action.choices:
                         problems.append(f"{name} {flag}: {choice!r} is not one of {sorted(action.choices)}")
     return problems
