@@ -260,3 +260,14 @@ def test_templates_list_get_set(any_charger, zuml):
     one_error_line(*zuml("templates", "get", "--port", port, "9"))
     one_error_line(*zuml("templates", "set", "--port", port, "20"))
     one_error_line(*zuml("templates", "set", "--port", port, "2", "--current", "99"))
+
+
+@pytest.mark.parametrize("option, message", [
+    (("--speed", "0"), "speed x0: choose 1 to 100000"),
+    (("--soc", "3"), "state of charge 3: a fraction from 0 to 1"),
+    (("--eeprom-size", "3"), "an EEPROM of 3 bytes: choose 16 to 65535"),
+    (("--eeprom-write-ms", "-1"), "EEPROM write time -1 ms: 0 or more"),
+])
+def test_a_virtual_charger_option_out_of_range_is_named_with_its_value(zuml, option, message):
+    rc, out, err = zuml("virtual-charger", *option)
+    assert (rc, out, err) == (2, "", f"zuml: error: {message}\n")
