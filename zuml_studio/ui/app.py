@@ -5,6 +5,7 @@ import argparse
 import os
 import sys
 
+from .. import i18n
 from ..i18n import _
 
 
@@ -67,6 +68,7 @@ def main(argv: list[str] | None = None) -> int:
     except DataFileError as exc:
         sys.stderr.write(f"zuml-studio: error: {exc}\n")
         return 2
+    i18n.translate_argparse()          # its usage:, options and errors in the same language as the rest
     args = build_parser().parse_args(argv)
     if args.screenshot:
         os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
