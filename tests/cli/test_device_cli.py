@@ -180,13 +180,15 @@ def test_refusals_and_link_errors_are_one_line(vc, zuml, tmp_path):
     assert "there is no slot 5" in err
     one_error_line(*zuml("slots", "--port", str(tmp_path / "ttyUSB7")))
     master, slave = os.openpty()
+    port = os.ttyname(slave)
     try:
-        code, out, err = run_zuml("slots", "--port", os.ttyname(slave), "--timeout", "0.05")
+        code, out, err = run_zuml("slots", "--port", port, "--timeout", "0.05")
     finally:
         os.close(master)
         os.close(slave)
     one_error_line(code, out, err)
     assert "no ZUML charger answered" in err
+    assert f"is only monitored: zuml monitor --port {port} --driver auto" in err
 
 
 def test_passport_read_and_write(vc, zuml):
