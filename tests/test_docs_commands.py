@@ -1,8 +1,8 @@
 """The docs' command lines against the real argument parsers, so that they cannot drift apart:
 every `zuml …` and `zuml-studio …` example in the README and docs/ (code blocks and inline code,
 synopses included) names commands and options that exist, with values their choices allow, and
-a whole example without placeholders parses; docs/cli.md lists every option of every command.
-Nothing is run: the parsers are built and asked."""
+a whole example without placeholders parses; docs/cli.md lists every option of every command;
+the files the docs name exist. Nothing is run: the parsers are built and asked."""
 import argparse
 import re
 
@@ -185,4 +185,29 @@ def test_the_command_line_page_has_every_command_and_every_option():
             flags = [s for s in action.option_strings if s not in ("-h", "--help")]
             if flags and not any(re.search(rf"(?<![\w-]){re.escape(f)}(?![\w-])", body) for f in flags):
                 missing.append(f"{heading} {flags[-1]}")
+    assert missing == []
+
+
+# Named in the docs but outside the checkout: the shared data (and validation.md's paths inside its
+# samples/), and the frozen bundle's insides.
+ELSEWHERE = ("../shared/", "shared/", "realdata/", "dataexplorer/", "icharger/", "curves/", "_internal/",
+             "zuml-studio-VERSION")
+LOOKED_UP_FROM = [ROOT, ROOT / "zuml_studio", ROOT / "zuml_studio" / "data", ROOT / "firmware", ROOT / "packaging",
+                  ROOT / "docs", ROOT / "tests"]
+
+
+def test_the_files_the_docs_name_exist():
+    """A path in inline code (`sim/program.py`, `data/start_templates.toml`) names a file or folder
+    of the checkout, from its root, the package, the firmware, packaging/, docs/ or tests/."""
+    missing = []
+    for page in PAGES:
+        for token in re.findall(r"`([^`\s]+)`", page.read_text(encoding="utf-8")):
+            path = token.rstrip(".,:;")
+            if ("/" not in path or "://" in path or path.startswith(("/", "~", "$", "<", "hid:") + ELSEWHERE)
+                    or any(c in path for c in "*…{")
+                    or not re.search(r"\.(py|md|toml|zuml|c|h|sh|txt|csv|rules|spec|svg|lark|png|lov|osd|json)$|/$",
+                                     path)):
+                continue
+            if not any((base / path).exists() for base in LOOKED_UP_FROM + [page.parent]):
+                missing.append(f"{page.relative_to(ROOT)}: {path}")
     assert missing == []
