@@ -41,8 +41,14 @@ def test_low_rate_nickel_charge_is_timed_and_a_rate_between_is_refused():
 
 
 @pytest.mark.parametrize("answers,needle", [(Answers("LiS", 1, 1000), "no template"),
-                                            (Answers("LiPo", 0, 1000), "cells"),
-                                            (Answers("LiPo", 1, 70000), "capacity")])
-def test_bad_answers_get_a_precise_error(answers, needle):
+                                            (Answers("LiPo", 0, 1000), "0 cells in series: choose 1 to 255"),
+                                            (Answers("LiPo", 1, 70000), "a capacity of 70000 mAh: choose 2 to 65534"),
+                                            (Answers("LiPo", 1, 1000, 9), "a charge rate of 9C: choose 0.01C to 5C")])
+def test_bad_answers_get_a_precise_error_with_the_value(answers, needle):
     with pytest.raises(WizardError, match=needle):
         new_macro(answers)
+
+
+def test_the_comment_counts_the_cells_in_english():
+    assert "// LiPo, 1 cell, 1000 mAh" in new_macro(Answers("LiPo", 1, 1000))
+    assert "// LiPo, 3 cells, 1000 mAh" in new_macro(Answers("LiPo", 3, 1000))

@@ -51,15 +51,16 @@ def new_macro(a: Answers) -> str:
         raise WizardError(_("no template for {chemistry!r}; choose one of {chemistry_names}").format(
                 chemistry=a.chemistry, chemistry_names=', '.join(chemistry_names()))) from None
     if not 1 <= a.series <= 255:
-        raise WizardError(_("cells in series: 1 to 255"))
+        raise WizardError(_("{series} cells in series: choose 1 to 255").format(series=a.series))
     if not 2 <= a.capacity_mah <= 65534:
-        raise WizardError(_("capacity: 2 to 65534 mAh"))
+        raise WizardError(_("a capacity of {capacity} mAh: choose 2 to 65534 mAh").format(capacity=a.capacity_mah))
     c = choices(chem.name)
     rate = c["default_rate_c"] if a.rate_c is None else a.rate_c
     if not 0.01 <= rate <= 5:
-        raise WizardError(_("charge rate: 0.01C to 5C"))
+        raise WizardError(_("a charge rate of {rate:g}C: choose 0.01C to 5C").format(rate=rate))
+    cells = f"{a.series} cell" if a.series == 1 else f"{a.series} cells"     # the file's comment: English
     head = [f"MACRO {default_name(a, chem)}",
-            f"  // {chem.name}, {a.series} cell(s), {a.capacity_mah} mAh, charge at {_num(rate)}C, "
+            f"  // {chem.name}, {cells}, {a.capacity_mah} mAh, charge at {_num(rate)}C, "
             f"temperature sensor {'fitted' if a.sensor else 'not fitted'} (written by zuml new)",
             f"  AKK_TYPE={chem.name}", f"  SERIES={a.series}", f"  CAPACITY={a.capacity_mah}"]
     discharge = ["  DISCHARGE_SECTION", "    FAZE", f"      CONSTANT_I={_num(c['discharge_rate_c'])}C",

@@ -180,13 +180,15 @@ def test_refusals_and_link_errors_are_one_line(vc, zuml, tmp_path):
     assert "there is no slot 5" in err
     one_error_line(*zuml("slots", "--port", str(tmp_path / "ttyUSB7")))
     master, slave = os.openpty()
+    port = os.ttyname(slave)
     try:
-        code, out, err = run_zuml("slots", "--port", os.ttyname(slave), "--timeout", "0.05")
+        code, out, err = run_zuml("slots", "--port", port, "--timeout", "0.05")
     finally:
         os.close(master)
         os.close(slave)
     one_error_line(code, out, err)
     assert "no ZUML charger answered" in err
+    assert f"is only monitored: zuml monitor --port {port} --driver auto" in err
 
 
 def test_passport_read_and_write(vc, zuml):
@@ -260,3 +262,14 @@ def test_templates_list_get_set(any_charger, zuml):
     one_error_line(*zuml("templates", "get", "--port", port, "9"))
     one_error_line(*zuml("templates", "set", "--port", port, "20"))
     one_error_line(*zuml("templates", "set", "--port", port, "2", "--current", "99"))
+
+
+@pytest.mark.parametrize("option, message", [
+    (("--speed", "0"), "speed x0: choose 1 to 100000"),
+    (("--soc", "3"), "state of charge 3: a fraction from 0 to 1"),
+    (("--eeprom-size", "3"), "an EEPROM of 3 bytes: choose 16 to 65535"),
+    (("--eeprom-write-ms", "-1"), "EEPROM write time -1 ms: 0 or more"),
+])
+def test_a_virtual_charger_option_out_of_range_is_named_with_its_value(zuml, option, message):
+    rc, out, err = zuml("virtual-charger", *option)
+    assert (rc, out, err) == (2, "", f"zuml: error: {message}\n")

@@ -46,7 +46,10 @@ def test_fit_save_then_simulate_with_the_named_battery(zuml):
     name = "4S 1000 NiMH receiver pack"
     rc, out, err = zuml("fit", str(CURVES / "nimh_4s_estation_1c.csv"), "--chemistry", "NiMh", "--cells", "4",
                         "--save", name)
-    assert rc == 0, err and f"saved as '{name}'" in out
+    assert rc == 0, err
+    assert f"saved as '{name}'" in out
+    params = [line.split() for line in out.splitlines() if line.startswith("  ")]
+    assert {"dip_v_per_charge", "dip_tau_s"} <= {p[0] for p in params} and all(len(p) == 2 for p in params), out
     rc, out, err = zuml("simulate", str(MACROS / "NiMh.zuml"), "--battery", name, "--current", "1", "--json")
     assert rc == 0, err
     battery = json.loads(out)["battery"]

@@ -48,8 +48,8 @@ def test_image_pack_and_list(tmp_path):
     assert lines[1].split()[3:] == ["Pb", "Pb", "ok"] and lines[2].split()[3:] == ["LiPo", "LiPo", "ok"]
 
     lipo = tmp_path / "lipo.bin"
-    rc, _, _ = run_zuml("image", "--extract", "1", str(image), "-o", str(lipo))
-    assert rc == 0
+    rc, out, _ = run_zuml("image", "--extract", "1", str(image), "-o", str(lipo))
+    assert rc == 0 and out == f"{lipo}: slot 1 (LiPo), 43 bytes\n"
     _, compiled, _ = run_zuml("compile", str(MACROS / "LiPo.zuml"), "--hex")
     assert lipo.read_bytes().hex(" ") == compiled.strip()
     rc, _, err = run_zuml("image", "--extract", "2", str(image), "-o", str(lipo))
@@ -83,3 +83,26 @@ def test_new_writes_a_clean_macro(tmp_path):
 def test_new_refuses_bad_answers_in_one_line():
     rc, _, err = run_zuml("new", "--chemistry", "NiMh", "--series", "4", "--capacity", "2000", "--rate", "0.25C")
     assert rc == 2 and "no reliable -dV" in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("args,needle", [
+    (("decompile", "__TEXT__"), "a macro's text, not a compiled record: `zuml compile __TEXT__` makes one"),
+    (("image", "--list", "__TEXT__"), "a macro's text, not an EEPROM image: `zuml image __TEXT__ -o eeprom.bin`"),
+    (("image", "--extract", "0", "__TEXT__", "-o", "x.bin"), "a macro's text, not an EEPROM image"),
+    (("compile", "__RECORD__"), "not UTF-8 text (byte 0x80 at offset 15): a compiled record? "
+                                "`zuml decompile __RECORD__` prints its text"),
+    (("check", "__RECORD__.rec"), "a macro is UTF-8 text; a compiled record is read from a file named .bin"),
+])
+def test_a_text_where_bytes_belong_and_bytes_where_text_belongs_say_what_to_run(zuml, tmp_path, args, needle):
+    text = tmp_path / "pack.zuml"
+    text.write_text("// my pack\n" + seed_text("NiMh"))
+    record = tmp_path / "pack.bin"
+    assert zuml("compile", str(text), "-o", str(record))[0] == 0
+    (tmp_path / "pack.bin.rec").write_bytes(record.read_bytes())
+    swap = {"__TEXT__": str(text), "__RECORD__": str(record)}
+    args = [swap.get(a, a).replace("__RECORD__", str(record)) for a in args]
+    rc, _, err = zuml(*args)
+    assert rc in (1, 2) and err.count("\n") == 1
+    for key, value in swap.items():
+        needle = needle.replace(key, value)
+    assert needle in err

@@ -52,3 +52,9 @@ def test_errors_are_one_line(tmp_path):
     assert rc == 2 and "no such file" in err
     rc, _, err = run_zuml("log", "export", X8, "-o", str(tmp_path / "no" / "such" / "dir.csv"))
     assert rc == 2 and "cannot write" in err
+
+
+def test_a_forced_format_that_does_not_fit_says_it_was_forced(zuml):
+    rc, _, err = zuml("log", "info", str(LOGS / "iMaxB6_Ladung3S450mAh.lov"), "--format", "session-csv")
+    assert rc == 1 and err.count("\n") == 1
+    assert "read as session-csv (--format): not UTF-8 text" in err and "without --format" in err

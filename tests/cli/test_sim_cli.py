@@ -80,3 +80,19 @@ def test_template_option_takes_the_start_values_from_the_charger_table():
     assert json.loads(out)["battery"] == {"chemistry": "NiMh", "capacity_mah": 2000.0, "series": 4}
     rc, out, err = run_zuml("simulate", str(MACROS / "NiMh-dV.zuml"), "--template", "9")
     assert rc == 1 and "start template 9 (chosen at start) does not exist on this charger" in err
+
+
+def test_the_table_stays_in_columns_when_a_value_is_wider_than_its_title(zuml):
+    """A run to the simulator's 1000 h guard: its end (1000:00:00) and charge are wider than the
+    columns' titles; the numbers still end under their titles, the reason starts under its own."""
+    rc, out, err = zuml("simulate", str(MACROS / "NiMh.zuml"), "--capacity", "2000", "--series", "4", "--current", "1",
+                        "--tick", "60")
+    assert rc == 0, err
+    title, row = out.splitlines()[1:3]
+
+    def end_of(text, word):
+        return text.index(word) + len(word)
+    assert end_of(title, " end") == end_of(row, "1000:00:00")
+    assert title.index("reason") == row.index("limit:")
+    assert end_of(title, "in mAh") == end_of(row, "1000000.0")
+    assert end_of(title, "T end") == len(row)               # no notes: the row ends with the temperature

@@ -68,6 +68,10 @@ def test_a_file_that_is_neither_a_log_nor_a_curve_is_a_precise_error(tmp_path):
     other.write_text("nothing,here\n1,2\n")
     with pytest.raises(CurveError, match="other.csv: not a log file"):
         read_curve(other)
+    notes = tmp_path / "notes.md"             # starts with '#' like a curve's comment, is neither
+    notes.write_text("# My pack\n\nCharged at 1C.\n")
+    with pytest.raises(CurveError, match=r"notes.md: not a log file .*; nor a curve CSV \(its header: time_s,"):
+        read_curve(notes)
 
 
 def test_the_longest_charge_of_a_cycle_log_is_taken():

@@ -71,6 +71,16 @@ def test_the_application_installs_the_language_before_the_window(monkeypatch, tm
     assert built.value.args == ("ru", "Отмена")
 
 
+def test_the_command_line_help_is_all_in_the_language(monkeypatch, capsys):
+    from zuml_studio.ui import app
+    monkeypatch.setenv("ZUML_LANG", "ru")
+    with pytest.raises(SystemExit):
+        app.main(["--help"])
+    shown = capsys.readouterr().out
+    assert shown.startswith("использование: zuml-studio") and "показать эту справку и выйти" in shown
+    assert "options" not in shown and "usage" not in shown
+
+
 def test_a_new_language_in_preferences_offers_a_restart(make_window, monkeypatch):
     w = make_window()
     asked, restarted = [], []

@@ -213,6 +213,22 @@ def test_screenshot_command_renders_and_exits_zero(tmp_path):
     assert out.stat().st_size > 20000
 
 
+def test_the_screenshot_of_a_restored_layout_has_only_its_own_tab_bars(make_window, tmp_path):
+    """The second screenshot with the same settings restores the first one's layout: the tab bars
+    Qt replaced then (deleted later, which no loop of the screenshot reached) were in the picture,
+    a second Simulator | Device bar over the Problems dock."""
+    from PySide6.QtWidgets import QApplication, QTabBar
+
+    from zuml_studio.ui import app
+    config = tmp_path / "settings"
+    make_window(str(MACROS / "NiMh.zuml"), config).close()        # saves its layout
+    w = make_window(str(MACROS / "NiMh.zuml"), config)
+    assert app._screenshot(QApplication.instance(), w, str(tmp_path / "shot.png"), "1600x1000") == 0
+    groups = sorted(tuple(bar.tabText(i) for i in range(bar.count())) for bar in w.findChildren(QTabBar)
+                    if bar.parent() is w)
+    assert groups == [("Bytes", "Visual"), ("Simulator", "Device")]
+
+
 def test_visual_editor_is_docked_and_follows_the_text(make_window, qtbot):
     w = make_window(LIPO)
     visual = w.findChild(object, "visualEditor")

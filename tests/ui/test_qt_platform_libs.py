@@ -56,3 +56,23 @@ def test_the_app_stops_with_the_advice_instead_of_letting_qt_abort(monkeypatch, 
     monkeypatch.setattr(q, "check", lambda: q.advice(["libxcb-icccm.so.4"], has_apt=True))
     assert app.main([]) == 1
     assert "sudo apt install libxcb-icccm4" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("env, platform, expected", [
+    ({}, "linux", True),
+    ({"QT_QPA_PLATFORM": "xcb"}, "linux", True),
+    ({"DISPLAY": ":0"}, "linux", False),
+    ({"WAYLAND_DISPLAY": "wayland-0"}, "linux", False),
+    ({"QT_QPA_PLATFORM": "offscreen"}, "linux", False),
+    ({}, "darwin", False),
+])
+def test_a_linux_start_without_a_desktop_is_told(env, platform, expected):
+    assert q.lacks_display(env, platform) is expected
+
+
+def test_without_a_desktop_the_app_says_so_instead_of_letting_qt_abort(monkeypatch, capsys):
+    for name in ("DISPLAY", "WAYLAND_DISPLAY", "QT_QPA_PLATFORM"):
+        monkeypatch.delenv(name, raising=False)
+    assert app.main([]) == 1
+    err = capsys.readouterr().err
+    assert "neither DISPLAY nor WAYLAND_DISPLAY is set" in err and "--screenshot" in err and "xcb-cursor0" not in err

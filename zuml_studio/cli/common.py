@@ -24,12 +24,30 @@ def read_bytes(path: str) -> bytes:
 
 
 def read_text(path: str) -> str:
+    """A macro's text."""
     data = read_bytes(path)
     try:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
-        raise CliError(_("{path}: not UTF-8 text (byte 0x{data:02x} at offset {start})").format(
-                path=path, data=data[exc.start], start=exc.start)) from None
+        if path.lower().endswith(".bin"):
+            what = _("a compiled record? `zuml decompile {path}` prints its text").format(path=path)
+        else:
+            what = _("a macro is UTF-8 text; a compiled record is read from a file named .bin")
+        raise CliError(_("{path}: not UTF-8 text (byte 0x{data:02x} at offset {start}): {what}").format(
+                path=path, data=data[exc.start], start=exc.start, what=what)) from None
+
+
+def is_macro_text(data: bytes) -> bool:
+    """Whether ``data`` is a macro's text (its first statement MACRO) rather than compiled bytes."""
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        return False
+    for line in text.splitlines():
+        line = line.strip()
+        if line and not line.startswith("//"):
+            return line.upper().startswith("MACRO")
+    return False
 
 
 def write_bytes(path: str, data: bytes) -> None:

@@ -15,7 +15,8 @@ from typing import Iterator
 from ..device import messages as msg
 from ..device.client import DEFAULT_BAUD, ChargerClient, check_image
 from ..device.drivers import AUTO, DRIVERS, ZUML
-from ..device.errors import CommitUncertain, CommitUnverified, DeviceError, DeviceLinkError, ImageTooLarge
+from ..device.errors import (CommitUncertain, CommitUnverified, DeviceError, DeviceLinkError, ImageTooLarge,
+                             NotACharger)
 from ..device.passport import FACTORY_WRITABLE, WRITABLE, Passport, PassportError, fitness_warnings, printable
 from ..lang.decoder import decode_record
 from ..lang.eeprom import ImageError, Slot, records, used_bytes
@@ -131,6 +132,10 @@ def _device_errors(fn):
             return fn(args)
         except DeviceError as exc:
             raise CliError(_("the charger refused: {exc}").format(exc=exc), 1) from None
+        except NotACharger as exc:        # most often a charger with its own firmware, which is only watched
+            raise CliError(_("{exc}; a charger without ZUML firmware (cheali, iCharger, iMAX B6, Ultramat…) is only "
+                             "monitored: zuml monitor --port {port} --driver auto").format(
+                    exc=exc, port=args.port), 1) from None
         except DeviceLinkError as exc:
             raise CliError(str(exc), 1) from None
         except ImageError as exc:

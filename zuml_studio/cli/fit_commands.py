@@ -90,8 +90,9 @@ def cmd_fit(args: argparse.Namespace) -> int:
         return 0
     out(_("{log}: {chemistry} {series}S, {samples} samples, {minutes:.0f} min of charge").format(
             log=args.log, chemistry=chemistry, series=series, samples=len(curve.t), minutes=curve.t[-1] / 60))
+    width = max(map(len, result.params)) + 2
     for k, v in result.params.items():
-        out(f"  {k:14s}{v:g}")
+        out(f"  {k:{width}s}{v:g}")
     for line in figure_lines(result.figures):
         out(line)
     if saved:

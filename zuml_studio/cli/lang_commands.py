@@ -12,7 +12,8 @@ from ..lang.formatter import format_macro
 from ..lang.listing import format_listing, listing_rows
 from ..lang.opcodes import AKK_TYPE
 from ..lang.record import DecodeError
-from .common import CliError, add_force_unsafe, out, read_bytes, read_text, refuse_unsafe, write_bytes
+from .common import (CliError, add_force_unsafe, is_macro_text, out, read_bytes, read_text, refuse_unsafe,
+                     write_bytes)
 from ..i18n import _, ngettext
 
 
@@ -120,6 +121,9 @@ def _decode(path: str, data: bytes):
     try:
         return decode_record(data)
     except DecodeError as exc:
+        if is_macro_text(data):
+            raise CliError(_("{path}: a macro's text, not a compiled record: `zuml compile {path}` makes "
+                             "one").format(path=path), 1) from None
         raise CliError(_("{path}: not a valid ZUML record: byte {offset}: {message}").format(
                 path=path, offset=exc.offset, message=exc.message), 1) from None
 
@@ -150,10 +154,17 @@ def cmd_image(args: argparse.Namespace) -> int:
             raise CliError(_("--extract needs -o FILE.bin"))
         try:
             if args.extract is not None:
-                write_bytes(args.output, extract(image, args.extract))
+                record = extract(image, args.extract)
+                write_bytes(args.output, record)
+                out(_("{output}: slot {slot} ({name}), {n_record} bytes").format(
+                        output=args.output, slot=args.extract, name=slots(image)[args.extract].name,
+                        n_record=len(record)))
                 return 0
             found = slots(image)
         except ImageError as exc:
+            if is_macro_text(image):
+                raise CliError(_("{path}: a macro's text, not an EEPROM image: `zuml image {path} -o eeprom.bin` "
+                                 "packs one").format(path=args.files[0]), 1) from None
             raise CliError(f"{args.files[0]}: {exc}", 1) from None
         return _list(args.files[0], image, found)
     if not args.output:

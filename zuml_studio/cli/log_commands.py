@@ -34,6 +34,9 @@ def load(path: str, fmt: str | None) -> Log:
     try:
         return read_log(data, path, fmt)
     except LogFormatError as exc:
+        if fmt:          # the user chose the format: the reason is about reading it as that one
+            raise CliError(_("{path}: read as {format} (--format): {reason}; without --format the format is "
+                             "recognised from the bytes").format(path=path, format=fmt, reason=exc), 1) from None
         raise CliError(f"{path}: {exc}", 1) from None
 
 

@@ -104,20 +104,22 @@ def _table(args: argparse.Namespace, result: SimResult) -> None:
             repetitions=f' x{p.repetitions}' if p.task == 'train' else '', chemistry=result.chemistry,
             capacity_mah=result.capacity_mah, series=result.series, ambient=args.ambient,
             sensor=_("on") if p.sensor else _("off")))
-    # Column titles are translated; the columns stay wide enough for the longest of title and values.
-    section, phase, start, end, reason = _("section"), _("phase"), _("start"), _("end"), _("reason")
-    charge_in, charge_out, v_end, t_end, notes_title = _("in mAh"), _("out mAh"), _("V end"), _("T end"), _("notes")
-    width = max([len(shown_reason(ph.reason)) for ph in result.phases] + [len(reason)])
-    w = [max(len(title), least) for title, least in ((section, 9), (phase, 5), (start, 8), (end, 8), (charge_in, 8),
-                                                     (charge_out, 8), (v_end, 7), (t_end, 6))]
-    out(f"{'#':>3}  {section:<{w[0]}} {phase:>{w[1]}}  {start:>{w[2]}}  {end:>{w[3]}}  {reason:<{width}}  "
-        f"{charge_in:>{w[4]}}  {charge_out:>{w[5]}}  {v_end:>{w[6]}}  {t_end:>{w[7]}}  {notes_title}")
-    for ph in result.phases:
-        index = str(ph.index) if ph.index else "dflt"
-        notes = "; ".join(ph.notes)
-        out((f"{ph.run:>3}  {ph.section:<{w[0]}} {index:>{w[1]}}  {hms(ph.start_s):>{w[2]}}  {hms(ph.end_s):>{w[3]}}  "
-             f"{shown_reason(ph.reason):<{width}}  {ph.mah_in:>{w[4]}.1f}  {ph.mah_out:>{w[5]}.1f}  {ph.v_end:>{w[6]}.3f}  "
-             f"{ph.temp_end:>{w[7]}.1f}  {'⚠ ' if ph.timer_before_full else ''}{notes}").rstrip())
+    # Column titles are translated; each column is as wide as the longest of its title and values.
+    titles = ["#", _("section"), _("phase"), _("start"), _("end"), _("reason"), _("in mAh"), _("out mAh"),
+              _("V end"), _("T end")]
+    rows = [[str(ph.run), ph.section, str(ph.index) if ph.index else "dflt", hms(ph.start_s), hms(ph.end_s),
+             shown_reason(ph.reason), f"{ph.mah_in:.1f}", f"{ph.mah_out:.1f}", f"{ph.v_end:.3f}", f"{ph.temp_end:.1f}",
+             ("⚠ " if ph.timer_before_full else "") + "; ".join(ph.notes)] for ph in result.phases]
+    least = [3, 9, 5, 8, 8, 0, 8, 8, 7, 6]
+    width = [max([len(title), least[i]] + [len(row[i]) for row in rows]) for i, title in enumerate(titles)]
+    left = {1, 5}                                  # section and reason read from the left, the rest are numbers
+
+    def line(cells: list[str]) -> str:
+        parts = [f"{c:<{width[i]}}" if i in left else f"{c:>{width[i]}}" for i, c in enumerate(cells[:10])]
+        return (f"{parts[0]}  {parts[1]} {parts[2]}  " + "  ".join(parts[3:]) + f"  {cells[10]}").rstrip()
+    out(line(titles + [_("notes")]))
+    for row in rows:
+        out(line(row))
     t = result.totals()
     out(_("total {duration}, in {charge_in:.1f} mAh, out {charge_out:.1f} mAh; end: {end}").format(
             duration=hms(t['duration_s']), charge_in=t['mah_in'], charge_out=t['mah_out'], end=shown_reason(t['end'])))

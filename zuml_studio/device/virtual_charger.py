@@ -154,11 +154,11 @@ class VirtualCharger:
         self.battery = BatterySpec.parse(battery) if isinstance(battery, str) else battery
         self.speed = self._check_speed(speed)
         if not 16 <= eeprom_size <= 65535:
-            raise DeviceSetupError(_("eeprom size must be 16..65535 bytes"))
+            raise DeviceSetupError(_("an EEPROM of {size} bytes: choose 16 to 65535").format(size=eeprom_size))
         if not 0.0 <= soc <= 1.0:
-            raise DeviceSetupError(_("soc is a fraction 0..1"))
+            raise DeviceSetupError(_("state of charge {soc:g}: a fraction from 0 to 1").format(soc=soc))
         if eeprom_write_ms < 0:
-            raise DeviceSetupError(_("eeprom write time must be >= 0"))
+            raise DeviceSetupError(_("EEPROM write time {ms:g} ms: 0 or more").format(ms=eeprom_write_ms))
         if not 1 <= telemetry_hz <= 50:
             raise DeviceSetupError(_("telemetry rate must be 1..50 Hz"))
         self.faults = faults
@@ -218,8 +218,8 @@ class VirtualCharger:
     def _check_speed(speed: float) -> float:
         speed = float(speed)
         if not MIN_SPEED <= speed <= MAX_SPEED:
-            raise DeviceSetupError(_("speed must be {min_speed:g}..{max_speed:g}").format(
-                    min_speed=MIN_SPEED, max_speed=MAX_SPEED))
+            raise DeviceSetupError(_("speed x{speed:g}: choose {min_speed:g} to {max_speed:g}").format(
+                    speed=speed, min_speed=MIN_SPEED, max_speed=MAX_SPEED))
         return speed
 
     def _load_eeprom(self, size: int) -> bytearray:

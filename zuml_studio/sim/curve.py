@@ -151,6 +151,8 @@ def read_curve(path: str | Path) -> Curve:
         return charge_from_log(read_log(data, p.name), p.name)
     except LogFormatError as exc:
         text = data.decode("utf-8", "replace")
-        if text.lstrip().startswith(("#", "time_s")):
+        first = next((ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")), "")
+        if first.lstrip().startswith("time_s"):
             return read_curve_csv(text, p.name)
-        raise CurveError(f"{p.name}: {exc}") from None
+        raise CurveError(_("{name}: {reason}; nor a curve CSV (its header: {csv_columns}[,temp_c])").format(
+                name=p.name, reason=exc, csv_columns=",".join(_CSV_COLUMNS))) from None

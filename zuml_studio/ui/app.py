@@ -5,16 +5,17 @@ import argparse
 import os
 import sys
 
+from .. import i18n
 from ..i18n import _
 
 
-def _parse(argv: list[str] | None) -> argparse.Namespace:
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="zuml-studio", description=_("The IDE for ZUML 2.0 charger macros."))
     parser.add_argument("file", nargs="?", metavar="FILE", help=_("a .zuml macro to open"))
     parser.add_argument("--screenshot", metavar="OUT.png",
                         help=_("render the window offscreen with FILE open, checked and simulated, save it, exit"))
     parser.add_argument("--size", default="1600x1000", metavar="WxH", help=_("window size for --screenshot"))
-    return parser.parse_args(argv)
+    return parser
 
 
 def _ensure_streams() -> None:
@@ -67,13 +68,14 @@ def main(argv: list[str] | None = None) -> int:
     except DataFileError as exc:
         sys.stderr.write(f"zuml-studio: error: {exc}\n")
         return 2
-    args = _parse(argv)
+    i18n.translate_argparse()          # its usage:, options and errors in the same language as the rest
+    args = build_parser().parse_args(argv)
     if args.screenshot:
         os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
     from .qt_platform_libs import check
 
     lacking = check()
-    if lacking:          # Qt would abort with a misleading message; say what to install instead
+    if lacking:          # Qt would abort with a misleading message; say what is wrong instead
         sys.stderr.write(f"zuml-studio: {lacking}")
         return 1
     from PySide6.QtGui import QIcon
@@ -117,7 +119,7 @@ SETTLE_MS = 300
 
 
 def _screenshot(app, window, out: str, size: str) -> int:
-    from PySide6.QtCore import QEventLoop, QTimer
+    from PySide6.QtCore import QCoreApplication, QEvent, QEventLoop, QTimer
 
     try:
         width, height = (int(x) for x in size.lower().split("x"))
@@ -136,6 +138,9 @@ def _screenshot(app, window, out: str, size: str) -> int:
     loop = QEventLoop()
     QTimer.singleShot(SETTLE_MS, loop.quit)
     loop.exec()
+    # Restoring a saved layout replaces the docks' tab bars and deletes the old ones later; outside
+    # app.exec() this loop never gets to them, and they would be in the picture where they were.
+    QCoreApplication.sendPostedEvents(None, QEvent.Type.DeferredDelete)
     if not window.grab().save(out):
         sys.stderr.write("zuml-studio: error: " + _("cannot write {path}").format(path=out) + "\n")
         return 2

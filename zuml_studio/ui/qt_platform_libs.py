@@ -33,6 +33,20 @@ def wants_xcb(environ: dict[str, str] = os.environ, platform: str = sys.platform
     return not environ.get("WAYLAND_DISPLAY")     # Qt prefers its Wayland plugin in a Wayland session
 
 
+def lacks_display(environ: dict[str, str] = os.environ, platform: str = sys.platform) -> bool:
+    """Whether Qt is about to look for a desktop on Linux and there is none (ssh, a console): it
+    would abort saying "xcb-cursor0 is needed" and that reinstalling may help, both wrong."""
+    if not platform.startswith("linux") or environ.get("DISPLAY") or environ.get("WAYLAND_DISPLAY"):
+        return False
+    return environ.get("QT_QPA_PLATFORM", "").split(";")[0] in ("", "xcb", "wayland")
+
+
+def no_display_advice() -> str:
+    return _("no desktop to open the window on (neither DISPLAY nor WAYLAND_DISPLAY is set): start it in a "
+             "desktop session, or over ssh with `ssh -X`. Without one, `zuml-studio FILE --screenshot OUT.png` "
+             "renders the window to a file and the `zuml` command line does the rest.") + "\n"
+
+
 def missing_libraries(ldd_output: str) -> list[str]:
     """The sonames ``ldd`` reports "not found", in its order, without repeats."""
     found = re.findall(r"^\s*(\S+) => not found", ldd_output, flags=re.M)
@@ -85,7 +99,10 @@ def lacking() -> str:
 
 
 def check() -> str:
-    """`lacking()` when Qt is about to start on X11, else ''."""
+    """What stops Qt from starting here, said plainly: no display, or `lacking()` when Qt is about
+    to start on X11; '' when nothing does."""
+    if lacks_display():
+        return no_display_advice()
     return lacking() if wants_xcb() else ""
 
 
