@@ -8,7 +8,7 @@ from collections.abc import Callable
 import numpy as np
 from PySide6.QtCore import Qt, Signal
 from PySide6.QtWidgets import (QComboBox, QDialog, QFileDialog, QFormLayout, QHBoxLayout,
-                               QInputDialog, QLabel, QPushButton, QSpinBox, QVBoxLayout, QWidget)
+                               QInputDialog, QLabel, QPushButton, QSizePolicy, QSpinBox, QVBoxLayout, QWidget)
 
 from ...file_errors import FileReadError
 from ...i18n import _
@@ -69,6 +69,9 @@ class CompareDialog(QDialog):
             b.setEnabled(False)
 
         form = QFormLayout()
+        # The boxes at their own width; only the log's path takes the dialog's.
+        form.setFieldGrowthPolicy(QFormLayout.FieldGrowthPolicy.ExpandingFieldsGrow)
+        self.log_label.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Preferred)
         row = QHBoxLayout()
         row.addWidget(open_button)
         row.addWidget(self.log_label, 1)
