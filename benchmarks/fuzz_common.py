@@ -1,0 +1,113 @@
+"""What the hand-run fuzzers share: byte and text mutations, hostile numbers, and one loop that
+runs a parser on generated inputs, each under a time limit, and reports what escapes.
+
+An input escapes when it raises anything but the parser's own precise errors (a crash), or when
+it takes longer than the limit (a hang: SIGALRM interrupts it). Every finding's input is written
+to FINDINGS (one file per kind) so it can be replayed and minimised."""
+from __future__ import annotations
+
+import collections
+import random
+import signal
+import time
+import traceback
+from pathlib import Path
+
+LIMIT_S = 2.0                                       # an input slower than this is a hang finding
+FINDINGS = Path("/tmp/zuml-fuzz-findings")
+HOSTILE_NUMBERS = ["nan", "NaN", "inf", "-inf", "Infinity", "1e999", "-1e999", "9" * 40, "-0", "0x1F", "1_000",
+                   "0." + "0" * 40 + "1", "4e-320", "+", "-", ".", "1e", "٣", "１２"]
+
+
+class Hang(Exception):
+    """An input ran past LIMIT_S."""
+
+
+def _alarm(signum, frame):
+    raise Hang(f"over {LIMIT_S:g} s")
+
+
+def mutate_bytes(rng: random.Random, data: bytes, extra: tuple[bytes, ...] = ()) -> bytes:
+    """Flips, overwrites, inserts (random bytes or ``extra`` pieces), cuts, repeats, truncation."""
+    buf = bytearray(data)
+    for _ in range(rng.randint(1, 6)):
+        kind = rng.random()
+        at = rng.randrange(len(buf) + 1)
+        if kind < 0.25 and buf:
+            buf[at % len(buf)] ^= 1 << rng.randrange(8)
+        elif kind < 0.35 and buf:
+            buf[at % len(buf)] = rng.randrange(256)
+        elif kind < 0.5:
+            buf[at:at] = rng.randbytes(rng.randint(1, 8))
+        elif kind < 0.65 and extra:
+            buf[at:at] = rng.choice(extra)
+        elif kind < 0.8:
+            del buf[at:at + rng.randint(1, 40)]
+        elif kind < 0.9 and buf:
+            buf[at:at] = buf[at:at + rng.randint(1, 200)] * rng.randint(1, 4)
+        else:
+            del buf[at:]
+    return bytes(buf)
+
+
+def number_swap(rng: random.Random, text: str) -> str:
+    """One number of ``text`` replaced by a hostile one (NaN, inf, huge, malformed)."""
+    starts = [k for k in range(len(text)) if text[k].isdigit() and (k == 0 or not text[k - 1].isalnum())]
+    if not starts:
+        return text
+    k = rng.choice(starts)
+    end = k
+    while end < len(text) and (text[end].isdigit() or text[end] in ".eE"):
+        end += 1
+    return text[:k] + rng.choice(HOSTILE_NUMBERS) + text[end:]
+
+
+class Campaign:
+    """Runs parsers and keeps one row per parser for the summary table."""
+
+    def __init__(self, seed: int):
+        self.seed = seed
+        self.rows: list[tuple[str, int, int, int, float]] = []
+        FINDINGS.mkdir(parents=True, exist_ok=True)
+        signal.signal(signal.SIGALRM, _alarm)
+
+    def run(self, name: str, n: int, make, check, allowed: tuple) -> int:
+        rng = random.Random(f"{name}-{self.seed}")
+        count: collections.Counter = collections.Counter()
+        example: dict[str, object] = {}
+        hangs = 0
+        t0 = time.perf_counter()
+        for _ in range(n):
+            item = make(rng)
+            signal.setitimer(signal.ITIMER_REAL, LIMIT_S)
+            try:
+                check(item)
+            except allowed:
+                pass
+            except Hang:
+                hangs += 1
+                kind = f"hang (> {LIMIT_S:g} s)"
+                count[kind] += 1
+                example.setdefault(kind, item)
+            except Exception:   # noqa: BLE001 - what a fuzzer is for
+                kind = traceback.format_exc().strip().splitlines()[-1][:160]
+                count[kind] += 1
+                if kind not in example:
+                    example[kind] = item
+                    print(traceback.format_exc(limit=-4))
+            finally:
+                signal.setitimer(signal.ITIMER_REAL, 0)
+        took = time.perf_counter() - t0
+        total = sum(count.values())
+        self.rows.append((name, n, total - hangs, hangs, took))
+        print(f"{name:<22} {n:>7} inputs  {total - hangs:>5} crashes  {hangs:>3} hangs  {took:7.1f} s", flush=True)
+        for k, (kind, item) in enumerate(example.items()):
+            where = FINDINGS / f"{name.replace(' ', '_')}-{k}.txt"
+            where.write_text(repr(item))
+            print(f"    {count[kind]} x {kind}\n      e.g. {repr(item)[:200]}  (whole input: {where})")
+        return total
+
+    def table(self) -> None:
+        print("\n| parser | inputs | crashes | hangs | seconds |\n|---|---:|---:|---:|---:|")
+        for name, n, crashes, hangs, took in self.rows:
+            print(f"| {name} | {n} | {crashes} | {hangs} | {took:.0f} |")
