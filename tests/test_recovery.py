@@ -1,3 +1,5 @@
+import pytest
+
 from zuml_studio.recovery import RecoveryStore, atomic_write
 
 
@@ -17,6 +19,25 @@ def test_a_damaged_note_still_gives_the_text_back(tmp_path):
     (tmp_path / "recovery" / "abc.json").write_text("{not json")
     (found,) = store.pending()
     assert found.text == "MACRO Y\n" and found.original is None
+
+
+@pytest.mark.parametrize("note", [
+    "[1, 2]",                                                           # was AttributeError: no .get
+    '{"pid": 100000000000000000000000000000, "saved_at": 1.0}',         # was OverflowError in os.kill
+    '{"pid": -1, "saved_at": 1.0}',                                     # kill(-1, 0) asks about every process
+    '{"pid": true, "original": 5, "saved_at": Infinity}',
+    '{"original": ["a"], "saved_at": 1e999}',
+    '{"original": "", "saved_at": 100000000000000000000000000000' + "0" * 400 + '}',
+])
+def test_a_note_with_fields_of_the_wrong_type_reads_as_a_note_without_them(tmp_path, note):
+    # findings of benchmarks/fuzz_files.py: the window's start called pending() and died
+    store = RecoveryStore(tmp_path)
+    store.save("abc", "MACRO Y\n", "/x.zuml")
+    (tmp_path / "recovery" / "abc.json").write_text(note)
+    (found,) = store.pending()
+    mtime = (tmp_path / "recovery" / "abc.zuml").stat().st_mtime
+    assert (found.text, found.original) == ("MACRO Y\n", None)
+    assert found.saved_at in (1.0, mtime)
 
 
 def test_a_window_own_text_and_a_running_instance_are_not_offered(tmp_path):

@@ -11,6 +11,7 @@ from __future__ import annotations
 import hashlib
 import json
 import logging
+import math
 import os
 import threading
 import time
@@ -38,6 +39,8 @@ def atomic_write(path: Path, data: bytes, sync: bool = True) -> None:
 
 
 def _alive(pid: int) -> bool:
+    if not 0 < pid < 2 ** 31:          # no such process can exist (and os.kill would overflow or signal a group)
+        return False
     try:
         os.kill(pid, 0)
     except ProcessLookupError:
@@ -45,6 +48,14 @@ def _alive(pid: int) -> bool:
     except (PermissionError, OSError):
         return True
     return True
+
+
+def _seconds(value: object) -> float:
+    """A note's time, NaN when it is no number (a bool, a string, an integer past any float)."""
+    try:
+        return float(value) if type(value) in (int, float) else math.nan
+    except OverflowError:
+        return math.nan
 
 
 @dataclass(frozen=True)
@@ -80,8 +91,9 @@ class RecoveryStore:
                 pass
 
     def pending(self, own_key: str = "") -> list[Recovered]:
-        """Texts left behind, newest first; a damaged note still gives its text back. Texts of
-        another ZUML Studio still running (its process alive) are not left behind, nor is ``own_key``."""
+        """Texts left behind, newest first; a damaged note still gives its text back (a field of
+        the wrong type reads as missing). Texts of another ZUML Studio still running (its process
+        alive) are not left behind, nor is ``own_key``."""
         found: list[Recovered] = []
         if not self.root.is_dir():
             return found
@@ -92,16 +104,23 @@ class RecoveryStore:
                 note = json.loads((self.root / f"{key}.json").read_text(encoding="utf-8"))
             except (OSError, ValueError):
                 pass
+            if not isinstance(note, dict):
+                note = {}
             pid = note.get("pid")
-            if key == own_key or (isinstance(pid, int) and pid != os.getpid() and _alive(pid)):
+            if key == own_key or (type(pid) is int and pid != os.getpid() and _alive(pid)):
                 continue
             try:
                 text = text_file.read_bytes().decode("utf-8", errors="replace")
             except OSError:
                 continue
-            saved_at = note.get("saved_at")
-            found.append(Recovered(key, text, note.get("original"),
-                                   saved_at if isinstance(saved_at, (int, float)) else text_file.stat().st_mtime))
+            saved_at, original = _seconds(note.get("saved_at")), note.get("original")
+            if not math.isfinite(saved_at):
+                try:
+                    saved_at = text_file.stat().st_mtime
+                except OSError:
+                    continue
+            found.append(Recovered(key, text, original if isinstance(original, str) and original else None,
+                                   saved_at))
         return sorted(found, key=lambda r: -r.saved_at)
 
 
