@@ -247,6 +247,7 @@ def settings_fuzz(c: Campaign, n: int, tmp: Path) -> int:
     from zuml_studio.ui.language import saved_preference
     from zuml_studio.ui.main_window import MainWindow
     from zuml_studio.ui.preferences import Preferences
+    from zuml_studio.ui.settings_values import bytes_value, text_value
 
     app = QApplication.instance() or QApplication([])
     window = QMainWindow()
@@ -270,12 +271,13 @@ def settings_fuzz(c: Campaign, n: int, tmp: Path) -> int:
         Preferences.load(settings)
         saved_preference(config)
         MainWindow.recent_files(Settings(settings))
-        for key in ("geometry", "windowState"):
-            value = settings.value(key)
-            if value is not None:
-                window.restoreGeometry(value) if key == "geometry" else window.restoreState(value)
+        geometry, state = bytes_value(settings, "geometry"), bytes_value(settings, "windowState")
+        if geometry is not None:                         # as MainWindow._restore_layout
+            window.restoreGeometry(geometry)
+        if state is not None:
+            window.restoreState(state, 1)
         for key in ("lastDir", "lastOpen", "lastLogDir"):
-            value = settings.value(key, "")
+            value = text_value(settings, key, "")
             assert isinstance(value, str), f"{key} reads as {type(value).__name__} {value!r}"
 
     result = c.run("settings.ini", n, lambda rng: mutate_bytes(rng, seed, values), read, ())
