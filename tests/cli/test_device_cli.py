@@ -260,3 +260,12 @@ def test_templates_list_get_set(any_charger, zuml):
     one_error_line(*zuml("templates", "get", "--port", port, "9"))
     one_error_line(*zuml("templates", "set", "--port", port, "20"))
     one_error_line(*zuml("templates", "set", "--port", port, "2", "--current", "99"))
+
+
+def test_virtual_charger_refuses_an_ambient_or_write_time_that_is_no_number(zuml):
+    # found by benchmarks/fuzz_cli.py: NaN was taken (and reached time.sleep / the battery model)
+    for args, said in ((["--ambient", "nan"], "ambient temperature nan °C: the model covers -20 to 60 °C"),
+                       (["--eeprom-write-ms", "nan"], "eeprom write time must be 0..100 ms"),
+                       (["--eeprom-write-ms", "inf"], "eeprom write time must be 0..100 ms")):
+        code, out, err = zuml("virtual-charger", *args)
+        assert (code, out, err) == (2, "", f"zuml: error: {said}\n")

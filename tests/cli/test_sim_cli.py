@@ -80,3 +80,16 @@ def test_template_option_takes_the_start_values_from_the_charger_table():
     assert json.loads(out)["battery"] == {"chemistry": "NiMh", "capacity_mah": 2000.0, "series": 4}
     rc, out, err = run_zuml("simulate", str(MACROS / "NiMh-dV.zuml"), "--template", "9")
     assert rc == 1 and "start template 9 (chosen at start) does not exist on this charger" in err
+
+
+def test_hostile_measurement_and_ambient_values_are_one_line(zuml):
+    # found by benchmarks/fuzz_cli.py: --ambient nan ended in an UnboundLocalError traceback; inf,
+    # -300 °C and a noise of 1e300 mV simulated nonsense
+    for option, value, said in (("--ambient", "nan", "--ambient must be -20 to 60 °C"),
+                                ("--ambient", "-300", "--ambient must be -20 to 60 °C"),
+                                ("--ambient", "inf", "--ambient must be -20 to 60 °C"),
+                                ("--noise", "nan", "--noise must be 0 to 1000 mV"),
+                                ("--noise", "1e300", "--noise must be 0 to 1000 mV"),
+                                ("--adc-lsb", "-5", "--adc-lsb must be 0 to 1000 mV")):
+        rc, out, err = zuml(*NIMH, option, value)
+        assert (rc, err) == (2, f"zuml: error: {said}\n"), (option, value)
