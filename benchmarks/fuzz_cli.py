@@ -29,6 +29,7 @@ DATA = ROOT / "tests" / "data"
 MACRO_FILES = sorted((ROOT / "zuml_studio" / "data" / "macros").glob("*.zuml"))
 NUMBERS = HOSTILE_NUMBERS + ["0", "1", "2", "4", "16", "17", "255", "256", "2000", "0.5", "1.5", "-1", "65535",
                              "1e6", "25", "60", "0.05", "1C", "2,5", ""]
+SANE = ["1", "2", "3", "4", "1000", "2000", "0.5", "25"]
 WORDS = ["LiPo", "NiMh", "NiCd", "Pb", "LiIon", "LiFe", "lipo", "X", "", "Ni\u00adMh", "../../etc/passwd",
          "imax_b6", "Pack A", "charge", "discharge", "train", "\x00", "a" * 300]
 
@@ -69,13 +70,20 @@ class Pool:
 
 
 def number(rng: random.Random) -> str:
-    return rng.choice(NUMBERS)
+    """Mostly a value a command takes, so that the code past the option checks is reached too."""
+    return rng.choice(NUMBERS if rng.random() < rng.hostility else SANE)
+
+
+def value(*sane: str):
+    """A maker of an option's value: one of ``sane`` but as often as the input's hostility a hostile number."""
+    return lambda rng: rng.choice(NUMBERS if rng.random() < rng.hostility else sane)
 
 
 def options(rng: random.Random, pool: Pool, table: dict) -> list[str]:
+    rng.hostility = rng.choice([0.0, 0.05, 0.5])
     out: list[str] = []
     for name, value in table.items():
-        if rng.random() < 0.45:
+        if rng.random() < 0.6:
             out.append(name)
             if value is not None:
                 out.append(value(rng))
@@ -85,9 +93,11 @@ def options(rng: random.Random, pool: Pool, table: dict) -> list[str]:
 def commands(pool: Pool) -> dict[str, tuple]:
     """command: (argv maker, share of N, time limit in s)."""
     num, word = number, lambda rng: rng.choice(WORDS)
-    out, task = pool.output, lambda rng: rng.choice(["charge", "discharge", "train", "x"])
+    out = pool.output
+    task = lambda rng: rng.choice(["charge", "discharge", "train"] * 8 + ["x", ""])  # noqa: E731
     port = ["--port", "socket://127.0.0.1:9", "--timeout", "0.05"]
-    start = {"--task": task, "--cycles": num, "--capacity": num, "--current": num, "--voltage": num, "--series": num}
+    start = {"--task": task, "--cycles": value("1", "2"), "--capacity": value("500", "2000"),
+             "--current": value("0.5", "2"), "--voltage": value("4.2", "8.4"), "--series": value("1", "3", "4")}
     return {
         "check": (lambda r: ["check", *[pool.file(r, "zuml") for _ in range(r.randint(1, 3))],
                              *options(r, pool, {"--no-hints": None, "--charger": word})], 1, 2.0),
@@ -101,16 +111,18 @@ def commands(pool: Pool) -> dict[str, tuple]:
         "log export": (lambda r: ["log", "export", pool.file(r, "log"), *options(r, pool, {"-o": out})], 1, 2.0),
         "new": (lambda r: ["new", *options(r, pool, {"--chemistry": word, "--series": num, "--capacity": num,
                                                      "--rate": num, "--sensor": None, "-o": out})], 1, 2.0),
-        "templates set": (lambda r: ["templates", "set", num(r), *port, *options(r, pool, start)], 1, 2.0),
+        "templates set": (lambda r: ["templates", "set", r.choice(NUMBERS), *port, *options(r, pool, start)], 1, 2.0),
         "simulate": (lambda r: ["simulate", pool.file(r, r.choice(["zuml", "bin"])), *options(r, pool, {
-            **start, "--template": num, "--soc": num, "--ambient": num, "--no-sensor": None, "--model": word,
-            "--battery": word, "--tick": num, "--noise": num, "--adc-lsb": num, "--seed": num, "--json": None})],
-            10, 20.0),
+            **start, "--template": value("1", "16"), "--soc": value("0", "0.5", "1"), "--ambient": value("0", "25"),
+            "--no-sensor": None, "--model": word, "--tick": value("1", "10"), "--noise": value("0", "5"),
+            "--adc-lsb": value("0", "10"), "--seed": num, "--json": None})],
+            10, 60.0),
         "fit": (lambda r: ["fit", pool.file(r, r.choice(["csv", "log"])),
-                           *options(r, pool, {"--chemistry": word, "--cells": num, "--json": None})], 100, 30.0),
+                           *options(r, pool, {"--chemistry": word, "--cells": value("1", "4"), "--json": None})],
+                100, 30.0),
         "compare": (lambda r: ["compare", pool.file(r, r.choice(["csv", "log"])), pool.file(r, "zuml"),
-                               *options(r, pool, {"--chemistry": word, "--battery": word, "--cells": num,
-                                                  "--capacity": num, "--json": None})], 100, 30.0),
+                               *options(r, pool, {"--chemistry": word, "--battery": word, "--cells": value("1", "4"),
+                                                  "--capacity": value("2000"), "--json": None})], 100, 30.0),
     }
 
 

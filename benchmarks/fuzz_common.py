@@ -2,7 +2,8 @@
 runs a parser on generated inputs, each under a time limit, and reports what escapes.
 
 An input escapes when it raises anything but the parser's own precise errors (a crash), or when
-it takes longer than the limit (a hang: SIGALRM interrupts it). Every finding's input is written
+it takes longer than the limit (a hang: SIGALRM interrupts it). A parser allowed a longer limit
+(a simulation, a fit) has its inputs slower than LIMIT_S counted as slow. Every finding's input is written
 to FINDINGS (one file per kind) so it can be replayed and minimised."""
 from __future__ import annotations
 
@@ -69,20 +70,24 @@ class Campaign:
 
     def __init__(self, seed: int):
         self.seed = seed
-        self.rows: list[tuple[str, int, int, int, float]] = []
+        self.rows: list[tuple[str, int, int, int, int, float]] = []
         FINDINGS.mkdir(parents=True, exist_ok=True)
         resource.setrlimit(resource.RLIMIT_AS, (MEMORY_B, resource.getrlimit(resource.RLIMIT_AS)[1]))
         signal.signal(signal.SIGALRM, _alarm)
 
     def run(self, name: str, n: int, make, check, allowed: tuple, limit_s: float = LIMIT_S) -> int:
+        """``limit_s`` above LIMIT_S is for a parser that legitimately takes longer (a simulation,
+        a fit): an input between the two is counted as slow (and shown), past ``limit_s`` a hang."""
         rng = random.Random(f"{name}-{self.seed}")
         count: collections.Counter = collections.Counter()
         example: dict[str, object] = {}
-        hangs = 0
+        hangs = slow = 0
+        slowest = (0.0, None)
         t0 = time.perf_counter()
         for _ in range(n):
             item = make(rng)
             signal.setitimer(signal.ITIMER_REAL, limit_s)
+            began = time.perf_counter()
             try:
                 check(item)
             except allowed:
@@ -100,10 +105,17 @@ class Campaign:
                     print(traceback.format_exc(limit=-4))
             finally:
                 signal.setitimer(signal.ITIMER_REAL, 0)
+            took = time.perf_counter() - began
+            if LIMIT_S < took < limit_s:
+                slow += 1
+                slowest = max(slowest, (took, item), key=lambda s: s[0])
         took = time.perf_counter() - t0
         total = sum(count.values())
-        self.rows.append((name, n, total - hangs, hangs, took))
-        print(f"{name:<22} {n:>7} inputs  {total - hangs:>5} crashes  {hangs:>3} hangs  {took:7.1f} s", flush=True)
+        self.rows.append((name, n, total - hangs, hangs, slow, took))
+        print(f"{name:<22} {n:>7} inputs  {total - hangs:>5} crashes  {hangs:>3} hangs  {slow:>3} slow  "
+              f"{took:7.1f} s", flush=True)
+        if slow:
+            print(f"    slowest {slowest[0]:.1f} s: {repr(slowest[1])[:300]}")
         for k, (kind, item) in enumerate(example.items()):
             where = FINDINGS / f"{name.replace(' ', '_')}-{k}.txt"
             where.write_text(repr(item))
@@ -111,6 +123,6 @@ class Campaign:
         return total
 
     def table(self) -> None:
-        print("\n| parser | inputs | crashes | hangs | seconds |\n|---|---:|---:|---:|---:|")
-        for name, n, crashes, hangs, took in self.rows:
-            print(f"| {name} | {n} | {crashes} | {hangs} | {took:.0f} |")
+        print(f"\n| parser | inputs | crashes | hangs | slow (> {LIMIT_S:g} s) | seconds |\n|---|---:|---:|---:|---:|---:|")
+        for name, n, crashes, hangs, slow, took in self.rows:
+            print(f"| {name} | {n} | {crashes} | {hangs} | {slow} | {took:.0f} |")
