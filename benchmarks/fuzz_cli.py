@@ -111,6 +111,10 @@ def commands(pool: Pool) -> dict[str, tuple]:
         "log export": (lambda r: ["log", "export", pool.file(r, "log"), *options(r, pool, {"-o": out})], 1, 2.0),
         "new": (lambda r: ["new", *options(r, pool, {"--chemistry": word, "--series": num, "--capacity": num,
                                                      "--rate": num, "--sensor": None, "-o": out})], 1, 2.0),
+        "slots": (lambda r: ["slots", "--port", r.choice([str(pool.root / "ttyUSB7"), "socket://127.0.0.1:9",
+                                                            "socket://127.0.0.1:99999", "COM3", ""]),
+                             *options(r, pool, {"--timeout": value("0.05", "1"), "--baud": value("9600", "0")})],
+                  1, 2.0),
         "templates set": (lambda r: ["templates", "set", r.choice(NUMBERS), *port, *options(r, pool, start)], 1, 2.0),
         "simulate": (lambda r: ["simulate", pool.file(r, r.choice(["zuml", "bin"])), *options(r, pool, {
             **start, "--template": value("1", "16"), "--soc": value("0", "0.5", "1"), "--ambient": value("0", "25"),

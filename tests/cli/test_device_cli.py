@@ -269,3 +269,11 @@ def test_virtual_charger_refuses_an_ambient_or_write_time_that_is_no_number(zuml
                        (["--eeprom-write-ms", "inf"], "eeprom write time must be 0..100 ms")):
         code, out, err = zuml("virtual-charger", *args)
         assert (code, out, err) == (2, "", f"zuml: error: {said}\n")
+
+
+def test_a_timeout_that_is_no_sensible_number_is_one_line_before_any_port_is_opened(zuml, tmp_path):
+    # found by fuzzing: --timeout inf ended in "OverflowError: timestamp out of range"; 0 and -1
+    # said that no charger answered
+    for value in ("inf", "nan", "0", "-1", "61"):
+        code, out, err = zuml("slots", "--port", str(tmp_path / "ttyUSB7"), "--timeout", value)
+        assert (code, out, err) == (2, "", "zuml: error: --timeout must be 0.01 to 60 seconds\n"), value
