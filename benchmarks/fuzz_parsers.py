@@ -120,6 +120,36 @@ def main() -> int:
                            "socket://[::1]:7777?logging=debug", "loop://"])
         return mutate_text(rng, base)
 
+    from zuml_studio.device.virtual_charger import VirtualCharger
+    charger = [VirtualCharger(), 0]
+    requests = sorted(m.HOST_TYPES)
+    good = [encode_frame(m.BY_NAME[name].code, 1, m.encode_request(name, **fields)) for name, fields in (
+        ("IDENTIFY", {}), ("STATUS", {}), ("READ_EEPROM", {"offset": 0, "length": 64}),
+        ("GET_TEMPLATE", {"number": 1}), ("LIST_TEMPLATES", {}), ("SET_TELEMETRY_RATE", {"hz": 5}),
+        ("PASSPORT", {"request": pp.read_all_request()}))]
+
+    def host_bytes(rng):
+        """What a host (or a line's noise) sends the charger: frames of every request type with
+        random payloads and correct checks, real requests mutated, and random bytes."""
+        out = b""
+        for _ in range(rng.randint(1, 5)):
+            kind = rng.random()
+            if kind < 0.5:
+                out += encode_frame(rng.choice(requests), rng.randrange(256), rng.randbytes(rng.randint(0, 40)))
+            elif kind < 0.85:
+                out += mutate_bytes(rng, rng.choice(good))
+            else:
+                out += rng.randbytes(rng.randint(1, 60))
+        return out
+
+    def charger_answers(data):
+        charger[1] += 1
+        if charger[1] % 1000 == 0:                        # a fresh charger now and then: state differs
+            charger[0] = VirtualCharger()
+        charger[0].receive(data)
+        charger[0].line_idle()
+        charger[0].read_output(1 << 20)
+
     c = Campaign(SEED)
     failures = 0
     failures += c.run("macro text", n, text, compile_source, ())
@@ -131,6 +161,7 @@ def main() -> int:
     failures += c.run("serial stream", n, serial_stream, feed, ())
     failures += c.run("message payload", n, payload, decode_payload, (m.PayloadError,))
     failures += c.run("port URL", n, url, check_port_url, (BadPortUrl,))
+    failures += c.run("virtual charger rx", n, host_bytes, charger_answers, ())
     c.table()
     print(f"total findings: {failures}")
     return 1 if failures else 0
