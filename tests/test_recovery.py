@@ -112,3 +112,26 @@ def test_the_background_saver_hands_a_failure_over_and_goes_on(tmp_path):
     saver.save("k", "MACRO A", None)
     saver.close()
     assert len(errors) == 2 and all(isinstance(e, OSError) for e in errors)
+
+
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+JSON = st.recursive(st.none() | st.booleans() | st.integers() | st.floats() | st.text(max_size=5),
+                    lambda inner: st.lists(inner, max_size=3) | st.dictionaries(
+                        st.sampled_from(["original", "saved_at", "pid"]), inner, max_size=3), max_leaves=6)
+
+
+@settings(max_examples=80, deadline=None)
+@given(JSON)
+def test_a_note_of_any_json_still_offers_the_text(tmp_path_factory, note):
+    import json
+    root = tmp_path_factory.mktemp("r")
+    store = RecoveryStore(root)
+    store.save("k", "MACRO Z\n", None)
+    (root / "recovery" / "k.json").write_text(json.dumps(note))
+    found = store.pending()
+    assert [f.text for f in found] in ([], ["MACRO Z\n"])       # [] only for a live process's note
+    for f in found:
+        assert f.original is None or isinstance(f.original, str)
+        assert isinstance(f.saved_at, float) or isinstance(f.saved_at, int)

@@ -48,3 +48,21 @@ def test_a_curve_csv_with_a_field_past_the_csv_limit_names_its_line():
     text = "time_s,voltage_v,current_a\n0,1,1\n1,\"" + "9" * 200000 + "\",1\n"
     with pytest.raises(CurveError, match=r"^x\.csv: data line 3: field larger than field limit"):
         read_curve_csv(text, "x.csv")
+
+
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+CELLS = st.sampled_from(["0", "1.5", "nan", "inf", "-1e999", "", "x", "1e400", '"', "9" * 30, " 2 "])
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.lists(CELLS, min_size=0, max_size=5), max_size=14), st.booleans())
+def test_a_curve_csv_of_any_cells_is_a_curve_or_a_curve_error(rows, temp):
+    header = "time_s,voltage_v,current_a" + (",temp_c" if temp else "")
+    text = header + "\n" + "\n".join(",".join(row) for row in rows)
+    try:
+        curve = read_curve_csv(text, "x.csv")
+    except CurveError:
+        return
+    assert np.isfinite(curve.mah).all()
