@@ -13,6 +13,7 @@ import contextlib
 import io
 import os
 import random
+import stat
 import sys
 import tempfile
 from pathlib import Path
@@ -34,6 +35,9 @@ WORDS = ["LiPo", "NiMh", "NiCd", "Pb", "LiIon", "LiFe", "lipo", "X", "", "Ni\u00
          "imax_b6", "Pack A", "charge", "discharge", "train", "\x00", "a" * 300]
 
 
+LINK = Path()                     # the pool's link to /dev/full, checked after every input
+
+
 class Pool:
     """Files to hand the commands: real, mutated (rewritten per input), and no files at all."""
 
@@ -52,6 +56,9 @@ class Pool:
             [str(p) for p in sorted((DATA / "logs").iterdir())[:4]]
         self.none = [str(root / "missing.zuml"), str(root / "folder"), "/dev/zero", "", "-", str(root / "empty.zuml")]
         (root / "empty.zuml").write_bytes(b"")
+        # A device as an output, through a link of our own: a writer that renamed over /dev/full
+        # itself replaced the device node (as root); here it would replace only the link.
+        (root / "full").symlink_to("/dev/full")
 
     def file(self, rng: random.Random, kind: str | None = None) -> str:
         pick = rng.random()
@@ -66,7 +73,7 @@ class Pool:
 
     def output(self, rng: random.Random) -> str:
         return rng.choice([str(self.root / "out.bin"), str(self.root / "out.csv"), str(self.root / "folder"),
-                           str(self.root / "no dir" / "x.bin"), "/dev/full"])
+                           str(self.root / "no dir" / "x.bin"), str(self.root / "full")])
 
 
 def number(rng: random.Random) -> str:
@@ -140,6 +147,7 @@ def run_zuml(argv: list[str]) -> None:
             code = exc.code
     assert isinstance(code, int) and code in (0, 1, 2, 130), f"exit status {code!r}"
     assert "Traceback" not in err.getvalue(), err.getvalue()[-300:]
+    assert stat.S_ISCHR(os.stat("/dev/full").st_mode) and LINK.is_symlink(), "a device node or a link was replaced"
 
 
 def main() -> int:
@@ -149,6 +157,8 @@ def main() -> int:
     tmp = Path(tempfile.mkdtemp(prefix="zuml-fuzz-cli-"))
     os.environ["ZUML_STUDIO_CONFIG_DIR"] = str(tmp / "config")
     pool = Pool(tmp)
+    global LINK
+    LINK = tmp / "full"
     c = Campaign(seed)
     total = 0
     for name, (make, share, limit) in commands(pool).items():

@@ -1,3 +1,5 @@
+import os
+
 import pytest
 
 from zuml_studio.recovery import RecoveryStore, atomic_write
@@ -135,3 +137,30 @@ def test_a_note_of_any_json_still_offers_the_text(tmp_path_factory, note):
     for f in found:
         assert f.original is None or isinstance(f.original, str)
         assert isinstance(f.saved_at, float) or isinstance(f.saved_at, int)
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="needs /dev/full (a device that is always full)")
+def test_atomic_write_into_a_device_writes_into_it_and_never_replaces_the_node(tmp_path):
+    # found by benchmarks/fuzz_cli.py: `zuml new -o /dev/full` as root renamed a regular file over
+    # /dev/full; here through a link of the test's own, so that a regression replaces only the link
+    import errno
+    import stat
+    link = tmp_path / "full"
+    link.symlink_to("/dev/full")
+    with pytest.raises(OSError) as failed:
+        atomic_write(link, b"MACRO x\n")
+    assert failed.value.errno == errno.ENOSPC
+    assert link.is_symlink() and stat.S_ISCHR(os.stat("/dev/full").st_mode)
+    null = tmp_path / "null"
+    null.symlink_to("/dev/null")
+    atomic_write(null, b"MACRO x\n")
+    assert null.is_symlink()
+
+
+def test_atomic_write_through_a_link_replaces_the_file_it_names_and_keeps_the_link(tmp_path):
+    real = tmp_path / "real.zuml"
+    real.write_text("old")
+    link = tmp_path / "link.zuml"
+    link.symlink_to(real)
+    atomic_write(link, b"new")
+    assert link.is_symlink() and real.read_text() == "new"

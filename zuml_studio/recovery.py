@@ -13,6 +13,7 @@ import json
 import logging
 import math
 import os
+import stat
 import threading
 import time
 from collections.abc import Callable
@@ -27,7 +28,19 @@ log = logging.getLogger(__name__)
 
 def atomic_write(path: Path, data: bytes, sync: bool = True) -> None:
     """Write beside the target, then rename over it: a crash never leaves half a file. With
-    ``sync`` the data reaches the disk before the rename (survives the system crashing too)."""
+    ``sync`` the data reaches the disk before the rename (survives the system crashing too).
+    A symbolic link is followed (the link stays, the file it names is replaced). A target that
+    is no regular file (/dev/stdout, a device, a pipe) is written into: renaming over it would
+    replace the device node itself (``zuml new -o /dev/full`` run as root did)."""
+    path = Path(os.path.realpath(path))
+    try:
+        mode = path.stat().st_mode
+    except FileNotFoundError:
+        mode = None
+    if mode is not None and not stat.S_ISREG(mode):
+        with open(path, "wb") as fh:
+            fh.write(data)
+        return
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     with open(tmp, "wb") as fh:
