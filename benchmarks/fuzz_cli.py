@@ -13,6 +13,7 @@ import contextlib
 import io
 import os
 import random
+import shutil
 import stat
 import sys
 import tempfile
@@ -51,9 +52,12 @@ class Pool:
                       "bin": [*records, pack(records, 1024)],
                       "csv": [p.read_bytes() for p in sorted((DATA / "curves").glob("*.csv"))],
                       "log": [p.read_bytes()[:20000] for p in sorted((DATA / "logs").iterdir())]}
-        self.real = [str(p) for p in MACRO_FILES] + [str(root / "rec.bin"), str(root / "img.bin")] + \
-            [str(p) for p in sorted((DATA / "curves").glob("*.csv"))[:3]] + \
-            [str(p) for p in sorted((DATA / "logs").iterdir())[:4]]
+        # Copies, never the repository's files: `zuml compile FILE` writes FILE's .bin beside it.
+        real = root / "real"
+        real.mkdir()
+        for p in [*MACRO_FILES, *sorted((DATA / "curves").glob("*.csv"))[:3], *sorted((DATA / "logs").iterdir())[:4]]:
+            shutil.copyfile(p, real / p.name)
+        self.real = sorted(str(p) for p in real.iterdir()) + [str(root / "rec.bin"), str(root / "img.bin")]
         self.none = [str(root / "missing.zuml"), str(root / "folder"), "/dev/zero", "", "-", str(root / "empty.zuml")]
         (root / "empty.zuml").write_bytes(b"")
         # A device as an output, through a link of our own: a writer that renamed over /dev/full
