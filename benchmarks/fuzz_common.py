@@ -142,6 +142,7 @@ class Campaign:
         return total
 
     def table(self) -> None:
-        print(f"\n| parser | inputs | crashes | hangs | slow (> {LIMIT_S:g} s) | seconds |\n|---|---:|---:|---:|---:|---:|")
+        print(f"\n| parser | inputs | crashes | hangs | slow (> {LIMIT_S:g} s) | seconds |")
+        print("|---|---:|---:|---:|---:|---:|")
         for name, n, crashes, hangs, slow, took in self.rows:
             print(f"| {name} | {n} | {crashes} | {hangs} | {slow} | {took:.0f} |")

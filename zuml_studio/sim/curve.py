@@ -154,7 +154,8 @@ def read_curve_csv(text: str, name: str = "") -> Curve:
     t = np.array(cols[0])
     if np.any(np.diff(t) <= 0):
         raise CurveError(_("{name}: time must rise from line to line").format(name=name))
-    return Curve(t - t[0] if len(t) else t, np.array(cols[1]), np.array(cols[2]), np.array(cols[3]) if has_temp else None, 0, name)
+    return Curve(t - t[0] if len(t) else t, np.array(cols[1]), np.array(cols[2]),
+                 np.array(cols[3]) if has_temp else None, 0, name)
 
 
 def read_curve(path: str | Path) -> Curve:
