@@ -18,6 +18,7 @@ from ..i18n import _, ngettext
 
 
 MAX_MEASUREMENT_MV = 1000.0        # noise sigma or ADC step: a volt is already no measurement
+MIN_ADC_LSB_MV = 0.001             # the simulator measures to 1 µV; 4e-320 overflowed V / step
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -63,6 +64,8 @@ def _check(args: argparse.Namespace) -> None:
         if not 0.0 <= getattr(args, name) <= MAX_MEASUREMENT_MV:
             raise CliError(_("--{name} must be 0 to {top:g} mV").format(name=name.replace("_", "-"),
                                                                         top=MAX_MEASUREMENT_MV))
+    if 0.0 < args.adc_lsb < MIN_ADC_LSB_MV:
+        raise CliError(_("--adc-lsb must be 0 (none) or at least {low:g} mV").format(low=MIN_ADC_LSB_MV))
     if args.template is not None and not 1 <= args.template <= TEMPLATE_COUNT:
         raise CliError(_("--template must be 1 to {template_count}").format(template_count=TEMPLATE_COUNT))
 
