@@ -1,8 +1,8 @@
 """Log readers fuzzed: random bytes and mutated real recordings, N times per reader
 (default 100 000). Run: python benchmarks/bench_log_fuzz.py [N] [FORMAT ...]
 
-Every input must give a Log or a LogFormatError; anything else "escapes" and is printed
-(first 5 per reader). Prints per reader: inputs, read, refused, escaped, inputs/s, and the
+Every input must give a Log or a LogFormatError within fuzz_common.LIMIT_S; anything else
+"escapes" (a hang: slower than the limit) and is printed (first 5 per reader). Prints per reader: inputs, read, refused, escaped, inputs/s, and the
 process's resident memory at 10 %, 50 % and 100 % of the run (flat = no leak)."""
 from __future__ import annotations
 
@@ -10,6 +10,7 @@ import gc
 import io
 import os
 import random
+import signal
 import sys
 import time
 import traceback
@@ -17,6 +18,9 @@ import zipfile
 from pathlib import Path
 
 from zuml_studio.logs import FORMATS, LogFormatError, read_log
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from fuzz_common import LIMIT_S, Campaign  # noqa: E402
 
 DATA = Path(__file__).resolve().parents[1] / "tests" / "data" / "logs"
 RAW = DATA.parent / "realdata"
@@ -84,6 +88,7 @@ def fuzz(fmt: str, inputs: list[bytes], n: int, rng: random.Random) -> None:
             raw = rng.choice(inputs)[:rng.randint(0, 300)] + rng.randbytes(rng.randint(0, 500))
         else:
             raw = mutate(rng, rng.choice(inputs))
+        signal.setitimer(signal.ITIMER_REAL, LIMIT_S)
         try:
             read_log(raw, "fuzz", fmt if rng.random() < 0.8 else None)
             read += 1
@@ -91,9 +96,11 @@ def fuzz(fmt: str, inputs: list[bytes], n: int, rng: random.Random) -> None:
             refused += 1
         except Exception:                              # noqa: BLE001 - counting what escapes is the point
             if len(escaped) < 5:
-                escaped.append(traceback.format_exc(limit=3))
+                escaped.append(traceback.format_exc(limit=3) + f"input: {raw[:300]!r}\n")
             else:
                 escaped.append("")
+        finally:
+            signal.setitimer(signal.ITIMER_REAL, 0)
         if k in marks:
             gc.collect()
             memory.append(f"{marks[k]} {rss_mb():.1f}")
@@ -108,6 +115,7 @@ def main() -> int:
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 100_000
     wanted = sys.argv[2:] or [f.name for f in FORMATS]
     all_seeds = seeds()
+    Campaign(0)                                        # installs the time limit's signal handler
     for fmt in wanted:
         fuzz(fmt, all_seeds[fmt], n, random.Random(f"{fmt}-1"))
     return 0

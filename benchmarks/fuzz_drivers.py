@@ -4,7 +4,7 @@ decoder's buffer and process memory (tracemalloc peak over the run).
 
 Run from the repository root:  python benchmarks/fuzz_drivers.py [STREAMS_PER_DECODER [DRIVER ...]]
 (default 100000 streams for every driver)
-Budget: nothing escapes, no implausible sample, buffer <= its cap, memory flat (what the run
+Budget: nothing escapes (a stream slower than fuzz_common.LIMIT_S is a hang and escapes too), no implausible sample, buffer <= its cap, memory flat (what the run
 retains after each quarter does not grow; the peak is the largest sample list of one feed).
 """
 from __future__ import annotations
@@ -12,6 +12,7 @@ from __future__ import annotations
 import gc
 import pathlib
 import random
+import signal
 import sys
 import time
 import tracemalloc
@@ -23,6 +24,7 @@ sys.path.insert(0, str(ROOT / "tests" / "device"))
 from realdata import (ICHARGER_HID_REPORT, IMAXB6_README_FRAME, dollar_lines, imaxb6_frames,  # noqa: E402
                       isdt_frames, raw, skyrc_reply, ultramat_sections)
 from zuml_studio.device.drivers import DRIVERS  # noqa: E402
+from fuzz_common import LIMIT_S, Campaign  # noqa: E402
 
 SEEDS = [
     b"".join(line + b"\r\n" for line in dollar_lines("cheali_captured_lines_from_issues.txt")),
@@ -83,16 +85,20 @@ def run(name: str, count: int, seed: int = 1) -> dict:
             dec = DRIVERS[name].decoder()
         data = stream(rng)
         at = 0
-        while at < len(data):
-            n = rng.randrange(1, 120)
-            try:
-                got = dec.feed(data[at:at + n])
-            except Exception:   # noqa: BLE001 - counting what escapes is the point
-                escaped += 1
-                got = []
-            samples += len(got)
-            implausible += sum(1 for t in got if not plausible(t))
-            at += n
+        signal.setitimer(signal.ITIMER_REAL, LIMIT_S)
+        try:
+            while at < len(data):
+                n = rng.randrange(1, 120)
+                try:
+                    got = dec.feed(data[at:at + n])
+                except Exception:   # noqa: BLE001 - counting what escapes (a hang too) is the point
+                    escaped += 1
+                    got = []
+                samples += len(got)
+                implausible += sum(1 for t in got if not plausible(t))
+                at += n
+        finally:
+            signal.setitimer(signal.ITIMER_REAL, 0)
         max_buf = max(max_buf, len(dec._buf))
         if i and i % (count // 4 or 1) == 0:
             peaks.append(tracemalloc.get_traced_memory()[1])
@@ -111,6 +117,7 @@ def run(name: str, count: int, seed: int = 1) -> dict:
 def main() -> int:
     count = int(sys.argv[1]) if len(sys.argv) > 1 else 100_000
     worst = 0
+    Campaign(0)                                           # installs the time limit's signal handler
     print(f"{'decoder':<13} {'streams':>8} {'s':>7} {'escaped':>7} {'implaus.':>8} {'samples':>8} "
           f"{'max buf/cap':>11}  peak KiB / retained bytes per quarter")
     for name in sys.argv[2:] or DRIVERS:

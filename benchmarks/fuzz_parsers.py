@@ -5,17 +5,15 @@ Parsers: macro text (compile_source: never raises), a record's bytes (decode_rec
 DecodeError only), an EEPROM image (slots: ImageError only), a passport answer and request
 (PassportError only) and what the safety check makes of it, serial bytes (FrameParser: never
 raises), message payloads (PayloadError only), port URLs (BadPortUrl only), the CLI's start
-values. Inputs are the project's macros, records and frames mutated (bit flips, splices,
-repeats, huge numbers, control bytes) and random bytes. Prints per parser: inputs, crashes,
-the first crash of each kind, and the time taken.
+values are in fuzz_cli.py, files in fuzz_files.py). Inputs are the project's macros, records
+and frames mutated (bit flips, splices, repeats, huge numbers, control bytes) and random bytes.
+Each input runs under a time limit (fuzz_common.LIMIT_S: slower is a hang). Prints per parser:
+inputs, crashes, hangs, the first of each kind, the time taken, and a summary table.
 """
 from __future__ import annotations
 
-import collections
 import random
 import sys
-import time
-import traceback
 from pathlib import Path
 
 from zuml_studio.device import messages as m
@@ -28,8 +26,13 @@ from zuml_studio.lang.eeprom import ImageError, pack, slots
 from zuml_studio.lang.record import DecodeError
 from zuml_studio.safety import record_problems
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from fuzz_common import Campaign, mutate_bytes  # noqa: E402
+
 ROOT = Path(__file__).resolve().parent.parent
-TEXTS = [p.read_text() for p in sorted((ROOT / "macros").glob("*.zuml"))]
+TEXTS = [p.read_text("utf-8-sig") for p in sorted([*(ROOT / "zuml_studio" / "data" / "macros").glob("*.zuml"),
+                                                  *(ROOT / "tests" / "data").glob("*.zuml")])]
+assert TEXTS, "no macros to mutate: the fuzzer's seeds moved"
 RECORDS = [compile_source(t).record for t in TEXTS if compile_source(t).ok]
 NASTY = ["9" * 30, "1e999", "-0", "0x1F", "INPUT", "\x1b[2J", "\0", "(", ")", "//", "\r\n", "ā", "  ", ",,",
          "99999999999999999999999999999.99999", "0." + "0" * 40 + "1", "IF(", "FAZE", "END_MACRO"]
@@ -52,26 +55,6 @@ def mutate_text(rng: random.Random, text: str) -> str:
     return text
 
 
-def mutate_bytes(rng: random.Random, data: bytes) -> bytes:
-    data = bytearray(data)
-    for _ in range(rng.randint(1, 6)):
-        kind = rng.random()
-        if kind < 0.4 and data:
-            i = rng.randrange(len(data))
-            data[i] ^= 1 << rng.randrange(8)
-        elif kind < 0.6 and data:
-            data[rng.randrange(len(data))] = rng.randrange(256)
-        elif kind < 0.75:
-            at = rng.randrange(len(data) + 1)
-            data[at:at] = bytes(rng.randrange(256) for _ in range(rng.randint(1, 8)))
-        elif kind < 0.9 and data:
-            at = rng.randrange(len(data))
-            del data[at:at + rng.randint(1, 8)]
-        else:
-            data = data[:rng.randrange(len(data) + 1)]
-    return bytes(data)
-
-
 def fix_check(record: bytes) -> bytes:
     """Half the mutated records get a correct check byte, so the decoder looks past it."""
     from zuml_studio.lang.record import check_byte
@@ -81,29 +64,6 @@ def fix_check(record: bytes) -> bytes:
     body[0] = len(body) & 0xFF
     body[-1] = check_byte(bytes(body[:-1]))
     return bytes(body)
-
-
-def run(name: str, n: int, make, check, allowed: tuple) -> tuple[int, dict]:
-    rng = random.Random(hash(name) & 0xFFFF ^ SEED)
-    crashes: dict[str, str] = {}
-    count = collections.Counter()
-    t0 = time.perf_counter()
-    for _ in range(n):
-        item = make(rng)
-        try:
-            check(item)
-        except allowed:
-            pass
-        except Exception:   # noqa: BLE001 - what a fuzzer is for
-            kind = traceback.format_exc().strip().splitlines()[-1]
-            count[kind] += 1
-            crashes.setdefault(kind, repr(item)[:200])
-    took = time.perf_counter() - t0
-    total = sum(count.values())
-    print(f"{name:<18} {n:>7} inputs  {total:>5} crashes  {took:6.1f} s")
-    for kind, example in crashes.items():
-        print(f"    {count[kind]} x {kind}\n      e.g. {example}")
-    return total, crashes
 
 
 def main() -> int:
@@ -160,17 +120,50 @@ def main() -> int:
                            "socket://[::1]:7777?logging=debug", "loop://"])
         return mutate_text(rng, base)
 
+    from zuml_studio.device.virtual_charger import VirtualCharger
+    charger = [VirtualCharger(), 0]
+    requests = sorted(m.HOST_TYPES)
+    good = [encode_frame(m.BY_NAME[name].code, 1, m.encode_request(name, **fields)) for name, fields in (
+        ("IDENTIFY", {}), ("STATUS", {}), ("READ_EEPROM", {"offset": 0, "length": 64}),
+        ("GET_TEMPLATE", {"number": 1}), ("LIST_TEMPLATES", {}), ("SET_TELEMETRY_RATE", {"hz": 5}),
+        ("PASSPORT", {"request": pp.read_all_request()}))]
+
+    def host_bytes(rng):
+        """What a host (or a line's noise) sends the charger: frames of every request type with
+        random payloads and correct checks, real requests mutated, and random bytes."""
+        out = b""
+        for _ in range(rng.randint(1, 5)):
+            kind = rng.random()
+            if kind < 0.5:
+                out += encode_frame(rng.choice(requests), rng.randrange(256), rng.randbytes(rng.randint(0, 40)))
+            elif kind < 0.85:
+                out += mutate_bytes(rng, rng.choice(good))
+            else:
+                out += rng.randbytes(rng.randint(1, 60))
+        return out
+
+    def charger_answers(data):
+        charger[1] += 1
+        if charger[1] % 1000 == 0:                        # a fresh charger now and then: state differs
+            charger[0] = VirtualCharger()
+        charger[0].receive(data)
+        charger[0].line_idle()
+        charger[0].read_output(1 << 20)
+
+    c = Campaign(SEED)
     failures = 0
-    failures += run("macro text", n, text, compile_source, ())[0]
-    failures += run("record bytes", n, record, decode_and_check, (DecodeError,))[0]
-    failures += run("EEPROM image", n, image, slots, (ImageError,))[0]
-    failures += run("passport answer", n, passport_answer, passport_show, (pp.PassportError,))[0]
-    failures += run("passport request", n, lambda rng: mutate_bytes(rng, pp.read_all_request()),
-                    pp.parse_request, (pp.PassportError,))[0]
-    failures += run("serial stream", n, serial_stream, feed, ())[0]
-    failures += run("message payload", n, payload, decode_payload, (m.PayloadError,))[0]
-    failures += run("port URL", n, url, check_port_url, (BadPortUrl,))[0]
-    print(f"total crashes: {failures}")
+    failures += c.run("macro text", n, text, compile_source, ())
+    failures += c.run("record bytes", n, record, decode_and_check, (DecodeError,))
+    failures += c.run("EEPROM image", n, image, slots, (ImageError,))
+    failures += c.run("passport answer", n, passport_answer, passport_show, (pp.PassportError,))
+    failures += c.run("passport request", n, lambda rng: mutate_bytes(rng, pp.read_all_request()),
+                      pp.parse_request, (pp.PassportError,))
+    failures += c.run("serial stream", n, serial_stream, feed, ())
+    failures += c.run("message payload", n, payload, decode_payload, (m.PayloadError,))
+    failures += c.run("port URL", n, url, check_port_url, (BadPortUrl,))
+    failures += c.run("virtual charger rx", n, host_bytes, charger_answers, ())
+    c.table()
+    print(f"total findings: {failures}")
     return 1 if failures else 0
 
 

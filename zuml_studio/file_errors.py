@@ -2,6 +2,7 @@
 command line and the editor's Open."""
 from __future__ import annotations
 
+import stat
 from pathlib import Path
 from .i18n import _
 
@@ -11,7 +12,13 @@ class FileReadError(Exception):
 
 
 def read_file_bytes(path: str | Path) -> bytes:
+    """The whole file. A device (/dev/zero, a serial port, a disk) is refused before it is opened:
+    reading one never ends, or blocks, or eats the memory. A named pipe is read (a shell's
+    ``<(...)`` and /dev/stdin are pipes), like any program reads one: until its writer closes it."""
     try:
+        mode = Path(path).stat().st_mode
+        if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) or stat.S_ISSOCK(mode):
+            raise FileReadError(_("{path}: a device, not a file").format(path=path))
         return Path(path).read_bytes()
     except FileNotFoundError:
         raise FileReadError(_("{path}: no such file").format(path=path)) from None

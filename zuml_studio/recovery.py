@@ -11,7 +11,9 @@ from __future__ import annotations
 import hashlib
 import json
 import logging
+import math
 import os
+import stat
 import threading
 import time
 from collections.abc import Callable
@@ -26,7 +28,19 @@ log = logging.getLogger(__name__)
 
 def atomic_write(path: Path, data: bytes, sync: bool = True) -> None:
     """Write beside the target, then rename over it: a crash never leaves half a file. With
-    ``sync`` the data reaches the disk before the rename (survives the system crashing too)."""
+    ``sync`` the data reaches the disk before the rename (survives the system crashing too).
+    A symbolic link is followed (the link stays, the file it names is replaced). A target that
+    is no regular file (/dev/stdout, a device, a pipe) is written into: renaming over it would
+    replace the device node itself (``zuml new -o /dev/full`` run as root did)."""
+    path = Path(os.path.realpath(path))
+    try:
+        mode = path.stat().st_mode
+    except FileNotFoundError:
+        mode = None
+    if mode is not None and not stat.S_ISREG(mode):
+        with open(path, "wb") as fh:
+            fh.write(data)
+        return
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     with open(tmp, "wb") as fh:
@@ -38,6 +52,8 @@ def atomic_write(path: Path, data: bytes, sync: bool = True) -> None:
 
 
 def _alive(pid: int) -> bool:
+    if not 0 < pid < 2 ** 31:          # no such process can exist (and os.kill would overflow or signal a group)
+        return False
     try:
         os.kill(pid, 0)
     except ProcessLookupError:
@@ -45,6 +61,14 @@ def _alive(pid: int) -> bool:
     except (PermissionError, OSError):
         return True
     return True
+
+
+def _seconds(value: object) -> float:
+    """A note's time, NaN when it is no number (a bool, a string, an integer past any float)."""
+    try:
+        return float(value) if type(value) in (int, float) else math.nan
+    except OverflowError:
+        return math.nan
 
 
 @dataclass(frozen=True)
@@ -80,8 +104,9 @@ class RecoveryStore:
                 pass
 
     def pending(self, own_key: str = "") -> list[Recovered]:
-        """Texts left behind, newest first; a damaged note still gives its text back. Texts of
-        another ZUML Studio still running (its process alive) are not left behind, nor is ``own_key``."""
+        """Texts left behind, newest first; a damaged note still gives its text back (a field of
+        the wrong type reads as missing). Texts of another ZUML Studio still running (its process
+        alive) are not left behind, nor is ``own_key``."""
         found: list[Recovered] = []
         if not self.root.is_dir():
             return found
@@ -92,16 +117,23 @@ class RecoveryStore:
                 note = json.loads((self.root / f"{key}.json").read_text(encoding="utf-8"))
             except (OSError, ValueError):
                 pass
+            if not isinstance(note, dict):
+                note = {}
             pid = note.get("pid")
-            if key == own_key or (isinstance(pid, int) and pid != os.getpid() and _alive(pid)):
+            if key == own_key or (type(pid) is int and pid != os.getpid() and _alive(pid)):
                 continue
             try:
                 text = text_file.read_bytes().decode("utf-8", errors="replace")
             except OSError:
                 continue
-            saved_at = note.get("saved_at")
-            found.append(Recovered(key, text, note.get("original"),
-                                   saved_at if isinstance(saved_at, (int, float)) else text_file.stat().st_mtime))
+            saved_at, original = _seconds(note.get("saved_at")), note.get("original")
+            if not math.isfinite(saved_at):
+                try:
+                    saved_at = text_file.stat().st_mtime
+                except OSError:
+                    continue
+            found.append(Recovered(key, text, original if isinstance(original, str) and original else None,
+                                   saved_at))
         return sorted(found, key=lambda r: -r.saved_at)
 
 

@@ -268,8 +268,25 @@ def test_templates_list_get_set(any_charger, zuml):
     (("--speed", "0"), "speed x0: choose 1 to 100000"),
     (("--soc", "3"), "state of charge 3: a fraction from 0 to 1"),
     (("--eeprom-size", "3"), "an EEPROM of 3 bytes: choose 16 to 65535"),
-    (("--eeprom-write-ms", "-1"), "EEPROM write time -1 ms: 0 or more"),
+    (("--eeprom-write-ms", "-1"), "EEPROM write time -1 ms: choose 0 to 100"),
 ])
 def test_a_virtual_charger_option_out_of_range_is_named_with_its_value(zuml, option, message):
     rc, out, err = zuml("virtual-charger", *option)
     assert (rc, out, err) == (2, "", f"zuml: error: {message}\n")
+
+
+def test_virtual_charger_refuses_an_ambient_or_write_time_that_is_no_number(zuml):
+    # found by benchmarks/fuzz_cli.py: NaN was taken (and reached time.sleep / the battery model)
+    for args, said in ((["--ambient", "nan"], "ambient temperature nan °C: the model covers -20 to 60 °C"),
+                       (["--eeprom-write-ms", "nan"], "EEPROM write time nan ms: choose 0 to 100"),
+                       (["--eeprom-write-ms", "inf"], "EEPROM write time inf ms: choose 0 to 100")):
+        code, out, err = zuml("virtual-charger", *args)
+        assert (code, out, err) == (2, "", f"zuml: error: {said}\n")
+
+
+def test_a_timeout_that_is_no_sensible_number_is_one_line_before_any_port_is_opened(zuml, tmp_path):
+    # found by fuzzing: --timeout inf ended in "OverflowError: timestamp out of range"; 0 and -1
+    # said that no charger answered
+    for value in ("inf", "nan", "0", "-1", "61"):
+        code, out, err = zuml("slots", "--port", str(tmp_path / "ttyUSB7"), "--timeout", value)
+        assert (code, out, err) == (2, "", "zuml: error: --timeout must be 0.01 to 60 seconds\n"), value

@@ -88,3 +88,22 @@ def test_fit_runs_as_a_user_runs_it():
                             "--json")
     assert rc == 0, err
     assert set(json.loads(out)) == {"params"} | FIGURE_KEYS
+
+
+def test_a_charge_too_short_for_the_fit_steps_is_one_line(zuml, tmp_path):
+    # found by benchmarks/fuzz_cli.py: the fit's decimated curve raised CurveError past the command
+    short = tmp_path / "short.csv"
+    short.write_text("time_s,voltage_v,current_a\n" + "".join(f"{k},{5.2 + k / 100},2.0\n" for k in range(12)))
+    code, out, err = zuml("fit", str(short), "--chemistry", "NiMh", "--cells", "4")
+    assert code == 2 and out == "" and err.startswith("zuml: error: short.csv: only ") and err.count("\n") == 1
+
+
+def test_compare_with_an_eeprom_image_for_the_macro_is_one_line(zuml, tmp_path):
+    # found by benchmarks/fuzz_cli.py: DecodeError escaped
+    from zuml_studio.lang.compiler import compile_source
+    from zuml_studio.lang.eeprom import pack
+    image = tmp_path / "img.bin"
+    image.write_bytes(pack([compile_source((MACROS / "NiMh.zuml").read_text()).record], 1024))
+    curve = sorted(CURVES.glob("nimh_*.csv"))[0]
+    code, out, err = zuml("compare", str(curve), str(image), "--cells", "4", "--capacity", "2000")
+    assert code == 1 and out == "" and err.count("\n") == 1 and "bytes follow the record's end" in err

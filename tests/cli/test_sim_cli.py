@@ -96,3 +96,17 @@ def test_the_table_stays_in_columns_when_a_value_is_wider_than_its_title(zuml):
     assert title.index("reason") == row.index("limit:")
     assert end_of(title, "in mAh") == end_of(row, "1000000.0")
     assert end_of(title, "T end") == len(row)               # no notes: the row ends with the temperature
+
+
+def test_hostile_measurement_and_ambient_values_are_one_line(zuml):
+    # found by benchmarks/fuzz_cli.py: --ambient nan ended in an UnboundLocalError traceback; inf,
+    # -300 °C and a noise of 1e300 mV simulated nonsense; an ADC step of 4e-320 mV overflowed (OverflowError)
+    for option, value, said in (("--ambient", "nan", "--ambient must be -20 to 60 °C"),
+                                ("--ambient", "-300", "--ambient must be -20 to 60 °C"),
+                                ("--ambient", "inf", "--ambient must be -20 to 60 °C"),
+                                ("--noise", "nan", "--noise must be 0 to 1000 mV"),
+                                ("--noise", "1e300", "--noise must be 0 to 1000 mV"),
+                                ("--adc-lsb", "-5", "--adc-lsb must be 0 to 1000 mV"),
+                                ("--adc-lsb", "4e-320", "--adc-lsb must be 0 (none) or at least 0.001 mV")):
+        rc, out, err = zuml(*NIMH, option, value)
+        assert (rc, err) == (2, f"zuml: error: {said}\n"), (option, value)

@@ -283,3 +283,16 @@ def test_cv_solve_property(name, soc, history_c, offset):
     target = pack.open_circuit_voltage() + 2 * offset
     i = pack.current_for_voltage(target, DT)
     assert pack.step(i, DT) == pytest.approx(target, abs=1e-9)
+
+
+@pytest.mark.parametrize("ambient", [float("nan"), float("inf"), -20.5, 60.5, -300.0])
+def test_an_ambient_outside_the_model_range_is_refused(ambient):
+    # found by benchmarks/fuzz_cli.py: `zuml simulate --ambient nan` ended in UnboundLocalError
+    with pytest.raises(ValueError, match="ambient temperature .* °C: the model covers -20 to 60 °C"):
+        Pack(load_chemistry("NiMh"), 2000, 4, ambient_c=ambient)
+
+
+@pytest.mark.parametrize("capacity", [float("nan"), float("inf"), 0.0])
+def test_a_capacity_that_is_no_positive_finite_number_is_refused(capacity):
+    with pytest.raises(ValueError, match="capacity_mah must be > 0"):
+        Pack(load_chemistry("NiMh"), capacity, 4)

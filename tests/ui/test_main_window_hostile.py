@@ -84,3 +84,60 @@ def test_compile_and_flash_of_a_macro_past_its_chemistry_asks_naming_the_danger(
         panel.flash()
     assert flashed.args[0] is True, flashed.args[1]
     assert panel.slot_names() == ["Hot"]
+
+
+HOSTILE_SETTINGS = (  # findings of benchmarks/fuzz_files.py: each of these killed the window at start or on Open
+    "[General]\n"
+    "geometry=not a byte array\n"            # a string: restoreGeometry raised TypeError
+    "windowState=1, 2\n"                     # a list: restoreState raised TypeError
+    "lastDir=/home/u/a, /home/u/b\n"         # a comma: QSettings reads a list, QFileDialog raised TypeError
+    "lastOpen=@Invalid()\n"
+    "recentFiles=@Variant(\\0\\0\\0\\x7f\\0\\0)\n"
+    "lastLogDir=1, 2, 3\n"
+    "[editor]\nfontSize=nan\n[appearance]\ntheme=1, 2\nlanguage=@ByteArray(ru)\n")
+
+
+def test_a_hand_edited_settings_file_with_garbage_values_reads_as_defaults(make_window, tmp_path, monkeypatch):
+    config = tmp_path / "config"
+    config.mkdir()
+    (config / "settings.ini").write_text(HOSTILE_SETTINGS)
+    w = make_window(config=config)
+    assert w.isVisible() and w.path is None
+    asked = []
+    monkeypatch.setattr(w, "ask_open_path", lambda title, start, filters: asked.append(start) or "")
+    w.open_dialog()
+    assert asked == [str(w.user_macros)]
+    from pathlib import Path
+
+    from zuml_studio.ui.logs import LogWindow
+    viewer = LogWindow(w.settings, w)
+    assert viewer._folder() == str(Path.home())
+
+
+def test_a_recovery_note_of_the_wrong_shape_still_offers_the_text(make_window, tmp_path):
+    config = tmp_path / "config"
+    (config / "recovery").mkdir(parents=True)
+    (config / "recovery" / "0123456789abcdef.zuml").write_text("MACRO Lost\n")
+    (config / "recovery" / "0123456789abcdef.json").write_text('[{"original": 5, "pid": 1e999}]')
+    w = make_window(config=config)
+    w.ask_recover = lambda found: True
+    assert w.offer_recovery()
+    assert w.text() == "MACRO Lost\n" and w.path is None
+
+
+def test_file_open_of_a_garbage_file_says_why_and_keeps_the_window(make_window, tmp_path, qtbot):
+    w = make_window(LIPO)
+    before = w.text()
+    for garbage, said in ((bytes(range(256)) * 4, "not UTF-8 text"), (b"MACRO x\0\0\1", "a binary file"),
+                          (None, "is a folder"), (b"/dev/zero", "a device, not a file")):
+        if garbage is None:
+            path = tmp_path / "folder.zuml"
+            path.mkdir()
+        elif garbage == b"/dev/zero":
+            path = garbage.decode()
+        else:
+            path = tmp_path / "garbage.zuml"
+            path.write_bytes(garbage)
+        assert not w.open_file(str(path), ask=False)
+        assert said in w.statusBar().currentMessage()
+        assert w.text() == before and w.isVisible()

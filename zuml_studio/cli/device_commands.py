@@ -145,9 +145,16 @@ def _device_errors(fn):
     return run
 
 
+# Seconds per request attempt: below a frame's time on the line nothing can answer; above a minute
+# a dead line looks like a hang (inf overflowed the serial timeout, NaN disabled it).
+MIN_TIMEOUT_S, MAX_TIMEOUT_S = 0.01, 60.0
+
+
 def _connect(args: argparse.Namespace) -> ChargerClient:
     if not args.port:
         raise CliError(_("give the port: --port /dev/ttyUSB0 (see `zuml ports`)"))
+    if args.timeout is not None and not MIN_TIMEOUT_S <= args.timeout <= MAX_TIMEOUT_S:
+        raise CliError(_("--timeout must be {low:g} to {high:g} seconds").format(low=MIN_TIMEOUT_S, high=MAX_TIMEOUT_S))
     return ChargerClient(args.port, args.baud or DEFAULT_BAUD, args.timeout)
 
 

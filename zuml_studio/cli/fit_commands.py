@@ -7,6 +7,7 @@ import sys
 
 from ..file_errors import FileReadError
 from ..logs import LogFormatError
+from ..lang.record import DecodeError
 from ..sim.batteries import BatteryFileError, save_battery
 from ..sim.chemistry import load_chemistry
 from ..sim.curve import Curve, CurveError, read_curve
@@ -77,7 +78,10 @@ def cmd_fit(args: argparse.Namespace) -> int:
     curve = _curve(args.log)
     chemistry = _log_chemistry(args, curve)
     series = _cells(args, curve, chemistry)
-    result = fit(curve, chemistry, series)
+    try:
+        result = fit(curve, chemistry, series)
+    except CurveError as exc:           # too short a charge once cut into the fit's steps
+        raise CliError(str(exc)) from None
     saved = None
     if args.save:
         try:
@@ -117,7 +121,7 @@ def cmd_compare(args: argparse.Namespace) -> int:
             curve, chemistry or model_chemistry(record, BatterySetup()))
         capacity = args.capacity or (named.capacity_mah if named else None)
         result = compare(curve, record, chemistry, series, capacity, args.battery)
-    except (StartError, ValueError) as exc:
+    except (StartError, ValueError, DecodeError) as exc:
         raise CliError(f"{args.macro}: {exc}", 1) from None
     if args.json:
         json.dump(result.report, sys.stdout, indent=2)

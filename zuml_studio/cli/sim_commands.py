@@ -6,6 +6,7 @@ import json
 import sys
 
 from ..sim.batteries import BatteryFileError
+from ..sim.battery import AMBIENT_MAX_C, AMBIENT_MIN_C
 from ..sim.interpreter import Measurement, StartError, StartParams
 from ..sim.reasons import shown_reason
 from ..sim.simulate import BatterySetup, SimResult, simulate
@@ -14,6 +15,10 @@ from ..sim.start_templates import TEMPLATE_COUNT
 from .common import CliError, check_start_options, out, read_bytes
 from .lang_commands import compile_file
 from ..i18n import _, ngettext
+
+
+MAX_MEASUREMENT_MV = 1000.0        # noise sigma or ADC step: a volt is already no measurement
+MIN_ADC_LSB_MV = 0.001             # the simulator measures to 1 µV; 4e-320 overflowed V / step
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -53,6 +58,14 @@ def _check(args: argparse.Namespace) -> None:
     check_start_options(args)
     if not 0.05 <= args.tick <= 60:
         raise CliError(_("--tick must be 0.05 to 60 seconds"))
+    if not AMBIENT_MIN_C <= args.ambient <= AMBIENT_MAX_C:
+        raise CliError(_("--ambient must be {low:g} to {high:g} °C").format(low=AMBIENT_MIN_C, high=AMBIENT_MAX_C))
+    for name in ("noise", "adc_lsb"):
+        if not 0.0 <= getattr(args, name) <= MAX_MEASUREMENT_MV:
+            raise CliError(_("--{name} must be 0 to {top:g} mV").format(name=name.replace("_", "-"),
+                                                                        top=MAX_MEASUREMENT_MV))
+    if 0.0 < args.adc_lsb < MIN_ADC_LSB_MV:
+        raise CliError(_("--adc-lsb must be 0 (none) or at least {low:g} mV").format(low=MIN_ADC_LSB_MV))
     if args.template is not None and not 1 <= args.template <= TEMPLATE_COUNT:
         raise CliError(_("--template must be 1 to {template_count}").format(template_count=TEMPLATE_COUNT))
 

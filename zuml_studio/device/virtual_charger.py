@@ -32,7 +32,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..lang.eeprom import DEFAULT_SIZE, ImageError, slots
-from ..sim.battery import Pack
+from ..sim.battery import AMBIENT_MAX_C, AMBIENT_MIN_C, Pack, ambient_error
 from ..sim.charger_model import Charger, load_charger
 from ..sim.chemistry import chemistry_names, load_chemistry
 from ..sim.interpreter import Interpreter, Measurement, StartError, StartParams, with_template
@@ -51,6 +51,7 @@ DEFAULT_TELEMETRY_HZ = 5
 STEP_S = 0.01                  # the device thread's period (wall seconds)
 MAX_TICKS_PER_STEP = 400       # interpreter ticks per chunk; the lock is released between chunks
 MAX_EVENTS_KEPT = 100000       # events of the current run kept for GET_EVENT
+MAX_EEPROM_WRITE_MS = 100.0    # per byte: a real EEPROM takes about 3.4 ms
 MAX_QUEUED_FRAMES = 20000      # output frames queued while no host reads (then the oldest go)
 
 
@@ -157,8 +158,11 @@ class VirtualCharger:
             raise DeviceSetupError(_("an EEPROM of {size} bytes: choose 16 to 65535").format(size=eeprom_size))
         if not 0.0 <= soc <= 1.0:
             raise DeviceSetupError(_("state of charge {soc:g}: a fraction from 0 to 1").format(soc=soc))
-        if eeprom_write_ms < 0:
-            raise DeviceSetupError(_("EEPROM write time {ms:g} ms: 0 or more").format(ms=eeprom_write_ms))
+        if not 0 <= eeprom_write_ms <= MAX_EEPROM_WRITE_MS:
+            raise DeviceSetupError(_("EEPROM write time {ms:g} ms: choose 0 to {top:g}").format(
+                ms=eeprom_write_ms, top=MAX_EEPROM_WRITE_MS))
+        if not AMBIENT_MIN_C <= ambient_c <= AMBIENT_MAX_C:
+            raise DeviceSetupError(ambient_error(ambient_c))
         if not 1 <= telemetry_hz <= 50:
             raise DeviceSetupError(_("telemetry rate must be 1..50 Hz"))
         self.faults = faults

@@ -4,6 +4,7 @@ battery model is chosen (``zuml simulate --battery``, the simulator panel, the v
 from __future__ import annotations
 
 import json
+import math
 import re
 from dataclasses import fields, replace
 from pathlib import Path
@@ -59,6 +60,19 @@ def battery_names(root: Path | None = None) -> list[str]:
     return sorted(names, key=str.lower)
 
 
+def _number(value: object, what: str) -> float:
+    """A finite JSON number: a hand-edited file may hold true, "2000", 1e999 or a 400-digit integer."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ValueError(_("{what} must be a number, not {value!r}").format(what=what, value=value))
+    try:
+        number = float(value)
+    except OverflowError:
+        number = math.inf
+    if not math.isfinite(number):
+        raise ValueError(_("{what} must be a finite number, not {value}").format(what=what, value=str(value)[:20]))
+    return number
+
+
 def load_battery(name: str, root: Path | None = None) -> Battery:
     path = batteries_dir(root) / _file_name(name)
     try:
@@ -69,6 +83,8 @@ def load_battery(name: str, root: Path | None = None) -> Battery:
     except (OSError, ValueError) as exc:
         raise BatteryFileError(_("{path}: not a battery file: {exc}").format(path=path, exc=exc)) from None
     try:
+        if not isinstance(doc, dict):
+            raise ValueError(_("a JSON object expected, not {kind}").format(kind=type(doc).__name__))
         if doc.get("format") != _FORMAT:
             raise ValueError(_("format {found!r}, expected {expected}").format(
                     found=doc.get('format'), expected=_FORMAT))
@@ -78,12 +94,12 @@ def load_battery(name: str, root: Path | None = None) -> Battery:
         for key, value in doc["parameters"].items():
             if key not in wanted or key == "name":
                 raise ValueError(_("unknown parameter {key!r}").format(key=key))
-            params[key] = tuple(float(x) for x in value) if isinstance(value, list) else float(value)
+            params[key] = tuple(_number(x, key) for x in value) if isinstance(value, list) else _number(value, key)
         fitted = replace(chem, **params)
         _check(fitted)
-        capacity, series = float(doc["capacity_mah"]), int(doc["series"])
-        if not capacity > 0 or not 1 <= series <= 255:
-            raise ValueError(_("capacity_mah must be > 0 and series 1..255"))
+        capacity, series = _number(doc["capacity_mah"], "capacity_mah"), _number(doc["series"], "series")
+        if not capacity > 0 or not 1 <= series <= 255 or series != int(series):
+            raise ValueError(_("capacity_mah must be > 0 and series a whole number 1..255"))
     except (KeyError, TypeError, ValueError, AttributeError) as exc:
         raise BatteryFileError(_("{path}: bad battery file: {exc}").format(path=path, exc=exc)) from None
-    return Battery(fitted, capacity, series)
+    return Battery(fitted, capacity, int(series))

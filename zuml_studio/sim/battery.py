@@ -31,7 +31,7 @@ arithmetic on locals.
 from __future__ import annotations
 
 from bisect import bisect_right
-from math import exp
+from math import exp, isfinite
 
 from .chemistry import Chemistry
 from ..i18n import _
@@ -45,6 +45,14 @@ _W_FLOOR = 0.05               # keeps the acceptance width positive in deep cold
 # charge taken beyond s = 0, so a discharge that nothing stops drives the cell towards 0 V.
 _COLLAPSE_V_PER_SOC = 20.0
 _SOC_FLOOR = -0.06
+# The ambient temperatures the model is meant for (and a charger works in); the simulator's
+# form, `zuml simulate --ambient` and the virtual charger take these.
+AMBIENT_MIN_C, AMBIENT_MAX_C = -20.0, 60.0
+
+
+def ambient_error(value: float) -> str:
+    return _("ambient temperature {value:g} °C: the model covers {low:g} to {high:g} °C").format(
+        value=value, low=AMBIENT_MIN_C, high=AMBIENT_MAX_C)
 
 
 class Pack:
@@ -52,8 +60,10 @@ class Pack:
 
     def __init__(self, chem: Chemistry, capacity_mah: float, series: int, soc: float = 0.0,
                  ambient_c: float = 25.0) -> None:
-        if capacity_mah <= 0 or series < 1:
+        if not (capacity_mah > 0 and isfinite(capacity_mah)) or series < 1:
             raise ValueError(_("capacity_mah must be > 0 and series >= 1"))
+        if not AMBIENT_MIN_C <= ambient_c <= AMBIENT_MAX_C:
+            raise ValueError(ambient_error(ambient_c))
         self.chem = chem
         self.capacity_mah = float(capacity_mah)
         self.series = int(series)

@@ -29,7 +29,7 @@ class Comparison:
 def start_setup(curve: Curve, chemistry: str, series: int) -> tuple[float, float]:
     """(start SOC, ambient °C) from the log: Ni charges start empty (a charger discharges them
     first, and their flat OCV says little); Li and Pb from where the OCV meets the first voltage."""
-    ambient = float(curve.temp[0]) if curve.temp is not None else 25.0
+    ambient = curve.ambient_c
     if chemistry in NI:
         return 0.0, ambient
     return soc_at_ocv(load_chemistry(chemistry), float(curve.v[0]) / series), ambient

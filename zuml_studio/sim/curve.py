@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from ..file_errors import read_file_bytes
+from .battery import AMBIENT_MAX_C, AMBIENT_MIN_C
 from ..logs import Log, LogFormatError, read_log
 from ..i18n import _
 
@@ -42,6 +43,18 @@ class Curve:
         if len(self.t) < 10:
             raise CurveError(_("{value}: only {n_t} samples of charge").format(
                     value=self.name or 'curve', n_t=len(self.t)))
+        for column, values in (("time_s", self.t), ("voltage_v", self.v), ("current_a", self.i), ("temp_c", self.temp)):
+            if values is not None and not np.isfinite(values).all():
+                k = int(np.flatnonzero(~np.isfinite(values))[0])
+                raise CurveError(_("{value}: sample {k}: {column} is not a finite number").format(
+                        value=self.name or 'curve', k=k + 1, column=column))
+
+    @property
+    def ambient_c(self) -> float:
+        """The ambient a model of this charge starts in: the first temperature logged (25 °C
+        without one), within the model's range (a sensor reading 85 °C or -50 °C is no room)."""
+        first = float(self.temp[0]) if self.temp is not None else 25.0
+        return min(AMBIENT_MAX_C, max(AMBIENT_MIN_C, first))
 
     @property
     def mah(self) -> np.ndarray:
@@ -98,7 +111,10 @@ def charge_from_log(log: Log, name: str = "") -> Curve:
             runs.append([k, k])
     lo, hi = max(runs, key=lambda r: a["t"][r[1]] - a["t"][r[0]])
     sel = np.arange(lo, hi + 1)
-    sel = sel[charging[sel]]
+    # A sample without a voltage or a current (a torn record) is no sample of the charge.
+    sel = sel[charging[sel] & np.isfinite(a["voltage"][sel]) & np.isfinite(a["current"][sel])]
+    if not len(sel):
+        raise CurveError(_("{value}: no charge in the log").format(value=name or 'log'))
     t = a["t"][sel]
     return Curve(t - t[0], a["voltage"][sel], np.abs(a["current"][sel]), _sensor(t, a["temp"][sel]),
                  log.cells, name, str(log.meta.get("battery", "")))
@@ -120,7 +136,12 @@ def _sensor(t: np.ndarray, temp: np.ndarray) -> np.ndarray | None:
 def read_curve_csv(text: str, name: str = "") -> Curve:
     """A plain curve CSV (see module doc)."""
     lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
-    rows = list(csv.reader(lines))
+    reader = csv.reader(lines)
+    try:
+        rows = list(reader)
+    except csv.Error as exc:           # a field past the csv module's limit (128 KiB)
+        raise CurveError(_("{name}: data line {n}: {error}").format(name=name, n=reader.line_num,
+                                                                    error=exc)) from None
     if not rows or tuple(c.strip() for c in rows[0][:3]) != _CSV_COLUMNS:
         raise CurveError(_("{name}: a curve CSV starts with the header {csv_columns}[,temp_c]").format(
                 name=name, csv_columns=','.join(_CSV_COLUMNS)))
@@ -140,7 +161,8 @@ def read_curve_csv(text: str, name: str = "") -> Curve:
     t = np.array(cols[0])
     if np.any(np.diff(t) <= 0):
         raise CurveError(_("{name}: time must rise from line to line").format(name=name))
-    return Curve(t - t[0], np.array(cols[1]), np.array(cols[2]), np.array(cols[3]) if has_temp else None, 0, name)
+    return Curve(t - t[0] if len(t) else t, np.array(cols[1]), np.array(cols[2]),
+                 np.array(cols[3]) if has_temp else None, 0, name)
 
 
 def read_curve(path: str | Path) -> Curve:

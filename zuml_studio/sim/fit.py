@@ -127,8 +127,7 @@ def charging(current: np.ndarray, i_cc: float) -> np.ndarray:
 
 def simulate_curve(battery: Battery, curve: Curve, cv: np.ndarray, start_soc: float) -> Run:
     """Drive the model with the log's current (its voltage where ``cv``); sample k is held over (t[k-1], t[k]]."""
-    ambient = float(curve.temp[0]) if curve.temp is not None else 25.0
-    pack = battery.pack(start_soc, ambient)
+    pack = battery.pack(start_soc, curve.ambient_c)
     n = len(curve.t)
     v = np.empty(n)
     i = np.empty(n)

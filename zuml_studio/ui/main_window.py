@@ -27,6 +27,7 @@ from .library import LibraryBrowser
 from .plot_export import PlotExportDialog
 from .preferences import Preferences, PreferencesDialog
 from .problems import ProblemsView
+from .settings_values import bytes_value, text_value
 from .sim.sim_panel import SimulatorPanel
 from .validation import Validator
 from .visual import NewMacroWizard, VisualEditor
@@ -491,7 +492,7 @@ class MainWindow(QMainWindow):
     def open_dialog(self) -> None:
         if not self.maybe_save():
             return
-        start = self.settings.value("lastDir", str(self.user_macros))
+        start = text_value(self.settings, "lastDir", str(self.user_macros))
         path = self.ask_open_path(_("Open macro"), start,
                                   _("ZUML macros") + f" (*{EXTENSION});;" + _("All files") + " (*)")
         if path:
@@ -735,19 +736,19 @@ class MainWindow(QMainWindow):
         """The saved geometry if it fits the screen now (it may be a smaller or scaled one),
         else a size made for the screen; then the docks' layout."""
         available = self.screen().availableGeometry()
-        geometry = self.settings.value("geometry")
+        geometry = bytes_value(self.settings, "geometry")
         if geometry is None or not self.restoreGeometry(geometry) or not fits(self.frameGeometry(), available):
             self.setGeometry(first_geometry(available))
-        state = self.settings.value("windowState")
+        state = bytes_value(self.settings, "windowState")
         if state is not None:
             self.restoreState(state, LAYOUT_VERSION)
 
     def reopen_last(self) -> bool:
         """At start without a file: the file open when the window last closed, if it is still there."""
-        last = self.settings.value("lastOpen", "")
-        if not last or not Path(str(last)).is_file():
+        last = text_value(self.settings, "lastOpen", "")
+        if not last or not Path(last).is_file():
             return False
-        return self.open_file(str(last), ask=False)
+        return self.open_file(last, ask=False)
 
     # -- messages and help ----------------------------------------------------------------
     def show_error(self, message: str) -> None:

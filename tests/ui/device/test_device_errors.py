@@ -210,6 +210,15 @@ def test_flash_into_a_chosen_slot_and_backup_restore(qtbot, make_panel, editor, 
     assert refused.args[:2] == ["restore", False] and "Nothing was written" in refused.args[2]
     assert panel.slot_names() == ["NiMh-dV", "LiPo"]
 
+    # a folder and a device: the read said why (a device was read until the memory ran out)
+    (tmp_path / "folder.bin").mkdir()
+    for path, said in ((tmp_path / "folder.bin", "is a folder, not a file"), ("/dev/zero", "a device, not a file")):
+        with qtbot.waitSignal(panel.operationFinished, timeout=WAIT_MS) as refused:
+            panel.restore(path)
+        assert refused.args[:2] == ["restore", False]
+        assert refused.args[2].startswith("Nothing was written: ") and said in refused.args[2]
+        assert panel.slot_names() == ["NiMh-dV", "LiPo"]
+
 
 def test_port_scans_run_off_the_gui_thread(qtbot, tmp_path, editor):
     from zuml_studio.ui.device import DevicePanel

@@ -44,6 +44,10 @@ def test_a_file_that_is_no_recording(qtbot, make_panel, tmp_path):
     panel = make_panel()
     assert not panel.replay(bad)
     assert "no recording recognised" in panel.message_text() and not panel.is_monitoring()
+    (tmp_path / "folder.txt").mkdir()
+    for path, said in ((tmp_path / "folder.txt", "is a folder, not a file"), (Path("/dev/zero"), "a device, not a file")):
+        assert not panel.replay(path)         # /dev/zero was read until the memory ran out
+        assert said in panel.message_text() and not panel.is_monitoring()
 
 
 def test_driver_chooser_and_hid_chargers_in_the_port_list(qtbot, tmp_path, editor):

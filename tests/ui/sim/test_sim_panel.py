@@ -207,6 +207,26 @@ def test_missing_model_is_an_error_message(panel, qtbot, compiled, monkeypatch):
     assert panel.message.text().startswith("cannot simulate:") and panel.result() is None
 
 
+def test_a_damaged_named_battery_file_is_said_and_the_panel_goes_on(panel, compiled, monkeypatch, tmp_path):
+    # a battery file edited by hand after it was listed: an infinite capacity (once taken), then garbage
+    monkeypatch.setenv("ZUML_STUDIO_CONFIG_DIR", str(tmp_path))
+    (tmp_path / "batteries").mkdir()
+    doc = ('{"format": 1, "name": "Pack", "chemistry": "NiMh", "capacity_mah": Infinity, "series": 4, '
+           '"parameters": {}}')
+    (tmp_path / "batteries" / "Pack.json").write_text(doc)
+    panel.form.auto.setChecked(False)
+    panel.set_record(compiled("NiMh"), "NiMh")
+    panel.form.add_named_batteries()
+    panel.form.model.setCurrentIndex(panel.form.model.findData("battery:Pack"))
+    assert panel.form.model.currentData() == "battery:Pack"
+    for text, said in ((doc, "capacity_mah must be a finite number, not inf"), ("[garbage", "not a battery file")):
+        (tmp_path / "batteries" / "Pack.json").write_text(text)
+        panel.simulate()
+        assert panel.wait(30_000)
+        assert panel.message.text().startswith("cannot simulate: ") and said in panel.message.text()
+        assert panel.result() is None and panel.isVisible()
+
+
 def test_simulate_without_a_record_says_why(panel):
     panel.simulate()
     assert "nothing to simulate" in panel.message_text()

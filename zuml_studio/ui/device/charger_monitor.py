@@ -13,6 +13,7 @@ from PySide6.QtCore import QObject, Signal
 from ...device.drivers import AUTO, DRIVERS
 from ...device.errors import DeviceLinkError
 from ...device.monitor_link import MonitorLink
+from ...file_errors import FileReadError, read_file_bytes
 from ...i18n import _
 
 
@@ -116,10 +117,13 @@ class ChargerMonitor(QObject):
         from ...device.drivers import CaptureError
         from ...device.replay import load_recording, serve_replay
         try:
-            recording = load_recording(Path(path).read_bytes())
+            recording = load_recording(read_file_bytes(path))
             port, self._stop_replay, _device = serve_replay(recording, speed)
         except CaptureError as exc:
             self.message.emit(f"{path.name}: {exc}", "error")
+            return None
+        except FileReadError as exc:
+            self.message.emit(str(exc), "error")
             return None
         except OSError as exc:
             self.message.emit(_("Cannot replay {file}: {error}").format(file=path.name, error=exc.strerror or exc),

@@ -13,8 +13,9 @@ from PySide6.QtWidgets import (QAbstractItemView, QComboBox, QFileDialog, QHBoxL
 
 from ...device.errors import CommitUncertain, CommitUnverified, ImageTooLarge
 from ...device.flashing import merge_record
+from ...file_errors import FileReadError, read_file_bytes
 from ...i18n import N_, _, ngettext
-from ...lang.eeprom import Slot, slots, used_bytes
+from ...lang.eeprom import ImageError, Slot, slots, used_bytes
 from ...safety import image_problems, record_problems
 from . import confirm_dialogs, unsafe_dialog
 from .connection import DeviceConnection, describe_error
@@ -328,7 +329,7 @@ class ChargerSlots(QWidget):
 
         def job(client, progress):
             from ...device.client import check_image
-            image = path.read_bytes()
+            image = read_file_bytes(path)
             check_image(image)
             if len(image) > client.info.eeprom_size:
                 raise ImageTooLarge(len(image), client.info.eeprom_size)
@@ -417,8 +418,8 @@ class ChargerSlots(QWidget):
         if not path:
             return
         try:
-            in_image = [s.name for s in slots(Path(path).read_bytes())]
-        except Exception:   # noqa: BLE001 - unreadable or broken: restore() says precisely why
+            in_image = [s.name for s in slots(read_file_bytes(path))]
+        except (FileReadError, ImageError):     # restore() says precisely why
             in_image = None
         text = confirm_dialogs.restore_text(Path(path).name, self.slot_names(), in_image)
         if confirm_dialogs.confirm_restore(self, text):

@@ -28,6 +28,7 @@ from ...device.client import ChargerClient, DeviceInfo
 from ...device.errors import (CommitUncertain, CommitUnverified, DeviceError, DeviceLinkError, DeviceTimeout, Disconnected, ImageTooLarge,
                               InvalidImage, NotACharger, PermissionDenied, PortBusy, PortNotFound, VerifyFailed)
 from ...device.flashing import ImageFull, SlotOutOfRange
+from ...file_errors import FileReadError
 from ...i18n import _
 from ...lang.eeprom import ImageError
 from ...lang.record import DecodeError
@@ -402,7 +403,7 @@ def describe_error(exc: BaseException, action: str = "") -> str:
                       "previous image. ({error})")).format(error=text)
         if isinstance(exc, VerifyFailed):
             return _("The write did not verify: {error}. Flash again, or restore a backup.").format(error=text)
-        if isinstance(exc, InvalidImage):
+        if isinstance(exc, (InvalidImage, FileReadError)):
             return _("Nothing was written: {error}").format(error=text)
         if isinstance(exc, ImageError):
             return _("The charger's record list is broken ({error}): restore a backup of its EEPROM, then flash "

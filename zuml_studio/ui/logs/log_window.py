@@ -11,6 +11,7 @@ from ...i18n import N_, _, ngettext
 from ...logs import LogFormatError, read_log_file
 from ...logs.export import write_csv
 from ..background import BackgroundCall
+from ..settings_values import text_value
 from .log_document import LogDocument, Prepared, prepare
 
 TITLE = N_("Logs — ZUML Studio")
@@ -178,7 +179,7 @@ class LogWindow(QMainWindow):
 
     # -- dialogs -----------------------------------------------------------------------------
     def _folder(self) -> str:
-        return str(self.settings.value("lastLogDir", str(Path.home()))) if self.settings else str(Path.home())
+        return text_value(self.settings, "lastLogDir", str(Path.home())) if self.settings else str(Path.home())
 
     def _remember(self, path: str) -> None:
         if self.settings is not None:

@@ -9,6 +9,7 @@ from PySide6.QtWidgets import (QCheckBox, QComboBox, QDoubleSpinBox, QGridLayout
 
 from ...i18n import N_, _
 from ...sim.batteries import battery_names
+from ...sim.battery import AMBIENT_MAX_C, AMBIENT_MIN_C
 from ...sim.chemistry import chemistry_names
 from ...sim.interpreter import StartParams
 from ...sim.program import TASK_LABELS
@@ -78,7 +79,7 @@ class ParamsForm(QWidget):
         self.initial = self._spin_box(-1, 100, -1, " %", _("initial state of charge: auto = empty for a charge, "
                                                            "full for a discharge or a training"))
         self.initial.setSpecialValueText(_("auto"))
-        self.ambient = self._double_box(-20.0, 60.0, DEFAULTS["ambient_c"], " °C", 0, 1.0, _("ambient temperature"))
+        self.ambient = self._double_box(AMBIENT_MIN_C, AMBIENT_MAX_C, DEFAULTS["ambient_c"], " °C", 0, 1.0, _("ambient temperature"))
         self.sensor = QCheckBox(_("T sensor"))
         self.sensor.setChecked(DEFAULTS["sensor"])
         self.sensor.setToolTip(_("a battery temperature sensor is connected (without one, the default "
