@@ -165,13 +165,19 @@ def _assert_drawn_with(shown: Shown, colours: theme.Colours) -> None:
         assert readout.lines[0].pen.color() == QColor(look.cursor)
 
 
-@pytest.mark.parametrize("kind", KINDS)
-def test_each_plot_in_a_dark_palette_has_dark_paper_and_light_axes(qtbot, system_theme, kind):
-    theme.apply_theme("dark")
+def _drawn_in(qtbot, kind: str, name: str) -> Shown:
+    """A plot of ``kind`` made in the theme ``name``, checked to be drawn in its colours."""
+    theme.apply_theme(name)
     _settle()
     shown = MAKE[kind](qtbot)
     _settle()
-    _assert_drawn_with(shown, theme.DARK)
+    _assert_drawn_with(shown, theme.DARK if name == "dark" else theme.LIGHT)
+    return shown
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_each_plot_in_a_dark_palette_has_dark_paper_and_light_axes(qtbot, system_theme, kind):
+    shown = _drawn_in(qtbot, kind, "dark")
     paper = shown.view.backgroundBrush().color()
     assert paper.lightness() < 64
     assert all(plot.getAxis("left").pen().color().lightness() > 128 for plot in shown.plots)
@@ -179,11 +185,7 @@ def test_each_plot_in_a_dark_palette_has_dark_paper_and_light_axes(qtbot, system
 
 @pytest.mark.parametrize("kind", KINDS)
 def test_switching_the_theme_recolours_a_drawn_plot_and_keeps_its_curves_and_view(qtbot, system_theme, kind):
-    theme.apply_theme("light")
-    _settle()
-    shown = MAKE[kind](qtbot)
-    _settle()
-    _assert_drawn_with(shown, theme.LIGHT)
+    shown = _drawn_in(qtbot, kind, "light")
     vb = shown.plots[0].vb
     (x0, x1), _y = vb.viewRange()
     shown.plots[-1].setXRange(x0 + (x1 - x0) * 0.2, x0 + (x1 - x0) * 0.6, padding=0)   # the user zoomed in
