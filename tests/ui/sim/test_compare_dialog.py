@@ -121,3 +121,12 @@ def test_fit_runs_off_the_gui_thread_and_a_failed_fit_is_said(dialog, qtbot, mon
     assert ran_on and ran_on[0] is not threading.main_thread()
     assert "the optimiser found no fit" in dialog.figures.text()
     assert dialog.fit_button.isEnabled() and not dialog.save_button.isEnabled()
+
+
+def test_the_cell_count_follows_the_chosen_chemistry(dialog):
+    # A curve CSV names no chemistry: read as NiMH the 4S LiPo pack would be 11 cells.
+    dialog.chemistry.setCurrentIndex(dialog.chemistry.findData("NiMh"))
+    assert dialog.load_log(str(CURVES / "lipo_4s_406duo_3c.csv"))
+    assert dialog.cells.value() == 11
+    dialog.chemistry.setCurrentIndex(dialog.chemistry.findData("LiPo"))
+    assert dialog.cells.value() == 4

@@ -24,10 +24,6 @@ from ..background import BackgroundCall
 from .compare_plots import ComparePlots
 
 
-def figures_text(report: dict) -> str:
-    return "\n".join(figure_lines(report))
-
-
 class CompareDialog(QDialog):
     # A fit or a simulation ended (its figures or its error shown); they run off the GUI thread.
     workDone = Signal()
@@ -50,6 +46,8 @@ class CompareDialog(QDialog):
         for name in chemistry_names():
             self.chemistry.addItem(name, name)
         self.chemistry.setCurrentIndex(max(0, self.chemistry.findData(chemistry or "NiMh")))
+        # The cell count is guessed with the chosen model (a LiPo log read as NiMH is 12 cells, not 4).
+        self.chemistry.currentIndexChanged.connect(self._guess_cells)
         self.cells = QSpinBox()
         self.cells.setRange(1, 255)
         self.capacity = QSpinBox()
@@ -115,13 +113,17 @@ class CompareDialog(QDialog):
         if named:
             self.chemistry.setCurrentIndex(self.chemistry.findData(named[0]))   # iCharger logs name it
         self.log_label.setText(f"{path}  ({self.curve.t[-1] / 60:.0f} min, {self.curve.mah[-1]:.0f} mAh)")
-        self.cells.setValue(guess_series(self.curve, self.chemistry.currentData()))
+        self._guess_cells()
         self.simulate_button.setEnabled(True)
         self.fit_button.setEnabled(True)
         self.save_button.setEnabled(False)
         self._draw(None, None, "")
         self.figures.setText(_("Simulate Macro or Fit."))
         return True
+
+    def _guess_cells(self) -> None:
+        if self.curve is not None:
+            self.cells.setValue(guess_series(self.curve, self.chemistry.currentData()))
 
     def fit_log(self) -> None:
         """Fit the model to the log (seconds): off the GUI thread, the figures when it ends."""
@@ -134,7 +136,7 @@ class CompareDialog(QDialog):
         self.fitted = fitted
         self._draw(self.curve.t, fitted.run.v, _("fitted model"))
         params = ", ".join(f"{k} {v:.4g}" for k, v in fitted.params.items())
-        self.figures.setText(figures_text(fitted.figures) + "\n" + _("fitted: {parameters}").format(parameters=params))
+        self.figures.setText("\n".join(figure_lines(fitted.figures)) + "\n" + _("fitted: {parameters}").format(parameters=params))
         self.save_button.setEnabled(True)
 
     def compare_macro(self) -> None:
@@ -153,7 +155,7 @@ class CompareDialog(QDialog):
 
     def _compared(self, result) -> None:
         self._draw(result.t, result.run.v, _("simulation"))
-        self.figures.setText(figures_text(result.report))
+        self.figures.setText("\n".join(figure_lines(result.report)))
 
     def _run(self, what: str, fn, on_done) -> None:
         for b in (self.simulate_button, self.fit_button, self.save_button):
