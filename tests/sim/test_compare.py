@@ -33,7 +33,7 @@ def test_the_simulated_charger_delivers_the_logs_current_and_power():
     assert limits.max_charge_a >= float(curve.i.max())
     result = compare(curve, record("LiPo"), None, 5, None)
     first_phase = result.sim.log.arrays()["current_a"][:600]
-    assert np.median(first_phase) == pytest.approx(result.current_a, rel=0.02)
+    assert np.median(first_phase) == pytest.approx(result.sim.interpreter.params.current_a, rel=0.02)
 
 
 def test_a_small_logs_charger_keeps_the_b6_limits():

@@ -130,7 +130,7 @@ def cmd_compare(args: argparse.Namespace) -> int:
     sim = result.sim
     out(_("{log}: {chemistry} {series}S, {capacity} mAh, {current} A from the log, {model}").format(
             log=args.log, chemistry=sim.chemistry, series=sim.series, capacity=f"{sim.capacity_mah:.0f}",
-            current=f"{result.current_a:g}",
+            current=f"{sim.interpreter.params.current_a:g}",       # the log's CC current, as INPUT
             model=_("battery {name!r}").format(name=args.battery) if args.battery else _("default model")))
     for line in figure_lines(result.report):
         out(line)

@@ -23,7 +23,6 @@ class Comparison:
     run: Run             # the simulation resampled onto it
     cv: np.ndarray
     report: dict
-    current_a: float     # the log's CC current, entered as the INPUT current
 
 
 def start_setup(curve: Curve, chemistry: str, series: int) -> tuple[float, float]:
@@ -111,4 +110,4 @@ def compare(curve: Curve, record: bytes, chemistry: str | None, series: int, cap
                   "mah": round(sim.interpreter.q_in / 3.6, 1),
                   "why": (last.reason if last else "") or sim.interpreter.end_reason},
     }
-    return Comparison(sim, part.t, run, part_cv, report, params.current_a)
+    return Comparison(sim, part.t, run, part_cv, report)
