@@ -125,8 +125,8 @@ def _check(c: Chemistry) -> None:
         raise ValueError(_("ocv soc must rise strictly from 0 to 1"))
     if any(b < a for a, b in zip(v, v[1:])):
         raise ValueError(_("ocv v must not fall with soc"))
-    positive = ("charging_v", "ref_capacity_ah", "r0_ohm", "tau1_s", "tau2_s", "w0", "cth_j_per_k", "ha_w_per_k", "pol_eps",
-                "pol_tau_s", "pol_max_v", "dip_tau_s")
+    positive = ("charging_v", "ref_capacity_ah", "r0_ohm", "tau1_s", "tau2_s", "w0", "cth_j_per_k", "ha_w_per_k",
+                "pol_eps", "pol_tau_s", "pol_max_v", "dip_tau_s")
     for key in positive:
         if not getattr(c, key) > 0.0:
             raise ValueError(_("{key} must be > 0").format(key=key))

@@ -30,7 +30,7 @@ _FIT_STEP_S = 10.0          # curves are decimated to this before a fit: seconds
 _TEMP_WEIGHT = 1.0           # 1 °C of temperature error weighs as 1 mV per cell
 _RISE_WEIGHT = 3.0           # 1 °C of error in the temperature rise weighs as 3 mV per cell
 _TAIL_WEIGHT = 3.0           # the fall after the peak weighs 3x the rest of the voltage
-_TAPS_AGREE = 0.25           # taps whose count is further off the pack voltage are not one per cell (a NiMH log's one tap)
+_TAPS_AGREE = 0.25           # taps further off the pack voltage are not one per cell (a NiMH log's one tap)
 _NFEV_PER_PARAM = 15         # evaluations per fitted parameter and start: keeps a fit to seconds
 
 

@@ -136,7 +136,8 @@ class CompareDialog(QDialog):
         self.fitted = fitted
         self._draw(self.curve.t, fitted.run.v, _("fitted model"))
         params = ", ".join(f"{k} {v:.4g}" for k, v in fitted.params.items())
-        self.figures.setText("\n".join(figure_lines(fitted.figures)) + "\n" + _("fitted: {parameters}").format(parameters=params))
+        lines = figure_lines(fitted.figures) + [_("fitted: {parameters}").format(parameters=params)]
+        self.figures.setText("\n".join(lines))
         self.save_button.setEnabled(True)
 
     def compare_macro(self) -> None:
