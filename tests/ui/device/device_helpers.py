@@ -44,6 +44,17 @@ def connect(qtbot, panel, target="virtual"):
     qtbot.waitUntil(lambda: not panel.connection.busy, timeout=WAIT_MS)
 
 
+def click_flash(qtbot, panel) -> str:
+    """Compile & Flash by its button, as a user does; it must succeed. Returns its message."""
+    from PySide6.QtCore import Qt
+
+    with qtbot.waitSignal(panel.flashFinished, timeout=WAIT_MS) as flashed:
+        qtbot.mouseClick(panel.flash_button, Qt.MouseButton.LeftButton)
+    ok, text = flashed.args
+    assert ok, text
+    return text
+
+
 def flash_and_start(qtbot, panel) -> tuple:
     """Compile & Flash the editor's macro (it must succeed), then START a 2 A charge without a
     sensor; returns startFinished's (ok, message)."""

@@ -5,7 +5,7 @@ import pytest
 from PySide6.QtCore import Qt
 
 from chargers import NEEDS_FIRMWARE_SIM, FirmwareSims
-from device_helpers import WAIT_MS, connect
+from device_helpers import WAIT_MS, click_flash, connect
 
 pytestmark = NEEDS_FIRMWARE_SIM
 
@@ -28,10 +28,7 @@ def test_the_panel_flashes_lists_starts_and_monitors_the_firmware(qtbot, make_pa
     assert panel.slot_names() == []
     assert panel.free_label.text().startswith("439 of 439 bytes free")
 
-    with qtbot.waitSignal(panel.flashFinished, timeout=WAIT_MS) as flashed:
-        qtbot.mouseClick(panel.flash_button, Qt.MouseButton.LeftButton)
-    ok, text = flashed.args
-    assert ok, text
+    text = click_flash(qtbot, panel)
     assert text.startswith("Flashed LiPo into slot 0: 43 bytes,") and text.endswith("verified.")
     assert panel.slot_names() == ["LiPo"]
     assert panel.table.item(0, 1).text() == "LiPo" and panel.table.item(0, 4).text() == "ok"

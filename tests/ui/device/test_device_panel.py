@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from PySide6.QtCore import Qt
 
-from device_helpers import WAIT_MS, connect, flash_and_start, python_threads, wait_threads
+from device_helpers import WAIT_MS, click_flash, connect, flash_and_start, python_threads, wait_threads
 
 pytestmark = pytest.mark.skipif(os.name != "posix", reason="the built-in virtual charger uses a pty here")
 
@@ -32,10 +32,7 @@ def test_virtual_charger_flash_run_plot_stop_shutdown(qtbot, make_panel):
     assert panel.virtual_battery() == "NiMh:2000:4"          # from the macro's AKK_TYPE
 
     # Compile & Flash in one click
-    with qtbot.waitSignal(panel.flashFinished, timeout=WAIT_MS) as flashed:
-        qtbot.mouseClick(panel.flash_button, Qt.MouseButton.LeftButton)
-    ok, text = flashed.args
-    assert ok, text
+    text = click_flash(qtbot, panel)
     assert text.startswith("Flashed NiMh-dV into slot 0: 38 bytes,") and text.endswith("verified.")
     assert panel.slot_names() == ["NiMh-dV"]
     assert panel.table.item(0, 1).text() == "NiMh-dV" and panel.table.item(0, 3).text() == "NiMh"
