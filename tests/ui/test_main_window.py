@@ -105,6 +105,21 @@ def test_invalid_text_keeps_the_last_bytes_greyed_with_a_banner(make_window, qtb
     assert w.hex_view.record_hex() == before
 
 
+def test_another_file_with_errors_shows_none_of_the_previous_ones_bytes_or_run(make_window, qtbot, tmp_path):
+    # Was: the bytes view and the simulator kept the previous document's last valid version
+    # ("NewMacro", 1 cell) as if it were this file's.
+    w = make_window(LIPO)
+    with qtbot.waitSignal(w.sim_panel.simulationFinished, timeout=30000):
+        w.sim_panel.simulate()
+    broken = tmp_path / "broken.zuml"
+    broken.write_text(open(LIPO).read().replace("CONSTANT_I=1C", "CONSTANT_I=1"), encoding="utf-8")
+    assert w.open_file(str(broken), ask=False)
+    assert not w.hex_view.banner.isVisible() and w.hex_view.record_hex() == ""
+    assert w.sim_panel.result() is None and w.sim_panel.current_record() is None
+    assert w.sim_panel.plot.data == {} and w.sim_panel.plot.placeholder.isVisible()
+    assert w.sim_panel.table.model().rowCount() == 0
+
+
 def test_simulating_the_lipo_seed_fills_plots_and_phase_table(make_window, qtbot):
     w = make_window(LIPO)
     with qtbot.waitSignal(w.sim_panel.simulationFinished, timeout=30000):

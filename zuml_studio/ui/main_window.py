@@ -426,6 +426,7 @@ class MainWindow(QMainWindow):
         self.setWindowModified(dirty)
         self._update_title()
         self.sim_panel.new_macro()
+        self.validator.forget()
         self.validate_now()
         self.editor.goto(1, 1)
         self.autosave()

@@ -28,6 +28,11 @@ class Validator(QObject):
         self.last_valid: CompileResult | None = None
         self.runs = 0
 
+    def forget(self) -> None:
+        """Another document: the last results, and its last valid version, are none of its own."""
+        self._timer.stop()
+        self.last = self.last_valid = None
+
     def schedule(self, text: str) -> None:
         """Restart the wait: only the text present when typing pauses is checked."""
         self._text = text

@@ -92,6 +92,21 @@ class ChargePlot(StackedPlot):
         self.tplot.setXRange(0.0, end, padding=0.01)
         self._view_changed()
 
+    def clear_run(self) -> None:
+        """No run: empty curves, no bands or labels, the placeholder (another macro was opened).
+        Not ``clear``: pyqtgraph's GraphicsLayoutWidget sets that on each instance (the layout's
+        own clear, which removes the plots themselves)."""
+        self._run, self._t, self._v = None, np.zeros(0), np.zeros(0)
+        for curve in self.curves.values():
+            curve.setData([], [])
+        self._set_current_fill(np.zeros(0), np.zeros(0), False)
+        self._set_bands([])
+        self._set_pauses([])
+        self.placeholder.setVisible(True)
+        self._place_placeholder()
+        for legend in self.legends.values():
+            legend.setVisible(False)
+
     def _set_curves(self) -> None:
         if self._run is None:
             return

@@ -22,6 +22,7 @@ from .worker import SimJob, SimRequest
 
 DEBOUNCE_MS = 300
 STALE_HINT = N_("showing the last valid version (the macro has errors)")
+NOTHING_YET = N_("no simulation yet: Simulate (F5) runs the macro against a battery model")
 OUTDATED_HINT = N_("the macro or the parameters changed since this run: Simulate (F5)")
 
 
@@ -118,7 +119,7 @@ class SimulatorPanel(QWidget):
         self.plot.phaseActivated.connect(self.phaseActivated)
         self.table.phaseSelected.connect(self.plot.highlight)
         self.plot.phaseClicked.connect(self._band_clicked)
-        self._show_message(_("no simulation yet: Simulate (F5) runs the macro against a battery model"), "info")
+        self._show_message(_(NOTHING_YET), "info")
 
     # -- the interface the main window uses ------------------------------------------------
     def set_record(self, record: bytes | None, macro_name: str = "", declared: dict | None = None) -> None:
@@ -138,8 +139,21 @@ class SimulatorPanel(QWidget):
             self._refresh_hint()
 
     def new_macro(self) -> None:
-        """Another macro opened (not an edit of this one): start values from the new macro."""
+        """Another macro opened (not an edit of this one): start values from the new macro, and
+        nothing of the old one's run (while the new text has errors there is no "last valid
+        version" of it to show)."""
         self.form.reset_start_values()
+        self._drop_job()
+        self._debounce.stop()
+        self._record = self._result = self._table_pending = None
+        self._stale = self._outdated = False
+        self.plot.clear_run()
+        self.table.set_result(None)
+        self.totals.setText("")
+        self.run_label.setVisible(False)
+        self.form.progress_label.setText("")
+        self._show_message(_(NOTHING_YET), "info")
+        self._refresh_hint()
 
     def current_record(self) -> bytes | None:
         """The latest valid record (None before the macro first compiled)."""
