@@ -1,15 +1,20 @@
-"""The build step pyproject.toml cannot declare: compile the translation catalogues into the package.
+"""What pyproject.toml cannot declare: the source tree's data folders mapped into the package, and
+the translation catalogues compiled into it.
 
-Each ``zuml_studio/locale/LANG/LC_MESSAGES/zuml_studio.po`` becomes its ``.mo`` beside it in the
-build, so the wheel (and the bundle frozen from it) ships every language. Babel is a build
-requirement only; at run time the package reads the ``.mo`` with the standard library's gettext.
+``resources/`` (chemistry and charger tables, templates, the icon, the catalogues' sources) becomes
+``zuml_studio.resources`` and ``macros/`` (the standard macros) ``zuml_studio.macros``, in the wheel and
+in an editable install alike, so the installed package never needs the source tree. Each
+``resources/locale/LANG/LC_MESSAGES/zuml_studio.po`` becomes its ``.mo`` beside it in the build, so the
+wheel (and the bundle frozen from it) ships every language; an editable install, which has no build
+step, compiles them in memory at start (`zuml_studio.i18n`).
 """
 from pathlib import Path
 
-from setuptools import setup
+from setuptools import find_packages, setup
 from setuptools.command.build_py import build_py
 
-CATALOGUES = "zuml_studio/locale/*/LC_MESSAGES/zuml_studio.po"
+DATA_FOLDERS = {"zuml_studio.resources": "resources", "zuml_studio.macros": "macros"}
+CATALOGUES = "resources/locale/*/LC_MESSAGES/zuml_studio.po"
 
 
 class BuildPyWithCatalogues(build_py):
@@ -23,11 +28,13 @@ class BuildPyWithCatalogues(build_py):
                 catalog = read_po(fh)
             if any(message.fuzzy for message in catalog if message.id):
                 raise SystemExit(f"{po}: fuzzy entries; translate them (./dev i18n) before building")
-            relative = po.relative_to(Path(__file__).parent).with_suffix(".mo")
-            target = Path(self.build_lib) / relative
+            relative = po.relative_to(Path(__file__).parent / "resources").with_suffix(".mo")
+            target = Path(self.build_lib) / "zuml_studio" / "resources" / relative
             target.parent.mkdir(parents=True, exist_ok=True)
             with target.open("wb") as fh:
                 write_mo(fh, catalog, use_fuzzy=False)
 
 
-setup(cmdclass={"build_py": BuildPyWithCatalogues})
+setup(packages=find_packages(include=["zuml_studio*"]) + list(DATA_FOLDERS),
+      package_dir=DATA_FOLDERS,
+      cmdclass={"build_py": BuildPyWithCatalogues})

@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-MACRO = ROOT / "zuml_studio" / "data" / "macros" / "NiMh.zuml"
+MACRO = ROOT / "macros" / "NiMh.zuml"
 FLOOR = ("import sys; from zuml_studio.lang.compiler import compile_source; "
          "sys.exit(not compile_source(open(sys.argv[1], encoding='utf-8').read()).ok)")
 CLI = "import sys; from zuml_studio.cli.main import main; sys.exit(main())"

@@ -28,7 +28,7 @@ from zuml_studio.lang.compiler import compile_source  # noqa: E402
 from zuml_studio.lang.eeprom import pack  # noqa: E402
 
 DATA = ROOT / "tests" / "data"
-MACRO_FILES = sorted((ROOT / "zuml_studio" / "data" / "macros").glob("*.zuml"))
+MACRO_FILES = sorted((ROOT / "macros").glob("*.zuml"))
 NUMBERS = HOSTILE_NUMBERS + ["0", "1", "2", "4", "16", "17", "255", "256", "2000", "0.5", "1.5", "-1", "65535",
                              "1e6", "25", "60", "0.05", "1C", "2,5", ""]
 SANE = ["1", "2", "3", "4", "1000", "2000", "0.5", "25"]

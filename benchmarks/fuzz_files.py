@@ -39,7 +39,7 @@ from zuml_studio.sim.fit import fit, guess_series  # noqa: E402
 
 DATA = ROOT / "tests" / "data"
 FIT_LIMIT_S = 20.0
-MACROS = [p.read_bytes() for p in sorted([*(ROOT / "zuml_studio" / "data" / "macros").glob("*.zuml"),
+MACROS = [p.read_bytes() for p in sorted([*(ROOT / "macros").glob("*.zuml"),
                                           *DATA.glob("*.zuml")])]
 CURVES = [p.read_bytes() for p in sorted((DATA / "curves").glob("*.csv"))]
 LOGS = [p.read_bytes()[:20000] for p in sorted((DATA / "logs").iterdir())]

@@ -30,7 +30,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from fuzz_common import Campaign, mutate_bytes  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
-TEXTS = [p.read_text("utf-8-sig") for p in sorted([*(ROOT / "zuml_studio" / "data" / "macros").glob("*.zuml"),
+TEXTS = [p.read_text("utf-8-sig") for p in sorted([*(ROOT / "macros").glob("*.zuml"),
                                                   *(ROOT / "tests" / "data").glob("*.zuml")])]
 assert TEXTS, "no macros to mutate: the fuzzer's seeds moved"
 RECORDS = [compile_source(t).record for t in TEXTS if compile_source(t).ok]

@@ -192,7 +192,7 @@ def test_the_command_line_page_has_every_command_and_every_option():
 # samples/), and the frozen bundle's insides.
 ELSEWHERE = ("../shared/", "shared/", "realdata/", "dataexplorer/", "icharger/", "curves/", "_internal/",
              "zuml-studio-VERSION")
-LOOKED_UP_FROM = [ROOT, ROOT / "zuml_studio", ROOT / "zuml_studio" / "data", ROOT / "firmware", ROOT / "packaging",
+LOOKED_UP_FROM = [ROOT, ROOT / "zuml_studio", ROOT / "resources", ROOT / "firmware", ROOT / "packaging",
                   ROOT / "docs", ROOT / "tests"]
 
 

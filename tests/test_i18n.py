@@ -13,7 +13,7 @@ from helpers import ROOT
 from zuml_studio import i18n
 
 PACKAGE = ROOT / "zuml_studio"
-LOCALE = PACKAGE / "locale"
+LOCALE = ROOT / "resources" / "locale"
 POT = LOCALE / "zuml_studio.pot"
 RU_PO = LOCALE / "ru" / "LC_MESSAGES" / "zuml_studio.po"
 # {name}, {name:.2f}, {name!r}, {{ and }} (literal braces), %(name)s, %s, %d, %r
@@ -72,8 +72,17 @@ def test_install_refuses_an_unknown_language():
 def test_a_missing_catalogue_is_a_loud_error(monkeypatch, tmp_path, english_afterwards):
     from zuml_studio.data import DataFileError
     monkeypatch.setattr(i18n, "catalogue_path", lambda language: str(tmp_path / "nowhere.mo"))
+    monkeypatch.setattr(i18n, "catalogue_source_path", lambda language: str(tmp_path / "nowhere.po"))
     with pytest.raises(DataFileError, match="missing"):
         i18n.install("ru")
+
+
+def test_an_editable_install_without_a_compiled_catalogue_reads_the_po(monkeypatch, tmp_path, english_afterwards):
+    """`pip install -e .` runs no build step, so no .mo: the .po of the source tree is compiled in memory."""
+    monkeypatch.setattr(i18n, "catalogue_path", lambda language: str(tmp_path / "nowhere.mo"))
+    assert i18n.catalogue_source_path("ru") == str(RU_PO)
+    i18n.install("ru")
+    assert i18n._("The macro needs a name") == "Макросу нужно имя"
 
 
 def test_russian_plural_forms_through_a_real_entry(english_afterwards):

@@ -118,7 +118,7 @@ def _shots(language: str) -> None:
     env = dict(os.environ, ZUML_LANG=language, QT_QPA_PLATFORM="offscreen")
     suffix = SUFFIX[language]
     window = DOCS / f"screenshot{suffix}.png"
-    subprocess.run([sys.executable, "-m", "zuml_studio.ui.app", str(ROOT / "zuml_studio/data/macros/NiMh.zuml"),
+    subprocess.run([sys.executable, "-m", "zuml_studio.ui.app", str(ROOT / "macros/NiMh.zuml"),
                     "--screenshot", str(window)], env=env, check=True)
     for kind in ("device-panel", "visual-editor"):
         subprocess.run([sys.executable, __file__, f"--{kind}", str(DOCS / f"{kind}{suffix}.png")], env=env, check=True)
@@ -131,7 +131,7 @@ def _dark_shot() -> None:
         Path(config, "settings.ini").write_text("[appearance]\ntheme=dark\n", encoding="utf-8")
         env = dict(os.environ, ZUML_LANG="en", QT_QPA_PLATFORM="offscreen", ZUML_STUDIO_CONFIG_DIR=config)
         out = DOCS / "screenshot-dark.png"
-        subprocess.run([sys.executable, "-m", "zuml_studio.ui.app", str(ROOT / "zuml_studio/data/macros/NiMh.zuml"),
+        subprocess.run([sys.executable, "-m", "zuml_studio.ui.app", str(ROOT / "macros/NiMh.zuml"),
                         "--screenshot", str(out)], env=env, check=True)
     print("dark: docs/screenshot-dark.png")
 

@@ -463,7 +463,7 @@ def main() -> int:
         "",
         "## What changed in the models (the data win)",
         "",
-        "Each changed value in `zuml_studio/data/chemistries/*.toml` names the recordings it was fitted to "
+        "Each changed value in `resources/chemistries/*.toml` names the recordings it was fitted to "
         "and its old value.",
         "",
         "* NiCd/NiMH: a new end-of-charge dip, `dip_v_per_charge` × the overcharge not yet relaxed "

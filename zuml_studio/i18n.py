@@ -14,10 +14,14 @@ missing one is a broken installation (`DataFileError`), not a silent fall-back t
 from __future__ import annotations
 
 import gettext
+import io
 import os
 from importlib import resources
 
+from .data_error import DataFileError
+
 DOMAIN = "zuml_studio"
+RESOURCES = "zuml_studio.resources"   # resources/ in the source tree; the catalogues are in its locale/
 SOURCE_LANGUAGE = "en"
 LANGUAGES: dict[str, str] = {"en": "English", "ru": "Русский"}   # each in its own language
 
@@ -64,7 +68,31 @@ def choose_language(preference: str | None = None) -> str:
 
 def catalogue_path(language: str) -> str:
     """Where ``language``'s compiled catalogue lives inside the package."""
-    return str(resources.files(__package__).joinpath("locale", language, "LC_MESSAGES", DOMAIN + ".mo"))
+    return str(resources.files(RESOURCES).joinpath("locale", language, "LC_MESSAGES", DOMAIN + ".mo"))
+
+
+def catalogue_source_path(language: str) -> str:
+    """Where ``language``'s catalogue source (``.po``) is, in a source checkout or an editable install."""
+    return str(resources.files(RESOURCES).joinpath("locale", language, "LC_MESSAGES", DOMAIN + ".po"))
+
+
+def _compiled_from_source(language: str) -> gettext.GNUTranslations | None:
+    """``language``'s catalogue compiled in memory from its ``.po``, where only the source is
+    there: an editable install (``pip install -e .``) has no build step to compile it. A wheel and
+    the frozen bundle ship the ``.mo`` and never come here."""
+    try:
+        po = open(catalogue_source_path(language), "rb")
+    except OSError:
+        return None
+    from babel.messages.mofile import write_mo   # only a source checkout needs Babel at run time
+    from babel.messages.pofile import read_po
+
+    with po as fh:
+        catalog = read_po(fh)
+    compiled = io.BytesIO()
+    write_mo(compiled, catalog, use_fuzzy=False)
+    compiled.seek(0)
+    return gettext.GNUTranslations(compiled)
 
 
 def install(language: str) -> None:
@@ -76,16 +104,16 @@ def install(language: str) -> None:
     if language == SOURCE_LANGUAGE:
         _translation, _language = gettext.NullTranslations(), language
         return
-    from .data import DataFileError   # here, not at the top: data/ itself translates its errors
-
     path = catalogue_path(language)
     try:
         with open(path, "rb") as fp:
             _translation = gettext.GNUTranslations(fp)
     except FileNotFoundError:
-        raise DataFileError(_("translation catalogue {path} is missing: the installation is incomplete, "
-                              "reinstall ZUML Studio (from a source checkout, `./dev` compiles it)").format(
-                                  path=path)) from None
+        from_source = _compiled_from_source(language)
+        if from_source is None:
+            raise DataFileError(_("translation catalogue {path} is missing: the installation is incomplete, "
+                                  "reinstall ZUML Studio").format(path=path)) from None
+        _translation = from_source
     except OSError as exc:
         raise DataFileError(_("translation catalogue {path} is unreadable ({error}): reinstall ZUML Studio").format(
             path=path, error=exc)) from None

@@ -56,7 +56,7 @@ sed -e "s|^Exec=zuml-studio |Exec=$LIB/zuml-studio |" -e "s|^TryExec=zuml-studio
     "$HERE/$APP_ID.desktop" > "$SHARE/applications/$APP_ID.desktop"
 install -m 644 "$HERE/$APP_ID.metainfo.xml" "$SHARE/metainfo/"
 install -m 644 "$HERE/$APP_ID.mime.xml" "$SHARE/mime/packages/$APP_ID.xml"
-install -m 644 "$LIB/_internal/zuml_studio/data/icon.svg" "$SHARE/icons/hicolor/scalable/apps/$APP_ID.svg"
+install -m 644 "$LIB/_internal/zuml_studio/resources/icon.svg" "$SHARE/icons/hicolor/scalable/apps/$APP_ID.svg"
 for size in 48 128 256; do
     mkdir -p "$SHARE/icons/hicolor/${size}x${size}/apps"
     install -m 644 "$HERE/icons/$size.png" "$SHARE/icons/hicolor/${size}x${size}/apps/$APP_ID.png"

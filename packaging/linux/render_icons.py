@@ -1,4 +1,4 @@
-"""Render the icon files from the one master SVG (zuml_studio/data/icon.svg) with Qt's SVG renderer:
+"""Render the icon files from the one master SVG (resources/icon.svg) with Qt's SVG renderer:
 packaging/linux/icons/{48,128,256}.png, packaging/windows/zuml-studio.ico, packaging/macos/zuml-studio.icns.
 Run after editing the SVG:  .venv/bin/python packaging/linux/render_icons.py"""
 from __future__ import annotations
@@ -14,7 +14,7 @@ from PySide6.QtGui import QGuiApplication, QImage, QPainter  # noqa: E402
 from PySide6.QtSvg import QSvgRenderer  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
-MASTER = ROOT / "zuml_studio" / "data" / "icon.svg"
+MASTER = ROOT / "resources" / "icon.svg"
 PNG_SIZES = (48, 128, 256)
 TARGETS = [(ROOT / "packaging" / "linux" / "icons" / f"{size}.png", size) for size in PNG_SIZES] + [
     (ROOT / "packaging" / "windows" / "zuml-studio.ico", 256),

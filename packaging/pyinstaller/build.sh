@@ -22,10 +22,11 @@ step() { printf '== [%3ds] %s\n' "$SECONDS" "$*" >&2; }
 
 step "copying the sources"
 mkdir "$WORK/src"
-cp -r "$ROOT/pyproject.toml" "$ROOT/setup.py" "$ROOT/README.md" "$ROOT/LICENSE" "$ROOT/zuml_studio" "$WORK/src/"
+cp -r "$ROOT/pyproject.toml" "$ROOT/setup.py" "$ROOT/README.md" "$ROOT/LICENSE" "$ROOT/zuml_studio" "$ROOT/resources" \
+    "$ROOT/macros" "$WORK/src/"
 find "$WORK/src" -name __pycache__ -prune -exec rm -rf {} +
 # The wheel's build compiles the catalogues itself (setup.py); a stale in-tree .mo must not win.
-find "$WORK/src/zuml_studio/locale" -name "*.mo" -delete
+find "$WORK/src/resources/locale" -name "*.mo" -delete
 
 step "building the wheel"
 "$PY" -m pip wheel "${PIP[@]}" --no-deps "$WORK/src" -w "$WORK/wheel"

@@ -95,7 +95,7 @@ def test_cli_errors_are_russian(tmp_path):
 
 def test_compare_speaks_russian_every_line_but_the_macros_own_condition():
     curve = ROOT / "tests" / "data" / "curves" / "nimh_4s_estation_1c.csv"
-    russian = zuml("compare", str(curve), str(ROOT / "zuml_studio" / "data" / "macros" / "NiMh-dV.zuml"),
+    russian = zuml("compare", str(curve), str(ROOT / "macros" / "NiMh-dV.zuml"),
                    lang="ru_RU.UTF-8")
     assert russian.returncode == 0, russian.stderr
     for line in russian.stdout.splitlines():

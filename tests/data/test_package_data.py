@@ -8,16 +8,19 @@ from pathlib import Path
 import pytest
 
 import zuml_studio
+import zuml_studio.macros
+import zuml_studio.resources
 from zuml_studio import data
 from zuml_studio.data import DataFileError
 
 DANGEROUS = Path(__file__).with_name("LiPo-4V5.zuml")
 
 
-def test_the_data_lives_inside_the_package():
-    package = Path(zuml_studio.__file__).parent
-    assert Path(data.location("chemistries/LiPo.toml")).is_relative_to(package)
-    assert data.standard_macros_dir().is_relative_to(package)
+def test_the_data_is_read_through_the_package():
+    """resources/ and macros/ of the source tree are the package's zuml_studio.resources and
+    zuml_studio.macros (mapped at build time; an editable install maps them the same way)."""
+    assert Path(data.location("chemistries/LiPo.toml")).is_relative_to(Path(zuml_studio.resources.__file__).parent)
+    assert data.standard_macros_dir() == Path(zuml_studio.macros.__file__).parent
     assert {"NiMh", "LiPo", "NiMh-dV"} <= {p.stem for p in data.standard_macros()}
     assert data.names("chargers") == ["imax_b6"]
     assert "LiPo" in data.read_toml("templates.toml")
@@ -36,10 +39,14 @@ def test_a_standard_macro_is_recognised_and_a_user_file_is_not(tmp_path):
 
 
 def _package_copy(tmp_path: Path) -> Path:
-    """A copy of the installed package to break; returns the directory to put on PYTHONPATH."""
+    """A copy of the package laid out as installed (its data folders inside it) to break; returns
+    the directory to put on PYTHONPATH."""
     root = tmp_path / "site"
-    shutil.copytree(Path(zuml_studio.__file__).parent, root / "zuml_studio",
-                    ignore=shutil.ignore_patterns("__pycache__"))
+    ignore = shutil.ignore_patterns("__pycache__")
+    shutil.copytree(Path(zuml_studio.__file__).parent, root / "zuml_studio", ignore=ignore)
+    for folder in (zuml_studio.resources, zuml_studio.macros):
+        shutil.copytree(Path(folder.__file__).parent, root / "zuml_studio" / folder.__name__.split(".")[-1],
+                        ignore=ignore, dirs_exist_ok=True)
     return root
 
 
@@ -58,7 +65,7 @@ def test_the_dangerous_macro_fails_the_check_in_an_intact_copy(tmp_path):
 
 def test_zuml_check_fails_loudly_when_a_chemistry_file_is_missing(tmp_path):
     site = _package_copy(tmp_path)
-    missing = site / "zuml_studio" / "data" / "chemistries" / "LiPo.toml"
+    missing = site / "zuml_studio" / "resources" / "chemistries" / "LiPo.toml"
     missing.unlink()
     proc = _zuml(site, "check", str(DANGEROUS))
     assert proc.returncode == 2, proc.stdout
@@ -68,7 +75,7 @@ def test_zuml_check_fails_loudly_when_a_chemistry_file_is_missing(tmp_path):
 
 def test_zuml_check_fails_loudly_when_a_chemistry_file_is_broken(tmp_path):
     site = _package_copy(tmp_path)
-    broken = site / "zuml_studio" / "data" / "chemistries" / "LiPo.toml"
+    broken = site / "zuml_studio" / "resources" / "chemistries" / "LiPo.toml"
     broken.write_text(broken.read_text().replace("[thermal]", "[thermal_gone]"))
     proc = _zuml(site, "check", str(DANGEROUS))
     assert proc.returncode == 2

@@ -49,7 +49,7 @@ def test_the_bundles_zuml_fails_the_dangerous_macro(built, tmp_path):
 
 def test_the_bundles_zuml_studio_renders_a_1600x1000_screenshot(built, tmp_path):
     bundle, _ = built
-    macro = bundle / "_internal" / "zuml_studio" / "data" / "macros" / "NiMh-dV.zuml"
+    macro = bundle / "_internal" / "zuml_studio" / "macros" / "NiMh-dV.zuml"
     proc = _run(bundle / "zuml-studio", macro, "--screenshot", tmp_path / "shot.png", cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr
     head = (tmp_path / "shot.png").read_bytes()[:24]
@@ -63,7 +63,7 @@ def test_qts_russian_translation_is_in_the_bundle(built):
 
 def test_the_bundles_zuml_speaks_russian_from_its_own_catalogue(built, tmp_path):
     bundle, _ = built
-    assert (bundle / "_internal" / "zuml_studio" / "locale" / "ru" / "LC_MESSAGES" / "zuml_studio.mo").is_file()
+    assert (bundle / "_internal" / "zuml_studio" / "resources" / "locale" / "ru" / "LC_MESSAGES" / "zuml_studio.mo").is_file()
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "ZUML_LANG", "LC_ALL", "LC_MESSAGES")}
     env["LANG"] = "ru_RU.UTF-8"
     proc = subprocess.run([str(bundle / "zuml"), "check", str(DANGEROUS)], cwd=tmp_path, env=env,

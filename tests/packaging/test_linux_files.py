@@ -95,9 +95,9 @@ def _fake_bundle(tmp_path):
         (bundle / program).parent.mkdir(parents=True, exist_ok=True)
         (bundle / program).write_text(f"#!/bin/sh\necho {program} \"$@\"\n")
         (bundle / program).chmod(0o755)
-    data = bundle / "_internal" / "zuml_studio" / "data"
+    data = bundle / "_internal" / "zuml_studio" / "resources"
     data.mkdir(parents=True)
-    shutil.copy2(ROOT / "zuml_studio" / "data" / "icon.svg", data / "icon.svg")
+    shutil.copy2(ROOT / "resources" / "icon.svg", data / "icon.svg")
     shutil.copytree(LINUX, bundle / "linux")
     return bundle
 

@@ -11,7 +11,7 @@ import pytest
 from helpers import ROOT
 
 DANGEROUS = ROOT / "tests" / "data" / "LiPo-4V5.zuml"
-SOURCES = ("pyproject.toml", "setup.py", "README.md", "LICENSE", "zuml_studio")
+SOURCES = ("pyproject.toml", "setup.py", "README.md", "LICENSE", "zuml_studio", "resources", "macros")
 
 
 def _run(*cmd, cwd, env=None, timeout=180) -> subprocess.CompletedProcess:
@@ -52,11 +52,11 @@ def _env(site: Path) -> dict:
 
 def test_the_wheel_carries_the_data_and_the_licence(installed):
     site, _, _ = installed
-    data = site / "zuml_studio" / "data"
+    data = site / "zuml_studio" / "resources"
     assert {p.name for p in (data / "chemistries").glob("*.toml")} == {
         "Pb.toml", "NiCd.toml", "NiMh.toml", "LiPo.toml", "LiIon.toml", "LiFe.toml"}
     assert (data / "chargers" / "imax_b6.toml").is_file() and (data / "templates.toml").is_file()
-    assert (data / "macros" / "NiMh.zuml").is_file()
+    assert (site / "zuml_studio" / "macros" / "NiMh.zuml").is_file()
     assert any(site.glob("zuml_studio-*.dist-info/**/LICENSE*"))
 
 
@@ -75,7 +75,7 @@ def test_installed_zuml_check_fails_the_dangerous_macro(installed):
 
 def test_installed_zuml_speaks_russian_under_a_russian_locale(installed):
     site, bin_, outside = installed
-    assert (site / "zuml_studio" / "locale" / "ru" / "LC_MESSAGES" / "zuml_studio.mo").is_file()
+    assert (site / "zuml_studio" / "resources" / "locale" / "ru" / "LC_MESSAGES" / "zuml_studio.mo").is_file()
     env = {k: v for k, v in _env(site).items() if k not in ("ZUML_LANG", "LC_ALL", "LC_MESSAGES")}
     env["LANG"] = "ru_RU.UTF-8"
     proc = _run(bin_ / "zuml", "check", DANGEROUS, cwd=outside, env=env)
@@ -86,7 +86,7 @@ def test_installed_zuml_speaks_russian_under_a_russian_locale(installed):
 
 def test_installed_zuml_simulates_and_writes_a_new_macro(installed):
     site, bin_, outside = installed
-    nimh = site / "zuml_studio" / "data" / "macros" / "NiMh.zuml"
+    nimh = site / "zuml_studio" / "macros" / "NiMh.zuml"
     proc = _run(bin_ / "zuml", "simulate", nimh, "--capacity", "2000", "--series", "4", "--current", "2",
                 cwd=outside, env=_env(site))
     assert proc.returncode == 0, proc.stderr
@@ -99,7 +99,7 @@ def test_installed_zuml_simulates_and_writes_a_new_macro(installed):
 
 def test_installed_zuml_studio_renders_a_screenshot(installed):
     site, bin_, outside = installed
-    nimh = site / "zuml_studio" / "data" / "macros" / "NiMh.zuml"
+    nimh = site / "zuml_studio" / "macros" / "NiMh.zuml"
     proc = _run(bin_ / "zuml-studio", nimh, "--screenshot", "shot.png", cwd=outside, env=_env(site))
     assert proc.returncode == 0, proc.stderr
     assert (outside / "shot.png").stat().st_size > 20000

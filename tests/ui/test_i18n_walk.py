@@ -28,7 +28,7 @@ from zuml_studio.sim.chemistry import chemistry_names
 
 
 CURVES = ROOT / "tests" / "data" / "curves"
-POT_TEXT = (ROOT / "zuml_studio" / "locale" / "zuml_studio.pot").read_text(encoding="utf-8")
+POT_TEXT = (ROOT / "resources" / "locale" / "zuml_studio.pot").read_text(encoding="utf-8")
 LOGS = ROOT / "tests" / "data" / "logs"
 CYRILLIC = re.compile("[а-яёА-ЯЁ]")
 LATIN = re.compile("[A-Za-z]")

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from .drivers import HID_DRIVERS, Driver
 from .errors import DeviceLinkError, PortNotFound
-from .ports import PortInfo
+from .port_info import PortInfo
 from ..i18n import _
 
 PREFIX = "hid:"

@@ -4,26 +4,8 @@ is reached by the path or URL it prints. Scanning can take a while on some syste
 this off the GUI thread or on a slow timer (>= 1 s)."""
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 from ..i18n import N_, _
-
-VIRTUAL = "virtual"
-
-
-@dataclass(frozen=True)
-class PortInfo:
-    device: str               # what ChargerClient opens: /dev/ttyUSB0, COM3, socket://..., or "virtual"
-    description: str
-    hwid: str = ""
-    vid: int | None = None
-    pid: int | None = None
-    virtual: bool = False
-
-    def label(self) -> str:
-        ids = f" [{self.vid:04X}:{self.pid:04X}]" if self.vid is not None and self.pid is not None else ""
-        return f"{self.device} - {_(self.description) if self.virtual else self.description}{ids}"
-
+from .port_info import VIRTUAL, PortInfo
 
 # Its description is shown through _() (PortInfo.label), so the list follows the installed language.
 VIRTUAL_PORT = PortInfo(VIRTUAL, N_("built-in virtual charger (the simulator behind the protocol)"), virtual=True)

@@ -2,6 +2,10 @@
 templates, the standard macros and the application's icon. This module is the one place that knows
 where they live.
 
+In the source tree they are the top-level folders ``resources/`` and ``macros/``; the build maps
+them into the package as ``zuml_studio.resources`` and ``zuml_studio.macros`` (``setup.py``), and
+an editable install maps them the same way, so no code path knows about the source tree.
+
 They are read through ``importlib.resources`` so an installed wheel or a frozen bundle works
 without the source tree. A file that is missing or unreadable raises `DataFileError` naming it:
 the installation is broken, and no caller may carry on with a weaker answer (a safety lint
@@ -13,15 +17,12 @@ import tomllib
 from importlib import resources
 from pathlib import Path
 
-from ..macro_file import EXTENSION
-from ..i18n import _
+from .data_error import DataFileError
+from .i18n import _
+from .macro_file import EXTENSION
 
-
-class DataFileError(Exception):
-    """A data file of the installation is missing, unreadable or malformed.
-
-    Deliberately not an OSError or ValueError: handlers written for a user's bad input must not
-    swallow a broken installation."""
+RESOURCES = "zuml_studio.resources"
+MACROS = "zuml_studio.macros"
 
 
 def _missing(where: object, folder: bool = False) -> DataFileError:
@@ -33,14 +34,14 @@ def _missing(where: object, folder: bool = False) -> DataFileError:
 
 
 def location(relative: str) -> str:
-    """Where a data file is (or should be), e.g. ``…/zuml_studio/data/chemistries/LiPo.toml``."""
-    return str(resources.files(__name__).joinpath(*relative.split("/")))
+    """Where a data file is (or should be), e.g. ``…/zuml_studio/resources/chemistries/LiPo.toml``."""
+    return str(resources.files(RESOURCES).joinpath(*relative.split("/")))
 
 
 def read_text(relative: str) -> str:
     """The text of a data file, ``relative`` to this package (``chemistries/LiPo.toml``)."""
     try:
-        return resources.files(__name__).joinpath(*relative.split("/")).read_text(encoding="utf-8")
+        return resources.files(RESOURCES).joinpath(*relative.split("/")).read_text(encoding="utf-8")
     except FileNotFoundError:
         raise _missing(location(relative)) from None
     except (OSError, UnicodeDecodeError) as exc:
@@ -59,7 +60,7 @@ def read_toml(relative: str) -> dict:
 
 def names(folder: str, suffix: str = ".toml") -> list[str]:
     """The stems of the data files in ``folder`` (``chargers`` -> ``['imax_b6']``), sorted."""
-    entry = resources.files(__name__).joinpath(folder)
+    entry = resources.files(RESOURCES).joinpath(folder)
     if not entry.is_dir():
         raise _missing(location(folder), folder=True)
     return sorted(f.name[: -len(suffix)] for f in entry.iterdir() if f.name.endswith(suffix))
@@ -75,7 +76,7 @@ def file_path(relative: str) -> Path:
 
 def standard_macros_dir() -> Path:
     """The folder of the standard macros, a real directory (the editor opens them as files)."""
-    folder = Path(location("macros"))
+    folder = Path(str(resources.files(MACROS)))
     if not folder.is_dir():
         raise _missing(folder, folder=True)
     return folder
