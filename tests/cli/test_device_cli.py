@@ -131,7 +131,7 @@ def test_run_monitor_stop(any_charger, zuml, tmp_path):
 
 def test_monitor_for_some_seconds_and_interrupt(any_charger, zuml, tmp_path):
     port = any_charger().port
-    code, out, err = zuml("monitor", "--port", port, "--seconds", "0.6", "--rate", "10")
+    code, out, err = zuml("monitor", "--port", port, "--samples", "3", "--seconds", "50", "--rate", "10")
     assert code == 0 and out.count("idle") >= 3, (out, err)
     # Ctrl+C as in a terminal (a test runner started in the background may have SIGINT ignored,
     # and Python keeps an inherited SIG_IGN).

@@ -42,7 +42,7 @@ def test_flash_slots_run_monitor_stop_backup_against_the_firmware(firmware_port,
     code, out, err = zuml("run", "--port", port, "--slot", "0", "--capacity", "2000", "--current", "1",
                           "--series", "3")
     assert code == 0, err
-    code, out, err = zuml("monitor", "--port", port, "--seconds", "1.5", "--rate", "10")
+    code, out, err = zuml("monitor", "--port", port, "--samples", "3", "--seconds", "50", "--rate", "10")
     assert code == 0 and "charge" in out, err
     code, out, err = zuml("stop", "--port", port)
     assert code == 0, err

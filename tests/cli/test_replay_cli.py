@@ -44,13 +44,15 @@ def test_replay_into_monitor_loses_nothing(tmp_path, name, records, driver, cell
     try:
         assert port.startswith("/dev/"), proc.stderr.read()
         out_csv = tmp_path / "out.csv"
-        code, out, err = run_zuml("monitor", "--port", port, "--driver", "auto", "--seconds", "5",
-                                  "--csv", str(out_csv))
+        code, out, err = run_zuml("monitor", "--port", port, "--driver", "auto", "--samples", str(records),
+                                  "--seconds", "50", "--csv", str(out_csv))
+        # The replay says so once its last record is out (the monitor may have it first).
+        told = [proc.stderr.readline() for _ in range(2)]
     finally:
-        _, replay_err = _stop(proc)
+        _stop(proc)
     assert code == 0, err
     assert f"recognised {DRIVERS[driver].title} at " in err, err
-    assert "end of the recording" in replay_err
+    assert "end of the recording" in told[1], told
     with out_csv.open() as fh:
         rows = list(csv.DictReader(fh))
     assert len(rows) == records and len(out.splitlines()) == records
@@ -102,7 +104,8 @@ def test_a_hid_report_dump_replays_to_its_driver(tmp_path):
     dump.write_text("# three log reports\n" + "".join(f"RX {ICHARGER_HID_REPORT[:44].hex(' ')}\n" for _ in range(3)))
     proc, port = _replay(str(dump), "--speed", "100")
     try:
-        code, out, err = run_zuml("monitor", "--port", port, "--driver", "icharger-hid", "--seconds", "3")
+        code, out, err = run_zuml("monitor", "--port", port, "--driver", "icharger-hid", "--samples", "3",
+                                  "--seconds", "50")
     finally:
         _stop(proc)
     assert code == 0 and "icharger-hid: 3 samples, 0 bad records" in err, err

@@ -69,6 +69,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                           "or one of {drivers}").format(zuml=ZUML, drivers=', '.join(DRIVERS)))
     p.add_argument("--csv", metavar="OUT.csv", help=_("also write every line to a CSV file"))
     p.add_argument("--seconds", type=float, metavar="S", help=_("end after S seconds"))
+    p.add_argument("--samples", type=int, metavar="N", help=_("end after N samples (with --seconds: whichever "
+                                                               "comes first)"))
     p.add_argument("--rate", type=int, metavar="HZ", help=_("telemetry rate to set, 1..50"))
     p.add_argument("--until-end", action="store_true", help=_("end when the running macro finishes"))
     p.set_defaults(run=cmd_monitor)
@@ -390,6 +392,8 @@ CSV_COLUMNS = ("time_s", "running", "paused", "section", "repetition", "cycle", 
 
 @_device_errors
 def cmd_monitor(args: argparse.Namespace) -> int:
+    if args.samples is not None and args.samples < 1:
+        raise CliError(_("--samples must be at least 1"))
     if args.driver != ZUML:
         return _monitor_charger(args)
     if args.rate is not None and not 1 <= args.rate <= 50:
@@ -406,6 +410,7 @@ def cmd_monitor(args: argparse.Namespace) -> int:
             out(_("nothing is running"))
             return 0
         end = time.monotonic() + args.seconds if args.seconds is not None else None
+        samples = 0
         for kind, item in _until(feed, end, sink.flush_if_due if sink else None):
             if kind == "disconnected":
                 raise item
@@ -417,6 +422,9 @@ def cmd_monitor(args: argparse.Namespace) -> int:
                               f"{item.current_a:.3f}", "" if item.temp_c is None else f"{item.temp_c:.2f}",
                               "" if item.heatsink_c is None else f"{item.heatsink_c:.2f}",
                               f"{item.mah_in:.1f}", f"{item.mah_out:.1f}", ""))
+                samples += 1
+                if samples == args.samples:
+                    break
             else:
                 out(event_line(item))
                 if sink:
@@ -497,12 +505,16 @@ def _monitor_charger(args: argparse.Namespace) -> int:
     link.start()
     end = time.monotonic() + args.seconds if args.seconds is not None else None
     error = None
+    samples = 0
     try:
         for kind, item in _until(feed, end, log.flush_if_due if log else None):
             if kind == "sample":
                 out(telemetry_line(item) + _cells_text(item))
                 if log:
                     log.add_telemetry(item)
+                samples += 1
+                if samples == args.samples:
+                    break
             elif kind == "status":
                 sys.stderr.write(f"{item}\n")
                 sys.stderr.flush()
@@ -519,18 +531,19 @@ def _monitor_charger(args: argparse.Namespace) -> int:
                 kind, item = feed.get_nowait()
             except queue.Empty:
                 break
-            if kind == "sample":
+            if kind == "sample" and samples != args.samples:
                 out(telemetry_line(item) + _cells_text(item))
                 if log:
                     log.add_telemetry(item)
+                samples += 1
             elif kind == "closed" and error is None:
                 error = item
         if log:
             log.close()
     name = link.driver.name if link.driver else _("no charger recognised")
-    sys.stderr.write((ngettext("{name}: {samples} sample", "{name}: {samples} samples", link.samples)
+    sys.stderr.write((ngettext("{name}: {samples} sample", "{name}: {samples} samples", samples)
                      + ngettext(", {bad} bad record\n", ", {bad} bad records\n", link.bad)).format(
-            name=name, samples=link.samples, bad=link.bad))
+            name=name, samples=samples, bad=link.bad))
     if error:
         raise CliError(error, 1)
     if link.driver is None and link.received == 0:

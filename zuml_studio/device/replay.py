@@ -7,12 +7,17 @@ the text forms of the shared samples). The record times are those the driver's d
 gives (the line's own clock, or its fixed step).
 
 ``ReplayDevice`` has the byte interface ``transport.serve_pty`` drives for the virtual
-charger. pyserial empties a port's input when it opens it, so the replay starts only once a
-reader has opened the pty (it sees the reader set the line up) and a moment has passed.
+charger. pyserial empties a port's input when it opens it (after setting the line up), so the
+replay starts only once a reader has opened the pty and emptied its input: the pty's master is in
+packet mode, where the reader's flush arrives as a status byte. Whatever the machine's load, no
+record is sent before that flush and lost in it. A reader that sets the line up but never flushes
+(a terminal program) gets the recording after FLUSH_WAIT_S.
 """
 from __future__ import annotations
 
+import fcntl
 import random
+import struct
 import termios
 import threading
 import time
@@ -24,7 +29,7 @@ from .virtual_charger import Faults
 from ..i18n import _
 
 MAX_GAP_S = 60.0                 # a longer pause in a recording (a restart, a joined file) plays as this
-SETTLE_S = 0.3                   # after the reader set the line up, before the first byte
+FLUSH_WAIT_S = 2.0               # after the reader set the line up, the longest wait for its flush
 # how a driver's stream splits into records
 _SPLIT = {"cheali": b"\n", "icharger": b"\n", "imaxb6": b"}", "ultramat": b"\r"}
 
@@ -88,6 +93,7 @@ class ReplayDevice:
         self._stop = threading.Event()
         self._slave: int | None = None
         self._armed = threading.Event()
+        self._flushed = threading.Event()
         self.sent_records = 0
         self.finished = threading.Event()
         self._thread = threading.Thread(target=self._play, name="replay", daemon=True)
@@ -101,12 +107,16 @@ class ReplayDevice:
     def detach(self) -> None:
         self._stop.set()
         self._armed.set()
+        self._flushed.set()
 
     def reset_link(self) -> None:
         pass
 
     def receive(self, data: bytes) -> None:
-        pass                        # monitor-only chargers ignore what the host sends
+        # Monitor-only chargers ignore what the host sends. In packet mode each read of the master
+        # starts with a status byte: 0 before data, else what happened to the line.
+        if data and data[0] & termios.TIOCPKT_FLUSHREAD:
+            self._flushed.set()
 
     def line_idle(self) -> None:
         pass
@@ -120,10 +130,15 @@ class ReplayDevice:
             return out
 
     # -- playing -------------------------------------------------------------------------------
-    def watch_reader(self, slave_fd: int | None) -> None:
-        """Start once a reader has set up the pty whose slave is ``slave_fd`` (None: now). Call
-        before anyone can know the port: the line is marked here, so no reader's set-up is missed."""
+    def watch_reader(self, slave_fd: int | None, master_fd: int | None = None) -> None:
+        """Start once a reader has set up the pty whose slave is ``slave_fd`` (None: now) and, where
+        the ``master_fd`` is given, emptied its input. Call before anyone can know the port: the line
+        is marked here, so no reader's set-up or flush is missed."""
         self._slave = slave_fd
+        if master_fd is not None and self.wait_for_reader:
+            fcntl.ioctl(master_fd, termios.TIOCPKT, struct.pack("i", 1))
+        else:
+            self._flushed.set()
         if slave_fd is not None and self.wait_for_reader:
             attrs = termios.tcgetattr(slave_fd)
             attrs[4] = attrs[5] = termios.B50      # a speed no reader asks for: any open changes it
@@ -137,7 +152,7 @@ class ReplayDevice:
             return
         while not self._stop.is_set():
             if termios.tcgetattr(fd) != self._marked:
-                self._stop.wait(SETTLE_S)
+                self._flushed.wait(FLUSH_WAIT_S)
                 return
             self._stop.wait(0.01)
 
@@ -166,5 +181,5 @@ def serve_replay(recording: Recording, speed: float = 1.0) -> tuple[str, Callabl
     from .transport import serve_pty
     device = ReplayDevice(recording, speed)
     port, stop = serve_pty(device, None)          # type: ignore[arg-type]  # the same byte interface
-    device.watch_reader(stop.link.slave)          # type: ignore[attr-defined]
+    device.watch_reader(stop.link.slave, stop.link.master)      # type: ignore[attr-defined]
     return port, stop, device
