@@ -22,7 +22,8 @@ def test_table_makes_a_default_end_visible():
     rc, out, _ = run_zuml(*NIMH, "--no-sensor")
     assert rc == 0
     assert "default: capacity 1.5x" in out
-    assert "note: phase 1 (charge) ended by default: capacity 1.5x, not by a condition of the macro" in out
+    assert ("⚠ phase 1 (charge) ended by default: capacity 1.5x, not by a condition of the macro: no condition of "
+            "the macro ended this charge before the charger's guard") in out
 
 
 def test_csv_has_every_sample_with_the_header(tmp_path):

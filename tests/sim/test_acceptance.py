@@ -124,8 +124,26 @@ def test_life_cc_about_an_hour_then_a_short_cv():
     assert (r.phases[0].end_s - cc_end) / 3600 < 0.15
 
 
+# A bulk charge to 2.40 V per cell, then a TRICKLE top-up between 2.25 and 2.40 V (the standard
+# Pb-float was this until it gained an absorption stage and a float at 2.27 V: issue 25).
+BULK_THEN_TRICKLE = """MACRO Pb-trickle
+  AKK_TYPE=Pb
+  CHARGE_SECTION
+    FAZE
+      CONSTANT_I=INPUT
+      IF(V>2.4S) STOP_FAZE
+    END_FAZE
+    FAZE
+      TRICKLE(0.1C, 2.25S, 2.4S)
+      IF(tf>6h) STOP_FAZE
+    END_FAZE
+  END_SECTION
+END_MACRO
+"""
+
+
 def test_lead_acid_reaches_2_40_v_at_80_to_90_percent_then_trickle_holds_it_between_its_limits():
-    r = run("Pb-float", capacity=7000, series=6, current=1.75, soc=0.2)
+    r = run(BULK_THEN_TRICKLE, capacity=7000, series=6, current=1.75, soc=0.2)
     bulk, float_ = r.phases
     assert bulk.reason == "IF(V>2.4S) STOP_FAZE" and 0.80 <= bulk.soc_end <= 0.90
     a = r.log.arrays()

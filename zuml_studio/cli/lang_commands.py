@@ -71,14 +71,18 @@ def cmd_check(args: argparse.Namespace) -> int:
 
 
 def _summary(path: str, result: CompileResult) -> None:
-    """``FILE: 2 errors, 1 warning`` on stderr, after a file's diagnostics (none for a clean file)."""
-    errors = len(result.errors)
-    warnings = len(result.diagnostics) - errors
+    """``FILE: 2 errors, 1 warning`` (``, 1 note`` where there are notes) on stderr, after a file's
+    diagnostics (none for a clean file)."""
+    errors, warnings = len(result.errors), len(result.warnings)
+    notes = len(result.diagnostics) - errors - warnings
     if not result.diagnostics:
         return
-    sys.stderr.write(_("{path}: {errors}, {warnings}").format(
+    line = _("{path}: {errors}, {warnings}").format(
         path=path, errors=ngettext("{n} error", "{n} errors", errors).format(n=errors),
-        warnings=ngettext("{n} warning", "{n} warnings", warnings).format(n=warnings)) + "\n")
+        warnings=ngettext("{n} warning", "{n} warnings", warnings).format(n=warnings))
+    if notes:
+        line += ", " + ngettext("{n} note", "{n} notes", notes).format(n=notes)
+    sys.stderr.write(line + "\n")
 
 
 def compile_file(path: str, unsafe_ok: bool = False) -> bytes:

@@ -8,7 +8,7 @@ import sys
 from ..sim.batteries import BatteryFileError
 from ..sim.battery import AMBIENT_MAX_C, AMBIENT_MIN_C
 from ..sim.interpreter import Measurement, StartError, StartParams
-from ..sim.reasons import shown_reason
+from ..sim.reasons import end_advice, shown_reason
 from ..sim.simulate import BatterySetup, SimResult, simulate
 from ..sim.start_check import start_warnings
 from ..sim.start_templates import TEMPLATE_COUNT
@@ -142,11 +142,14 @@ def _table(args: argparse.Namespace, result: SimResult) -> None:
                   "{charged:.1f} mAh").format(
                     repetition=rep['repetition'], discharged=rep['discharged_mah'], charged=rep['charged_mah']))
     for ph in result.phases:
-        if ph.by_default:
-            out(_("note: phase {run} ({section}) ended by {reason}, not by a condition of the macro").format(
-                    run=ph.run, section=ph.section, reason=shown_reason(ph.reason)))
+        if ph.full_by_dtdt:
+            out(_("note: phase {run} ({section}) ended by {reason}: {advice}").format(
+                    run=ph.run, section=ph.section, reason=shown_reason(ph.reason), advice=end_advice(ph)))
+        elif ph.by_default:
+            out(_("⚠ phase {run} ({section}) ended by {reason}, not by a condition of the macro: {advice}").format(
+                    run=ph.run, section=ph.section, reason=shown_reason(ph.reason), advice=end_advice(ph)))
         if ph.timer_before_full:
             out(_("⚠ phase {run} ({section}): timer before full: {reason} ended it with {mah_in:.0f} mAh put in, "
-                  "less than the {capacity_mah:g} mAh capacity").format(
+                  "the pack at {soc:.0f} %: {advice}").format(
                     run=ph.run, section=ph.section, reason=shown_reason(ph.reason), mah_in=ph.mah_in,
-                    capacity_mah=result.capacity_mah))
+                    soc=ph.soc_end * 100, advice=end_advice(ph)))

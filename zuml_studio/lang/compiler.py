@@ -32,6 +32,11 @@ class CompileResult:
     def errors(self) -> list[Diagnostic]:
         return [d for d in self.diagnostics if d.is_error]
 
+    @property
+    def warnings(self) -> list[Diagnostic]:
+        """The warnings only: notes are not counted as warnings anywhere."""
+        return [d for d in self.diagnostics if d.is_warning]
+
 
 def node_span(macro: Macro, node: object) -> Span:
     if node == "name":

@@ -8,8 +8,11 @@ from ..i18n import _
 
 
 class Severity(str, Enum):
+    """ERROR: nothing compiles or flashes. WARNING: the macro may be wrong or dangerous as written.
+    NOTE: a fact the author should know that needs no change (a value left to be entered at start)."""
     ERROR = "error"
     WARNING = "warning"
+    NOTE = "note"
 
 
 @dataclass(frozen=True)
@@ -29,12 +32,19 @@ class Diagnostic:
     def is_error(self) -> bool:
         return self.severity is Severity.ERROR
 
+    @property
+    def is_warning(self) -> bool:
+        return self.severity is Severity.WARNING
+
     def render(self, filename: str) -> str:
         """``FILE:LINE:COL: error: MESSAGE [CODE]`` as ``zuml check`` prints it."""
-        severity = _("error") if self.is_error else _("warning")
+        severity = _("error") if self.is_error else _("warning") if self.is_warning else _("note")
         text = f"{filename}:{self.line}:{self.column}: {severity}: {self.message} [{self.code}]"
         return text + ("\n    " + _("hint: {hint}").format(hint=self.hint) if self.hint else "")
 
 
+RANK = {Severity.ERROR: 0, Severity.WARNING: 1, Severity.NOTE: 2}      # the worst first
+
+
 def sort_key(d: Diagnostic) -> tuple[int, int, int]:
-    return (d.line, d.column, 0 if d.is_error else 1)
+    return (d.line, d.column, RANK[d.severity])

@@ -120,6 +120,12 @@ def _warn(node, code: str, message: str, hint: str = "") -> Finding:
     return Finding(node, Severity.WARNING, code, message, hint)
 
 
+def _note(node, code: str, message: str, hint: str = "") -> Finding:
+    """What the author should know about a value left to the start (the start check judges the
+    value entered): a note, not a warning, so a generic macro is clean."""
+    return Finding(node, Severity.NOTE, code, message, hint)
+
+
 def rule_chemistry_declared(ctx: Context) -> Iterator[Finding]:
     akk = ctx.macro.declared(ops.AKK_TYPE)
     if akk is None:
@@ -231,12 +237,12 @@ def _dpeak_rate(ctx: Context, st: Statement, raw: int, min_rate: float) -> Itera
             message = _("The current is entered at start: below {amps:.2f} A ({min_rate:g}C of the declared "
                         "{capacity_mah} mAh) a {name} cell shows no reliable -dV").format(
                 amps=amps, min_rate=min_rate, capacity_mah=ctx.capacity_mah, name=name)
-            yield _warn(st, "W306", message, hint)
+            yield _note(st, "W306", message, hint)
         else:
             message = _("The current is entered at start: below {min_rate:g}C ({amps:g} A for a 2000 mAh pack) a "
                         "{name} cell shows no reliable -dV; the simulator and the device panel check the values "
                         "entered").format(min_rate=min_rate, amps=min_rate * 2, name=name)
-            yield _warn(st, "W306", message, hint)
+            yield _note(st, "W306", message, hint)
     elif not raw & RELATIVE_FLAG:
         amps = raw / 100
         message = _("At {amps:g} A the -dV of a {name} cell is reliable only up to {capacity:.0f} mAh "
@@ -302,12 +308,12 @@ def rule_relative_units_at_start(ctx: Context) -> Iterator[Finding]:
     if needs_capacity is not None and ctx.capacity_mah is None:
         message = _("Currents in C need the capacity, which is not declared: it must be entered at start")
         hint = _("declare CAPACITY=… in the introduction if it is always the same")
-        yield _warn(needs_capacity, "W310", message, hint)
+        yield _note(needs_capacity, "W310", message, hint)
     if needs_series is not None and ctx.series is None:
         message = _("Voltages per cell (S) need the cell count, which is not declared: it must be entered at "
                     "start")
         hint = _("declare SERIES=… if it is always the same")
-        yield _warn(needs_series, "W310", message, hint)
+        yield _note(needs_series, "W310", message, hint)
 
 
 def rule_trickle_lithium(ctx: Context) -> Iterator[Finding]:

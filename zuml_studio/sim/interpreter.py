@@ -42,7 +42,10 @@ DTDT_HOLDOFF_S = 120.0
 DEFAULT_LIMIT_S = 1000 * 3600.0
 
 _CC, _CV, _PULSE, _TRICKLE = range(4)
-_TIMERS = (87, 88)          # tm, tf: a phase they end is checked against the capacity (timer before full)
+_TIMERS = (87, 88)          # tm, tf: a charge they end is checked against the pack's state (timer before full)
+# A pack the model holds at this state of charge or more is full: a timer ending a charge there did
+# not cut it short, and the dT/dt default ending it there is the normal end of a fast nickel charge.
+FULL_SOC = 0.95
 AKK_NAMES = {code: name for name, code in ops.AKK_TYPE.operands[0].kind.names.items()}
 
 
@@ -105,12 +108,26 @@ class PhaseResult:
     clip_given_a: float = 0.0      # ... what the charger gave ...
     clip_limit: str = ""           # ... and which limit ("5 W discharge limit"); "" when never cut
     clipped_s: float = 0.0         # how long the limits cut the current in this phase
-    timer_before_full: bool = False   # a charge ended by a timer (tf or tm) with less than the capacity in
+    timer_before_full: bool = False   # a charge ended by a timer (tf or tm) before the pack was full
 
     @property
     def by_default(self) -> bool:
         """Ended by one of the charger's default safety conditions, not by the macro's own."""
         return self.reason.startswith(("default:", "limit:"))
+
+    @property
+    def full_by_dtdt(self) -> bool:
+        """A charge the dT/dt default ended once the pack was full. ZUML cannot write dT/dt; with a
+        sensor the charger always watches it (spec §3), and a nickel pack charged at about 1C warms
+        by 1 °C/min as it becomes full, minutes before its -dV (the dT/dt method): the charger's
+        normal end of a fast charge, not something the user must act on."""
+        return self.section == "charge" and self.reason.startswith("default: dT/dt") and self.soc_end >= FULL_SOC
+
+    @property
+    def warns(self) -> bool:
+        """Worth a warning sign: a default ended it (other than the dT/dt of a full pack), or a
+        timer cut a charge before the pack was full."""
+        return (self.by_default and not self.full_by_dtdt) or self.timer_before_full
 
     @property
     def paused_s(self) -> float:
@@ -491,8 +508,7 @@ class Interpreter:
         r.soc_end = self.pack.soc
         if r.pauses and self.paused:
             r.pauses[-1][1] = self.time_s
-        r.timer_before_full = bool(a.by_timer and r.section == "charge" and self.capacity_ah
-                                   and r.mah_in < self.capacity_ah * 1000.0)
+        r.timer_before_full = bool(a.by_timer and r.section == "charge" and r.soc_end < FULL_SOC)
         self._active = None
         self._event("phase_end", section=r.section, index=r.index, repetition=r.repetition, offset=r.offset,
                     detail=reason)

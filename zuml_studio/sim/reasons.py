@@ -44,3 +44,35 @@ def _default_condition(condition: str) -> str:
     if m := _EMPTY_DISCHARGE.fullmatch(condition):
         return _("empty discharge section, {condition}").format(condition=m["condition"])
     return condition                    # T>60, dT/dt>1C/min: symbols and units
+
+
+def end_advice(phase) -> str:
+    """Why a phase ended the way a user should look at, and what to change, in words ("" when its
+    end needs nothing): a default that ended it, or a timer that cut a charge before full.
+    ``phase`` is a `PhaseResult`."""
+    reason = phase.reason
+    if phase.full_by_dtdt:
+        return _("the pack was full and warmed faster than 1 °C/min: the charger's own end of a fast nickel charge "
+                 "with a sensor (its -dV would come a few minutes later); nothing to change")
+    if phase.timer_before_full:
+        return _("a timer ended this charge before the pack was full: give the timer more time (a charge at xC "
+                 "takes about 1/x hours, plus a fifth) or charge faster")
+    if reason.startswith("default: T>"):
+        return _("the battery reached the charger's 60 °C limit: charge slower, and end the phase yourself first "
+                 "(IF(T>45) STOP_FAZE)")
+    if reason.startswith("default: dT/dt"):
+        return _("the battery warmed faster than 1 °C/min before it was full: charge slower, or check that the "
+                 "sensor touches the pack and not the charger")
+    if _DEFAULT_CAPACITY.fullmatch(reason[len("default: "):]) and reason.startswith("default: "):
+        return _("no condition of the macro ended this charge before the charger's guard (1.5 × the capacity "
+                 "without a sensor): add the chemistry's end, -dV (IF(DELTA_PEAK>0.01S)) for nickel or a voltage "
+                 "(IF(V>…)) for lead and lithium, and a timer")
+    if reason.startswith("default: empty discharge section"):
+        return _("the discharge section is empty, so the charger discharged at 0.1 A to the chemistry's end "
+                 "voltage: write a discharge phase to choose the current and the end")
+    if reason.startswith("limit: simulation stopped"):
+        return _("nothing ended the macro: give every phase an end it reaches, a timer at least "
+                 "(IF(tf>…) STOP_FAZE)")
+    if phase.by_default:
+        return _("the charger's limits ended this phase, not the macro: stay within what the charger can give")
+    return ""

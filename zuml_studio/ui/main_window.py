@@ -346,8 +346,7 @@ class MainWindow(QMainWindow):
         self.problems.set_diagnostics(result.diagnostics)
         self.hex_view.show_result(result, self.validator.last_valid)
         self.hex_view.select_line(self.editor.current_line())
-        errors = len(result.errors)
-        warnings = len(result.diagnostics) - errors
+        errors, warnings = len(result.errors), len(result.warnings)
         if result.ok:
             self.size_label.setText(_("{size} / 255 bytes").format(size=len(result.record)))
             self.state_label.setText("✔ " + _("valid") + (", " + ngettext("{n} warning", "{n} warnings", warnings)
@@ -362,7 +361,9 @@ class MainWindow(QMainWindow):
             self.state_label.setStyleSheet(f"color:{theme.colours(self.palette()).error};")
             self.sim_panel.set_record(None)
         # The counts by sign, not in words: the dock is narrow and its title cannot wrap.
-        self.problems_dock.setWindowTitle(_("Problems") + (f"  ✖ {errors}  ⚠ {warnings}" if result.diagnostics else ""))
+        notes = len(result.diagnostics) - errors - warnings
+        self.problems_dock.setWindowTitle(_("Problems") + (f"  ✖ {errors}  ⚠ {warnings}" if result.diagnostics else "")
+                                          + (f"  ℹ {notes}" if notes else ""))
 
     @staticmethod
     def _declared(result: CompileResult) -> dict:
@@ -839,8 +840,7 @@ class MainWindow(QMainWindow):
     def verify(self) -> bool:
         """Ctrl+R: check and compile now; the result in the status bar and the Problems list."""
         result = self.validate_now()
-        errors = len(result.errors)
-        warnings = len(result.diagnostics) - errors
+        errors, warnings = len(result.errors), len(result.warnings)
         if result.ok:
             message = _("Verified: {size} of 255 bytes").format(size=len(result.record))
             if warnings:

@@ -6,7 +6,7 @@ from PySide6.QtGui import QColor
 from PySide6.QtWidgets import QHeaderView, QStyle, QTreeWidget, QTreeWidgetItem
 
 from ..i18n import _
-from ..lang.diagnostics import Diagnostic
+from ..lang.diagnostics import Diagnostic, Severity
 from . import theme
 
 _ROLE = Qt.ItemDataRole.UserRole
@@ -32,20 +32,21 @@ class ProblemsView(QTreeWidget):
         self.itemActivated.connect(self._activated)
         self.itemDoubleClicked.connect(self._activated)
         style = self.style()
-        self._icons = {True: style.standardIcon(QStyle.StandardPixmap.SP_MessageBoxCritical),
-                       False: style.standardIcon(QStyle.StandardPixmap.SP_MessageBoxWarning)}
+        self._icons = {Severity.ERROR: style.standardIcon(QStyle.StandardPixmap.SP_MessageBoxCritical),
+                       Severity.WARNING: style.standardIcon(QStyle.StandardPixmap.SP_MessageBoxWarning),
+                       Severity.NOTE: style.standardIcon(QStyle.StandardPixmap.SP_MessageBoxInformation)}
 
     def set_diagnostics(self, diagnostics: list[Diagnostic]) -> None:
         self.clear()
         for d in diagnostics:
             text = d.message + (f" — {d.hint}" if d.hint else "")
             item = QTreeWidgetItem(["", f"{d.line}:{d.column}", text, d.code])
-            item.setIcon(0, self._icons[d.is_error])
+            item.setIcon(0, self._icons[d.severity])
             tip = f"{d.message}\n{d.hint}" if d.hint else d.message
             for col in range(1, 4):         # the list is narrow: the whole message on any cell
                 item.setToolTip(col, tip)
             item.setData(0, _ROLE, (d.line, d.column))
-            if not d.is_error:
+            if d.is_warning:
                 item.setForeground(3, QColor(theme.colours(self.palette()).warning))
             self.addTopLevelItem(item)
 

@@ -45,7 +45,8 @@ def band_label(p, short: bool = False) -> str:
 
 
 def band_warns(p) -> bool:
-    return p.by_default or getattr(p, "timer_before_full", False)
+    # A simulated phase knows whether it warns; a charger's phase (live) only how it ended.
+    return p.warns if hasattr(p, "warns") else p.by_default
 
 
 def curve_pen(colour: str, width: float = CURVE_WIDTH) -> QPen:

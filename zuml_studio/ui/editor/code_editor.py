@@ -19,7 +19,7 @@ from PySide6.QtGui import (QAction, QColor, QFontDatabase, QKeySequence, QTextCh
 from PySide6.QtWidgets import QPlainTextDocumentLayout, QPlainTextEdit, QTextEdit, QToolTip, QVBoxLayout, QWidget
 
 from ...i18n import _
-from ...lang.diagnostics import Diagnostic, Severity
+from ...lang.diagnostics import RANK, Diagnostic, Severity
 from .. import theme
 from . import indent
 from .completion import ZumlCompleter
@@ -28,8 +28,10 @@ from .highlighter import ZumlHighlighter, help_text
 from .line_numbers import LineNumberArea
 
 Selection = QTextEdit.ExtraSelection
-UNDERLINE_COLOURS = {Severity.ERROR: QColor("#e0201b"), Severity.WARNING: QColor("#f08c00")}
-TINT_COLOURS = {Severity.ERROR: QColor(224, 32, 27, 28), Severity.WARNING: QColor(240, 140, 0, 28)}
+UNDERLINE_COLOURS = {Severity.ERROR: QColor("#e0201b"), Severity.WARNING: QColor("#f08c00"),
+                     Severity.NOTE: QColor("#1a73e8")}
+TINT_COLOURS = {Severity.ERROR: QColor(224, 32, 27, 28), Severity.WARNING: QColor(240, 140, 0, 28),
+                Severity.NOTE: QColor(26, 115, 232, 0)}     # a note is underlined only
 TOOLTIP_COLUMNS = 64
 MIN_FONT_PT, MAX_FONT_PT = 6, 36
 
@@ -357,7 +359,7 @@ class CodeEditor(QPlainTextEdit):
         markers: dict[int, Severity] = {}
         for cursor, d in self._diagnostics:
             n = self.document().findBlock(cursor.selectionStart()).blockNumber()
-            if markers.get(n) is not Severity.ERROR:
+            if n not in markers or RANK[d.severity] < RANK[markers[n]]:
                 markers[n] = d.severity
         return markers
 

@@ -14,7 +14,8 @@ from ...lang.diagnostics import Severity
 if TYPE_CHECKING:
     from .code_editor import CodeEditor
 
-MARKER_COLOURS = {Severity.ERROR: QColor("#d93025"), Severity.WARNING: QColor("#f29900")}
+MARKER_COLOURS = {Severity.ERROR: QColor("#d93025"), Severity.WARNING: QColor("#f29900"),
+                  Severity.NOTE: QColor("#1a73e8")}
 
 
 class LineNumberArea(QWidget):

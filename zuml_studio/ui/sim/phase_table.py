@@ -9,7 +9,7 @@ from PySide6.QtGui import QColor
 from PySide6.QtWidgets import QAbstractItemView, QHeaderView, QStyle, QTableView
 
 from ...i18n import N_, _, ngettext
-from ...sim.reasons import shown_reason
+from ...sim.reasons import end_advice, shown_reason
 from .. import theme
 from ..timefmt import duration, hmm, hmmss
 
@@ -18,7 +18,7 @@ COLUMNS = ("#", N_("section"), N_("phase"), N_("start"), N_("end"), N_("duration
 REASON_COLUMN = COLUMNS.index("end reason")
 NOTES_COLUMN = COLUMNS.index("notes")
 DEFAULT_TIP = N_("ended by a default safety condition, not by the macro")
-TIMER_TIP = N_("timer before full: a timer ended this charge with less than the capacity put in")
+TIMER_TIP = N_("timer before full")
 SECTION_WORDS = {"charge": N_("charge"), "discharge": N_("discharge")}
 SECTION_TINT_ALPHA = 60          # the section cell in the plot's band hue
 ALIGNMENTS = tuple(int((Qt.AlignmentFlag.AlignRight if col in (0, 3, 4, 5, 7, 8, 9, 10) else Qt.AlignmentFlag.AlignLeft)
@@ -90,9 +90,11 @@ class PhaseModel(QAbstractTableModel):
         return self._phases[row] if 0 <= row < len(self._phases) else None
 
     def flag_tip(self, row: int) -> str:
-        """Why the row is flagged ("" if it is not)."""
+        """Why the row is flagged, and what to change ("" if it is not)."""
         p = self._phases[row]
-        return _(DEFAULT_TIP) if p.by_default else _(TIMER_TIP) if p.timer_before_full else ""
+        if not p.warns:
+            return ""
+        return f"{_(DEFAULT_TIP) if p.by_default else _(TIMER_TIP)}: {end_advice(p)}"
 
     def data(self, index: QModelIndex, role: int = DISPLAY):
         # Called several times per cell for every paint and size hint: one dictionary look-up
@@ -253,7 +255,7 @@ def totals_text(result) -> str:
     t = result.totals()
     parts = [_("total {time}").format(time=hmmss(t["duration_s"])), _("in {n} mAh").format(n=f"{t['mah_in']:.0f}"),
              _("out {n} mAh").format(n=f"{t['mah_out']:.0f}"), _("end: {reason}").format(reason=shown_reason(t["end"]) or "—")]
-    defaults = sum(1 for p in result.phases if p.by_default)
+    defaults = sum(1 for p in result.phases if p.by_default and not p.full_by_dtdt)
     if defaults:
         parts.append("⚠ " + ngettext("{n} phase ended by a default", "{n} phases ended by a default",
                                      defaults).format(n=defaults))
@@ -275,4 +277,8 @@ def totals_text(result) -> str:
                 caps = (", ".join(f"{m:.0f}" for m in measured[:3]) + ", … " + f"{measured[-1]:.0f}"
                         + " " + _("(avg {n})").format(n=f"{sum(measured) / len(measured):.0f}"))
             text += "\n" + _("measured capacity per discharge: {capacities} mAh").format(capacities=caps)
+    # Which phase, why, and what to change, for the first that warns (each row's tooltip has its own).
+    first = next((p for p in result.phases if p.warns), None)
+    if first is not None:
+        text += "\n" + _("phase {run}: {advice}").format(run=first.run, advice=end_advice(first))
     return text
