@@ -113,6 +113,10 @@ class DeviceConnection(QObject):
         self._lost.connect(self._link_lost)
         self.thread.start()
         _OPEN.add(self)
+        # Collected without shutdown() (a window dropped unclosed): the thread and its worker must
+        # outlive the connection until the thread has ended; Qt aborts the process when a running
+        # QThread is destroyed. At exit too, whatever is left (weakref.finalize runs then).
+        weakref.finalize(self, _end_worker_thread, self.thread, self._worker)
 
     # -- state --------------------------------------------------------------------------------
     def is_connected(self) -> bool:
@@ -346,6 +350,17 @@ class DeviceConnection(QObject):
 
 
 _OPEN: "weakref.WeakSet[DeviceConnection]" = weakref.WeakSet()
+_STRANDED: list = []      # threads that did not end in time: kept, never destroyed while they run
+
+
+def _end_worker_thread(thread: QThread, worker: QObject) -> None:
+    try:
+        thread.quit()
+        if not thread.wait(3000):
+            log.warning("a device worker thread did not end in 3 s; it is left to the process's end")
+            _STRANDED.append((thread, worker))
+    except RuntimeError:        # its Qt object is gone already (the application was torn down)
+        pass
 
 
 @atexit.register
