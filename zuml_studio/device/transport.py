@@ -324,6 +324,17 @@ class _SocketLink(_Link):
         except OSError:
             return None
 
+    def peer_gone(self) -> bool:
+        """The host has hung up: its end of stream is queued (or was already read)."""
+        if self.closed.is_set():
+            return True
+        try:
+            return self.conn.recv(1, socket.MSG_PEEK) == b""
+        except (BlockingIOError, InterruptedError):
+            return False
+        except OSError:
+            return True
+
     def _hangup(self) -> None:
         try:
             self.conn.shutdown(socket.SHUT_RDWR)
@@ -371,6 +382,11 @@ class _TcpServer:
             except OSError:
                 break
             self._reap()
+            if self.link is not None and self.link.peer_gone():
+                # The host before hung up but its link has not seen it yet (a loaded machine):
+                # its EOF is already queued, so the next host is not turned away.
+                self.link.stop()
+                self.link = None
             if self.link is not None:
                 conn.close()                 # one host at a time, like a serial port
                 continue
