@@ -315,11 +315,12 @@ def test_a_run_reports_telemetry_and_events_and_stops(any_charger, make_client):
     events = []
     client.on_event(events.append)
     assert client.start(0, "charge", capacity_mah=2000, current_a=1.0, series=3, sensor=False) == "LiPo"
-    assert wait_for(lambda: client.last_telemetry is not None and client.last_telemetry.phase == 1)
+    # The first frames of the phase may come before the stage has reached its current: wait for it.
+    assert wait_for(lambda: client.last_telemetry is not None and client.last_telemetry.phase == 1
+                    and abs(client.last_telemetry.current_a - 1.0) <= 0.05)
     status = client.status()
     assert status.state == "running" and status.name == "LiPo" and status.slot == 0
-    telemetry = client.last_telemetry
-    assert telemetry.section == "charge" and telemetry.current_a == pytest.approx(1.0, abs=0.05)
+    assert client.last_telemetry.section == "charge"
     assert client.stop() == "finished"
     assert wait_for(lambda: [e.kind for e in events][-1:] == ["finish"])
     assert [e.kind for e in events] == ["section", "phase_start", "phase_end", "finish"]

@@ -60,7 +60,7 @@ def test_debounce_checks_once_after_a_burst_of_typing(make_window, qtbot):
     _move_to_end_of(w.editor, "MUSIC(STOP)")
     runs = w.validator.runs
     qtbot.keyClicks(w.editor, " // a comment typed quickly")
-    qtbot.waitUntil(lambda: w.validator.runs > runs, timeout=2000)
+    qtbot.waitUntil(lambda: w.validator.runs > runs, timeout=20_000)
     qtbot.wait(400)
     assert w.validator.runs == runs + 1
 

@@ -36,7 +36,7 @@ def _settle(rounds: int = 5) -> None:
         QApplication.processEvents()
 
 
-def _simulator(qtbot, macro: str = "LiPo", battery: dict | None = None) -> Shown:
+def _simulator(qtbot, macro: str = "LiPo", battery: dict | None = None, sensor: bool = True) -> Shown:
     from zuml_studio.lang.compiler import compile_source
     from zuml_studio.ui.sim.sim_panel import SimulatorPanel
 
@@ -46,6 +46,7 @@ def _simulator(qtbot, macro: str = "LiPo", battery: dict | None = None) -> Shown
     panel.show()
     panel.set_record(compile_source((MACROS / f"{macro}.zuml").read_text()).record, macro,
                      battery or {"chemistry": "LiPo", "series": 3, "capacity_mah": 2200})
+    panel.form.sensor.setChecked(sensor)
     panel.simulate()
     assert panel.wait(60_000)
     qtbot.waitUntil(lambda: len(panel.plot.labels) == len(panel.plot._phases) > 0, timeout=10_000)
@@ -244,8 +245,8 @@ def test_the_phase_tables_flagged_row_and_section_tints_follow_the_theme(qtbot, 
     colours of the palette's set, a section cell is tinted in its band's hue."""
     from zuml_studio.ui.sim.phase_table import PhaseTable
 
-    # A NiMH charge with a sensor that its dT/dt default ends: a flagged row.
-    shown = _simulator(qtbot, "NiMh", {"chemistry": "NiMh", "series": 4, "capacity_mah": 2000})
+    # A NiMH charge without a sensor whose -dV never fires: the capacity default ends it, a flagged row.
+    shown = _simulator(qtbot, "NiMh", {"chemistry": "NiMh", "series": 4, "capacity_mah": 2000}, sensor=False)
     table = shown.owner.findChild(PhaseTable)
     model = table.phases
     assert any(table.is_flagged(row) for row in range(model.rowCount()))
