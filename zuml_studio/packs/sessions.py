@@ -127,6 +127,9 @@ def import_file(book: Logbook, pack: Pack, path: Path, *, source: str = "file",
         pack_name, file = _session_of(book, digest) or (pack.name, str(path))
         return ImportResult(str(path), "known", _("already in pack {pack!r} as {file}").format(
                 pack=pack_name, file=file))
+    if log.cells and log.cells != pack.cells:
+        return ImportResult(str(path), "added", _("the log shows {log_cells} cells, the pack has {cells}").format(
+                log_cells=log.cells, cells=pack.cells))
     return ImportResult(str(path), "added")
 
 

@@ -1,0 +1,77 @@
+"""zuml pack: the logbook from the command line (ZUML_STUDIO_DATA_DIR points at a temporary folder)."""
+import json
+import shutil
+
+import pytest
+
+DATA = __import__("pathlib").Path(__file__).resolve().parents[1] / "data" / "logs"
+
+
+@pytest.fixture(autouse=True)
+def data_dir(tmp_path, monkeypatch):
+    monkeypatch.setenv("ZUML_STUDIO_DATA_DIR", str(tmp_path / "data"))
+    return tmp_path / "data"
+
+
+def test_add_import_show_json_export_remove(zuml, tmp_path):
+    assert zuml("pack", "add", "Turnigy 4S #2", "--chemistry", "LiPo", "--cells", "4", "--capacity", "1500",
+                "--bought", "2024-05-01")[0] == 0
+    folder = tmp_path / "logs"
+    folder.mkdir()
+    for name in ("406DUO_Turnigy_4S_1500_A_Charge_0_CH1.txt", "X8_LiPo_5S_2200mA_Charge_4.txt"):
+        shutil.copy(DATA / name, folder / name)
+    code, out, _err = zuml("pack", "import", str(folder), str(folder / "X8_LiPo_5S_2200mA_Charge_4.txt"),
+                           "--pack", "Turnigy 4S #2")
+    assert code == 0 and "2 added, 1 already known, 0 not read" in out
+    assert "the log shows 5 cells, the pack has 4" in out
+    code, out, _err = zuml("pack", "show", "Turnigy 4S #2", "--json")
+    info = json.loads(out)
+    assert info["bought"] == "2024-05-01" and len(info["sessions"]) == 2
+    for s in info["sessions"]:
+        assert {"file", "charge_in_mah", "charge_out_mah", "resistance_mohm_per_cell", "cell_deviation_mv",
+                "t_max_c"} <= s.keys()
+    assert [s["charge_in_mah"] for s in info["sessions"]] == [1117.0, 2016.0]
+    assert len(info["trend"]) == 2 and set(info["health"]) == {"verdict", "reasons"}
+    assert info["health"]["verdict"] in ("good", "poor", "unknown") and info["health"]["reasons"]
+    code, out, _err = zuml("pack", "show", "Turnigy 4S #2")
+    assert code == 0 and "2 sessions" in out and "health:" in out
+    code, out, _err = zuml("pack", "list", "--json")
+    assert json.loads(out)["packs"][0]["sessions"] == 2
+    csv_path = tmp_path / "s.csv"
+    assert zuml("pack", "export", "Turnigy 4S #2", "-o", str(csv_path))[0] == 0
+    assert len(csv_path.read_text(encoding="utf-8").splitlines()) == 3
+    code, out, _err = zuml("pack", "remove", "Turnigy 4S #2")
+    assert code == 0 and "2 sessions" in out
+    assert "no packs yet" in zuml("pack", "list")[1]
+
+
+@pytest.mark.parametrize("args, words", [
+    (("pack", "show", "Nope"), "no pack named 'Nope'"),
+    (("pack", "remove", "Nope"), "no pack named 'Nope'"),
+    (("pack", "import", "x.lov", "--pack", "Nope"), "no pack named 'Nope'"),
+    (("pack", "add", "A", "--chemistry", "Kryptonite", "--cells", "4", "--capacity", "1"), "Kryptonite"),
+    (("pack", "add", "A", "--chemistry", "LiPo", "--cells", "99", "--capacity", "1"), "cells must be 1 to 32"),
+    (("pack", "add", "A", "--chemistry", "LiPo", "--cells", "3", "--capacity", "1", "--bought", "May"),
+     "YYYY-MM-DD"),
+])
+def test_errors_are_one_line(zuml, args, words):
+    code, out, err = zuml(*args)
+    assert code == 1 and words in err and err.count("\n") == 1
+
+
+def test_missing_path_and_unreadable_file(zuml, tmp_path):
+    zuml("pack", "add", "A", "--chemistry", "LiPo", "--cells", "3", "--capacity", "1000")
+    code, _out, err = zuml("pack", "import", str(tmp_path / "gone.lov"), "--pack", "A")
+    assert code == 1 and "no such file or folder" in err
+    junk = tmp_path / "junk.txt"
+    junk.write_text("hello")
+    code, out, _err = zuml("pack", "import", str(junk), "--pack", "A")
+    assert code == 1 and "0 added, 0 already known, 1 not read" in out
+
+
+def test_damaged_logbook_is_one_line_and_left_alone(zuml, data_dir):
+    data_dir.mkdir(parents=True)
+    (data_dir / "packs.sqlite3").write_bytes(b"\0garbage" * 1000)
+    code, _out, err = zuml("pack", "list")
+    assert code == 1 and "damaged" in err and err.count("\n") == 1
+    assert (data_dir / "packs.sqlite3").read_bytes() == b"\0garbage" * 1000
