@@ -8,7 +8,7 @@ from PySide6.QtGui import QImage
 
 from helpers import ROOT
 from zuml_studio.logs import read_log_file
-from zuml_studio.ui.packs import packs_panel
+from zuml_studio.ui.packs import dock_panel
 from zuml_studio.ui.packs.add_pack_dialog import AddPackDialog
 
 LOGS = ROOT / "tests" / "data" / "logs"
@@ -55,7 +55,7 @@ def test_a_folder_of_real_logs_becomes_a_pack_with_its_trend(make_window, qtbot,
     w = make_window()
     w.packs_dock.show()
     w.packs_dock.raise_()
-    panel = packs_panel(w, w.packs_dock)
+    panel = dock_panel(w, w.packs_dock)
     assert "No pack chosen" in panel.title.text()
     _add(panel, monkeypatch, "Receiver NiMH 4S", "NiMh", 4, 1200)
     folder = tmp_path / "logs"
@@ -93,7 +93,7 @@ def test_a_folder_of_real_logs_becomes_a_pack_with_its_trend(make_window, qtbot,
 def test_simulate_the_macro_on_the_packs_fitted_model(make_window, qtbot, monkeypatch):
     w = make_window(LIPO)
     w.packs_dock.show()
-    panel = packs_panel(w, w.packs_dock)
+    panel = dock_panel(w, w.packs_dock)
     _add(panel, monkeypatch, "Turnigy 4S #2", "LiPo", 4, 1500)
     with qtbot.waitSignal(panel.importFinished, timeout=60000):
         panel.import_paths([str(LOGS / "406DUO_Turnigy_4S_1500_A_Charge_0_CH1.txt")])
@@ -111,6 +111,6 @@ def test_a_damaged_logbook_is_shown_not_replaced(make_window, tmp_path):
     (tmp_path / "data" / "packs.sqlite3").write_bytes(b"junk" * 500)
     w = make_window()
     w.packs_dock.show()
-    panel = packs_panel(w, w.packs_dock)
+    panel = dock_panel(w, w.packs_dock)
     assert "damaged" in panel.error_label.text() and not panel.error_label.isHidden()
     assert (tmp_path / "data" / "packs.sqlite3").read_bytes() == b"junk" * 500

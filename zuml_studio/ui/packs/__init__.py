@@ -12,11 +12,11 @@ def install_packs_dock(window) -> QDockWidget:
     """The dock, tabbed with the Device dock; its panel (and the logbook) is made when it is first shown."""
     dock = window._dock(_("Packs"), "packsDock", QWidget(), Qt.DockWidgetArea.BottomDockWidgetArea)
     window.tabifyDockWidget(window.device_dock, dock)
-    dock.visibilityChanged.connect(lambda visible: visible and packs_panel(window, dock))
+    dock.visibilityChanged.connect(lambda visible: visible and dock_panel(window, dock))
     return dock
 
 
-def packs_panel(window, dock: QDockWidget):
+def dock_panel(window, dock: QDockWidget):
     """The dock's PacksPanel, made on first use: "simulate on this pack" sets the simulator's battery to the
     pack's model, its cells and capacity, and runs the macro there."""
     from .packs_panel import PacksPanel

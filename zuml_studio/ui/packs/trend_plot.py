@@ -14,9 +14,10 @@ from ..stacked_plot import colour_axes, curve_pen
 from ...i18n import N_, _
 
 # (field, axis title, the quantity hue it borrows)
-ROWS = (("capacity_pct", N_("capacity % of rated"), "voltage"),
-        ("resistance_mohm_per_cell", N_("resistance mΩ/cell"), "current"),
-        ("cell_deviation_mv", N_("cell deviation mV"), "temp"))
+# Short titles: three plots share a dock's height, a long title would run over the next plot's.
+ROWS = (("capacity_pct", N_("capacity %"), "voltage"),
+        ("resistance_mohm_per_cell", N_("mΩ/cell"), "current"),
+        ("cell_deviation_mv", N_("cells ΔV mV"), "temp"))
 
 
 def timestamp(recorded: str) -> float:
@@ -36,6 +37,7 @@ class PackTrendPlot(pg.GraphicsLayoutWidget):
         for row, (field, title, _hue) in enumerate(ROWS):
             plot = self.addPlot(row=row, col=0, axisItems={"bottom": pg.DateAxisItem(orientation="bottom")})
             plot.setLabel("left", _(title))
+            plot.getAxis("left").setWidth(52)        # the same for all three: their x axes line up
             plot.showGrid(x=True, y=True, alpha=self.look.plot.grid_alpha)
             plot.setMenuEnabled(False)
             colour_axes(plot, self.look.plot)
@@ -66,6 +68,9 @@ class PackTrendPlot(pg.GraphicsLayoutWidget):
             if limits[field] is not None:
                 plot.addItem(pg.InfiniteLine(limits[field], angle=0, pen=pg.mkPen(
                         self.look.error, width=1, style=Qt.PenStyle.DashLine)))
+            # The limit and zero in view, so a point's distance from the limit reads at a glance.
+            top = max([limits[field] or 0.0, *y]) if len(y) or limits[field] else 1.0
+            plot.setYRange(0.0, top * 1.1, padding=0)
         if points:
             stamps = [timestamp(p.recorded) for p in points]
             pad = max(86400.0 * 15, (max(stamps) - min(stamps)) * 0.05)
