@@ -33,7 +33,7 @@ def test_a_version_1_logbook_is_migrated_and_keeps_its_packs(tmp_path):
     assert book.version == db.SCHEMA_VERSION == 2
     assert get_pack(book, "Old").cells == 4
     columns = {r[1] for r in book.conn.execute("PRAGMA table_info(sessions)")}
-    assert {"passport_cycles", "passport_errors"} <= columns
+    assert {"passport_critical", "passport_errors"} <= columns
 
 
 def test_a_newer_schema_is_refused(tmp_path):

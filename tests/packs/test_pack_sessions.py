@@ -6,7 +6,8 @@ import pytest
 from zuml_studio.packs.db import Logbook
 from zuml_studio.packs.figures import SessionFigures
 from zuml_studio.packs.health import health, trend
-from zuml_studio.packs.register import PackError, add_pack, attach, attached_pack, attachment_key, remove_pack
+from zuml_studio.packs.register import (PackError, add_pack, attach, attachment, attachment_key,
+                                        forget_attachment, remove_pack)
 from zuml_studio.packs.sessions import Session, import_files, pack_sessions
 from zuml_studio.packs.summary import CSV_COLUMNS, pack_summary, write_sessions_csv
 
@@ -97,8 +98,12 @@ def test_register_errors_and_attachments(book):
         add_pack(book, "turnigy 4s #2", "LiPo", 4, 2200)
     key = attachment_key("/dev/ttyUSB0", "A1")
     assert key == "serial:A1" and attachment_key("/dev/ttyUSB0", None) == "port:/dev/ttyUSB0"
-    assert attached_pack(book, key) is None
+    assert attachment(book, key) == (False, None)
     attach(book, key, pack)
-    assert attached_pack(book, key) == pack
+    assert attachment(book, key) == (True, pack)
+    attach(book, "port:/dev/ttyACM0", None)                  # "no pack here", remembered
+    assert attachment(book, "port:/dev/ttyACM0") == (True, None)
+    forget_attachment(book, "port:/dev/ttyACM0")
+    assert attachment(book, "port:/dev/ttyACM0") == (False, None)
     remove_pack(book, pack.name)
-    assert attached_pack(book, key) is None
+    assert attachment(book, key) == (False, None)           # its pack gone: asked again

@@ -58,11 +58,11 @@ MIGRATIONS: tuple[str, ...] = (
     CREATE INDEX sessions_pack ON sessions(pack_id, recorded);
     """,
     """
-    ALTER TABLE sessions ADD COLUMN passport_cycles INTEGER;
     ALTER TABLE sessions ADD COLUMN passport_errors INTEGER;
+    ALTER TABLE sessions ADD COLUMN passport_critical INTEGER;
     CREATE TABLE attachments (
         key TEXT PRIMARY KEY,
-        pack_id INTEGER NOT NULL REFERENCES packs(id) ON DELETE CASCADE
+        pack_id INTEGER REFERENCES packs(id) ON DELETE CASCADE
     );
     """,
 )

@@ -2,7 +2,8 @@
 
 The limits are the hobby's rules of thumb the issue names: a pack is worn when it holds less than 80 %
 of its rated capacity, when its resistance has grown to 1.5 times its first measured value, or when a
-cell ends a charge more than 30 mV off the others (a drifting cell)."""
+cell ends a charge more than 30 mV off the others (a drifting cell); and, where a live run read the
+battery's passport, when it counts a critical error (spec §4: not fit for use)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -84,6 +85,16 @@ def health(pack: Pack, sessions: list[Session]) -> Health:
                     limit=CELL_DEVIATION_MAX_MV))
         else:
             passed.append(text)
+    read = [s for s in sessions if s.passport_errors is not None or s.passport_critical is not None]
+    if read:
+        # spec §4: CRIT > 0 is a battery not fit for use (the charger refuses it); ERR > 0 a warning.
+        last = read[-1]
+        if last.passport_critical:
+            failed.append(_("the passport counts {n} critical errors on {date}: not fit for use").format(
+                    n=last.passport_critical, date=last.recorded[:10]))
+        else:
+            passed.append(_("the passport counts {n} errors, no critical one, on {date}").format(
+                    n=last.passport_errors or 0, date=last.recorded[:10]))
     if failed:
         return Health("poor", tuple(failed))
     if passed:

@@ -101,19 +101,27 @@ def attachment_key(port: str, serial: str | None) -> str:
     return f"serial:{serial}" if serial else f"port:{port}"
 
 
-def attached_pack(book: Logbook, key: str) -> Pack | None:
-    rows = book.read("SELECT packs.* FROM attachments JOIN packs ON packs.id = attachments.pack_id "
+def attachment(book: Logbook, key: str) -> tuple[bool, Pack | None]:
+    """(whether a choice is remembered for ``key``, the pack chosen: None for "record no pack here")."""
+    rows = book.read("SELECT packs.* FROM attachments LEFT JOIN packs ON packs.id = attachments.pack_id "
                      "WHERE attachments.key = ?", (key,))
-    return _pack(rows[0]) if rows else None
+    if not rows:
+        return False, None
+    return True, (_pack(rows[0]) if rows[0]["id"] is not None else None)
 
 
 def attach(book: Logbook, key: str, pack: Pack | None) -> None:
-    """Remember ``pack`` for ``key`` (None: forget it, so the next run asks again)."""
+    """Remember ``pack`` for ``key``; None remembers "no pack" (the runs there are not recorded)."""
+    with book.write() as conn:
+        conn.execute("INSERT OR REPLACE INTO attachments (key, pack_id) VALUES (?, ?)",
+                     (key, pack.id if pack is not None else None))
+
+
+def forget_attachment(book: Logbook, key: str) -> None:
+    """The next run there asks again."""
     with book.write() as conn:
         conn.execute("DELETE FROM attachments WHERE key = ?", (key,))
-        if pack is not None:
-            conn.execute("INSERT INTO attachments (key, pack_id) VALUES (?, ?)", (key, pack.id))
 
 
 __all__ = ["Pack", "PackError", "LogbookError", "add_pack", "list_packs", "get_pack", "remove_pack",
-           "attachment_key", "attached_pack", "attach"]
+           "attachment_key", "attachment", "attach", "forget_attachment"]

@@ -33,13 +33,13 @@ class Session:
     recorded: str                  # ISO date or date-time
     recorded_from: str             # "file name", "file time" or "run"
     figures: SessionFigures
-    passport_cycles: int | None = None
-    passport_errors: int | None = None
+    passport_errors: int | None = None        # the battery passport's ERR and CRIT when a live run read them
+    passport_critical: int | None = None
 
     def as_dict(self) -> dict:
         return {"file": self.file, "source": self.source, "format": self.format, "device": self.device,
                 "recorded": self.recorded, "recorded_from": self.recorded_from, **self.figures.as_dict(),
-                "passport_cycles": self.passport_cycles, "passport_errors": self.passport_errors}
+                "passport_errors": self.passport_errors, "passport_critical": self.passport_critical}
 
 
 @dataclass(frozen=True)
@@ -94,6 +94,7 @@ def import_files(book: Logbook, pack: Pack, paths: Iterable[str | Path],
 
 def import_file(book: Logbook, pack: Pack, path: Path, *, source: str = "file",
                 passport: tuple[int | None, int | None] = (None, None)) -> ImportResult:
+    """``passport``: the battery passport's (ERR, CRIT) counters, when the run read them."""
     try:
         data = read_file_bytes(path)
     except FileReadError as exc:
@@ -115,7 +116,7 @@ def import_file(book: Logbook, pack: Pack, path: Path, *, source: str = "file",
     else:
         recorded, recorded_from = recorded_date(path)
     columns = ("pack_id", "sha256", "file", "source", "format", "device", "recorded", "recorded_from",
-               "imported", "passport_cycles", "passport_errors") + FIGURE_COLUMNS
+               "imported", "passport_errors", "passport_critical") + FIGURE_COLUMNS
     values = (pack.id, digest, str(Path(os.path.abspath(path))), source, log.format, log.device, recorded,
               recorded_from, dt.datetime.now(dt.timezone.utc).isoformat(timespec="seconds"), *passport,
               *(getattr(figures, c) for c in FIGURE_COLUMNS))
@@ -143,7 +144,8 @@ def pack_sessions(book: Logbook, pack: Pack) -> list[Session]:
     """The pack's sessions, oldest first."""
     rows = book.read("SELECT * FROM sessions WHERE pack_id = ? ORDER BY recorded, id", (pack.id,))
     return [Session(r["id"], r["file"], r["source"], r["format"], r["device"], r["recorded"], r["recorded_from"],
-                    SessionFigures(**{c: r[c] for c in FIGURE_COLUMNS}), r["passport_cycles"], r["passport_errors"])
+                    SessionFigures(**{c: r[c] for c in FIGURE_COLUMNS}), r["passport_errors"],
+                    r["passport_critical"])
             for r in rows]
 
 

@@ -11,7 +11,7 @@ from .register import Pack
 from .sessions import FIGURE_COLUMNS, pack_sessions
 
 CSV_COLUMNS = ("recorded", "file", "format", "device", "source") + FIGURE_COLUMNS + (
-        "passport_cycles", "passport_errors")
+        "passport_errors", "passport_critical")
 
 
 def pack_summary(book: Logbook, pack: Pack) -> dict:
