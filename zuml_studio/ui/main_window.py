@@ -24,7 +24,7 @@ from .help_browser import HelpBrowser
 from .hex_view import HexView
 from .language import restart
 from .library import LibraryBrowser
-from .packs import install_packs_dock
+from .packs import bind_live_runs, install_packs_dock
 from .plot_export import PlotExportDialog
 from .preferences import Preferences, PreferencesDialog
 from .problems import ProblemsView
@@ -148,6 +148,7 @@ class MainWindow(QMainWindow):
             panel.statusMessage.connect(lambda message: self.statusBar().showMessage(message, 6000))
             panel.connectedChanged.connect(self._device_connected)
             self._device_panel = panel
+            self.live_runs = bind_live_runs(self, panel)
             self.device_dock.setWidget(panel)
             if self.validator.last_valid is not None:
                 panel.macro_changed(self.validator.last_valid.record)

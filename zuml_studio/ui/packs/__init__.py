@@ -36,3 +36,15 @@ def dock_panel(window, dock: QDockWidget):
     panel.simulateOnPack.connect(simulate)
     dock.setWidget(panel)
     return panel
+
+
+def bind_live_runs(window, device_panel):
+    """Live runs on ``device_panel`` recorded into their packs (asked once per port or passport serial);
+    the Packs dock, when built, shows each as it is recorded."""
+    from .live_attach import LiveAttach
+
+    live = LiveAttach(device_panel, window)
+    live.statusMessage.connect(lambda message: window.statusBar().showMessage(message, 6000))
+    live.recorded.connect(lambda _result: window.packs_dock.widget().refresh()
+                          if hasattr(window.packs_dock.widget(), "refresh") else None)
+    return live
