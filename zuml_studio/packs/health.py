@@ -58,7 +58,7 @@ def health(pack: Pack, sessions: list[Session]) -> Health:
     capacity = [p for p in points if p.capacity_pct is not None]
     if capacity:
         last = capacity[-1]
-        text = _("capacity {pct:.0f} % of rated ({mah:.0f} of {rated:.0f} mAh) on {date}").format(
+        text = _("capacity {pct:.0f} %, {mah:.0f} of {rated:.0f} mAh rated, on {date}").format(
                 pct=last.capacity_pct, mah=last.capacity_pct * pack.capacity_mah / 100.0, rated=pack.capacity_mah,
                 date=last.recorded[:10])
         (failed if last.capacity_pct < CAPACITY_MIN_SHARE * 100.0 else passed).append(
