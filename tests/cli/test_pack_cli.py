@@ -75,3 +75,12 @@ def test_damaged_logbook_is_one_line_and_left_alone(zuml, data_dir):
     code, _out, err = zuml("pack", "list")
     assert code == 1 and "damaged" in err and err.count("\n") == 1
     assert (data_dir / "packs.sqlite3").read_bytes() == b"\0garbage" * 1000
+
+
+def test_import_draws_a_progress_bar_on_a_terminal(zuml, tmp_path, monkeypatch):
+    zuml("pack", "add", "A", "--chemistry", "LiFe", "--cells", "2", "--capacity", "2300")
+    monkeypatch.setattr("sys.stderr.isatty", lambda: True)
+    files = [str(DATA / n) for n in ("308DUO_LiFe_2.3Ah_Laden_0_CH1.txt", "4010DUO_LiFe_2S_3A_Charge_1_CH1.txt")]
+    code, out, err = zuml("pack", "import", *files, "--pack", "A")
+    assert code == 0 and "2 added" in out
+    assert "[###############...............] 1/2" in err and "[" + "#" * 30 + "] 2/2" in err

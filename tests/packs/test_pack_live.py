@@ -19,12 +19,9 @@ def test_a_collected_run_becomes_a_live_session_with_the_logs_figures(tmp_path):
     collector = RunCollector()
     collector.add(log.samples[0])                      # before START: not the run's
     collector.start()
-    threads = [threading.Thread(target=lambda part=part: [collector.add(s) for s in part])
-               for part in (log.samples,)]
-    for t in threads:
-        t.start()
-    for t in threads:
-        t.join()
+    reader = threading.Thread(target=lambda: [collector.add(s) for s in log.samples])   # as the reader thread
+    reader.start()
+    reader.join()
     samples = collector.take()
     assert len(samples) == len(log.samples) and not collector.collecting
     book = Logbook(tmp_path / "p.sqlite3")
