@@ -84,3 +84,31 @@ def test_import_draws_a_progress_bar_on_a_terminal(zuml, tmp_path, monkeypatch):
     code, out, err = zuml("pack", "import", *files, "--pack", "A")
     assert code == 0 and "2 added" in out
     assert "[###############...............] 1/2" in err and "[" + "#" * 30 + "] 2/2" in err
+
+
+def test_two_processes_importing_at_once_keep_the_logbook_whole(zuml, data_dir):
+    """Two instances (here two `zuml pack import` processes) write the same logbook at once: WAL and one
+    writer at a time, so every file lands once and the database stays sound."""
+    import os
+    import sqlite3
+    import subprocess
+    import sys
+
+    zuml("pack", "add", "A", "--chemistry", "LiPo", "--cells", "4", "--capacity", "1500")
+    zuml("pack", "add", "B", "--chemistry", "LiPo", "--cells", "5", "--capacity", "2200")
+    shared = str(DATA / "X6_LiPo_Cycle_1.first1200.txt")                  # both import it: one wins
+    jobs = {"A": [str(DATA / "406DUO_Turnigy_4S_1500_A_Charge_0_CH1.txt"), shared],
+            "B": [str(DATA / "X8_LiPo_5S_2200mA_Charge_4.txt"), shared]}
+    env = dict(os.environ, ZUML_STUDIO_DATA_DIR=str(data_dir))
+    procs = [subprocess.Popen([sys.executable, "-m", "zuml_studio.cli.main", "pack", "import", *files, "--pack", name],
+                              env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+             for name, files in jobs.items()]
+    outs = [p.communicate(timeout=120) for p in procs]
+    assert [p.returncode for p in procs] == [0, 0], outs
+    added = sum(int(o.split(": ")[-1].split(" added")[0]) for o, _e in outs)
+    assert added == 3
+    shown = {name: len(__import__("json").loads(zuml("pack", "show", name, "--json")[1])["sessions"])
+             for name in "AB"}
+    assert sum(shown.values()) == 3 and min(shown.values()) >= 1
+    with sqlite3.connect(data_dir / "packs.sqlite3") as conn:
+        assert conn.execute("PRAGMA integrity_check").fetchone()[0] == "ok"

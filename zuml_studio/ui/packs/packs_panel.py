@@ -129,6 +129,12 @@ class PacksPanel(QWidget):
         self.simulate_button.clicked.connect(self.simulate_on_pack)
         self.refresh()
 
+    def showEvent(self, event) -> None:  # noqa: N802
+        """Shown again: another instance (or `zuml pack import`) may have written the logbook meanwhile."""
+        super().showEvent(event)
+        if self._job is None:
+            self.refresh()
+
     # -- the register ---------------------------------------------------------------------
     def refresh(self, select: str | None = None) -> None:
         if self.error:
