@@ -49,6 +49,8 @@ class PacksPanel(QWidget):
             except LogbookError as exc:       # shown in the dock; the logbook is never replaced
                 self.error = str(exc)
         self._job: BackgroundCall | None = None
+        self._bridge = _Progress(self)
+        self._bridge.step.connect(self._progress_step)
         look = theme.colours(self.palette())
         self._look = look
 
@@ -139,7 +141,8 @@ class PacksPanel(QWidget):
     def refresh(self, select: str | None = None) -> None:
         if self.error:
             return
-        current = select or (self.current_pack().name if self.current_pack() else None)
+        chosen = self.current_pack()
+        current = select or (chosen.name if chosen else None)
         self.pack_list.blockSignals(True)
         self.pack_list.clear()
         for pack in list_packs(self.book):
@@ -154,7 +157,7 @@ class PacksPanel(QWidget):
         self.show_pack()
 
     def current_pack(self) -> Pack | None:
-        item = self.pack_list.currentItem() if hasattr(self, "pack_list") else None
+        item = self.pack_list.currentItem()
         if item is None:
             return None
         try:
@@ -247,8 +250,7 @@ class PacksPanel(QWidget):
         pack = self.current_pack()
         if pack is None or self._job is not None:
             return
-        bridge = _Progress(self)
-        bridge.step.connect(self._progress_step)
+        bridge = self._bridge
         path = self.book.path
 
         def job() -> list[ImportResult]:
