@@ -23,3 +23,17 @@ def test_the_packs_model_is_fitted_to_its_charge_and_saved(tmp_path, monkeypatch
     battery = load_battery(name)
     assert battery.series == 4 and battery.chem.name == "LiPo"
     assert battery.capacity_mah == pytest.approx(result.params["capacity_mah"])
+
+
+def test_a_fit_that_fails_is_said_in_one_line(tmp_path, monkeypatch):
+    from zuml_studio.packs import model
+
+    book = Logbook(tmp_path / "p.sqlite3")
+    pack = add_pack(book, "P", "LiPo", 4, 1500)
+    import_files(book, pack, [DATA / "406DUO_Turnigy_4S_1500_A_Charge_0_CH1.txt"])
+
+    def broken(*args, **kwargs):
+        raise ValueError("math domain error")        # what a hostile charge makes the fit raise today
+    monkeypatch.setattr(model, "fit", broken)
+    with pytest.raises(PackError, match="the fit failed: math domain error"):
+        fit_pack_model(book, pack)

@@ -58,8 +58,7 @@ def test_trend_points_and_csv(book, tmp_path):
             pytest.approx(s["capacity_mah"] / 1200 * 100, abs=0.05) for s in sessions]
     assert [p["resistance_mohm_per_cell"] for p in info["trend"]] == [s["resistance_mohm_per_cell"] for s in sessions]
     out = tmp_path / "s.csv"
-    with open(out, "w", newline="", encoding="utf-8") as fh:
-        assert write_sessions_csv(book, pack, fh) == 2
+    assert write_sessions_csv(book, pack, out) == 2
     lines = out.read_text(encoding="utf-8").splitlines()
     assert lines[0].split(",") == list(CSV_COLUMNS) and len(lines) == 3
 

@@ -164,8 +164,7 @@ def cmd_export(args: argparse.Namespace) -> int:
     book = _book()
     pack = _pack(book, args.name)
     try:
-        with open(args.output, "w", encoding="utf-8", newline="") as fh:
-            rows = write_sessions_csv(book, pack, fh)
+        rows = write_sessions_csv(book, pack, args.output)
     except OSError as exc:
         raise CliError(_("{output}: cannot write: {error}").format(
                 output=args.output, error=exc.strerror or exc)) from None

@@ -28,16 +28,21 @@ def has_model(pack: Pack) -> bool:
 def fit_pack_model(book: Logbook, pack: Pack) -> tuple[str, FitResult]:
     """Fit the model to the newest session whose file is still there and holds a charge; save it under
     ``model_name(pack)``. Takes seconds to minutes (call it off the GUI thread)."""
+    failed = ""
     for session in reversed(pack_sessions(book, pack)):
         if session.figures.charge_in_mah is None or not Path(session.file).is_file():
             continue
         try:
             curve = charge_from_log(read_log_file(session.file), session.file)
-        except (LogFormatError, CurveError):
+            result = fit(curve, pack.chemistry, pack.cells)
+        except (LogFormatError, CurveError) as exc:
+            failed = str(exc)
             continue
-        result = fit(curve, pack.chemistry, pack.cells)
+        except (ValueError, ArithmeticError) as exc:      # a charge the model cannot follow: try an older one
+            failed = _("{file}: the fit failed: {error}").format(file=session.file, error=exc)
+            continue
         name = model_name(pack)
         save_battery(name, result.battery, source=session.file)
         return name, result
     raise PackError(_("pack {name!r}: no session with a charge whose file is still there to fit a model "
-                      "to").format(name=pack.name))
+                      "to").format(name=pack.name) + (f" ({failed})" if failed else ""))

@@ -3,8 +3,10 @@ and the sessions as CSV rows."""
 from __future__ import annotations
 
 import csv
-from typing import TextIO
+import io
+from pathlib import Path
 
+from ..recovery import atomic_write
 from .db import Logbook
 from .health import health, trend
 from .register import Pack
@@ -21,12 +23,15 @@ def pack_summary(book: Logbook, pack: Pack) -> dict:
             "trend": [p.as_dict() for p in trend(pack, sessions)], "health": health(pack, sessions).as_dict()}
 
 
-def write_sessions_csv(book: Logbook, pack: Pack, fh: TextIO) -> int:
-    """One row per session, the figures in their units (mAh, Wh, mΩ per cell, mV, °C); returns the rows."""
-    writer = csv.writer(fh)
+def write_sessions_csv(book: Logbook, pack: Pack, path: str | Path) -> int:
+    """One row per session, the figures in their units (mAh, Wh, mΩ per cell, mV, °C); returns the rows.
+    Written beside the target and renamed over it: a full disk never leaves half an export."""
+    text = io.StringIO()
+    writer = csv.writer(text, lineterminator="\n")
     writer.writerow(CSV_COLUMNS)
     sessions = pack_sessions(book, pack)
     for s in sessions:
         row = s.as_dict()
         writer.writerow(["" if row[c] is None else row[c] for c in CSV_COLUMNS])
+    atomic_write(Path(path), text.getvalue().encode("utf-8"))
     return len(sessions)

@@ -312,8 +312,7 @@ class PacksPanel(QWidget):
     def export_csv(self, path: str) -> bool:
         pack = self.current_pack()
         try:
-            with open(path, "w", encoding="utf-8", newline="") as fh:
-                write_sessions_csv(self.book, pack, fh)
+            write_sessions_csv(self.book, pack, path)
         except OSError as exc:
             self._failed(OSError(_("{path}: cannot write: {error}").format(path=path, error=exc.strerror or exc)))
             return False
