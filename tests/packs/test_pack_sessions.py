@@ -7,7 +7,7 @@ from zuml_studio.packs.db import Logbook
 from zuml_studio.packs.figures import SessionFigures
 from zuml_studio.packs.health import health, trend
 from zuml_studio.packs.register import (PackError, add_pack, attach, attachment, attachment_key,
-                                        forget_attachment, remove_pack)
+                                        forget_attachments, remove_pack)
 from zuml_studio.packs.sessions import Session, import_files, pack_sessions
 from zuml_studio.packs.summary import CSV_COLUMNS, pack_summary, write_sessions_csv
 
@@ -102,7 +102,10 @@ def test_register_errors_and_attachments(book):
     assert attachment(book, key) == (True, pack)
     attach(book, "port:/dev/ttyACM0", None)                  # "no pack here", remembered
     assert attachment(book, "port:/dev/ttyACM0") == (True, None)
-    forget_attachment(book, "port:/dev/ttyACM0")
+    assert forget_attachments(book, "port:/dev/ttyACM0") == 1
     assert attachment(book, "port:/dev/ttyACM0") == (False, None)
+    attach(book, "port:/dev/ttyACM0", None)
+    assert forget_attachments(book) == 2 and attachment(book, key) == (False, None)
+    attach(book, key, pack)
     remove_pack(book, pack.name)
     assert attachment(book, key) == (False, None)           # its pack gone: asked again

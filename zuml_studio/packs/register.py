@@ -117,11 +117,13 @@ def attach(book: Logbook, key: str, pack: Pack | None) -> None:
                      (key, pack.id if pack is not None else None))
 
 
-def forget_attachment(book: Logbook, key: str) -> None:
-    """The next run there asks again."""
+def forget_attachments(book: Logbook, key: str | None = None) -> int:
+    """The next run there (``key``; None: everywhere) asks again; returns how many answers were forgotten."""
     with book.write() as conn:
-        conn.execute("DELETE FROM attachments WHERE key = ?", (key,))
+        if key is None:
+            return conn.execute("DELETE FROM attachments").rowcount
+        return conn.execute("DELETE FROM attachments WHERE key = ?", (key,)).rowcount
 
 
 __all__ = ["Pack", "PackError", "LogbookError", "add_pack", "list_packs", "get_pack", "remove_pack",
-           "attachment_key", "attachment", "attach", "forget_attachment"]
+           "attachment_key", "attachment", "attach", "forget_attachments"]

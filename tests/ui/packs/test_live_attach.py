@@ -70,3 +70,11 @@ def test_no_pack_is_remembered_and_a_closed_question_asks_again(qtbot, panel):
         panel.start()
     assert answers == [] and not live.collector.collecting
     assert attachment(book, live._where()[0]) == (True, None)       # "no pack here", remembered
+    from zuml_studio.ui.packs.packs_panel import PacksPanel
+
+    packs = PacksPanel(book)
+    qtbot.addWidget(packs)
+    with qtbot.waitSignal(packs.statusMessage) as said:
+        packs.ask_again_button.click()
+    assert "1 charger will be asked again" in said.args[0]
+    assert attachment(book, live._where()[0]) == (False, None)

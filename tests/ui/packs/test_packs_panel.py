@@ -83,6 +83,10 @@ def test_a_folder_of_real_logs_becomes_a_pack_with_its_trend(make_window, qtbot,
 
     assert panel.export_csv(str(tmp_path / "s.csv"))
     assert len((tmp_path / "s.csv").read_text(encoding="utf-8").splitlines()) == 4
+    panel.table.selectRow(1)
+    panel.remove_session_action.trigger()                   # the table's context menu
+    assert [panel.table.item(r, 0).text() for r in range(2)] == ["2008-07-05", "2014-09-16"]
+    assert len(panel.trend_plot.points["capacity_pct"][0]) == 2
     assert panel.write_report(str(tmp_path / "r.pdf"))
     assert (tmp_path / "r.pdf").read_bytes().startswith(b"%PDF")
     assert panel.write_report(str(tmp_path / "r.png"))

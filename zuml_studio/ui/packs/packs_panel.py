@@ -6,6 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from PySide6.QtCore import QObject, Qt, Signal
+from PySide6.QtGui import QAction
 from PySide6.QtWidgets import (QFileDialog, QHBoxLayout, QHeaderView, QLabel, QListWidget, QListWidgetItem,
                                QMessageBox, QProgressBar, QPushButton, QSplitter, QTableWidget, QTableWidgetItem,
                                QVBoxLayout, QWidget)
@@ -13,8 +14,8 @@ from PySide6.QtWidgets import (QFileDialog, QHBoxLayout, QHeaderView, QLabel, QL
 from ...packs.db import Logbook, LogbookError
 from ...packs.health import trend
 from ...packs.model import fit_pack_model, has_model, model_name
-from ...packs.register import Pack, PackError, get_pack, list_packs, remove_pack
-from ...packs.sessions import ImportResult, import_files, pack_sessions
+from ...packs.register import Pack, PackError, forget_attachments, get_pack, list_packs, remove_pack
+from ...packs.sessions import ImportResult, import_files, pack_sessions, remove_session
 from ...packs.summary import pack_summary, write_sessions_csv
 from .. import theme
 from ..background import BackgroundCall
@@ -49,6 +50,7 @@ class PacksPanel(QWidget):
             except LogbookError as exc:       # shown in the dock; the logbook is never replaced
                 self.error = str(exc)
         self._job: BackgroundCall | None = None
+        self._session_ids: list[int] = []          # the table's rows' sessions
         self._bridge = _Progress(self)
         self._bridge.step.connect(self._progress_step)
         look = theme.colours(self.palette())
@@ -57,6 +59,9 @@ class PacksPanel(QWidget):
         self.pack_list = QListWidget()
         self.add_button = QPushButton(_("Add…"))
         self.remove_button = QPushButton(_("Remove"))
+        self.ask_again_button = QPushButton(_("Ask Again for Chargers"))
+        self.ask_again_button.setToolTip(_("Forget which pack each charger port or passport serial was attached "
+                                           "to: the next run there asks again"))
         left = QVBoxLayout()
         left.setContentsMargins(0, 0, 0, 0)
         left.addWidget(self.pack_list)
@@ -64,6 +69,7 @@ class PacksPanel(QWidget):
         row.addWidget(self.add_button)
         row.addWidget(self.remove_button)
         left.addLayout(row)
+        left.addWidget(self.ask_again_button)
         left_box = QWidget()
         left_box.setLayout(left)
 
@@ -124,6 +130,11 @@ class PacksPanel(QWidget):
         self.pack_list.currentItemChanged.connect(lambda *_a: self.show_pack())
         self.add_button.clicked.connect(self.add_pack)
         self.remove_button.clicked.connect(self.remove_pack)
+        self.ask_again_button.clicked.connect(self.ask_again)
+        self.table.setContextMenuPolicy(Qt.ContextMenuPolicy.ActionsContextMenu)
+        self.remove_session_action = QAction(_("Remove the Session from the Pack"), self.table)
+        self.remove_session_action.triggered.connect(self.remove_selected_session)
+        self.table.addAction(self.remove_session_action)
         self.import_files_button.clicked.connect(self._choose_files)
         self.import_folder_button.clicked.connect(self._choose_folder)
         self.csv_button.clicked.connect(self._choose_csv)
@@ -188,6 +199,11 @@ class PacksPanel(QWidget):
             remove_pack(self.book, pack.name)
             self.refresh()
 
+    def ask_again(self) -> None:
+        n = forget_attachments(self.book)
+        self.statusMessage.emit(ngettext("{n} charger will be asked again which pack is on it",
+                                         "{n} chargers will be asked again which pack is on them", n).format(n=n))
+
     # -- the chosen pack ------------------------------------------------------------------
     def show_pack(self) -> None:
         pack = self.current_pack()
@@ -219,6 +235,7 @@ class PacksPanel(QWidget):
                 _("Simulate the macro on pack '{name}'").format(name=pack.name) if has_model(pack)
                 else _("Fit the model of pack '{name}' and simulate the macro on it").format(name=pack.name))
         sessions = info["sessions"]
+        self._session_ids = [s.id for s in pack_sessions(self.book, pack)]
         self.table.setRowCount(len(sessions))
         for r, s in enumerate(sessions):
             for c, (key, _title) in enumerate(COLUMNS):
@@ -232,6 +249,15 @@ class PacksPanel(QWidget):
                     item.setTextAlignment(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
                 self.table.setItem(r, c, item)
         self.trend_plot.show_trend(trend(pack, pack_sessions(self.book, pack)))
+
+    def remove_selected_session(self) -> None:
+        """A session attached to the wrong pack, or a log that was no charge of it: out of the logbook (the
+        file stays; imported again later, it counts again)."""
+        rows = sorted({i.row() for i in self.table.selectedIndexes()})
+        for row in rows:
+            remove_session(self.book, self._session_ids[row])
+        if rows:
+            self.show_pack()
 
     # -- importing --------------------------------------------------------------------------
     def _choose_files(self) -> None:
