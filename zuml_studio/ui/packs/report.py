@@ -98,6 +98,7 @@ def _paint_sessions(painter: QPainter, sessions: list[dict], y: float, line: int
                  _fmt(s["cell_deviation_mv"], ".0f"), _fmt(s["t_max_c"], ".1f"), Path(s["file"]).name)
         x = _MARGIN
         for (_name, width), text in zip(columns, cells):
+            text = painter.fontMetrics().elidedText(text, Qt.TextElideMode.ElideMiddle, width - 4)
             painter.drawText(QRectF(x, y, width - 4, 16), Qt.AlignmentFlag.AlignLeft, text)
             x += width
         y += 16
