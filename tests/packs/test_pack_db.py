@@ -100,3 +100,35 @@ def test_two_instances_writing_at_once_lose_nothing(tmp_path):
     book = Logbook(path)
     assert len(list_packs(book)) == 50
     assert book.conn.execute("PRAGMA integrity_check").fetchone()[0] == "ok"
+
+
+def test_a_logbook_held_by_another_writer_is_busy_not_damaged(tmp_path, monkeypatch):
+    path = tmp_path / "p.sqlite3"
+    Logbook(path).close()
+    monkeypatch.setattr(db, "BUSY_MS", 50)
+    holder = sqlite3.connect(path, isolation_level=None)
+    holder.execute("BEGIN EXCLUSIVE")                # another instance in the middle of a write
+    try:
+        book = Logbook(path)                         # reading needs no lock
+        with pytest.raises(LogbookError, match="busy"):
+            add_pack(book, "A", "LiPo", 3, 2200)
+        assert list_packs(book) == []
+    finally:
+        holder.execute("ROLLBACK")
+        holder.close()
+    assert add_pack(Logbook(path), "A", "LiPo", 3, 2200).name == "A"
+
+
+def test_a_read_only_logbook_is_not_called_damaged(tmp_path):
+    import os
+    path = tmp_path / "p.sqlite3"
+    Logbook(path).close()
+    os.chmod(path, 0o444)
+    try:
+        if os.access(path, os.W_OK):
+            pytest.skip("running as root: a read-only mode does not stop writes")
+        with pytest.raises(LogbookError) as caught:
+            add_pack(Logbook(path), "A", "LiPo", 3, 2200)
+        assert "damaged" not in str(caught.value)
+    finally:
+        os.chmod(path, 0o644)

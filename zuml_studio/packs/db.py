@@ -99,7 +99,10 @@ class Logbook:
             self.conn.execute("PRAGMA journal_mode=WAL")
             self.conn.execute("PRAGMA foreign_keys=ON")
             self._migrate(migrate_to)
-        except sqlite3.DatabaseError as exc:
+        except sqlite3.OperationalError as exc:    # locked, read-only, no space: the file may be sound
+            self.conn.close()
+            raise self._unwritable(exc) from None
+        except sqlite3.DatabaseError as exc:       # not a database, malformed
             self.conn.close()
             raise self._damaged(str(exc)) from None
         except LogbookError:
@@ -110,6 +113,12 @@ class Logbook:
         return LogbookError(_("{path}: the pack logbook is damaged ({reason}); it is left as it is: restore it "
                               "from a backup, or move it away to start a new one").format(path=self.path,
                                                                                           reason=reason))
+
+    def _unwritable(self, exc: sqlite3.OperationalError) -> LogbookError:
+        if "locked" in str(exc) or "busy" in str(exc):
+            return LogbookError(_("{path}: the pack logbook is busy (another ZUML Studio is writing it): "
+                                  "{error}").format(path=self.path, error=exc))
+        return LogbookError(_("{path}: cannot write the pack logbook: {error}").format(path=self.path, error=exc))
 
     def _check(self, existed: bool) -> None:
         if not existed:
@@ -123,18 +132,23 @@ class Logbook:
             raise self._damaged(result)
 
     def _migrate(self, target: int) -> None:
+        self._refuse_newer(self.version)
+        if self.version >= target:
+            return                        # up to date: opening to read takes no lock
         with self.write():
-            version = self.conn.execute("PRAGMA user_version").fetchone()[0]
-            if version > SCHEMA_VERSION:
-                raise LogbookError(_("{path}: written by a newer ZUML Studio (schema {found}, this one knows "
-                                     "{known}); it is left as it is").format(
-                        path=self.path, found=version, known=SCHEMA_VERSION))
+            version = self.version        # again, under the lock: another instance may have migrated it
             if version == 0:
                 self.conn.execute(f"PRAGMA application_id={APPLICATION_ID}")
             for n in range(version + 1, target + 1):
                 for statement in _statements(MIGRATIONS[n - 1]):
                     self.conn.execute(statement)
                 self.conn.execute(f"PRAGMA user_version={n}")
+
+    def _refuse_newer(self, version: int) -> None:
+        if version > SCHEMA_VERSION:
+            raise LogbookError(_("{path}: written by a newer ZUML Studio (schema {found}, this one knows "
+                                 "{known}); it is left as it is").format(
+                    path=self.path, found=version, known=SCHEMA_VERSION))
 
     @property
     def version(self) -> int:
@@ -146,8 +160,7 @@ class Logbook:
         try:
             self.conn.execute("BEGIN IMMEDIATE")
         except sqlite3.OperationalError as exc:
-            raise LogbookError(_("{path}: the pack logbook is busy (another ZUML Studio is writing it): "
-                                 "{error}").format(path=self.path, error=exc)) from None
+            raise self._unwritable(exc) from None
         try:
             yield self.conn
         except BaseException:
