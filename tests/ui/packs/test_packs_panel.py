@@ -5,6 +5,7 @@ import shutil
 
 import pytest
 from PySide6.QtGui import QImage
+from PySide6.QtWidgets import QMessageBox
 
 from helpers import ROOT
 from zuml_studio.logs import read_log_file
@@ -92,6 +93,10 @@ def test_a_folder_of_real_logs_becomes_a_pack_with_its_trend(make_window, qtbot,
     assert panel.write_report(str(tmp_path / "r.png"))
     image = QImage(str(tmp_path / "r.png"))
     assert (image.width(), image.height()) == (1200, 1696)
+    monkeypatch.setattr(QMessageBox, "question", lambda *a: QMessageBox.StandardButton.Yes)
+    panel.remove_button.click()
+    assert panel.pack_list.count() == 0 and panel.table.rowCount() == 0
+    assert (folder / NIMH[0]).is_file()                          # the logs stay
 
 
 def test_simulate_the_macro_on_the_packs_fitted_model(make_window, qtbot, monkeypatch):

@@ -196,11 +196,13 @@ class PacksPanel(QWidget):
                 "Remove pack '{name}' and its {n} sessions from the logbook? (The log files stay.)", n).format(
                 name=pack.name, n=n))
         if answer == QMessageBox.StandardButton.Yes:
-            remove_pack(self.book, pack.name)
+            self._writing(lambda: remove_pack(self.book, pack.name))
             self.refresh()
 
     def ask_again(self) -> None:
-        n = forget_attachments(self.book)
+        n = self._writing(lambda: forget_attachments(self.book))
+        if n is None:
+            return
         self.statusMessage.emit(ngettext("{n} charger will be asked again which pack is on it",
                                          "{n} chargers will be asked again which pack is on them", n).format(n=n))
 
@@ -255,7 +257,7 @@ class PacksPanel(QWidget):
         file stays; imported again later, it counts again)."""
         rows = sorted({i.row() for i in self.table.selectedIndexes()})
         for row in rows:
-            remove_session(self.book, self._session_ids[row])
+            self._writing(lambda session=self._session_ids[row]: remove_session(self.book, session))
         if rows:
             self.show_pack()
 
@@ -322,6 +324,14 @@ class PacksPanel(QWidget):
         self.statusMessage.emit(str(exc))
         if self.isVisible():
             QMessageBox.warning(self, _("Packs"), str(exc))
+
+    def _writing(self, change):
+        """``change()``'s result; a logbook another instance holds (or that cannot be written) is said, None."""
+        try:
+            return change()
+        except LogbookError as exc:
+            self._failed(exc)
+            return None
 
     def busy(self) -> bool:
         return self._job is not None
