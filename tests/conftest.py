@@ -9,6 +9,8 @@ os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
 os.environ["ZUML_LANG"] = "en"
 # Settings, recovery files and user macros of the tests never touch the user's own.
 os.environ["ZUML_STUDIO_CONFIG_DIR"] = tempfile.mkdtemp(prefix="zuml-studio-tests-")
+# Nor the user's pack logbook.
+os.environ["ZUML_STUDIO_DATA_DIR"] = tempfile.mkdtemp(prefix="zuml-studio-tests-data-")
 
 import pytest  # noqa: E402
 from chargers import KINDS  # noqa: E402

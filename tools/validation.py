@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from zuml_studio.logs.rest_steps import rest_steps
 from zuml_studio.sim.chemistry import load_chemistry
 from zuml_studio.sim.curve import Curve, read_curve
 from zuml_studio.sim.fit import LI, NI, cc_current, fit, measured, simulate_curve, smooth
@@ -159,11 +160,16 @@ def _ni_resistance(samples: Path) -> dict | None:
             v, i = d["Spannung"], d["Strom"]
             if key == "estation":
                 on = float(np.median(i))
-                pauses = [j for j in range(1, len(i) - 1) if i[j - 1] > 0.9 * on and i[j] < 0.1 * on and i[j + 1] < 0.1 * on]
-                steps += [(v[j - 1] - v[j + 1]) / i[j - 1] / cells for j in pauses]
-                out.setdefault("estation_first", []).extend((v[j - 1] - v[j]) / i[j - 1] / cells for j in pauses)
+                t = d["time_s"]
+                steps += [s.ohm_per_cell(cells) for s in rest_steps(t, v, i, min_current_a=0.9 * on, delay_s=3.0)]
+                out.setdefault("estation_first", []).extend(
+                        s.ohm_per_cell(cells) for s in rest_steps(t, v, i, min_current_a=0.9 * on, delay_s=1.5))
             elif k + 1 < len(sets):
-                steps.append((v[-1] - sets[k + 1][1]["Spannung"][1]) / i[-1] / cells)
+                # The rest is the next record set, its first sample at the step (the current still on).
+                rest = sets[k + 1][1]
+                steps += [s.ohm_per_cell(cells) for s in rest_steps(
+                        np.r_[0.0, rest["time_s"][1:]], np.r_[v[-1], rest["Spannung"][1:]],
+                        np.r_[i[-1], rest["Strom"][1:]])]
         out[key] = np.array(steps)
         if "BatteríeRi" in charges[0][1]:
             ri = np.concatenate([d["BatteríeRi"] for _, d in charges])

@@ -23,6 +23,12 @@ def config_dir() -> Path:
     return _user_dir("ZUML_STUDIO_CONFIG_DIR", "XDG_CONFIG_HOME", ".config", "APPDATA")
 
 
+def data_dir() -> Path:
+    """Where the user's own records live (the pack logbook): ZUML_STUDIO_DATA_DIR, else the platform's
+    per-user data directory; unlike the cache it cannot be rebuilt."""
+    return _user_dir("ZUML_STUDIO_DATA_DIR", "XDG_DATA_HOME", ".local/share", "APPDATA")
+
+
 def cache_dir() -> Path:
     """ZUML_STUDIO_CACHE_DIR, else the platform's per-user cache directory."""
     return _user_dir("ZUML_STUDIO_CACHE_DIR", "XDG_CACHE_HOME", ".cache", "LOCALAPPDATA")

@@ -241,7 +241,7 @@ def test_the_screenshot_of_a_restored_layout_has_only_its_own_tab_bars(make_wind
     assert app._screenshot(QApplication.instance(), w, str(tmp_path / "shot.png"), "1600x1000") == 0
     groups = sorted(tuple(bar.tabText(i) for i in range(bar.count())) for bar in w.findChildren(QTabBar)
                     if bar.parent() is w)
-    assert groups == [("Bytes", "Visual"), ("Simulator", "Device")]
+    assert groups == [("Bytes", "Visual"), ("Simulator", "Device", "Packs")]
 
 
 def test_visual_editor_is_docked_and_follows_the_text(make_window, qtbot):

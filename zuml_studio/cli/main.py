@@ -49,6 +49,9 @@ AREAS: dict[str, dict[str, str]] = {
     "log_commands": {
         "log": N_("read a charger's log file: summary, CSV export"),
     },
+    "pack_commands": {
+        "pack": N_("the battery logbook: packs, their sessions, trends and health"),
+    },
     "new_command": {
         "new": N_("write a new macro for a chemistry, pack and charge rate"),
     },

@@ -24,6 +24,7 @@ from .help_browser import HelpBrowser
 from .hex_view import HexView
 from .language import restart
 from .library import LibraryBrowser
+from .packs import bind_live_runs, install_packs_dock
 from .plot_export import PlotExportDialog
 from .preferences import Preferences, PreferencesDialog
 from .problems import ProblemsView
@@ -122,6 +123,7 @@ class MainWindow(QMainWindow):
         QTimer.singleShot(DEVICE_PANEL_DELAY_MS, self, lambda: self.isVisible() and self.device_panel)
         self.splitDockWidget(self.problems_dock, self.sim_dock, Qt.Orientation.Horizontal)
         self.tabifyDockWidget(self.sim_dock, self.device_dock)
+        self.packs_dock = install_packs_dock(self)
         self.sim_dock.raise_()
         self.resizeDocks([self.library_dock, self.hex_dock], [230, 420], Qt.Orientation.Horizontal)
         self.resizeDocks([self.problems_dock, self.sim_dock], [330, 1170], Qt.Orientation.Horizontal)
@@ -146,6 +148,7 @@ class MainWindow(QMainWindow):
             panel.statusMessage.connect(lambda message: self.statusBar().showMessage(message, 6000))
             panel.connectedChanged.connect(self._device_connected)
             self._device_panel = panel
+            self.live_runs = bind_live_runs(self, panel)
             self.device_dock.setWidget(panel)
             if self.validator.last_valid is not None:
                 panel.macro_changed(self.validator.last_valid.record)
@@ -255,6 +258,7 @@ class MainWindow(QMainWindow):
         for dock in (self.library_dock, self.hex_dock, self.visual_dock, self.problems_dock, self.sim_dock,
                      self.device_dock):
             view.addAction(dock.toggleViewAction())
+        view.addAction(self.packs_dock.toggleViewAction())
 
         sketch = bar.addMenu(_("&Macro"))
         sketch.addAction(self.act_verify)

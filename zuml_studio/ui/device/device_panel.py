@@ -62,6 +62,7 @@ class DevicePanel(QWidget):
     startFinished = Signal(bool, str)       # START done (or refused: the reasons)
     operationFinished = Signal(str, bool, str)   # "backup" | "restore" | "stop" | "passport" | "slots", ok, message
     phaseActivated = Signal(int)            # FAZE byte offset of a double-clicked band (the editor may show it)
+    runEnded = Signal()                     # the run started here (or seen running) stopped
 
     def __init__(self, get_record: Callable[[], tuple[bytes, str] | None], session_dir: Path,
                  parent: QWidget | None = None, *, port_lister: Callable | None = None):
@@ -70,6 +71,7 @@ class DevicePanel(QWidget):
         self._get_record = get_record
         self.session_dir = Path(session_dir)
         self._shut = False
+        self.telemetry_taps: list[Callable] = []   # called with every frame, on the reader thread
         self._auto_fallback: tuple[str, int] | None = None   # (port, baud) to watch if no ZUML charger answers
         self.monitor = ChargerMonitor(self._telemetry_rt, self)
         self.connection = DeviceConnection(self._telemetry_rt, self._event_rt, self)
@@ -143,6 +145,7 @@ class DevicePanel(QWidget):
         self.charger.imageShown.connect(self._image_shown)
         self.charger.slotChosen.connect(self.run.select_slot)
         self.run.startFinished.connect(self.startFinished)
+        self.run.stopping.connect(self.runEnded)    # a STOP ends the run as its end does
         self.run.runStarting.connect(lambda: self.live.new_run(self.run.run_name))
         self.run.runUndone.connect(self._undo_new_run)
         self.run.runStarted.connect(self.live.run_started)
@@ -282,6 +285,8 @@ class DevicePanel(QWidget):
     def _update_readings(self) -> None:
         if self.run.follow(self.live.fresh_telemetry(), self.series.last_telemetry, self.live.new_finishes()):
             self._update_enabled()
+            if not self.run.running:
+                self.runEnded.emit()
         if self.series.last_telemetry is not None:
             self.live.show_readings(self.series.last_telemetry)
         self.bar.show_monitor(self.monitor.link)
@@ -302,6 +307,8 @@ class DevicePanel(QWidget):
     def _telemetry_rt(self, tel) -> None:
         self.live.series.add_telemetry(tel)
         self.session.add_telemetry(tel)
+        for tap in self.telemetry_taps:
+            tap(tel)
 
     def _event_rt(self, ev) -> None:
         self.live.series.add_event(ev)
@@ -358,7 +365,9 @@ class DevicePanel(QWidget):
         self._update_enabled()
 
     def _set_state_disconnected(self) -> None:
-        self.run.running = False
+        if self.run.running:                # the link went mid-run: what came of the run is still its record
+            self.run.running = False
+            self.runEnded.emit()
         self.ports.auto_refresh = True
         self._readings_timer.stop()
         self.passport.poll_timer.stop()

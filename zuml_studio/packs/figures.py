@@ -1,0 +1,104 @@
+"""One session's figures, from a log as the log readers read it: charge in and out, energy, the
+capacity reached, the resistance at the log's rest steps (``logs.rest_steps``), the cell deviation at
+the end of the charge and the highest temperature."""
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from ..logs.charge import MAX_STEP_S
+from ..logs.model import Log
+from ..logs.rest_steps import resistance_mohm_per_cell
+
+
+@dataclass(frozen=True)
+class SessionFigures:
+    duration_s: float
+    charge_in_mah: float | None
+    charge_out_mah: float | None
+    energy_in_wh: float | None
+    energy_out_wh: float | None
+    capacity_mah: float | None
+    capacity_from: str | None          # "discharge": the largest discharge; "charge": the largest charge
+    resistance_mohm_per_cell: float | None
+    resistance_from: str | None        # "rest steps" (docs/validation.md) or "charger" (its own Ri readings)
+    cell_deviation_mv: float | None
+    t_max_c: float | None
+
+    def as_dict(self) -> dict:
+        return asdict(self)
+
+
+def session_figures(log: Log, cells: int) -> SessionFigures:
+    """``cells``: the pack's cells in series (a log without balance taps does not say)."""
+    a = log.arrays()
+    t, v, i = a["t"], a["voltage"], a["current"]
+    current = log.meta.get("current_measured", True) and len(t) > 0
+    e_in, e_out = _energy_wh(t, v, i) if current else (None, None)
+    cap, cap_from = _capacity(log) if current else (None, None)
+    r, r_from = None, None
+    if current:
+        r = resistance_mohm_per_cell(t, v, i, cells)
+        r_from = "rest steps" if r is not None else None
+    if r is None and log.resistance:
+        cells_mohm = [float(np.mean(c)) for _t, _p, c in log.resistance if c]
+        if cells_mohm:
+            r, r_from = float(np.median(cells_mohm)), "charger"
+    temps = a["temp"][np.isfinite(a["temp"])]
+    last = log.samples[-1] if log.samples else None
+    return SessionFigures(
+        duration_s=float(t[-1] - t[0]) if len(t) else 0.0,
+        charge_in_mah=_r(last.mah_in, 1) if current else None,
+        charge_out_mah=_r(last.mah_out, 1) if current else None,
+        energy_in_wh=_r(e_in, 3), energy_out_wh=_r(e_out, 3),
+        capacity_mah=_r(cap, 1), capacity_from=cap_from,
+        resistance_mohm_per_cell=_r(r, 1), resistance_from=r_from,
+        cell_deviation_mv=_r(_end_of_charge_deviation_mv(log), 1),
+        t_max_c=_r(float(temps.max()), 2) if len(temps) else None)
+
+
+def _r(value: float | None, digits: int) -> float | None:
+    return None if value is None else round(float(value), digits)
+
+
+def _energy_wh(t: np.ndarray, v: np.ndarray, i: np.ndarray) -> tuple[float, float]:
+    """V·I over time (trapezoid); a step over ``MAX_STEP_S`` (a gap) or back in time adds nothing, as
+    for the charge (``logs.charge``)."""
+    if len(t) < 2:
+        return 0.0, 0.0
+    dt = np.diff(t)
+    p = v * i
+    mean = (p[1:] + p[:-1]) / 2.0
+    ok = (dt > 0) & (dt <= MAX_STEP_S)
+    step = np.where(ok, mean * dt, 0.0) / 3600.0
+    return float(step[step > 0].sum()), float(abs(step[step < 0].sum()))
+
+
+def _capacity(log: Log) -> tuple[float | None, str | None]:
+    """The largest charge taken out in one discharge phase (what the pack holds); a log with no
+    discharge gives the largest charge put in during one charge phase (an upper bound: a charge puts in
+    more than it stores)."""
+    s = log.samples
+    best: dict[str, float] = {"discharge": 0.0, "charge": 0.0}
+    k = 0
+    for phase in log.phases():
+        start = k
+        while k < len(s) and s[k].time_s <= phase.end_s:
+            k += 1
+        if phase.state in best and k > start:
+            field = "mah_out" if phase.state == "discharge" else "mah_in"
+            first = getattr(s[max(start - 1, 0)], field)
+            best[phase.state] = max(best[phase.state], getattr(s[k - 1], field) - first)
+    for source in ("discharge", "charge"):
+        if best[source] > 1.0:
+            return best[source], source
+    return None, None
+
+
+def _end_of_charge_deviation_mv(log: Log) -> float | None:
+    """max − min cell at the last sample of the last charge phase with every cell read."""
+    for s in reversed(log.samples):
+        if s.section == "charge" and s.running and len(s.cells_v) >= 2 and all(c > 0 for c in s.cells_v):
+            return (max(s.cells_v) - min(s.cells_v)) * 1000.0
+    return None

@@ -1,0 +1,69 @@
+"""A live run as a session: the telemetry of one run, from its START to its end, collected as it comes
+(from the reader thread), written as a CSV the log readers read back (``logs.export``), and imported
+into the pack its port or passport serial is attached to."""
+from __future__ import annotations
+
+import datetime as dt
+import re
+import threading
+from pathlib import Path
+
+from ..device.messages import Telemetry
+from ..logs.export import write_csv
+from ..logs.model import from_samples
+from ..user_dirs import data_dir
+from .db import Logbook
+from .register import Pack
+from .sessions import ImportResult, import_file
+from ..i18n import _
+
+
+def runs_dir() -> Path:
+    return data_dir() / "runs"
+
+
+class RunCollector:
+    """The samples of the run being recorded; ``add`` is called from the reader thread."""
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._samples: list[Telemetry] = []
+        self._on = False
+
+    def start(self) -> None:
+        with self._lock:
+            self._samples, self._on = [], True
+
+    def add(self, tel: Telemetry) -> None:
+        with self._lock:
+            if self._on:
+                self._samples.append(tel)
+
+    @property
+    def collecting(self) -> bool:
+        return self._on
+
+    def take(self) -> list[Telemetry]:
+        """The run's samples; collecting stops."""
+        with self._lock:
+            samples, self._samples, self._on = self._samples, [], False
+        return samples
+
+
+def record_run(book: Logbook, pack: Pack, samples: list[Telemetry], device: str, *,
+               passport: tuple[int | None, int | None] = (None, None), folder: Path | None = None) -> ImportResult:
+    """Write the run as ``<folder>/<pack> <UTC time>.csv`` and import it as a live session of ``pack``."""
+    if not samples:
+        return ImportResult("", "error", _("the run recorded no sample"))
+    folder = folder or runs_dir()
+    stamp = dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d %H%M%S")
+    safe = re.sub(r"[^\w .,+()-]", "_", pack.name)
+    path = folder / f"{safe} {stamp}.csv"
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        with open(path, "w", encoding="utf-8", newline="") as fh:
+            write_csv(from_samples("live", device, samples), fh)
+    except OSError as exc:
+        return ImportResult(str(path), "error", _("{path}: cannot write: {error}").format(
+                path=path, error=exc.strerror or exc))
+    return import_file(book, pack, path, source="live", passport=passport)

@@ -1,0 +1,154 @@
+"""Sessions: one log file (or one live run's recording) is one session of one pack, whatever cycles it
+holds. A file is known by the SHA-256 of its bytes, so importing it again, under any name or from any
+folder, adds nothing."""
+from __future__ import annotations
+
+import datetime as dt
+import hashlib
+import os
+import re
+import sqlite3
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..file_errors import FileReadError, read_file_bytes
+from ..logs import LogFormatError, read_log
+from .db import Logbook
+from .figures import SessionFigures, session_figures
+from .register import Pack
+from ..i18n import _
+
+_DATE_IN_NAME = re.compile(r"(?<!\d)((?:19|20)\d\d)[-_.]?(0[1-9]|1[0-2])[-_.]?(0[1-9]|[12]\d|3[01])(?!\d)")
+FIGURE_COLUMNS = tuple(SessionFigures.__dataclass_fields__)
+
+
+@dataclass(frozen=True)
+class Session:
+    id: int
+    file: str
+    source: str                    # "file" or "live"
+    format: str | None
+    device: str | None
+    recorded: str                  # ISO date or date-time
+    recorded_from: str             # "file name", "file time" or "run"
+    figures: SessionFigures
+    passport_errors: int | None = None        # the battery passport's ERR and CRIT when a live run read them
+    passport_critical: int | None = None
+
+    def as_dict(self) -> dict:
+        return {"file": self.file, "source": self.source, "format": self.format, "device": self.device,
+                "recorded": self.recorded, "recorded_from": self.recorded_from, **self.figures.as_dict(),
+                "passport_errors": self.passport_errors, "passport_critical": self.passport_critical}
+
+
+@dataclass(frozen=True)
+class ImportResult:
+    path: str
+    status: str                    # "added", "known" (the same bytes are a session already) or "error"
+    message: str = ""
+
+
+def file_sha256(data: bytes) -> str:
+    return hashlib.sha256(data).hexdigest()
+
+
+def recorded_date(path: Path) -> tuple[str, str]:
+    """When a file was recorded: a date in its name (chargers' PC programs name logs by date), else the
+    file's modification time."""
+    found = _DATE_IN_NAME.search(path.name)
+    if found:
+        try:
+            return dt.date(*map(int, found.groups())).isoformat(), "file name"
+        except ValueError:
+            pass
+    stamp = dt.datetime.fromtimestamp(path.stat().st_mtime, dt.timezone.utc)
+    return stamp.isoformat(timespec="seconds"), "file time"
+
+
+def log_files(paths: Iterable[str | Path]) -> list[Path]:
+    """The files named and every file under the folders named, in name order; hidden ones skipped."""
+    out: list[Path] = []
+    for p in map(Path, paths):
+        if p.is_dir():
+            out += sorted(f for f in p.rglob("*") if f.is_file()
+                          and not any(part.startswith(".") for part in f.relative_to(p).parts))
+        else:
+            out.append(p)
+    return out
+
+
+def import_files(book: Logbook, pack: Pack, paths: Iterable[str | Path],
+                 progress: Callable[[int, int, ImportResult], None] | None = None) -> list[ImportResult]:
+    """Import each file (folders: every file under them) into ``pack``; ``progress(done, total, result)``
+    after each. A file no reader reads is an "error" result, never a reason to stop."""
+    files = log_files(paths)
+    results = []
+    for n, path in enumerate(files, 1):
+        result = import_file(book, pack, path)
+        results.append(result)
+        if progress is not None:
+            progress(n, len(files), result)
+    return results
+
+
+def import_file(book: Logbook, pack: Pack, path: Path, *, source: str = "file",
+                passport: tuple[int | None, int | None] = (None, None)) -> ImportResult:
+    """``passport``: the battery passport's (ERR, CRIT) counters, when the run read them."""
+    try:
+        data = read_file_bytes(path)
+    except FileReadError as exc:
+        return ImportResult(str(path), "error", str(exc))
+    digest = file_sha256(data)
+    known = _session_of(book, digest)
+    if known:
+        return ImportResult(str(path), "known", _("already in pack {pack!r} as {file}").format(
+                pack=known[0], file=known[1]))
+    try:
+        log = read_log(data, path.name)
+    except LogFormatError as exc:
+        return ImportResult(str(path), "error", str(exc))
+    if not log.samples:
+        return ImportResult(str(path), "error", _("the log holds no sample"))
+    figures = session_figures(log, pack.cells)
+    if source == "live":
+        recorded, recorded_from = dt.datetime.now(dt.timezone.utc).isoformat(timespec="seconds"), "run"
+    else:
+        recorded, recorded_from = recorded_date(path)
+    columns = ("pack_id", "sha256", "file", "source", "format", "device", "recorded", "recorded_from",
+               "imported", "passport_errors", "passport_critical") + FIGURE_COLUMNS
+    values = (pack.id, digest, str(Path(os.path.abspath(path))), source, log.format, log.device, recorded,
+              recorded_from, dt.datetime.now(dt.timezone.utc).isoformat(timespec="seconds"), *passport,
+              *(getattr(figures, c) for c in FIGURE_COLUMNS))
+    try:
+        with book.write() as conn:
+            conn.execute(f"INSERT INTO sessions ({', '.join(columns)}) VALUES ({', '.join('?' * len(columns))})",
+                         values)
+    except sqlite3.IntegrityError:        # another instance imported the same bytes meanwhile
+        pack_name, file = _session_of(book, digest) or (pack.name, str(path))
+        return ImportResult(str(path), "known", _("already in pack {pack!r} as {file}").format(
+                pack=pack_name, file=file))
+    if log.cells and log.cells != pack.cells:
+        return ImportResult(str(path), "added", _("the log shows {log_cells} cells, the pack has {cells}").format(
+                log_cells=log.cells, cells=pack.cells))
+    return ImportResult(str(path), "added")
+
+
+def _session_of(book: Logbook, digest: str) -> tuple[str, str] | None:
+    rows = book.read("SELECT packs.name, sessions.file FROM sessions JOIN packs ON packs.id = sessions.pack_id "
+                     "WHERE sha256 = ?", (digest,))
+    return (rows[0][0], rows[0][1]) if rows else None
+
+
+def pack_sessions(book: Logbook, pack: Pack) -> list[Session]:
+    """The pack's sessions, oldest first."""
+    rows = book.read("SELECT * FROM sessions WHERE pack_id = ? ORDER BY recorded, id", (pack.id,))
+    return [Session(r["id"], r["file"], r["source"], r["format"], r["device"], r["recorded"], r["recorded_from"],
+                    SessionFigures(**{c: r[c] for c in FIGURE_COLUMNS}), r["passport_errors"],
+                    r["passport_critical"])
+            for r in rows]
+
+
+def remove_session(book: Logbook, session_id: int) -> None:
+    with book.write() as conn:
+        conn.execute("DELETE FROM sessions WHERE id = ?", (session_id,))

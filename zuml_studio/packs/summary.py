@@ -1,0 +1,37 @@
+"""What ``zuml pack show`` prints and the Packs dock shows: one pack with its sessions, trend and health,
+and the sessions as CSV rows."""
+from __future__ import annotations
+
+import csv
+import io
+from pathlib import Path
+
+from ..recovery import atomic_write
+from .db import Logbook
+from .health import health, trend
+from .register import Pack
+from .sessions import FIGURE_COLUMNS, pack_sessions
+
+CSV_COLUMNS = ("recorded", "file", "format", "device", "source") + FIGURE_COLUMNS + (
+        "passport_errors", "passport_critical")
+
+
+def pack_summary(book: Logbook, pack: Pack) -> dict:
+    """The pack's fields, ``sessions`` (oldest first), ``trend`` and ``health`` (``verdict``, ``reasons``)."""
+    sessions = pack_sessions(book, pack)
+    return {**pack.as_dict(), "sessions": [s.as_dict() for s in sessions],
+            "trend": [p.as_dict() for p in trend(pack, sessions)], "health": health(pack, sessions).as_dict()}
+
+
+def write_sessions_csv(book: Logbook, pack: Pack, path: str | Path) -> int:
+    """One row per session, the figures in their units (mAh, Wh, mΩ per cell, mV, °C); returns the rows.
+    Written beside the target and renamed over it: a full disk never leaves half an export."""
+    text = io.StringIO()
+    writer = csv.writer(text, lineterminator="\n")
+    writer.writerow(CSV_COLUMNS)
+    sessions = pack_sessions(book, pack)
+    for s in sessions:
+        row = s.as_dict()
+        writer.writerow(["" if row[c] is None else row[c] for c in CSV_COLUMNS])
+    atomic_write(Path(path), text.getvalue().encode("utf-8"))
+    return len(sessions)

@@ -1,0 +1,109 @@
+"""Attach live runs to packs: when a macro starts on a charger, the pack on it is asked for once per
+passport serial (a battery with a passport is known wherever it is plugged in) or else per port, and
+remembered; the run's telemetry is then recorded and imported into that pack when the run ends."""
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from PySide6.QtCore import QObject, Signal
+from PySide6.QtWidgets import QInputDialog, QWidget
+
+from ...packs.db import Logbook, LogbookError
+from ...packs.live import RunCollector, record_run
+from ...packs.register import Pack, attach, attachment, attachment_key, list_packs
+from ...packs.sessions import ImportResult
+from ...i18n import _
+
+CANCELLED = object()        # ask_pack's answer when the user closed the question: neither attach nor remember
+
+
+def ask_pack(parent: QWidget, packs: list[Pack], where: str):
+    """The pack on the charger at ``where`` (a Pack), None for "record no pack here", or CANCELLED."""
+    none = _("No pack: do not record runs here")
+    names = [p.name for p in packs] + [none]
+    name, ok = QInputDialog.getItem(parent, _("Which Pack Is This?"), _(
+            "Record this run in a pack's logbook? Asked once for {where}; the answer is remembered (the Packs "
+            "dock lists the packs).").format(where=where), names, 0, False)
+    if not ok:
+        return CANCELLED
+    return next((p for p in packs if p.name == name), None)
+
+
+class LiveAttach(QObject):
+    recorded = Signal(object)                 # the ImportResult of a run that ended
+    statusMessage = Signal(str)
+
+    def __init__(self, device_panel, parent: QObject | None = None,
+                 book_factory: Callable[[], Logbook] = Logbook):
+        super().__init__(parent)
+        self.device = device_panel
+        self.book_factory = book_factory
+        self.ask: Callable[[QWidget, list[Pack], str], object] = ask_pack   # a test answers instead
+        self.collector = RunCollector()
+        self._passport = None
+        self._pack: Pack | None = None
+        device_panel.telemetry_taps.append(self.collector.add)
+        device_panel.run.passportRead.connect(self._passport_read)
+        device_panel.startFinished.connect(self._started)
+        device_panel.runEnded.connect(self._ended)
+
+    def _passport_read(self, passport) -> None:
+        self._passport = passport
+
+    def _where(self) -> tuple[str, str]:
+        opened = self.device.connection.opened
+        port = "virtual" if opened is None or opened.virtual else opened.url
+        serial = getattr(self._passport, "serial", "") or None
+        key = attachment_key(port, serial)
+        where = _("the battery with serial {serial}").format(serial=serial) if serial else _("port {port}").format(
+                port=port)
+        return key, where
+
+    def _started(self, ok: bool, _text: str = "") -> None:
+        self._pack = None
+        if not ok:
+            return
+        try:
+            book = self.book_factory()
+        except LogbookError as exc:
+            self.statusMessage.emit(str(exc))
+            return
+        try:
+            key, where = self._where()
+            known, pack = attachment(book, key)
+            if not known:
+                packs = list_packs(book)
+                if not packs:
+                    return                    # nothing to attach to yet: ask once there is a pack
+                answer = self.ask(self.device, packs, where)
+                if answer is CANCELLED:
+                    return
+                pack = answer
+                attach(book, key, pack)
+            self._pack = pack
+            if pack is not None:
+                self.collector.start()
+                self.statusMessage.emit(_("Recording this run in pack '{name}'.").format(name=pack.name))
+        finally:
+            book.close()
+
+    def _ended(self) -> None:
+        if self._pack is None or not self.collector.collecting:
+            return
+        samples = self.collector.take()
+        opened = self.device.connection.opened
+        device = opened.info.model if opened is not None else _("charger")
+        passport = ((self._passport.err, self._passport.crit) if self._passport is not None else (None, None))
+        try:
+            book = self.book_factory()
+        except LogbookError as exc:
+            self.statusMessage.emit(str(exc))
+            return
+        try:
+            result: ImportResult = record_run(book, self._pack, samples, device, passport=passport)
+        finally:
+            book.close()
+        self.statusMessage.emit(_("Run recorded in pack '{name}'.").format(name=self._pack.name)
+                                if result.status == "added" else result.message)
+        self._pack = None
+        self.recorded.emit(result)

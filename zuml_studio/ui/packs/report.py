@@ -1,0 +1,141 @@
+"""A pack's one-page report: its register entry, health verdict with reasons, trend plot and sessions
+table, drawn once by ``paint_report`` on a page of ``PAGE`` units and written as PDF (Qt's PDF writer,
+A4, vector) or PNG (the same drawing rasterised)."""
+from __future__ import annotations
+
+from pathlib import Path
+
+from PySide6.QtCore import QMarginsF, QRect, QRectF, Qt
+from PySide6.QtGui import QColor, QFont, QImage, QPageLayout, QPageSize, QPainter, QPdfWriter
+
+from ...packs.health import TrendPoint
+from .trend_plot import PackTrendPlot
+from ...i18n import _
+
+PAGE = (800, 1131)                 # A4's proportions, in drawing units
+PNG_SCALE = 1.5                    # 1200 × 1697 pixels
+_MARGIN = 40
+
+
+class ReportError(Exception):
+    """The report could not be written; the message names the file."""
+
+
+def _fmt(value, spec: str) -> str:
+    return "–" if value is None else format(value, spec)
+
+
+def paint_report(painter: QPainter, info: dict, points: list[TrendPoint]) -> None:
+    """``info``: ``packs.summary.pack_summary``; draws on a PAGE-sized window."""
+    w, h = PAGE
+    painter.fillRect(QRect(0, 0, w, h), QColor("white"))
+    painter.setPen(QColor("black"))
+    y = _MARGIN
+    title = QFont(painter.font())
+    title.setPixelSize(26)
+    title.setBold(True)
+    painter.setFont(title)
+    painter.drawText(QRectF(_MARGIN, y, w - 2 * _MARGIN, 36), Qt.AlignmentFlag.AlignLeft, info["name"])
+    y += 40
+    body = QFont(painter.font())
+    body.setPixelSize(13)
+    body.setBold(False)
+    painter.setFont(body)
+    line = 19
+    details = _("{chemistry}, {cells} cells in series, {capacity:g} mAh rated").format(
+            chemistry=info["chemistry"], cells=info["cells"], capacity=info["capacity_mah"])
+    extras = [f"{label}: {info[key]}" for key, label in (("bought", _("bought")), ("serial", _("serial")))
+              if info[key]]
+    for text in [details + ("; " + "; ".join(extras) if extras else ""), info["notes"]]:
+        if text:
+            painter.drawText(QRectF(_MARGIN, y, w - 2 * _MARGIN, line), Qt.AlignmentFlag.AlignLeft, text)
+            y += line
+    y += 8
+    verdict = {"good": _("good"), "poor": _("poor"), "unknown": _("unknown")}[info["health"]["verdict"]]
+    bold = QFont(body)
+    bold.setBold(True)
+    painter.setFont(bold)
+    painter.drawText(QRectF(_MARGIN, y, w - 2 * _MARGIN, line), Qt.AlignmentFlag.AlignLeft,
+                     _("Health: {verdict}").format(verdict=verdict))
+    y += line
+    painter.setFont(body)
+    for reason in info["health"]["reasons"]:
+        rect = QRectF(_MARGIN + 14, y, w - 2 * _MARGIN - 14, 2 * line)
+        used = painter.boundingRect(rect, Qt.TextFlag.TextWordWrap, "• " + reason)
+        painter.drawText(rect, Qt.TextFlag.TextWordWrap, "• " + reason)
+        y += used.height() + 2
+    y += 10
+    plot = PackTrendPlot()
+    plot.setBackground("white")
+    size = QRectF(0, 0, w - 2 * _MARGIN, 420)
+    plot.ci.setGeometry(size)          # laid out without being shown: the report is drawn off screen
+    plot.show_trend(points)
+    plot.scene().render(painter, QRectF(_MARGIN, y, size.width(), size.height()), size)
+    y += 430
+    _paint_sessions(painter, info["sessions"], y, line, bold, body)
+
+
+def _paint_sessions(painter: QPainter, sessions: list[dict], y: float, line: int, bold: QFont, body: QFont) -> None:
+    w, h = PAGE
+    columns = ((_("date"), 80), (_("in mAh"), 62), (_("out mAh"), 70), (_("capacity"), 70), (_("mΩ/cell"), 66),
+               (_("ΔV mV"), 56), (_("T max °C"), 74), (_("file"), w - 2 * _MARGIN - 478))
+    small = QFont(body)
+    small.setPixelSize(11)
+    painter.setFont(bold)
+    x = _MARGIN
+    for name, width in columns:
+        painter.drawText(QRectF(x, y, width, line), Qt.AlignmentFlag.AlignLeft, name)
+        x += width
+    y += line
+    painter.drawLine(_MARGIN, int(y), w - _MARGIN, int(y))
+    y += 3
+    painter.setFont(small)
+    room = int((h - _MARGIN - y) // 16)
+    shown = sessions if len(sessions) <= room else sessions[-(room - 1):]
+    for s in shown:
+        cells = (s["recorded"][:10], _fmt(s["charge_in_mah"], ".0f"), _fmt(s["charge_out_mah"], ".0f"),
+                 _fmt(s["capacity_mah"], ".0f"), _fmt(s["resistance_mohm_per_cell"], ".1f"),
+                 _fmt(s["cell_deviation_mv"], ".0f"), _fmt(s["t_max_c"], ".1f"), Path(s["file"]).name)
+        x = _MARGIN
+        for (_name, width), text in zip(columns, cells):
+            text = painter.fontMetrics().elidedText(text, Qt.TextElideMode.ElideMiddle, width - 4)
+            painter.drawText(QRectF(x, y, width - 4, 16), Qt.AlignmentFlag.AlignLeft, text)
+            x += width
+        y += 16
+    if len(shown) < len(sessions):
+        painter.drawText(QRectF(_MARGIN, y, w - 2 * _MARGIN, 16), Qt.AlignmentFlag.AlignLeft,
+                         _("(the {n} earliest sessions are in the CSV export)").format(n=len(sessions) - len(shown)))
+
+
+def report_image(info: dict, points: list[TrendPoint], scale: float = PNG_SCALE) -> QImage:
+    image = QImage(int(PAGE[0] * scale), int(PAGE[1] * scale), QImage.Format.Format_RGB32)
+    image.fill(QColor("white"))
+    painter = QPainter(image)
+    painter.setRenderHint(QPainter.RenderHint.Antialiasing)
+    painter.scale(scale, scale)
+    paint_report(painter, info, points)
+    painter.end()
+    return image
+
+
+def write_report(path: str | Path, info: dict, points: list[TrendPoint]) -> None:
+    """A PDF when the name ends in .pdf, else a PNG."""
+    path = str(path)
+    if path.lower().endswith(".pdf"):
+        writer = QPdfWriter(path)
+        writer.setPageLayout(QPageLayout(QPageSize(QPageSize.PageSizeId.A4), QPageLayout.Orientation.Portrait,
+                                         QMarginsF(0, 0, 0, 0)))
+        writer.setResolution(96)
+        writer.setTitle(info["name"])
+        painter = QPainter()
+        if not painter.begin(writer):
+            raise ReportError(_("{path}: cannot write the PDF").format(path=path))
+        page = writer.pageLayout().paintRectPixels(writer.resolution())
+        painter.scale(page.width() / PAGE[0], page.height() / PAGE[1])
+        paint_report(painter, info, points)
+        painter.end()
+        if not Path(path).is_file() or Path(path).stat().st_size == 0:
+            raise ReportError(_("{path}: cannot write the PDF").format(path=path))
+        return
+    if not report_image(info, points).save(path, "PNG"):
+        raise ReportError(_("{path}: cannot write the PNG").format(path=path))
