@@ -15,7 +15,7 @@ from zuml_studio.ui.packs.add_pack_dialog import AddPackDialog
 LOGS = ROOT / "tests" / "data" / "logs"
 NIMH = ("eStationBC6_2008-07-05_EmpfaengerAA.osd", "PolaronPro_2014-08-23_5S_NiMh_cycle.osd",
         "UltramatACDCEQ_2014-09-16_4S_NiMH_cycle.osd")
-LIPO = ROOT / "zuml_studio" / "data" / "macros" / "LiPo.zuml"
+LIPO = ROOT / "macros" / "LiPo.zuml"
 
 
 @pytest.fixture(autouse=True)
