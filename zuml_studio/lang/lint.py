@@ -2,7 +2,7 @@
 
 Each rule is a function over the checked AST that reports Findings (warnings,
 or errors where a value is plainly dangerous). Limits come from the chemistry
-data files (spec §5 values, the package's data/chemistries/*.toml), from the thesis
+data files (spec §5 values, resources/chemistries/*.toml), from the thesis
 seed 001 (-dV needs a fast enough charge; a timer alone is no end for a fast one;
 trickle at most 0.1C; a 0.1C charge takes 14-16 h; lithium charges within 0-45 °C;
 NiMH is not ended by a voltage cut-off), and, when one is given, from the charger
@@ -68,7 +68,7 @@ def _context(macro: Macro, charger=None, given_series: int | None = None,
     name = ops.AKK_TYPE.operands[0].kind.name_of(akk.args[0].raw) if akk else None
     limits = None
     if name and name not in NO_DEFAULTS:
-        from ..sim.chemistry import load_chemistry   # data files: data/chemistries
+        from ..sim.chemistry import load_chemistry   # data files: resources/chemistries
         # No handler: a missing or broken data file (DataFileError) must stop the check, never
         # let it pass without the chemistry's limits.
         limits = load_chemistry(name)

@@ -1,6 +1,6 @@
 """Power-stage limits and heat-sink temperature of a B6-class charger.
 
-Numbers come from the package's ``data/chargers/<name>.toml``. The heat sink is one
+Numbers come from the package's ``resources/chargers/<name>.toml``. The heat sink is one
 first-order thermal node: charging loses (1 - efficiency) of the output power
 in the converter, discharging burns all of V * |I| in the load transistor.
 """
@@ -34,7 +34,7 @@ class ChargerLimits:
 
 
 def load_charger(name: str = "imax_b6") -> ChargerLimits:
-    """Load ``data/chargers/<name>.toml``; KeyError names the chargers there are."""
+    """Load ``resources/chargers/<name>.toml``; KeyError names the chargers there are."""
     known = data.names("chargers")
     if name not in known:
         raise KeyError(_("no charger {name!r}; known chargers: {known}").format(name=name, known=', '.join(known)))

@@ -1,4 +1,4 @@
-"""Per-cell chemistry parameters, loaded from the package's ``data/chemistries/<name>.toml``.
+"""Per-cell chemistry parameters, loaded from the package's ``resources/chemistries/<name>.toml``.
 
 The TOML files are the single source of numbers; this module only checks and
 flattens them. Every value is per cell at the file's reference capacity; `Pack`

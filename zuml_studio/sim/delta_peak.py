@@ -5,7 +5,7 @@ window the average is compared with the held peak of earlier averages. During
 the hold-off after the phase start the peak simply follows the average, so the
 voltage wobble of a freshly connected pack never counts as a drop (seed 001:
 ignore the first 5-10 minutes). The charger model sets both numbers
-(``[delta_peak]`` in data/chargers/*.toml).
+(``[delta_peak]`` in resources/chargers/*.toml).
 """
 from __future__ import annotations
 

@@ -21,7 +21,7 @@ class BatterySetup:
     chemistry: str | None = None        # battery model; None: the macro's AKK_TYPE
     soc: float | None = None            # None: empty for charge, full for discharge and training
     ambient_c: float = 25.0
-    charger: str | ChargerLimits = "imax_b6"   # a data/chargers name, or limits made for the run
+    charger: str | ChargerLimits = "imax_b6"   # a resources/chargers name, or limits made for the run
     battery: str | None = None          # a saved named battery (batteries.py): its model, capacity and cells
 
 
