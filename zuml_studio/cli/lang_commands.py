@@ -135,13 +135,13 @@ def cmd_decompile(args: argparse.Namespace) -> int:
 
 
 def _record_of(path: str, force: bool) -> bytes:
-    from ..safety import record_problems
+    from ..safety import judge
     if path.lower().endswith(".bin"):
         data = read_bytes(path)
         _decode(path, data)
     else:
         data = compile_file(path, unsafe_ok=force)
-    refuse_unsafe(record_problems(data), force, path)
+    refuse_unsafe(list(judge(data).errors), force, path)
     return data
 
 
