@@ -21,7 +21,7 @@ from .device.passport import Passport, conflicts
 from .lang import opcodes as ops
 from .lang.decoder import decode_record
 from .lang.diagnostics import Severity
-from .lang.eeprom import slots
+from .lang.eeprom import Slot, slots
 from .lang.lint import lint
 from .sim.interpreter import StartError, StartParams, with_template
 from .sim.program import Program
@@ -98,6 +98,16 @@ def judge_image(image: bytes, passport: Passport | None = None, *,
         errors += [where + line for line in verdict.errors]
         warnings += [where + line for line in verdict.warnings]
     return Verdict(tuple(errors), tuple(warnings))
+
+
+def judge_slots(client, found: list[Slot]) -> list[Verdict | None]:
+    """``judge`` of each slot read back from a charger (``client``: a ``device.client.ChargerClient``)
+    with its battery's passport and its own start templates; None for a slot that does not decode.
+    The slot lists show this, so a macro forced onto a charger is marked on every later read."""
+    passport = client.passport_if_any()
+    templates = client.templates_named(named_template(s.record) for s in found if s.ok)
+    return [judge(s.record, passport, templates=templates, charger_max_a=client.info.max_charge_a) if s.ok else None
+            for s in found]
 
 
 def named_template(record: bytes) -> int | None:

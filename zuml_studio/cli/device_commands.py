@@ -197,17 +197,10 @@ def cmd_slots(args: argparse.Namespace) -> int:
 def slot_checks(client: ChargerClient, found: list[Slot]) -> list[str]:
     """Each slot's check, judged on the bytes read back (never remembered): "ok", "BAD (why)" for a
     record that does not decode, "UNSAFE (codes)" for one the safety check refuses."""
-    from ..safety import judge, named_template
-    passport = client.passport_if_any()
-    templates = client.templates_named(named_template(s.record) for s in found if s.ok)
-    checks = []
-    for s in found:
-        if not s.ok:
-            checks.append(f"BAD ({s.error.message})")
-            continue
-        verdict = judge(s.record, passport, templates=templates, charger_max_a=client.info.max_charge_a)
-        checks.append("ok" if verdict.safe else _("UNSAFE ({codes})").format(codes=", ".join(verdict.codes())))
-    return checks
+    from ..safety import judge_slots
+    return [f"BAD ({s.error.message})" if verdict is None else
+            "ok" if verdict.safe else _("UNSAFE ({codes})").format(codes=", ".join(verdict.codes()))
+            for s, verdict in zip(found, judge_slots(client, found))]
 
 
 def _slots_or_error(image: bytes) -> list[Slot]:
