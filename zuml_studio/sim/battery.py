@@ -17,12 +17,13 @@ Per cell (I > 0 = charge, T in °C, s = stored charge / capacity):
     Cth * dT/dt = q - hA * (T - T_amb)       (stepped exactly for q held over the step)
     o     = o * a_o + (1 - eta) * I * dt / (3600 * Q) [charge only]
     L     = L + (1 - eta) * I * dt / (3600 * Q) on charge, max(0, L + I * dt / (3600 * Q)) on discharge
-    V    += k_over * L
+    V    += k_over * L^2
 
 L is the overcharge a lithium cell took past full (no O2 cycle takes it up: it plates lithium and
-oxidises the electrolyte); its voltage climbs steeply with it, k_over volts per cell per capacity's
-worth, so a charge that nothing stops shows as one (4.2 V at full, about 4.9 V at 150 % for LiPo).
-A discharge takes it back first. Like D, the step uses L before this step's.
+oxidises the electrolyte); its voltage climbs ever more steeply with it (k_over at a capacity's worth),
+so a charge that nothing stops shows as one: 4.2 V at full, about 4.45 V at 130 % and 4.9 V at 150 %
+for LiPo. Squared, the few tenths of a percent a normal CV tail leaves unaccepted add nothing. A
+discharge takes it back first. Like D, the step uses L before this step's.
 
 o is the overcharge (the charge the O2 cycle took, as a fraction of the capacity) that has not yet
 relaxed: the oxygen it makes depolarises the negative electrode, so past the peak the voltage falls
@@ -136,7 +137,7 @@ class Pack:
         """Pack voltage at zero current now: U(s) with its temperature term plus the RC voltages
         that have not relaxed yet, i.e. what a charger reads when it switches its power stage off."""
         return (self._cell_ocv() + self._v1 + self._v2 + self._vp - self._dip()
-                + self.chem.overcharge_v_per_charge * self._over) * self.series
+                + self.chem.overcharge_v_per_charge * self._over * self._over) * self.series
 
     def _dip(self) -> float:
         return self.chem.dip_v_per_charge * self._oc
@@ -186,7 +187,7 @@ class Pack:
             if j > last:
                 j = last
             e = ys[j - 1] + (s - xs[j - 1]) * slopes[j - 1] - k_t * (t - _T_REF_C)
-        v = e - k_dip * self._oc * a_o + k_over * self._over + extra + i * r + v1 + v2 + vp
+        v = e - k_dip * self._oc * a_o + k_over * self._over * self._over + extra + i * r + v1 + v2 + vp
         q = i * (v - eta * e) + eta * i * q_rev
         t_final = self.ambient_c + q * inv_ha
         self.temp_c = t_final + (t - t_final) * a_th
@@ -214,7 +215,7 @@ class Pack:
         # target = U(s + g*i) + rest + r*i, with everything that does not depend on i in `rest`.
         vp = self._vp * a_p
         rest = (self._v1 * a1 + self._v2 * a2 - k_t * (t - _T_REF_C) + vp - k_dip * self._oc * a_o
-                + k_over * self._over)
+                + k_over * self._over * self._over)
         r_ohmic = (r0 + r1b + r2b) * f
         target = v_pack / series
         eta = 1.0 - exp((s - 1.0) * inv_w0 / max(_W_FLOOR, 1.0 + w_t * (t - _T_REF_C)))

@@ -54,7 +54,7 @@ class Chemistry:
     q_rev_v: float               # reversible heat per ampere stored (negative = endothermic charge)
     dip_v_per_charge: float      # end-of-charge dip, V per cell per capacity's worth of O2-cycle overcharge
     dip_tau_s: float             # ... which relaxes with this time constant
-    overcharge_v_per_charge: float   # lithium past full: V per cell per capacity's worth of charge not accepted
+    overcharge_v_per_charge: float   # lithium past full: V per cell at a capacity's worth not accepted, squared
     # [thermal]
     cth_j_per_k: float
     ha_w_per_k: float

@@ -267,7 +267,8 @@ class ChargerSlots(QWidget):
         warned = record in self.connection.warned
 
         def job(client, progress):
-            verdict = judge(record, client.passport_if_any(), templates=client.templates_named([named_template(record)]),
+            templates = client.templates_named([named_template(record)])
+            verdict = judge(record, client.passport_if_any(), templates=templates,
                             charger_max_a=client.info.max_charge_a)
             if verdict.errors or (verdict.warnings and not warned):
                 return Unsafe(verdict, record)
