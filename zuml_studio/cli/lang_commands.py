@@ -83,7 +83,7 @@ def _summary(path: str, result: CompileResult) -> None:
 
 def compile_file(path: str, unsafe_ok: bool = False) -> bytes:
     """A .zuml file's record; errors are printed and raise CliError(exit 1). ``unsafe_ok``: the
-    safety lint's errors do not stop it (the caller runs ``safety.record_problems`` on the bytes)."""
+    safety lint's errors do not stop it (the caller runs ``safety.judge`` on the bytes)."""
     result = compile_source(read_text(path), unsafe_ok=unsafe_ok)
     if not result.ok:
         _report(path, result, stream=sys.stderr)
