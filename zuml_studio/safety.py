@@ -130,8 +130,10 @@ def _effective(record: bytes, start: StartParams | None,
         return start, "", ""
     try:
         params = with_template(Program(record), start or StartParams(), templates)
-    except StartError as exc:
-        return start, "", (str(exc) if start is not None else "")
+    except StartError:
+        missing = _("start template {number} (START_SHABLON={number}) is not stored on this charger: the charger "
+                    "refuses the start (store it first)").format(number=number)
+        return start, "", (missing if start is not None else "")
     table = factory_templates() if templates is None else templates
     return params, _(" [start template {number}: {values}]").format(number=number,
                                                                      values=table[number].describe()), ""
