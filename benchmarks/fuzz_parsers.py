@@ -24,7 +24,7 @@ from zuml_studio.lang.compiler import compile_source
 from zuml_studio.lang.decoder import decode_record
 from zuml_studio.lang.eeprom import ImageError, pack, slots
 from zuml_studio.lang.record import DecodeError
-from zuml_studio.safety import record_problems
+from zuml_studio.safety import judge
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from fuzz_common import Campaign, mutate_bytes  # noqa: E402
@@ -83,7 +83,7 @@ def main() -> int:
 
     def decode_and_check(data):
         decode_record(data)
-        record_problems(data, passport)          # a record that decodes must also pass through the safety check
+        judge(data, passport)          # a record that decodes must also pass through the safety check
 
     def image(rng):
         return mutate_bytes(rng, pack(rng.sample(RECORDS, 2), 256))

@@ -3,7 +3,7 @@ from helpers import HOT_LIION, compiled, unsafe_record
 from zuml_studio.device.passport import default_passport
 from zuml_studio.lang.compiler import compile_source
 from zuml_studio.lang.eeprom import pack
-from zuml_studio.safety import image_problems, record_problems
+from zuml_studio.safety import judge, judge_image
 from zuml_studio.sim.interpreter import StartParams
 
 
@@ -14,39 +14,74 @@ def test_the_compiler_withholds_unsafe_bytes_unless_overridden():
 
 
 def test_a_record_above_the_chemistry_maximum_is_refused_from_its_bytes():
-    problems = record_problems(unsafe_record())
+    problems = list(judge(unsafe_record()).errors)
     assert len(problems) == 2
     assert problems[0].startswith("E303 (byte ") and "4.96 V per cell" in problems[0] and "4.25 V" in problems[0]
 
 
 def test_a_safe_record_has_no_problems():
-    assert record_problems(compiled("LiIon-CCCV")) == []
-    assert record_problems(compiled("NiMh"), default_passport("NiMh", 2000, 4)) == []
+    assert list(judge(compiled("LiIon-CCCV")).errors) == []
+    assert judge(compiled("NiMh"), default_passport("NiMh", 2000, 4)).safe
 
 
 def test_the_cell_count_entered_at_start_resolves_absolute_volts():
     text = HOT_LIION.replace("  SERIES=1\n", "").replace("4.96S", "4.96V")
     record = unsafe_record(text)
-    assert record_problems(record) == []                     # per cell unknown before start
+    assert list(judge(record).errors) == []                     # per cell unknown before start
     start = StartParams(series=1, capacity_mah=2000)
-    assert any(p.startswith("E303") for p in record_problems(record, None, start))
+    assert any(p.startswith("E303") for p in list(judge(record, None, start).errors))
 
 
 def test_the_passport_limits_apply_when_writing_a_macro_for_that_battery():
     passport = default_passport("LiIon", 1000, 1)            # A_LIMIT 2 A
     record = compiled(HOT_LIION.replace("4.96S", "4.2S").replace("CONSTANT_I=1A", "CONSTANT_I=3A"))
-    assert record_problems(record) == []
-    assert any("charges at 3.00 A" in p for p in record_problems(record, passport))
+    assert list(judge(record).errors) == []
+    assert any("charges at 3.00 A" in p for p in list(judge(record, passport).errors))
 
 
 def test_writing_a_macro_for_another_chemistry_is_no_passport_problem_but_starting_it_is():
     passport = default_passport("LiIon", 2000, 1)
     record = compiled("NiMh")
-    assert record_problems(record, passport) == []
-    assert any("the battery is LiIon" in p for p in record_problems(record, passport, StartParams()))
+    assert list(judge(record, passport).errors) == []
+    assert any("the battery is LiIon" in p for p in list(judge(record, passport, StartParams()).errors))
 
 
 def test_image_problems_name_the_slot():
     image = pack([compiled("NiMh"), unsafe_record()], 1024)
-    problems = image_problems(image)
+    problems = judge_image(image).errors
     assert problems and all(p.startswith("slot 1 (Hot): E303") for p in problems)
+
+
+TEMPLATE_LIPO = """MACRO Tpl-LiPo
+  AKK_TYPE=LiPo
+  START_SHABLON=5
+  CHARGE_SECTION
+    FAZE
+    CONSTANT_I=1A
+    IF(V>12.6V) STOP_FAZE()
+    END_FAZE
+  END_SECTION
+END_MACRO
+"""
+
+
+def test_a_macro_naming_a_start_template_is_judged_with_the_templates_values():
+    from zuml_studio.sim.start_templates import StartTemplate
+    record = compiled(TEMPLATE_LIPO)
+    typed = StartParams(series=3, capacity_mah=2000, current_a=1.0)
+    assert judge(record, start=typed, templates={5: StartTemplate(series=3)}).safe
+    two_cells = {5: StartTemplate(series=2, capacity_mah=2000, current_a=1.0)}
+    for verdict in (judge(record, start=typed, templates=two_cells), judge(record, templates=two_cells)):
+        assert verdict.codes() == ["E303"]
+        assert "6.30 V per cell" in verdict.errors[0] and "[start template 5: " in verdict.errors[0]
+    missing = judge(record, start=typed, templates={})
+    assert not missing.safe and "start template 5" in missing.errors[0]
+    assert judge(record, templates={}).safe          # only writing: storing the template is judged then
+
+
+def test_a_macro_the_check_cannot_judge_is_refused_and_warnings_are_kept_apart():
+    no_type = compiled("MACRO NoType\n  SERIES=3\n  CHARGE_SECTION\n    FAZE\n    CONSTANT_I=1A\n"
+                       "    IF(V>4.5S) STOP_FAZE()\n    END_FAZE\n  END_SECTION\nEND_MACRO\n")
+    assert judge(no_type).codes() == ["W301"]
+    lipo = judge(compiled("LiPo"))
+    assert lipo.safe and lipo.warnings and all(w.startswith("W3") for w in lipo.warnings)

@@ -1,64 +1,142 @@
-"""The one safety check on bytes bound for a charger.
+"""The one safety check on bytes bound for a charger: ``judge``.
 
-Every path that puts a macro on a charger or starts one (``zuml flash`` of a .zuml or .bin,
-``zuml image``, ``zuml restore``, ``zuml run``; the Device panel's Compile & Flash, Restore
-and Start; the virtual charger's START as a last line) calls ``record_problems`` or
-``image_problems``. They decode the record with the decoder, run the safety lint's errors
-against the chemistry limits (with the start's cell count and capacity where the macro leaves
-them open) and, given a passport, the lockout (``device.passport.conflicts``). An empty list
-means "safe to write"; otherwise each line names one danger.
+Every path that puts a macro on a charger or starts one calls it (or ``judge_image`` for a whole
+EEPROM image): ``zuml flash`` of a .zuml or .bin, ``zuml image``, ``zuml restore``, ``zuml run``,
+``zuml templates set``; the Device panel's Compile & Flash (the toolbar's Upload), Restore and
+Start; the virtual charger's START as a last line; the slot lists (panel and ``zuml slots``) mark
+what it refuses, judged again on the bytes read back. docs/safety.md states the policy.
 
-Before a start the passport check is complete (the lockout refuses a macro for another
-chemistry). When only writing, the battery connected now need not be the one a macro is for:
-the passport's limits are checked only for a macro of the passport's own chemistry.
+The check judges the values the charger will run with: a macro that names a start template
+(START_SHABLON=n) runs with the template's values, not the ones typed, so the caller passes the
+charger's own templates (read from it). A macro the check cannot judge (no AKK_TYPE, or one with no
+reference limits) counts as one that failed it. Errors refuse; warnings ask (the window asks once,
+Cancel the default; the command line prints them).
 """
 from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Mapping
 
 from .device.passport import Passport, conflicts
 from .lang import opcodes as ops
 from .lang.decoder import decode_record
 from .lang.diagnostics import Severity
-from .lang.eeprom import slots
+from .lang.eeprom import Slot, slots
 from .lang.lint import lint
-from .sim.interpreter import StartParams
+from .sim.interpreter import StartError, StartParams, with_template
+from .sim.program import Program
+from .sim.start_templates import StartTemplate, factory_templates
 from .i18n import _
 
-
-class UnsafeMacro(Exception):
-    """Bytes the safety check refuses; ``problems`` holds one line per danger."""
-
-    def __init__(self, problems: list[str]):
-        super().__init__("; ".join(problems))
-        self.problems = problems
+UNCHECKABLE = "W301"        # the lint's "no chemistry to check against": refused like an error
 
 
-def record_problems(record: bytes, passport: Passport | None = None, start: StartParams | None = None, *,
-                    charger_max_a: float | None = None) -> list[str]:
-    """Why ``record`` must not be written (``start`` None) or started (with ``start``).
+@dataclass(frozen=True)
+class Verdict:
+    """``errors``: why the bytes must not reach a charger (one line each, the code first);
+    ``warnings``: what the user is asked about before they do."""
 
-    Raises ``lang.record.DecodeError`` for bytes that are not a record (callers refuse those first)."""
+    errors: tuple[str, ...] = ()
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def safe(self) -> bool:
+        return not self.errors
+
+    def codes(self) -> list[str]:
+        """The errors' codes in order, each once ("E303", "W301", "PASSPORT")."""
+        found: list[str] = []
+        for line in self.errors:
+            code = line.split(" ", 1)[0].split(":", 1)[0] if line[:1] in "EW" else "PASSPORT"
+            if code not in found:
+                found.append(code)
+        return found
+
+
+def judge(record: bytes, passport: Passport | None = None, start: StartParams | None = None, *,
+          templates: Mapping[int, StartTemplate] | None = None, charger_max_a: float | None = None) -> Verdict:
+    """Whether ``record`` may be written (``start`` None) or started with ``start``.
+
+    ``templates``: the charger's start templates (None: the factory table). A macro naming one
+    is judged with its values, also when only writing (whatever is typed at start, the charger
+    takes the template's). Raises ``lang.record.DecodeError`` for bytes that are not a record."""
     decoded = decode_record(record)
-    series = start.series if start else None
-    capacity = start.capacity_mah if start else None
-    problems = [_lint_line(f) for f in lint(decoded.macro, series=series, capacity_mah=capacity)
-                if f.severity is Severity.ERROR]
+    params, template_note, missing = _effective(record, start, templates)
+    errors: list[str] = [missing] if missing else []
+    warnings: list[str] = []
+    for finding in lint(decoded.macro, series=params.series if params else None,
+                        capacity_mah=params.capacity_mah if params else None):
+        line = _lint_line(finding) + template_note
+        if finding.severity is Severity.ERROR:
+            errors.append(line)
+        elif finding.code == UNCHECKABLE:
+            errors.append(line + _(" (a macro the check cannot judge is refused)"))
+        elif finding.code.startswith("W3"):
+            warnings.append(line)
     if passport is not None:
         akk = decoded.macro.declared(ops.AKK_TYPE)
-        if start is not None or (akk is not None and akk.args[0].raw == passport.type):
+        if (start is not None and not missing) or (akk is not None and akk.args[0].raw == passport.type):
             # Before a start, the current a CONSTANT_V phase alone reaches is not known yet (the
             # current entered at start, else the charger's limit): it is checked at START.
-            problems += conflicts(passport, record, start or StartParams("train"),
-                                  charger_max_a=charger_max_a if start is not None else None)
-    return problems
+            errors += conflicts(passport, record, params or StartParams("train"),
+                                charger_max_a=charger_max_a if start is not None else None)
+    return Verdict(tuple(errors), tuple(warnings))
 
 
-def image_problems(image: bytes, passport: Passport | None = None, *,
-                   charger_max_a: float | None = None) -> list[str]:
-    """``record_problems`` of every record in an EEPROM image that decodes, each line prefixed with
-    its slot. Raises ``lang.eeprom.ImageError`` for a broken record list."""
-    return [_("slot {index} ({name}): {problem}").format(index=s.index, name=s.name, problem=line)
-            for s in slots(image) if s.ok
-            for line in record_problems(s.record, passport, charger_max_a=charger_max_a)]
+def judge_image(image: bytes, passport: Passport | None = None, *,
+                templates: Mapping[int, StartTemplate] | None = None,
+                charger_max_a: float | None = None) -> Verdict:
+    """``judge`` of every record in an EEPROM image that decodes, each line prefixed with its slot.
+    Raises ``lang.eeprom.ImageError`` for a broken record list."""
+    errors: list[str] = []
+    warnings: list[str] = []
+    for s in slots(image):
+        if not s.ok:
+            continue
+        verdict = judge(s.record, passport, templates=templates, charger_max_a=charger_max_a)
+        where = _("slot {index} ({name}): ").format(index=s.index, name=s.name)
+        errors += [where + line for line in verdict.errors]
+        warnings += [where + line for line in verdict.warnings]
+    return Verdict(tuple(errors), tuple(warnings))
+
+
+def judge_slots(client, found: list[Slot]) -> list[Verdict | None]:
+    """``judge`` of each slot read back from a charger (``client``: a ``device.client.ChargerClient``)
+    with its battery's passport and its own start templates; None for a slot that does not decode.
+    The slot lists show this, so a macro forced onto a charger is marked on every later read."""
+    passport = client.passport_if_any()
+    templates = client.templates_named(named_template(s.record) for s in found if s.ok)
+    return [judge(s.record, passport, templates=templates, charger_max_a=client.info.max_charge_a) if s.ok else None
+            for s in found]
+
+
+def named_template(record: bytes) -> int | None:
+    """The start template a record names (START_SHABLON=n), None if it names none or does not decode."""
+    try:
+        return Program(record).intro.declarations.get(ops.START_SHABLON.code)
+    except Exception:   # noqa: BLE001 - bytes that are not a record are refused by their own check
+        return None
+
+
+def _effective(record: bytes, start: StartParams | None,
+               templates: Mapping[int, StartTemplate] | None) -> tuple[StartParams | None, str, str]:
+    """The start values the charger will use, a note naming the template they came from, and why
+    the start cannot happen ("" if it can).
+
+    Only writing, a missing template leaves the values open (the macro cannot start until it is
+    stored, and storing it is judged); before a start it is a refusal, as the charger's."""
+    number = named_template(record)
+    if number is None:
+        return start, "", ""
+    try:
+        params = with_template(Program(record), start or StartParams(), templates)
+    except StartError:
+        missing = _("start template {number} (START_SHABLON={number}) is not stored on this charger: the charger "
+                    "refuses the start (store it first)").format(number=number)
+        return start, "", (missing if start is not None else "")
+    table = factory_templates() if templates is None else templates
+    return params, _(" [start template {number}: {values}]").format(number=number,
+                                                                     values=table[number].describe()), ""
 
 
 def _lint_line(finding) -> str:

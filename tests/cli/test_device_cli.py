@@ -173,8 +173,13 @@ def test_refusals_and_link_errors_are_one_line(vc, zuml, tmp_path):
                                 "refused, 1 safety problem above (--force-unsafe overrides)"]
     code, out, err = zuml("run", "--port", port, "--slot", "0", "--capacity", "2000", "--current", "2",
                           "--series", "4", "--force-unsafe")
-    one_error_line(code, out, err)
-    assert "the macro is for NiMh; the battery is LiPo" in err and device.state == "idle"
+    # --force-unsafe says what it goes past (issue 27), then the charger's own refusal is the one error
+    assert code == 1 and "Traceback" not in err
+    assert err.splitlines() == ["  the macro is for NiMh; the battery is LiPo",
+                                "zuml: warning: slot 0 (NiMh-dV): --force-unsafe: going ahead despite the problem "
+                                "above", "zuml: error: the charger refused to start slot 0 (PASSPORT_CONFLICT): the "
+                                "macro is for NiMh; the battery is LiPo"]
+    assert device.state == "idle"
     code, out, err = zuml("run", "--port", port, "--slot", "5")
     one_error_line(code, out, err)
     assert "there is no slot 5" in err

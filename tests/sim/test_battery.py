@@ -296,3 +296,31 @@ def test_an_ambient_outside_the_model_range_is_refused(ambient):
 def test_a_capacity_that_is_no_positive_finite_number_is_refused(capacity):
     with pytest.raises(ValueError, match="capacity_mah must be > 0"):
         Pack(load_chemistry("NiMh"), capacity, 4)
+
+
+@pytest.mark.parametrize("name, full_v", [("LiPo", 4.2), ("LiIon", 4.2), ("LiFe", 3.6)])
+def test_a_lithium_cell_past_full_climbs_steeply(name, full_v):
+    """Issue 27: a LiPo taken to 150 % sat at about 4.25 V; past full the voltage climbs (the charge
+    goes into plating and the electrolyte, not the cell), so an overcharge shows as one."""
+    pack = Pack(load_chemistry(name), 2000, 1)
+    volts = {}
+    for second in range(1, int(1.5 * 3600) + 1):       # 1C for 90 minutes: 150 % of the capacity
+        v = pack.step(2.0, DT)
+        if second in (3240, 4680, 5400):               # 90 %, 130 %, 150 %
+            volts[second] = v
+    assert volts[3240] < full_v + 0.1
+    assert volts[4680] > full_v + 0.2
+    assert volts[5400] > full_v + 0.6 and volts[5400] > volts[4680] + 0.3
+    after = pack.open_circuit_voltage()
+    pack.step(-2.0, 600.0)                             # a discharge takes the overcharge back first
+    assert pack.open_circuit_voltage() < after - 0.3
+
+
+def test_the_simulator_sees_a_lithium_overcharge():
+    """A stop just above the usual 4.2 V per cell ends the charge just past full (it used to run on
+    to a default: the model never got there)."""
+    from simhelp import macro, run
+    text = macro("FAZE\nCONSTANT_I=1C\nIF(V>4.3S) STOP_FAZE\nEND_FAZE", intro="AKK_TYPE=LiPo\nSERIES=2")
+    result = run(text, capacity=2000, series=2, sensor=False)
+    phase = result.phases[0]
+    assert phase.reason == "IF(V>4.3S) STOP_FAZE" and 2000 < phase.mah_in < 2400, (phase.reason, phase.mah_in)

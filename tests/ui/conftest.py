@@ -47,14 +47,25 @@ def make_window(qtbot, tmp_path):
 
 
 @pytest.fixture(autouse=True)
-def no_unexpected_unsafe_dialog(monkeypatch):
-    """A modal dialog would block an offscreen test forever: a test that expects the safety
-    dialog replaces ``confirm_unsafe`` itself; anywhere else it fails the test at once."""
-    from zuml_studio.ui.device import confirm_dialogs, unsafe_dialog
+def warnings_asked(monkeypatch):
+    """A modal dialog would block an offscreen test forever: the safety check's question about
+    warnings (asked once per macro, docs/safety.md) is answered "go ahead" and recorded here as
+    (action, warnings); a test that cancels replaces ``confirm_warnings`` itself."""
+    from zuml_studio.ui.device import unsafe_dialog
 
-    def unexpected(parent, action, problems):
-        raise AssertionError(f"unexpected safety dialog ({action}): {problems}")
-    monkeypatch.setattr(unsafe_dialog, "confirm_unsafe", unexpected)
+    asked = []
+
+    def answer(parent, action, warnings):
+        asked.append((action, list(warnings)))
+        return True
+    monkeypatch.setattr(unsafe_dialog, "confirm_warnings", answer)
+    return asked
+
+
+@pytest.fixture(autouse=True)
+def no_unexpected_restore_question(monkeypatch):
+    """The Restore question fails a test that did not expect it (a test that does replaces it)."""
+    from zuml_studio.ui.device import confirm_dialogs
 
     def unexpected_restore(parent, text):
         raise AssertionError(f"unexpected Restore question: {text}")

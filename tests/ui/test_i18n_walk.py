@@ -357,7 +357,7 @@ def test_every_dialog_is_russian_and_cuts_nothing_off(window, qtbot, message_box
 
 # The real questions, taken before tests/ui/conftest.py replaces them for every test.
 REAL_CONFIRM_RESTORE = confirm_dialogs.confirm_restore
-REAL_CONFIRM_UNSAFE = unsafe_dialog.confirm_unsafe
+REAL_CONFIRM_WARNINGS = unsafe_dialog.confirm_warnings
 
 
 @pytest.mark.parametrize("which", ["confirm_dialogs", "unsafe_dialog"])
@@ -366,7 +366,7 @@ def test_the_device_confirmations_are_russian_and_cut_nothing_off(russian, qtbot
         REAL_CONFIRM_RESTORE(None, confirm_dialogs.restore_text("backup.bin", ["NiMh", "LiPo"], ["NiMh"]))
         confirm_dialogs.ask_close_during_run(None, "NiMh", True)
     else:
-        REAL_CONFIRM_UNSAFE(None, "Записать", ["V_LIMIT 5 V is above 4.25 V per cell"])
+        REAL_CONFIRM_WARNINGS(None, "Записать", ["W303: 4.30 V per cell, above LiIon's usual 4.20 V"])
     assert message_boxes
     for walked, cut in message_boxes:
         assert not english(walked), "\n".join(english(walked))

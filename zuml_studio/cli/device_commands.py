@@ -19,7 +19,7 @@ from ..device.errors import (CommitUncertain, CommitUnverified, DeviceError, Dev
                              NotACharger)
 from ..device.passport import FACTORY_WRITABLE, WRITABLE, Passport, PassportError, fitness_warnings, printable
 from ..lang.decoder import decode_record
-from ..lang.eeprom import ImageError, Slot, records, used_bytes
+from ..lang.eeprom import ImageError, Slot, records, slots, used_bytes
 from ..lang.record import DecodeError
 from .common import CliError, add_force_unsafe, check_start_options, out, read_bytes, refuse_unsafe, write_bytes
 from .lang_commands import compile_file
@@ -184,16 +184,25 @@ def cmd_ports(args: argparse.Namespace) -> int:
 def cmd_slots(args: argparse.Namespace) -> int:
     with _connect(args) as client:
         image = client.read_image()
-    found = _slots_or_error(image)
+        found = _slots_or_error(image)
+        checks = slot_checks(client, found)
     out(f"{'#':>3}  {'offset':>6}  {'size':>4}  {'name':<16}  {'chemistry':<9}  check")
-    for s in found:
-        check = "ok" if s.ok else f"BAD ({s.error.message})"
+    for s, check in zip(found, checks):
         out(f"{s.index:>3}  {s.offset:>6}  {len(s.record):>4}  {s.name:<16}  {_chemistry(s):<9}  {check}")
     used = used_bytes(image)
     out(ngettext("{count} macro; free {free} of {size} bytes", "{count} macros; free {free} of {size} bytes",
                  len(found)).format(
             count=len(found), free=len(image) - used, size=len(image)))
     return 0
+
+
+def slot_checks(client: ChargerClient, found: list[Slot]) -> list[str]:
+    """Each slot's check, judged on the bytes read back (never remembered): "ok", "BAD (why)" for a
+    record that does not decode, "UNSAFE (codes)" for one the safety check refuses."""
+    from ..safety import judge_slots
+    return [f"BAD ({s.error.message})" if verdict is None else
+            "ok" if verdict.safe else _("UNSAFE ({codes})").format(codes=", ".join(verdict.codes()))
+            for s, verdict in zip(found, judge_slots(client, found))]
 
 
 def _slots_or_error(image: bytes) -> list[Slot]:
@@ -221,12 +230,13 @@ def _record(path: str, force: bool) -> bytes:
 @_device_errors
 def cmd_flash(args: argparse.Namespace) -> int:
     from ..device.flashing import ImageFull, SlotOutOfRange, merge_record
-    from ..safety import record_problems
+    from ..safety import judge, named_template
     record = _record(args.file, args.force_unsafe)
     name = decode_record(record).macro.name
     with _connect(args) as client:
-        refuse_unsafe(record_problems(record, client.passport_if_any(), charger_max_a=client.info.max_charge_a),
-                      args.force_unsafe, args.file)
+        verdict = judge(record, client.passport_if_any(), templates=client.templates_named([named_template(record)]),
+                        charger_max_a=client.info.max_charge_a)
+        refuse_unsafe(list(verdict.errors), args.force_unsafe, args.file)
         current = client.read_image()
         _slots_or_error(current)
         try:
@@ -296,14 +306,16 @@ def cmd_backup(args: argparse.Namespace) -> int:
 
 @_device_errors
 def cmd_restore(args: argparse.Namespace) -> int:
-    from ..safety import image_problems
+    from ..safety import judge_image, named_template
     image = read_bytes(args.file)
     check_image(image)
     with _connect(args) as client:
         if len(image) > client.info.eeprom_size:
             raise ImageTooLarge(len(image), client.info.eeprom_size)
-        refuse_unsafe(image_problems(image, client.passport_if_any(), charger_max_a=client.info.max_charge_a),
-                      args.force_unsafe, args.file)
+        templates = client.templates_named(named_template(s.record) for s in slots(image) if s.ok)
+        verdict = judge_image(image, client.passport_if_any(), templates=templates,
+                              charger_max_a=client.info.max_charge_a)
+        refuse_unsafe(list(verdict.errors), args.force_unsafe, args.file)
         try:
             result = client.write_image(image, validate=False)
         except (CommitUncertain, CommitUnverified) as exc:
@@ -321,8 +333,7 @@ def cmd_restore(args: argparse.Namespace) -> int:
 def cmd_run(args: argparse.Namespace) -> int:
     check_start_options(args, amps_max=65.5)    # START carries mA and mV as u16
     with _connect(args) as client:
-        if not args.force_unsafe:
-            _check_start(client, args)
+        _check_start(client, args)
         try:
             name = client.start(args.slot, args.task, args.cycles, args.capacity, args.current, args.voltage,
                                 args.series, not args.no_sensor)
@@ -334,10 +345,10 @@ def cmd_run(args: argparse.Namespace) -> int:
 
 
 def _check_start(client: ChargerClient, args: argparse.Namespace) -> None:
-    """The safety check on the slot's record with the values entered (a slot that is missing or does
-    not decode is left to the charger's own refusal)."""
-    from ..lang.eeprom import slots
-    from ..safety import record_problems
+    """The safety check on the slot's record with the values the charger will use (its start
+    template's, when the macro names one); ``--force-unsafe`` prints the problems and goes ahead. A
+    slot that is missing or does not decode is left to the charger's own refusal."""
+    from ..safety import judge, named_template
     from ..sim.interpreter import StartParams
     try:
         found = slots(client.read_image())
@@ -347,9 +358,11 @@ def _check_start(client: ChargerClient, args: argparse.Namespace) -> None:
         return
     start = StartParams(args.task, args.cycles, args.capacity, args.current, args.voltage, args.series,
                         not args.no_sensor)
-    problems = record_problems(found[args.slot].record, client.passport_if_any(), start,
-                               charger_max_a=client.info.max_charge_a)
-    refuse_unsafe(problems, False, _("slot {slot} ({name})").format(slot=args.slot, name=found[args.slot].name))
+    record = found[args.slot].record
+    verdict = judge(record, client.passport_if_any(), start, templates=client.templates_named([named_template(record)]),
+                    charger_max_a=client.info.max_charge_a)
+    refuse_unsafe(list(verdict.errors), args.force_unsafe,
+                  _("slot {slot} ({name})").format(slot=args.slot, name=found[args.slot].name))
 
 
 @_device_errors

@@ -87,7 +87,7 @@ def _summary(path: str, result: CompileResult) -> None:
 
 def compile_file(path: str, unsafe_ok: bool = False) -> bytes:
     """A .zuml file's record; errors are printed and raise CliError(exit 1). ``unsafe_ok``: the
-    safety lint's errors do not stop it (the caller runs ``safety.record_problems`` on the bytes)."""
+    safety lint's errors do not stop it (the caller runs ``safety.judge`` on the bytes)."""
     result = compile_source(read_text(path), unsafe_ok=unsafe_ok)
     if not result.ok:
         _report(path, result, stream=sys.stderr)
@@ -139,13 +139,13 @@ def cmd_decompile(args: argparse.Namespace) -> int:
 
 
 def _record_of(path: str, force: bool) -> bytes:
-    from ..safety import record_problems
+    from ..safety import judge
     if path.lower().endswith(".bin"):
         data = read_bytes(path)
         _decode(path, data)
     else:
         data = compile_file(path, unsafe_ok=force)
-    refuse_unsafe(record_problems(data), force, path)
+    refuse_unsafe(list(judge(data).errors), force, path)
     return data
 
 

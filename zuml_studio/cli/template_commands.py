@@ -5,7 +5,7 @@ import argparse
 
 from ..device import messages as msg
 from ..sim.start_templates import TEMPLATE_COUNT, StartTemplate, TemplateError
-from .common import CliError, out
+from .common import CliError, add_force_unsafe, out, refuse_unsafe
 from .device_commands import _connect, _device_errors, _with_port
 from ..i18n import _
 
@@ -27,6 +27,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     q.add_argument("--current", type=float, metavar="A")
     q.add_argument("--voltage", type=float, metavar="V", help=_("whole pack"))
     q.add_argument("--series", type=int, metavar="N")
+    add_force_unsafe(q)
     q.set_defaults(run=cmd_set)
 
 
@@ -67,6 +68,23 @@ def cmd_set(args: argparse.Namespace) -> int:
     except TemplateError as exc:
         raise CliError(_("start template {number}: {exc}").format(number=number, exc=exc)) from None
     with _connect(args) as client:
+        refuse_unsafe(template_problems(client, number, template), args.force_unsafe,
+                      _("start template {number}").format(number=number))
         stored = client.set_template(number, template)
     out(line(number, stored))
     return 0
+
+
+def template_problems(client, number: int, template: StartTemplate) -> list[str]:
+    """The safety check's errors for every macro on the charger that names template ``number``
+    (START_SHABLON), judged with the new template: it changes what they will run with."""
+    from ..lang.eeprom import ImageError, slots
+    from ..safety import judge, named_template
+    try:
+        found = [s for s in slots(client.read_image()) if s.ok and named_template(s.record) == number]
+    except ImageError:
+        return []       # nothing on the charger can start from a broken record list
+    passport = client.passport_if_any()
+    return [_("slot {index} ({name}): ").format(index=s.index, name=s.name) + line for s in found
+            for line in judge(s.record, passport, templates={number: template},
+                              charger_max_a=client.info.max_charge_a).errors]

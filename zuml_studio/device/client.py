@@ -669,6 +669,18 @@ class ChargerClient:
         """Start template ``number`` as a ``sim.start_templates.StartTemplate``; DeviceError NO_TEMPLATE."""
         return _template(self._call("GET_TEMPLATE", response_len=12, number=number))
 
+    def templates_named(self, numbers) -> dict:
+        """The charger's start templates with these numbers (None among them ignored), for the
+        safety check: a number the charger does not hold is left out (a start then is refused)."""
+        table = {}
+        for number in sorted({n for n in numbers if n is not None}):
+            try:
+                table[number] = self.get_template(number)
+            except DeviceError as exc:
+                if exc.code not in (m.ErrorCode.NO_TEMPLATE, m.ErrorCode.UNKNOWN_TYPE):
+                    raise
+        return table
+
     def set_template(self, number: int, template):
         """Store a ``StartTemplate`` as template ``number``; returns what the charger stored."""
         return _template(self._call("SET_TEMPLATE", response_len=12, **m.template_fields(number, template)))

@@ -499,8 +499,9 @@ class VirtualCharger:
                 raise _Refused(m.ErrorCode.PASSPORT_CONFLICT,
                                _("the battery's passport is unreadable ({exc}); not starting").format(
                         exc=exc)) from None
-            from ..safety import record_problems      # the host's check, again: the last line
-            found = record_problems(record, passport, params, charger_max_a=self.limits.max_charge_a)
+            from ..safety import judge      # the host's check, again: the last line
+            found = judge(record, passport, params, templates=self.templates,
+                          charger_max_a=self.limits.max_charge_a).errors
             if found:
                 raise _Refused(m.ErrorCode.PASSPORT_CONFLICT, "\n".join(found))
         with self._lock:

@@ -16,6 +16,14 @@ Per cell (I > 0 = charge, T in °C, s = stored charge / capacity):
     q     = I * (V - eta * E) + eta * I * q_rev     (all input power not stored as chemistry is heat)
     Cth * dT/dt = q - hA * (T - T_amb)       (stepped exactly for q held over the step)
     o     = o * a_o + (1 - eta) * I * dt / (3600 * Q) [charge only]
+    L     = L + (1 - eta) * I * dt / (3600 * Q) on charge, max(0, L + I * dt / (3600 * Q)) on discharge
+    V    += k_over * L^2
+
+L is the overcharge a lithium cell took past full (no O2 cycle takes it up: it plates lithium and
+oxidises the electrolyte); its voltage climbs ever more steeply with it (k_over at a capacity's worth),
+so a charge that nothing stops shows as one: 4.2 V at full, about 4.45 V at 130 % and 4.9 V at 150 %
+for LiPo. Squared, the few tenths of a percent a normal CV tail leaves unaccepted add nothing. A
+discharge takes it back first. Like D, the step uses L before this step's.
 
 o is the overcharge (the charge the O2 cycle took, as a fraction of the capacity) that has not yet
 relaxed: the oxygen it makes depolarises the negative electrode, so past the peak the voltage falls
@@ -75,6 +83,7 @@ class Pack:
         self._v2 = 0.0
         self._vp = 0.0
         self._oc = 0.0
+        self._over = 0.0
 
         q_ah = self.capacity_mah / 1000.0
         scale_r = chem.ref_capacity_ah / q_ah       # R x Ah is constant within a family [N11]
@@ -110,7 +119,7 @@ class Pack:
             dt / self._q_as, exp(-dt * self._ha / self._cth), 1.0 / self._ha,
             self._xs, self._ys, self._slopes, len(self._xs) - 1, self.series,
             exp(-dt / c.pol_tau_s), c.pol_max_v,
-            c.dip_v_per_charge, exp(-dt / c.dip_tau_s),
+            c.dip_v_per_charge, exp(-dt / c.dip_tau_s), c.overcharge_v_per_charge,
         )
 
     def _cell_ocv(self) -> float:
@@ -127,7 +136,8 @@ class Pack:
     def open_circuit_voltage(self) -> float:
         """Pack voltage at zero current now: U(s) with its temperature term plus the RC voltages
         that have not relaxed yet, i.e. what a charger reads when it switches its power stage off."""
-        return (self._cell_ocv() + self._v1 + self._v2 + self._vp - self._dip()) * self.series
+        return (self._cell_ocv() + self._v1 + self._v2 + self._vp - self._dip()
+                + self.chem.overcharge_v_per_charge * self._over * self._over) * self.series
 
     def _dip(self) -> float:
         return self.chem.dip_v_per_charge * self._oc
@@ -137,7 +147,7 @@ class Pack:
         if dt != self._dt:
             self._set_dt(dt)
         (r0, r1b, a1, r2b, a2, ea_r, ea_r_ref, kc, kd, eps, inv_w0, w_t, dv_o2, k_t, q_rev,
-         ds_k, a_th, inv_ha, xs, ys, slopes, last, series, a_p, vp_max, k_dip, a_o) = self._k
+         ds_k, a_th, inv_ha, xs, ys, slopes, last, series, a_p, vp_max, k_dip, a_o, k_over) = self._k
         i = current_a
         s = self.soc
         t = self.temp_c
@@ -154,8 +164,12 @@ class Pack:
                 vp = vp_max
             extra = (1.0 - eta) * dv_o2
             oc = self._oc * a_o + (1.0 - eta) * i * ds_k
+            over = self._over + (1.0 - eta) * i * ds_k
         else:
             oc = self._oc * a_o
+            over = self._over + i * ds_k
+            if over < 0.0:
+                over = 0.0
             eta = 1.0
             r = r0 * f + kd / ((s if s > 0.0 else 0.0) + eps)
             extra = 0.0
@@ -173,7 +187,7 @@ class Pack:
             if j > last:
                 j = last
             e = ys[j - 1] + (s - xs[j - 1]) * slopes[j - 1] - k_t * (t - _T_REF_C)
-        v = e - k_dip * self._oc * a_o + extra + i * r + v1 + v2 + vp
+        v = e - k_dip * self._oc * a_o + k_over * self._over * self._over + extra + i * r + v1 + v2 + vp
         q = i * (v - eta * e) + eta * i * q_rev
         t_final = self.ambient_c + q * inv_ha
         self.temp_c = t_final + (t - t_final) * a_th
@@ -182,6 +196,7 @@ class Pack:
         self._v2 = v2
         self._vp = vp
         self._oc = oc
+        self._over = over
         self.current = i
         self.cell_voltage = v
         v *= series
@@ -193,13 +208,14 @@ class Pack:
         if dt != self._dt:
             self._set_dt(dt)
         (r0, r1b, a1, r2b, a2, ea_r, ea_r_ref, kc, kd, eps, inv_w0, w_t, dv_o2, k_t, q_rev,
-         ds_k, a_th, inv_ha, xs, ys, slopes, last, series, a_p, vp_max, k_dip, a_o) = self._k
+         ds_k, a_th, inv_ha, xs, ys, slopes, last, series, a_p, vp_max, k_dip, a_o, k_over) = self._k
         s = self.soc
         t = self.temp_c
         f = exp(ea_r / (t + _KELVIN) - ea_r_ref)
         # target = U(s + g*i) + rest + r*i, with everything that does not depend on i in `rest`.
         vp = self._vp * a_p
-        rest = self._v1 * a1 + self._v2 * a2 - k_t * (t - _T_REF_C) + vp - k_dip * self._oc * a_o
+        rest = (self._v1 * a1 + self._v2 * a2 - k_t * (t - _T_REF_C) + vp - k_dip * self._oc * a_o
+                + k_over * self._over * self._over)
         r_ohmic = (r0 + r1b + r2b) * f
         target = v_pack / series
         eta = 1.0 - exp((s - 1.0) * inv_w0 / max(_W_FLOOR, 1.0 + w_t * (t - _T_REF_C)))

@@ -54,6 +54,7 @@ class Chemistry:
     q_rev_v: float               # reversible heat per ampere stored (negative = endothermic charge)
     dip_v_per_charge: float      # end-of-charge dip, V per cell per capacity's worth of O2-cycle overcharge
     dip_tau_s: float             # ... which relaxes with this time constant
+    overcharge_v_per_charge: float   # lithium past full: V per cell at a capacity's worth not accepted, squared
     # [thermal]
     cth_j_per_k: float
     ha_w_per_k: float
@@ -130,6 +131,8 @@ def _check(c: Chemistry) -> None:
     for key in positive:
         if not getattr(c, key) > 0.0:
             raise ValueError(_("{key} must be > 0").format(key=key))
+    if c.overcharge_v_per_charge < 0.0:
+        raise ValueError(_("{key} must be >= 0").format(key="overcharge_v_per_charge"))
     if c.dip_v_per_charge < 0.0:
         raise ValueError(_("{key} must be >= 0 (the voltage falls past the peak, never rises)").format(
             key="dip_v_per_charge"))

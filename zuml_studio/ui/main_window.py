@@ -862,6 +862,8 @@ class MainWindow(QMainWindow):
         self.device_dock.show()
         self.device_dock.raise_()
         if not self.verify():
+            from .device.unsafe_dialog import upload_refusal
+            self.device_panel.show_message(upload_refusal(self.validate_now().errors), "error")
             return
         if self.device_panel.is_connected():
             self.device_panel.flash()

@@ -74,28 +74,16 @@ def test_something_that_is_not_a_charger(qtbot, make_panel):
         server.close()
 
 
-def test_a_passport_of_another_chemistry_refuses_start(qtbot, make_panel, monkeypatch):
-    import zuml_studio.ui.device.unsafe_dialog as dp
-    monkeypatch.setattr(dp, "confirm_unsafe", lambda *a, **k: False)     # the user cancels the override
+def test_a_passport_of_another_chemistry_refuses_start(qtbot, make_panel):
     panel = make_panel()
     panel.v_passport.setCurrentIndex(panel.v_passport.findData("LiPo"))
     connect(qtbot, panel)
     assert panel.pp_labels["type"].text().startswith("LiPo")
     ok, text = flash_and_start(qtbot, panel)
     assert not ok
-    assert text.startswith("Not started: the safety check forbids NiMh-dV:")
-    assert "• the macro is for NiMh; the battery is LiPo" in text
+    assert text.startswith("Not started: NiMh-dV: the safety check refused it:")
+    assert "• the macro is for NiMh; the battery is LiPo" in text and "--force-unsafe" in text
     assert panel.message_text() == text and "b00020" in panel.message.styleSheet()
-    assert panel.connection.virtual_device.state == "idle"
-
-    # confirmed past the panel's check, the charger refuses too, with its own lines
-    monkeypatch.setattr(dp, "confirm_unsafe", lambda *a, **k: True)
-    with qtbot.waitSignal(panel.startFinished, timeout=WAIT_MS) as device_refused:
-        panel.start()
-    ok, text = device_refused.args
-    assert not ok
-    assert text.startswith("The charger refused to start:")
-    assert "• the macro is for NiMh; the battery is LiPo" in text
     assert panel.connection.virtual_device.state == "idle"
 
 

@@ -11,7 +11,7 @@ from device_helpers import WAIT_MS, connect, flash_and_start
 from test_i18n_walk import clipped, english, untranslated, walk
 from zuml_studio import i18n
 from zuml_studio.ui.device.confirm_dialogs import restore_text
-from zuml_studio.ui.device.unsafe_dialog import unsafe_dialog
+from zuml_studio.ui.device.unsafe_dialog import warnings_dialog
 
 pytestmark = pytest.mark.skipif(os.name != "posix", reason="the built-in virtual charger uses a pty here")
 
@@ -66,11 +66,11 @@ def test_a_monitor_only_charger_in_russian(qtbot, make_panel, russian, tmp_path)
 
 
 def test_the_device_questions_in_russian(qtbot, russian):
-    box = unsafe_dialog(None, i18n._("Flash"), ["V > 4.25 V/cell"])
+    box = warnings_dialog(None, i18n._("Flash"), ["V > 4.20 V/cell"])
     qtbot.addWidget(box)
     for text in (box.windowTitle(), box.text(), box.informativeText(), box.go_ahead.text()):
         assert CYRILLIC.search(text), text
-    assert "1 опасность" in box.text()             # the singular of three forms
+    assert "1 предупреждение" in box.text()        # the singular of three forms
     text = restore_text("backup.bin", ["NiMh-dV", "LiPo"], ["NiMh-dV"])
     assert "2 макроса" in text and "1 макрос:" in text
     assert not untranslated(text)

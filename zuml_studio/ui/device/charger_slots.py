@@ -16,7 +16,7 @@ from ...device.flashing import merge_record
 from ...file_errors import FileReadError, read_file_bytes
 from ...i18n import N_, _, ngettext
 from ...lang.eeprom import ImageError, Slot, slots, used_bytes
-from ...safety import image_problems, record_problems
+from ...safety import Verdict, judge, judge_image, judge_slots, named_template
 from . import confirm_dialogs, unsafe_dialog
 from .connection import DeviceConnection, describe_error
 from .connection_bar import record_chemistry
@@ -28,13 +28,28 @@ STAGES = {"read": N_("reading {done} of {total} bytes"), "write": N_("writing {d
 
 
 class Unsafe:
-    """What a job hands back instead of writing: the safety check's problems, for the dialog."""
+    """What a job hands back instead of writing: the safety check's verdict (refused when it has
+    errors, else warnings to ask about) and the bytes it judged."""
 
-    def __init__(self, problems: list[str]):
-        self.problems = problems
+    def __init__(self, verdict: Verdict, record: bytes):
+        self.verdict = verdict
+        self.record = record
 
-    def summary(self) -> str:
-        return _("the safety check refused it:") + "\n" + "\n".join(f"• {line}" for line in self.problems)
+
+def checked_image(client, image: bytes) -> tuple[bytes, list[Verdict | None]]:
+    """``image`` with the safety check of each of its slots (on the worker thread: it asks the
+    charger for the battery's passport and the start templates the macros name)."""
+    try:
+        return image, judge_slots(client, slots(image))
+    except ImageError:      # a broken record list: show_image says so
+        return image, []
+
+
+def check_text(verdict: Verdict | None) -> str:
+    """The slot list's Check column."""
+    if verdict is None:
+        return _("BAD")
+    return _("ok") if verdict.safe else _("UNSAFE {codes}").format(codes=", ".join(verdict.codes()))
 
 
 class SlotTable(QTableWidget):
@@ -65,7 +80,10 @@ class ChargerSlots(QWidget):
         self._get_record = get_record
         self.image: bytes | None = None
         self.slots: list[Slot] = []
+        self.verdicts: list[Verdict | None] = []    # the safety check of each slot, from the bytes read back
         self.flashed_slot: int | None = None
+        # (slot, name) of the macro running now, None when none runs (the panel sets it from the run)
+        self.running_macro: Callable[[], tuple[int | None, str] | None] = lambda: None
         self._unsettled: tuple[str, CommitUncertain | CommitUnverified] | None = None   # (what, error)
         self.table = SlotTable(0, 5)
         self.table.setObjectName("slotTable")
@@ -174,8 +192,9 @@ class ChargerSlots(QWidget):
         self.progress.setValue(0)
 
     # -- the image ----------------------------------------------------------------------------
-    def show_image(self, image: bytes) -> list[Slot]:
-        """Show the macros in ``image``; returns them (and says so with ``imageShown``)."""
+    def show_image(self, image: bytes, verdicts: list[Verdict | None] | None = None) -> list[Slot]:
+        """Show the macros in ``image`` with the safety check of each (``checked_image``; None: judged
+        here without the charger's passport and templates); returns them (and says so with ``imageShown``)."""
         self.image = bytes(image)
         try:
             found = slots(self.image)
@@ -184,17 +203,21 @@ class ChargerSlots(QWidget):
         except Exception as exc:   # noqa: BLE001 - a broken record list
             found, used, broken = [], 0, str(exc)
         self.slots = found
+        if verdicts is None or len(verdicts) != len(found):
+            verdicts = [judge(s.record) if s.ok else None for s in found]
+        self.verdicts = verdicts
         self.table.setRowCount(len(found))
-        for row, s in enumerate(found):
-            check = _("ok") if s.ok else _("BAD")
-            values = (str(s.index), s.name, str(len(s.record)), record_chemistry(s.record) if s.ok else "?", check)
+        for row, (s, verdict) in enumerate(zip(found, verdicts)):
+            values = (str(s.index), s.name, str(len(s.record)), record_chemistry(s.record) if s.ok else "?",
+                      check_text(verdict))
             for col, value in enumerate(values):
                 item = QTableWidgetItem(value)
                 if col in (0, 2):
                     item.setTextAlignment(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
-                if col == 4 and not s.ok:
+                if col == 4 and (verdict is None or not verdict.safe):
                     item.setForeground(Qt.GlobalColor.red)
-                    item.setToolTip(str(s.error.message if s.error else ""))
+                    item.setToolTip(str(s.error.message if s.error else "") if verdict is None
+                                    else "\n".join(verdict.errors))
                 self.table.setItem(row, col, item)
         size = len(self.image)
         if broken:
@@ -224,10 +247,10 @@ class ChargerSlots(QWidget):
         return [s.name for s in self.slots]
 
     # -- Compile & Flash ----------------------------------------------------------------------
-    def flash(self, force: bool = False) -> None:
+    def flash(self) -> None:
         """Compile & Flash: the editor's record into the charger (same name replaced, else appended,
         or the slot chosen), written, verified; ``flashFinished(ok, message)``. The safety check
-        runs first; what it refuses is written only after the user confirms (or with ``force``)."""
+        runs first: what it refuses is not written; its warnings are asked about once."""
         if not self.connection.is_connected():
             self._flash_done(False, _("Connect to a charger first, then Compile & Flash."))
             return
@@ -241,15 +264,18 @@ class ChargerSlots(QWidget):
         self.message.emit(_("Flashing {name}…").format(name=name), "info")
         self.progress_busy()
 
+        warned = record in self.connection.warned
+
         def job(client, progress):
-            if not force:
-                problems = record_problems(record, client.passport_if_any(), charger_max_a=client.info.max_charge_a)
-                if problems:
-                    return Unsafe(problems)
+            templates = client.templates_named([named_template(record)])
+            verdict = judge(record, client.passport_if_any(), templates=templates,
+                            charger_max_a=client.info.max_charge_a)
+            if verdict.errors or (verdict.warnings and not warned):
+                return Unsafe(verdict, record)
             current = client.read_image(progress)
             merged = merge_record(current, record, slot)
             result = client.write_image(merged.image, progress, current=current)
-            return merged, result
+            return merged, result, checked_image(client, merged.image)[1]
 
         self.connection.call(job, self._flashed, self._flash_failed)
         self.changed.emit()
@@ -257,15 +283,18 @@ class ChargerSlots(QWidget):
     def _flashed(self, answer) -> None:
         if isinstance(answer, Unsafe):
             self.progress_done()
-            if unsafe_dialog.confirm_unsafe(self, _("Flash"), answer.problems):
-                self.flash(force=True)
+            if answer.verdict.errors:
+                self._flash_done(False, unsafe_dialog.refusal_text(_("Not flashed"), answer.verdict.errors))
+            elif unsafe_dialog.confirm_warnings(self, _("Flash"), list(answer.verdict.warnings)):
+                self.connection.warned.add(answer.record)
+                self.flash()
             else:
-                self._flash_done(False, _("Not flashed: {why}").format(why=answer.summary()))
+                self._flash_done(False, _("Not flashed: cancelled at the safety check's warnings."))
             return
-        merged, result = answer
+        merged, result, verdicts = answer
         self.progress_complete(_("flashed {name}: {size} bytes, verified").format(name=merged.name, size=merged.size))
         self.flashed_slot = merged.index
-        self.show_image(merged.image)
+        self.show_image(merged.image, verdicts)
         if result.changed:
             text = _("Flashed {name} into slot {index}: {size} bytes, {changed} bytes changed, verified").format(
                 name=merged.name, index=merged.index, size=merged.size, changed=result.changed)
@@ -274,7 +303,13 @@ class ChargerSlots(QWidget):
                 name=merged.name, index=merged.index, size=merged.size)
         if merged.replaced is not None and merged.replaced != merged.name:
             text += " " + _("(it replaced {name})").format(name=merged.replaced)
-        self._flash_done(True, text + ".")
+        text += "."
+        running = self.running_macro()
+        if result.changed and running is not None and (merged.index == running[0] or merged.replaced == running[1]):
+            # The charger runs the copy it read at START: the new bytes take effect from the next one.
+            text += " " + _("The charge running now continues with the copy of {name} it started with; the new "
+                            "one runs from the next Start.").format(name=running[1] or merged.replaced)
+        self._flash_done(True, text)
 
     def _flash_failed(self, exc) -> None:
         self.progress_done()
@@ -301,10 +336,11 @@ class ChargerSlots(QWidget):
         def job(client, progress):
             image = client.read_image(progress)
             path.write_bytes(image)
-            return image
+            return checked_image(client, image)
 
-        def done(image):
-            self.show_image(image)
+        def done(checked):
+            image = checked[0]
+            self.show_image(*checked)
             try:
                 count = len(slots(image))
                 text = ngettext("Saved the charger's EEPROM ({size} bytes, {n} macro) to {path}.",
@@ -319,9 +355,9 @@ class ChargerSlots(QWidget):
         self.progress_busy()
         self.connection.call(job, done, lambda exc: self._failed("backup", exc))
 
-    def restore(self, path: str | Path, force: bool = False) -> None:
-        """Write a saved image back (checked first, then written and verified); records the safety
-        check refuses are written only after the user confirms (or with ``force``)."""
+    def restore(self, path: str | Path) -> None:
+        """Write a saved image back (checked first, then written and verified): an image with a record
+        the safety check refuses is not written; its warnings are asked about once."""
         if not self.connection.is_connected():
             self._failed("restore", _("Connect to a charger first."))
             return
@@ -333,23 +369,27 @@ class ChargerSlots(QWidget):
             check_image(image)
             if len(image) > client.info.eeprom_size:
                 raise ImageTooLarge(len(image), client.info.eeprom_size)
-            if not force:
-                problems = image_problems(image, client.passport_if_any(), charger_max_a=client.info.max_charge_a)
-                if problems:
-                    return Unsafe(problems)
+            templates = client.templates_named(named_template(s.record) for s in slots(image) if s.ok)
+            verdict = judge_image(image, client.passport_if_any(), templates=templates,
+                                  charger_max_a=client.info.max_charge_a)
+            if verdict.errors or (verdict.warnings and image not in self.connection.warned):
+                return Unsafe(verdict, image)
             result = client.write_image(image, progress, validate=False)
-            return image + b"\xff" * (client.info.eeprom_size - len(image)), result
+            return checked_image(client, image + b"\xff" * (client.info.eeprom_size - len(image))), result
 
         def done(answer):
             if isinstance(answer, Unsafe):
                 self.progress_done()
-                if unsafe_dialog.confirm_unsafe(self, _("Restore"), answer.problems):
-                    self.restore(path, force=True)
+                if answer.verdict.errors:
+                    self._failed("restore", unsafe_dialog.refusal_text(_("Not restored"), answer.verdict.errors))
+                elif unsafe_dialog.confirm_warnings(self, _("Restore"), list(answer.verdict.warnings)):
+                    self.connection.warned.add(answer.record)
+                    self.restore(path)
                 else:
-                    self._failed("restore", _("Not restored: {why}").format(why=answer.summary()))
+                    self._failed("restore", _("Not restored: cancelled at the safety check's warnings."))
                 return
-            image, result = answer
-            self.show_image(image)
+            (image, verdicts), result = answer
+            self.show_image(image, verdicts)
             text = _("Restored {file}: {changed} bytes changed, verified.").format(file=path.name,
                                                                                    changed=result.changed)
             self.progress_done()
@@ -364,12 +404,12 @@ class ChargerSlots(QWidget):
         if not self.connection.is_connected():
             return
 
-        def done(image):
-            self.show_image(image)
-            self._settle(image)
+        def done(checked):
+            self.show_image(*checked)
+            self._settle(checked[0])
             self.operationFinished.emit("slots", True, "")
 
-        self.connection.call(lambda client, progress: client.read_image(), done,
+        self.connection.call(lambda client, progress: checked_image(client, client.read_image()), done,
                              lambda exc: self._failed("slots", exc))
 
     def _note_unsettled(self, what: str, exc) -> None:

@@ -101,6 +101,7 @@ class DeviceConnection(QObject):
         self._ids = itertools.count(1)
         self._closing = False
         self.last_error: BaseException | None = None
+        self.warned: set[bytes] = set()     # records whose safety warnings the user accepted (asked once)
 
         self.thread = QThread()
         self.thread.setObjectName("device-worker")
@@ -246,6 +247,7 @@ class DeviceConnection(QObject):
             self._open_failed(Disconnected(_("{port}: the connection closed right after it opened").format(
                 port=opened.url)))
             return
+        self.warned.clear()                 # a new connection may be another charger: ask again
         self.state = "connected"
         self.opened = opened
         self.connected.emit(opened)

@@ -144,6 +144,8 @@ class DevicePanel(QWidget):
         self.charger.flashFinished.connect(self.flashFinished)
         self.charger.imageShown.connect(self._image_shown)
         self.charger.slotChosen.connect(self.run.select_slot)
+        self.charger.running_macro = lambda: ((self.run.run_slot_index, self.run.run_name) if self.run.is_running()
+                                              else None)
         self.run.startFinished.connect(self.startFinished)
         self.run.stopping.connect(self.runEnded)    # a STOP ends the run as its end does
         self.run.runStarting.connect(lambda: self.live.new_run(self.run.run_name))

@@ -8,7 +8,7 @@ from PySide6.QtWidgets import QCheckBox, QComboBox, QGridLayout, QHBoxLayout, QL
 from ...device.passport import fitness_warnings
 from ...i18n import N_, _
 from ...lang.eeprom import Slot
-from ...safety import record_problems
+from ...safety import judge, named_template
 from ...sim.program import TASK_LABELS, TASK_WORDS
 from ...sim.reasons import shown_reason
 from ...sim.start_check import start_warnings
@@ -36,6 +36,7 @@ class RunControls(QWidget):
         self.connection = connection
         self.slots: list[Slot] = []
         self.run_name = ""                      # the macro started last
+        self.run_slot_index: int | None = None  # ... and its slot (None: started elsewhere)
         self.running = False                    # it runs (started here, or the newest frame says so)
         self.charger_max_a: float | None = None
         self.run_slot = ElidedCombo()
@@ -202,11 +203,11 @@ class RunControls(QWidget):
             self.run_label.set_full_text(_("{name} ended").format(name=self.run_name) if self.run_name
                                          else _("idle"))
 
-    def start(self, slot: int | None = None, force: bool = False) -> None:
+    def start(self, slot: int | None = None) -> None:
         """START the macro in ``slot`` (default: the Slot field, which follows the last flash) with
-        the task parameters; the safety check (chemistry limits, the battery's passport) runs here
-        first, and what it refuses starts only after the user confirms (or with ``force``; the
-        charger still has its own check). ``startFinished``."""
+        the task parameters; the safety check (chemistry limits, the battery's passport, with the
+        values of the start template the macro names, read from the charger) runs here first: what
+        it refuses does not start, its warnings are asked about once. ``startFinished``."""
         if not self.connection.is_connected():
             self._start_done(False, _("Connect to a charger first."))
             return
@@ -223,18 +224,21 @@ class RunControls(QWidget):
         record = self.slots[slot].record
         name = self.slots[slot].name
         charger_max = self.charger_max_a
+        warned = record in self.connection.warned
 
         def job(client, progress):
             from ...lang.record import DecodeError
             from ...sim.interpreter import StartParams
             passport = client.passport_if_any()
-            if not force:
-                try:
-                    found = record_problems(record, passport, StartParams(**params), charger_max_a=charger_max)
-                except DecodeError:     # a record that does not decode: the charger refuses it
-                    found = []
-                if found:
-                    return ("refused", found, passport, [])
+            try:
+                verdict = judge(record, passport, StartParams(**params),
+                                templates=client.templates_named([named_template(record)]), charger_max_a=charger_max)
+            except DecodeError:     # a record that does not decode: the charger refuses it
+                verdict = None
+            if verdict is not None and verdict.errors:
+                return ("refused", list(verdict.errors), passport, [])
+            if verdict is not None and verdict.warnings and not warned:
+                return ("warned", list(verdict.warnings), passport, [])
             started = client.start(slot, params["task"], params["repetitions"], params["capacity_mah"],
                                    params["current_a"], params["voltage_v"], params["series"], params["sensor"])
             # What the charger does not refuse but the user should know: the battery's error count,
@@ -253,17 +257,19 @@ class RunControls(QWidget):
         self.passportRead.emit(passport)
         name = self.slots[slot].name if slot < len(self.slots) else "?"
         if kind == "refused":
-            # A battery unfit for use (CRIT) is refused by the charger whatever the user says: no override.
-            unfit = passport is not None and passport.crit
             self.runUndone.emit()
-            if not unfit and unsafe_dialog.confirm_unsafe(self, _("Start"), value):
-                self.start(slot, force=True)
-                return
-            text = (_("Not started: the safety check forbids {name}:").format(name=name) + "\n"
-                    + "\n".join(f"• {line}" for line in value))
-            self._start_done(False, text)
+            self._start_done(False, unsafe_dialog.refusal_text(_("Not started: {name}").format(name=name), value))
+            return
+        if kind == "warned":
+            self.runUndone.emit()
+            if unsafe_dialog.confirm_warnings(self, _("Start"), value):
+                self.connection.warned.add(self.slots[slot].record)
+                self.start(slot)
+            else:
+                self._start_done(False, _("Not started: cancelled at the safety check's warnings."))
             return
         self.run_name = value
+        self.run_slot_index = slot
         self.running = True
         self.runStarted.emit(value, params["series"] or 1)
         task = TASK_WORDS.get(params["task"])
