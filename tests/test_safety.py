@@ -85,3 +85,13 @@ def test_a_macro_the_check_cannot_judge_is_refused_and_warnings_are_kept_apart()
     assert judge(no_type).codes() == ["W301"]
     lipo = judge(compiled("LiPo"))
     assert lipo.safe and lipo.warnings and all(w.startswith("W3") for w in lipo.warnings)
+
+
+def test_notes_are_never_asked_before_a_flash():
+    """A generic standard macro (values entered at start: W310/W306 notes) is neither refused nor asked."""
+    from zuml_studio import data
+    from zuml_studio.lang.compiler import compile_source
+    from zuml_studio.safety import judge
+    record = compile_source((data.standard_macros_dir() / "NiMh-dV.zuml").read_text(encoding="utf-8")).record
+    verdict = judge(record)
+    assert not verdict.errors and not verdict.warnings

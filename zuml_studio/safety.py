@@ -71,8 +71,8 @@ def judge(record: bytes, passport: Passport | None = None, start: StartParams | 
             errors.append(line)
         elif finding.code == UNCHECKABLE:
             errors.append(line + _(" (a macro the check cannot judge is refused)"))
-        elif finding.code.startswith("W3"):
-            warnings.append(line)
+        elif finding.severity is Severity.WARNING and finding.code.startswith("W3"):
+            warnings.append(line)           # notes (values left to the start) are never asked
     if passport is not None:
         akk = decoded.macro.declared(ops.AKK_TYPE)
         if (start is not None and not missing) or (akk is not None and akk.args[0].raw == passport.type):
