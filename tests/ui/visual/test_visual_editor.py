@@ -5,7 +5,7 @@ from PySide6.QtGui import QDropEvent, QDragEnterEvent, QTextCursor
 from PySide6.QtWidgets import QApplication, QScrollBar
 
 from helpers import MACROS
-from zuml_studio import visual_edits as ve
+from zuml_studio.lang import visual_edits as ve
 from zuml_studio.lang import opcodes as ops
 from zuml_studio.lang.ast import Cycle
 from zuml_studio.lang.compiler import compile_source
