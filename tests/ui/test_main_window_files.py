@@ -77,10 +77,10 @@ def test_save_as_into_the_standard_folder_is_refused(make_window):
 
 
 def test_exports_start_in_my_macros_or_the_documents_never_the_current_folder(make_window, monkeypatch):
-    from zuml_studio.ui import main_window
+    from zuml_studio.ui.window import documents
 
     w = make_window(str(STANDARD_MACROS / "LiPo.zuml"))
-    monkeypatch.setattr(main_window, "documents_dir", lambda: w.config / "Documents")
+    monkeypatch.setattr(documents, "documents_dir", lambda: w.config / "Documents")
     asked = []
     w.ask_save_path = lambda title, suggested, filters: asked.append(suggested) or ""
     w.ask_png_options = lambda title: (title, QSize(800, 600))
