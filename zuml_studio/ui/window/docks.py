@@ -67,6 +67,9 @@ def build_docks(window: QMainWindow, specs: list[DockSpec]) -> dict[str, QDockWi
 def place(window: QMainWindow, specs: list[DockSpec], docks: dict[str, QDockWidget], mode: str) -> None:
     """The first layout of ``mode``: every dock back in its area, beside or tabbed with the one
     the table names, shown if the mode lists it."""
+    size = window.size()
+    for spec in specs:          # hidden while they move: side by side for a moment they would widen the window
+        docks[spec.name].hide()
     for spec in specs:
         dock = docks[spec.name]
         dock.setFloating(False)
@@ -86,7 +89,8 @@ def place(window: QMainWindow, specs: list[DockSpec], docks: dict[str, QDockWidg
         elif not spec.tab_with:
             docks[spec.name].raise_()
     shown = [s for s in specs if mode in s.modes]
-    for orientation, size in ((Qt.Orientation.Horizontal, lambda s: s.width), (Qt.Orientation.Vertical,
-                                                                               lambda s: s.height)):
-        sized = [s for s in shown if size(s)]
-        window.resizeDocks([docks[s.name] for s in sized], [size(s) for s in sized], orientation)
+    for orientation, length in ((Qt.Orientation.Horizontal, lambda s: s.width),
+                                (Qt.Orientation.Vertical, lambda s: s.height)):
+        sized = [s for s in shown if length(s)]
+        window.resizeDocks([docks[s.name] for s in sized], [length(s) for s in sized], orientation)
+    window.resize(size)
