@@ -402,6 +402,8 @@ class MainWindow(DocumentFiles, QMainWindow):
 
     def changeEvent(self, event) -> None:  # noqa: N802
         super().changeEvent(event)
+        if event.type() == QEvent.Type.PaletteChange and hasattr(self, "toolbar"):
+            window_actions.refresh_icons(self, self.actions_by_name, self.action_specs)
         if event.type() == QEvent.Type.PaletteChange and self.validator.last is not None:
             self._validated(self.validator.last)       # the status colours of the new palette
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from PySide6.QtCore import QEvent, QObject, Qt, Signal
 from PySide6.QtGui import QAction, QKeySequence
-from PySide6.QtWidgets import QDockWidget, QMainWindow, QWidget
+from PySide6.QtWidgets import QDockWidget, QMainWindow, QSplitterHandle, QWidget
 
 from ...i18n import _
 
@@ -54,7 +54,8 @@ class PlotFocus(QObject):
         while child.parentWidget() not in (dock, None):
             parent = child.parentWidget()
             for sibling in parent.findChildren(QWidget, options=Qt.FindChildOption.FindDirectChildrenOnly):
-                if sibling is not child and sibling not in keep and sibling.isVisible() and not sibling.isWindow():
+                if (sibling is not child and sibling not in keep and sibling.isVisible() and not sibling.isWindow()
+                        and not isinstance(sibling, QSplitterHandle)):     # a splitter hides those itself
                     sibling.hide()
                     hidden.append(sibling)
             child = parent
