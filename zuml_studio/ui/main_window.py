@@ -20,7 +20,6 @@ from .editor.code_editor import EditorWithFind
 from .editor.highlighter import ops_at
 from .help_browser import HelpBrowser
 from .hex_view import HexView
-from .language import restart
 from .library import LibraryBrowser
 from .preferences import Preferences, PreferencesDialog
 from .problems import ProblemsView
@@ -60,6 +59,7 @@ class MainWindow(DocumentFiles, QMainWindow):
         self._recovery_key = ""
         self._help: HelpBrowser | None = None
         self._upload_pending = False
+        self.restart_wanted = False      # closed by Restart Now: the application builds the window again
         self._borrowed = None        # (dock, height) the Visual tab borrowed height from
         self.prefs = Preferences.load(self.settings)
 
@@ -381,13 +381,14 @@ class MainWindow(DocumentFiles, QMainWindow):
         return box.clickedButton() is now
 
     def restart(self) -> bool:
-        """Close (asking about unsaved work as always), then start again; False if the user
-        kept the window open or the new process could not start."""
+        """Close (asking about unsaved work as always) and ask to be built again: the application's
+        loop (``app.run_windows``) then installs the new language and opens a new window with the
+        same file, in this process (a new process showed an empty window for seconds while it loaded,
+        and left the terminal it was started from). False if the user kept the window open."""
         self.settings.sync()
+        self.restart_wanted = True
         if not self.close():
-            return False
-        if not restart():
-            QMessageBox.warning(None, APP_NAME, _("ZUML Studio could not start again: start it yourself."))
+            self.restart_wanted = False
             return False
         return True
 
