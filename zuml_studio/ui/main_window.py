@@ -59,6 +59,7 @@ class MainWindow(DocumentFiles, QMainWindow):
         self._recovery_key = ""
         self._help: HelpBrowser | None = None
         self._upload_pending = False
+        self._monitor = None             # the serial monitor, made on first use
         self.restart_wanted = False      # closed by Restart Now: the application builds the window again
         self._borrowed = None        # (dock, height) the Visual tab borrowed height from
         self.prefs = Preferences.load(self.settings)
@@ -301,6 +302,8 @@ class MainWindow(DocumentFiles, QMainWindow):
             if answer == "stop" and not self.device_panel.stop_and_wait():
                 self.statusBar().showMessage(_("The charger did not confirm the stop: check it."), 10000)
         self.sim_panel.cancel()
+        if self._monitor is not None:
+            self._monitor.close_port()
         if self._device_panel is not None:
             self._device_panel.shutdown()
         self._saver.discard(self._recovery_key)
@@ -447,6 +450,22 @@ class MainWindow(DocumentFiles, QMainWindow):
         self.device_dock.show()
         self.device_dock.raise_()
         method(self.device_panel)
+
+    def show_serial_monitor(self):
+        """Device ▸ Serial Monitor: the raw bytes of the port the Device panel shows (off while the
+        panel is connected to it)."""
+        if self._monitor is None:
+            from .device.serial_monitor import SerialMonitor
+
+            panel = self.device_panel
+            self._monitor = SerialMonitor(lambda: (panel.ports.target(), panel.ports.baudrate()),
+                                          panel.is_connected, self)
+            panel.connectedChanged.connect(lambda _connected: self._monitor.refresh())
+            panel.ports.changed.connect(self._monitor.refresh)
+        self._monitor.refresh()
+        self._monitor.show()
+        self._monitor.raise_()
+        return self._monitor
 
     def emergency_stop(self) -> None:
         """Shift+Esc from any tab or window: STOP to the charger at once, without moving a panel

@@ -81,6 +81,8 @@ def action_specs() -> list[ActionSpec]:
         ActionSpec("start", _("&Start the Macro"), lambda w: w.device_call(lambda p: p.start()), menus=("device:1",)),
         ActionSpec("stop", _("S&top the Charger"), lambda w: w.emergency_stop(), ("Shift+Esc", "Ctrl+Shift+T"),
                    _("Stop the charger now, from any tab or window"), ("device:1",), everywhere=True),
+        ActionSpec("serial_monitor", _("Serial &Monitor"), lambda w: w.show_serial_monitor(), "Ctrl+Shift+M",
+                   _("The port's raw bytes as text or hex, and a line to send"), ("device:2",)),
 
         ActionSpec("simulate", _("&Simulate"), lambda w: w.sim_panel.simulate(), "F5", menus=("simulate",),
                    icon="simulate"),
