@@ -132,7 +132,7 @@ class DocumentFiles:
 
     def open_log(self, path: str | None = None):
         """The log viewer's window (made on first use), with ``path`` opened or a file chosen."""
-        from .logs import LogWindow      # the viewer's modules load only when a log is wanted
+        from ..logs import LogWindow      # the viewer's modules load only when a log is wanted
         if getattr(self, "log_window", None) is None:
             self.log_window = LogWindow(self.settings, self)
         self.log_window.show()
