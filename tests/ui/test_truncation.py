@@ -135,12 +135,16 @@ def test_the_device_panel_and_the_visual_tab_cut_nothing_without_a_tooltip_at_13
     panel = w.device_panel
     w.device_dock.show()
     w.device_dock.raise_()
+    _settle()
+    before = _cut_controls(w.device_dock) + _overlapping_ticks(panel.plot)     # right after start
+    assert not before, "\n".join(before)
     connect(qtbot, panel)
     ok, text = flash_and_start(qtbot, panel)
     assert ok, text
     qtbot.waitUntil(lambda: len(panel.series) > 3 and "running" in panel.run_label.full_text(), timeout=WAIT_MS)
     _settle()
-    problems = _cut_labels(w.device_dock) + _cut_cells(panel.table)
+    problems = _cut_labels(w.device_dock) + _cut_cells(panel.table) + _cut_controls(w.device_dock)
+    problems += _overlapping_ticks(panel.plot)
     readings = panel.readings           # rich text (colours): measured by its size hint, not by a tooltip
     assert "mAh" in readings.text()
     need, have = readings.sizeHint(), readings.size()               # both with the label's margins

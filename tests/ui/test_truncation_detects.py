@@ -1,5 +1,7 @@
 """The checks of test_truncation.py find what they look for: a button clipped to a strip under a
-two-line message, and a plot squeezed until its tick labels run into each other."""
+two-line message, and tick labels that run into each other (pyqtgraph's own axes squeezed; the
+stacked plots' axes leave such labels out)."""
+import pyqtgraph as pg
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QLabel, QPushButton, QVBoxLayout, QWidget
 
@@ -22,13 +24,21 @@ def test_a_button_clipped_to_a_strip_is_found(qtbot):
     qtbot.waitUntil(lambda: not _cut_controls(box))
 
 
-def test_tick_labels_of_a_squeezed_plot_are_found_overlapping(make_window):
+def test_overlapping_tick_labels_are_found_and_a_squeezed_stacked_plot_has_none(make_window, qtbot):
+    plain = pg.GraphicsLayoutWidget()       # pyqtgraph's own axes, three plots stacked in 130 px
+    qtbot.addWidget(plain)
+    for row in range(3):
+        plain.addPlot(row=row, col=0).setYRange(0, 1, padding=0)
+    plain.resize(300, 130)
+    plain.show()
+    qtbot.waitExposed(plain)
+    assert _overlapping_ticks(plain)
+
     w = make_window(str(MACROS / "NiMh.zuml"))
     w.resize(1366, 768)
     w.sim_panel.simulate()
     w.sim_panel.wait(60_000)
-    _settle()
-    assert not _overlapping_ticks(w.sim_panel.plot)
     w.resizeDocks([w.sim_dock], [100], Qt.Orientation.Vertical)       # as low as the dock goes
     _settle()
-    assert _overlapping_ticks(w.sim_panel.plot)
+    assert w.sim_panel.plot.height() < 200
+    assert not _overlapping_ticks(w.sim_panel.plot)      # the stacked plot's axes leave crowded labels out
