@@ -143,3 +143,14 @@ def test_the_toolbar_icons_stand_out_on_either_theme(make_window, system_theme, 
         assert inked, name
         best = max(contrast_ratio(c, window) for c in inked)
         assert best >= 3.0, f"{name} on {choice}: {best:.1f}:1"
+
+
+def test_the_visual_tab_sets_its_sections_side_by_side_at_1366x768_and_gives_the_width_back(laptop, qtbot):
+    from PySide6.QtWidgets import QBoxLayout
+    w = laptop()
+    before = w.hex_dock.width()
+    w.show_visual()
+    qtbot.waitUntil(lambda: w.visual.cols.direction() == QBoxLayout.Direction.LeftToRight)
+    assert w.visual.side_by_side_missing() == 0 and w.editor_box.width() >= 340
+    w.hex_dock.raise_()
+    qtbot.waitUntil(lambda: abs(w.hex_dock.width() - before) <= 2)

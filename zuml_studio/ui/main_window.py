@@ -36,6 +36,7 @@ from .window_geometry import first_geometry, fits
 
 DEVICE_PANEL_DELAY_MS = 300      # built after the first paint: its tab is not the one in front
 VISUAL_MIN_HEIGHT = 440          # the Visual tab, when shown, takes this much height from the docks below
+EDITOR_MIN_WIDTH = 340           # ... and the width for its two sections from the editor, down to this
 LAYOUT_VERSION = 5      # raise when docks or toolbars are added or removed: an older saved layout is then ignored
 
 
@@ -62,6 +63,7 @@ class MainWindow(DocumentFiles, QMainWindow):
         self._monitor = None             # the serial monitor, made on first use
         self.restart_wanted = False      # closed by Restart Now: the application builds the window again
         self._borrowed = None        # (dock, height) the Visual tab borrowed height from
+        self._borrowed_width = None  # the right-hand docks' width before the Visual tab widened them
         self.prefs = Preferences.load(self.settings)
 
         self._build_widgets()
@@ -267,12 +269,21 @@ class MainWindow(DocumentFiles, QMainWindow):
         several cards), and gives it back when it leaves, so the live plot and the simulator
         are not left squeezed."""
         borrowed, self._borrowed = self._borrowed, None
+        width, self._borrowed_width = self._borrowed_width, None
         if not visible:
             if borrowed is not None:
                 dock, height = borrowed
                 if dock.isVisible() and not dock.isFloating():
                     self.resizeDocks([dock], [height], Qt.Orientation.Vertical)
+            if width is not None and self.hex_dock.isVisible() and not self.hex_dock.isFloating():
+                self.resizeDocks([self.hex_dock], [width], Qt.Orientation.Horizontal)
             return
+        # The two sections side by side (docs/gui.md): the width they lack comes from the editor,
+        # which keeps EDITOR_MIN_WIDTH; given back when the tab leaves.
+        wider = min(self.visual.side_by_side_missing(), self.editor_box.width() - EDITOR_MIN_WIDTH)
+        if wider > 0 and not self.visual_dock.isFloating() and self.editor_box.isVisible():
+            self._borrowed_width = self.visual_dock.width()
+            self.resizeDocks([self.visual_dock], [self.visual_dock.width() + wider], Qt.Orientation.Horizontal)
         missing = VISUAL_MIN_HEIGHT - self.visual_dock.height()
         below = [d for d in (self.sim_dock, self.device_dock, self.problems_dock) if d.isVisible()
                  and not d.isFloating() and self.dockWidgetArea(d) == Qt.DockWidgetArea.BottomDockWidgetArea]

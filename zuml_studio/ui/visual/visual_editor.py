@@ -343,13 +343,17 @@ class VisualEditor(QWidget):
             self._fit_columns()
         return super().eventFilter(watched, event)
 
-    def _fit_columns(self) -> None:
-        """The sections side by side when both fit the width, else one above the other: the
-        cards never need a horizontal scroll bar (only a card wider than the whole view would)."""
+    def side_by_side_missing(self) -> int:
+        """How many pixels of width the sections lack to stand side by side (0: they fit)."""
         margins = self.content.layout().contentsMargins()
         side_by_side = (sum(c.minimumSizeHint().width() for c in self.columns.values()) + self.cols.spacing()
                         + margins.left() + margins.right())
-        direction = (QBoxLayout.Direction.LeftToRight if side_by_side <= self.scroll.viewport().width()
+        return max(0, side_by_side - self.scroll.viewport().width())
+
+    def _fit_columns(self) -> None:
+        """The sections side by side when both fit the width, else one above the other: the
+        cards never need a horizontal scroll bar (only a card wider than the whole view would)."""
+        direction = (QBoxLayout.Direction.LeftToRight if not self.side_by_side_missing()
                      else QBoxLayout.Direction.TopToBottom)
         if self.cols.direction() != direction:
             self.cols.setDirection(direction)
