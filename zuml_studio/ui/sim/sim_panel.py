@@ -26,6 +26,7 @@ NOTHING_YET = N_("no simulation yet: Simulate (F5) runs the macro against a batt
 OUTDATED_HINT = N_("the macro or the parameters changed since this run: Simulate (F5)")
 
 TALL_PX = 480      # from this height the phase table goes under the start values
+TALL_SIDE_SHARE = 0.25
 
 
 class SimulatorPanel(QWidget):
@@ -417,7 +418,8 @@ class SimulatorPanel(QWidget):
         width = max(self.width(), 800)
         params = self.params_scroll.minimumWidth() + 8
         rest = width - params
-        if self.is_tall():
-            self.splitter.setSizes([params, rest])
+        if self.is_tall():      # the phase table shares the start values' column: a quarter of a wide panel
+            side = max(params, int(width * TALL_SIDE_SHARE))
+            self.splitter.setSizes([side, width - side])
         else:
             self.splitter.setSizes([params, int(rest * 0.58), rest - int(rest * 0.58)])
