@@ -32,7 +32,7 @@ from .window.docks import build_docks, dock_specs, place
 from .window.documents import APP_NAME, EMPTY_MACRO, DocumentFiles, documents_dir, is_standard  # noqa: F401
 from .window.modes import Modes
 from .window.plot_focus import PlotFocus
-from .window_geometry import first_geometry, fits
+from .window_geometry import first_geometry, fits, saved_frame
 
 DEVICE_PANEL_DELAY_MS = 300      # built after the first paint: its tab is not the one in front
 VISUAL_MIN_HEIGHT = 440          # the Visual tab, when shown, takes this much height from the docks below
@@ -331,7 +331,9 @@ class MainWindow(DocumentFiles, QMainWindow):
         else a size made for the screen; then the mode it closed in, with its docks' layout."""
         available = self.screen().availableGeometry()
         geometry = bytes_value(self.settings, "geometry")
-        if geometry is None or not self.restoreGeometry(geometry) or not fits(self.frameGeometry(), available):
+        frame = saved_frame(geometry) if geometry is not None else None
+        if (geometry is None or frame is None or not fits(frame, available) or not self.restoreGeometry(geometry)
+                or not fits(self.frameGeometry(), available)):
             self.setGeometry(first_geometry(available))
         self.modes.restore()
 

@@ -59,8 +59,10 @@ class Modes(QObject):
         self.settings.setValue(MODE_KEY, self.current)
 
     def _apply(self) -> None:
+        size = self.window.size()       # a layout saved on a bigger screen must not grow the window
         self.editor.setVisible(self.current == WRITE)
         state = bytes_value(self.settings, layout_key(self.current))
         if state is None or not self.window.restoreState(state, self.version):
             self.place(self.current)
+        self.window.resize(size)
         self.changed.emit(self.current)
