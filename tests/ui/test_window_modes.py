@@ -154,3 +154,12 @@ def test_the_visual_tab_sets_its_sections_side_by_side_at_1366x768_and_gives_the
     assert w.visual.side_by_side_missing() == 0 and w.editor_box.width() >= 340
     w.hex_dock.raise_()
     qtbot.waitUntil(lambda: abs(w.hex_dock.width() - before) <= 2)
+
+
+def test_switching_mode_while_a_plot_is_maximised_keeps_the_layout_not_the_maximised_plot(laptop, qtbot):
+    w = laptop()
+    w.plot_focus.maximise(w.sim_panel.plot, w.sim_dock)
+    w.act_mode_simulate.trigger()
+    assert w.plot_focus.maximised() is None and w.sim_panel.params_scroll.isVisible()
+    w.act_mode_write.trigger()
+    assert w.editor_box.isVisible() and w.hex_dock.isVisible() and w.library_dock.isVisible()

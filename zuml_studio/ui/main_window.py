@@ -291,6 +291,15 @@ class MainWindow(DocumentFiles, QMainWindow):
             self._borrowed = (below[0], below[0].height())
             self.resizeDocks(below[:1], [max(1, below[0].height() - missing)], Qt.Orientation.Vertical)
 
+    def switch_mode(self, mode: str | None) -> None:
+        """View > a mode (None: Reset Layout). A maximised plot is put back first: its layout is not
+        one the mode should keep."""
+        self.plot_focus.restore()
+        if mode is None:
+            self.modes.reset()
+        else:
+            self.modes.switch(mode)
+
     def show_visual(self) -> None:
         self.visual_dock.show()
         self.visual_dock.raise_()
