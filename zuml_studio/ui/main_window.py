@@ -7,7 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from PySide6.QtCore import QEvent, QSettings, Qt, QTimer, Signal
-from PySide6.QtWidgets import QLabel, QMainWindow, QMessageBox, QWidget
+from PySide6.QtWidgets import QLabel, QMainWindow, QMessageBox
 
 from .. import data
 from ..i18n import _, ngettext
@@ -29,7 +29,7 @@ from .validation import Validator
 from .visual import VisualEditor
 from .window import actions as window_actions
 from .window.docks import build_docks, dock_specs, place
-from .window.documents import APP_NAME, EMPTY_MACRO, DocumentFiles, documents_dir, is_standard  # noqa: F401
+from .window.documents import APP_NAME, EMPTY_MACRO, DocumentFiles
 from .window.modes import Modes
 from .window.plot_focus import PlotFocus
 from .window_geometry import first_geometry, fits, saved_frame
