@@ -94,9 +94,54 @@ def test_a_new_language_in_preferences_offers_a_restart(make_window, monkeypatch
     assert i18n.current_language() == "en"            # this window stays as it was built
 
 
-def test_restart_starts_the_same_command_again_after_closing(make_window, monkeypatch):
+def test_restart_closes_the_window_asking_to_be_built_again(make_window):
     w = make_window()
-    started = []
-    monkeypatch.setattr("zuml_studio.ui.main_window.restart", lambda: started.append(True) or True)
     assert w.restart()
-    assert started and not w.isVisible()
+    assert w.restart_wanted and not w.isVisible()
+
+
+def test_a_window_kept_open_by_its_unsaved_work_is_not_restarted(make_window):
+    w = make_window()
+    w.editor.insertPlainText("// unsaved\n")
+    w.ask_unsaved = lambda: "cancel"
+    assert not w.restart()
+    assert not w.restart_wanted and w.isVisible()
+
+
+def test_the_application_builds_the_window_again_in_this_process_after_restart_now(monkeypatch):
+    """No new process: the loop runs again with a new window (the same file), in the new language."""
+    from zuml_studio.ui.app import run_windows
+
+    class Window:
+        def __init__(self, path, restart):
+            self.path, self.restart_wanted = path, restart
+
+    class App:
+        runs = 0
+
+        def exec(self):
+            self.runs += 1
+            return 0
+
+    built = []
+
+    def rebuild(path):
+        built.append(path)
+        return Window(path, restart=len(built) < 2)     # restarted twice, then closed for good
+    app = App()
+    assert run_windows(app, Window("/m/a.zuml", restart=True), rebuild) == 0
+    assert built == ["/m/a.zuml", "/m/a.zuml"] and app.runs == 3
+
+
+def test_reinstall_installs_the_language_now_chosen(tmp_path, monkeypatch):
+    from PySide6.QtCore import QSettings
+    monkeypatch.delenv("ZUML_LANG", raising=False)      # it would outrank the choice, as at a start
+    settings = QSettings(str(tmp_path / language.SETTINGS_FILE), QSettings.Format.IniFormat)
+    settings.setValue(language.LANGUAGE_KEY, "ru")
+    settings.sync()
+    try:
+        assert language.reinstall(tmp_path) == "ru"
+        assert i18n.current_language() == "ru" and _qt_cancel() == "Отмена"
+    finally:
+        language.install_language("en")
+        language.install_qt_catalogue("en")

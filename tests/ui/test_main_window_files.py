@@ -77,10 +77,10 @@ def test_save_as_into_the_standard_folder_is_refused(make_window):
 
 
 def test_exports_start_in_my_macros_or_the_documents_never_the_current_folder(make_window, monkeypatch):
-    from zuml_studio.ui import main_window
+    from zuml_studio.ui.window import documents
 
     w = make_window(str(STANDARD_MACROS / "LiPo.zuml"))
-    monkeypatch.setattr(main_window, "documents_dir", lambda: w.config / "Documents")
+    monkeypatch.setattr(documents, "documents_dir", lambda: w.config / "Documents")
     asked = []
     w.ask_save_path = lambda title, suggested, filters: asked.append(suggested) or ""
     w.ask_png_options = lambda title: (title, QSize(800, 600))
@@ -133,3 +133,19 @@ def test_the_png_has_the_chosen_size_title_and_details(make_window, tmp_path):
     top = image.copy(0, 0, 1200, 60)
     dark = sum(1 for x in range(0, 1200, 2) for y in range(0, 60, 2) if top.pixelColor(x, y).lightness() < 100)
     assert dark > 50                                         # the title and details are written there
+
+
+def test_file_new_is_a_lipo_charged_cc_cv_that_fills_the_cell_by_its_own_end_condition():
+    """Issue 25: the new macro was CC only (1831 of 2000 mAh)."""
+    from zuml_studio.lang.compiler import compile_source
+    from zuml_studio.sim.interpreter import StartParams
+    from zuml_studio.sim.simulate import simulate
+    from zuml_studio.ui.window.documents import EMPTY_MACRO
+
+    checked = compile_source(EMPTY_MACRO)
+    assert checked.ok and not checked.diagnostics
+    assert "CONSTANT_V=4.2S" in EMPTY_MACRO
+    run = simulate(checked.record, StartParams("charge", 1, 2000, 2.0, None, 1, True))
+    (phase,) = run.phases
+    assert phase.reason == "IF(I<0.1C) STOP_FAZE"
+    assert run.totals()["mah_in"] >= 0.95 * 2000

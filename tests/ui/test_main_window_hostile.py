@@ -90,7 +90,8 @@ HOSTILE_SETTINGS = (  # findings of benchmarks/fuzz_files.py: each of these kill
     "lastOpen=@Invalid()\n"
     "recentFiles=@Variant(\\0\\0\\0\\x7f\\0\\0)\n"
     "lastLogDir=1, 2, 3\n"
-    "[editor]\nfontSize=nan\n[appearance]\ntheme=1, 2\nlanguage=@ByteArray(ru)\n")
+    "[editor]\nfontSize=nan\n[appearance]\ntheme=1, 2\nlanguage=@ByteArray(ru)\n"
+    "[layout]\nmode=1, 2\nwrite=1, 2\nsimulate=not a layout\n")    # a list, a string: the first layout instead
 
 
 def test_a_hand_edited_settings_file_with_garbage_values_reads_as_defaults(make_window, tmp_path, monkeypatch):

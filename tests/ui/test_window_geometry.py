@@ -35,3 +35,12 @@ def test_a_saved_geometry_that_no_longer_fits_is_not_restored(make_window, tmp_p
     fresh.ask_unsaved = lambda: "discard"
     fresh.close()
     fresh.device_panel.shutdown()
+
+
+def test_a_saved_frame_is_read_as_it_was_saved(make_window):
+    from zuml_studio.ui.window_geometry import saved_frame
+    w = make_window()
+    w.setGeometry(10, 20, 700, 500)
+    frame = saved_frame(bytes(w.saveGeometry()))
+    assert frame == w.frameGeometry()
+    assert saved_frame(b"garbage") is None and saved_frame(b"\0" * 30) is None

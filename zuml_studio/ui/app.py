@@ -112,7 +112,29 @@ def main(argv: list[str] | None = None) -> int:
     sys.excepthook = data_errors_shown(sys.excepthook)
     window.show()
     window.offer_recovery()
-    return app.exec()
+    return run_windows(app, window, _rebuilt)
+
+
+def run_windows(app, window, rebuild) -> int:
+    """The event loop, again for each window closed by Restart Now (``window.restart_wanted``):
+    ``rebuild(path)`` makes the next one, with the file the last one had open."""
+    while True:
+        code = app.exec()
+        if not getattr(window, "restart_wanted", False):
+            return code
+        window = rebuild(window.path)
+
+
+def _rebuilt(path: str | None):
+    """The window built again after Restart Now, in the language now chosen."""
+    from ..user_dirs import config_dir
+    from . import create_main_window
+    from .language import reinstall
+
+    reinstall(config_dir())
+    window = create_main_window(path)
+    window.show()
+    return window
 
 
 SETTLE_MS = 300

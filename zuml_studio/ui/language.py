@@ -3,10 +3,9 @@
 ``qtbase_XX.qm`` PySide6 ships). A language chosen later applies at the next start."""
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
-from PySide6.QtCore import QCoreApplication, QLibraryInfo, QProcess, QSettings, QTranslator
+from PySide6.QtCore import QCoreApplication, QLibraryInfo, QSettings, QTranslator
 
 from .. import i18n
 from ..data import DataFileError
@@ -56,7 +55,8 @@ def install_qt_catalogue(language: str) -> None:
     _qt_translator = translator
 
 
-def restart() -> bool:
-    """Start ZUML Studio again the way it was started (the caller then closes this one)."""
-    started = QProcess.startDetached(sys.executable, list(sys.orig_argv[1:]))
-    return bool(started[0] if isinstance(started, tuple) else started)
+def reinstall(config: Path) -> str:
+    """At a restart in this process: the language the user now chose, ours and Qt's; its code."""
+    language = install_language(saved_preference(config))
+    install_qt_catalogue(language)
+    return language

@@ -1,15 +1,31 @@
 """The problems list: every diagnostic of the open macro; activating one moves the cursor."""
 from __future__ import annotations
 
-from PySide6.QtCore import Qt, Signal
+from PySide6.QtCore import QRect, QSize, Qt, Signal
 from PySide6.QtGui import QColor
-from PySide6.QtWidgets import QHeaderView, QStyle, QTreeWidget, QTreeWidgetItem
+from PySide6.QtWidgets import QHeaderView, QStyle, QStyledItemDelegate, QTreeWidget, QTreeWidgetItem
 
 from ..i18n import _
 from ..lang.diagnostics import Diagnostic, Severity
 from . import theme
 
 _ROLE = Qt.ItemDataRole.UserRole
+MESSAGE = 2                 # the column that wraps
+CELL_MARGINS_PX = 8
+
+
+class _WrappingDelegate(QStyledItemDelegate):
+    """A message's row as high as its text wrapped to the column's width (a tree view asks its
+    delegate with no width, so Qt's own word wrap never grows a row)."""
+
+    def sizeHint(self, option, index):  # noqa: N802
+        hint = super().sizeHint(option, index)
+        if index.column() != MESSAGE:
+            return hint
+        width = max(20, self.parent().header().sectionSize(MESSAGE) - CELL_MARGINS_PX)
+        wrapped = option.fontMetrics.boundingRect(QRect(0, 0, width, 100_000), Qt.TextFlag.TextWordWrap,
+                                                  str(index.data() or ""))
+        return QSize(hint.width(), max(hint.height(), wrapped.height() + CELL_MARGINS_PX // 2))
 
 
 class ProblemsView(QTreeWidget):
@@ -19,16 +35,22 @@ class ProblemsView(QTreeWidget):
         super().__init__(parent)
         self.setObjectName("problems")
         self.setRootIsDecorated(False)
-        self.setUniformRowHeights(True)
+        # The dock is narrow (and Russian runs longer): a message wraps onto as many lines as it
+        # needs instead of ending in "…"; the rows are laid out again when the column's width changes.
+        self.setWordWrap(True)
+        self.setUniformRowHeights(False)
+        self.setTextElideMode(Qt.TextElideMode.ElideNone)
+        self.setItemDelegate(_WrappingDelegate(self))
         self.setAlternatingRowColors(True)
         self.setColumnCount(4)
         self.setHeaderLabels(["", _("Line:Col"), _("Message"), _("Code")])
         header = self.header()
         header.setSectionResizeMode(0, QHeaderView.ResizeMode.ResizeToContents)
         header.setSectionResizeMode(1, QHeaderView.ResizeMode.ResizeToContents)
-        header.setSectionResizeMode(2, QHeaderView.ResizeMode.Stretch)
+        header.setSectionResizeMode(MESSAGE, QHeaderView.ResizeMode.Stretch)
         header.setSectionResizeMode(3, QHeaderView.ResizeMode.ResizeToContents)
         header.setStretchLastSection(False)
+        header.sectionResized.connect(lambda index, _old, _new: index == MESSAGE and self.scheduleDelayedItemsLayout())
         self.itemActivated.connect(self._activated)
         self.itemDoubleClicked.connect(self._activated)
         style = self.style()

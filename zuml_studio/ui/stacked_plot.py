@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pyqtgraph as pg
 from PySide6.QtCore import QEvent, QRectF, Qt, Signal
-from PySide6.QtGui import QBrush, QColor, QFont, QFontMetrics, QPen
+from PySide6.QtGui import QBrush, QColor, QFont, QFontMetrics, QPen, QTextOption
 
 from ..i18n import N_, _
 from ..sim.reasons import shown_reason
@@ -167,6 +167,37 @@ class InlineLegend(pg.TextItem):
             self.setPos(self.pos().x(), self.pos().y() + reserved_top_px)
 
 
+LABEL_GAP = 0.3                 # between two tick labels of an axis, at least this share of a label's height
+PLACEHOLDER_MARGIN_PX = 12
+
+
+class TidyAxisItem(pg.AxisItem):
+    """A value axis whose tick labels never run into each other nor into the next plot's: pyqtgraph
+    draws its first level of labels however crowded the axis, and lets a vertical axis's labels
+    hang 15 px past its ends, over the plot above or below (a low plot at 1366x768)."""
+
+    def __init__(self, orientation: str):
+        super().__init__(orientation)
+        self.setStyle(hideOverlappingLabels=True)
+
+    def generateDrawSpecs(self, p):  # noqa: N802
+        specs = super().generateDrawSpecs(p)
+        if specs is None:
+            return None
+        axis, ticks, texts = specs
+        kept: list = []
+        for spec in texts:          # the coarsest level first: a label that would crowd one drawn is left out
+            rect = spec[0]
+            room = rect.adjusted(0, -LABEL_GAP * rect.height(), 0, LABEL_GAP * rect.height())
+            if not any(room.intersects(other[0]) for other in kept):
+                kept.append(spec)
+        return axis, ticks, kept
+
+
+def tidy_axes() -> dict[str, TidyAxisItem]:
+    return {"left": TidyAxisItem("left"), "right": TidyAxisItem("right")}
+
+
 class StackedPlot(pg.GraphicsLayoutWidget):
     """The three x-linked plots (``vplot``, ``iplot``, ``tplot``) with their axes, legends,
     zero line, placeholder text and phase labels. Subclasses add the curves and the bands
@@ -198,9 +229,9 @@ class StackedPlot(pg.GraphicsLayoutWidget):
         self.grid = grid
 
         self.time_axis = TimeAxisItem("bottom")
-        self.vplot = self.addPlot(row=0, col=0)
-        self.iplot = self.addPlot(row=1, col=0)
-        self.tplot = self.addPlot(row=2, col=0, axisItems={"bottom": self.time_axis})
+        self.vplot = self.addPlot(row=0, col=0, axisItems=tidy_axes())
+        self.iplot = self.addPlot(row=1, col=0, axisItems=tidy_axes())
+        self.tplot = self.addPlot(row=2, col=0, axisItems={"bottom": self.time_axis, **tidy_axes()})
         self.plots = (self.vplot, self.iplot, self.tplot)
         for plot in self.plots:
             self._style(plot, grid)
@@ -384,6 +415,11 @@ class StackedPlot(pg.GraphicsLayoutWidget):
         if self.placeholder.isVisible():
             (x0, x1), (y0, y1) = self.vplot.vb.viewRange()
             self.placeholder.setPos((x0 + x1) / 2, (y0 + y1) / 2)
+            # Wrapped to the plot's width: a narrow plot (Russian runs longer) must not cut it at both ends.
+            width = max(60.0, self.vplot.vb.width() - 2 * PLACEHOLDER_MARGIN_PX)
+            if self.placeholder.textItem.textWidth() != width:
+                self.placeholder.setTextWidth(width)
+                self.placeholder.textItem.document().setDefaultTextOption(QTextOption(Qt.AlignmentFlag.AlignHCenter))
 
     def _new_label(self) -> pg.TextItem:
         label = pg.TextItem("", color=self.label_colour(False), anchor=(0, 0))

@@ -2,7 +2,9 @@
 1366x768 or a 1.5x-scaled desktop shows everything), a saved one kept only while it fits."""
 from __future__ import annotations
 
-from PySide6.QtCore import QRect
+import struct
+
+from PySide6.QtCore import QPoint, QRect
 
 PREFERRED_W, PREFERRED_H = 1500, 950      # what the layout was drawn for
 SCREEN_SHARE = 0.92                       # of the available area, when the screen is smaller
@@ -22,3 +24,17 @@ def fits(frame: QRect, available: QRect) -> bool:
     """Whether a window frame lies within the available area (within a few pixels)."""
     grown = available.adjusted(-FIT_SLACK_PX, -FIT_SLACK_PX, FIT_SLACK_PX, FIT_SLACK_PX)
     return grown.contains(frame)
+
+
+GEOMETRY_MAGIC = 0x01D9D0CB               # QWidget::saveGeometry's first four bytes
+
+
+def saved_frame(geometry: bytes) -> QRect | None:
+    """The frame a saved geometry holds, as it was saved (restoreGeometry squeezes a frame into
+    the screen, so a window saved on a bigger screen would seem to fit); None if unreadable."""
+    if len(geometry) < 24:
+        return None
+    magic, _major, _minor, left, top, right, bottom = struct.unpack(">IHHiiii", geometry[:24])
+    if magic != GEOMETRY_MAGIC:
+        return None
+    return QRect(QPoint(left, top), QPoint(right, bottom))

@@ -42,16 +42,40 @@ def test_restore_asks_first_naming_the_macros_it_would_lose(qtbot, make_panel, e
     assert panel.slot_names() == ["NiMh-dV", "LiPo"]
 
 
-def test_backup_and_restore_start_in_the_documents_folder(qtbot, make_panel, monkeypatch):
+def test_backup_and_restore_start_in_the_documents_folder_named_by_charger_and_day(qtbot, make_panel, monkeypatch,
+                                                                                     tmp_path):
+    from datetime import date
+
     from zuml_studio.ui.device.confirm_dialogs import documents_folder
+    monkeypatch.setenv("HOME", str(tmp_path))
+    (tmp_path / "Documents").mkdir()
     panel = make_panel()
+    connect(qtbot, panel)
     seen = []
     monkeypatch.setattr(QFileDialog, "getSaveFileName", lambda *a, **k: seen.append(a[2]) or ("", ""))
     monkeypatch.setattr(QFileDialog, "getOpenFileName", lambda *a, **k: seen.append(a[2]) or ("", ""))
     panel.backup_button.clicked.emit()
     panel.restore_button.clicked.emit()
-    assert documents_folder() and Path(seen[0]) == Path(documents_folder()) / "eeprom-backup.bin"
+    suggested = Path(seen[0])
+    assert suggested.parent == tmp_path / "Documents" and Path(documents_folder()) == tmp_path / "Documents"
+    assert suggested.name == f"iMAX-B6-virtual-{date.today().isoformat()}.bin"      # the virtual charger's model
     assert seen[1] == documents_folder()
+
+
+def test_a_backup_name_is_the_charger_and_the_day_in_characters_every_file_system_takes():
+    from datetime import date
+
+    from zuml_studio.ui.device.charger_slots import backup_name
+    day = date(2026, 12, 3)
+    assert backup_name("iMAX B6 (virtual)", day) == "iMAX-B6-virtual-2026-12-03.bin"
+    assert backup_name("a/b:c", day) == "a-b-c-2026-12-03.bin"
+    assert backup_name("", day) == "charger-2026-12-03.bin"
+
+
+def test_without_a_documents_folder_backup_starts_at_home_never_in_a_hidden_folder(monkeypatch, tmp_path):
+    from zuml_studio.ui.device.confirm_dialogs import documents_folder
+    monkeypatch.setenv("HOME", str(tmp_path))
+    assert documents_folder() == str(tmp_path)
 
 
 def test_the_virtual_battery_from_the_macro_takes_its_cells_and_capacity_and_says_so(make_panel, editor):

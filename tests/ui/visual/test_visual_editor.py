@@ -1,11 +1,12 @@
 """The visual editor as a user drives it (offscreen): a view of the text, every card edit a
 text patch with one undo history, bytes following through the normal check."""
+import pytest
 from PySide6.QtCore import QMimeData, QPoint, QPointF, Qt
 from PySide6.QtGui import QDropEvent, QDragEnterEvent, QTextCursor
 from PySide6.QtWidgets import QApplication, QScrollBar
 
 from helpers import MACROS
-from zuml_studio import visual_edits as ve
+from zuml_studio.lang import visual_edits as ve
 from zuml_studio.lang import opcodes as ops
 from zuml_studio.lang.ast import Cycle
 from zuml_studio.lang.compiler import compile_source
@@ -148,6 +149,18 @@ def test_a_bad_value_is_refused_with_a_message_and_the_text_stays(visual, qtbot)
     assert v.editor.toPlainText() == LIPO_TEXT
     assert messages and v.view.status.property("problem") is True
     assert field.value_text() == "0.1A"                   # the field shows the stored value again
+
+
+@pytest.mark.parametrize("typed", ["abc", "99"])       # not a value; a value the check refuses (over 5 V/cell)
+def test_a_refused_value_leaves_the_field_even_while_it_keeps_the_focus(visual, qtbot, typed):
+    v = visual()
+    card = v.view.items[("charge", 1)]
+    (_k, _i, field), = card.action_fields                 # CONSTANT_V=4.2S
+    field.line.hasFocus = lambda: True                    # Enter commits; the cursor stays in the field (no
+    type_into(qtbot, field.line, typed)                   # window has the focus offscreen)
+    assert v.editor.toPlainText() == LIPO_TEXT
+    assert v.view.status.property("problem") is True
+    assert field.value_text() == "4.2S"                   # the field, the text and the card agree
 
 
 def test_one_card_edit_is_one_undo_step_and_undo_restores_text_and_cards(visual, qtbot):

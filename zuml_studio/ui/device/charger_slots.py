@@ -3,6 +3,8 @@ its target slot and progress, Backup and Restore. It owns the last EEPROM image 
 flashed last and a write whose end the link lost (settled by the next image read)."""
 from __future__ import annotations
 
+import re
+from datetime import date
 from pathlib import Path
 from typing import Callable
 
@@ -25,6 +27,13 @@ from .device_style import ElidedCombo, colour, heading_row, tint
 FLASH_TIP = N_("Write the editor's macro to the charger, verify it (Ctrl+Shift+F)")
 STAGES = {"read": N_("reading {done} of {total} bytes"), "write": N_("writing {done} of {total} bytes"),
           "verify": N_("verifying {done} of {total} bytes")}
+
+
+def backup_name(model: str, day: date) -> str:
+    """A backup's file name: the charger's model and the day, ``iMAX-B6-2026-12-03.bin`` (a file per
+    charger and day, sorted by both; characters a file system may refuse become "-")."""
+    safe = re.sub(r"[^A-Za-z0-9._-]+", "-", model).strip("-.") or "charger"
+    return f"{safe}-{day.isoformat()}.bin"
 
 
 class Unsafe:
@@ -84,6 +93,7 @@ class ChargerSlots(QWidget):
         self.flashed_slot: int | None = None
         # (slot, name) of the macro running now, None when none runs (the panel sets it from the run)
         self.running_macro: Callable[[], tuple[int | None, str] | None] = lambda: None
+        self.charger_model = ""             # the connected charger's, for a backup's file name
         self._unsettled: tuple[str, CommitUncertain | CommitUnverified] | None = None   # (what, error)
         self.table = SlotTable(0, 5)
         self.table.setObjectName("slotTable")
@@ -445,8 +455,8 @@ class ChargerSlots(QWidget):
         self.operationFinished.emit(op, False, text)
 
     def _backup_clicked(self) -> None:
-        path, _filter = QFileDialog.getSaveFileName(self, _("Back up the charger's EEPROM"),
-                                                    str(Path(confirm_dialogs.documents_folder()) / "eeprom-backup.bin"),
+        suggested = Path(confirm_dialogs.documents_folder()) / backup_name(self.charger_model, date.today())
+        path, _filter = QFileDialog.getSaveFileName(self, _("Back up the charger's EEPROM"), str(suggested),
                                                     _("EEPROM images (*.bin);;All files (*)"))
         if path:
             self.backup(path)

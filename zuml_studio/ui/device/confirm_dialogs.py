@@ -2,6 +2,8 @@
 and closing ZUML Studio while a charge runs. Cancel is the default of each."""
 from __future__ import annotations
 
+from pathlib import Path
+
 from PySide6.QtCore import QStandardPaths
 from PySide6.QtWidgets import QMessageBox, QWidget
 
@@ -11,8 +13,10 @@ STOP, LEAVE, CANCEL = "stop", "leave", "cancel"
 
 
 def documents_folder() -> str:
-    """Where Backup and Restore start: the user's documents, never the current directory."""
-    return QStandardPaths.writableLocation(QStandardPaths.StandardLocation.DocumentsLocation)
+    """Where Backup and Restore start: the user's documents, never the current directory (nor a
+    folder that does not exist, where the dialog would pick one itself): the home folder without them."""
+    found = QStandardPaths.writableLocation(QStandardPaths.StandardLocation.DocumentsLocation)
+    return found if found and Path(found).is_dir() else str(Path.home())
 
 
 def restore_text(file_name: str, on_charger: list[str], in_image: list[str] | None) -> str:

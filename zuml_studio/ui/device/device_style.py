@@ -6,9 +6,9 @@ import weakref
 
 from PySide6.QtCore import QEvent, Qt
 from PySide6.QtGui import QPalette
-from PySide6.QtWidgets import (QApplication, QComboBox, QDoubleSpinBox, QFrame, QHBoxLayout, QLabel, QScrollArea,
-                               QSizePolicy, QSpinBox, QStyle, QStyleOptionComboBox, QStylePainter, QToolTip,
-                               QVBoxLayout, QWidget)
+from PySide6.QtWidgets import (QApplication, QBoxLayout, QComboBox, QDoubleSpinBox, QFrame, QHBoxLayout, QLabel,
+                               QScrollArea, QSizePolicy, QSpinBox, QSplitter, QStyle, QStyleOptionComboBox,
+                               QStylePainter, QToolTip, QVBoxLayout, QWidget)
 
 from .. import theme
 from ..number_boxes import double_spin_box, form_field, spin_box
@@ -158,6 +158,9 @@ class ElidedLabel(QLabel):
         super().setText(self.fontMetrics().elidedText(self._full, self._mode, width))
 
 
+STACK_PX = 480      # from this height the controls stand in one column
+
+
 class ControlsScroll(QScrollArea):
     """The controls in two narrow columns (what is on the charger; the run and the passport),
     preferring the width its columns want (QScrollArea caps its size hint at 36 lines of text,
@@ -178,8 +181,10 @@ class ControlsScroll(QScrollArea):
         cols.setContentsMargins(0, 0, 4, 0)
         cols.setSpacing(10)
         cols.addWidget(charger, 10)
-        cols.addWidget(vline())
+        self._line = vline()
+        cols.addWidget(self._line)
         cols.addWidget(col_b, 11)
+        self._cols, self._charger, self._run = cols, charger, col_b
         self.setObjectName("deviceControls")
         self.setWidget(columns)
         self.setWidgetResizable(True)
@@ -189,6 +194,32 @@ class ControlsScroll(QScrollArea):
         charger.setMinimumWidth(max(215, charger.minimumSizeHint().width()))
         col_b.setMinimumWidth(max(265, col_b.minimumSizeHint().width()))
         self.setMinimumWidth(columns.minimumSizeHint().width() + 14)
+
+    def is_stacked(self) -> bool:
+        return self._cols.direction() == QBoxLayout.Direction.TopToBottom
+
+    def resizeEvent(self, event) -> None:  # noqa: N802
+        super().resizeEvent(event)
+        self._stack(self.height() >= STACK_PX)
+
+    def _stack(self, stacked: bool) -> None:
+        """With the window's height to itself (the Charge mode) the two columns become one, the run
+        first (Start and Stop stay in view) and what is on the charger below, so the live plot gets the
+        width; the splitter it stands in gives it just that column's width."""
+        if stacked == self.is_stacked():
+            return
+        for widget in (self._charger, self._line, self._run):
+            self._cols.removeWidget(widget)
+        order = (self._run, self._line, self._charger) if stacked else (self._charger, self._line, self._run)
+        for widget, stretch in zip(order, (0, 0, 1) if stacked else (10, 0, 11)):
+            self._cols.addWidget(widget, stretch)
+        self._line.setVisible(not stacked)
+        self._cols.setDirection(QBoxLayout.Direction.TopToBottom if stacked else QBoxLayout.Direction.LeftToRight)
+        self.setMinimumWidth(self.widget().minimumSizeHint().width() + 14)
+        splitter = self.parentWidget()
+        if isinstance(splitter, QSplitter) and splitter.count() == 2:
+            mine = self.sizeHint().width()
+            splitter.setSizes([mine, max(1, sum(splitter.sizes()) - mine)])
 
     def sizeHint(self):  # noqa: N802
         hint = super().sizeHint()

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import pyqtgraph as pg
-from PySide6.QtCore import QTimer, Signal
+from PySide6.QtCore import Qt, QTimer, Signal
 
 from ...i18n import _
 from ..plot_backdrop import BackdropItem
@@ -148,7 +148,7 @@ class LivePlot(StackedPlot):
     """Three x-linked plots (V, I, T) of a ``LiveSeries``, redrawn by a timer."""
     pointsAdded = Signal(int)           # points plotted so far; at most once per redraw
     followChanged = Signal(bool)        # the user zoomed or panned: following stops
-    phaseActivated = Signal(int)        # FAZE byte offset of a double-clicked band
+    phaseActivated = Signal(int)        # FAZE byte offset of a Ctrl+double-clicked band
 
     def __init__(self, series: LiveSeries | None = None, parent=None):
         super().__init__("livePlot", "", grid=False, parent=parent)
@@ -448,8 +448,8 @@ class LivePlot(StackedPlot):
 
     # -- mouse -------------------------------------------------------------------------------
     def _scene_clicked(self, ev) -> None:
-        if not ev.double():
-            return
+        if not ev.double() or not ev.modifiers() & Qt.KeyboardModifier.ControlModifier:
+            return              # a plain double-click maximises the plot (ui/window/plot_focus.py)
         pos = ev.scenePos()
         for plot in self.plots:
             if plot.vb.sceneBoundingRect().contains(pos):

@@ -1,17 +1,15 @@
 """The Packs dock (the battery logbook's view) and how the main window takes it in."""
 from __future__ import annotations
 
-from PySide6.QtCore import Qt
-from PySide6.QtWidgets import QDockWidget, QWidget
+from PySide6.QtWidgets import QDockWidget
 
 from ..sim.params_form import NAMED
-from ...i18n import _
 
 
 def install_packs_dock(window) -> QDockWidget:
-    """The dock, tabbed with the Device dock; its panel (and the logbook) is made when it is first shown."""
-    dock = window._dock(_("Packs"), "packsDock", QWidget(), Qt.DockWidgetArea.BottomDockWidgetArea)
-    window.tabifyDockWidget(window.device_dock, dock)
+    """The Packs dock (a row of ``ui/window/docks.py``, tabbed with the Simulator and the Device):
+    its panel, and the logbook, are made when it is first shown."""
+    dock = window.packs_dock
     dock.visibilityChanged.connect(lambda visible: visible and dock_panel(window, dock))
     return dock
 

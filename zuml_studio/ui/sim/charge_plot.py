@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 import pyqtgraph as pg
-from PySide6.QtCore import QTimer, Signal
+from PySide6.QtCore import Qt, QTimer, Signal
 
 from ...i18n import _
 from ..plot_backdrop import BackdropItem
@@ -24,7 +24,7 @@ LABELS_PER_TURN = 8
 
 
 class ChargePlot(StackedPlot):
-    phaseActivated = Signal(int)        # FAZE byte offset of a double-clicked band
+    phaseActivated = Signal(int)        # FAZE byte offset of a Ctrl+double-clicked band
     phaseClicked = Signal(int)          # row (phase run - 1) of a clicked band, -1 outside bands
 
     def __init__(self, parent=None):
@@ -163,7 +163,7 @@ class ChargePlot(StackedPlot):
             end = p.end_s if p.reason else max(p.end_s, p.start_s)
             alpha = look.selected_alpha if row == self._selected else look.band_alpha[strength]
             spans.append((p.start_s, end, *self.band_looks(p.section, alpha)))
-            tips.append(band_label(p) + "\n" + _("double-click: show the FAZE in the editor"))
+            tips.append(band_label(p) + "\n" + _("Ctrl+double-click: show the FAZE in the editor"))
         for item in self.band_items:
             item.set_bands(spans, tips)
 
@@ -216,8 +216,8 @@ class ChargePlot(StackedPlot):
         for plot in self.plots:
             if plot.vb.sceneBoundingRect().contains(pos):
                 row = self.phase_at(plot.vb.mapSceneToView(pos).x())
-                if ev.double():
-                    if row >= 0:
+                if ev.double():       # a plain double-click maximises the plot (ui/window/plot_focus.py)
+                    if row >= 0 and ev.modifiers() & Qt.KeyboardModifier.ControlModifier:
                         self.phaseActivated.emit(self._phases[row].offset)
                 else:
                     self.phaseClicked.emit(row)

@@ -25,6 +25,9 @@ STALE_HINT = N_("showing the last valid version (the macro has errors)")
 NOTHING_YET = N_("no simulation yet: Simulate (F5) runs the macro against a battery model")
 OUTDATED_HINT = N_("the macro or the parameters changed since this run: Simulate (F5)")
 
+TALL_PX = 480      # from this height the phase table goes under the start values
+TALL_SIDE_SHARE = 0.25
+
 
 class SimulatorPanel(QWidget):
     simulationFinished = Signal(object)     # the SimResult of a run that reached its end
@@ -82,10 +85,15 @@ class SimulatorPanel(QWidget):
         table_layout.addWidget(self.table, 1)
         table_layout.addWidget(self.totals)
 
+        self.table_box = table_box
+        self.side = QSplitter(Qt.Orientation.Vertical)      # the start values, and the phases when the panel is tall
+        self.side.setObjectName("simSide")
+        self.side.setChildrenCollapsible(False)
+        self.side.addWidget(params_scroll)
         self.splitter = QSplitter(Qt.Orientation.Horizontal)
         self.splitter.setObjectName("simSplitter")
         self.splitter.setChildrenCollapsible(False)
-        self.splitter.addWidget(params_scroll)
+        self.splitter.addWidget(self.side)
         self.splitter.addWidget(self.plot)
         self.splitter.addWidget(table_box)
         self.splitter.setStretchFactor(0, 0)
@@ -384,8 +392,34 @@ class SimulatorPanel(QWidget):
             self._sized = True
             self._split_sizes()
 
+    def resizeEvent(self, event) -> None:  # noqa: N802
+        super().resizeEvent(event)
+        self._arrange(self.height() >= TALL_PX)
+
+    def is_tall(self) -> bool:
+        """Whether the phase table stands under the start values (the plot then has the width)."""
+        return self.table_box.parentWidget() is self.side
+
+    def _arrange(self, tall: bool) -> None:
+        """A panel with the window's height to itself (the Simulate mode) puts the phase table under the
+        start values, so the plot gets the width as well; a strip at the window's foot keeps the three
+        side by side."""
+        if tall == self.is_tall():
+            return
+        if tall:
+            self.side.addWidget(self.table_box)
+            self.side.setSizes([self.form.sizeHint().height(), max(1, self.height() - self.form.sizeHint().height())])
+        else:
+            self.splitter.addWidget(self.table_box)
+            self.splitter.setStretchFactor(2, 2)
+        self._split_sizes()
+
     def _split_sizes(self) -> None:
         width = max(self.width(), 800)
         params = self.params_scroll.minimumWidth() + 8
         rest = width - params
-        self.splitter.setSizes([params, int(rest * 0.58), rest - int(rest * 0.58)])
+        if self.is_tall():      # the phase table shares the start values' column: a quarter of a wide panel
+            side = max(params, int(width * TALL_SIDE_SHARE))
+            self.splitter.setSizes([side, width - side])
+        else:
+            self.splitter.setSizes([params, int(rest * 0.58), rest - int(rest * 0.58)])

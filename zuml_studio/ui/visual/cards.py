@@ -12,7 +12,7 @@ from PySide6.QtGui import QAction, QColor, QDrag, QPainter, QPen, QPixmap
 from PySide6.QtWidgets import (QApplication, QComboBox, QFrame, QGridLayout, QHBoxLayout, QLabel, QMenu, QSizePolicy,
                                QSpinBox, QToolButton, QVBoxLayout, QWidget)
 
-from ... import visual_edits as ve
+from ...lang import visual_edits as ve
 from ...i18n import N_, _, ngettext
 from ...lang import opcodes as ops
 from ...lang.ast import Cycle, Phase, Statement

@@ -116,6 +116,9 @@ class NumberUnitField(Field):
         self._commit()
 
     def _commit(self) -> None:
+        # Committed, the field is no longer being typed in: should the edit be refused, the refresh
+        # that follows puts the stored value back although the cursor is still here.
+        self.line.setModified(False)
         text = self.value_text()
         if text != self._shown:
             self._shown = text
@@ -137,6 +140,8 @@ class SpinField(Field):
             self.spin.setSuffix(suffix)
         self.spin.editingFinished.connect(self._commit)
         self.spin.valueChanged.connect(self._stepped)
+        self._typing = False            # digits typed and not yet committed
+        self.spin.lineEdit().textEdited.connect(lambda _text: setattr(self, "_typing", True))
         layout = QHBoxLayout(self)
         layout.setContentsMargins(0, 0, 0, 0)
         layout.addWidget(self.spin)
@@ -154,7 +159,7 @@ class SpinField(Field):
         return str(self.spin.value())
 
     def busy(self) -> bool:
-        return self.spin.hasFocus()
+        return self.spin.hasFocus() and self._typing
 
     def _stepped(self, _value: int) -> None:
         # The arrows (or the wheel) commit at once; typed digits wait for Enter / leaving.
@@ -162,6 +167,7 @@ class SpinField(Field):
             self._commit()
 
     def _commit(self) -> None:
+        self._typing = False
         if self.spin.value() != self._shown:
             self._shown = self.spin.value()
             self.committed.emit(str(self._shown))
@@ -181,6 +187,8 @@ class NamedField(Field):
         self.combo.setMinimumContentsLength(7)
         self.combo.activated.connect(lambda _i: self._commit())
         self.combo.lineEdit().editingFinished.connect(self._commit)
+        self._typing = False            # a name typed and not yet committed
+        self.combo.lineEdit().textEdited.connect(lambda _text: setattr(self, "_typing", True))
         layout = QHBoxLayout(self)
         layout.setContentsMargins(0, 0, 0, 0)
         layout.addWidget(self.combo)
@@ -194,9 +202,10 @@ class NamedField(Field):
         return self.combo.currentText().strip()
 
     def busy(self) -> bool:
-        return self.combo.hasFocus()
+        return self.combo.hasFocus() and self._typing
 
     def _commit(self) -> None:
+        self._typing = False
         text = self.value_text()
         if text and text.upper() != self._shown.upper():
             self._shown = text

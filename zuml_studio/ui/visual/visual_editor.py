@@ -5,7 +5,7 @@ connects the validator's ``validated`` signal); a valid result (warnings allowed
 shown as cards, while the text has errors the cards of the last valid version stay,
 greyed, under a banner, and cannot be edited.
 
-Every change made on a card is a text edit (``zuml_studio.visual_edits``) applied to the
+Every change made on a card is a text edit (``zuml_studio.lang.visual_edits``) applied to the
 editor's QTextDocument as ONE minimal patch through one QTextCursor inside an edit
 block: the editor, the bytes and the simulator follow through the normal check, the
 comments and layout elsewhere stay, and the document's one undo history covers both
@@ -21,7 +21,7 @@ from PySide6.QtWidgets import (QApplication, QBoxLayout, QComboBox, QFrame, QGri
                                QLineEdit, QMenu, QPlainTextEdit, QScrollArea, QSizePolicy, QSpinBox, QToolButton,
                                QVBoxLayout, QWidget)
 
-from ... import visual_edits as ve
+from ...lang import visual_edits as ve
 from ...i18n import N_, _, ngettext
 from ...lang import opcodes as ops
 from ...lang.ast import Cycle, Macro, Phase, Statement
@@ -343,13 +343,17 @@ class VisualEditor(QWidget):
             self._fit_columns()
         return super().eventFilter(watched, event)
 
-    def _fit_columns(self) -> None:
-        """The sections side by side when both fit the width, else one above the other: the
-        cards never need a horizontal scroll bar (only a card wider than the whole view would)."""
+    def side_by_side_missing(self) -> int:
+        """How many pixels of width the sections lack to stand side by side (0: they fit)."""
         margins = self.content.layout().contentsMargins()
         side_by_side = (sum(c.minimumSizeHint().width() for c in self.columns.values()) + self.cols.spacing()
                         + margins.left() + margins.right())
-        direction = (QBoxLayout.Direction.LeftToRight if side_by_side <= self.scroll.viewport().width()
+        return max(0, side_by_side - self.scroll.viewport().width())
+
+    def _fit_columns(self) -> None:
+        """The sections side by side when both fit the width, else one above the other: the
+        cards never need a horizontal scroll bar (only a card wider than the whole view would)."""
+        direction = (QBoxLayout.Direction.LeftToRight if not self.side_by_side_missing()
                      else QBoxLayout.Direction.TopToBottom)
         if self.cols.direction() != direction:
             self.cols.setDirection(direction)

@@ -18,13 +18,13 @@ import re
 from collections import Counter
 from dataclasses import dataclass
 
-from .lang import opcodes as ops
-from .lang.ast import Arg, Cycle, Macro, Phase, Section, Span, Statement
-from .lang.formatter import INDENT, format_statement
-from .lang.opcodes import Op, Place, Role
-from .lang.operands import (AKK_TYPE, CELSIUS, CURRENT, INPUT_U16, RELATIVE_FLAG, TIME, VOLTAGE, OperandKind,
-                            ValueProblem, format_scaled, parse_akk_type)
-from .i18n import N_, _
+from ..i18n import N_, _
+from . import opcodes as ops
+from .ast import Arg, Cycle, Macro, Phase, Section, Span, Statement
+from .formatter import INDENT, format_statement
+from .opcodes import Op, Place, Role
+from .operands import (AKK_TYPE, CELSIUS, CURRENT, INPUT_U16, RELATIVE_FLAG, TIME, VOLTAGE, OperandKind,
+                       ValueProblem, format_scaled, parse_akk_type)
 
 
 class EditError(ValueError):
@@ -364,7 +364,7 @@ def chemistry_of(macro: Macro | None):
     st = macro.declared(ops.AKK_TYPE)
     if st is None:
         return None
-    from .sim.chemistry import load_chemistry   # Qt-free; imported late to keep lang -> sim one-way here
+    from ..sim.chemistry import load_chemistry   # late: sim imports lang, lang never sim at import time
     try:
         return load_chemistry(AKK_TYPE.format(st.args[0].raw))
     except KeyError:    # LiS, New, Undef: no model; a broken data file raises DataFileError

@@ -3,7 +3,7 @@ does what it says to the AST and the bytes, and keeps the comments it does not t
 import pytest
 
 from helpers import MACROS, SEED_MACROS, seed_text
-from zuml_studio import visual_edits as ve
+from zuml_studio.lang import visual_edits as ve
 from zuml_studio.lang import opcodes as ops
 from zuml_studio.lang.ast import Cycle, Phase
 from zuml_studio.lang.compiler import compile_source

@@ -1,0 +1,165 @@
+"""The window's modes (Write, Simulate, Charge), each keeping its layout; a plot maximised in
+place; the emergency stop; the toolbar's icons on either theme. At 1366x768, the plot being
+watched gets at least 60 % of the window."""
+import pytest
+from PySide6.QtCore import QPoint, Qt
+from PySide6.QtGui import QColor, QPalette
+
+from helpers import MACROS, contrast_ratio
+
+WATCHED_SHARE = 0.60
+
+
+def share(widget, window) -> float:
+    return widget.width() * widget.height() / (window.width() * window.height())
+
+
+def double_click(qtbot, widget):
+    at, left = QPoint(widget.width() // 2, widget.height() // 2), Qt.MouseButton.LeftButton
+    qtbot.mousePress(widget, left, pos=at)
+    qtbot.mouseRelease(widget, left, pos=at)
+    qtbot.mouseDClick(widget, left, pos=at)
+    qtbot.mouseRelease(widget, left, pos=at)
+
+
+@pytest.fixture
+def laptop(make_window, qtbot):
+    def make(config=None):
+        w = make_window(str(MACROS / "NiMh.zuml"), config)
+        w.resize(1366, 768)
+        qtbot.waitUntil(lambda: w.size().width() == 1366)
+        return w
+    return make
+
+
+def test_the_window_starts_in_the_write_mode_and_the_view_menu_switches(laptop, qtbot):
+    w = laptop()
+    assert w.modes.current == "write" and w.act_mode_write.isChecked()
+    assert w.editor_box.isVisible() and w.hex_dock.isVisible() and w.sim_dock.isVisible()
+    assert w.act_mode_simulate in w.menus["view"].actions()
+    w.act_mode_simulate.trigger()
+    assert w.modes.current == "simulate" and w.act_mode_simulate.isChecked()
+    qtbot.waitUntil(lambda: w.sim_panel.is_tall())
+    assert not w.editor_box.isVisible()
+    assert [d.objectName() for d in w.docks.values() if d.isVisible()] == ["simulatorDock"]
+    w.act_mode_charge.trigger()
+    assert [d.objectName() for d in w.docks.values() if d.isVisible()] == ["deviceDock"]
+    qtbot.waitUntil(lambda: w.device_panel.controls_scroll.is_stacked())
+    w.act_mode_write.trigger()
+    assert w.editor_box.isVisible() and w.library_dock.isVisible() and w.problems_dock.isVisible()
+    qtbot.waitUntil(lambda: not w.sim_panel.is_tall())
+
+
+def test_the_simulate_mode_gives_the_plot_60_percent_of_a_1366x768_window(laptop, qtbot):
+    w = laptop()
+    w.modes.switch("simulate")
+    w.sim_panel.simulate()
+    assert w.sim_panel.wait(60_000)
+    qtbot.waitUntil(lambda: share(w.sim_panel.plot, w) >= WATCHED_SHARE)
+    assert w.size().width() == 1366        # placing the docks did not widen the window
+
+
+def test_each_mode_keeps_its_own_layout_across_switches_and_restarts(laptop, qtbot, tmp_path):
+    config = tmp_path / "kept"
+    w = laptop(config)
+    w.modes.switch("simulate")
+    w.problems_dock.show()                  # the user adds the problems beside the simulator
+    w.modes.switch("write")
+    w.hex_dock.hide()
+    w.modes.switch("simulate")
+    assert w.problems_dock.isVisible() and not w.hex_dock.isVisible()
+    w.modes.switch("write")
+    assert not w.hex_dock.isVisible() and w.library_dock.isVisible()
+    w.modes.switch("simulate")
+    w.close()
+
+    again = laptop(config)
+    assert again.modes.current == "simulate" and again.act_mode_simulate.isChecked()
+    assert again.problems_dock.isVisible() and not again.editor_box.isVisible()
+    again.act_reset_layout.trigger()        # back to the mode's first layout
+    assert not again.problems_dock.isVisible() and again.sim_dock.isVisible()
+
+
+def test_a_double_click_maximises_the_plot_in_place_and_esc_brings_the_layout_back(laptop, qtbot):
+    w = laptop()
+    w.sim_panel.simulate()
+    assert w.sim_panel.wait(60_000)
+    plot = w.sim_panel.plot
+    double_click(qtbot, plot.viewport())
+    assert w.plot_focus.maximised() is plot
+    assert not w.editor_box.isVisible() and not w.hex_dock.isVisible() and not w.problems_dock.isVisible()
+    assert not w.sim_panel.params_scroll.isVisible() and not w.sim_panel.table.isVisible()
+    qtbot.waitUntil(lambda: share(plot, w) >= WATCHED_SHARE)
+    qtbot.keyClick(plot.viewport(), Qt.Key.Key_Escape)
+    assert w.plot_focus.maximised() is None
+    assert w.editor_box.isVisible() and w.hex_dock.isVisible() and w.problems_dock.isVisible()
+    assert w.sim_panel.params_scroll.isVisible() and w.sim_panel.table.isVisible()
+    assert not w.plot_focus.back.isEnabled()        # Esc is the find bar's again
+
+
+def test_the_live_plot_maximises_too_keeping_its_readout(laptop, qtbot):
+    w = laptop()
+    w.modes.switch("charge")
+    panel = w.device_panel
+    double_click(qtbot, panel.plot.viewport())
+    assert w.plot_focus.maximised() is panel.plot
+    assert panel.readings.isVisible() and not panel.controls_scroll.isVisible()
+    qtbot.waitUntil(lambda: share(panel.plot, w) >= WATCHED_SHARE)
+    double_click(qtbot, panel.plot.viewport())       # a second double-click: back
+    assert panel.controls_scroll.isVisible() and w.plot_focus.maximised() is None
+
+
+def test_the_emergency_stop_works_from_every_tab(laptop, qtbot):
+    from device_helpers import WAIT_MS, connect, flash_and_start
+    w = laptop()
+    assert w.act_stop.shortcut().toString() == "Shift+Esc"
+    assert w.act_stop.shortcutContext() == Qt.ShortcutContext.ApplicationShortcut
+    w.act_stop.trigger()                    # nothing connected: said, nothing else
+    assert "no charger" in w.statusBar().currentMessage()
+    panel = w.device_panel
+    connect(qtbot, panel)
+    ok, text = flash_and_start(qtbot, panel)
+    assert ok, text
+    qtbot.waitUntil(panel.is_running, timeout=WAIT_MS)
+    w.sim_dock.raise_()                     # another tab in front, the editor focused
+    w.editor.setFocus()
+    with qtbot.waitSignal(panel.operationFinished, timeout=WAIT_MS,
+                          check_params_cb=lambda op, ok, text: op == "stop") as stopped:
+        w.act_stop.trigger()
+    assert stopped.args[1], stopped.args[2]
+    qtbot.waitUntil(lambda: not panel.is_running(), timeout=WAIT_MS)
+
+
+@pytest.mark.parametrize("choice", ["light", "dark"])
+def test_the_toolbar_icons_stand_out_on_either_theme(make_window, system_theme, choice):
+    from zuml_studio.ui import theme
+    w = make_window()
+    theme.apply_theme(choice)
+    window = w.toolbar.palette().color(QPalette.ColorRole.Window)
+    for name in ("upload", "simulate", "verify", "new"):
+        image = w.actions_by_name[name].icon().pixmap(24, 24).toImage()
+        inked = [QColor(image.pixel(x, y)) for x in range(image.width()) for y in range(image.height())
+                 if QColor.fromRgba(image.pixel(x, y)).alpha() > 200]
+        assert inked, name
+        best = max(contrast_ratio(c, window) for c in inked)
+        assert best >= 3.0, f"{name} on {choice}: {best:.1f}:1"
+
+
+def test_the_visual_tab_sets_its_sections_side_by_side_at_1366x768_and_gives_the_width_back(laptop, qtbot):
+    from PySide6.QtWidgets import QBoxLayout
+    w = laptop()
+    before = w.hex_dock.width()
+    w.show_visual()
+    qtbot.waitUntil(lambda: w.visual.cols.direction() == QBoxLayout.Direction.LeftToRight)
+    assert w.visual.side_by_side_missing() == 0 and w.editor_box.width() >= 340
+    w.hex_dock.raise_()
+    qtbot.waitUntil(lambda: abs(w.hex_dock.width() - before) <= 2)
+
+
+def test_switching_mode_while_a_plot_is_maximised_keeps_the_layout_not_the_maximised_plot(laptop, qtbot):
+    w = laptop()
+    w.plot_focus.maximise(w.sim_panel.plot, w.sim_dock)
+    w.act_mode_simulate.trigger()
+    assert w.plot_focus.maximised() is None and w.sim_panel.params_scroll.isVisible()
+    w.act_mode_write.trigger()
+    assert w.editor_box.isVisible() and w.hex_dock.isVisible() and w.library_dock.isVisible()

@@ -1,0 +1,98 @@
+"""The main window's docks as one table: each row names a dock, the widget it holds, where it
+starts and in which modes it shows. A new dock is one row (``dock_specs``); the View menu lists
+it, each mode's first layout places it, and saved layouts keep it."""
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from PySide6.QtCore import Qt
+from PySide6.QtWidgets import QDockWidget, QMainWindow, QWidget
+
+from ...i18n import _
+
+Area = Qt.DockWidgetArea
+WRITE, SIMULATE, CHARGE = "write", "simulate", "charge"
+MODES = (WRITE, SIMULATE, CHARGE)
+
+
+@dataclass(frozen=True)
+class DockSpec:
+    name: str                               # the window's attribute ``<name>_dock``
+    object_name: str                        # the key of its place in saved layouts: never change it
+    title: str
+    widget: Callable[[Any], QWidget]        # called with the window
+    area: Area
+    modes: tuple[str, ...] = (WRITE,)       # the modes whose first layout shows it
+    beside: str = ""                        # side by side with this dock (a dock listed before it)
+    tab_with: str = ""                      # a tab beside this dock (a dock listed before it)
+    width: int = 0                          # its first width, px (0: as the window's layout gives)
+    height: int = 0                         # its first height, px
+
+
+def dock_specs() -> list[DockSpec]:
+    """Every dock of the window (titles translated when called). The first of a set of tabs is
+    the one in front."""
+    return [
+        DockSpec("library", "libraryDock", _("Library"), lambda w: w.library, Area.LeftDockWidgetArea, width=230),
+        DockSpec("hex", "hexDock", _("Bytes"), lambda w: w.hex_view, Area.RightDockWidgetArea, width=420),
+        DockSpec("visual", "visualDock", _("Visual"), lambda w: w.visual, Area.RightDockWidgetArea, tab_with="hex"),
+        DockSpec("problems", "problemsDock", _("Problems"), lambda w: w.problems, Area.BottomDockWidgetArea,
+                 width=330),
+        DockSpec("sim", "simulatorDock", _("Simulator"), lambda w: w.sim_panel, Area.BottomDockWidgetArea,
+                 (WRITE, SIMULATE), beside="problems", width=1170, height=400),
+        DockSpec("device", "deviceDock", _("Device"), lambda w: QWidget(), Area.BottomDockWidgetArea,
+                 (WRITE, CHARGE), tab_with="sim"),
+        DockSpec("packs", "packsDock", _("Packs"), lambda w: QWidget(), Area.BottomDockWidgetArea,
+                 (WRITE, CHARGE), tab_with="sim"),
+    ]
+
+
+def build_docks(window: QMainWindow, specs: list[DockSpec]) -> dict[str, QDockWidget]:
+    """One dock per row, set on the window as ``<name>_dock``, placed as in the Write mode."""
+    docks: dict[str, QDockWidget] = {}
+    for spec in specs:
+        dock = QDockWidget(spec.title, window)
+        dock.setObjectName(spec.object_name)
+        dock.setWidget(spec.widget(window))
+        dock.setFeatures(QDockWidget.DockWidgetFeature.DockWidgetMovable |
+                         QDockWidget.DockWidgetFeature.DockWidgetFloatable |
+                         QDockWidget.DockWidgetFeature.DockWidgetClosable)
+        window.addDockWidget(spec.area, dock)
+        setattr(window, f"{spec.name}_dock", dock)
+        docks[spec.name] = dock
+    place(window, specs, docks, WRITE)
+    return docks
+
+
+def place(window: QMainWindow, specs: list[DockSpec], docks: dict[str, QDockWidget], mode: str) -> None:
+    """The first layout of ``mode``: every dock back in its area, beside or tabbed with the one
+    the table names, shown if the mode lists it."""
+    size = window.size()
+    for spec in specs:          # hidden while they move: side by side for a moment they would widen the window
+        docks[spec.name].hide()
+    for spec in specs:
+        dock = docks[spec.name]
+        dock.setFloating(False)
+        window.addDockWidget(spec.area, dock)
+    for spec in specs:
+        if spec.beside:
+            window.splitDockWidget(docks[spec.beside], docks[spec.name], Qt.Orientation.Horizontal)
+    for spec in specs:
+        if spec.tab_with:
+            window.tabifyDockWidget(docks[spec.tab_with], docks[spec.name])
+    for spec in specs:
+        docks[spec.name].setVisible(mode in spec.modes)
+    for spec in specs:                      # the front tab: the first of its set the mode shows
+        shown_tabs = [s for s in specs if s.tab_with == spec.name and mode in s.modes]
+        if mode not in spec.modes and shown_tabs:
+            docks[shown_tabs[0].name].raise_()
+        elif not spec.tab_with:
+            docks[spec.name].raise_()
+    shown = [s for s in specs if mode in s.modes]
+    for orientation, length in ((Qt.Orientation.Horizontal, lambda s: s.width),
+                                (Qt.Orientation.Vertical, lambda s: s.height)):
+        sized = [s for s in shown if length(s)]
+        window.resizeDocks([docks[s.name] for s in sized], [length(s) for s in sized], orientation)
+    window.resize(size)
