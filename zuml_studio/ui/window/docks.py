@@ -45,7 +45,7 @@ def dock_specs() -> list[DockSpec]:
         DockSpec("device", "deviceDock", _("Device"), lambda w: QWidget(), Area.BottomDockWidgetArea,
                  (WRITE, CHARGE), tab_with="sim"),
         DockSpec("packs", "packsDock", _("Packs"), lambda w: QWidget(), Area.BottomDockWidgetArea,
-                 (WRITE, CHARGE), tab_with="sim"),
+                 (WRITE,), tab_with="sim"),
     ]
 
 
