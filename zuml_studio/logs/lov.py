@@ -10,7 +10,7 @@ their bytes go to the live driver of the charger the .ini names (``device/driver
   text: seen are 8, what they hold is not known); the seconds are the sample's time.
 * iMAX B6 / e-Station: the 76-byte ``{…}`` frame then a Delphi TDateTime (days, comma
   decimal) that gives the sample's time.
-* Ultramat: the ``0x0C … 0x0D`` frame alone; the driver's 1 s step gives the time.
+* Ultramat / Ultra Duo Plus: the ``0x0C … 0x0D`` frame alone; the driver's 1 s step gives the time.
 
 A record whose length prefix does not fit is counted as bad, as is every record the driver
 refuses (checksum, shape)."""
@@ -112,6 +112,11 @@ def read(data: bytes) -> Log:
                 sample = replace(sample, time_s=round(seconds - t0, 3))
             samples.append(sample)
     bad += decoder.bad
+    if not samples and decoder.skipped:
+        # Frames that pass their checksum but hold no sample: say so, not "no record read".
+        raise LogFormatError(_("LogView file from '{device}': its {n_records} records are {name} frames whose "
+                               "field layout is not known").format(device=device, name=name,
+                                                                    n_records=decoder.skipped))
     if not samples:
         raise LogFormatError(_("LogView file from '{device}': no {name} record read ({n_records} records, {bad} "
                                "bad)").format(device=device, name=name, n_records=len(records), bad=bad))
