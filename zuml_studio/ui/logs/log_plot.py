@@ -1,7 +1,11 @@
 """A log file in the stacked V/I/T plot the simulator and the live view share
 (``ui/stacked_plot.py``): phase bands from the log's states, per-cell voltages on the
 per-cell axis, other logs or cycles laid over in their own colours, and a crosshair whose
-readout names time, V, I, T and phase at the cursor."""
+readout names time, V, I, T and phase at the cursor.
+
+Nothing is drawn where a log has no samples (``logs/gaps.py``): every curve is handed, per view,
+a min and a max per pixel column of the samples in view, broken at each gap; the phase bands
+leave the gaps out; the readout says "no data" in a gap."""
 from __future__ import annotations
 
 import math
@@ -12,7 +16,7 @@ import pyqtgraph as pg
 from PySide6.QtCore import Signal
 
 from ...i18n import N_, _, ngettext
-from ...logs import Log
+from ...logs import Log, gaps
 from ...logs.model import Phase, state_of
 from ..plot_backdrop import BackdropItem
 from ..stacked_plot import StackedPlot, curve_pen
@@ -29,6 +33,7 @@ class Layer:
     log: Log
     data: dict
     overlay: int | None = None    # which of the overlay colours; None: the first log, in the quantities' own
+    gap_s: float = math.inf       # a step between samples longer than this is a gap (``gaps.gap_threshold``)
 
 
 # What a curve shows, which picks its pen from the colour set: a quantity ("voltage", "current",
@@ -78,7 +83,10 @@ class LogPlot(StackedPlot):
         for label in self.labels:
             self.vplot.removeItem(label)
         self.labels.clear()
-        self.layers = [Layer(name, log, log.arrays(), None if k == 0 else k - 1) for k, (name, log) in enumerate(layers)]
+        self.layers = []
+        for k, (name, log) in enumerate(layers):
+            data = log.arrays()
+            self.layers.append(Layer(name, log, data, None if k == 0 else k - 1, gaps.gap_threshold(data["t"])))
         self._phases = []
         if not self.layers:
             self._t, self._v = np.zeros(0), np.zeros(0)
@@ -117,36 +125,47 @@ class LogPlot(StackedPlot):
     def _pen(self, role: Role):
         return curve_pen(self._colour(role), width=1 if isinstance(role, tuple) and role[0] == "cell" else 2)
 
-    def _curve(self, plot: pg.PlotItem, x, y, role: Role, **kw) -> None:
-        finite = np.isfinite(y)
-        if not finite.any():
+    def _curve(self, plot: pg.PlotItem, layer: Layer, y, role: Role, **kw) -> None:
+        """A curve whose points ``_draw_view`` gives for each view (pyqtgraph's own peak
+        downsampling groups samples by count, not time, and joins them across gaps)."""
+        y = np.asarray(y, dtype=float)
+        if not np.isfinite(y).any():
             return
-        curve = plot.plot(x, y, pen=self._pen(role), antialias=False, connect="finite", **kw)
-        curve.setClipToView(True)
-        curve.setDownsampling(auto=True, method="peak")
+        curve = plot.plot([], [], pen=self._pen(role), antialias=False, connect="finite", **kw)
+        curve.setClipToView(False)
+        curve.setDownsampling(ds=1, auto=False)
+        curve.source = (layer.data["t"], y, layer.gap_s)
         self.items.append((plot, curve, role))
+
+    def _draw_view(self) -> None:
+        """Every curve's points for the time span in view, a min and a max per pixel column."""
+        (x0, x1), _y = self.vplot.vb.viewRange()
+        pixels = max(100, int(self.vplot.vb.width()))
+        for _plot, curve, _role in self.items:
+            t, y, gap_s = curve.source
+            curve.setData(*gaps.envelope(t, y, x0, x1, pixels, gap_s))
 
     def _draw(self, layer: Layer, cells: int, alone: bool) -> None:
         """The first log in the quantities' colours (with its cells and the charger's inside
         temperature when it is alone), an overlay in its one colour."""
         d = layer.data
-        t = d["t"]
         if layer.overlay is None:
-            self._curve(self.vplot, t, d["voltage"], "voltage")
+            self._curve(self.vplot, layer, d["voltage"], "voltage")
             # Cells on the pack axis times the cell count: the right axis reads them in V per cell.
             for k in range(d["cells"].shape[1] if alone else 0):
-                self._curve(self.vplot, t, d["cells"][:, k] * cells, ("cell", k))
+                self._curve(self.vplot, layer, d["cells"][:, k] * cells, ("cell", k))
             if layer.log.meta.get("current_measured", True):
-                self._curve(self.iplot, t, d["current"], "current", fillLevel=0.0, fillBrush=self.current_fill_brush())
-            self._curve(self.tplot, t, d["temp"], "temp")
+                self._curve(self.iplot, layer, d["current"], "current", fillLevel=0.0,
+                            fillBrush=self.current_fill_brush())
+            self._curve(self.tplot, layer, d["temp"], "temp")
             if alone:
-                self._curve(self.tplot, t, d["heatsink"], "heatsink")
+                self._curve(self.tplot, layer, d["heatsink"], "heatsink")
             return
         role = ("overlay", layer.overlay)
-        self._curve(self.vplot, t, d["voltage"], role)
+        self._curve(self.vplot, layer, d["voltage"], role)
         if layer.log.meta.get("current_measured", True):
-            self._curve(self.iplot, t, d["current"], role)
-        self._curve(self.tplot, t, d["temp"], role)
+            self._curve(self.iplot, layer, d["current"], role)
+        self._curve(self.tplot, layer, d["temp"], role)
 
     def _set_legends(self, cells: int) -> None:
         first = self.layers[0]
@@ -177,13 +196,18 @@ class LogPlot(StackedPlot):
         self._draw_bands()
 
     def _draw_bands(self) -> None:
-        """Translucent over pyqtgraph's grid (drawn in the axes' pictures, under everything)."""
+        """Translucent over pyqtgraph's grid (drawn in the axes' pictures, under everything);
+        a band covers only where the log has samples, never a gap."""
         parity = {state: 0 for state in BAND_STATES}
         spans = []
+        covered = gaps.covered_spans(self.layers[0].data["t"], self.layers[0].gap_s) if self.layers else []
         for p in self._phases:
             alpha = self.colours.plot.band_alpha[parity[p.state] % 2]
             parity[p.state] += 1
-            spans.append((p.start_s, p.end_s, *self.band_looks(p.state, alpha, opaque=False)))
+            looks = self.band_looks(p.state, alpha, opaque=False)
+            for a, b in covered:
+                if a < p.end_s and b > p.start_s:
+                    spans.append((max(a, p.start_s), min(b, p.end_s), *looks))
         for band_item in self.band_items:
             band_item.set_bands(spans)
 
@@ -206,6 +230,7 @@ class LogPlot(StackedPlot):
 
     # -- view --------------------------------------------------------------------------------
     def _view_changed(self, *_) -> None:
+        self._draw_view()
         self._fit_voltage(self._t, self._v)
         self._place_placeholder()
         self._place_labels()
@@ -234,7 +259,9 @@ class LogPlot(StackedPlot):
         parts = [self._sample_text(self.layers[0], seconds)]
         for layer in self.layers[1:]:
             k = _nearest(layer.data["t"], seconds)
-            if k is not None:
+            if gaps.in_gap(layer.data["t"], seconds, layer.gap_s):
+                parts.append(f"{layer.name}: " + _("no data"))
+            elif k is not None:
                 parts.append(f"{layer.name}: {layer.data['voltage'][k]:.3f} V")
         return "   │   ".join(p for p in parts if p)
 
@@ -243,6 +270,8 @@ class LogPlot(StackedPlot):
         k = _nearest(d["t"], seconds)
         if k is None:
             return ""
+        if gaps.in_gap(d["t"], seconds, layer.gap_s):
+            return "  ".join((hmmss(seconds), _("no data")))
         sample = layer.log.samples[k]
         items = [hmmss(d["t"][k]), f"{d['voltage'][k]:.3f} V"]
         if layer.log.meta.get("current_measured", True):
