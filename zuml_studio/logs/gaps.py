@@ -62,6 +62,19 @@ def in_gap(t: np.ndarray, seconds: float, threshold: float | None = None) -> boo
     return float(t[k] - t[k - 1]) > threshold
 
 
+def outside(t: np.ndarray, times: np.ndarray, threshold: float | None = None) -> np.ndarray:
+    """For each of ``times``: whether it lies in a gap of ``t`` or outside it (``in_gap`` for many)."""
+    t = np.asarray(t, dtype=float)
+    times = np.asarray(times, dtype=float)
+    if not len(t):
+        return np.ones(len(times), dtype=bool)
+    threshold = gap_threshold(t) if threshold is None else threshold
+    k = np.clip(np.searchsorted(t, times), 1, max(1, len(t) - 1))
+    step = t[k] - t[k - 1] if len(t) > 1 else np.zeros(len(times))
+    exact = (t[np.minimum(k, len(t) - 1)] == times) | (t[k - 1] == times)
+    return (times < t[0]) | (times > t[-1]) | ((step > threshold) & ~exact)
+
+
 def broken(t: np.ndarray, *ys: np.ndarray, threshold: float | None = None) -> tuple[np.ndarray, ...]:
     """(t, *ys) with a row inserted in every gap: its time midway, its values NaN."""
     t = np.asarray(t, dtype=float)

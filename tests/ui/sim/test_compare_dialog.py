@@ -130,3 +130,33 @@ def test_the_cell_count_follows_the_chosen_chemistry(dialog):
     assert dialog.cells.value() == 11
     dialog.chemistry.setCurrentIndex(dialog.chemistry.findData("LiPo"))
     assert dialog.cells.value() == 4
+
+
+def test_a_gap_in_the_log_is_not_drawn_and_has_no_difference(dialog, tmp_path):
+    """The real iCharger 3010B charge with a 3.2 h hole (tests/logs/logdata.py): the longest
+    charge stops at the hole; a curve across it (as a plain curve CSV may hold) has its line
+    and the model's difference broken there."""
+    import dataclasses
+    import math
+    import sys
+
+    import numpy as np
+    sys.path.insert(0, str(helpers.ROOT / "tests" / "logs"))
+    from logdata import GAP_AFTER_LINE, GAP_S, gapped_3010b_lov
+    from zuml_studio.logs import read_log
+
+    path = tmp_path / "gapped_3010b.lov"
+    path.write_bytes(gapped_3010b_lov())
+    assert dialog.load_log(str(path))
+    assert len(dialog.curve.t) == GAP_AFTER_LINE + 1
+    before, after = 2.0 * GAP_AFTER_LINE / 60, (2.0 * (GAP_AFTER_LINE + 1) + int(GAP_S)) / 60
+    d = read_log(gapped_3010b_lov()).arrays()
+    dialog.curve = dataclasses.replace(dialog.curve, t=d["t"], v=d["voltage"], i=d["current"], temp=None)
+    t = dialog.curve.t
+    dialog._draw(t, dialog.curve.v * 1.01, "model")          # a model line at the log's own times
+    for plot in (dialog.v_plot, dialog.d_plot):
+        for item in curves_of(plot):
+            x, y = item.getData()
+            joins = [k for k in range(len(x) - 1) if math.isfinite(y[k]) and math.isfinite(y[k + 1])
+                     and x[k] <= before and x[k + 1] >= after]
+            assert joins == [] and np.isnan(y).any()
