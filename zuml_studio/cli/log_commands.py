@@ -49,10 +49,8 @@ def load(path: str, fmt: str | None, columns: str | None = None) -> Log:
 def _load_csv(path: str, data: bytes, columns: str) -> Log:
     """A CSV read with the columns the user gave (``--columns``) instead of the guessed ones."""
     try:
-        g = csv_import.guess(data)
-        g = g.with_columns(csv_import.parse_columns(columns, tuple(c.name for c in g.columns)))
-        return csv_import.read(data, g)
-    except ValueError as exc:            # LogFormatError included
+        return csv_import.read_as(data, columns)
+    except LogFormatError as exc:
         raise CliError(_("{path}: --columns: {reason}").format(path=path, reason=exc), 1) from None
 
 

@@ -309,10 +309,27 @@ def read(data: bytes, g: CsvGuess | None = None) -> Log:
                     cells=[x[k] for k in cells], counter=counter)
     if not len(builder):
         raise LogFormatError(_("no data row ({bad} bad rows)").format(bad=bad))
-    meta = {"csv_columns": g.spec(), "csv_separator": g.separator, "csv_decimal_comma": g.decimal_comma}
+    meta = {"csv_columns": g.spec(), "csv_key": g.key}
     if "current" not in at:
         meta["current_measured"] = False
     return builder.build(FORMAT, _("CSV file"), bad, **meta)
+
+
+def read_as(data: bytes, spec: str | None) -> Log:
+    """Read with the guess, its columns replaced by ``spec`` (``parse_columns``) when given."""
+    g = guess(data)
+    if spec:
+        try:
+            g = g.with_columns(parse_columns(spec, tuple(c.name for c in g.columns)))
+        except ValueError as exc:
+            raise LogFormatError(str(exc)) from None
+    return read(data, g)
+
+
+def preview(data: bytes, g: CsvGuess, rows: int = 3) -> list[list[str]]:
+    """The first data rows' fields as the file has them."""
+    lines = decode(data).splitlines()[g.header_line + 1:]
+    return [_split(line, g.separator) for line in lines if line.strip() and not line.lstrip().startswith("#")][:rows]
 
 
 def sniff(head: bytes, name: str) -> bool:

@@ -122,9 +122,9 @@ def test_reading_runs_off_the_gui_thread_in_order_with_progress_shown(viewer, qt
     threads = []
     real = log_window._read_and_prepare
 
-    def read(path):
+    def read(path, choices):
         threads.append(threading.current_thread())
-        return real(path)
+        return real(path, choices)
     monkeypatch.setattr(log_window, "_read_and_prepare", read)
     docs = []
     viewer.documentOpened.connect(docs.append)
@@ -139,7 +139,7 @@ def test_reading_runs_off_the_gui_thread_in_order_with_progress_shown(viewer, qt
 
 
 def test_a_reader_bug_is_said_in_the_window(viewer, qtbot, monkeypatch):
-    def broken(path):
+    def broken(path, choices):
         raise ZeroDivisionError("division by zero")
     monkeypatch.setattr("zuml_studio.ui.logs.log_window._read_and_prepare", broken)
     with qtbot.waitSignal(viewer.readFailed, timeout=READ_MS) as blocker:
