@@ -90,6 +90,19 @@ def ultramat_records(data: bytes) -> tuple[list[tuple[float | None, bytes]], int
 RECORDS = {"icharger": text_records, "cheali": text_records, "imaxb6": frame_records, "ultramat": ultramat_records}
 
 
+def charger_stream(data: bytes) -> bytes:
+    """The bytes the charger sent, as LogView kept them: the records of the driver the .ini names,
+    one after the other (for a replay); LogFormatError when the file names no charger a driver reads."""
+    if MAGIC not in data[:64]:
+        raise LogFormatError(_("not a LogView file: no 'LogView-Stream:' header"))
+    name = driver_for(device_name(data))
+    if name is None:
+        raise LogFormatError(_("LogView file from '{device}': .lov records are read for {readers}; export it "
+                               "from LogView as text").format(device=device_name(data),
+                                                               readers=", ".join(DRIVERS[d].title for d in RECORDS)))
+    return b"".join(raw for _seconds, raw in RECORDS[name](data)[0])
+
+
 def read(data: bytes) -> Log:
     if MAGIC not in data[:64]:
         raise LogFormatError(_("not a LogView file: no 'LogView-Stream:' header"))
