@@ -36,7 +36,8 @@ def test_a_log_opens_as_a_document_with_totals_and_bands(viewer, qtbot):
     plot = document.plot
     assert len(plot.layers) == 1 and [p.state for p in plot._phases] == ["charge"]
     assert plot.vplot.getAxis("right").scale == pytest.approx(1 / 5)        # the per-cell axis
-    assert "5 cells (right axis)" in plot.legends[plot.vplot].names()
+    assert plot.legends[plot.vplot].names() == ["pack voltage", "cell 1 (right axis)", "cell 2", "cell 3", "cell 4",
+                                                "cell 5"]          # each cell its own entry
 
 
 def test_cursor_readout_names_time_values_and_phase(viewer, qtbot):

@@ -14,7 +14,7 @@ from ...logs.export import write_csv
 from ..background import BackgroundCall
 from ..settings_values import text_value
 from .csv_dialog import CsvChoices, CsvDialog, key_hash
-from .log_document import LogDocument, Prepared, prepare
+from .log_document import HiddenCurves, LogDocument, Prepared, prepare
 
 TITLE = N_("Logs — ZUML Studio")
 # Reads not yet handed over, kept from being collected while their thread runs (a window
@@ -75,6 +75,7 @@ class LogWindow(QMainWindow):
         self.setAttribute(Qt.WidgetAttribute.WA_QuitOnClose, parent is None)
         self.settings = settings
         self.csv_choices = CsvChoices(settings)
+        self.hidden_curves = HiddenCurves(settings)
         self.csv_dialog: CsvDialog | None = None
         self.tabs = QTabWidget()
         self.tabs.setTabsClosable(True)
@@ -176,7 +177,7 @@ class LogWindow(QMainWindow):
             self.overlayAdded.emit(document)
             return
         log = prepared.log
-        document = LogDocument(prepared, path)
+        document = LogDocument(prepared, path, hidden=self.hidden_curves)
         document.addRequested.connect(self.add_dialog)
         index = self.tabs.addTab(document, document.name)
         self.tabs.setTabToolTip(index, f"{path}\n{log.device}")
