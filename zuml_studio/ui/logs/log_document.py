@@ -99,7 +99,7 @@ def between_html(b: Between, key_colour: str) -> str:
                                                                    out=_num(b.charge_out_mah, ".0f")), ""),
             row(_("energy"), _("in {into} / out {out} Wh").format(into=_num(b.energy_in_wh, ".2f"),
                                                                   out=_num(b.energy_out_wh, ".2f")), ""),
-            row("", f"<i>{_('min – max')}</i>", f"<i>{_('mean')}</i>")]
+            row("", "<i>" + _("min – max") + "</i>", "<i>" + _("mean") + "</i>")]
     names = {"voltage": _("pack"), "current": _("current"), "temp": _("battery"), "heatsink": _("charger"),
              "deviation": _("deviation")}
     for name, st in b.curves.items():
