@@ -45,7 +45,7 @@ def test_fit_draws_the_fitted_model_and_save_offers_it_in_the_model_box(dialog, 
     assert not dialog.save_button.isEnabled()
     wait_for(qtbot, dialog, dialog.fit_log)
     assert dialog.save_button.isEnabled()
-    assert "fitted: capacity_mah" in dialog.figures.text()
+    assert "fitted: capacity " in dialog.figures.text()
     assert len(curves_of(dialog.v_plot)) == 2
     assert dialog.save_as("4S 1500 LiPo")
     form = ParamsForm()

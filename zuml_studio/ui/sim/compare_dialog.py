@@ -17,7 +17,7 @@ from ...sim.batteries import BatteryFileError, save_battery
 from ...sim.chemistry import chemistry_names
 from ...sim.curve import Curve, CurveError, read_curve
 from ...sim.fit import FitResult, fit, guess_series
-from ...sim.fit_report import figure_lines
+from ...sim.fit_report import figure_lines, param_lines
 from ...sim.interpreter import StartError
 from .. import theme
 from ..background import BackgroundCall
@@ -135,7 +135,7 @@ class CompareDialog(QDialog):
     def _fitted(self, fitted: FitResult) -> None:
         self.fitted = fitted
         self._draw(self.curve.t, fitted.run.v, _("fitted model"))
-        params = ", ".join(f"{k} {v:.4g}" for k, v in fitted.params.items())
+        params = "; ".join(param_lines(fitted.params, fitted.battery))
         lines = figure_lines(fitted.figures) + [_("fitted: {parameters}").format(parameters=params)]
         self.figures.setText("\n".join(lines))
         self.save_button.setEnabled(True)
