@@ -88,13 +88,13 @@ def param_lines(params: dict, battery) -> list[str]:
     r_cell = (chem.r0_ohm + chem.r1_ohm) * chem.ref_capacity_ah / max(q_ah, 1e-6) * 1000.0
     text = {
         "capacity_mah": lambda v: _("capacity {n} mAh").format(n=f"{v:.0f}"),
-        "start_soc": lambda v: _("{n} % charged at the start").format(n=f"{v * 100:.0f}"),
+        "start_soc": lambda v: _("{share} charged at the start").format(share=f"{v * 100:.0f} %"),
         "r_scale": lambda v: _("internal resistance {r} mΩ per cell, {x}× the model's").format(
             r=f"{r_cell:.0f}", x=f"{v:.2g}"),
         "ocv_offset_v": lambda v: _("rest voltage {mv} mV per cell from the model's").format(mv=f"{v * 1000:+.0f}"),
         "ocv_scale": lambda v: _("rest voltage curve {x}× as steep as the model's").format(x=f"{v:.2g}"),
-        "w0": lambda v: _("charge acceptance falls off over the last {n} % of the charge").format(
-            n=f"{min(100.0, v * 300):.0f}"),
+        "w0": lambda v: _("charge acceptance falls off over the last {share} of the charge").format(
+            share=f"{min(100.0, v * 300):.0f} %"),
         "dv_o2_v": lambda v: _("end-of-charge voltage rise {mv} mV per cell").format(mv=f"{v * 1000:.0f}"),
         "k_t_v_per_k": lambda v: _("voltage falls {mv} mV per cell per °C of warming").format(mv=f"{v * 1000:.1f}"),
         "ha_w_per_k": lambda v: _("heat loss to the air {w} W per °C").format(w=f"{v:.3g}"),
