@@ -48,3 +48,16 @@ def test_the_live_plot_never_draws_across_a_hole(qtbot, view):
         assert len(x) and crossing(x, y) == [], name
     x, y = plot.current_fill.getData()
     assert len(x) and crossing(x, y) == []
+
+
+def test_the_live_readout_says_no_data_in_the_hole(qtbot):
+    live = LiveView()
+    qtbot.addWidget(live)
+    live.resize(1366, 500)
+    live.show()
+    for sample in read_log(gapped_3010b_lov()).samples:
+        live.series.add_telemetry(sample)
+    live.plot.refresh()
+    assert live.readout.show_at((BEFORE + AFTER) / 2)
+    assert live.readout.text().endswith("· no data")
+    assert live.readout.show_at(BEFORE - 1) and " V · " in live.readout.text()

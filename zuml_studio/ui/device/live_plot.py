@@ -340,13 +340,17 @@ class LivePlot(StackedPlot):
         (x0, x1), width = self.vplot.vb.viewRange()[0], self.vplot.vb.width()
         self.level, x, ys = self.envelope.view(x0, x1, bins=max(100, int(width)))
         # Bins of a level hold FANOUT ** level samples: their starts lie that many periods apart.
-        gap_s = gaps.GAP_PERIODS * self._period + (FANOUT ** self.level if self.level else 0) * self._period
-        if self._period <= 0:
-            gap_s = math.inf
+        gap_s = self.gap_s + (FANOUT ** self.level if self.level else 0) * self._period
         broken = gaps.broken(x, *(ys[name] for name in COLUMNS[1:]), threshold=gap_s)
         for name, y in zip(COLUMNS[1:], broken[1:]):
             self.curves[name].setData(broken[0], y)
         self._set_current_fill(x, ys["current"], self.level > 0, gap_s)
+
+    @property
+    def gap_s(self) -> float:
+        """A step between samples longer than this is a gap (``logs/gaps.py``); infinite before the
+        session has a sample period."""
+        return gaps.GAP_PERIODS * self._period if self._period > 0 else math.inf
 
     def _apply_follow(self) -> None:
         first, last = self._extent()
