@@ -106,9 +106,8 @@ def between_html(b: Between, key_colour: str) -> str:
         unit, fmt = CURVE_UNITS.get(name, ("V", ".3f"))
         label = names.get(name) or _("cell {n}").format(n=name.split()[1])
         rows.append(row(label, f"{format(st.min, fmt)} – {format(st.max, fmt)} {unit}", f"{format(st.mean, fmt)}"))
-    if b.a is None or b.b is None:
-        rows.append(row("", _("a cursor is where the log has no data"), ""))
-    return f"<table cellspacing='0' cellpadding='0'>{''.join(rows)}</table>"
+    note = "<p>" + _("a cursor is where the log has no data") + "</p>" if b.a is None or b.b is None else ""
+    return f"<table cellspacing='0' cellpadding='0'>{''.join(rows)}</table>{note}"
 
 
 @dataclass(frozen=True)
@@ -183,6 +182,7 @@ class LogDocument(QWidget):
         self.cursors_box.toggled.connect(self._cursors_toggled)
         self.between = QLabel()
         self.between.setObjectName("logBetween")
+        self.between.setWordWrap(True)
         self.between.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
         self.between.setVisible(False)
         self.plot.cursorsMoved.connect(self._cursors_moved)
