@@ -86,7 +86,8 @@ def between_html(b: Between, key_colour: str) -> str:
     """Cursors A and B: the differences and means, then per curve min, max and mean, charge, energy, time."""
     def row(key: str, value: str, mean: str) -> str:
         # a value without a mean takes both columns
-        value_cell = f"<td colspan='2'>{value}</td>" if not mean else f"<td style='padding-right:6px'>{value}</td>"
+        value_cell = (f"<td colspan='2' style='white-space:nowrap'>{value}</td>" if not mean else
+                      f"<td style='padding-right:6px; white-space:nowrap'>{value}</td>")
         return (f"<tr><td style='color:{key_colour}; padding-right:6px'>{key}</td>{value_cell}"
                 + (f"<td>{mean}</td>" if mean else "") + "</tr>")
 
