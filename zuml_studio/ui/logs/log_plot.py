@@ -23,7 +23,7 @@ import pyqtgraph as pg
 from PySide6.QtCore import Qt, Signal
 from PySide6.QtGui import QColor
 
-from ...i18n import N_, _, ngettext
+from ...i18n import N_, _
 from ...logs import Log, gaps
 from ...logs.model import Phase, state_of
 from ...logs.window_stats import deviation_mv
@@ -108,7 +108,8 @@ class LogPlot(StackedPlot):
             self.ab_spans.append(span)
             for which in ("a", "b"):
                 line = pg.InfiniteLine(angle=90, movable=True, pen=self._ab_pen(), hoverPen=self._ab_pen(3),
-                                       label=which.upper(), labelOpts={"position": 0.96, "color": self.colours.plot.ink})
+                                       label=which.upper(),
+                                       labelOpts={"position": 0.96, "color": self.colours.plot.ink})
                 line.setZValue(40)
                 line.setVisible(False)
                 line.sigPositionChanged.connect(lambda moved, which=which: self._ab_moved(which, moved))
