@@ -160,3 +160,12 @@ def test_a_gap_in_the_log_is_not_drawn_and_has_no_difference(dialog, tmp_path):
             joins = [k for k in range(len(x) - 1) if math.isfinite(y[k]) and math.isfinite(y[k + 1])
                      and x[k] <= before and x[k + 1] >= after]
             assert joins == [] and np.isnan(y).any()
+
+
+def test_fit_with_a_cell_count_the_charge_cannot_have_is_refused_at_once(dialog, qtbot):
+    dialog.chemistry.setCurrentIndex(dialog.chemistry.findData("NiMh"))
+    assert dialog.load_log(str(CURVES / "nimh_4s_ultramat_05c.csv"))
+    dialog.cells.setValue(5)
+    wait_for(qtbot, dialog, dialog.fit_log)
+    text = dialog.figures.text()
+    assert "5 cells do not fit this charge" in text and "--cells 4" in text and dialog.fitted is None
