@@ -200,9 +200,14 @@ class LogPlot(StackedPlot):
         self.items.append((plot, curve, role))
 
     def _draw_view(self) -> None:
-        """Every curve's points for the time span in view, a min and a max per pixel column."""
+        """Every curve's points for the time span in view, a min and a max per pixel column (once per
+        view: opening a log moves the range several times, often to where it was)."""
         (x0, x1), _y = self.vplot.vb.viewRange()
         pixels = max(100, int(self.vplot.vb.width()))
+        key = (x0, x1, pixels, tuple(id(curve) for _p, curve, _r in self.items))
+        if key == getattr(self, "_drawn_view", None):
+            return
+        self._drawn_view = key
         for _plot, curve, _role in self.items:
             t, y, gap_s = curve.source
             curve.setData(*gaps.envelope(t, y, x0, x1, pixels, gap_s))
