@@ -89,6 +89,7 @@ class LogPlot(StackedPlot):
             plot.sigYRangeChanged.connect(lambda *_: self._place_legends())
         self.scene().sigMouseMoved.connect(self._mouse_moved)
         self.hidden: set[str] = set()
+        self._generation = 0
         # The cell deviation's own y axis: the temperature plot's right axis, over a view box of its own.
         self.deviation_vb = pg.ViewBox()
         self.deviation_vb.setXLink(self.tplot)
@@ -123,6 +124,7 @@ class LogPlot(StackedPlot):
         for plot, item, role in self.items:
             (self.deviation_vb if role == "deviation" else plot).removeItem(item)
         self.items.clear()
+        self._generation += 1             # new curves: their points are made whatever the view
         for band_item in self.band_items:
             band_item.set_bands([])
         for label in self.labels:
@@ -204,7 +206,7 @@ class LogPlot(StackedPlot):
         view: opening a log moves the range several times, often to where it was)."""
         (x0, x1), _y = self.vplot.vb.viewRange()
         pixels = max(100, int(self.vplot.vb.width()))
-        key = (x0, x1, pixels, tuple(id(curve) for _p, curve, _r in self.items))
+        key = (x0, x1, pixels, self._generation)
         if key == getattr(self, "_drawn_view", None):
             return
         self._drawn_view = key
