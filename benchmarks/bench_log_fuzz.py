@@ -47,6 +47,8 @@ def seeds() -> dict[str, list[bytes]]:
         "raw-capture": [(RAW / f).read_bytes()[:6000] for f in (
             "cheali_captured_lines_from_issues.txt", "icharger208B_Storage_lines.txt",
             "imaxb6_Ladung3S450mAh_frames_head300.txt", "ultramat_frames_extracted.txt", "isdt_real_frames.txt")],
+        "csv": [(RAW / f).read_bytes() for f in ("skyrc_B6ACv2_Charging_head100.csv",
+                                                 "imaxb6_Ladung3S450mAh_decoded_head300.csv")],
     }
 
 

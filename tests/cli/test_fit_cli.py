@@ -8,16 +8,16 @@ from tests_cli_util import run_zuml
 
 CURVES = ROOT / "tests" / "data" / "curves"
 LOGS = ROOT / "tests" / "data" / "logs"
-FIGURE_KEYS = {"rmse_v_per_cell_mv", "rmse_i_cv_pct", "peak", "temp_rise"}
+FIGURE_KEYS = {"rmse_v_per_cell_mv", "rmse_i_cv_pct", "peak", "temp_rise", "window_s"}
 
 
 def test_fit_json_has_exactly_the_issue_keys_and_nulls_where_the_log_has_no_part(zuml):
     rc, out, err = zuml("fit", str(CURVES / "lipo_4s_406duo_3c.csv"), "--chemistry", "LiPo", "--cells", "4", "--json")
     assert rc == 0, err
     data = json.loads(out)
-    assert set(data) == {"params"} | FIGURE_KEYS
+    assert set(data) == {"params", "at_bound", "cells", "cells_guessed"} | FIGURE_KEYS
     assert data["peak"] is None                       # no -dV peak in a Li charge
-    assert set(data["temp_rise"]) == {"real_c", "model_c"}
+    assert set(data["temp_rise"]) == {"real_c", "model_c", "real_window_s", "model_window_s"}
     assert data["rmse_v_per_cell_mv"] <= 15 and data["rmse_i_cv_pct"] <= 10
     assert {"capacity_mah", "start_soc", "r_scale", "ocv_offset_v", "ocv_scale"} <= set(data["params"])
 
@@ -48,8 +48,9 @@ def test_fit_save_then_simulate_with_the_named_battery(zuml):
                         "--save", name)
     assert rc == 0, err
     assert f"saved as '{name}'" in out
-    params = [line.split() for line in out.splitlines() if line.startswith("  ")]
-    assert {"dip_v_per_charge", "dip_tau_s"} <= {p[0] for p in params} and all(len(p) == 2 for p in params), out
+    params = [line.strip() for line in out.splitlines() if line.startswith("  ")]
+    assert any(p.startswith("end-of-charge dip ") for p in params) and any(
+        p.startswith("the dip recovers within ") for p in params), out        # the parameters in words
     rc, out, err = zuml("simulate", str(MACROS / "NiMh.zuml"), "--battery", name, "--current", "1", "--json")
     assert rc == 0, err
     battery = json.loads(out)["battery"]
@@ -87,7 +88,7 @@ def test_fit_runs_as_a_user_runs_it():
     rc, out, err = run_zuml("fit", str(CURVES / "life_2s_308duo_05c.csv"), "--chemistry", "LiFe", "--cells", "2",
                             "--json")
     assert rc == 0, err
-    assert set(json.loads(out)) == {"params"} | FIGURE_KEYS
+    assert set(json.loads(out)) == {"params", "at_bound", "cells", "cells_guessed"} | FIGURE_KEYS
 
 
 def test_a_charge_too_short_for_the_fit_steps_is_one_line(zuml, tmp_path):
@@ -107,3 +108,19 @@ def test_compare_with_an_eeprom_image_for_the_macro_is_one_line(zuml, tmp_path):
     curve = sorted(CURVES.glob("nimh_*.csv"))[0]
     code, out, err = zuml("compare", str(curve), str(image), "--cells", "4", "--capacity", "2000")
     assert code == 1 and out == "" and err.count("\n") == 1 and "bytes follow the record's end" in err
+
+
+def test_a_wrong_cell_count_is_refused_at_once_with_the_likely_one(zuml):
+    """The Ultramat 4S NiMH charge (tests/data/curves) fitted as 5 cells: refused before any fit, naming
+    4 cells, instead of minutes of fitting that end at the bounds."""
+    rc, out, err = zuml("fit", str(CURVES / "nimh_4s_ultramat_05c.csv"), "--chemistry", "NiMh", "--cells", "5")
+    assert rc == 2 and "5 cells do not fit this charge" in err and "--cells 4" in err
+    assert "Traceback" not in err
+
+
+def test_fitted_parameters_in_words_and_every_figure_with_its_window(zuml):
+    rc, out, err = zuml("fit", str(CURVES / "nimh_4s_ultramat_05c.csv"), "--chemistry", "NiMh")
+    assert rc == 0, err
+    assert "internal resistance" in out and "mΩ per cell" in out and "× the model's" in out
+    assert "r_scale" not in out and "dip_tau_s" not in out
+    assert "figures over 0.0–" in out

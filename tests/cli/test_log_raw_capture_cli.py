@@ -26,8 +26,8 @@ def info(path) -> dict:
     ("icharger106Bplus_Laden_lines_head300.txt", ICHARGER, 300, 0, 3),
     ("icharger3010B_2500NiMh_lines.txt", ICHARGER, 4606, 0, 1),
     ("imaxb6_Ladung3S450mAh_frames_head300.txt", "iMAX B6 / e-Station (original firmware)", 300, 0, 3),
-    # Ultramat12 (50) + Ultramat16 (69); the Ultramat18 and UltraDuoPlus45 frames verify but have no layout
-    ("ultramat_frames_extracted.txt", "Graupner Ultramat / Ultra Duo Plus", 50 + 69, 0, 0),
+    # UltraDuoPlus45 (157) + Ultramat12 (50) + Ultramat16 (69) + Ultramat18 (38)
+    ("ultramat_frames_extracted.txt", "Graupner Ultramat / Ultra Duo Plus", 157 + 50 + 69 + 38, 0, 0),
     # the decoder follows the first channel (Q8 channel 4); one frame is quoted without its 02 len AA head
     ("isdt_real_frames.txt", "ISDT (C4, A4, Q8) USB", 1, 1, 0),
 ])

@@ -190,9 +190,9 @@ def test_ultramat_frames_per_model_with_their_checksum_offsets():
         dec = ultramat.decoder()
         got = dec.feed(b"".join(frames))
         counts[model] = (len(frames), len(got), dec.skipped, dec.bad)
-    # 52-byte frames decode; Ultramat18 (+0x180) and UltraDuoPlus45 (+0x480) verify but have no layout here
-    assert counts == {"UltraDuoPlus45": (157, 0, 157, 0), "Ultramat12": (50, 50, 0, 0),
-                      "Ultramat16": (69, 69, 0, 0), "Ultramat18": (38, 0, 38, 0)}
+    # every model's frames verify (Ultramat18 with +0x180, UltraDuoPlus45 with +0x480) and decode
+    assert counts == {"UltraDuoPlus45": (157, 157, 0, 0), "Ultramat12": (50, 50, 0, 0),
+                      "Ultramat16": (69, 69, 0, 0), "Ultramat18": (38, 38, 0, 0)}
 
 
 def test_ultramat_worked_example():

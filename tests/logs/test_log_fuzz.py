@@ -15,6 +15,7 @@ SEEDS = {  # a small real file of each format, for mutations
     "logview-open": "LogViewOpenFormat_TimeInc_Ch1-2_2Logs.txt",
     "dataexplorer-csv": "AkkuMasterC4_2007-12-28-EmpfaengerAA4-Entladen.csv",
     "raw-capture": "../realdata/icharger208B_Storage_lines.txt",
+    "csv": "../realdata/skyrc_B6ACv2_Charging_head100.csv",
 }
 SESSION = (b"time_s,section,phase,voltage_v,current_a,temp_c,heatsink_c,mah_in,mah_out,event\n"
            b"0.0,charge,1,4.000,1.000,25.00,30.00,0.0,0.0,\n1.0,charge,1,4.100,1.000,,30.00,0.3,0.0,\n"

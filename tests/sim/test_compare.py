@@ -69,3 +69,28 @@ def test_a_lipo_charge_ends_by_its_macro_not_by_the_default_temperature_rise():
     result = compare(curve, record("LiPo"), None, 4, None)
     assert not result.report["ends"]["model"]["why"].startswith("default:")
     assert result.report["temp_rise"]["model_c"] == pytest.approx(result.report["temp_rise"]["real_c"], abs=2.0)
+
+
+def test_compare_and_fit_state_the_same_real_temperature_rise_and_their_windows():
+    """The Polaron Pro 5S NiMH charge (tests/data/curves, with its temperature): compare and fit give the
+    log's rise over its whole charge, computed here from the samples, each figure with its window."""
+    from zuml_studio.sim.fit import fit
+
+    curve = read_curve(CURVES / "nimh_5s_polaron_03c.csv")
+    rise = round(float(curve.temp.max() - curve.temp[0]), 2)
+    end = round(float(curve.t[-1]), 1)
+    compared = compare(curve, record("NiMh"), "NiMh", 5, None).report["temp_rise"]
+    fitted = fit(curve, "NiMh", 5, only_capacity=True).figures
+    assert compared["real_c"] == fitted["temp_rise"]["real_c"] == rise
+    assert compared["real_window_s"] == fitted["temp_rise"]["real_window_s"] == [0.0, end]
+    assert fitted["window_s"] == [0.0, end] and compared["model_window_s"][0] == 0.0
+    line = next(x for x in figure_lines({"temp_rise": compared}) if x.startswith("temperature rise"))
+    assert f"{rise:g} °C (real, 0.0–{end / 60:.1f} min)" in line
+
+
+def test_a_fit_at_a_bound_names_it_and_the_likely_cause():
+    lines = figure_lines({"at_bound": [{"name": "capacity_mah", "value": 7029.0, "bound": "upper"},
+                                       {"name": "r_scale", "value": 9.98, "bound": "upper"}],
+                          "cells": 5, "cells_guessed": 4})
+    assert lines == ["⚠ at the edge of what the fit allows: capacity, internal resistance; the likely cause is the "
+                     "cell count: the fit used 5, the log looks like 4 (--cells 4)"]

@@ -138,3 +138,13 @@ def test_a_lone_sensor_dropout_is_not_taken_for_the_packs_temperature():
     # The 308DUO log reads 0 °C for one second amid 21-23 °C.
     curve = read_curve(ROOT / "tests" / "data" / "logs" / "308DUO_LiFe_2.3Ah_Laden_0_CH1.txt")
     assert curve.temp is not None and curve.temp.min() > 15.0
+
+
+def test_at_bounds_names_the_packs_size_resistance_and_ocv_only():
+    from zuml_studio.sim.fit import Param, at_bounds
+
+    params = [Param("capacity_mah", 500.0, 20000.0, True), Param("r_scale", 0.1, 10.0, True),
+              Param("ocv_offset_v", -0.15, 0.15), Param("start_soc", 0.0, 0.95), Param("r2_ohm", 1e-4, 2.0, True)]
+    values = {"capacity_mah": 19950.0, "r_scale": 9.98, "ocv_offset_v": 0.0, "start_soc": 0.95, "r2_ohm": 1e-4}
+    assert at_bounds(params, values) == [{"name": "capacity_mah", "value": 19950.0, "bound": "upper"},
+                                         {"name": "r_scale", "value": 9.98, "bound": "upper"}]

@@ -12,7 +12,7 @@ from ..sim.batteries import BatteryFileError, save_battery
 from ..sim.chemistry import load_chemistry
 from ..sim.curve import Curve, CurveError, read_curve
 from ..sim.fit import fit, guess_series
-from ..sim.fit_report import figure_lines
+from ..sim.fit_report import figure_lines, param_lines
 from ..sim.interpreter import StartError
 from ..sim.simulate import BatterySetup, model_chemistry
 from .common import CliError, out
@@ -94,9 +94,8 @@ def cmd_fit(args: argparse.Namespace) -> int:
         return 0
     out(_("{log}: {chemistry} {series}S, {samples} samples, {minutes:.0f} min of charge").format(
             log=args.log, chemistry=chemistry, series=series, samples=len(curve.t), minutes=curve.t[-1] / 60))
-    width = max(map(len, result.params)) + 2
-    for k, v in result.params.items():
-        out(f"  {k:{width}s}{v:g}")
+    for line in param_lines(result.params, result.battery):
+        out(f"  {line}")
     for line in figure_lines(result.figures):
         out(line)
     if saved:

@@ -5,7 +5,7 @@ import argparse
 import json
 import sys
 
-from ..logs import FORMATS, Log, LogFormatError, read_log
+from ..logs import FORMATS, Log, LogFormatError, csv_import, read_log
 from ..logs.export import write_csv
 from ..logs.summary import summarize
 from .common import CliError, out, read_bytes
@@ -21,16 +21,22 @@ def register(sub: argparse._SubParsersAction) -> None:
     info.add_argument("file", metavar="FILE")
     info.add_argument("--json", action="store_true", help=_("print one JSON object"))
     info.add_argument("--format", choices=formats, help=_("read as this format (default: recognised from the bytes)"))
+    info.add_argument("--columns", metavar="SPEC", help=_("a CSV's columns in order, role:unit or - (instead of the "
+                                                          "guess): time:s,voltage:V,current:mA,charge:mAh"))
     info.set_defaults(run=cmd_info)
     export = logsub.add_parser("export", help=_("one CSV row per sample, SI units, charge current positive"))
     export.add_argument("file", metavar="FILE")
     export.add_argument("-o", "--output", required=True, metavar="OUT.csv")
     export.add_argument("--format", choices=formats, help=_("read as this format (default: recognised from the bytes)"))
+    export.add_argument("--columns", metavar="SPEC", help=_("a CSV's columns in order, role:unit or - (instead of "
+                                                            "the guess): time:s,voltage:V,current:mA,charge:mAh"))
     export.set_defaults(run=cmd_export)
 
 
-def load(path: str, fmt: str | None) -> Log:
+def load(path: str, fmt: str | None, columns: str | None = None) -> Log:
     data = read_bytes(path)
+    if columns is not None:
+        return _load_csv(path, data, columns)
     try:
         return read_log(data, path, fmt)
     except LogFormatError as exc:
@@ -40,14 +46,24 @@ def load(path: str, fmt: str | None) -> Log:
         raise CliError(f"{path}: {exc}", 1) from None
 
 
+def _load_csv(path: str, data: bytes, columns: str) -> Log:
+    """A CSV read with the columns the user gave (``--columns``) instead of the guessed ones."""
+    try:
+        return csv_import.read_as(data, columns)
+    except LogFormatError as exc:
+        raise CliError(_("{path}: --columns: {reason}").format(path=path, reason=exc), 1) from None
+
+
 def cmd_info(args: argparse.Namespace) -> int:
-    info = summarize(load(args.file, args.format))
+    info = summarize(load(args.file, args.format, args.columns))
     if args.json:
         json.dump(info, sys.stdout, indent=2, ensure_ascii=False)
         out()
         return 0
     _num = lambda v, fmt: "–" if v is None else format(v, fmt)  # noqa: E731
     out(f"{args.file}: {info['format']}, {info['device']}")
+    if "csv_columns" in info:
+        out(_("  columns      {spec} (--columns changes them)").format(spec=info["csv_columns"]))
     out(_("  samples      {samples} ({bad} bad records), {duration}").format(
             samples=info['samples'], bad=info['bad_records'], duration=hms(info['duration_s'])))
     voltage = _("  voltage      {low} to {high} V").format(
@@ -67,7 +83,7 @@ def cmd_info(args: argparse.Namespace) -> int:
 
 
 def cmd_export(args: argparse.Namespace) -> int:
-    log = load(args.file, args.format)
+    log = load(args.file, args.format, args.columns)
     try:
         with open(args.output, "w", encoding="utf-8", newline="") as fh:
             rows = write_csv(log, fh)

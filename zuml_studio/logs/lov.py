@@ -10,7 +10,7 @@ their bytes go to the live driver of the charger the .ini names (``device/driver
   text: seen are 8, what they hold is not known); the seconds are the sample's time.
 * iMAX B6 / e-Station: the 76-byte ``{…}`` frame then a Delphi TDateTime (days, comma
   decimal) that gives the sample's time.
-* Ultramat: the ``0x0C … 0x0D`` frame alone; the driver's 1 s step gives the time.
+* Ultramat / Ultra Duo Plus: the ``0x0C … 0x0D`` frame alone; the driver's 1 s step gives the time.
 
 A record whose length prefix does not fit is counted as bad, as is every record the driver
 refuses (checksum, shape)."""
@@ -90,6 +90,19 @@ def ultramat_records(data: bytes) -> tuple[list[tuple[float | None, bytes]], int
 RECORDS = {"icharger": text_records, "cheali": text_records, "imaxb6": frame_records, "ultramat": ultramat_records}
 
 
+def charger_stream(data: bytes) -> bytes:
+    """The bytes the charger sent, as LogView kept them: the records of the driver the .ini names,
+    one after the other (for a replay); LogFormatError when the file names no charger a driver reads."""
+    if MAGIC not in data[:64]:
+        raise LogFormatError(_("not a LogView file: no 'LogView-Stream:' header"))
+    name = driver_for(device_name(data))
+    if name is None:
+        raise LogFormatError(_("LogView file from '{device}': .lov records are read for {readers}; export it "
+                               "from LogView as text").format(device=device_name(data),
+                                                               readers=", ".join(DRIVERS[d].title for d in RECORDS)))
+    return b"".join(raw for _seconds, raw in RECORDS[name](data)[0])
+
+
 def read(data: bytes) -> Log:
     if MAGIC not in data[:64]:
         raise LogFormatError(_("not a LogView file: no 'LogView-Stream:' header"))
@@ -112,6 +125,11 @@ def read(data: bytes) -> Log:
                 sample = replace(sample, time_s=round(seconds - t0, 3))
             samples.append(sample)
     bad += decoder.bad
+    if not samples and decoder.skipped:
+        # Frames that pass their checksum but hold no sample: say so, not "no record read".
+        raise LogFormatError(_("LogView file from '{device}': its {n_records} records are {name} frames whose "
+                               "field layout is not known").format(device=device, name=name,
+                                                                    n_records=decoder.skipped))
     if not samples:
         raise LogFormatError(_("LogView file from '{device}': no {name} record read ({n_records} records, {bad} "
                                "bad)").format(device=device, name=name, n_records=len(records), bad=bad))

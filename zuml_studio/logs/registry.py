@@ -4,8 +4,8 @@ Adding a format is one ``LogReader`` entry in ``FORMATS``: a name, ``sniff(first
 name) -> bool`` and ``read(bytes) -> Log``. A reader that gets ready samples from elsewhere
 (a live driver's decoder: ``raw_capture``, ``lov``) builds its Log with
 ``model.from_samples(format, device, samples, bad_records)``. More specific formats come
-first: the first that recognises the bytes reads them (the raw capture reader is last:
-DUO/X logs and LogView text are ``$`` lines too)."""
+first: the first that recognises the bytes reads them (the raw capture reader comes late:
+DUO/X logs and LogView text are ``$`` lines too; any CSV with a header comes last)."""
 from __future__ import annotations
 
 from collections.abc import Callable
@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..file_errors import FileReadError, read_file_bytes
-from . import dataexplorer_csv, junsi, logview_open, lov, osd, raw_capture, session_csv
+from . import csv_import, dataexplorer_csv, junsi, logview_open, lov, osd, raw_capture, session_csv
 from .model import Log, LogFormatError
 from ..i18n import _
 
@@ -38,6 +38,7 @@ FORMATS: tuple[LogReader, ...] = (
     LogReader("dataexplorer-csv", "DataExplorer CSV export", dataexplorer_csv.sniff, dataexplorer_csv.read),
     LogReader(raw_capture.FORMAT, "raw capture of a charger's serial stream or HID reports", raw_capture.sniff,
               raw_capture.read),
+    LogReader(csv_import.FORMAT, "CSV with a header (columns guessed)", csv_import.sniff, csv_import.read),
 )
 BY_NAME = {f.name: f for f in FORMATS}
 

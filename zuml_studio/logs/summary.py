@@ -33,7 +33,7 @@ def summarize(log: Log) -> dict:
         out["resistance"] = {"readings": len(log.resistance), "last_pack_mohm": last[1],
                              "last_cells_mohm": list(last[2])}
     for key in ("battery", "channel", "header", "record_sets", "events", "other_channel_records",
-                "other_channel_lines"):
+                "other_channel_lines", "csv_columns"):
         if key in log.meta:
             out[key] = log.meta[key]
     return out

@@ -8,7 +8,7 @@ import numpy as np
 
 from .charger_model import ChargerLimits, load_charger
 from .curve import Curve
-from .fit import NI, Run, cc_current, charging, cv_mask, figures, measured, peak, soc_at_ocv
+from .fit import NI, Run, cc_current, charging, cv_mask, figures, measured, peak, soc_at_ocv, temp_rise
 from .fit_report import real_end_why
 from .chemistry import load_chemistry
 from .interpreter import StartParams
@@ -103,6 +103,12 @@ def compare(curve: Curve, record: bytes, chemistry: str | None, series: int, cap
         model_mah, model_dv = _model_peak(sim, series, cc_current(curve, cv))
         report["peak"] = {"real_mah": round(real_mah, 1), "model_mah": round(model_mah, 1),
                           "real_dv_mv_per_cell": round(real_dv, 2), "model_dv_mv_per_cell": round(model_dv, 2)}
+    if report["temp_rise"] is not None:
+        # As the fit states it: the log's rise over its whole charge, the model's over its own run
+        # (the model may stop before the log's warm end, or run past it).
+        report["temp_rise"] = {"real_c": temp_rise(curve.temp), "model_c": temp_rise(m_temp),
+                               "real_window_s": [round(float(curve.t[0]), 1), round(float(curve.t[-1]), 1)],
+                               "model_window_s": [0.0, round(float(m_t[-1]), 1)]}
     last = sim.phases[-1] if sim.phases else None
     report["ends"] = {
         "real": real_end(curve, sim.chemistry, series),

@@ -14,7 +14,8 @@ import numpy as np
 
 from .battery import Pack
 from .chemistry import Chemistry, load_chemistry
-from .curve import Curve
+from .curve import Curve, CurveError
+from ..i18n import _
 
 NI = ("NiCd", "NiMh")
 LI = ("LiPo", "LiIon", "LiFe")
@@ -32,6 +33,11 @@ _RISE_WEIGHT = 3.0           # 1 °C of error in the temperature rise weighs as 
 _TAIL_WEIGHT = 3.0           # the fall after the peak weighs 3x the rest of the voltage
 _TAPS_AGREE = 0.25           # taps further off the pack voltage are not one per cell (a NiMH log's one tap)
 _NFEV_PER_PARAM = 15         # evaluations per fitted parameter and start: keeps a fit to seconds
+# A charge's median voltage per cell lies within 5 % of the chemistry's charging_v in every real log
+# with its right cell count (docs/validation.md); one cell too many or too few on up to 8 cells is 12 %+.
+SERIES_TOLERANCE = 0.12
+_BOUND_LOG = 0.01            # a log-fitted value within 1 % of a bound is at it
+_BOUND_LINEAR = 0.005        # ... a linear one within 0.5 % of its range
 
 
 @dataclass(frozen=True)
@@ -163,7 +169,8 @@ def peak(t: np.ndarray, v: np.ndarray, mah: np.ndarray, series: int) -> tuple[fl
 
 
 def figures(curve: Curve, run: Run, cv: np.ndarray, series: int, chemistry: str) -> dict:
-    """The figures ``zuml fit --json`` prints (None where the log has no such part)."""
+    """The figures ``zuml fit --json`` prints (None where the log has no such part); ``window_s``
+    is the span of the charge they are taken over (s from its start)."""
     cc = measured(curve, cv)
     err_v = (run.v[cc] - curve.v[cc]) / series * 1000.0
     out: dict = {"rmse_v_per_cell_mv": round(float(np.sqrt(np.mean(err_v ** 2))), 2) if cc.any() else None,
@@ -177,9 +184,51 @@ def figures(curve: Curve, run: Run, cv: np.ndarray, series: int, chemistry: str)
         model_mah, model_dv = peak(t, run.v[cc], mah, series)
         out["peak"] = {"real_mah": round(real_mah, 1), "model_mah": round(model_mah, 1),
                        "real_dv_mv_per_cell": round(real_dv, 2), "model_dv_mv_per_cell": round(model_dv, 2)}
+    span = [round(float(curve.t[0]), 1), round(float(curve.t[-1]), 1)]
+    out["window_s"] = span
     if curve.temp is not None:
-        out["temp_rise"] = {"real_c": round(float(np.max(curve.temp) - curve.temp[0]), 2),
-                            "model_c": round(float(np.max(run.temp) - run.temp[0]), 2)}
+        out["temp_rise"] = {"real_c": temp_rise(curve.temp), "model_c": temp_rise(run.temp),
+                            "real_window_s": span, "model_window_s": span}
+    return out
+
+
+def temp_rise(temp: np.ndarray) -> float:
+    """The highest temperature over the first one (°C)."""
+    return round(float(np.max(temp) - temp[0]), 2)
+
+
+def check_series(curve: Curve, chem: Chemistry, series: int) -> None:
+    """Refuse at once a cell count the charge cannot have (its median voltage per cell more than
+    SERIES_TOLERANCE off the chemistry's voltage under charge): a fit with it runs for minutes and
+    ends at its bounds."""
+    per_cell = float(np.median(curve.v)) / series
+    off = per_cell / chem.charging_v - 1.0
+    if abs(off) > SERIES_TOLERANCE:
+        guess = guess_series(curve, chem.name)
+        raise CurveError(_("{series} cells do not fit this charge: its median voltage {v} V is {per_cell} V per "
+                           "cell, {off} from {chemistry}'s {charging} V under charge; it looks like {guess} cells "
+                           "(--cells {guess})").format(series=series, v=f"{float(np.median(curve.v)):.2f}",
+                                                       per_cell=f"{per_cell:.3f}", off=f"{off * 100:+.0f} %",
+                                                       chemistry=chem.name, charging=f"{chem.charging_v:g}",
+                                                       guess=guess))
+
+
+# What a fit ending at a bound says something is wrong with: the pack's size, resistance and OCV. The
+# start state, and a family's own terms at an end of their range (no slow pair, no dip), are answers.
+_TELLING_BOUNDS = ("capacity_mah", "r_scale", "ocv_offset_v", "ocv_scale")
+
+
+def at_bounds(params: list[Param], values: dict) -> list[dict]:
+    """The pack's size, resistance or OCV values that ended at a bound of their range (_TELLING_BOUNDS):
+    {"name", "value", "bound": "lower" | "upper"}."""
+    out = []
+    for p in (p for p in params if p.name in _TELLING_BOUNDS):
+        v = values[p.name]
+        for bound, edge in (("lower", p.lo), ("upper", p.hi)):
+            near = (abs(math.log(v) - math.log(edge)) < _BOUND_LOG if p.log
+                    else abs(v - edge) < _BOUND_LINEAR * (p.hi - p.lo))
+            if near:
+                out.append({"name": p.name, "value": round(v, 6), "bound": bound})
     return out
 
 
@@ -237,6 +286,7 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
 
     chem = base or load_chemistry(chemistry)
     chemistry = chem.name
+    check_series(curve, chem, series)
     work = curve.decimated(max(_FIT_STEP_S, float(curve.t[-1]) / _FIT_SAMPLES))
     cv = cv_mask(work, chemistry)
     mah = float(work.mah[-1])
@@ -311,8 +361,11 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
     battery = Battery(_apply(chem, values), values["capacity_mah"], series)
     full_cv = cv_mask(curve, chemistry)
     run = simulate_curve(battery, curve, full_cv, values.get("start_soc", 0.0))
-    return FitResult(battery, chemistry, {k: round(v, 6) for k, v in values.items()},
-                     figures(curve, run, full_cv, series, chemistry), run, curve, full_cv, nfev)
+    report = figures(curve, run, full_cv, series, chemistry)
+    report["at_bound"] = at_bounds(params, values)
+    report["cells"], report["cells_guessed"] = series, guess_series(curve, chemistry)
+    return FitResult(battery, chemistry, {k: round(v, 6) for k, v in values.items()}, report, run, curve, full_cv,
+                     nfev)
 
 
 def soc_at_ocv(chem: Chemistry, v_cell: float) -> float:

@@ -22,8 +22,17 @@ def real_end_why(kind: str, values: dict, translate: bool = True) -> str:
     return (_(template) if translate else template).format(**values)
 
 
+def _minutes(window: list[float]) -> str:
+    return f"{window[0] / 60:.1f}–{window[1] / 60:.1f} min"
+
+
 def figure_lines(report: dict) -> list[str]:
+    """The figures, each with the span of the charge it is taken over."""
     lines = []
+    if report.get("window_s"):
+        lines.append(_("figures over {span} of the charge (the time both ran)").format(
+            span=_minutes(report["window_s"])) if "ends" in report else
+            _("figures over {span} of the charge").format(span=_minutes(report["window_s"])))
     if report.get("rmse_v_per_cell_mv") is not None:
         lines.append(_("RMSE voltage: {n} mV per cell").format(n=f"{report['rmse_v_per_cell_mv']:g}"))
     if report.get("rmse_i_cv_pct") is not None:
@@ -36,10 +45,67 @@ def figure_lines(report: dict) -> list[str]:
                                                                             model=f"{p['model_dv_mv_per_cell']:g}"))
     if report.get("temp_rise"):
         t = report["temp_rise"]
-        lines.append(_("temperature rise {real} °C (real), {model} °C (model)").format(real=f"{t['real_c']:g}",
-                                                                                        model=f"{t['model_c']:g}"))
+        lines.append(_("temperature rise {real} °C (real, {real_span}), {model} °C (model, {model_span})").format(
+            real=f"{t['real_c']:g}", model=f"{t['model_c']:g}", real_span=_minutes(t["real_window_s"]),
+            model_span=_minutes(t["model_window_s"])))
     for who, end in report.get("ends", {}).items():
         why = real_end_why(end["kind"], end["values"]) if "kind" in end else shown_reason(end["why"])
         lines.append(_("{who} ended at {minutes} min, {mah} mAh: {why}").format(
             who=_(WHO.get(who, who)), minutes=f"{end['time_s'] / 60:.1f}", mah=f"{end['mah']:g}", why=why))
+    lines += bound_lines(report)
     return lines
+
+
+def bound_lines(report: dict) -> list[str]:
+    """A fit whose values ended at their bounds: which, and the likely cause."""
+    ends = report.get("at_bound") or []
+    if not ends:
+        return []
+    names = ", ".join(_(PARAM_WORDS.get(e["name"], e["name"])) for e in ends)
+    if report.get("cells_guessed") not in (None, report.get("cells")):
+        cause = _("the likely cause is the cell count: the fit used {cells}, the log looks like {guess} "
+                  "(--cells {guess})").format(cells=report["cells"], guess=report["cells_guessed"])
+    else:
+        cause = _("the model cannot follow this charge: check the chemistry and the cell count")
+    return [_("⚠ at the edge of what the fit allows: {names}; {cause}").format(names=names, cause=cause)]
+
+
+PARAM_WORDS = {
+    "capacity_mah": N_("capacity"), "start_soc": N_("charge at the start"), "r_scale": N_("internal resistance"),
+    "ocv_offset_v": N_("rest voltage offset"), "ocv_scale": N_("rest voltage slope"),
+    "w0": N_("charge acceptance"), "dv_o2_v": N_("end-of-charge voltage rise"),
+    "k_t_v_per_k": N_("voltage per degree"), "ha_w_per_k": N_("heat loss"), "cth_j_per_k": N_("heat capacity"),
+    "dip_v_per_charge": N_("end-of-charge dip"), "dip_tau_s": N_("dip recovery time"),
+    "r2_ohm": N_("slow polarisation resistance"), "tau2_s": N_("slow polarisation time"),
+    "k_charge_ohm": N_("charge polarisation"), "pol_tau_s": N_("polarisation time"),
+    "pol_max_v": N_("polarisation limit"),
+}
+
+
+def param_lines(params: dict, battery) -> list[str]:
+    """The fitted parameters in words and units (a fitted ``fit.Battery`` gives the resistance)."""
+    chem, q_ah = battery.chem, battery.capacity_mah / 1000.0
+    r_cell = (chem.r0_ohm + chem.r1_ohm) * chem.ref_capacity_ah / max(q_ah, 1e-6) * 1000.0
+    text = {
+        "capacity_mah": lambda v: _("capacity {n} mAh").format(n=f"{v:.0f}"),
+        "start_soc": lambda v: _("{share} charged at the start").format(share=f"{v * 100:.0f} %"),
+        "r_scale": lambda v: _("internal resistance {r} mΩ per cell, {x}× the model's").format(
+            r=f"{r_cell:.0f}", x=f"{v:.2g}"),
+        "ocv_offset_v": lambda v: _("rest voltage {mv} mV per cell from the model's").format(mv=f"{v * 1000:+.0f}"),
+        "ocv_scale": lambda v: _("rest voltage curve {x}× as steep as the model's").format(x=f"{v:.2g}"),
+        "w0": lambda v: _("charge acceptance falls off over the last {share} of the charge").format(
+            share=f"{min(100.0, v * 300):.0f} %"),
+        "dv_o2_v": lambda v: _("end-of-charge voltage rise {mv} mV per cell").format(mv=f"{v * 1000:.0f}"),
+        "k_t_v_per_k": lambda v: _("voltage falls {mv} mV per cell per °C of warming").format(mv=f"{v * 1000:.1f}"),
+        "ha_w_per_k": lambda v: _("heat loss to the air {w} W per °C").format(w=f"{v:.3g}"),
+        "cth_j_per_k": lambda v: _("heat capacity {j} J per °C").format(j=f"{v:.0f}"),
+        "dip_v_per_charge": lambda v: _("end-of-charge dip {mv} mV per cell for each capacity of overcharge").format(
+            mv=f"{v * 1000:.0f}"),
+        "dip_tau_s": lambda v: _("the dip recovers within {m} min").format(m=f"{v / 60:.0f}"),
+        "r2_ohm": lambda v: _("slow polarisation resistance {r} mΩ per cell").format(r=f"{v * 1000:.1f}"),
+        "tau2_s": lambda v: _("slow polarisation builds over {m} min").format(m=f"{v / 60:.0f}"),
+        "k_charge_ohm": lambda v: _("charge polarisation {r} mΩ per cell").format(r=f"{v * 1000:.2f}"),
+        "pol_tau_s": lambda v: _("polarisation builds over {m} min").format(m=f"{v / 60:.0f}"),
+        "pol_max_v": lambda v: _("polarisation at most {mv} mV per cell").format(mv=f"{v * 1000:.0f}"),
+    }
+    return [text[k](v) if k in text else f"{k} {v:g}" for k, v in params.items()]

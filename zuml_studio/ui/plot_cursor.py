@@ -11,6 +11,7 @@ import numpy as np
 import pyqtgraph as pg
 from PySide6.QtCore import QPointF, Qt
 
+from ..i18n import _
 from .stacked_plot import StackedPlot, band_label
 from .timefmt import hmmss
 
@@ -29,11 +30,16 @@ QUANTITIES = (Quantity("voltage_v", "V", 3), Quantity("current_a", "A", 2), Quan
 Samples = Callable[[], tuple[np.ndarray, dict[str, np.ndarray]]]
 
 
-def readout_text(t: np.ndarray, data: dict[str, np.ndarray], phases: list, seconds: float) -> str:
+def readout_text(t: np.ndarray, data: dict[str, np.ndarray], phases: list, seconds: float,
+                 gap_s: float = float("inf")) -> str:
     """``0:23:45 · 1.382 V · 2.00 A · 27.3 °C`` and, on a second line, the phase running then
-    (from the sample nearest ``seconds``); '' without samples."""
+    (from the sample nearest ``seconds``); ``0:23:45 · no data`` between two samples more than
+    ``gap_s`` apart (a gap: ``logs/gaps.py``); '' without samples."""
     if not len(t):
         return ""
+    k = int(t.searchsorted(seconds))
+    if 0 < k < len(t) and float(t[k]) != seconds and float(t[k]) - float(t[k - 1]) > gap_s:
+        return f"{hmmss(seconds)} · " + _("no data")
     i = int(np.clip(np.searchsorted(t, seconds), 0, len(t) - 1))
     if i and abs(t[i - 1] - seconds) < abs(t[i] - seconds):
         i -= 1
@@ -47,9 +53,10 @@ def readout_text(t: np.ndarray, data: dict[str, np.ndarray], phases: list, secon
 class CursorReadout:
     """Follows the mouse over ``plot``; ``show_at(seconds)`` places it by hand (tests)."""
 
-    def __init__(self, plot: StackedPlot, samples: Samples):
+    def __init__(self, plot: StackedPlot, samples: Samples, gap_s: Callable[[], float] | None = None):
         self.plot = plot
         self.samples = samples
+        self.gap_s = gap_s or (lambda: float("inf"))
         self.lines = []
         for p in plot.plots:
             line = pg.InfiniteLine(angle=90, movable=False)
@@ -81,7 +88,7 @@ class CursorReadout:
 
     def show_at(self, seconds: float) -> bool:
         t, data = self.samples()
-        text = readout_text(t, data, self.plot._phases, seconds)
+        text = readout_text(t, data, self.plot._phases, seconds, self.gap_s())
         if not text:
             self.hide()
             return False

@@ -15,6 +15,7 @@ from PySide6.QtCore import QEvent, QRectF, Qt, Signal
 from PySide6.QtGui import QBrush, QColor, QFont, QFontMetrics, QPen, QTextOption
 
 from ..i18n import N_, _
+from ..logs import gaps
 from ..sim.reasons import shown_reason
 from . import theme
 from .timefmt import TimeAxisItem
@@ -255,7 +256,7 @@ class StackedPlot(pg.GraphicsLayoutWidget):
         self.iplot.addItem(self.zero_line, ignoreBounds=True)
         # The area under the current (``_set_current_fill``), drawn apart from its curve.
         self.current_fill = pg.PlotDataItem([], [], pen=None, fillLevel=0.0, fillBrush=self.current_fill_brush(),
-                                            antialias=False, skipFiniteCheck=True)
+                                            antialias=False, connect="finite")
         self.iplot.addItem(self.current_fill)
         self.placeholder = pg.TextItem(placeholder, color=look.placeholder, anchor=(0.5, 0.5))
         self.placeholder.setFont(self._label_font)
@@ -401,8 +402,12 @@ class StackedPlot(pg.GraphicsLayoutWidget):
         x0, x1 = vb.viewRange()[0]
         i0, i1 = np.searchsorted(t, [x0, x1])
         seg = v[max(0, i0 - 1):min(len(v), i1 + 1)]
+        seg = seg[np.isfinite(seg)]          # a NaN breaks a line at a gap
         if not len(seg):
-            seg = v
+            seg = v[np.isfinite(v)]
+        if not len(seg):
+            vb.setYRange(0.0, 1.0, padding=0)
+            return
         lo, hi = float(np.min(seg)), float(np.max(seg))
         span = max(hi - lo, 0.02 * max(abs(hi), 1.0))
         pad = 0.06 * span
@@ -452,12 +457,23 @@ class StackedPlot(pg.GraphicsLayoutWidget):
                     label.shown_text = text
                 label.setPos(start + 2 * px, ytop)
 
-    def _set_current_fill(self, x: np.ndarray, y: np.ndarray, pairs: bool) -> None:
+    def _set_current_fill(self, x: np.ndarray, y: np.ndarray, pairs: bool, gap_s: float = float("inf")) -> None:
         """The area under the current, from at most one point per FILL_PX pixels: pyqtgraph fills
         a curve 50 points a polygon, and a filled curve of thousands of points (an envelope's
-        min/max pairs: ``pairs``) was the slowest thing on the plot."""
+        min/max pairs: ``pairs``) was the slowest thing on the plot. No area spans a step of
+        more than ``gap_s`` (a gap in the recording): each stretch between gaps is its own."""
         points = max(50, int(self.iplot.vb.width()) // FILL_PX)
-        self.current_fill.setData(*area_outline(x, y, points, pairs))
+        cuts = list(gaps.gap_after(x, gap_s) + 1) if len(x) else []
+        xs: list[np.ndarray] = []
+        ys: list[np.ndarray] = []
+        for a, b in zip([0, *cuts], [*cuts, len(x)]):
+            ox, oy = area_outline(x[a:b], y[a:b], max(2, points * (b - a) // max(1, len(x))), pairs)
+            if xs:
+                xs.append(np.array([ox[0]]))
+                ys.append(np.array([np.nan]))
+            xs.append(ox)
+            ys.append(oy)
+        self.current_fill.setData(np.concatenate(xs) if xs else x, np.concatenate(ys) if ys else y)
 
     def _thin_dense_curves(self) -> None:
         """Dense curves (more points drawn than the plot has pixels across, as when hours of

@@ -108,3 +108,37 @@ def test_a_hid_charger_is_watched_by_its_usb_ids(qtbot, make_panel, monkeypatch)
     assert not panel.start_button.isEnabled()
     with qtbot.waitSignal(panel.connectedChanged, timeout=WAIT_MS):
         panel.disconnect()
+
+
+def test_a_replay_after_a_virtual_charger_session_starts_a_fresh_run(qtbot, make_panel):
+    """Replaying the real iCharger 208B .lov (3 cells, tests/data/logs) after a run on the 4-cell
+    virtual charger: a run of its own from 0 s (the virtual run kept in the run list), the per-cell
+    axis by the recording's 3 cells, and the virtual charger's macros and passport gone."""
+    from device_helpers import connect, flash_and_start
+
+    panel = make_panel((1366, 520))
+    panel.series_spin.setValue(4)
+    connect(qtbot, panel)
+    assert flash_and_start(qtbot, panel)[0]
+    qtbot.waitUntil(lambda: len(panel.live.series) > 5, timeout=WAIT_MS)
+    assert panel.run.run_slot.count() and panel.charger.table.rowCount()
+    panel.run.stop_and_wait()
+    with qtbot.waitSignal(panel.connectedChanged, timeout=WAIT_MS):
+        panel.disconnect()
+    virtual = panel.live.series
+    virtual_points = len(virtual)
+    lov = DATA.parent / "logs" / "iCharger208B_Storage.lov"
+    with qtbot.waitSignal(panel.connectedChanged, timeout=WAIT_MS) as blocker:
+        assert panel.replay(lov, speed=1000)
+    assert blocker.args == [True]
+    qtbot.waitUntil(lambda: panel.monitor.link.good == 68, timeout=WAIT_MS)
+    qtbot.waitUntil(lambda: len(panel.live.series) == 68, timeout=WAIT_MS)
+    series = panel.live.series
+    assert series is not virtual and len(virtual) == virtual_points          # nothing appended to the old run
+    assert any(s is virtual for _name, s in panel.live.runs)
+    t = series.buffer.column("t")
+    assert t[0] == 0.0 and t[67] == 134.0                                 # 2 s records, from 0
+    assert panel.plot.vplot.getAxis("right").scale == 1 / 3               # per cell by the recording's 3 cells
+    assert panel.charger.table.rowCount() == 0 and panel.run.run_slot.count() == 0
+    assert panel.passport.pp_labels["serial"].text() == "—"
+    assert panel.run.run_name == "iCharger208B_Storage.lov"

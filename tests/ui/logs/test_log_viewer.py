@@ -36,7 +36,8 @@ def test_a_log_opens_as_a_document_with_totals_and_bands(viewer, qtbot):
     plot = document.plot
     assert len(plot.layers) == 1 and [p.state for p in plot._phases] == ["charge"]
     assert plot.vplot.getAxis("right").scale == pytest.approx(1 / 5)        # the per-cell axis
-    assert "5 cells (right axis)" in plot.legends[plot.vplot].names()
+    assert plot.legends[plot.vplot].names() == ["pack voltage", "cell 1 (right axis)", "cell 2", "cell 3", "cell 4",
+                                                "cell 5"]          # each cell its own entry
 
 
 def test_cursor_readout_names_time_values_and_phase(viewer, qtbot):
@@ -122,9 +123,9 @@ def test_reading_runs_off_the_gui_thread_in_order_with_progress_shown(viewer, qt
     threads = []
     real = log_window._read_and_prepare
 
-    def read(path):
+    def read(path, choices):
         threads.append(threading.current_thread())
-        return real(path)
+        return real(path, choices)
     monkeypatch.setattr(log_window, "_read_and_prepare", read)
     docs = []
     viewer.documentOpened.connect(docs.append)
@@ -139,7 +140,7 @@ def test_reading_runs_off_the_gui_thread_in_order_with_progress_shown(viewer, qt
 
 
 def test_a_reader_bug_is_said_in_the_window(viewer, qtbot, monkeypatch):
-    def broken(path):
+    def broken(path, choices):
         raise ZeroDivisionError("division by zero")
     monkeypatch.setattr("zuml_studio.ui.logs.log_window._read_and_prepare", broken)
     with qtbot.waitSignal(viewer.readFailed, timeout=READ_MS) as blocker:

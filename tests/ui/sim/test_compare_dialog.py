@@ -45,7 +45,7 @@ def test_fit_draws_the_fitted_model_and_save_offers_it_in_the_model_box(dialog, 
     assert not dialog.save_button.isEnabled()
     wait_for(qtbot, dialog, dialog.fit_log)
     assert dialog.save_button.isEnabled()
-    assert "fitted: capacity_mah" in dialog.figures.text()
+    assert "fitted: capacity " in dialog.figures.text()
     assert len(curves_of(dialog.v_plot)) == 2
     assert dialog.save_as("4S 1500 LiPo")
     form = ParamsForm()
@@ -130,3 +130,42 @@ def test_the_cell_count_follows_the_chosen_chemistry(dialog):
     assert dialog.cells.value() == 11
     dialog.chemistry.setCurrentIndex(dialog.chemistry.findData("LiPo"))
     assert dialog.cells.value() == 4
+
+
+def test_a_gap_in_the_log_is_not_drawn_and_has_no_difference(dialog, tmp_path):
+    """The real iCharger 3010B charge with a 3.2 h hole (tests/logs/logdata.py): the longest
+    charge stops at the hole; a curve across it (as a plain curve CSV may hold) has its line
+    and the model's difference broken there."""
+    import dataclasses
+    import math
+    import sys
+
+    import numpy as np
+    sys.path.insert(0, str(helpers.ROOT / "tests" / "logs"))
+    from logdata import GAP_AFTER_LINE, GAP_S, gapped_3010b_lov
+    from zuml_studio.logs import read_log
+
+    path = tmp_path / "gapped_3010b.lov"
+    path.write_bytes(gapped_3010b_lov())
+    assert dialog.load_log(str(path))
+    assert len(dialog.curve.t) == GAP_AFTER_LINE + 1
+    before, after = 2.0 * GAP_AFTER_LINE / 60, (2.0 * (GAP_AFTER_LINE + 1) + int(GAP_S)) / 60
+    d = read_log(gapped_3010b_lov()).arrays()
+    dialog.curve = dataclasses.replace(dialog.curve, t=d["t"], v=d["voltage"], i=d["current"], temp=None)
+    t = dialog.curve.t
+    dialog._draw(t, dialog.curve.v * 1.01, "model")          # a model line at the log's own times
+    for plot in (dialog.v_plot, dialog.d_plot):
+        for item in curves_of(plot):
+            x, y = item.getData()
+            joins = [k for k in range(len(x) - 1) if math.isfinite(y[k]) and math.isfinite(y[k + 1])
+                     and x[k] <= before and x[k + 1] >= after]
+            assert joins == [] and np.isnan(y).any()
+
+
+def test_fit_with_a_cell_count_the_charge_cannot_have_is_refused_at_once(dialog, qtbot):
+    dialog.chemistry.setCurrentIndex(dialog.chemistry.findData("NiMh"))
+    assert dialog.load_log(str(CURVES / "nimh_4s_ultramat_05c.csv"))
+    dialog.cells.setValue(5)
+    wait_for(qtbot, dialog, dialog.fit_log)
+    text = dialog.figures.text()
+    assert "5 cells do not fit this charge" in text and "--cells 4" in text and dialog.fitted is None

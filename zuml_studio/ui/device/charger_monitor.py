@@ -15,6 +15,8 @@ from ...device.errors import DeviceLinkError
 from ...device.monitor_link import MonitorLink
 from ...file_errors import FileReadError, read_file_bytes
 from ...i18n import _
+from ...logs import LogFormatError, lov
+from ...logs.model import connected_cells
 
 
 def monitor_reason(title: str) -> str:
@@ -117,13 +119,16 @@ class ChargerMonitor(QObject):
         from ...device.drivers import CaptureError
         from ...device.replay import load_recording, serve_replay
         try:
-            recording = load_recording(read_file_bytes(path))
+            data = read_file_bytes(path)
+            if lov.sniff(data[:64], path.name):        # a LogView file: the charger's records in it
+                data = lov.charger_stream(data)
+            recording = load_recording(data)
             port, self._stop_replay, _device = serve_replay(recording, speed)
         except CaptureError as exc:
             self.message.emit(f"{path.name}: {exc}", "error")
             return None
-        except FileReadError as exc:
-            self.message.emit(str(exc), "error")
+        except (FileReadError, LogFormatError) as exc:
+            self.message.emit(f"{path.name}: {exc}" if isinstance(exc, LogFormatError) else str(exc), "error")
             return None
         except OSError as exc:
             self.message.emit(_("Cannot replay {file}: {error}").format(file=path.name, error=exc.strerror or exc),
@@ -139,3 +144,9 @@ class ChargerMonitor(QObject):
         stop, self._stop_replay = self._stop_replay, None
         if stop is not None:
             stop()
+
+
+def recording_cells(recording) -> int:
+    """The cells a recording's samples carry (balance taps reading 0 throughout left out); 1 without any."""
+    samples = DRIVERS[recording.driver].decoder().feed(b"".join(chunk for _t, chunk in recording.records))
+    return connected_cells([s.cells_v for s in samples]) or 1

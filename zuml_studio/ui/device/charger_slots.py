@@ -248,6 +248,16 @@ class ChargerSlots(QWidget):
         self.imageShown.emit()
         return found
 
+    def forget(self) -> None:
+        """Another device: no image, no macros, nothing flashed (a replay after a charger)."""
+        self.image = None
+        self.slots = []
+        self.flashed_slot = None
+        self.table.setRowCount(0)
+        self.free_label.setText("")
+        self.flash_slot.clear()
+        self.flash_slot.addItem(_("By name"), None)
+
     def _table_selected(self) -> None:
         rows = self.table.selectionModel().selectedRows()
         if rows:

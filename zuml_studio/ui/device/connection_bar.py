@@ -239,5 +239,5 @@ class ConnectionBar(QWidget):
         """The recording to replay ("" if the user cancels)."""
         path, _filter = QFileDialog.getOpenFileName(
             self, _("Replay a charger recording"), "",
-            _("Recordings (*.txt *.log *.bin *.hex *.csv);;All files (*)"))
+            _("Recordings (*.txt *.log *.bin *.hex *.csv *.lov);;All files (*)"))
         return path

@@ -28,7 +28,7 @@ from ...device.drivers import AUTO
 from ...device.errors import NotACharger
 from ...device.ports import VIRTUAL
 from ...i18n import _
-from .charger_monitor import ChargerMonitor
+from .charger_monitor import ChargerMonitor, recording_cells
 from .charger_slots import ChargerSlots
 from .connection import DeviceConnection, Opened
 from .connection_bar import ConnectionBar
@@ -264,11 +264,25 @@ class DevicePanel(QWidget):
             self.show_message(_("Disconnect first, then replay."), "warn")
             return False
         served = self.monitor.serve_replay(Path(path), float(speed or self.v_speed.value()))
-        if served is None or not self.connect_to(served[0], served[1].driver):
+        if served is None:
+            return False
+        self._fresh_run(Path(path).name, served[1])
+        if not self.connect_to(served[0], served[1].driver):
             self.monitor.stop_replay()
             return False
         self.monitor.say_replaying(Path(path), *served)
         return True
+
+    def _fresh_run(self, name: str, recording) -> None:
+        """A recording is another device: its run starts anew (the one before is kept in the run
+        list, not appended to), per cell by its own cells, and the last charger's macros and
+        passport go from the panel."""
+        self.live.new_run(self.run.run_name)
+        self.run.run_name = name
+        self.live.run_started(name, recording_cells(recording))
+        self.charger.forget()
+        self.run.set_slots([], None)
+        self.passport.show_passport(None)
 
     def show_message(self, text: str, kind: str = "info") -> None:
         self.message.say(text, kind)

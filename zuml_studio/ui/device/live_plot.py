@@ -28,9 +28,10 @@ import pyqtgraph as pg
 from PySide6.QtCore import Qt, QTimer, Signal
 
 from ...i18n import _
+from ...logs import gaps
 from ..plot_backdrop import BackdropItem
 from ..stacked_plot import StackedPlot, band_label, curve_pen
-from .envelope import Envelope
+from .envelope import FANOUT, Envelope
 from .growing_buffer import GrowingBuffer
 
 COLUMNS = ("t", "voltage", "current", "temp", "heatsink")
@@ -39,6 +40,7 @@ LEGEND_MS = 500
 MAX_REDRAW_SHARE = 0.35            # a slow machine redraws less often rather than freeze
 DEFAULT_FOLLOW_MIN = 30
 MIN_VIEW_S = 60.0
+PERIOD_SAMPLES = 4097               # the first samples give the session's sample period
 
 
 @dataclass
@@ -158,6 +160,7 @@ class LivePlot(StackedPlot):
         self._n = 0                         # points taken from the series
         self.envelope = Envelope(COLUMNS[1:])
         self.level = 0                      # the envelope level drawn (0: the samples themselves)
+        self._period = 0.0                  # the typical step between samples (gaps.sample_period)
         self._version = -1
         self._phase_version = -1
         self._phases: list[LivePhase] = []
@@ -174,8 +177,8 @@ class LivePlot(StackedPlot):
         self.curves = {
             "voltage": self._curve(self.vplot, "voltage", _("pack voltage")),
             "current": self._curve(self.iplot, "current", _("+ charge, − discharge")),
-            "temp": self._curve(self.tplot, "temp", _("battery"), connect="finite"),
-            "heatsink": self._curve(self.tplot, "heatsink", _("heat sink"), connect="finite"),
+            "temp": self._curve(self.tplot, "temp", _("battery")),
+            "heatsink": self._curve(self.tplot, "heatsink", _("heat sink")),
         }
         self.band_items = [BackdropItem(plot, self.time_axis, self.colours.plot.grid) for plot in self.plots]
         for plot, item in zip(self.plots, self.band_items):
@@ -199,11 +202,11 @@ class LivePlot(StackedPlot):
         self.timer.timeout.connect(self.refresh)
 
     # -- construction ------------------------------------------------------------------------
-    def _curve(self, plot: pg.PlotItem, quantity: str, name: str, connect: str = "all", **kw) -> pg.PlotDataItem:
+    def _curve(self, plot: pg.PlotItem, quantity: str, name: str, **kw) -> pg.PlotDataItem:
+        # connect="finite": a NaN (no sensor, or a gap in the session) breaks the line.
         self.legends[plot].add(name, self.hue(quantity))
-        finite = connect == "all"
-        curve = pg.PlotDataItem([], [], pen=curve_pen(self.hue(quantity)), name=name, antialias=False, connect=connect,
-                                skipFiniteCheck=finite, **kw)
+        curve = pg.PlotDataItem([], [], pen=curve_pen(self.hue(quantity)), name=name, antialias=False,
+                                connect="finite", **kw)
         plot.addItem(curve)
         # The envelope hands over the view's points already clipped and decimated.
         curve.setClipToView(False)
@@ -268,6 +271,7 @@ class LivePlot(StackedPlot):
 
     def _redraw_from_scratch(self) -> None:
         self.envelope.clear()
+        self._period = 0.0
         for curve in self.curves.values():
             curve.setData([], [])
         self._n = 0
@@ -299,6 +303,8 @@ class LivePlot(StackedPlot):
                 hidden = (not self._follow and 0 < self._n < n
                           and float(cols["t"][self._n]) > self.vplot.vb.viewRange()[0][1])
                 self.envelope.update(n, cols)
+                if self._n < PERIOD_SAMPLES:         # the session's sample period, from its start
+                    self._period = gaps.sample_period(np.asarray(cols["t"][:min(n, PERIOD_SAMPLES)]))
                 self._n = n
                 changed = True
                 if first:
@@ -333,9 +339,18 @@ class LivePlot(StackedPlot):
         more than two per pixel."""
         (x0, x1), width = self.vplot.vb.viewRange()[0], self.vplot.vb.width()
         self.level, x, ys = self.envelope.view(x0, x1, bins=max(100, int(width)))
-        for name in COLUMNS[1:]:
-            self.curves[name].setData(x, ys[name])
-        self._set_current_fill(x, ys["current"], self.level > 0)
+        # Bins of a level hold FANOUT ** level samples: their starts lie that many periods apart.
+        gap_s = self.gap_s + (FANOUT ** self.level if self.level else 0) * self._period
+        broken = gaps.broken(x, *(ys[name] for name in COLUMNS[1:]), threshold=gap_s)
+        for name, y in zip(COLUMNS[1:], broken[1:]):
+            self.curves[name].setData(broken[0], y)
+        self._set_current_fill(x, ys["current"], self.level > 0, gap_s)
+
+    @property
+    def gap_s(self) -> float:
+        """A step between samples longer than this is a gap (``logs/gaps.py``); infinite before the
+        session has a sample period."""
+        return gaps.GAP_PERIODS * self._period if self._period > 0 else math.inf
 
     def _apply_follow(self) -> None:
         first, last = self._extent()

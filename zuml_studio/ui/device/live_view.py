@@ -73,7 +73,7 @@ class LiveView(QWidget):
         pv.addWidget(self.readings)
         pv.addLayout(plot_bar)
         pv.addWidget(self.plot, 1)
-        self.readout = CursorReadout(self.plot, self._cursor_samples)
+        self.readout = CursorReadout(self.plot, self._cursor_samples, lambda: self.plot.gap_s)
         self.follow.toggled.connect(lambda on: self.plot.set_follow(on, self.follow_minutes.value()))
         self.follow_minutes.valueChanged.connect(lambda v: self.plot.set_follow(self.plot.follow, v))
         self.plot.followChanged.connect(self._plot_follow_changed)

@@ -1,22 +1,24 @@
-"""One log as a document: the plot, the readout under it, and beside it the totals and the
-logs laid over it (other files, or the log's own cycles)."""
+"""One log as a document: the plot, the readout under it, and beside it the totals, the curves
+shown (each can be hidden; remembered per log format, ``HiddenCurves``), two cursors with what
+the log says between them, and the logs laid over it (other files, or the log's own cycles)."""
 from __future__ import annotations
 
 import html
 from dataclasses import dataclass
 from pathlib import Path
 
-from PySide6.QtCore import QEvent, Qt, Signal
-from PySide6.QtWidgets import (QCheckBox, QHBoxLayout, QLabel, QListWidget, QListWidgetItem, QPushButton,
-                               QSizePolicy, QVBoxLayout, QWidget)
+from PySide6.QtCore import QEvent, QSettings, Qt, Signal
+from PySide6.QtWidgets import (QCheckBox, QFrame, QHBoxLayout, QLabel, QListWidget, QListWidgetItem, QPushButton,
+                               QScrollArea, QSizePolicy, QVBoxLayout, QWidget)
 
 from ...i18n import N_, _, ngettext
 from ...logs import Log
 from ...logs.model import Phase
 from ...logs.cycles import split_cycles
 from ...logs.summary import summarize
+from ...logs.window_stats import Between, between
 from .. import theme
-from ..timefmt import duration
+from ..timefmt import duration, hmmss
 from .log_plot import STATE_WORDS, LogPlot
 
 SIDE_WIDTH = 250
@@ -51,6 +53,64 @@ def totals_html(name: str, info: dict, key_colour: str) -> str:
     return f"<b>{html.escape(name)}</b><table cellspacing='0' cellpadding='1'>{body}</table>"
 
 
+class HiddenCurves:
+    """The curves a user hid, per log format (``curve_key``s), in the settings when there are
+    any (else for this session)."""
+
+    def __init__(self, settings: QSettings | None = None):
+        self.settings = settings
+        self._session: dict[str, set[str]] = {}
+
+    def get(self, fmt: str) -> set[str]:
+        if self.settings is None:
+            return set(self._session.get(fmt, ()))
+        value = self.settings.value(f"hiddenCurves/{fmt}")
+        return {v for v in str(value).split(",") if v} if value else set()
+
+    def put(self, fmt: str, keys: set[str]) -> None:
+        if self.settings is None:
+            self._session[fmt] = set(keys)
+        else:
+            self.settings.setValue(f"hiddenCurves/{fmt}", ",".join(sorted(keys)))
+
+
+def _num(value: float | None, fmt: str, unit: str = "") -> str:
+    return "–" if value is None else f"{format(value, fmt)}{unit}"
+
+
+CURVE_UNITS = {"voltage": ("V", ".3f"), "current": ("A", ".3f"), "temp": ("°C", ".1f"), "heatsink": ("°C", ".1f"),
+               "deviation": ("mV", ".0f")}
+
+
+def between_html(b: Between, key_colour: str) -> str:
+    """Cursors A and B: the differences and means, then per curve min, max and mean, charge, energy, time."""
+    def row(key: str, value: str, mean: str) -> str:
+        # a value without a mean takes both columns
+        value_cell = (f"<td colspan='2' style='white-space:nowrap'>{value}</td>" if not mean else
+                      f"<td style='padding-right:6px; white-space:nowrap'>{value}</td>")
+        return (f"<tr><td style='color:{key_colour}; padding-right:6px'>{key}</td>{value_cell}"
+                + (f"<td>{mean}</td>" if mean else "") + "</tr>")
+
+    rows = [row(_("A → B"), f"{hmmss(b.start_s)} – {hmmss(b.end_s)}", ""),
+            row("Δt", duration(b.time_s), ""),
+            row("ΔV", _num(b.delta("voltage"), "+.3f", " V"), ""),
+            row("ΔI", _num(b.delta("current"), "+.3f", " A"), ""),
+            row("Δ mAh", _num(b.delta("net_mah"), "+.0f"), ""),
+            row(_("charge"), _("in {into} / out {out} mAh").format(into=_num(b.charge_in_mah, ".0f"),
+                                                                   out=_num(b.charge_out_mah, ".0f")), ""),
+            row(_("energy"), _("in {into} / out {out} Wh").format(into=_num(b.energy_in_wh, ".2f"),
+                                                                  out=_num(b.energy_out_wh, ".2f")), ""),
+            row("", "<i>" + _("min – max") + "</i>", "<i>" + _("mean") + "</i>")]
+    names = {"voltage": _("pack"), "current": _("current"), "temp": _("battery"), "heatsink": _("charger"),
+             "deviation": _("deviation")}
+    for name, st in b.curves.items():
+        unit, fmt = CURVE_UNITS.get(name, ("V", ".3f"))
+        label = names.get(name) or _("cell {n}").format(n=name.split()[1])
+        rows.append(row(label, f"{format(st.min, fmt)} – {format(st.max, fmt)} {unit}", f"{format(st.mean, fmt)}"))
+    note = "<p>" + _("a cursor is where the log has no data") + "</p>" if b.a is None or b.b is None else ""
+    return f"<table cellspacing='0' cellpadding='0'>{''.join(rows)}</table>{note}"
+
+
 @dataclass(frozen=True)
 class Prepared:
     """What a document needs of its log besides drawing it, worked out off the GUI thread."""
@@ -73,8 +133,9 @@ def prepare(log: Log) -> Prepared:
 class LogDocument(QWidget):
     addRequested = Signal()          # the user wants to lay another log file over this one
 
-    def __init__(self, prepared: Prepared, path: str, parent=None):
+    def __init__(self, prepared: Prepared, path: str, parent=None, hidden: HiddenCurves | None = None):
         super().__init__(parent)
+        self.hidden_store = hidden or HiddenCurves()
         self.setObjectName("logDocument")
         self.log = log = prepared.log
         self.path = path
@@ -113,18 +174,42 @@ class LogDocument(QWidget):
         self.cycles_box.toggled.connect(lambda _on: self.redraw())
         add = QPushButton(_("Add a log to compare…"))
         add.clicked.connect(self.addRequested)
+        self.curve_list = QListWidget()
+        self.curve_list.setObjectName("logCurves")
+        self.curve_list.setToolTip(_("untick a curve to hide it (kept for logs of this format)"))
+        self.curve_list.itemChanged.connect(self._curve_ticked)
+        self.cursors_box = QCheckBox(_("two cursors A and B"))
+        self.cursors_box.setToolTip(_("drag the dashed lines A and B: what the log says between them"))
+        self.cursors_box.toggled.connect(self._cursors_toggled)
+        self.between = QLabel()
+        self.between.setObjectName("logBetween")
+        self.between.setWordWrap(True)
+        self.between.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+        self.between.setVisible(False)
+        self.plot.cursorsMoved.connect(self._cursors_moved)
 
         side = QVBoxLayout()
         side.setContentsMargins(6, 4, 6, 4)
         side.addWidget(self.totals)
         side.addSpacing(6)
+        side.addWidget(QLabel("<b>" + _("curves") + "</b>"))
+        side.addWidget(self.curve_list, 1)
+        side.addWidget(self.cursors_box)
+        side.addWidget(self.between)
+        side.addSpacing(6)
         side.addWidget(QLabel("<b>" + _("laid over") + "</b>"))
         side.addWidget(self.cycles_box)
         side.addWidget(self.layer_list, 1)
         side.addWidget(add)
-        panel = QWidget()
-        panel.setLayout(side)
-        panel.setFixedWidth(SIDE_WIDTH)
+        inner = QWidget()
+        inner.setLayout(side)
+        # The side scrolls when its figures are taller than the window: they never make it grow.
+        panel = QScrollArea()
+        panel.setWidget(inner)
+        panel.setWidgetResizable(True)
+        panel.setFrameShape(QFrame.Shape.NoFrame)
+        panel.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        panel.setFixedWidth(SIDE_WIDTH + panel.verticalScrollBar().sizeHint().width())
         panel.setSizePolicy(QSizePolicy.Policy.Fixed, QSizePolicy.Policy.Expanding)
         left = QVBoxLayout()
         left.setContentsMargins(0, 0, 0, 0)
@@ -137,7 +222,9 @@ class LogDocument(QWidget):
         row.addWidget(panel)
         self.summary = prepared.summary
         self._show_totals()
+        self.plot.hidden = self.hidden_store.get(log.format)
         self.redraw()
+        self._fill_curve_list()
 
     def _show_totals(self) -> None:
         self.totals.setText(totals_html(self.name, self.summary, theme.colours(self.palette()).key_text))
@@ -169,6 +256,40 @@ class LogDocument(QWidget):
     def redraw(self) -> None:
         cycles = self.cycles_box.isChecked()
         self.plot.show_layers(self.layers(), bands=not cycles and not self.overlays_shown())
+        if self.cursors_box.isChecked():
+            self.plot.show_cursors(True)
+
+    # -- curves shown ------------------------------------------------------------------------
+    def _fill_curve_list(self) -> None:
+        self.curve_list.blockSignals(True)
+        self.curve_list.clear()
+        for key, name in self.plot.curve_keys():
+            item = QListWidgetItem(name)
+            item.setData(Qt.ItemDataRole.UserRole, key)
+            item.setFlags(item.flags() | Qt.ItemFlag.ItemIsUserCheckable)
+            item.setCheckState(Qt.CheckState.Unchecked if key in self.plot.hidden else Qt.CheckState.Checked)
+            self.curve_list.addItem(item)
+        self.curve_list.blockSignals(False)
+
+    def set_curve_shown(self, key: str, shown: bool) -> None:
+        for k in range(self.curve_list.count()):
+            item = self.curve_list.item(k)
+            if item.data(Qt.ItemDataRole.UserRole) == key:
+                item.setCheckState(Qt.CheckState.Checked if shown else Qt.CheckState.Unchecked)
+
+    def _curve_ticked(self, _item) -> None:
+        hidden = {self.curve_list.item(k).data(Qt.ItemDataRole.UserRole) for k in range(self.curve_list.count())
+                  if self.curve_list.item(k).checkState() != Qt.CheckState.Checked}
+        self.plot.set_hidden(hidden)
+        self.hidden_store.put(self.log.format, hidden)
+
+    # -- cursors -----------------------------------------------------------------------------
+    def _cursors_toggled(self, on: bool) -> None:
+        self.between.setVisible(on)
+        self.plot.show_cursors(on)
+
+    def _cursors_moved(self, a: float, b: float) -> None:
+        self.between.setText(between_html(between(self.log, a, b), theme.colours(self.palette()).key_text))
 
     def overlays_shown(self) -> bool:
         return any(self.layer_list.item(k).checkState() == Qt.CheckState.Checked

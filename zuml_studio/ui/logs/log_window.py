@@ -8,11 +8,13 @@ from PySide6.QtGui import QAction, QKeySequence
 from PySide6.QtWidgets import QFileDialog, QLabel, QMainWindow, QMessageBox, QProgressBar, QTabWidget
 
 from ...i18n import N_, _, ngettext
-from ...logs import LogFormatError, read_log_file
+from ...file_errors import FileReadError, read_file_bytes
+from ...logs import Log, LogFormatError, csv_import, read_log_file
 from ...logs.export import write_csv
 from ..background import BackgroundCall
 from ..settings_values import text_value
-from .log_document import LogDocument, Prepared, prepare
+from .csv_dialog import CsvChoices, CsvDialog, key_hash
+from .log_document import HiddenCurves, LogDocument, Prepared, prepare
 
 TITLE = N_("Logs — ZUML Studio")
 # Reads not yet handed over, kept from being collected while their thread runs (a window
@@ -21,8 +23,34 @@ TITLE = N_("Logs — ZUML Studio")
 _READING: set[BackgroundCall] = set()
 
 
-def _read_and_prepare(path: str) -> Prepared:
-    return prepare(read_log_file(path))
+class CsvColumnsNeeded(LogFormatError):
+    """A CSV whose guessed columns cannot be read (no time or voltage column found), and no
+    choice remembered for its header: the user says which column is what."""
+
+
+def _read_and_prepare(path: str, choices: dict[str, str]) -> Prepared:
+    """Read a log; a CSV with the columns remembered for its header (``choices``: key_hash -> spec)."""
+    try:
+        log = read_log_file(path)
+    except LogFormatError as exc:
+        try:
+            g = csv_import.guess(read_file_bytes(path))
+        except (LogFormatError, FileReadError):
+            raise exc from None
+        if key_hash(g.key) not in choices:
+            raise CsvColumnsNeeded(str(exc)) from None
+        return prepare(_read_csv(path, choices[key_hash(g.key)]))
+    spec = choices.get(key_hash(log.meta.get("csv_key", ""))) if log.format == csv_import.FORMAT else None
+    if spec and spec != log.meta["csv_columns"]:
+        log = _read_csv(path, spec)
+    return prepare(log)
+
+
+def _read_csv(path: str, spec: str) -> Log:
+    try:
+        return csv_import.read_as(read_file_bytes(path), spec)
+    except (LogFormatError, FileReadError) as exc:
+        raise LogFormatError(f"{path}: {exc}") from None
 
 
 def file_filter() -> str:
@@ -46,6 +74,9 @@ class LogWindow(QMainWindow):
         # Owned by the main window: closing that ends the application, this one goes with it.
         self.setAttribute(Qt.WidgetAttribute.WA_QuitOnClose, parent is None)
         self.settings = settings
+        self.csv_choices = CsvChoices(settings)
+        self.hidden_curves = HiddenCurves(settings)
+        self.csv_dialog: CsvDialog | None = None
         self.tabs = QTabWidget()
         self.tabs.setTabsClosable(True)
         self.tabs.setDocumentMode(True)
@@ -56,6 +87,7 @@ class LogWindow(QMainWindow):
                                 (_("&Add a Log to Compare…"), self.add_dialog, "Ctrl+Shift+O"),
                                 (_("Export as &CSV…"), self.export_csv_dialog, "Ctrl+E"),
                                 (_("Export Plot as &PNG…"), self.export_png_dialog, None),
+                                (_("CSV Co&lumns…"), self.csv_columns_dialog, None),
                                 (_("&Close Log"), lambda: self._close_tab(self.tabs.currentIndex()),
                                  QKeySequence.StandardKey.Close)):
             action = QAction(text, self)
@@ -101,7 +133,8 @@ class LogWindow(QMainWindow):
         if self._job is None and self._queue:
             self._reading = kind, path = self._queue.pop(0)
             self._outcome = None
-            self._job = job = BackgroundCall(lambda: _read_and_prepare(path))
+            choices = self.csv_choices.snapshot()
+            self._job = job = BackgroundCall(lambda: _read_and_prepare(path, choices))
             _READING.add(job)
             # The outcome is kept and handled once the thread has finished (queued after it):
             # whoever hears the signals sees the window done with that file.
@@ -144,7 +177,7 @@ class LogWindow(QMainWindow):
             self.overlayAdded.emit(document)
             return
         log = prepared.log
-        document = LogDocument(prepared, path)
+        document = LogDocument(prepared, path, hidden=self.hidden_curves)
         document.addRequested.connect(self.add_dialog)
         index = self.tabs.addTab(document, document.name)
         self.tabs.setTabToolTip(index, f"{path}\n{log.device}")
@@ -157,8 +190,14 @@ class LogWindow(QMainWindow):
                                        log.bad_records).format(n=log.bad_records)
         self.statusBar().showMessage(message, 8000)
         self.documentOpened.emit(document)
+        if log.format == csv_import.FORMAT and key_hash(log.meta["csv_key"]) not in self.csv_choices.snapshot():
+            self._ask_columns(path, log.meta["csv_columns"], document)      # the guess, shown once per header
 
     def _read_failed(self, path: str, exc: Exception) -> None:
+        if isinstance(exc, CsvColumnsNeeded):
+            self.statusBar().showMessage(str(exc), 8000)
+            self._ask_columns(path, None, None)
+            return
         # A reader's own failure is a LogFormatError that names the file; anything else is a bug
         # in a reader, said all the same instead of leaving the window waiting.
         message = str(exc) if isinstance(exc, LogFormatError) else _(
@@ -176,6 +215,36 @@ class LogWindow(QMainWindow):
         if widget is not None:
             self.tabs.removeTab(index)
             widget.deleteLater()
+
+    # -- CSV columns -------------------------------------------------------------------------
+    def csv_columns_dialog(self) -> None:
+        """The current CSV's columns, to correct (File ▸ CSV Columns…)."""
+        document = self.current()
+        if document is not None and document.log.format == csv_import.FORMAT:
+            self._ask_columns(document.path, document.log.meta["csv_columns"], document)
+        elif document is not None:
+            self.statusBar().showMessage(_("{name} is not read as a CSV").format(name=document.name), 6000)
+
+    def _ask_columns(self, path: str, spec: str | None, document: LogDocument | None) -> None:
+        """The CSV dialog, non-modal; accepted, its columns are kept for the header and the file
+        is read again with them (in place of ``document``)."""
+        try:
+            dialog = CsvDialog(Path(path).name, read_file_bytes(path), spec, self)
+        except (LogFormatError, FileReadError) as exc:
+            self.show_error(f"{path}: {exc}")
+            return
+        if self.csv_dialog is not None:
+            self.csv_dialog.close()
+        self.csv_dialog = dialog
+        dialog.setAttribute(Qt.WidgetAttribute.WA_DeleteOnClose)
+
+        def accepted() -> None:
+            self.csv_choices.put(dialog.guess.key, dialog.spec())
+            if document is not None and self.tabs.indexOf(document) >= 0:
+                self._close_tab(self.tabs.indexOf(document))
+            self.open_path(path)
+        dialog.accepted.connect(accepted)
+        dialog.open()
 
     # -- dialogs -----------------------------------------------------------------------------
     def _folder(self) -> str:

@@ -12,12 +12,12 @@ from PySide6.QtWidgets import (QComboBox, QDialog, QFileDialog, QFormLayout, QHB
 
 from ...file_errors import FileReadError
 from ...i18n import _
-from ...logs import LogFormatError
+from ...logs import LogFormatError, gaps
 from ...sim.batteries import BatteryFileError, save_battery
 from ...sim.chemistry import chemistry_names
 from ...sim.curve import Curve, CurveError, read_curve
 from ...sim.fit import FitResult, fit, guess_series
-from ...sim.fit_report import figure_lines
+from ...sim.fit_report import figure_lines, param_lines
 from ...sim.interpreter import StartError
 from .. import theme
 from ..background import BackgroundCall
@@ -135,7 +135,7 @@ class CompareDialog(QDialog):
     def _fitted(self, fitted: FitResult) -> None:
         self.fitted = fitted
         self._draw(self.curve.t, fitted.run.v, _("fitted model"))
-        params = ", ".join(f"{k} {v:.4g}" for k, v in fitted.params.items())
+        params = "; ".join(param_lines(fitted.params, fitted.battery))
         lines = figure_lines(fitted.figures) + [_("fitted: {parameters}").format(parameters=params)]
         self.figures.setText("\n".join(lines))
         self.save_button.setEnabled(True)
@@ -211,6 +211,7 @@ class CompareDialog(QDialog):
             lines.append((self.v_plot, self.curve.t / 60.0, self.curve.v / n, "real", _("log")))
             if t is not None and v_model is not None:
                 real = np.interp(t, self.curve.t, self.curve.v)
+                real[gaps.outside(self.curve.t, t)] = np.nan        # no difference where the log has no sample
                 lines += [(self.v_plot, t / 60.0, v_model / n, "model", label),
                           (self.d_plot, t / 60.0, (v_model - real) / n * 1000.0, "diff", None)]
         self.plots.show_lines(lines)

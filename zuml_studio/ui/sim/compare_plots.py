@@ -8,6 +8,7 @@ import pyqtgraph as pg
 from PySide6.QtCore import QEvent
 
 from ...i18n import _
+from ...logs import gaps
 from .. import theme
 from ..stacked_plot import colour_axes, curve_pen
 
@@ -44,7 +45,8 @@ class ComparePlots(pg.GraphicsLayoutWidget):
         self.d_plot.clear()
         hues = self.colours.plot.compare
         for plot, x, y, role, name in self._lines:
-            plot.plot(x, y, pen=curve_pen(hues[role], width=LINE_WIDTH), name=name)
+            # A gap in the log stays a gap (``logs/gaps.py``): no line is drawn across it.
+            plot.plot(*gaps.broken(x, y), pen=curve_pen(hues[role], width=LINE_WIDTH), name=name, connect="finite")
 
     def _apply_look(self) -> None:
         look = self.colours.plot

@@ -1,0 +1,345 @@
+"""Any CSV with a header line and a row per sample (a SkyRC logger's ``SN,Volatge,Current,mAH``,
+a lab cycler's export, a spreadsheet, LogView's and DataExplorer's text exports): what is in
+it is guessed, shown, and can be corrected.
+
+``guess(data)`` finds the separator (``;``, tab, ``,`` or ``|``: the one that splits the
+lines into the same number of fields), whether numbers use a decimal comma, the header line,
+and for each column a role and a unit, by its name (German and English words, a unit in
+``[…]`` or ``(…)`` or after ``_``) and, where the name gives no unit, by the size of its
+values (a current above 50 is in mA, a voltage above 100 in mV, a time that counts days
+since 1899 is a spreadsheet date). ``read(data, guess)`` reads the rows as that guess says.
+``parse_columns`` reads a correction given as text (``zuml log info FILE.csv --columns
+time:s,voltage:V,current:mA,charge:mAh``: one ``role[:unit]`` per column in order, ``-`` for
+a column to leave out; columns beyond the list are left out).
+
+Rows that do not split into the header's field count, or whose used fields are not numbers,
+are bad records; a file without any good row is an error. The current's sign gives the
+state (charge positive), as for DataExplorer's CSV export; a current logged positive while
+discharging (the SkyRC logger's) is read with the unit ``-A`` or ``-mA``. A charge counter
+that counts up while discharging counts as discharged."""
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, replace
+
+from .model import Log, LogFormatError, SampleBuilder, state_from_current
+from ..i18n import _
+
+FORMAT = "csv"
+SEPARATORS = (";", "\t", ",", "|")
+ROLES = ("time", "voltage", "current", "temp", "charge", "cell", "-")
+UNITS = {"time": ("s", "min", "h", "ms", "day"), "voltage": ("V", "mV"), "cell": ("V", "mV"),
+         "current": ("A", "mA", "-A", "-mA"), "temp": ("°C", "°F"), "charge": ("mAh", "Ah"), "-": ("",)}
+SCALE = {"s": 1.0, "min": 60.0, "h": 3600.0, "ms": 0.001, "day": 86400.0, "V": 1.0, "mV": 0.001, "A": 1.0,
+         "mA": 0.001, "-A": -1.0, "-mA": -0.001, "°C": 1.0, "mAh": 1.0, "Ah": 1000.0}
+MAX_COLUMNS = 256
+PROBE_LINES = 40
+CURVE_CSV = b"time_s,voltage_v,current_a"      # the fit's plain curve CSV (sim/curve.py), read there
+
+# Words of a column's name (lower case) -> role; the first column that fits a role takes it.
+WORDS = {
+    "time": ("zeit", "time", "sec", "elapsed", "sn", "t"),
+    "voltage": ("spannung", "voltage", "volatge", "volt", "u", "v", "ubat", "vbat"),
+    "current": ("strom", "current", "curr", "i", "ibat", "amp"),
+    "temp": ("temperatur", "temperature", "temp", "t_bat"),
+    "charge": ("ladung", "charge", "capacity", "kapazit", "mah", "ah", "q"),
+}
+# Columns of a role whose names have one of these words are something else (a supply voltage,
+# the charger's inside temperature, a raw ADC value, a date or a power).
+NOT = {
+    "time": ("date", "datum", "step", "index", "point", "cycle"),
+    "voltage": ("versorgung", "eingang", "input", "supply", "zelle", "cell", "balance", "bec", "raw", "digital",
+                "dv", "ladung"),
+    "current": ("raw", "digital", "ladung", "charge_c", "capacity"),
+    "temp": ("int", "ambient", "umgebung", "raw", "digital", "heatsink", "kühl"),
+    "charge": ("discharge", "entlad", "energy", "energie", "wh", "raw"),
+}
+# Among the columns that fit, the first with the earliest of these words wins.
+PREFER = {"voltage": ("calibrated", "bat", "akku", "accu", "lipo", "pack"), "current": ("calibrated",),
+          "temp": ("calibrated", "bat", "akku")}
+_UNIT = re.compile(r"[\[(]\s*([^\])]*?)\s*[\])]")
+_CELL = re.compile(r"(?:zellenspannung|cellvoltage|cell|zelle)\s*_?\s*(\d{1,2})", re.IGNORECASE)
+_DECIMAL_COMMA = re.compile(r"^\s*-?\d+,\d+\s*$")
+_UNIT_WORDS = {"sec": "s", "s": "s", "seconds": "s", "sekunden": "s", "min": "min", "minutes": "min", "h": "h",
+               "hours": "h", "std": "h", "ms": "ms", "v": "V", "mv": "mV", "a": "A", "ma": "mA", "°c": "°C",
+               "c": "°C", "degc": "°C", "°f": "°F", "f": "°F", "mah": "mAh", "ah": "Ah"}
+
+
+@dataclass(frozen=True)
+class Column:
+    name: str
+    role: str = "-"        # one of ROLES
+    unit: str = ""         # one of UNITS[role]
+
+
+@dataclass(frozen=True)
+class CsvGuess:
+    separator: str
+    decimal_comma: bool
+    header_line: int           # index of the header among the file's lines
+    columns: tuple[Column, ...]
+
+    @property
+    def key(self) -> str:
+        """What identifies a kind of file: its separator and column names."""
+        return self.separator.join(c.name for c in self.columns)
+
+    def with_columns(self, columns: tuple[Column, ...]) -> "CsvGuess":
+        return replace(self, columns=columns)
+
+    def spec(self) -> str:
+        """The columns as ``--columns`` takes them."""
+        return ",".join(f"{c.role}:{c.unit}" if c.role != "-" else "-" for c in self.columns)
+
+
+def decode(data: bytes) -> str:
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError:              # written on Windows: code page 1252
+        return data.decode("cp1252", "replace")
+
+
+def _content_lines(lines: list[str]) -> list[int]:
+    return [k for k, line in enumerate(lines) if line.strip() and not line.lstrip().startswith("#")]
+
+
+def _split(line: str, sep: str) -> list[str]:
+    return [part.strip().strip('"').strip() for part in line.split(sep)]
+
+
+def _is_number(text: str, comma: bool) -> bool:
+    try:
+        _number(text, comma)
+    except ValueError:
+        return False
+    return True
+
+
+def _number(text: str, comma: bool) -> float:
+    text = text.strip()
+    if comma:
+        text = text.replace(".", "").replace(",", ".") if "," in text else text
+    value = float(text)
+    if value != value or value in (float("inf"), float("-inf")):
+        raise ValueError(text)
+    return value
+
+
+def _separator(lines: list[str]) -> str:
+    """The separator that splits the last probed lines into one field count of at least 2."""
+    tail = lines[-PROBE_LINES:]
+    for sep in SEPARATORS:
+        counts = {len(line.split(sep)) for line in tail}
+        if len(counts) == 1 and counts.pop() >= 2:
+            return sep
+    best = max(SEPARATORS, key=lambda s: min(len(line.split(s)) for line in tail))
+    if min(len(line.split(best)) for line in tail) < 2:
+        raise LogFormatError(_("not a CSV: no separator (; tab , |) splits its lines into columns"))
+    return best
+
+
+def _unit_of(name: str) -> tuple[str, str]:
+    """(name without its unit, unit) of ``Spannung [V]``, ``Current (mA)``, ``time_s``, ``mAH``."""
+    m = _UNIT.search(name)
+    if m:
+        unit = _UNIT_WORDS.get(m.group(1).strip().lower().split(",")[0].strip(), "")
+        return _UNIT.sub("", name).strip(), unit
+    low = name.lower()
+    if low in _UNIT_WORDS:
+        return name, _UNIT_WORDS[low]
+    tail = re.search(r"[_ ]([a-z°]+)$", low)
+    if tail and tail.group(1) in _UNIT_WORDS:
+        return name[:tail.start()], _UNIT_WORDS[tail.group(1)]
+    return name, ""
+
+
+def _words(name: str) -> list[str]:
+    return [w for w in re.split(r"[^a-zäöüß°0-9]+", name.lower()) if w]
+
+
+def _fits(role: str, name: str, bare: str, unit: str) -> bool:
+    """Whether a column may hold a role: no word of NOT[role] in its full name, a unit of the
+    role if it has one (each unit but V belongs to one role; cell columns are taken before),
+    else one of the role's words (or a longer word one of them starts)."""
+    if any(n in name.lower() for n in NOT[role]):
+        return False
+    if unit:
+        return unit in UNITS[role]
+    words = _words(bare)
+    return any(w in words for w in WORDS[role]) or any(x.startswith(w) for x in words for w in WORDS[role]
+                                                       if len(w) > 3)
+
+
+def guess(data: bytes) -> CsvGuess:
+    """The separator, decimal comma, header line and each column's role and unit."""
+    lines = decode(data).splitlines()
+    content = _content_lines(lines)
+    if len(content) < 2:
+        raise LogFormatError(_("not a CSV: fewer than two lines"))
+    probe = [lines[k] for k in content[:PROBE_LINES * 2]]
+    sep = _separator(probe)
+    width = len(probe[-1].split(sep))
+    header = next((k for k in content if len(lines[k].split(sep)) == width
+                   and not all(_is_number(f, sep != ",") for f in _split(lines[k], sep) if f)), None)
+    if header is None:
+        raise LogFormatError(_("not a CSV with a header: no line names the columns"))
+    rows = [_split(lines[k], sep) for k in content if k > header][:PROBE_LINES]
+    comma = sep != "," and any(_DECIMAL_COMMA.match(f) for row in rows for f in row)
+    names = _split(lines[header], sep)[:MAX_COLUMNS]
+    columns = _guess_columns(names, rows, comma)
+    return CsvGuess(sep, comma, header, tuple(columns))
+
+
+def _values(rows: list[list[str]], k: int, comma: bool) -> list[float]:
+    out = []
+    for row in rows:
+        if k < len(row):
+            try:
+                out.append(_number(row[k], comma))
+            except ValueError:
+                pass
+    return out
+
+
+def _guess_columns(names: list[str], rows: list[list[str]], comma: bool) -> list[Column]:
+    parsed = [_unit_of(n) for n in names]
+    numeric = [bool(_values(rows, k, comma)) for k in range(len(names))]
+    taken: dict[str, int] = {}
+    cells: list[int] = []
+    for k, (bare, unit) in enumerate(parsed):
+        if numeric[k] and _CELL.search(bare) and unit in ("", "V", "mV"):
+            cells.append(k)
+    for role in ("time", "voltage", "current", "temp", "charge"):
+        fits = [k for k, (bare, unit) in enumerate(parsed)
+                if numeric[k] and k not in taken.values() and k not in cells and _fits(role, names[k], bare, unit)]
+        preferred = [k for w in PREFER.get(role, ()) for k in fits if w in names[k].lower()]
+        if fits:
+            taken[role] = (preferred or fits)[0]
+    if "time" not in taken and numeric and numeric[0] and 0 not in taken.values():
+        taken["time"] = 0                          # an unnamed first column counts the time
+    out = [Column(name) for name in names]
+    for role, k in taken.items():
+        out[k] = Column(names[k], role, parsed[k][1] or _unit_by_size(role, _values(rows, k, comma)))
+    for k in cells:
+        out[k] = Column(names[k], "cell", parsed[k][1] or _unit_by_size("cell", _values(rows, k, comma)))
+    return out
+
+
+def _unit_by_size(role: str, values: list[float]) -> str:
+    if not values:
+        return UNITS[role][0]
+    big = max(abs(v) for v in values)
+    if role in ("voltage", "cell"):
+        return "mV" if big > 100 else "V"
+    if role == "current":
+        return "mA" if big > 50 else "A"
+    if role == "time" and values[0] > 20000 and len(values) > 1 and 0 < values[1] - values[0] < 0.01:
+        return "day"                               # a spreadsheet date: days since 30 Dec 1899
+    return UNITS[role][0]
+
+
+def parse_columns(spec: str, names: tuple[str, ...]) -> tuple[Column, ...]:
+    """``time:s,voltage:V,-,current:mA`` for the columns ``names`` in order; ValueError with the reason."""
+    parts = [p.strip() for p in spec.split(",")]
+    if len(parts) > len(names):
+        raise ValueError(_("{given} columns given, the file has {n}").format(given=len(parts), n=len(names)))
+    out = []
+    for k, name in enumerate(names):
+        part = parts[k] if k < len(parts) else "-"
+        role, _sep, unit = part.partition(":")
+        role = role.strip().lower()
+        if role not in ROLES:
+            raise ValueError(_("column {k}: '{role}' is not a role ({roles})").format(
+                    k=k + 1, role=role, roles=", ".join(ROLES)))
+        unit = unit.strip() or UNITS[role][0]
+        if unit not in UNITS[role]:
+            raise ValueError(_("column {k}: '{unit}' is not a unit of {role} ({units})").format(
+                    k=k + 1, unit=unit, role=role, units=", ".join(UNITS[role])))
+        out.append(Column(name, role, unit if role != "-" else ""))
+    return tuple(out)
+
+
+def check(g: CsvGuess) -> None:
+    """A guess that can be read: one time and one voltage column, no other role twice."""
+    roles = [c.role for c in g.columns if c.role not in ("-", "cell")]
+    for role in ("time", "voltage"):
+        if role not in roles:
+            raise LogFormatError(_("no {role} column (give one with --columns, or in the CSV import dialog)").format(
+                    role=_(role)))
+    twice = sorted({r for r in roles if roles.count(r) > 1})
+    if twice:
+        raise LogFormatError(_("more than one {role} column").format(role=twice[0]))
+
+
+def read(data: bytes, g: CsvGuess | None = None) -> Log:
+    """The rows as the guess (or a corrected one) says."""
+    g = g or guess(data)
+    check(g)
+    lines = decode(data).splitlines()
+    at = {c.role: k for k, c in enumerate(g.columns) if c.role not in ("-", "cell")}
+    cells = [k for k, c in enumerate(g.columns) if c.role == "cell"]
+    used = sorted(set(at.values()) | set(cells))
+    temp_f = at.get("temp") is not None and g.columns[at["temp"]].unit == "°F"
+    builder = SampleBuilder()
+    bad = 0
+    t0 = None
+    for line in lines[g.header_line + 1:]:
+        if not line.strip() or line.lstrip().startswith("#"):
+            continue
+        fields = _split(line, g.separator)
+        if len(fields) < len(g.columns):
+            bad += 1
+            continue
+        try:
+            x = {k: _number(fields[k], g.decimal_comma) * SCALE.get(g.columns[k].unit, 1.0) for k in used}
+        except ValueError:
+            bad += 1
+            continue
+        t = x[at["time"]]
+        t0 = t if t0 is None else t0
+        current = x[at["current"]] if "current" in at else 0.0
+        temp = x[at["temp"]] if "temp" in at else None
+        if temp is not None and temp_f:
+            temp = (temp - 32.0) / 1.8
+        counter = x[at["charge"]] if "charge" in at else None
+        state = state_from_current(current)
+        if counter is not None and state == "discharge":
+            counter = -abs(counter)            # a counter that counts up in either direction
+        builder.add(round(t - t0, 6), x[at["voltage"]], current, state, temp=temp,
+                    cells=[x[k] for k in cells], counter=counter)
+    if not len(builder):
+        raise LogFormatError(_("no data row ({bad} bad rows)").format(bad=bad))
+    meta = {"csv_columns": g.spec(), "csv_key": g.key}
+    if "current" not in at:
+        meta["current_measured"] = False
+    return builder.build(FORMAT, _("CSV file"), bad, **meta)
+
+
+def read_as(data: bytes, spec: str | None) -> Log:
+    """Read with the guess, its columns replaced by ``spec`` (``parse_columns``) when given."""
+    g = guess(data)
+    if spec:
+        try:
+            g = g.with_columns(parse_columns(spec, tuple(c.name for c in g.columns)))
+        except ValueError as exc:
+            raise LogFormatError(str(exc)) from None
+    return read(data, g)
+
+
+def preview(data: bytes, g: CsvGuess, rows: int = 3) -> list[list[str]]:
+    """The first data rows' fields as the file has them."""
+    lines = decode(data).splitlines()[g.header_line + 1:]
+    return [_split(line, g.separator) for line in lines if line.strip() and not line.lstrip().startswith("#")][:rows]
+
+
+def sniff(head: bytes, name: str) -> bool:
+    """A text whose guess finds a time and a voltage column (last in the detection order); not
+the fit's plain curve CSV, which ``sim.curve`` reads as it is."""
+    if b"\x00" in head or head.lstrip(b"\xef\xbb\xbf").startswith(CURVE_CSV):
+        return False
+    try:
+        g = guess(head[:head.rfind(b"\n")] if b"\n" in head else head)
+        check(g)
+    except LogFormatError:
+        return False
+    return True
