@@ -15,7 +15,7 @@ from ..sim.fit import fit, guess_series
 from ..sim.fit_report import figure_lines
 from ..sim.interpreter import StartError
 from ..sim.simulate import BatterySetup, model_chemistry
-from .common import CliError, out
+from .common import CliError, check_start_options, out
 from .sim_commands import _record
 from ..i18n import _
 
@@ -108,6 +108,7 @@ def cmd_compare(args: argparse.Namespace) -> int:
     from ..sim.batteries import load_battery
     from ..sim.compare import compare
 
+    check_start_options(args)
     curve = _curve(args.log)
     record = _record(args.macro)
     try:
@@ -121,6 +122,8 @@ def cmd_compare(args: argparse.Namespace) -> int:
             curve, chemistry or model_chemistry(record, BatterySetup()))
         capacity = args.capacity or (named.capacity_mah if named else None)
         result = compare(curve, record, chemistry, series, capacity, args.battery)
+    except CurveError as exc:           # the log is no charge: nothing about the macro
+        raise CliError(str(exc)) from None
     except (StartError, ValueError, DecodeError) as exc:
         raise CliError(f"{args.macro}: {exc}", 1) from None
     if args.json:
