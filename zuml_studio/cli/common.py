@@ -1,6 +1,8 @@
 """What every subcommand shares: reading files with precise errors, one-line failures."""
 from __future__ import annotations
 
+import json
+import math
 import sys
 from pathlib import Path
 
@@ -79,6 +81,22 @@ def add_force_unsafe(p) -> None:
 
 def out(text: str = "") -> None:
     sys.stdout.write(text + "\n")
+
+
+def out_json(value, **options) -> None:
+    """One strict JSON document (RFC 8259: no NaN or Infinity): a figure that is not a finite number
+    is missing, ``null``."""
+    sys.stdout.write(json.dumps(_finite_or_null(value), indent=2, allow_nan=False, **options) + "\n")
+
+
+def _finite_or_null(value):
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: _finite_or_null(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite_or_null(v) for v in value]
+    return value
 
 
 def check_start_options(args, capacity_max: float = 65534.0, amps_max: float = 327.0) -> None:

@@ -2,13 +2,12 @@
 from __future__ import annotations
 
 import argparse
-import json
-import sys
 
 from ..logs import FORMATS, Log, LogFormatError, read_log
 from ..logs.export import write_csv
+from ..logs.model import time_order_text
 from ..logs.summary import summarize
-from .common import CliError, out, read_bytes
+from .common import CliError, out, out_json, read_bytes
 from .sim_commands import hms
 from ..i18n import _, ngettext
 
@@ -43,13 +42,14 @@ def load(path: str, fmt: str | None) -> Log:
 def cmd_info(args: argparse.Namespace) -> int:
     info = summarize(load(args.file, args.format))
     if args.json:
-        json.dump(info, sys.stdout, indent=2, ensure_ascii=False)
-        out()
+        out_json(info, ensure_ascii=False)
         return 0
     _num = lambda v, fmt: "–" if v is None else format(v, fmt)  # noqa: E731
     out(f"{args.file}: {info['format']}, {info['device']}")
     out(_("  samples      {samples} ({bad} bad records), {duration}").format(
             samples=info['samples'], bad=info['bad_records'], duration=hms(info['duration_s'])))
+    if "time_order" in info:
+        out("  " + time_order_text(info["time_order"]))
     voltage = _("  voltage      {low} to {high} V").format(
             low=_num(info['v_min'], '.3f'), high=_num(info['v_max'], '.3f'))
     if info["cells"]:

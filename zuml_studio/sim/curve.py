@@ -163,8 +163,10 @@ def charge_from_log(log: Log, name: str = "") -> Curve:
             runs.append([k, k])
     lo, hi = max(runs, key=lambda r: a["t"][r[1]] - a["t"][r[0]])
     sel = np.arange(lo, hi + 1)
-    # A sample without a voltage or a current (a torn record) is no sample of the charge.
+    # A sample without a voltage or a current (a torn record) is no sample of the charge; nor is the
+    # second of two at one instant (a session's next run starts when the last ended).
     sel = sel[charging[sel] & np.isfinite(a["voltage"][sel]) & np.isfinite(a["current"][sel])]
+    sel = sel[np.concatenate(([True], np.diff(a["t"][sel]) > 0))] if len(sel) else sel
     if not len(sel):
         raise CurveError(_("{value}: no charge in the log").format(value=name or 'log'))
     t = a["t"][sel]
