@@ -7,6 +7,7 @@ from ..logs import FORMATS, Log, LogFormatError, read_log
 from ..logs.export import write_csv
 from ..logs.model import time_order_text
 from ..logs.summary import summarize
+from ..recovery import atomic_text_file
 from .common import CliError, out, out_json, read_bytes
 from .sim_commands import hms
 from ..i18n import _, ngettext
@@ -69,7 +70,7 @@ def cmd_info(args: argparse.Namespace) -> int:
 def cmd_export(args: argparse.Namespace) -> int:
     log = load(args.file, args.format)
     try:
-        with open(args.output, "w", encoding="utf-8", newline="") as fh:
+        with atomic_text_file(args.output) as fh:       # a failure leaves an older export whole
             rows = write_csv(log, fh)
     except OSError as exc:
         raise CliError(_("{output}: cannot write: {error}").format(

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import argparse
 
+from ..recovery import atomic_text_file
 from ..sim.batteries import BatteryFileError
 from ..sim.battery import AMBIENT_MAX_C, AMBIENT_MIN_C
 from ..sim.interpreter import Measurement, StartError, StartParams
@@ -85,7 +86,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         raise CliError(str(exc)) from None
     if args.csv:
         try:
-            with open(args.csv, "w", encoding="utf-8", newline="") as fh:
+            with atomic_text_file(args.csv) as fh:
                 result.log.write_csv(fh)
         except OSError as exc:
             raise CliError(_("{csv}: cannot write: {error}").format(csv=args.csv, error=exc.strerror or exc)) from None
