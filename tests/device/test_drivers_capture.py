@@ -199,3 +199,18 @@ def test_drivers_import_neither_qt_nor_hidapi():
             "print(any(m.split('.')[0] in ('PySide6', 'pyqtgraph', 'hid') for m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "False"
+
+
+def test_a_long_recording_is_read_by_the_driver_its_start_shows(monkeypatch):
+    """Issue 27: every driver decoded every reading of a capture (5 s per MB); past CHOOSE_ON bytes
+    the start picks one, which alone decodes the rest, to the same samples."""
+    from zuml_studio.device import drivers
+    big = ICHARGER * (drivers.CHOOSE_ON // len(ICHARGER) + 2)
+    whole = drivers.decode_capture(big, "icharger")
+    decoded = []
+    real = drivers.decode_capture
+    monkeypatch.setattr(drivers, "decode_capture", lambda data, driver=None: (
+        decoded.append((len(data), driver)), real(data, driver))[1])
+    got = drivers.decode_recording(big)
+    assert (got.driver, got.samples, got.bad) == ("icharger", whole[1], whole[2])
+    assert [n for n, _driver in decoded if n > drivers.CHOOSE_ON] == [len(big)]      # one full decode
