@@ -23,6 +23,7 @@ from ..i18n import _
 _MERGE_GAP_S = 120.0
 _DROPOUT_C = 5.0             # a sensor sample this far from both neighbours is a dropout
 _CSV_COLUMNS = ("time_s", "voltage_v", "current_a")
+_SHOWN_FIELD = 24           # characters of a bad line's field an error shows
 # Beyond these no charger measures: a value past them is a damaged or hostile file, refused before
 # the model's arithmetic overflows on it (1e308 A made the fit's residuals infinite). A year of
 # log; 2 kV covers the longest pack a logging charger takes; the sensors' own ranges for °C.
@@ -211,8 +212,10 @@ def read_curve_csv(text: str, name: str = "") -> Curve:
         try:
             values = [float(x) for x in row[:4 if has_temp else 3]]
         except ValueError:
+            # A line without its line ends can be the rest of the file: its fields are shown cut.
+            shown = [f if len(f) <= _SHOWN_FIELD else f[:_SHOWN_FIELD] + "…" for f in row[:5]]
             raise CurveError(_("{name}: data line {n}: not a number in {row!r}").format(
-                    name=name, n=n, row=row)) from None
+                    name=name, n=n, row=shown)) from None
         if len(values) < (4 if has_temp else 3) or not all(math.isfinite(x) for x in values):
             raise CurveError(_("{name}: data line {n}: expected {value} finite numbers").format(
                     name=name, n=n, value=4 if has_temp else 3))
