@@ -129,3 +129,25 @@ def test_a_file_written_over_on_a_full_disk_stays_whole_and_no_temporary_file_is
     assert err.splitlines()[-1] == f"zuml: error: {target}: cannot write: No space left on device"
     assert target.read_text() == "the old file\n"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out.file"]
+
+
+def test_a_flash_reconnect_that_finds_another_device_under_the_name_says_so(make_charger, zuml, monkeypatch):
+    # issue 27: after the port vanished the reconnect reopened its name, by then another device, read its
+    # EEPROM and gave a verdict about it
+    from zuml_studio.cli import device_commands
+    monkeypatch.setattr(device_commands, "SETTLE_PAUSE_S", 0.01)
+    first, port = make_charger(speed=20000)
+    other, other_port = make_charger(speed=20000, eeprom_size=512)
+    real = device_commands.ChargerClient
+    opened = []
+
+    def connect(url, *args, **kw):            # the second opening of the name reaches the other charger
+        opened.append(url)
+        return real(other_port if len(opened) > 1 else url, *args, **kw)
+    monkeypatch.setattr(device_commands, "ChargerClient", connect)
+    lose_link_after_commit(monkeypatch, commit_arrives=False, confirmed=False)
+    code, out, err = zuml("flash", "--port", port, str(MACROS / "NiMh-dV.zuml"))
+    assert code == 1 and out == ""
+    assert err.splitlines()[-1].startswith(f"zuml: error: {port}: after reconnecting, another device answers there (")
+    assert "512 bytes of EEPROM, not the" in err and "nothing is known about the write" in err
+    assert other.commits == 0
