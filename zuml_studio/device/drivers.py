@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import importlib
 import re
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from ..i18n import N_, _
@@ -152,6 +153,19 @@ def _best(readings, driver: str | None) -> Capture | None:
     return best
 
 
+def _decode_in_pieces(stream: bytes, name: str, progress: Callable[[int, int], None] | None) -> Capture:
+    """``decode_capture(stream, name)``, piece by piece (a decoder's samples do not depend on the pieces)."""
+    reports = hex_dump_reports(stream)
+    stream = reports if reports is not None else stream
+    dec = driver(name).decoder()
+    samples: list[Telemetry] = []
+    for at in range(0, len(stream), CHOOSE_ON):
+        samples += dec.feed(stream[at:at + CHOOSE_ON])
+        if progress:
+            progress(min(at + CHOOSE_ON, len(stream)), len(stream))
+    return Capture(name, stream, samples, dec.bad)
+
+
 def capture_streams(data: bytes) -> list[bytes]:
     """The ways ``data`` can be read as a charger's byte stream: as it is (or the reports of a
     HID dump), without its ``#`` comment lines, and the byte streams of the text forms above."""
@@ -168,16 +182,19 @@ def capture_streams(data: bytes) -> list[bytes]:
     return out
 
 
-def decode_recording(data: bytes, driver: str | None = None) -> Capture:
+def decode_recording(data: bytes, driver: str | None = None,
+                     progress: Callable[[int, int], None] | None = None) -> Capture:
     """A recording file (a raw capture, a HID dump, a text form of one): the reading of its
     ``capture_streams`` that gives most samples (fewest bad on a tie). CaptureError when none
     gives any. A long recording is judged on its first CHOOSE_ON bytes and only the reading
-    chosen decodes the rest (every driver on every reading of a day-long capture took minutes)."""
+    chosen decodes the rest (every driver on every reading of a day-long capture took minutes),
+    in pieces of CHOOSE_ON bytes: ``progress(bytes decoded, bytes)`` after each."""
     streams = capture_streams(data)
     if len(data) > CHOOSE_ON:
         chosen = _best(((stream, stream[:CHOOSE_ON]) for stream in streams), driver)
-        if chosen is not None:
-            streams, driver = [chosen.stream], chosen.driver
+        whole = _decode_in_pieces(chosen.stream, chosen.driver, progress) if chosen else None
+        if whole is not None and whole.samples:
+            return whole
     best = _best(((stream, stream) for stream in streams), driver)
     if best is None:
         raise CaptureError(_("no recording recognised in {n_data} bytes (tried {tried})").format(

@@ -21,8 +21,8 @@ TITLE = N_("Logs — ZUML Studio")
 _READING: set[BackgroundCall] = set()
 
 
-def _read_and_prepare(path: str) -> Prepared:
-    return prepare(read_log_file(path))
+def _read_and_prepare(path: str, progress=None) -> Prepared:
+    return prepare(read_log_file(path, progress=progress))
 
 
 def file_filter() -> str:
@@ -70,7 +70,7 @@ class LogWindow(QMainWindow):
         self.busy_label = QLabel()
         self.busy_label.setObjectName("logReading")
         self.busy = QProgressBar()
-        self.busy.setRange(0, 0)                # a reader cannot tell how far it is: a busy bar
+        self.busy.setRange(0, 0)                # a busy bar until the reader tells how far it is
         self.busy.setMaximumWidth(120)
         self.busy.setTextVisible(False)
         self.statusBar().addPermanentWidget(self.busy_label)
@@ -101,15 +101,23 @@ class LogWindow(QMainWindow):
         if self._job is None and self._queue:
             self._reading = kind, path = self._queue.pop(0)
             self._outcome = None
-            self._job = job = BackgroundCall(lambda: _read_and_prepare(path))
+            self._job = job = BackgroundCall(lambda: _read_and_prepare(path, job.report))
             _READING.add(job)
+            job.progress.connect(self._show_progress)
             # The outcome is kept and handled once the thread has finished (queued after it):
             # whoever hears the signals sees the window done with that file.
             job.done.connect(self._keep_outcome)
             job.failed.connect(self._keep_outcome)
             job.finished.connect(self._read_ended)
+            self.busy.setRange(0, 0)            # busy until this read says how far it is
             job.start()
         self._show_reading()
+
+    def _show_progress(self, done: int, total: int) -> None:
+        """A long capture says how far its decoding is: the busy bar becomes a progress bar."""
+        if self._job is not None and total > 0:
+            self.busy.setRange(0, 1000)
+            self.busy.setValue(int(done * 1000 // total))
 
     def _show_reading(self) -> None:
         reading = self._reading is not None
