@@ -203,7 +203,7 @@ def test_drivers_import_neither_qt_nor_hidapi():
 
 def test_a_long_recording_is_read_by_the_driver_its_start_shows(monkeypatch):
     """Issue 27: every driver decoded every reading of a capture (5 s per MB); past CHOOSE_ON bytes
-    the start picks one, which alone decodes the rest, to the same samples."""
+    the start picks one, which alone decodes the rest, to the same samples, saying how far it is."""
     from zuml_studio.device import drivers
     big = ICHARGER * (drivers.CHOOSE_ON // len(ICHARGER) + 2)
     whole = drivers.decode_capture(big, "icharger")
@@ -211,6 +211,8 @@ def test_a_long_recording_is_read_by_the_driver_its_start_shows(monkeypatch):
     real = drivers.decode_capture
     monkeypatch.setattr(drivers, "decode_capture", lambda data, driver=None: (
         decoded.append((len(data), driver)), real(data, driver))[1])
-    got = drivers.decode_recording(big)
+    pieces = []
+    got = drivers.decode_recording(big, progress=lambda done, total: pieces.append((done, total)))
     assert (got.driver, got.samples, got.bad) == ("icharger", whole[1], whole[2])
-    assert [n for n, _driver in decoded if n > drivers.CHOOSE_ON] == [len(big)]      # one full decode
+    assert not [n for n, _driver in decoded if n > drivers.CHOOSE_ON]      # no driver tried on the whole
+    assert pieces[-1] == (len(big), len(big)) and len(pieces) == -(-len(big) // drivers.CHOOSE_ON)
