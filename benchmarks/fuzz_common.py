@@ -4,8 +4,9 @@ runs a parser on generated inputs, each under a time limit, and reports what esc
 An input escapes when it raises anything but the parser's own precise errors (a crash), or when
 it takes longer than the limit (a hang: SIGPROF interrupts it). The limit is the process's CPU
 time (ITIMER_PROF), not the wall clock: on a machine shared with other work a wall-clock limit
-counted the neighbours' load (a fit of 4 s CPU took 33 s of wall time at a load of 12 on 2 cores). A parser allowed a longer limit
-(a simulation, a fit) has its inputs slower than LIMIT_S counted as slow. Every finding's input is written
+counted the neighbours' load (a fit of 4 s CPU took 33 s of wall time at a load of 12 on 2 cores).
+A parser allowed a longer limit (a simulation, a fit) has its inputs slower than LIMIT_S counted as
+slow. Every finding's input is written
 to FINDINGS (one file per kind) so it can be replayed and minimised."""
 from __future__ import annotations
 
