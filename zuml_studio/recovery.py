@@ -29,20 +29,21 @@ from .user_dirs import config_dir
 log = logging.getLogger(__name__)
 
 
-def atomic_write(path: Path, data: bytes, sync: bool = True) -> None:
+def atomic_write(path: Path, data: bytes, sync: bool = True, parents: bool = True) -> None:
     """Write beside the target, then rename over it: a crash never leaves half a file (see ``atomic_file``)."""
-    with atomic_file(path, sync=sync) as fh:
+    with atomic_file(path, sync=sync, parents=parents) as fh:
         fh.write(data)
 
 
 @contextmanager
-def atomic_file(path: str | Path, sync: bool = True) -> Iterator[BinaryIO]:
+def atomic_file(path: str | Path, sync: bool = True, parents: bool = False) -> Iterator[BinaryIO]:
     """A binary file to write that replaces ``path`` only when the block ends without an error:
     a failure (a full disk) leaves the old file whole and no temporary file behind. With ``sync``
     the data reaches the disk before the rename (survives the system crashing too). A symbolic
     link is followed (the link stays, the file it names is replaced). A target that is no regular
     file (/dev/stdout, a device, a pipe) is written into: renaming over it would replace the device
-    node itself (``zuml new -o /dev/full`` run as root did)."""
+    node itself (``zuml new -o /dev/full`` run as root did). ``parents``: make missing folders
+    (the configuration's), else a missing folder is the error it is (a mistyped output path)."""
     path = Path(os.path.realpath(path))
     try:
         mode = path.stat().st_mode
@@ -52,7 +53,8 @@ def atomic_file(path: str | Path, sync: bool = True) -> Iterator[BinaryIO]:
         with open(path, "wb") as fh:
             yield fh
         return
-    path.parent.mkdir(parents=True, exist_ok=True)
+    if parents:
+        path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     try:
         with open(tmp, "wb") as fh:
@@ -71,7 +73,7 @@ def atomic_file(path: str | Path, sync: bool = True) -> Iterator[BinaryIO]:
 
 @contextmanager
 def atomic_text_file(path: str | Path, sync: bool = True) -> Iterator[TextIO]:
-    """``atomic_file`` as UTF-8 text, lines ended as written (what ``csv`` needs)."""
+    """``atomic_file`` as UTF-8 text, lines ended as written (what ``csv`` needs); no folder is made."""
     with atomic_file(path, sync) as fh:
         text = io.TextIOWrapper(fh, encoding="utf-8", newline="")
         try:

@@ -103,7 +103,7 @@ def is_macro_text(data: bytes) -> bool:
 
 def write_bytes(path: str, data: bytes) -> None:
     try:
-        atomic_write(Path(path), data)
+        atomic_write(Path(path), data, parents=False)
     except OSError as exc:
         raise CliError(_("{path}: cannot write: {error}").format(path=path, error=exc.strerror or exc)) from None
 
