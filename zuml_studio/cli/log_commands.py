@@ -5,7 +5,7 @@ import argparse
 
 from ..logs import FORMATS, Log, LogFormatError, read_log
 from ..logs.export import write_csv
-from ..logs.model import time_order_text
+from ..logs.model import out_of_range_text, time_order_text
 from ..logs.summary import summarize
 from ..recovery import atomic_text_file
 from .common import CliError, out, out_json, read_bytes
@@ -49,6 +49,8 @@ def cmd_info(args: argparse.Namespace) -> int:
     out(f"{args.file}: {info['format']}, {info['device']}")
     out(_("  samples      {samples} ({bad} bad records), {duration}").format(
             samples=info['samples'], bad=info['bad_records'], duration=hms(info['duration_s'])))
+    if "out_of_range" in info:
+        out("  " + out_of_range_text(info["out_of_range"]))
     if "time_order" in info:
         out("  " + time_order_text(info["time_order"]))
     voltage = _("  voltage      {low} to {high} V").format(

@@ -13,6 +13,8 @@ from ..device.messages import Telemetry
 from .charge import charge_from_counter, integrate_current
 from ..i18n import _, ngettext
 
+# Volts and amperes beyond any charger (as sim.curve's limits): a sample past them is left out.
+MAX_MEASURED = 2000.0
 # The states a log sample can be in; every format maps its own onto these.
 STATES = ("charge", "discharge", "pause", "idle")
 SECTION_OF = {"charge": "charge", "discharge": "discharge"}
@@ -139,6 +141,15 @@ def in_time_order(times: Sequence[float]) -> tuple[list[int] | None, dict | None
     return keep, note
 
 
+def out_of_range_text(note: dict) -> str:
+    """The one line a reader of the log is told about samples no charger could have measured."""
+    return ngettext("{n} sample with a voltage or current past ±{top:g} (no charger measures that) left out, "
+                    "the first at sample {k}",
+                    "{n} samples with a voltage or current past ±{top:g} (no charger measures that) left out, "
+                    "the first at sample {k}", note["left_out"]).format(
+            n=note["left_out"], top=MAX_MEASURED, k=note["first_sample"])
+
+
 def time_order_text(note: dict) -> str:
     """The one line a reader of the log is told about time out of order."""
     return ngettext("time goes back at sample {k} ({t:g} s after {prev:g} s): {n} sample out of time order "
@@ -189,6 +200,12 @@ class SampleBuilder:
         self.q_in: list[float | None] = []
         self.q_out: list[float | None] = []
         self.cycle: list[int] = []
+        # Samples left out for a voltage or current no charger measures: (how many, the first's number).
+        self.out_of_range = (0, 0)
+
+    def _columns(self) -> tuple[list, ...]:
+        return (self.t, self.v, self.i, self.state, self.temp, self.heatsink, self.cells, self.counter,
+                self.q_in, self.q_out, self.cycle)
 
     def __len__(self) -> int:
         return len(self.t)
@@ -202,6 +219,10 @@ class SampleBuilder:
                         n_t=len(self.t) + 1, name=name, value=value))
         if state not in STATES:
             raise ValueError(f"state {state!r}")
+        if abs(v) > MAX_MEASURED or abs(i) > MAX_MEASURED:      # 1e308 V: a damaged record, not a pack
+            count, first = self.out_of_range
+            self.out_of_range = (count + 1, first or len(self.t) + count + 1)
+            return
         self.t.append(float(t))
         self.v.append(float(v))
         self.i.append(float(i))
@@ -225,9 +246,11 @@ class SampleBuilder:
     def build(self, fmt: str, device: str, bad_records: int = 0, *, resistance=(), **meta) -> Log:
         keep, note = in_time_order(self.t)
         if keep is not None:
-            for column in vars(self).values():       # every attribute is one column of the samples
+            for column in self._columns():
                 column[:] = [column[k] for k in keep]
             meta["time_order"] = note
+        if self.out_of_range[0]:
+            meta["out_of_range"] = {"left_out": self.out_of_range[0], "first_sample": self.out_of_range[1]}
         q_in, q_out = self._charge()
         width = connected_cells(self.cells)
         samples = []

@@ -16,6 +16,7 @@ import numpy as np
 from ..file_errors import read_file_bytes
 from .battery import AMBIENT_MAX_C, AMBIENT_MIN_C
 from ..logs import Log, LogFormatError, read_log
+from ..logs.model import MAX_MEASURED
 from ..i18n import _
 
 # Chargers drop out of "charge" for a sample or two (a measurement pause); gaps up to this
@@ -27,8 +28,8 @@ _SHOWN_FIELD = 24           # characters of a bad line's field an error shows
 # Beyond these no charger measures: a value past them is a damaged or hostile file, refused before
 # the model's arithmetic overflows on it (1e308 A made the fit's residuals infinite). A year of
 # log; 2 kV covers the longest pack a logging charger takes; the sensors' own ranges for °C.
-_LIMITS = {"time_s": (0.0, 3.2e7), "voltage_v": (-2000.0, 2000.0), "current_a": (-2000.0, 2000.0),
-           "temp_c": (-100.0, 400.0)}
+_LIMITS = {"time_s": (0.0, 3.2e7), "voltage_v": (-MAX_MEASURED, MAX_MEASURED),
+           "current_a": (-MAX_MEASURED, MAX_MEASURED), "temp_c": (-100.0, 400.0)}
 # A charge puts at least this much in; a voltage that ends this fraction below its start and never
 # climbs this fraction above it falls all the way: a discharge read as a charge (a log without a
 # direction column: an AkkuMaster "Entladen" file, 5.13 V to 3.21 V at +0.15 A).
