@@ -17,7 +17,7 @@ from zuml_studio.lang import parser
 from zuml_studio.lang.compiler import compile_source
 
 ROOT = Path(__file__).resolve().parent.parent
-LIPO = (ROOT / "macros" / "LiPo.zuml").read_text().splitlines()
+LIPO = (ROOT / "zuml_studio" / "data" / "macros" / "LiPo.zuml").read_text().splitlines()
 
 
 def ten_thousand(kind: str) -> list[str]:
@@ -79,6 +79,11 @@ def main() -> None:
     print(f"300 keystrokes on a 1 MB line: {took / 300 * 1000:.1f} ms each; the parse cache holds "
           f"{parser._cache_chars / 1e6:.2f} MB of text in {len(parser._CACHE)} lines "
           f"(bound {parser._CACHE_MAX_CHARS / 1e6:.0f} MB)")
+
+    big_number = "\n".join(LIPO[:2]) + "\n  CAPACITY=" + "9" * 990_000 + "\n" + "\n".join(LIPO[2:])
+    t0 = time.perf_counter()
+    codes = [d.code for d in compile_source(big_number).diagnostics if d.is_error]
+    print(f"CAPACITY= with 990 000 digits: {codes} after {(time.perf_counter() - t0) * 1000:.1f} ms")
 
 
 if __name__ == "__main__":

@@ -164,3 +164,22 @@ def test_atomic_write_through_a_link_replaces_the_file_it_names_and_keeps_the_li
     link.symlink_to(real)
     atomic_write(link, b"new")
     assert link.is_symlink() and real.read_text() == "new"
+
+
+def test_an_atomic_write_that_fails_leaves_the_old_file_and_no_temporary_file(tmp_path, monkeypatch):
+    # issue 27: on a full disk `zuml new -o` and the virtual charger's --eeprom left .NAME.PID.tmp behind
+    from zuml_studio import recovery
+    target = tmp_path / "eeprom.bin"
+    target.write_bytes(b"old")
+
+    def full(fd):
+        raise OSError(28, "No space left on device")
+    monkeypatch.setattr(recovery.os, "fsync", full)
+    with pytest.raises(OSError, match="No space left"):
+        recovery.atomic_write(target, b"new" * 1000)
+    assert target.read_bytes() == b"old" and [p.name for p in tmp_path.iterdir()] == ["eeprom.bin"]
+    with pytest.raises(ZeroDivisionError):          # any failure while writing: the same
+        with recovery.atomic_text_file(target) as fh:
+            fh.write("half a row,")
+            1 / 0
+    assert target.read_bytes() == b"old" and [p.name for p in tmp_path.iterdir()] == ["eeprom.bin"]

@@ -9,6 +9,7 @@ at the next start was left by a crash and is offered back.
 from __future__ import annotations
 
 import hashlib
+import io
 import json
 import logging
 import math
@@ -16,9 +17,11 @@ import os
 import stat
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
+from typing import BinaryIO, TextIO
 
 from .user_dirs import config_dir
 
@@ -26,12 +29,21 @@ from .user_dirs import config_dir
 log = logging.getLogger(__name__)
 
 
-def atomic_write(path: Path, data: bytes, sync: bool = True) -> None:
-    """Write beside the target, then rename over it: a crash never leaves half a file. With
-    ``sync`` the data reaches the disk before the rename (survives the system crashing too).
-    A symbolic link is followed (the link stays, the file it names is replaced). A target that
-    is no regular file (/dev/stdout, a device, a pipe) is written into: renaming over it would
-    replace the device node itself (``zuml new -o /dev/full`` run as root did)."""
+def atomic_write(path: Path, data: bytes, sync: bool = True, parents: bool = True) -> None:
+    """Write beside the target, then rename over it: a crash never leaves half a file (see ``atomic_file``)."""
+    with atomic_file(path, sync=sync, parents=parents) as fh:
+        fh.write(data)
+
+
+@contextmanager
+def atomic_file(path: str | Path, sync: bool = True, parents: bool = False) -> Iterator[BinaryIO]:
+    """A binary file to write that replaces ``path`` only when the block ends without an error:
+    a failure (a full disk) leaves the old file whole and no temporary file behind. With ``sync``
+    the data reaches the disk before the rename (survives the system crashing too). A symbolic
+    link is followed (the link stays, the file it names is replaced). A target that is no regular
+    file (/dev/stdout, a device, a pipe) is written into: renaming over it would replace the device
+    node itself (``zuml new -o /dev/full`` run as root did). ``parents``: make missing folders
+    (the configuration's), else a missing folder is the error it is (a mistyped output path)."""
     path = Path(os.path.realpath(path))
     try:
         mode = path.stat().st_mode
@@ -39,16 +51,35 @@ def atomic_write(path: Path, data: bytes, sync: bool = True) -> None:
         mode = None
     if mode is not None and not stat.S_ISREG(mode):
         with open(path, "wb") as fh:
-            fh.write(data)
+            yield fh
         return
-    path.parent.mkdir(parents=True, exist_ok=True)
+    if parents:
+        path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    with open(tmp, "wb") as fh:
-        fh.write(data)
-        if sync:
+    try:
+        with open(tmp, "wb") as fh:
+            yield fh
             fh.flush()
-            os.fsync(fh.fileno())
-    os.replace(tmp, path)
+            if sync:
+                os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            tmp.unlink()
+        except OSError:
+            pass                # never made, or gone with its directory: nothing left behind
+        raise
+
+
+@contextmanager
+def atomic_text_file(path: str | Path, sync: bool = True) -> Iterator[TextIO]:
+    """``atomic_file`` as UTF-8 text, lines ended as written (what ``csv`` needs); no folder is made."""
+    with atomic_file(path, sync) as fh:
+        text = io.TextIOWrapper(fh, encoding="utf-8", newline="")
+        try:
+            yield text
+        finally:
+            text.detach()       # flushes; the binary file stays open for atomic_file to finish
 
 
 def _alive(pid: int) -> bool:

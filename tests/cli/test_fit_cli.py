@@ -1,5 +1,6 @@
 """zuml fit and zuml compare as a user runs them (issue #14)."""
 import json
+import re
 
 import pytest
 
@@ -124,3 +125,78 @@ def test_fitted_parameters_in_words_and_every_figure_with_its_window(zuml):
     assert "internal resistance" in out and "mΩ per cell" in out and "× the model's" in out
     assert "r_scale" not in out and "dip_tau_s" not in out
     assert "figures over 0.0–" in out
+
+
+def _hostile(tmp_path, base: str, line: int, column: int, value: str):
+    """A validation curve with one value replaced (how the issue 27 campaign derived its inputs)."""
+    lines = (CURVES / base).read_text().splitlines()
+    cells = lines[line].split(",")
+    cells[column] = value
+    lines[line] = ",".join(cells)
+    path = tmp_path / f"hostile-{base}"
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+@pytest.mark.parametrize("command", ["fit", "compare"])
+@pytest.mark.parametrize("value,message", [
+    ("1e308", r"data line 72: current_a 1e\+308 is outside -2000 to 2000: no charger measures that"),
+    ("-1e308", r"data line 72: current_a -1e\+308 is outside"),
+    ("nan", r"data line 72: expected 3 finite numbers"),
+])
+def test_a_hostile_value_in_a_curve_is_one_line_naming_its_line(zuml, tmp_path, command, value, message):
+    # issue 27: scipy's "Residuals are not finite", UnboundLocalError in the model, OverflowError in compare
+    path = _hostile(tmp_path, "liion_2s_polaron_025c.csv", 71, 2, value)
+    extra = [str(MACROS / "LiIon.zuml"), "--cells", "2"] if command == "compare" else ["--chemistry", "LiIon"]
+    code, out, err = zuml(command, str(path), *extra, "--json")
+    assert code == 2 and out == "" and err.count("\n") == 1, err
+    assert re.search(message, err), err
+
+
+def test_time_that_goes_back_is_one_line_naming_its_line(zuml, tmp_path):
+    path = _hostile(tmp_path, "liion_2s_polaron_025c.csv", 40, 0, "3")
+    code, out, err = zuml("fit", str(path), "--chemistry", "LiIon")
+    assert code == 2 and err.count("\n") == 1
+    assert "data line 41: time 3 s does not follow" in err
+
+
+@pytest.mark.parametrize("command", ["fit", "compare"])
+def test_a_discharge_only_curve_has_nothing_to_fit(zuml, tmp_path, command):
+    # issue 27: "math domain error" (the capacity's bounds from a charge of 0 mAh)
+    lines = [ln for ln in (CURVES / "lipo_4s_406duo_3c.csv").read_text().splitlines() if not ln.startswith("#")]
+    flipped = [lines[0]] + [",".join(c if k != 2 else str(-float(c)) for k, c in enumerate(ln.split(",")))
+                            for ln in lines[1:] if ln]
+    path = tmp_path / "discharge.csv"
+    path.write_text("\n".join(flipped) + "\n")
+    extra = [str(MACROS / "LiPo.zuml"), "--cells", "4"] if command == "compare" else ["--chemistry", "LiPo"]
+    code, out, err = zuml(command, str(path), *extra, "--json")
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert "nothing to fit: the current is never positive" in err
+
+
+def test_a_discharge_export_without_a_direction_is_not_fitted_as_a_charge(zuml):
+    # issue 27: an AkkuMaster "Entladen" file was fitted as a charge, exit 0, "-dV 639 mV/cell"
+    code, out, err = zuml("fit", str(LOGS / "AkkuMasterC4_2007-12-28-EmpfaengerAA4-Entladen.csv"),
+                          "--chemistry", "NiMh", "--json")
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert "the voltage falls all the way, from 5.07 V to 3.27 V: a discharge, not a charge" in err
+
+
+@pytest.mark.parametrize("capacity", ["inf", "nan", "1e400", "-5"])
+def test_compare_refuses_a_capacity_no_pack_has(zuml, capacity):
+    code, out, err = zuml("compare", str(CURVES / "lipo_4s_406duo_3c.csv"), str(MACROS / "LiPo.zuml"),
+                          "--capacity", capacity)
+    assert code == 2 and err.count("\n") == 1 and "--capacity must be above 0" in err
+
+
+def test_a_fit_that_cannot_start_says_why(zuml, monkeypatch):
+    import numpy as np
+    from zuml_studio.sim import fit as fit_module
+
+    def no_voltage(battery, curve, cv, start_soc):
+        n = len(curve.t)
+        return fit_module.Run(np.full(n, np.nan), np.zeros(n), np.full(n, 25.0))
+    monkeypatch.setattr(fit_module, "simulate_curve", no_voltage)
+    code, out, err = zuml("fit", str(CURVES / "lipo_4s_406duo_3c.csv"), "--chemistry", "LiPo")
+    assert code == 2 and err.count("\n") == 1
+    assert "lipo_4s_406duo_3c.csv: the fit cannot start: the LiPo model gives no finite voltage" in err

@@ -20,7 +20,8 @@ def info(path) -> dict:
 
 
 @pytest.mark.parametrize("name, device, samples, bad, cells", [
-    ("cheali_captured_lines_from_issues.txt", "cheali-charger (iMAX B6 clone, open firmware)", 13, 0, 6),
+    # lines quoted from several issues: one goes back in time and is left out (issue 27)
+    ("cheali_captured_lines_from_issues.txt", "cheali-charger (iMAX B6 clone, open firmware)", 12, 0, 6),
     ("icharger208B_Storage_lines.txt", ICHARGER, 68, 0, 3),
     ("icharger306B_RB_1000_lines_head300.txt", ICHARGER, 300, 0, 3),
     ("icharger106Bplus_Laden_lines_head300.txt", ICHARGER, 300, 0, 3),

@@ -7,7 +7,8 @@ import time
 import pytest
 
 from zuml_studio.device.client import ChargerClient
-from zuml_studio.device.errors import CommitUncertain, DeviceLinkError, DeviceTimeout, Disconnected, NotACharger
+from zuml_studio.device.errors import (CommitUncertain, DeviceLinkError, DeviceTimeout, Disconnected, NoisyLine,
+                                      NotACharger)
 from zuml_studio.device.transport import serve_pty
 from zuml_studio.device.virtual_charger import Faults, VirtualCharger
 from zuml_studio.lang.eeprom import pack, slots
@@ -123,3 +124,44 @@ def test_lost_bytes_never_corrupt_the_eeprom(make_charger):
             pass
         assert all_records_valid(device.eeprom_image)
     assert device.eeprom_image in (wanted, b"\xff" * 256)
+
+
+def test_a_flash_at_a_bit_error_rate_of_1e_2_says_the_line_is_noisy(make_charger):
+    # issue 27: it said "no ZUML charger answered (wrong port or baud rate?)" although the charger answered
+    _device, port = make_charger(faults=Faults(ber=1e-2), seed=1)
+    with pytest.raises(NoisyLine, match=r"^\S+: the charger answers, but \d+ answers arrived damaged .* the line is "
+                                        r"noisy"):
+        ChargerClient(port).close()
+
+
+def test_silence_is_still_no_charger_not_a_noisy_line():
+    import os
+    master, slave = os.openpty()
+    try:
+        with pytest.raises(NotACharger, match="no ZUML charger answered"):
+            ChargerClient(os.ttyname(slave), timeout=0.05, retries=1)
+    finally:
+        os.close(master)
+        os.close(slave)
+
+
+def test_a_monitor_only_charger_whose_cable_is_pulled_says_the_zuml_links_sentence():
+    # issue 27: pyserial's "device reports readiness to read but returned no data ..." was shown
+    import os
+    import threading
+    from realdata import dollar_lines
+    from zuml_studio.device.monitor_link import MonitorLink
+    master, slave = os.openpty()
+    sampled, closed, why = threading.Event(), threading.Event(), []
+    link = MonitorLink(os.ttyname(slave), "cheali", on_sample=lambda s: sampled.set(),
+                       on_closed=lambda e: (why.append(e), closed.set()))
+    link.start()
+    try:
+        os.write(master, dollar_lines("cheali_captured_lines_from_issues.txt")[0] + b"\r\n")
+        assert sampled.wait(10)
+    finally:
+        os.close(master)                 # the cable pulled
+    assert closed.wait(10)
+    os.close(slave)
+    assert why == [f"{link.port}: the connection was lost (the charger closed the "
+                   "line: it stopped, or its cable was pulled)"]

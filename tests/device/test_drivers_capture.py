@@ -99,6 +99,44 @@ def test_the_cut_does_not_matter(name):
     assert got == whole
 
 
+def _feed(name: str, data: bytes, cuts) -> tuple[list, tuple[int, int, int]]:
+    dec = DRIVERS[name].decoder()
+    got, at = [], 0
+    for cut in list(cuts) + [len(data)]:
+        got += dec.feed(data[at:cut])
+        at = cut
+    return got, (dec.good, dec.bad, dec.skipped)
+
+
+def _torn_long_line() -> bytes:
+    """A cheali line with another charger's frames inside it, past the line cap (issue 27: in one piece
+    the decoder read it as a record, in pieces it dropped it), then a good line."""
+    line = dollar_lines("cheali_captured_lines_from_issues.txt")[4]
+    inner = b"\r".join(ultramat_sections()["Ultramat16"][:6])
+    return line[:40] + inner + line[40:] + b"\r\n" + line + b"\r\n"
+
+
+def _hostile_inputs() -> list[bytes]:
+    inputs = [_torn_long_line()]
+    for source in sorted(STREAMS):
+        base = (hex_dump_reports(STREAMS[source]) or STREAMS[source])[:1500]
+        inputs.append(base)
+        inputs += [_mutate(base, random.Random(seed)) for seed in range(8)]
+    return inputs
+
+
+@pytest.mark.parametrize("name", list(DRIVERS))
+def test_every_input_gives_the_same_samples_in_one_piece_byte_by_byte_and_at_random_cuts(name):
+    """A serial port (or HID read) delivers bytes in whatever pieces it likes (issue 27)."""
+    rng = random.Random(27)
+    for data in _hostile_inputs():
+        whole = _feed(name, data, [])
+        assert _feed(name, data, range(1, len(data))) == whole
+        for _ in range(3):
+            cuts = sorted(rng.sample(range(1, len(data)), min(len(data) - 1, rng.randrange(1, 40))))
+            assert _feed(name, data, cuts) == whole
+
+
 @pytest.mark.parametrize("name", list(DRIVERS))
 def test_memory_is_bounded_without_terminators(name):
     dec = DRIVERS[name].decoder()
@@ -161,3 +199,20 @@ def test_drivers_import_neither_qt_nor_hidapi():
             "print(any(m.split('.')[0] in ('PySide6', 'pyqtgraph', 'hid') for m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "False"
+
+
+def test_a_long_recording_is_read_by_the_driver_its_start_shows(monkeypatch):
+    """Issue 27: every driver decoded every reading of a capture (5 s per MB); past CHOOSE_ON bytes
+    the start picks one, which alone decodes the rest, to the same samples, saying how far it is."""
+    from zuml_studio.device import drivers
+    big = ICHARGER * (drivers.CHOOSE_ON // len(ICHARGER) + 2)
+    whole = drivers.decode_capture(big, "icharger")
+    decoded = []
+    real = drivers.decode_capture
+    monkeypatch.setattr(drivers, "decode_capture", lambda data, driver=None: (
+        decoded.append((len(data), driver)), real(data, driver))[1])
+    pieces = []
+    got = drivers.decode_recording(big, progress=lambda done, total: pieces.append((done, total)))
+    assert (got.driver, got.samples, got.bad) == ("icharger", whole[1], whole[2])
+    assert not [n for n, _driver in decoded if n > drivers.CHOOSE_ON]      # no driver tried on the whole
+    assert pieces[-1] == (len(big), len(big)) and len(pieces) == -(-len(big) // drivers.CHOOSE_ON)

@@ -73,3 +73,22 @@ def test_the_parse_cache_is_bounded_by_the_text_it_holds(monkeypatch):
     assert held == parser._cache_chars <= 5_000
     parser._parse_line("// " + "y" * (parser._CACHE_LINE_MAX + 1), False)
     assert all(len(text) <= parser._CACHE_LINE_MAX for text, _ in parser._CACHE)
+
+
+@pytest.mark.parametrize("field", ["intro", "current", "volts"])
+def test_a_number_longer_than_any_operand_is_refused_before_it_is_converted(field, monkeypatch):
+    # issue 27: CAPACITY= with 990 000 digits took minutes in round_half_away (int of a huge Decimal)
+    from zuml_studio.lang import operands
+
+    def short_only(text):
+        assert len(text) < 100, "a number this long was converted"
+        return split_number(text)
+    split_number = operands.split_number
+    monkeypatch.setattr(operands, "split_number", short_only)
+    monkeypatch.setattr(operands, "_PARSED", {})
+    number = "9" * 990_000
+    value = {"intro": "CAPACITY=" + number, "current": number + "A", "volts": number + "S"}[field]
+    result = compile_source(TEMPLATE.format(**dict(SAFE, **{field: value})))
+    assert [d.code for d in result.errors] == ["E204"]
+    assert result.errors[0].message == ("a number of 990000 characters (999999999999…) is longer than any value "
+                                        "a macro stores")

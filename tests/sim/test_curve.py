@@ -66,3 +66,17 @@ def test_a_curve_csv_of_any_cells_is_a_curve_or_a_curve_error(rows, temp):
     except CurveError:
         return
     assert np.isfinite(curve.mah).all()
+
+
+def test_a_line_that_is_no_number_is_shown_cut():
+    # found by benchmarks/fuzz_reports.py: a file whose line ends were lost echoed itself whole
+    text = "time_s,voltage_v,current_a\n0,1,1\n1," + "7.5;" * 5000 + ",2\n"
+    with pytest.raises(CurveError) as caught:
+        read_curve_csv(text, "x.csv")
+    assert str(caught.value) == "x.csv: data line 3: not a number in ['1', '7.5;7.5;7.5;7.5;7.5;7.5;…', '2']"
+
+
+def test_time_that_goes_back_below_the_start_is_said_as_time_going_back():
+    text = "time_s,voltage_v,current_a\n100,1,1\n110,1,1\n50,1,1\n" + "".join(f"{120 + k},1,1\n" for k in range(10))
+    with pytest.raises(CurveError, match=r"^x\.csv: data line 4: time 50 s does not follow 110 s: time must rise"):
+        read_curve_csv(text, "x.csv")

@@ -1,10 +1,14 @@
 """What every subcommand shares: reading files with precise errors, one-line failures."""
 from __future__ import annotations
 
+import json
+import math
+import os
 import sys
 from pathlib import Path
 
 from ..file_errors import FileReadError, read_file_bytes
+from ..recovery import atomic_write
 from ..i18n import _, ngettext
 
 
@@ -14,6 +18,53 @@ class CliError(Exception):
     def __init__(self, message: str, code: int = 2):
         super().__init__(message)
         self.code = code
+
+
+class OutputError(CliError):
+    """Standard output cannot be written (a full disk, a closed pipe's reader gone)."""
+
+
+class GuardedOutput:
+    """``sys.stdout`` while a command runs: a write that fails is one line (``OutputError``), never
+    a traceback, wherever the command writes from."""
+
+    def __init__(self, stream) -> None:
+        self.stream = stream
+
+    def write(self, text: str) -> int:
+        try:
+            return self.stream.write(text)
+        except BrokenPipeError:
+            raise
+        except OSError as exc:
+            raise _output_error(exc) from None
+
+    def flush(self) -> None:
+        try:
+            self.stream.flush()
+        except BrokenPipeError:
+            raise
+        except OSError as exc:
+            raise _output_error(exc) from None
+
+    def __getattr__(self, name: str):
+        return getattr(self.stream, name)
+
+
+def _output_error(exc: OSError) -> OutputError:
+    return OutputError(_("standard output: cannot write: {error}").format(error=exc.strerror or exc), 1)
+
+
+def silence(stream) -> None:
+    """Point a failed output at /dev/null: what it still buffers is dropped at exit, not reported
+    a second time by Python as an ignored exception."""
+    try:
+        fd = stream.fileno()
+    except (AttributeError, OSError, ValueError):
+        return                  # not a file (captured by a test): nothing is flushed at exit
+    null = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(null, fd)
+    os.close(null)
 
 
 def read_bytes(path: str) -> bytes:
@@ -52,7 +103,7 @@ def is_macro_text(data: bytes) -> bool:
 
 def write_bytes(path: str, data: bytes) -> None:
     try:
-        Path(path).write_bytes(data)
+        atomic_write(Path(path), data, parents=False)
     except OSError as exc:
         raise CliError(_("{path}: cannot write: {error}").format(path=path, error=exc.strerror or exc)) from None
 
@@ -79,6 +130,22 @@ def add_force_unsafe(p) -> None:
 
 def out(text: str = "") -> None:
     sys.stdout.write(text + "\n")
+
+
+def out_json(value, **options) -> None:
+    """One strict JSON document (RFC 8259: no NaN or Infinity): a figure that is not a finite number
+    is missing, ``null``."""
+    sys.stdout.write(json.dumps(_finite_or_null(value), indent=2, allow_nan=False, **options) + "\n")
+
+
+def _finite_or_null(value):
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: _finite_or_null(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite_or_null(v) for v in value]
+    return value
 
 
 def check_start_options(args, capacity_max: float = 65534.0, amps_max: float = 327.0) -> None:

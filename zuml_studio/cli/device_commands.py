@@ -13,7 +13,7 @@ import time
 from typing import Iterator
 
 from ..device import messages as msg
-from ..device.client import DEFAULT_BAUD, ChargerClient, check_image
+from ..device.client import DEFAULT_BAUD, ChargerClient, DeviceInfo, check_image
 from ..device.drivers import AUTO, DRIVERS, ZUML
 from ..device.errors import (CommitUncertain, CommitUnverified, DeviceError, DeviceLinkError, ImageTooLarge,
                              NotACharger)
@@ -255,7 +255,7 @@ def cmd_flash(args: argparse.Namespace) -> int:
                          "{name}: {action}; {changed} bytes written, verified", result.changed).format(
                     name=name, action=merged.action, changed=result.changed))
             return 0
-    _settle(args, lost, f"{name}: {merged.action}")
+    _settle(args, lost, f"{name}: {merged.action}", client.info)
     return 0
 
 
@@ -263,15 +263,28 @@ SETTLE_TRIES = 5
 SETTLE_PAUSE_S = 0.5
 
 
-def _settle(args: argparse.Namespace, lost: CommitUncertain | CommitUnverified, done: str) -> None:
+def _identity(info: DeviceInfo) -> str:
+    return _("{model}, firmware {firmware}, {size} bytes of EEPROM").format(
+            model=info.model, firmware=info.firmware, size=info.eeprom_size)
+
+
+def _settle(args: argparse.Namespace, lost: CommitUncertain | CommitUnverified, done: str,
+            flashed: DeviceInfo) -> None:
     """The link failed once COMMIT was out: say what is known, reconnect, read the EEPROM back and
-    say what is there (returns only when it holds the new image)."""
+    say what is there (returns only when it holds the new image). The charger that answers must be
+    the one written to, as far as IDENTIFY tells (the protocol has no serial number): a port that
+    vanished may come back under its name as another device."""
     sys.stderr.write(_("zuml: warning: {lost}\n").format(lost=lost))
     sys.stderr.flush()
     for __ in range(SETTLE_TRIES):
         time.sleep(SETTLE_PAUSE_S)
         try:
             with _connect(args) as client:
+                if client.info != flashed:
+                    raise CliError(_("{port}: after reconnecting, another device answers there ({now}, not the "
+                                     "{was} written to): nothing is known about the write; run `zuml slots` on that "
+                                     "charger when it is back").format(
+                            port=args.port, now=_identity(client.info), was=_identity(flashed)), 1)
                 now = client.read_image()
         except DeviceLinkError:
             continue
@@ -325,7 +338,7 @@ def cmd_restore(args: argparse.Namespace) -> int:
                          "restored {file}: {changed} bytes written, verified", result.changed).format(
                     file=args.file, changed=result.changed))
             return 0
-    _settle(args, lost, f"restored {args.file}")
+    _settle(args, lost, f"restored {args.file}", client.info)
     return 0
 
 

@@ -2,8 +2,6 @@
 from __future__ import annotations
 
 import argparse
-import json
-import sys
 
 from ..file_errors import FileReadError
 from ..logs import LogFormatError
@@ -15,7 +13,7 @@ from ..sim.fit import fit, guess_series
 from ..sim.fit_report import figure_lines, param_lines
 from ..sim.interpreter import StartError
 from ..sim.simulate import BatterySetup, model_chemistry
-from .common import CliError, out
+from .common import CliError, check_start_options, out, out_json
 from .sim_commands import _record
 from ..i18n import _
 
@@ -89,8 +87,7 @@ def cmd_fit(args: argparse.Namespace) -> int:
         except (BatteryFileError, OSError) as exc:
             raise CliError(str(exc)) from None
     if args.json:
-        json.dump({"params": result.params, **result.figures}, sys.stdout, indent=2)
-        out()
+        out_json({"params": result.params, **result.figures})
         return 0
     out(_("{log}: {chemistry} {series}S, {samples} samples, {minutes:.0f} min of charge").format(
             log=args.log, chemistry=chemistry, series=series, samples=len(curve.t), minutes=curve.t[-1] / 60))
@@ -107,6 +104,7 @@ def cmd_compare(args: argparse.Namespace) -> int:
     from ..sim.batteries import load_battery
     from ..sim.compare import compare
 
+    check_start_options(args)
     curve = _curve(args.log)
     record = _record(args.macro)
     try:
@@ -120,11 +118,12 @@ def cmd_compare(args: argparse.Namespace) -> int:
             curve, chemistry or model_chemistry(record, BatterySetup()))
         capacity = args.capacity or (named.capacity_mah if named else None)
         result = compare(curve, record, chemistry, series, capacity, args.battery)
+    except CurveError as exc:           # the log is no charge: nothing about the macro
+        raise CliError(str(exc)) from None
     except (StartError, ValueError, DecodeError) as exc:
         raise CliError(f"{args.macro}: {exc}", 1) from None
     if args.json:
-        json.dump(result.report, sys.stdout, indent=2)
-        out()
+        out_json(result.report)
         return 0
     sim = result.sim
     out(_("{log}: {chemistry} {series}S, {capacity} mAh, {current} A from the log, {model}").format(

@@ -47,7 +47,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(run=cmd_image)
 
 
-def _report(path: str, result: CompileResult, hints: bool = True, stream=sys.stdout) -> None:
+def _report(path: str, result: CompileResult, hints: bool = True, stream=None) -> None:
+    stream = stream or sys.stdout       # the one main() guards, not the one there was at import
     for d in result.diagnostics:
         text = d.render(path)
         stream.write((text if hints else text.split("\n")[0]) + "\n")

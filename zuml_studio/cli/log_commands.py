@@ -2,13 +2,13 @@
 from __future__ import annotations
 
 import argparse
-import json
-import sys
 
 from ..logs import FORMATS, Log, LogFormatError, csv_import, read_log
 from ..logs.export import write_csv
+from ..logs.model import out_of_range_text, time_order_text
 from ..logs.summary import summarize
-from .common import CliError, out, read_bytes
+from ..recovery import atomic_text_file
+from .common import CliError, out, out_json, read_bytes
 from .sim_commands import hms
 from ..i18n import _, ngettext
 
@@ -57,8 +57,7 @@ def _load_csv(path: str, data: bytes, columns: str) -> Log:
 def cmd_info(args: argparse.Namespace) -> int:
     info = summarize(load(args.file, args.format, args.columns))
     if args.json:
-        json.dump(info, sys.stdout, indent=2, ensure_ascii=False)
-        out()
+        out_json(info, ensure_ascii=False)
         return 0
     _num = lambda v, fmt: "–" if v is None else format(v, fmt)  # noqa: E731
     out(f"{args.file}: {info['format']}, {info['device']}")
@@ -66,6 +65,10 @@ def cmd_info(args: argparse.Namespace) -> int:
         out(_("  columns      {spec} (--columns changes them)").format(spec=info["csv_columns"]))
     out(_("  samples      {samples} ({bad} bad records), {duration}").format(
             samples=info['samples'], bad=info['bad_records'], duration=hms(info['duration_s'])))
+    if "out_of_range" in info:
+        out("  " + out_of_range_text(info["out_of_range"]))
+    if "time_order" in info:
+        out("  " + time_order_text(info["time_order"]))
     voltage = _("  voltage      {low} to {high} V").format(
             low=_num(info['v_min'], '.3f'), high=_num(info['v_max'], '.3f'))
     if info["cells"]:
@@ -85,7 +88,7 @@ def cmd_info(args: argparse.Namespace) -> int:
 def cmd_export(args: argparse.Namespace) -> int:
     log = load(args.file, args.format, args.columns)
     try:
-        with open(args.output, "w", encoding="utf-8", newline="") as fh:
+        with atomic_text_file(args.output) as fh:       # a failure leaves an older export whole
             rows = write_csv(log, fh)
     except OSError as exc:
         raise CliError(_("{output}: cannot write: {error}").format(

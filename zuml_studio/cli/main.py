@@ -14,7 +14,7 @@ import sys
 from .. import i18n
 from ..data import DataFileError
 from ..i18n import N_, _
-from .common import CliError
+from .common import CliError, GuardedOutput, OutputError, silence
 
 AREAS: dict[str, dict[str, str]] = {
     "lang_commands": {
@@ -93,8 +93,16 @@ def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     command = next((a for a in argv if not a.startswith("-")), "")
     args = build_parser(command).parse_args(argv)
+    real = sys.stdout
+    sys.stdout = GuardedOutput(real)
     try:
-        return args.run(args)
+        code = args.run(args)
+        sys.stdout.flush()          # a full disk at the last flush is said too, not left to the exit
+        return code
+    except OutputError as exc:
+        silence(real)
+        sys.stderr.write(_("zuml: error: {exc}\n").format(exc=exc))
+        return exc.code
     except CliError as exc:
         sys.stderr.write(_("zuml: error: {exc}\n").format(exc=exc))
         return exc.code
@@ -106,6 +114,8 @@ def main(argv: list[str] | None = None) -> int:
         return 130
     except BrokenPipeError:
         return 0
+    finally:
+        sys.stdout = real
 
 
 if __name__ == "__main__":

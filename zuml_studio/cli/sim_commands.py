@@ -2,9 +2,8 @@
 from __future__ import annotations
 
 import argparse
-import json
-import sys
 
+from ..recovery import atomic_text_file
 from ..sim.batteries import BatteryFileError
 from ..sim.battery import AMBIENT_MAX_C, AMBIENT_MIN_C
 from ..sim.interpreter import Measurement, StartError, StartParams
@@ -12,7 +11,7 @@ from ..sim.reasons import end_advice, shown_reason
 from ..sim.simulate import BatterySetup, SimResult, simulate
 from ..sim.start_check import start_warnings
 from ..sim.start_templates import TEMPLATE_COUNT
-from .common import CliError, check_start_options, out, read_bytes
+from .common import CliError, check_start_options, out, out_json, read_bytes
 from .lang_commands import compile_file
 from ..i18n import _, ngettext
 
@@ -87,14 +86,13 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         raise CliError(str(exc)) from None
     if args.csv:
         try:
-            with open(args.csv, "w", encoding="utf-8", newline="") as fh:
+            with atomic_text_file(args.csv) as fh:
                 result.log.write_csv(fh)
         except OSError as exc:
             raise CliError(_("{csv}: cannot write: {error}").format(csv=args.csv, error=exc.strerror or exc)) from None
     warnings = start_warnings(record, params, result.interpreter.charger.limits)
     if args.json:
-        json.dump({**result.to_json(), "warnings": warnings}, sys.stdout, indent=2)
-        out()
+        out_json({**result.to_json(), "warnings": warnings})
     else:
         for text in warnings:
             out(_("warning: {text}").format(text=text))

@@ -26,7 +26,8 @@ from . import messages as m
 from . import passport as pp
 from .crc import crc16
 from .errors import (CommitUncertain, CommitUnverified, DeviceError, DeviceLinkError, DeviceTimeout, Disconnected, ImageTooLarge,
-                     InvalidImage, NotACharger, PermissionDenied, PortBusy, PortNotFound, VerifyFailed)
+                     InvalidImage, NoisyLine, NotACharger, PermissionDenied, PortBusy, PortNotFound, VerifyFailed,
+                     why_lost)
 from .frames import MAX_FRAME, OVERHEAD, FrameParser, encode_frame
 from .port_access import vanished_hint
 from ..i18n import _, ngettext
@@ -132,7 +133,7 @@ class ChargerClient:
     """A connection to one charger. Opening it identifies the device (``info``).
 
     ``timeout``: seconds per attempt; None derives it from the baud rate and frame sizes.
-    Raises PortNotFound, PermissionDenied, PortBusy or NotACharger."""
+    Raises PortNotFound, PermissionDenied, PortBusy, NotACharger or NoisyLine."""
 
     def __init__(self, url: str, baudrate: int = DEFAULT_BAUD, timeout: float | None = None, *,
                  retries: int = RETRIES, exclusive: bool = True):
@@ -172,6 +173,8 @@ class ChargerClient:
             self.info = self.identify()
         except DeviceTimeout:
             self.close()
+            if self._parser.damaged >= _NOISY_FRAMES:
+                raise NoisyLine(noisy_line(url, self._parser.damaged)) from None
             raise NotACharger(_("{url}: no ZUML charger answered (wrong port or baud rate? tried {baudrate} "
                                   "baud)").format(
                     url=url, baudrate=self.baudrate)) from None
@@ -257,7 +260,7 @@ class ChargerClient:
             except Exception as exc:   # noqa: BLE001 - SerialException, OSError, a closed port
                 if not self._closing:
                     self._lost(Disconnected(_("{url}: the connection was lost ({why_lost})").format(
-                            url=self.url, why_lost=_why_lost(exc))))
+                            url=self.url, why_lost=why_lost(exc))))
                 return
             if not data:
                 if parser.pending:           # the line went quiet inside a frame: its LEN was garbage
@@ -753,17 +756,22 @@ def check_image(image: bytes) -> None:
                 index=s.index, offset=s.offset, error=s.error))
 
 
+# Damaged answers (whole frames that fail only their CRC) that make a silent IDENTIFY a noisy line.
+_NOISY_FRAMES = 2
+
+
+def noisy_line(url: str, damaged: int) -> str:
+    """What a link says when the charger answers but no answer arrives whole."""
+    return ngettext("{url}: the charger answers, but {n} answer arrived damaged (a bad CRC) and none whole: the "
+                    "line is noisy (a long or poor cable, a loose connector, a bad USB adapter); try another cable "
+                    "or port",
+                    "{url}: the charger answers, but {n} answers arrived damaged (a bad CRC) and none whole: the "
+                    "line is noisy (a long or poor cable, a loose connector, a bad USB adapter); try another cable "
+                    "or port", damaged).format(url=url, n=damaged)
+
+
 def _pause(seconds: float) -> None:
     time.sleep(seconds)
-
-
-def _why_lost(exc: Exception) -> str:
-    """The reason without pyserial's guess: "returned no data (device disconnected or multiple
-    access on port?)" is what any closed pty or socket says, and nothing here shares a port."""
-    text = str(exc)
-    if "returned no data" in text or "multiple access" in text:
-        return _("the charger closed the line: it stopped, or its cable was pulled")
-    return text
 
 
 def _changed_runs(old: bytes, new: bytes, gap: int = OVERHEAD + 6) -> list[tuple[int, bytes]]:

@@ -5,6 +5,8 @@ shows it in a dialog. None of them carries a traceback-worthy surprise.
 """
 from __future__ import annotations
 
+import errno
+
 from .port_access import refused_advice
 from ..i18n import _
 
@@ -39,6 +41,10 @@ class PortBusy(DeviceLinkError):
 
 class NotACharger(DeviceLinkError):
     """The port opened, but nothing answered IDENTIFY the way a ZUML charger does."""
+
+
+class NoisyLine(DeviceLinkError):
+    """The charger answers IDENTIFY, but its answers arrive damaged: the line, not the port, is wrong."""
 
 
 class DeviceTimeout(DeviceLinkError):
@@ -119,3 +125,14 @@ class DeviceError(DeviceLinkError):
             return ErrorCode(self.code).name
         except ValueError:
             return f"ERROR_{self.code}"
+
+
+def why_lost(exc: Exception) -> str:
+    """Why a link ended, without pyserial's guess: "returned no data (device disconnected or multiple
+    access on port?)" is what any closed pty or socket says, and nothing here shares a port; EIO is
+    what a pty or USB adapter whose other end went away says on the next read."""
+    text = str(exc)
+    if "returned no data" in text or "multiple access" in text or getattr(exc, "errno", None) == errno.EIO \
+            or "[Errno 5]" in text:
+        return _("the charger closed the line: it stopped, or its cable was pulled")
+    return text

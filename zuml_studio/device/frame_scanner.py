@@ -7,6 +7,8 @@ counts once in ``bad``; filler bytes (``filler``, e.g. HID zero padding) are dro
 """
 from __future__ import annotations
 
+import re
+
 from .messages import Telemetry
 from .stream_decoder import StreamDecoder
 
@@ -17,11 +19,18 @@ INVALID = -1
 class FrameDecoder(StreamDecoder):
     starts: bytes = b""
     filler: bytes = b""
+    # Where a frame may start, as a regular expression (default: any of ``starts``); a start byte
+    # near the end of the bytes read must still match (``\Z``): the rest may come in the next piece.
+    start_pattern: bytes = b""
 
     def __init__(self) -> None:
         super().__init__()
         self._buf = bytearray()
         self._in_junk = False
+        # A run of bytes that start no frame is passed in one search, not byte by byte: a capture of
+        # another charger is megabytes of it (reading a day-long capture tries every driver).
+        self._start = re.compile(self.start_pattern or (
+                b"[" + b"".join(re.escape(bytes((c,))) for c in self.starts) + b"]" if self.starts else b"(?!)"))
 
     def frame(self, buf: bytearray, at: int) -> tuple[int, object] | None:
         """At a start byte: (INVALID, None) if no frame starts here; None if more bytes are
@@ -39,9 +48,12 @@ class FrameDecoder(StreamDecoder):
             if b in self.filler:
                 at += 1
                 continue
-            if b not in self.starts:
-                self._junk()
-                at += 1
+            if b not in self.starts or (self.start_pattern and not self._start.match(buf, at)):
+                found = self._start.search(buf, at + 1)
+                end = found.start() if found else n
+                if buf[at:end].translate(None, self.filler):    # not only filler between
+                    self._junk()
+                at = end
                 continue
             try:
                 got = self.frame(buf, at)

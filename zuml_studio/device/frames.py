@@ -62,7 +62,9 @@ class FrameParser:
     """Incremental; never raises on any input.
 
     Counters: ``frames`` (good frames returned), ``skipped`` (bytes that were not part of a
-    good frame), ``bad_frames`` (sync candidates refused: bad CRC or impossible LEN).
+    good frame), ``bad_frames`` (sync candidates refused: bad CRC or impossible LEN), ``damaged``
+    (of those, whole frames of a known TYPE that failed only their CRC: a device that answers
+    over a noisy line).
     ``valid_types`` (optional) lets the parser refuse a candidate with an unknown TYPE at
     once instead of waiting for its CRC.
     """
@@ -72,6 +74,7 @@ class FrameParser:
         self.frames = 0
         self.skipped = 0
         self.bad_frames = 0
+        self.damaged = 0
         self._types = valid_types
         self._t2 = _word_table()
 
@@ -183,6 +186,7 @@ class FrameParser:
                 pos = end
             else:
                 self.bad_frames += 1
+                self.damaged += types is not None
                 self.skipped += 1
                 pos = i + 1
         self._buf = buf[pos:] if pos < n else b""

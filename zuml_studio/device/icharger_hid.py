@@ -8,6 +8,7 @@ N in 6/8/10/12. IR reports (state 0x80 and up) are skipped; so is the second cha
 """
 from __future__ import annotations
 
+import re
 import struct
 
 from .frame_scanner import INVALID, SKIP, FrameDecoder
@@ -24,6 +25,9 @@ LENGTHS = frozenset(24 + 2 * n for n in (6, 8, 10, 12))
 class IChargerHidDecoder(FrameDecoder):
     name = "icharger-hid"
     starts = bytes(sorted(LENGTHS))
+    # A length, the log type, channel 1 or 2: the length bytes alone are '$', '(', ',' and '0', which
+    # text captures are full of.
+    start_pattern = b"[" + re.escape(starts) + rb"](?:\x10(?:[\x01\x02]|\Z)|\Z)"
     max_record = REPORT
 
     def __init__(self) -> None:

@@ -15,7 +15,7 @@ from typing import Callable
 
 from .autodetect import BaudSweep, Detector
 from .drivers import AUTO, DRIVERS, Driver
-from .errors import DeviceLinkError
+from .errors import DeviceLinkError, why_lost
 from .messages import Telemetry
 from ..i18n import _
 
@@ -138,7 +138,8 @@ class MonitorLink:
             try:
                 data = dev.read(max(1, dev.in_waiting))
             except Exception as exc:    # noqa: BLE001 - pyserial raises several types for a lost port
-                raise DeviceLinkError(_("{port}: the port went away ({exc})").format(port=self.port, exc=exc)) from None
+                raise DeviceLinkError(_("{url}: the connection was lost ({why_lost})").format(   # the ZUML link's words
+                        url=self.port, why_lost=why_lost(exc))) from None
             if self._decoder is not None:
                 if data:
                     self._emit(self._decoder.feed(data))

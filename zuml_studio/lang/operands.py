@@ -22,6 +22,9 @@ CAPACITY_AUTO = 0xFFFF
 _PARSED: dict[str, dict[tuple[str, int | None, int | None], "int | ValueProblem"]] = {}
 
 _NUMBER = re.compile(r"^(-?(?:\d+(?:\.\d*)?|\.\d+))([A-Za-z]*)$")
+# No operand holds more than 10 digits (4 bytes); a numeral longer than this is refused before it is
+# converted (turning a million digits into an integer takes minutes).
+MAX_NUMERAL_CHARS = 40
 
 
 class ValueProblem(Exception):
@@ -70,6 +73,14 @@ def split_number(text: str) -> tuple[Decimal, str] | None:
         return None
 
 
+def _refuse_long_numeral(text: str) -> None:
+    m = _NUMBER.match(text)
+    if m and len(m.group(1)) > MAX_NUMERAL_CHARS:
+        raise ValueProblem("E204", _("a number of {n} characters ({head}…) is longer than any value a macro "
+                                     "stores").format(n=len(m.group(1)), head=text[:12]),
+                           _("values have at most 10 digits"))
+
+
 def round_half_away(x: Decimal) -> int:
     return int(x.to_integral_value(rounding=ROUND_HALF_UP))     # quantize overflows past 28 digits
 
@@ -107,6 +118,7 @@ class OperandKind:
         if known is None:
             klo, khi = self.raw_limits()
             try:
+                _refuse_long_numeral(text)
                 known = self.parse_text(self, text, klo if lo is None else lo, khi if hi is None else hi)
             except ValueProblem as problem:
                 known = problem

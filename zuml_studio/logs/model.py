@@ -3,6 +3,7 @@ its phases, and ``SampleBuilder``, which every reader fills column by column."""
 from __future__ import annotations
 
 import math
+from bisect import bisect_right
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 
@@ -10,8 +11,10 @@ import numpy as np
 
 from ..device.messages import Telemetry
 from .charge import charge_from_counter, integrate_current
-from ..i18n import _
+from ..i18n import _, ngettext
 
+# Volts and amperes beyond any charger (as sim.curve's limits): a sample past them is left out.
+MAX_MEASURED = 2000.0
 # The states a log sample can be in; every format maps its own onto these.
 STATES = ("charge", "discharge", "pause", "idle")
 SECTION_OF = {"charge": "charge", "discharge": "discharge"}
@@ -106,9 +109,64 @@ class Log:
         return out
 
 
+def in_time_order(times: Sequence[float]) -> tuple[list[int] | None, dict | None]:
+    """Which samples to keep where time goes back: the longest run of samples whose time never falls
+    (one garbled time then drops one sample, a clock reset keeps the longer part), and a note saying
+    where the first one out of order is. (None, None) when time never falls. A time repeated is kept:
+    a session's next run starts at the instant the last one ended."""
+    t = np.asarray(times, float)
+    if len(t) < 2 or bool((np.diff(t) >= 0).all()):
+        return None, None
+    # Longest non-decreasing subsequence (patience sorting): O(n log n).
+    tails: list[float] = []
+    tail_at: list[int] = []
+    before = [-1] * len(t)
+    for k, x in enumerate(t.tolist()):
+        j = bisect_right(tails, x)
+        before[k] = tail_at[j - 1] if j else -1
+        if j == len(tails):
+            tails.append(x)
+            tail_at.append(k)
+        else:
+            tails[j], tail_at[j] = x, k
+    keep = []
+    k = tail_at[-1]
+    while k >= 0:
+        keep.append(k)
+        k = before[k]
+    keep.reverse()
+    first = int(np.flatnonzero(np.diff(t) < 0)[0]) + 1
+    note = {"first_sample": first + 1, "time_s": float(t[first]), "previous_s": float(t[first - 1]),
+            "left_out": len(t) - len(keep)}
+    return keep, note
+
+
+def out_of_range_text(note: dict) -> str:
+    """The one line a reader of the log is told about samples no charger could have measured."""
+    return ngettext("{n} sample with a voltage or current past ±{top:g} (no charger measures that) left out, "
+                    "the first at sample {k}",
+                    "{n} samples with a voltage or current past ±{top:g} (no charger measures that) left out, "
+                    "the first at sample {k}", note["left_out"]).format(
+            n=note["left_out"], top=MAX_MEASURED, k=note["first_sample"])
+
+
+def time_order_text(note: dict) -> str:
+    """The one line a reader of the log is told about time out of order."""
+    return ngettext("time goes back at sample {k} ({t:g} s after {prev:g} s): {n} sample out of time order "
+                    "left out",
+                    "time goes back at sample {k} ({t:g} s after {prev:g} s): {n} samples out of time order "
+                    "left out", note["left_out"]).format(
+            k=note["first_sample"], t=note["time_s"], prev=note["previous_s"], n=note["left_out"])
+
+
 def from_samples(fmt: str, device: str, samples: Sequence[Telemetry], bad_records: int = 0, **meta) -> Log:
     """A Log from ready samples (a live driver's decoder, for instance); cell columns are cut
-    to ``connected_cells`` as every reader's are."""
+    to ``connected_cells`` as every reader's are; samples out of time order are left out
+    (``in_time_order``, said in ``meta["time_order"]``)."""
+    keep, note = in_time_order([s.time_s for s in samples])
+    if keep is not None:
+        samples = [samples[k] for k in keep]
+        meta["time_order"] = note
     width = connected_cells([s.cells_v for s in samples])
     cut = tuple(s if len(s.cells_v) <= width else replace(s, cells_v=s.cells_v[:width]) for s in samples)
     return Log(fmt, device, cut, bad_records, dict(meta))
@@ -142,6 +200,12 @@ class SampleBuilder:
         self.q_in: list[float | None] = []
         self.q_out: list[float | None] = []
         self.cycle: list[int] = []
+        # Samples left out for a voltage or current no charger measures: (how many, the first's number).
+        self.out_of_range = (0, 0)
+
+    def _columns(self) -> tuple[list, ...]:
+        return (self.t, self.v, self.i, self.state, self.temp, self.heatsink, self.cells, self.counter,
+                self.q_in, self.q_out, self.cycle)
 
     def __len__(self) -> int:
         return len(self.t)
@@ -155,6 +219,10 @@ class SampleBuilder:
                         n_t=len(self.t) + 1, name=name, value=value))
         if state not in STATES:
             raise ValueError(f"state {state!r}")
+        if abs(v) > MAX_MEASURED or abs(i) > MAX_MEASURED:      # 1e308 V: a damaged record, not a pack
+            count, first = self.out_of_range
+            self.out_of_range = (count + 1, first or len(self.t) + count + 1)
+            return
         self.t.append(float(t))
         self.v.append(float(v))
         self.i.append(float(i))
@@ -176,6 +244,13 @@ class SampleBuilder:
         return integrate_current(self.t, self.i)
 
     def build(self, fmt: str, device: str, bad_records: int = 0, *, resistance=(), **meta) -> Log:
+        keep, note = in_time_order(self.t)
+        if keep is not None:
+            for column in self._columns():
+                column[:] = [column[k] for k in keep]
+            meta["time_order"] = note
+        if self.out_of_range[0]:
+            meta["out_of_range"] = {"left_out": self.out_of_range[0], "first_sample": self.out_of_range[1]}
         q_in, q_out = self._charge()
         width = connected_cells(self.cells)
         samples = []

@@ -8,6 +8,8 @@ of a file may be a model whose layout is not known) than bad ones. This reader c
 DUO/X logs and LogView text are ``$`` lines too."""
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from ..device.drivers import DRIVERS, CaptureError, capture_streams, decode_recording
 from .model import Log, LogFormatError, from_samples
 
@@ -24,9 +26,10 @@ def sniff(head: bytes, name: str) -> bool:
     return False
 
 
-def read(data: bytes) -> Log:
+def read(data: bytes, progress: Callable[[int, int], None] | None = None) -> Log:
+    """``progress(bytes decoded, bytes)`` while a long capture is decoded (``decode_recording``)."""
     try:
-        capture = decode_recording(data)
+        capture = decode_recording(data, progress=progress)
     except CaptureError as exc:
         raise LogFormatError(str(exc)) from None
     return from_samples(FORMAT, DRIVERS[capture.driver].title, capture.samples, capture.bad,

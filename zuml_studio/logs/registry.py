@@ -26,6 +26,8 @@ class LogReader:
     description: str
     sniff: Callable[[bytes, str], bool]
     read: Callable[[bytes], Log]
+    # A reader that can tell how far it is: read(bytes, progress(done, total)).
+    read_with_progress: Callable[[bytes, Callable[[int, int], None]], Log] | None = None
 
 
 FORMATS: tuple[LogReader, ...] = (
@@ -37,7 +39,7 @@ FORMATS: tuple[LogReader, ...] = (
     LogReader("logview-open", "LogView open format text", logview_open.sniff, logview_open.read),
     LogReader("dataexplorer-csv", "DataExplorer CSV export", dataexplorer_csv.sniff, dataexplorer_csv.read),
     LogReader(raw_capture.FORMAT, "raw capture of a charger's serial stream or HID reports", raw_capture.sniff,
-              raw_capture.read),
+              raw_capture.read, raw_capture.read),
     LogReader(csv_import.FORMAT, "CSV with a header (columns guessed)", csv_import.sniff, csv_import.read),
 )
 BY_NAME = {f.name: f for f in FORMATS}
@@ -52,8 +54,11 @@ def detect(data: bytes, name: str = "") -> LogReader:
     raise LogFormatError(_("not a log file ZUML Studio reads (tried: {tried})").format(tried=tried))
 
 
-def read_log(data: bytes, name: str = "", fmt: str | None = None) -> Log:
-    """Read a log; ``fmt`` forces a format by name. Raises ``LogFormatError`` with the reason."""
+def read_log(data: bytes, name: str = "", fmt: str | None = None,
+             progress: Callable[[int, int], None] | None = None) -> Log:
+    """Read a log; ``fmt`` forces a format by name. Raises ``LogFormatError`` with the reason.
+    ``progress(done, total)`` is called as the reading goes where the reader can tell (raw captures:
+    the long reads)."""
     if fmt is not None:
         reader = BY_NAME.get(fmt)
         if reader is None:
@@ -63,10 +68,13 @@ def read_log(data: bytes, name: str = "", fmt: str | None = None) -> Log:
         if not data:
             raise LogFormatError(_("the file is empty"))
         reader = detect(data, name)
+    if progress is not None and reader.read_with_progress is not None:
+        return reader.read_with_progress(data, progress)
     return reader.read(data)
 
 
-def read_log_file(path: str | Path, fmt: str | None = None) -> Log:
+def read_log_file(path: str | Path, fmt: str | None = None,
+                  progress: Callable[[int, int], None] | None = None) -> Log:
     """``read_log`` of a file; a file that cannot be read or decoded raises ``LogFormatError``
     whose message starts with the path."""
     try:
@@ -74,6 +82,6 @@ def read_log_file(path: str | Path, fmt: str | None = None) -> Log:
     except FileReadError as exc:
         raise LogFormatError(str(exc)) from None
     try:
-        return read_log(data, Path(path).name, fmt)
+        return read_log(data, Path(path).name, fmt, progress)
     except LogFormatError as exc:
         raise LogFormatError(f"{path}: {exc}") from None

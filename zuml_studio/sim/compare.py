@@ -7,7 +7,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .charger_model import ChargerLimits, load_charger
-from .curve import Curve
+from .curve import Curve, require_charge
 from .fit import NI, Run, cc_current, charging, cv_mask, figures, measured, peak, soc_at_ocv, temp_rise
 from .fit_report import real_end_why
 from .chemistry import load_chemistry
@@ -74,6 +74,7 @@ def log_charger(curve: Curve, base: str) -> ChargerLimits:
 
 def compare(curve: Curve, record: bytes, chemistry: str | None, series: int, capacity_mah: float | None,
             battery: str | None = None, charger: str = "imax_b6") -> Comparison:
+    require_charge(curve)
     if battery:
         from .batteries import load_battery
         chem_name = load_battery(battery).chem.name

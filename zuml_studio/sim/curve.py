@@ -16,6 +16,7 @@ import numpy as np
 from ..file_errors import read_file_bytes
 from .battery import AMBIENT_MAX_C, AMBIENT_MIN_C
 from ..logs import Log, LogFormatError, read_log
+from ..logs.model import MAX_MEASURED
 from ..i18n import _
 
 # Chargers drop out of "charge" for a sample or two (a measurement pause); gaps up to this
@@ -23,6 +24,18 @@ from ..i18n import _
 _MERGE_GAP_S = 120.0
 _DROPOUT_C = 5.0             # a sensor sample this far from both neighbours is a dropout
 _CSV_COLUMNS = ("time_s", "voltage_v", "current_a")
+_SHOWN_FIELD = 24           # characters of a bad line's field an error shows
+# Beyond these no charger measures: a value past them is a damaged or hostile file, refused before
+# the model's arithmetic overflows on it (1e308 A made the fit's residuals infinite). A year of
+# log; 2 kV covers the longest pack a logging charger takes; the sensors' own ranges for °C.
+_LIMITS = {"time_s": (0.0, 3.2e7), "voltage_v": (-MAX_MEASURED, MAX_MEASURED),
+           "current_a": (-MAX_MEASURED, MAX_MEASURED), "temp_c": (-100.0, 400.0)}
+# A charge puts at least this much in; a voltage that ends this fraction below its start and never
+# climbs this fraction above it falls all the way: a discharge read as a charge (a log without a
+# direction column: an AkkuMaster "Entladen" file, 5.13 V to 3.21 V at +0.15 A).
+_MIN_CHARGE_MAH = 1.0
+_FALL_FRACTION = 0.03
+_RISE_FRACTION = 0.01
 
 
 class CurveError(ValueError):
@@ -40,14 +53,11 @@ class Curve:
     chemistry: str = ""      # the battery type the log names, if it names one (iCharger logs do)
 
     def __post_init__(self) -> None:
+        name = self.name or "curve"
         if len(self.t) < 10:
-            raise CurveError(_("{value}: only {n_t} samples of charge").format(
-                    value=self.name or 'curve', n_t=len(self.t)))
-        for column, values in (("time_s", self.t), ("voltage_v", self.v), ("current_a", self.i), ("temp_c", self.temp)):
-            if values is not None and not np.isfinite(values).all():
-                k = int(np.flatnonzero(~np.isfinite(values))[0])
-                raise CurveError(_("{value}: sample {k}: {column} is not a finite number").format(
-                        value=self.name or 'curve', k=k + 1, column=column))
+            raise CurveError(_("{value}: only {n_t} samples of charge").format(value=name, n_t=len(self.t)))
+        _check_values(name, {"time_s": self.t, "voltage_v": self.v, "current_a": self.i, "temp_c": self.temp},
+                      lambda k: _("sample {k}").format(k=k + 1))
 
     @property
     def ambient_c(self) -> float:
@@ -97,6 +107,52 @@ class Curve:
         return out.getvalue()
 
 
+def _check_values(name: str, columns: dict[str, np.ndarray | None], where) -> None:
+    """Every value finite, time rising, every value within what a charger measures (in that order: a
+    time that goes back is said as such, not as a time out of range); ``where(k)`` names sample k."""
+    present = {column: values for column, values in columns.items() if values is not None}
+    for column, values in present.items():
+        if not np.isfinite(values).all():
+            k = int(np.flatnonzero(~np.isfinite(values))[0])
+            raise CurveError(_("{value}: {where}: {column} is not a finite number").format(
+                    value=name, where=where(k), column=column))
+    t = present["time_s"]
+    back = np.flatnonzero(np.diff(t) <= 0)
+    if len(back):
+        k = int(back[0]) + 1
+        raise CurveError(_("{value}: {where}: time {t:g} s does not follow {before:g} s: time must rise from "
+                           "sample to sample").format(value=name, where=where(k), t=float(t[k]),
+                                                      before=float(t[k - 1])))
+    for column, values in present.items():
+        lo, hi = _LIMITS[column]
+        if column == "time_s" and len(values):
+            values = values - values[0]         # a log's clock may start anywhere: its length counts
+        outside = (values < lo) | (values > hi)
+        if outside.any():
+            k = int(np.flatnonzero(outside)[0])
+            raise CurveError(_("{value}: {where}: {column} {x:g} is outside {lo:g} to {hi:g}: no charger measures "
+                               "that").format(value=name, where=where(k), column=column, x=float(values[k]),
+                                              lo=lo, hi=hi))
+
+
+def require_charge(curve: Curve) -> None:
+    """Refuse, in words, a curve that is no charge: what the fit and the comparison model is one."""
+    name = curve.name or "curve"
+    if not (curve.i > 0).any():
+        raise CurveError(_("{name}: nothing to fit: the current is never positive (a charge's is): "
+                           "this curve only discharges or rests").format(name=name))
+    mah = float(curve.mah[-1])
+    if mah < _MIN_CHARGE_MAH:
+        raise CurveError(_("{name}: nothing to fit: the curve puts in only {mah:.2f} mAh").format(name=name, mah=mah))
+    # The first and last twentieth, and the top tenth: a sample's noise or a pause is no rise or fall.
+    part = max(1, len(curve.v) // 20)
+    v0, v1 = float(np.median(curve.v[:part])), float(np.median(curve.v[-part:]))
+    if v1 < v0 * (1.0 - _FALL_FRACTION) and float(np.percentile(curve.v, 90)) <= v0 * (1.0 + _RISE_FRACTION):
+        raise CurveError(_("{name}: the voltage falls all the way, from {v0:.2f} V to {v1:.2f} V: a discharge, not "
+                           "a charge (its current is read as charging where the file has no direction)").format(
+                name=name, v0=v0, v1=v1))
+
+
 def charge_from_log(log: Log, name: str = "") -> Curve:
     """The longest charge in the log (phases of state "charge" closer than two minutes merged)."""
     a = log.arrays()
@@ -111,8 +167,10 @@ def charge_from_log(log: Log, name: str = "") -> Curve:
             runs.append([k, k])
     lo, hi = max(runs, key=lambda r: a["t"][r[1]] - a["t"][r[0]])
     sel = np.arange(lo, hi + 1)
-    # A sample without a voltage or a current (a torn record) is no sample of the charge.
+    # A sample without a voltage or a current (a torn record) is no sample of the charge; nor is the
+    # second of two at one instant (a session's next run starts when the last ended).
     sel = sel[charging[sel] & np.isfinite(a["voltage"][sel]) & np.isfinite(a["current"][sel])]
+    sel = sel[np.concatenate(([True], np.diff(a["t"][sel]) > 0))] if len(sel) else sel
     if not len(sel):
         raise CurveError(_("{value}: no charge in the log").format(value=name or 'log'))
     t = a["t"][sel]
@@ -135,32 +193,40 @@ def _sensor(t: np.ndarray, temp: np.ndarray) -> np.ndarray | None:
 
 def read_curve_csv(text: str, name: str = "") -> Curve:
     """A plain curve CSV (see module doc)."""
-    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
-    reader = csv.reader(lines)
+    # Errors name the file's own line numbers (comment and blank lines counted).
+    kept = [(k, ln) for k, ln in enumerate(text.splitlines(), start=1)
+            if ln.strip() and not ln.lstrip().startswith("#")]
+    reader = csv.reader(ln for _k, ln in kept)
+    rows, at = [], []
     try:
-        rows = list(reader)
+        for row in reader:
+            rows.append(row)
+            at.append(kept[reader.line_num - 1][0])
     except csv.Error as exc:           # a field past the csv module's limit (128 KiB)
-        raise CurveError(_("{name}: data line {n}: {error}").format(name=name, n=reader.line_num,
+        raise CurveError(_("{name}: data line {n}: {error}").format(name=name, n=kept[reader.line_num - 1][0],
                                                                     error=exc)) from None
     if not rows or tuple(c.strip() for c in rows[0][:3]) != _CSV_COLUMNS:
         raise CurveError(_("{name}: a curve CSV starts with the header {csv_columns}[,temp_c]").format(
                 name=name, csv_columns=','.join(_CSV_COLUMNS)))
     has_temp = len(rows[0]) > 3 and rows[0][3].strip() == "temp_c"
     cols: list[list[float]] = [[], [], [], []]
-    for n, row in enumerate(rows[1:], start=2):
+    for n, row in zip(at[1:], rows[1:]):
         try:
             values = [float(x) for x in row[:4 if has_temp else 3]]
         except ValueError:
+            # A line without its line ends can be the rest of the file: its fields are shown cut.
+            shown = [f if len(f) <= _SHOWN_FIELD else f[:_SHOWN_FIELD] + "…" for f in row[:5]]
             raise CurveError(_("{name}: data line {n}: not a number in {row!r}").format(
-                    name=name, n=n, row=row)) from None
+                    name=name, n=n, row=shown)) from None
         if len(values) < (4 if has_temp else 3) or not all(math.isfinite(x) for x in values):
             raise CurveError(_("{name}: data line {n}: expected {value} finite numbers").format(
                     name=name, n=n, value=4 if has_temp else 3))
         for c, x in zip(cols, values):
             c.append(x)
     t = np.array(cols[0])
-    if np.any(np.diff(t) <= 0):
-        raise CurveError(_("{name}: time must rise from line to line").format(name=name))
+    _check_values(name, {"time_s": t, "voltage_v": np.array(cols[1]),
+                         "current_a": np.array(cols[2]), "temp_c": np.array(cols[3]) if has_temp else None},
+                  lambda k: _("data line {n}").format(n=at[k + 1]))
     return Curve(t - t[0] if len(t) else t, np.array(cols[1]), np.array(cols[2]),
                  np.array(cols[3]) if has_temp else None, 0, name)
 

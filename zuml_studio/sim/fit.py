@@ -14,7 +14,7 @@ import numpy as np
 
 from .battery import Pack
 from .chemistry import Chemistry, load_chemistry
-from .curve import Curve, CurveError
+from .curve import Curve, CurveError, require_charge
 from ..i18n import _
 
 NI = ("NiCd", "NiMh")
@@ -284,6 +284,7 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
     defaults and fits the capacity and start state only (how a user without a log would fare)."""
     from scipy.optimize import least_squares   # lazy: scipy costs start-up time
 
+    require_charge(curve)
     chem = base or load_chemistry(chemistry)
     chemistry = chem.name
     check_series(curve, chem, series)
@@ -324,8 +325,11 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
         lo = np.array([math.log(p.lo) if p.log else p.lo for p in free])
         hi = np.array([math.log(p.hi) if p.log else p.hi for p in free])
         x0 = np.clip(to_x(begin), lo + 1e-9, hi - 1e-9)
-        sol = least_squares(residuals, x0, bounds=(lo, hi), diff_step=1e-3, x_scale="jac",
-                            max_nfev=max_nfev or _NFEV_PER_PARAM * len(free))
+        try:
+            sol = least_squares(residuals, x0, bounds=(lo, hi), diff_step=1e-3, x_scale="jac",
+                                max_nfev=max_nfev or _NFEV_PER_PARAM * len(free))
+        except ValueError as exc:      # scipy's words ("Residuals are not finite in the initial point")
+            raise _cannot_start(curve, chemistry, exc) from None
         return values_of(sol.x), sol.cost, int(sol.nfev)
 
     # The capacity and start state first, with the chemistry's defaults: that is the default
@@ -366,6 +370,12 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
     report["cells"], report["cells_guessed"] = series, guess_series(curve, chemistry)
     return FitResult(battery, chemistry, {k: round(v, 6) for k, v in values.items()}, report, run, curve, full_cv,
                      nfev)
+
+
+def _cannot_start(curve: Curve, chemistry: str, exc: ValueError) -> CurveError:
+    return CurveError(_("{name}: the fit cannot start: the {chemistry} model gives no finite voltage along this "
+                        "curve from its start values ({error})").format(
+            name=curve.name or "curve", chemistry=chemistry, error=exc))
 
 
 def soc_at_ocv(chem: Chemistry, v_cell: float) -> float:

@@ -9,14 +9,19 @@ from PySide6.QtCore import QThread, Signal
 
 class BackgroundCall(QThread):
     """Runs ``fn()`` once; ``done(result)`` or ``failed(exception)`` follows, queued to the
-    receivers' (GUI) thread."""
+    receivers' (GUI) thread. ``fn`` may call ``report(done, total)`` to say how far it is
+    (``progress``, queued the same way)."""
 
     done = Signal(object)
     failed = Signal(object)
+    progress = Signal(int, int)
 
     def __init__(self, fn: Callable[[], object], parent=None):
         super().__init__(parent)
         self._fn = fn
+
+    def report(self, done: int, total: int) -> None:
+        self.progress.emit(done, total)
 
     def run(self) -> None:
         try:

@@ -123,9 +123,9 @@ def test_reading_runs_off_the_gui_thread_in_order_with_progress_shown(viewer, qt
     threads = []
     real = log_window._read_and_prepare
 
-    def read(path, choices):
+    def read(path, choices, progress=None):
         threads.append(threading.current_thread())
-        return real(path, choices)
+        return real(path, choices, progress)
     monkeypatch.setattr(log_window, "_read_and_prepare", read)
     docs = []
     viewer.documentOpened.connect(docs.append)
@@ -140,7 +140,7 @@ def test_reading_runs_off_the_gui_thread_in_order_with_progress_shown(viewer, qt
 
 
 def test_a_reader_bug_is_said_in_the_window(viewer, qtbot, monkeypatch):
-    def broken(path, choices):
+    def broken(path, choices, progress=None):
         raise ZeroDivisionError("division by zero")
     monkeypatch.setattr("zuml_studio.ui.logs.log_window._read_and_prepare", broken)
     with qtbot.waitSignal(viewer.readFailed, timeout=READ_MS) as blocker:
@@ -160,3 +160,25 @@ def test_the_readout_and_the_cycles_are_named_in_the_users_language(viewer, qtbo
         assert [layer.name for layer in document.plot.layers] == ["заряд 1", "заряд 2"]
     finally:
         i18n.install("en")
+
+
+def test_a_long_raw_capture_shows_how_far_its_reading_is(viewer, qtbot, monkeypatch, tmp_path):
+    """Issue 27: a day-long capture is megabytes; its decoding reports its progress to the bar."""
+    from zuml_studio.device.drivers import CHOOSE_ON
+    from zuml_studio.ui.logs import log_window
+    lines = (LOGS.parent / "realdata" / "icharger306B_RB_1000_lines_head300.txt").read_bytes()
+    capture = tmp_path / "day.txt"
+    capture.write_bytes(lines * (3 * CHOOSE_ON // len(lines) + 1))
+    seen = []
+    real = log_window.LogWindow._show_progress
+
+    def _show_progress(self, done, total):       # PySide resolves a connected method by its name
+        real(self, done, total)
+        seen.append((done, total, self.busy.maximum(), self.busy.value()))
+    monkeypatch.setattr(log_window.LogWindow, "_show_progress", _show_progress)
+    document = opened(viewer, qtbot, str(capture))
+    assert document.log.format == "raw-capture"
+    size = capture.stat().st_size
+    assert [d for d, _t, _m, _v in seen] == sorted(d for d, _t, _m, _v in seen) and len(seen) >= 3
+    assert seen[-1] == (size, size, 1000, 1000) and all(t == size for _d, t, _m, _v in seen)
+    assert viewer.busy.maximum() == 0 or not viewer.busy.isVisible()

@@ -169,3 +169,13 @@ def test_fit_with_a_cell_count_the_charge_cannot_have_is_refused_at_once(dialog,
     wait_for(qtbot, dialog, dialog.fit_log)
     text = dialog.figures.text()
     assert "5 cells do not fit this charge" in text and "--cells 4" in text and dialog.fitted is None
+
+
+@pytest.mark.parametrize("action", ["fit_log", "compare_macro"])
+def test_a_discharge_log_is_said_to_be_no_charge_by_fit_and_simulate(dialog, qtbot, action):
+    # issue 27: an AkkuMaster "Entladen" export (no direction column) was fitted as a charge
+    dialog.chemistry.setCurrentIndex(dialog.chemistry.findData("NiMh"))
+    assert dialog.load_log(str(helpers.ROOT / "tests" / "data" / "logs" /
+                               "AkkuMasterC4_2007-12-28-EmpfaengerAA4-Entladen.csv"))
+    wait_for(qtbot, dialog, getattr(dialog, action))
+    assert "the voltage falls all the way, from 5.07 V to 3.27 V: a discharge, not a charge" in dialog.figures.text()

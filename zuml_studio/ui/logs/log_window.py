@@ -28,10 +28,11 @@ class CsvColumnsNeeded(LogFormatError):
     choice remembered for its header: the user says which column is what."""
 
 
-def _read_and_prepare(path: str, choices: dict[str, str]) -> Prepared:
-    """Read a log; a CSV with the columns remembered for its header (``choices``: key_hash -> spec)."""
+def _read_and_prepare(path: str, choices: dict[str, str], progress=None) -> Prepared:
+    """Read a log; a CSV with the columns remembered for its header (``choices``: key_hash -> spec);
+    ``progress(done, total)`` where the reader can tell (raw captures)."""
     try:
-        log = read_log_file(path)
+        log = read_log_file(path, progress=progress)
     except LogFormatError as exc:
         try:
             g = csv_import.guess(read_file_bytes(path))
@@ -102,7 +103,7 @@ class LogWindow(QMainWindow):
         self.busy_label = QLabel()
         self.busy_label.setObjectName("logReading")
         self.busy = QProgressBar()
-        self.busy.setRange(0, 0)                # a reader cannot tell how far it is: a busy bar
+        self.busy.setRange(0, 0)                # a busy bar until the reader tells how far it is
         self.busy.setMaximumWidth(120)
         self.busy.setTextVisible(False)
         self.statusBar().addPermanentWidget(self.busy_label)
@@ -134,15 +135,23 @@ class LogWindow(QMainWindow):
             self._reading = kind, path = self._queue.pop(0)
             self._outcome = None
             choices = self.csv_choices.snapshot()
-            self._job = job = BackgroundCall(lambda: _read_and_prepare(path, choices))
+            self._job = job = BackgroundCall(lambda: _read_and_prepare(path, choices, job.report))
             _READING.add(job)
+            job.progress.connect(self._show_progress)
             # The outcome is kept and handled once the thread has finished (queued after it):
             # whoever hears the signals sees the window done with that file.
             job.done.connect(self._keep_outcome)
             job.failed.connect(self._keep_outcome)
             job.finished.connect(self._read_ended)
+            self.busy.setRange(0, 0)            # busy until this read says how far it is
             job.start()
         self._show_reading()
+
+    def _show_progress(self, done: int, total: int) -> None:
+        """A long capture says how far its decoding is: the busy bar becomes a progress bar."""
+        if self._job is not None and total > 0:
+            self.busy.setRange(0, 1000)
+            self.busy.setValue(int(done * 1000 // total))
 
     def _show_reading(self) -> None:
         reading = self._reading is not None
