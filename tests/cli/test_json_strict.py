@@ -3,7 +3,7 @@ number is ``null`` (issue 27: ``zuml compare --json`` printed ``Infinity``, ``zu
 
 One case per command that has ``--json``: the command runs on a real input with a non-finite figure
 slipped into what it computed, and its output must parse with a parser that refuses NaN and Infinity.
-A command that gains ``--json`` (``zuml pack import`` is being written) fails
+A command that gains ``--json`` fails
 ``test_every_command_with_json_has_a_case`` until it has a case here."""
 import argparse
 import json
@@ -13,7 +13,7 @@ import pytest
 
 from helpers import MACROS, ROOT
 from zuml_studio.cli import fit_commands, log_commands
-from zuml_studio.cli.main import build_parser
+from zuml_studio.cli.main import build_parser, main
 from zuml_studio.sim import compare as compare_module
 from zuml_studio.sim import simulate as simulate_module
 
@@ -60,8 +60,22 @@ def _compare(monkeypatch):
     return "compare", str(CURVE), str(MACROS / "LiPo.zuml"), "--cells", "4", "--capacity", "1500"
 
 
+def _pack(words: tuple[str, ...]):
+    """A pack with one real log in it (the data folder is the test session's, tests/conftest.py)."""
+    def setup(monkeypatch, tmp_path):
+        from zuml_studio.cli import pack_commands
+        monkeypatch.setenv("ZUML_STUDIO_DATA_DIR", str(tmp_path))
+        assert main(["pack", "add", "P", "--chemistry", "LiFe", "--cells", "2", "--capacity", "2300"]) == 0
+        assert main(["pack", "import", str(LOG), "--pack", "P"]) == 0
+        real = pack_commands.pack_summary
+        monkeypatch.setattr(pack_commands, "pack_summary", lambda book, pack: _poison(real(book, pack)))
+        return (*words, "P") if words[-1] == "show" else words
+    return setup
+
+
 # (command words as argparse names them) -> a setup that patches and returns the arguments
-CASES = {("simulate",): _simulate, ("log", "info"): _log_info, ("fit",): _fit, ("compare",): _compare}
+CASES = {("simulate",): _simulate, ("log", "info"): _log_info, ("fit",): _fit, ("compare",): _compare,
+         ("pack", "list"): _pack(("pack", "list")), ("pack", "show"): _pack(("pack", "show"))}
 
 
 def _commands_with_json(parser, words=()) -> set[tuple[str, ...]]:
@@ -86,9 +100,11 @@ def test_every_command_with_json_has_a_case():
 
 
 @pytest.mark.parametrize("words", sorted(CASES), ids=" ".join)
-def test_json_is_strict_and_a_missing_figure_is_null(zuml, monkeypatch, words):
-    args = CASES[words](monkeypatch)
+def test_json_is_strict_and_a_missing_figure_is_null(zuml, monkeypatch, tmp_path, words):
+    setup = CASES[words]
+    args = setup(monkeypatch, tmp_path) if words[0] == "pack" else setup(monkeypatch)
     code, out, err = zuml(*args, "--json")
     assert code == 0, err
     data = _strict(out)
+    data = data["packs"][0] if words == ("pack", "list") else data
     assert data["hostile"] == [None, None, None] and data["nested"] == {"figure": None}

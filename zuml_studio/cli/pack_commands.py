@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from pathlib import Path
 
@@ -10,7 +9,7 @@ from ..packs.db import Logbook, LogbookError
 from ..packs.register import PackError, add_pack, get_pack, list_packs, remove_pack
 from ..packs.sessions import ImportResult, import_files
 from ..packs.summary import pack_summary, write_sessions_csv
-from .common import CliError, out
+from .common import CliError, out, out_json
 from ..i18n import _, ngettext
 
 _BAR = 30
@@ -78,10 +77,8 @@ def cmd_list(args: argparse.Namespace) -> int:
     book = _book()
     packs = [pack_summary(book, p) for p in list_packs(book)]
     if args.json:
-        json.dump({"packs": [{k: v for k, v in p.items() if k not in ("sessions", "trend")}
-                             | {"sessions": len(p["sessions"])} for p in packs]},
-                  sys.stdout, indent=2, ensure_ascii=False)
-        out()
+        out_json({"packs": [{k: v for k, v in p.items() if k not in ("sessions", "trend")}
+                            | {"sessions": len(p["sessions"])} for p in packs]}, ensure_ascii=False)
         return 0
     if not packs:
         out(_("no packs yet: `zuml pack add NAME --chemistry C --cells N --capacity MAH`"))
@@ -97,8 +94,7 @@ def cmd_show(args: argparse.Namespace) -> int:
     book = _book()
     info = pack_summary(book, _pack(book, args.name))
     if args.json:
-        json.dump(info, sys.stdout, indent=2, ensure_ascii=False)
-        out()
+        out_json(info, ensure_ascii=False)
         return 0
     _num = lambda v, fmt: "–" if v is None else format(v, fmt)  # noqa: E731
     out(_("{name}: {chemistry}, {cells} cells, {capacity:g} mAh rated").format(

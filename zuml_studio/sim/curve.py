@@ -235,12 +235,14 @@ def read_curve(path: str | Path) -> Curve:
     """A charge from any log file the log readers know, else from a plain curve CSV."""
     p = Path(path)
     data = read_file_bytes(p)
+    text = data.decode("utf-8", "replace")
+    first = next((ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")), "")
+    if first.lstrip().startswith("time_s"):
+        # The plain curve CSV is read as itself, strictly (a bad value is its line), before the
+        # log readers' general CSV import would guess its columns and leave bad samples out.
+        return read_curve_csv(text, p.name)
     try:
         return charge_from_log(read_log(data, p.name), p.name)
     except LogFormatError as exc:
-        text = data.decode("utf-8", "replace")
-        first = next((ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")), "")
-        if first.lstrip().startswith("time_s"):
-            return read_curve_csv(text, p.name)
         raise CurveError(_("{name}: {reason}; nor a curve CSV (its header: {csv_columns}[,temp_c])").format(
                 name=p.name, reason=exc, csv_columns=",".join(_CSV_COLUMNS))) from None
