@@ -1,0 +1,565 @@
+/* zuml_b6_sim: the imaxb6 image on simavr, wired as the original iMAX B6 (b6_board.h), its power stage
+ * and pack the physics of b6_model.c. The USART on a pty whose path is the first line of stdout; the
+ * LCD, the buttons, faults and a trace of the model's truth as options (usage below, docs/firmware.md).
+ * Everything is timed in simulated time: --speed 0 runs as fast as the host can, and a slow host only
+ * slows the run down, never changes what happens in it. */
+#define _DEFAULT_SOURCE
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+#include "sim_avr.h"
+#include "sim_elf.h"
+#include "sim_cycle_timers.h"
+#include "avr_adc.h"
+#include "avr_eeprom.h"
+#include "avr_ioport.h"
+#include "parts/uart_pty.h"
+#include "b6_board.h"
+#include "b6_calibration.h"
+#include "b6_model.h"
+
+#define F_CPU 16000000UL
+#define EEPROM_SIZE 1024
+#define STEP_CYCLES 800                 /* 50 us: the model's step, the drive's sampling */
+#define STEPS_PER_MS 20
+#define MAX_EVENTS 32
+#define PRESS_S 0.2                     /* a press held this long unless BUTTON@S:HOLD says otherwise */
+#define LCD_SETTLE_MS 3                 /* print the LCD once it has had no write this long */
+#define LCD_MAX_WAIT_MS 100             /* ... or at the latest this long after the first change */
+/* ATmega32 registers in data space */
+#define R_TCCR1A 0x4F
+#define R_TCCR1B 0x4E
+#define R_OCR1A 0x4A
+#define R_OCR1B 0x48
+#define R_ICR1 0x46
+#define R_ADMUX 0x27
+#define R_UCSRB 0x2A
+#define RXEN_BIT 4
+
+static const char usage[] =
+    "usage: zuml_b6_sim ELF [--eeprom FILE] [--cells N] [--capacity MAH] [--soc F] [--cell-spread MV]\n"
+    "       [--seed N] [--uncalibrated] [--fault KIND@S]... [--press BUTTON@S[:HOLD]]... [--trace FILE] [--lcd]\n"
+    "       [--speed X]\n"
+    "KIND: disconnect reverse cell-high sensor-open sink-hot input-low hang; BUTTON: start stop inc dec\n";
+
+static const char *const button_names[4] = {"stop", "dec", "inc", "start"};   /* PB0..PB3 */
+
+typedef struct {
+    double at_s, hold_s;
+    int what;                           /* a fault kind, or a button (PB bit) */
+    int done;
+} timed_t;
+
+static avr_t *avr;
+static uart_pty_t uart;
+static b6_model_t model;
+static volatile sig_atomic_t stopping;
+static const char *eeprom_path;
+static uint8_t eeprom[EEPROM_SIZE], saved[EEPROM_SIZE];
+static timed_t faults[MAX_EVENTS], presses[MAX_EVENTS];
+static int n_faults, n_presses, lcd_on, step_count, hang_pending, refs_warned;
+static FILE *trace;
+
+/* ---- pins ---- */
+
+static uint8_t port_reg(int port, int offset) { return avr->data[b6_port_addr[port] - offset]; }
+static int driven(b6_pin_t p) { return port_reg(p.port, 1) >> p.bit & 1; }
+static int driven_high(b6_pin_t p) { return driven(p) && (port_reg(p.port, 0) >> p.bit & 1); }
+static uint16_t reg16(uint16_t low) { return (uint16_t)(avr->data[low] | (avr->data[low + 1] << 8)); }
+
+/* The on-time of an OC1x switch: its PWM when Timer1 drives the pin, its level when the port does;
+ * an undriven gate is off (its driver pulls it down: an assumption, cheali does not say). */
+static double switch_duty(b6_pin_t pin, int com_shift, uint16_t ocr_reg)
+{
+    uint8_t a = avr->data[R_TCCR1A], b = avr->data[R_TCCR1B];
+    int com = a >> com_shift & 3, mode = (b >> 1 & 0x0C) | (a & 3), fast;
+    double top, ocr, duty;
+    if (!driven(pin))
+        return 0;
+    if (com < 2 || (b & 7) == 0 || mode == 0 || mode == 4 || mode == 12)
+        return driven_high(pin);
+    switch (mode) {
+    case 1: case 5: top = 0xFF; break;
+    case 2: case 6: top = 0x1FF; break;
+    case 3: case 7: top = 0x3FF; break;
+    case 9: case 11: case 15: top = reg16(R_OCR1A); break;
+    default: top = reg16(R_ICR1); break;
+    }
+    fast = mode == 5 || mode == 6 || mode == 7 || mode == 14 || mode == 15;
+    ocr = reg16(ocr_reg);
+    if (top <= 0)
+        return 0;
+    /* fast PWM sets the pin at BOTTOM and clears it one clock after the match: OCR = 0 is a spike */
+    duty = fast ? (ocr >= top ? 1 : (ocr + 1) / (top + 1)) : (ocr >= top ? 1 : ocr / top);
+    return com == 3 ? 1 - duty : duty;
+}
+
+static void sample_drive(void)
+{
+    b6_drive_t *d = &model.drive;
+    double oc1a = switch_duty(B6_BOOST, 6, R_OCR1A);
+    int k;
+    d->buck_duty = switch_duty(B6_BUCK, 4, R_OCR1B);
+    d->boost_duty = oc1a;
+    d->discharge_duty = oc1a;
+    /* the disable lines are active high ([B], [S]); an undriven one is taken as not disabling: cheali does
+     * not say which way the board pulls it, and the model takes the way that finds the firmware's bug */
+    d->smps_on = !driven_high(B6_SMPS_DISABLE);
+    d->output_on = !driven_high(B6_OUTPUT_DISABLE);
+    d->discharge_on = !driven_high(B6_DISCHARGE_DISABLE);
+    d->balancer = 0;
+    for (k = 0; k < 6; k++) {
+        b6_pin_t p = b6_balancer_load[k];
+        if (p.port == B6_PD && p.bit == 0 && (avr->data[R_UCSRB] >> RXEN_BIT & 1))
+            continue;                   /* PD0 is the USART's RX while the receiver is on */
+        if (driven_high(p))
+            d->balancer |= 1u << k;
+    }
+}
+
+/* ---- ADC ---- */
+
+static double input_pin_v(int channel)
+{
+    if (channel == B6_MUX_ADC_CHANNEL) {
+        int address = (port_reg(B6_PB, 0) & port_reg(B6_PB, 1)) >> 5 & 7;
+        if (driven(B6_MUX_Z))           /* cheali empties the sample capacitor through PA6 as an output */
+            return driven_high(B6_MUX_Z) ? B6_AVCC_V : 0;
+        return b6_model_pin_v(&model, &b6_mux_input[address]);
+    }
+    if (channel < 8 && b6_adc_channel[channel].quantity != B6_Q_NONE)
+        return b6_model_pin_v(&model, &b6_adc_channel[channel]);
+    return channel < 8 && driven_high((b6_pin_t){B6_PA, (uint8_t)channel}) ? B6_AVCC_V : 0;
+}
+
+/* simavr converts value * 1023 / reference, both in its units: give it the ratio the board's pin makes
+ * against the reference the firmware selected. */
+static void adc_trigger(struct avr_irq_t *irq, uint32_t value, void *param)
+{
+    union { avr_adc_mux_t mux; uint32_t v; } e = {.v = value};
+    int refs = avr->data[R_ADMUX] >> 6;
+    double ref_v = model.aref_v, units = avr->aref, v;
+    (void)irq; (void)param;
+    if (refs != 0 && !refs_warned) {
+        refs_warned = 1;
+        fprintf(stderr, "zuml_b6_sim: the firmware selects %s as the ADC reference: on a B6 the external AREF is "
+                "driven and this shorts it (ATmega32 datasheet, ADMUX)\n", refs == 3 ? "the internal 2.56 V" : "AVCC");
+    }
+    if (refs == 1) {
+        ref_v = B6_AVCC_V;
+        units = avr->avcc;
+    } else if (refs == 3) {
+        ref_v = 2.56;
+        units = 2560;
+    }
+    if (e.mux.kind != ADC_MUX_SINGLE)
+        return;
+    v = input_pin_v(e.mux.src) / ref_v;
+    avr_raise_irq(avr_io_getirq(avr, AVR_IOCTL_ADC_GETIRQ, ADC_IRQ_ADC0 + e.mux.src),
+                  (uint32_t)(v < 0 ? 0 : floor(v * units + 0.5)));
+}
+
+/* ---- the HD44780 in 4-bit mode, RW tied low ---- */
+
+static struct {
+    uint8_t ddram[128], addr, mode4, have_high, high, increment, display_on, cgram, prev_e;
+    char shown[2][17];
+    long last_write_ms, first_change_ms;
+    int changed;
+} lcd = {.increment = 1, .display_on = 0, .last_write_ms = -1, .first_change_ms = -1};
+
+static long now_ms(void) { return (long)(avr->cycle / (F_CPU / 1000)); }
+
+static void lcd_byte(int rs, uint8_t v)
+{
+    if (rs) {
+        if (!lcd.cgram) {
+            lcd.ddram[lcd.addr] = v;
+            lcd.addr = (uint8_t)((lcd.addr + (lcd.increment ? 1 : -1)) & 0x7F);
+        }
+    } else if (v & 0x80) {
+        lcd.addr = v & 0x7F;
+        lcd.cgram = 0;
+    } else if (v & 0x40) {
+        lcd.cgram = 1;
+    } else if (v & 0x20) {
+        lcd.mode4 = !(v & 0x10);
+    } else if (v & 0x10) {
+        if (!(v & 0x08))
+            lcd.addr = (uint8_t)((lcd.addr + (v & 0x04 ? 1 : -1)) & 0x7F);
+    } else if (v & 0x08) {
+        lcd.display_on = (v & 0x04) != 0;
+    } else if (v & 0x04) {
+        lcd.increment = (v & 0x02) != 0;
+    } else if (v & 0x02) {
+        lcd.addr = 0;
+    } else if (v & 0x01) {
+        memset(lcd.ddram, ' ', sizeof lcd.ddram);
+        lcd.addr = 0;
+        lcd.increment = 1;
+    }
+    lcd.last_write_ms = now_ms();
+    if (!lcd.changed)
+        lcd.first_change_ms = lcd.last_write_ms;
+    lcd.changed = 1;
+}
+
+/* E falls: the controller latches DB7..DB4 and RS ([P]: DB4..DB7 = PC3..PC0, RS = PC5) */
+static void lcd_enable(struct avr_irq_t *irq, uint32_t value, void *param)
+{
+    uint8_t c = port_reg(B6_PC, 0);
+    int rs = c >> 5 & 1;
+    uint8_t nibble = (uint8_t)((c >> 3 & 1) | (c >> 1 & 2) | (c << 1 & 4) | (c << 3 & 8));
+    (void)irq; (void)param;
+    if (lcd.prev_e && !value) {
+        if (!lcd.mode4) {
+            lcd.have_high = 0;
+            lcd_byte(rs, (uint8_t)(nibble << 4));   /* 8-bit mode: DB3..DB0 are not wired, they read 0 */
+        } else if (!lcd.have_high) {
+            lcd.high = nibble;
+            lcd.have_high = 1;
+        } else {
+            lcd.have_high = 0;
+            lcd_byte(rs, (uint8_t)(lcd.high << 4 | nibble));
+        }
+    }
+    lcd.prev_e = value != 0;
+}
+
+static void lcd_line(int row, char *out)
+{
+    int k;
+    for (k = 0; k < 16; k++) {
+        uint8_t ch = lcd.display_on ? lcd.ddram[row * 0x40 + k] : ' ';
+        out[k] = ch >= 0x20 && ch < 0x7F && ch != '|' ? (char)ch : (ch < 8 ? '#' : '?');
+    }
+    out[16] = 0;
+    for (k = 15; k >= 0 && out[k] == ' '; k--)
+        out[k] = 0;
+}
+
+static void lcd_print_if_settled(void)
+{
+    long now = now_ms();
+    char l1[17], l2[17];
+    if (!lcd.changed || (now - lcd.last_write_ms < LCD_SETTLE_MS && now - lcd.first_change_ms < LCD_MAX_WAIT_MS))
+        return;
+    lcd.changed = 0;
+    lcd_line(0, l1);
+    lcd_line(1, l2);
+    if (!strcmp(l1, lcd.shown[0]) && !strcmp(l2, lcd.shown[1]))
+        return;
+    strcpy(lcd.shown[0], l1);
+    strcpy(lcd.shown[1], l2);
+    fprintf(stderr, "LCD|%s|%s\n", l1, l2);
+    fflush(stderr);
+}
+
+/* ---- buttons, faults, the hang ---- */
+
+static void set_buttons(double now_s)
+{
+    int k, bit;
+    for (bit = 0; bit < 4; bit++) {
+        int pressed = 0;
+        for (k = 0; k < n_presses; k++)
+            if (presses[k].what == bit && now_s >= presses[k].at_s && now_s < presses[k].at_s + presses[k].hold_s)
+                pressed = 1;
+        /* external pull-ups ([B]): released reads high, pressed pulls the line low */
+        avr_raise_irq(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ('B'), bit), pressed ? 0 : 1);
+    }
+}
+
+/* The main loop stops: the CPU is sent to an endless loop at the top of the flash while the interrupts stay
+ * on, so an ISR that still runs cannot hide the hang from a watchdog fed only by the main loop. */
+static void hang_now(void)
+{
+    uint32_t end = avr->flashend - 1;
+    if (!avr->sreg[S_I])
+        return;                         /* inside an ISR or an atomic block: wait for the main loop */
+    if (avr->flash[end] != 0xFF || avr->flash[end + 1] != 0xFF)
+        fprintf(stderr, "zuml_b6_sim: the image reaches the last flash word; hang overwrites it\n");
+    avr->flash[end] = 0xFF;             /* rjmp . = 0xCFFF, little endian */
+    avr->flash[end + 1] = 0xCF;
+    avr->pc = end;
+    hang_pending = 0;
+    fprintf(stderr, "FAULT|hang|%.3f\n", (double)avr->cycle / F_CPU);
+}
+
+static void apply_faults(double now_s)
+{
+    int k;
+    for (k = 0; k < n_faults; k++) {
+        if (faults[k].done || now_s < faults[k].at_s)
+            continue;
+        faults[k].done = 1;
+        if (faults[k].what == B6_FAULT_HANG) {
+            hang_pending = 1;
+            continue;
+        }
+        model.fault[faults[k].what] = 1;
+        fprintf(stderr, "FAULT|%s|%.3f\n", b6_fault_names[faults[k].what], now_s);
+    }
+    if (hang_pending)
+        hang_now();
+}
+
+/* ---- the model's clock ---- */
+
+static avr_cycle_count_t step(struct avr_t *a, avr_cycle_count_t when, void *param)
+{
+    double now_s = (double)a->cycle / F_CPU;
+    (void)param;
+    sample_drive();
+    b6_model_step(&model, (double)STEP_CYCLES / F_CPU);
+    apply_faults(now_s);
+    set_buttons(now_s);
+    if (++step_count % STEPS_PER_MS == 0) {
+        if (trace)
+            fprintf(trace, "%ld,%.4f,%.4f,%d,%.4f,%.4f\n", now_ms(), model.drive.buck_duty, model.drive.boost_duty,
+                    b6_model_output_enabled(&model), model.i_batt_a, model.v_term_v);
+        if (lcd_on)
+            lcd_print_if_settled();
+    }
+    return when + STEP_CYCLES;
+}
+
+/* ---- EEPROM ---- */
+
+static void save_eeprom(void)
+{
+    avr_eeprom_desc_t d = {.ee = eeprom, .offset = 0, .size = EEPROM_SIZE};
+    char tmp[4096];
+    FILE *f;
+    if (!eeprom_path)
+        return;
+    avr_ioctl(avr, AVR_IOCTL_EEPROM_GET, &d);
+    if (d.ee != eeprom)
+        memcpy(eeprom, d.ee, EEPROM_SIZE);
+    if (!memcmp(eeprom, saved, EEPROM_SIZE))
+        return;
+    snprintf(tmp, sizeof tmp, "%s.tmp", eeprom_path);
+    f = fopen(tmp, "wb");
+    if (f && fwrite(eeprom, 1, EEPROM_SIZE, f) == EEPROM_SIZE && fclose(f) == 0 && rename(tmp, eeprom_path) == 0)
+        memcpy(saved, eeprom, EEPROM_SIZE);
+    else
+        fprintf(stderr, "zuml_b6_sim: cannot write %s\n", eeprom_path);
+}
+
+/* ---- options ---- */
+
+static int fail(const char *what, const char *value)
+{
+    fprintf(stderr, "zuml_b6_sim: %s: %s\n", what, value);
+    return 0;
+}
+
+static int number(const char *text, double lo, double hi, double *out)
+{
+    char *end;
+    double v = strtod(text, &end);
+    if (end == text || *end || !isfinite(v) || v < lo || v > hi)
+        return 0;
+    *out = v;
+    return 1;
+}
+
+/* "NAME@SECONDS[:HOLD]" against `names`; the index of the name, -1 when it is not one of them */
+static int timed(const char *text, const char *const *names, int n, int hold_allowed, timed_t *out)
+{
+    const char *at = strchr(text, '@');
+    char when[64], *colon;
+    int k;
+    if (!at || (size_t)(at - text) >= 32 || strlen(at + 1) >= sizeof when)
+        return -1;
+    for (k = 0; k < n; k++)
+        if ((size_t)(at - text) == strlen(names[k]) && !strncmp(text, names[k], (size_t)(at - text)))
+            break;
+    if (k == n)
+        return -1;
+    strcpy(when, at + 1);
+    out->hold_s = PRESS_S;
+    colon = strchr(when, ':');
+    if (colon) {
+        *colon = 0;
+        if (!hold_allowed || !number(colon + 1, 0.001, 1e6, &out->hold_s))
+            return -1;
+    }
+    if (!number(when, 0, 1e7, &out->at_s))
+        return -1;
+    out->what = k;
+    out->done = 0;
+    return k;
+}
+
+typedef struct {
+    int cells, calibrated;
+    double capacity_mah, soc, spread_mv, speed;
+    uint64_t seed;
+} options_t;
+
+static int parse(int argc, char **argv, options_t *o)
+{
+    int k;
+    for (k = 2; k < argc; k++) {
+        const char *name = argv[k], *value = k + 1 < argc ? argv[k + 1] : NULL;
+        double v;
+        if (!strcmp(name, "--uncalibrated")) {
+            o->calibrated = 0;
+            continue;
+        }
+        if (!strcmp(name, "--lcd")) {
+            lcd_on = 1;
+            continue;
+        }
+        if (!value)
+            return fail("missing value after", name);
+        k++;
+        if (!strcmp(name, "--eeprom")) {
+            FILE *f = fopen(value, "rb");
+            eeprom_path = value;
+            if (f) {
+                size_t n = fread(eeprom, 1, EEPROM_SIZE, f);
+                (void)n;
+                fclose(f);
+            }
+        } else if (!strcmp(name, "--cells")) {
+            if (!number(value, 1, B6_MAX_CELLS, &v) || v != floor(v))
+                return fail("--cells is 1..6 (the B6's balance port)", value);
+            o->cells = (int)v;
+        } else if (!strcmp(name, "--capacity")) {
+            if (!number(value, 1e-3, 1e6, &o->capacity_mah) || o->capacity_mah <= 0)
+                return fail("--capacity is above 0 and at most 1000000 mAh", value);
+        } else if (!strcmp(name, "--soc")) {
+            if (!number(value, 0, 1, &o->soc))
+                return fail("--soc is 0..1", value);
+        } else if (!strcmp(name, "--cell-spread")) {
+            if (!number(value, 0, 1000, &o->spread_mv))
+                return fail("--cell-spread is 0..1000 mV", value);
+        } else if (!strcmp(name, "--seed")) {
+            if (!number(value, 0, 4294967295.0, &v) || v != floor(v))
+                return fail("--seed is a whole number 0..4294967295", value);
+            o->seed = (uint64_t)v;
+        } else if (!strcmp(name, "--speed")) {
+            if (!number(value, 0, 1e6, &o->speed))
+                return fail("--speed is 0 (as fast as the host can) or the simulated seconds per second", value);
+        } else if (!strcmp(name, "--fault")) {
+            if (n_faults == MAX_EVENTS || timed(value, b6_fault_names, B6_FAULT_KINDS, 0, &faults[n_faults]) < 0)
+                return fail("--fault is KIND@SECONDS, KIND one of disconnect reverse cell-high sensor-open sink-hot "
+                            "input-low hang (at most 32)", value);
+            n_faults++;
+        } else if (!strcmp(name, "--press")) {
+            if (n_presses == MAX_EVENTS || timed(value, button_names, 4, 1, &presses[n_presses]) < 0)
+                return fail("--press is BUTTON@SECONDS[:HOLD], BUTTON one of start stop inc dec (at most 32)", value);
+            n_presses++;
+        } else if (!strcmp(name, "--trace")) {
+            trace = fopen(value, "w");
+            if (!trace)
+                return fail("cannot write the trace", value);
+            fputs("t_ms,buck_duty,boost_duty,output_enabled,current_a,voltage_v\n", trace);
+        } else {
+            return fail("unknown option", name);
+        }
+    }
+    return 1;
+}
+
+static double wall_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec / 1e9;
+}
+
+static void on_signal(int sig) { (void)sig; stopping = 1; }
+
+int main(int argc, char **argv)
+{
+    options_t o = {.cells = 3, .calibrated = 1, .capacity_mah = 2000, .soc = 0.2, .spread_mv = 0, .speed = 1};
+    elf_firmware_t fw;
+    avr_eeprom_desc_t d = {.ee = eeprom, .offset = 0, .size = EEPROM_SIZE};
+    int out_fd;
+    double start, next_save = 1.0;
+    if (argc < 2 || argv[1][0] == '-') {
+        fputs(usage, stderr);
+        return 2;
+    }
+    memset(eeprom, 0xFF, sizeof eeprom);
+    memset(lcd.ddram, ' ', sizeof lcd.ddram);
+    if (!parse(argc, argv, &o))
+        return 2;
+    b6_model_init(&model, o.seed, o.cells, o.capacity_mah, o.soc, o.spread_mv);
+    if (o.calibrated)
+        b6_calibration_write(&model, eeprom, EEPROM_SIZE);
+    else
+        b6_calibration_erase(eeprom, EEPROM_SIZE);
+    memcpy(saved, eeprom, EEPROM_SIZE);
+    /* simavr talks on stdout; the first line of ours is the port alone */
+    fflush(stdout);
+    out_fd = dup(1);
+    dup2(2, 1);
+    memset(&fw, 0, sizeof fw);
+    if (elf_read_firmware(argv[1], &fw) != 0) {
+        fprintf(stderr, "zuml_b6_sim: cannot read %s\n", argv[1]);
+        return 1;
+    }
+    avr = avr_make_mcu_by_name("atmega32");
+    if (!avr) {
+        fprintf(stderr, "zuml_b6_sim: simavr has no atmega32\n");
+        return 1;
+    }
+    avr_init(avr);
+    avr->frequency = F_CPU;
+    /* simavr's references and inputs in units of 100 uV: finer than the pins' LSB, and 5 V still fits the
+     * 16 bits simavr keeps an input in */
+    avr->vcc = avr->avcc = (uint32_t)(B6_AVCC_V * 1e4);
+    avr->aref = (uint32_t)floor(model.aref_v * 1e4 + 0.5);
+    avr->log = LOG_ERROR;
+    avr_load_firmware(avr, &fw);
+    avr_ioctl(avr, AVR_IOCTL_EEPROM_SET, &d);
+    avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_ADC_GETIRQ, ADC_IRQ_OUT_TRIGGER), adc_trigger, NULL);
+    avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ('C'), B6_LCD_E.bit), lcd_enable, NULL);
+    avr_cycle_timer_register(avr, STEP_CYCLES, step, NULL);
+    set_buttons(0);
+    uart_pty_init(avr, &uart);
+    uart_pty_connect(&uart, '0');
+    fflush(stdout);
+    dup2(out_fd, 1);
+    close(out_fd);
+    printf("%s\n", uart.pty.slavename);
+    fflush(stdout);
+    fprintf(stderr, "ZUML firmware on a simulated iMAX B6 (simavr): %s, %d-cell LiPo, seed %llu, %s, EEPROM %s\n",
+            argv[1], o.cells, (unsigned long long)o.seed, o.calibrated ? "calibrated" : "uncalibrated",
+            eeprom_path ? eeprom_path : "in memory");
+    signal(SIGTERM, on_signal);
+    signal(SIGINT, on_signal);
+    start = wall_s();
+    while (!stopping) {
+        int state = avr_run(avr);
+        double sim = (double)avr->cycle / F_CPU;
+        if (state == cpu_Done || state == cpu_Crashed) {
+            fprintf(stderr, "zuml_b6_sim: the AVR stopped (state %d)\n", state);
+            break;
+        }
+        if (o.speed > 0) {
+            double ahead = sim / o.speed - (wall_s() - start);
+            if (ahead > 0.002)
+                usleep((useconds_t)(ahead * 1e6));
+        }
+        if (sim >= next_save) {
+            next_save = sim + 1.0;
+            save_eeprom();
+            if (trace)
+                fflush(trace);
+        }
+    }
+    save_eeprom();
+    if (trace)
+        fclose(trace);
+    /* not uart_pty_stop(): it signals its thread and can wait for it forever; exiting ends it */
+    return 0;
+}
