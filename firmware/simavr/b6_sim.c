@@ -38,6 +38,10 @@
 #define R_ICR1 0x46
 #define R_ADMUX 0x27
 #define R_UCSRB 0x2A
+#define R_WDTCR 0x41
+#define R_MCUCSR 0x54
+#define WDRF_BIT 3
+#define WDTOE_WDE 0x18
 #define RXEN_BIT 4
 
 static const char usage[] =
@@ -63,6 +67,15 @@ static uint8_t eeprom[EEPROM_SIZE], saved[EEPROM_SIZE];
 static timed_t faults[MAX_EVENTS], presses[MAX_EVENTS];
 static int n_faults, n_presses, lcd_on, step_count, hang_pending, refs_warned;
 static FILE *trace;
+/* simavr clears its cycle timers at a reset (a watchdog's) and may zero its cycle count: the model's
+ * clock goes on across it */
+static avr_cycle_count_t cycle_base, cycle_at_reset;
+static int reset_seen;
+static void (*mcu_reset)(struct avr_t *);
+
+static avr_cycle_count_t now_cycles(void) { return cycle_base + avr->cycle; }
+static double now_s(void) { return (double)now_cycles() / F_CPU; }
+static long now_ms(void) { return (long)(now_cycles() / (F_CPU / 1000)); }
 
 /* ---- pins ---- */
 
@@ -172,7 +185,6 @@ static struct {
     int changed;
 } lcd = {.increment = 1, .display_on = 0, .last_write_ms = -1, .first_change_ms = -1};
 
-static long now_ms(void) { return (long)(avr->cycle / (F_CPU / 1000)); }
 
 static void lcd_byte(int rs, uint8_t v)
 {
@@ -261,7 +273,8 @@ static void lcd_print_if_settled(void)
 
 /* ---- buttons, faults, the hang ---- */
 
-static void set_buttons(double now_s)
+/* `again`: after a reset, which clears the PIN registers under simavr's unchanged pin values */
+static void set_buttons(double now_s, int again)
 {
     int k, bit;
     for (bit = 0; bit < 4; bit++) {
@@ -269,13 +282,17 @@ static void set_buttons(double now_s)
         for (k = 0; k < n_presses; k++)
             if (presses[k].what == bit && now_s >= presses[k].at_s && now_s < presses[k].at_s + presses[k].hold_s)
                 pressed = 1;
+        avr_irq_t *pin = avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ('B'), bit);
+        if (again)
+            avr_raise_irq(pin, pressed);
         /* external pull-ups ([B]): released reads high, pressed pulls the line low */
-        avr_raise_irq(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ('B'), bit), pressed ? 0 : 1);
+        avr_raise_irq(pin, pressed ? 0 : 1);
     }
 }
 
 /* The main loop stops: the CPU is sent to an endless loop at the top of the flash while the interrupts stay
- * on, so an ISR that still runs cannot hide the hang from a watchdog fed only by the main loop. */
+ * on, so an ISR that still runs cannot hide the hang from a watchdog fed only by the main loop. Called
+ * between two avr_run()s: simavr sets the PC after its cycle timers, so a timer cannot move it. */
 static void hang_now(void)
 {
     uint32_t end = avr->flashend - 1;
@@ -287,7 +304,7 @@ static void hang_now(void)
     avr->flash[end + 1] = 0xCF;
     avr->pc = end;
     hang_pending = 0;
-    fprintf(stderr, "FAULT|hang|%.3f\n", (double)avr->cycle / F_CPU);
+    fprintf(stderr, "FAULT|hang|%.3f\n", now_s());
 }
 
 static void apply_faults(double now_s)
@@ -304,20 +321,18 @@ static void apply_faults(double now_s)
         model.fault[faults[k].what] = 1;
         fprintf(stderr, "FAULT|%s|%.3f\n", b6_fault_names[faults[k].what], now_s);
     }
-    if (hang_pending)
-        hang_now();
 }
 
 /* ---- the model's clock ---- */
 
 static avr_cycle_count_t step(struct avr_t *a, avr_cycle_count_t when, void *param)
 {
-    double now_s = (double)a->cycle / F_CPU;
-    (void)param;
+    double t = now_s();
+    (void)a; (void)param;
     sample_drive();
     b6_model_step(&model, (double)STEP_CYCLES / F_CPU);
-    apply_faults(now_s);
-    set_buttons(now_s);
+    apply_faults(t);
+    set_buttons(t, 0);
     if (++step_count % STEPS_PER_MS == 0) {
         if (trace)
             fprintf(trace, "%ld,%.4f,%.4f,%d,%.4f,%.4f\n", now_ms(), model.drive.buck_duty, model.drive.boost_duty,
@@ -477,6 +492,43 @@ static double wall_s(void)
 
 static void on_signal(int sig) { (void)sig; stopping = 1; }
 
+static void on_reset(struct avr_t *a)
+{
+    if (mcu_reset)
+        mcu_reset(a);
+    cycle_at_reset = a->cycle;
+    reset_seen = 1;
+}
+
+/* The ATmega32 comes out of any reset with its watchdog off (datasheet, WDTCR: WDE reads 0 after a reset
+ * unless the WDTON fuse is programmed); simavr restarts it at 16 ms after a watchdog reset as the newer AVRs
+ * do, which would reset a B6 image again before its LCD is up. The timed sequence turns it off, WDRF kept. */
+static void watchdog_off(void)
+{
+    int io = AVR_DATA_TO_IO(R_WDTCR);
+    uint8_t mcucsr = avr->data[R_MCUCSR];
+    if (!avr->io[io].w.c)
+        return;
+    avr->data[R_MCUCSR] = mcucsr & (uint8_t)~(1u << WDRF_BIT);
+    avr->io[io].w.c(avr, R_WDTCR, WDTOE_WDE, avr->io[io].w.param);
+    avr->io[io].w.c(avr, R_WDTCR, 0, avr->io[io].w.param);
+    avr->data[R_MCUCSR] = mcucsr;
+}
+
+/* After a reset: the clock carried on, the model's step timer registered again. */
+static void after_reset(void)
+{
+    int by_watchdog = avr->data[R_MCUCSR] >> WDRF_BIT & 1;
+    reset_seen = 0;
+    if (avr->cycle < cycle_at_reset)
+        cycle_base += cycle_at_reset;
+    if (by_watchdog)
+        watchdog_off();
+    avr_cycle_timer_register(avr, STEP_CYCLES, step, NULL);
+    set_buttons(now_s(), 1);
+    fprintf(stderr, "RESET|%s|%.3f\n", by_watchdog ? "watchdog" : "other", now_s());
+}
+
 int main(int argc, char **argv)
 {
     options_t o = {.cells = 3, .calibrated = 1, .capacity_mah = 2000, .soc = 0.2, .spread_mv = 0, .speed = 1};
@@ -513,6 +565,8 @@ int main(int argc, char **argv)
         return 1;
     }
     avr_init(avr);
+    mcu_reset = avr->reset;
+    avr->reset = on_reset;
     avr->frequency = F_CPU;
     /* simavr's references and inputs in units of 100 uV: finer than the pins' LSB, and 5 V still fits the
      * 16 bits simavr keeps an input in */
@@ -524,7 +578,7 @@ int main(int argc, char **argv)
     avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_ADC_GETIRQ, ADC_IRQ_OUT_TRIGGER), adc_trigger, NULL);
     avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ('C'), B6_LCD_E.bit), lcd_enable, NULL);
     avr_cycle_timer_register(avr, STEP_CYCLES, step, NULL);
-    set_buttons(0);
+    set_buttons(0, 1);
     uart_pty_init(avr, &uart);
     uart_pty_connect(&uart, '0');
     fflush(stdout);
@@ -540,7 +594,12 @@ int main(int argc, char **argv)
     start = wall_s();
     while (!stopping) {
         int state = avr_run(avr);
-        double sim = (double)avr->cycle / F_CPU;
+        double sim;
+        if (reset_seen)
+            after_reset();
+        if (hang_pending)
+            hang_now();
+        sim = now_s();
         if (state == cpu_Done || state == cpu_Crashed) {
             fprintf(stderr, "zuml_b6_sim: the AVR stopped (state %d)\n", state);
             break;
