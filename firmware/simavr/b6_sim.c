@@ -17,6 +17,7 @@
 #include "avr_adc.h"
 #include "avr_eeprom.h"
 #include "avr_ioport.h"
+#include "avr_uart.h"
 #include "parts/uart_pty.h"
 #include "b6_board.h"
 #include "b6_calibration.h"
@@ -581,6 +582,13 @@ int main(int argc, char **argv)
     set_buttons(0, 1);
     uart_pty_init(avr, &uart);
     uart_pty_connect(&uart, '0');
+    {
+        /* simavr sleeps the host at every poll of an empty receiver: that would tie simulated time to the wall's */
+        uint32_t flags = 0;
+        avr_ioctl(avr, AVR_IOCTL_UART_GET_FLAGS('0'), &flags);
+        flags &= ~(uint32_t)AVR_UART_FLAG_POLL_SLEEP;
+        avr_ioctl(avr, AVR_IOCTL_UART_SET_FLAGS('0'), &flags);
+    }
     fflush(stdout);
     dup2(out_fd, 1);
     close(out_fd);
@@ -593,17 +601,21 @@ int main(int argc, char **argv)
     signal(SIGINT, on_signal);
     start = wall_s();
     while (!stopping) {
-        int state = avr_run(avr);
+        /* a simulated millisecond at a time: the wall's clock is read once per ms, not per instruction */
+        avr_cycle_count_t until = avr->cycle + F_CPU / 1000;
+        int state = cpu_Running;
         double sim;
+        while (avr->cycle < until && !reset_seen && !hang_pending && state != cpu_Done && state != cpu_Crashed)
+            state = avr_run(avr);
+        if (state == cpu_Done || state == cpu_Crashed) {
+            fprintf(stderr, "zuml_b6_sim: the AVR stopped (state %d)\n", state);
+            break;
+        }
         if (reset_seen)
             after_reset();
         if (hang_pending)
             hang_now();
         sim = now_s();
-        if (state == cpu_Done || state == cpu_Crashed) {
-            fprintf(stderr, "zuml_b6_sim: the AVR stopped (state %d)\n", state);
-            break;
-        }
         if (o.speed > 0) {
             double ahead = sim / o.speed - (wall_s() - start);
             if (ahead > 0.002)
