@@ -35,8 +35,8 @@ def client(host_device):
 def test_identify_reports_the_store_and_the_limits(client):
     info = client().info
     assert info.protocol == 1 and info.max_data == 240
-    # (1 KB - 16 start templates of 9 B - 2 flag bytes) / 2: the other half stages writes
-    assert info.eeprom_size == 439
+    # (1 KB - 16 start templates of 9 B + a check byte - 2 flag bytes) / 2: the other half stages writes
+    assert info.eeprom_size == 431
     assert info.max_charge_a == 5.0 and info.firmware.startswith("zuml-fw")
 
 
@@ -134,10 +134,10 @@ def test_retried_requests_are_answered_the_same_and_not_done_twice(host_device):
 
 
 def test_a_commit_cut_off_by_a_power_loss_is_finished_at_the_next_start(client, tmp_path):
-    image = eeprom.pack([compiled("LiPo")], 439)
-    old = eeprom.pack([], 439)
+    image = eeprom.pack([compiled("LiPo")], 431)
+    old = eeprom.pack([], 431)
     # image, staging copy, 16 blank start templates, their flag, the journal at 1023: committing
-    ee = old + image + b"\xff" * 144 + b"\xff\xa5"
+    ee = old + image + b"\xff" * 160 + b"\xff\xa5"
     path = tmp_path / "ee.bin"
     path.write_bytes(ee)
     c = client("--eeprom", path)
@@ -178,7 +178,7 @@ def test_the_start_templates_are_the_factory_table_and_survive_a_restart(client,
     assert missing.value.code == m.ErrorCode.NO_TEMPLATE
     c.close()
     for _ in range(100):
-        if path.exists() and len(path.read_bytes()) == 1024 and path.read_bytes()[878 + 8 * 9] == 2:
+        if path.exists() and len(path.read_bytes()) == 1024 and path.read_bytes()[862 + 8 * 10] == 2:
             break
         time.sleep(0.05)
     assert client("--eeprom", path).get_template(9).task == "train"
