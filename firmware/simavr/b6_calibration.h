@@ -9,6 +9,8 @@
 
 /* The calibration block for model `m`'s tolerances, in `eeprom` (size bytes). */
 void b6_calibration_write(const b6_model_t *m, uint8_t *eeprom, size_t size);
+/* 1 when `eeprom` holds a block the image accepts (version 1, check byte, no zero full scale). */
+int b6_calibration_valid(const uint8_t *eeprom, size_t size);
 /* The calibration block erased, as on a charger never calibrated. */
 void b6_calibration_erase(uint8_t *eeprom, size_t size);
 

@@ -85,8 +85,9 @@ void b6_model_init(b6_model_t *m, uint64_t seed, int cells, double capacity_mah,
     m->gain[B6_Q_I_SMPS] = within(&m->rng, 0.03);       /* shunt and amplifier */
     m->gain[B6_Q_I_DISCHARGE] = within(&m->rng, 0.03);
     m->gain[B6_Q_TEXTERN] = within(&m->rng, 0.02);
-    m->ismps_zero_adc16 = b6_adc_channel[3].zero_adc16 + 40 * (2 * uniform(&m->rng) - 1);
-    m->idis_zero_adc16 = b6_adc_channel[2].zero_adc16 + 40 * (2 * uniform(&m->rng) - 1);
+    /* the current amplifiers' offsets: half to one and a half times cheali's (never below 0 V) */
+    m->ismps_zero_adc16 = b6_adc_channel[3].zero_adc16 * (0.5 + uniform(&m->rng));
+    m->idis_zero_adc16 = b6_adc_channel[2].zero_adc16 * (0.5 + uniform(&m->rng));
     m->inductor_h = INDUCTOR_H * within(&m->rng, 0.2);
     m->vin_v = VIN_V * within(&m->rng, 0.01);
     m->cells = cells;

@@ -546,11 +546,12 @@ int main(int argc, char **argv)
     if (!parse(argc, argv, &o))
         return 2;
     b6_model_init(&model, o.seed, o.cells, o.capacity_mah, o.soc, o.spread_mv);
-    if (o.calibrated)
+    memcpy(saved, eeprom, EEPROM_SIZE);     /* as read: a calibration written below goes to the file too */
+    /* a block already in the EEPROM file (a `zuml calibrate` of an earlier run) is the charger's own */
+    if (o.calibrated && !b6_calibration_valid(eeprom, EEPROM_SIZE))
         b6_calibration_write(&model, eeprom, EEPROM_SIZE);
     else
         b6_calibration_erase(eeprom, EEPROM_SIZE);
-    memcpy(saved, eeprom, EEPROM_SIZE);
     /* simavr talks on stdout; the first line of ours is the port alone */
     fflush(stdout);
     out_fd = dup(1);
