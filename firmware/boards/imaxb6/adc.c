@@ -55,7 +55,7 @@ static void select(void)
     slot++;
 }
 
-static void reading(uint16_t adc16)
+static void reading(uint8_t input, uint16_t adc16)
 {
     int16_t value = (int16_t)cal_value(input, adc16);
     sum[input] += adc16;
@@ -85,11 +85,12 @@ ISR(ADC_vect)
         burst += v;
     if (++conversion == DROP + TAKE) {
         uint16_t adc16 = (uint16_t)(burst << 4);
+        uint8_t done = input;
         conversion = 0;
         burst = 0;
         select();                    /* the next input settles while this one is processed */
         ADCSRA |= _BV(ADSC);
-        reading(adc16);
+        reading(done, adc16);
         return;
     }
     ADCSRA |= _BV(ADSC);

@@ -137,7 +137,7 @@ static void idle_screen(uint32_t now, uint8_t calibrated)
         strcpy_P(line, protect_text(TRIP_UNCALIBRATED));
     } else {
         p = line;
-        p = put_text(p, "ready  Vin ", 11);
+        p = put_text(p, "ready Vin ", 10);
         p = put_milli(p, protect_latest[CAL_VIN], 2, 2);
         *p++ = 'V';
         *p = 0;
@@ -167,7 +167,7 @@ static void run_screen(void)
     else
         p = put_text(p, "--", 2);
     p = put_text(p, "C ", 2);
-    p = put_uint(p, r->time_ms / 60000UL, 3);
+    p = put_uint(p, r->time_ms / 60000UL, 2);
     *p++ = 'm';
     *p = 0;
     show(1, line);
