@@ -150,8 +150,9 @@ static double input_pin_v(int channel)
     return channel < 8 && driven_high((b6_pin_t){B6_PA, (uint8_t)channel}) ? B6_AVCC_V : 0;
 }
 
-/* simavr converts value * 1023 / reference, both in its units: give it the ratio the board's pin makes
- * against the reference the firmware selected. */
+/* The code the ATmega32's ADC makes (datasheet: ADC = Vin * 1024 / Vref, the first step at half an LSB),
+ * handed to simavr as the middle of that code's step: simavr converts value * 1023 / reference, truncated,
+ * which read directly would be 0.1 % and half an LSB low. */
 static void adc_trigger(struct avr_irq_t *irq, uint32_t value, void *param)
 {
     union { avr_adc_mux_t mux; uint32_t v; } e = {.v = value};
@@ -172,9 +173,10 @@ static void adc_trigger(struct avr_irq_t *irq, uint32_t value, void *param)
     }
     if (e.mux.kind != ADC_MUX_SINGLE)
         return;
-    v = input_pin_v(e.mux.src) / ref_v;
+    v = floor(input_pin_v(e.mux.src) / ref_v * 1024 + 0.5);
+    v = v < 0 ? 0 : (v > 1023 ? 1023 : v);
     avr_raise_irq(avr_io_getirq(avr, AVR_IOCTL_ADC_GETIRQ, ADC_IRQ_ADC0 + e.mux.src),
-                  (uint32_t)(v < 0 ? 0 : floor(v * units + 0.5)));
+                  (uint32_t)floor((v + 0.5) * units / 1023));
 }
 
 /* ---- the HD44780 in 4-bit mode, RW tied low ---- */
@@ -297,8 +299,8 @@ static void set_buttons(double now_s, int again)
 static void hang_now(void)
 {
     uint32_t end = avr->flashend - 1;
-    if (!avr->sreg[S_I])
-        return;                         /* inside an ISR or an atomic block: wait for the main loop */
+    if (avr->interrupts.running_ptr)
+        return;                         /* inside an ISR: wait for the main loop */
     if (avr->flash[end] != 0xFF || avr->flash[end + 1] != 0xFF)
         fprintf(stderr, "zuml_b6_sim: the image reaches the last flash word; hang overwrites it\n");
     avr->flash[end] = 0xFF;             /* rjmp . = 0xCFFF, little endian */
@@ -421,9 +423,12 @@ typedef struct {
 static int parse(int argc, char **argv, options_t *o)
 {
     int k;
+    static const char *const known[] = {"--eeprom", "--cells", "--capacity", "--soc", "--cell-spread", "--seed",
+                                        "--speed", "--fault", "--press", "--trace"};
     for (k = 2; k < argc; k++) {
         const char *name = argv[k], *value = k + 1 < argc ? argv[k + 1] : NULL;
         double v;
+        size_t n;
         if (!strcmp(name, "--uncalibrated")) {
             o->calibrated = 0;
             continue;
@@ -432,6 +437,10 @@ static int parse(int argc, char **argv, options_t *o)
             lcd_on = 1;
             continue;
         }
+        for (n = 0; n < sizeof known / sizeof known[0] && strcmp(name, known[n]); n++)
+            ;
+        if (n == sizeof known / sizeof known[0])
+            return fail("unknown option", name);
         if (!value)
             return fail("missing value after", name);
         k++;
@@ -477,8 +486,6 @@ static int parse(int argc, char **argv, options_t *o)
             if (!trace)
                 return fail("cannot write the trace", value);
             fputs("t_ms,buck_duty,boost_duty,output_enabled,current_a,voltage_v\n", trace);
-        } else {
-            return fail("unknown option", name);
         }
     }
     return 1;
@@ -548,10 +555,10 @@ int main(int argc, char **argv)
     b6_model_init(&model, o.seed, o.cells, o.capacity_mah, o.soc, o.spread_mv);
     memcpy(saved, eeprom, EEPROM_SIZE);     /* as read: a calibration written below goes to the file too */
     /* a block already in the EEPROM file (a `zuml calibrate` of an earlier run) is the charger's own */
-    if (o.calibrated && !b6_calibration_valid(eeprom, EEPROM_SIZE))
-        b6_calibration_write(&model, eeprom, EEPROM_SIZE);
-    else
+    if (!o.calibrated)
         b6_calibration_erase(eeprom, EEPROM_SIZE);
+    else if (!b6_calibration_valid(eeprom, EEPROM_SIZE))
+        b6_calibration_write(&model, eeprom, EEPROM_SIZE);
     /* simavr talks on stdout; the first line of ours is the port alone */
     fflush(stdout);
     out_fd = dup(1);
@@ -593,13 +600,14 @@ int main(int argc, char **argv)
     fflush(stdout);
     dup2(out_fd, 1);
     close(out_fd);
+    /* before the port is out: a client that stops us at once still gets the EEPROM and the trace saved */
+    signal(SIGTERM, on_signal);
+    signal(SIGINT, on_signal);
     printf("%s\n", uart.pty.slavename);
     fflush(stdout);
     fprintf(stderr, "ZUML firmware on a simulated iMAX B6 (simavr): %s, %d-cell LiPo, seed %llu, %s, EEPROM %s\n",
             argv[1], o.cells, (unsigned long long)o.seed, o.calibrated ? "calibrated" : "uncalibrated",
             eeprom_path ? eeprom_path : "in memory");
-    signal(SIGTERM, on_signal);
-    signal(SIGINT, on_signal);
     start = wall_s();
     while (!stopping) {
         /* a simulated millisecond at a time: the wall's clock is read once per ms, not per instruction */

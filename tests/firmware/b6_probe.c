@@ -7,7 +7,8 @@
  *   lHH  the balancer's load switches, bit n-1 = cell n                   -> "ok\n"
  *   x    everything off: the disable lines high, no PWM                   -> "ok\n"
  * Line 1 of the LCD reads "PROBE" (or "PROBE WDT" after a watchdog reset), line 2 "KEYS sdiS" with each button
- * pressed shown by its letter. The watchdog (30 ms) is fed by the main loop only. */
+ * pressed shown by its letter; START switches the buck on at 500/512 as b500 does. The watchdog (30 ms) is fed
+ * by the main loop only. */
 #include <avr/io.h>
 #include <avr/wdt.h>
 #include <util/delay.h>
@@ -66,6 +67,13 @@ static void put_number(const char *prefix, uint32_t v)
     while (n)
         put(digits[--n]);
     put('\n');
+}
+
+static void buck(uint16_t top_fraction)
+{
+    OCR1B = top_fraction;
+    TCCR1A = _BV(COM1B1) | _BV(WGM11);
+    PORTD &= (uint8_t)~(_BV(3) | _BV(6));
 }
 
 static int get(void)
@@ -135,6 +143,8 @@ int main(void)
         keys[7] = pins & _BV(2) ? ' ' : 'i';
         keys[8] = pins & _BV(3) ? ' ' : 'S';
         lcd_text(0x40, keys);
+        if (!(pins & _BV(3)))
+            buck(500);
         if (UCSRA & _BV(RXC)) {
             int c = UDR, n = get(), a, b;
             if (c == 'a' && n >= '0' && n <= '7') {
@@ -145,9 +155,7 @@ int main(void)
                 PORTB = (uint8_t)((PORTB & 0x1F) | (n - '0') << 5);
                 put_number(prefix, adc_sum(6));
             } else if (c == 'b' && (a = get()) >= '0' && (b = get()) >= '0') {
-                OCR1B = (uint16_t)((n - '0') * 100 + (a - '0') * 10 + (b - '0'));
-                TCCR1A = _BV(COM1B1) | _BV(WGM11);
-                PORTD &= (uint8_t)~(_BV(3) | _BV(6));
+                buck((uint16_t)((n - '0') * 100 + (a - '0') * 10 + (b - '0')));
                 put('o'); put('k'); put('\n');
             } else if (c == 'l' && hex(n) >= 0 && (a = hex(get())) >= 0) {
                 uint8_t mask = (uint8_t)(hex(n) << 4 | a);
