@@ -51,7 +51,7 @@ const char *protect_arm(uint8_t akk_type, int16_t cells, uint8_t *trip)
     else if (protect_latest[CAL_VOUT] > pack_max)
         *trip = TRIP_PACK_MAX;
     for (k = 0; !*trip && li && k < balance; k++)
-        if (protect_cell_mv[k] > (int16_t)cell_max)
+        if (protect_cell_mv[k] > (int16_t)(cell_max - CELL_MARGIN_MV))
             *trip = (uint8_t)(TRIP_CELL1_MAX + k);
     if (*trip)
         return protect_text(*trip);
@@ -60,7 +60,7 @@ const char *protect_arm(uint8_t akk_type, int16_t cells, uint8_t *trip)
     protect_limits.probe = protect_latest[CAL_TEXTERN] >= PROBE_PRESENT_C100 &&
                            protect_latest[CAL_TEXTERN] <= PROBE_OPEN_HIGH_C100;
     protect_limits.pack_max_mv = (uint16_t)pack_max;
-    protect_limits.cell_max_mv = cell_max;
+    protect_limits.cell_max_mv = (uint16_t)(cell_max - CELL_MARGIN_MV);
     protect_limits.armed = 1;
     return 0;
 }
@@ -134,7 +134,9 @@ uint8_t protect_reading(uint8_t input, int16_t value)
         for (k = 0; k < l->li_cells; k++)
             sum = (int16_t)(sum + protect_cell_mv[k]);
         d = (int16_t)(value - sum);
-        condition(TRIP_DISCONNECTED, value < TRIP_PRESENT_MV || (l->li_cells && (d > TRIP_LEAD_MV || d < -TRIP_LEAD_MV)));
+        /* a reversed pack also reads no voltage at Vout+: its own check names it */
+        condition(TRIP_DISCONNECTED, protect_latest[CAL_VOUT_MINUS] <= TRIP_REVERSED_MV &&
+                                     (value < TRIP_PRESENT_MV || (l->li_cells && (d > TRIP_LEAD_MV || d < -TRIP_LEAD_MV))));
         break;
     }
     case CAL_TEXTERN:

@@ -33,6 +33,8 @@ enum {
 #define PROBE_OPEN_LOW_C100 100
 #define PROBE_OPEN_HIGH_C100 12000
 #define CELL_PRESENT_MV 1000       /* a balance tap above this carries a cell */
+#define CELL_MARGIN_MV 50          /* a cell trips this far below its chemistry's absolute maximum: a
+                                    * tap reading's uncertainty (~1 %), so a cell at the maximum trips */
 
 /* The inputs protect_reading knows (calib.h's order; the cells are computed from the taps). */
 typedef struct {
