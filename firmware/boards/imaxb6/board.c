@@ -31,6 +31,8 @@
 #define T_CAL_WRITE 0x31
 #define T_CAL_MEASURE 0x32
 #define T_CAL_OUTPUT 0x33
+#define T_STACK 0x34
+#define PAINT 0xAA
 
 static volatile uint32_t millis;
 static volatile uint8_t rx_ring[RX_RING];
@@ -240,6 +242,26 @@ static void balance(void)
                       (balancing & 32 ? _BV(B6_BAL6) : 0));
 }
 
+/* The stack's high-water mark, measured (docs/firmware.md, *Budgets*): the RAM between the variables
+ * and the stack is painted before main() runs; STACK counts what was never written since. */
+extern uint8_t __bss_end;
+void paint_stack(void) __attribute__((naked, used, section(".init3")));
+void paint_stack(void)
+{
+    uint8_t *p = &__bss_end;
+    while (p < (uint8_t *)SP)
+        *p++ = PAINT;
+}
+
+static uint16_t stack_never_used(void)
+{
+    const uint8_t *p = &__bss_end;
+    uint16_t n = 0;
+    while (p + n < (const uint8_t *)RAMEND && p[n] == PAINT)
+        n++;
+    return n;
+}
+
 static void send_calibration(uint8_t type, uint8_t seq)
 {
     uint8_t block[CAL_BLOCK], k;
@@ -253,9 +275,9 @@ static void send_calibration(uint8_t type, uint8_t seq)
 
 void hal_request(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uint8_t running)
 {
-    static const uint8_t lengths[4] PROGMEM = {0, CAL_BLOCK, 0, 3};
+    static const uint8_t lengths[5] PROGMEM = {0, CAL_BLOCK, 0, 3, 0};
     uint8_t k;
-    if (type > T_CAL_OUTPUT) {
+    if (type > T_STACK) {
         app_error(type, seq, 3, PSTR("unknown request type"));
         return;
     }
@@ -281,6 +303,12 @@ void hal_request(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uint8
         /* fall through */
     case T_CAL_READ:
         send_calibration(type, seq);
+        return;
+    case T_STACK:
+        app_tx_begin(T_STACK | 0x80, seq, 4);
+        app_tx16(stack_never_used());
+        app_tx16((uint16_t)(RAMEND + 1 - (uint16_t)&__bss_end));
+        app_tx_end();
         return;
     case T_CAL_MEASURE:
         app_tx_begin(T_CAL_MEASURE | 0x80, seq, 6 * CAL_INPUTS);
