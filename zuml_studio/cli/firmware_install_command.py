@@ -3,31 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import subprocess
 import sys
 from pathlib import Path
 
 from ..i18n import _
 from .common import CliError
-
-FIRMWARE = Path(__file__).resolve().parents[2] / "firmware"
-IMAGE = FIRMWARE / "build" / "imaxb6" / "zuml.elf"
-
-
-def warnings() -> list[str]:
-    """What a user must know before the charger's firmware is replaced (the CLI and the Device menu show it)."""
-    return [
-        _("This replaces the charger's own firmware. ZUML's iMAX B6 image has been proven on a simulated board "
-          "only: watch the first charges and keep a fire-safe place."),
-        _("Only for the original iMAX B6 (ATmega32, 16 MHz crystal); clones with another chip or board differ."),
-        _("Disconnect the battery and keep the charger powered from its DC input while the ISP programmer is "
-          "on its 10-pin header; do not unplug anything until it is done."),
-        _("The original flash and EEPROM are saved first and checked; `zuml firmware restore BACKUP` puts them "
-          "back. A read-protected charger cannot be saved and is refused."),
-        _("After installing, calibrate the charger (`zuml calibrate --port PORT`): until then it refuses to "
-          "charge."),
-    ]
-
 
 def add_programmer_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--programmer", default="usbasp", metavar="ID",
@@ -65,23 +45,12 @@ def programmer(args: argparse.Namespace):
     return Programmer(args.programmer, args.port, args.baud)
 
 
-def built_image() -> Path:
-    """The imaxb6 image, made first (a no-op when up to date)."""
-    try:
-        done = subprocess.run(["make", "-s", "-C", str(FIRMWARE), "imaxb6"], capture_output=True, text=True)
-    except OSError as exc:
-        raise CliError(_("the imaxb6 image cannot be built ({error}): give --image FILE").format(error=exc)) from None
-    if done.returncode != 0 or not IMAGE.is_file():
-        raise CliError(_("the imaxb6 image did not build (make -C {firmware} imaxb6): give --image FILE").format(
-            firmware=FIRMWARE))
-    return IMAGE
-
-
 def say(line: str) -> None:
     print(line, flush=True)
 
 
 def confirmed(yes: bool) -> bool:
+    from ..device.avr_install import warnings
     for line in warnings():
         sys.stderr.write(_("warning: {line}\n").format(line=line))
     if yes:
@@ -100,9 +69,9 @@ def cmd_install(args: argparse.Namespace) -> int:
         raise CliError(str(exc)) from None
     if not confirmed(args.yes):
         raise CliError(_("not installed"), 1)
-    image = args.image or built_image()
     folder = args.backup_dir or avr_install.default_backup_folder()
     try:
+        image = args.image or avr_install.build_image()
         avr_install.install(chosen, image, folder, args.fix_fuses, say)
     except avr_install.InstallError as exc:
         raise CliError(str(exc), 1) from None

@@ -29,6 +29,8 @@ BOD_BITS = 0xC0                         # low fuse: BODLEVEL | BODEN, programmed
 READ_PROTECTED = 0x03                   # lock byte: LB2 | LB1; either programmed: flash and EEPROM unreadable
 AVRDUDE_INSTALL = "apt-get install avrdude"
 MANIFEST = "backup.json"
+FIRMWARE = Path(__file__).resolve().parents[2] / "firmware"
+IMAGE = FIRMWARE / "build" / "imaxb6" / "zuml.elf"
 FORMATS = {".hex": "i", ".ihex": "i", ".elf": "e", ".bin": "r"}
 
 Say = Callable[[str], None]
@@ -59,6 +61,21 @@ class Fuses:
     @property
     def read_protected(self) -> bool:
         return self.lock & READ_PROTECTED != READ_PROTECTED
+
+
+def warnings() -> list[str]:
+    """What a user must know before the charger's firmware is replaced (the CLI and the Device menu show it)."""
+    return [
+        _("This replaces the charger's own firmware. ZUML's iMAX B6 image has been proven on a simulated board "
+          "only: watch the first charges and keep a fire-safe place."),
+        _("Only for the original iMAX B6 (ATmega32, 16 MHz crystal); clones with another chip or board differ."),
+        _("Disconnect the battery and keep the charger powered from its DC input while the ISP programmer is "
+          "on its 10-pin header; do not unplug anything until it is done."),
+        _("The original flash and EEPROM are saved first and checked; `zuml firmware restore BACKUP` puts them "
+          "back. A read-protected charger cannot be saved and is refused."),
+        _("After installing, calibrate the charger (`zuml calibrate --port PORT`): until then it refuses to "
+          "charge."),
+    ]
 
 
 def bod_fixed(low: int) -> int:
@@ -135,6 +152,19 @@ def backup(programmer: Programmer, folder: Path, say: Say) -> Fuses:
 
 def default_backup_folder() -> Path:
     return config_dir() / "firmware-backups" / time.strftime("imaxb6-%Y%m%d-%H%M%S")
+
+
+def build_image() -> Path:
+    """The imaxb6 image, made first (a no-op when up to date)."""
+    try:
+        done = subprocess.run(["make", "-s", "-C", str(FIRMWARE), "imaxb6"], capture_output=True, text=True)
+    except OSError as exc:
+        raise InstallError(_("the imaxb6 image cannot be built ({error}): give the image file").format(
+            error=exc)) from None
+    if done.returncode != 0 or not IMAGE.is_file():
+        raise InstallError(_("the imaxb6 image did not build (make -C {firmware} imaxb6): give the image file").format(
+            firmware=FIRMWARE))
+    return IMAGE
 
 
 def image_operation(image: Path) -> str:

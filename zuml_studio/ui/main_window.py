@@ -202,6 +202,8 @@ class MainWindow(QMainWindow):
         self.act_disconnect = self._action(_("&Disconnect"), lambda: self._device_call(self.device_panel.disconnect))
         self.act_start = self._action(_("&Start the Macro"), lambda: self._device_call(self.device_panel.start))
         self.act_stop = self._action(_("S&top the Charger"), lambda: self._device_call(self.device_panel.stop))
+        self.act_install_firmware = self._action(_("&Install Firmware on an iMAX B6…"), self.install_firmware, None,
+                                                 _("Save the charger's original, then write the ZUML firmware"))
         self.act_simulate = self._action(_("&Simulate"), lambda: self.sim_panel.simulate(), "F5")
         self.act_cancel_sim = self._action(_("&Cancel Simulation"), lambda: self.sim_panel.cancel(), "Shift+F5")
         self.act_export_csv = self._action(_("Export Samples as &CSV…"), self.export_csv)
@@ -211,6 +213,10 @@ class MainWindow(QMainWindow):
         self.act_reference = self._action(_("&Command Reference"), self.show_help, K.HelpContents,
                                           _("Help on the command under the cursor"))
         self.act_about = self._action(_("&About ZUML Studio"), self.show_about)
+
+    def install_firmware(self) -> None:
+        from .device.firmware_install_dialog import FirmwareInstallDialog
+        FirmwareInstallDialog(self).open()
 
     def _build_menus(self) -> None:
         bar = self.menuBar()
@@ -262,7 +268,7 @@ class MainWindow(QMainWindow):
 
         device = bar.addMenu(_("&Device"))
         for action in (self.act_connect, self.act_disconnect, None, self.act_upload, self.act_start, self.act_stop,
-                       None, self.device_dock.toggleViewAction()):
+                       None, self.device_dock.toggleViewAction(), None, self.act_install_firmware):
             device.addSeparator() if action is None else device.addAction(action)
 
         sim = bar.addMenu(_("&Simulate"))
