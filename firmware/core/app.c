@@ -643,12 +643,14 @@ uint8_t app_state(void) { return state; }
 const zc_run_t *app_run(void) { return &run; }
 uint8_t app_end_text(char *out) { return reason_text(out); }
 
-const char *app_start_slot(uint8_t number, uint8_t series)
+const char *app_start_slot(uint8_t number, uint8_t series, uint16_t current_ma)
 {
     uint8_t p[11];
     memset(p, 0, sizeof p);
     p[0] = number;
     p[2] = 1;
+    p[5] = (uint8_t)current_ma;
+    p[6] = (uint8_t)(current_ma >> 8);
     p[9] = series;
     p[10] = 1;
     return start(0, p, 1);

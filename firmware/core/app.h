@@ -32,9 +32,9 @@ uint8_t app_state(void);
 uint8_t app_running(void);                          /* running or paused */
 const zc_run_t *app_run(void);
 uint8_t app_end_text(char *out);                    /* the end reason, ZC_TEXT_MAX bytes */
-/* Starts slot `number` (0-based) as a charge with no start values but the cell count; NULL when it
- * started, else why not (in flash). */
-const char *app_start_slot(uint8_t number, uint8_t series);
+/* Starts slot `number` (0-based) as a charge with the cell count and a current (for INPUT) as its
+ * only start values; NULL when it started, else why not (in flash). */
+const char *app_start_slot(uint8_t number, uint8_t series, uint16_t current_ma);
 void app_stop(void);
 /* Ends the run on a board's protection (text in flash): output off, the events and STATUS carry
  * "protection: <text>". */

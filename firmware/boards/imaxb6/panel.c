@@ -20,6 +20,9 @@ static uint8_t keys, raw_last, steady, sel;
 static uint32_t key_ms, show_ms, start_down_ms;
 static const char *message;      /* a refusal (in flash) shown on line 2 until a key */
 static uint8_t dismissed;        /* the finished run's screen was left with a key */
+static uint8_t setting;          /* the current for an INPUT macro is being set */
+static uint16_t current_ma = 1000;
+#define CURRENT_STEP_MA 100
 static char shown[2][LCD_COLUMNS + 1];
 
 /* Pressed keys, debounced (pressed = low, external pull-ups); returns the keys pressed just now. */
@@ -131,7 +134,12 @@ static void idle_screen(uint32_t now, uint8_t calibrated)
         *p = 0;
     }
     show(0, line);
-    if (message) {
+    if (setting) {
+        p = put_text(line, "charge at ", 10);
+        p = put_milli(p, current_ma, 1, 2);
+        *p++ = 'A';
+        *p = 0;
+    } else if (message) {
         strcpy_P(line, message);
     } else if (!calibrated) {
         strcpy_P(line, protect_text(TRIP_UNCALIBRATED));
@@ -199,15 +207,29 @@ void panel_poll(uint32_t now, uint8_t calibrated)
         if (pressed)
             dismissed = 1;
     } else {
-        if (pressed & _BV(B6_KEY_INC))
-            sel++;
-        if ((pressed & _BV(B6_KEY_DEC)) && sel)
-            sel--;
-        if (pressed & _BV(B6_KEY_START))
+        /* idle: INC/DEC pick the slot; START shows the current (INC/DEC set it, STOP goes back); START
+         * held starts the slot */
+        if (setting) {
+            if ((pressed & _BV(B6_KEY_INC)) && current_ma < B6_CHARGE_MA)
+                current_ma += CURRENT_STEP_MA;
+            if ((pressed & _BV(B6_KEY_DEC)) && current_ma > CURRENT_STEP_MA)
+                current_ma -= CURRENT_STEP_MA;
+            if (pressed & _BV(B6_KEY_STOP))
+                setting = 0;
+        } else {
+            if (pressed & _BV(B6_KEY_INC))
+                sel++;
+            if ((pressed & _BV(B6_KEY_DEC)) && sel)
+                sel--;
+        }
+        if (pressed & _BV(B6_KEY_START)) {
             start_down_ms = now;
+            setting = 1;
+        }
         if ((keys & _BV(B6_KEY_START)) && start_down_ms && now - start_down_ms >= START_HOLD_MS) {
             start_down_ms = 0;
-            message = app_start_slot(sel, protect_balance_cells());
+            setting = 0;
+            message = app_start_slot(sel, protect_balance_cells(), current_ma);
         }
         if (!(keys & _BV(B6_KEY_START)))
             start_down_ms = 0;
