@@ -16,7 +16,7 @@ const char *const b6_fault_names[B6_FAULT_KINDS] = {
 #define OUTPUT_BLEED_R 10e3     /* the output dividers' load on the capacitor, ohm */
 #define WIRE_R 0.02             /* leads and connectors, ohm */
 #define DIODE_V 0.7             /* the freewheel diode that clamps a reversed output */
-#define BLEED_R 33.0            /* a balancer load resistor: ~127 mA at 4.2 V */
+#define BLEED_R 14.0            /* a balancer load resistor: 300 mA at 4.2 V, the B6 manual's "balance drain" */
 #define DISCHARGE_FULL_A 1.2    /* the discharger's current at 100 % of its PWM reference */
 #define VIN_V 12.0              /* the supply (the B6 takes 11..18 V) */
 #define VIN_LOW_V 10.5          /* what the input-low fault sags it to */

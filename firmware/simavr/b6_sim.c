@@ -66,7 +66,7 @@ static volatile sig_atomic_t stopping;
 static const char *eeprom_path;
 static uint8_t eeprom[EEPROM_SIZE], saved[EEPROM_SIZE];
 static timed_t faults[MAX_EVENTS], presses[MAX_EVENTS];
-static int n_faults, n_presses, lcd_on, step_count, hang_pending, refs_warned;
+static int n_faults, n_presses, lcd_on, step_count, hang_pending, refs_warned, output_was_on;
 static FILE *trace;
 /* simavr clears its cycle timers at a reset (a watchdog's) and may zero its cycle count: the model's
  * clock goes on across it */
@@ -328,6 +328,20 @@ static void apply_faults(double now_s)
 
 /* ---- the model's clock ---- */
 
+/* OUTPUT|on|T and OUTPUT|off|T|CELL1|CELL2|... (the cells' true voltages, V) when the stage switches */
+static void report_output(double t)
+{
+    int on = b6_model_output_enabled(&model), k;
+    if (on == output_was_on)
+        return;
+    output_was_on = on;
+    fprintf(stderr, "OUTPUT|%s|%.3f", on ? "on" : "off", t);
+    for (k = 0; !on && k < model.cells; k++)
+        fprintf(stderr, "|%.4f", b6_model_cell_v(&model, k));
+    fputc('\n', stderr);
+    fflush(stderr);
+}
+
 static avr_cycle_count_t step(struct avr_t *a, avr_cycle_count_t when, void *param)
 {
     double t = now_s();
@@ -336,6 +350,7 @@ static avr_cycle_count_t step(struct avr_t *a, avr_cycle_count_t when, void *par
     b6_model_step(&model, (double)STEP_CYCLES / F_CPU);
     apply_faults(t);
     set_buttons(t, 0);
+    report_output(t);
     if (++step_count % STEPS_PER_MS == 0) {
         if (trace)
             fprintf(trace, "%ld,%.4f,%.4f,%d,%.4f,%.4f\n", now_ms(), model.drive.buck_duty, model.drive.boost_duty,
@@ -612,10 +627,11 @@ int main(int argc, char **argv)
     while (!stopping) {
         /* a simulated millisecond at a time: the wall's clock is read once per ms, not per instruction */
         avr_cycle_count_t until = avr->cycle + F_CPU / 1000;
-        int state = cpu_Running;
+        int state;
         double sim;
-        while (avr->cycle < until && !reset_seen && !hang_pending && state != cpu_Done && state != cpu_Crashed)
+        do                              /* one instruction at a time while a hang waits for the main loop */
             state = avr_run(avr);
+        while (avr->cycle < until && !reset_seen && !hang_pending && state != cpu_Done && state != cpu_Crashed);
         if (state == cpu_Done || state == cpu_Crashed) {
             fprintf(stderr, "zuml_b6_sim: the AVR stopped (state %d)\n", state);
             break;
