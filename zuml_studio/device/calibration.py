@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from typing import Protocol
 
 from ..i18n import _
+from .messages import BY_NAME, decode_response
 
 INPUTS = ("Vout+", "Vout-", "I discharge", "I smps", "Vin", "Vb0", "Vb1", "Vb2", "Vb3", "Vb4", "Vb5", "Vb6",
           "T extern")
@@ -27,6 +28,7 @@ CURRENT_POINTS = {CHARGE: (100, 1000), DISCHARGE: (50, 300)}
 SETTLE_TOLERANCE = 0.005        # two whole-second averages this close: the output has settled
 ZERO_BELOW_0_KEPT = 64          # ADC16 counts: one 10-bit step
 SETTLE_SECONDS = 15
+EXTRA_S = 1.0                   # seconds added to each request's wait for its answer
 POLL_S = 0.1                    # how often the charger's clock is asked while waiting for a second to end
 
 
@@ -115,22 +117,31 @@ class Calibrator:
         self.client = client
         self.say = say
 
+    def _request(self, name: str, payload: bytes = b"", response_len: int = 64) -> bytes:
+        # A charger busy with its stage (or a simulated one slower than real time) may answer late; a
+        # calibration is not in a hurry.
+        return self.client.request(name, payload, response_len=response_len, extra_s=EXTRA_S)
+
+    def uptime_s(self) -> float:
+        """The charger's own clock (STATUS)."""
+        return decode_response(BY_NAME["STATUS"].code, self._request("STATUS"))["uptime_ms"] / 1000
+
     def read(self) -> tuple[bool, Block]:
-        answer = self.client.request("CAL_READ", response_len=1 + BLOCK_SIZE)
+        answer = self._request("CAL_READ", response_len=1 + BLOCK_SIZE)
         return bool(answer[0]), Block.decode(answer[1:])
 
     def measure(self) -> list[Reading]:
-        answer = self.client.request("CAL_MEASURE", response_len=6 * len(INPUTS))
+        answer = self._request("CAL_MEASURE", response_len=6 * len(INPUTS))
         if len(answer) != 6 * len(INPUTS):
             raise CalibrationError(_("the charger's CAL_MEASURE answer is {n} bytes, not {size}").format(
                 n=len(answer), size=6 * len(INPUTS)))
         return [Reading(*struct.unpack_from("<Hi", answer, 6 * k)) for k in range(len(INPUTS))]
 
     def output(self, mode: int, current_ma: int = 0) -> None:
-        self.client.request("CAL_OUTPUT", struct.pack("<BH", mode, current_ma), response_len=3)
+        self._request("CAL_OUTPUT", struct.pack("<BH", mode, current_ma), response_len=3)
 
     def write(self, block: Block) -> Block:
-        answer = self.client.request("CAL_WRITE", block.encode(), response_len=1 + BLOCK_SIZE)
+        answer = self._request("CAL_WRITE", block.encode(), response_len=1 + BLOCK_SIZE)
         stored = Block.decode(answer[1:])
         if not answer[0] or stored != block:
             raise CalibrationError(_("the charger did not keep the calibration block it was sent"))
@@ -138,8 +149,8 @@ class Calibrator:
 
     def after_next_second(self) -> list[Reading]:
         """The readings of the first whole second of the charger's clock that starts after now."""
-        due = int(self.client.status().uptime_s) + 2
-        while self.client.status().uptime_s < due:
+        due = int(self.uptime_s()) + 2
+        while self.uptime_s() < due:
             time.sleep(POLL_S)
         return self.measure()
 
