@@ -184,8 +184,8 @@ class Calibrator:
             for mode, input_no in ((CHARGE, ISMPS), (DISCHARGE, IDIS)):
                 points = []
                 for asked in CURRENT_POINTS[mode]:
-                    self.say(_("{what} {ma} mA: waiting for it to settle…").format(
-                        what=_("Charging at") if mode == CHARGE else _("Discharging at"), ma=asked))
+                    self.say((_("Charging at {ma} mA: waiting for it to settle…") if mode == CHARGE else
+                              _("Discharging at {ma} mA: waiting for it to settle…")).format(ma=asked))
                     self.output(mode, asked)
                     adc16 = self.settled(input_no).adc16
                     points.append((meter.current_ma(mode, asked), adc16))
