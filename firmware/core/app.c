@@ -669,7 +669,16 @@ void app_protect(const char *text)
     hal_output_t off = {HAL_OFF, 0, 0};
     hal_output(&off);
     protection = text;
-    if (app_running())
+    if (app_running()) {
         zc_stop(&run);
+    } else {
+        /* no run to end (a watchdog reset lost it): the reason still goes out as a finish event */
+        zc_event_t e;
+        memset(&e, 0, sizeof e);
+        e.kind = ZC_EV_FINISH;
+        e.time_ms = run.time_ms;
+        events = 0;
+        zc_event(&e);
+    }
     state = ST_FINISHED;
 }

@@ -27,6 +27,7 @@
 #define CAL_OUTPUT_MS 60000UL
 #define BALANCE_ON_MV 8                         /* bleed a cell this far above the lowest, until 3 */
 #define BALANCE_OFF_MV 3
+#define BALANCE_FROM_MV 600                     /* below the chemistry's maximum: the charged part of the curve */
 #define T_CAL_READ 0x30
 #define T_CAL_WRITE 0x31
 #define T_CAL_MEASURE 0x32
@@ -217,17 +218,23 @@ const char *hal_run_start(const uint8_t *rec, uint8_t akk_type, int16_t series, 
     return 0;
 }
 
-/* The balancer (docs/firmware.md): in a Li charge holding its voltage, the cells above the lowest
- * bleed; cell 4's switch is the USART's RXD, which the PC link needs: never driven. */
+/* The balancer (docs/firmware.md): in a Li charge, once its cells are on the charged part of their
+ * curve (the highest within 600 mV of the chemistry's maximum) or the pack holds its voltage, the cells
+ * above the lowest bleed; cell 4's switch is the USART's RXD, which the PC link needs: never driven. */
 static void balance(void)
 {
     uint8_t n = protect_limits.li_cells, k, mask = 0;
-    int16_t low = 0x7FFF;
-    if (app_running() && n > 1 && out.kind == HAL_VOLTAGE_CHARGE &&
-        adc_value(CAL_VOUT) >= out.voltage_uv / 1000 - 50) {
-        for (k = 0; k < n; k++)
-            if (protect_cell_mv[k] < low)
-                low = protect_cell_mv[k];
+    int16_t low = 0x7FFF, high = 0;
+    uint8_t charging = out.kind == HAL_VOLTAGE_CHARGE || (out.kind == HAL_CURRENT && out.current_ua > 0);
+    for (k = 0; k < n; k++) {
+        if (protect_cell_mv[k] < low)
+            low = protect_cell_mv[k];
+        if (protect_cell_mv[k] > high)
+            high = protect_cell_mv[k];
+    }
+    if (app_running() && n > 1 && charging &&
+        (high >= (int16_t)protect_limits.cell_max_mv + CELL_MARGIN_MV - BALANCE_FROM_MV ||
+         (out.kind == HAL_VOLTAGE_CHARGE && adc_value(CAL_VOUT) >= out.voltage_uv / 1000 - 50))) {
         for (k = 0; k < n; k++) {
             int16_t over = (int16_t)(protect_cell_mv[k] - low);
             if (over > BALANCE_ON_MV || (over > BALANCE_OFF_MV && (balancing & (1 << k))))
@@ -235,11 +242,14 @@ static void balance(void)
         }
     }
     balancing = (uint8_t)(mask & ~(1 << 3));
-    PORTC = (uint8_t)((PORTC & ~(_BV(B6_BAL1) | _BV(B6_BAL2))) | (balancing & 1 ? _BV(B6_BAL1) : 0) |
-                      (balancing & 2 ? _BV(B6_BAL2) : 0));
-    PORTA = (uint8_t)((PORTA & ~_BV(B6_BAL3)) | (balancing & 4 ? _BV(B6_BAL3) : 0));
-    PORTD = (uint8_t)((PORTD & ~(_BV(B6_BAL5) | _BV(B6_BAL6))) | (balancing & 16 ? _BV(B6_BAL5) : 0) |
-                      (balancing & 32 ? _BV(B6_BAL6) : 0));
+    /* atomic: the ADC interrupt drives the disable lines on the same ports (a trip must not be undone) */
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
+        PORTC = (uint8_t)((PORTC & ~(_BV(B6_BAL1) | _BV(B6_BAL2))) | (balancing & 1 ? _BV(B6_BAL1) : 0) |
+                          (balancing & 2 ? _BV(B6_BAL2) : 0));
+        PORTA = (uint8_t)((PORTA & ~_BV(B6_BAL3)) | (balancing & 4 ? _BV(B6_BAL3) : 0));
+        PORTD = (uint8_t)((PORTD & ~(_BV(B6_BAL5) | _BV(B6_BAL6))) | (balancing & 16 ? _BV(B6_BAL5) : 0) |
+                          (balancing & 32 ? _BV(B6_BAL6) : 0));
+    }
 }
 
 /* The stack's high-water mark, measured (docs/firmware.md, *Budgets*): the RAM between the variables

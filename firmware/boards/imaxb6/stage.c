@@ -82,8 +82,8 @@ static void apply(void)
         PORTD |= _BV(B6_BUCK);     /* the buck switch held on, OC1A boosts */
         d -= BUCK_FULL;
     } else {
-        if (boosting)
-            PORTD &= (uint8_t)~_BV(B6_BOOST);
+        if (boosting)              /* both pins low again: a zero duty leaves them off the timer */
+            PORTD &= (uint8_t)~(_BV(B6_BUCK) | _BV(B6_BOOST));
         boosting = 0;
     }
     pwm_whole = (uint16_t)(d >> FRAC);
