@@ -1,4 +1,5 @@
-"""zuml calibrate: its one-line errors (the whole procedure on the simulated B6: tests/firmware/test_fw_b6_calibrate.py)."""
+"""zuml calibrate: its one-line errors (the whole procedure on the simulated B6:
+tests/firmware/test_fw_b6_calibrate.py)."""
 
 
 def test_readings_out_of_range_are_refused_before_connecting(zuml):

@@ -9,7 +9,8 @@ from stk500_chip import EEPROM_SIZE, FLASH_SIZE, Atmega32, Stk500Programmer
 from zuml_studio.device import avr_install
 from zuml_studio.device.avr_install import InstallError, Programmer
 
-pytestmark = pytest.mark.skipif(shutil.which("avrdude") is None, reason="avrdude not installed (apt-get install avrdude)")
+pytestmark = pytest.mark.skipif(shutil.which("avrdude") is None,
+                                reason="avrdude not installed (apt-get install avrdude)")
 
 ORIGINAL_FLASH = bytes((i * 7 + (i >> 8)) & 0xFF for i in range(FLASH_SIZE))
 ORIGINAL_EEPROM = bytes((i * 13 + 1) & 0xFF for i in range(EEPROM_SIZE))

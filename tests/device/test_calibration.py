@@ -17,7 +17,8 @@ def test_a_block_is_version_pairs_and_an_xor_check_byte():
     assert x == 0 and Block.decode(data) == NOMINAL
 
 
-@pytest.mark.parametrize("damage", [lambda d: b"\x02" + d[1:], lambda d: d[:-1] + bytes((d[-1] ^ 1,)), lambda d: d[:-1]])
+@pytest.mark.parametrize("damage", [lambda d: b"\x02" + d[1:], lambda d: d[:-1] + bytes((d[-1] ^ 1,)),
+                                    lambda d: d[:-1]])
 def test_a_damaged_block_is_refused(damage):
     with pytest.raises(CalibrationError):
         Block.decode(damage(NOMINAL.encode()))
