@@ -67,7 +67,9 @@ static const char *eeprom_path;
 static uint8_t eeprom[EEPROM_SIZE], saved[EEPROM_SIZE];
 static timed_t faults[MAX_EVENTS], presses[MAX_EVENTS];
 static int n_faults, n_presses, lcd_on, step_count, hang_pending, refs_warned, output_was_on;
+static unsigned balancer_was;
 static FILE *trace;
+static avr_irq_t *adc_in[8], *button_pin[4];   /* looked up once: simavr walks its modules on every lookup */
 /* simavr clears its cycle timers at a reset (a watchdog's) and may zero its cycle count: the model's
  * clock goes on across it */
 static avr_cycle_count_t cycle_base, cycle_at_reset;
@@ -175,8 +177,8 @@ static void adc_trigger(struct avr_irq_t *irq, uint32_t value, void *param)
         return;
     v = floor(input_pin_v(e.mux.src) / ref_v * 1024 + 0.5);
     v = v < 0 ? 0 : (v > 1023 ? 1023 : v);
-    avr_raise_irq(avr_io_getirq(avr, AVR_IOCTL_ADC_GETIRQ, ADC_IRQ_ADC0 + e.mux.src),
-                  (uint32_t)floor((v + 0.5) * units / 1023));
+    if (e.mux.src < 8)
+        avr_raise_irq(adc_in[e.mux.src], (uint32_t)floor((v + 0.5) * units / 1023));
 }
 
 /* ---- the HD44780 in 4-bit mode, RW tied low ---- */
@@ -285,7 +287,7 @@ static void set_buttons(double now_s, int again)
         for (k = 0; k < n_presses; k++)
             if (presses[k].what == bit && now_s >= presses[k].at_s && now_s < presses[k].at_s + presses[k].hold_s)
                 pressed = 1;
-        avr_irq_t *pin = avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ('B'), bit);
+        avr_irq_t *pin = button_pin[bit];
         if (again)
             avr_raise_irq(pin, pressed);
         /* external pull-ups ([B]): released reads high, pressed pulls the line low */
@@ -328,10 +330,15 @@ static void apply_faults(double now_s)
 
 /* ---- the model's clock ---- */
 
-/* OUTPUT|on|T and OUTPUT|off|T|CELL1|CELL2|... (the cells' true voltages, V) when the stage switches */
+/* OUTPUT|on|T and OUTPUT|off|T|CELL1|CELL2|... (the cells' true voltages, V) when the stage switches;
+ * BALANCER|T|MASK when the load switches change (bit n-1: cell n bleeds) */
 static void report_output(double t)
 {
     int on = b6_model_output_enabled(&model), k;
+    if (model.drive.balancer != balancer_was) {
+        balancer_was = model.drive.balancer;
+        fprintf(stderr, "BALANCER|%.3f|%u\n", t, balancer_was);
+    }
     if (on == output_was_on)
         return;
     output_was_on = on;
@@ -557,7 +564,7 @@ int main(int argc, char **argv)
     options_t o = {.cells = 3, .calibrated = 1, .capacity_mah = 2000, .soc = 0.2, .spread_mv = 0, .speed = 1};
     elf_firmware_t fw;
     avr_eeprom_desc_t d = {.ee = eeprom, .offset = 0, .size = EEPROM_SIZE};
-    int out_fd;
+    int out_fd, k;
     double start, next_save = 1.0;
     if (argc < 2 || argv[1][0] == '-') {
         fputs(usage, stderr);
@@ -601,6 +608,10 @@ int main(int argc, char **argv)
     avr_ioctl(avr, AVR_IOCTL_EEPROM_SET, &d);
     avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_ADC_GETIRQ, ADC_IRQ_OUT_TRIGGER), adc_trigger, NULL);
     avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ('C'), B6_LCD_E.bit), lcd_enable, NULL);
+    for (k = 0; k < 8; k++)
+        adc_in[k] = avr_io_getirq(avr, AVR_IOCTL_ADC_GETIRQ, ADC_IRQ_ADC0 + k);
+    for (k = 0; k < 4; k++)
+        button_pin[k] = avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ('B'), k);
     avr_cycle_timer_register(avr, STEP_CYCLES, step, NULL);
     set_buttons(0, 1);
     uart_pty_init(avr, &uart);

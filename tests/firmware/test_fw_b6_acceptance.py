@@ -123,13 +123,17 @@ def test_a_macro_started_with_the_buttons_alone_runs_to_its_end(b6):
     sim.stop()
     rows = read_trace(sim.trace)
     on = [r for r in rows if r.output_enabled]
-    assert on[-1].current_a < 0.1 + 0.02 and max(r.voltage_v for r in on) < 3 * 4.2 + 0.05
+    # the phase ended on its current: the last half second's mean (the 9-bit boost duty dithers it around 0.1 A)
+    last = on[-500:]
+    assert sum(r.current_a for r in last) / len(last) < 0.1 + 0.01
+    assert max(r.voltage_v for r in on) < 3 * 4.2 + 0.05
 
 
 def test_a_3s_lipo_60_mv_apart_ends_its_cv_with_the_cells_within_10_mv(b6):
     sim = b6("--cells", "3", "--soc", "0.9", "--capacity", "20", "--cell-spread", "60", "--press", START)
     k, _ = sim.wait_line("LCD|C2 ")
-    k, _ = sim.wait_line("LCD|end Bench|", k)
-    _, off = sim.wait_line(lambda line: line.startswith("OUTPUT|off|") and float(line.split("|")[2]) > 1, 0)
+    end, _ = sim.wait_line("LCD|end Bench|", k)
+    sim.wait_line("BALANCER|", k)                         # the balancer bled during the CV phase
+    off = [line for line in sim.lines[:end] if line.startswith("OUTPUT|off|")][-1]    # the CV phase's end
     cells = [float(v) for v in off.split("|")[3:]]
     assert len(cells) == 3 and max(cells) - min(cells) <= 0.010, cells
