@@ -53,7 +53,11 @@ typedef struct {
 #define B6_BUTTON_INC      ((b6_pin_t){B6_PB, 2})  /* 42  PB2  [P] BUTTON_INC_PIN 42 */
 #define B6_BUTTON_START    ((b6_pin_t){B6_PB, 3})  /* 43  PB3  [P] BUTTON_START_PIN 43 */
 #define B6_BUZZER          ((b6_pin_t){B6_PB, 4})  /* 44  PB4  [P] BUZZER_PIN 44 */
-/* The buttons have external pull-ups ([B]: "all encountered chargers have external pull-up resistors"). */
+/* The buttons have external pull-ups ([B]: "all encountered chargers have external pull-up resistors"),
+ * in the order the harness's --press names them */
+static const b6_pin_t b6_button[4] = {
+    {B6_PB, 3}, {B6_PB, 0}, {B6_PB, 2}, {B6_PB, 1},                /* start, stop, inc, dec */
+};
 
 /* Balancer load switches, cell 1..6 ([P] BALANCERn_LOAD_PIN; [B] setBalancer: bit n-1 of the mask) */
 static const b6_pin_t b6_balancer_load[6] = {
@@ -125,12 +129,5 @@ static const b6_input_t b6_mux_input[8] = {
  * The buck switch is OC1B, the boost switch OC1A; with the boost off the buck PWM sets the output, above
  * 100 % buck the buck pin is held high and OC1A boosts ([S] setPID_MV). Averaged: Vout = Vin*d_buck/(1-d_boost);
  * cheali caps the boost duty at 0.5 ([S] MAX_PID_MV_FACTOR 1.5: "Vout <= Vin/(1-D)"). */
-
-/* Board ratings ([C]'s target HardwareConfig.h, imaxB6-original): 27 V, 5 A, 50 W charge; 1 A, 5 W discharge. */
-#define B6_MAX_CHARGE_V 27.0
-#define B6_MAX_CHARGE_A 5.0
-#define B6_MAX_CHARGE_W 50.0
-#define B6_MAX_DISCHARGE_A 1.0
-#define B6_MAX_DISCHARGE_W 5.0
 
 #endif

@@ -51,11 +51,11 @@ static const char usage[] =
     "       [--speed X]\n"
     "KIND: disconnect reverse cell-high sensor-open sink-hot input-low hang; BUTTON: start stop inc dec\n";
 
-static const char *const button_names[4] = {"stop", "dec", "inc", "start"};   /* PB0..PB3 */
+static const char *const button_names[4] = {"start", "stop", "inc", "dec"};   /* as b6_button[] */
 
 typedef struct {
     double at_s, hold_s;
-    int what;                           /* a fault kind, or a button (PB bit) */
+    int what;                           /* a fault kind, or a button (its index in b6_button) */
     int done;
 } timed_t;
 
@@ -84,7 +84,8 @@ static long now_ms(void) { return (long)(now_cycles() / (F_CPU / 1000)); }
 
 static uint8_t port_reg(int port, int offset) { return avr->data[b6_port_addr[port] - offset]; }
 static int driven(b6_pin_t p) { return port_reg(p.port, 1) >> p.bit & 1; }
-static int driven_high(b6_pin_t p) { return driven(p) && (port_reg(p.port, 0) >> p.bit & 1); }
+static int latch(b6_pin_t p) { return port_reg(p.port, 0) >> p.bit & 1; }
+static int driven_high(b6_pin_t p) { return driven(p) && latch(p); }
 static uint16_t reg16(uint16_t low) { return (uint16_t)(avr->data[low] | (avr->data[low + 1] << 8)); }
 
 /* The on-time of an OC1x switch: its PWM when Timer1 drives the pin, its level when the port does;
@@ -142,7 +143,7 @@ static void sample_drive(void)
 static double input_pin_v(int channel)
 {
     if (channel == B6_MUX_ADC_CHANNEL) {
-        int address = (port_reg(B6_PB, 0) & port_reg(B6_PB, 1)) >> 5 & 7;
+        int address = driven_high(B6_MUX_ADR0) | driven_high(B6_MUX_ADR1) << 1 | driven_high(B6_MUX_ADR2) << 2;
         if (driven(B6_MUX_Z))           /* cheali empties the sample capacitor through PA6 as an output */
             return driven_high(B6_MUX_Z) ? B6_AVCC_V : 0;
         return b6_model_pin_v(&model, &b6_mux_input[address]);
@@ -225,12 +226,12 @@ static void lcd_byte(int rs, uint8_t v)
     lcd.changed = 1;
 }
 
-/* E falls: the controller latches DB7..DB4 and RS ([P]: DB4..DB7 = PC3..PC0, RS = PC5) */
+/* E falls: the controller latches DB7..DB4 and RS */
 static void lcd_enable(struct avr_irq_t *irq, uint32_t value, void *param)
 {
-    uint8_t c = port_reg(B6_PC, 0);
-    int rs = c >> 5 & 1;
-    uint8_t nibble = (uint8_t)((c >> 3 & 1) | (c >> 1 & 2) | (c << 1 & 4) | (c << 3 & 8));
+    int rs = latch(B6_LCD_RS);
+    uint8_t nibble = (uint8_t)(latch(B6_LCD_DB4) | latch(B6_LCD_DB5) << 1 | latch(B6_LCD_DB6) << 2 |
+                               latch(B6_LCD_DB7) << 3);
     (void)irq; (void)param;
     if (lcd.prev_e && !value) {
         if (!lcd.mode4) {
@@ -281,13 +282,14 @@ static void lcd_print_if_settled(void)
 /* `again`: after a reset, which clears the PIN registers under simavr's unchanged pin values */
 static void set_buttons(double now_s, int again)
 {
-    int k, bit;
-    for (bit = 0; bit < 4; bit++) {
+    int k, button;
+    for (button = 0; button < 4; button++) {
         int pressed = 0;
+        avr_irq_t *pin = button_pin[button];
         for (k = 0; k < n_presses; k++)
-            if (presses[k].what == bit && now_s >= presses[k].at_s && now_s < presses[k].at_s + presses[k].hold_s)
+            if (presses[k].what == button && now_s >= presses[k].at_s
+                && now_s < presses[k].at_s + presses[k].hold_s)
                 pressed = 1;
-        avr_irq_t *pin = button_pin[bit];
         if (again)
             avr_raise_irq(pin, pressed);
         /* external pull-ups ([B]): released reads high, pressed pulls the line low */
@@ -607,11 +609,13 @@ int main(int argc, char **argv)
     avr_load_firmware(avr, &fw);
     avr_ioctl(avr, AVR_IOCTL_EEPROM_SET, &d);
     avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_ADC_GETIRQ, ADC_IRQ_OUT_TRIGGER), adc_trigger, NULL);
-    avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ('C'), B6_LCD_E.bit), lcd_enable, NULL);
+    avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(B6_PORT_LETTER(B6_LCD_E.port)),
+                                          B6_LCD_E.bit), lcd_enable, NULL);
     for (k = 0; k < 8; k++)
         adc_in[k] = avr_io_getirq(avr, AVR_IOCTL_ADC_GETIRQ, ADC_IRQ_ADC0 + k);
     for (k = 0; k < 4; k++)
-        button_pin[k] = avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ('B'), k);
+        button_pin[k] = avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(B6_PORT_LETTER(b6_button[k].port)),
+                                      b6_button[k].bit);
     avr_cycle_timer_register(avr, STEP_CYCLES, step, NULL);
     set_buttons(0, 1);
     uart_pty_init(avr, &uart);
