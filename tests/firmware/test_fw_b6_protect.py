@@ -149,8 +149,8 @@ def test_a_limit_trips_after_four_readings_in_a_row_not_on_one(lib):
     ("LiFe", 3, dict(cells_mv=[3400, 3660, 3400]), 4, "cell 2 over max"),
     ("NiMh", 8, dict(cells_mv=[], vout=8 * 1810), 4, "pack over max"),
     ("Pb", 6, dict(cells_mv=[], vout=6 * 2510), 4, "pack over max"),
-    ("LiPo", 3, dict(cells_mv=[3900] * 3, vout=0), 4, "battery disconnected"),
-    ("LiPo", 3, dict(cells_mv=[3900] * 3, vout=13000), 4, "battery disconnected"),   # main lead off: V rises
+    ("LiPo", 3, dict(cells_mv=[3900] * 3, vout=0), 16, "battery disconnected"),
+    ("LiPo", 3, dict(cells_mv=[3900] * 3, vout=13000), 16, "battery disconnected"),  # main lead off: V rises
     ("LiPo", 3, dict(cells_mv=[3900, 3900, 0]), 4, "balance lead 2 cells"),
     ("LiPo", 3, dict(cells_mv=[3900] * 3, vout=0, vminus=11000), 4, "battery reversed"),
     ("LiPo", 3, dict(cells_mv=[3900] * 3, vin=10000), 4, "input below 11V"),

@@ -78,15 +78,17 @@ void protect_raise(uint8_t trip)
         protect_trip = trip;
 }
 
-/* `holds` for this reading: one more in a row, or the row starts again. */
-static void condition(uint8_t trip, uint8_t holds)
+/* `holds` for this reading: one more in a row (a trip after `readings`), or the row starts again. */
+static void condition_after(uint8_t trip, uint8_t holds, uint8_t readings)
 {
     if (!holds) {
         count[trip] = 0;
-    } else if (++count[trip] >= PROTECT_DEBOUNCE) {
+    } else if (++count[trip] >= readings) {
         protect_raise(trip);
     }
 }
+
+static void condition(uint8_t trip, uint8_t holds) { condition_after(trip, holds, PROTECT_DEBOUNCE); }
 
 static void cell(uint8_t k, int16_t mv)
 {
@@ -134,9 +136,11 @@ uint8_t protect_reading(uint8_t input, int16_t value)
         for (k = 0; k < l->li_cells; k++)
             sum = (int16_t)(sum + protect_cell_mv[k]);
         d = (int16_t)(value - sum);
-        /* a reversed pack also reads no voltage at Vout+: its own check names it */
-        condition(TRIP_DISCONNECTED, protect_latest[CAL_VOUT_MINUS] <= TRIP_REVERSED_MV &&
-                                     (value < TRIP_PRESENT_MV || (l->li_cells && (d > TRIP_LEAD_MV || d < -TRIP_LEAD_MV))));
+        /* a reversed pack also reads no voltage at Vout+: Vout- (read 2.5 x less often) names it first,
+         * so no voltage trips only after DISCONNECT_READINGS */
+        condition_after(TRIP_DISCONNECTED, protect_latest[CAL_VOUT_MINUS] <= TRIP_REVERSED_MV &&
+                        (value < TRIP_PRESENT_MV || (l->li_cells && (d > TRIP_LEAD_MV || d < -TRIP_LEAD_MV))),
+                        DISCONNECT_READINGS);
         break;
     }
     case CAL_TEXTERN:

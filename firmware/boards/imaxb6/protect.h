@@ -13,6 +13,7 @@ enum {
     TRIP_WATCHDOG, TRIP_UNCALIBRATED, TRIPS
 };
 #define PROTECT_DEBOUNCE 4
+#define DISCONNECT_READINGS 16     /* Vout+ is read every 2.5 ms: 40 ms */
 
 /* Board limits: cheali targets/imaxB6-original/HardwareConfig.h (5 A, 50 W, 27 V charge; 1 A, 5 W
  * discharge), trips 5 % above the limits the set points are clamped to. */
