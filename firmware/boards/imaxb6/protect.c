@@ -84,6 +84,13 @@ static void condition_after(uint8_t trip, uint8_t holds, uint8_t readings)
     if (!holds) {
         count[trip] = 0;
     } else if (++count[trip] >= readings) {
+        /* limits that follow from another one name it: a reversed or lost pack also breaks the pack's,
+         * the lead's and the cells' limits, and the more specific reason is the one a user can act on */
+        if (count[TRIP_REVERSED])
+            trip = TRIP_REVERSED;
+        else if (count[TRIP_DISCONNECTED] && trip != TRIP_OVER_CURRENT && trip != TRIP_INPUT_LOW &&
+                 trip < TRIP_PROBE_HOT)
+            trip = TRIP_DISCONNECTED;
         protect_raise(trip);
     }
 }
