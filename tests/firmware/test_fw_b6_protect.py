@@ -159,7 +159,8 @@ def test_a_limit_trips_after_four_readings_in_a_row_not_on_one(lib):
 ])
 def test_each_limit_ends_the_run_with_its_reason(lib, akk, cells, reading, times, why):
     lib.protect_disarm()
-    start = pack(lib, [3300 if akk == "LiFe" else 3900] * 3) if akk.startswith("Li") else pack(lib, [], vout=cells * 1200)
+    li_start = [3300 if akk == "LiFe" else 3900] * 3
+    start = pack(lib, li_start) if akk.startswith("Li") else pack(lib, [], vout=cells * 1200)
     feed(lib, start)
     assert arm(lib, akk, cells) == (None, 0)
     assert text(lib, feed(lib, pack(lib, **reading), times)) == why
