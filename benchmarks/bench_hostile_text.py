@@ -17,7 +17,7 @@ from zuml_studio.lang import parser
 from zuml_studio.lang.compiler import compile_source
 
 ROOT = Path(__file__).resolve().parent.parent
-LIPO = (ROOT / "zuml_studio" / "data" / "macros" / "LiPo.zuml").read_text().splitlines()
+LIPO = (ROOT / "macros" / "LiPo.zuml").read_text().splitlines()
 
 
 def ten_thousand(kind: str) -> list[str]:

@@ -41,7 +41,7 @@ FIT_LIMIT_S = 20.0
 CURVES = [p.read_text() for p in sorted((DATA / "curves").glob("*.csv"))]
 LOGS = [p.read_bytes() for p in sorted((DATA / "logs").iterdir())] + \
        [p.read_bytes() for p in sorted((DATA / "realdata").glob("*.txt"))]
-MACROS = sorted((ROOT / "zuml_studio" / "data" / "macros").glob("*.zuml"))
+MACROS = sorted((ROOT / "macros").glob("*.zuml"))
 CHEMISTRIES = ["NiMh", "NiCd", "LiPo", "LiIon", "LiFe", "Pb"]
 NUMBERS = HOSTILE_NUMBERS + ["1e308", "-1e308", "1e12", "-1e12", "0", "-0.0", "1e-300", "-5", "99999"]
 # The command that imports a pack (another change is adding `zuml pack`): its words and the file it

@@ -36,6 +36,22 @@ uint8_t hal_battery_sensor(void);                 /* 1 when a battery temperatur
 uint8_t hal_cell_count(void);                     /* balance-port cells measured, 0 without a balancer */
 int32_t hal_cell_uv(uint8_t cell);
 
+/* Closes the interval the readings above average over: called once per tick, just before they are
+ * read (a board that has no averages does nothing). */
+void hal_measure_latch(void);
+
+/* The board's say at START, after the core accepted the macro (its record, chemistry, cells,
+ * capacity as resolved): NULL to start, else why not (text in flash) and the error code *code
+ * (HAL_E_UNCALIBRATED, HAL_E_PROTECTION). The board arms its run's protections here. */
+#define HAL_E_BUSY 15
+#define HAL_E_UNCALIBRATED 16
+#define HAL_E_PROTECTION 17
+const char *hal_run_start(const uint8_t *rec, uint8_t akk_type, int16_t series, int32_t capacity_mah,
+                          uint8_t *code);
+/* A board's own request, types 0x30..0x3F (docs/protocol.md): answers it through app_tx_* or
+ * app_error (UNKNOWN_TYPE for one it lacks); `running`: a macro runs. */
+void hal_request(uint8_t type, uint8_t seq, const uint8_t *payload, uint8_t len, uint8_t running);
+
 /* Time. */
 uint32_t hal_millis(void);
 

@@ -28,6 +28,8 @@
 #define T_GET_TEMPLATE 0x16
 #define T_SET_TEMPLATE 0x17
 #define T_PASSPORT 0x20
+#define T_BOARD_FIRST 0x30       /* 0x30..0x3F: the board's own requests (hal_request) */
+#define T_BOARD_LAST 0x3F
 #define T_TELEMETRY 0x40
 #define T_EVENT 0x41
 #define T_ERROR 0x7F
@@ -36,7 +38,7 @@
 
 enum { E_BAD_FRAME = 1, E_BAD_REQUEST, E_UNKNOWN_TYPE, E_BAD_RANGE, E_BAD_TOKEN, E_CRC_MISMATCH, E_BAD_SLOT,
        E_INVALID_RECORD, E_PASSPORT_CONFLICT, E_START_ERROR, E_NO_PASSPORT, E_PASSPORT_ERROR, E_INTERNAL,
-       E_NO_TEMPLATE };
+       E_NO_TEMPLATE, E_BUSY, E_UNCALIBRATED, E_PROTECTION };
 enum { ST_IDLE, ST_RUNNING, ST_PAUSED, ST_FINISHED };
 
 typedef struct {
@@ -48,6 +50,8 @@ typedef struct {
 static const char no_token[] PROGMEM = "no write transaction with this token";
 static const char outside_eeprom[] PROGMEM = "offset/length outside the EEPROM";
 static const char no_template[] PROGMEM = "no such start template (START_SHABLON)";
+static const char busy[] PROGMEM = "a macro runs: the EEPROM is not written during a run (stop it first)";
+static const char protection_prefix[] PROGMEM = "protection: ";
 
 static const app_board_t *board;
 static zc_run_t run;
@@ -65,21 +69,24 @@ static uint32_t run_start_ms, last_tick_ms, events, next_telemetry_ms;
 static uint8_t telemetry_hz = 5, device_seq;
 static stored_event_t ring[EVENT_RING];
 static uint16_t tx_crc;
+static const char *protection;            /* in flash: the board's protection that ended the run */
 
 /* -- sending --------------------------------------------------------------------------------- */
 
-static void tx(uint8_t b)
+void app_tx(uint8_t b)
 {
     tx_crc = zc_crc16(tx_crc, b);
     hal_uart_write(b);
 }
 
-static void tx16(uint16_t v) { tx((uint8_t)v); tx((uint8_t)(v >> 8)); }
+#define tx app_tx
+void app_tx16(uint16_t v) { tx((uint8_t)v); tx((uint8_t)(v >> 8)); }
+#define tx16 app_tx16
 static void tx32(uint32_t v) { tx16((uint16_t)v); tx16((uint16_t)(v >> 16)); }
 static void tx_text(const char *s, uint8_t n) { while (n--) tx((uint8_t)*s++); }
 static void tx_text_P(const char *s, uint8_t n) { while (n--) tx(pgm_read_byte(s++)); }
 
-static void tx_begin(uint8_t type, uint8_t seq, uint8_t len)
+void app_tx_begin(uint8_t type, uint8_t seq, uint8_t len)
 {
     hal_uart_write(SYNC);
     tx_crc = 0xFFFF;
@@ -88,17 +95,19 @@ static void tx_begin(uint8_t type, uint8_t seq, uint8_t len)
     tx(seq);
 }
 
-static void tx_end(void)
+#define tx_begin app_tx_begin
+void app_tx_end(void)
 {
     uint16_t crc = tx_crc;
     hal_uart_write((uint8_t)crc);
     hal_uart_write((uint8_t)(crc >> 8));
 }
 
+#define tx_end app_tx_end
 static uint8_t text_len_P(const char *s) { return (uint8_t)strlen_P(s); }
 
 /* message is in flash */
-static void send_error(uint8_t request_type, uint8_t seq, uint8_t code, const char *message)
+void app_error(uint8_t request_type, uint8_t seq, uint8_t code, const char *message)
 {
     uint8_t n = text_len_P(message);
     tx_begin(T_ERROR, seq, (uint8_t)(2 + n));
@@ -108,6 +117,7 @@ static void send_error(uint8_t request_type, uint8_t seq, uint8_t code, const ch
     tx_end();
 }
 
+#define send_error app_error
 /* message is in RAM */
 static void send_error_text(uint8_t request_type, uint8_t seq, uint8_t code, const char *message)
 {
@@ -121,10 +131,23 @@ static void send_error_text(uint8_t request_type, uint8_t seq, uint8_t code, con
 
 /* -- events and telemetry ---------------------------------------------------------------------- */
 
+/* The end reason: the board's protection (prefixed), else the core's. */
+static uint8_t reason_text(char *out)
+{
+    uint8_t n;
+    if (!protection)
+        return zc_reason_text(&run, run.end_reason, run.end_offset, out);
+    n = text_len_P(protection_prefix);
+    memcpy_P(out, protection_prefix, n);
+    strcpy_P(out + n, protection);
+    return (uint8_t)(n + text_len_P(protection));
+}
+
 static void send_event(uint8_t type, uint8_t seq, uint32_t number, const zc_event_t *e)
 {
     char detail[ZC_TEXT_MAX];
-    uint8_t n = zc_event_text(&run, e, detail), with_phase = e->kind == ZC_EV_PHASE_START ||
+    uint8_t n = protection && (e->kind == ZC_EV_PHASE_END || e->kind == ZC_EV_FINISH) ? reason_text(detail)
+                : zc_event_text(&run, e, detail), with_phase = e->kind == ZC_EV_PHASE_START ||
                 e->kind == ZC_EV_PHASE_END, with_offset = with_phase || e->kind == ZC_EV_MUSIC ||
                 e->kind == ZC_EV_LIGHT;
     tx_begin(type, seq, (uint8_t)(14 + n));
@@ -141,7 +164,10 @@ static void send_event(uint8_t type, uint8_t seq, uint32_t number, const zc_even
 
 void zc_event(const zc_event_t *e)
 {
+    static const hal_output_t off = {HAL_OFF, 0, 0};
     stored_event_t *s = &ring[events % EVENT_RING];
+    if (e->kind == ZC_EV_PHASE_END || e->kind == ZC_EV_FINISH)
+        hal_output(&off);          /* before the commands after the phase run (a MUSIC, a CYCLE of them) */
     s->number = events;
     s->e = *e;
     send_event(T_EVENT, device_seq++, events++, e);
@@ -253,55 +279,63 @@ static ZC_NOINLINE uint8_t lockout(uint8_t seq)
     return 1;
 }
 
-static void start(uint8_t seq, const uint8_t *p)
+/* Starts slot p[0] with a START request's values (docs/protocol.md). A PC's START is answered; a
+ * panel's (panel = 1) is not: both get the refusal's text (in flash), NULL once the run started. */
+static const char *start(uint8_t seq, const uint8_t *p, uint8_t panel)
 {
     zc_start_t s;
     uint16_t len;
-    uint8_t err;
+    uint8_t err, code = E_START_ERROR;
+    const char *why;
     hal_output_t off = {HAL_OFF, 0, 0};
     if (state == ST_RUNNING || state == ST_PAUSED)
         zc_stop(&run);
     hal_output(&off);
     state = ST_IDLE;
     slot = 0xFF;
+    protection = 0;
     len = store_record(p[0], run.rec);
     if (len == 0) {
-        send_error(T_START, seq, E_BAD_SLOT, PSTR("there is no such slot"));
-        return;
+        code = E_BAD_SLOT;
+        why = PSTR("there is no such slot");
+    } else if (len == 0xFFFF || zc_validate(run.rec, len)) {
+        code = E_INVALID_RECORD;
+        why = PSTR("the slot's record does not decode");
+    } else {
+        s.task = p[1] <= ZC_TRAIN ? p[1] : ZC_CHARGE;
+        s.repetitions = p[2];
+        s.capacity_mah = le16(p + 3) ? (int32_t)le16(p + 3) : ZC_NONE;
+        s.current_ua = le16(p + 5) ? (int32_t)le16(p + 5) * 1000L : ZC_NONE;
+        s.voltage_uv = le16(p + 7) ? (int32_t)le16(p + 7) * 1000L : ZC_NONE;
+        s.series = p[9];
+        s.sensor = p[10] != 0;
+        s.template_no = 0;
+        err = zc_start(&run, run.rec, len, &s, &board->core);
+        why = err ? start_error_text(err) : hal_run_start(run.rec, run.akk_type, run.series, run.capacity_mah, &code);
     }
-    if (len == 0xFFFF || zc_validate(run.rec, len)) {
-        send_error(T_START, seq, E_INVALID_RECORD, PSTR("the slot's record does not decode"));
-        return;
-    }
-    s.task = p[1] <= ZC_TRAIN ? p[1] : ZC_CHARGE;
-    s.repetitions = p[2];
-    s.capacity_mah = le16(p + 3) ? (int32_t)le16(p + 3) : ZC_NONE;
-    s.current_ua = le16(p + 5) ? (int32_t)le16(p + 5) * 1000L : ZC_NONE;
-    s.voltage_uv = le16(p + 7) ? (int32_t)le16(p + 7) * 1000L : ZC_NONE;
-    s.series = p[9];
-    s.sensor = p[10] != 0;
-    s.template_no = 0;
-    err = zc_start(&run, run.rec, len, &s, &board->core);
-    if (err) {
-        send_error(T_START, seq, E_START_ERROR, start_error_text(err));
-        return;
+    if (why) {
+        if (!panel)
+            send_error(T_START, seq, code, why);
+        return why;
     }
     if (lockout(seq))
-        return;
+        return PSTR("the battery's passport forbids this macro");
     slot = p[0];
     task = run.start.task;   /* after the start template */
     events = 0;
-    answer_start(seq);
+    if (!panel)
+        answer_start(seq);
     state = ST_RUNNING;
     run_start_ms = last_tick_ms = hal_millis();
     zc_control(&run);
+    return 0;
 }
 
 static ZC_NOINLINE void status(uint8_t seq)
 {
     char reason[ZC_TEXT_MAX];
     uint8_t name_n = slot == 0xFF ? 0 : (uint8_t)strlen((const char *)run.rec + 4);
-    uint8_t reason_n = state == ST_FINISHED ? zc_reason_text(&run, run.end_reason, run.end_offset, reason) : 0;
+    uint8_t reason_n = state == ST_FINISHED ? reason_text(reason) : 0;
     tx_begin(T_STATUS | RESPONSE, seq, (uint8_t)(20 + name_n + reason_n));
     tx(state);
     tx(slot);
@@ -331,6 +365,8 @@ static const uint8_t request_len[] PROGMEM = {
 
 static uint8_t expected_len(uint8_t type)
 {
+    if (type >= T_BOARD_FIRST && type <= T_BOARD_LAST)
+        return ANY_LEN;               /* the board checks its own requests */
     return type >= T_IDENTIFY && type <= T_PASSPORT ? pgm_read_byte(&request_len[type - T_IDENTIFY]) : UNKNOWN;
 }
 
@@ -344,6 +380,10 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
     uint8_t want = expected_len(type);       /* parse() passes known types only */
     if (want == AT_LEAST_6 ? len < 6 : want != ANY_LEN && len != want) {
         send_error(type, seq, E_BAD_REQUEST, PSTR("the payload does not fit the request's layout"));
+        return;
+    }
+    if (app_running() && (type == T_BEGIN || type == T_STAGE || type == T_COMMIT || type == T_SET_TEMPLATE)) {
+        send_error(type, seq, E_BUSY, busy);
         return;
     }
     switch (type) {
@@ -429,13 +469,10 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
             answer_start(seq);
             return;
         }
-        start(seq, p);
+        start(seq, p, 0);
         return;
     case T_STOP:
-        if (state == ST_RUNNING || state == ST_PAUSED) {
-            zc_stop(&run);
-            state = ST_FINISHED;
-        }
+        app_stop();
         tx_begin(T_STOP | RESPONSE, seq, 1);
         tx(state);
         tx_end();
@@ -508,6 +545,8 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
         tx_end();
         return;
     }
+    default:
+        hal_request(type, seq, p, len, app_running());
     }
 }
 
@@ -585,8 +624,9 @@ void app_poll(void)
         parse();
     }
     /* signed: a START served in this poll may have set last_tick_ms after `now` was read */
-    if ((state == ST_RUNNING || state == ST_PAUSED) && (int32_t)(now - last_tick_ms) >= (int32_t)board->core.tick_ms) {
+    if (app_running() && (int32_t)(now - last_tick_ms) >= (int32_t)board->core.tick_ms) {
         last_tick_ms += board->core.tick_ms;
+        hal_measure_latch();
         zc_measure(&run);
         if (!run.finished)
             zc_control(&run);
@@ -596,4 +636,49 @@ void app_poll(void)
         next_telemetry_ms = now + 1000UL / telemetry_hz;
         send_telemetry();
     }
+}
+
+uint8_t app_running(void) { return state == ST_RUNNING || state == ST_PAUSED; }
+uint8_t app_state(void) { return state; }
+const zc_run_t *app_run(void) { return &run; }
+uint8_t app_end_text(char *out) { return reason_text(out); }
+
+const char *app_start_slot(uint8_t number, uint8_t series, uint16_t current_ma)
+{
+    uint8_t p[11];
+    memset(p, 0, sizeof p);
+    p[0] = number;
+    p[2] = 1;
+    p[5] = (uint8_t)current_ma;
+    p[6] = (uint8_t)(current_ma >> 8);
+    p[9] = series;
+    p[10] = 1;
+    return start(0, p, 1);
+}
+
+void app_stop(void)
+{
+    if (app_running()) {
+        zc_stop(&run);
+        state = ST_FINISHED;
+    }
+}
+
+void app_protect(const char *text)
+{
+    hal_output_t off = {HAL_OFF, 0, 0};
+    hal_output(&off);
+    protection = text;
+    if (app_running()) {
+        zc_stop(&run);
+    } else {
+        /* no run to end (a watchdog reset lost it): the reason still goes out as a finish event */
+        zc_event_t e;
+        memset(&e, 0, sizeof e);
+        e.kind = ZC_EV_FINISH;
+        e.time_ms = run.time_ms;
+        events = 0;
+        zc_event(&e);
+    }
+    state = ST_FINISHED;
 }

@@ -21,4 +21,23 @@ typedef struct {
 void app_init(const app_board_t *board);
 void app_poll(void);
 
+/* For a board's own requests (hal_request) and its front panel. */
+void app_tx_begin(uint8_t type, uint8_t seq, uint8_t len);
+void app_tx(uint8_t byte);
+void app_tx16(uint16_t value);
+void app_tx_end(void);
+void app_error(uint8_t request_type, uint8_t seq, uint8_t code, const char *message_in_flash);
+enum { APP_IDLE, APP_RUNNING, APP_PAUSED, APP_FINISHED };
+uint8_t app_state(void);
+uint8_t app_running(void);                          /* running or paused */
+const zc_run_t *app_run(void);
+uint8_t app_end_text(char *out);                    /* the end reason, ZC_TEXT_MAX bytes */
+/* Starts slot `number` (0-based) as a charge with the cell count and a current (for INPUT) as its
+ * only start values; NULL when it started, else why not (in flash). */
+const char *app_start_slot(uint8_t number, uint8_t series, uint16_t current_ma);
+void app_stop(void);
+/* Ends the run on a board's protection (text in flash): output off, the events and STATUS carry
+ * "protection: <text>". */
+void app_protect(const char *text);
+
 #endif

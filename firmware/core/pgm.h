@@ -11,6 +11,7 @@
 #define pgm_read_byte(p) (*(const uint8_t *)(p))
 #define memcpy_P memcpy
 #define strlen_P strlen
+#define strcpy_P strcpy
 #endif
 
 /* A helper called from several places stays one copy (LTO would inline it at each). */

@@ -5,7 +5,9 @@
 
 #define JOURNAL_COMMITTING 0xA5
 #define TEMPLATES_READY 0x5A
-#define TEMPLATE_AREA (STORE_TEMPLATES * ZC_TEMPLATE_SIZE)
+/* a template and its check byte (XOR of its bytes): a write a power cut tore reads as no template */
+#define TEMPLATE_STORED (ZC_TEMPLATE_SIZE + 1)
+#define TEMPLATE_AREA (STORE_TEMPLATES * TEMPLATE_STORED)
 
 uint16_t zc_crc16(uint16_t crc, uint8_t byte)
 {
@@ -22,7 +24,7 @@ static ZC_NOINLINE uint16_t journal(void) { return (uint16_t)(hal_eeprom_size() 
 static ZC_NOINLINE uint16_t templates_mark(void) { return (uint16_t)(hal_eeprom_size() - 2); }
 static uint16_t template_at(uint8_t number)
 {
-    return (uint16_t)(2 * store_size() + (uint16_t)(number - 1) * ZC_TEMPLATE_SIZE);
+    return (uint16_t)(2 * store_size() + (uint16_t)(number - 1) * TEMPLATE_STORED);
 }
 
 static ZC_NOINLINE void update(uint16_t addr, uint8_t value)
@@ -62,19 +64,26 @@ uint8_t store_init(void)
 
 uint8_t store_template(uint8_t number, uint8_t *t)
 {
-    uint8_t k;
+    uint8_t k, check = 0;
     if (number < 1 || number > STORE_TEMPLATES || hal_eeprom_read(template_at(number)) > ZC_TRAIN)
         return 0;
     for (k = 0; k < ZC_TEMPLATE_SIZE; k++)
-        t[k] = hal_eeprom_read((uint16_t)(template_at(number) + k));
-    return 1;
+        check ^= t[k] = hal_eeprom_read((uint16_t)(template_at(number) + k));
+    return check == hal_eeprom_read((uint16_t)(template_at(number) + ZC_TEMPLATE_SIZE));
 }
 
 void store_set_template(uint8_t number, const uint8_t *t)
 {
-    uint8_t k;
-    for (k = 0; k < ZC_TEMPLATE_SIZE; k++)
-        update((uint16_t)(template_at(number) + k), t[k]);
+    /* the task byte (0xFF: none) goes last: a cut leaves no template or the new one, never a mix */
+    uint16_t at = template_at(number);
+    uint8_t k, check = t[0];
+    update(at, 0xFF);
+    for (k = 1; k < ZC_TEMPLATE_SIZE; k++) {
+        update((uint16_t)(at + k), t[k]);
+        check ^= t[k];
+    }
+    update((uint16_t)(at + ZC_TEMPLATE_SIZE), check);
+    update(at, t[0]);
 }
 
 uint8_t store_read(uint16_t at) { return hal_eeprom_read(at); }

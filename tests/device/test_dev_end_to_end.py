@@ -38,7 +38,7 @@ def wait_for(predicate, timeout=10.0):
 def test_flash_verify_slots_backup_restore(any_client):
     charger, client = any_client
     size = client.info.eeprom_size
-    assert size == (1024 if charger.virtual else 439) and client.info.max_charge_a == 5.0
+    assert size == (1024 if charger.virtual else 431) and client.info.max_charge_a == 5.0
     seen = []
     image = pack([compiled("NiMh-dV"), compiled("NiMh"), compiled("LiPo")], size)
     result = client.write_image(image, progress=lambda stage, done, total: seen.append(stage))

@@ -25,6 +25,10 @@ SAMPLES = {
     "LIST_TEMPLATES": ({}, dict(numbers=bytes((1, 2, 3)))),
     "GET_TEMPLATE": (dict(number=2), TEMPLATE),
     "SET_TEMPLATE": (TEMPLATE, TEMPLATE),
+    "CAL_READ": ({}, dict(source=1, block=bytes(54))),
+    "CAL_WRITE": (dict(block=bytes(54)), dict(source=1, block=bytes(54))),
+    "CAL_MEASURE": ({}, dict(inputs=bytes(78))),
+    "CAL_OUTPUT": (dict(mode=1, current_ma=1000), dict(mode=1, current_ma=1000)),
 }
 
 

@@ -113,14 +113,78 @@ class Run:
     end_reason: str
 
 
+class Script:
+    """Readings from a script instead of the battery model, fed alike to both interpreters: after its
+    n-th step (n from 1) the pack reads ``volts(n)`` and ``temps(n)``, and the heat sink that the next
+    tick's control sees reads ``sink(n)`` (n = 0: the values at the phase start). The power stage
+    gives whatever current is asked; ``currents`` records it tick by tick, so a decision that differs
+    for one tick (trickle on or off, a pause) shows even when the charge counts stay within 1 mAh."""
+
+    def __init__(self, volts, temps=lambda n: 25.0, sink=lambda n: 25.0, cv_current_a: float = 0.5):
+        self.volts, self.temps, self.sink, self.cv_current_a = volts, temps, sink, cv_current_a
+        self.steps = 0
+        self.currents: list[float] = []
+
+    def scripted(self, pack, charger):
+        self.steps, self.currents = 0, []
+        return _ScriptedPack(self, pack), _ScriptedStage(self, charger)
+
+
+class _ScriptedPack:
+    def __init__(self, script: Script, pack):
+        self._script, self._pack = script, pack
+
+    def __getattr__(self, name):            # chem, soc, ...: the real pack's
+        return getattr(self._pack, name)
+
+    @property
+    def voltage(self) -> float:
+        return self._script.volts(self._script.steps)
+
+    @property
+    def temp_c(self) -> float:
+        return self._script.temps(self._script.steps)
+
+    def open_circuit_voltage(self) -> float:
+        return self.voltage
+
+    def current_for_voltage(self, v: float, dt: float) -> float:
+        return self._script.cv_current_a if v > self.voltage else -self._script.cv_current_a
+
+    def step(self, i: float, dt: float) -> float:
+        self._script.steps += 1
+        self._script.currents.append(round(i, 6))
+        return self.voltage
+
+
+class _ScriptedStage:
+    def __init__(self, script: Script, charger):
+        self._script, self._charger = script, charger
+
+    def __getattr__(self, name):            # limits, clip_reason, ...: the real charger's
+        return getattr(self._charger, name)
+
+    @property
+    def heatsink_c(self) -> float:
+        return self._script.sink(self._script.steps)
+
+    def step(self, i: float, v: float, dt: float) -> float:
+        return self.heatsink_c
+
+    def limit_current(self, i: float, v: float) -> float:
+        return i
+
+
 def limit_reason(limit_s: float) -> str:
     return f"limit: simulation stopped after {limit_s / 3600:g}h"
 
 
 def python_run(record: bytes, params: StartParams, setup: BatterySetup, tick_s: float, limit_s: float,
-               measurement: Measurement = Measurement()) -> Run:
+               measurement: Measurement = Measurement(), script: Script | None = None) -> Run:
     sim = prepare(record, params, setup, tick_s=tick_s, measurement=measurement)
     it = sim.interpreter
+    if script is not None:
+        it.pack, it.charger = script.scripted(it.pack, it.charger)
     it.limit_s = limit_s
     it.run()
     tick = lambda s: round(s / tick_s)  # noqa: E731
@@ -152,13 +216,15 @@ class CoreRunner:
             lib.zh_set_template(number, template_bytes(template))
 
     def run(self, record: bytes, params: StartParams, setup: BatterySetup, tick_s: float, limit_s: float,
-            measurement: Measurement = Measurement()) -> Run:
+            measurement: Measurement = Measurement(), script: Script | None = None) -> Run:
         # The core gets the values as entered and applies the start template itself; the models are
         # built from the values after it (a start Python refuses has none: the core must refuse it too).
         try:
             _, _, pack, charger = models(record, params, setup)
         except StartError:
             pack = charger = None
+        if script is not None and pack is not None:
+            pack, charger = script.scripted(pack, charger)
         p = params
         start = ZcStart(TASKS[p.task], p.repetitions,
                         NONE if p.capacity_mah is None else round(p.capacity_mah),

@@ -35,8 +35,8 @@ def client(host_device):
 def test_identify_reports_the_store_and_the_limits(client):
     info = client().info
     assert info.protocol == 1 and info.max_data == 240
-    # (1 KB - 16 start templates of 9 B - 2 flag bytes) / 2: the other half stages writes
-    assert info.eeprom_size == 439
+    # (1 KB - 16 start templates of 9 B + a check byte - 2 flag bytes) / 2: the other half stages writes
+    assert info.eeprom_size == 431
     assert info.max_charge_a == 5.0 and info.firmware.startswith("zuml-fw")
 
 
@@ -134,10 +134,10 @@ def test_retried_requests_are_answered_the_same_and_not_done_twice(host_device):
 
 
 def test_a_commit_cut_off_by_a_power_loss_is_finished_at_the_next_start(client, tmp_path):
-    image = eeprom.pack([compiled("LiPo")], 439)
-    old = eeprom.pack([], 439)
+    image = eeprom.pack([compiled("LiPo")], 431)
+    old = eeprom.pack([], 431)
     # image, staging copy, 16 blank start templates, their flag, the journal at 1023: committing
-    ee = old + image + b"\xff" * 144 + b"\xff\xa5"
+    ee = old + image + b"\xff" * 160 + b"\xff\xa5"
     path = tmp_path / "ee.bin"
     path.write_bytes(ee)
     c = client("--eeprom", path)
@@ -178,7 +178,7 @@ def test_the_start_templates_are_the_factory_table_and_survive_a_restart(client,
     assert missing.value.code == m.ErrorCode.NO_TEMPLATE
     c.close()
     for _ in range(100):
-        if path.exists() and len(path.read_bytes()) == 1024 and path.read_bytes()[878 + 8 * 9] == 2:
+        if path.exists() and len(path.read_bytes()) == 1024 and path.read_bytes()[862 + 8 * 10] == 2:
             break
         time.sleep(0.05)
     assert client("--eeprom", path).get_template(9).task == "train"
@@ -260,3 +260,39 @@ def test_a_lithium_trickle_charge_is_refused_as_the_virtual_charger_refuses_it(c
     assert mine.code == theirs.code == m.ErrorCode.PASSPORT_CONFLICT
     assert mine.lines == theirs.lines == [f"E311 (byte {record.index(63)}): Lithium cells must never be "
                                           "trickle-charged"]
+
+
+def test_a_start_template_a_power_cut_tore_is_no_template(client, tmp_path):
+    # templates 1..3 of the factory table, then template 2 with its last byte changed and its check byte not
+    c = client("--eeprom", tmp_path / "ee.bin")
+    assert c.list_templates() == [1, 2, 3]
+    c.close()
+    path = tmp_path / "ee.bin"
+    for _ in range(100):      # template 3's task byte, written last (charge: 0), is in the file
+        if path.exists() and len(path.read_bytes()) == 1024 and path.read_bytes()[862 + 2 * 10] == 0:
+            break
+        time.sleep(0.05)
+    ee = bytearray(path.read_bytes())
+    ee[862 + 10 + 8] ^= 0x01                          # template 2's cell count, half written
+    path.write_bytes(bytes(ee))
+    c = client("--eeprom", path)
+    assert c.list_templates() == [1, 3]
+    with pytest.raises(DeviceError) as missing:
+        c.get_template(2)
+    assert missing.value.code == m.ErrorCode.NO_TEMPLATE
+
+
+def test_the_eeprom_is_not_written_while_a_macro_runs(client):
+    c = client()
+    image = eeprom.pack([compiled("LiPo")], c.info.eeprom_size)
+    c.write_image(image)
+    c.start(0, "charge", capacity_mah=2000, current_a=1.0, series=3)
+    for ask in (lambda: c.write_image(eeprom.pack([], c.info.eeprom_size)),
+                lambda: c.set_template(5, StartTemplate("charge", 1, 1000, 1.0, None, 3))):
+        with pytest.raises(DeviceError) as busy:
+            ask()
+        assert busy.value.code == 15 and "stop it first" in str(busy.value)
+    assert c.read_image() == image and 5 not in c.list_templates()
+    c.stop()
+    c.set_template(5, StartTemplate("charge", 1, 1000, 1.0, None, 3))
+    assert 5 in c.list_templates()

@@ -59,6 +59,12 @@ AREAS: dict[str, dict[str, str]] = {
         "firmware-sim": N_("run the charger firmware (ATmega32 on simavr, or the host build) behind a pty; "
                         "prints the port"),
     },
+    "calibrate_command": {
+        "calibrate": N_("calibrate an iMAX B6 running the ZUML firmware against your multimeter"),
+    },
+    "firmware_install_command": {
+        "firmware": N_("install the ZUML firmware on an iMAX B6 with avrdude, or restore the original"),
+    },
 }
 
 

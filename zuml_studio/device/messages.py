@@ -47,6 +47,9 @@ class ErrorCode(enum.IntEnum):
     PASSPORT_ERROR = 12
     INTERNAL = 13
     NO_TEMPLATE = 14       # GET_TEMPLATE: no start template with this number
+    BUSY = 15              # an EEPROM write or CAL_OUTPUT while a macro runs (the B6 firmware)
+    UNCALIBRATED = 16      # START: the charger holds no valid calibration
+    PROTECTION = 17        # START or CAL_OUTPUT: a protection forbids it
 
 
 @dataclass(frozen=True)
@@ -110,6 +113,13 @@ MESSAGE_TYPES: tuple[MessageType, ...] = (
                 "store start template n (1..16); answers what is stored"),
     MessageType(0x20, "PASSPORT", _f("request:s*"), _f("answer:s*"),
                 "pass an 8-byte passport request (spec §4) to the battery; answers its 32 bytes"),
+    MessageType(0x30, "CAL_READ", (), _f("source:B block:s*"),
+                "the calibration block (source 1: the EEPROM's, 0: not calibrated, the nominal one)"),
+    MessageType(0x31, "CAL_WRITE", _f("block:s*"), _f("source:B block:s*"), "store a calibration block"),
+    MessageType(0x32, "CAL_MEASURE", (), _f("inputs:s*"),
+                "each input's last whole-second average: ADC16 u16 and its value i32, 13 times"),
+    MessageType(0x33, "CAL_OUTPUT", _f("mode:B current_ma:H"), _f("mode:B current_ma:H"),
+                "hold a current for calibration: 0 off, 1 charge, 2 discharge"),
     MessageType(0x40, "TELEMETRY", None, _f(
         "time_ms:I task:B section:B repetition:B cycle:B phase:B run:H flags:B voltage_mv:H current_ma:i "
         "temp_c100:h heatsink_c100:h mah10_in:I mah10_out:I"),

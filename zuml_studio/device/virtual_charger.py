@@ -389,7 +389,11 @@ class VirtualCharger:
                 fields = m.decode_request(frame.type, frame.payload)
             except m.PayloadError as exc:
                 raise _Refused(m.ErrorCode.BAD_REQUEST, f"{spec.name}: {exc}") from None
-            payload = getattr(self, "_do_" + spec.name.lower())(**fields)
+            handler = getattr(self, "_do_" + spec.name.lower(), None)
+            if handler is None:         # a board's own requests (the B6's calibration): not this charger's
+                raise _Refused(m.ErrorCode.UNKNOWN_TYPE, _("{name}: not a request this charger serves").format(
+                    name=spec.name))
+            payload = handler(**fields)
             reply = encode_frame(spec.response_code, frame.seq, payload)
         except _Refused as exc:
             reply = encode_frame(m.ERROR, frame.seq, m.encode_error(frame.type, exc.code, exc.message))

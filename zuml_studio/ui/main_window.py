@@ -156,6 +156,10 @@ class MainWindow(DocumentFiles, QMainWindow):
         self.modes.changed.connect(lambda mode: self.actions_by_name[f"mode_{mode}"].setChecked(True))
         self.toolbar = window_actions.build_toolbar(self, self.actions_by_name, self.action_specs)
 
+    def install_firmware(self) -> None:
+        from .device.firmware_install_dialog import FirmwareInstallDialog
+        FirmwareInstallDialog(self).open()
+
     def compare_with_log(self):
         from .sim.compare_dialog import CompareDialog
         def saved() -> None:

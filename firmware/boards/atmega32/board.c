@@ -1,4 +1,5 @@
-/* The ATmega32 board (iMAX B6 class, 16 MHz): Timer0 millisecond clock, USART at 115200 baud with
+/* GENERIC ATmega32 board: a made-up board, NOT for an iMAX B6 (its pins would short a B6's stage: see
+ * boards/imaxb6 for the real one). 16 MHz: Timer0 millisecond clock, USART at 115200 baud with
  * a receive ring, the EEPROM, the ADC (free-running over PORTA, oversampled) and Timer1 PWM for the
  * charge buck and the discharge load, both set through calibration.c. The power stage regulates
  * once per millisecond: current mode steers the measured current to the set point, voltage mode
@@ -186,9 +187,22 @@ uint8_t hal_passport_exchange(const uint8_t *request, uint8_t len, uint8_t answe
     return 0;
 }
 
+/* No board requests, no averaging, no protections of its own: nothing refuses a start. */
+void hal_measure_latch(void) {}
+const char *hal_run_start(const uint8_t *rec, uint8_t akk_type, int16_t series, int32_t capacity_mah, uint8_t *code)
+{
+    (void)rec; (void)akk_type; (void)series; (void)capacity_mah; (void)code;
+    return 0;
+}
+void hal_request(uint8_t type, uint8_t seq, const uint8_t *payload, uint8_t len, uint8_t running)
+{
+    (void)payload; (void)len; (void)running;
+    app_error(type, seq, 3, PSTR("unknown request type"));
+}
+
 int main(void)
 {
-    static const char model[] PROGMEM = "iMAX B6 (ZUML firmware)";
+    static const char model[] PROGMEM = "generic ATmega32 (not a B6)";
     static const char firmware[] PROGMEM = "zuml-fw 0.1";
     static const app_board_t board = {
         model, firmware, 5000, 500, 1000, 50, 26000, 8500,

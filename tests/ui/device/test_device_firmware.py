@@ -24,15 +24,15 @@ def test_the_panel_flashes_lists_starts_and_monitors_the_firmware(qtbot, make_pa
     connect(qtbot, panel, firmware_port)
     assert panel.is_connected()
     info = panel.info_label.full_text()
-    assert "iMAX B6 (ZUML firmware)" in info and "EEPROM 439 bytes" in info, info
+    assert "generic ATmega32 (not a B6)" in info and "EEPROM 431 bytes" in info, info
     assert panel.slot_names() == []
-    assert panel.free_label.text().startswith("439 of 439 bytes free")
+    assert panel.free_label.text().startswith("431 of 431 bytes free")
 
     text = click_flash(qtbot, panel)
     assert text.startswith("Flashed LiPo into slot 0: 43 bytes,") and text.endswith("verified.")
     assert panel.slot_names() == ["LiPo"]
     assert panel.table.item(0, 1).text() == "LiPo" and panel.table.item(0, 4).text() == "ok"
-    assert panel.free_label.text().startswith("396 of 439 bytes free")
+    assert panel.free_label.text().startswith("388 of 431 bytes free")
 
     panel.set_start_params(task="charge", capacity_mah=2000, current_a=1.0, series=3, sensor=False)
     with qtbot.waitSignal(panel.telemetryReceived, timeout=WAIT_MS, check_params_cb=lambda n: n > 15):

@@ -22,7 +22,7 @@ from typing import Callable
 
 from PySide6.QtCore import Qt, QTimer, Signal
 from PySide6.QtGui import QKeySequence, QShortcut
-from PySide6.QtWidgets import QHBoxLayout, QSplitter, QVBoxLayout, QWidget
+from PySide6.QtWidgets import QHBoxLayout, QPushButton, QSplitter, QVBoxLayout, QWidget
 
 from ...device.drivers import AUTO
 from ...device.errors import NotACharger
@@ -106,6 +106,10 @@ class DevicePanel(QWidget):
         bottom.setSpacing(12)
         bottom.addWidget(self.message, 3)
         bottom.addWidget(self.session, 2)
+        self.calibrate_button = QPushButton(_("Calibrate…"))       # an iMAX B6 with the ZUML firmware
+        self.calibrate_button.setObjectName("calibrateButton")
+        self.calibrate_button.clicked.connect(self.calibrate)
+        bottom.addWidget(self.calibrate_button)
 
         layout = QVBoxLayout(self)
         layout.setContentsMargins(6, 4, 6, 3)
@@ -218,6 +222,10 @@ class DevicePanel(QWidget):
     def clear_plot(self) -> None:
         self.plot.clear()
         self.telemetryReceived.emit(0)
+
+    def calibrate(self) -> None:
+        from .calibration_dialog import CalibrationDialog
+        CalibrationDialog(self.connection, self).open()
 
     def shutdown(self) -> None:
         """Stop every thread, close the client and the built-in virtual charger, close the CSV.

@@ -83,6 +83,8 @@ def action_specs() -> list[ActionSpec]:
                    _("Stop the charger now, from any tab or window"), ("device:1",), everywhere=True),
         ActionSpec("serial_monitor", _("Serial &Monitor"), lambda w: w.show_serial_monitor(), "Ctrl+Shift+M",
                    _("The port's raw bytes as text or hex, and a line to send"), ("device:2",)),
+        ActionSpec("install_firmware", _("&Install Firmware on an iMAX B6…"), lambda w: w.install_firmware(),
+                   tip=_("Save the charger's original, then write the ZUML firmware"), menus=("device:3",)),
 
         ActionSpec("simulate", _("&Simulate"), lambda w: w.sim_panel.simulate(), "F5", menus=("simulate",),
                    icon="simulate"),

@@ -1,0 +1,122 @@
+#include <avr/interrupt.h>
+#include <avr/io.h>
+#include <util/atomic.h>
+#include "adc.h"
+#include "pins.h"
+#include "protect.h"
+#include "stage.h"
+#include "../../core/pgm.h"
+
+/* A slot reads one input: 2 conversions after the switch are dropped (the channel and the
+ * multiplexer settle, as cheali's ADC does), 4 are summed (x16 = ADC16). A round alternates the fast
+ * inputs (the regulator's) with the slow ones. */
+#define DROP 2
+#define TAKE 4
+#define FAST 4
+#define SLOW 10
+#define MUX 0x80                 /* an input behind the multiplexer: address in the low bits */
+#define HANG_READINGS 160        /* ~50 ms of slots (312 us each) without the main loop */
+
+static const uint8_t fast[FAST][2] PROGMEM = {
+    {B6_ADC_ISMPS, CAL_ISMPS}, {B6_ADC_VOUT, CAL_VOUT}, {B6_ADC_ISMPS, CAL_ISMPS}, {B6_ADC_IDIS, CAL_IDIS},
+};
+static const uint8_t slow[SLOW][2] PROGMEM = {
+    {B6_ADC_VOUT_MINUS, CAL_VOUT_MINUS}, {B6_ADC_VIN, CAL_VIN}, {MUX | 0, CAL_VB0}, {MUX | 1, CAL_VB1},
+    {MUX | 2, CAL_VB2}, {MUX | 3, CAL_VB3}, {MUX | 4, CAL_VB4}, {MUX | 5, CAL_VB5}, {MUX | 6, CAL_VB6},
+    {MUX | 7, CAL_TEXTERN},
+};
+
+volatile uint8_t adc_heartbeat, adc_main_alive;
+static uint8_t conversion, slot, next_fast, next_slow, input, hang;
+static uint16_t burst;
+static uint32_t sum[CAL_INPUTS];
+static uint16_t count[CAL_INPUTS];
+static uint16_t average[CAL_INPUTS];
+
+/* Points the ADC (and the multiplexer) at the next slot's input. */
+static void select(void)
+{
+    const uint8_t *s;
+    uint8_t channel;
+    if (slot & 1) {
+        s = slow[next_slow];
+        next_slow = (uint8_t)((next_slow + 1) % SLOW);
+    } else {
+        s = fast[next_fast];
+        next_fast = (uint8_t)((next_fast + 1) % FAST);
+    }
+    channel = pgm_read_byte(&s[0]);
+    input = pgm_read_byte(&s[1]);
+    if (channel & MUX) {
+        PORTB = (uint8_t)((PORTB & ~B6_MUX_MASK) | ((channel & 7) << B6_MUX_SHIFT));
+        channel = B6_ADC_MUX;
+    }
+    ADMUX = channel;                 /* REFS = 0: the external AREF (AVCC would short it) */
+    slot++;
+}
+
+static void reading(uint8_t input, uint16_t adc16)
+{
+    int16_t value = (int16_t)cal_value(input, adc16);
+    sum[input] += adc16;
+    count[input]++;
+    if (protect_reading(input, value))
+        stage_off();
+    if (input == CAL_VOUT)
+        stage_voltage(value);
+    else if ((input == CAL_ISMPS && stage_mode() == STAGE_CHARGE) ||
+             (input == CAL_IDIS && stage_mode() == STAGE_DISCHARGE))
+        stage_current(value);
+    adc_heartbeat++;
+    if (adc_main_alive) {
+        adc_main_alive = 0;
+        hang = 0;
+    } else if (++hang >= HANG_READINGS) {
+        hang = HANG_READINGS;
+        protect_raise(TRIP_HANG);
+        stage_off();
+    }
+}
+
+ISR(ADC_vect)
+{
+    uint16_t v = ADC;
+    if (conversion >= DROP)
+        burst += v;
+    if (++conversion == DROP + TAKE) {
+        uint16_t adc16 = (uint16_t)(burst << 4);
+        uint8_t done = input;
+        conversion = 0;
+        burst = 0;
+        select();                    /* the next input settles while this one is processed */
+        ADCSRA |= _BV(ADSC);
+        reading(done, adc16);
+        return;
+    }
+    ADCSRA |= _BV(ADSC);
+}
+
+void adc_init(void)
+{
+    DDRB |= B6_MUX_MASK;
+    select();
+    /* 16 MHz / 64 = 250 kHz, as cheali; one conversion at a time, started here and by the interrupt */
+    ADCSRA = _BV(ADEN) | _BV(ADIE) | _BV(ADPS2) | _BV(ADPS1);
+    ADCSRA |= _BV(ADSC);
+}
+
+void adc_latch(void)
+{
+    uint8_t k;
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
+        for (k = 0; k < CAL_INPUTS; k++) {
+            if (count[k])
+                average[k] = (uint16_t)(sum[k] / count[k]);
+            sum[k] = 0;
+            count[k] = 0;
+        }
+    }
+}
+
+uint16_t adc_average(uint8_t input_no) { return average[input_no]; }
+int32_t adc_value(uint8_t input_no) { return cal_value(input_no, average[input_no]); }

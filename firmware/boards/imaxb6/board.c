@@ -1,0 +1,449 @@
+/* The original iMAX B6 (ATmega32, 16 MHz): hal.h on the board docs/firmware.md describes. The stage
+ * is off from the first instructions; the ADC interrupt regulates and checks the protections; the
+ * main loop runs the protocol, the macro's ticks, the front panel and the slow limits. */
+#include <avr/eeprom.h>
+#include <avr/interrupt.h>
+#include <avr/io.h>
+#include <avr/pgmspace.h>
+#include <avr/wdt.h>
+#include <util/atomic.h>
+#include "../../core/app.h"
+#include "adc.h"
+#include "calib.h"
+#include "lcd.h"
+#include "panel.h"
+#include "pins.h"
+#include "protect.h"
+#include "stage.h"
+
+/* 57600 baud: U2X, UBRR 34 gives 57143 (-0.8 %); 115200 would be +2.1 % off at 16 MHz. */
+#define UBRR_57600 34
+#define RX_RING 64
+#define STORE_EEPROM (E2END + 1 - CAL_BLOCK)   /* the macro store's share; the calibration after it */
+#define IDLE_LATCH_MS 1000
+#define SLOW_MS 100
+#define RUN_TIME_LIMIT_MS (12UL * 3600UL * 1000UL)
+#define CAPACITY_LIMIT_UAH 10000000UL           /* without a capacity: 10 Ah */
+#define CAL_OUTPUT_MS 60000UL
+#define BALANCE_ON_MV 8                         /* bleed a cell this far above the lowest, until 3 */
+#define BALANCE_OFF_MV 3
+#define BALANCE_FROM_MV 600                     /* below the chemistry's maximum: the charged part of the curve */
+#define T_CAL_READ 0x30
+#define T_CAL_WRITE 0x31
+#define T_CAL_MEASURE 0x32
+#define T_CAL_OUTPUT 0x33
+#define T_STACK 0x34
+#define PAINT 0xAA
+
+static volatile uint32_t millis;
+static volatile uint8_t rx_ring[RX_RING];
+static volatile uint8_t rx_head, rx_tail;
+static volatile uint8_t beeps;
+static hal_output_t out;
+static uint8_t calibrated, run_has_time, balancing;
+static uint32_t run_capacity_uah, last_latch_ms, cal_output_end_ms;
+static int32_t sink_c100 = 2500;
+
+ISR(TIMER0_COMP_vect)
+{
+    /* the buzzer: beeps of 80 ms with 80 ms between them, counted down here (MUSIC never blocks) */
+    static uint8_t phase;
+    millis++;
+    if (beeps) {
+        if (++phase == 80)
+            PORTB &= (uint8_t)~_BV(B6_BUZZER);
+        else if (phase >= 160) {
+            phase = 0;
+            if (--beeps)
+                PORTB |= _BV(B6_BUZZER);
+        }
+    }
+}
+
+ISR(USART_RXC_vect)
+{
+    uint8_t b = UDR, next = (uint8_t)((rx_head + 1) % RX_RING);
+    if (next != rx_tail) {
+        rx_ring[rx_head] = b;
+        rx_head = next;
+    }
+}
+
+uint32_t hal_millis(void)
+{
+    uint32_t t;
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE) { t = millis; }
+    return t;
+}
+
+int16_t hal_uart_read(void)
+{
+    uint8_t b;
+    if (rx_head == rx_tail)
+        return -1;
+    b = rx_ring[rx_tail];
+    rx_tail = (uint8_t)((rx_tail + 1) % RX_RING);
+    return b;
+}
+
+/* The main loop's proof of life for the watchdog and the ADC interrupt's hang check. */
+static void alive(void)
+{
+    wdt_reset();
+    adc_main_alive = 1;
+}
+
+void hal_uart_write(uint8_t byte)
+{
+    /* a byte leaves every 174 us: a 240-byte answer takes 43 ms, progress, not a hang */
+    while (!(UCSRA & _BV(UDRE)))
+        alive();
+    UDR = byte;
+}
+
+uint16_t hal_eeprom_size(void) { return STORE_EEPROM; }
+uint8_t hal_eeprom_read(uint16_t addr) { return eeprom_read_byte((const uint8_t *)addr); }
+void hal_eeprom_write(uint16_t addr, uint8_t value)
+{
+    alive();                         /* 8.5 ms a byte: a long COMMIT (idle only) must not look hung */
+    eeprom_write_byte((uint8_t *)addr, value);
+}
+
+int32_t hal_pack_uv(void) { return adc_value(CAL_VOUT) * 1000L; }
+int32_t hal_current_ua(void)
+{
+    int32_t in = adc_value(CAL_ISMPS), away = adc_value(CAL_IDIS);
+    return ((in > 0 ? in : 0) - (away > 0 ? away : 0)) * 1000L;
+}
+int32_t hal_battery_uc(void) { return adc_value(CAL_TEXTERN) * 10000L; }
+int32_t hal_heatsink_uc(void) { return sink_c100 * 10000L; }
+uint8_t hal_battery_sensor(void)
+{
+    int16_t t = protect_latest[CAL_TEXTERN];
+    return t >= PROBE_PRESENT_C100 && t <= PROBE_OPEN_HIGH_C100;
+}
+uint8_t hal_cell_count(void) { return protect_balance_cells(); }
+int32_t hal_cell_uv(uint8_t cell)
+{
+    int32_t mv = cell == 0 ? adc_value(CAL_VB1) - adc_value(CAL_VB0)
+               : cell == 1 ? adc_value(CAL_VB2) - adc_value(CAL_VB1) : adc_value((uint8_t)(CAL_VB1 + cell));
+    return mv * 1000L;
+}
+
+void hal_measure_latch(void)
+{
+    adc_latch();
+    last_latch_ms = hal_millis();
+}
+
+int32_t hal_open_circuit_uv(void)
+{
+    /* the stage off for 20 ms; the latest burst (not the tick's average) is the open-circuit voltage */
+    hal_output_t was = out;
+    uint32_t t0 = hal_millis();
+    int32_t v;
+    stage_off();
+    while (hal_millis() - t0 < 20)
+        alive();
+    v = protect_latest[CAL_VOUT] * 1000L;
+    hal_output(&was);
+    return v;
+}
+
+void hal_output(const hal_output_t *o)
+{
+    out = *o;
+    switch (o->kind) {
+    case HAL_CURRENT:
+        if (o->current_ua > 0)
+            stage_set(STAGE_CHARGE, o->current_ua / 1000, 0);   /* over its ceiling the pack trips */
+        else
+            stage_set(STAGE_DISCHARGE, -o->current_ua / 1000, 0);
+        break;
+    case HAL_VOLTAGE_CHARGE: stage_set(STAGE_CHARGE, o->current_ua / 1000, o->voltage_uv / 1000); break;
+    case HAL_VOLTAGE_DISCHARGE: stage_set(STAGE_DISCHARGE, o->current_ua / 1000, o->voltage_uv / 1000); break;
+    default: stage_off();
+    }
+}
+
+void hal_buzzer(uint8_t melody)
+{
+    /* a beep per melody number, up to 4, played by the timer */
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
+        beeps = melody > 4 ? 4 : (melody ? melody : 1);
+        PORTB |= _BV(B6_BUZZER);
+    }
+}
+
+void hal_led(uint8_t pattern) { (void)pattern; }   /* the B6 has no LED */
+
+uint8_t hal_passport_exchange(const uint8_t *request, uint8_t len, uint8_t answer[32])
+{
+    /* the B6 has no passport line: nothing answers */
+    (void)request;
+    (void)len;
+    (void)answer;
+    return 0;
+}
+
+static uint8_t has_time_condition(const uint8_t *rec)
+{
+    /* IF(tm>x) (87) or IF(tf>x) (88) anywhere in the record (spec section 3) */
+    uint8_t at, size;
+    for (at = rec[1]; at < rec[0] - 1; at = (uint8_t)(at + size)) {   /* rec[1]: the first instruction */
+        if (rec[at] == 87 || rec[at] == 88)
+            return 1;
+        size = zc_op_size(rec[at]);
+        if (!size)
+            break;
+    }
+    return 0;
+}
+
+const char *hal_run_start(const uint8_t *rec, uint8_t akk_type, int16_t series, int32_t capacity_mah,
+                          uint8_t *code)
+{
+    uint8_t trip;
+    const char *why;
+    *code = HAL_E_UNCALIBRATED;
+    if (!calibrated)
+        return PSTR("the charger is not calibrated: run zuml calibrate");
+    *code = HAL_E_PROTECTION;
+    cal_output_end_ms = 0;
+    why = protect_arm(akk_type, series, &trip);
+    if (why)
+        return why;
+    run_has_time = has_time_condition(rec);
+    run_capacity_uah = capacity_mah > 0 ? (uint32_t)capacity_mah * 2000UL : CAPACITY_LIMIT_UAH;
+    return 0;
+}
+
+/* The balancer (docs/firmware.md): in a Li charge, once its cells are on the charged part of their
+ * curve (the highest within 600 mV of the chemistry's maximum) or the pack holds its voltage, the cells
+ * above the lowest bleed; cell 4's switch is the USART's RXD, which the PC link needs: never driven. */
+static void balance(void)
+{
+    uint8_t n = protect_limits.li_cells, k, mask = 0;
+    int16_t low = 0x7FFF, high = 0;
+    uint8_t charging = out.kind == HAL_VOLTAGE_CHARGE || (out.kind == HAL_CURRENT && out.current_ua > 0);
+    for (k = 0; k < n; k++) {
+        if (protect_cell_mv[k] < low)
+            low = protect_cell_mv[k];
+        if (protect_cell_mv[k] > high)
+            high = protect_cell_mv[k];
+    }
+    if (app_running() && n > 1 && charging &&
+        (high >= (int16_t)protect_limits.cell_max_mv + CELL_MARGIN_MV - BALANCE_FROM_MV ||
+         (out.kind == HAL_VOLTAGE_CHARGE && adc_value(CAL_VOUT) >= out.voltage_uv / 1000 - 50))) {
+        for (k = 0; k < n; k++) {
+            int16_t over = (int16_t)(protect_cell_mv[k] - low);
+            if (over > BALANCE_ON_MV || (over > BALANCE_OFF_MV && (balancing & (1 << k))))
+                mask |= (uint8_t)(1 << k);
+        }
+    }
+    balancing = (uint8_t)(mask & ~(1 << 3));
+    /* atomic: the ADC interrupt drives the disable lines on the same ports (a trip must not be undone) */
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
+        PORTC = (uint8_t)((PORTC & ~(_BV(B6_BAL1) | _BV(B6_BAL2))) | (balancing & 1 ? _BV(B6_BAL1) : 0) |
+                          (balancing & 2 ? _BV(B6_BAL2) : 0));
+        PORTA = (uint8_t)((PORTA & ~_BV(B6_BAL3)) | (balancing & 4 ? _BV(B6_BAL3) : 0));
+        PORTD = (uint8_t)((PORTD & ~(_BV(B6_BAL5) | _BV(B6_BAL6))) | (balancing & 16 ? _BV(B6_BAL5) : 0) |
+                          (balancing & 32 ? _BV(B6_BAL6) : 0));
+    }
+}
+
+/* The stack's high-water mark, measured (docs/firmware.md, *Budgets*): the RAM between the variables
+ * and the stack is painted before main() runs; STACK counts what was never written since. */
+extern uint8_t __bss_end;
+void paint_stack(void) __attribute__((naked, used, section(".init3")));
+void paint_stack(void)
+{
+    uint8_t *p = &__bss_end;
+    while (p < (uint8_t *)SP)
+        *p++ = PAINT;
+}
+
+static uint16_t stack_never_used(void)
+{
+    const uint8_t *p = &__bss_end;
+    uint16_t n = 0;
+    while (p + n < (const uint8_t *)RAMEND && p[n] == PAINT)
+        n++;
+    return n;
+}
+
+static void send_calibration(uint8_t type, uint8_t seq)
+{
+    uint8_t block[CAL_BLOCK], k;
+    cal_block(block);
+    app_tx_begin((uint8_t)(type | 0x80), seq, 1 + CAL_BLOCK);
+    app_tx(calibrated);
+    for (k = 0; k < CAL_BLOCK; k++)
+        app_tx(block[k]);
+    app_tx_end();
+}
+
+void hal_request(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uint8_t running)
+{
+    static const uint8_t lengths[5] PROGMEM = {0, CAL_BLOCK, 0, 3, 0};
+    uint8_t k;
+    if (type > T_STACK) {
+        app_error(type, seq, 3, PSTR("unknown request type"));
+        return;
+    }
+    if (len != pgm_read_byte(&lengths[type - T_CAL_READ])) {
+        app_error(type, seq, 2, PSTR("the payload does not fit the request's layout"));
+        return;
+    }
+    if (running && (type == T_CAL_WRITE || type == T_CAL_OUTPUT)) {
+        app_error(type, seq, HAL_E_BUSY, PSTR("a macro runs: stop it first"));
+        return;
+    }
+    switch (type) {
+    case T_CAL_WRITE:
+        if (!cal_block_valid(p)) {
+            app_error(type, seq, 4, PSTR("not a calibration block (version 1, check byte, no zero full scale)"));
+            return;
+        }
+        for (k = 0; k < CAL_BLOCK; k++) {
+            alive();
+            eeprom_update_byte((uint8_t *)(STORE_EEPROM + k), p[k]);
+        }
+        calibrated = cal_use(p);
+        /* fall through */
+    case T_CAL_READ:
+        send_calibration(type, seq);
+        return;
+    case T_STACK:
+        app_tx_begin(T_STACK | 0x80, seq, 4);
+        app_tx16(stack_never_used());
+        app_tx16((uint16_t)(RAMEND + 1 - (uint16_t)&__bss_end));
+        app_tx_end();
+        return;
+    case T_CAL_MEASURE:
+        app_tx_begin(T_CAL_MEASURE | 0x80, seq, 6 * CAL_INPUTS);
+        for (k = 0; k < CAL_INPUTS; k++) {
+            int32_t v = adc_value(k);
+            app_tx16(adc_average(k));
+            app_tx16((uint16_t)v);
+            app_tx16((uint16_t)(v >> 16));
+        }
+        app_tx_end();
+        return;
+    default: {
+        uint16_t ma = (uint16_t)(p[1] | (p[2] << 8));
+        uint8_t trip;
+        const char *why;
+        stage_off();
+        protect_disarm();
+        cal_output_end_ms = 0;
+        if (p[0] > 2 || (p[0] == 1 && ma > 2000) || (p[0] == 2 && ma > 500)) {
+            app_error(type, seq, 4, PSTR("mode 0..2, at most 2000 mA charging, 500 mA discharging"));
+            return;
+        }
+        if (p[0] && ma) {
+            why = protect_arm(4, 0, &trip);     /* as a LiPo pack of the balance port's cells */
+            if (why) {
+                app_error(type, seq, HAL_E_PROTECTION, why);
+                return;
+            }
+            stage_set(p[0] == 1 ? STAGE_CHARGE : STAGE_DISCHARGE, ma, p[0] == 1 ? protect_limits.pack_max_mv : 0);
+            cal_output_end_ms = hal_millis() + CAL_OUTPUT_MS;
+        }
+        app_tx_begin(T_CAL_OUTPUT | 0x80, seq, 3);
+        app_tx(p[0]);
+        app_tx16(ma);
+        app_tx_end();
+    }
+    }
+}
+
+/* The limits the main loop keeps (every 100 ms): the heat-sink estimate, time, capacity, the end of
+ * a calibration current; and the trips, which end the run. */
+static void slow_limits(void)
+{
+    const zc_run_t *r = app_run();
+    int32_t target = 2500 + stage_loss_mw() / 5;        /* 25 degC + 2 K/W */
+    sink_c100 += (target - sink_c100) / 600;             /* 60 s at 100 ms steps */
+    if (app_running()) {
+        if (sink_c100 > TRIP_SINK_C100)
+            protect_raise(TRIP_SINK_HOT);
+        if (!run_has_time && r->time_ms > RUN_TIME_LIMIT_MS)
+            protect_raise(TRIP_TIME);
+        if (r->total_in.uah > run_capacity_uah)
+            protect_raise(TRIP_CAPACITY);
+    }
+    if (cal_output_end_ms && (int32_t)(hal_millis() - cal_output_end_ms) >= 0) {
+        cal_output_end_ms = 0;
+        stage_off();
+        protect_disarm();
+    }
+}
+
+static void watch(void)
+{
+    uint8_t trip = protect_trip;
+    if (trip) {
+        stage_off();
+        if (app_running())
+            app_protect(protect_text(trip));
+        cal_output_end_ms = 0;
+        protect_disarm();
+        hal_buzzer(3);
+    } else if (protect_limits.armed && !app_running() && !cal_output_end_ms) {
+        protect_disarm();
+    }
+}
+
+int main(void)
+{
+    static const char model[] PROGMEM = "iMAX B6 (ZUML firmware)";
+    static const char firmware[] PROGMEM = "zuml-fw 0.2 imaxb6";
+    static const app_board_t board = {
+        model, firmware, B6_CHARGE_MA, (uint16_t)(B6_CHARGE_MW / 100), B6_DISCHARGE_MA,
+        (uint16_t)(B6_DISCHARGE_MW / 100), B6_MAX_MV, 8500,
+        {(int32_t)B6_CHARGE_MA * 1000L, (int32_t)B6_DISCHARGE_MA * 1000L, 3000000L, 1000, 30, 300}
+    };
+    uint8_t was_watchdog = MCUCSR & _BV(WDRF), block[CAL_BLOCK], k;
+    uint32_t last_slow = 0;
+    MCUCSR = 0;
+    stage_init();                    /* first: every disable line high, both switches low */
+    DDRC |= _BV(B6_BAL1) | _BV(B6_BAL2);
+    DDRA |= _BV(B6_BAL3);
+    DDRD |= _BV(B6_BAL5) | _BV(B6_BAL6);
+    DDRB |= _BV(B6_BUZZER);          /* PB0..PB3 stay inputs: the buttons */
+    /* Timer0: CTC, /64, 250 counts = 1 ms */
+    TCCR0 = _BV(WGM01) | _BV(CS01) | _BV(CS00);
+    OCR0 = 249;
+    TIMSK |= _BV(OCIE0);
+    UCSRA = _BV(U2X);
+    UBRRH = 0;
+    UBRRL = UBRR_57600;
+    UCSRB = _BV(RXEN) | _BV(TXEN) | _BV(RXCIE);
+    UCSRC = _BV(URSEL) | _BV(UCSZ1) | _BV(UCSZ0);
+    for (k = 0; k < CAL_BLOCK; k++)
+        block[k] = eeprom_read_byte((const uint8_t *)(STORE_EEPROM + k));
+    calibrated = cal_use(block);
+    adc_init();
+    sei();
+    lcd_init();
+    wdt_enable(WDTO_60MS);           /* after the LCD's 60 ms of start-up waits */
+    alive();
+    app_init(&board);
+    if (was_watchdog)
+        app_protect(protect_text(TRIP_WATCHDOG));
+    for (;;) {
+        uint32_t now = hal_millis();
+        alive();
+        app_poll();
+        watch();
+        if (!app_running() && now - last_latch_ms >= IDLE_LATCH_MS)
+            hal_measure_latch();
+        if (now - last_slow >= SLOW_MS) {
+            last_slow = now;
+            slow_limits();
+            balance();
+        }
+        panel_poll(now, calibrated);
+    }
+}

@@ -1,0 +1,10 @@
+/* The B6's front panel without a PC (docs/firmware.md, *Front panel*): pick a slot by its name,
+ * start and stop it with the buttons, read the run and its end on the LCD. */
+#ifndef B6_PANEL_H
+#define B6_PANEL_H
+
+#include <stdint.h>
+
+void panel_poll(uint32_t now_ms, uint8_t calibrated);
+
+#endif

@@ -1,0 +1,160 @@
+#include <avr/interrupt.h>
+#include <avr/io.h>
+#include <util/atomic.h>
+#include "stage.h"
+#include "pins.h"
+#include "protect.h"
+#include "calib.h"
+
+/* Timer1 fast PWM mode 14, TOP = ICR1 = 511: 31.25 kHz (cheali: TIMER1_PERIOD 512, mode 14). The duty
+ * is kept in 1/64 of a count and dithered over the periods, so the average current steps finely
+ * (one count moves ~0.1 A into a low-resistance pack). */
+#define TOP 511U
+#define FRAC 6
+#define BUCK_FULL ((uint32_t)(TOP + 1) << FRAC)
+#define BOOST_MAX ((uint32_t)((TOP + 1) / 2) << FRAC)   /* at most 50 % boost (cheali caps it so) */
+#define DISCHARGE_MAX BUCK_FULL
+/* The duty at its top with less than a quarter of the current: no battery takes it (0.5 s of
+ * current readings at ~800/s). */
+#define STARVED_READINGS 400
+
+static volatile uint8_t mode;
+static volatile int16_t i_set, v_set, v_now, i_now;
+static volatile uint32_t duty;
+static volatile uint16_t pwm_whole;
+static volatile uint8_t pwm_frac, pwm_acc, boosting;
+static volatile uint16_t starved;
+
+void stage_off(void)
+{
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
+        TCCR1A = _BV(WGM11);                                  /* both compare outputs off the pins */
+        PORTD &= (uint8_t)~(_BV(B6_BUCK) | _BV(B6_BOOST));
+        PORTD |= _BV(B6_OUTPUT_DISABLE) | _BV(B6_SMPS_DISABLE);
+        PORTA |= _BV(B6_DISCHARGE_DISABLE);
+        mode = STAGE_OFF;
+        duty = 0;
+        pwm_whole = 0;
+        pwm_frac = 0;
+        boosting = 0;
+        starved = 0;
+    }
+}
+
+void stage_init(void)
+{
+    stage_off();
+    DDRD |= _BV(B6_BUCK) | _BV(B6_BOOST) | _BV(B6_OUTPUT_DISABLE) | _BV(B6_SMPS_DISABLE);
+    DDRA |= _BV(B6_DISCHARGE_DISABLE);
+    ICR1 = TOP;
+    OCR1A = OCR1B = 0;
+    TCCR1A = _BV(WGM11);
+    TCCR1B = _BV(WGM13) | _BV(WGM12) | _BV(CS10);
+    TIMSK |= _BV(TOIE1);
+}
+
+uint8_t stage_mode(void) { return mode; }
+
+/* Each period: the next compare value with the dither's carry; a zero duty leaves the pin off the
+ * timer (OCR = 0 would still give a one-clock pulse every period in fast PWM). */
+ISR(TIMER1_OVF_vect)
+{
+    uint16_t v = pwm_whole;
+    pwm_acc = (uint8_t)(pwm_acc + pwm_frac);
+    if (pwm_acc >= (1 << FRAC)) {
+        pwm_acc = (uint8_t)(pwm_acc - (1 << FRAC));
+        v++;
+    }
+    if (mode == STAGE_CHARGE && !boosting) {
+        OCR1B = v;
+        TCCR1A = v ? (uint8_t)(_BV(WGM11) | _BV(COM1B1)) : _BV(WGM11);
+    } else if (mode != STAGE_OFF) {
+        OCR1A = v;                 /* the boost switch, or the discharge load: both are OC1A */
+        TCCR1A = v ? (uint8_t)(_BV(WGM11) | _BV(COM1A1)) : _BV(WGM11);
+    }
+}
+
+static void apply(void)
+{
+    uint32_t d = duty;
+    if (mode == STAGE_CHARGE && d > BUCK_FULL) {
+        boosting = 1;
+        PORTD |= _BV(B6_BUCK);     /* the buck switch held on, OC1A boosts */
+        d -= BUCK_FULL;
+    } else {
+        if (boosting)              /* both pins low again: a zero duty leaves them off the timer */
+            PORTD &= (uint8_t)~(_BV(B6_BUCK) | _BV(B6_BOOST));
+        boosting = 0;
+    }
+    pwm_whole = (uint16_t)(d >> FRAC);
+    pwm_frac = (uint8_t)(d & ((1 << FRAC) - 1));
+}
+
+void stage_set(uint8_t m, int32_t current_ma, int32_t voltage_mv)
+{
+    int32_t v = protect_latest[CAL_VOUT], limit_ma = m == STAGE_CHARGE ? B6_CHARGE_MA : B6_DISCHARGE_MA;
+    int32_t limit_mw = m == STAGE_CHARGE ? B6_CHARGE_MW : B6_DISCHARGE_MW;
+    if (m == STAGE_OFF || current_ma <= 0) {
+        stage_off();
+        return;
+    }
+    if (v > 1000 && limit_mw * 1000L / v < limit_ma)
+        limit_ma = limit_mw * 1000L / v;
+    if (current_ma > limit_ma)
+        current_ma = limit_ma;
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
+        if (m != mode) {
+            stage_off();
+            if (m == STAGE_CHARGE) {
+                PORTD &= (uint8_t)~(_BV(B6_SMPS_DISABLE) | _BV(B6_OUTPUT_DISABLE));
+            } else {
+                PORTD &= (uint8_t)~_BV(B6_OUTPUT_DISABLE);
+                PORTA &= (uint8_t)~_BV(B6_DISCHARGE_DISABLE);
+            }
+            mode = m;
+        }
+        i_set = (int16_t)current_ma;
+        v_set = (int16_t)(voltage_mv > 0 ? (voltage_mv > B6_MAX_MV ? B6_MAX_MV : voltage_mv) : 0);
+    }
+}
+
+/* One integral step towards the set point: the current's error, or the voltage's when that one asks
+ * for less (CV within the current limit). The duty carries over from tick to tick. */
+static void step(void)
+{
+    int32_t e = ((int32_t)i_set - i_now) / 4, ev, d = (int32_t)duty;
+    uint32_t top = mode == STAGE_CHARGE ? BUCK_FULL + BOOST_MAX : DISCHARGE_MAX;
+    if (v_set) {
+        ev = mode == STAGE_CHARGE ? (int32_t)v_set - v_now : (int32_t)v_now - v_set;
+        if (ev < e)
+            e = ev;
+    }
+    d += e;
+    if (d < 0)
+        d = 0;
+    if ((uint32_t)d > top)
+        d = (int32_t)top;
+    duty = (uint32_t)d;
+    apply();
+    if ((uint32_t)d == top && i_now < i_set / 4) {
+        if (++starved >= STARVED_READINGS)
+            protect_raise(TRIP_DISCONNECTED);
+    } else {
+        starved = 0;
+    }
+}
+
+void stage_current(int16_t ma)
+{
+    i_now = ma;
+    if (mode != STAGE_OFF)
+        step();
+}
+
+void stage_voltage(int16_t mv) { v_now = mv; }
+
+int32_t stage_loss_mw(void)
+{
+    int32_t p = (int32_t)v_now * i_now / 1000;
+    return mode == STAGE_CHARGE ? p / 10 : (mode == STAGE_DISCHARGE ? p : 0);
+}

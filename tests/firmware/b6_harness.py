@@ -1,0 +1,103 @@
+"""The simulated iMAX B6 (`firmware/build/simavr/zuml_b6_sim`) as tests drive it: started on an image, its pty
+on the first stdout line, its stderr lines (`LCD|…`, `FAULT|…`, `RESET|…`) collected as they come so a test
+waits for a line, never for a time; its trace read back as rows."""
+from __future__ import annotations
+
+import csv
+import os
+import select
+import subprocess
+import threading
+import tty
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+from chargers import INSTALL, simavr_missing
+from host_core import FIRMWARE
+
+B6_SIM = FIRMWARE / "build" / "simavr" / "zuml_b6_sim"
+LINE_WAIT_S = 120.0        # a bound on a wait for a line, far above any run here: a hang fails, it does not wait
+
+
+def build(*targets: str) -> None:
+    """`make` firmware targets (the harness, an image); skips naming the tools that are missing."""
+    missing = simavr_missing()
+    if missing or os.name != "posix":
+        pytest.skip(f"{missing or 'a POSIX pty'} missing: the simulated B6 cannot run ({INSTALL})")
+    done = subprocess.run(["make", "-s", "-C", str(FIRMWARE), *targets], capture_output=True, text=True)
+    assert done.returncode == 0, done.stdout + done.stderr
+
+
+@dataclass
+class Row:
+    t_ms: int
+    buck_duty: float
+    boost_duty: float
+    output_enabled: int
+    current_a: float
+    voltage_v: float
+
+
+def read_trace(path: Path) -> list[Row]:
+    with open(path, newline="") as f:
+        reader = csv.reader(f)
+        assert next(reader) == ["t_ms", "buck_duty", "boost_duty", "output_enabled", "current_a", "voltage_v"]
+        return [Row(int(r[0]), float(r[1]), float(r[2]), int(r[3]), float(r[4]), float(r[5])) for r in reader]
+
+
+class B6:
+    """One zuml_b6_sim process; `port` its pty, `lines` what it said on stderr so far."""
+
+    def __init__(self, elf: Path, *args: str):
+        self.proc = subprocess.Popen([str(B6_SIM), str(elf), *map(str, args)], stdout=subprocess.PIPE,
+                                     stderr=subprocess.PIPE, text=True)
+        self.port = self.proc.stdout.readline().rstrip("\n")
+        self.lines: list[str] = []
+        self.changed = threading.Condition()
+        self.reader = threading.Thread(target=self._read, daemon=True)
+        self.reader.start()
+        self.fd = None
+
+    def _read(self) -> None:
+        for line in self.proc.stderr:
+            with self.changed:
+                self.lines.append(line.rstrip("\n"))
+                self.changed.notify_all()
+        with self.changed:
+            self.lines.append("<exit>")
+            self.changed.notify_all()
+
+    def wait_line(self, predicate, start: int = 0) -> tuple[int, str]:
+        """The first stderr line from index `start` on that satisfies `predicate` (a prefix or a function)."""
+        test = (lambda line: line.startswith(predicate)) if isinstance(predicate, str) else predicate
+        with self.changed:
+            found = self.changed.wait_for(
+                lambda: any(test(line) or line == "<exit>" for line in self.lines[start:]), timeout=LINE_WAIT_S)
+            assert found, f"no line for {predicate!r} in {LINE_WAIT_S} s: {self.lines[-10:]}"
+            for k in range(start, len(self.lines)):
+                if test(self.lines[k]):
+                    return k, self.lines[k]
+        raise AssertionError(f"the simulator ended before {predicate!r}: {self.lines[-10:]}")
+
+    def ask(self, request: str) -> str:
+        """One probe request on the pty (tests/firmware/b6_probe.c), its answer line."""
+        if self.fd is None:
+            self.fd = os.open(self.port, os.O_RDWR | os.O_NOCTTY)
+            tty.setraw(self.fd)
+        os.write(self.fd, request.encode())
+        answer = b""
+        while not answer.endswith(b"\n"):
+            assert select.select([self.fd], [], [], LINE_WAIT_S)[0], f"no answer to {request!r}: {answer!r}"
+            answer += os.read(self.fd, 64)
+        return answer.decode().strip()
+
+    def stop(self) -> None:
+        if self.fd is not None:
+            os.close(self.fd)
+            self.fd = None
+        if self.proc.poll() is None:
+            self.proc.terminate()
+        self.proc.wait(timeout=30)
+        self.reader.join(timeout=30)
