@@ -163,3 +163,21 @@ def test_switching_mode_while_a_plot_is_maximised_keeps_the_layout_not_the_maxim
     assert w.plot_focus.maximised() is None and w.sim_panel.params_scroll.isVisible()
     w.act_mode_write.trigger()
     assert w.editor_box.isVisible() and w.hex_dock.isVisible() and w.library_dock.isVisible()
+
+
+def test_the_charge_mode_gives_the_live_plot_60_percent_of_a_1366x768_window(laptop, qtbot):
+    """Watching a charge: no toolbar, no status line, no dock title; the readings share the plot's
+    control row. Back in the Write mode all of them return."""
+    from device_helpers import WAIT_MS, connect, flash_and_start
+    w = laptop()
+    w.modes.switch("charge")
+    panel = w.device_panel
+    connect(qtbot, panel)
+    ok, text = flash_and_start(qtbot, panel)
+    assert ok, text
+    qtbot.waitUntil(panel.is_running, timeout=WAIT_MS)
+    qtbot.waitUntil(lambda: share(panel.plot, w) >= WATCHED_SHARE)
+    assert not w.toolbar.isVisible() and not w.statusBar().isVisible()
+    assert w.size().width() == 1366
+    w.modes.switch("write")
+    assert w.toolbar.isVisible() and w.statusBar().isVisible() and w.device_dock.titleBarWidget() is None

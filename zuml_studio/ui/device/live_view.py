@@ -4,7 +4,8 @@ into it from the reader thread) and up to ``KEEP_RUNS`` earlier ones."""
 from __future__ import annotations
 
 from PySide6.QtCore import QEvent, Qt, Signal
-from PySide6.QtWidgets import QCheckBox, QComboBox, QHBoxLayout, QLabel, QSizePolicy, QToolButton, QVBoxLayout, QWidget
+from PySide6.QtWidgets import (QCheckBox, QComboBox, QGridLayout, QHBoxLayout, QLabel, QSizePolicy, QToolButton,
+                               QVBoxLayout, QWidget)
 
 from ...i18n import N_, _
 from .. import theme
@@ -57,21 +58,26 @@ class LiveView(QWidget):
         self.run_choice.setVisible(False)
         self.run_choice.activated.connect(self.runChosen)
         self.run_choice.currentTextChanged.connect(lambda text: self.run_choice.setToolTip(f"{text}\n{_(RUNS_TIP)}"))
-        plot_bar = QHBoxLayout()
-        plot_bar.setContentsMargins(4, 0, 0, 0)
-        plot_bar.setSpacing(4)
-        plot_bar.addStretch(1)
-        plot_bar.addWidget(self.run_choice)
-        plot_bar.addWidget(self.follow)
-        plot_bar.addWidget(self.follow_minutes)
-        plot_bar.addWidget(self.all_button)
-        plot_bar.addWidget(self.clear_button)
+        # The readings and the plot's controls share one row where the width allows (the height is
+        # the plot's), else the controls go on a row of their own below (_place_controls).
+        self.controls = QWidget()
+        controls = QHBoxLayout(self.controls)
+        controls.setContentsMargins(4, 0, 0, 0)
+        controls.setSpacing(4)
+        for widget in (self.run_choice, self.follow, self.follow_minutes, self.all_button, self.clear_button):
+            controls.addWidget(widget)
+        self.readings.setContentsMargins(4, 2, 4, 0)
+        self._top = QGridLayout()
+        self._top.setContentsMargins(0, 0, 0, 0)
+        self._top.setSpacing(0)
+        self._top.setColumnStretch(0, 1)
+        self._top.addWidget(self.readings, 0, 0)
+        self._one_row = True
+        self._top.addWidget(self.controls, 0, 1, Qt.AlignmentFlag.AlignBottom | Qt.AlignmentFlag.AlignRight)
         pv = QVBoxLayout(self)
         pv.setContentsMargins(0, 0, 0, 0)
         pv.setSpacing(0)
-        self.readings.setContentsMargins(4, 2, 4, 0)
-        pv.addWidget(self.readings)
-        pv.addLayout(plot_bar)
+        pv.addLayout(self._top)
         pv.addWidget(self.plot, 1)
         self.readout = CursorReadout(self.plot, self._cursor_samples, lambda: self.plot.gap_s)
         self.follow.toggled.connect(lambda on: self.plot.set_follow(on, self.follow_minutes.value()))
@@ -84,6 +90,22 @@ class LiveView(QWidget):
         """The drawn session's samples under the cursor readout's names."""
         _, cols = self.plot.series.buffer.snapshot()
         return cols["t"], {"voltage_v": cols["voltage"], "current_a": cols["current"], "temp_c": cols["temp"]}
+
+    def resizeEvent(self, event) -> None:  # noqa: N802
+        super().resizeEvent(event)
+        self._place_controls()
+
+    def _place_controls(self) -> None:
+        """The plot's controls beside the readings when both fit in the width, else below them."""
+        one_row = self.width() >= self.readings.sizeHint().width() + self.controls.sizeHint().width()
+        if one_row == self._one_row:
+            return
+        self._one_row = one_row
+        self._top.removeWidget(self.controls)
+        if one_row:
+            self._top.addWidget(self.controls, 0, 1, Qt.AlignmentFlag.AlignBottom | Qt.AlignmentFlag.AlignRight)
+        else:
+            self._top.addWidget(self.controls, 1, 0, 1, 2, Qt.AlignmentFlag.AlignRight)
 
     def show_readings(self, tel) -> None:
         """The newest frame's values, in the plot's hues from the palette's colour set (light or dark)."""
@@ -98,9 +120,10 @@ class LiveView(QWidget):
             f"<span style='color:{hue['current']};'><b>{tel.current_a:+.3f} A</b></span>&nbsp;&nbsp;"
             f"<span style='color:{hue['temp']};'>T {t}</span>&nbsp;&nbsp;"
             f"<span style='color:{hue['heatsink']};'>Tc {tc}</span><br>{amounts}")
-        # Two lines in a row of its own: whole at 1366 px; the tooltip says what T and Tc are.
+        # Two lines, whole at 1366 px; the tooltip says what T and Tc are.
         self.readings.setToolTip(_("{v} V · {a} A · battery T {t} · heat sink Tc {tc} · {amounts}").format(
             v=f"{tel.voltage_v:.3f}", a=f"{tel.current_a:+.3f}", t=t, tc=tc, amounts=amounts))
+        self._place_controls()             # the readings grew or shrank: the controls may move
 
     def changeEvent(self, event) -> None:  # noqa: N802
         super().changeEvent(event)

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from PySide6.QtCore import Qt
-from PySide6.QtWidgets import QDockWidget, QMainWindow, QWidget
+from PySide6.QtWidgets import QDockWidget, QMainWindow, QToolBar, QWidget
 
 from ...i18n import _
 
@@ -90,6 +90,11 @@ def place(window: QMainWindow, specs: list[DockSpec], docks: dict[str, QDockWidg
             docks[shown_tabs[0].name].raise_()
         elif not spec.tab_with:
             docks[spec.name].raise_()
+    toolbar = window.findChild(QToolBar, "mainToolBar")
+    if toolbar is not None:
+        # Its commands are the editor's (New, Save, Verify, Upload, Simulate): watching a charge, the
+        # plot takes its row; the menus keep every command, and the mode's layout keeps the choice.
+        toolbar.setVisible(mode != CHARGE)
     shown = [s for s in specs if mode in s.modes]
     for orientation, length in ((Qt.Orientation.Horizontal, lambda s: s.width),
                                 (Qt.Orientation.Vertical, lambda s: s.height)):

@@ -10,7 +10,7 @@ from PySide6.QtCore import QObject, QSettings, Signal
 from PySide6.QtWidgets import QMainWindow, QWidget
 
 from ..settings_values import bytes_value, text_value
-from .docks import MODES, WRITE
+from .docks import CHARGE, MODES, WRITE
 
 MODE_KEY = "layout/mode"
 
@@ -61,6 +61,12 @@ class Modes(QObject):
     def _apply(self) -> None:
         size = self.window.size()       # a layout saved on a bigger screen must not grow the window
         self.editor.setVisible(self.current == WRITE)
+        # Watching a charge, the editor's status line (line, column, bytes) has nothing to say and
+        # the device panel has its own message line: the live plot takes the row.
+        self.window.statusBar().setVisible(self.current != CHARGE)
+        device = getattr(self.window, "device_dock", None)
+        if device is not None:          # the mode's one dock: its title bar says nothing either
+            device.setTitleBarWidget(QWidget(device) if self.current == CHARGE else None)
         state = bytes_value(self.settings, layout_key(self.current))
         if state is None or not self.window.restoreState(state, self.version):
             self.place(self.current)
