@@ -1,6 +1,6 @@
 """Fuzz the commands that report on a curve or a log (issue 27): `zuml fit`, `zuml compare`,
-`zuml log info` (its summary, as text and `--json`), `zuml log export`, and `zuml pack import`
-once that command exists (see PACK_IMPORT below).
+`zuml log info` (its summary, as text and `--json`), `zuml log export`, and `zuml pack import` (into
+a pack of a logbook in a temporary data folder).
 
 Inputs are real charges and logs (tests/data) with one hostile change, as the independent campaign
 of issue 27 made them: one value swapped for a hostile number (NaN, 1e308, -1e308, a 40-digit
@@ -34,7 +34,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from fuzz_common import HOSTILE_NUMBERS, LIMIT_S, Campaign, mutate_bytes, number_swap  # noqa: E402
-from zuml_studio.cli.main import AREAS, main as zuml  # noqa: E402
+from zuml_studio.cli.main import main as zuml  # noqa: E402
 
 DATA = ROOT / "tests" / "data"
 FIT_LIMIT_S = 20.0
@@ -44,9 +44,6 @@ LOGS = [p.read_bytes() for p in sorted((DATA / "logs").iterdir())] + \
 MACROS = sorted((ROOT / "macros").glob("*.zuml"))
 CHEMISTRIES = ["NiMh", "NiCd", "LiPo", "LiIon", "LiFe", "Pb"]
 NUMBERS = HOSTILE_NUMBERS + ["1e308", "-1e308", "1e12", "-1e12", "0", "-0.0", "1e-300", "-5", "99999"]
-# The command that imports a pack (another change is adding `zuml pack`): its words and the file it
-# takes. Once `pack` is among cli.main.AREAS the fuzzer runs it on the same hostile logs and curves.
-PACK_IMPORT = ("pack", "import")
 assert CURVES and LOGS and MACROS, "the fuzzer's seeds moved"
 
 
@@ -221,15 +218,15 @@ def main() -> int:
         total += c.run("log export", n, hostile_log, log_export, (), LIMIT_S)
 
     if want("pack import"):
-        if PACK_IMPORT[0] in {name for commands in AREAS.values() for name in commands}:
-            def pack_import(item):
-                code, _out, err = run(*PACK_IMPORT, place.file(item, "pack.txt"))
-                one_line_or_ok(code, err)
+        os.environ["ZUML_STUDIO_DATA_DIR"] = str(tmp / "logbook")
+        assert run("pack", "add", "F", "--chemistry", "LiPo", "--cells", "4", "--capacity", "1500")[0] == 0
 
-            total += c.run("pack import", n, lambda rng: (hostile_log if rng.random() < 0.5 else hostile_curve)(rng),
-                           pack_import, (), LIMIT_S)
-        else:
-            print("pack import: no `zuml pack` command in this tree yet; not fuzzed")
+        def pack_import(item):
+            code, _out, err = run("pack", "import", place.file(item, "pack.txt"), "--pack", "F")
+            one_line_or_ok(code, err)
+
+        total += c.run("pack import", n, lambda rng: (hostile_log if rng.random() < 0.5 else hostile_curve)(rng),
+                       pack_import, (), LIMIT_S)
 
     c.table()
     print(f"total findings: {total}")

@@ -65,8 +65,9 @@ def test_missing_path_and_unreadable_file(zuml, tmp_path):
     assert code == 1 and "no such file or folder" in err
     junk = tmp_path / "junk.txt"
     junk.write_text("hello")
-    code, out, _err = zuml("pack", "import", str(junk), "--pack", "A")
+    code, out, err = zuml("pack", "import", str(junk), "--pack", "A")
     assert code == 1 and "0 added, 0 already known, 1 not read" in out
+    assert err == "zuml: error: nothing imported: no file given is a log ZUML Studio reads (each one's reason above)\n"
 
 
 def test_damaged_logbook_is_one_line_and_left_alone(zuml, data_dir):

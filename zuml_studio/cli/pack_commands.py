@@ -153,7 +153,9 @@ def cmd_import(args: argparse.Namespace) -> int:
         raise CliError(str(exc), 1) from None
     counts = {s: sum(r.status == s for r in results) for s in ("added", "known", "error")}
     out(_("pack {name!r}: {added} added, {known} already known, {error} not read").format(name=pack.name, **counts))
-    return 1 if counts["error"] and not counts["added"] and not counts["known"] else 0
+    if counts["error"] and not counts["added"] and not counts["known"]:
+        raise CliError(_("nothing imported: no file given is a log ZUML Studio reads (each one's reason above)"), 1)
+    return 0
 
 
 def cmd_export(args: argparse.Namespace) -> int:
