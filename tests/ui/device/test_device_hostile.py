@@ -64,3 +64,27 @@ def test_a_flash_whose_verify_was_lost_is_settled_by_the_next_read(qtbot, make_p
     qtbot.waitUntil(lambda: panel.message_text().startswith("Read back after the lost link: the flash is on "
                                                             "the charger, verified."), timeout=WAIT_MS)
     assert panel.slot_names() == ["NiMh-dV"]
+
+
+def test_a_lost_write_is_not_settled_by_another_device_on_the_port(qtbot, make_panel, monkeypatch):
+    """Issue 27: a port that vanished may come back as another device, whose EEPROM says nothing about
+    the lost write. Told apart by IDENTIFY: here the write went to a charger of another model."""
+    import dataclasses
+
+    from zuml_studio.ui.device.charger_slots import ChargerSlots
+    real = ChargerSlots._note_unsettled
+
+    def written_elsewhere(self, what, exc):
+        real(self, what, exc)
+        if self._unsettled is not None:
+            what, exc, info = self._unsettled
+            self._unsettled = (what, exc, dataclasses.replace(info, model="Charger-Written-To"))
+    monkeypatch.setattr(ChargerSlots, "_note_unsettled", written_elsewhere)
+    panel = make_panel()
+    connect(qtbot, panel)
+    lose_link_after_commit(monkeypatch)
+    with qtbot.waitSignal(panel.flashFinished, timeout=WAIT_MS):
+        panel.flash()
+    qtbot.waitUntil(lambda: panel.message_text().startswith("Another device answers on this port now"),
+                    timeout=WAIT_MS)
+    assert "not the Charger-Written-To" in panel.message_text()

@@ -93,7 +93,7 @@ class ChargerSlots(QWidget):
         self.flashed_slot: int | None = None
         # (slot, name) of the macro running now, None when none runs (the panel sets it from the run)
         self.running_macro: Callable[[], tuple[int | None, str] | None] = lambda: None
-        self.charger_model = ""             # the connected charger's, for a backup's file name
+        self.charger_info = None            # the connected charger's DeviceInfo (a backup's name, a settle's check)
         self._unsettled: tuple[str, CommitUncertain | CommitUnverified] | None = None   # (what, error)
         self.table = SlotTable(0, 5)
         self.table.setObjectName("slotTable")
@@ -434,13 +434,21 @@ class ChargerSlots(QWidget):
 
     def _note_unsettled(self, what: str, exc) -> None:
         if isinstance(exc, (CommitUncertain, CommitUnverified)):
-            self._unsettled = (what, exc)
+            self._unsettled = (what, exc, self.charger_info)
 
     def _settle(self, image: bytes) -> None:
-        """The first image read after a write whose end was lost tells what the charger holds."""
+        """The first image read after a write whose end was lost tells what the charger holds, when
+        the charger read is the one written to, as far as IDENTIFY tells (the protocol has no serial
+        number): a port that vanished may come back under its name as another device."""
         if self._unsettled is None:
             return
-        (what, exc), self._unsettled = self._unsettled, None
+        (what, exc, written_to), self._unsettled = self._unsettled, None
+        if written_to is not None and self.charger_info is not None and self.charger_info != written_to:
+            self.message.emit(_("Another device answers on this port now ({now}, not the {was} written to): nothing "
+                                "is known about the lost write; check that charger's macros when it is back.").format(
+                                    now=f"{self.charger_info.model} {self.charger_info.firmware}",
+                                    was=f"{written_to.model} {written_to.firmware}"), "warn")
+            return
         verdict = exc.settle(image)
         flash = what == "flash"
         if verdict == "new":
@@ -465,7 +473,7 @@ class ChargerSlots(QWidget):
         self.operationFinished.emit(op, False, text)
 
     def _backup_clicked(self) -> None:
-        suggested = Path(confirm_dialogs.documents_folder()) / backup_name(self.charger_model, date.today())
+        suggested = Path(confirm_dialogs.documents_folder()) / backup_name(self.charger_info.model if self.charger_info else "", date.today())
         path, _filter = QFileDialog.getSaveFileName(self, _("Back up the charger's EEPROM"), str(suggested),
                                                     _("EEPROM images (*.bin);;All files (*)"))
         if path:

@@ -352,7 +352,7 @@ class DevicePanel(QWidget):
 
     def _on_connected(self, opened: Opened) -> None:
         self.run.charger_max_a = opened.info.max_charge_a
-        self.charger.charger_model = opened.info.model
+        self.charger.charger_info = opened.info
         self.bar.show_charger(opened)
         self._set_state_connected()
         self.plot.set_placeholder(_("connected: Start a macro to plot its run"))
