@@ -98,3 +98,19 @@ def test_a_serial_driver_on_a_hid_port_is_refused(monkeypatch):
     monkeypatch.setitem(sys.modules, "hid", fake_hid({}, []))
     with pytest.raises(DeviceLinkError, match="cheali is a serial charger"):
         MonitorLink("hid:0483:5751", "cheali")
+
+
+def test_a_pulled_usb_cable_says_the_links_one_sentence(monkeypatch):
+    """Issue 27: hidapi's "read error" became "the device went away: read error"; a USB charger
+    that goes away is said as every other link says it."""
+    from zuml_studio.device.hid_link import HidPort
+    module = fake_hid({}, [])
+
+    def unplugged(self, n, timeout_ms):
+        raise OSError("read error")
+    module.device.read = unplugged
+    monkeypatch.setitem(sys.modules, "hid", module)
+    link = HidPort("hid:0483:5751")
+    with pytest.raises(DeviceLinkError) as lost:
+        link.read(0.1)
+    assert str(lost.value) == "hid:0483:5751: the charger closed the line: it stopped, or its cable was pulled"

@@ -134,5 +134,10 @@ def why_lost(exc: Exception) -> str:
     text = str(exc)
     if "returned no data" in text or "multiple access" in text or getattr(exc, "errno", None) == errno.EIO \
             or "[Errno 5]" in text:
-        return _("the charger closed the line: it stopped, or its cable was pulled")
+        return line_closed()
     return text
+
+
+def line_closed() -> str:
+    """The one sentence for a charger that went away, whatever link it was on (serial, pty, USB-HID)."""
+    return _("the charger closed the line: it stopped, or its cable was pulled")

@@ -8,7 +8,7 @@ for the N-th of several identical devices. SkyRC's chargers report the unregiste
 from __future__ import annotations
 
 from .drivers import HID_DRIVERS, Driver
-from .errors import DeviceLinkError, PortNotFound
+from .errors import DeviceLinkError, PortNotFound, line_closed
 from .port_info import PortInfo
 from ..i18n import _
 
@@ -92,7 +92,8 @@ class HidPort:
         try:
             return bytes(self._dev.read(REPORT, max(1, int(timeout_s * 1000))))
         except (OSError, IOError, ValueError) as exc:
-            raise DeviceLinkError(_("{port}: the device went away: {exc}").format(port=self.port, exc=exc)) from None
+            # hidapi's words ("read error") say nothing more: the same sentence as every other link.
+            raise DeviceLinkError(f"{self.port}: {line_closed()}") from None
 
     def write(self, data: bytes) -> None:
         try:
