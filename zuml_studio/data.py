@@ -17,12 +17,13 @@ import tomllib
 from importlib import resources
 from pathlib import Path
 
+from . import macros as MACROS, resources as RESOURCES
 from .data_error import DataFileError
 from .i18n import _
 from .macro_file import EXTENSION
 
-RESOURCES = "zuml_studio.resources"
-MACROS = "zuml_studio.macros"
+# MACROS and RESOURCES are the packages themselves, imported, not named: a frozen bundle (PyInstaller
+# follows imports) then holds them as packages; named only, they came back as namespace packages.
 
 
 def _missing(where: object, folder: bool = False) -> DataFileError:

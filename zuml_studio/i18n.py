@@ -18,10 +18,10 @@ import io
 import os
 from importlib import resources
 
+from . import resources as catalogues_package    # imported, not named: a frozen bundle then holds it
 from .data_error import DataFileError
 
 DOMAIN = "zuml_studio"
-RESOURCES = "zuml_studio.resources"   # resources/ in the source tree; the catalogues are in its locale/
 SOURCE_LANGUAGE = "en"
 LANGUAGES: dict[str, str] = {"en": "English", "ru": "Русский"}   # each in its own language
 
@@ -68,12 +68,12 @@ def choose_language(preference: str | None = None) -> str:
 
 def catalogue_path(language: str) -> str:
     """Where ``language``'s compiled catalogue lives inside the package."""
-    return str(resources.files(RESOURCES).joinpath("locale", language, "LC_MESSAGES", DOMAIN + ".mo"))
+    return str(resources.files(catalogues_package).joinpath("locale", language, "LC_MESSAGES", DOMAIN + ".mo"))
 
 
 def catalogue_source_path(language: str) -> str:
     """Where ``language``'s catalogue source (``.po``) is, in a source checkout or an editable install."""
-    return str(resources.files(RESOURCES).joinpath("locale", language, "LC_MESSAGES", DOMAIN + ".po"))
+    return str(resources.files(catalogues_package).joinpath("locale", language, "LC_MESSAGES", DOMAIN + ".po"))
 
 
 def _compiled_from_source(language: str) -> gettext.GNUTranslations | None:

@@ -126,7 +126,8 @@ def test_passport_read_write_and_lockout(make_charger, make_client):
     assert device.state == "idle"
     after = client.passport_write("type", "NiMh")                                  # a factory battery
     assert after.type == 3 and Passport.from_bytes(device.chip.image) == after      # check maintained
-    device.pack.temp_c = 37.4                                                       # TEMP is live
+    # TEMP is live. The idle pack keeps stepping (x20000): it must not cool to 25 °C meanwhile.
+    device.pack.ambient_c = device.pack.temp_c = 37.4
     assert client.passport_read().temp == 37
     with pytest.raises(PassportError, match="A_LIMIT lies on page 7"):
         client.passport_write("a_limit", 1)

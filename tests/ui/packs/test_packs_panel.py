@@ -4,6 +4,7 @@ import datetime as dt
 import shutil
 
 import pytest
+from PySide6.QtCore import QItemSelectionModel
 from PySide6.QtGui import QImage
 from PySide6.QtWidgets import QMessageBox
 
@@ -84,7 +85,11 @@ def test_a_folder_of_real_logs_becomes_a_pack_with_its_trend(make_window, qtbot,
 
     assert panel.export_csv(str(tmp_path / "s.csv"))
     assert len((tmp_path / "s.csv").read_text(encoding="utf-8").splitlines()) == 4
-    panel.table.selectRow(1)
+    # selected as a click would, whatever modifier keys an earlier test left (selectRow follows them)
+    selection = panel.table.selectionModel()
+    selection.select(panel.table.model().index(1, 0),
+                     QItemSelectionModel.SelectionFlag.ClearAndSelect | QItemSelectionModel.SelectionFlag.Rows)
+    assert sorted({i.row() for i in panel.table.selectedIndexes()}) == [1]
     panel.remove_session_action.trigger()                   # the table's context menu
     assert [panel.table.item(r, 0).text() for r in range(2)] == ["2008-07-05", "2014-09-16"]
     assert len(panel.trend_plot.points["capacity_pct"][0]) == 2
