@@ -16,6 +16,7 @@
 #include "avr_eeprom.h"
 #include "parts/uart_pty.h"
 #include "../sim_battery.h"
+#include "sim_eeprom.h"
 
 #define F_CPU 16000000UL
 #define EEPROM_SIZE 1024
@@ -69,22 +70,7 @@ static void adc_trigger(struct avr_irq_t *irq, uint32_t value, void *param)
 
 static void save_eeprom(void)
 {
-    avr_eeprom_desc_t d = {.ee = eeprom, .offset = 0, .size = EEPROM_SIZE};
-    char tmp[4096];
-    FILE *f;
-    if (!eeprom_path)
-        return;
-    avr_ioctl(avr, AVR_IOCTL_EEPROM_GET, &d);
-    if (d.ee != eeprom)
-        memcpy(eeprom, d.ee, EEPROM_SIZE);
-    if (!memcmp(eeprom, saved, EEPROM_SIZE))
-        return;
-    snprintf(tmp, sizeof tmp, "%s.tmp", eeprom_path);
-    f = fopen(tmp, "wb");
-    if (f && fwrite(eeprom, 1, EEPROM_SIZE, f) == EEPROM_SIZE && fclose(f) == 0 && rename(tmp, eeprom_path) == 0)
-        memcpy(saved, eeprom, EEPROM_SIZE);
-    else
-        fprintf(stderr, "zuml_avr_sim: cannot write %s\n", eeprom_path);
+    sim_eeprom_save(avr, eeprom, saved, EEPROM_SIZE, eeprom_path, "zuml_avr_sim");
 }
 
 static double wall_s(void)

@@ -184,18 +184,6 @@ static void flush_eeprom(void)
 
 static void on_signal(int sig) { (void)sig; stopping = 1; }
 
-/* No board requests, no averaging, no protections of its own: nothing refuses a start. */
-void hal_measure_latch(void) {}
-const char *hal_run_start(const uint8_t *rec, uint8_t akk_type, int16_t series, int32_t capacity_mah, uint8_t *code)
-{
-    (void)rec; (void)akk_type; (void)series; (void)capacity_mah; (void)code;
-    return 0;
-}
-void hal_request(uint8_t type, uint8_t seq, const uint8_t *payload, uint8_t len, uint8_t running)
-{
-    (void)payload; (void)len; (void)running;
-    app_error(type, seq, 3, PSTR("unknown request type"));
-}
 
 int main(int argc, char **argv)
 {
