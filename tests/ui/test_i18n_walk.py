@@ -244,6 +244,8 @@ def message_boxes(monkeypatch):
 def window(russian, make_window, qtbot):
     w = make_window(str(MACROS / "NiMh.zuml"))
     w.resize(1366, 768)
+    w.device_panel              # built now, not by its timer in the middle of a walk (a loaded machine)
+    qtbot.waitUntil(lambda: w.size().width() == 1366)
     w.sim_panel.simulate()
     assert w.sim_panel.wait(60_000)
     _settle()
