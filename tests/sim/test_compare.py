@@ -79,7 +79,7 @@ def test_compare_and_fit_state_the_same_real_temperature_rise_and_their_windows(
     curve = read_curve(CURVES / "nimh_5s_polaron_03c.csv")
     rise = round(float(curve.temp.max() - curve.temp[0]), 2)
     end = round(float(curve.t[-1]), 1)
-    compared = compare(curve, record("NiMh"), "NiMh", 5, None).report["temp_rise"]
+    compared = compare(curve, record("NiMh-dV"), "NiMh", 5, None).report["temp_rise"]
     fitted = fit(curve, "NiMh", 5, only_capacity=True).figures
     assert compared["real_c"] == fitted["temp_rise"]["real_c"] == rise
     assert compared["real_window_s"] == fitted["temp_rise"]["real_window_s"] == [0.0, end]
