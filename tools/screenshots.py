@@ -55,7 +55,7 @@ def _visual_shot(out: Path) -> None:
     from zuml_studio.ui.visual import VisualEditor
 
     editor = CodeEditor()
-    editor.setPlainText(data.read_text("macros/LiPo.zuml"))
+    editor.setPlainText((data.standard_macros_dir() / "LiPo.zuml").read_text(encoding="utf-8"))
     validator = Validator(delay_ms=10)
     view = VisualEditor(editor)
     validator.validated.connect(view.show_result)
@@ -77,7 +77,7 @@ def _panel_shot(out: Path) -> None:
     from zuml_studio.lang.compiler import compile_source
     from zuml_studio.ui.device import DevicePanel
 
-    record = compile_source(data.read_text("macros/NiMh-dV.zuml")).record
+    record = compile_source((data.standard_macros_dir() / "NiMh-dV.zuml").read_text(encoding="utf-8")).record
     sessions = Path(os.environ.get("TMPDIR", "/tmp")) / "zuml-screenshot-sessions"
     panel = DevicePanel(lambda: (record, "NiMh-dV"), sessions, port_lister=lambda: [])
     panel.resize(*PANEL_SIZE)
