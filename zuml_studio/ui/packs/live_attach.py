@@ -13,6 +13,7 @@ from ...packs.live import RunCollector, record_run
 from ...packs.register import Pack, attach, attachment, attachment_key, list_packs
 from ...packs.sessions import ImportResult
 from ...i18n import _
+from ..background import BackgroundCall
 
 CANCELLED = object()        # ask_pack's answer when the user closed the question: neither attach nor remember
 
@@ -42,6 +43,7 @@ class LiveAttach(QObject):
         self.collector = RunCollector()
         self._passport = None
         self._pack: Pack | None = None
+        self._jobs: set[BackgroundCall] = set()    # runs being recorded
         device_panel.telemetry_taps.append(self.collector.add)
         device_panel.run.passportRead.connect(self._passport_read)
         device_panel.startFinished.connect(self._started)
@@ -94,16 +96,28 @@ class LiveAttach(QObject):
         opened = self.device.connection.opened
         device = opened.info.model if opened is not None else _("charger")
         passport = ((self._passport.err, self._passport.crit) if self._passport is not None else (None, None))
-        try:
+        pack, self._pack = self._pack, None
+
+        def job() -> ImportResult:
+            # Off the GUI thread: a day at 10 Hz is most of a million samples to sum and write.
             book = self.book_factory()
-        except LogbookError as exc:
+            try:
+                return record_run(book, pack, samples, device, passport=passport)
+            finally:
+                book.close()
+
+        def done(result: ImportResult) -> None:
+            self._jobs.discard(call)
+            self.statusMessage.emit(_("Run recorded in pack '{name}'.").format(name=pack.name)
+                                    if result.status == "added" else result.message)
+            self.recorded.emit(result)
+
+        def failed(exc: Exception) -> None:
+            self._jobs.discard(call)
             self.statusMessage.emit(str(exc))
-            return
-        try:
-            result: ImportResult = record_run(book, self._pack, samples, device, passport=passport)
-        finally:
-            book.close()
-        self.statusMessage.emit(_("Run recorded in pack '{name}'.").format(name=self._pack.name)
-                                if result.status == "added" else result.message)
-        self._pack = None
-        self.recorded.emit(result)
+
+        call = BackgroundCall(job)
+        self._jobs.add(call)            # kept until it has reported
+        call.done.connect(done)
+        call.failed.connect(failed)
+        call.start()
