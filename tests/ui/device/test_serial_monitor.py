@@ -51,3 +51,22 @@ def test_the_monitor_is_off_while_the_device_panel_owns_the_port(make_window, qt
     assert not monitor.open_button.isEnabled() and not monitor.send_button.isEnabled()
     assert "Disconnect" in monitor.message.text()
     assert w.act_serial_monitor in w.menus["device"].actions()
+
+
+def test_a_zuml_request_typed_by_hand_is_not_sent(make_window, qtbot, pty_port):
+    """The one safety check guards every path to a charger: a hand-made START (or any request) from the
+    monitor's send line would pass it by."""
+    from zuml_studio.device.frames import encode_frame
+    from zuml_studio.device.messages import START
+    device, path = pty_port
+    w = make_window()
+    w.device_panel.ports.set_target(path)
+    monitor = w.show_serial_monitor()
+    assert monitor.open_port(), monitor.message.text()
+    monitor.hex_mode.setChecked(True)
+    monitor.ending.setCurrentIndex(monitor.ending.findData("none"))
+    monitor.send_line.setText(encode_frame(START, 1, bytes(12)).hex(" "))
+    assert not monitor.send() and "the line holds a ZUML request" in monitor.message.text()
+    monitor.send_line.setText("55 aa")
+    assert monitor.send() and os.read(device, 16) == b"\x55\xaa"
+    monitor.close()

@@ -13,6 +13,8 @@ from PySide6.QtWidgets import (QButtonGroup, QComboBox, QDialog, QHBoxLayout, QL
 
 from ...device.client import open_serial
 from ...device.errors import DeviceLinkError
+from ...device.frames import FrameParser
+from ...device.messages import HOST_TYPES
 from ...device.ports import VIRTUAL
 from ...device.serial_text import SendLineError, as_hex, as_text, parse_send
 from ...i18n import _, ngettext
@@ -170,6 +172,11 @@ class SerialMonitor(QDialog):
             data = parse_send(self.send_line.text(), self.hex_mode.isChecked(), self.ending.currentData())
         except SendLineError as exc:
             self.say(str(exc))
+            return False
+        if FrameParser(HOST_TYPES).feed(data):
+            # One path decides what reaches a charger (safety.judge): a hand-made request would pass it by.
+            self.say(_("Not sent: the line holds a ZUML request; talk to a ZUML charger through the Device panel, "
+                       "whose safety check guards what reaches it."))
             return False
         try:
             self.port.write(data)
