@@ -181,3 +181,10 @@ def test_the_charge_mode_gives_the_live_plot_60_percent_of_a_1366x768_window(lap
     assert w.size().width() == 1366
     w.modes.switch("write")
     assert w.toolbar.isVisible() and w.statusBar().isVisible() and w.device_dock.titleBarWidget() is None
+
+
+def test_what_the_hidden_status_line_would_say_shows_in_the_charge_mode(laptop):
+    w = laptop()
+    w.modes.switch("charge")
+    w.act_stop.trigger()                    # nothing connected: said where the user looks
+    assert not w.statusBar().isVisible() and "no charger" in w.device_panel.message_text()

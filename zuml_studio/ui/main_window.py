@@ -97,6 +97,7 @@ class MainWindow(DocumentFiles, QMainWindow):
         self.plot_focus = PlotFocus(self, self.editor_box)
         self.plot_focus.watch(self.sim_panel.plot, self.sim_dock)
         install_packs_dock(self)
+        self.statusBar().messageChanged.connect(self._status_while_hidden)
 
         self.pos_label = QLabel()
         self.size_label = QLabel()
@@ -497,6 +498,12 @@ class MainWindow(DocumentFiles, QMainWindow):
         self._monitor.show()
         self._monitor.raise_()
         return self._monitor
+
+    def _status_while_hidden(self, text: str) -> None:
+        """The Charge mode hides the status line: what it says goes to the device panel's message line."""
+        panel = self._device_panel
+        if text and not self.statusBar().isVisible() and panel is not None and panel.message_text() != text:
+            panel.message.say(text, "info")
 
     def emergency_stop(self) -> None:
         """Shift+Esc from any tab or window: STOP to the charger at once, without moving a panel
