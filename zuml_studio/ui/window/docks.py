@@ -50,7 +50,9 @@ def dock_specs() -> list[DockSpec]:
 
 
 def build_docks(window: QMainWindow, specs: list[DockSpec]) -> dict[str, QDockWidget]:
-    """One dock per row, set on the window as ``<name>_dock``, placed as in the Write mode."""
+    """One dock per row, set on the window as ``<name>_dock``; the mode places them (``place``), once:
+    a second tabifying before the window is shown leaves Qt's first tab bar behind, shown with the
+    window at its corner."""
     docks: dict[str, QDockWidget] = {}
     for spec in specs:
         dock = QDockWidget(spec.title, window)
@@ -62,7 +64,6 @@ def build_docks(window: QMainWindow, specs: list[DockSpec]) -> dict[str, QDockWi
         window.addDockWidget(spec.area, dock)
         setattr(window, f"{spec.name}_dock", dock)
         docks[spec.name] = dock
-    place(window, specs, docks, WRITE)
     return docks
 
 
@@ -70,18 +71,8 @@ def place(window: QMainWindow, specs: list[DockSpec], docks: dict[str, QDockWidg
     """The first layout of ``mode``: every dock back in its area, beside or tabbed with the one
     the table names, shown if the mode lists it."""
     size = window.size()
-    for spec in specs:          # hidden while they move: side by side for a moment they would widen the window
-        docks[spec.name].hide()
-    for spec in specs:
-        dock = docks[spec.name]
-        dock.setFloating(False)
-        window.addDockWidget(spec.area, dock)
-    for spec in specs:
-        if spec.beside:
-            window.splitDockWidget(docks[spec.beside], docks[spec.name], Qt.Orientation.Horizontal)
-    for spec in specs:
-        if spec.tab_with:
-            window.tabifyDockWidget(docks[spec.tab_with], docks[spec.name])
+    if not in_place(window, specs, docks):
+        arrange(window, specs, docks)
     for spec in specs:
         docks[spec.name].setVisible(mode in spec.modes)
     for spec in specs:                      # the front tab: the first of its set the mode shows
@@ -101,3 +92,34 @@ def place(window: QMainWindow, specs: list[DockSpec], docks: dict[str, QDockWidg
         sized = [s for s in shown if length(s)]
         window.resizeDocks([docks[s.name] for s in sized], [length(s) for s in sized], orientation)
     window.resize(size)
+
+
+def in_place(window: QMainWindow, specs: list[DockSpec], docks: dict[str, QDockWidget]) -> bool:
+    """Every dock docked in its area, in its set of tabs. The modes differ only in which docks
+    show: then only that changes, for Qt leaves a shown tab bar behind each time docks are tabified
+    anew (over the menu, or peeping out under the plot)."""
+    for spec in specs:
+        dock = docks[spec.name]
+        if dock.isFloating() or window.dockWidgetArea(dock) != spec.area:
+            return False
+        first = spec.tab_with or spec.name
+        tabs = {docks[s.name] for s in specs if s.name == first or s.tab_with == first} - {dock}
+        if set(window.tabifiedDockWidgets(dock)) != tabs:
+            return False
+    return True
+
+
+def arrange(window: QMainWindow, specs: list[DockSpec], docks: dict[str, QDockWidget]) -> None:
+    """Every dock back in its area, beside or tabbed with the one the table names."""
+    for spec in specs:          # hidden while they move: side by side for a moment they would widen the window
+        docks[spec.name].hide()
+    for spec in specs:
+        dock = docks[spec.name]
+        dock.setFloating(False)
+        window.addDockWidget(spec.area, dock)
+    for spec in specs:
+        if spec.beside:
+            window.splitDockWidget(docks[spec.beside], docks[spec.name], Qt.Orientation.Horizontal)
+    for spec in specs:
+        if spec.tab_with:
+            window.tabifyDockWidget(docks[spec.tab_with], docks[spec.name])
