@@ -1,6 +1,6 @@
 /* GENERIC ATmega32 board: a made-up board, NOT for an iMAX B6 (its pins would short a B6's stage: see
- * boards/imaxb6 for the real one). 16 MHz: Timer0 millisecond clock, USART at 115200 baud with
- * a receive ring, the EEPROM, the ADC (free-running over PORTA, oversampled) and Timer1 PWM for the
+ * boards/imaxb6 for the real one). 16 MHz: Timer0 millisecond clock, USART at 115200 baud
+ * (../avr_uart.c), the EEPROM, the ADC (free-running over PORTA, oversampled) and Timer1 PWM for the
  * charge buck and the discharge load, both set through calibration.c. The power stage regulates
  * once per millisecond: current mode steers the measured current to the set point, voltage mode
  * steers the voltage within the current limit.
@@ -12,30 +12,19 @@
 #include <avr/io.h>
 #include <avr/pgmspace.h>
 #include "../../core/app.h"
+#include "../avr_uart.h"
 #include "calibration.h"
 
 #define BAUD 115200UL
-#define RX_RING 64
 #define ADC_OVERSAMPLE 16
 
 static volatile uint32_t millis;
-static volatile uint8_t rx_ring[RX_RING];
-static volatile uint8_t rx_head, rx_tail;
 static volatile uint16_t adc_sum[IN_COUNT], adc_value[IN_COUNT];
 static volatile uint8_t adc_channel, adc_count;
 static hal_output_t out;
 static uint16_t duty_charge, duty_discharge;
 
 ISR(TIMER0_COMP_vect) { millis++; }
-
-ISR(USART_RXC_vect)
-{
-    uint8_t b = UDR, next = (uint8_t)((rx_head + 1) % RX_RING);
-    if (next != rx_tail) {
-        rx_ring[rx_head] = b;
-        rx_head = next;
-    }
-}
 
 ISR(ADC_vect)
 {
@@ -66,16 +55,6 @@ uint32_t hal_millis(void)
     t = millis;
     sei();
     return t;
-}
-
-int16_t hal_uart_read(void)
-{
-    uint8_t b;
-    if (rx_head == rx_tail)
-        return -1;
-    b = rx_ring[rx_tail];
-    rx_tail = (uint8_t)((rx_tail + 1) % RX_RING);
-    return b;
 }
 
 void hal_uart_write(uint8_t byte)
@@ -202,11 +181,7 @@ int main(void)
     OCR0 = 249;
     TIMSK |= _BV(OCIE0);
     /* USART: 115200 8N1, double speed */
-    UCSRA = _BV(U2X);
-    UBRRH = 0;
-    UBRRL = (uint8_t)(F_CPU / (8UL * BAUD) - 1);
-    UCSRB = _BV(RXEN) | _BV(TXEN) | _BV(RXCIE);
-    UCSRC = _BV(URSEL) | _BV(UCSZ1) | _BV(UCSZ0);
+    avr_uart_init((uint8_t)(F_CPU / (8UL * BAUD) - 1));
     /* Timer1: fast PWM, 10 bit, OC1A and OC1B */
     DDRD |= _BV(PD4) | _BV(PD5);
     TCCR1A = _BV(COM1A1) | _BV(COM1B1) | _BV(WGM11) | _BV(WGM10);

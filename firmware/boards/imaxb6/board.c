@@ -8,6 +8,7 @@
 #include <avr/wdt.h>
 #include <util/atomic.h>
 #include "../../core/app.h"
+#include "../avr_uart.h"
 #include "adc.h"
 #include "calib.h"
 #include "lcd.h"
@@ -18,7 +19,6 @@
 
 /* 57600 baud: U2X, UBRR 34 gives 57143 (-0.8 %); 115200 would be +2.1 % off at 16 MHz. */
 #define UBRR_57600 34
-#define RX_RING 64
 #define STORE_EEPROM (E2END + 1 - CAL_BLOCK)   /* the macro store's share; the calibration after it */
 #define IDLE_LATCH_MS 1000
 #define SLOW_MS 100
@@ -36,8 +36,6 @@
 #define PAINT 0xAA
 
 static volatile uint32_t millis;
-static volatile uint8_t rx_ring[RX_RING];
-static volatile uint8_t rx_head, rx_tail;
 static volatile uint8_t beeps;
 static hal_output_t out;
 static uint8_t calibrated, run_has_time, balancing;
@@ -60,30 +58,11 @@ ISR(TIMER0_COMP_vect)
     }
 }
 
-ISR(USART_RXC_vect)
-{
-    uint8_t b = UDR, next = (uint8_t)((rx_head + 1) % RX_RING);
-    if (next != rx_tail) {
-        rx_ring[rx_head] = b;
-        rx_head = next;
-    }
-}
-
 uint32_t hal_millis(void)
 {
     uint32_t t;
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE) { t = millis; }
     return t;
-}
-
-int16_t hal_uart_read(void)
-{
-    uint8_t b;
-    if (rx_head == rx_tail)
-        return -1;
-    b = rx_ring[rx_tail];
-    rx_tail = (uint8_t)((rx_tail + 1) % RX_RING);
-    return b;
 }
 
 /* The main loop's proof of life for the watchdog and the ADC interrupt's hang check. */
@@ -416,11 +395,7 @@ int main(void)
     TCCR0 = _BV(WGM01) | _BV(CS01) | _BV(CS00);
     OCR0 = 249;
     TIMSK |= _BV(OCIE0);
-    UCSRA = _BV(U2X);
-    UBRRH = 0;
-    UBRRL = UBRR_57600;
-    UCSRB = _BV(RXEN) | _BV(TXEN) | _BV(RXCIE);
-    UCSRC = _BV(URSEL) | _BV(UCSZ1) | _BV(UCSZ0);
+    avr_uart_init(UBRR_57600);
     for (k = 0; k < CAL_BLOCK; k++)
         block[k] = eeprom_read_byte((const uint8_t *)(STORE_EEPROM + k));
     calibrated = cal_use(block);
