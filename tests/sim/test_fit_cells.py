@@ -111,3 +111,22 @@ def test_a_saved_battery_keeps_its_cells(tmp_path):
     assert load_battery("two cells", tmp_path).series == 2
     no_cells = save_battery("plain", battery, root=tmp_path)
     assert "cells" not in json.loads(no_cells.read_text())
+
+
+def test_a_tap_the_model_cannot_follow_is_said_and_a_tap_not_read_is_no_cell():
+    """A tap reading 0 V for a third of the charge (a balance lead off): the cell's fit ends at its bounds
+    and the line says so; a tap read only at the start, or one far off the pack voltage, is no cell."""
+    curve = model_pack([1500, 1500, 1500], [1.0, 1.0, 1.0])
+    result = fit(curve, "LiPo", 3)
+    off = curve.cells_v.copy()
+    off[50:120, 1] = 0.0
+    cells = fit_cells(replace(result, curve=replace(curve, cells_v=off)))
+    assert cells.cells[1].at_bound and not cells.cells[0].at_bound
+    line = cell_lines(cells.report())[2]
+    assert line.startswith("  cell 2:") and "at the edge of what the fit allows: capacity" in line
+    unread = curve.cells_v.copy()
+    unread[5:, 1] = np.nan
+    wrong = curve.cells_v.copy()
+    wrong[:, 1] = 1900.0
+    for taps in (unread, wrong):
+        assert fit_cells(replace(result, curve=replace(curve, cells_v=taps))) is None

@@ -80,9 +80,9 @@ def cmd_fit(args: argparse.Namespace) -> int:
     series = _cells(args, curve, chemistry)
     try:
         result = fit(curve, chemistry, series)
+        cells = fit_cells(result)
     except CurveError as exc:           # too short a charge once cut into the fit's steps
         raise CliError(str(exc)) from None
-    cells = fit_cells(result)
     saved = None
     if args.save:
         try:

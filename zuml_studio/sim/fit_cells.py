@@ -16,8 +16,9 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .chemistry import Chemistry
-from .curve import Curve
+from .curve import Curve, CurveError
 from .fit import Battery, FitResult, simulate_curve
+from ..i18n import _
 
 # The taps are one per cell where their sum is this close to the pack voltage (median over the
 # charge): the leads and connectors between them drop a few per cent at most (406DUO 4S at 4.4 A:
@@ -157,7 +158,11 @@ def _fit_tap(tap: Curve, chem: Chemistry, pack_capacity: float, start_soc: float
         return (run(x).v[compared] - work.v[compared]) * weight
 
     x0 = np.clip([math.log(pack_capacity), start_soc, 0.0], lo + 1e-9, hi - 1e-9)
-    sol = least_squares(residuals, x0, bounds=(lo, hi), diff_step=1e-3, x_scale="jac", max_nfev=_MAX_NFEV)
+    try:
+        sol = least_squares(residuals, x0, bounds=(lo, hi), diff_step=1e-3, x_scale="jac", max_nfev=_MAX_NFEV)
+    except ValueError as exc:      # scipy's words ("Residuals are not finite in the initial point")
+        raise CurveError(_("{name}: the cell's fit cannot start: the model gives no finite voltage along its "
+                           "tap ({error})").format(name=tap.name, error=exc)) from None
     capacity, soc, factor = math.exp(sol.x[0]), float(sol.x[1]), math.exp(sol.x[2])
     r_mohm = (chem.r0_ohm + chem.r1_ohm) * factor * chem.ref_capacity_ah / (capacity / 1000.0) * 1000.0
     ends = [name for name, value, a, b in (("capacity_mah", sol.x[0], lo[0], hi[0]),

@@ -3,6 +3,7 @@ what ``zuml fit`` prints under the pack's figures. The report's keys stay Englis
 from __future__ import annotations
 
 from ..i18n import _
+from .fit_report import PARAM_WORDS
 
 
 def cell_lines(report: dict) -> list[str]:
@@ -17,6 +18,9 @@ def cell_lines(report: dict) -> list[str]:
             line += _(" — held at {v} V by the charger for {share} of the charge while the others rose: it took "
                       "less than the pack's current, so its capacity is not measured").format(
                 v=f"{c['top_v']:.3f}", share=f"{c['held_pct']:.0f} %")
+        if c["at_bound"]:
+            line += _(" — at the edge of what the fit allows: {names}; the model cannot follow this tap").format(
+                names=", ".join(_(PARAM_WORDS[name]) for name in c["at_bound"]))
         lines.append(line)
     cap, res = report["capacity_mah"], report["r_mohm"]
     lines.append(_("capacity {lo}–{hi} mAh, mean {mean}, spread {spread}").format(
