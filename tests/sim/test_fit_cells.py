@@ -86,6 +86,9 @@ def test_the_x6_pack_with_a_high_resistance_cell_shows_it_held_at_its_ceiling():
     assert cells.highest_resistance == 3 and cells.weakest != 3
     lines = cell_lines(cells.report())
     assert any(line.startswith("  cell 3:") and "held at 4.205 V by the charger" in line for line in lines)
+    saved = cells.saved()           # its capacity, not measured, is kept as the others' mean
+    assert saved[2]["capacity_mah"] == pytest.approx(np.mean([saved[k]["capacity_mah"] for k in (0, 1, 3, 4)]))
+    assert saved[2]["r_scale"] == max(c["r_scale"] for c in saved)
 
 
 def test_a_log_without_a_tap_per_cell_has_no_cell_fit():

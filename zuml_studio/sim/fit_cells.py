@@ -63,7 +63,7 @@ class CellFit:
 
 @dataclass(frozen=True)
 class CellsFit:
-    """The cells of a pack, cell 1 at its negative end, and the pack fit they came from."""
+    """The cells of a pack, cell 1 at its negative end, and the pack's fitted capacity."""
     cells: tuple[CellFit, ...]
     pack_capacity_mah: float
 
@@ -89,9 +89,11 @@ class CellsFit:
         """The cells as a battery file keeps them (``save_battery(..., cells=...)``): the taps' differences
         on the pack's own fit. Capacities are scaled so that their mean is the pack's fitted capacity and
         resistance factors so that theirs is 1: the taps leave out the leads the pack voltage includes, so
-        their own level is not the pack's. The start state is the run's (null): where the cells stood at
-        this log's start is no property of the pack."""
-        caps = np.array([c.capacity_mah for c in self.cells])
+        their own level is not the pack's. A held cell's capacity, not measured, is taken as the others'
+        mean. The start state is the run's (null): where the cells stood at this log's start is no property
+        of the pack."""
+        free = [c.capacity_mah for c in self.cells if not c.held] or [c.capacity_mah for c in self.cells]
+        caps = np.array([float(np.mean(free)) if c.held else c.capacity_mah for c in self.cells])
         scales = np.array([c.r_scale for c in self.cells])
         return [{"capacity_mah": round(float(cap * self.pack_capacity_mah / caps.mean()), 1),
                  "r_scale": round(float(s / scales.mean()), 4), "soc": None} for cap, s in zip(caps, scales)]
