@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from helpers import ROOT
+from zuml_studio.logs import read_log
 from zuml_studio.sim.batteries import load_battery, save_battery
 from zuml_studio.sim.chemistry import load_chemistry
 from zuml_studio.sim.curve import Curve, read_curve
@@ -89,6 +90,22 @@ def test_the_x6_pack_with_a_high_resistance_cell_shows_it_held_at_its_ceiling():
     saved = cells.saved()           # its capacity, not measured, is kept as the others' mean
     assert saved[2]["capacity_mah"] == pytest.approx(np.mean([saved[k]["capacity_mah"] for k in (0, 1, 3, 4)]))
     assert saved[2]["r_scale"] == max(c["r_scale"] for c in saved)
+
+
+def test_the_306b_pack_has_a_weak_cell_and_its_discharge_says_so_too():
+    """iCharger 306B, LiPo 3S "RB 1000": fitted on its longest charge (54 min at 1.1 A), cell 3 holds least
+    and has the most resistance; the 2 A discharge before that charge, in the same log, agrees: cell 3 sags
+    furthest under load (3.35 V against 3.66 and 3.65 at its end, at 1.0 A)."""
+    path = LOGS / "iCharger306B_2013-01-07_RB_1000.extracted_lines.txt"
+    cells = fit_cells(fit(read_curve(path), "LiPo", 3))
+    assert cells.weakest == 3 and cells.highest_resistance == 3
+    caps = [c.capacity_mah for c in cells.cells]
+    assert caps[2] < 0.92 * np.mean(caps[:2])
+    log = read_log(path.read_bytes(), path.name)
+    a = log.arrays()
+    phase = [p for p in log.phases() if p.state == "discharge"][1]         # 0:47-1:10, before the charge
+    end = int(np.searchsorted(a["t"], phase.end_s)) - 1
+    assert np.argmin(a["cells"][end]) == 2 and a["current"][end] < -0.5
 
 
 def test_a_log_without_a_tap_per_cell_has_no_cell_fit():
