@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from cv_tail_cells import section as cells_tail_section   # beside this script (tools/)
 from zuml_studio.logs.rest_steps import rest_steps
 from zuml_studio.sim.chemistry import load_chemistry
 from zuml_studio.sim.curve import Curve, read_curve
@@ -438,6 +439,10 @@ def main() -> int:
         "(3.48 V) fitted to this recording. The slow RC pair of the Li models carries this tail "
         "(fitted `tau2_s` in the sections below). The Pb absorption takes 3 hours (55 % of the time, 18 % "
         "of the charge) and ends at 3 % of the bulk current.",
+        "",
+        "### The CV tail on a 9S pack",
+        "",
+        cells_tail_section(samples),
         "",
         "### Pb surface charge",
         "",

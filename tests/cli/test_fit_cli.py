@@ -16,7 +16,7 @@ def test_fit_json_has_exactly_the_issue_keys_and_nulls_where_the_log_has_no_part
     rc, out, err = zuml("fit", str(CURVES / "lipo_4s_406duo_3c.csv"), "--chemistry", "LiPo", "--cells", "4", "--json")
     assert rc == 0, err
     data = json.loads(out)
-    assert set(data) == {"params", "at_bound", "cells", "cells_guessed"} | FIGURE_KEYS
+    assert set(data) == {"params", "at_bound", "cells", "cells_guessed", "cell_fit"} | FIGURE_KEYS
     assert data["peak"] is None                       # no -dV peak in a Li charge
     assert set(data["temp_rise"]) == {"real_c", "model_c", "real_window_s", "model_window_s"}
     assert data["rmse_v_per_cell_mv"] <= 15 and data["rmse_i_cv_pct"] <= 10
@@ -89,7 +89,7 @@ def test_fit_runs_as_a_user_runs_it():
     rc, out, err = run_zuml("fit", str(CURVES / "life_2s_308duo_05c.csv"), "--chemistry", "LiFe", "--cells", "2",
                             "--json")
     assert rc == 0, err
-    assert set(json.loads(out)) == {"params", "at_bound", "cells", "cells_guessed"} | FIGURE_KEYS
+    assert set(json.loads(out)) == {"params", "at_bound", "cells", "cells_guessed", "cell_fit"} | FIGURE_KEYS
 
 
 def test_a_charge_too_short_for_the_fit_steps_is_one_line(zuml, tmp_path):

@@ -10,6 +10,8 @@ from ..sim.batteries import BatteryFileError, save_battery
 from ..sim.chemistry import load_chemistry
 from ..sim.curve import Curve, CurveError, read_curve
 from ..sim.fit import fit, guess_series
+from ..sim.fit_cells import fit_cells
+from ..sim.fit_cells_report import cell_lines
 from ..sim.fit_report import figure_lines, param_lines
 from ..sim.interpreter import StartError
 from ..sim.simulate import BatterySetup, model_chemistry
@@ -78,22 +80,25 @@ def cmd_fit(args: argparse.Namespace) -> int:
     series = _cells(args, curve, chemistry)
     try:
         result = fit(curve, chemistry, series)
+        cells = fit_cells(result)
     except CurveError as exc:           # too short a charge once cut into the fit's steps
         raise CliError(str(exc)) from None
     saved = None
     if args.save:
         try:
-            saved = save_battery(args.save, result.battery, args.log)
+            saved = save_battery(args.save, result.battery, args.log, cells=cells.saved() if cells else None)
         except (BatteryFileError, OSError) as exc:
             raise CliError(str(exc)) from None
     if args.json:
-        out_json({"params": result.params, **result.figures})
+        out_json({"params": result.params, **result.figures, "cell_fit": cells.report() if cells else None})
         return 0
     out(_("{log}: {chemistry} {series}S, {samples} samples, {minutes:.0f} min of charge").format(
             log=args.log, chemistry=chemistry, series=series, samples=len(curve.t), minutes=curve.t[-1] / 60))
     for line in param_lines(result.params, result.battery):
         out(f"  {line}")
     for line in figure_lines(result.figures):
+        out(line)
+    for line in cell_lines(cells.report()) if cells else ():
         out(line)
     if saved:
         out(_("saved as {save!r} ({saved})").format(save=args.save, saved=saved))

@@ -35,14 +35,19 @@ def _file_name(name: str) -> str:
     return re.sub(r"[^\w.-]", "_", name) + ".json"
 
 
-def save_battery(name: str, battery: Battery, source: str = "", root: Path | None = None) -> Path:
-    """Write the battery under `name` (an existing one of that name is replaced); returns the file."""
+def save_battery(name: str, battery: Battery, source: str = "", root: Path | None = None,
+                 cells: list[dict] | None = None) -> Path:
+    """Write the battery under `name` (an existing one of that name is replaced); returns the file.
+    ``cells``: one {"capacity_mah", "r_scale", "soc"} per cell, in order from the pack's negative end."""
     base = load_chemistry(battery.chem.name)
     changed = {f.name: getattr(battery.chem, f.name) for f in fields(Chemistry)
                if getattr(battery.chem, f.name) != getattr(base, f.name)}
     doc = {"format": _FORMAT, "name": name, "chemistry": battery.chem.name, "capacity_mah": battery.capacity_mah,
            "series": battery.series, "fitted_from": source,
            "parameters": {k: list(v) if isinstance(v, tuple) else v for k, v in changed.items()}}
+    if cells is not None:
+        doc["cells"] = [{"capacity_mah": float(c["capacity_mah"]), "r_scale": float(c["r_scale"]),
+                         "soc": None if c.get("soc") is None else float(c["soc"])} for c in cells]
     path = batteries_dir(root) / _file_name(name)
     atomic_write(path, (json.dumps(doc, indent=2) + "\n").encode())
     return path

@@ -51,6 +51,9 @@ class Curve:
     cells: int               # per-cell voltages the log carried (0: none)
     name: str = ""
     chemistry: str = ""      # the battery type the log names, if it names one (iCharger logs do)
+    # Per-cell voltages (samples x cells, V, NaN where not read) where the log has balance taps;
+    # the per-cell fit (fit_cells.py) reads them. Not carried by ``decimated``.
+    cells_v: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         name = self.name or "curve"
@@ -175,7 +178,7 @@ def charge_from_log(log: Log, name: str = "") -> Curve:
         raise CurveError(_("{value}: no charge in the log").format(value=name or 'log'))
     t = a["t"][sel]
     return Curve(t - t[0], a["voltage"][sel], np.abs(a["current"][sel]), _sensor(t, a["temp"][sel]),
-                 log.cells, name, str(log.meta.get("battery", "")))
+                 log.cells, name, str(log.meta.get("battery", "")), a["cells"][sel] if log.cells else None)
 
 
 def _sensor(t: np.ndarray, temp: np.ndarray) -> np.ndarray | None:
