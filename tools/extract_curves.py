@@ -2,9 +2,10 @@
 
     .venv/bin/python tools/extract_curves.py [SHARED_SAMPLES_DIR]
 
-Each is the recording's main charge (logs read with zuml_studio.logs; the two CSVs that no
-charger wrote with a few lines here), decimated to one sample per 10 s, as a plain curve CSV
-(zuml_studio/sim/curve.py). The list and the sources are tests/data/curves/training.toml."""
+Each is the recording's main charge, or its main discharge where the entry says ``direction =
+"discharge"`` (logs read with zuml_studio.logs; the two CSVs that no charger wrote with a few lines
+here), decimated to one sample per 10 s, as a plain curve CSV (zuml_studio/sim/curve.py; a discharge's
+current is negative). The list and the sources are tests/data/curves/training.toml."""
 from __future__ import annotations
 
 import csv
@@ -20,8 +21,9 @@ HERE = Path(__file__).resolve().parent.parent / "tests" / "data" / "curves"
 STEP_S = 10.0
 
 
-def _pb(path: Path) -> Curve:
-    """MIT ulink AGM test: Excel-day time, calibrated A/V/°C; the charge is where the current flows in."""
+def _pb(path: Path, direction: str) -> Curve:
+    """MIT ulink AGM test: Excel-day time, calibrated A/V/°C; the charge is where the current flows in,
+    the discharge where it flows out."""
     t, v, i, temp = [], [], [], []
     with open(path, newline="") as fh:
         for row in csv.DictReader(fh):
@@ -30,12 +32,12 @@ def _pb(path: Path) -> Curve:
             v.append(float(row["Voltage (Calibrated)"]))
             temp.append(float(row["Battery Temp (Calibrated)"]))
     t, v, i, temp = map(np.array, (t, v, i, temp))
-    on = np.flatnonzero(i > 0.5)
+    on = np.flatnonzero(i > 0.5 if direction == "charge" else i < -0.5)
     sel = np.arange(on[0], on[-1] + 1)
     return Curve(t[sel] - t[sel[0]], v[sel], i[sel], temp[sel], 0, path.name)
 
 
-def _arbin(path: Path) -> Curve:
+def _arbin(path: Path, direction: str) -> Curve:
     """Arbin CSV (A123 LFP): Test_Time s, Current A, Voltage V, Temperature °C."""
     rows = list(csv.DictReader(open(path, newline="")))
     t = np.array([float(r["Test_Time"]) for r in rows])
@@ -49,11 +51,13 @@ def main() -> int:
     table = tomllib.loads((HERE / "training.toml").read_text())
     for name, entry in table.items():
         src = samples / entry["source_file"]
+        direction = entry.get("direction", "charge")
         reader = {"pb": _pb, "arbin": _arbin}.get(entry.get("reader", ""), read_curve)
-        curve = reader(src).decimated(STEP_S)
-        (HERE / f"{name}.csv").write_text(f"# {entry['source_file']} (main charge, {STEP_S:g} s steps)\n"
+        curve = reader(src, direction).decimated(STEP_S)
+        (HERE / f"{name}.csv").write_text(f"# {entry['source_file']} (main {direction}, {STEP_S:g} s steps)\n"
                                           + curve.to_csv())
-        print(f"{name}: {len(curve.t)} samples, {curve.t[-1] / 60:.0f} min, {curve.mah[-1]:.0f} mAh")
+        mah = curve.mah[-1] if direction == "charge" else curve.delivered_mah[-1]
+        print(f"{name}: {len(curve.t)} samples, {curve.t[-1] / 60:.0f} min, {mah:.0f} mAh")
     return 0
 
 

@@ -1,5 +1,5 @@
-"""The battery models against real charges (issue #14): every training curve in
-tests/data/curves/training.toml is fitted and must meet the issue's figures; the default
+"""The battery models against real charges (issue #14) and discharges (issue #26): every training
+curve in tests/data/curves/training.toml is fitted and must meet the issue's figures; the default
 models, with only the capacity and start state fitted, must meet twice those figures.
 Curves where the model cannot are marked, with the figure that fails (docs/validation.md)."""
 import tomllib
@@ -8,7 +8,8 @@ from pathlib import Path
 import pytest
 
 from zuml_studio.sim.curve import read_curve
-from zuml_studio.sim.fit import LI, NI, fit
+from zuml_studio.sim.fit import LI, NI
+from zuml_studio.sim.fit_discharge import fit_curve
 
 CURVES = Path(__file__).resolve().parent.parent / "data" / "curves"
 TRAINING = tomllib.loads((CURVES / "training.toml").read_text())
@@ -17,10 +18,21 @@ KNOWN_MISSES = {
     ("nimh_4s_ultramat_05c", "default"): "RMSE 66 mV/cell (limit 40): this pack's resistance, measured in its "
                                          "log's rests, is 184 mOhm/cell (about twice the others' per capacity, "
                                          "1.6x the default's 112); one default cannot meet all four",
+    ("nimh_5s_polaron_dis_03c", "default"): "RMSE 63 mV/cell (limit 50): the default NiMH OCV, fitted to four "
+                                            "charges, lies above this pack's discharge",
+    ("nimh_4s_akkumaster_dis_015c", "default"): "RMSE 63 mV/cell (limit 50): a knee far sharper than the model's",
+    ("nimh_4s_akkumaster_dis_015c", "fitted"): "RMSE 40 mV/cell (limit 25): 1.15 to 0.86 V/cell within 6 min at "
+                                               "the end; the model's knee (k_discharge_ohm / soc) is softer",
+    ("nicd_4s_akkumatik_dis_1c", "default"): "RMSE 136 mV/cell (limit 50): the pack's resistance is 5x the "
+                                             "default's (fitted r_scale 5.1)",
 }
 
 
-def limits(chemistry: str, factor: float) -> dict:
+def limits(chemistry: str, factor: float, direction: str = "charge") -> dict:
+    if direction == "discharge":
+        # The issue's discharge limits: RMSE(V) per cell and the delivered capacity within 3 %.
+        v = 20 if chemistry in LI else 25 if chemistry in NI else 30
+        return {"v": v * factor, "capacity_pct": 3 * factor}
     if chemistry in LI:
         return {"v": 15 * factor, "i_cv": 10 * factor}
     if chemistry in NI:
@@ -34,6 +46,10 @@ def check(fig: dict, lim: dict) -> list[str]:
         bad.append(f"RMSE V {fig['rmse_v_per_cell_mv']} > {lim['v']} mV/cell")
     if "i_cv" in lim and fig["rmse_i_cv_pct"] is not None and fig["rmse_i_cv_pct"] > lim["i_cv"]:
         bad.append(f"CV current {fig['rmse_i_cv_pct']} > {lim['i_cv']} %")
+    if "capacity_pct" in lim:
+        c = fig["capacity"]
+        if abs(c["model_mah"] - c["real_mah"]) > lim["capacity_pct"] / 100 * c["real_mah"]:
+            bad.append(f"delivered {c['model_mah']} mAh, real {c['real_mah']}")
     if "peak_pct" in lim:
         p = fig["peak"]
         if abs(p["model_mah"] - p["real_mah"]) > lim["peak_pct"] / 100 * p["real_mah"]:
@@ -58,8 +74,11 @@ def cases():
 def test_model_meets_the_issue_figures(name, kind):
     entry = TRAINING[name]
     curve = read_curve(CURVES / f"{name}.csv")
-    result = fit(curve, entry["chemistry"], entry["cells"], only_capacity=kind == "default")
-    bad = check(result.figures, limits(entry["chemistry"], 1.0 if kind == "fitted" else 2.0))
+    direction = entry.get("direction", "charge")
+    assert curve.direction == direction
+    result = fit_curve(curve, entry["chemistry"], entry["cells"], only_capacity=kind == "default")
+    assert result.figures["direction"] == direction
+    bad = check(result.figures, limits(entry["chemistry"], 1.0 if kind == "fitted" else 2.0, direction))
     assert not bad, f"{name} ({kind}): " + "; ".join(bad)
 
 
