@@ -9,7 +9,7 @@ from tests_cli_util import run_zuml
 
 CURVES = ROOT / "tests" / "data" / "curves"
 LOGS = ROOT / "tests" / "data" / "logs"
-FIGURE_KEYS = {"rmse_v_per_cell_mv", "rmse_i_cv_pct", "peak", "temp_rise", "window_s"}
+FIGURE_KEYS = {"direction", "rmse_v_per_cell_mv", "rmse_i_cv_pct", "peak", "temp_rise", "window_s"}
 
 
 def test_fit_json_has_exactly_the_issue_keys_and_nulls_where_the_log_has_no_part(zuml):
@@ -161,8 +161,9 @@ def test_time_that_goes_back_is_one_line_naming_its_line(zuml, tmp_path):
 
 
 @pytest.mark.parametrize("command", ["fit", "compare"])
-def test_a_discharge_only_curve_has_nothing_to_fit(zuml, tmp_path, command):
-    # issue 27: "math domain error" (the capacity's bounds from a charge of 0 mAh)
+def test_a_charge_with_its_current_negated_is_no_discharge(zuml, tmp_path, command):
+    # issue 27: "math domain error" (the capacity's bounds from a charge of 0 mAh); issue 26: a negative
+    # current is a discharge, but not where the voltage climbs all the way
     lines = [ln for ln in (CURVES / "lipo_4s_406duo_3c.csv").read_text().splitlines() if not ln.startswith("#")]
     flipped = [lines[0]] + [",".join(c if k != 2 else str(-float(c)) for k, c in enumerate(ln.split(",")))
                             for ln in lines[1:] if ln]
@@ -171,15 +172,69 @@ def test_a_discharge_only_curve_has_nothing_to_fit(zuml, tmp_path, command):
     extra = [str(MACROS / "LiPo.zuml"), "--cells", "4"] if command == "compare" else ["--chemistry", "LiPo"]
     code, out, err = zuml(command, str(path), *extra, "--json")
     assert code == 2 and out == "" and err.count("\n") == 1
-    assert "nothing to fit: the current is never positive" in err
+    assert "the voltage rises all the way, from 15.31 V to 16.77 V: a charge, not a discharge" in err
 
 
-def test_a_discharge_export_without_a_direction_is_not_fitted_as_a_charge(zuml):
-    # issue 27: an AkkuMaster "Entladen" file was fitted as a charge, exit 0, "-dV 639 mV/cell"
+def test_a_discharge_export_without_a_direction_is_fitted_as_a_discharge(zuml):
+    # issue 27: an AkkuMaster "Entladen" file was fitted as a charge, exit 0, "-dV 639 mV/cell"; issue 26:
+    # it is fitted as what it is
     code, out, err = zuml("fit", str(LOGS / "AkkuMasterC4_2007-12-28-EmpfaengerAA4-Entladen.csv"),
                           "--chemistry", "NiMh", "--json")
+    assert code == 0, err
+    data = json.loads(out)
+    assert data["direction"] == "discharge" and data["peak"] is None
+    assert data["capacity"]["real_mah"] == pytest.approx(396, abs=1)
+    code, out, err = zuml("fit", str(LOGS / "AkkuMasterC4_2007-12-28-EmpfaengerAA4-Entladen.csv"),
+                          "--chemistry", "NiMh", "--direction", "charge", "--json")
     assert code == 2 and out == "" and err.count("\n") == 1
     assert "the voltage falls all the way, from 5.07 V to 3.27 V: a discharge, not a charge" in err
+
+
+def test_fit_json_of_a_discharge_only_log_says_its_direction_and_capacity(zuml):
+    rc, out, err = zuml("fit", str(CURVES / "nimh_4s_estation_dis_1c.csv"), "--chemistry", "NiMh", "--cells", "4",
+                        "--json")
+    assert rc == 0, err
+    data = json.loads(out)
+    assert set(data) == {"params", "at_bound", "cells", "cells_guessed", "capacity"} | FIGURE_KEYS
+    assert data["direction"] == "discharge" and data["peak"] is None and data["rmse_i_cv_pct"] is None
+    real, model = data["capacity"]["real_mah"], data["capacity"]["model_mah"]
+    assert real == pytest.approx(891.3, abs=0.5) and abs(model - real) <= 0.03 * real
+    assert data["rmse_v_per_cell_mv"] <= 25
+    assert "k_discharge_ohm" in data["params"] and "w0" not in data["params"]    # no charge terms
+
+
+def test_each_direction_of_a_cycle_log_on_its_own(zuml):
+    # The eStation BC6 log: discharge, charge, discharge, charge (1 A each way).
+    log = str(LOGS / "eStationBC6_2008-07-05_EmpfaengerAA.osd")
+    rc, out, err = zuml("fit", log, "--chemistry", "NiMh", "--cells", "4")
+    assert rc == 0, err
+    assert "min of charge" in out and "the log also holds a discharge: --direction discharge takes it" in out
+    found = {}
+    for direction in ("charge", "discharge"):
+        rc, out, err = zuml("fit", log, "--chemistry", "NiMh", "--cells", "4", "--direction", direction, "--json")
+        assert rc == 0, err
+        found[direction] = json.loads(out)
+    assert found["charge"]["direction"] == "charge" and "capacity" not in found["charge"]
+    assert found["charge"]["peak"]["real_mah"] > 800
+    assert found["discharge"]["direction"] == "discharge" and found["discharge"]["peak"] is None
+    assert 850 < found["discharge"]["capacity"]["real_mah"] < 950
+    for direction in ("charge", "discharge"):
+        rc, out, err = zuml("compare", log, str(MACROS / "NiMh.zuml"), "--cells", "4", "--direction", direction,
+                            "--json")
+        assert rc == 0, err
+        data = json.loads(out)
+        assert data["direction"] == direction and data["ends"]["real"]["kind"] in ("dv", "cutoff")
+    assert data["ends"]["real"]["kind"] == "cutoff" and data["ends"]["real"]["v"] == pytest.approx(3.8, abs=0.01)
+    assert data["capacity"]["real_mah"] > 850 and data["capacity"]["model_mah"] > 0
+
+
+def test_compare_of_a_discharge_says_where_each_ended(zuml):
+    rc, out, err = zuml("compare", str(CURVES / "nimh_4s_ultramat_dis_05c.csv"), str(MACROS / "NiMh.zuml"),
+                        "--cells", "4")
+    assert rc == 0, err
+    assert "of the discharge (the time both ran)" in out
+    assert re.search(r"delivered 1038\.4 mAh \(real\), \d+(\.\d)? mAh \(model\), [+-]\d+\.\d %", out), out
+    assert "real ended at 123.8 min, 1038.4 mAh: voltage fell to 3.200 V (0.800 V per cell)" in out
 
 
 @pytest.mark.parametrize("capacity", ["inf", "nan", "1e400", "-5"])

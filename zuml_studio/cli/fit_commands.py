@@ -8,8 +8,9 @@ from ..logs import LogFormatError
 from ..lang.record import DecodeError
 from ..sim.batteries import BatteryFileError, save_battery
 from ..sim.chemistry import load_chemistry
-from ..sim.curve import Curve, CurveError, read_curve
-from ..sim.fit import fit, guess_series
+from ..sim.curve import DIRECTIONS, Curve, CurveError, log_directions, read_curve
+from ..sim.fit import guess_series
+from ..sim.fit_discharge import fit_curve
 from ..sim.fit_report import figure_lines, param_lines
 from ..sim.interpreter import StartError
 from ..sim.simulate import BatterySetup, model_chemistry
@@ -19,8 +20,10 @@ from ..i18n import _
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("fit", help=_("fit a chemistry's battery model to a real charge log"))
+    p = sub.add_parser("fit", help=_("fit a chemistry's battery model to a real charge or discharge log"))
     p.add_argument("log", metavar="LOG", help=_("a charger log (any format `zuml log info` reads) or a curve CSV"))
+    p.add_argument("--direction", choices=DIRECTIONS, help=_("fit the log's charge or its discharge (default: "
+                                                             "its charge where it holds one, else its discharge)"))
     p.add_argument("--chemistry", metavar="C", help=_("Pb, NiCd, NiMh, LiPo, LiIon or LiFe (default: the battery "
                                                       "type the log names, where it names one)"))
     p.add_argument("--cells", type=int, metavar="N",
@@ -31,6 +34,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     c = sub.add_parser("compare", help=_("simulate a macro from a real log's start and compare the two"))
     c.add_argument("log", metavar="LOG")
     c.add_argument("macro", metavar="MACRO", help=_("a .zuml macro or a compiled .bin record"))
+    c.add_argument("--direction", choices=DIRECTIONS, help=_("compare the macro's charge with the log's charge, or "
+                                                             "its discharge with the log's discharge (default: as "
+                                                             "for fit)"))
     c.add_argument("--chemistry", metavar="C", help=_("battery model (default: the macro's AKK_TYPE)"))
     c.add_argument("--battery", metavar="NAME", help=_("a saved fitted battery instead of the default model"))
     c.add_argument("--cells", type=int, metavar="N")
@@ -41,11 +47,21 @@ def register(sub: argparse._SubParsersAction) -> None:
     c.set_defaults(run=cmd_compare)
 
 
-def _curve(path: str) -> Curve:
+def _curve(path: str, direction: str | None = None) -> Curve:
     try:
-        return read_curve(path)
+        return read_curve(path, direction)
     except (FileReadError, LogFormatError, CurveError) as exc:
         raise CliError(str(exc)) from None
+
+
+def _other_direction(path: str, curve: Curve) -> str | None:
+    """The direction the log also holds, besides the one read (a cycle log holds both)."""
+    from ..logs import read_log_file
+    try:
+        held = log_directions(read_log_file(path))
+    except (FileReadError, LogFormatError):      # a curve CSV holds one direction
+        return None
+    return next((d for d in held if d != curve.direction), None)
 
 
 def _chemistry(name: str) -> str:
@@ -73,11 +89,11 @@ def _log_chemistry(args: argparse.Namespace, curve: Curve) -> str:
 
 
 def cmd_fit(args: argparse.Namespace) -> int:
-    curve = _curve(args.log)
+    curve = _curve(args.log, args.direction)
     chemistry = _log_chemistry(args, curve)
     series = _cells(args, curve, chemistry)
     try:
-        result = fit(curve, chemistry, series)
+        result = fit_curve(curve, chemistry, series)
     except CurveError as exc:           # too short a charge once cut into the fit's steps
         raise CliError(str(exc)) from None
     saved = None
@@ -89,8 +105,12 @@ def cmd_fit(args: argparse.Namespace) -> int:
     if args.json:
         out_json({"params": result.params, **result.figures})
         return 0
-    out(_("{log}: {chemistry} {series}S, {samples} samples, {minutes:.0f} min of charge").format(
-            log=args.log, chemistry=chemistry, series=series, samples=len(curve.t), minutes=curve.t[-1] / 60))
+    header = (_("{log}: {chemistry} {series}S, {samples} samples, {minutes:.0f} min of charge")
+              if curve.direction == "charge" else
+              _("{log}: {chemistry} {series}S, {samples} samples, {minutes:.0f} min of discharge"))
+    out(header.format(log=args.log, chemistry=chemistry, series=series, samples=len(curve.t),
+                      minutes=curve.t[-1] / 60))
+    _mention_other(args, curve)
     for line in param_lines(result.params, result.battery):
         out(f"  {line}")
     for line in figure_lines(result.figures):
@@ -105,7 +125,7 @@ def cmd_compare(args: argparse.Namespace) -> int:
     from ..sim.compare import compare
 
     check_start_options(args)
-    curve = _curve(args.log)
+    curve = _curve(args.log, args.direction)
     record = _record(args.macro)
     try:
         named = load_battery(args.battery) if args.battery else None
@@ -130,6 +150,16 @@ def cmd_compare(args: argparse.Namespace) -> int:
             log=args.log, chemistry=sim.chemistry, series=sim.series, capacity=f"{sim.capacity_mah:.0f}",
             current=f"{sim.interpreter.params.current_a:g}",       # the log's CC current, as INPUT
             model=_("battery {name!r}").format(name=args.battery) if args.battery else _("default model")))
+    _mention_other(args, curve)
     for line in figure_lines(result.report):
         out(line)
     return 0
+
+
+def _mention_other(args: argparse.Namespace, curve: Curve) -> None:
+    """On a cycle log read without --direction: the other direction is there, each on its own."""
+    other = None if args.direction else _other_direction(args.log, curve)
+    if other == "discharge":
+        out(_("the log also holds a discharge: --direction discharge takes it"))
+    elif other == "charge":
+        out(_("the log also holds a charge: --direction charge takes it"))

@@ -185,6 +185,11 @@ def require_discharge(curve: Curve) -> None:
     mah = float(curve.delivered_mah[-1])
     if mah < _MIN_CHARGE_MAH:
         raise CurveError(_("{name}: nothing to fit: the curve takes out only {mah:.2f} mAh").format(name=name, mah=mah))
+    part = max(1, len(curve.v) // 20)
+    v0, v1 = float(np.median(curve.v[:part])), float(np.median(curve.v[-part:]))
+    if v1 > v0 * (1.0 + _FALL_FRACTION) and float(np.percentile(curve.v, 10)) >= v0 * (1.0 - _RISE_FRACTION):
+        raise CurveError(_("{name}: the voltage rises all the way, from {v0:.2f} V to {v1:.2f} V: a charge, not a "
+                           "discharge (its current is negative)").format(name=name, v0=v0, v1=v1))
 
 
 def charge_from_log(log: Log, name: str = "") -> Curve:
@@ -221,8 +226,16 @@ def curve_from_log(log: Log, name: str = "", direction: str | None = None) -> Cu
 
 
 def log_directions(log: Log) -> list[str]:
-    """Which of charge and discharge the log holds sections of."""
-    return [d for d in DIRECTIONS if any(s.section == d and s.running and not s.paused for s in log.samples)]
+    """Which of charge and discharge the log holds (a "charge" that falls all the way is a discharge)."""
+    held = []
+    for direction in DIRECTIONS:
+        try:
+            curve = curve_from_log(log, "", direction)
+        except CurveError:
+            continue
+        if direction == "discharge" or not falls_all_the_way(curve):
+            held.append(direction)
+    return held
 
 
 def _negated(curve: Curve) -> Curve:

@@ -116,7 +116,7 @@ def test_fit_runs_off_the_gui_thread_and_a_failed_fit_is_said(dialog, qtbot, mon
     def failing_fit(*args):
         ran_on.append(threading.current_thread())
         raise ValueError("the optimiser found no fit")
-    monkeypatch.setattr(compare_dialog, "fit", failing_fit)
+    monkeypatch.setattr(compare_dialog, "fit_curve", failing_fit)
     wait_for(qtbot, dialog, dialog.fit_log)
     assert ran_on and ran_on[0] is not threading.main_thread()
     assert "the optimiser found no fit" in dialog.figures.text()
@@ -172,10 +172,15 @@ def test_fit_with_a_cell_count_the_charge_cannot_have_is_refused_at_once(dialog,
 
 
 @pytest.mark.parametrize("action", ["fit_log", "compare_macro"])
-def test_a_discharge_log_is_said_to_be_no_charge_by_fit_and_simulate(dialog, qtbot, action):
-    # issue 27: an AkkuMaster "Entladen" export (no direction column) was fitted as a charge
+def test_a_discharge_log_is_fitted_and_compared_as_a_discharge(dialog, qtbot, action, monkeypatch):
+    # issue 27: an AkkuMaster "Entladen" export (no direction column) was fitted as a charge; issue 26:
+    # it is a discharge, fitted and compared as one
+    dialog._record = lambda: helpers.compiled("NiMh")
     dialog.chemistry.setCurrentIndex(dialog.chemistry.findData("NiMh"))
     assert dialog.load_log(str(helpers.ROOT / "tests" / "data" / "logs" /
                                "AkkuMasterC4_2007-12-28-EmpfaengerAA4-Entladen.csv"))
+    assert "158 min of discharge, 396 mAh out" in dialog.log_label.text()
     wait_for(qtbot, dialog, getattr(dialog, action))
-    assert "the voltage falls all the way, from 5.07 V to 3.27 V: a discharge, not a charge" in dialog.figures.text()
+    text = dialog.figures.text()
+    assert "of the discharge" in text and "delivered 395.8 mAh (real)" in text, text
+    assert len(curves_of(dialog.v_plot)) == 2

@@ -16,7 +16,8 @@ from ...logs import LogFormatError, gaps
 from ...sim.batteries import BatteryFileError, save_battery
 from ...sim.chemistry import chemistry_names
 from ...sim.curve import Curve, CurveError, read_curve
-from ...sim.fit import FitResult, fit, guess_series
+from ...sim.fit import FitResult, guess_series
+from ...sim.fit_discharge import fit_curve
 from ...sim.fit_report import figure_lines, param_lines
 from ...sim.interpreter import StartError
 from .. import theme
@@ -112,7 +113,12 @@ class CompareDialog(QDialog):
         named = [c for c in chemistry_names() if c.lower() == self.curve.chemistry.lower()]
         if named:
             self.chemistry.setCurrentIndex(self.chemistry.findData(named[0]))   # iCharger logs name it
-        self.log_label.setText(f"{path}  ({self.curve.t[-1] / 60:.0f} min, {self.curve.mah[-1]:.0f} mAh)")
+        if self.curve.direction == "charge":
+            what = _("{minutes} min of charge, {mah} mAh in")
+        else:
+            what = _("{minutes} min of discharge, {mah} mAh out")
+        mah = self.curve.mah[-1] if self.curve.direction == "charge" else self.curve.delivered_mah[-1]
+        self.log_label.setText(f"{path}  ({what.format(minutes=f'{self.curve.t[-1] / 60:.0f}', mah=f'{mah:.0f}')})")
         self._guess_cells()
         self.simulate_button.setEnabled(True)
         self.fit_button.setEnabled(True)
@@ -130,7 +136,7 @@ class CompareDialog(QDialog):
         if self.curve is None or self._job is not None:
             return
         curve, chemistry, cells = self.curve, self.chemistry.currentData(), self.cells.value()
-        self._run(_("Fitting the model to the log…"), lambda: fit(curve, chemistry, cells), self._fitted)
+        self._run(_("Fitting the model to the log…"), lambda: fit_curve(curve, chemistry, cells), self._fitted)
 
     def _fitted(self, fitted: FitResult) -> None:
         self.fitted = fitted
