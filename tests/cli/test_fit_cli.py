@@ -68,7 +68,8 @@ def test_compare_json_has_the_figures_and_both_ends(zuml):
                         "--cells", "4", "--capacity", "1500", "--json")
     assert rc == 0, err
     data = json.loads(out)
-    assert set(data) == FIGURE_KEYS | {"ends"}
+    assert set(data) == FIGURE_KEYS | {"ends", "resistance"}
+    assert data["resistance"] is None                 # a curve CSV has no rest to measure
     real, model = data["ends"]["real"], data["ends"]["model"]
     assert "tapered" in real["why"] and real["mah"] > 1000
     assert model["why"] and model["time_s"] > 0
@@ -255,3 +256,31 @@ def test_a_fit_that_cannot_start_says_why(zuml, monkeypatch):
     code, out, err = zuml("fit", str(CURVES / "lipo_4s_406duo_3c.csv"), "--chemistry", "LiPo")
     assert code == 2 and err.count("\n") == 1
     assert "lipo_4s_406duo_3c.csv: the fit cannot start: the LiPo model gives no finite voltage" in err
+
+
+def test_compare_takes_the_packs_resistance_from_the_logs_rests_and_says_so(zuml):
+    # issue 26, decision (a): the Ultramat log rests after every charge; one second after the 0.5 A stops
+    # its pack falls about 200 mOhm per cell and ampere (the default model's step is about 110).
+    log = str(LOGS / "UltramatACDCEQ_2014-09-16_4S_NiMH_cycle.osd")
+    rc, out, err = zuml("compare", log, str(MACROS / "NiMh-dV.zuml"), "--chemistry", "NiMh", "--cells", "4")
+    assert rc == 0, err
+    header = out.splitlines()[0]
+    assert re.search(r"default model, resistance 2\d\d mΩ/cell measured at 3 rests from 4:13:27$", header), header
+    rc, out, err = zuml("compare", log, str(MACROS / "NiMh-dV.zuml"), "--chemistry", "NiMh", "--cells", "4", "--json")
+    data = json.loads(out)
+    r = data["resistance"]
+    assert 180 < r["mohm_per_cell"] < 230 and r["delay_s"] == 1.0 and len(r["at_s"]) == 3 and r["r_scale"] > 1.5
+    # The measured resistance brings the default within twice the limit (it missed by 66 mV/cell without it).
+    assert data["rmse_v_per_cell_mv"] <= 40
+    rc, out, err = zuml("compare", str(CURVES / "nimh_4s_ultramat_05c.csv"), str(MACROS / "NiMh-dV.zuml"),
+                        "--chemistry", "NiMh", "--cells", "4", "--json")
+    assert json.loads(out)["rmse_v_per_cell_mv"] > 40       # the same charge without its rests: the plain default
+
+
+def test_a_named_battery_keeps_its_own_resistance(zuml, tmp_path):
+    log = str(LOGS / "eStationBC6_2008-07-05_EmpfaengerAA.osd")
+    rc, out, err = zuml("fit", log, "--chemistry", "NiMh", "--cells", "4", "--save", "estation pack")
+    assert rc == 0, err
+    rc, out, err = zuml("compare", log, str(MACROS / "NiMh-dV.zuml"), "--battery", "estation pack", "--json")
+    assert rc == 0, err
+    assert json.loads(out)["resistance"] is None

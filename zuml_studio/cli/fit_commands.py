@@ -8,10 +8,11 @@ from ..logs import LogFormatError
 from ..lang.record import DecodeError
 from ..sim.batteries import BatteryFileError, save_battery
 from ..sim.chemistry import load_chemistry
-from ..sim.curve import DIRECTIONS, Curve, CurveError, log_directions, read_curve
+from ..logs import Log
+from ..sim.curve import DIRECTIONS, Curve, CurveError, log_directions, read_curve_and_log
 from ..sim.fit import guess_series
 from ..sim.fit_discharge import fit_curve
-from ..sim.fit_report import figure_lines, param_lines
+from ..sim.fit_report import figure_lines, param_lines, resistance_words
 from ..sim.interpreter import StartError
 from ..sim.simulate import BatterySetup, model_chemistry
 from .common import CliError, check_start_options, out, out_json
@@ -47,20 +48,16 @@ def register(sub: argparse._SubParsersAction) -> None:
     c.set_defaults(run=cmd_compare)
 
 
-def _curve(path: str, direction: str | None = None) -> Curve:
+def _curve(path: str, direction: str | None = None) -> tuple[Curve, Log | None]:
     try:
-        return read_curve(path, direction)
+        return read_curve_and_log(path, direction)
     except (FileReadError, LogFormatError, CurveError) as exc:
         raise CliError(str(exc)) from None
 
 
-def _other_direction(path: str, curve: Curve) -> str | None:
-    """The direction the log also holds, besides the one read (a cycle log holds both)."""
-    from ..logs import read_log_file
-    try:
-        held = log_directions(read_log_file(path))
-    except (FileReadError, LogFormatError):      # a curve CSV holds one direction
-        return None
+def _other_direction(log: Log | None, curve: Curve) -> str | None:
+    """The direction the log also holds, besides the one read (a cycle log holds both; a curve CSV one)."""
+    held = log_directions(log) if log is not None else []
     return next((d for d in held if d != curve.direction), None)
 
 
@@ -89,7 +86,7 @@ def _log_chemistry(args: argparse.Namespace, curve: Curve) -> str:
 
 
 def cmd_fit(args: argparse.Namespace) -> int:
-    curve = _curve(args.log, args.direction)
+    curve, log = _curve(args.log, args.direction)
     chemistry = _log_chemistry(args, curve)
     series = _cells(args, curve, chemistry)
     try:
@@ -110,7 +107,7 @@ def cmd_fit(args: argparse.Namespace) -> int:
               _("{log}: {chemistry} {series}S, {samples} samples, {minutes:.0f} min of discharge"))
     out(header.format(log=args.log, chemistry=chemistry, series=series, samples=len(curve.t),
                       minutes=curve.t[-1] / 60))
-    _mention_other(args, curve)
+    _mention_other(args, log, curve)
     for line in param_lines(result.params, result.battery):
         out(f"  {line}")
     for line in figure_lines(result.figures):
@@ -123,9 +120,10 @@ def cmd_fit(args: argparse.Namespace) -> int:
 def cmd_compare(args: argparse.Namespace) -> int:
     from ..sim.batteries import load_battery
     from ..sim.compare import compare
+    from ..sim.measured_r import measure_curve
 
     check_start_options(args)
-    curve = _curve(args.log, args.direction)
+    curve, log = _curve(args.log, args.direction)
     record = _record(args.macro)
     try:
         named = load_battery(args.battery) if args.battery else None
@@ -137,7 +135,9 @@ def cmd_compare(args: argparse.Namespace) -> int:
         series = args.cells or (named.series if named else None) or guess_series(
             curve, chemistry or model_chemistry(record, BatterySetup()))
         capacity = args.capacity or (named.capacity_mah if named else None)
-        result = compare(curve, record, chemistry, series, capacity, args.battery)
+        # The default model takes the pack's resistance from the log's rests, as it takes its start.
+        measured = None if named else measure_curve(log, curve, series)
+        result = compare(curve, record, chemistry, series, capacity, args.battery, measured_r=measured)
     except CurveError as exc:           # the log is no charge: nothing about the macro
         raise CliError(str(exc)) from None
     except (StartError, ValueError, DecodeError) as exc:
@@ -149,16 +149,17 @@ def cmd_compare(args: argparse.Namespace) -> int:
     out(_("{log}: {chemistry} {series}S, {capacity} mAh, {current} A from the log, {model}").format(
             log=args.log, chemistry=sim.chemistry, series=sim.series, capacity=f"{sim.capacity_mah:.0f}",
             current=f"{sim.interpreter.params.current_a:g}",       # the log's CC current, as INPUT
-            model=_("battery {name!r}").format(name=args.battery) if args.battery else _("default model")))
-    _mention_other(args, curve)
+            model=_("battery {name!r}").format(name=args.battery) if args.battery else
+            ", ".join(filter(None, (_("default model"), resistance_words(result.report))))))
+    _mention_other(args, log, curve)
     for line in figure_lines(result.report):
         out(line)
     return 0
 
 
-def _mention_other(args: argparse.Namespace, curve: Curve) -> None:
+def _mention_other(args: argparse.Namespace, log: Log | None, curve: Curve) -> None:
     """On a cycle log read without --direction: the other direction is there, each on its own."""
-    other = None if args.direction else _other_direction(args.log, curve)
+    other = None if args.direction else _other_direction(log, curve)
     if other == "discharge":
         out(_("the log also holds a discharge: --direction discharge takes it"))
     elif other == "charge":

@@ -12,8 +12,10 @@ from .fit import NI, Run, cc_current, charging, cv_mask, figures, measured, peak
 from .fit_discharge import discharge_current, discharge_figures, end_voltage
 from .fit_report import real_end_why
 from .chemistry import load_chemistry
-from .interpreter import StartParams
-from .simulate import BatterySetup, SimResult, model_chemistry, simulate
+from .battery import Pack
+from .interpreter import Interpreter, StartParams
+from .measured_r import MeasuredR, with_measured_r
+from .simulate import BatterySetup, SimResult, model_chemistry, models, simulate
 from ..i18n import _
 
 
@@ -102,6 +104,21 @@ def _resampled(curve: Curve, sim: SimResult) -> tuple[Curve, Run, np.ndarray]:
     return part, Run(np.interp(part.t, m_t, m_v), np.interp(part.t, m_t, m_i), np.interp(part.t, m_t, m_temp)), m_temp
 
 
+def _simulate(record: bytes, params: StartParams, setup: BatterySetup,
+              measured_r: MeasuredR | None) -> tuple[SimResult, dict | None]:
+    """The macro on the model; with ``measured_r`` (and no named battery) the default model's R0 and R1
+    scaled so that its step is the log's: then also what the report says of it."""
+    if measured_r is None or setup.battery:
+        return simulate(record, params, setup), None
+    params, chemistry, pack, charger = models(record, params, setup)
+    chem, scale = with_measured_r(pack.chem, params.capacity_mah, measured_r)
+    interpreter = Interpreter(record, params, Pack(chem, pack.capacity_mah, pack.series, pack.soc, setup.ambient_c),
+                              charger)
+    interpreter.run()
+    said = {**measured_r.to_dict(), "r_scale": round(scale, 3)}
+    return SimResult(interpreter, chemistry, float(params.capacity_mah), int(params.series)), said
+
+
 def _model_end(sim: SimResult, mah: float) -> dict:
     a = sim.log.arrays()
     last = sim.phases[-1] if sim.phases else None
@@ -110,7 +127,7 @@ def _model_end(sim: SimResult, mah: float) -> dict:
 
 
 def _compare_discharge(curve: Curve, record: bytes, chemistry: str | None, series: int, capacity_mah: float | None,
-                       battery: str | None, charger: str) -> Comparison:
+                       battery: str | None, charger: str, measured_r: MeasuredR | None) -> Comparison:
     """The macro started as a discharge at the log's current; the capacity it delivers is what the
     simulation took out until the macro's own end (its cutoff, not the log's)."""
     require_discharge(curve)
@@ -120,7 +137,8 @@ def _compare_discharge(curve: Curve, record: bytes, chemistry: str | None, serie
         # What the log's discharge implies: it emptied the pack from where it started.
         capacity_mah = float(curve.delivered_mah[-1]) / max(soc, 0.05)
     params = StartParams("discharge", 1, round(capacity_mah), round(discharge_current(curve), 2), None, series)
-    sim = simulate(record, params, BatterySetup(chem_name, soc, ambient, log_charger(curve, charger), battery))
+    sim, said = _simulate(record, params, BatterySetup(chem_name, soc, ambient, log_charger(curve, charger), battery),
+                          measured_r)
     part, run, m_temp = _resampled(curve, sim)
     delivered = sim.interpreter.q_out / 3.6
     report = discharge_figures(part, run, series, delivered)
@@ -130,15 +148,18 @@ def _compare_discharge(curve: Curve, record: bytes, chemistry: str | None, serie
                                "real_window_s": [round(float(curve.t[0]), 1), round(float(curve.t[-1]), 1)],
                                "model_window_s": [0.0, round(float(sim.log.arrays()["time_s"][-1]), 1)]}
     report["ends"] = {"real": real_end(curve, sim.chemistry, series), "model": _model_end(sim, delivered)}
+    report["resistance"] = said
     return Comparison(sim, part.t, run, np.zeros(len(part.t), bool), report)
 
 
 def compare(curve: Curve, record: bytes, chemistry: str | None, series: int, capacity_mah: float | None,
-            battery: str | None = None, charger: str = "imax_b6") -> Comparison:
+            battery: str | None = None, charger: str = "imax_b6",
+            measured_r: MeasuredR | None = None) -> Comparison:
     """The macro's charge against the log's charge, or its discharge against the log's discharge (the
-    curve's direction says which task the macro is started with)."""
+    curve's direction says which task the macro is started with). ``measured_r``: the pack's resistance
+    read in the log (``measured_r``), which the default model then takes (report key ``resistance``)."""
     if curve.direction == "discharge":
-        return _compare_discharge(curve, record, chemistry, series, capacity_mah, battery, charger)
+        return _compare_discharge(curve, record, chemistry, series, capacity_mah, battery, charger, measured_r)
     require_charge(curve)
     chem_name = _chemistry(record, chemistry, battery)
     soc, ambient = start_setup(curve, chem_name, series)
@@ -147,7 +168,8 @@ def compare(curve: Curve, record: bytes, chemistry: str | None, series: int, cap
         capacity_mah = float(curve.mah[-1]) / (1.0 - soc)
     cv = cv_mask(curve, chem_name)
     params = StartParams("charge", 1, round(capacity_mah), round(cc_current(curve, cv), 2), None, series)
-    sim = simulate(record, params, BatterySetup(chem_name, soc, ambient, log_charger(curve, charger), battery))
+    sim, said = _simulate(record, params, BatterySetup(chem_name, soc, ambient, log_charger(curve, charger), battery),
+                          measured_r)
     part, run, m_temp = _resampled(curve, sim)
     run.i = np.clip(run.i, 0.0, None)
     m_t = sim.log.arrays()["time_s"]
@@ -168,4 +190,5 @@ def compare(curve: Curve, record: bytes, chemistry: str | None, series: int, cap
                                "model_window_s": [0.0, round(float(m_t[-1]), 1)]}
     report["ends"] = {"real": real_end(curve, sim.chemistry, series),
                       "model": _model_end(sim, sim.interpreter.q_in / 3.6)}
+    report["resistance"] = said
     return Comparison(sim, part.t, run, part_cv, report)

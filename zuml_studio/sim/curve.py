@@ -55,6 +55,7 @@ class Curve:
     cells: int               # per-cell voltages the log carried (0: none)
     name: str = ""
     chemistry: str = ""      # the battery type the log names, if it names one (iCharger logs do)
+    start_s: float = 0.0     # its first sample on the log's own clock (where its rests are found)
 
     def __post_init__(self) -> None:
         name = self.name or "curve"
@@ -110,7 +111,7 @@ class Curve:
             if self.temp is not None:
                 temp.append(float(np.mean(self.temp[part])))
         return Curve(np.array(t), np.array(v), np.array(i), None if self.temp is None else np.array(temp),
-                     self.cells, self.name, self.chemistry)
+                     self.cells, self.name, self.chemistry, self.start_s)
 
     def to_csv(self) -> str:
         out = io.StringIO()
@@ -239,7 +240,8 @@ def log_directions(log: Log) -> list[str]:
 
 
 def _negated(curve: Curve) -> Curve:
-    return Curve(curve.t, curve.v, -np.abs(curve.i), curve.temp, curve.cells, curve.name, curve.chemistry)
+    return Curve(curve.t, curve.v, -np.abs(curve.i), curve.temp, curve.cells, curve.name, curve.chemistry,
+                 curve.start_s)
 
 
 def _longest(log: Log, section: str, name: str) -> Curve:
@@ -268,7 +270,7 @@ def _longest(log: Log, section: str, name: str) -> Curve:
     t = a["t"][sel]
     sign = 1.0 if section == "charge" else -1.0
     return Curve(t - t[0], a["voltage"][sel], sign * np.abs(a["current"][sel]), _sensor(t, a["temp"][sel]),
-                 log.cells, name, str(log.meta.get("battery", "")))
+                 log.cells, name, str(log.meta.get("battery", "")), float(t[0]))
 
 
 def _sensor(t: np.ndarray, temp: np.ndarray) -> np.ndarray | None:
@@ -327,6 +329,11 @@ def read_curve_csv(text: str, name: str = "") -> Curve:
 def read_curve(path: str | Path, direction: str | None = None) -> Curve:
     """A charge or discharge (``direction``; None: as ``curve_from_log`` picks) from any log file the log
     readers know, else from a plain curve CSV (its current's sign says which)."""
+    return read_curve_and_log(path, direction)[0]
+
+
+def read_curve_and_log(path: str | Path, direction: str | None = None) -> tuple[Curve, Log | None]:
+    """``read_curve`` and the whole log it came from (None for a curve CSV): its rests lie outside the curve."""
     p = Path(path)
     data = read_file_bytes(p)
     text = data.decode("utf-8", "replace")
@@ -334,9 +341,10 @@ def read_curve(path: str | Path, direction: str | None = None) -> Curve:
     if first.lstrip().startswith("time_s"):
         # The plain curve CSV is read as itself, strictly (a bad value is its line), before the
         # log readers' general CSV import would guess its columns and leave bad samples out.
-        return read_curve_csv(text, p.name)
+        return read_curve_csv(text, p.name), None
     try:
-        return curve_from_log(read_log(data, p.name), p.name, direction)
+        log = read_log(data, p.name)
+        return curve_from_log(log, p.name, direction), log
     except LogFormatError as exc:
         raise CurveError(_("{name}: {reason}; nor a curve CSV (its header: {csv_columns}[,temp_c])").format(
                 name=p.name, reason=exc, csv_columns=",".join(_CSV_COLUMNS))) from None

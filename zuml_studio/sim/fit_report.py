@@ -67,6 +67,24 @@ def figure_lines(report: dict) -> list[str]:
     return lines
 
 
+def clock(seconds: float) -> str:
+    """h:mm:ss on a log's clock."""
+    s = int(round(seconds))
+    return f"{s // 3600}:{s // 60 % 60:02d}:{s % 60:02d}"
+
+
+def resistance_words(report: dict) -> str | None:
+    """What a comparison says of the resistance it took from the log (None: it took none)."""
+    r = report.get("resistance")
+    if not r:
+        return None
+    if len(r["at_s"]) == 1:
+        return _("resistance {r} mΩ/cell measured at the rest at {at}").format(
+            r=f"{r['mohm_per_cell']:.0f}", at=clock(r["at_s"][0]))
+    return _("resistance {r} mΩ/cell measured at {n} rests from {at}").format(
+        r=f"{r['mohm_per_cell']:.0f}", n=len(r["at_s"]), at=clock(r["at_s"][0]))
+
+
 def bound_lines(report: dict) -> list[str]:
     """A fit whose values ended at their bounds: which, and the likely cause."""
     ends = report.get("at_bound") or []

@@ -184,3 +184,14 @@ def test_a_discharge_log_is_fitted_and_compared_as_a_discharge(dialog, qtbot, ac
     text = dialog.figures.text()
     assert "of the discharge" in text and "delivered 395.8 mAh (real)" in text, text
     assert len(curves_of(dialog.v_plot)) == 2
+
+
+def test_simulate_macro_takes_the_resistance_from_the_logs_rests_and_says_so(dialog, qtbot):
+    # issue 26, decision (a): the eStation BC6 pauses its 1 A charge every minute
+    dialog._record = lambda: helpers.compiled("NiMh")
+    dialog.chemistry.setCurrentIndex(dialog.chemistry.findData("NiMh"))
+    assert dialog.load_log(str(helpers.ROOT / "tests" / "data" / "logs" / "eStationBC6_2008-07-05_EmpfaengerAA.osd"))
+    dialog.cells.setValue(4)
+    wait_for(qtbot, dialog, dialog.compare_macro)
+    first = dialog.figures.text().splitlines()[0]
+    assert first.startswith("resistance 13") and "mΩ/cell measured at 44 rests from 2:37:38" in first, first

@@ -15,10 +15,10 @@ from ...i18n import _
 from ...logs import LogFormatError, gaps
 from ...sim.batteries import BatteryFileError, save_battery
 from ...sim.chemistry import chemistry_names
-from ...sim.curve import Curve, CurveError, read_curve
+from ...sim.curve import Curve, CurveError, read_curve_and_log
 from ...sim.fit import FitResult, guess_series
 from ...sim.fit_discharge import fit_curve
-from ...sim.fit_report import figure_lines, param_lines
+from ...sim.fit_report import figure_lines, param_lines, resistance_words
 from ...sim.interpreter import StartError
 from .. import theme
 from ..background import BackgroundCall
@@ -36,6 +36,7 @@ class CompareDialog(QDialog):
         self.setObjectName("compareDialog")
         self._record, self._on_saved = record, on_saved
         self.curve: Curve | None = None
+        self._log = None             # the whole log the curve came from: its rests give the pack's resistance
         self.fitted: FitResult | None = None
         self._job: BackgroundCall | None = None
 
@@ -105,7 +106,7 @@ class CompareDialog(QDialog):
 
     def load_log(self, path: str) -> bool:
         try:
-            self.curve = read_curve(path)
+            self.curve, self._log = read_curve_and_log(path)
         except (FileReadError, LogFormatError, CurveError) as exc:
             self._error(str(exc))
             return False
@@ -148,6 +149,7 @@ class CompareDialog(QDialog):
 
     def compare_macro(self) -> None:
         from ...sim.compare import compare
+        from ...sim.measured_r import measure_curve
 
         record = self._record()
         if self.curve is None or self._job is not None:
@@ -156,13 +158,15 @@ class CompareDialog(QDialog):
             self._error(_("the open macro has errors: fix them to compare it with the log"))
             return
         curve, chemistry, cells = self.curve, self.chemistry.currentData(), self.cells.value()
-        capacity = self.capacity.value() or None
+        capacity, log = self.capacity.value() or None, self._log
         self._run(_("Simulating the macro from the log's start…"),
-                  lambda: compare(curve, record, chemistry, cells, capacity), self._compared)
+                  lambda: compare(curve, record, chemistry, cells, capacity,
+                                  measured_r=measure_curve(log, curve, cells)), self._compared)
 
     def _compared(self, result) -> None:
         self._draw(result.t, result.run.v, _("simulation"))
-        self.figures.setText("\n".join(figure_lines(result.report)))
+        said = resistance_words(result.report)
+        self.figures.setText("\n".join(([said] if said else []) + figure_lines(result.report)))
 
     def _run(self, what: str, fn, on_done) -> None:
         for b in (self.simulate_button, self.fit_button, self.save_button):
