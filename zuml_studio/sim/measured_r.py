@@ -36,10 +36,11 @@ class MeasuredR:
 
 
 def measure(t: np.ndarray, v: np.ndarray, i: np.ndarray, cells: int, direction: str,
-            span: tuple[float, float]) -> MeasuredR | None:
-    """The resistance from the steps of ``direction``'s current (charge: +, discharge: -) inside ``span``
-    (the compared part, on the log's clock) or within _NEAR_S after it; else from that direction's steps
-    anywhere in the log; None where it has none. A log sampled slower than once a second has its step
+            span: tuple[float, float], current_a: float) -> MeasuredR | None:
+    """The resistance from the steps of ``direction``'s current (charge: +, discharge: -) of at least half
+    ``current_a`` (the curve's own: a step from a CV tail's last few percent reads its polarisation, the
+    Pb absorption's 0.98 A 138 mΩ per cell) inside ``span`` (the compared part, on the log's clock) or
+    within _NEAR_S after it; else from such steps anywhere in the log; None where it has none. A log sampled slower than once a second has its step
     read at twice its period (the first rest sample may straddle the step: the eStation BC6's 1.5 s)."""
     t, v, i = (np.asarray(x, float) for x in (t, v, i))
     ok = np.isfinite(t) & np.isfinite(v) & np.isfinite(i)
@@ -51,24 +52,27 @@ def measure(t: np.ndarray, v: np.ndarray, i: np.ndarray, cells: int, direction: 
     sign = 1.0 if direction == "charge" else -1.0
     # A step whose voltage moves against the current is no resistance (the Akkumatik reads its pack
     # lower at rest after a discharge): it is left out.
-    steps = [s for s in rest_steps(t, v, i, delay_s=delay, max_delay_s=max(5.0, 2.5 * delay))
+    steps = [s for s in rest_steps(t, v, i, min_current_a=max(0.05, 0.5 * current_a), delay_s=delay,
+                                   max_delay_s=max(5.0, 2.5 * delay))
              if s.current_a * sign > 0 and s.ohm_per_cell(cells) > 0]
     near = [s for s in steps if span[0] <= s.time_s <= span[1] + _NEAR_S]
     use = near or steps
     return _median(use, cells, delay) if use else None
 
 
-def measure_log(log: Log, cells: int, direction: str, span: tuple[float, float]) -> MeasuredR | None:
+def measure_log(log: Log, cells: int, direction: str, span: tuple[float, float],
+                current_a: float) -> MeasuredR | None:
     """``measure`` over the whole log (its rests lie outside the charge or discharge a curve holds)."""
     a = log.arrays()
-    return measure(a["t"], a["voltage"], a["current"], cells, direction, span)
+    return measure(a["t"], a["voltage"], a["current"], cells, direction, span, current_a)
 
 
 def measure_curve(log: Log | None, curve: Curve, cells: int) -> MeasuredR | None:
     """``measure_log`` around the curve read from ``log`` (None: a curve CSV, no rests to read)."""
     if log is None:
         return None
-    return measure_log(log, cells, curve.direction, (curve.start_s, curve.start_s + float(curve.t[-1])))
+    return measure_log(log, cells, curve.direction, (curve.start_s, curve.start_s + float(curve.t[-1])),
+                       float(np.median(np.abs(curve.i))))
 
 
 def fit_with_measured_r(curve: Curve, chemistry: str, series: int, measured: MeasuredR) -> tuple[FitResult, float]:
