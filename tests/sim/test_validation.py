@@ -118,3 +118,19 @@ def test_every_training_curve_has_its_csv_and_a_source():
     for name, entry in TRAINING.items():
         assert (CURVES / f"{name}.csv").is_file()
         assert entry["source_file"] in readme
+
+
+def test_validation_md_is_regenerated_with_every_curve_and_its_three_columns():
+    # docs/validation.md is written by tools/validation.py: its summary holds every training curve, with
+    # the measured-resistance column where (and only where) the curve's source log has a step.
+    doc = (CURVES.parent.parent.parent / "docs" / "validation.md").read_text()
+    assert "| curve | battery | direction | rate | RMSE V default (mV/cell) | default, measured resistance | " \
+           "fitted | delivered, fitted |" in doc
+    for name, entry in TRAINING.items():
+        row = next((ln for ln in doc.splitlines() if ln.startswith(f"| [{name}](#{name}) |")), None)
+        assert row is not None, name
+        cells = [c.strip() for c in row.strip("|").split("|")]
+        assert cells[2] == entry.get("direction", "charge")
+        step = REST_STEPS[name]
+        assert cells[5] == "no step" if step is None else cells[5].endswith(f"({step['mohm_per_cell']:.0f} mΩ)")
+        assert (cells[7] == "–") == (cells[2] == "charge")
