@@ -26,7 +26,8 @@ _CV_I_FRACTION = 0.92
 _CV_HOLD_FRACTION = 0.99     # ... and while it stays this close (a lower CC step after the hold is CC again)
 _SMOOTH_S = 60.0            # the peak and -dV are read from a 1-minute moving average (as chargers filter)
 _PAUSE_FRACTION = 0.5      # CC samples below this fraction of the CC current are measurement pauses
-_FIT_SAMPLES = 1500          # ... or coarser, so that a long charge has at most about this many samples
+_FIT_SAMPLES = 400           # ... or coarser, so that a long charge has at most about this many samples (a fit
+                             # of a 2 h NiMH charge in about a second: benchmarks/bench_fit.py)
 _FIT_STEP_S = 10.0          # curves are decimated to this before a fit: seconds per fit, not minutes
 _TEMP_WEIGHT = 1.0           # 1 °C of temperature error weighs as 1 mV per cell
 _RISE_WEIGHT = 3.0           # 1 °C of error in the temperature rise weighs as 3 mV per cell

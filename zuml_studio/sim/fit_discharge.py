@@ -17,7 +17,7 @@ from .curve import Curve, require_discharge
 from .fit import (_COMMON, NI, Battery, FitResult, Param, Run, _apply, _cannot_start, _prior, at_bounds,
                   check_series, fit, guess_series, simulate_curve, soc_at_ocv, solve_params, temp_rise)
 
-_FIT_SAMPLES = 600           # a discharge has no sharp end of charge to resolve: fewer samples, seconds per fit
+_FIT_SAMPLES = 400           # as a charge (fit.py): a fit in seconds
 _FIT_STEP_S = 10.0
 _PAUSE_FRACTION = 0.5        # samples below this share of the discharge current are pauses, not compared
 _CAPACITY_WEIGHT = 7.0       # 1 % of delivered capacity weighs as 7 mV per cell (3 % is about a voltage limit)
