@@ -40,8 +40,9 @@ def measure(t: np.ndarray, v: np.ndarray, i: np.ndarray, cells: int, direction: 
     """The resistance from the steps of ``direction``'s current (charge: +, discharge: -) of at least half
     ``current_a`` (the curve's own: a step from a CV tail's last few percent reads its polarisation, the
     Pb absorption's 0.98 A 138 mΩ per cell) inside ``span`` (the compared part, on the log's clock) or
-    within _NEAR_S after it; else from such steps anywhere in the log; None where it has none. A log sampled slower than once a second has its step
-    read at twice its period (the first rest sample may straddle the step: the eStation BC6's 1.5 s)."""
+    within _NEAR_S after it; else from such steps anywhere in the log; None where it has none. A log
+    sampled slower than once a second has its step read at twice its period (the first rest sample may
+    straddle the step: the eStation BC6's 1.5 s)."""
     t, v, i = (np.asarray(x, float) for x in (t, v, i))
     ok = np.isfinite(t) & np.isfinite(v) & np.isfinite(i)
     t, v, i = t[ok], v[ok], i[ok]
