@@ -284,3 +284,9 @@ def test_a_named_battery_keeps_its_own_resistance(zuml, tmp_path):
     rc, out, err = zuml("compare", log, str(MACROS / "NiMh-dV.zuml"), "--battery", "estation pack", "--json")
     assert rc == 0, err
     assert json.loads(out)["resistance"] is None
+
+
+def test_a_discharge_with_a_cell_count_it_cannot_have_is_refused_at_once(zuml):
+    rc, out, err = zuml("fit", str(CURVES / "nimh_4s_ultramat_dis_05c.csv"), "--chemistry", "NiMh", "--cells", "5")
+    assert rc == 2 and out == "" and err.count("\n") == 1
+    assert "5 cells do not fit this discharge" in err and "nominal 1.2 V" in err and "(--cells 4)" in err
