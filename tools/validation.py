@@ -259,10 +259,11 @@ def _measured_r_text(answers: dict, defaults: dict, with_r: dict, steps: dict) -
 
 def _discharge_text(discharges: dict) -> str:
     """What the recorded discharges say: end voltage, delivered charge, where the model misses."""
-    rows = []
+    rows, biases = [], {}
     for name, (entry, curve, default, with_r, fitted) in discharges.items():
         use = discharging(curve)
         bias = float(np.mean((default.run.v[use] - curve.v[use]) / entry["cells"] * 1000.0))
+        biases[name] = bias
         rows.append(f"| {name} | {entry['chemistry']} {entry['cells']}S | {entry['rate']} | "
                     f"{curve.delivered_mah[-1]:.0f} | {end_voltage(curve) / entry['cells']:.3f} | {bias:+.0f} | "
                     f"{_capacity_off(default.figures)} | {_capacity_off(fitted.figures)} |")
@@ -277,15 +278,16 @@ def _discharge_text(discharges: dict) -> str:
         "voltage limit on the Ultramat, eStation, X6 LiFe and Pb discharges.",
         "* The default NiMH OCV reads above every NiMH discharge (the mean error column): it was fitted to "
         "four charges, and a NiMH cell's OCV after a charge lies higher than after a discharge (its "
-        "hysteresis); the model has one OCV curve for both. On the Polaron pack that is 58 mV/cell all "
-        "along, so neither the default nor the default with the measured resistance meets 50 (marked).",
+        "hysteresis); the model has one OCV curve for both. On the Polaron pack that is "
+        f"{biases['nimh_5s_polaron_dis_03c']:.0f} mV/cell all along, so neither the default nor the default with the measured resistance meets 50 (marked).",
         "* The AkkuMaster pack (0.15 A) falls from 4.6 to 3.45 V within a minute at 145 min, by one cell's "
         "1.15 V, then goes on at 3 × 1.15 V: one cell of the four empties first. A pack of identical cells "
         "cannot show that (the fitted model misses by 40 mV/cell, marked); the per-cell pack model of issue "
         "26 is what can.",
         "* The Akkumatik NiCd discharge ends at 3.40 V, 4 × 0.85 V (NiCd's usual end voltage), and reads "
-        "1.23 V per cell at its rests as 4 cells (0.98 as 5): it fits as 4 cells (fitted 25 mV/cell, resistance "
-        "about 5× the default's). Its charge curve in this table is taken as 5 cells "
+        "1.23 V per cell at its rests as 4 cells (0.98 as 5): it fits as 4 cells (fitted "
+        f"{discharges['nicd_4s_akkumatik_dis_1c'][4].figures['rmse_v_per_cell_mv']:.0f} mV/cell, resistance "
+        f"{discharges['nicd_4s_akkumatik_dis_1c'][4].params['r_scale']:.1f}× the default's). Its charge curve in this table is taken as 5 cells "
         "(`nicd_5s_akkumatik_08c`), and the NiCd default's resistance (× 0.15) was tuned on it: with the "
         "resistance its rests show as 5 cells the default loses its -dV (marked). The charge's cell count "
         "and the NiCd default want revisiting with this pack as 4 cells.",

@@ -20,24 +20,24 @@ TRAINING = tomllib.loads((CURVES / "training.toml").read_text())
 REST_STEPS = json.loads((CURVES / "rest_steps.json").read_text())
 # Figures the model does not reach on a curve, with why (see docs/validation.md).
 KNOWN_MISSES = {
-    ("nimh_4s_ultramat_05c", "default"): "RMSE 66 mV/cell (limit 40): this pack's resistance, measured in its "
+    ("nimh_4s_ultramat_05c", "default"): "RMSE 67 mV/cell (limit 40): this pack's resistance, measured in its "
                                          "log's rests, is 184 mOhm/cell (about twice the others' per capacity, "
                                          "1.6x the default's 112); one default cannot meet all four",
     ("nimh_5s_polaron_dis_03c", "default"): "RMSE 63 mV/cell (limit 50): the default NiMH OCV, fitted to four "
                                             "charges, reads 58 mV/cell above this discharge all along",
-    ("nimh_4s_akkumaster_dis_015c", "default"): "RMSE 63 mV/cell (limit 50): at 145 min one cell empties (the pack "
+    ("nimh_4s_akkumaster_dis_015c", "default"): "RMSE 64 mV/cell (limit 50): at 145 min one cell empties (the pack "
                                                 "falls 4.6 to 3.45 V, 3 x 1.15 V, within a minute): a weak cell, "
                                                 "which a pack of identical cells cannot show",
     ("nimh_4s_akkumaster_dis_015c", "fitted"): "RMSE 40 mV/cell (limit 25): at 145 min one cell empties (the pack "
                                                "falls by a cell's 1.15 V within a minute): a weak cell, which a "
                                                "pack of identical cells cannot show",
     ("nicd_4s_akkumatik_dis_1c", "default"): "RMSE 136 mV/cell (limit 50): the pack's resistance is 5x the "
-                                             "default's (fitted r_scale 5.1)",
+                                             "default's (fitted r_scale 5.0)",
     ("nicd_5s_akkumatik_08c", "measured_r"): "-dV 0 mV/cell (real 10.2): its rests read 155 mOhm/cell as 5 cells, "
-                                             "393x the NiCd default's step, which was tuned on this pack read as "
+                                             "394x the NiCd default's step, which was tuned on this pack read as "
                                              "5 cells; at rest it reads 0.98 V/cell as 5 cells, 1.23 as 4: the "
                                              "pack is likely 4 cells (its discharge fits as 4)",
-    ("nimh_5s_polaron_dis_03c", "measured_r"): "RMSE 57 mV/cell (limit 50): the default NiMH OCV, fitted to four "
+    ("nimh_5s_polaron_dis_03c", "measured_r"): "RMSE 71 mV/cell (limit 50): the default NiMH OCV, fitted to four "
                                                "charges, reads 58 mV/cell above this discharge all along (NiMH's "
                                                "charge/discharge OCV hysteresis, which the one-OCV model lacks); "
                                                "a resistance cannot move it",
@@ -104,7 +104,7 @@ def test_model_meets_the_issue_figures(name, kind):
 
 def test_the_measured_resistance_column_covers_every_curve_whose_log_has_a_step():
     # issue 26: the Ultramat NiMH pack (184-204 mOhm/cell at its rests) was the blocked default; with its
-    # measured resistance the default meets twice the limits there, while the plain default keeps its 66.
+    # measured resistance the default meets twice the limits there, while the plain default keeps its 67.
     assert set(REST_STEPS) == set(TRAINING)
     assert {n for n, r in REST_STEPS.items() if r} >= {"nimh_4s_ultramat_05c", "nimh_5s_polaron_03c",
                                                         "nimh_4s_estation_1c", "pb_6s_ub121000_dis_01c"}
