@@ -194,4 +194,19 @@ def test_simulate_macro_takes_the_resistance_from_the_logs_rests_and_says_so(dia
     dialog.cells.setValue(4)
     wait_for(qtbot, dialog, dialog.compare_macro)
     first = dialog.figures.text().splitlines()[0]
-    assert first.startswith("resistance 13") and "mΩ/cell measured at 44 rests from 2:37:38" in first, first
+    assert first == "resistance 125 mΩ/cell measured at 34 rests from 2:37:38", first
+
+
+def test_a_cycle_logs_discharge_is_chosen_and_fitted_on_its_own(dialog, qtbot):
+    dialog.chemistry.setCurrentIndex(dialog.chemistry.findData("NiMh"))
+    log = str(helpers.ROOT / "tests" / "data" / "logs" / "eStationBC6_2008-07-05_EmpfaengerAA.osd")
+    assert dialog.load_log(log)
+    assert dialog.direction.isEnabled() and dialog.direction.currentData() == "charge"
+    assert "min of charge" in dialog.log_label.text()
+    dialog.direction.setCurrentIndex(dialog.direction.findData("discharge"))
+    dialog.direction.activated.emit(dialog.direction.currentIndex())        # as a user's choice does
+    assert dialog.curve.direction == "discharge" and "min of discharge" in dialog.log_label.text()
+    wait_for(qtbot, dialog, dialog.fit_log)
+    assert "delivered" in dialog.figures.text() and dialog.fitted.figures["direction"] == "discharge"
+    assert dialog.load_log(str(CURVES / "lipo_4s_406duo_3c.csv"))
+    assert not dialog.direction.isEnabled()                 # a curve CSV holds one direction

@@ -15,7 +15,7 @@ from ...i18n import _
 from ...logs import LogFormatError, gaps
 from ...sim.batteries import BatteryFileError, save_battery
 from ...sim.chemistry import chemistry_names
-from ...sim.curve import Curve, CurveError, read_curve_and_log
+from ...sim.curve import DIRECTIONS, Curve, CurveError, log_directions, read_curve_and_log
 from ...sim.fit import FitResult, guess_series
 from ...sim.fit_discharge import fit_curve
 from ...sim.fit_report import figure_lines, param_lines, resistance_words
@@ -50,6 +50,14 @@ class CompareDialog(QDialog):
         self.chemistry.setCurrentIndex(max(0, self.chemistry.findData(chemistry or "NiMh")))
         # The cell count is guessed with the chosen model (a LiPo log read as NiMH is 12 cells, not 4).
         self.chemistry.currentIndexChanged.connect(self._guess_cells)
+        # A cycle log holds a charge and a discharge: each is fitted and compared on its own.
+        self.direction = QComboBox()
+        for name in DIRECTIONS:
+            self.direction.addItem(_(name), name)
+        self.direction.setEnabled(False)
+        self.direction.setToolTip(_("A log holding both: its charge or its discharge"))
+        self.direction.activated.connect(lambda _index: self.load_log(self._path, self.direction.currentData()))
+        self._path = ""
         self.cells = QSpinBox()
         self.cells.setRange(1, 255)
         self.capacity = QSpinBox()
@@ -76,6 +84,7 @@ class CompareDialog(QDialog):
         row.addWidget(open_button)
         row.addWidget(self.log_label, 1)
         form.addRow(_("Log"), row)
+        form.addRow(_("Direction"), self.direction)
         form.addRow(_("Chemistry"), self.chemistry)
         form.addRow(_("Cells"), self.cells)
         form.addRow(_("Capacity"), self.capacity)
@@ -104,12 +113,15 @@ class CompareDialog(QDialog):
         if path:
             self.load_log(path)
 
-    def load_log(self, path: str) -> bool:
+    def load_log(self, path: str, direction: str | None = None) -> bool:
         try:
-            self.curve, self._log = read_curve_and_log(path)
+            self.curve, self._log = read_curve_and_log(path, direction)
         except (FileReadError, LogFormatError, CurveError) as exc:
             self._error(str(exc))
             return False
+        self._path = path
+        self.direction.setCurrentIndex(self.direction.findData(self.curve.direction))
+        self.direction.setEnabled(self._log is not None and len(log_directions(self._log)) > 1)
         self.fitted = None
         named = [c for c in chemistry_names() if c.lower() == self.curve.chemistry.lower()]
         if named:
