@@ -293,7 +293,19 @@ def _discharge_text(discharges: dict) -> str:
         "and the NiCd default want revisiting with this pack as 4 cells.",
         "* The eStation BC6 and Ultramat discharges end 30 s before their next record set starts: no step "
         "to measure there; the Pb battery rests after its discharge (8 mΩ per cell 10 s after 10 A stops).",
+        _pb_lead(discharges["pb_6s_ub121000_dis_01c"][1]),
     ])
+
+
+def _pb_lead(curve) -> str:
+    """The Pb recording's current column reads -10 A for minutes before the pack's voltage moves."""
+    k = int(np.argmax(curve.v < curve.v[0] - 0.1))
+    j = k + int(np.argmax(curve.t[k:] >= curve.t[k] + 60.0))
+    return (f"* The Pb recording's current column reads -10 A for its first {curve.t[k] / 60:.0f} min while the "
+            f"voltage stays at the rest's {curve.v[0]:.2f} V, then falls {curve.v[k - 1] - curve.v[j]:.2f} V within "
+            "a minute: the load came on later than the column says. The curve keeps the file's values; the "
+            f"delivered capacity counts those minutes ({curve.t[k] / 3600 * 10:.1f} Ah of "
+            f"{curve.delivered_mah[-1] / 1000:.1f}), and the models, driven by the same column, count them too.")
 
 
 def _bias_and_spread(result, series: int) -> tuple[float, float]:
