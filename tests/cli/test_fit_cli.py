@@ -290,3 +290,14 @@ def test_a_discharge_with_a_cell_count_it_cannot_have_is_refused_at_once(zuml):
     rc, out, err = zuml("fit", str(CURVES / "nimh_4s_ultramat_dis_05c.csv"), "--chemistry", "NiMh", "--cells", "5")
     assert rc == 2 and out == "" and err.count("\n") == 1
     assert "5 cells do not fit this discharge" in err and "nominal 1.2 V" in err and "(--cells 4)" in err
+
+
+def test_compare_json_on_a_discharge_only_log(zuml):
+    rc, out, err = zuml("compare", str(LOGS / "AkkuMasterC4_2007-12-28-EmpfaengerAA4-Entladen.csv"),
+                        str(MACROS / "NiMh.zuml"), "--cells", "4", "--json")
+    assert rc == 0, err
+    data = json.loads(out)
+    assert set(data) == FIGURE_KEYS | {"ends", "resistance", "capacity"}
+    assert data["direction"] == "discharge" and data["resistance"] is None        # the AkkuMaster never rests
+    assert data["capacity"]["real_mah"] == pytest.approx(395.8, abs=0.5) and data["capacity"]["model_mah"] > 0
+    assert data["ends"]["real"]["why"] == "voltage fell to 3.205 V (0.801 V per cell)"
