@@ -94,6 +94,8 @@ def bound_lines(report: dict) -> list[str]:
     if report.get("cells_guessed") not in (None, report.get("cells")):
         cause = _("the likely cause is the cell count: the fit used {cells}, the log looks like {guess} "
                   "(--cells {guess})").format(cells=report["cells"], guess=report["cells_guessed"])
+    elif report.get("direction") == "discharge":
+        cause = _("the model cannot follow this discharge: check the chemistry and the cell count")
     else:
         cause = _("the model cannot follow this charge: check the chemistry and the cell count")
     return [_("⚠ at the edge of what the fit allows: {names}; {cause}").format(names=names, cause=cause)]
