@@ -35,7 +35,8 @@ from zuml_studio.recovery import RecoveryStore  # noqa: E402
 from zuml_studio.sim.batteries import BatteryFileError, battery_names, load_battery  # noqa: E402
 from zuml_studio.sim.chemistry import Chemistry  # noqa: E402
 from zuml_studio.sim.curve import CurveError, read_curve, read_curve_csv  # noqa: E402
-from zuml_studio.sim.fit import fit, guess_series  # noqa: E402
+from zuml_studio.sim.fit import guess_series  # noqa: E402
+from zuml_studio.sim.fit_discharge import fit_curve  # noqa: E402
 
 DATA = ROOT / "tests" / "data"
 FIT_LIMIT_S = 20.0
@@ -166,7 +167,7 @@ def main() -> int:
     def fit_file(item):
         curve = read_curve(files.place(item, "input.csv"))
         chemistry = curve.chemistry if curve.chemistry in ("NiMh", "NiCd", "LiPo", "LiIon", "LiFe", "Pb") else "NiMh"
-        result = fit(curve.decimated(60.0), chemistry, guess_series(curve, chemistry))
+        result = fit_curve(curve.decimated(60.0), chemistry, guess_series(curve, chemistry))
         finite_battery(result.battery)
 
     if want("fit"):

@@ -9,7 +9,7 @@ from tests_cli_util import run_zuml
 
 CURVES = ROOT / "tests" / "data" / "curves"
 LOGS = ROOT / "tests" / "data" / "logs"
-FIGURE_KEYS = {"rmse_v_per_cell_mv", "rmse_i_cv_pct", "peak", "temp_rise", "window_s"}
+FIGURE_KEYS = {"direction", "rmse_v_per_cell_mv", "rmse_i_cv_pct", "peak", "temp_rise", "window_s"}
 
 
 def test_fit_json_has_exactly_the_issue_keys_and_nulls_where_the_log_has_no_part(zuml):
@@ -68,7 +68,8 @@ def test_compare_json_has_the_figures_and_both_ends(zuml):
                         "--cells", "4", "--capacity", "1500", "--json")
     assert rc == 0, err
     data = json.loads(out)
-    assert set(data) == FIGURE_KEYS | {"ends"}
+    assert set(data) == FIGURE_KEYS | {"ends", "resistance"}
+    assert data["resistance"] is None                 # a curve CSV has no rest to measure
     real, model = data["ends"]["real"], data["ends"]["model"]
     assert "tapered" in real["why"] and real["mah"] > 1000
     assert model["why"] and model["time_s"] > 0
@@ -161,8 +162,9 @@ def test_time_that_goes_back_is_one_line_naming_its_line(zuml, tmp_path):
 
 
 @pytest.mark.parametrize("command", ["fit", "compare"])
-def test_a_discharge_only_curve_has_nothing_to_fit(zuml, tmp_path, command):
-    # issue 27: "math domain error" (the capacity's bounds from a charge of 0 mAh)
+def test_a_charge_with_its_current_negated_is_no_discharge(zuml, tmp_path, command):
+    # issue 27: "math domain error" (the capacity's bounds from a charge of 0 mAh); issue 26: a negative
+    # current is a discharge, but not where the voltage climbs all the way
     lines = [ln for ln in (CURVES / "lipo_4s_406duo_3c.csv").read_text().splitlines() if not ln.startswith("#")]
     flipped = [lines[0]] + [",".join(c if k != 2 else str(-float(c)) for k, c in enumerate(ln.split(",")))
                             for ln in lines[1:] if ln]
@@ -171,15 +173,69 @@ def test_a_discharge_only_curve_has_nothing_to_fit(zuml, tmp_path, command):
     extra = [str(MACROS / "LiPo.zuml"), "--cells", "4"] if command == "compare" else ["--chemistry", "LiPo"]
     code, out, err = zuml(command, str(path), *extra, "--json")
     assert code == 2 and out == "" and err.count("\n") == 1
-    assert "nothing to fit: the current is never positive" in err
+    assert "the voltage rises all the way, from 15.31 V to 16.77 V: a charge, not a discharge" in err
 
 
-def test_a_discharge_export_without_a_direction_is_not_fitted_as_a_charge(zuml):
-    # issue 27: an AkkuMaster "Entladen" file was fitted as a charge, exit 0, "-dV 639 mV/cell"
+def test_a_discharge_export_without_a_direction_is_fitted_as_a_discharge(zuml):
+    # issue 27: an AkkuMaster "Entladen" file was fitted as a charge, exit 0, "-dV 639 mV/cell"; issue 26:
+    # it is fitted as what it is
     code, out, err = zuml("fit", str(LOGS / "AkkuMasterC4_2007-12-28-EmpfaengerAA4-Entladen.csv"),
                           "--chemistry", "NiMh", "--json")
+    assert code == 0, err
+    data = json.loads(out)
+    assert data["direction"] == "discharge" and data["peak"] is None
+    assert data["capacity"]["real_mah"] == pytest.approx(396, abs=1)
+    code, out, err = zuml("fit", str(LOGS / "AkkuMasterC4_2007-12-28-EmpfaengerAA4-Entladen.csv"),
+                          "--chemistry", "NiMh", "--direction", "charge", "--json")
     assert code == 2 and out == "" and err.count("\n") == 1
     assert "the voltage falls all the way, from 5.07 V to 3.27 V: a discharge, not a charge" in err
+
+
+def test_fit_json_of_a_discharge_only_log_says_its_direction_and_capacity(zuml):
+    rc, out, err = zuml("fit", str(CURVES / "nimh_4s_estation_dis_1c.csv"), "--chemistry", "NiMh", "--cells", "4",
+                        "--json")
+    assert rc == 0, err
+    data = json.loads(out)
+    assert set(data) == {"params", "at_bound", "cells", "cells_guessed", "capacity"} | FIGURE_KEYS
+    assert data["direction"] == "discharge" and data["peak"] is None and data["rmse_i_cv_pct"] is None
+    real, model = data["capacity"]["real_mah"], data["capacity"]["model_mah"]
+    assert real == pytest.approx(891.3, abs=0.5) and abs(model - real) <= 0.03 * real
+    assert data["rmse_v_per_cell_mv"] <= 25
+    assert "k_discharge_ohm" in data["params"] and "w0" not in data["params"]    # no charge terms
+
+
+def test_each_direction_of_a_cycle_log_on_its_own(zuml):
+    # The eStation BC6 log: discharge, charge, discharge, charge (1 A each way).
+    log = str(LOGS / "eStationBC6_2008-07-05_EmpfaengerAA.osd")
+    rc, out, err = zuml("fit", log, "--chemistry", "NiMh", "--cells", "4")
+    assert rc == 0, err
+    assert "min of charge" in out and "the log also holds a discharge: --direction discharge takes it" in out
+    found = {}
+    for direction in ("charge", "discharge"):
+        rc, out, err = zuml("fit", log, "--chemistry", "NiMh", "--cells", "4", "--direction", direction, "--json")
+        assert rc == 0, err
+        found[direction] = json.loads(out)
+    assert found["charge"]["direction"] == "charge" and "capacity" not in found["charge"]
+    assert found["charge"]["peak"]["real_mah"] > 800
+    assert found["discharge"]["direction"] == "discharge" and found["discharge"]["peak"] is None
+    assert 850 < found["discharge"]["capacity"]["real_mah"] < 950
+    for direction in ("charge", "discharge"):
+        rc, out, err = zuml("compare", log, str(MACROS / "NiMh.zuml"), "--cells", "4", "--direction", direction,
+                            "--json")
+        assert rc == 0, err
+        data = json.loads(out)
+        assert data["direction"] == direction and data["ends"]["real"]["kind"] in ("dv", "cutoff")
+    assert data["ends"]["real"]["kind"] == "cutoff" and data["ends"]["real"]["v"] == pytest.approx(3.8, abs=0.01)
+    assert data["capacity"]["real_mah"] > 850 and data["capacity"]["model_mah"] > 0
+
+
+def test_compare_of_a_discharge_says_where_each_ended(zuml):
+    rc, out, err = zuml("compare", str(CURVES / "nimh_4s_ultramat_dis_05c.csv"), str(MACROS / "NiMh.zuml"),
+                        "--cells", "4")
+    assert rc == 0, err
+    assert "of the discharge (the time both ran)" in out
+    assert re.search(r"delivered 1038\.4 mAh \(real\), \d+(\.\d)? mAh \(model\), [+-]\d+\.\d %", out), out
+    assert "real ended at 123.8 min, 1038.4 mAh: voltage fell to 3.200 V (0.800 V per cell)" in out
 
 
 @pytest.mark.parametrize("capacity", ["inf", "nan", "1e400", "-5"])
@@ -200,3 +256,48 @@ def test_a_fit_that_cannot_start_says_why(zuml, monkeypatch):
     code, out, err = zuml("fit", str(CURVES / "lipo_4s_406duo_3c.csv"), "--chemistry", "LiPo")
     assert code == 2 and err.count("\n") == 1
     assert "lipo_4s_406duo_3c.csv: the fit cannot start: the LiPo model gives no finite voltage" in err
+
+
+def test_compare_takes_the_packs_resistance_from_the_logs_rests_and_says_so(zuml):
+    # issue 26, decision (a): the Ultramat log rests after every charge; one second after the 0.5 A stops
+    # its pack falls about 200 mOhm per cell and ampere (the default model's step is about 110).
+    log = str(LOGS / "UltramatACDCEQ_2014-09-16_4S_NiMH_cycle.osd")
+    rc, out, err = zuml("compare", log, str(MACROS / "NiMh-dV.zuml"), "--chemistry", "NiMh", "--cells", "4")
+    assert rc == 0, err
+    header = out.splitlines()[0]
+    assert re.search(r"default model, resistance 2\d\d mΩ/cell measured at 3 rests from 4:13:27$", header), header
+    rc, out, err = zuml("compare", log, str(MACROS / "NiMh-dV.zuml"), "--chemistry", "NiMh", "--cells", "4", "--json")
+    data = json.loads(out)
+    r = data["resistance"]
+    assert 180 < r["mohm_per_cell"] < 230 and r["delay_s"] == 1.0 and len(r["at_s"]) == 3 and r["r_scale"] > 1.5
+    # The measured resistance brings the default within twice the limit (it missed by 67 mV/cell without it).
+    assert data["rmse_v_per_cell_mv"] <= 40
+    rc, out, err = zuml("compare", str(CURVES / "nimh_4s_ultramat_05c.csv"), str(MACROS / "NiMh-dV.zuml"),
+                        "--chemistry", "NiMh", "--cells", "4", "--json")
+    assert json.loads(out)["rmse_v_per_cell_mv"] > 40       # the same charge without its rests: the plain default
+
+
+def test_a_named_battery_keeps_its_own_resistance(zuml, tmp_path):
+    log = str(LOGS / "eStationBC6_2008-07-05_EmpfaengerAA.osd")
+    rc, out, err = zuml("fit", log, "--chemistry", "NiMh", "--cells", "4", "--save", "estation pack")
+    assert rc == 0, err
+    rc, out, err = zuml("compare", log, str(MACROS / "NiMh-dV.zuml"), "--battery", "estation pack", "--json")
+    assert rc == 0, err
+    assert json.loads(out)["resistance"] is None
+
+
+def test_a_discharge_with_a_cell_count_it_cannot_have_is_refused_at_once(zuml):
+    rc, out, err = zuml("fit", str(CURVES / "nimh_4s_ultramat_dis_05c.csv"), "--chemistry", "NiMh", "--cells", "5")
+    assert rc == 2 and out == "" and err.count("\n") == 1
+    assert "5 cells do not fit this discharge" in err and "nominal 1.2 V" in err and "(--cells 4)" in err
+
+
+def test_compare_json_on_a_discharge_only_log(zuml):
+    rc, out, err = zuml("compare", str(LOGS / "AkkuMasterC4_2007-12-28-EmpfaengerAA4-Entladen.csv"),
+                        str(MACROS / "NiMh.zuml"), "--cells", "4", "--json")
+    assert rc == 0, err
+    data = json.loads(out)
+    assert set(data) == FIGURE_KEYS | {"ends", "resistance", "capacity"}
+    assert data["direction"] == "discharge" and data["resistance"] is None        # the AkkuMaster never rests
+    assert data["capacity"]["real_mah"] == pytest.approx(395.8, abs=0.5) and data["capacity"]["model_mah"] > 0
+    assert data["ends"]["real"]["why"] == "voltage fell to 3.205 V (0.801 V per cell)"

@@ -39,13 +39,13 @@ def _log_info(monkeypatch):
 
 
 def _fit(monkeypatch):
-    real = fit_commands.fit
+    real = fit_commands.fit_curve
 
     def poisoned(*args, **kwargs):
         result = real(*args, max_nfev=2, only_capacity=True, **kwargs)
         result.figures.update(_poison({}))
         return result
-    monkeypatch.setattr(fit_commands, "fit", poisoned)
+    monkeypatch.setattr(fit_commands, "fit_curve", poisoned)
     return "fit", str(CURVE), "--chemistry", "LiPo", "--cells", "4"
 
 

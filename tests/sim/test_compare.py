@@ -94,3 +94,20 @@ def test_a_fit_at_a_bound_names_it_and_the_likely_cause():
                           "cells": 5, "cells_guessed": 4})
     assert lines == ["⚠ at the edge of what the fit allows: capacity, internal resistance; the likely cause is the "
                      "cell count: the fit used 5, the log looks like 4 (--cells 4)"]
+
+
+def test_a_discharge_runs_the_macros_discharge_at_the_logs_current_from_full():
+    # issue 26: the Ultramat pack discharged at 0.5 A to 0.80 V per cell; the macro's discharge phase
+    # runs at its own 1C from a full pack, and the charger may take out what the log's did.
+    curve = read_curve(CURVES / "nimh_4s_ultramat_dis_05c.csv")
+    limits = log_charger(curve, "imax_b6")
+    assert limits.max_discharge_w >= float((curve.v * -curve.i).max())
+    assert start_setup(curve, "NiMh", 4)[0] == 1.0
+    result = compare(curve, record("NiMh"), None, 4, None)
+    report = result.report
+    assert report["direction"] == "discharge" and report["peak"] is None and report["resistance"] is None
+    assert report["capacity"]["real_mah"] == pytest.approx(1038.4, abs=0.5)
+    assert report["capacity"]["model_mah"] == pytest.approx(result.sim.interpreter.q_out / 3.6, abs=0.1)
+    assert report["ends"]["real"]["kind"] == "cutoff" and report["ends"]["real"]["v"] == pytest.approx(3.2, abs=0.01)
+    assert result.sim.capacity_mah == pytest.approx(curve.delivered_mah[-1], abs=1)
+    assert (result.sim.log.arrays()["current_a"][5:] < 0).all()

@@ -35,7 +35,7 @@ def model_pack(capacities, r_factors, soc: float = 0.1, current: float = 1.5) ->
         i.append(a)
         k += 1
     taps = np.array(taps)
-    return Curve(np.array(t), taps.sum(axis=1), np.array(i), None, len(capacities), "model pack", "LiPo", taps)
+    return Curve(np.array(t), taps.sum(axis=1), np.array(i), None, len(capacities), "model pack", "LiPo", cells_v=taps)
 
 
 def test_the_cells_of_a_model_made_pack_are_found_again():

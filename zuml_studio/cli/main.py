@@ -27,7 +27,7 @@ AREAS: dict[str, dict[str, str]] = {
         "simulate": N_("run a macro's byte code against a battery model"),
     },
     "fit_commands": {
-        "fit": N_("fit a chemistry's battery model to a real charge log"),
+        "fit": N_("fit a chemistry's battery model to a real charge or discharge log"),
         "compare": N_("simulate a macro from a real log's start and compare the two"),
     },
     "device_commands": {

@@ -1,7 +1,8 @@
-"""A measured charge as the battery-model fit needs it: time, pack voltage, current, temperature.
+"""A measured charge or discharge as the battery-model fit needs it: time, pack voltage, current
+(+ = charge, - = discharge), temperature.
 
-From any log ``zuml_studio.logs`` reads (the longest charge, short idle blips merged), or from
-a plain curve CSV (``time_s,voltage_v,current_a[,temp_c]``, '#' comment lines), which is the
+From any log ``zuml_studio.logs`` reads (the longest charge or discharge, short idle blips merged), or
+from a plain curve CSV (``time_s,voltage_v,current_a[,temp_c]``, '#' comment lines), which is the
 form the validation curves in tests/data/curves/ are stored in."""
 from __future__ import annotations
 
@@ -38,6 +39,9 @@ _FALL_FRACTION = 0.03
 _RISE_FRACTION = 0.01
 
 
+DIRECTIONS = ("charge", "discharge")
+
+
 class CurveError(ValueError):
     """The file holds no charge the fit can use; the message says why."""
 
@@ -51,6 +55,7 @@ class Curve:
     cells: int               # per-cell voltages the log carried (0: none)
     name: str = ""
     chemistry: str = ""      # the battery type the log names, if it names one (iCharger logs do)
+    start_s: float = 0.0     # its first sample on the log's own clock (where its rests are found)
     # Per-cell voltages (samples x cells, V, NaN where not read) where the log has balance taps;
     # the per-cell fit (fit_cells.py) reads them. Not carried by ``decimated``.
     cells_v: np.ndarray | None = None
@@ -76,6 +81,18 @@ class Curve:
         i_mid = np.concatenate(([self.i[0]], (self.i[1:] + self.i[:-1]) / 2))
         return np.cumsum(np.clip(i_mid, 0.0, None) * dt) / 3.6
 
+    @property
+    def delivered_mah(self) -> np.ndarray:
+        """Charge taken out since the start, mAh (a discharge's capacity figure)."""
+        dt = np.diff(self.t, prepend=self.t[0])
+        i_mid = np.concatenate(([self.i[0]], (self.i[1:] + self.i[:-1]) / 2))
+        return np.cumsum(np.clip(-i_mid, 0.0, None) * dt) / 3.6
+
+    @property
+    def direction(self) -> str:
+        """"discharge" where more charge goes out than in, else "charge"."""
+        return "discharge" if self.delivered_mah[-1] > self.mah[-1] else "charge"
+
     def decimated(self, step_s: float) -> "Curve":
         """One sample per step_s: the mean current over the step (the charge stays the same), the
         median voltage (a charger's short measurement pause does not pull it down), the mean temperature."""
@@ -97,7 +114,7 @@ class Curve:
             if self.temp is not None:
                 temp.append(float(np.mean(self.temp[part])))
         return Curve(np.array(t), np.array(v), np.array(i), None if self.temp is None else np.array(temp),
-                     self.cells, self.name, self.chemistry)
+                     self.cells, self.name, self.chemistry, self.start_s)
 
     def to_csv(self) -> str:
         out = io.StringIO()
@@ -147,21 +164,97 @@ def require_charge(curve: Curve) -> None:
     mah = float(curve.mah[-1])
     if mah < _MIN_CHARGE_MAH:
         raise CurveError(_("{name}: nothing to fit: the curve puts in only {mah:.2f} mAh").format(name=name, mah=mah))
-    # The first and last twentieth, and the top tenth: a sample's noise or a pause is no rise or fall.
-    part = max(1, len(curve.v) // 20)
-    v0, v1 = float(np.median(curve.v[:part])), float(np.median(curve.v[-part:]))
-    if v1 < v0 * (1.0 - _FALL_FRACTION) and float(np.percentile(curve.v, 90)) <= v0 * (1.0 + _RISE_FRACTION):
+    fall = falls_all_the_way(curve)
+    if fall:
+        v0, v1 = fall
         raise CurveError(_("{name}: the voltage falls all the way, from {v0:.2f} V to {v1:.2f} V: a discharge, not "
                            "a charge (its current is read as charging where the file has no direction)").format(
                 name=name, v0=v0, v1=v1))
 
 
+def falls_all_the_way(curve: Curve) -> tuple[float, float] | None:
+    """(start V, end V) where the voltage ends well below its start and never climbs above it: a
+    discharge, whatever the sign of its current; else None."""
+    # The first and last twentieth, and the top tenth: a sample's noise or a pause is no rise or fall.
+    part = max(1, len(curve.v) // 20)
+    v0, v1 = float(np.median(curve.v[:part])), float(np.median(curve.v[-part:]))
+    if v1 < v0 * (1.0 - _FALL_FRACTION) and float(np.percentile(curve.v, 90)) <= v0 * (1.0 + _RISE_FRACTION):
+        return v0, v1
+    return None
+
+
+def require_discharge(curve: Curve) -> None:
+    """Refuse, in words, a curve that is no discharge."""
+    name = curve.name or "curve"
+    mah = float(curve.delivered_mah[-1])
+    if mah < _MIN_CHARGE_MAH:
+        raise CurveError(_("{name}: nothing to fit: the curve takes out only {mah:.2f} mAh").format(name=name, mah=mah))
+    part = max(1, len(curve.v) // 20)
+    v0, v1 = float(np.median(curve.v[:part])), float(np.median(curve.v[-part:]))
+    if v1 > v0 * (1.0 + _FALL_FRACTION) and float(np.percentile(curve.v, 10)) >= v0 * (1.0 - _RISE_FRACTION):
+        raise CurveError(_("{name}: the voltage rises all the way, from {v0:.2f} V to {v1:.2f} V: a charge, not a "
+                           "discharge (its current is negative)").format(name=name, v0=v0, v1=v1))
+
+
 def charge_from_log(log: Log, name: str = "") -> Curve:
     """The longest charge in the log (phases of state "charge" closer than two minutes merged)."""
+    return _longest(log, "charge", name)
+
+
+def discharge_from_log(log: Log, name: str = "") -> Curve:
+    """The longest discharge in the log, its current negative. A log without a direction (an AkkuMaster
+    "Entladen" export) calls its discharge a charge: a "charge" whose voltage falls all the way is taken."""
+    if any(s.section == "discharge" for s in log.samples):
+        return _longest(log, "discharge", name)
+    try:
+        curve = _longest(log, "charge", name)
+    except CurveError:
+        curve = None
+    if curve is None or not falls_all_the_way(curve):
+        raise CurveError(_("{value}: no discharge in the log").format(value=name or 'log'))
+    return _negated(curve)
+
+
+def curve_from_log(log: Log, name: str = "", direction: str | None = None) -> Curve:
+    """The log's charge or discharge; without a direction its charge where it has one (a charge that
+    falls all the way is a discharge without a direction column), else its discharge."""
+    if direction == "charge":
+        return charge_from_log(log, name)
+    if direction == "discharge":
+        return discharge_from_log(log, name)
+    try:
+        curve = charge_from_log(log, name)
+    except CurveError:
+        return discharge_from_log(log, name)
+    return _negated(curve) if falls_all_the_way(curve) else curve
+
+
+def log_directions(log: Log) -> list[str]:
+    """Which of charge and discharge the log holds (a "charge" that falls all the way is a discharge)."""
+    held = []
+    for direction in DIRECTIONS:
+        try:
+            curve = curve_from_log(log, "", direction)
+        except CurveError:
+            continue
+        if direction == "discharge" or not falls_all_the_way(curve):
+            held.append(direction)
+    return held
+
+
+def _negated(curve: Curve) -> Curve:
+    return Curve(curve.t, curve.v, -np.abs(curve.i), curve.temp, curve.cells, curve.name, curve.chemistry,
+                 curve.start_s)
+
+
+def _longest(log: Log, section: str, name: str) -> Curve:
+    """The longest phase of ``section`` in the log (phases closer than two minutes merged); its current
+    positive for a charge, negative for a discharge."""
     a = log.arrays()
-    charging = np.array([s.section == "charge" and s.running and not s.paused for s in log.samples], bool)
+    charging = np.array([s.section == section and s.running and not s.paused for s in log.samples], bool)
     if not charging.any():
-        raise CurveError(_("{value}: no charge in the log").format(value=name or 'log'))
+        raise CurveError((_("{value}: no charge in the log") if section == "charge" else
+                          _("{value}: no discharge in the log")).format(value=name or 'log'))
     runs: list[list[int]] = []
     for k in np.flatnonzero(charging):
         if runs and a["t"][k] - a["t"][runs[-1][1]] <= _MERGE_GAP_S:
@@ -175,10 +268,13 @@ def charge_from_log(log: Log, name: str = "") -> Curve:
     sel = sel[charging[sel] & np.isfinite(a["voltage"][sel]) & np.isfinite(a["current"][sel])]
     sel = sel[np.concatenate(([True], np.diff(a["t"][sel]) > 0))] if len(sel) else sel
     if not len(sel):
-        raise CurveError(_("{value}: no charge in the log").format(value=name or 'log'))
+        raise CurveError((_("{value}: no charge in the log") if section == "charge" else
+                          _("{value}: no discharge in the log")).format(value=name or 'log'))
     t = a["t"][sel]
-    return Curve(t - t[0], a["voltage"][sel], np.abs(a["current"][sel]), _sensor(t, a["temp"][sel]),
-                 log.cells, name, str(log.meta.get("battery", "")), a["cells"][sel] if log.cells else None)
+    sign = 1.0 if section == "charge" else -1.0
+    return Curve(t - t[0], a["voltage"][sel], sign * np.abs(a["current"][sel]), _sensor(t, a["temp"][sel]),
+                 log.cells, name, str(log.meta.get("battery", "")), float(t[0]),
+                 a["cells"][sel] if log.cells else None)
 
 
 def _sensor(t: np.ndarray, temp: np.ndarray) -> np.ndarray | None:
@@ -234,8 +330,14 @@ def read_curve_csv(text: str, name: str = "") -> Curve:
                  np.array(cols[3]) if has_temp else None, 0, name)
 
 
-def read_curve(path: str | Path) -> Curve:
-    """A charge from any log file the log readers know, else from a plain curve CSV."""
+def read_curve(path: str | Path, direction: str | None = None) -> Curve:
+    """A charge or discharge (``direction``; None: as ``curve_from_log`` picks) from any log file the log
+    readers know, else from a plain curve CSV (its current's sign says which)."""
+    return read_curve_and_log(path, direction)[0]
+
+
+def read_curve_and_log(path: str | Path, direction: str | None = None) -> tuple[Curve, Log | None]:
+    """``read_curve`` and the whole log it came from (None for a curve CSV): its rests lie outside the curve."""
     p = Path(path)
     data = read_file_bytes(p)
     text = data.decode("utf-8", "replace")
@@ -243,9 +345,10 @@ def read_curve(path: str | Path) -> Curve:
     if first.lstrip().startswith("time_s"):
         # The plain curve CSV is read as itself, strictly (a bad value is its line), before the
         # log readers' general CSV import would guess its columns and leave bad samples out.
-        return read_curve_csv(text, p.name)
+        return read_curve_csv(text, p.name), None
     try:
-        return charge_from_log(read_log(data, p.name), p.name)
+        log = read_log(data, p.name)
+        return curve_from_log(log, p.name, direction), log
     except LogFormatError as exc:
         raise CurveError(_("{name}: {reason}; nor a curve CSV (its header: {csv_columns}[,temp_c])").format(
                 name=p.name, reason=exc, csv_columns=",".join(_CSV_COLUMNS))) from None

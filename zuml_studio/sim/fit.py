@@ -26,7 +26,8 @@ _CV_I_FRACTION = 0.92
 _CV_HOLD_FRACTION = 0.99     # ... and while it stays this close (a lower CC step after the hold is CC again)
 _SMOOTH_S = 60.0            # the peak and -dV are read from a 1-minute moving average (as chargers filter)
 _PAUSE_FRACTION = 0.5      # CC samples below this fraction of the CC current are measurement pauses
-_FIT_SAMPLES = 1500          # ... or coarser, so that a long charge has at most about this many samples
+_FIT_SAMPLES = 400           # ... or coarser, so that a long charge has at most about this many samples (a fit
+                             # of a 2 h NiMH charge in about a second: benchmarks/bench_fit.py)
 _FIT_STEP_S = 10.0          # curves are decimated to this before a fit: seconds per fit, not minutes
 _TEMP_WEIGHT = 1.0           # 1 °C of temperature error weighs as 1 mV per cell
 _RISE_WEIGHT = 3.0           # 1 °C of error in the temperature rise weighs as 3 mV per cell
@@ -36,6 +37,10 @@ _NFEV_PER_PARAM = 15         # evaluations per fitted parameter and start: keeps
 # A charge's median voltage per cell lies within 5 % of the chemistry's charging_v in every real log
 # with its right cell count (docs/validation.md); one cell too many or too few on up to 8 cells is 12 %+.
 SERIES_TOLERANCE = 0.12
+# A discharge's median voltage per cell lies within 11 % of the chemistry's nominal_v on every recorded
+# discharge with its right cell count (docs/validation.md; the NiCd pack at 1 A reads 1.07 V, -11 %); one
+# cell off on up to 5 cells is 17 % or more (a 6S LiFe or Pb pack read as 7S, 13-14 %, passes).
+DISCHARGE_SERIES_TOLERANCE = 0.15
 _BOUND_LOG = 0.01            # a log-fitted value within 1 % of a bound is at it
 _BOUND_LINEAR = 0.005        # ... a linear one within 0.5 % of its range
 
@@ -131,9 +136,10 @@ def charging(current: np.ndarray, i_cc: float) -> np.ndarray:
     return current >= _PAUSE_FRACTION * i_cc
 
 
-def simulate_curve(battery: Battery, curve: Curve, cv: np.ndarray, start_soc: float) -> Run:
-    """Drive the model with the log's current (its voltage where ``cv``); sample k is held over (t[k-1], t[k]]."""
-    pack = battery.pack(start_soc, curve.ambient_c)
+def simulate_curve(battery: Battery, curve: Curve, cv: np.ndarray, start_soc: float, pack: Pack | None = None) -> Run:
+    """Drive the model with the log's current (its voltage where ``cv``); sample k is held over (t[k-1], t[k]].
+    ``pack``: the model to drive (left in its end state for the caller), else a new one from ``battery``."""
+    pack = pack or battery.pack(start_soc, curve.ambient_c)
     n = len(curve.t)
     v = np.empty(n)
     i = np.empty(n)
@@ -173,7 +179,8 @@ def figures(curve: Curve, run: Run, cv: np.ndarray, series: int, chemistry: str)
     is the span of the charge they are taken over (s from its start)."""
     cc = measured(curve, cv)
     err_v = (run.v[cc] - curve.v[cc]) / series * 1000.0
-    out: dict = {"rmse_v_per_cell_mv": round(float(np.sqrt(np.mean(err_v ** 2))), 2) if cc.any() else None,
+    out: dict = {"direction": "charge",
+                 "rmse_v_per_cell_mv": round(float(np.sqrt(np.mean(err_v ** 2))), 2) if cc.any() else None,
                  "rmse_i_cv_pct": None, "peak": None, "temp_rise": None}
     if cv.any():
         err_i = (run.i[cv] - curve.i[cv]) / cc_current(curve, cv) * 100.0
@@ -202,15 +209,24 @@ def check_series(curve: Curve, chem: Chemistry, series: int) -> None:
     SERIES_TOLERANCE off the chemistry's voltage under charge): a fit with it runs for minutes and
     ends at its bounds."""
     per_cell = float(np.median(curve.v)) / series
-    off = per_cell / chem.charging_v - 1.0
-    if abs(off) > SERIES_TOLERANCE:
+    typical = typical_v(chem, curve)
+    off = per_cell / typical - 1.0
+    if abs(off) > (SERIES_TOLERANCE if curve.direction == "charge" else DISCHARGE_SERIES_TOLERANCE):
         guess = guess_series(curve, chem.name)
-        raise CurveError(_("{series} cells do not fit this charge: its median voltage {v} V is {per_cell} V per "
-                           "cell, {off} from {chemistry}'s {charging} V under charge; it looks like {guess} cells "
-                           "(--cells {guess})").format(series=series, v=f"{float(np.median(curve.v)):.2f}",
-                                                       per_cell=f"{per_cell:.3f}", off=f"{off * 100:+.0f} %",
-                                                       chemistry=chem.name, charging=f"{chem.charging_v:g}",
-                                                       guess=guess))
+        text = (_("{series} cells do not fit this charge: its median voltage {v} V is {per_cell} V per "
+                  "cell, {off} from {chemistry}'s {charging} V under charge; it looks like {guess} cells "
+                  "(--cells {guess})") if curve.direction == "charge" else
+                _("{series} cells do not fit this discharge: its median voltage {v} V is {per_cell} V per "
+                  "cell, {off} from {chemistry}'s nominal {charging} V; it looks like {guess} cells "
+                  "(--cells {guess})"))
+        raise CurveError(text.format(series=series, v=f"{float(np.median(curve.v)):.2f}", per_cell=f"{per_cell:.3f}",
+                                     off=f"{off * 100:+.0f} %", chemistry=chem.name, charging=f"{typical:g}",
+                                     guess=guess))
+
+
+def typical_v(chem: Chemistry, curve: Curve) -> float:
+    """A cell's typical voltage along the curve: under charge, or its nominal voltage on a discharge."""
+    return chem.charging_v if curve.direction == "charge" else chem.nominal_v
 
 
 # What a fit ending at a bound says something is wrong with: the pack's size, resistance and OCV. The
@@ -282,8 +298,6 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
         base: Chemistry | None = None, max_nfev: int | None = None) -> FitResult:
     """Fit the model of `chemistry` (or `base`) to the charge; ``only_capacity`` keeps the chemistry's
     defaults and fits the capacity and start state only (how a user without a log would fare)."""
-    from scipy.optimize import least_squares   # lazy: scipy costs start-up time
-
     require_charge(curve)
     chem = base or load_chemistry(chemistry)
     chemistry = chem.name
@@ -309,28 +323,12 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
                      real_s[k_peak:] - real_s[k_peak])
 
     def solve(free: list[Param], begin: dict, end_terms: bool):
-        def to_x(values: dict) -> np.ndarray:
-            return np.array([math.log(values[p.name]) if p.log else values[p.name] for p in free])
-
-        def values_of(x: np.ndarray) -> dict:
-            return {**begin, **{p.name: (math.exp(v) if p.log else float(v)) for p, v in zip(free, x)}}
-
-        def residuals(x: np.ndarray) -> np.ndarray:
-            values = values_of(x)
+        def residuals(values: dict) -> np.ndarray:
             battery = Battery(_apply(chem, values), values["capacity_mah"], series)
             run = simulate_curve(battery, work, cv, values.get("start_soc", 0.0))
             return np.concatenate((_residuals(work, run, cv, series, chemistry, real_peak if end_terms else None,
                                               with_temp=end_terms), _prior(values)))
-
-        lo = np.array([math.log(p.lo) if p.log else p.lo for p in free])
-        hi = np.array([math.log(p.hi) if p.log else p.hi for p in free])
-        x0 = np.clip(to_x(begin), lo + 1e-9, hi - 1e-9)
-        try:
-            sol = least_squares(residuals, x0, bounds=(lo, hi), diff_step=1e-3, x_scale="jac",
-                                max_nfev=max_nfev or _NFEV_PER_PARAM * len(free))
-        except ValueError as exc:      # scipy's words ("Residuals are not finite in the initial point")
-            raise _cannot_start(curve, chemistry, exc) from None
-        return values_of(sol.x), sol.cost, int(sol.nfev)
+        return solve_params(free, begin, residuals, max_nfev, lambda exc: _cannot_start(curve, chemistry, exc))
 
     # The capacity and start state first, with the chemistry's defaults: that is the default
     # model's answer, and every later stage starts from there.
@@ -372,6 +370,30 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
                      nfev)
 
 
+def solve_params(free: list[Param], begin: dict, residuals, max_nfev: int | None,
+                 cannot_start) -> tuple[dict, float, int]:
+    """Move the ``free`` parameters from ``begin`` (the others held) to the least squares of
+    ``residuals(values)``: (values, cost, evaluations). ``cannot_start(exc)`` is the error raised where
+    the model gives no finite residual at the start."""
+    from scipy.optimize import least_squares   # lazy: scipy costs start-up time
+
+    def to_x(values: dict) -> np.ndarray:
+        return np.array([math.log(values[p.name]) if p.log else values[p.name] for p in free])
+
+    def values_of(x: np.ndarray) -> dict:
+        return {**begin, **{p.name: (math.exp(v) if p.log else float(v)) for p, v in zip(free, x)}}
+
+    lo = np.array([math.log(p.lo) if p.log else p.lo for p in free])
+    hi = np.array([math.log(p.hi) if p.log else p.hi for p in free])
+    x0 = np.clip(to_x(begin), lo + 1e-9, hi - 1e-9)
+    try:
+        sol = least_squares(lambda x: residuals(values_of(x)), x0, bounds=(lo, hi), diff_step=1e-3, x_scale="jac",
+                            max_nfev=max_nfev or _NFEV_PER_PARAM * len(free))
+    except ValueError as exc:      # scipy's words ("Residuals are not finite in the initial point")
+        raise cannot_start(exc) from None
+    return values_of(sol.x), sol.cost, int(sol.nfev)
+
+
 def _cannot_start(curve: Curve, chemistry: str, exc: ValueError) -> CurveError:
     return CurveError(_("{name}: the fit cannot start: the {chemistry} model gives no finite voltage along this "
                         "curve from its start values ({error})").format(
@@ -388,7 +410,7 @@ def guess_series(curve: Curve, chemistry: str) -> int:
     voltage over the chemistry's typical voltage under charge. The median, not the highest voltage: a
     NiMH peak lies anywhere from 1.47 to 1.65 V per cell (docs/validation.md), so the top of a 4-cell
     pack with leads reads like 5 cells, while the median stays within 5 % of ``charging_v``."""
-    per_cell = float(np.median(curve.v)) / load_chemistry(chemistry).charging_v
+    per_cell = float(np.median(curve.v)) / typical_v(load_chemistry(chemistry), curve)
     if curve.cells and abs(per_cell / curve.cells - 1.0) < _TAPS_AGREE:
         return curve.cells
     return max(1, int(round(per_cell)))

@@ -118,9 +118,10 @@ def taps_per_cell(curve: Curve, series: int) -> bool:
 
 
 def fit_cells(result: FitResult) -> CellsFit | None:
-    """Each cell of the fitted pack from its balance tap; None where the log has no tap per cell."""
+    """Each cell of the fitted charge from its balance tap; None where the log has no tap per cell, and
+    for a discharge (a tap is fitted where the pack's current charges it)."""
     curve, series = result.curve, result.battery.series
-    if not taps_per_cell(curve, series):
+    if curve.direction != "charge" or not taps_per_cell(curve, series):
         return None
     chem, capacity = result.battery.chem, result.battery.capacity_mah
     start_soc = float(result.params.get("start_soc", 0.0))

@@ -13,6 +13,7 @@ REAL_END = {
     "log_ends": N_("log ends"),
     "cv": N_("current tapered to {a} A ({share} of CC) at {v} V"),
     "cc": N_("log ends during constant current"),
+    "cutoff": N_("voltage fell to {v} V ({per_cell} V per cell)"),
 }
 
 
@@ -29,14 +30,24 @@ def _minutes(window: list[float]) -> str:
 def figure_lines(report: dict) -> list[str]:
     """The figures, each with the span of the charge it is taken over."""
     lines = []
+    discharge = report.get("direction") == "discharge"
     if report.get("window_s"):
-        lines.append(_("figures over {span} of the charge (the time both ran)").format(
-            span=_minutes(report["window_s"])) if "ends" in report else
-            _("figures over {span} of the charge").format(span=_minutes(report["window_s"])))
+        span = _minutes(report["window_s"])
+        if discharge:
+            lines.append(_("figures over {span} of the discharge (the time both ran)").format(span=span)
+                         if "ends" in report else _("figures over {span} of the discharge").format(span=span))
+        else:
+            lines.append(_("figures over {span} of the charge (the time both ran)").format(span=span)
+                         if "ends" in report else _("figures over {span} of the charge").format(span=span))
     if report.get("rmse_v_per_cell_mv") is not None:
         lines.append(_("RMSE voltage: {n} mV per cell").format(n=f"{report['rmse_v_per_cell_mv']:g}"))
     if report.get("rmse_i_cv_pct") is not None:
         lines.append(_("RMSE current in CV: {share} of the CC current").format(share=f"{report['rmse_i_cv_pct']:g} %"))
+    if report.get("capacity"):
+        c = report["capacity"]
+        lines.append(_("delivered {real} mAh (real), {model} mAh (model), {off}").format(
+            real=f"{c['real_mah']:g}", model=f"{c['model_mah']:g}",
+            off=f"{(c['model_mah'] / c['real_mah'] - 1.0) * 100:+.1f} %" if c["real_mah"] else "–"))
     if report.get("peak"):
         p = report["peak"]
         lines.append(_("peak at {real} mAh (real), {model} mAh (model)").format(real=f"{p['real_mah']:g}",
@@ -56,6 +67,24 @@ def figure_lines(report: dict) -> list[str]:
     return lines
 
 
+def clock(seconds: float) -> str:
+    """h:mm:ss on a log's clock."""
+    s = int(round(seconds))
+    return f"{s // 3600}:{s // 60 % 60:02d}:{s % 60:02d}"
+
+
+def resistance_words(report: dict) -> str | None:
+    """What a comparison says of the resistance it took from the log (None: it took none)."""
+    r = report.get("resistance")
+    if not r:
+        return None
+    if len(r["at_s"]) == 1:
+        return _("resistance {r} mΩ/cell measured at the rest at {at}").format(
+            r=f"{r['mohm_per_cell']:.0f}", at=clock(r["at_s"][0]))
+    return _("resistance {r} mΩ/cell measured at {n} rests from {at}").format(
+        r=f"{r['mohm_per_cell']:.0f}", n=len(r["at_s"]), at=clock(r["at_s"][0]))
+
+
 def bound_lines(report: dict) -> list[str]:
     """A fit whose values ended at their bounds: which, and the likely cause."""
     ends = report.get("at_bound") or []
@@ -65,6 +94,8 @@ def bound_lines(report: dict) -> list[str]:
     if report.get("cells_guessed") not in (None, report.get("cells")):
         cause = _("the likely cause is the cell count: the fit used {cells}, the log looks like {guess} "
                   "(--cells {guess})").format(cells=report["cells"], guess=report["cells_guessed"])
+    elif report.get("direction") == "discharge":
+        cause = _("the model cannot follow this discharge: check the chemistry and the cell count")
     else:
         cause = _("the model cannot follow this charge: check the chemistry and the cell count")
     return [_("⚠ at the edge of what the fit allows: {names}; {cause}").format(names=names, cause=cause)]
@@ -79,6 +110,7 @@ PARAM_WORDS = {
     "r2_ohm": N_("slow polarisation resistance"), "tau2_s": N_("slow polarisation time"),
     "k_charge_ohm": N_("charge polarisation"), "pol_tau_s": N_("polarisation time"),
     "pol_max_v": N_("polarisation limit"),
+    "k_discharge_ohm": N_("discharge knee"),
 }
 
 
@@ -107,5 +139,7 @@ def param_lines(params: dict, battery) -> list[str]:
         "k_charge_ohm": lambda v: _("charge polarisation {r} mΩ per cell").format(r=f"{v * 1000:.2f}"),
         "pol_tau_s": lambda v: _("polarisation builds over {m} min").format(m=f"{v / 60:.0f}"),
         "pol_max_v": lambda v: _("polarisation at most {mv} mV per cell").format(mv=f"{v * 1000:.0f}"),
+        "k_discharge_ohm": lambda v: _("discharge knee {r} mΩ per cell at a tenth of the charge left").format(
+            r=f"{v / 0.1 * chem.ref_capacity_ah / max(q_ah, 1e-6) * 1000:.0f}"),
     }
     return [text[k](v) if k in text else f"{k} {v:g}" for k, v in params.items()]

@@ -116,7 +116,7 @@ def test_fit_runs_off_the_gui_thread_and_a_failed_fit_is_said(dialog, qtbot, mon
     def failing_fit(*args):
         ran_on.append(threading.current_thread())
         raise ValueError("the optimiser found no fit")
-    monkeypatch.setattr(compare_dialog, "fit", failing_fit)
+    monkeypatch.setattr(compare_dialog, "fit_curve", failing_fit)
     wait_for(qtbot, dialog, dialog.fit_log)
     assert ran_on and ran_on[0] is not threading.main_thread()
     assert "the optimiser found no fit" in dialog.figures.text()
@@ -172,10 +172,41 @@ def test_fit_with_a_cell_count_the_charge_cannot_have_is_refused_at_once(dialog,
 
 
 @pytest.mark.parametrize("action", ["fit_log", "compare_macro"])
-def test_a_discharge_log_is_said_to_be_no_charge_by_fit_and_simulate(dialog, qtbot, action):
-    # issue 27: an AkkuMaster "Entladen" export (no direction column) was fitted as a charge
+def test_a_discharge_log_is_fitted_and_compared_as_a_discharge(dialog, qtbot, action, monkeypatch):
+    # issue 27: an AkkuMaster "Entladen" export (no direction column) was fitted as a charge; issue 26:
+    # it is a discharge, fitted and compared as one
+    dialog._record = lambda: helpers.compiled("NiMh")
     dialog.chemistry.setCurrentIndex(dialog.chemistry.findData("NiMh"))
     assert dialog.load_log(str(helpers.ROOT / "tests" / "data" / "logs" /
                                "AkkuMasterC4_2007-12-28-EmpfaengerAA4-Entladen.csv"))
+    assert "158 min of discharge, 396 mAh out" in dialog.log_label.text()
     wait_for(qtbot, dialog, getattr(dialog, action))
-    assert "the voltage falls all the way, from 5.07 V to 3.27 V: a discharge, not a charge" in dialog.figures.text()
+    text = dialog.figures.text()
+    assert "of the discharge" in text and "delivered 395.8 mAh (real)" in text, text
+    assert len(curves_of(dialog.v_plot)) == 2
+
+
+def test_simulate_macro_takes_the_resistance_from_the_logs_rests_and_says_so(dialog, qtbot):
+    # issue 26, decision (a): the eStation BC6 pauses its 1 A charge every minute
+    dialog._record = lambda: helpers.compiled("NiMh")
+    dialog.chemistry.setCurrentIndex(dialog.chemistry.findData("NiMh"))
+    assert dialog.load_log(str(helpers.ROOT / "tests" / "data" / "logs" / "eStationBC6_2008-07-05_EmpfaengerAA.osd"))
+    dialog.cells.setValue(4)
+    wait_for(qtbot, dialog, dialog.compare_macro)
+    first = dialog.figures.text().splitlines()[0]
+    assert first == "resistance 125 mΩ/cell measured at 34 rests from 2:37:38", first
+
+
+def test_a_cycle_logs_discharge_is_chosen_and_fitted_on_its_own(dialog, qtbot):
+    dialog.chemistry.setCurrentIndex(dialog.chemistry.findData("NiMh"))
+    log = str(helpers.ROOT / "tests" / "data" / "logs" / "eStationBC6_2008-07-05_EmpfaengerAA.osd")
+    assert dialog.load_log(log)
+    assert dialog.direction.isEnabled() and dialog.direction.currentData() == "charge"
+    assert "min of charge" in dialog.log_label.text()
+    dialog.direction.setCurrentIndex(dialog.direction.findData("discharge"))
+    dialog.direction.activated.emit(dialog.direction.currentIndex())        # as a user's choice does
+    assert dialog.curve.direction == "discharge" and "min of discharge" in dialog.log_label.text()
+    wait_for(qtbot, dialog, dialog.fit_log)
+    assert "delivered" in dialog.figures.text() and dialog.fitted.figures["direction"] == "discharge"
+    assert dialog.load_log(str(CURVES / "lipo_4s_406duo_3c.csv"))
+    assert not dialog.direction.isEnabled()                 # a curve CSV holds one direction

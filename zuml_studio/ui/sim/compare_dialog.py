@@ -15,9 +15,10 @@ from ...i18n import _
 from ...logs import LogFormatError, gaps
 from ...sim.batteries import BatteryFileError, save_battery
 from ...sim.chemistry import chemistry_names
-from ...sim.curve import Curve, CurveError, read_curve
-from ...sim.fit import FitResult, fit, guess_series
-from ...sim.fit_report import figure_lines, param_lines
+from ...sim.curve import DIRECTIONS, Curve, CurveError, log_directions, read_curve_and_log
+from ...sim.fit import FitResult, guess_series
+from ...sim.fit_discharge import fit_curve
+from ...sim.fit_report import figure_lines, param_lines, resistance_words
 from ...sim.interpreter import StartError
 from .. import theme
 from ..background import BackgroundCall
@@ -35,6 +36,7 @@ class CompareDialog(QDialog):
         self.setObjectName("compareDialog")
         self._record, self._on_saved = record, on_saved
         self.curve: Curve | None = None
+        self._log = None             # the whole log the curve came from: its rests give the pack's resistance
         self.fitted: FitResult | None = None
         self._job: BackgroundCall | None = None
 
@@ -48,6 +50,14 @@ class CompareDialog(QDialog):
         self.chemistry.setCurrentIndex(max(0, self.chemistry.findData(chemistry or "NiMh")))
         # The cell count is guessed with the chosen model (a LiPo log read as NiMH is 12 cells, not 4).
         self.chemistry.currentIndexChanged.connect(self._guess_cells)
+        # A cycle log holds a charge and a discharge: each is fitted and compared on its own.
+        self.direction = QComboBox()
+        for name in DIRECTIONS:
+            self.direction.addItem(_(name), name)
+        self.direction.setEnabled(False)
+        self.direction.setToolTip(_("A log holding both: its charge or its discharge"))
+        self.direction.activated.connect(lambda _index: self.load_log(self._path, self.direction.currentData()))
+        self._path = ""
         self.cells = QSpinBox()
         self.cells.setRange(1, 255)
         self.capacity = QSpinBox()
@@ -74,6 +84,7 @@ class CompareDialog(QDialog):
         row.addWidget(open_button)
         row.addWidget(self.log_label, 1)
         form.addRow(_("Log"), row)
+        form.addRow(_("Direction"), self.direction)
         form.addRow(_("Chemistry"), self.chemistry)
         form.addRow(_("Cells"), self.cells)
         form.addRow(_("Capacity"), self.capacity)
@@ -102,17 +113,25 @@ class CompareDialog(QDialog):
         if path:
             self.load_log(path)
 
-    def load_log(self, path: str) -> bool:
+    def load_log(self, path: str, direction: str | None = None) -> bool:
         try:
-            self.curve = read_curve(path)
+            self.curve, self._log = read_curve_and_log(path, direction)
         except (FileReadError, LogFormatError, CurveError) as exc:
             self._error(str(exc))
             return False
+        self._path = path
+        self.direction.setCurrentIndex(self.direction.findData(self.curve.direction))
+        self.direction.setEnabled(self._log is not None and len(log_directions(self._log)) > 1)
         self.fitted = None
         named = [c for c in chemistry_names() if c.lower() == self.curve.chemistry.lower()]
         if named:
             self.chemistry.setCurrentIndex(self.chemistry.findData(named[0]))   # iCharger logs name it
-        self.log_label.setText(f"{path}  ({self.curve.t[-1] / 60:.0f} min, {self.curve.mah[-1]:.0f} mAh)")
+        if self.curve.direction == "charge":
+            what = _("{minutes} min of charge, {mah} mAh in")
+        else:
+            what = _("{minutes} min of discharge, {mah} mAh out")
+        mah = self.curve.mah[-1] if self.curve.direction == "charge" else self.curve.delivered_mah[-1]
+        self.log_label.setText(f"{path}  ({what.format(minutes=f'{self.curve.t[-1] / 60:.0f}', mah=f'{mah:.0f}')})")
         self._guess_cells()
         self.simulate_button.setEnabled(True)
         self.fit_button.setEnabled(True)
@@ -130,7 +149,7 @@ class CompareDialog(QDialog):
         if self.curve is None or self._job is not None:
             return
         curve, chemistry, cells = self.curve, self.chemistry.currentData(), self.cells.value()
-        self._run(_("Fitting the model to the log…"), lambda: fit(curve, chemistry, cells), self._fitted)
+        self._run(_("Fitting the model to the log…"), lambda: fit_curve(curve, chemistry, cells), self._fitted)
 
     def _fitted(self, fitted: FitResult) -> None:
         self.fitted = fitted
@@ -142,6 +161,7 @@ class CompareDialog(QDialog):
 
     def compare_macro(self) -> None:
         from ...sim.compare import compare
+        from ...sim.measured_r import measure_curve
 
         record = self._record()
         if self.curve is None or self._job is not None:
@@ -150,13 +170,15 @@ class CompareDialog(QDialog):
             self._error(_("the open macro has errors: fix them to compare it with the log"))
             return
         curve, chemistry, cells = self.curve, self.chemistry.currentData(), self.cells.value()
-        capacity = self.capacity.value() or None
+        capacity, log = self.capacity.value() or None, self._log
         self._run(_("Simulating the macro from the log's start…"),
-                  lambda: compare(curve, record, chemistry, cells, capacity), self._compared)
+                  lambda: compare(curve, record, chemistry, cells, capacity,
+                                  measured_r=measure_curve(log, curve, cells)), self._compared)
 
     def _compared(self, result) -> None:
         self._draw(result.t, result.run.v, _("simulation"))
-        self.figures.setText("\n".join(figure_lines(result.report)))
+        said = resistance_words(result.report)
+        self.figures.setText("\n".join(([said] if said else []) + figure_lines(result.report)))
 
     def _run(self, what: str, fn, on_done) -> None:
         for b in (self.simulate_button, self.fit_button, self.save_button):

@@ -1,0 +1,77 @@
+"""The model fitted to a discharge (sim/fit_discharge.py, issue 26): driven by the log's current, the
+delivered capacity to the log's end voltage, each direction of a cycle log on its own."""
+import numpy as np
+import pytest
+
+from helpers import ROOT
+from zuml_studio.logs import read_log_file
+from zuml_studio.sim.chemistry import load_chemistry
+from zuml_studio.sim.curve import (Curve, CurveError, curve_from_log, discharge_from_log, log_directions,
+                                   read_curve)
+from zuml_studio.sim.fit import Battery
+from zuml_studio.sim.fit_discharge import end_voltage, fit_curve, fit_discharge, model_delivered
+
+LOGS = ROOT / "tests" / "data" / "logs"
+
+
+def synthetic_discharge(capacity: float = 2000.0, series: int = 4, current: float = 1.0) -> Curve:
+    """A NiMH capacity test made by the model itself, from full to 1.0 V per cell."""
+    battery = Battery(load_chemistry("NiMh"), capacity, series)
+    pack = battery.pack(1.0, 25.0)
+    t, v = [0.0], [pack.step(-current, 1e-3)]
+    while v[-1] > 1.0 * series and t[-1] < 10 * 3600:
+        t.append(t[-1] + 10.0)
+        v.append(pack.step(-current, 10.0))
+    return Curve(np.array(t), np.array(v), np.full(len(t), -current), None, 0, "synthetic")
+
+
+def test_a_fit_finds_the_capacity_of_a_model_made_discharge_again():
+    curve = synthetic_discharge()
+    assert curve.direction == "discharge"
+    result = fit_discharge(curve, "NiMh", 4, only_capacity=True)
+    assert result.params["capacity_mah"] == pytest.approx(2000, rel=0.03)
+    assert result.params["start_soc"] == pytest.approx(1.0, abs=0.03)
+    assert result.figures["rmse_v_per_cell_mv"] < 3
+    c = result.figures["capacity"]
+    assert c["model_mah"] == pytest.approx(c["real_mah"], rel=0.01)
+
+
+def test_the_model_is_driven_on_past_the_logs_end_to_the_end_voltage():
+    # The log stops at half the pack; a model of the whole pack reaches the end voltage only later.
+    curve = synthetic_discharge()
+    half = Curve(curve.t[: len(curve.t) // 2], curve.v[: len(curve.t) // 2], curve.i[: len(curve.t) // 2], None, 0)
+    battery = Battery(load_chemistry("NiMh"), 2000.0, 4)
+    _run, delivered = model_delivered(battery, half, 1.0, end_voltage(curve))
+    assert delivered == pytest.approx(float(curve.delivered_mah[-1]), rel=0.01)
+    assert delivered > 1.8 * float(half.delivered_mah[-1])
+
+
+def test_fit_curve_takes_each_direction_to_its_own_fit():
+    charge = read_curve(LOGS / "eStationBC6_2008-07-05_EmpfaengerAA.osd", "charge")
+    discharge = read_curve(LOGS / "eStationBC6_2008-07-05_EmpfaengerAA.osd", "discharge")
+    assert (charge.direction, discharge.direction) == ("charge", "discharge")
+    assert (charge.i >= 0).all() and (discharge.i <= 0).all()
+    assert fit_curve(charge, "NiMh", 4, only_capacity=True, max_nfev=3).figures["direction"] == "charge"
+    assert fit_curve(discharge, "NiMh", 4, only_capacity=True, max_nfev=3).figures["direction"] == "discharge"
+
+
+def test_a_cycle_log_holds_both_directions_and_a_log_without_a_direction_column_its_discharge():
+    assert log_directions(read_log_file(LOGS / "eStationBC6_2008-07-05_EmpfaengerAA.osd")) == ["charge",
+                                                                                                  "discharge"]
+    entladen = read_log_file(LOGS / "AkkuMasterC4_2007-12-28-EmpfaengerAA4-Entladen.csv")
+    assert log_directions(entladen) == ["discharge"]
+    curve = curve_from_log(entladen, "entladen")
+    assert curve.direction == "discharge" and (curve.i < 0).all()
+    laden = read_log_file(LOGS / "AkkuMasterC4_2007-12-28-EmpfaengerAA4-Laden.csv") \
+        if (LOGS / "AkkuMasterC4_2007-12-28-EmpfaengerAA4-Laden.csv").is_file() else None
+    if laden is not None:
+        with pytest.raises(CurveError, match="no discharge in the log"):
+            discharge_from_log(laden, "laden")
+
+
+def test_the_discharge_keeps_its_place_on_the_logs_clock():
+    log = read_log_file(LOGS / "UltramatACDCEQ_2014-09-16_4S_NiMH_cycle.osd")
+    curve = curve_from_log(log, "", "discharge")
+    a = log.arrays()
+    k = int(np.searchsorted(a["t"], curve.start_s))
+    assert a["current"][k] < 0 and curve.t[0] == 0.0 and curve.start_s > 0

@@ -1,0 +1,170 @@
+"""Fit a chemistry's battery model to a measured discharge (a capacity test), and the figures of one.
+
+The model is driven by the log's current (negative); the voltage is compared while the current flows,
+and the delivered capacity is the model's charge taken out until its voltage reaches the log's end
+voltage (where the charger stopped), driven on at the log's last current where the log ends first.
+What is fitted: the capacity, the start state, the resistance, the OCV offset and slope and the
+discharge knee (``k_discharge_ohm``), the slow RC pair, and the heat terms for NiCd/NiMH with a
+temperature channel (docs/fit.md). The limits are the issue's (docs/validation.md)."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .chemistry import Chemistry, load_chemistry
+from .curve import Curve, require_discharge
+from .fit import (_COMMON, NI, Battery, FitResult, Param, Run, _apply, _cannot_start, _prior, at_bounds,
+                  check_series, fit, guess_series, simulate_curve, soc_at_ocv, solve_params, temp_rise)
+
+_FIT_SAMPLES = 400           # as a charge (fit.py): a fit in seconds
+_FIT_STEP_S = 10.0
+_PAUSE_FRACTION = 0.5        # samples below this share of the discharge current are pauses, not compared
+_CAPACITY_WEIGHT = 7.0       # 1 % of delivered capacity weighs as 7 mV per cell (3 % is about a voltage limit)
+_TEMP_WEIGHT = 1.0           # 1 °C of temperature error weighs as 1 mV per cell, as on a charge
+_RUN_ON = 3.0                # the model is driven past the log's end for at most this many times its charge
+_RUN_ON_STEP_S = 10.0
+_KNEE = Param("k_discharge_ohm", 1e-5, 0.1, True)
+# The slow RC pair for every family: from rest into a discharge a pack's voltage falls for minutes
+# (the Akkumatik NiCd pack 90 mV/cell over its first four minutes after a charge), more than R0 and R1 do.
+_SLOW = (Param("r2_ohm", 1e-4, 2.0, True), Param("tau2_s", 60.0, 36000.0, True))
+_HEAT = (Param("k_t_v_per_k", 0.0, 0.03), Param("ha_w_per_k", 0.005, 0.5, True), Param("cth_j_per_k", 5.0, 300.0, True))
+_R_STARTS = (1.0, 4.0)       # the full fit begins from the default's resistance and from 4x it
+_START_SOC = Param("start_soc", 0.05, 1.0)    # a discharge mostly starts full
+
+
+def fit_curve(curve: Curve, chemistry: str, series: int, **kw) -> FitResult:
+    """``fit`` for a charge, ``fit_discharge`` for a discharge: each direction on its own."""
+    return (fit_discharge if curve.direction == "discharge" else fit)(curve, chemistry, series, **kw)
+
+
+def discharge_current(curve: Curve) -> float:
+    """The discharge current (A, positive): the median where current flows out."""
+    out = -curve.i[curve.i < 0]
+    return float(np.median(out)) if len(out) else 1.0
+
+
+def discharging(curve: Curve) -> np.ndarray:
+    """Samples at the discharge current, not in a pause, and not the first: a charger logs the voltage it
+    read before the load (the Akkumatik log holds the charged pack's 6.196 V for 3 s at -1 A)."""
+    use = -curve.i >= _PAUSE_FRACTION * discharge_current(curve)
+    use[0] = False
+    return use
+
+
+def end_voltage(curve: Curve) -> float:
+    """Where the logged discharge stopped: its last voltage under current."""
+    use = np.flatnonzero(discharging(curve))
+    return float(curve.v[use[-1]]) if len(use) else float(curve.v[-1])
+
+
+def model_delivered(battery: Battery, curve: Curve, start_soc: float, end_v: float) -> tuple[Run, float]:
+    """The model along the curve and the mAh it delivers until its voltage first reaches ``end_v``
+    (interpolated between samples); where it is still above at the log's end it is driven on at the
+    log's last discharge current (up to _RUN_ON times the log's charge)."""
+    pack = battery.pack(start_soc, curve.ambient_c)
+    cv = np.zeros(len(curve.t), bool)
+    run = simulate_curve(battery, curve, cv, start_soc, pack=pack)
+    mah = curve.delivered_mah
+    use = discharging(curve)
+    below = np.flatnonzero(use & (run.v <= end_v))
+    if len(below):
+        k = int(below[0])
+        if k == 0:
+            return run, 0.0
+        v0, v1 = run.v[k - 1], run.v[k]
+        share = (v0 - end_v) / (v0 - v1) if v0 > v1 else 1.0
+        return run, float(mah[k - 1] + (mah[k] - mah[k - 1]) * min(1.0, max(0.0, share)))
+    i_end = -discharge_current(curve)
+    taken, v_before = float(mah[-1]), float(run.v[-1])
+    step_mah = -i_end * _RUN_ON_STEP_S / 3.6
+    limit = taken + _RUN_ON * max(taken, 1.0)
+    while taken < limit:
+        v = pack.step(i_end, _RUN_ON_STEP_S)
+        if v <= end_v:
+            share = (v_before - end_v) / (v_before - v) if v_before > v else 1.0
+            return run, taken + step_mah * share
+        taken, v_before = taken + step_mah, v
+    return run, taken
+
+
+def discharge_figures(curve: Curve, run: Run, series: int, model_mah: float) -> dict:
+    """The figures ``zuml fit --json`` prints for a discharge (the keys of a charge's, and ``capacity``)."""
+    use = discharging(curve)
+    err_v = (run.v[use] - curve.v[use]) / series * 1000.0
+    span = [round(float(curve.t[0]), 1), round(float(curve.t[-1]), 1)]
+    out: dict = {"direction": "discharge",
+                 "rmse_v_per_cell_mv": round(float(np.sqrt(np.mean(err_v ** 2))), 2) if use.any() else None,
+                 "rmse_i_cv_pct": None, "peak": None, "temp_rise": None, "window_s": span,
+                 "capacity": {"real_mah": round(float(curve.delivered_mah[-1]), 1), "model_mah": round(model_mah, 1)}}
+    if curve.temp is not None:
+        out["temp_rise"] = {"real_c": temp_rise(curve.temp), "model_c": temp_rise(run.temp),
+                            "real_window_s": span, "model_window_s": span}
+    return out
+
+
+def _residuals(curve: Curve, run: Run, series: int, real_mah: float, model_mah: float) -> np.ndarray:
+    """Each part weighted so its sum of squares is its mean square in mV per cell."""
+    use = discharging(curve)
+    parts = [(run.v[use] - curve.v[use]) / series * 1000.0 / math.sqrt(max(int(use.sum()), 1)),
+             np.array([(model_mah - real_mah) / max(real_mah, 1.0) * 100.0 * _CAPACITY_WEIGHT])]
+    if curve.temp is not None:
+        parts.append((run.temp - curve.temp) * _TEMP_WEIGHT / math.sqrt(len(curve.t)))
+    return np.concatenate(parts)
+
+
+def _params(chem: Chemistry, curve: Curve, only_capacity: bool, mah: float) -> list[Param]:
+    capacity = Param("capacity_mah", max(mah * 0.5, 1.0), mah * 20.0, True)
+    if only_capacity:
+        return [capacity, _START_SOC]
+    heat = _HEAT if chem.name in NI and curve.temp is not None else ()
+    return [capacity, _START_SOC, *_COMMON[2:], _KNEE, *_SLOW, *heat]
+
+
+def fit_discharge(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = False,
+                  base: Chemistry | None = None, max_nfev: int | None = None) -> FitResult:
+    """Fit the model of `chemistry` (or `base`) to the discharge; ``only_capacity`` keeps the chemistry's
+    defaults and fits the capacity and start state only (how a user without a log would fare)."""
+    require_discharge(curve)
+    chem = base or load_chemistry(chemistry)
+    chemistry = chem.name
+    check_series(curve, chem, series)
+    work = curve.decimated(max(_FIT_STEP_S, float(curve.t[-1]) / _FIT_SAMPLES))
+    real_mah, end_v = float(curve.delivered_mah[-1]), end_voltage(curve)
+    params = _params(chem, curve, only_capacity, real_mah)
+    start = {"capacity_mah": real_mah, "start_soc": 1.0, "r_scale": 1.0, "ocv_offset_v": 0.0, "ocv_scale": 1.0}
+    for p in params[5:]:
+        start[p.name] = min(max(getattr(chem, p.name), p.lo * 1.001 if p.lo > 0 else p.lo), p.hi * 0.999)
+
+    def residuals(values: dict) -> np.ndarray:
+        battery = Battery(_apply(chem, values), values["capacity_mah"], series)
+        run, model_mah = model_delivered(battery, work, values["start_soc"], end_v)
+        return np.concatenate((_residuals(work, run, series, real_mah, model_mah), _prior(values)))
+
+    def solve(free: list[Param], begin: dict) -> tuple[dict, float, int]:
+        return solve_params(free, begin, residuals, max_nfev, lambda exc: _cannot_start(curve, chemistry, exc))
+
+    # Where it started: full (a capacity test follows a charge), or where the OCV meets the first voltage
+    # plus what the current's drop hides; each begun with the capacity that empties it at the log's end.
+    socs = {1.0, 0.85}
+    if chemistry not in NI:
+        socs.add(round(min(1.0, max(0.3, soc_at_ocv(chem, float(curve.v[0]) / series) + 0.1)), 3))
+    begins = [{**start, "start_soc": soc, "capacity_mah": real_mah / soc} for soc in sorted(socs)]
+    tries = [solve(params[:2], begin) for begin in begins]
+    values = min(tries, key=lambda c: c[1])[0]
+    nfev = sum(c[2] for c in tries)
+    if not only_capacity:
+        # A pack's resistance may be several times the default's (the Akkumatik NiCd pack's is 7x): from
+        # the default's alone the fit can stop in a shallower minimum.
+        tries = [solve(params, {**values, "r_scale": r}) for r in _R_STARTS]
+        values = min(tries, key=lambda c: c[1])[0]
+        nfev += sum(c[2] for c in tries)
+    values = {p.name: values[p.name] for p in params}
+    battery = Battery(_apply(chem, values), values["capacity_mah"], series)
+    run, model_mah = model_delivered(battery, curve, values["start_soc"], end_v)
+    report = discharge_figures(curve, run, series, model_mah)
+    report["at_bound"] = at_bounds(params, values)
+    report["cells"], report["cells_guessed"] = series, guess_series(curve, chemistry)
+    return FitResult(battery, chemistry, {k: round(v, 6) for k, v in values.items()}, report, run, curve,
+                     np.zeros(len(curve.t), bool), nfev)
+
