@@ -196,7 +196,7 @@ def test_fit_json_of_a_discharge_only_log_says_its_direction_and_capacity(zuml):
                         "--json")
     assert rc == 0, err
     data = json.loads(out)
-    assert set(data) == {"params", "at_bound", "cells", "cells_guessed", "capacity"} | FIGURE_KEYS
+    assert set(data) == {"params", "at_bound", "cells", "cells_guessed", "cell_fit", "capacity"} | FIGURE_KEYS
     assert data["direction"] == "discharge" and data["peak"] is None and data["rmse_i_cv_pct"] is None
     real, model = data["capacity"]["real_mah"], data["capacity"]["model_mah"]
     assert real == pytest.approx(891.3, abs=0.5) and abs(model - real) <= 0.03 * real
