@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import random
 from bisect import bisect_right
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from math import inf
 from typing import Sequence
 
@@ -49,11 +49,10 @@ def check_cells(cells: Sequence[CellSpec]) -> None:
 
 
 def spread_cells(capacity_mah: float, series: int, spread: tuple[float, float, float] | None = None,
-                 seed: int = 1, weak_cell_pct: float = 0.0, weak_cell: int | None = None,
-                 soc: float = 0.0) -> list[CellSpec]:
-    """Cells drawn reproducibly: each cell's capacity and resistance uniformly within ± the spread's
-    CAP and R percent of the pack's, its start state of charge within ± SOC percentage points of
-    `soc`; then the weak cell (the last unless given, 1-based) with `weak_cell_pct` % less capacity."""
+                 seed: int = 1, soc: float = 0.0) -> list[CellSpec]:
+    """Cells drawn reproducibly (`seed`): each cell's capacity and resistance uniformly within ± the
+    spread's CAP and R percent of the pack's, its start state of charge within ± SOC percentage
+    points of `soc` (no SOC spread: the run's start state)."""
     cap_pct, r_pct, soc_pct = spread or (0.0, 0.0, 0.0)
     rng = random.Random(seed)
     cells = []
@@ -61,11 +60,15 @@ def spread_cells(capacity_mah: float, series: int, spread: tuple[float, float, f
         u_cap, u_r, u_soc = rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)
         cells.append(CellSpec(capacity_mah * (1.0 + u_cap * cap_pct / 100.0), 1.0 + u_r * r_pct / 100.0,
                               min(1.0, max(0.0, soc + u_soc * soc_pct / 100.0)) if soc_pct else None))
-    if weak_cell_pct:
-        k = (weak_cell or series) - 1
-        weak = cells[k]
-        cells[k] = CellSpec(weak.capacity_mah * (1.0 - weak_cell_pct / 100.0), weak.r_scale, weak.soc)
     return cells
+
+
+def weaken(cells: Sequence[CellSpec], pct: float, cell: int | None = None) -> list[CellSpec]:
+    """The cells with one (the last unless `cell`, 1-based) holding `pct` % less capacity."""
+    out = list(cells)
+    k = (cell or len(out)) - 1
+    out[k] = replace(out[k], capacity_mah=out[k].capacity_mah * (1.0 - pct / 100.0))
+    return out
 
 
 def uniform(cells: Sequence[CellSpec], capacity_mah: float) -> bool:
@@ -99,6 +102,7 @@ class CellPack:
         # (the one-cell Pack would scale it by 1/capacity).
         self.cells = [Pack(chem, c.capacity_mah, 1, soc if c.soc is None else c.soc, ambient_c,
                            c.r_scale * c.capacity_mah / capacity_mah) for c in cells]
+        self.r_scales = [c.r_scale for c in cells]
         self._q = [c.capacity_mah for c in cells]
         self._q_total = sum(self._q)
         self.bleed_a = [0.0] * self.series     # the balancer's current out of each cell, A
@@ -131,6 +135,11 @@ class CellPack:
         self.current = current_a
         self._sync()
         return self.voltage
+
+    def set_bleed(self, mask: int, balancer) -> None:
+        """Bleed the cells of ``mask`` (bit k-1: cell k) through ``balancer`` (a `BalancerSpec`) from now on."""
+        self.bleed_a = [balancer.bleed(v) if mask >> k & 1 else 0.0 for k, v in enumerate(self.cell_voltages)] \
+            if mask else [0.0] * self.series
 
     def current_for_voltage(self, v_pack: float, dt: float) -> float:
         """The series current that makes the sum of the cells' voltages v_pack at the end of a step of dt."""
