@@ -525,6 +525,8 @@ class Interpreter:
         r.v_end = a.measured_v
         r.temp_end = self.pack.temp_c
         r.soc_end = self.pack.soc
+        if self._per_cell:
+            self.pack.set_bleed(0, None)     # the balancer stops with the phase
         if self.pack.series > 1:
             volts = getattr(self.pack, "cell_voltages", None)
             r.cells_end = tuple(volts) if volts is not None else (self.pack.voltage / self.pack.series,) * self.pack.series
