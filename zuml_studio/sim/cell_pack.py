@@ -102,7 +102,7 @@ class CellPack:
         # (the one-cell Pack would scale it by 1/capacity).
         self.cells = [Pack(chem, c.capacity_mah, 1, soc if c.soc is None else c.soc, ambient_c,
                            c.r_scale * c.capacity_mah / capacity_mah) for c in cells]
-        self.r_scales = [c.r_scale for c in cells]
+        self.specs = list(cells)
         self._q = [c.capacity_mah for c in cells]
         self._q_total = sum(self._q)
         self.bleed_a = [0.0] * self.series     # the balancer's current out of each cell, A
