@@ -77,11 +77,11 @@ class SimResult:
                    "cells": _cells_json(p.cells_end)}
                   for p in self.phases]
         pack = self.interpreter.pack
-        cells = [{"capacity_mah": round(c.capacity_mah, 1), "r_scale": round(c.r_scale, 4),
-                  "soc": None if c.soc is None else round(c.soc, 4)}
-                 for c in pack.specs] if isinstance(pack, CellPack) else None
-        return {"macro": self.interpreter.program.name, "battery": {"chemistry": self.chemistry,
-                "capacity_mah": self.capacity_mah, "series": self.series, "cells": cells},
+        battery = {"chemistry": self.chemistry, "capacity_mah": self.capacity_mah, "series": self.series}
+        if isinstance(pack, CellPack):
+            battery["cells"] = [{"capacity_mah": round(c.capacity_mah, 1), "r_scale": round(c.r_scale, 4),
+                                 "soc": None if c.soc is None else round(c.soc, 4)} for c in pack.specs]
+        return {"macro": self.interpreter.program.name, "battery": battery,
                 "phases": phases, "totals": self.totals(), "repetitions": self.repetitions()}
 
 
