@@ -130,11 +130,11 @@ class CellPack:
 
     def step(self, current_a: float, dt: float) -> float:
         """Advance dt seconds at `current_a` through the pack (+ = charge), each cell less its bleed."""
-        for c, b in zip(self.cells, self.bleed_a):
-            c.step(current_a - b, dt)
+        volts = self.cell_voltages = [c.step(current_a - b, dt) for c, b in zip(self.cells, self.bleed_a)]
         self.current = current_a
-        self._sync()
-        return self.voltage
+        v = self.voltage = sum(volts)
+        self.cell_voltage = v / self.series
+        return v
 
     def set_bleed(self, mask: int, balancer) -> None:
         """Bleed the cells of ``mask`` (bit k-1: cell k) through ``balancer`` (a `BalancerSpec`) from now on."""

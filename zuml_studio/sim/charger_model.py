@@ -65,12 +65,10 @@ class BalancerSpec:
     def ceiling_reason(self, chemistry: str, cell_voltages) -> str | None:
         """The end reason when a cell has reached the chemistry's ceiling (read to 1 mV), else None."""
         ceiling = self.ceiling_v.get(chemistry)
-        if ceiling is None:
+        top = max(cell_voltages)
+        if ceiling is None or round(top, 3) < ceiling:
             return None
-        for k, v in enumerate(cell_voltages, 1):
-            if round(v, 3) >= ceiling:
-                return f"balancer: cell {k} reached {ceiling:.2f}V (ceiling)"
-        return None
+        return f"balancer: cell {cell_voltages.index(top) + 1} reached {ceiling:.2f}V (ceiling)"
 
 
 def load_charger(name: str = "imax_b6") -> ChargerLimits:
