@@ -43,6 +43,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--adc-lsb", type=float, default=0.0, metavar="MV", help=_("voltage ADC step"))
     p.add_argument("--seed", type=int, default=1, metavar="N",
                    help=_("seed of the measurement noise and of the cell spread (default 1)"))
+    p.add_argument("--charger", default="imax_b6", metavar="MODEL",
+                   help=_("the charger model: its limits, heat sink and balancer (default imax_b6)"))
     p.add_argument("--cell-spread", metavar="CAP,R,SOC",
                    help=_("cells unequal: each cell's capacity and resistance drawn within ± CAP and R %% of the "
                           "pack's, its start state within ± SOC points"))
@@ -95,7 +97,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     record = _record(args.file)
     params = StartParams(args.task, args.cycles, args.capacity, args.current, args.voltage, args.series,
                          not args.no_sensor, args.template)
-    setup = BatterySetup(args.model, args.soc, args.ambient, battery=args.battery,
+    setup = BatterySetup(args.model, args.soc, args.ambient, charger=args.charger, battery=args.battery,
                          cell_spread=_spread(args.cell_spread), seed=args.seed, weak_cell_pct=args.weak_cell or 0.0)
     measurement = Measurement(args.noise / 1000.0, args.adc_lsb / 1000.0, args.seed)
     try:
