@@ -83,3 +83,27 @@ def test_the_csv_carries_each_cell_and_the_balance_mask():
 def test_bad_cells_are_refused_in_one_line(setup, message):
     with pytest.raises(StartError, match=message):
         simulate(record_of("LiPo"), StartParams("charge", 1, 2000, 2.0, None, 4), setup)
+
+
+def test_the_b6_balancer_bleeds_through_its_resistor_and_keeps_bleeding_down_to_the_lowest_cell():
+    from zuml_studio.sim.charger_model import load_charger
+    bal = load_charger("imax_b6").balancer
+    assert bal.bleed(4.2) == pytest.approx(0.160) and bal.bleed(3.6) == pytest.approx(3.6 / 26.25)
+    assert bal.mask([4.000, 4.005, 4.009]) == 0b100                  # more than 8 mV above the lowest
+    assert bal.mask([4.000, 4.005, 4.004], bleeding=0b100) == 0b100  # once bleeding: while above the lowest
+    assert bal.mask([4.000, 4.005, 4.000], bleeding=0b100) == 0
+    assert bal.ceiling_reason("LiPo", [4.1, 4.1996]) == "balancer: cell 2 reached 4.20V (ceiling)"
+    assert bal.ceiling_reason("LiPo", [4.1, 4.1994]) is None and bal.ceiling_reason("NiMh", [9.0]) is None
+
+
+@pytest.mark.parametrize("table, said", [
+    ({"bleed_r_ohm": 26.0, "bleed_a": 1.0}, "give bleed_r_ohm or bleed_a"),
+    ({"bleed_a": 0.0}, "give bleed_r_ohm or bleed_a"),
+    ({"bleed_a": 1.0, "during": "always"}, "during must be"),
+    ({"bleed_a": 1.0, "ceiling_v": {"LiPo": 42.0}}, "each ceiling_v must be 0..10 V"),
+])
+def test_a_bad_balancer_table_is_refused_in_one_line(table, said):
+    from zuml_studio.sim.charger_model import _balancer
+    base = {"during": "charge", "spread_v": 0.008, "ceiling_v": {"LiPo": 4.2}}
+    with pytest.raises(ValueError, match=said):
+        _balancer({**base, **table})

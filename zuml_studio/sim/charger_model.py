@@ -53,12 +53,16 @@ class BalancerSpec:
         """The current a bleeding cell at ``cell_v`` gives to its load, A."""
         return self.bleed_a if self.bleed_a is not None else max(0.0, cell_v) / self.bleed_r_ohm
 
-    def mask(self, cell_voltages) -> int:
-        """The cells to bleed now (bit k-1: cell k), from the cells' last readings."""
-        low = min(cell_voltages) + self.spread_v
+    def mask(self, cell_voltages, bleeding: int = 0) -> int:
+        """The cells to bleed now (bit k-1: cell k), from the cells' last readings: a cell starts when it
+        is more than ``spread_v`` above the lowest and, once bleeding, goes on while it is above the
+        lowest at all (as cheali bleeds every cell above the lowest once the spread passes its
+        tolerance; without that its own bleed, lowering its reading, would switch it off and on)."""
+        low = min(cell_voltages)
+        start = low + self.spread_v
         mask = 0
         for k, v in enumerate(cell_voltages):
-            if v > low:
+            if v > start or (bleeding >> k & 1 and v > low):
                 mask |= 1 << k
         return mask
 

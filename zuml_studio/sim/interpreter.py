@@ -396,7 +396,7 @@ class Interpreter:
             hs = charger.heatsink_c
             if per_cell:
                 # decided on the cells' last readings, bleeding over this tick
-                mask = bleeder.mask(pack.cell_voltages) if bleeder is not None and not self.paused else 0
+                mask = bleeder.mask(pack.cell_voltages, mask) if bleeder is not None and not self.paused else 0
                 pack.set_bleed(mask, bleeder)
             if self.paused:
                 if hs < self.tc_continue:
