@@ -30,6 +30,8 @@ def test_a_weak_cell_never_passes_the_b6_ceiling_and_its_reading_ends_the_charge
     assert max(cv.cells_end) == cv.cells_end[3] and min(cv.cells_end) < 4.15   # the others are not full
     in_cv = a["phase"] == cv.run
     assert np.any(a["balance_mask"][in_cv] & 0b1000)           # the weak cell bleeds during CV
+    assert cv.bled_s[:3] == (0.0, 0.0, 0.0) and cv.bled_s[3] == cv.end_s - cv.start_s
+    assert "balancer: cell 4 3 min" in cv.notes
     # the pack's sum is what the charger measured
     assert np.allclose(volts.sum(axis=1), a["voltage_v"], atol=1e-4)
 

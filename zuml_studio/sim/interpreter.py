@@ -110,6 +110,7 @@ class PhaseResult:
     clipped_s: float = 0.0         # how long the limits cut the current in this phase
     timer_before_full: bool = False   # a charge ended by a timer (tf or tm) before the pack was full
     cells_end: tuple = ()          # each cell's voltage at the end (a pack of more than one cell)
+    bled_s: tuple = ()             # how long the balancer bled each cell in this phase, s
 
     @property
     def by_default(self) -> bool:
@@ -153,6 +154,10 @@ class PhaseResult:
                                                                         minutes=f"{self.paused_s / 60:.0f}"))
         if self.clip_limit:
             out.append(self.clip_text)
+        if any(self.bled_s):
+            out.append(_("balancer: {cells}").format(cells=", ".join(
+                _("cell {k} {minutes} min").format(k=k, minutes=f"{s / 60:.0f}")
+                for k, s in enumerate(self.bled_s, 1) if s)))
         return out
 
 
@@ -181,6 +186,7 @@ class _Active:
     dtdt_next: float = DTDT_WINDOW_S
     default_end_v: float | None = None                  # empty discharge section
     by_timer: bool = False                              # ended by IF(tf>x) or IF(tm>x)
+    bled_ticks: list = field(default_factory=list)      # per cell: ticks the balancer bled it
 
 
 class Interpreter:
@@ -308,6 +314,8 @@ class Interpreter:
             active.conditions.append((82, active.default_end_v, f"default: empty discharge section, V<{end_v:.2f}V/cell"))
         else:
             active = self._compile(code, result, charging)
+        if self._per_cell:
+            active.bled_ticks = [0] * self.pack.series
         active.dtdt_t0 = self.pack.temp_c
         active.measured_v = self.pack.voltage
         self._event("phase_start", section=result.section, index=result.index, repetition=result.repetition,
@@ -388,6 +396,7 @@ class Interpreter:
         per_cell = self._per_cell
         chem_name = pack.chem.name
         mask = 0
+        bled = a.bled_ticks
         run_no = a.result.run
         pauses = a.result.pauses
         ticks = 0
@@ -455,6 +464,10 @@ class Interpreter:
             log.append(self.time_s, section_code, run_no, v, i, temp, hs, self.q_in / 3.6, self.q_out / 3.6)
             if per_cell:
                 log.append_cells(pack.cell_voltages, mask)
+                if mask:
+                    for k in range(len(bled)):
+                        if mask >> k & 1:
+                            bled[k] += 1
             # -- end conditions: the macro's own first, then the defaults ------------------
             reason = None
             for c, x, text in conds:
@@ -527,6 +540,7 @@ class Interpreter:
         r.soc_end = self.pack.soc
         if self._per_cell:
             self.pack.set_bleed(0, None)     # the balancer stops with the phase
+            r.bled_s = tuple(n * self.tick_s for n in a.bled_ticks)
         if self.pack.series > 1:
             volts = getattr(self.pack, "cell_voltages", None)
             r.cells_end = tuple(volts) if volts is not None else (self.pack.voltage / self.pack.series,) * self.pack.series

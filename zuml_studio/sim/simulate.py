@@ -74,7 +74,7 @@ class SimResult:
                    "pauses": [[round(a, 1), round(b, 1)] for a, b in p.pauses], "paused_s": round(p.paused_s, 1),
                    "clip": {"asked_a": round(p.clip_asked_a, 3), "given_a": round(p.clip_given_a, 3),
                             "limit": p.clip_limit, "clipped_s": round(p.clipped_s, 1)} if p.clip_limit else None,
-                   "cells": _cells_json(p.cells_end)}
+                   "cells": _cells_json(p.cells_end), "balancer_s": [round(s, 1) for s in p.bled_s] or None}
                   for p in self.phases]
         pack = self.interpreter.pack
         battery = {"chemistry": self.chemistry, "capacity_mah": self.capacity_mah, "series": self.series}
