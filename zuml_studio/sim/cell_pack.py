@@ -108,9 +108,6 @@ class CellPack:
         self.bleed_a = [0.0] * self.series     # the balancer's current out of each cell, A
         self.current = 0.0
         self._cv_guess = 0.0
-        self._sync()
-
-    def _sync(self) -> None:
         self.cell_voltages = [c.voltage for c in self.cells]
         self.voltage = sum(self.cell_voltages)
         self.cell_voltage = self.voltage / self.series
