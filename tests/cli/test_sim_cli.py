@@ -135,7 +135,8 @@ def test_bad_cell_options_are_one_line():
     for args, said in ((["--cell-spread", "3,10"], "--cell-spread takes CAP,R,SOC"),
                        (["--cell-spread", "3,x,1"], "--cell-spread takes CAP,R,SOC"),
                        (["--cell-spread", "60,1,1"], "--cell-spread takes CAP,R,SOC"),
-                       (["--weak-cell", "0"], "--weak-cell must be more than 0"),
-                       (["--weak-cell", "nan"], "--weak-cell must be more than 0")):
+                       (["--weak-cell", "0"], "--weak-cell takes PCT or PCT@K"),
+                       (["--weak-cell", "10@0"], "--weak-cell takes PCT or PCT@K"),
+                       (["--weak-cell", "nan"], "--weak-cell takes PCT or PCT@K")):
         rc, out, err = run_zuml(*NIMH, *args)
         assert rc == 2 and said in err and len(err.strip().splitlines()) == 1, (args, err)

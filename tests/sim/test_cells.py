@@ -109,3 +109,10 @@ def test_a_bad_balancer_table_is_refused_in_one_line(table, said):
     base = {"during": "charge", "spread_v": 0.008, "ceiling_v": {"LiPo": 4.2}}
     with pytest.raises(ValueError, match=said):
         _balancer({**base, **table})
+
+
+def test_the_weak_cell_can_be_any_cell_and_must_be_in_the_pack():
+    r = _weak_run(weak_cell_pct=15.0, weak_cell=2)
+    assert r.phases[-1].reason == "balancer: cell 2 reached 4.20V (ceiling)"
+    with pytest.raises(StartError, match="weak cell 5: the pack has cells 1 to 4"):
+        _weak_run(weak_cell_pct=15.0, weak_cell=5)

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 
 from ..recovery import atomic_text_file
 from ..sim.batteries import BatteryFileError
@@ -48,7 +49,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--cell-spread", metavar="CAP,R,SOC",
                    help=_("cells unequal: each cell's capacity and resistance drawn within ± CAP and R %% of the "
                           "pack's, its start state within ± SOC points"))
-    p.add_argument("--weak-cell", type=float, metavar="PCT", help=_("the last cell with PCT %% less capacity"))
+    p.add_argument("--weak-cell", metavar="PCT[@K]", help=_("cell K (default: the last) with PCT %% less capacity"))
     p.add_argument("--csv", metavar="OUT.csv", help=_("write every sample"))
     p.add_argument("--json", action="store_true", help=_("print one JSON object instead of the table"))
     p.set_defaults(run=cmd_simulate)
@@ -72,8 +73,6 @@ def _check(args: argparse.Namespace) -> None:
                                                                         top=MAX_MEASUREMENT_MV))
     if 0.0 < args.adc_lsb < MIN_ADC_LSB_MV:
         raise CliError(_("--adc-lsb must be 0 (none) or at least {low:g} mV").format(low=MIN_ADC_LSB_MV))
-    if args.weak_cell is not None and not 0.0 < args.weak_cell < 100.0:
-        raise CliError(_("--weak-cell must be more than 0 and less than 100 (percent less capacity)"))
     if args.template is not None and not 1 <= args.template <= TEMPLATE_COUNT:
         raise CliError(_("--template must be 1 to {template_count}").format(template_count=TEMPLATE_COUNT))
 
@@ -92,13 +91,28 @@ def _spread(text: str | None) -> tuple[float, float, float] | None:
     return values  # type: ignore[return-value]
 
 
+def weak_cell(text: str | None) -> dict:
+    """--weak-cell PCT[@K]: BatterySetup's weak_cell_pct and weak_cell."""
+    if text is None:
+        return {}
+    pct, _at, cell = text.partition("@")
+    try:
+        value, k = float(pct), int(cell) if cell else None
+    except ValueError:
+        value, k = math.nan, None
+    if not 0.0 < value < 100.0 or (k is not None and k < 1):
+        raise CliError(_("--weak-cell takes PCT or PCT@K: more than 0 and less than 100 percent less capacity, "
+                         "K the cell from 1 (default: the last)"))
+    return {"weak_cell_pct": value, "weak_cell": k}
+
+
 def cmd_simulate(args: argparse.Namespace) -> int:
     _check(args)
     record = _record(args.file)
     params = StartParams(args.task, args.cycles, args.capacity, args.current, args.voltage, args.series,
                          not args.no_sensor, args.template)
     setup = BatterySetup(args.model, args.soc, args.ambient, charger=args.charger, battery=args.battery,
-                         cell_spread=_spread(args.cell_spread), seed=args.seed, weak_cell_pct=args.weak_cell or 0.0)
+                         cell_spread=_spread(args.cell_spread), seed=args.seed, **weak_cell(args.weak_cell))
     measurement = Measurement(args.noise / 1000.0, args.adc_lsb / 1000.0, args.seed)
     try:
         result = simulate(record, params, setup, tick_s=args.tick, measurement=measurement)

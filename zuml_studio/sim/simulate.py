@@ -30,7 +30,8 @@ class BatterySetup:
     battery: str | None = None          # a saved named battery (batteries.py): its model, capacity and cells
     cell_spread: tuple[float, float, float] | None = None   # ± percent of capacity, resistance, SOC, drawn per cell
     seed: int = 1                       # draws the spread
-    weak_cell_pct: float = 0.0          # one cell (the last) with this % less capacity
+    weak_cell_pct: float = 0.0          # one cell with this % less capacity ...
+    weak_cell: int | None = None        # ... this one (1-based; None: the last)
 
 
 @dataclass
@@ -156,6 +157,8 @@ def pack_cells(setup: BatterySetup, capacity_mah: float, series: int, soc: float
     None: identical cells. StartError says what does not fit."""
     if setup.weak_cell_pct and not 0.0 < setup.weak_cell_pct < 100.0:
         raise StartError(_("weak cell: {pct:g} % less capacity is not 0..100 %").format(pct=setup.weak_cell_pct))
+    if setup.weak_cell is not None and not 1 <= setup.weak_cell <= series:
+        raise StartError(_("weak cell {k}: the pack has cells 1 to {series}").format(k=setup.weak_cell, series=series))
     if setup.cell_spread and (len(setup.cell_spread) != 3 or
                               not all(0.0 <= x <= top for x, top in zip(setup.cell_spread, SPREAD_MAX_PCT))):
         raise StartError(_("cell spread CAP,R,SOC: each from 0 to {tops} %").format(
@@ -170,7 +173,7 @@ def pack_cells(setup: BatterySetup, capacity_mah: float, series: int, soc: float
     cells = file_cells if file_cells is not None else spread_cells(capacity_mah, series, setup.cell_spread,
                                                                    setup.seed, soc)
     if setup.weak_cell_pct:
-        cells = weaken(cells, setup.weak_cell_pct)
+        cells = weaken(cells, setup.weak_cell_pct, setup.weak_cell)
     try:
         check_cells(cells)
     except ValueError as exc:
