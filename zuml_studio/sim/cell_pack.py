@@ -135,8 +135,10 @@ class CellPack:
 
     def set_bleed(self, mask: int, balancer) -> None:
         """Bleed the cells of ``mask`` (bit k-1: cell k) through ``balancer`` (a `BalancerSpec`) from now on."""
-        self.bleed_a = [balancer.bleed(v) if mask >> k & 1 else 0.0 for k, v in enumerate(self.cell_voltages)] \
-            if mask else [0.0] * self.series
+        if mask:
+            self.bleed_a = [balancer.bleed(v) if mask >> k & 1 else 0.0 for k, v in enumerate(self.cell_voltages)]
+        elif any(self.bleed_a):
+            self.bleed_a = [0.0] * self.series
 
     def current_for_voltage(self, v_pack: float, dt: float) -> float:
         """The series current that makes the sum of the cells' voltages v_pack at the end of a step of dt."""
