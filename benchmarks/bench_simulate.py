@@ -14,7 +14,7 @@ import tracemalloc
 from zuml_studio.data import standard_macros_dir
 from zuml_studio.lang.compiler import compile_source
 from zuml_studio.sim.interpreter import StartParams
-from zuml_studio.sim.simulate import simulate
+from zuml_studio.sim.simulate import BatterySetup, simulate
 
 MACROS = standard_macros_dir()
 RUNS = {
@@ -27,7 +27,30 @@ RUNS = {
 LONG = ("NiMh", StartParams("train", 10, 10000, 1.0, None, 4, False))
 
 
+# Issue 26: a 12S pack of unequal cells (with the B6's balancer) against the one-cell pack, per tick.
+CELLS = ("LiPo", StartParams("charge", 1, 2000, 2.0, None, 12, True), BatterySetup(cell_spread=(3.0, 10.0, 2.0)))
+
+
+def _per_tick(record: bytes, params: StartParams, setup: BatterySetup = BatterySetup()) -> float:
+    walls = []
+    for _ in range(5):
+        t0 = time.perf_counter()
+        result = simulate(record, params, setup)
+        walls.append(time.perf_counter() - t0)
+    return statistics.median(walls) / len(result.log)
+
+
+def cells_against_one() -> None:
+    name, params, setup = CELLS
+    record = compile_source((MACROS / f"{name}.zuml").read_text()).record
+    one = _per_tick(record, StartParams("charge", 1, 2000, 2.0, None, 1, True))
+    twelve = _per_tick(record, params, setup)
+    print(f"LiPo 2000 mAh 1C CC-CV: one cell {one * 1e6:.1f} us/tick, 12S with spread 3,10,2 % and the balancer "
+          f"{twelve * 1e6:.1f} us/tick = {twelve / one:.1f}x (target <= 3x)")
+
+
 def main() -> None:
+    cells_against_one()
     for label, (name, params) in RUNS.items():
         record = compile_source((MACROS / f"{name}.zuml").read_text()).record
         walls = []

@@ -295,3 +295,12 @@ def test_a_timeout_that_is_no_sensible_number_is_one_line_before_any_port_is_ope
     for value in ("inf", "nan", "0", "-1", "61"):
         code, out, err = zuml("slots", "--port", str(tmp_path / "ttyUSB7"), "--timeout", value)
         assert (code, out, err) == (2, "", "zuml: error: --timeout must be 0.01 to 60 seconds\n"), value
+
+
+def test_virtual_charger_cell_options_are_checked_in_one_line():
+    for args, said in ((["--weak-cell", "150"], "--weak-cell takes PCT or PCT@K"),
+                       (["--weak-cell", "10@9"], "weak cell 9: the pack has cells 1 to 4"),
+                       (["--cell-spread", "1,2"], "--cell-spread takes CAP,R,SOC")):
+        code, out, err = run_zuml("virtual-charger", "--battery", "LiPo:2000:4", *args)
+        one_error_line(code, out, err)
+        assert code == 2 and said in err, (args, err)

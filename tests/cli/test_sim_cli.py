@@ -33,7 +33,7 @@ def test_csv_has_every_sample_with_the_header(tmp_path):
     assert rc == 0, err
     rows = list(csv.reader(target.open()))
     assert rows[0] == ["time_s", "section", "phase", "voltage_v", "current_a", "temp_c", "heatsink_c", "mah_in",
-                       "mah_out"]
+                       "mah_out", "cell1_v", "cell2_v", "balance_mask"]     # two cells: each one's share
     sections = {r[1] for r in rows[1:]}
     assert sections == {"discharge", "charge"}
     assert "repetition 2: discharged" in out
@@ -111,3 +111,32 @@ def test_hostile_measurement_and_ambient_values_are_one_line(zuml):
                                 ("--adc-lsb", "4e-320", "--adc-lsb must be 0 (none) or at least 0.001 mV")):
         rc, out, err = zuml(*NIMH, option, value)
         assert (rc, err) == (2, f"zuml: error: {said}\n"), (option, value)
+
+
+def test_a_weak_cell_shows_in_the_table_the_json_and_the_csv(tmp_path):
+    lipo = ["simulate", str(MACROS / "LiPo.zuml"), "--capacity", "2000", "--series", "4", "--current", "2",
+            "--weak-cell", "15"]
+    rc, out, err = run_zuml(*lipo)
+    assert rc == 0, err
+    assert "phase 2 (charge): cells at the end 4.132 V (cell 1) to 4.200 V (cell 4)" in out
+    assert "⚠ phase 2 (charge) ended by balancer: cell 4 reached 4.20 V (ceiling)" in out
+    rc, out, err = run_zuml(*lipo, "--json", "--csv", str(tmp_path / "w.csv"))
+    data = json.loads(out)
+    cells = data["phases"][-1]["cells"]
+    assert (cells["min_cell"], cells["max_cell"]) == (1, 4)
+    assert 4.1995 <= cells["max_v"] <= 4.2005 and cells["min_v"] < 4.14
+    assert data["battery"]["cells"][3] == {"capacity_mah": 1700.0, "r_scale": 1.0, "soc": None}
+    rows = list(csv.reader((tmp_path / "w.csv").open()))
+    masks = {int(r[-1]) for r in rows[1:]}
+    assert rows[0][-5:] == ["cell1_v", "cell2_v", "cell3_v", "cell4_v", "balance_mask"] and 8 in masks
+
+
+def test_bad_cell_options_are_one_line():
+    for args, said in ((["--cell-spread", "3,10"], "--cell-spread takes CAP,R,SOC"),
+                       (["--cell-spread", "3,x,1"], "--cell-spread takes CAP,R,SOC"),
+                       (["--cell-spread", "60,1,1"], "--cell-spread takes CAP,R,SOC"),
+                       (["--weak-cell", "0"], "--weak-cell takes PCT or PCT@K"),
+                       (["--weak-cell", "10@0"], "--weak-cell takes PCT or PCT@K"),
+                       (["--weak-cell", "nan"], "--weak-cell takes PCT or PCT@K")):
+        rc, out, err = run_zuml(*NIMH, *args)
+        assert rc == 2 and said in err and len(err.strip().splitlines()) == 1, (args, err)

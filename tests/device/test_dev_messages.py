@@ -1,4 +1,6 @@
 """The message table: every layout round-trips; telemetry carries a signed current."""
+from dataclasses import replace
+
 import pytest
 
 from zuml_studio.device import messages as m
@@ -67,3 +69,16 @@ def test_event_round_trip_and_error_payload():
     e = m.DeviceEvent(4, 3870.0, "phase_end", "charge", 1, 1, 17, "IF(DELTA_PEAK>0.01S) STOP_FAZE")
     assert m.DeviceEvent.decode(e.encode()) == e
     assert m.decode_error(m.encode_error(0x10, m.ErrorCode.PASSPORT_CONFLICT, "a\nb")) == (0x10, 9, "a\nb")
+
+
+def test_telemetry_carries_up_to_six_cells_and_the_balance_mask():
+    t = m.Telemetry(10.0, "charge", "charge", 1, 0, 1, 1, True, False, True, 16.5, 2.0, 25.0, 30.0, 5.0, 0.0,
+                    cells_v=(4.1, 4.12, 4.13, 4.15), balance_mask=0b1010)
+    assert m.Telemetry.decode(t.encode()) == t
+    eight = replace(t, cells_v=tuple(4.0 + k / 100 for k in range(8)), balance_mask=0xFF)
+    back = m.Telemetry.decode(eight.encode())
+    assert back.cells_v == eight.cells_v[:6] and back.balance_mask == 0x3F
+    one = replace(t, cells_v=(4.1,), balance_mask=0)
+    assert len(one.encode()) == 30 and m.Telemetry.decode(one.encode()).cells_v == ()
+    with pytest.raises(m.PayloadError, match="cell tail"):
+        m.Telemetry.decode(t.encode()[:-1])

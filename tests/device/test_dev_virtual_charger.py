@@ -202,3 +202,29 @@ def test_setup_errors():
         VirtualCharger(passport="Bogus")
     assert VirtualCharger(passport="none").chip is None
     assert VirtualCharger(passport="LiPo").chip.passport.type == 4
+
+
+def test_telemetry_carries_the_unequal_cells_and_the_balancers_mask():
+    from zuml_studio.sim.cell_pack import CellSpec
+    cells = [CellSpec(2000.0)] * 3 + [CellSpec(1700.0)]           # the last cell 15 % weaker
+    dev = VirtualCharger("LiPo:2000:4", speed=100000, cells=cells)
+    try:
+        dev.eeprom[:] = pack([compiled("LiPo")])
+        w = Wire(dev)
+        w.call("START", slot=0, task=0, repetitions=1, capacity_mah=2000, current_ma=2000, voltage_mv=0, series=4,
+               sensor=1)
+        t0 = time.monotonic()
+        seen = []
+        for k in range(1, 200):                                      # up to 5.5 h of the charge, 100 s a step
+            dev.step(t0 + k * 0.001)
+            frames = FrameParser().feed(dev.read_output(1 << 20))
+            seen += [m.Telemetry.decode(f.payload) for f in frames if f.type == m.TELEMETRY]
+            if seen and seen[-1].running and seen[-1].balance_mask:
+                break
+        tel = seen[-1]
+        assert tel.running and len(tel.cells_v) == 4
+        assert tel.cells_v[3] - max(tel.cells_v[:3]) > 0.008           # the weak cell runs ahead
+        assert tel.balance_mask & 0b1000                                # and the B6's balancer bleeds it
+        assert sum(tel.cells_v) == pytest.approx(tel.voltage_v, abs=0.003)
+    finally:
+        dev.close()

@@ -144,3 +144,20 @@ def test_dangerous_voltage_is_an_error_that_stops_compiling():
 def test_lint_stays_quiet_on_a_macro_that_has_errors():
     result = compile_source(charge("FAZE CONSTANT_I=1 END_FAZE"))
     assert [d.code for d in result.diagnostics] == ["E201"]
+
+
+def test_a_lithium_pack_on_a_charger_without_a_balancer_is_warned_once():
+    from dataclasses import replace
+    from zuml_studio.sim.charger_model import load_charger
+    b6 = load_charger("imax_b6")
+    bare = replace(b6, name="bare charger", balancer=None)
+    found = [d for d in compile_source(charge(GOOD_LI), charger=bare).diagnostics if d.code == "W319"]
+    assert len(found) == 1 and "LiPo charge of more than one cell" in found[0].message
+    assert "bare charger has no balancer" in found[0].message
+    assert (found[0].line, found[0].column) == (4, 20)    # the first phase's IF(V>4.2S)
+    assert "W319" not in [d.code for d in compile_source(charge(GOOD_LI), charger=b6).diagnostics]
+    one_cell = charge(GOOD_LI, "AKK_TYPE=LiPo SERIES=1 CAPACITY=2000")
+    assert "W319" not in [d.code for d in compile_source(one_cell, charger=bare).diagnostics]
+    nimh = charge(NIMH_DV.format("1C") + "\n", NIMH)
+    assert "W319" not in [d.code for d in compile_source(nimh, charger=bare).diagnostics]
+    assert "W319" not in codes(charge(GOOD_LI))           # no charger known: nothing to say

@@ -9,6 +9,7 @@ import pytest
 from helpers import ROOT
 from zuml_studio.logs import read_log
 from zuml_studio.sim.batteries import load_battery, save_battery
+from zuml_studio.sim.cell_pack import CellSpec
 from zuml_studio.sim.chemistry import load_chemistry
 from zuml_studio.sim.curve import Curve, read_curve
 from zuml_studio.sim.fit import Battery, fit
@@ -67,9 +68,9 @@ def test_each_cell_of_a_recorded_pack_meets_the_li_limit(log, series):
     # Healthy packs: their cells within 10 % of each other in capacity and 25 % in resistance.
     assert report["capacity_mah"]["spread_pct"] < 10 and report["r_mohm"]["spread_pct"] < 25
     saved = cells.saved()
-    assert np.mean([c["capacity_mah"] for c in saved]) == pytest.approx(result.battery.capacity_mah, rel=1e-3)
-    assert np.mean([c["r_scale"] for c in saved]) == pytest.approx(1.0, abs=1e-3)
-    assert all(c["soc"] is None for c in saved)
+    assert np.mean([c.capacity_mah for c in saved]) == pytest.approx(result.battery.capacity_mah, rel=1e-3)
+    assert np.mean([c.r_scale for c in saved]) == pytest.approx(1.0, abs=1e-3)
+    assert all(c.soc is None for c in saved)
 
 
 def test_the_x6_pack_with_a_high_resistance_cell_shows_it_held_at_its_ceiling():
@@ -88,8 +89,8 @@ def test_the_x6_pack_with_a_high_resistance_cell_shows_it_held_at_its_ceiling():
     lines = cell_lines(cells.report())
     assert any(line.startswith("  cell 3:") and "held at 4.205 V by the charger" in line for line in lines)
     saved = cells.saved()           # its capacity, not measured, is kept as the others' mean
-    assert saved[2]["capacity_mah"] == pytest.approx(np.mean([saved[k]["capacity_mah"] for k in (0, 1, 3, 4)]))
-    assert saved[2]["r_scale"] == max(c["r_scale"] for c in saved)
+    assert saved[2].capacity_mah == pytest.approx(np.mean([saved[k].capacity_mah for k in (0, 1, 3, 4)]))
+    assert saved[2].r_scale == max(c.r_scale for c in saved)
 
 
 def test_the_306b_pack_has_a_weak_cell_and_its_discharge_says_so_too():
@@ -127,10 +128,10 @@ def test_the_report_in_words_names_the_spread_and_the_weakest_cell():
 
 def test_a_saved_battery_keeps_its_cells(tmp_path):
     battery = Battery(load_chemistry("LiPo"), 1700.0, 2)
-    cells = [{"capacity_mah": 1650.0, "r_scale": 0.9, "soc": None}, {"capacity_mah": 1750.0, "r_scale": 1.1,
-                                                                      "soc": 0.2}]
+    cells = [CellSpec(1650.0, 0.9), CellSpec(1750.0, 1.1, 0.2)]
     path = save_battery("two cells", battery, "x.txt", root=tmp_path, cells=cells)
-    assert json.loads(path.read_text())["cells"] == cells
+    assert json.loads(path.read_text())["cells"] == [{"capacity_mah": 1650.0, "r_scale": 0.9, "soc": None},
+                                                     {"capacity_mah": 1750.0, "r_scale": 1.1, "soc": 0.2}]
     assert load_battery("two cells", tmp_path).series == 2
     no_cells = save_battery("plain", battery, root=tmp_path)
     assert "cells" not in json.loads(no_cells.read_text())

@@ -58,8 +58,8 @@ def test_the_simulators_log_equals_the_values_the_interpreter_appended(monkeypat
     seen = []
     real_init = SampleLog.__init__
 
-    def recording_init(self):
-        real_init(self)
+    def recording_init(self, *args):
+        real_init(self, *args)
         append = self.append
 
         def both(*row):
@@ -100,3 +100,32 @@ def test_csv_has_a_row_per_sample_in_the_old_format(monkeypatch):
     t, s, p, v, i, tc, hs, qi, qo = rows[20]
     assert lines[21] == (f"{t:.1f},{samples.SECTION_NAMES[s]},{p},{v:.4f},{i:.4f},{tc:.2f},{hs:.2f},"
                          f"{qi:.1f},{qo:.1f}")
+
+
+def test_unequal_cells_are_stored_with_their_balance_mask_across_chunks(monkeypatch):
+    monkeypatch.setattr(samples, "CHUNK", 64)
+    log = SampleLog(3, per_cell=True)
+    assert log.columns == COLUMNS + ("cell1_v", "cell2_v", "cell3_v", "balance_mask")
+    rows = list(_rows(64 * 2 + 5))
+    for k, row in enumerate(rows):
+        log.append(*row)
+        log.append_cells((4.0 + k * 1e-3, 4.1, 4.2), k % 8)
+        log.seal_if_full()
+    got = log.arrays()
+    assert np.allclose(got["cell1_v"], [4.0 + k * 1e-3 for k in range(len(rows))], atol=1e-6)
+    assert got["balance_mask"].dtype == np.int64 and got["balance_mask"].tolist() == [k % 8 for k in range(len(rows))]
+    out = io.StringIO()
+    log.write_csv(out)
+    lines = out.getvalue().splitlines()
+    assert lines[0].endswith("mah_out,cell1_v,cell2_v,cell3_v,balance_mask")
+    assert lines[2].endswith(",4.0010,4.1000,4.2000,1")
+    log.keep_last()
+    assert len(log) == 1 and log.arrays()["balance_mask"].tolist() == [(len(rows) - 1) % 8]
+
+
+def test_identical_cells_read_as_the_pack_voltage_shared_and_nothing_bleeding():
+    log = SampleLog(4)
+    log.append(1.0, 1, 1, 16.8, 1.0, 25.0, 30.0, 0.3, 0.0)
+    got = log.arrays()
+    assert got["cell4_v"].tolist() == pytest.approx([4.2]) and got["balance_mask"].tolist() == [0]
+    assert SampleLog(1).columns == COLUMNS

@@ -98,6 +98,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--soc", type=float, default=0.0, metavar="F", help=_("initial state of charge 0..1 (default 0)"))
     p.add_argument("--ambient", type=float, default=25.0, metavar="C")
     p.add_argument("--no-sensor", action="store_true", help=_("no battery temperature sensor"))
+    p.add_argument("--cell-spread", metavar="CAP,R,SOC",
+                   help=_("cells unequal: capacity and resistance within ± CAP and R %% of the pack's, start state "
+                          "within ± SOC points (drawn with --seed)"))
+    p.add_argument("--weak-cell", metavar="PCT[@K]", help=_("cell K (default: the last) with PCT %% less capacity"))
     p.add_argument("--passport", default="match", metavar="TYPE",
                    help=_("the battery passport's chemistry (default: the battery's; 'none': no passport)"))
     p.add_argument("--passport-factory", action="store_true",
@@ -662,14 +666,24 @@ def cmd_passport(args: argparse.Namespace) -> int:
 
 def cmd_virtual_charger(args: argparse.Namespace) -> int:
     from ..device.transport import serve_pty, serve_tcp
-    from ..device.virtual_charger import DeviceSetupError, Faults, VirtualCharger
+    from ..device.virtual_charger import BatterySpec, DeviceSetupError, Faults, VirtualCharger
+    from ..sim.interpreter import StartError
+    from ..sim.simulate import BatterySetup, pack_cells
+    from .sim_commands import _spread, weak_cell
     try:
         faults = Faults(args.ber, args.drop, args.disconnect_after)
+        cells = None
+        if args.cell_spread or args.weak_cell:
+            spec = BatterySpec.parse(args.battery)
+            setup = BatterySetup(cell_spread=_spread(args.cell_spread), seed=1 if args.seed is None else args.seed,
+                                 **weak_cell(args.weak_cell))
+            cells = pack_cells(setup, spec.capacity_mah, spec.cells, args.soc, spec.file_cells())
         device = VirtualCharger(args.battery, speed=args.speed, eeprom_path=args.eeprom,
                                 eeprom_size=args.eeprom_size, faults=faults, eeprom_write_ms=args.eeprom_write_ms,
                                 soc=args.soc, ambient_c=args.ambient, sensor=not args.no_sensor,
-                                passport=args.passport, seed=args.seed, passport_factory=args.passport_factory)
-    except DeviceSetupError as exc:
+                                passport=args.passport, seed=args.seed, passport_factory=args.passport_factory,
+                                cells=cells)
+    except (DeviceSetupError, StartError) as exc:
         raise CliError(str(exc)) from None
     baud = args.baud or None
     with _stop_on_signal() as stop_requested:

@@ -2,13 +2,14 @@
 from __future__ import annotations
 
 import argparse
+import math
 
 from ..recovery import atomic_text_file
 from ..sim.batteries import BatteryFileError
 from ..sim.battery import AMBIENT_MAX_C, AMBIENT_MIN_C
 from ..sim.interpreter import Measurement, StartError, StartParams
 from ..sim.reasons import end_advice, shown_reason
-from ..sim.simulate import BatterySetup, SimResult, simulate
+from ..sim.simulate import SPREAD_MAX_PCT, BatterySetup, SimResult, simulate
 from ..sim.start_check import start_warnings
 from ..sim.start_templates import TEMPLATE_COUNT
 from .common import CliError, check_start_options, out, out_json, read_bytes
@@ -41,7 +42,14 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--tick", type=float, default=1.0, metavar="S", help=_("interpreter tick (default 1 s)"))
     p.add_argument("--noise", type=float, default=0.0, metavar="MV", help=_("voltage measurement noise, sigma"))
     p.add_argument("--adc-lsb", type=float, default=0.0, metavar="MV", help=_("voltage ADC step"))
-    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--seed", type=int, default=1, metavar="N",
+                   help=_("seed of the measurement noise and of the cell spread (default 1)"))
+    p.add_argument("--charger", default="imax_b6", metavar="MODEL",
+                   help=_("the charger model: its limits, heat sink and balancer (default imax_b6)"))
+    p.add_argument("--cell-spread", metavar="CAP,R,SOC",
+                   help=_("cells unequal: each cell's capacity and resistance drawn within ± CAP and R %% of the "
+                          "pack's, its start state within ± SOC points"))
+    p.add_argument("--weak-cell", metavar="PCT[@K]", help=_("cell K (default: the last) with PCT %% less capacity"))
     p.add_argument("--csv", metavar="OUT.csv", help=_("write every sample"))
     p.add_argument("--json", action="store_true", help=_("print one JSON object instead of the table"))
     p.set_defaults(run=cmd_simulate)
@@ -69,12 +77,42 @@ def _check(args: argparse.Namespace) -> None:
         raise CliError(_("--template must be 1 to {template_count}").format(template_count=TEMPLATE_COUNT))
 
 
+def _spread(text: str | None) -> tuple[float, float, float] | None:
+    """--cell-spread CAP,R,SOC: three percentages, each 0..50."""
+    if text is None:
+        return None
+    try:
+        values = tuple(float(x) for x in text.split(","))
+    except ValueError:
+        values = ()
+    if len(values) != 3 or not all(0.0 <= x <= top for x, top in zip(values, SPREAD_MAX_PCT)):
+        raise CliError(_("--cell-spread takes CAP,R,SOC: three percentages from 0 to {top:g}, e.g. 3,10,2").format(
+            top=max(SPREAD_MAX_PCT)))
+    return values  # type: ignore[return-value]
+
+
+def weak_cell(text: str | None) -> dict:
+    """--weak-cell PCT[@K]: BatterySetup's weak_cell_pct and weak_cell."""
+    if text is None:
+        return {}
+    pct, _at, cell = text.partition("@")
+    try:
+        value, k = float(pct), int(cell) if cell else None
+    except ValueError:
+        value, k = math.nan, None
+    if not 0.0 < value < 100.0 or (k is not None and k < 1):
+        raise CliError(_("--weak-cell takes PCT or PCT@K: more than 0 and less than 100 percent less capacity, "
+                         "K the cell from 1 (default: the last)"))
+    return {"weak_cell_pct": value, "weak_cell": k}
+
+
 def cmd_simulate(args: argparse.Namespace) -> int:
     _check(args)
     record = _record(args.file)
     params = StartParams(args.task, args.cycles, args.capacity, args.current, args.voltage, args.series,
                          not args.no_sensor, args.template)
-    setup = BatterySetup(args.model, args.soc, args.ambient, battery=args.battery)
+    setup = BatterySetup(args.model, args.soc, args.ambient, charger=args.charger, battery=args.battery,
+                         cell_spread=_spread(args.cell_spread), seed=args.seed, **weak_cell(args.weak_cell))
     measurement = Measurement(args.noise / 1000.0, args.adc_lsb / 1000.0, args.seed)
     try:
         result = simulate(record, params, setup, tick_s=args.tick, measurement=measurement)
@@ -139,6 +177,13 @@ def _table(args: argparse.Namespace, result: SimResult) -> None:
             out(_("repetition {repetition}: discharged {discharged:.1f} mAh (measured capacity), charged "
                   "{charged:.1f} mAh").format(
                     repetition=rep['repetition'], discharged=rep['discharged_mah'], charged=rep['charged_mah']))
+    for ph in result.phases:
+        if ph.cells_end and result.interpreter.pack.per_cell:
+            low, high = min(ph.cells_end), max(ph.cells_end)
+            out(_("phase {run} ({section}): cells at the end {low:.3f} V (cell {low_cell}) to {high:.3f} V "
+                  "(cell {high_cell})").format(run=ph.run, section=ph.section, low=low,
+                                               low_cell=ph.cells_end.index(low) + 1, high=high,
+                                               high_cell=ph.cells_end.index(high) + 1))
     for ph in result.phases:
         if ph.full_by_dtdt:
             out(_("note: phase {run} ({section}) ended by {reason}: {advice}").format(

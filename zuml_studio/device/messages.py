@@ -244,6 +244,7 @@ def decode_error(payload: bytes) -> tuple[int, int, str]:
 # -- the two device-initiated messages as objects, for the client's callbacks -------------
 
 _TELEMETRY_STRUCT = _layout(BY_NAME["TELEMETRY"].response)[0]
+TELEMETRY_CELLS = 6       # the cell voltages a TELEMETRY frame carries at most (a B6's balance port)
 
 
 @dataclass(frozen=True)
@@ -252,8 +253,9 @@ class Telemetry:
 
     ``section`` is "discharge", "charge" or "" (idle); ``temp_c`` is None without a sensor.
     ``heatsink_c`` is the charger's internal temperature. ``cells_v`` holds per-cell voltages
-    where the charger measures them (balance port); our own protocol frame does not carry them,
-    so ``encode`` drops them and ``decode`` returns (). ``state`` is a monitor-only charger's own
+    where the charger measures them (balance port); our protocol's frame carries up to the first
+    ``TELEMETRY_CELLS`` of them, with ``balance_mask`` (bit k-1: cell k bleeds), in an optional tail
+    (docs/protocol.md), and only for more than one cell. ``state`` is a monitor-only charger's own
     name for its state ("charging", "done", …; ``device.drivers``), "" for our protocol (not encoded)."""
 
     time_s: float             # the macro's clock (device time of the run)
@@ -274,6 +276,7 @@ class Telemetry:
     mah_out: float
     cells_v: tuple[float, ...] = ()
     state: str = ""
+    balance_mask: int = 0
 
     def encode(self) -> bytes:
         flags = (FLAG_RUNNING if self.running else 0) | (FLAG_PAUSED if self.paused else 0) | \
@@ -285,20 +288,38 @@ class Telemetry:
             _clamp(self.run, 0, 0xFFFF), flags, _clamp(round(self.voltage_v * 1000), 0, 0xFFFF),
             _clamp(round(self.current_a * 1000), -0x80000000, 0x7FFFFFFF), _temp(self.temp_c),
             _temp(self.heatsink_c), _clamp(round(self.mah_in * 10), 0, 0xFFFFFFFF),
-            _clamp(round(self.mah_out * 10), 0, 0xFFFFFFFF))
+            _clamp(round(self.mah_out * 10), 0, 0xFFFFFFFF)) + self._cells_tail()
+
+    def _cells_tail(self) -> bytes:
+        cells = self.cells_v[:TELEMETRY_CELLS]
+        if len(cells) < 2:
+            return b""
+        return bytes((len(cells), self.balance_mask & ((1 << len(cells)) - 1))) + b"".join(
+            _clamp(round(v * 1000), 0, 0xFFFF).to_bytes(2, "little") for v in cells)
 
     @classmethod
     def decode(cls, payload: bytes) -> "Telemetry":
-        if len(payload) != _TELEMETRY_STRUCT.size:
+        base = _TELEMETRY_STRUCT.size
+        cells_v: tuple[float, ...] = ()
+        mask = 0
+        if len(payload) > base:
+            n = payload[base]
+            if not 2 <= n <= TELEMETRY_CELLS or len(payload) != base + 2 + 2 * n:
+                raise PayloadError(_("TELEMETRY's cell tail is not a count of 2..{top} cells, a mask and their "
+                                     "voltages").format(top=TELEMETRY_CELLS))
+            mask = payload[base + 1]
+            cells_v = tuple(int.from_bytes(payload[k:k + 2], "little") / 1000.0
+                            for k in range(base + 2, len(payload), 2))
+        elif len(payload) != base:
             raise PayloadError(_("TELEMETRY has {size} bytes, not {n_payload}").format(
-                    size=_TELEMETRY_STRUCT.size, n_payload=len(payload)))
+                    size=base, n_payload=len(payload)))
         (t, task, section, rep, cycle, phase, run, flags, mv, ma, tc, hs, qi, qo) = \
-            _TELEMETRY_STRUCT.unpack(payload)
+            _TELEMETRY_STRUCT.unpack(payload[:base])
         return cls(t / 1000.0, TASKS[task] if task < len(TASKS) else "charge",
                    SECTIONS[section] if section < len(SECTIONS) else "", rep, cycle, phase, run,
                    bool(flags & FLAG_RUNNING), bool(flags & FLAG_PAUSED), bool(flags & FLAG_SENSOR),
                    mv / 1000.0, ma / 1000.0, None if tc == TEMP_UNKNOWN else tc / 100.0,
-                   None if hs == TEMP_UNKNOWN else hs / 100.0, qi / 10.0, qo / 10.0)
+                   None if hs == TEMP_UNKNOWN else hs / 100.0, qi / 10.0, qo / 10.0, cells_v, "", mask)
 
 
 @dataclass(frozen=True)

@@ -28,11 +28,13 @@ import random
 import threading
 import time
 from collections import deque
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import Sequence
 
 from ..lang.eeprom import DEFAULT_SIZE, ImageError, slots
-from ..sim.battery import AMBIENT_MAX_C, AMBIENT_MIN_C, Pack, ambient_error
+from ..sim.battery import AMBIENT_MAX_C, AMBIENT_MIN_C, ambient_error
+from ..sim.cell_pack import CellSpec, build_pack
 from ..sim.charger_model import Charger, load_charger
 from ..sim.chemistry import chemistry_names, load_chemistry
 from ..sim.interpreter import Interpreter, Measurement, StartError, StartParams, with_template
@@ -65,6 +67,13 @@ class BatterySpec:
     capacity_mah: float = 2000.0
     cells: int = 4
     named: str | None = None      # a saved fitted battery (sim/batteries.py): its parameters replace the defaults
+
+    def file_cells(self) -> list[CellSpec] | None:
+        """A named battery's cells (None: identical cells)."""
+        if not self.named:
+            return None
+        from ..sim.batteries import load_battery_cells
+        return load_battery_cells(self.named)[1]
 
     def model(self):
         """The chemistry parameters the pack is built from."""
@@ -144,14 +153,17 @@ class VirtualCharger:
     ``passport``: "match" (the battery's chemistry), a chemistry name, a Passport, or None/"none";
     ``passport_factory``: the battery's passport lets the charger write SERIAL, VENDOR, TYPE and V_LIMIT
     (off: a production battery, only ERR and CRIT are writable);
-    ``seed``: faults, tokens and measurement noise; ``tick_s``: the interpreter's tick."""
+    ``seed``: faults, tokens and measurement noise; ``tick_s``: the interpreter's tick;
+    ``cells``: the pack's unequal cells (`sim.cell_pack.CellSpec`, one per cell; default: a named
+    battery's cells, else identical cells); the charger's balancer works on them."""
 
     def __init__(self, battery: BatterySpec | str = BatterySpec(), *, speed: float = 1.0,
                  eeprom_path: str | Path | None = None, eeprom_size: int = DEFAULT_SIZE,
                  faults: Faults = Faults(), eeprom_write_ms: float = 0.0, soc: float = 0.0,
                  ambient_c: float = 25.0, sensor: bool = True, passport: Passport | str | None = "match",
                  charger: str = "imax_b6", seed: int | None = None, tick_s: float = 1.0,
-                 telemetry_hz: int = DEFAULT_TELEMETRY_HZ, passport_factory: bool = False):
+                 telemetry_hz: int = DEFAULT_TELEMETRY_HZ, passport_factory: bool = False,
+                 cells: Sequence[CellSpec] | None = None):
         self.battery = BatterySpec.parse(battery) if isinstance(battery, str) else battery
         self.speed = self._check_speed(speed)
         if not 16 <= eeprom_size <= 65535:
@@ -178,8 +190,11 @@ class VirtualCharger:
             raise DeviceSetupError(str(exc.args[0])) from None
         self.model = f"{self.limits.name} (virtual)"
         self.ambient_c = float(ambient_c)
-        self.pack = Pack(self.battery.model(), self.battery.capacity_mah, self.battery.cells,
-                         soc, ambient_c)
+        try:
+            self.pack = build_pack(self.battery.model(), self.battery.capacity_mah, self.battery.cells, soc, ambient_c,
+                                   cells if cells is not None else self.battery.file_cells())
+        except ValueError as exc:
+            raise DeviceSetupError(str(exc)) from None
         self.charger = Charger(self.limits, ambient_c)
         self.chip = self._make_chip(passport, passport_factory)
         self.templates = dict(factory_templates())
@@ -716,7 +731,17 @@ class VirtualCharger:
                     it.time_s, run.params.task, "", ph.repetition if ph else 0, 0, 0, 0, False, False,
                     self.sensor, self.pack.voltage, 0.0, sensor_t, self.charger.heatsink_c,
                     last.mah_in, last.mah_out)
+        if self.pack.series > 1:
+            t = replace(t, cells_v=self._cells_v(), balance_mask=self._balance_mask())
         return self._device_frame(m.TELEMETRY, t.encode())
+
+    def _cells_v(self) -> tuple[float, ...]:
+        pack = self.pack
+        return tuple(pack.cell_voltages) if pack.per_cell else (pack.voltage / pack.series,) * pack.series
+
+    def _balance_mask(self) -> int:
+        bleed = getattr(self.pack, "bleed_a", ())
+        return sum(1 << k for k, amps in enumerate(bleed) if amps)
 
     def _device_frame(self, type_: int, payload: bytes) -> bytes:
         seq = self._device_seq

@@ -458,6 +458,25 @@ def rule_charger_limits(ctx: Context) -> Iterator[Finding]:
                 yield _warn(st, "W318", message, hint)
 
 
+def rule_pack_voltage_without_balancer(ctx: Context) -> Iterator[Finding]:
+    """W319: a lithium charge of more than one cell (or a cell count entered at start) that ends on the pack's
+    voltage (CONSTANT_V, IF(V>x)) on a charger model without a balancer: no cell is watched on its own."""
+    lim = ctx.charger
+    if lim is None or getattr(lim, "balancer", None) is not None or ctx.chemistry not in LITHIUM \
+            or ctx.series == 1:
+        return
+    for phase in _phases(ctx.macro.charge.items):
+        st = _find(phase, ops.CONSTANT_V) or _code(phase, 83)
+        if st is not None:
+            message = _("This {chem_name} charge of more than one cell ends on the pack's voltage, and the {name} "
+                        "has no balancer: a weak cell can pass its limit while the pack is below its own").format(
+                chem_name=ctx.chem_name, name=lim.name)
+            hint = _("charge on a balancing charger, or keep the pack balanced and its end voltage below the "
+                     "chemistry's usual end")
+            yield _warn(st, "W319", message, hint)
+            return
+
+
 def _amps(ctx: Context, raw: int) -> float | None:
     if raw == INPUT_U16:
         return None
@@ -471,11 +490,12 @@ RULES: tuple[Rule, ...] = (
     rule_delta_peak, rule_nickel_rate, rule_timer_only, rule_bare_time, rule_relative_units_at_start,
     rule_trickle_lithium, rule_unreachable_phase, rule_trickle_rate, rule_slow_charge_time,
     rule_lithium_temperature, rule_delta_peak_misplaced, rule_nimh_voltage_only, rule_charger_limits,
+    rule_pack_voltage_without_balancer,
 )
 
 
 def lint(macro: Macro, charger=None, *, series: int | None = None, capacity_mah: float | None = None) -> list[Finding]:
-    """``charger``: the charger model's ``ChargerLimits`` when known (adds W318). ``series`` and
+    """``charger``: the charger model's ``ChargerLimits`` when known (adds W318 and W319). ``series`` and
     ``capacity_mah``: values entered at start, for what the macro leaves open."""
     ctx = _context(macro, charger, series, capacity_mah)
     return [finding for rule in RULES for finding in rule(ctx)]

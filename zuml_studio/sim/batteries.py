@@ -8,9 +8,11 @@ import math
 import re
 from dataclasses import fields, replace
 from pathlib import Path
+from typing import Sequence
 
 from ..recovery import atomic_write
 from ..user_dirs import config_dir
+from .cell_pack import CellSpec, check_cells
 from .chemistry import Chemistry, _check, load_chemistry
 from .fit import Battery
 from ..i18n import _
@@ -36,9 +38,10 @@ def _file_name(name: str) -> str:
 
 
 def save_battery(name: str, battery: Battery, source: str = "", root: Path | None = None,
-                 cells: list[dict] | None = None) -> Path:
+                 cells: Sequence[CellSpec] | None = None) -> Path:
     """Write the battery under `name` (an existing one of that name is replaced); returns the file.
-    ``cells``: one {"capacity_mah", "r_scale", "soc"} per cell, in order from the pack's negative end."""
+    ``cells``: each cell's capacity, resistance (x the pack's cell resistance) and start state (None:
+    the run's), in order from the pack's negative end."""
     base = load_chemistry(battery.chem.name)
     changed = {f.name: getattr(battery.chem, f.name) for f in fields(Chemistry)
                if getattr(battery.chem, f.name) != getattr(base, f.name)}
@@ -46,8 +49,7 @@ def save_battery(name: str, battery: Battery, source: str = "", root: Path | Non
            "series": battery.series, "fitted_from": source,
            "parameters": {k: list(v) if isinstance(v, tuple) else v for k, v in changed.items()}}
     if cells is not None:
-        doc["cells"] = [{"capacity_mah": float(c["capacity_mah"]), "r_scale": float(c["r_scale"]),
-                         "soc": None if c.get("soc") is None else float(c["soc"])} for c in cells]
+        doc["cells"] = [{"capacity_mah": c.capacity_mah, "r_scale": c.r_scale, "soc": c.soc} for c in cells]
     path = batteries_dir(root) / _file_name(name)
     atomic_write(path, (json.dumps(doc, indent=2) + "\n").encode())
     return path
@@ -79,6 +81,11 @@ def _number(value: object, what: str) -> float:
 
 
 def load_battery(name: str, root: Path | None = None) -> Battery:
+    return load_battery_cells(name, root)[0]
+
+
+def load_battery_cells(name: str, root: Path | None = None) -> tuple[Battery, list[CellSpec] | None]:
+    """The battery and its cells (None when the file lists none: identical cells)."""
     path = batteries_dir(root) / _file_name(name)
     try:
         doc = json.loads(path.read_text("utf-8"))
@@ -105,6 +112,22 @@ def load_battery(name: str, root: Path | None = None) -> Battery:
         capacity, series = _number(doc["capacity_mah"], "capacity_mah"), _number(doc["series"], "series")
         if not capacity > 0 or not 1 <= series <= 255 or series != int(series):
             raise ValueError(_("capacity_mah must be > 0 and series a whole number 1..255"))
+        cells = _cells(doc["cells"], int(series)) if doc.get("cells") is not None else None
     except (KeyError, TypeError, ValueError, AttributeError) as exc:
         raise BatteryFileError(_("{path}: bad battery file: {exc}").format(path=path, exc=exc)) from None
-    return Battery(fitted, capacity, int(series))
+    return Battery(fitted, capacity, int(series)), cells
+
+
+def _cells(value: object, series: int) -> list[CellSpec]:
+    if not isinstance(value, list) or len(value) != series:
+        raise ValueError(_("cells must be a list of {series} cells").format(series=series))
+    cells = []
+    for k, cell in enumerate(value, 1):
+        if not isinstance(cell, dict) or set(cell) - {"capacity_mah", "r_scale", "soc"}:
+            raise ValueError(_("cell {k}: an object with capacity_mah, r_scale and soc").format(k=k))
+        soc = cell.get("soc")
+        cells.append(CellSpec(_number(cell["capacity_mah"], "capacity_mah"),
+                              _number(cell.get("r_scale", 1.0), "r_scale"),
+                              None if soc is None else _number(soc, "soc")))
+    check_cells(cells)
+    return cells

@@ -64,10 +64,14 @@ def ambient_error(value: float) -> str:
 
 
 class Pack:
-    """`series` identical cells in series; parameters scaled to `capacity_mah` (R ∝ 1/capacity, heat capacity and heat-loss ∝ capacity)."""
+    """`series` identical cells in series; parameters scaled to `capacity_mah` (R ∝ 1/capacity, heat capacity and heat-loss ∝ capacity).
+
+    ``r_scale`` multiplies the resistances (a cell of a pack of unequal cells, `sim/cell_pack.py`)."""
+
+    per_cell = False      # one state for every cell: the cells' voltages are voltage / series
 
     def __init__(self, chem: Chemistry, capacity_mah: float, series: int, soc: float = 0.0,
-                 ambient_c: float = 25.0) -> None:
+                 ambient_c: float = 25.0, r_scale: float = 1.0) -> None:
         if not (capacity_mah > 0 and isfinite(capacity_mah)) or series < 1:
             raise ValueError(_("capacity_mah must be > 0 and series >= 1"))
         if not AMBIENT_MIN_C <= ambient_c <= AMBIENT_MAX_C:
@@ -86,7 +90,7 @@ class Pack:
         self._over = 0.0
 
         q_ah = self.capacity_mah / 1000.0
-        scale_r = chem.ref_capacity_ah / q_ah       # R x Ah is constant within a family [N11]
+        scale_r = chem.ref_capacity_ah / q_ah * r_scale    # R x Ah is constant within a family [N11]
         scale_th = q_ah / chem.ref_capacity_ah
         self._q_as = 3600.0 * q_ah
         self._r0 = chem.r0_ohm * scale_r
@@ -205,6 +209,24 @@ class Pack:
 
     def current_for_voltage(self, v_pack: float, dt: float) -> float:
         """The current that makes the terminal voltage equal v_pack at the end of a step of dt (algebraic CV solve, see notes §0.2); may be negative."""
+        rest, r_ohmic, g_charge, extra, vp, r_pol, vp_max, r_dis, g_dis = self.cv_terms(dt)
+        target = v_pack / self.series
+        charge_rhs = target - rest - extra
+        i = self._solve_ocv(charge_rhs, r_ohmic + r_pol, g_charge)
+        if i > 0.0 and vp + i * r_pol > vp_max:
+            # The gassing cap holds: polarisation is a constant, not a resistance, for this step.
+            i = self._solve_ocv(charge_rhs + vp - vp_max, r_ohmic, g_charge)
+        if i > 0.0:
+            return i
+        i = self._solve_ocv(target - rest, r_dis, g_dis)
+        # Between the discharge and charge branches (O2 overvoltage step) no current flows.
+        return i if i < 0.0 else 0.0
+
+    def cv_terms(self, dt: float) -> tuple:
+        """One cell's voltage at the end of a step of dt as a function of its current i: on charge
+        U(soc + g_charge*i) + rest + extra + r_ohmic*i + (min(vp + i*r_pol, vp_max) - vp), on discharge
+        U(soc + g_dis*i) + rest + r_dis*i (what `step` computes, with everything that does not
+        depend on i in `rest`)."""
         if dt != self._dt:
             self._set_dt(dt)
         (r0, r1b, a1, r2b, a2, ea_r, ea_r_ref, kc, kd, eps, inv_w0, w_t, dv_o2, k_t, q_rev,
@@ -212,24 +234,14 @@ class Pack:
         s = self.soc
         t = self.temp_c
         f = exp(ea_r / (t + _KELVIN) - ea_r_ref)
-        # target = U(s + g*i) + rest + r*i, with everything that does not depend on i in `rest`.
         vp = self._vp * a_p
         rest = (self._v1 * a1 + self._v2 * a2 - k_t * (t - _T_REF_C) + vp - k_dip * self._oc * a_o
                 + k_over * self._over * self._over)
         r_ohmic = (r0 + r1b + r2b) * f
-        target = v_pack / series
         eta = 1.0 - exp((s - 1.0) * inv_w0 / max(_W_FLOOR, 1.0 + w_t * (t - _T_REF_C)))
         r_pol = kc / (1.0 - s + eps) * (1.0 - a_p)
-        charge_rhs = target - rest - (1.0 - eta) * dv_o2
-        i = self._solve_ocv(charge_rhs, r_ohmic + r_pol, eta * ds_k)
-        if i > 0.0 and vp + i * r_pol > vp_max:
-            # The gassing cap holds: polarisation is a constant, not a resistance, for this step.
-            i = self._solve_ocv(charge_rhs + vp - vp_max, r_ohmic, eta * ds_k)
-        if i > 0.0:
-            return i
-        i = self._solve_ocv(target - rest, r_ohmic + kd / ((s if s > 0.0 else 0.0) + eps), ds_k)
-        # Between the discharge and charge branches (O2 overvoltage step) no current flows.
-        return i if i < 0.0 else 0.0
+        return (rest, r_ohmic, eta * ds_k, (1.0 - eta) * dv_o2, vp, r_pol, vp_max,
+                r_ohmic + kd / ((s if s > 0.0 else 0.0) + eps), ds_k)
 
     def _solve_ocv(self, rhs: float, r: float, g: float) -> float:
         """Solve rhs = U(soc + g*i) + r*i for i exactly on the piecewise-linear OCV table.

@@ -1,8 +1,13 @@
-"""Power-stage limits and heat-sink temperature of a B6-class charger.
+"""Power-stage limits, heat-sink temperature and balancer of a B6-class charger.
 
 Numbers come from the package's ``resources/chargers/<name>.toml``. The heat sink is one
 first-order thermal node: charging loses (1 - efficiency) of the output power
 in the converter, discharging burns all of V * |I| in the load transistor.
+
+The balancer (``[balancer]``, optional) watches each cell of a lithium pack during a charge:
+it bleeds every cell more than ``spread_v`` above the lowest (through a load resistor on the
+tap, ``bleed_r_ohm``: V_cell / R, or a regulated ``bleed_a``), and a cell at its chemistry's
+``ceiling_v`` ends the charge.
 """
 from __future__ import annotations
 
@@ -31,6 +36,43 @@ class ChargerLimits:
     heatsink_c_j_per_k: float
     dpeak_window_s: float          # -dV: voltage averaged over windows this long
     dpeak_holdoff_s: float         # -dV: ignored this long after a phase starts (seed 001: 5-10 min)
+    balancer: BalancerSpec | None = None    # None: the charger has no balancer
+
+
+@dataclass(frozen=True)
+class BalancerSpec:
+    """How the charger balances a lithium pack's cells while it charges them."""
+
+    bleed_r_ohm: float | None      # load resistor on each tap: the bleed is V_cell / R ...
+    bleed_a: float | None          # ... or a regulated current (exactly one of the two)
+    during: str                    # "charge": every charge phase; "cv": only phases that hold a voltage
+    spread_v: float                # a cell bleeds while it is more than this above the lowest cell
+    ceiling_v: dict[str, float]    # per chemistry: a cell at this voltage ends the charge
+
+    def bleed(self, cell_v: float) -> float:
+        """The current a bleeding cell at ``cell_v`` gives to its load, A."""
+        return self.bleed_a if self.bleed_a is not None else max(0.0, cell_v) / self.bleed_r_ohm
+
+    def mask(self, cell_voltages, bleeding: int = 0) -> int:
+        """The cells to bleed now (bit k-1: cell k), from the cells' last readings: a cell starts when it
+        is more than ``spread_v`` above the lowest and, once bleeding, goes on while it is above the
+        lowest at all (as cheali bleeds every cell above the lowest once the spread passes its
+        tolerance; without that its own bleed, lowering its reading, would switch it off and on)."""
+        low = min(cell_voltages)
+        start = low + self.spread_v
+        mask = 0
+        for k, v in enumerate(cell_voltages):
+            if v > start or (bleeding >> k & 1 and v > low):
+                mask |= 1 << k
+        return mask
+
+    def ceiling_reason(self, chemistry: str, cell_voltages) -> str | None:
+        """The end reason when a cell has reached the chemistry's ceiling (read to 1 mV), else None."""
+        ceiling = self.ceiling_v.get(chemistry)
+        top = max(cell_voltages)
+        if ceiling is None or round(top, 3) < ceiling:
+            return None
+        return f"balancer: cell {cell_voltages.index(top) + 1} reached {ceiling:.2f}V (ceiling)"
 
 
 def load_charger(name: str = "imax_b6") -> ChargerLimits:
@@ -65,12 +107,26 @@ def _from_toml(parsed: dict) -> ChargerLimits:
         heatsink_c_j_per_k=float(hs["c_j_per_k"]),
         dpeak_window_s=float(dpeak["window_s"]),
         dpeak_holdoff_s=float(dpeak["holdoff_s"]),
+        balancer=_balancer(parsed["balancer"]) if "balancer" in parsed else None,
     )
     if not 0.0 < limits.charge_efficiency <= 1.0 or limits.heatsink_r_k_per_w <= 0 or limits.heatsink_c_j_per_k <= 0:
         raise ValueError(_("efficiency must be in (0, 1], heat-sink R and C > 0"))
     if limits.dpeak_window_s <= 0 or limits.dpeak_holdoff_s < 0:
         raise ValueError(_("-dV window must be > 0 s and its hold-off >= 0 s"))
     return limits
+
+
+def _balancer(bal: dict) -> BalancerSpec:
+    r, amps = bal.get("bleed_r_ohm"), bal.get("bleed_a")
+    spec = BalancerSpec(None if r is None else float(r), None if amps is None else float(amps), str(bal["during"]),
+                        float(bal["spread_v"]), {str(k): float(v) for k, v in bal["ceiling_v"].items()})
+    if (r is None) == (amps is None) or (spec.bleed_r_ohm or spec.bleed_a or 0.0) <= 0.0:
+        raise ValueError(_("balancer: give bleed_r_ohm or bleed_a (one of them, > 0)"))
+    if spec.during not in ("charge", "cv") or spec.spread_v < 0.0:
+        raise ValueError(_("balancer: during must be \"charge\" or \"cv\", spread_v >= 0"))
+    if not all(0.0 < v < 10.0 for v in spec.ceiling_v.values()):
+        raise ValueError(_("balancer: each ceiling_v must be 0..10 V"))
+    return spec
 
 
 class Charger:

@@ -15,6 +15,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .cell_pack import CellSpec
 from .chemistry import Chemistry
 from .curve import Curve, CurveError
 from .fit import Battery, FitResult, simulate_curve
@@ -85,7 +86,7 @@ class CellsFit:
                 "r_mohm": _spread([c.r_mohm for c in self.cells]),
                 "weakest": self.weakest, "highest_resistance": self.highest_resistance}
 
-    def saved(self) -> list[dict]:
+    def saved(self) -> list[CellSpec]:
         """The cells as a battery file keeps them (``save_battery(..., cells=...)``): the taps' differences
         on the pack's own fit. Capacities are scaled so that their mean is the pack's fitted capacity and
         resistance factors so that theirs is 1: the taps leave out the leads the pack voltage includes, so
@@ -95,8 +96,8 @@ class CellsFit:
         free = [c.capacity_mah for c in self.cells if not c.held] or [c.capacity_mah for c in self.cells]
         caps = np.array([float(np.mean(free)) if c.held else c.capacity_mah for c in self.cells])
         scales = np.array([c.r_scale for c in self.cells])
-        return [{"capacity_mah": round(float(cap * self.pack_capacity_mah / caps.mean()), 1),
-                 "r_scale": round(float(s / scales.mean()), 4), "soc": None} for cap, s in zip(caps, scales)]
+        return [CellSpec(round(float(cap * self.pack_capacity_mah / caps.mean()), 1), round(float(s / scales.mean()), 4))
+                for cap, s in zip(caps, scales)]
 
 
 def _spread(values: list[float]) -> dict:

@@ -109,11 +109,13 @@ class PhaseResult:
     clip_limit: str = ""           # ... and which limit ("5 W discharge limit"); "" when never cut
     clipped_s: float = 0.0         # how long the limits cut the current in this phase
     timer_before_full: bool = False   # a charge ended by a timer (tf or tm) before the pack was full
+    cells_end: tuple = ()          # each cell's voltage at the end (a pack of more than one cell)
+    bled_s: tuple = ()             # how long the balancer bled each cell in this phase, s
 
     @property
     def by_default(self) -> bool:
-        """Ended by one of the charger's default safety conditions, not by the macro's own."""
-        return self.reason.startswith(("default:", "limit:"))
+        """Ended by one of the charger's default safety conditions (or its balancer), not by the macro's own."""
+        return self.reason.startswith(("default:", "limit:", "balancer:"))
 
     @property
     def full_by_dtdt(self) -> bool:
@@ -152,6 +154,10 @@ class PhaseResult:
                                                                         minutes=f"{self.paused_s / 60:.0f}"))
         if self.clip_limit:
             out.append(self.clip_text)
+        if any(self.bled_s):
+            out.append(_("balancer: {cells}").format(cells=", ".join(
+                _("cell {k} {minutes} min").format(k=k, minutes=f"{s / 60:.0f}")
+                for k, s in enumerate(self.bled_s, 1) if s)))
         return out
 
 
@@ -180,6 +186,7 @@ class _Active:
     dtdt_next: float = DTDT_WINDOW_S
     default_end_v: float | None = None                  # empty discharge section
     by_timer: bool = False                              # ended by IF(tf>x) or IF(tm>x)
+    bled_ticks: list = field(default_factory=list)      # per cell: ticks the balancer bled it
 
 
 class Interpreter:
@@ -195,7 +202,12 @@ class Interpreter:
         self.limit_s = limit_s
         self.measurement = measurement
         self._rng = random.Random(measurement.seed)
-        self.log = SampleLog()
+        self._per_cell = bool(getattr(pack, "per_cell", False) and pack.series > 1)
+        self.log = SampleLog(pack.series, self._per_cell)
+        # The balancer works on a pack whose cells the model holds apart (identical cells: nothing to
+        # bleed, and each cell is the pack's voltage / N, which the macro's own end governs).
+        spec = charger.limits.balancer
+        self._balancer = spec if spec and self._per_cell and pack.chem.name in spec.ceiling_v else None
         self.events: list[Event] = []
         self.phases: list[PhaseResult] = []
         self.time_s = 0.0
@@ -302,6 +314,8 @@ class Interpreter:
             active.conditions.append((82, active.default_end_v, f"default: empty discharge section, V<{end_v:.2f}V/cell"))
         else:
             active = self._compile(code, result, charging)
+        if self._per_cell:
+            active.bled_ticks = [0] * self.pack.series
         active.dtdt_t0 = self.pack.temp_c
         active.measured_v = self.pack.voltage
         self._event("phase_start", section=result.section, index=result.index, repetition=result.repetition,
@@ -377,12 +391,22 @@ class Interpreter:
         t_max_default = not a.own_t
         tm_stop = self.tm_stop
         section_code = 1 if a.result.section == "charge" else 0
+        ceiling = self._balancer if section_code else None
+        bleeder = ceiling if ceiling is not None and (ceiling.during == "charge" or mode == _CV) else None
+        per_cell = self._per_cell
+        chem_name = pack.chem.name
+        mask = 0
+        bled = a.bled_ticks
         run_no = a.result.run
         pauses = a.result.pauses
         ticks = 0
         while ticks < max_ticks:
             ticks += 1
             hs = charger.heatsink_c
+            if per_cell:
+                # decided on the cells' last readings, bleeding over this tick
+                mask = bleeder.mask(pack.cell_voltages, mask) if bleeder is not None and not self.paused else 0
+                pack.set_bleed(mask, bleeder)
             if self.paused:
                 if hs < self.tc_continue:
                     self.paused = False
@@ -438,6 +462,12 @@ class Interpreter:
             a.measured_v = v
             temp = pack.temp_c
             log.append(self.time_s, section_code, run_no, v, i, temp, hs, self.q_in / 3.6, self.q_out / 3.6)
+            if per_cell:
+                log.append_cells(pack.cell_voltages, mask)
+                if mask:
+                    for k in range(len(bled)):
+                        if mask >> k & 1:
+                            bled[k] += 1
             # -- end conditions: the macro's own first, then the defaults ------------------
             reason = None
             for c, x, text in conds:
@@ -449,6 +479,8 @@ class Interpreter:
             if reason is None and detector is not None and not self.paused:
                 if detector.update(a.t_phase, v) > dpeak[0]:
                     reason = dpeak[1]
+            if reason is None and ceiling is not None:
+                reason = ceiling.ceiling_reason(chem_name, pack.cell_voltages)
             if reason is None:
                 if sensor:
                     if t_max_default and temp > DEFAULT_T_MAX:
@@ -506,6 +538,13 @@ class Interpreter:
         r.v_end = a.measured_v
         r.temp_end = self.pack.temp_c
         r.soc_end = self.pack.soc
+        if self._per_cell:
+            self.pack.set_bleed(0, None)     # the balancer stops with the phase
+            r.bled_s = tuple(n * self.tick_s for n in a.bled_ticks)
+        series = self.pack.series
+        if series > 1:
+            volts = getattr(self.pack, "cell_voltages", None)
+            r.cells_end = tuple(volts) if volts is not None else (self.pack.voltage / series,) * series
         if r.pauses and self.paused:
             r.pauses[-1][1] = self.time_s
         r.timer_before_full = bool(a.by_timer and r.section == "charge" and r.soc_end < FULL_SOC)

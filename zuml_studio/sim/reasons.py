@@ -16,6 +16,7 @@ _DEFAULT_CAPACITY = re.compile(r"capacity (?P<factor>[\d.]+)x")
 _EMPTY_DISCHARGE = re.compile(r"empty discharge section, (?P<condition>.+)")
 _LIMIT_HOURS = re.compile(r"simulation stopped after (?P<hours>[\d.]+)h")
 _STOPPED_FOR = re.compile(r"stopped: (?P<why>.+)")
+_CEILING = re.compile(r"balancer: cell (?P<cell>\d+) reached (?P<volts>[\d.]+)V \(ceiling\)")
 
 
 def shown_reason(reason: str) -> str:
@@ -30,6 +31,8 @@ def shown_reason(reason: str) -> str:
         return _("stopped: {why}").format(why=m["why"])
     if reason.startswith("default: "):
         return _("default: {condition}").format(condition=_default_condition(reason[len("default: "):]))
+    if m := _CEILING.fullmatch(reason):
+        return _("balancer: cell {cell} reached {volts} V (ceiling)").format(cell=m["cell"], volts=m["volts"])
     if reason.startswith("limit: "):
         rest = reason[len("limit: "):]
         if m := _LIMIT_HOURS.fullmatch(rest):
@@ -73,6 +76,10 @@ def end_advice(phase) -> str:
     if reason.startswith("limit: simulation stopped"):
         return _("nothing ended the macro: give every phase an end it reaches, a timer at least "
                  "(IF(tf>…) STOP_FAZE)")
+    if _CEILING.fullmatch(reason):
+        return _("one cell reached the charger's per-cell ceiling before the macro's own end: the cells are "
+                 "unequal and the weakest fills first, so the pack is not full; charge slower so the balancer "
+                 "keeps up, or replace the weak cell")
     if phase.by_default:
         return _("the charger's limits ended this phase, not the macro: stay within what the charger can give")
     return ""

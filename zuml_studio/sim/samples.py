@@ -14,6 +14,11 @@ into numpy arrays between its runs of ticks:
   this is refused, never stored wrong);
 - voltage, current, temperatures, mAh in and out: float32 (seven significant digits; the
   charger's ADC has ten to twelve bits).
+
+A pack of more than one cell adds ``cell1_v`` … ``cellN_v`` (cell k the k-th from the pack's
+negative end) and ``balance_mask`` (bit k-1 set while cell k bleeds). A pack of unequal cells
+(``per_cell``) stores them, float32 and uint32, 4 N + 4 bytes a tick more; for identical cells
+they are the pack voltage / N and 0, made when read.
 """
 from __future__ import annotations
 
@@ -29,6 +34,12 @@ COLUMNS = ("time_s", "section", "phase", "voltage_v", "current_a", "temp_c", "he
 SECTION_NAMES = ("discharge", "charge")
 MEASURED = COLUMNS[3:]
 CHUNK = 16_384           # ticks per sealed chunk: < 65 536 (uint16 phase offsets)
+BALANCE_MASK = "balance_mask"
+
+
+def cell_columns(cells: int) -> tuple[str, ...]:
+    """``cell1_v`` … ``cellN_v`` and ``balance_mask`` for a pack of more than one cell, else ()."""
+    return tuple(f"cell{k}_v" for k in range(1, cells + 1)) + (BALANCE_MASK,) if cells > 1 else ()
 
 
 class Sample(NamedTuple):
@@ -49,19 +60,35 @@ class _Chunk:
     t_off: np.ndarray                 # float32
     phase0: int
     phase_off: np.ndarray             # uint16
-    measured: dict[str, np.ndarray]   # float32 each
+    measured: dict[str, np.ndarray]   # float32 each (balance_mask: uint32)
 
     def __len__(self) -> int:
         return len(self.t_off)
 
 
 class SampleLog:
-    def __init__(self) -> None:
+    def __init__(self, cells: int = 0, per_cell: bool = False) -> None:
+        """``cells``: the pack's cell count (more than one adds the per-cell columns); ``per_cell``:
+        its cells differ, and ``append_cells`` gives their voltages and the balancer's mask each tick."""
         self._chunks: list[_Chunk] = []
         self._sealed = 0
         self._sections: dict[int, int] = {}      # phase -> section
+        extra = cell_columns(cells)
+        self.cells = cells if extra else 0
+        self.columns = COLUMNS + extra
+        self._stored = MEASURED + (extra if per_cell else ())
         self._stage = {"time_s": array("d"), "section": array("b"), "phase": array("q"),
-                       **{name: array("f") for name in MEASURED}}
+                       **{name: array("I" if name == BALANCE_MASK else "f") for name in self._stored}}
+        if per_cell and extra:
+            cell_appends = [self._stage[name].append for name in extra[:-1]]
+            mask_append = self._stage[BALANCE_MASK].append
+
+            def append_cells(volts, mask: int) -> None:
+                for add, v in zip(cell_appends, volts):
+                    add(v)
+                mask_append(mask)
+
+            self.append_cells = append_cells
         cols = [self._stage[name].append for name in COLUMNS]
         t, s, p, v, i, tc, hs, qi, qo = cols
 
@@ -102,8 +129,7 @@ class SampleLog:
             t0, phase0 = float(t[a]), int(phase[a:b].min())
             self._chunks.append(_Chunk(t0, (t[a:b] - t0).astype(np.float32), phase0,
                                        (phase[a:b] - phase0).astype(np.uint16),
-                                       {name: np.frombuffer(stage[name], np.float32)[a:b].copy()
-                                        for name in MEASURED}))
+                                       {name: _view(stage[name])[a:b].copy() for name in self._stored}))
         self._sealed += n
         for column in stage.values():
             del column[:]
@@ -122,11 +148,15 @@ class SampleLog:
         """Forget every sample but the newest (a stream that does not store)."""
         if len(self) > 1:
             last = self.last()
+            cells = self.arrays(len(self) - 1) if self._stored != MEASURED else None
             self._chunks.clear()
             self._sealed = 0
             for column in self._stage.values():
                 del column[:]
             self.append(*last)
+            if cells is not None:
+                self.append_cells([float(cells[name][0]) for name in self.columns[len(COLUMNS):-1]],
+                                  int(cells[BALANCE_MASK][0]))
 
     # -- reading -----------------------------------------------------------------------------
     def last(self) -> Sample:
@@ -140,11 +170,11 @@ class SampleLog:
                       *(float(c.measured[name][-1]) for name in MEASURED))
 
     def arrays(self, start: int = 0, stop: int | None = None) -> dict[str, np.ndarray]:
-        """Every column for samples ``start`` to ``stop``: float64, section and phase as integers."""
+        """Every column for samples ``start`` to ``stop``: float64, section, phase and balance_mask as integers."""
         stage = self._stage
         self._learn_sections(np.frombuffer(stage["phase"], np.int64), np.frombuffer(stage["section"], np.int8))
         stop = len(self) if stop is None else min(stop, len(self))
-        parts: dict[str, list[np.ndarray]] = {name: [] for name in COLUMNS if name != "section"}
+        parts: dict[str, list[np.ndarray]] = {name: [] for name in ("time_s", "phase") + self._stored}
         at = 0
         for c in self._chunks:
             a, b = max(0, start - at), min(len(c), stop - at)
@@ -153,16 +183,23 @@ class SampleLog:
                 continue
             parts["time_s"].append(c.t0 + c.t_off[a:b].astype(np.float64))
             parts["phase"].append(c.phase0 + c.phase_off[a:b].astype(np.int64))
-            for name in MEASURED:
+            for name in self._stored:
                 parts[name].append(c.measured[name][a:b].astype(np.float64))
         a, b = max(0, start - at), max(0, stop - at)
         parts["time_s"].append(np.frombuffer(stage["time_s"], np.float64)[a:b].copy())
         parts["phase"].append(np.frombuffer(stage["phase"], np.int64)[a:b].copy())
-        for name in MEASURED:
-            parts[name].append(np.frombuffer(stage[name], np.float32)[a:b].astype(np.float64))
+        for name in self._stored:
+            parts[name].append(_view(stage[name])[a:b].astype(np.float64))
         out = {name: np.concatenate(chunks) for name, chunks in parts.items()}
         out["section"] = self._section_of(out["phase"])
-        return {name: out[name] for name in COLUMNS}
+        if self.cells and BALANCE_MASK not in out:
+            # identical cells: each is the pack's share, and nothing bleeds
+            for name in self.columns[len(COLUMNS):-1]:
+                out[name] = out["voltage_v"] / self.cells
+            out[BALANCE_MASK] = np.zeros(len(out["phase"]))
+        if self.cells:
+            out[BALANCE_MASK] = out[BALANCE_MASK].astype(np.int64)
+        return {name: out[name] for name in self.columns}
 
     def _section_of(self, phase: np.ndarray) -> np.ndarray:
         if not len(phase):
@@ -193,10 +230,19 @@ class SampleLog:
 
     def write_csv(self, stream: TextIO) -> None:
         writer = csv.writer(stream, lineterminator="\n")
-        writer.writerow(COLUMNS)
+        writer.writerow(self.columns)
         n = len(self)
         for a in range(0, n, CHUNK):
             cols = self.arrays(a, a + CHUNK)
             rows = zip(*(cols[name].tolist() for name in COLUMNS))
-            writer.writerows((f"{t:.1f}", SECTION_NAMES[s], p, f"{v:.4f}", f"{i:.4f}", f"{tc:.2f}", f"{hs:.2f}",
-                              f"{qi:.1f}", f"{qo:.1f}") for t, s, p, v, i, tc, hs, qi, qo in rows)
+            lines = [(f"{t:.1f}", SECTION_NAMES[s], p, f"{v:.4f}", f"{i:.4f}", f"{tc:.2f}", f"{hs:.2f}",
+                      f"{qi:.1f}", f"{qo:.1f}") for t, s, p, v, i, tc, hs, qi, qo in rows]
+            if self.cells:
+                cells = zip(*(cols[name].tolist() for name in self.columns[len(COLUMNS):-1]))
+                lines = [line + tuple(f"{v:.4f}" for v in volts) + (mask,)
+                         for line, volts, mask in zip(lines, cells, cols[BALANCE_MASK].tolist())]
+            writer.writerows(lines)
+
+
+def _view(column: array) -> np.ndarray:
+    return np.frombuffer(column, np.uint32 if column.typecode == "I" else np.float32)

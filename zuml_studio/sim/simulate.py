@@ -8,12 +8,17 @@ from typing import Mapping
 from ..lang import opcodes as ops
 from ..lang.record import DecodeError
 from .battery import Pack
+from .cell_pack import CellPack, CellSpec, build_pack, check_cells, spread_cells, weaken
 from .charger_model import Charger, ChargerLimits, load_charger
 from .chemistry import load_chemistry
 from .interpreter import AKK_NAMES, Interpreter, Measurement, PhaseResult, StartError, StartParams, with_template
 from .program import Program
 from .start_templates import StartTemplate
 from ..i18n import _
+
+
+# The widest spread drawn: capacity and resistance within ± 50 %, start states within ± 50 points.
+SPREAD_MAX_PCT = (50.0, 50.0, 50.0)
 
 
 @dataclass(frozen=True)
@@ -23,6 +28,10 @@ class BatterySetup:
     ambient_c: float = 25.0
     charger: str | ChargerLimits = "imax_b6"   # a resources/chargers name, or limits made for the run
     battery: str | None = None          # a saved named battery (batteries.py): its model, capacity and cells
+    cell_spread: tuple[float, float, float] | None = None   # ± percent of capacity, resistance, SOC, drawn per cell
+    seed: int = 1                       # draws the spread
+    weak_cell_pct: float = 0.0          # one cell with this % less capacity ...
+    weak_cell: int | None = None        # ... this one (1-based; None: the last)
 
 
 @dataclass
@@ -65,11 +74,25 @@ class SimResult:
                    "timer_before_full": p.timer_before_full,
                    "pauses": [[round(a, 1), round(b, 1)] for a, b in p.pauses], "paused_s": round(p.paused_s, 1),
                    "clip": {"asked_a": round(p.clip_asked_a, 3), "given_a": round(p.clip_given_a, 3),
-                            "limit": p.clip_limit, "clipped_s": round(p.clipped_s, 1)} if p.clip_limit else None}
+                            "limit": p.clip_limit, "clipped_s": round(p.clipped_s, 1)} if p.clip_limit else None,
+                   "cells": _cells_json(p.cells_end), "balancer_s": [round(s, 1) for s in p.bled_s] or None}
                   for p in self.phases]
-        return {"macro": self.interpreter.program.name, "battery": {"chemistry": self.chemistry,
-                "capacity_mah": self.capacity_mah, "series": self.series},
+        pack = self.interpreter.pack
+        battery = {"chemistry": self.chemistry, "capacity_mah": self.capacity_mah, "series": self.series}
+        if isinstance(pack, CellPack):
+            battery["cells"] = [{"capacity_mah": round(c.capacity_mah, 1), "r_scale": round(c.r_scale, 4),
+                                 "soc": None if c.soc is None else round(c.soc, 4)} for c in pack.specs]
+        return {"macro": self.interpreter.program.name, "battery": battery,
                 "phases": phases, "totals": self.totals(), "repetitions": self.repetitions()}
+
+
+def _cells_json(volts: tuple) -> dict | None:
+    """The lowest and highest cell at a phase's end (cell numbers from 1), or None for one cell."""
+    if not volts:
+        return None
+    low = min(range(len(volts)), key=volts.__getitem__)
+    high = max(range(len(volts)), key=volts.__getitem__)
+    return {"min_v": round(volts[low], 4), "min_cell": low + 1, "max_v": round(volts[high], 4), "max_cell": high + 1}
 
 
 def model_chemistry(record: bytes, setup: BatterySetup) -> str:
@@ -108,23 +131,54 @@ def start_values(record: bytes, params: StartParams,
 
 
 def models(record: bytes, params: StartParams, setup: BatterySetup = BatterySetup(),
-           templates: Mapping[int, StartTemplate] | None = None) -> tuple[StartParams, str, Pack, Charger]:
+           templates: Mapping[int, StartTemplate] | None = None) -> tuple[StartParams, str, Pack | CellPack, Charger]:
     """The resolved start values and the battery and charger models a run of ``record`` starts from
     (also what the firmware's differential test runs the C core against)."""
     named = None
+    file_cells = None
     if setup.battery:
-        from .batteries import load_battery
-        named = load_battery(setup.battery)
+        from .batteries import load_battery_cells
+        named, file_cells = load_battery_cells(setup.battery)
         params = replace(params, capacity_mah=params.capacity_mah or round(named.capacity_mah),
                          series=params.series or named.series)
     program, params = start_values(record, params, templates)
     chemistry = named.chem.name if named else model_chemistry(record, setup)
     soc = setup.soc if setup.soc is not None else (0.0 if params.task == "charge" else 1.0)
-    pack = Pack(named.chem if named else load_chemistry(chemistry), params.capacity_mah, params.series, soc,
-                setup.ambient_c)
+    pack = build_pack(named.chem if named else load_chemistry(chemistry), params.capacity_mah, params.series, soc,
+                      setup.ambient_c, pack_cells(setup, params.capacity_mah, params.series, soc, file_cells))
     limits = load_charger(setup.charger) if isinstance(setup.charger, str) else setup.charger
     charger = Charger(limits, setup.ambient_c)
     return params, chemistry, pack, charger
+
+
+def pack_cells(setup: BatterySetup, capacity_mah: float, series: int, soc: float,
+               file_cells: list[CellSpec] | None = None) -> list[CellSpec] | None:
+    """The cells a run's pack has: the battery file's, else drawn from the spread; then the weak cell.
+    None: identical cells. StartError says what does not fit."""
+    if setup.weak_cell_pct and not 0.0 < setup.weak_cell_pct < 100.0:
+        raise StartError(_("weak cell: {pct:g} % less capacity is not 0..100 %").format(pct=setup.weak_cell_pct))
+    if setup.weak_cell is not None and not 1 <= setup.weak_cell <= series:
+        raise StartError(_("weak cell {k}: the pack has cells 1 to {series}").format(k=setup.weak_cell, series=series))
+    if setup.cell_spread and (len(setup.cell_spread) != 3 or
+                              not all(0.0 <= x <= top for x, top in zip(setup.cell_spread, SPREAD_MAX_PCT))):
+        raise StartError(_("cell spread CAP,R,SOC: each from 0 to {tops} %").format(
+            tops="/".join(f"{x:g}" for x in SPREAD_MAX_PCT)))
+    if file_cells is not None and setup.cell_spread:
+        raise StartError(_("the battery file lists its cells: a cell spread cannot be drawn on top"))
+    if file_cells is not None and len(file_cells) != series:
+        raise StartError(_("the battery file lists {given} cells, the pack has {series}").format(
+            given=len(file_cells), series=series))
+    if file_cells is None and not setup.cell_spread and not setup.weak_cell_pct:
+        return None
+    cells = file_cells if file_cells is not None else spread_cells(capacity_mah, series, setup.cell_spread,
+                                                                   setup.seed, soc)
+    if setup.weak_cell_pct:
+        cells = weaken(cells, setup.weak_cell_pct, setup.weak_cell)
+    try:
+        check_cells(cells)
+    except ValueError as exc:
+        raise StartError(str(exc)) from None
+    return cells
 
 
 def prepare(record: bytes, params: StartParams, setup: BatterySetup = BatterySetup(), *,

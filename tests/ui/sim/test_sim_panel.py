@@ -167,7 +167,7 @@ def test_export_csv_and_png(panel, run, tmp_path):
     csv_path, png_path = tmp_path / "run.csv", tmp_path / "plot.png"
     assert panel.export_csv(str(csv_path)) is not False
     lines = csv_path.read_text().splitlines()
-    assert lines[0] == ",".join(COLUMNS)
+    assert lines[0] == ",".join(COLUMNS + ("cell1_v", "cell2_v", "cell3_v", "balance_mask"))   # 3 cells
     assert len(lines) == len(panel.result().log) + 1
     assert panel.export_png(str(png_path)) is not False
     data = png_path.read_bytes()

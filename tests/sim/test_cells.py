@@ -1,0 +1,118 @@
+"""A pack of unequal cells and the charger's balancer: a 4S LiPo pack with one cell 15 % weaker,
+charged CC-CV on the iMAX B6 model; the spread reproducible; identical cells the one-state pack."""
+import io
+
+import numpy as np
+import pytest
+
+from simhelp import record_of
+from zuml_studio.sim.battery import Pack
+from zuml_studio.sim.cell_pack import CellPack, CellSpec, spread_cells
+from zuml_studio.sim.chemistry import load_chemistry
+from zuml_studio.sim.interpreter import StartError, StartParams
+from zuml_studio.sim.simulate import BatterySetup, simulate
+
+CELLS = [f"cell{k}_v" for k in range(1, 5)]
+
+
+def _weak_run(**setup):
+    return simulate(record_of("LiPo"), StartParams("charge", 1, 2000, 2.0, None, 4), BatterySetup(**setup))
+
+
+def test_a_weak_cell_never_passes_the_b6_ceiling_and_its_reading_ends_the_charge():
+    r = _weak_run(weak_cell_pct=15.0)
+    cc, cv = r.phases
+    a = r.log.arrays()
+    volts = np.column_stack([a[c] for c in CELLS])
+    assert volts.max() <= 4.2 + 0.0005                      # read to 1 mV, as the B6 reads its taps
+    assert cc.reason == "IF(V>4.1S) STOP_FAZE"
+    assert cv.reason == "balancer: cell 4 reached 4.20V (ceiling)" and cv.by_default
+    assert max(cv.cells_end) == cv.cells_end[3] and min(cv.cells_end) < 4.15   # the others are not full
+    in_cv = a["phase"] == cv.run
+    assert np.any(a["balance_mask"][in_cv] & 0b1000)           # the weak cell bleeds during CV
+    assert cv.bled_s[:3] == (0.0, 0.0, 0.0) and cv.bled_s[3] == cv.end_s - cv.start_s
+    assert "balancer: cell 4 3 min" in cv.notes
+    # the pack's sum is what the charger measured
+    assert np.allclose(volts.sum(axis=1), a["voltage_v"], atol=1e-4)
+
+
+def test_without_a_weak_cell_the_macro_ends_the_charge():
+    r = _weak_run()
+    assert [p.reason for p in r.phases] == ["IF(V>4.1S) STOP_FAZE", "IF(I<0.1A) STOP_FAZE"]
+    assert r.log.arrays()["balance_mask"].max() == 0
+
+
+def test_the_spread_is_drawn_again_with_the_same_seed_and_differs_with_another():
+    one = spread_cells(2000, 6, (5.0, 10.0, 2.0), seed=7, soc=0.3)
+    assert one == spread_cells(2000, 6, (5.0, 10.0, 2.0), seed=7, soc=0.3)
+    assert one != spread_cells(2000, 6, (5.0, 10.0, 2.0), seed=8, soc=0.3)
+    assert all(1900 <= c.capacity_mah <= 2100 and 0.9 <= c.r_scale <= 1.1 and 0.28 <= c.soc <= 0.32 for c in one)
+    a = _weak_run(cell_spread=(3.0, 10.0, 2.0), seed=5).log.arrays()["cell2_v"]
+    b = _weak_run(cell_spread=(3.0, 10.0, 2.0), seed=5).log.arrays()["cell2_v"]
+    assert np.array_equal(a, b)
+
+
+def test_identical_cells_in_the_cell_pack_follow_the_one_state_pack():
+    chem = load_chemistry("LiPo")
+    one, cells = Pack(chem, 2000, 4, 0.3), CellPack(chem, 2000, [CellSpec(2000.0)] * 4, 0.3)
+    for k in range(2000):
+        target = one.open_circuit_voltage() + (0.1 if k % 5 else -0.1)
+        i = one.current_for_voltage(target, 1.0)
+        assert cells.current_for_voltage(target, 1.0) == pytest.approx(i, abs=1e-9)
+        assert cells.step(i, 1.0) == pytest.approx(one.step(i, 1.0), abs=1e-9)
+
+
+def test_the_cv_solve_holds_unequal_cells_to_the_microvolt():
+    chem = load_chemistry("LiPo")
+    pack = CellPack(chem, 2000, spread_cells(2000, 12, (5.0, 20.0, 5.0), seed=3, soc=0.5), 0.5)
+    target = pack.open_circuit_voltage() + 0.5
+    for _ in range(500):
+        pack.step(pack.current_for_voltage(target, 1.0), 1.0)
+        assert pack.voltage == pytest.approx(target, abs=1e-6)
+
+
+def test_the_csv_carries_each_cell_and_the_balance_mask():
+    out = io.StringIO()
+    _weak_run(weak_cell_pct=15.0).log.write_csv(out)
+    header = out.getvalue().splitlines()[0].split(",")
+    assert header[-5:] == CELLS + ["balance_mask"]
+
+
+@pytest.mark.parametrize("setup, message", [
+    (BatterySetup(weak_cell_pct=120.0), "weak cell"),
+    (BatterySetup(cell_spread=(60.0, 0.0, 0.0)), "cell spread"),
+])
+def test_bad_cells_are_refused_in_one_line(setup, message):
+    with pytest.raises(StartError, match=message):
+        simulate(record_of("LiPo"), StartParams("charge", 1, 2000, 2.0, None, 4), setup)
+
+
+def test_the_b6_balancer_bleeds_through_its_resistor_and_keeps_bleeding_down_to_the_lowest_cell():
+    from zuml_studio.sim.charger_model import load_charger
+    bal = load_charger("imax_b6").balancer
+    assert bal.bleed(4.2) == pytest.approx(0.160) and bal.bleed(3.6) == pytest.approx(3.6 / 26.25)
+    assert bal.mask([4.000, 4.005, 4.009]) == 0b100                  # more than 8 mV above the lowest
+    assert bal.mask([4.000, 4.005, 4.004], bleeding=0b100) == 0b100  # once bleeding: while above the lowest
+    assert bal.mask([4.000, 4.005, 4.000], bleeding=0b100) == 0
+    assert bal.ceiling_reason("LiPo", [4.1, 4.1996]) == "balancer: cell 2 reached 4.20V (ceiling)"
+    assert bal.ceiling_reason("LiPo", [4.1, 4.1994]) is None and bal.ceiling_reason("NiMh", [9.0]) is None
+
+
+@pytest.mark.parametrize("table, said", [
+    ({"bleed_r_ohm": 26.0, "bleed_a": 1.0}, "give bleed_r_ohm or bleed_a"),
+    ({"bleed_a": 0.0}, "give bleed_r_ohm or bleed_a"),
+    ({"bleed_a": 1.0, "during": "always"}, "during must be"),
+    ({"bleed_a": 1.0, "ceiling_v": {"LiPo": 42.0}}, "each ceiling_v must be 0..10 V"),
+])
+def test_a_bad_balancer_table_is_refused_in_one_line(table, said):
+    from zuml_studio.sim.charger_model import _balancer
+    base = {"during": "charge", "spread_v": 0.008, "ceiling_v": {"LiPo": 4.2}}
+    with pytest.raises(ValueError, match=said):
+        _balancer({**base, **table})
+
+
+def test_the_weak_cell_can_be_any_cell_and_must_be_in_the_pack():
+    r = _weak_run(weak_cell_pct=15.0, weak_cell=2)
+    assert r.phases[-1].reason == "balancer: cell 2 reached 4.20V (ceiling)"
+    with pytest.raises(StartError, match="weak cell 5: the pack has cells 1 to 4"):
+        _weak_run(weak_cell_pct=15.0, weak_cell=5)
