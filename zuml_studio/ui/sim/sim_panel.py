@@ -1,5 +1,5 @@
 """The simulator panel: parameters on the left, the run's plot in the middle and its
-phases on the right. It simulates the latest valid record in a worker thread,
+phases on the right. It simulates the latest valid record in a worker process,
 again on every change if asked to, and keeps showing the last run while the
 macro has errors."""
 from __future__ import annotations
@@ -247,9 +247,9 @@ class SimulatorPanel(QWidget):
 
     # -- running ---------------------------------------------------------------------------
     def _drop_job(self) -> None:
-        """Cancel the current job and forget it: whatever it still reports is ignored."""
+        """Abandon the current job and forget it: whatever it still reports is ignored."""
         if self._job is not None:
-            self._job.cancel()
+            self._job.abandon()
             self._job = None
             self.form.set_running(False)
 
