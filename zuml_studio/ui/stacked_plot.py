@@ -380,6 +380,8 @@ class StackedPlot(pg.GraphicsLayoutWidget):
 
     def set_sensor(self, sensor: bool) -> None:
         name = _("battery") if sensor else _("battery (no sensor)")
+        if self.curves["temp"].opts["name"] == name:       # a new legend costs a millisecond: only on a change
+            return
         self.curves["temp"].opts["name"] = name
         self.legends[self.tplot].rename(0, name)
 

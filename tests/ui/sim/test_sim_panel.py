@@ -1,7 +1,6 @@
 """The simulator panel: runs off the GUI thread, fills plot and phase table, shows
 errors and cancels in the panel, exports, and links phases back to the source."""
 import os
-import threading
 
 import pyqtgraph as pg
 import pytest

@@ -9,11 +9,14 @@ from about two points per pixel of them, and all bands of a plot are one item
 (``plot_backdrop.py``)."""
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pyqtgraph as pg
 from PySide6.QtCore import Qt, QTimer, Signal
 
 from ...i18n import _
+from ...logs import gaps
 from ..plot_backdrop import BackdropItem
 from ..plot_cursor import CursorReadout
 from ..stacked_plot import StackedPlot, band_label, band_warns, curve_pen
@@ -35,6 +38,7 @@ class ChargePlot(StackedPlot):
         self._selected = -1
         self._strengths: list[int] = []    # per band: which of the two alternating strengths
         self.level = 0                  # the envelope level drawn (0: the samples themselves)
+        self._batch = False             # show_result is moving the view: no drawing until it is done
         self.curves = {
             "voltage": self._curve(self.vplot, "voltage", _("pack voltage")),
             "current": self._curve(self.iplot, "current", _("+ charge, − discharge")),
@@ -87,9 +91,13 @@ class ChargePlot(StackedPlot):
         self._set_bands(list(result.phases))
         self._set_pauses(list(result.phases))
         end = max(float(t[-1]) if len(t) else 0.0, 60.0)
-        for plot in self.plots:
-            plot.setLimits(xMin=-0.05 * end, xMax=end * 1.05, minXRange=min(30.0, end / 2))
-        self.tplot.setXRange(0.0, end, padding=0.01)
+        self._batch = True          # the limits and the range each move the view: draw it once, after both
+        try:
+            for plot in self.plots:
+                plot.setLimits(xMin=-0.05 * end, xMax=end * 1.05, minXRange=min(30.0, end / 2))
+            self.tplot.setXRange(0.0, end, padding=0.01)
+        finally:
+            self._batch = False
         self._view_changed()
 
     def clear_run(self) -> None:
@@ -111,9 +119,12 @@ class ChargePlot(StackedPlot):
         if self._run is None:
             return
         (x0, x1), width = self.vplot.vb.viewRange()[0], self.vplot.vb.width()
-        self.level, x, ys = self._run.envelope.view(x0, x1, bins=max(100, int(width)))
+        pixels = max(100, int(width))
+        self.level, x, ys = self._run.envelope.view(x0, x1, bins=pixels)
         for name, column in CURVES.items():
-            self.curves[name].setData(x, ys[column])
+            # The envelope's level has one to four bins a pixel: down to a min and a max per pixel
+            # column (the log viewer's), which is all a pixel shows. A run samples every tick: no gaps.
+            self.curves[name].setData(*gaps.envelope(x, ys[column], x0, x1, pixels, math.inf))
         self._set_current_fill(x, ys["current_a"], self.level > 0)
 
     def _set_bands(self, phases: list) -> None:
@@ -184,6 +195,8 @@ class ChargePlot(StackedPlot):
 
     # -- view --------------------------------------------------------------------------------
     def _view_changed(self, *_) -> None:
+        if self._batch:
+            return
         self._set_curves()
         self._thin_dense_curves()
         self._fit_voltage(self._t, self._v)

@@ -21,6 +21,7 @@ from .phase_table import PhaseTable, totals_text
 from .worker import SimJob, SimRequest
 
 DEBOUNCE_MS = 300
+TABLE_AFTER_MS = 20     # after the plot's paint, which follows a new run in the same turn of the event loop
 STALE_HINT = N_("showing the last valid version (the macro has errors)")
 NOTHING_YET = N_("no simulation yet: Simulate (F5) runs the macro against a battery model")
 OUTDATED_HINT = N_("the macro or the parameters changed since this run: Simulate (F5)")
@@ -296,13 +297,14 @@ class SimulatorPanel(QWidget):
             self._refresh_hint()
 
     def _show(self, run, finished: bool = False) -> None:
-        """A PlotData: the run, ready to draw. The plot now, the phase table in the next turn of
-        the event loop (each a slice of GUI-thread time short enough not to be felt), and then
-        ``simulationFinished`` if the run reached its end."""
+        """A PlotData: the run, ready to draw. The plot now, the phase table once the plot has been
+        painted (each a slice of GUI-thread time short enough not to be felt; a zero timer put the
+        table in the same turn as the plot's paint), and then ``simulationFinished`` if the run
+        reached its end."""
         result = self._result = run.result
         self.plot.show_result(run)
         self._table_pending = (result, finished)
-        QTimer.singleShot(0, self, self._show_table)
+        QTimer.singleShot(TABLE_AFTER_MS, self, self._show_table)
 
     def _show_table(self) -> None:
         if self._table_pending is None:
