@@ -209,6 +209,7 @@ class StackedPlot(pg.GraphicsLayoutWidget):
     or back) applies the other (``set_colours``), and subclasses re-colour what they added
     in ``_recolour``."""
     coloursChanged = Signal()           # after the plot took another colour set
+    DENSE_PER_PX = 1.5                  # points per pixel across from which a curve is drawn 1 px wide
 
     def __init__(self, object_name: str, placeholder: str, grid: bool, parent=None):
         super().__init__(parent)
@@ -395,15 +396,17 @@ class StackedPlot(pg.GraphicsLayoutWidget):
     def _label_height_px(self) -> float:
         return QFontMetrics(self._label_font).height() + 4.0
 
-    def _fit_voltage(self, t: np.ndarray, v: np.ndarray) -> None:
-        """Y follows the visible voltage, with a strip on top kept free for the phase labels."""
+    def _fit_voltage(self, t: np.ndarray, v: np.ndarray, *more: np.ndarray) -> None:
+        """Y follows the visible voltage (and ``more`` curves on the same clock: the cells), with a
+        strip on top kept free for the phase labels."""
         vb = self.vplot.vb
         if not len(t):
             vb.setYRange(0.0, 1.0, padding=0)
             return
         x0, x1 = vb.viewRange()[0]
         i0, i1 = np.searchsorted(t, [x0, x1])
-        seg = v[max(0, i0 - 1):min(len(v), i1 + 1)]
+        a, b = max(0, i0 - 1), min(len(v), i1 + 1)
+        seg = np.concatenate([v[a:b], *(y[a:b] for y in more)]) if more else v[a:b]
         seg = seg[np.isfinite(seg)]          # a NaN breaks a line at a gap
         if not len(seg):
             seg = v[np.isfinite(v)]
@@ -481,7 +484,7 @@ class StackedPlot(pg.GraphicsLayoutWidget):
         """Dense curves (more points drawn than the plot has pixels across, as when hours of
         samples are in view) are drawn 1 px wide: the envelope fills the band anyway, and a
         raster painter strokes 2 px lines at twice the cost."""
-        limit = 1.5 * max(self.vplot.vb.width(), 100.0)
+        limit = self.DENSE_PER_PX * max(self.vplot.vb.width(), 100.0)
         for curve in self.curves.values():
             x, _ = curve.getData()
             dense = x is not None and len(x) > limit

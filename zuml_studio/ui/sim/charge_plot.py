@@ -17,17 +17,20 @@ from PySide6.QtCore import Qt, QTimer, Signal
 
 from ...i18n import _
 from ...logs import gaps
+from ..cell_curves import CellCurves
 from ..plot_backdrop import BackdropItem
 from ..plot_cursor import CursorReadout
 from ..stacked_plot import StackedPlot, band_label, band_warns, curve_pen
 from ..timefmt import hmmss
-from .plot_data import CLOCK, CURVES, PlotData
+from .plot_data import CLOCK, CURVES, HIGHEST, LOWEST, PlotData
 
 LABELS_PER_TURN = 8
 
 
 class ChargePlot(StackedPlot):
     phaseActivated = Signal(int)        # FAZE byte offset of a Ctrl+double-clicked band
+    # A min and a max per pixel column is a line, not an overdrawn band: it keeps its full width.
+    DENSE_PER_PX = 2.5
     phaseClicked = Signal(int)          # row (phase run - 1) of a clicked band, -1 outside bands
 
     def __init__(self, parent=None):
@@ -45,6 +48,8 @@ class ChargePlot(StackedPlot):
             "temp": self._curve(self.tplot, "temp", _("battery")),
             "heatsink": self._curve(self.tplot, "heatsink", _("heat sink")),
         }
+        self.cells = CellCurves(self)
+        self._cell_bounds: tuple[np.ndarray, ...] = ()   # the lowest and highest cell, as drawn (for the y range)
         self.band_items = [BackdropItem(plot, self.time_axis, self.colours.plot.grid) for plot in self.plots]
         self.pause_items = [BackdropItem(plot, self.time_axis) for plot in self.plots]
         for plot, item, pauses in zip(self.plots, self.band_items, self.pause_items):
@@ -85,6 +90,8 @@ class ChargePlot(StackedPlot):
         self._run, self._t, self._v = run, t, run.data["voltage_v"]
         self.set_sensor(result.interpreter.params.sensor)
         self.set_series_count(result.series or 1)
+        self.cells.set_layout(run.cell_curves, result.series or 1)
+        self._cell_bounds = tuple(run.data[c] * self.cells.scale for c in (LOWEST, HIGHEST)) if run.cells else ()
         self.placeholder.setVisible(len(t) == 0)
         for legend in self.legends.values():
             legend.setVisible(len(t) > 0)
@@ -107,6 +114,8 @@ class ChargePlot(StackedPlot):
         self._run, self._t, self._v = None, np.zeros(0), np.zeros(0)
         for curve in self.curves.values():
             curve.setData([], [])
+        self.cells.clear()
+        self._cell_bounds = ()
         self._set_current_fill(np.zeros(0), np.zeros(0), False)
         self._set_bands([])
         self._set_pauses([])
@@ -125,6 +134,7 @@ class ChargePlot(StackedPlot):
             # The envelope's level has one to four bins a pixel: down to a min and a max per pixel
             # column (the log viewer's), which is all a pixel shows. A run samples every tick: no gaps.
             self.curves[name].setData(*gaps.envelope(x, ys[column], x0, x1, pixels, math.inf))
+        self.cells.set_data(x, ys)          # the envelope's level as it is: eight cells cost too much to thin
         self._set_current_fill(x, ys["current_a"], self.level > 0)
 
     def _set_bands(self, phases: list) -> None:
@@ -187,6 +197,7 @@ class ChargePlot(StackedPlot):
 
     def _recolour(self) -> None:
         self._recolour_curves()
+        self.cells.recolour()
         for item in self.band_items:
             item.set_grid_colour(self.colours.plot.grid)
         self._draw_bands()
@@ -199,7 +210,7 @@ class ChargePlot(StackedPlot):
             return
         self._set_curves()
         self._thin_dense_curves()
-        self._fit_voltage(self._t, self._v)
+        self._fit_voltage(self._t, self._v, *self._cell_bounds)
         self._place_placeholder()
         self._place_labels()
         self._place_legends()
@@ -212,7 +223,7 @@ class ChargePlot(StackedPlot):
         if not len(self._t):
             return
         room = self._label_height_px() if self._phases else 0.0
-        self.legends[self.vplot].place([self._display("voltage")], reserved_top_px=room)
+        self.legends[self.vplot].place([self._display("voltage"), *self.cells.displayed()], reserved_top_px=room)
         self.legends[self.iplot].place([self._display("current")])
         self.legends[self.tplot].place([self._display("temp"), self._display("heatsink")])
 
