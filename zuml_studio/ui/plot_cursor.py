@@ -54,15 +54,15 @@ def readout_text(t: np.ndarray, data: dict[str, np.ndarray], phases: list, secon
 
 def cells_text(data: dict[str, np.ndarray], i: int) -> str:
     """Sample ``i``'s cells, each (up to MAX_EACH) or the lowest and highest, and the cells the
-    balancer bleeds then; '' without cell columns."""
+    balancer bleeds then; '' without cell columns or readings."""
     columns = cell_columns(data)
     if not columns:
         return ""
     volts = np.array([float(data[c][i]) for c in columns])
+    if np.isnan(volts).all():           # no reading then (a live session's cells came later)
+        return ""
     if len(columns) <= MAX_EACH:
         text = _("cells {values} V").format(values=" · ".join("–" if np.isnan(v) else f"{v:.3f}" for v in volts))
-    elif np.isnan(volts).all():
-        text = _("cells: no reading")
     else:
         low, high = int(np.nanargmin(volts)), int(np.nanargmax(volts))
         text = _("cells {low}–{high} V (lowest: cell {low_cell}, highest: cell {high_cell})").format(

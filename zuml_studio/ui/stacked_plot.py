@@ -229,6 +229,7 @@ class StackedPlot(pg.GraphicsLayoutWidget):
         self.labels: list[pg.TextItem] = []
         self.curves: dict[str, pg.PlotDataItem] = {}
         self.grid = grid
+        self.series_cells = 1              # the pack's cells: the per-cell axis divides by them
 
         self.time_axis = TimeAxisItem("bottom")
         self.vplot = self.addPlot(row=0, col=0, axisItems=tidy_axes())
@@ -377,7 +378,8 @@ class StackedPlot(pg.GraphicsLayoutWidget):
 
     def set_series_count(self, cells: int) -> None:
         """Cells in series: the right voltage axis shows volts per cell."""
-        self.vplot.getAxis("right").setScale(1.0 / max(1, int(cells or 1)))
+        self.series_cells = max(1, int(cells or 1))
+        self.vplot.getAxis("right").setScale(1.0 / self.series_cells)
 
     def set_sensor(self, sensor: bool) -> None:
         name = _("battery") if sensor else _("battery (no sensor)")
@@ -396,17 +398,20 @@ class StackedPlot(pg.GraphicsLayoutWidget):
     def _label_height_px(self) -> float:
         return QFontMetrics(self._label_font).height() + 4.0
 
-    def _fit_voltage(self, t: np.ndarray, v: np.ndarray, *more: np.ndarray) -> None:
-        """Y follows the visible voltage (and ``more`` curves on the same clock: the cells), with a
+    def _fit_voltage(self, t: np.ndarray, v: np.ndarray, *more: tuple[np.ndarray, np.ndarray]) -> None:
+        """Y follows the visible voltage (and the ``more`` curves, (t, y) each: the cells), with a
         strip on top kept free for the phase labels."""
         vb = self.vplot.vb
         if not len(t):
             vb.setYRange(0.0, 1.0, padding=0)
             return
         x0, x1 = vb.viewRange()[0]
-        i0, i1 = np.searchsorted(t, [x0, x1])
-        a, b = max(0, i0 - 1), min(len(v), i1 + 1)
-        seg = np.concatenate([v[a:b], *(y[a:b] for y in more)]) if more else v[a:b]
+
+        def in_view(clock: np.ndarray, y: np.ndarray) -> np.ndarray:
+            i0, i1 = np.searchsorted(clock, [x0, x1])
+            return y[max(0, i0 - 1):min(len(y), i1 + 1)]
+
+        seg = np.concatenate([in_view(t, v), *(in_view(*curve) for curve in more)]) if more else in_view(t, v)
         seg = seg[np.isfinite(seg)]          # a NaN breaks a line at a gap
         if not len(seg):
             seg = v[np.isfinite(v)]

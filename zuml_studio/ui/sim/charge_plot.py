@@ -49,7 +49,7 @@ class ChargePlot(StackedPlot):
             "heatsink": self._curve(self.tplot, "heatsink", _("heat sink")),
         }
         self.cells = CellCurves(self)
-        self._cell_bounds: tuple[np.ndarray, ...] = ()   # the lowest and highest cell, as drawn (for the y range)
+        self._cell_bounds: tuple = ()      # (t, y) of the lowest and the highest cell as drawn: the y range takes them
         self.band_items = [BackdropItem(plot, self.time_axis, self.colours.plot.grid) for plot in self.plots]
         self.pause_items = [BackdropItem(plot, self.time_axis) for plot in self.plots]
         for plot, item, pauses in zip(self.plots, self.band_items, self.pause_items):
@@ -91,7 +91,7 @@ class ChargePlot(StackedPlot):
         self.set_sensor(result.interpreter.params.sensor)
         self.set_series_count(result.series or 1)
         self.cells.set_layout(run.cell_curves, result.series or 1)
-        self._cell_bounds = tuple(run.data[c] * self.cells.scale for c in (LOWEST, HIGHEST)) if run.cells else ()
+        self._cell_bounds = tuple((t, run.data[c] * self.cells.scale) for c in (LOWEST, HIGHEST)) if run.cells else ()
         self.placeholder.setVisible(len(t) == 0)
         for legend in self.legends.values():
             legend.setVisible(len(t) > 0)
