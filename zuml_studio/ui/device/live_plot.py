@@ -86,7 +86,7 @@ class LiveSeries:
         self._last_x = 0.0
         self.cells: GrowingBuffer | None = None    # t and cell1_v … cellN_v, from row ``cells_from`` of ``buffer``
         self.cells_from = 0
-        self.cell_count = 0                # cells that have given a reading (a 6-slot balance port holds 0 V in the rest)
+        self.cell_count = 0                # cells that gave a reading (a 6-slot balance port reads 0 V in the rest)
 
     # -- reader thread ------------------------------------------------------------------------
     def add_telemetry(self, tel) -> None:

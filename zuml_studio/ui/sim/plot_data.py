@@ -35,7 +35,7 @@ class CellCurve:
 @dataclass(frozen=True)
 class PlotData:
     result: object                      # the SimResult
-    data: dict[str, np.ndarray]         # the log's columns (sim.samples.COLUMNS, the cells' if any) and the cell curves'
+    data: dict[str, np.ndarray]         # the log's columns (the cells' too, if any) and the cell curves'
     envelope: Envelope                  # over CURVES' columns and the cell curves', clock CLOCK
     cells: tuple[str, ...] = ()         # the log's cell columns, cell 1 first
     cell_curves: tuple[CellCurve, ...] = field(default=())

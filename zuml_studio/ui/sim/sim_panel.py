@@ -18,9 +18,10 @@ from ..timefmt import elapsed
 from .charge_plot import ChargePlot
 from .params_form import ParamsForm
 from .phase_table import PhaseTable, totals_text
-from .worker import SimJob, SimRequest
+from .worker import SimJob, SimRequest, warm_up
 
 DEBOUNCE_MS = 300
+WARM_UP_MS = 1500      # the simulation processes' fork server starts this long after the panel is first shown
 TABLE_AFTER_MS = 20     # after the plot's paint, which follows a new run in the same turn of the event loop
 STALE_HINT = N_("showing the last valid version (the macro has errors)")
 NOTHING_YET = N_("no simulation yet: Simulate (F5) runs the macro against a battery model")
@@ -393,6 +394,7 @@ class SimulatorPanel(QWidget):
         if not self._sized:
             self._sized = True
             self._split_sizes()
+            QTimer.singleShot(WARM_UP_MS, self, warm_up)
 
     def resizeEvent(self, event) -> None:  # noqa: N802
         super().resizeEvent(event)

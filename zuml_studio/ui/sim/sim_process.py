@@ -16,20 +16,30 @@ import logging
 import multiprocessing
 import os
 import pickle
+from dataclasses import dataclass
 from multiprocessing.connection import Connection
 
 from ... import i18n
 from ...data import DataFileError
 from ...i18n import _
 from ...sim.batteries import BatteryFileError
-from ...sim.interpreter import Interpreter, StartError
+from ...sim.interpreter import Interpreter, StartError, StartParams
 from ...sim.samples import SampleLog
-from ...sim.simulate import prepare
+from ...sim.simulate import BatterySetup, prepare
 
 log = logging.getLogger(__name__)
 
 CANCEL = b"cancel"
 PROGRESS, DONE, CANCELLED, FAILED = "progress", "done", "cancelled", "failed"
+
+
+@dataclass(frozen=True)
+class SimRequest:
+    """What to simulate (defined here, not beside the worker: unpickling it must not import Qt)."""
+    record: bytes
+    params: StartParams
+    setup: BatterySetup
+    macro_name: str = ""
 
 
 def context() -> multiprocessing.context.BaseContext:
@@ -40,6 +50,15 @@ def context() -> multiprocessing.context.BaseContext:
         ctx.set_forkserver_preload([__name__])
         return ctx
     return multiprocessing.get_context("spawn")
+
+
+def warm_up() -> None:
+    """Start the fork server now (about half a second, once), not when the first run is asked for.
+    Blocks: call it off the GUI thread."""
+    ctx = context()
+    if ctx.get_start_method() == "forkserver":
+        from multiprocessing import forkserver
+        forkserver.ensure_running()
 
 
 def _without(obj, name: str) -> dict:
@@ -65,10 +84,9 @@ def dumps(message: tuple) -> bytes:
     return buf.getvalue()
 
 
-def run_child(conn: Connection, request, chunk: int, language: str, environ: dict[str, str]) -> None:
-    """The child process: ``request`` is a ``worker.SimRequest``; ``environ`` the parent's environment
-    now (a fork server's children inherit the server's, from when it started), ``language`` its
-    language (the messages are the user's)."""
+def run_child(conn: Connection, request: SimRequest, chunk: int, language: str, environ: dict[str, str]) -> None:
+    """The child process. ``environ`` is the parent's environment now (a fork server's children
+    inherit the server's, from when it started), ``language`` its language (the messages are the user's)."""
     os.environ.clear()
     os.environ.update(environ)
     if i18n.current_language() != language:
@@ -81,7 +99,7 @@ def run_child(conn: Connection, request, chunk: int, language: str, environ: dic
         conn.close()
 
 
-def _run(conn: Connection, request, chunk: int) -> tuple:
+def _run(conn: Connection, request: SimRequest, chunk: int) -> tuple:
     try:
         result = prepare(request.record, request.params, request.setup)
         it = result.interpreter

@@ -16,26 +16,16 @@ import itertools
 import os
 import pickle
 import threading
-from dataclasses import dataclass
 
 from PySide6.QtCore import QObject, Qt, QThread, Signal, Slot
 
 from ...i18n import _, current_language
-from ...sim.interpreter import StartParams
-from ...sim.simulate import BatterySetup
 from . import sim_process
+from .sim_process import SimRequest
 from .plot_data import prepare_plot
 
 CHUNK_TICKS = 20_000          # about 0.1–0.2 s of work: a cancel is seen that quickly
 POLL_S = 0.02                 # how often the worker looks for a cancel while the child computes
-
-
-@dataclass(frozen=True)
-class SimRequest:
-    record: bytes
-    params: StartParams
-    setup: BatterySetup
-    macro_name: str = ""
 
 
 class SimWorker(QObject):
@@ -73,7 +63,8 @@ class SimWorker(QObject):
         try:
             self._run()
         except Exception as exc:            # a bug: say so in the panel, never take the IDE down
-            self.failed.emit(jid, _("internal error in the simulator: {error}").format(error=f"{type(exc).__name__}: {exc}"))
+            self.failed.emit(jid, _("internal error in the simulator: {error}").format(
+                error=f"{type(exc).__name__}: {exc}"))
         finally:
             self.ended.emit(jid)
 
@@ -170,6 +161,12 @@ class SimJob(QObject):
     @classmethod
     def running(cls) -> list["SimJob"]:
         return list(cls._running.values())
+
+
+def warm_up() -> None:
+    """Have the simulation processes' fork server started on a thread of its own (the first run
+    then starts in milliseconds, not half a second)."""
+    threading.Thread(target=sim_process.warm_up, name="simulation-warm-up", daemon=True).start()
 
 
 @atexit.register
