@@ -1,6 +1,6 @@
 """The window while it simulates (issue 26): wall-clock gaps of the GUI event loop while the run of a
 training macro is changed over and over with Auto re-simulate on. Numbers only; run by hand:
-    python benchmarks/bench_sim_stalls.py [--quick] [--seconds N]
+    python benchmarks/bench_sim_stalls.py [--quick] [--seconds N] [--toggle-ms MS]
 
 A precise timer fires every 2 ms (``bench_gui.Probe``); a gap is the wall time between two firings
 less 2 ms: whatever kept the event loop from turning, the GUI thread's own work, waiting for the GIL
@@ -9,6 +9,8 @@ typed): each change re-simulates after the 300 ms debounce and the run lands whi
 comes. Printed per training (NiMH 2000 mAh x 4 at 2 A; 1 repetition ~3 h, 16 ~47 h): the longest gap
 and the 99th percentile (target: one frame, 16 ms), the GUI thread's longest CPU time in one go, the
 runs drawn and the load average (a shared machine's gaps include time the thread was not scheduled).
+A 47 h run takes about as long as the toggle's period to simulate, so most are replaced before they
+end; ``--toggle-ms 2500`` lets each run end and be drawn.
 """
 from __future__ import annotations
 
@@ -25,7 +27,7 @@ TOGGLE_MS = 700
 CAPACITIES = (2000, 2100)
 
 
-def toggling(app, window, label: str, repetitions: int, seconds: float) -> None:
+def toggling(app, window, label: str, repetitions: int, seconds: float, toggle_ms: int = TOGGLE_MS) -> None:
     panel = window.sim_panel
     panel.form.auto.setChecked(True)
     hours = bench_gui._training(window, repetitions)
@@ -37,7 +39,7 @@ def toggling(app, window, label: str, repetitions: int, seconds: float) -> None:
         flips[0] += 1
         panel.form.set_values(capacity_mah=CAPACITIES[flips[0] % 2])
 
-    toggler = QTimer(interval=TOGGLE_MS, timerType=Qt.TimerType.PreciseTimer)
+    toggler = QTimer(interval=toggle_ms, timerType=Qt.TimerType.PreciseTimer)
     toggler.timeout.connect(flip)
     probe = bench_gui.Probe()
     load = os.getloadavg()[0]
@@ -50,7 +52,7 @@ def toggling(app, window, label: str, repetitions: int, seconds: float) -> None:
     panel.form.auto.setChecked(False)
     assert panel.wait(120_000), "the last run did not end"
     panel.simulationFinished.disconnect()
-    print(f"{label} ({hours:.1f} h), capacity toggled every {TOGGLE_MS} ms for {seconds:g} s, {flips[0]} changes, "
+    print(f"{label} ({hours:.1f} h), capacity toggled every {toggle_ms} ms for {seconds:g} s, {flips[0]} changes, "
           f"{drawn[0]} runs drawn: longest gap {longest:.1f} ms, p99 {p99:.1f} ms, p90 {gaps[int(len(gaps) * 0.9)]:.1f} "
           f"ms (target <= 16 ms); GUI-thread CPU in one go, longest {busy:.1f} ms; load average {load:.2f}")
 
@@ -58,6 +60,7 @@ def toggling(app, window, label: str, repetitions: int, seconds: float) -> None:
 def main() -> None:
     quick = "--quick" in sys.argv
     seconds = float(sys.argv[sys.argv.index("--seconds") + 1]) if "--seconds" in sys.argv else (8.0 if quick else 20.0)
+    toggle_ms = int(sys.argv[sys.argv.index("--toggle-ms") + 1]) if "--toggle-ms" in sys.argv else TOGGLE_MS
     app = QApplication.instance() or QApplication(sys.argv[:1])
     from zuml_studio.ui import create_main_window
     from zuml_studio.ui.gui_thread_gc import collect_on_gui_thread
@@ -69,7 +72,7 @@ def main() -> None:
     bench_gui.run_loop(1000)
     t0 = time.perf_counter()
     for label, repetitions in bench_gui.TRAININGS.items():
-        toggling(app, window, label, repetitions, seconds)
+        toggling(app, window, label, repetitions, seconds, toggle_ms)
     window.editor.document().setModified(False)
     window.close()
     collector.timer.stop()
