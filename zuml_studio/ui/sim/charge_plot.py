@@ -14,6 +14,7 @@ import math
 import numpy as np
 import pyqtgraph as pg
 from PySide6.QtCore import Qt, QTimer, Signal
+from PySide6.QtGui import QPainter, QPicture
 
 from ...i18n import _
 from ...logs import gaps
@@ -85,6 +86,12 @@ class ChargePlot(StackedPlot):
 
     def show_result(self, run: PlotData) -> None:
         """Draw a run prepared by ``plot_data.prepare_plot``: samples, phase bands, labels, the per-cell axis."""
+        self.show_run(run)
+        self.show_bands()
+
+    def show_run(self, run: PlotData) -> None:
+        """The run's curves, cells and view; its phases' bands and labels stay those of the run before
+        until ``show_bands`` (the panel gives each its own turn of the event loop)."""
         result = run.result
         t = run.data[CLOCK]
         self._run, self._t, self._v = run, t, run.data["voltage_v"]
@@ -95,8 +102,6 @@ class ChargePlot(StackedPlot):
         self.placeholder.setVisible(len(t) == 0)
         for legend in self.legends.values():
             legend.setVisible(len(t) > 0)
-        self._set_bands(list(result.phases))
-        self._set_pauses(list(result.phases))
         end = max(float(t[-1]) if len(t) else 0.0, 60.0)
         self._batch = True          # the limits and the range each move the view: draw it once, after both
         try:
@@ -106,6 +111,31 @@ class ChargePlot(StackedPlot):
         finally:
             self._batch = False
         self._view_changed()
+
+    def show_bands(self) -> None:
+        """The shown run's phase bands, heat-sink pauses and labels."""
+        phases = list(self._run.result.phases) if self._run is not None else []
+        had_bands = bool(self._phases)
+        self._set_bands(phases)
+        self._set_pauses(phases)
+        if bool(phases) != had_bands:       # the voltage's y range keeps room for the labels, or no more
+            self._view_changed()
+
+    def prepare_paint(self) -> None:
+        """What the next paint would do first, done now: the y ranges pyqtgraph fits lazily, and the
+        axes' tick pictures (half of a new run's paint; the panel gives each its own turn)."""
+        for plot in self.plots:
+            plot.vb.prepareForPaint()
+        for plot in self.plots:
+            for name in ("left", "right", "bottom"):
+                axis = plot.getAxis(name)
+                if axis.isVisible() and axis.picture is None:
+                    scratch = QPicture()
+                    painter = QPainter(scratch)
+                    try:
+                        axis.paint(painter, None, None)     # makes axis.picture, which the paint then replays
+                    finally:
+                        painter.end()
 
     def clear_run(self) -> None:
         """No run: empty curves, no bands or labels, the placeholder (another macro was opened).

@@ -22,7 +22,8 @@ from .worker import SimJob, SimRequest, warm_up
 
 DEBOUNCE_MS = 300
 WARM_UP_MS = 1500      # the simulation processes' fork server starts this long after the panel is first shown
-TABLE_AFTER_MS = 20     # after the plot's paint, which follows a new run in the same turn of the event loop
+PAINT_AFTER_MS = 4      # a new run's bands, axes and paint, each in a turn of the event loop of its own
+TABLE_AFTER_MS = 12     # after the plot's paint
 STALE_HINT = N_("showing the last valid version (the macro has errors)")
 NOTHING_YET = N_("no simulation yet: Simulate (F5) runs the macro against a battery model")
 OUTDATED_HINT = N_("the macro or the parameters changed since this run: Simulate (F5)")
@@ -298,13 +299,27 @@ class SimulatorPanel(QWidget):
             self._refresh_hint()
 
     def _show(self, run, finished: bool = False) -> None:
-        """A PlotData: the run, ready to draw. The plot now, the phase table once the plot has been
-        painted (each a slice of GUI-thread time short enough not to be felt; a zero timer put the
-        table in the same turn as the plot's paint), and then ``simulationFinished`` if the run
-        reached its end."""
+        """A PlotData: the run, ready to draw. The plot takes its curves now, its phase bands, its axes
+        and its paint each a moment later, then the phase table, and then ``simulationFinished`` if
+        the run reached its end: five slices of GUI-thread time, each short enough not to be felt
+        (all in one turn of the event loop took 25-30 ms)."""
         result = self._result = run.result
-        self.plot.show_result(run)
+        self.plot.setUpdatesEnabled(False)
+        self.plot.show_run(run)
         self._table_pending = (result, finished)
+        QTimer.singleShot(PAINT_AFTER_MS, self, self._show_bands)
+
+    def _show_bands(self) -> None:
+        self.plot.show_bands()
+        QTimer.singleShot(PAINT_AFTER_MS, self, self._prepare_paint)
+
+    def _prepare_paint(self) -> None:
+        self.plot.prepare_paint()
+        QTimer.singleShot(PAINT_AFTER_MS, self, self._paint_plot)
+
+    def _paint_plot(self) -> None:
+        self.plot.setUpdatesEnabled(True)
+        self.plot.viewport().update()
         QTimer.singleShot(TABLE_AFTER_MS, self, self._show_table)
 
     def _show_table(self) -> None:
