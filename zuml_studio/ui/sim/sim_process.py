@@ -44,7 +44,10 @@ class SimRequest:
 
 def context() -> multiprocessing.context.BaseContext:
     """Where the platform has it, a fork server that has the simulator imported (a run starts in a
-    few milliseconds, not the ~0.5 s of a fresh interpreter importing numpy); spawn elsewhere."""
+    few milliseconds, not the ~0.5 s of a fresh interpreter importing numpy); spawn elsewhere.
+    Each child runs the main script again as ``__mp_main__`` (multiprocessing's rule): the
+    application's entry points import nothing heavy at their top level; a script that imports Qt
+    there costs each run ~130 ms (and preloading it into the server makes every fork that slow)."""
     if "forkserver" in multiprocessing.get_all_start_methods():
         ctx = multiprocessing.get_context("forkserver")
         ctx.set_forkserver_preload([__name__])
