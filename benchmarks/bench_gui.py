@@ -236,7 +236,7 @@ def edit_to_plot(app, window) -> None:
         window.editor.setPlainText(text)
         shown_at: list[int] = []         # the paint count when the run was handed to the plot
         finished: list[bool] = []
-        plot.show_result = lambda run, real=type(plot).show_result: (shown_at.append(painted[0]), real(plot, run))
+        plot.show_run = lambda run, real=type(plot).show_run: (shown_at.append(painted[0]), real(plot, run))
         panel.simulationFinished.connect(lambda _r: finished.append(True))
         t = time.perf_counter()
         window.validate_now()
@@ -245,7 +245,7 @@ def edit_to_plot(app, window) -> None:
             app.processEvents(QEventLoop.ProcessEventsFlag.AllEvents, 5)
         times.append((time.perf_counter() - t) * 1000.0)
         panel.simulationFinished.disconnect()
-    del plot.show_result
+    del plot.show_run
     plot.viewport().removeEventFilter(spy)
     print(f"edit -> updated plot, 3 h training (no debounce): median {statistics.median(times):.0f} ms, "
           f"max {max(times):.0f} ms (target <= 150 ms)")

@@ -11,7 +11,8 @@ import numpy as np
 import pyqtgraph as pg
 from PySide6.QtCore import QPointF, Qt
 
-from ..i18n import _
+from ..i18n import _, ngettext
+from .sim.plot_data import MASK, MAX_EACH, cell_columns
 from .stacked_plot import StackedPlot, band_label
 from .timefmt import hmmss
 
@@ -46,8 +47,33 @@ def readout_text(t: np.ndarray, data: dict[str, np.ndarray], phases: list, secon
     parts = [hmmss(float(t[i]))]
     parts += [f"{float(data[q.key][i]):.{q.decimals}f} {q.unit}" for q in QUANTITIES if q.key in data]
     text = " · ".join(parts)
+    cells = cells_text(data, i)
     phase = next((p for p in phases if p.start_s <= t[i] <= p.end_s), None)
-    return text + (f"\n{band_label(phase)}" if phase is not None else "")
+    return text + (f"\n{cells}" if cells else "") + (f"\n{band_label(phase)}" if phase is not None else "")
+
+
+def cells_text(data: dict[str, np.ndarray], i: int) -> str:
+    """Sample ``i``'s cells, each (up to MAX_EACH) or the lowest and highest, and the cells the
+    balancer bleeds then; '' without cell columns or readings."""
+    columns = cell_columns(data)
+    if not columns:
+        return ""
+    volts = np.array([float(data[c][i]) for c in columns])
+    if np.isnan(volts).all():           # no reading then (a live session's cells came later)
+        return ""
+    if len(columns) <= MAX_EACH:
+        text = _("cells {values} V").format(values=" · ".join("–" if np.isnan(v) else f"{v:.3f}" for v in volts))
+    else:
+        low, high = int(np.nanargmin(volts)), int(np.nanargmax(volts))
+        text = _("cells {low}–{high} V (lowest: cell {low_cell}, highest: cell {high_cell})").format(
+            low=f"{volts[low]:.3f}", high=f"{volts[high]:.3f}", low_cell=low + 1, high_cell=high + 1)
+    if MASK in data:
+        bits = int(data[MASK][i])
+        bleeding = [k for k in range(1, len(columns) + 1) if bits >> (k - 1) & 1]
+        if bleeding:
+            text += " · " + ngettext("the balancer bleeds cell {cells}", "the balancer bleeds cells {cells}",
+                                     len(bleeding)).format(cells=", ".join(map(str, bleeding)))
+    return text
 
 
 class CursorReadout:

@@ -209,6 +209,7 @@ class StackedPlot(pg.GraphicsLayoutWidget):
     or back) applies the other (``set_colours``), and subclasses re-colour what they added
     in ``_recolour``."""
     coloursChanged = Signal()           # after the plot took another colour set
+    DENSE_PER_PX = 1.5                  # points per pixel across from which a curve is drawn 1 px wide
 
     def __init__(self, object_name: str, placeholder: str, grid: bool, parent=None):
         super().__init__(parent)
@@ -228,6 +229,7 @@ class StackedPlot(pg.GraphicsLayoutWidget):
         self.labels: list[pg.TextItem] = []
         self.curves: dict[str, pg.PlotDataItem] = {}
         self.grid = grid
+        self.series_cells = 1              # the pack's cells: the per-cell axis divides by them
 
         self.time_axis = TimeAxisItem("bottom")
         self.vplot = self.addPlot(row=0, col=0, axisItems=tidy_axes())
@@ -376,10 +378,13 @@ class StackedPlot(pg.GraphicsLayoutWidget):
 
     def set_series_count(self, cells: int) -> None:
         """Cells in series: the right voltage axis shows volts per cell."""
-        self.vplot.getAxis("right").setScale(1.0 / max(1, int(cells or 1)))
+        self.series_cells = max(1, int(cells or 1))
+        self.vplot.getAxis("right").setScale(1.0 / self.series_cells)
 
     def set_sensor(self, sensor: bool) -> None:
         name = _("battery") if sensor else _("battery (no sensor)")
+        if self.curves["temp"].opts["name"] == name:       # a new legend costs a millisecond: only on a change
+            return
         self.curves["temp"].opts["name"] = name
         self.legends[self.tplot].rename(0, name)
 
@@ -393,15 +398,20 @@ class StackedPlot(pg.GraphicsLayoutWidget):
     def _label_height_px(self) -> float:
         return QFontMetrics(self._label_font).height() + 4.0
 
-    def _fit_voltage(self, t: np.ndarray, v: np.ndarray) -> None:
-        """Y follows the visible voltage, with a strip on top kept free for the phase labels."""
+    def _fit_voltage(self, t: np.ndarray, v: np.ndarray, *more: tuple[np.ndarray, np.ndarray]) -> None:
+        """Y follows the visible voltage (and the ``more`` curves, (t, y) each: the cells), with a
+        strip on top kept free for the phase labels."""
         vb = self.vplot.vb
         if not len(t):
             vb.setYRange(0.0, 1.0, padding=0)
             return
         x0, x1 = vb.viewRange()[0]
-        i0, i1 = np.searchsorted(t, [x0, x1])
-        seg = v[max(0, i0 - 1):min(len(v), i1 + 1)]
+
+        def in_view(clock: np.ndarray, y: np.ndarray) -> np.ndarray:
+            i0, i1 = np.searchsorted(clock, [x0, x1])
+            return y[max(0, i0 - 1):min(len(y), i1 + 1)]
+
+        seg = np.concatenate([in_view(t, v), *(in_view(*curve) for curve in more)]) if more else in_view(t, v)
         seg = seg[np.isfinite(seg)]          # a NaN breaks a line at a gap
         if not len(seg):
             seg = v[np.isfinite(v)]
@@ -479,7 +489,7 @@ class StackedPlot(pg.GraphicsLayoutWidget):
         """Dense curves (more points drawn than the plot has pixels across, as when hours of
         samples are in view) are drawn 1 px wide: the envelope fills the band anyway, and a
         raster painter strokes 2 px lines at twice the cost."""
-        limit = 1.5 * max(self.vplot.vb.width(), 100.0)
+        limit = self.DENSE_PER_PX * max(self.vplot.vb.width(), 100.0)
         for curve in self.curves.values():
             x, _ = curve.getData()
             dense = x is not None and len(x) > limit

@@ -14,7 +14,7 @@ def compiled():
 
 @pytest.fixture
 def panel(qtbot):
-    from zuml_studio.ui.sim import SimulatorPanel
+    from zuml_studio.ui.sim.sim_panel import SimulatorPanel
 
     p = SimulatorPanel()
     qtbot.addWidget(p)

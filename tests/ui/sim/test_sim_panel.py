@@ -1,8 +1,6 @@
 """The simulator panel: runs off the GUI thread, fills plot and phase table, shows
 errors and cancels in the panel, exports, and links phases back to the source."""
 import os
-import threading
-import time
 
 import pyqtgraph as pg
 import pytest
@@ -67,19 +65,39 @@ def test_lipo_seed_fills_plot_and_phase_table(panel, run):
     assert not panel.is_running() and not panel.form.cancel_button.isEnabled()
 
 
-def test_simulation_runs_off_the_gui_thread(panel, run, monkeypatch):
+def test_simulation_runs_in_a_process_of_its_own(panel, run, monkeypatch):
     import zuml_studio.ui.sim.worker as worker
 
-    threads = []
-    real = worker.prepare
+    jobs = []
+    real = worker.SimJob.start
 
-    def spy(*args, **kw):
-        threads.append(threading.current_thread())
-        return real(*args, **kw)
+    def spy(job):
+        jobs.append(job)
+        return real(job)
 
-    monkeypatch.setattr(worker, "prepare", spy)
-    run("LiPo", **LIPO)
-    assert threads and threads[0] is not threading.main_thread()
+    monkeypatch.setattr(worker.SimJob, "start", spy)
+    result = run("LiPo", **LIPO)
+    assert jobs and jobs[0].worker.pid not in (None, os.getpid())
+    assert result.interpreter.finished and len(result.log) > 1000     # the run came back whole
+
+
+def test_a_crashed_simulation_process_is_an_error_message(panel, qtbot, compiled):
+    import signal
+
+    import zuml_studio.ui.sim.worker as worker
+
+    panel.form.auto.setChecked(False)
+    panel.set_record(compiled("LiPo"), "LiPo")
+    panel.form.set_values(task="train", repetitions=255, **LIPO)
+    with qtbot.assertNotEmitted(panel.simulationFinished, wait=100):
+        panel.simulate()
+        job = worker.SimJob.running()[-1]
+        qtbot.waitUntil(lambda: job.worker.pid is not None and "simulated" in panel.form.progress_label.text(),
+                        timeout=30_000)
+        os.kill(job.worker.pid, signal.SIGKILL)
+        assert panel.wait(30_000)
+    assert "the simulation process ended unexpectedly" in panel.message_text()
+    assert panel.result() is None and not panel.is_running()
 
 
 def test_nimh_seed_without_sensor_flags_the_default_end(panel, run):
@@ -135,16 +153,7 @@ def test_cancel_stops_a_long_training_and_says_cancelled(panel, qtbot, compiled)
     assert not panel.is_running() and not panel.form.cancel_button.isEnabled()
 
 
-def test_cancel_mid_run_shows_the_run_so_far(panel, qtbot, compiled, monkeypatch):
-    from zuml_studio.sim.interpreter import Interpreter
-
-    real = Interpreter.advance
-
-    def slow(self, n):                  # a slow machine: the cancel surely comes mid-run
-        time.sleep(0.02)
-        return real(self, n)
-
-    monkeypatch.setattr(Interpreter, "advance", slow)
+def test_cancel_mid_run_shows_the_run_so_far(panel, qtbot, compiled):
     panel.form.auto.setChecked(False)
     panel.set_record(compiled("LiPo"), "LiPo")
     panel.form.set_values(task="train", repetitions=255, **LIPO)
@@ -156,7 +165,8 @@ def test_cancel_mid_run_shows_the_run_so_far(panel, qtbot, compiled, monkeypatch
     assert "cancelled after" in panel.message_text()
     assert "cancelled" in panel.form.progress_label.text()
     result = panel.result()
-    assert result.interpreter.end_reason == "cancelled" and 3600 <= result.interpreter.time_s < 40 * 3600
+    it = result.interpreter          # stopped between two chunks of the child, long before the 255th repetition
+    assert it.end_reason == "cancelled" and 3600 <= it.time_s and result.repetitions()[-1]["repetition"] < 255
     assert rows(panel.table) == len(result.phases) >= 1
     assert len(panel.plot.data["time_s"]) == len(result.log)
     assert len(panel.plot.curves["voltage"].xData) > 0

@@ -220,7 +220,7 @@ class DevicePanel(QWidget):
             self._update_enabled()
 
     def clear_plot(self) -> None:
-        self.plot.clear()
+        self.plot.clear_session()
         self.telemetryReceived.emit(0)
 
     def calibrate(self) -> None:

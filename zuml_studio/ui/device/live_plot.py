@@ -11,6 +11,11 @@ of it is drawn from about two points per pixel: the samples themselves when few 
 view, else their envelope (clip-to-view and peak downsampling, done once per sample rather
 than once per frame), antialiasing off.
 
+Per-cell voltages (``Telemetry.cells_v``, where the charger measures them at the balance port)
+go to a second table, made at the first frame that has any and row for row with the first from
+then on, so a session without them costs nothing; they are drawn as the simulator draws a pack's
+cells (``ui/cell_curves.py``).
+
 The x axis is the macro's clock. Telemetry is plotted while a macro runs; a new run (its
 clock starts again) continues after the previous one, so the session stays one
 time line. Idle frames are not plotted (their clock stands still); they update the
@@ -29,7 +34,9 @@ from PySide6.QtCore import Qt, QTimer, Signal
 
 from ...i18n import _
 from ...logs import gaps
+from ..cell_curves import CellCurves
 from ..plot_backdrop import BackdropItem
+from ..sim.plot_data import cell_curves
 from ..stacked_plot import StackedPlot, band_label, curve_pen
 from .envelope import FANOUT, Envelope
 from .growing_buffer import GrowingBuffer
@@ -41,6 +48,7 @@ MAX_REDRAW_SHARE = 0.35            # a slow machine redraws less often rather th
 DEFAULT_FOLLOW_MIN = 30
 MIN_VIEW_S = 60.0
 PERIOD_SAMPLES = 4097               # the first samples give the session's sample period
+CELL_ABSENT_V = 0.05               # a balance-port reading below this is no cell there (chargers send 0)
 
 
 @dataclass
@@ -76,6 +84,9 @@ class LiveSeries:
         self._offset = 0.0                 # x of the current run's time 0
         self._run_t: float | None = None   # the current run's last clock reading
         self._last_x = 0.0
+        self.cells: GrowingBuffer | None = None    # t and cell1_v … cellN_v, from row ``cells_from`` of ``buffer``
+        self.cells_from = 0
+        self.cell_count = 0                # cells that gave a reading (a 6-slot balance port reads 0 V in the rest)
 
     # -- reader thread ------------------------------------------------------------------------
     def add_telemetry(self, tel) -> None:
@@ -93,6 +104,21 @@ class LiveSeries:
             self.buffer.append((x, tel.voltage_v, tel.current_a,
                                 math.nan if tel.temp_c is None else tel.temp_c,
                                 math.nan if tel.heatsink_c is None else tel.heatsink_c))
+            self._add_cells(x, tuple(getattr(tel, "cells_v", ()) or ()))
+
+    def _add_cells(self, x: float, volts: tuple[float, ...]) -> None:
+        present = [k for k, v in enumerate(volts, 1) if v is not None and v > CELL_ABSENT_V]
+        if self.cells is None:
+            if not present:
+                return
+            names = tuple(f"cell{k}_v" for k in range(1, len(volts) + 1))
+            self.cells = GrowingBuffer(("t",) + names, dtype={name: np.float32 for name in names})
+            self.cells_from = len(self.buffer) - 1
+        width = len(self.cells.names) - 1
+        row = [v if v is not None and v > CELL_ABSENT_V else math.nan for v in volts[:width]]
+        self.cells.append((x, *row, *[math.nan] * (width - len(row))))
+        if present:
+            self.cell_count = max(self.cell_count, min(present[-1], width))
 
     def add_event(self, ev) -> None:
         with self.lock:
@@ -132,6 +158,11 @@ class LiveSeries:
         with self.lock:
             return self._last_x
 
+    def cell_table(self) -> tuple[GrowingBuffer | None, int, int]:
+        """The cells' table, the row of ``buffer`` its first row stands beside, and the cells seen."""
+        with self.lock:
+            return self.cells, self.cells_from, self.cell_count
+
     def clear(self) -> None:
         with self.lock:
             self.phases.clear()
@@ -141,6 +172,7 @@ class LiveSeries:
             self._run_t = None
             self._last_x = 0.0
             self.buffer.clear()
+            self.cells, self.cells_from, self.cell_count = None, 0, 0
 
     def __len__(self) -> int:
         return len(self.buffer)
@@ -160,6 +192,11 @@ class LivePlot(StackedPlot):
         self._n = 0                         # points taken from the series
         self.envelope = Envelope(COLUMNS[1:])
         self.level = 0                      # the envelope level drawn (0: the samples themselves)
+        self.cells = CellCurves(self)
+        self._cell_table: GrowingBuffer | None = None      # the series' cells table taken in, and its envelope
+        self._cell_envelope: Envelope | None = None
+        self._cell_version = -1
+        self._cell_count = 0
         self._period = 0.0                  # the typical step between samples (gaps.sample_period)
         self._version = -1
         self._phase_version = -1
@@ -264,13 +301,16 @@ class LivePlot(StackedPlot):
         self._redraw_from_scratch()
         self.refresh()
 
-    def clear(self) -> None:
-        """Forget the session's data and bands."""
+    def clear_session(self) -> None:
+        """Forget the session's data and bands. Not ``clear``: pyqtgraph's GraphicsLayoutWidget sets
+        that on each instance (the layout's own, which took the three plots away)."""
         self.series.clear()
         self._redraw_from_scratch()
 
     def _redraw_from_scratch(self) -> None:
         self.envelope.clear()
+        self._cell_table, self._cell_envelope, self._cell_version, self._cell_count = None, None, -1, 0
+        self.cells.clear()
         self._period = 0.0
         for curve in self.curves.values():
             curve.setData([], [])
@@ -311,6 +351,7 @@ class LivePlot(StackedPlot):
                     self.placeholder.setVisible(False)
                     for legend in self.legends.values():
                         legend.setVisible(True)
+        changed = self._take_cells() or changed
         version, phases = self.series.phases_copy()
         last_x = float(buf.column("t")[-1]) if self._n else 0.0
         if version != self._phase_version:
@@ -334,6 +375,21 @@ class LivePlot(StackedPlot):
             self.timer.setInterval(wanted)
         return changed
 
+    def _take_cells(self) -> bool:
+        """What is new in the series' cells table, into their envelope; True if anything was."""
+        table, _first_row, count = self.series.cell_table()
+        if table is None or (table is self._cell_table and table.version == self._cell_version
+                             and count == self._cell_count):
+            return False
+        if table is not self._cell_table:
+            self._cell_table, self._cell_envelope = table, Envelope(table.names[1:])
+        self._cell_version, self._cell_count = table.version, count
+        n, cols = table.snapshot()
+        self._cell_envelope.update(n, cols)
+        if count > 1 and self.series_cells == 1:     # a run started without its cell count: the charger's
+            self.set_series_count(count)
+        return True
+
     def _set_curves(self) -> None:
         """Hand the curves the view's points: the samples, or their envelope when there are
         more than two per pixel."""
@@ -345,6 +401,19 @@ class LivePlot(StackedPlot):
         for name, y in zip(COLUMNS[1:], broken[1:]):
             self.curves[name].setData(broken[0], y)
         self._set_current_fill(x, ys["current"], self.level > 0, gap_s)
+        self._set_cell_curves(x0, x1, max(100, int(width)))
+
+    def _set_cell_curves(self, x0: float, x1: float, bins: int) -> None:
+        """The cells as the simulator draws them (``cell_curves``), broken at the session's gaps."""
+        if self._cell_envelope is None or self._cell_count < 2:
+            return
+        level, x, ys = self._cell_envelope.view(x0, x1, bins=bins)
+        columns = self._cell_table.names[1:1 + self._cell_count]
+        layout = cell_curves(ys, columns)
+        gap_s = self.gap_s + (FANOUT ** level if level else 0) * self._period
+        broken = gaps.broken(x, *(ys[c.column] for c in layout), threshold=gap_s)
+        self.cells.set_layout(layout, self.series_cells)
+        self.cells.set_data(broken[0], {c.column: y for c, y in zip(layout, broken[1:])})
 
     @property
     def gap_s(self) -> float:
@@ -399,6 +468,7 @@ class LivePlot(StackedPlot):
 
     def _recolour(self) -> None:
         self._recolour_curves()
+        self.cells.recolour()
         for item in self.band_items:
             item.set_grid_colour(self.colours.plot.grid)
         self._set_bands(self._phases)
@@ -448,14 +518,14 @@ class LivePlot(StackedPlot):
         if not self._n:
             return
         room = self._label_height_px() if self._phases else 0.0
-        self.legends[self.vplot].place([self._display("voltage")], reserved_top_px=room)
+        self.legends[self.vplot].place([self._display("voltage"), *self.cells.displayed()], reserved_top_px=room)
         self.legends[self.iplot].place([self._display("current")])
         self.legends[self.tplot].place([self._display("temp"), self._display("heatsink")])
 
     def _fit_live_voltage(self) -> None:
-        """The voltage axis follows the view's points (the envelope keeps every extreme)."""
+        """The voltage axis follows the view's points, the cells' too (the envelope keeps every extreme)."""
         x, v = self._display("voltage")
-        self._fit_voltage(x, v)
+        self._fit_voltage(x, v, *self.cells.displayed())
 
     def _label_texts(self, p: LivePhase) -> tuple[str, ...]:
         full = band_label(p) if p.closed else band_label(p, short=True) + " …"

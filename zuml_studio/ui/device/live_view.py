@@ -3,6 +3,8 @@ the run chooser and the live plot below them. It owns the runs: the current one'
 into it from the reader thread) and up to ``KEEP_RUNS`` earlier ones."""
 from __future__ import annotations
 
+import math
+
 from PySide6.QtCore import QEvent, Qt, Signal
 from PySide6.QtWidgets import (QCheckBox, QComboBox, QGridLayout, QHBoxLayout, QLabel, QSizePolicy, QToolButton,
                                QVBoxLayout, QWidget)
@@ -87,9 +89,15 @@ class LiveView(QWidget):
         self.runChosen.connect(self._run_chosen)
 
     def _cursor_samples(self):
-        """The drawn session's samples under the cursor readout's names."""
-        _, cols = self.plot.series.buffer.snapshot()
-        return cols["t"], {"voltage_v": cols["voltage"], "current_a": cols["current"], "temp_c": cols["temp"]}
+        """The drawn session's samples under the cursor readout's names (the cells' too, when there are)."""
+        series = self.plot.series
+        _, cols = series.buffer.snapshot()
+        data = {"voltage_v": cols["voltage"], "current_a": cols["current"], "temp_c": cols["temp"]}
+        table, first_row, count = series.cell_table()
+        if table is not None and count > 1:
+            _, cells = table.snapshot()
+            data.update({name: RowsFrom(cells[name], first_row) for name in table.names[1:1 + count]})
+        return cols["t"], data
 
     def resizeEvent(self, event) -> None:  # noqa: N802
         super().resizeEvent(event)
@@ -219,3 +227,15 @@ class LiveView(QWidget):
             if series is not self.series:
                 self.follow.setChecked(False)
                 self.plot.show_all()
+
+
+class RowsFrom:
+    """A column of the cells' table read by the row of the session's table: its first row stands
+    beside row ``first`` there; earlier rows had no cells (NaN)."""
+
+    def __init__(self, column, first: int):
+        self.column, self.first = column, first
+
+    def __getitem__(self, row: int) -> float:
+        k = row - self.first
+        return float(self.column[k]) if 0 <= k < len(self.column) else math.nan

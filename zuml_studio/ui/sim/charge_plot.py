@@ -9,22 +9,29 @@ from about two points per pixel of them, and all bands of a plot are one item
 (``plot_backdrop.py``)."""
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pyqtgraph as pg
 from PySide6.QtCore import Qt, QTimer, Signal
+from PySide6.QtGui import QPainter, QPicture
 
 from ...i18n import _
+from ...logs import gaps
+from ..cell_curves import CellCurves
 from ..plot_backdrop import BackdropItem
 from ..plot_cursor import CursorReadout
 from ..stacked_plot import StackedPlot, band_label, band_warns, curve_pen
 from ..timefmt import hmmss
-from .plot_data import CLOCK, CURVES, PlotData
+from .plot_data import CLOCK, CURVES, HIGHEST, LOWEST, PlotData
 
 LABELS_PER_TURN = 8
 
 
 class ChargePlot(StackedPlot):
     phaseActivated = Signal(int)        # FAZE byte offset of a Ctrl+double-clicked band
+    # A min and a max per pixel column is a line, not an overdrawn band: it keeps its full width.
+    DENSE_PER_PX = 2.5
     phaseClicked = Signal(int)          # row (phase run - 1) of a clicked band, -1 outside bands
 
     def __init__(self, parent=None):
@@ -35,12 +42,15 @@ class ChargePlot(StackedPlot):
         self._selected = -1
         self._strengths: list[int] = []    # per band: which of the two alternating strengths
         self.level = 0                  # the envelope level drawn (0: the samples themselves)
+        self._batch = False             # show_result is moving the view: no drawing until it is done
         self.curves = {
             "voltage": self._curve(self.vplot, "voltage", _("pack voltage")),
             "current": self._curve(self.iplot, "current", _("+ charge, − discharge")),
             "temp": self._curve(self.tplot, "temp", _("battery")),
             "heatsink": self._curve(self.tplot, "heatsink", _("heat sink")),
         }
+        self.cells = CellCurves(self)
+        self._cell_bounds: tuple = ()      # (t, y) of the lowest and the highest cell as drawn: the y range takes them
         self.band_items = [BackdropItem(plot, self.time_axis, self.colours.plot.grid) for plot in self.plots]
         self.pause_items = [BackdropItem(plot, self.time_axis) for plot in self.plots]
         for plot, item, pauses in zip(self.plots, self.band_items, self.pause_items):
@@ -76,21 +86,56 @@ class ChargePlot(StackedPlot):
 
     def show_result(self, run: PlotData) -> None:
         """Draw a run prepared by ``plot_data.prepare_plot``: samples, phase bands, labels, the per-cell axis."""
+        self.show_run(run)
+        self.show_bands()
+
+    def show_run(self, run: PlotData) -> None:
+        """The run's curves, cells and view; its phases' bands and labels stay those of the run before
+        until ``show_bands`` (the panel gives each its own turn of the event loop)."""
         result = run.result
         t = run.data[CLOCK]
         self._run, self._t, self._v = run, t, run.data["voltage_v"]
         self.set_sensor(result.interpreter.params.sensor)
         self.set_series_count(result.series or 1)
+        self.cells.set_layout(run.cell_curves, result.series or 1)
+        self._cell_bounds = tuple((t, run.data[c] * self.cells.scale) for c in (LOWEST, HIGHEST)) if run.cells else ()
         self.placeholder.setVisible(len(t) == 0)
         for legend in self.legends.values():
             legend.setVisible(len(t) > 0)
-        self._set_bands(list(result.phases))
-        self._set_pauses(list(result.phases))
         end = max(float(t[-1]) if len(t) else 0.0, 60.0)
-        for plot in self.plots:
-            plot.setLimits(xMin=-0.05 * end, xMax=end * 1.05, minXRange=min(30.0, end / 2))
-        self.tplot.setXRange(0.0, end, padding=0.01)
+        self._batch = True          # the limits and the range each move the view: draw it once, after both
+        try:
+            for plot in self.plots:
+                plot.setLimits(xMin=-0.05 * end, xMax=end * 1.05, minXRange=min(30.0, end / 2))
+            self.tplot.setXRange(0.0, end, padding=0.01)
+        finally:
+            self._batch = False
         self._view_changed()
+
+    def show_bands(self) -> None:
+        """The shown run's phase bands, heat-sink pauses and labels."""
+        phases = list(self._run.result.phases) if self._run is not None else []
+        had_bands = bool(self._phases)
+        self._set_bands(phases)
+        self._set_pauses(phases)
+        if bool(phases) != had_bands:       # the voltage's y range keeps room for the labels, or no more
+            self._view_changed()
+
+    def prepare_paint(self) -> None:
+        """What the next paint would do first, done now: the y ranges pyqtgraph fits lazily, and the
+        axes' tick pictures (half of a new run's paint; the panel gives each its own turn)."""
+        for plot in self.plots:
+            plot.vb.prepareForPaint()
+        for plot in self.plots:
+            for name in ("left", "right", "bottom"):
+                axis = plot.getAxis(name)
+                if axis.isVisible() and axis.picture is None:
+                    scratch = QPicture()
+                    painter = QPainter(scratch)
+                    try:
+                        axis.paint(painter, None, None)     # makes axis.picture, which the paint then replays
+                    finally:
+                        painter.end()
 
     def clear_run(self) -> None:
         """No run: empty curves, no bands or labels, the placeholder (another macro was opened).
@@ -99,6 +144,8 @@ class ChargePlot(StackedPlot):
         self._run, self._t, self._v = None, np.zeros(0), np.zeros(0)
         for curve in self.curves.values():
             curve.setData([], [])
+        self.cells.clear()
+        self._cell_bounds = ()
         self._set_current_fill(np.zeros(0), np.zeros(0), False)
         self._set_bands([])
         self._set_pauses([])
@@ -111,9 +158,13 @@ class ChargePlot(StackedPlot):
         if self._run is None:
             return
         (x0, x1), width = self.vplot.vb.viewRange()[0], self.vplot.vb.width()
-        self.level, x, ys = self._run.envelope.view(x0, x1, bins=max(100, int(width)))
+        pixels = max(100, int(width))
+        self.level, x, ys = self._run.envelope.view(x0, x1, bins=pixels)
         for name, column in CURVES.items():
-            self.curves[name].setData(x, ys[column])
+            # The envelope's level has one to four bins a pixel: down to a min and a max per pixel
+            # column (the log viewer's), which is all a pixel shows. A run samples every tick: no gaps.
+            self.curves[name].setData(*gaps.envelope(x, ys[column], x0, x1, pixels, math.inf))
+        self.cells.set_data(x, ys)          # the envelope's level as it is: eight cells cost too much to thin
         self._set_current_fill(x, ys["current_a"], self.level > 0)
 
     def _set_bands(self, phases: list) -> None:
@@ -176,6 +227,7 @@ class ChargePlot(StackedPlot):
 
     def _recolour(self) -> None:
         self._recolour_curves()
+        self.cells.recolour()
         for item in self.band_items:
             item.set_grid_colour(self.colours.plot.grid)
         self._draw_bands()
@@ -184,9 +236,11 @@ class ChargePlot(StackedPlot):
 
     # -- view --------------------------------------------------------------------------------
     def _view_changed(self, *_) -> None:
+        if self._batch:
+            return
         self._set_curves()
         self._thin_dense_curves()
-        self._fit_voltage(self._t, self._v)
+        self._fit_voltage(self._t, self._v, *self._cell_bounds)
         self._place_placeholder()
         self._place_labels()
         self._place_legends()
@@ -199,7 +253,7 @@ class ChargePlot(StackedPlot):
         if not len(self._t):
             return
         room = self._label_height_px() if self._phases else 0.0
-        self.legends[self.vplot].place([self._display("voltage")], reserved_top_px=room)
+        self.legends[self.vplot].place([self._display("voltage"), *self.cells.displayed()], reserved_top_px=room)
         self.legends[self.iplot].place([self._display("current")])
         self.legends[self.tplot].place([self._display("temp"), self._display("heatsink")])
 

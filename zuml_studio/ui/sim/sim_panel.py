@@ -1,5 +1,5 @@
 """The simulator panel: parameters on the left, the run's plot in the middle and its
-phases on the right. It simulates the latest valid record in a worker thread,
+phases on the right. It simulates the latest valid record in a worker process,
 again on every change if asked to, and keeps showing the last run while the
 macro has errors."""
 from __future__ import annotations
@@ -18,9 +18,12 @@ from ..timefmt import elapsed
 from .charge_plot import ChargePlot
 from .params_form import ParamsForm
 from .phase_table import PhaseTable, totals_text
-from .worker import SimJob, SimRequest
+from .worker import SimJob, SimRequest, warm_up
 
 DEBOUNCE_MS = 300
+WARM_UP_MS = 1500      # the simulation processes' fork server starts this long after the panel is first shown
+PAINT_AFTER_MS = 4      # a new run's bands, axes and paint, each in a turn of the event loop of its own
+TABLE_AFTER_MS = 12     # after the plot's paint
 STALE_HINT = N_("showing the last valid version (the macro has errors)")
 NOTHING_YET = N_("no simulation yet: Simulate (F5) runs the macro against a battery model")
 OUTDATED_HINT = N_("the macro or the parameters changed since this run: Simulate (F5)")
@@ -247,9 +250,9 @@ class SimulatorPanel(QWidget):
 
     # -- running ---------------------------------------------------------------------------
     def _drop_job(self) -> None:
-        """Cancel the current job and forget it: whatever it still reports is ignored."""
+        """Abandon the current job and forget it: whatever it still reports is ignored."""
         if self._job is not None:
-            self._job.cancel()
+            self._job.abandon()
             self._job = None
             self.form.set_running(False)
 
@@ -296,13 +299,28 @@ class SimulatorPanel(QWidget):
             self._refresh_hint()
 
     def _show(self, run, finished: bool = False) -> None:
-        """A PlotData: the run, ready to draw. The plot now, the phase table in the next turn of
-        the event loop (each a slice of GUI-thread time short enough not to be felt), and then
-        ``simulationFinished`` if the run reached its end."""
+        """A PlotData: the run, ready to draw. The plot takes its curves now, its phase bands, its axes
+        and its paint each a moment later, then the phase table, and then ``simulationFinished`` if
+        the run reached its end: five slices of GUI-thread time, each short enough not to be felt
+        (all in one turn of the event loop took 25-30 ms)."""
         result = self._result = run.result
-        self.plot.show_result(run)
+        self.plot.setUpdatesEnabled(False)
+        self.plot.show_run(run)
         self._table_pending = (result, finished)
-        QTimer.singleShot(0, self, self._show_table)
+        QTimer.singleShot(PAINT_AFTER_MS, self, self._show_bands)
+
+    def _show_bands(self) -> None:
+        self.plot.show_bands()
+        QTimer.singleShot(PAINT_AFTER_MS, self, self._prepare_paint)
+
+    def _prepare_paint(self) -> None:
+        self.plot.prepare_paint()
+        QTimer.singleShot(PAINT_AFTER_MS, self, self._paint_plot)
+
+    def _paint_plot(self) -> None:
+        self.plot.setUpdatesEnabled(True)
+        self.plot.viewport().update()
+        QTimer.singleShot(TABLE_AFTER_MS, self, self._show_table)
 
     def _show_table(self) -> None:
         if self._table_pending is None:
@@ -391,6 +409,7 @@ class SimulatorPanel(QWidget):
         if not self._sized:
             self._sized = True
             self._split_sizes()
+            QTimer.singleShot(WARM_UP_MS, self, warm_up)
 
     def resizeEvent(self, event) -> None:  # noqa: N802
         super().resizeEvent(event)

@@ -1,40 +1,31 @@
-"""Simulations off the GUI thread: a QObject worker moved to its own QThread runs
-``Interpreter.advance`` chunk by chunk, reports the simulated time between chunks
-and checks a cancel flag there. Every signal carries the job's id, so a panel can
-ignore what an outdated job still reports. The run is handed over ready to draw
-(``plot_data.prepare_plot``): the GUI thread gets no sample to convert.
+"""Simulations off the GUI thread and out of its process: a QObject worker moved to its own QThread
+starts the run in a child process (``sim_process.py``), relays the simulated time it reports
+between chunks and passes a cancel on; the child holds its own GIL, so a long run never makes the
+GUI thread wait for it. Every signal carries the job's id, so a panel can ignore what an outdated
+job still reports. The run is handed over ready to draw (``plot_data.prepare_plot``, done on the
+worker's thread): the GUI thread gets no sample to convert. A child that dies (killed, out of
+memory) is an error message, never a hang: its end of the pipe closes.
 
 Jobs keep themselves alive (module registry) until their thread has finished, and
-any still running when Python exits are cancelled and waited for: a QThread must
+any still running when Python exits are abandoned and waited for: a QThread must
 never be destroyed while it runs."""
 from __future__ import annotations
 
 import atexit
 import itertools
-import logging
+import os
+import pickle
 import threading
-from dataclasses import dataclass
 
 from PySide6.QtCore import QObject, Qt, QThread, Signal, Slot
 
-from ...data import DataFileError
-from ...i18n import _
-from ...sim.batteries import BatteryFileError
-from ...sim.interpreter import StartError, StartParams
-from ...sim.simulate import BatterySetup, prepare
+from ...i18n import _, current_language
+from . import sim_process
+from .sim_process import SimRequest
 from .plot_data import prepare_plot
 
-log = logging.getLogger(__name__)
-
 CHUNK_TICKS = 20_000          # about 0.1–0.2 s of work: a cancel is seen that quickly
-
-
-@dataclass(frozen=True)
-class SimRequest:
-    record: bytes
-    params: StartParams
-    setup: BatterySetup
-    macro_name: str = ""
+POLL_S = 0.02                 # how often the worker looks for a cancel while the child computes
 
 
 class SimWorker(QObject):
@@ -49,10 +40,17 @@ class SimWorker(QObject):
         self.job_id = job_id
         self.request = request
         self.chunk = chunk
+        self.pid: int | None = None      # the child's, once started
         self._cancel = threading.Event()
+        self._abandon = threading.Event()
 
     def cancel(self) -> None:
-        """Thread-safe: the loop stops before its next chunk."""
+        """Thread-safe: the child stops before its next chunk and the run so far is shown."""
+        self._cancel.set()
+
+    def abandon(self) -> None:
+        """Thread-safe: nobody wants the run any more; the child is killed at once."""
+        self._abandon.set()
         self._cancel.set()
 
     @property
@@ -64,17 +62,9 @@ class SimWorker(QObject):
         jid = self.job_id
         try:
             self._run()
-        except StartError as exc:
-            self.failed.emit(jid, str(exc))
-        except DataFileError as exc:        # a broken installation: the message names the file
-            self.failed.emit(jid, str(exc))
-        except KeyError as exc:             # a battery model that does not exist
-            self.failed.emit(jid, str(exc.args[0]) if exc.args else _("unknown battery model"))
-        except BatteryFileError as exc:     # a saved fitted battery deleted or damaged since it was listed
-            self.failed.emit(jid, str(exc))
         except Exception as exc:            # a bug: say so in the panel, never take the IDE down
-            log.exception("simulation failed")
-            self.failed.emit(jid, _("internal error in the simulator: {error}").format(error=f"{type(exc).__name__}: {exc}"))
+            self.failed.emit(jid, _("internal error in the simulator: {error}").format(
+                error=f"{type(exc).__name__}: {exc}"))
         finally:
             self.ended.emit(jid)
 
@@ -83,17 +73,49 @@ class SimWorker(QObject):
         if self.is_cancelled:
             self.cancelled.emit(jid, None)
             return
-        result = prepare(req.record, req.params, req.setup)
-        it = result.interpreter
-        self.progress.emit(jid, 0.0)
-        while not it.finished:
-            if self.is_cancelled:
-                it.stop("cancelled")
-                self.cancelled.emit(jid, prepare_plot(result))
+        ctx = sim_process.context()
+        conn, child_end = ctx.Pipe()
+        child = ctx.Process(target=sim_process.run_child, name=f"zuml-simulation-{jid}", daemon=True,
+                            args=(child_end, req, self.chunk, current_language(), dict(os.environ)))
+        child.start()
+        child_end.close()
+        self.pid = child.pid
+        try:
+            self._relay(conn, child)
+        finally:
+            conn.close()
+            if child.is_alive():
+                child.kill()
+            child.join()
+
+    def _relay(self, conn, child) -> None:
+        jid, asked = self.job_id, False
+        while True:
+            if self._abandon.is_set():
                 return
-            it.advance(self.chunk)
-            self.progress.emit(jid, it.time_s)
-        self.done.emit(jid, prepare_plot(result))
+            if self.is_cancelled and not asked:
+                asked = True
+                try:
+                    conn.send_bytes(sim_process.CANCEL)
+                except OSError:             # the child has just ended: its last message is in the pipe
+                    pass
+            if not conn.poll(POLL_S):
+                continue
+            try:
+                kind, value = pickle.loads(conn.recv_bytes())
+            except (EOFError, OSError):
+                child.join(1.0)
+                self.failed.emit(jid, _("the simulation process ended unexpectedly (exit code {code})").format(
+                    code=child.exitcode))
+                return
+            if kind == sim_process.PROGRESS:
+                self.progress.emit(jid, value)
+                continue
+            if kind == sim_process.FAILED:
+                self.failed.emit(jid, value)
+            elif not self._abandon.is_set():
+                (self.done if kind == sim_process.DONE else self.cancelled).emit(jid, prepare_plot(value))
+            return
 
 
 class SimJob(QObject):
@@ -121,6 +143,9 @@ class SimJob(QObject):
     def cancel(self) -> None:
         self.worker.cancel()
 
+    def abandon(self) -> None:
+        self.worker.abandon()
+
     def is_running(self) -> bool:
         return self.id in SimJob._running
 
@@ -138,9 +163,15 @@ class SimJob(QObject):
         return list(cls._running.values())
 
 
+def warm_up() -> None:
+    """Have the simulation processes' fork server started on a thread of its own (the first run
+    then starts in milliseconds, not half a second)."""
+    threading.Thread(target=sim_process.warm_up, name="simulation-warm-up", daemon=True).start()
+
+
 @atexit.register
 def _stop_all_jobs() -> None:
     for job in SimJob.running():
-        job.cancel()
+        job.abandon()
     for job in SimJob.running():
         job.thread.wait(10_000)
