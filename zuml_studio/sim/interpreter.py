@@ -154,10 +154,11 @@ class PhaseResult:
                                                                         minutes=f"{self.paused_s / 60:.0f}"))
         if self.clip_limit:
             out.append(self.clip_text)
-        if any(self.bled_s):
+        # Under half a minute would read "0 min": a phase that ends seconds after another says nothing.
+        bled = [(k, s) for k, s in enumerate(self.bled_s, 1) if s >= 30.0]
+        if bled:
             out.append(_("balancer: {cells}").format(cells=", ".join(
-                _("cell {k} {minutes} min").format(k=k, minutes=f"{s / 60:.0f}")
-                for k, s in enumerate(self.bled_s, 1) if s)))
+                _("cell {k} {minutes} min").format(k=k, minutes=f"{s / 60:.0f}") for k, s in bled)))
         return out
 
 
