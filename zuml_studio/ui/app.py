@@ -155,6 +155,8 @@ def _screenshot(app, window, out: str, size: str) -> int:
     if window.validator.last and window.validator.last.ok:
         window.sim_panel.simulate()
         window.sim_panel.wait(120_000)
+        if window.sim_panel.result() is None:     # the picture would show an empty plot: say why
+            sys.stderr.write("zuml-studio: " + window.sim_panel.message_text() + "\n")
     # A short run of the event loop, not just processEvents: Qt finishes the dock layout
     # (and hides a tab bar it no longer uses) only from the loop.
     loop = QEventLoop()
