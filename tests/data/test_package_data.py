@@ -22,7 +22,7 @@ def test_the_data_is_read_through_the_package():
     assert Path(data.location("chemistries/LiPo.toml")).is_relative_to(Path(zuml_studio.resources.__file__).parent)
     assert data.standard_macros_dir() == Path(zuml_studio.macros.__file__).parent
     assert {"NiMh", "LiPo", "NiMh-dV"} <= {p.stem for p in data.standard_macros()}
-    assert data.names("chargers") == ["imax_b6"]
+    assert "imax_b6" in data.names("chargers")
     assert "LiPo" in data.read_toml("templates.toml")
 
 

@@ -213,6 +213,7 @@ def test_every_curve_hue_and_the_ink_stand_out_from_the_paper(scheme):
     paper = QColor(look.paper)
     hues = {**{f"quantity {k}": v for k, v in scheme.quantities.items()},
             **{f"cell {k}": v for k, v in enumerate(look.cells)},
+            **{f"pack cell {k}": v for k, v in enumerate(look.pack_cells)},
             **{f"overlay {k}": v for k, v in enumerate(look.overlays)},
             **{f"compare {k}": v for k, v in look.compare.items()}}
     for name, hue in hues.items():

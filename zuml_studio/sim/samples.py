@@ -76,6 +76,7 @@ class SampleLog:
         extra = cell_columns(cells)
         self.cells = cells if extra else 0
         self.columns = COLUMNS + extra
+        self.per_cell = bool(per_cell and extra)     # False: every cell reads the pack's voltage / cells
         self._stored = MEASURED + (extra if per_cell else ())
         self._stage = {"time_s": array("d"), "section": array("b"), "phase": array("q"),
                        **{name: array("I" if name == BALANCE_MASK else "f") for name in self._stored}}

@@ -23,15 +23,12 @@ CELL_WIDTH = 1.4
 BLEED_WIDTH = 6.0
 BLEED_ALPHA = 110
 SPREAD_ALPHA = 60
-# Eight hues told apart on either paper and from the pack's blue (cell 1 … cell 8, then again).
-HUES = {"light": ("#d62728", "#17becf", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#bcbd22"),
-        "dark": ("#ff6b6b", "#5fe0ee", "#7ee08a", "#ffb25c", "#c5a3ff", "#d9a88a", "#ff9bd9", "#e0e060")}
 LOWEST_HUE, HIGHEST_HUE = 1, 4      # of many cells: the lowest in cell 1's red, the highest in cell 4's orange
 
 
 def cell_hue(plot: StackedPlot, cell: int) -> str:
     """Cell ``cell``'s colour (1-based) on the plot's paper."""
-    hues = HUES["dark" if QColor(plot.colours.plot.paper).lightness() < 128 else "light"]
+    hues = plot.colours.plot.pack_cells
     return hues[(max(cell, 1) - 1) % len(hues)]
 
 

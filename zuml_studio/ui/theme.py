@@ -38,6 +38,7 @@ class PlotColours:
     pause: tuple[int, int, int, int]              # a heat-sink pause, translucent over the bands
     current_fill_alpha: int                       # the area under the current, in the current's hue
     cells: tuple[str, ...]                        # a log's cell voltages
+    pack_cells: tuple[str, ...]                   # a pack's cells beside its voltage (simulator, live view): not its blue
     overlays: tuple[str, ...]                     # logs or cycles laid over the first
     compare: dict[str, str]                       # Compare with Log: "real", "model", "diff"
 
@@ -94,6 +95,7 @@ LIGHT = Colours(
         band_alpha=(34, 16), band_edge_alpha=110, selected_alpha=80, pause=(90, 90, 90, 70), current_fill_alpha=28,
         cells=("#2f6db5", "#c0392b", "#5a7d1e", "#7048a8", "#1f7f95", "#c25e00", "#1d3f6e", "#7a2b28", "#4f6628",
                "#4d3b62", "#276a7c", "#a14f0a"),
+        pack_cells=("#c62828", "#00838f", "#2e7d32", "#c25400", "#7b3fb0", "#8c564b", "#c2185b", "#7a7a00"),
         overlays=("#b06c00", "#8e44ad", "#127d68", "#c0392b", "#66737a", "#2c3e50", "#b34700", "#1e8449"),
         compare={"real": "#202020", "model": "#1f5fd0", "diff": "#c03030"},
     ),
@@ -130,6 +132,7 @@ DARK = Colours(
         current_fill_alpha=40,
         cells=("#6fa0e0", "#ef7a6e", "#a9cf6a", "#b294dc", "#6cc6dc", "#f7a55e", "#a9c4f0", "#f5aaa3", "#cfe3a3",
                "#d2bff0", "#a6e0ee", "#fbc996"),
+        pack_cells=("#ff6b6b", "#5fe0ee", "#7ee08a", "#ffb25c", "#c5a3ff", "#d9a88a", "#ff9bd9", "#e0e060"),
         overlays=("#f0a030", "#c08adf", "#3fcfae", "#f07868", "#b0bcbd", "#8fa8c8", "#ff9550", "#5fd08a"),
         compare={"real": "#e6e6e6", "model": "#7fb0ff", "diff": "#ff7a7a"},
     ),

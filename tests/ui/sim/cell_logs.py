@@ -19,6 +19,7 @@ class CellLog:
 
     def __init__(self, log, cells: int, balancer: bool = True):
         self.log, self.cells, self.balancer = log, cells, balancer
+        self.per_cell = True
 
     def __len__(self) -> int:
         return len(self.log)

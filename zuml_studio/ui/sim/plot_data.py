@@ -61,7 +61,8 @@ def cell_curves(data: dict[str, np.ndarray], cells: tuple[str, ...]) -> tuple[Ce
     stack = np.vstack([data[c] for c in cells])
     data[LOWEST], data[HIGHEST] = np.nanmin(stack, axis=0), np.nanmax(stack, axis=0)     # the y range takes them
     mask = data.get(MASK)
-    bits = np.asarray(mask, dtype=np.int64) if mask is not None else None
+    # A balancer that never bled (or a pack whose log keeps a mask of zeros) draws nothing over the cells.
+    bits = np.asarray(mask, dtype=np.int64) if mask is not None and np.any(mask) else None
     if len(cells) <= MAX_EACH:
         curves = [CellCurve(c, k, "cell") for k, c in enumerate(cells, 1)]
         if bits is not None:
@@ -80,6 +81,10 @@ def cell_curves(data: dict[str, np.ndarray], cells: tuple[str, ...]) -> tuple[Ce
 def prepare_plot(result) -> PlotData:
     """Costs about as much as a tenth of the simulation: run it off the GUI thread."""
     data = result.log.arrays()
+    if not result.log.per_cell:
+        # Identical cells are each the pack's voltage over their count: N lines on one, nothing to read.
+        for column in cell_columns(data) + (MASK,):
+            data.pop(column, None)
     cells = cell_columns(data)
     curves = cell_curves(data, cells)
     envelope = Envelope(tuple(CURVES.values()) + tuple(c.column for c in curves), clock=CLOCK)
