@@ -23,6 +23,7 @@ from zuml_studio.lang.operands import AKK_TYPE, DISPLAY_NAMES
 from zuml_studio.device.drivers import DRIVERS
 from zuml_studio.ui.device import confirm_dialogs, unsafe_dialog
 from zuml_studio.ui.device.device_style import ElidedCombo, ElidedLabel
+from zuml_studio.sim.charger_model import load_charger
 from zuml_studio.sim.chemistry import chemistry_names
 
 
@@ -46,6 +47,7 @@ SHORTCUT = re.compile(r"\b(?:Ctrl|Shift|Alt|Meta)(?:\+[^\s)]+)+|\bF\d+\b")
 def _allowed_words() -> list[str]:
     words = set(NAMES) | set(UNITS) | set(i18n.LANGUAGES.values()) | set(chemistry_names()) | set(AKK_TYPE.names) | set(DISPLAY_NAMES.values())
     words |= {path.stem for path in data.standard_macros()}
+    words |= {load_charger(name).name for name in data.names("chargers")}     # the simulator's Charger box
     words |= {op.mnemonic for op in opcodes.OPCODES} | {op.keyword for op in opcodes.OPCODES}
     # Chargers called by their makers' names alone (the titles with words are in the catalogue).
     words |= {d.title for d in DRIVERS.values() if f'msgid "{d.title}"' not in POT_TEXT}

@@ -9,7 +9,7 @@ from ..sim.batteries import BatteryFileError
 from ..sim.battery import AMBIENT_MAX_C, AMBIENT_MIN_C
 from ..sim.interpreter import Measurement, StartError, StartParams
 from ..sim.reasons import end_advice, shown_reason
-from ..sim.simulate import SPREAD_MAX_PCT, BatterySetup, SimResult, simulate
+from ..sim.simulate import SPREAD_MAX_PCT, BatterySetup, SimResult, parse_spread, simulate
 from ..sim.start_check import start_warnings
 from ..sim.start_templates import TEMPLATE_COUNT
 from .common import CliError, check_start_options, out, out_json, read_bytes
@@ -82,13 +82,10 @@ def _spread(text: str | None) -> tuple[float, float, float] | None:
     if text is None:
         return None
     try:
-        values = tuple(float(x) for x in text.split(","))
+        return parse_spread(text)
     except ValueError:
-        values = ()
-    if len(values) != 3 or not all(0.0 <= x <= top for x, top in zip(values, SPREAD_MAX_PCT)):
         raise CliError(_("--cell-spread takes CAP,R,SOC: three percentages from 0 to {top:g}, e.g. 3,10,2").format(
-            top=max(SPREAD_MAX_PCT)))
-    return values  # type: ignore[return-value]
+            top=max(SPREAD_MAX_PCT))) from None
 
 
 def weak_cell(text: str | None) -> dict:

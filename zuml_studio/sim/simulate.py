@@ -21,6 +21,17 @@ from ..i18n import _
 SPREAD_MAX_PCT = (50.0, 50.0, 50.0)
 
 
+def parse_spread(text: str) -> tuple[float, float, float]:
+    """A cell spread typed as CAP,R,SOC (three percentages within ``SPREAD_MAX_PCT``); ValueError otherwise."""
+    try:
+        values = tuple(float(x) for x in text.split(","))
+    except ValueError:
+        values = ()
+    if len(values) != 3 or not all(0.0 <= x <= top for x, top in zip(values, SPREAD_MAX_PCT)):
+        raise ValueError(text)
+    return values  # type: ignore[return-value]
+
+
 @dataclass(frozen=True)
 class BatterySetup:
     chemistry: str | None = None        # battery model; None: the macro's AKK_TYPE

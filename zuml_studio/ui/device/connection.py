@@ -46,6 +46,22 @@ class VirtualSpec:
     speed: float = 60.0
     passport: str = "match"
     eeprom_path: Path | None = None     # keeps the EEPROM across connections (None: erased each time)
+    weak_cell_pct: float = 0.0          # the battery's top cell holds this % less capacity (0: equal cells)
+
+    def cells(self):
+        """The unequal cells to build the battery with (`sim.cell_pack.CellSpec`), None for the
+        battery's own; DeviceSetupError says why a weak cell does not fit the battery."""
+        if not self.weak_cell_pct:
+            return None
+        from ...device.virtual_charger import BatterySpec, DeviceSetupError
+        from ...sim.interpreter import StartError
+        from ...sim.simulate import BatterySetup, pack_cells
+        spec = BatterySpec.parse(self.battery)
+        try:
+            return pack_cells(BatterySetup(weak_cell_pct=self.weak_cell_pct), spec.capacity_mah, spec.cells, 0.0,
+                              spec.file_cells())
+        except StartError as exc:
+            raise DeviceSetupError(str(exc)) from None
 
 
 @dataclass(frozen=True)
@@ -207,16 +223,17 @@ class DeviceConnection(QObject):
             from ...device.transport import serve
             from ...device.virtual_charger import VirtualCharger
             from ...device.virtual_charger import DeviceSetupError
+            cells = virtual.cells()
             try:
                 device = VirtualCharger(virtual.battery, speed=virtual.speed, passport=virtual.passport,
-                                        eeprom_path=virtual.eeprom_path)
+                                        eeprom_path=virtual.eeprom_path, cells=cells)
             except DeviceSetupError:
                 if virtual.eeprom_path is None:
                     raise
                 # an EEPROM file that does not load (wrong size, unreadable): start erased, keep the file
                 log.warning("the virtual charger's EEPROM file %s does not load; starting erased",
                             virtual.eeprom_path)
-                device = VirtualCharger(virtual.battery, speed=virtual.speed, passport=virtual.passport)
+                device = VirtualCharger(virtual.battery, speed=virtual.speed, passport=virtual.passport, cells=cells)
             device.max_busy = VIRTUAL_MAX_BUSY
             url, stop = serve(device)
             with self._res_lock:

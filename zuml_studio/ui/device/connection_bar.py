@@ -99,6 +99,12 @@ class ConnectionBar(QWidget):
         self.v_mah = field_spin(100, 65000, DEFAULT_BATTERY[1], " mAh", _("the virtual battery's capacity"))
         self.v_mah.setSingleStep(100)
         self.v_cells = field_spin(1, 24, DEFAULT_BATTERY[2], _(" cells"), _("cells in series in the virtual battery"))
+        self.v_weak = field_spin(0, 90, 0, " %", _("one cell of the virtual battery (its top one) holds this many "
+                                                   "percent less capacity: the live view shows it run ahead and "
+                                                   "the balancer bleed it (off: equal cells)"))
+        self.v_weak.setObjectName("virtualWeakCell")
+        self.v_weak.setSpecialValueText(_("off"))
+        self.v_weak.setPrefix("−")
         self.v_passport = ElidedCombo()
         self.v_passport.setObjectName("virtualPassport")
         self.v_passport.addItem(_("as battery"), MATCH)
@@ -117,7 +123,10 @@ class ConnectionBar(QWidget):
         vrow = QHBoxLayout(self.virtual_box)
         vrow.setContentsMargins(0, 0, 0, 0)
         vrow.setSpacing(4)
-        for w in (QLabel(_("Pack")), self.v_chem, self.v_mah, self.v_cells, QLabel(_("Passport")), self.v_passport,
+        weak_label = QLabel(_("Weak cell"))
+        weak_label.setToolTip(self.v_weak.toolTip())
+        for w in (QLabel(_("Pack")), self.v_chem, self.v_mah, self.v_cells, weak_label, self.v_weak,
+                  QLabel(_("Passport")), self.v_passport,
                   QLabel(_("Speed")), self.v_speed):
             vrow.addWidget(w)
         second = QHBoxLayout()
@@ -126,7 +135,7 @@ class ConnectionBar(QWidget):
         self.info_label = ElidedLabel("")
         self.info_label.setObjectName("deviceInfo")
         tint(self.info_label, "info")
-        for box in (self.v_mah, self.v_cells):
+        for box in (self.v_mah, self.v_cells, self.v_weak):
             box.setMinimumWidth(box.sizeHint().width())     # the note gives way, not the numbers
         self.battery_note = ElidedLabel("")
         self.battery_note.setObjectName("virtualBatteryNote")
@@ -186,7 +195,8 @@ class ConnectionBar(QWidget):
 
     def virtual_spec(self, battery: str, eeprom: Path) -> VirtualSpec:
         """The built-in virtual charger as chosen here, with ``battery`` and its EEPROM file."""
-        return VirtualSpec(battery, float(self.v_speed.value()), self.v_passport.currentData() or MATCH, eeprom)
+        return VirtualSpec(battery, float(self.v_speed.value()), self.v_passport.currentData() or MATCH, eeprom,
+                           float(self.v_weak.value()))
 
     # -- the connected charger ----------------------------------------------------------------
     def set_link_state(self, state: str, monitoring: bool, shut: bool) -> None:
@@ -196,7 +206,7 @@ class ConnectionBar(QWidget):
         self.connect_button.setEnabled(not shut and state != "disconnecting")
         self.replay_button.setEnabled(free and not shut)
         self.driver_combo.setEnabled(free and not self.ports.is_virtual())
-        for w in (self.ports, self.v_chem, self.v_mah, self.v_cells, self.v_passport):
+        for w in (self.ports, self.v_chem, self.v_mah, self.v_cells, self.v_weak, self.v_passport):
             w.setEnabled(free)
         self.rate.setEnabled(not monitoring)
         self.virtual_box.setVisible(self.ports.is_virtual())

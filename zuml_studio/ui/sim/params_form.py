@@ -5,15 +5,17 @@ from __future__ import annotations
 
 from PySide6.QtCore import Qt, Signal
 from PySide6.QtWidgets import (QCheckBox, QComboBox, QDoubleSpinBox, QGridLayout, QHBoxLayout,
-                               QLabel, QProgressBar, QPushButton, QSpinBox, QWidget)
+                               QLabel, QLineEdit, QProgressBar, QPushButton, QSpinBox, QWidget)
 
+from ... import data
 from ...i18n import N_, _
 from ...sim.batteries import battery_names
 from ...sim.battery import AMBIENT_MAX_C, AMBIENT_MIN_C
 from ...sim.chemistry import chemistry_names
 from ...sim.interpreter import StartParams
 from ...sim.program import TASK_LABELS
-from ...sim.simulate import BatterySetup
+from ...sim.charger_model import load_charger
+from ...sim.simulate import SPREAD_MAX_PCT, BatterySetup, parse_spread
 from ...sim.start_templates import factory_templates
 from ..number_boxes import double_spin_box, form_field, spin_box
 from ..timefmt import elapsed
@@ -25,7 +27,8 @@ FIELD_WIDTH = 104
 
 DEFAULTS = {"task": "charge", "repetitions": 3, "capacity_mah": 2000, "current_a": 2.0, "series": 4,
             "voltage_v": None, "chemistry": None, "soc_percent": None, "ambient_c": 25.0, "sensor": True,
-            "auto": True, "template": None}
+            "auto": True, "template": None, "weak_cell_pct": 0, "weak_cell": None, "cell_spread": None,
+            "seed": 1, "charger": "imax_b6"}
 START_VALUES = ("task", "repetitions", "capacity_mah", "current_a", "series", "voltage_v", "sensor")
 
 
@@ -84,6 +87,7 @@ class ParamsForm(QWidget):
         self.sensor.setChecked(DEFAULTS["sensor"])
         self.sensor.setToolTip(_("a battery temperature sensor is connected (without one, the default "
                                  "T and dT/dt stops cannot act)"))
+        self._cell_fields()
         self.auto = QCheckBox(_("Auto re-simulate"))
         self.auto.setChecked(DEFAULTS["auto"])
         self.auto.setToolTip(_("simulate again whenever the macro compiles to a new record or a parameter changes"))
@@ -113,6 +117,9 @@ class ParamsForm(QWidget):
                 ((_("Model"), self.model),),
                 ((_("Template"), self.template),),
                 ((_("Initial"), self.initial), (_("Ambient"), self.ambient)),
+                ((_("Weak cell"), self.weak_pct), (_("Which"), self.weak_cell)),
+                ((_("Spread"), self.spread), (_("Seed"), self.seed)),
+                ((_("Charger"), self.charger),),
                 ((None, self.sensor), (None, self.auto)))
         for r, pair in enumerate(rows):
             for c, (text, widget) in enumerate(pair):
@@ -149,6 +156,36 @@ class ParamsForm(QWidget):
         self._task_changed()
 
     # -- building --------------------------------------------------------------------------
+    def _cell_fields(self) -> None:
+        """The pack's cells (equal unless asked) and the charger whose balancer works on them."""
+        self.weak_pct = self._spin_box(0, 90, 0, " %", _("one cell holds this many percent less capacity than the "
+                                                         "others (off: none); the balancer and the per-cell "
+                                                         "curves show what happens to it"))
+        self.weak_pct.setSpecialValueText(_("off"))
+        self.weak_cell = self._spin_box(0, 255, 0, "", _("which cell is the weak one, counted from the pack's "
+                                                         "negative end (last: the top cell)"))
+        self.weak_cell.setSpecialValueText(_("last"))
+        self.weak_cell.setPrefix("#")
+        self.spread = form_field(QLineEdit(), max_width=FIELD_WIDTH)
+        self.spread.setPlaceholderText(_("off"))
+        self.spread.setToolTip(_("cells drawn unequal: capacity, resistance and start charge each within ± "
+                                 "CAP,R,SOC percent of the pack's (e.g. 3,10,2; each 0..{top:g}); empty: equal "
+                                 "cells").format(top=max(SPREAD_MAX_PCT)))
+        self.seed = self._spin_box(1, 99999, DEFAULTS["seed"], "", _("the draw of the spread: another number, "
+                                                                     "other cells; the same, the same cells"))
+        self.charger = QComboBox()
+        for name in data.names("chargers"):
+            self.charger.addItem(load_charger(name).name, name)
+        self.charger.setCurrentIndex(self.charger.findData(DEFAULTS["charger"]))
+        self.charger.setToolTip(_("the charger whose limits and balancer the run uses: how much it bleeds a "
+                                  "high cell, and the per-cell ceiling that ends a Li charge"))
+        form_field(self.charger, max_width=FIELD_WIDTH).setMaximumWidth(2 * FIELD_WIDTH)
+        self.spread.textChanged.connect(self._spread_changed)
+        self._spread_changed()
+
+    def _spread_changed(self) -> None:
+        self.seed.setEnabled(bool(self.spread.text().strip()))
+
 
     @staticmethod
     def _spin_box(*args) -> QSpinBox:
@@ -162,13 +199,16 @@ class ParamsForm(QWidget):
         return {"task": self.task, "repetitions": self.repetitions, "capacity_mah": self.capacity,
                 "current_a": self.current, "series": self.series, "voltage_v": self.voltage,
                 "chemistry": self.model, "soc_percent": self.initial, "ambient_c": self.ambient,
-                "sensor": self.sensor, "template": self.template}
+                "sensor": self.sensor, "template": self.template, "weak_cell_pct": self.weak_pct,
+                "weak_cell": self.weak_cell, "cell_spread": self.spread, "seed": self.seed, "charger": self.charger}
 
     def _watch(self, name: str, widget: QWidget) -> None:
         if isinstance(widget, QComboBox):
             signal = widget.currentIndexChanged
         elif isinstance(widget, QCheckBox):
             signal = widget.toggled
+        elif isinstance(widget, QLineEdit):
+            signal = widget.textChanged
         else:
             signal = widget.valueChanged
         signal.connect(lambda *_: self._user_changed(name))
@@ -197,11 +237,24 @@ class ParamsForm(QWidget):
                 self.model.addItem(_("{name} (fitted)").format(name=name), NAMED + name)
 
     def battery_setup(self) -> BatterySetup:
+        """The battery and charger of the run; ValueError says in words what is typed wrong."""
         soc = self.initial.value()
-        data = self.model.currentData()
-        named = data[len(NAMED):] if isinstance(data, str) and data.startswith(NAMED) else None
-        return BatterySetup(chemistry=None if named else data, soc=None if soc < 0 else soc / 100.0,
-                            ambient_c=self.ambient.value(), battery=named)
+        model = self.model.currentData()
+        named = model[len(NAMED):] if isinstance(model, str) and model.startswith(NAMED) else None
+        return BatterySetup(chemistry=None if named else model, soc=None if soc < 0 else soc / 100.0,
+                            ambient_c=self.ambient.value(), battery=named, charger=self.charger.currentData(),
+                            cell_spread=self._cell_spread(), seed=self.seed.value(),
+                            weak_cell_pct=float(self.weak_pct.value()), weak_cell=self.weak_cell.value() or None)
+
+    def _cell_spread(self) -> tuple[float, float, float] | None:
+        text = self.spread.text().strip()
+        if not text:
+            return None
+        try:
+            return parse_spread(text)
+        except ValueError:
+            raise ValueError(_("cell spread '{text}': write CAP,R,SOC, three percentages from 0 to {top:g}, "
+                               "e.g. 3,10,2 (empty: equal cells)").format(text=text, top=max(SPREAD_MAX_PCT))) from None
 
     def auto_resimulate(self) -> bool:
         return self.auto.isChecked()
@@ -223,6 +276,10 @@ class ParamsForm(QWidget):
                 widget.setCurrentIndex(index if index >= 0 else 0)
             elif isinstance(widget, QCheckBox):
                 widget.setChecked(bool(value))
+            elif isinstance(widget, QLineEdit):
+                widget.setText(",".join(f"{x:g}" for x in value) if isinstance(value, (tuple, list)) else value or "")
+            elif name == "weak_cell":
+                widget.setValue(value or 0)
             elif name == "soc_percent":
                 widget.setValue(-1 if value is None else int(round(value)))
             elif name == "voltage_v":

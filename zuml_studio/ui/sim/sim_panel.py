@@ -176,8 +176,13 @@ class SimulatorPanel(QWidget):
         if self._record is None:
             self._show_message(_("nothing to simulate: the macro has not compiled yet"), "error")
             return
+        try:
+            setup = self.form.battery_setup()
+        except ValueError as exc:
+            self._show_message(_("cannot simulate: {reason}").format(reason=exc), "error")
+            return
         self._drop_job()
-        request = SimRequest(self._record, self.form.start_params(), self.form.battery_setup(), self._macro_name)
+        request = SimRequest(self._record, self.form.start_params(), setup, self._macro_name)
         warnings = start_warnings(request.record, request.params, load_charger(request.setup.charger))
         job = SimJob(request)
         worker = job.worker
@@ -341,9 +346,14 @@ class SimulatorPanel(QWidget):
         task = _(TASK_WORDS[params.task]) + (f" ×{params.repetitions}" if params.task == "train" else "")
         name = it.program.name or self._macro_name
         cells = ngettext("{n} cell", "{n} cells", result.series).format(n=result.series)
-        return _("{name}: {task} · {chemistry} model {capacity} mAh × {cells} · {ambient} °C · {sensor}").format(
+        text = _("{name}: {task} · {chemistry} model {capacity} mAh × {cells} · {ambient} °C · {sensor}").format(
             name=name, task=task, chemistry=result.chemistry, capacity=f"{result.capacity_mah:.0f}", cells=cells,
             ambient=f"{it.pack.ambient_c:g}", sensor=_("sensor on") if params.sensor else _("sensor off"))
+        specs = getattr(it.pack, "specs", None)
+        if specs:
+            caps = [c.capacity_mah for c in specs]
+            text += " · " + _("cells {low}–{high} mAh").format(low=f"{min(caps):.0f}", high=f"{max(caps):.0f}")
+        return text + " · " + it.charger.limits.name
 
     @staticmethod
     def _repetitions_tip(result) -> str:

@@ -64,8 +64,8 @@ def warm_up() -> None:
         forkserver.ensure_running()
 
 
-def _without(obj, name: str) -> dict:
-    return {k: v for k, v in vars(obj).items() if k != name}
+def _without(obj, *names: str) -> dict:
+    return {k: v for k, v in vars(obj).items() if k not in names}
 
 
 def _rebuilt(cls: type, state: dict):
@@ -77,7 +77,7 @@ def _rebuilt(cls: type, state: dict):
 class _FinishedRunPickler(pickle.Pickler):
     dispatch_table = {
         Interpreter: lambda it: (_rebuilt, (Interpreter, _without(it, "_steps"))),
-        SampleLog: lambda samples: (_rebuilt, (SampleLog, _without(samples, "append"))),
+        SampleLog: lambda samples: (_rebuilt, (SampleLog, _without(samples, "append", "append_cells"))),
     }
 
 
