@@ -12,10 +12,9 @@ from .fit import NI, Run, cc_current, charging, cv_mask, figures, measured, peak
 from .fit_discharge import discharge_current, discharge_figures, end_voltage
 from .fit_report import real_end_why
 from .chemistry import load_chemistry
-from .battery import Pack
-from .interpreter import Interpreter, StartParams
+from .interpreter import StartParams
 from .measured_r import MeasuredR, with_measured_r
-from .simulate import BatterySetup, SimResult, model_chemistry, models, simulate
+from .simulate import BatterySetup, SimResult, model_chemistry, simulate
 from ..i18n import _
 
 
@@ -110,13 +109,8 @@ def _simulate(record: bytes, params: StartParams, setup: BatterySetup,
     scaled so that its step is the log's: then also what the report says of it."""
     if measured_r is None or setup.battery:
         return simulate(record, params, setup), None
-    params, chemistry, pack, charger = models(record, params, setup)
-    chem, scale = with_measured_r(pack.chem, params.capacity_mah, measured_r)
-    interpreter = Interpreter(record, params, Pack(chem, pack.capacity_mah, pack.series, pack.soc, setup.ambient_c),
-                              charger)
-    interpreter.run()
-    said = {**measured_r.to_dict(), "r_scale": round(scale, 3)}
-    return SimResult(interpreter, chemistry, float(params.capacity_mah), int(params.series)), said
+    chem, scale = with_measured_r(load_chemistry(setup.chemistry), params.capacity_mah, measured_r)
+    return simulate(record, params, replace(setup, chem=chem)), {**measured_r.to_dict(), "r_scale": round(scale, 3)}
 
 
 def _model_end(sim: SimResult, mah: float) -> dict:

@@ -10,7 +10,7 @@ from ..lang.record import DecodeError
 from .battery import Pack
 from .cell_pack import CellPack, CellSpec, build_pack, check_cells, spread_cells, weaken
 from .charger_model import Charger, ChargerLimits, load_charger
-from .chemistry import load_chemistry
+from .chemistry import Chemistry, load_chemistry
 from .interpreter import AKK_NAMES, Interpreter, Measurement, PhaseResult, StartError, StartParams, with_template
 from .program import Program
 from .start_templates import StartTemplate
@@ -43,6 +43,8 @@ class BatterySetup:
     seed: int = 1                       # draws the spread
     weak_cell_pct: float = 0.0          # one cell with this % less capacity ...
     weak_cell: int | None = None        # ... this one (1-based; None: the last)
+    chem: Chemistry | None = None       # the model's parameters in place of its chemistry's table (a variant
+                                        # of it: compare's measured resistance)
 
 
 @dataclass
@@ -153,9 +155,10 @@ def models(record: bytes, params: StartParams, setup: BatterySetup = BatterySetu
         params = replace(params, capacity_mah=params.capacity_mah or round(named.capacity_mah),
                          series=params.series or named.series)
     program, params = start_values(record, params, templates)
-    chemistry = named.chem.name if named else model_chemistry(record, setup)
+    base = named.chem if named else setup.chem
+    chemistry = base.name if base else model_chemistry(record, setup)
     soc = setup.soc if setup.soc is not None else (0.0 if params.task == "charge" else 1.0)
-    pack = build_pack(named.chem if named else load_chemistry(chemistry), params.capacity_mah, params.series, soc,
+    pack = build_pack(base or load_chemistry(chemistry), params.capacity_mah, params.series, soc,
                       setup.ambient_c, pack_cells(setup, params.capacity_mah, params.series, soc, file_cells))
     limits = load_charger(setup.charger) if isinstance(setup.charger, str) else setup.charger
     charger = Charger(limits, setup.ambient_c)
