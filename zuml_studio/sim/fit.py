@@ -294,6 +294,12 @@ def _prior(values: dict) -> np.ndarray:
     return np.array([math.log(values.get("ocv_scale", 1.0)) * 10.0, values.get("ocv_offset_v", 0.0) * 100.0])
 
 
+def fit_samples(curve: Curve) -> Curve:
+    """The curve a fit runs the model on (a charge's or a discharge's): decimated to at most about
+    ``_FIT_SAMPLES`` samples, none closer than ``_FIT_STEP_S``."""
+    return curve.decimated(max(_FIT_STEP_S, float(curve.t[-1]) / _FIT_SAMPLES))
+
+
 def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = False,
         base: Chemistry | None = None, max_nfev: int | None = None) -> FitResult:
     """Fit the model of `chemistry` (or `base`) to the charge; ``only_capacity`` keeps the chemistry's
@@ -302,7 +308,7 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
     chem = base or load_chemistry(chemistry)
     chemistry = chem.name
     check_series(curve, chem, series)
-    work = curve.decimated(max(_FIT_STEP_S, float(curve.t[-1]) / _FIT_SAMPLES))
+    work = fit_samples(curve)
     cv = cv_mask(work, chemistry)
     mah = float(work.mah[-1])
     params = list(_COMMON[:2] if only_capacity else _COMMON + _FAMILY[family(chemistry)])

@@ -15,10 +15,8 @@ import numpy as np
 from .chemistry import Chemistry, load_chemistry
 from .curve import Curve, require_discharge
 from .fit import (_COMMON, NI, Battery, FitResult, Param, Run, _apply, _cannot_start, _prior, at_bounds,
-                  check_series, fit, guess_series, simulate_curve, soc_at_ocv, solve_params, temp_rise)
+                  check_series, fit, fit_samples, guess_series, simulate_curve, soc_at_ocv, solve_params, temp_rise)
 
-_FIT_SAMPLES = 400           # as a charge (fit.py): a fit in seconds
-_FIT_STEP_S = 10.0
 _PAUSE_FRACTION = 0.5        # samples below this share of the discharge current are pauses, not compared
 _CAPACITY_WEIGHT = 7.0       # 1 % of delivered capacity weighs as 7 mV per cell (3 % is about a voltage limit)
 _TEMP_WEIGHT = 1.0           # 1 °C of temperature error weighs as 1 mV per cell, as on a charge
@@ -129,7 +127,7 @@ def fit_discharge(curve: Curve, chemistry: str, series: int, *, only_capacity: b
     chem = base or load_chemistry(chemistry)
     chemistry = chem.name
     check_series(curve, chem, series)
-    work = curve.decimated(max(_FIT_STEP_S, float(curve.t[-1]) / _FIT_SAMPLES))
+    work = fit_samples(curve)
     real_mah, end_v = float(curve.delivered_mah[-1]), end_voltage(curve)
     params = _params(chem, curve, only_capacity, real_mah)
     start = {"capacity_mah": real_mah, "start_soc": 1.0, "r_scale": 1.0, "ocv_offset_v": 0.0, "ocv_scale": 1.0}

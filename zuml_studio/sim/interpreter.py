@@ -203,7 +203,7 @@ class Interpreter:
         self.limit_s = limit_s
         self.measurement = measurement
         self._rng = random.Random(measurement.seed)
-        self._per_cell = bool(getattr(pack, "per_cell", False) and pack.series > 1)
+        self._per_cell = pack.per_cell and pack.series > 1
         self.log = SampleLog(pack.series, self._per_cell)
         # The balancer works on a pack whose cells the model holds apart (identical cells: nothing to
         # bleed, and each cell is the pack's voltage / N, which the macro's own end governs).

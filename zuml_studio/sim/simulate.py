@@ -170,7 +170,8 @@ def pack_cells(setup: BatterySetup, capacity_mah: float, series: int, soc: float
     """The cells a run's pack has: the battery file's, else drawn from the spread; then the weak cell.
     None: identical cells. StartError says what does not fit."""
     if setup.weak_cell_pct and not 0.0 < setup.weak_cell_pct < 100.0:
-        raise StartError(_("weak cell: {pct:g} is no percentage of capacity to take off (0 to 100)").format(pct=setup.weak_cell_pct))
+        raise StartError(_("weak cell: {pct:g} is no percentage of capacity to take off (0 to 100)").format(
+            pct=setup.weak_cell_pct))
     if setup.weak_cell is not None and not 1 <= setup.weak_cell <= series:
         raise StartError(_("weak cell {k}: the pack has cells 1 to {series}").format(k=setup.weak_cell, series=series))
     if setup.cell_spread and (len(setup.cell_spread) != 3 or
