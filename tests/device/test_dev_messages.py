@@ -82,3 +82,7 @@ def test_telemetry_carries_up_to_six_cells_and_the_balance_mask():
     assert len(one.encode()) == 30 and m.Telemetry.decode(one.encode()).cells_v == ()
     with pytest.raises(m.PayloadError, match="cell tail"):
         m.Telemetry.decode(t.encode()[:-1])
+    frame = bytearray(t.encode())
+    frame[m._TELEMETRY_STRUCT.size + 1] = 0b10000    # cell 5 of a 4-cell tail
+    with pytest.raises(m.PayloadError, match="beyond its 4 cells"):
+        m.Telemetry.decode(bytes(frame))

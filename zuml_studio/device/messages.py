@@ -308,6 +308,9 @@ class Telemetry:
                 raise PayloadError(_("TELEMETRY's cell tail is not a count of 2..{top} cells, a mask and their "
                                      "voltages").format(top=TELEMETRY_CELLS))
             mask = payload[base + 1]
+            if mask >> n:
+                raise PayloadError(_("TELEMETRY's balance mask {mask:#04x} names a cell beyond its {n} cells").format(
+                    mask=mask, n=n))
             cells_v = tuple(int.from_bytes(payload[k:k + 2], "little") / 1000.0
                             for k in range(base + 2, len(payload), 2))
         elif len(payload) != base:
