@@ -129,3 +129,15 @@ def test_without_avrdude_it_names_the_package(tmp_path, image, monkeypatch):
     with pytest.raises(InstallError, match=r"avrdude not found: install it \(apt-get install avrdude\)"):
         avr_install.install(Programmer(), image, tmp_path / "b", False, print)
     assert not (tmp_path / "b").exists()
+
+
+def test_an_avrdude_that_stops_answering_is_stopped_with_what_to_do(tmp_path, image, monkeypatch):
+    # an avrdude whose programmer vanished: it says one thing, then waits on the port for ever
+    fake = tmp_path / "bin" / "avrdude"
+    fake.parent.mkdir()
+    fake.write_text("#!/bin/sh\necho 'avrdude: opening port' >&2\nexec sleep 3600\n")
+    fake.chmod(0o755)
+    monkeypatch.setenv("PATH", f"{fake.parent}:/usr/bin:/bin")
+    monkeypatch.setattr(avr_install, "SILENCE_S", 0.5)
+    with pytest.raises(InstallError, match=r"avrdude stopped answering: nothing from it for 0\.5 s.*half-written"):
+        avr_install.run_avrdude(Programmer(), ["flash:r:x.hex:i"])

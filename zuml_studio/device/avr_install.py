@@ -14,6 +14,7 @@ import json
 import shutil
 import subprocess
 import tempfile
+import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -29,6 +30,8 @@ BOD_BITS = 0xC0                         # low fuse: BODLEVEL | BODEN, programmed
 READ_PROTECTED = 0x03                   # lock byte: LB2 | LB1; either programmed: flash and EEPROM unreadable
 AVRDUDE_INSTALL = "apt-get install avrdude"
 MANIFEST = "backup.json"
+# avrdude quiet this long is stuck (its programmer gone), not slow: see _watched
+SILENCE_S = 60.0
 FIRMWARE = Path(__file__).resolve().parents[2] / "firmware"
 IMAGE = FIRMWARE / "build" / "imaxb6" / "zuml.elf"
 FORMATS = {".hex": "i", ".ihex": "i", ".elf": "e", ".bin": "r"}
@@ -102,12 +105,50 @@ def run_avrdude(programmer: Programmer, operations: list[str], erase: bool = Fal
     for operation in operations:
         argv += ["-U", operation]
     try:
-        done = subprocess.run(argv, capture_output=True, text=True, stdin=subprocess.DEVNULL)
+        returncode, stdout, stderr = _watched(argv)
     except OSError as exc:
         raise InstallError(_("avrdude could not be run: {error}").format(error=exc)) from exc
-    if done.returncode != 0:
-        raise InstallError(_("avrdude failed: {reason}").format(reason=avrdude_reason(done.stderr)))
-    return done.stdout + done.stderr
+    if returncode is None:
+        raise InstallError(_("avrdude stopped answering: nothing from it for {seconds:g} s, so it was stopped (is "
+                             "the programmer still plugged in?); if it was writing, the chip is half-written: "
+                             "install again, or put the backup back with `zuml firmware restore`").format(
+                seconds=SILENCE_S))
+    if returncode != 0:
+        raise InstallError(_("avrdude failed: {reason}").format(reason=avrdude_reason(stderr)))
+    return stdout + stderr
+
+
+def _watched(argv: list[str]) -> tuple[int | None, str, str]:
+    """Run avrdude, reading what it says as it says it; a run silent for SILENCE_S is killed (return code None).
+    avrdude draws its progress bars byte by byte, so a working run is never that quiet; one whose programmer
+    vanished (a USB serial port gone) can wait on the port for ever."""
+    proc = subprocess.Popen(argv, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    heard = [time.monotonic()]
+    parts: dict[str, list[bytes]] = {"out": [], "err": []}
+
+    def read(stream, into: list[bytes]) -> None:
+        while chunk := stream.read1(4096):
+            into.append(chunk)
+            heard[0] = time.monotonic()
+
+    readers = [threading.Thread(target=read, args=(stream, parts[key]), daemon=True)
+               for stream, key in ((proc.stdout, "out"), (proc.stderr, "err"))]
+    for reader in readers:
+        reader.start()
+    while True:
+        try:
+            returncode: int | None = proc.wait(timeout=0.2)
+            break
+        except subprocess.TimeoutExpired:
+            if time.monotonic() - heard[0] > SILENCE_S:
+                proc.kill()
+                proc.wait()
+                returncode = None
+                break
+    for reader in readers:
+        reader.join()
+    text = lambda key: b"".join(parts[key]).decode(errors="replace")  # noqa: E731
+    return returncode, text("out"), text("err")
 
 
 def avrdude_reason(stderr: str) -> str:
