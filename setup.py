@@ -34,7 +34,12 @@ ENGINE_FLAGS = ["-std=c99", "-O2", "-fPIC", "-shared", "-ffp-contract=off", "-fn
 def build_engine(target: Path) -> None:
     """Compile the C simulation engine to ``target``; a loud warning (no failure) when it cannot be."""
     firmware = Path(__file__).parent / "firmware"
-    sources = [str(firmware / line) for line in (firmware / "engine.sources").read_text().split()]
+    try:
+        sources = [str(firmware / line) for line in (firmware / "engine.sources").read_text().split()]
+    except OSError as exc:
+        print(f"WARNING: the C simulation engine was not built (no sources: {exc}); ZUML Studio will simulate "
+              "with the slower Python interpreter.", file=sys.stderr)
+        return
     compiler = shlex.split(os.environ.get("CC") or sysconfig.get_config_var("CC") or "cc")
     if not compiler or shutil.which(compiler[0]) is None:
         compiler = ["gcc"] if shutil.which("gcc") else ["cc"]

@@ -14,7 +14,7 @@ import ctypes
 import sys
 import threading
 from pathlib import Path
-from typing import Mapping
+from typing import Callable, Mapping
 
 import numpy as np
 
@@ -119,6 +119,7 @@ def library() -> ctypes.CDLL | None:
         lib.ze_start.restype = _U8
         lib.ze_run.argtypes = [_P(_Run), _I32]
         lib.ze_run.restype = _I32
+        lib.ze_stop.argtypes = [_P(_Run)]
         lib.zh_set_template.argtypes = [_U8, ctypes.c_char_p]
         _library.append(lib)
     return _library[0]
@@ -246,17 +247,21 @@ class _Buffers:
         return out
 
 
-def run(interpreter: Interpreter, templates: Mapping[int, StartTemplate] | None = None) -> None:
+def run(interpreter: Interpreter, templates: Mapping[int, StartTemplate] | None = None,
+        on_chunk: Callable[[float], str | None] | None = None) -> None:
     """Runs a freshly built interpreter's simulation to its end in C and fills its results as its own
-    ``run()`` would (check `unavailable` first). RuntimeError when the core refuses what Python started."""
+    ``run()`` would (check `unavailable` first). ``on_chunk(time_s)``, after every chunk of ticks, may
+    return a reason to stop the run with, as ``Interpreter.stop(reason)`` does. RuntimeError when the
+    core refuses a start the reference accepted."""
     lib = library()
     if lib is None:
         raise RuntimeError(missing_text())
     with _lock:
-        _run(lib, interpreter, factory_templates() if templates is None else templates)
+        _run(lib, interpreter, factory_templates() if templates is None else templates, on_chunk)
 
 
-def _run(lib: ctypes.CDLL, it: Interpreter, templates: Mapping[int, StartTemplate]) -> None:
+def _run(lib: ctypes.CDLL, it: Interpreter, templates: Mapping[int, StartTemplate],
+         on_chunk: Callable[[float], str | None] | None) -> None:
     keep: list = []
     pack, charger, p = it.pack, it.charger, it.params
     c_pack, c_charger, c_balancer = _c_pack(pack, it.tick_s, keep), _c_charger(charger), _c_balancer(it)
@@ -284,6 +289,10 @@ def _run(lib: ctypes.CDLL, it: Interpreter, templates: Mapping[int, StartTemplat
             log.append_block(buffers.block(n))
             log.seal_if_full()
         reader.events(c_run.n_events)
+        stop = on_chunk(c_run.time) if on_chunk is not None and not c_run.finished else None
+        if stop is not None:
+            lib.ze_stop(ctypes.byref(c_run))
+            reader.events(c_run.n_events, stop)
     log.seal()
     it.time_s, it.q_in, it.q_out, it.paused = c_run.time, c_run.q_in, c_run.q_out, bool(c_run.paused)
     _write_back(pack, c_pack, charger, c_charger)
@@ -309,11 +318,13 @@ class _Reader:
         self.it, self.record, self.buffers = it, record, buffers
         self.paused = False
 
-    def events(self, n: int) -> None:
+    def events(self, n: int, stopped: str | None = None) -> None:
+        """The first n events of the buffer; ``stopped``: the reason the run was stopped with (the
+        core's "stopped" is the user's stop)."""
         it = self.it
         for ev in self.buffers.events[:n]:
             t = ev.time_s
-            text = ev.text[:ev.text_len].decode("ascii")
+            text = stopped or ev.text[:ev.text_len].decode("ascii")
             kind = ev.kind
             if kind == _EV_SECTION:
                 it.events.append(Event(t, "section", section=_SECTIONS[ev.section], repetition=ev.repetition))

@@ -237,3 +237,11 @@ int32_t ze_run(ze_run_t *e, int32_t max_ticks)
     e->paused = run->paused;
     return n;
 }
+
+void ze_stop(ze_run_t *e)
+{
+    cur = e;
+    e->n_events = e->n_phase_cells = 0;
+    zh_stop();
+    e->finished = 1;
+}

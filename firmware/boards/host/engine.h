@@ -53,5 +53,7 @@ typedef struct {
 uint8_t ze_start(ze_run_t *e, const uint8_t *rec, uint16_t len, const zc_start_t *s, const zc_board_t *b);
 /* Runs at most max_ticks ticks (fewer when the event buffers fill); returns the samples written. */
 int32_t ze_run(ze_run_t *e, int32_t max_ticks);
+/* Stops the run between ticks, as the user's stop does (the phase's end and the finish as events). */
+void ze_stop(ze_run_t *e);
 
 #endif

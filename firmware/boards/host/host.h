@@ -13,5 +13,6 @@ void zh_set_event_sink(void (*sink)(const zc_event_t *e));
 void zh_set_ceiling(uint8_t cell, int32_t ceiling_uv);
 const zc_run_t *zh_run(void);
 uint8_t zh_event_text(const zc_event_t *e, char *out);
+void zh_stop(void);
 
 #endif
