@@ -75,6 +75,27 @@ class BuildPyWithCatalogues(build_py):
                 write_mo(fh, catalog, use_fuzzy=False)
 
 
-setup(packages=find_packages(include=["zuml_studio*"]) + list(DATA_FOLDERS),
-      package_dir=DATA_FOLDERS,
-      cmdclass={"build_py": BuildPyWithCatalogues})
+def platform_wheel() -> type:
+    """The wheel carries the engine's library: one platform's, for any Python 3 (it does not use Python's C API)."""
+    try:
+        from setuptools.command.bdist_wheel import bdist_wheel
+    except ImportError:                 # setuptools < 70.1
+        from wheel.bdist_wheel import bdist_wheel
+
+    class PlatformWheel(bdist_wheel):
+        def finalize_options(self) -> None:
+            super().finalize_options()
+            self.root_is_pure = False
+
+        def get_tag(self) -> tuple[str, str, str]:
+            return "py3", "none", super().get_tag()[2]
+
+    return PlatformWheel
+
+
+if sys.argv[1:] == ["--engine-only"]:       # ./dev: the engine of an editable install, rebuilt when its sources change
+    build_engine(Path(__file__).parent / ENGINE)
+else:
+    setup(packages=find_packages(include=["zuml_studio*"]) + list(DATA_FOLDERS),
+          package_dir=DATA_FOLDERS,
+          cmdclass={"build_py": BuildPyWithCatalogues, "bdist_wheel": platform_wheel()})
