@@ -92,7 +92,7 @@ class _Event(ctypes.Structure):
 
 class _Run(ctypes.Structure):
     _fields_ = [("pack", _P(_Pack)), ("charger", _P(_Charger)), ("balancer", _P(_Balancer)),
-                ("per_cell", _I32), ("chunk", _I32), ("dt", _D), ("limit_s", _D), ("lsb_v", _D),
+                ("per_cell", _I32), ("dt", _D), ("limit_s", _D), ("lsb_v", _D),
                 ("time_s", _P(_D)), ("section", _P(ctypes.c_int8)), ("phase", _P(ctypes.c_int64))] + \
                [(name, _P(ctypes.c_float)) for name in ("voltage_v", "current_a", "temp_c", "heatsink_c",
                                                        "mah_in", "mah_out", "cells")] + \
@@ -267,7 +267,7 @@ def _run(lib: ctypes.CDLL, it: Interpreter, templates: Mapping[int, StartTemplat
     c_pack, c_charger, c_balancer = _c_pack(pack, it.tick_s, keep), _c_charger(charger), _c_balancer(it)
     per_cell = it._per_cell       # the interpreter's: a pack of several unequal cells
     c_run = _Run(ctypes.pointer(c_pack), ctypes.pointer(c_charger), ctypes.pointer(c_balancer), int(per_cell),
-                 CHUNK, it.tick_s, it.limit_s, it.measurement.lsb_v)
+                 it.tick_s, it.limit_s, it.measurement.lsb_v)
     buffers = _Buffers(c_run, pack.series if per_cell else 0)
     _set_templates(lib, templates)
     start = ZcStart(_TASKS[p.task], p.repetitions, _NONE if p.capacity_mah is None else round(p.capacity_mah),

@@ -152,8 +152,6 @@ int32_t ze_run(ze_run_t *e, int32_t max_ticks)
         hal_output_t out;
         uint8_t state, running, was_paused = run->paused;
         double i, v, hs, ocv, temp;
-        if (e->ticks % e->chunk == 0)
-            ph.mask = 0;
         state = zh_control(fixed(ch->heatsink_c), fixed(p->voltage), fixed(zm_pack_temp_c(p)), &out);
         if (state == 0) {
             e->finished = 1;

@@ -30,7 +30,6 @@ typedef struct {
     zm_charger_t *charger;
     const zm_balancer_t *balancer;
     int32_t per_cell;              /* the interpreter's _per_cell: the cells differ and there are several */
-    int32_t chunk;                 /* SampleLog.CHUNK: the reference's balancer forgets its mask at each */
     double dt, limit_s, lsb_v;
     /* the samples of one ze_run, from row 0 (cells, balance_mask: per_cell only, pack->cells a row) */
     double *time_s;
