@@ -47,7 +47,7 @@ def build_engine(target: Path) -> None:
     try:
         done = subprocess.run(compiler + ENGINE_FLAGS + ["-o", str(target)] + sources + ["-lm"],
                               capture_output=True, text=True)
-        error = done.stderr if done.returncode else ""
+        error = (done.stderr.strip() or f"exit status {done.returncode}") if done.returncode else ""
     except OSError as exc:
         error = str(exc)
     if error:
