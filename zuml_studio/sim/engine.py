@@ -21,7 +21,8 @@ import numpy as np
 from .battery import Pack
 from .cell_pack import CellPack
 from .interpreter import Event, Interpreter, Measurement, PhaseResult, FULL_SOC
-from .samples import BALANCE_MASK, CHUNK, COLUMNS
+from . import samples
+from .samples import BALANCE_MASK, COLUMNS
 from .start_templates import StartTemplate, factory_templates
 from ..i18n import _
 
@@ -224,13 +225,14 @@ class _Buffers:
     """One chunk of samples as C writes them, and the event buffers."""
 
     def __init__(self, run: _Run, cells: int) -> None:
-        self.columns = {"time_s": np.empty(CHUNK, np.float64), "section": np.empty(CHUNK, np.int8),
-                        "phase": np.empty(CHUNK, np.int64),
-                        **{name: np.empty(CHUNK, np.float32) for name in COLUMNS[3:]}}
+        chunk = samples.CHUNK           # the log's: a run of ticks fills at most its room
+        self.columns = {"time_s": np.empty(chunk, np.float64), "section": np.empty(chunk, np.int8),
+                        "phase": np.empty(chunk, np.int64),
+                        **{name: np.empty(chunk, np.float32) for name in COLUMNS[3:]}}
         for name, array in self.columns.items():
             setattr(run, name, array.ctypes.data_as(type(getattr(run, name))))
-        self.cells = np.empty((CHUNK, cells), np.float32) if cells else None
-        self.mask = np.empty(CHUNK, np.uint32) if cells else None
+        self.cells = np.empty((chunk, cells), np.float32) if cells else None
+        self.mask = np.empty(chunk, np.uint32) if cells else None
         if cells:
             run.cells = self.cells.ctypes.data_as(_P(ctypes.c_float))
             run.balance_mask = self.mask.ctypes.data_as(_P(ctypes.c_uint32))

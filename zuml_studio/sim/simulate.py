@@ -222,6 +222,8 @@ def simulate(record: bytes, params: StartParams, setup: BatterySetup = BatterySe
     """``engine``: "auto" runs the C engine when it can run this simulation and the Python reference
     otherwise (noise drawn with Python's generator, a tick not whole seconds, the library not built: see
     `engine.unavailable`), "c" the C engine or EngineError, "python" the reference."""
+    if engine not in ENGINES:
+        raise ValueError(f"engine {engine!r}: one of {', '.join(ENGINES)}")
     result = prepare(record, params, setup, **kw)
     it = result.interpreter
     why = None if engine == "python" else c_engine.unavailable(it)
