@@ -1,6 +1,6 @@
 """The C simulation engine: the firmware's interpreter core on the host board with the battery and
 charger models in C (firmware/boards/host/engine.c, firmware/model/), run for a whole simulation in one
-library, ``_engine/libzuml_engine.so``, built with the package (tools/build_engine.py).
+library, ``_engine/libzuml_engine.so``, built with the package (setup.py, from firmware/engine.sources).
 
 The Python interpreter (`interpreter.py`) stays the reference: `run` builds the same `Interpreter` (its
 program, start values, pack and charger, its StartErrors), hands the models' constants and state to C,
@@ -40,6 +40,7 @@ _SECTIONS = ("discharge", "charge")
 _EVENTS_CAP = 1024                 # engine.c returns early while fewer than 300 are free
 _PHASE_ENDS = 256                  # a phase end's cells per ze_run (it returns early as they fill)
 _MAX_CELLS = 32                   # the balance mask is a uint32
+_K_LENGTH = 28                    # Pack.step_constants' length, as _Constants carries it
 _STATE_FIELDS = ("soc", "temp_c", "current", "cell_voltage", "voltage", "v1", "v2", "vp", "oc", "over")
 _D, _I32, _U8 = ctypes.c_double, ctypes.c_int32, ctypes.c_uint8
 _P = ctypes.POINTER
@@ -149,7 +150,7 @@ def unavailable(interpreter: Interpreter) -> str | None:
     if isinstance(it.pack, CellPack) and it.pack.series > _MAX_CELLS:
         return _("the C engine balances at most {n} cells").format(n=_MAX_CELLS)
     cells = it.pack.cells if isinstance(it.pack, CellPack) else [it.pack]
-    if not all(type(c) is Pack and len(c.step_constants(it.tick_s)) == 28 for c in cells):
+    if not all(type(c) is Pack and len(c.step_constants(it.tick_s)) == _K_LENGTH for c in cells):
         return _("the battery model is not the one the C engine carries")
     return None
 
