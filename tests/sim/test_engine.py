@@ -137,3 +137,22 @@ def test_without_the_library_auto_runs_the_reference_and_c_names_the_build(monke
     with pytest.raises(EngineError, match="not built"):
         simulate(record, params, engine="c")
 
+
+
+def test_a_run_stopped_between_chunks_ends_as_the_reference_stopped_there():
+    record, params = compiled("NiMh"), StartParams("train", 3, 2000, 1.0, None, 4, False)
+    mine = prepare(record, params).interpreter
+    stops = []
+
+    def on_chunk(time_s):
+        stops.append(time_s)
+        return "cancelled" if len(stops) == 2 else None
+
+    engine.run(mine, on_chunk=on_chunk)
+    ref = prepare(record, params).interpreter
+    while ref.time_s < stops[-1]:
+        ref.advance(1)
+    ref.stop("cancelled")
+    assert (mine.end_reason, mine.phases[-1].reason) == ("cancelled", "cancelled")
+    assert mine.phases == ref.phases and mine.events == ref.events
+    assert np.array_equal(mine.log.arrays()["voltage_v"], ref.log.arrays()["voltage_v"])
