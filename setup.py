@@ -44,6 +44,7 @@ def build_engine(target: Path) -> None:
     if not compiler or shutil.which(compiler[0]) is None:
         compiler = ["gcc"] if shutil.which("gcc") else ["cc"]
     target.parent.mkdir(parents=True, exist_ok=True)
+    target.unlink(missing_ok=True)      # never a stale engine (an in-tree build/ keeps the last one) for these sources
     try:
         done = subprocess.run(compiler + ENGINE_FLAGS + ["-o", str(target)] + sources + ["-lm"],
                               capture_output=True, text=True)

@@ -27,7 +27,6 @@ from .start_templates import StartTemplate, factory_templates
 from ..i18n import _
 
 LIBRARY = Path(__file__).with_name("_engine") / "libzuml_engine.so"
-BUILD_HINT = "pip install -e . with a C compiler (apt-get install gcc)"
 
 _TASKS = {"charge": 0, "discharge": 1, "train": 2}
 _NONE = -1
@@ -129,7 +128,8 @@ def library() -> ctypes.CDLL | None:
 
 def missing_text() -> str:
     """The one line for a run that asks for the C engine where the library is not built."""
-    return _("the C simulation engine is not built ({path}): {hint}").format(path=LIBRARY, hint=BUILD_HINT)
+    return _("the C simulation engine is not built ({path}): install a C compiler (apt-get install gcc) and "
+             "reinstall ZUML Studio (in a checkout: ./dev, or pip install -e .)").format(path=LIBRARY)
 
 
 def unavailable(interpreter: Interpreter) -> str | None:
