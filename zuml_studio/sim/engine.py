@@ -20,7 +20,7 @@ import numpy as np
 
 from .battery import Pack
 from .cell_pack import CellPack
-from .interpreter import Event, Interpreter, Measurement, PhaseResult, FULL_SOC
+from .interpreter import FULL_SOC, Event, Interpreter, PhaseResult
 from . import samples
 from .samples import BALANCE_MASK, COLUMNS
 from .start_templates import StartTemplate, factory_templates
