@@ -235,11 +235,9 @@ static double cell_voltage(const zm_constants_t *k, const cv_terms_t *c, double 
     return v + k->ys[j - 1] + (s - k->xs[j - 1]) * slope;
 }
 
-#define MAX_CELLS 64
-
 static double cells_current_for_voltage(zm_pack_t *p, double v_pack)
 {
-    cv_terms_t terms[MAX_CELLS];
+    cv_terms_t terms[ZM_MAX_CELLS];
     double x = p->cv_guess, lo = -INFINITY, hi = INFINITY;
     int32_t n = p->cells, k, step;
     for (k = 0; k < n; k++)
@@ -295,7 +293,7 @@ double zm_pack_current_for_voltage(zm_pack_t *p, double v_pack)
 
 double zm_pack_open_circuit_voltage(const zm_pack_t *p)
 {
-    double v[MAX_CELLS];
+    double v[ZM_MAX_CELLS];
     int32_t k;
     if (!p->cells)
         return one_ocv(p->k, p->s);
@@ -306,7 +304,7 @@ double zm_pack_open_circuit_voltage(const zm_pack_t *p)
 
 double zm_pack_temp_c(const zm_pack_t *p)
 {
-    double t[MAX_CELLS];
+    double t[ZM_MAX_CELLS];
     int32_t k;
     if (!p->cells)
         return p->s->temp_c;
@@ -317,7 +315,7 @@ double zm_pack_temp_c(const zm_pack_t *p)
 
 double zm_pack_soc(const zm_pack_t *p)
 {
-    double w[MAX_CELLS];
+    double w[ZM_MAX_CELLS];
     int32_t k;
     if (!p->cells)
         return p->s->soc;

@@ -10,6 +10,8 @@
 
 #include <stdint.h>
 
+#define ZM_MAX_CELLS 32            /* a CellPack's most cells (the balance mask is 32 bits) */
+
 /* Pack._k for the run's tick, in its order, and the OCV table it points into. */
 typedef struct {
     double r0, r1b, a1, r2b, a2, ea_r, ea_r_ref, kc, kd, eps, inv_w0, w_t, dv_o2, k_t, q_rev, ds_k, a_th, inv_ha;

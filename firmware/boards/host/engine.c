@@ -11,14 +11,14 @@
 #include "host.h"
 
 #define EVENT_ROOM 300             /* the most events one tick can make: a phase end, ~128 commands, a start */
-#define MAX_CELLS 64
 
 static ze_run_t *cur;              /* the run the event sink writes to (one run at a time: host.c is one board) */
+/* the running phase's own, cleared at its start */
 static struct {
     double phase_q_in, phase_q_out, measured_v, clip_asked, clip_given, clip_v, clipped_s;
     int32_t clip_set, bleeder, ceiling;
     uint32_t mask;
-    int64_t bled[MAX_CELLS];
+    int64_t bled[ZM_MAX_CELLS];
 } ph;
 
 static int32_t fixed(double x)
@@ -121,6 +121,8 @@ uint8_t ze_start(ze_run_t *e, const uint8_t *rec, uint16_t len, const zc_start_t
     memset(&ph, 0, sizeof ph);
     zh_set_event_sink(sink);
     zm_charger_start(e->charger, e->dt);
+    if (e->pack->cells > ZM_MAX_CELLS)
+        return ZE_ERR_CELLS;
     return zh_start(rec, len, s, b);
 }
 

@@ -12,6 +12,7 @@
 
 #define ZE_TEXT 80
 #define ZE_LIMIT 100               /* an event kind of the engine's own: the simulation's limit cut the phase */
+#define ZE_ERR_CELLS 100           /* ze_start: more cells than the models hold (ZM_MAX_CELLS) */
 
 typedef struct {
     uint8_t kind, section, index, repetition, cycle_pass, offset, reason, reason_offset;
@@ -48,7 +49,7 @@ typedef struct {
     int32_t finished, paused;
 } ze_run_t;
 
-/* Starts the run (enum zc_start_error); the models in *e must be at their start state. */
+/* Starts the run (enum zc_start_error, or ZE_ERR_CELLS); the models in *e must be at their start state. */
 uint8_t ze_start(ze_run_t *e, const uint8_t *rec, uint16_t len, const zc_start_t *s, const zc_board_t *b);
 /* Runs at most max_ticks ticks (fewer when the event buffers fill); returns the samples written. */
 int32_t ze_run(ze_run_t *e, int32_t max_ticks);
