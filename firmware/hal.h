@@ -35,6 +35,10 @@ int32_t hal_heatsink_uc(void);
 uint8_t hal_battery_sensor(void);                 /* 1 when a battery temperature sensor is connected */
 uint8_t hal_cell_count(void);                     /* balance-port cells measured, 0 without a balancer */
 int32_t hal_cell_uv(uint8_t cell);
+/* The balancer's ceiling, which ends a charge phase (checked after the phase's own conditions and -dV,
+ * before the defaults): the cell (from 1) at it now, 0 when none is; *ceiling_uv the ceiling. A board
+ * whose balancer ends no charge answers 0. */
+uint8_t hal_balancer_ceiling(int32_t *ceiling_uv);
 
 /* Closes the interval the readings above average over: called once per tick, just before they are
  * read (a board that has no averages does nothing). */

@@ -6,6 +6,12 @@
 
 void hal_measure_latch(void) {}
 
+uint8_t hal_balancer_ceiling(int32_t *ceiling_uv)
+{
+    *ceiling_uv = 0;
+    return 0;
+}
+
 const char *hal_run_start(const uint8_t *rec, uint8_t akk_type, int16_t series, int32_t capacity_mah, uint8_t *code)
 {
     (void)rec; (void)akk_type; (void)series; (void)capacity_mah; (void)code;

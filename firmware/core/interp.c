@@ -592,6 +592,11 @@ void zc_measure(zc_run_t *r)
         reason = ZC_R_CONDITION;
         at = r->dpeak_at;
     }
+    if (!reason && r->charging) {
+        int32_t ceiling_uv;
+        if ((at = hal_balancer_ceiling(&ceiling_uv)) != 0)
+            reason = ZC_R_BALANCER;
+    }
     if (!reason) {
         if (sensor) {
             if (!r->own_t && temp > DEFAULT_T_MAX_UC) {

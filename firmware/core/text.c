@@ -135,6 +135,13 @@ uint8_t zc_reason_text(const zc_run_t *r, uint8_t reason, uint8_t offset, char *
         p = put(zc_put_2f(put(p, PSTR("default: empty discharge section, V<")), (uint32_t)per_cell), PSTR("V/cell"));
         break;
     }
+    case ZC_R_BALANCER: {
+        int32_t ceiling_uv;
+        hal_balancer_ceiling(&ceiling_uv);
+        p = put(zc_put_uint(put(p, PSTR("balancer: cell ")), offset), PSTR(" reached "));
+        p = put(zc_put_2f(p, (uint32_t)ceiling_uv), PSTR("V (ceiling)"));
+        break;
+    }
     case ZC_R_STOPPED: p = put(p, PSTR("stopped")); break;
     case ZC_R_END: p = put(p, PSTR("end of macro")); break;
     default: break;

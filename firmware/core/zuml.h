@@ -37,7 +37,8 @@ enum zc_reason {
     ZC_R_DEFAULT_EMPTY = 5,        /* empty discharge section reached the chemistry's end voltage */
     ZC_R_STOP_MACRO = 6,           /* IF(tm>x) at reason_offset */
     ZC_R_STOPPED = 7,              /* stopped by the user */
-    ZC_R_END = 8                   /* end of macro */
+    ZC_R_END = 8,                  /* end of macro */
+    ZC_R_BALANCER = 9              /* a cell reached the balancer's ceiling; reason_offset: the cell */
 };
 
 /* How a phase drives the power stage (zc_run_t.mode); CC-CV is CV with CONSTANT_I as its limit. */

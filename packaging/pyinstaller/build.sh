@@ -23,8 +23,10 @@ step() { printf '== [%3ds] %s\n' "$SECONDS" "$*" >&2; }
 step "copying the sources"
 mkdir "$WORK/src"
 cp -r "$ROOT/pyproject.toml" "$ROOT/setup.py" "$ROOT/README.md" "$ROOT/LICENSE" "$ROOT/zuml_studio" "$ROOT/resources" \
-    "$ROOT/macros" "$WORK/src/"
+    "$ROOT/macros" "$ROOT/firmware" "$WORK/src/"
 find "$WORK/src" -name __pycache__ -prune -exec rm -rf {} +
+# The wheel's build compiles the C simulation engine from firmware/ itself (setup.py): no built copy goes in.
+rm -rf "$WORK/src/firmware/build" "$WORK/src/zuml_studio/sim/_engine"
 # The wheel's build compiles the catalogues itself (setup.py); a stale in-tree .mo must not win.
 find "$WORK/src/resources/locale" -name "*.mo" -delete
 

@@ -13,9 +13,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from zuml_studio.sim.charger_model import load_charger
+from zuml_studio.sim.engine import ZcBoard, ZcStart, template_bytes
 from zuml_studio.sim.interpreter import Measurement, StartError, StartParams
 from zuml_studio.sim.simulate import BatterySetup, models, prepare
-from zuml_studio.sim.start_templates import StartTemplate, factory_templates
+from zuml_studio.sim.start_templates import factory_templates
 
 ROOT = Path(__file__).resolve().parents[2]
 FIRMWARE = ROOT / "firmware"
@@ -29,18 +30,6 @@ OFF, CURRENT, VOLTAGE_CHARGE, VOLTAGE_DISCHARGE = range(4)
 EV_PHASE_START, EV_PHASE_END, EV_PAUSE, EV_RESUME, EV_MUSIC, EV_LIGHT, EV_FINISH = range(2, 9)
 START_ERRORS = {1: "record", 2: "INPUT current", 3: "C needs capacity", 4: "INPUT voltage",
                 5: "S needs series", 6: "repetitions", 7: "no template"}
-
-
-class ZcStart(ctypes.Structure):
-    _fields_ = [("task", ctypes.c_uint8), ("repetitions", ctypes.c_uint8), ("capacity_mah", ctypes.c_int32),
-                ("current_ua", ctypes.c_int32), ("voltage_uv", ctypes.c_int32), ("series", ctypes.c_int16),
-                ("sensor", ctypes.c_uint8), ("template_no", ctypes.c_uint8)]
-
-
-class ZcBoard(ctypes.Structure):
-    _fields_ = [("max_charge_ua", ctypes.c_int32), ("max_discharge_ua", ctypes.c_int32),
-                ("fallback_end_uv_per_cell", ctypes.c_int32), ("tick_ms", ctypes.c_uint16),
-                ("dp_window_s", ctypes.c_uint16), ("dp_holdoff_s", ctypes.c_uint16)]
 
 
 class ZcEvent(ctypes.Structure):
@@ -75,14 +64,6 @@ def load(path: Path = LIBRARY) -> ctypes.CDLL:
     lib.zh_phase_counts.argtypes = [ctypes.POINTER(ctypes.c_int64), ctypes.POINTER(ctypes.c_int64)]
     lib.zh_set_template.argtypes = [u8, ctypes.c_char_p]
     return lib
-
-
-def template_bytes(t: StartTemplate) -> bytes:
-    """A start template as the firmware stores it (docs/protocol.md, GET_TEMPLATE); 0 = not given."""
-    milli = lambda x: 0 if x is None else round(x * 1000)  # noqa: E731
-    return bytes([("charge", "discharge", "train").index(t.task), t.repetitions]) + \
-        b"".join(v.to_bytes(2, "little") for v in (round(t.capacity_mah or 0), milli(t.current_a),
-                                                    milli(t.voltage_v))) + bytes([t.series or 0])
 
 
 def _fixed(x: float, scale: float) -> int:

@@ -2,6 +2,7 @@
 runs), works on its own: its zuml fails the dangerous macro, its zuml-studio renders the window
 offscreen, Qt's Russian translation and ours are inside, and install.sh installs it (issue 10). Slow: it builds
 a clean venv and freezes it (a few minutes on a loaded 2-core machine); `-m 'not slow'` skips it."""
+import json
 import os
 import re
 import struct
@@ -45,6 +46,15 @@ def test_the_bundles_zuml_fails_the_dangerous_macro(built, tmp_path):
     proc = _run(bundle / "zuml", "check", DANGEROUS, cwd=tmp_path)
     assert proc.returncode == 1, proc.stdout + proc.stderr
     assert proc.stdout.count("[E303]") == 2
+
+
+def test_the_bundles_zuml_simulates_with_the_c_engine(built, tmp_path):
+    bundle, _ = built
+    macro = bundle / "_internal" / "zuml_studio" / "macros" / "NiMh-dV.zuml"
+    proc = _run(bundle / "zuml", "simulate", macro, "--capacity", "2000", "--series", "4", "--current", "2",
+                "--engine", "c", "--json", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    assert json.loads(proc.stdout)["engine"] == "c"
 
 
 def test_the_bundles_zuml_studio_renders_a_1600x1000_screenshot(built, tmp_path):

@@ -1,5 +1,6 @@
 """The built wheel is the whole application: installed away from the source tree, its commands find
 their data, the safety lint still fails a dangerous macro, and the GUI renders (issue 10)."""
+import json
 import os
 import shutil
 import subprocess
@@ -11,7 +12,7 @@ import pytest
 from helpers import ROOT
 
 DANGEROUS = ROOT / "tests" / "data" / "LiPo-4V5.zuml"
-SOURCES = ("pyproject.toml", "setup.py", "README.md", "LICENSE", "zuml_studio", "resources", "macros")
+SOURCES = ("pyproject.toml", "setup.py", "README.md", "LICENSE", "zuml_studio", "resources", "macros", "firmware")
 
 
 def _run(*cmd, cwd, env=None, timeout=180) -> subprocess.CompletedProcess:
@@ -28,7 +29,9 @@ def installed(tmp_path_factory):
     for name in SOURCES:
         if (ROOT / name).is_dir():
             # No .mo from ./dev: the wheel's own build step must compile the catalogues.
-            shutil.copytree(ROOT / name, src / name, ignore=shutil.ignore_patterns("__pycache__", "*.mo"))
+            # Nor the engine's library or the firmware's build/: the wheel's build step compiles the engine.
+            shutil.copytree(ROOT / name, src / name, ignore=shutil.ignore_patterns("__pycache__", "*.mo", "_engine",
+                                                                                   "build"))
         else:
             src.mkdir(exist_ok=True)
             shutil.copy2(ROOT / name, src / name)
@@ -91,6 +94,11 @@ def test_installed_zuml_simulates_and_writes_a_new_macro(installed):
                 cwd=outside, env=_env(site))
     assert proc.returncode == 0, proc.stderr
     assert "NiMh" in proc.stdout
+    assert (site / "zuml_studio" / "sim" / "_engine" / "libzuml_engine.so").is_file()
+    proc = _run(bin_ / "zuml", "simulate", nimh, "--capacity", "2000", "--series", "4", "--current", "2", "--json",
+                "--engine", "c", cwd=outside, env=_env(site))
+    assert proc.returncode == 0, proc.stderr
+    assert json.loads(proc.stdout)["engine"] == "c"
     proc = _run(bin_ / "zuml", "new", "--chemistry", "LiPo", "--series", "3", "--capacity", "2200",
                 "-o", "mine.zuml", cwd=outside, env=_env(site))
     assert proc.returncode == 0, proc.stderr

@@ -10,7 +10,7 @@ from zuml_studio.sim.battery import Pack
 from zuml_studio.sim.cell_pack import CellPack, CellSpec, spread_cells
 from zuml_studio.sim.chemistry import load_chemistry
 from zuml_studio.sim.interpreter import StartError, StartParams
-from zuml_studio.sim.simulate import BatterySetup, simulate
+from zuml_studio.sim.simulate import BatterySetup, prepare, simulate
 
 CELLS = [f"cell{k}_v" for k in range(1, 5)]
 
@@ -116,3 +116,16 @@ def test_the_weak_cell_can_be_any_cell_and_must_be_in_the_pack():
     assert r.phases[-1].reason == "balancer: cell 2 reached 4.20V (ceiling)"
     with pytest.raises(StartError, match="weak cell 5: the pack has cells 1 to 4"):
         _weak_run(weak_cell_pct=15.0, weak_cell=5)
+
+
+def test_the_balancer_acts_alike_however_the_run_is_advanced():
+    # its hysteresis (a bleeding cell goes on while above the lowest) is the phase's, not one run of ticks'
+    setup = BatterySetup(cell_spread=(3.0, 10.0, 2.0), seed=3)
+    params = StartParams("charge", 1, 2000, 2.0, None, 6, True)
+    whole, stepped = (prepare(record_of("LiPo"), params, setup).interpreter for _ in range(2))
+    whole.run()
+    while stepped.advance(997):
+        pass
+    assert stepped.phases == whole.phases
+    assert (stepped.log.arrays()["balance_mask"] == whole.log.arrays()["balance_mask"]).all()
+    assert whole.log.arrays()["balance_mask"].any()

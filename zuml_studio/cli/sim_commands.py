@@ -3,13 +3,15 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
 
 from ..recovery import atomic_text_file
 from ..sim.batteries import BatteryFileError
 from ..sim.battery import AMBIENT_MAX_C, AMBIENT_MIN_C
 from ..sim.interpreter import Measurement, StartError, StartParams
 from ..sim.reasons import end_advice, shown_reason
-from ..sim.simulate import SPREAD_MAX_PCT, BatterySetup, SimResult, parse_spread, simulate
+from ..sim.engine import missing_text as engine_missing_text
+from ..sim.simulate import ENGINES, SPREAD_MAX_PCT, BatterySetup, EngineError, SimResult, parse_spread, simulate
 from ..sim.start_check import start_warnings
 from ..sim.start_templates import TEMPLATE_COUNT
 from .common import CliError, check_start_options, out, out_json, read_bytes
@@ -50,6 +52,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help=_("cells unequal: each cell's capacity and resistance drawn within ± CAP and R %% of the "
                           "pack's, its start state within ± SOC points"))
     p.add_argument("--weak-cell", metavar="PCT[@K]", help=_("cell K (default: the last) with PCT %% less capacity"))
+    p.add_argument("--engine", choices=ENGINES, default="auto",
+                   help=_("auto: the C engine when it can run the simulation, else the Python interpreter (the "
+                          "reference); c: the C engine or an error saying why not; python: the reference"))
     p.add_argument("--csv", metavar="OUT.csv", help=_("write every sample"))
     p.add_argument("--json", action="store_true", help=_("print one JSON object instead of the table"))
     p.set_defaults(run=cmd_simulate)
@@ -112,7 +117,9 @@ def cmd_simulate(args: argparse.Namespace) -> int:
                          cell_spread=_spread(args.cell_spread), seed=args.seed, **weak_cell(args.weak_cell))
     measurement = Measurement(args.noise / 1000.0, args.adc_lsb / 1000.0, args.seed)
     try:
-        result = simulate(record, params, setup, tick_s=args.tick, measurement=measurement)
+        result = simulate(record, params, setup, tick_s=args.tick, measurement=measurement, engine=args.engine)
+    except EngineError as exc:
+        raise CliError(_("--engine c: {why}").format(why=exc), 1) from None
     except StartError as exc:
         raise CliError(f"{args.file}: {exc}", 1) from None
     except KeyError as exc:
@@ -125,6 +132,8 @@ def cmd_simulate(args: argparse.Namespace) -> int:
                 result.log.write_csv(fh)
         except OSError as exc:
             raise CliError(_("{csv}: cannot write: {error}").format(csv=args.csv, error=exc.strerror or exc)) from None
+    if result.engine_note == engine_missing_text():
+        sys.stderr.write(_("zuml: note: {why}; the Python interpreter ran\n").format(why=result.engine_note))
     warnings = start_warnings(record, params, result.interpreter.charger.limits)
     if args.json:
         out_json({**result.to_json(), "warnings": warnings})

@@ -69,6 +69,8 @@ class Pack:
     ``r_scale`` multiplies the resistances (a cell of a pack of unequal cells, `sim/cell_pack.py`)."""
 
     per_cell = False      # one state for every cell: the cells' voltages are voltage / series
+    # What `step` carries from tick to tick: the C engine (sim/engine.py) copies it in and back.
+    STATE = ("soc", "temp_c", "current", "cell_voltage", "voltage", "_v1", "_v2", "_vp", "_oc", "_over")
 
     def __init__(self, chem: Chemistry, capacity_mah: float, series: int, soc: float = 0.0,
                  ambient_c: float = 25.0, r_scale: float = 1.0) -> None:
@@ -137,6 +139,12 @@ class Pack:
         return u - self.chem.k_t_v_per_k * (self.temp_c - _T_REF_C)
 
     # -- public API ------------------------------------------------------
+    def step_constants(self, dt: float) -> tuple:
+        """`step`'s constants at a tick of dt, in their order (the C engine's pack takes them)."""
+        if dt != self._dt:
+            self._set_dt(dt)
+        return self._k
+
     def open_circuit_voltage(self) -> float:
         """Pack voltage at zero current now: U(s) with its temperature term plus the RC voltages
         that have not relaxed yet, i.e. what a charger reads when it switches its power stage off."""

@@ -34,7 +34,9 @@ class DeltaPeakDetector:
         """Feed one measured (noisy) pack voltage sample at phase time t; returns the current drop below the held peak in volts (>= 0), computed on window averages; 0.0 during hold-off (peak follows V during hold-off, as cheali does)."""
         if self._window_end is None:
             self._window_end = self._next_window_end(t_phase_s)
-        self._sum += v_pack
+        # A reading below 0 V (a pack collapsed past empty, a shorted one) counts as 0 V: a charger's ADC
+        # reads no less, and the firmware's core sums its readings unsigned (firmware/core/interp.c).
+        self._sum += v_pack if v_pack > 0.0 else 0.0
         self._count += 1
         if t_phase_s < self._window_end:
             return self.drop_v

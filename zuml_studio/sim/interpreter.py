@@ -188,6 +188,7 @@ class _Active:
     default_end_v: float | None = None                  # empty discharge section
     by_timer: bool = False                              # ended by IF(tf>x) or IF(tm>x)
     bled_ticks: list = field(default_factory=list)      # per cell: ticks the balancer bled it
+    mask: int = 0                                       # the cells bleeding now (bit k-1: cell k), across runs of ticks
 
 
 class Interpreter:
@@ -396,7 +397,7 @@ class Interpreter:
         bleeder = ceiling if ceiling is not None and (ceiling.during == "charge" or mode == _CV) else None
         per_cell = self._per_cell
         chem_name = pack.chem.name
-        mask = 0
+        mask = a.mask
         bled = a.bled_ticks
         run_no = a.result.run
         pauses = a.result.pauses
@@ -406,7 +407,7 @@ class Interpreter:
             hs = charger.heatsink_c
             if per_cell:
                 # decided on the cells' last readings, bleeding over this tick
-                mask = bleeder.mask(pack.cell_voltages, mask) if bleeder is not None and not self.paused else 0
+                mask = a.mask = bleeder.mask(pack.cell_voltages, mask) if bleeder is not None and not self.paused else 0
                 pack.set_bleed(mask, bleeder)
             if self.paused:
                 if hs < self.tc_continue:

@@ -25,7 +25,7 @@ from __future__ import annotations
 import csv
 from array import array
 from dataclasses import dataclass
-from typing import NamedTuple, TextIO
+from typing import Mapping, NamedTuple, TextIO
 
 import numpy as np
 from ..i18n import _
@@ -35,6 +35,7 @@ SECTION_NAMES = ("discharge", "charge")
 MEASURED = COLUMNS[3:]
 CHUNK = 16_384           # ticks per sealed chunk: < 65 536 (uint16 phase offsets)
 BALANCE_MASK = "balance_mask"
+_TYPES = {"d": np.float64, "b": np.int8, "q": np.int64, "f": np.float32, "I": np.uint32}   # of the staging arrays
 
 
 def cell_columns(cells: int) -> tuple[str, ...]:
@@ -103,6 +104,12 @@ class SampleLog:
         return self._sealed + len(self._stage["time_s"])
 
     # -- writing -----------------------------------------------------------------------------
+    def append_block(self, columns: Mapping[str, np.ndarray]) -> None:
+        """Many ticks at once (the C engine's, sim/engine.py): each stored column an array, all as long;
+        at most ``room`` ticks, so the chunks are those ``append`` makes."""
+        for name, column in self._stage.items():
+            column.frombytes(np.ascontiguousarray(columns[name], _TYPES[column.typecode]).tobytes())
+
     @property
     def room(self) -> int:
         """Ticks that still fit in the staging chunk (at least 1)."""

@@ -10,6 +10,7 @@ from ..lang.record import DecodeError
 from .battery import Pack
 from .cell_pack import CellPack, CellSpec, build_pack, check_cells, spread_cells, weaken
 from .charger_model import Charger, ChargerLimits, load_charger
+from . import engine as c_engine
 from .chemistry import Chemistry, load_chemistry
 from .interpreter import AKK_NAMES, Interpreter, Measurement, PhaseResult, StartError, StartParams, with_template
 from .program import Program
@@ -47,12 +48,21 @@ class BatterySetup:
                                         # of it: compare's measured resistance)
 
 
+ENGINES = ("auto", "c", "python")
+
+
+class EngineError(Exception):
+    """The C engine was asked for and cannot run this simulation (one line: why)."""
+
+
 @dataclass
 class SimResult:
     interpreter: Interpreter
     chemistry: str
     capacity_mah: float
     series: int
+    engine: str = "python"              # which ran it: "c" (sim/engine.py) or "python" (the reference)
+    engine_note: str | None = None      # why the reference ran where the C engine was not asked against
 
     @property
     def phases(self) -> list[PhaseResult]:
@@ -95,7 +105,7 @@ class SimResult:
         if isinstance(pack, CellPack):
             battery["cells"] = [{"capacity_mah": round(c.capacity_mah, 1), "r_scale": round(c.r_scale, 4),
                                  "soc": None if c.soc is None else round(c.soc, 4)} for c in pack.specs]
-        return {"macro": self.interpreter.program.name, "battery": battery,
+        return {"macro": self.interpreter.program.name, "engine": self.engine, "battery": battery,
                 "phases": phases, "totals": self.totals(), "repetitions": self.repetitions()}
 
 
@@ -207,7 +217,22 @@ def prepare(record: bytes, params: StartParams, setup: BatterySetup = BatterySet
     return SimResult(interpreter, chemistry, float(params.capacity_mah), int(params.series))
 
 
-def simulate(record: bytes, params: StartParams, setup: BatterySetup = BatterySetup(), **kw) -> SimResult:
+def simulate(record: bytes, params: StartParams, setup: BatterySetup = BatterySetup(), *, engine: str = "auto",
+             **kw) -> SimResult:
+    """``engine``: "auto" runs the C engine when it can run this simulation and the Python reference
+    otherwise (noise drawn with Python's generator, a tick not whole seconds, the library not built: see
+    `engine.unavailable`), "c" the C engine or EngineError, "python" the reference."""
+    if engine not in ENGINES:
+        raise ValueError(f"engine {engine!r}: one of {', '.join(ENGINES)}")
     result = prepare(record, params, setup, **kw)
-    result.interpreter.run()
+    it = result.interpreter
+    why = None if engine == "python" else c_engine.unavailable(it)
+    if engine == "c" and why:
+        raise EngineError(why)
+    if engine != "python" and why is None:
+        c_engine.run(it, kw.get("templates"))
+        result.engine = "c"
+    else:
+        it.run()
+        result.engine_note = why
     return result

@@ -3,6 +3,7 @@
 #include <string.h>
 #include "../../core/zuml.h"
 #include "../../core/text.h"
+#include "host.h"
 
 #define HOST_EEPROM 1024
 
@@ -13,6 +14,8 @@ static struct {
     uint32_t millis;
     uint8_t eeprom[HOST_EEPROM];
     uint8_t music, light;
+    uint8_t ceiling_cell;          /* the cell at the balancer's ceiling now, 0: none */
+    int32_t ceiling_uv;
 } hw;
 
 static zc_run_t run;
@@ -29,6 +32,11 @@ int32_t hal_heatsink_uc(void) { return hw.heatsink_uc; }
 uint8_t hal_battery_sensor(void) { return hw.sensor; }
 uint8_t hal_cell_count(void) { return 0; }
 int32_t hal_cell_uv(uint8_t cell) { (void)cell; return 0; }
+uint8_t hal_balancer_ceiling(int32_t *ceiling_uv)
+{
+    *ceiling_uv = hw.ceiling_uv;
+    return hw.ceiling_cell;
+}
 uint32_t hal_millis(void) { return hw.millis; }
 uint16_t hal_eeprom_size(void) { return HOST_EEPROM; }
 uint8_t hal_eeprom_read(uint16_t addr) { return addr < HOST_EEPROM ? hw.eeprom[addr] : 0xFF; }
@@ -63,6 +71,7 @@ uint8_t zh_start(const uint8_t *rec, uint16_t len, const zc_start_t *s, const zc
 {
     memset(&hw.out, 0, sizeof hw.out);
     hw.sensor = 1;
+    hw.ceiling_cell = 0;
     return zc_start(&run, rec, len, s, b);
 }
 
@@ -93,6 +102,16 @@ uint8_t zh_measure(int32_t pack_uv, int32_t current_ua, int32_t battery_uc, int3
     zc_measure(&run);
     return run.finished ? 0 : (run.active ? 2 : 1);
 }
+
+/* The balancer's ceiling and the cell at it (0: none) for the coming zh_measure. */
+void zh_set_ceiling(uint8_t cell, int32_t ceiling_uv)
+{
+    hw.ceiling_cell = cell;
+    hw.ceiling_uv = ceiling_uv;
+}
+
+/* The run's state, read by the engine (boards/host/engine.c) that drives this board from C. */
+const zc_run_t *zh_run(void) { return &run; }
 
 void zh_stop(void) { zc_stop(&run); }
 

@@ -109,6 +109,13 @@ int32_t hal_cell_uv(uint8_t cell)
     return mv * 1000L;
 }
 
+/* The B6's balancer ends no charge itself: the phase's conditions and the protections do. */
+uint8_t hal_balancer_ceiling(int32_t *ceiling_uv)
+{
+    *ceiling_uv = 0;
+    return 0;
+}
+
 void hal_measure_latch(void)
 {
     adc_latch();

@@ -1,7 +1,8 @@
 """A simulation in a process of its own, so that it never holds the GUI's GIL (issue 26: a thread
 running the interpreter stalled the window 40-60 ms while a long run was re-simulated).
 
-``run_child`` is the child's whole life: it runs ``Interpreter.advance`` chunk by chunk, sends
+``run_child`` is the child's whole life: it runs ``Interpreter.advance`` (or the C engine, sim/engine.py,
+when it can run the simulation) chunk by chunk, sends
 the simulated time after each chunk, stops between chunks when the parent sends ``CANCEL``, and
 sends the run back (the ``SimResult``: phases and the compact sample log) or a message for the
 user. Every message is one pickled tuple ``(kind, value)``. The parent's side is ``worker.py``.
@@ -22,6 +23,7 @@ from multiprocessing.connection import Connection
 from ... import i18n
 from ...data import DataFileError
 from ...i18n import _
+from ...sim import engine as c_engine
 from ...sim.batteries import BatteryFileError
 from ...sim.interpreter import Interpreter, StartError, StartParams
 from ...sim.samples import SampleLog
@@ -107,6 +109,14 @@ def _run(conn: Connection, request: SimRequest, chunk: int) -> tuple:
         result = prepare(request.record, request.params, request.setup)
         it = result.interpreter
         conn.send_bytes(dumps((PROGRESS, 0.0)))
+        if c_engine.unavailable(it) is None:
+            def chunk_done(time_s: float) -> str | None:
+                conn.send_bytes(dumps((PROGRESS, time_s)))
+                return "cancelled" if conn.poll() and conn.recv_bytes() == CANCEL else None
+
+            c_engine.run(it, on_chunk=chunk_done)
+            result.engine = "c"
+            return (CANCELLED if it.end_reason == "cancelled" else DONE), result
         while not it.finished:
             if conn.poll() and conn.recv_bytes() == CANCEL:
                 it.stop("cancelled")

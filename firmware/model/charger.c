@@ -1,0 +1,82 @@
+/* charger_model.py's Charger and BalancerSpec, operation for operation (see charger.h). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include "charger.h"
+
+void zm_charger_start(zm_charger_t *c, double dt) { c->a = exp(-dt / c->tau); }
+
+double zm_limit_current(const zm_charger_t *c, double requested_a, double pack_v)
+{
+    double i;
+    if (requested_a > 0.0) {
+        i = c->max_charge_a < requested_a ? c->max_charge_a : requested_a;
+        if (pack_v > 0.0 && c->max_charge_w / pack_v < i)
+            i = c->max_charge_w / pack_v;
+        return i;
+    }
+    if (requested_a < 0.0) {
+        i = c->max_discharge_a < -requested_a ? c->max_discharge_a : -requested_a;
+        if (pack_v > 0.0 && c->max_discharge_w / pack_v < i)
+            i = c->max_discharge_w / pack_v;
+        return -i;
+    }
+    return 0.0;
+}
+
+double zm_charger_step(zm_charger_t *c, double current_a, double pack_v)
+{
+    double power = fabs(current_a * pack_v);
+    double loss = current_a > 0.0 ? power * c->loss_per_w : power;
+    double t_final = c->ambient_c + loss * c->r;
+    /* exact first-order response for a loss held constant over the step */
+    c->heatsink_c = t_final + (c->heatsink_c - t_final) * c->a;
+    return c->heatsink_c;
+}
+
+double zm_bleed(const zm_balancer_t *b, double cell_v)
+{
+    if (!(b->bleed_r_ohm > 0.0))
+        return b->bleed_a;
+    return (cell_v > 0.0 ? cell_v : 0.0) / b->bleed_r_ohm;
+}
+
+uint32_t zm_balance_mask(const zm_balancer_t *b, const double *cell_v, int32_t n, uint32_t bleeding)
+{
+    double low = cell_v[0], start;
+    uint32_t mask = 0;
+    int32_t k;
+    for (k = 1; k < n; k++)
+        if (cell_v[k] < low)
+            low = cell_v[k];
+    start = low + b->spread_v;
+    for (k = 0; k < n; k++)
+        if (cell_v[k] > start || ((bleeding >> k & 1) && cell_v[k] > low))
+            mask |= 1UL << k;
+    return mask;
+}
+
+/* Python's round(x, 3): correctly rounded, ties to even on the exact binary value (as printf's %.3f) */
+static double round3(double x)
+{
+    char text[64];
+    snprintf(text, sizeof text, "%.3f", x);
+    return strtod(text, 0);
+}
+
+uint8_t zm_ceiling_cell(const zm_balancer_t *b, const double *cell_v, int32_t n)
+{
+    double top = cell_v[0];
+    int32_t k, at = 0;
+    for (k = 1; k < n; k++)
+        if (cell_v[k] > top) {
+            top = cell_v[k];
+            at = k;
+        }
+    /* far from the ceiling the rounding to 1 mV cannot decide: no text conversion every tick */
+    if (top < b->ceiling_v - 0.001)
+        return 0;
+    if (top < b->ceiling_v + 0.001 && round3(top) < b->ceiling_v)
+        return 0;
+    return (uint8_t)(at + 1);
+}

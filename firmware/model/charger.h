@@ -1,0 +1,34 @@
+/* zuml_studio/sim/charger_model.py's Charger (the power stage's limits, the heat sink) and BalancerSpec
+ * in C for the simulation engine, operation for operation (see pack.h). Host only. */
+#ifndef ZM_CHARGER_H
+#define ZM_CHARGER_H
+
+#include <stdint.h>
+
+typedef struct {
+    double max_charge_a, max_charge_w, max_discharge_a, max_discharge_w;
+    double loss_per_w, r, tau, ambient_c;      /* Charger._loss_per_w, _r, _tau */
+    double heatsink_c, a;                      /* state; a: exp(-dt / tau), set by zm_charger_start */
+} zm_charger_t;
+
+/* The balancer as the run's interpreter uses it (on: the pack's cells differ and the chemistry has a
+ * ceiling on this charger). */
+typedef struct {
+    int32_t on;
+    int32_t cv_only;                           /* during = "cv" */
+    double bleed_r_ohm;                        /* 0: a regulated bleed_a */
+    double bleed_a;
+    double spread_v;
+    double ceiling_v;
+} zm_balancer_t;
+
+void zm_charger_start(zm_charger_t *c, double dt);
+double zm_limit_current(const zm_charger_t *c, double requested_a, double pack_v);
+double zm_charger_step(zm_charger_t *c, double current_a, double pack_v);
+
+double zm_bleed(const zm_balancer_t *b, double cell_v);
+uint32_t zm_balance_mask(const zm_balancer_t *b, const double *cell_v, int32_t n, uint32_t bleeding);
+/* The cell (from 1) whose voltage read to 1 mV has reached the ceiling, the first of the highest; 0: none. */
+uint8_t zm_ceiling_cell(const zm_balancer_t *b, const double *cell_v, int32_t n);
+
+#endif
