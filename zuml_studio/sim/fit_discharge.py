@@ -27,7 +27,7 @@ _KNEE = Param("k_discharge_ohm", 1e-5, 0.1, True)
 # (the Akkumatik NiCd pack 90 mV/cell over its first four minutes after a charge), more than R0 and R1 do.
 _SLOW = (Param("r2_ohm", 1e-4, 2.0, True), Param("tau2_s", 60.0, 36000.0, True))
 _HEAT = (Param("k_t_v_per_k", 0.0, 0.03), Param("ha_w_per_k", 0.005, 0.5, True), Param("cth_j_per_k", 5.0, 300.0, True))
-_R_STARTS = (1.0, 4.0)       # the full fit begins from the default's resistance and from 4x it
+_R_STARTS = (0.1, 1.0, 4.0)  # the full fit begins from the default's resistance, a tenth and 4x it
 _START_SOC = Param("start_soc", 0.05, 1.0)    # a discharge mostly starts full
 
 
@@ -152,8 +152,9 @@ def fit_discharge(curve: Curve, chemistry: str, series: int, *, only_capacity: b
     values = min(tries, key=lambda c: c[1])[0]
     nfev = sum(c[2] for c in tries)
     if not only_capacity:
-        # A pack's resistance may be several times the default's (the Akkumatik NiCd pack's is 7x): from
-        # the default's alone the fit can stop in a shallower minimum.
+        # A pack's resistance may lie far from the default's either way (the NiCd default's, tuned on the
+        # Akkumatik charge, is twice what that pack's discharge fits): from the default's alone the fit
+        # can stop in a shallower minimum.
         tries = [solve(params, {**values, "r_scale": r}) for r in _R_STARTS]
         values = min(tries, key=lambda c: c[1])[0]
         nfev += sum(c[2] for c in tries)
