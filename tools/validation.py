@@ -305,8 +305,16 @@ def _discharge_text(discharges: dict) -> str:
         f"{biases['nimh_5s_polaron_dis_03c']:.0f} mV/cell all along, so neither the default nor the default with the measured resistance meets 50 (marked).",
         "* The AkkuMaster pack (0.15 A) falls from 4.6 to 3.45 V within a minute at 145 min, by one cell's "
         "1.15 V, then goes on at 3 × 1.15 V: one cell of the four empties first. A pack of identical cells "
-        "cannot show that (the fitted model misses by 40 mV/cell, marked); the per-cell pack model of issue "
-        "26 is what can.",
+        "cannot show that (the default misses by "
+        f"{discharges['nimh_4s_akkumaster_dis_015c'][2].figures['rmse_v_per_cell_mv']:.0f} mV/cell, marked, "
+        "and the fit with equal cells by "
+        f"{discharges['nimh_4s_akkumaster_dis_015c'][4].figures['weak_cell']['rmse_equal_cells_mv']:.0f}). "
+        "The discharge fit finds the weak cell from that step (fit.md, \"A weak cell\"): one cell of "
+        f"{discharges['nimh_4s_akkumaster_dis_015c'][4].figures['weak_cell']['capacity_mah']:.0f} mAh, "
+        f"{discharges['nimh_4s_akkumaster_dis_015c'][4].figures['weak_cell']['capacity_share'] * 100:.0f} % "
+        f"of the others' {discharges['nimh_4s_akkumaster_dis_015c'][4].figures['weak_cell']['others_mah']:.0f}, "
+        f"at {discharges['nimh_4s_akkumaster_dis_015c'][4].figures['rmse_v_per_cell_mv']:.0f} mV/cell; no other "
+        "recorded discharge steps by a cell. The log has no taps: which cell it is, it cannot say.",
         "* The Akkumatik NiCd discharge ends at 3.40 V, 4 × 0.85 V (NiCd's usual end voltage). " + _nicd_cells_text(),
         "* The eStation BC6 and Ultramat discharges end 30 s before their next record set starts: no step "
         "to measure there; the Pb battery rests after its discharge (8 mΩ per cell 10 s after 10 A stops).",
@@ -457,7 +465,9 @@ def main() -> int:
         "0.5 % of its maximum and current below 92 % of the CC current) by the log's voltage, its current then "
         "compared. Peak and -dV are read from a 1-minute moving average. "
         "`scipy.optimize.least_squares` (trust region, finite differences) does the fitting; the stages, "
-        "weights and bounds are in [fit.md](fit.md). NiCd/NiMH also fit the heat capacity `cth_j_per_k`.",
+        "weights and bounds are in [fit.md](fit.md). NiCd/NiMH also fit the heat capacity `cth_j_per_k`. "
+        "A discharge whose voltage steps down by a cell's also fits a weak cell (its capacity over the "
+        "others'), kept where it lowers the RMSE materially (fit.md, \"A weak cell\").",
         "",
         "The limits (tests/sim/test_validation.py): Li RMSE(V) ≤ 15 mV/cell over CC and CV current within "
         "10 % of the CC current; NiMH/NiCd RMSE(V) ≤ 20 mV/cell, peak charge within 10 %, -dV within "

@@ -27,10 +27,7 @@ KNOWN_MISSES = {
                                             "charges, reads 58 mV/cell above this discharge all along",
     ("nimh_4s_akkumaster_dis_015c", "default"): "RMSE 64 mV/cell (limit 50): at 145 min one cell empties (the pack "
                                                 "falls 4.6 to 3.45 V, 3 x 1.15 V, within a minute): a weak cell, "
-                                                "which a pack of identical cells cannot show",
-    ("nimh_4s_akkumaster_dis_015c", "fitted"): "RMSE 40 mV/cell (limit 25): at 145 min one cell empties (the pack "
-                                               "falls by a cell's 1.15 V within a minute): a weak cell, which a "
-                                               "pack of identical cells cannot show",
+                                                "which a pack of identical cells cannot show (the fit finds it: docs/fit.md)",
     ("nicd_4s_akkumatik_08c", "default"): "RMSE 145 mV/cell (limit 40): this pack with its leads steps 194 mOhm/cell "
                                           "at its rests, 10x the NiCd default's cell (a 1C charge or 2C would stop "
                                           "at 1.8 V/cell with it); with that resistance it meets the limits",

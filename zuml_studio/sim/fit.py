@@ -13,6 +13,7 @@ from dataclasses import dataclass, fields, replace
 import numpy as np
 
 from .battery import Pack
+from .cell_pack import CellPack, CellSpec, build_pack
 from .chemistry import Chemistry, load_chemistry
 from .curve import Curve, CurveError, require_charge
 from ..i18n import _
@@ -75,13 +76,15 @@ def family(chemistry: str) -> str:
 
 @dataclass(frozen=True)
 class Battery:
-    """A chemistry with (possibly fitted) parameters, a capacity and a cell count: what ``Pack`` is built from."""
+    """A chemistry with (possibly fitted) parameters, a capacity and a cell count: what ``Pack`` is built from;
+    ``cells`` where they are unequal (a weak cell a discharge fit found)."""
     chem: Chemistry
     capacity_mah: float
     series: int
+    cells: tuple[CellSpec, ...] | None = None
 
-    def pack(self, soc: float, ambient_c: float) -> Pack:
-        return Pack(self.chem, self.capacity_mah, self.series, soc, ambient_c)
+    def pack(self, soc: float, ambient_c: float) -> Pack | CellPack:
+        return build_pack(self.chem, self.capacity_mah, self.series, soc, ambient_c, self.cells)
 
 
 @dataclass
@@ -138,7 +141,8 @@ def charging(current: np.ndarray, i_cc: float) -> np.ndarray:
     return current >= _PAUSE_FRACTION * i_cc
 
 
-def simulate_curve(battery: Battery, curve: Curve, cv: np.ndarray, start_soc: float, pack: Pack | None = None) -> Run:
+def simulate_curve(battery: Battery, curve: Curve, cv: np.ndarray, start_soc: float,
+                   pack: Pack | CellPack | None = None) -> Run:
     """Drive the model with the log's current (its voltage where ``cv``); sample k is held over (t[k-1], t[k]].
     ``pack``: the model to drive (left in its end state for the caller), else a new one from ``battery``."""
     pack = pack or battery.pack(start_soc, curve.ambient_c)
