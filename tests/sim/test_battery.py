@@ -198,7 +198,10 @@ def test_1c_discharge_delivers_most_of_the_capacity(name):
         steps += 1
         assert steps < 2 * 3600
     delivered = (steps + 1) * DT * current / 3600 / (capacity / 1000)
-    assert 0.85 <= delivered <= 1.0
+    # NiMH's discharge branch lies 50 mV below the OCV fitted on charges (its hysteresis) and its default
+    # resistance is a hobby pack's with leads: 83 % at 1C to 1.0 V (the eStation pack delivered 82 % of its
+    # fitted capacity at 1.1C to 0.95 V, docs/validation.md).
+    assert (0.80 if name == "NiMh" else 0.85) <= delivered <= 1.0
 
 
 # -- solver and bookkeeping ----------------------------------------------------------------------

@@ -82,11 +82,11 @@ def test_the_discharge_keeps_its_place_on_the_logs_clock():
 
 
 def test_a_weak_cell_is_found_from_the_step_of_its_collapse_and_saved_as_the_packs_cells(tmp_path):
-    # Four cells, one 20 % smaller, at 1C to 0.6 V per cell: the pack's voltage steps down by a cell's where
+    # Four cells, one 20 % smaller, at 1C to 0.5 V per cell: the pack's voltage steps down by a cell's where
     # the small one empties (the model's cell collapses within two minutes at 1C), and the fit finds it from
     # that alone; with equal cells it misses by 44 mV per cell.
     cells = tuple(weaken([CellSpec(2000.0)] * 4, 20.0))
-    curve = synthetic_discharge(cells=cells, end_v=0.6, current=2.0)
+    curve = synthetic_discharge(cells=cells, end_v=0.5, current=2.0)
     assert cell_step(curve, 4) == pytest.approx(1600, rel=0.03)
     result = fit_discharge(curve, "NiMh", 4)
     weak = result.figures["weak_cell"]
@@ -101,7 +101,7 @@ def test_a_weak_cell_is_found_from_the_step_of_its_collapse_and_saved_as_the_pac
 
 
 def test_a_pack_of_equal_cells_shows_no_step_and_gets_no_weak_cell():
-    curve = synthetic_discharge(end_v=0.6, current=2.0)
+    curve = synthetic_discharge(end_v=0.5, current=2.0)
     assert cell_step(curve, 4) is None
     result = fit_discharge(curve, "NiMh", 4)
     assert result.figures["weak_cell"] is None and result.battery.cells is None
