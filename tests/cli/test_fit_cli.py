@@ -5,6 +5,7 @@ import re
 import pytest
 
 from helpers import MACROS, ROOT
+from zuml_studio.sim.batteries import batteries_dir
 from tests_cli_util import run_zuml
 
 CURVES = ROOT / "tests" / "data" / "curves"
@@ -191,12 +192,32 @@ def test_a_discharge_export_without_a_direction_is_fitted_as_a_discharge(zuml):
     assert "the voltage falls all the way, from 5.07 V to 3.27 V: a discharge, not a charge" in err
 
 
+def test_a_discharge_that_steps_by_a_cell_is_fitted_with_a_weak_cell_and_save_keeps_it(zuml):
+    # issue 26: the AkkuMaster pack falls by one cell's voltage at 362 mAh; equal cells missed by 40 mV/cell.
+    log = str(LOGS / "AkkuMasterC4_2007-12-28-EmpfaengerAA4-Entladen.csv")
+    code, out, err = zuml("fit", log, "--chemistry", "NiMh", "--json")
+    assert code == 0, err
+    data = json.loads(out)
+    weak = data["weak_cell"]
+    assert weak["at_mah"] == pytest.approx(362, abs=5) and 0.6 <= weak["capacity_share"] <= 0.95
+    assert data["rmse_v_per_cell_mv"] <= 25 < weak["rmse_equal_cells_mv"]
+    assert abs(data["capacity"]["model_mah"] - data["capacity"]["real_mah"]) <= 0.03 * data["capacity"]["real_mah"]
+    code, out, err = zuml("fit", log, "--chemistry", "NiMh", "--save", "AkkuMaster weak cell")
+    assert code == 0, err
+    assert "a weak cell: one cell holds " in out
+    doc = json.loads((batteries_dir() / "AkkuMaster_weak_cell.json").read_text())
+    caps = [c["capacity_mah"] for c in doc["cells"]]
+    assert len(caps) == 4 and caps[-1] == pytest.approx(weak["capacity_mah"], rel=0.01) and len(set(caps[:3])) == 1
+
+
 def test_fit_json_of_a_discharge_only_log_says_its_direction_and_capacity(zuml):
     rc, out, err = zuml("fit", str(CURVES / "nimh_4s_estation_dis_1c.csv"), "--chemistry", "NiMh", "--cells", "4",
                         "--json")
     assert rc == 0, err
     data = json.loads(out)
-    assert set(data) == {"params", "at_bound", "cells", "cells_guessed", "cell_fit", "capacity"} | FIGURE_KEYS
+    assert set(data) == {"params", "at_bound", "cells", "cells_guessed", "cell_fit", "capacity",
+                         "weak_cell"} | FIGURE_KEYS
+    assert data["weak_cell"] is None                  # its voltage shows no cell's step
     assert data["direction"] == "discharge" and data["peak"] is None and data["rmse_i_cv_pct"] is None
     real, model = data["capacity"]["real_mah"], data["capacity"]["model_mah"]
     assert real == pytest.approx(891.3, abs=0.5) and abs(model - real) <= 0.03 * real

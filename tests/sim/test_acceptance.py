@@ -71,8 +71,8 @@ def test_standard_nickel_macros_fill_the_battery_over_their_stated_range(name, c
 def test_nicd_1c_ends_by_minus_dv_and_both_nickel_chemistries_fall_after_the_peak():
     nicd = run("NiCd-dV", capacity=1000, series=4, current=1.0, sensor=False)
     assert nicd.phases[0].reason == "IF(DELTA_PEAK>0.01S) STOP_FAZE"
-    # The Akkumatik NiCd recording ends at 1.09-1.18x its fitted capacity (docs/validation.md).
-    assert 1.0 <= nicd.phases[0].mah_in / 1000 <= 1.20
+    # The Akkumatik NiCd recording (4 cells) ends at 1.20-1.22x its fitted capacity (docs/validation.md).
+    assert 1.0 <= nicd.phases[0].mah_in / 1000 <= 1.30
     nimh = run("NiMh-dV", capacity=1000, series=4, current=1.0, sensor=False)
 
     def dip_5min_after_peak(r):

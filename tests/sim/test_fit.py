@@ -52,7 +52,7 @@ def test_driving_by_voltage_in_cv_reproduces_the_logged_current():
 
 
 def test_curve_csv_round_trips_and_bad_lines_are_named():
-    curve = read_curve(CURVES / "nicd_5s_akkumatik_08c.csv")
+    curve = read_curve(CURVES / "nicd_4s_akkumatik_08c.csv")
     again = read_curve_csv(curve.to_csv(), "x")
     assert np.allclose(again.v, curve.v, atol=1e-4) and again.temp is not None
     with pytest.raises(CurveError, match="data line 3"):

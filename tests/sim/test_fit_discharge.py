@@ -8,18 +8,22 @@ from zuml_studio.logs import read_log_file
 from zuml_studio.sim.chemistry import load_chemistry
 from zuml_studio.sim.curve import (Curve, CurveError, curve_from_log, discharge_from_log, log_directions,
                                    read_curve)
+from zuml_studio.sim.batteries import load_battery_cells, save_battery
+from zuml_studio.sim.cell_pack import CellSpec, weaken
 from zuml_studio.sim.fit import Battery
-from zuml_studio.sim.fit_discharge import end_voltage, fit_curve, fit_discharge, model_delivered
+from zuml_studio.sim.fit_discharge import cell_step, end_voltage, fit_curve, fit_discharge, model_delivered
 
 LOGS = ROOT / "tests" / "data" / "logs"
+CURVES = ROOT / "tests" / "data" / "curves"
 
 
-def synthetic_discharge(capacity: float = 2000.0, series: int = 4, current: float = 1.0) -> Curve:
-    """A NiMH capacity test made by the model itself, from full to 1.0 V per cell."""
-    battery = Battery(load_chemistry("NiMh"), capacity, series)
+def synthetic_discharge(capacity: float = 2000.0, series: int = 4, current: float = 1.0,
+                        cells: tuple[CellSpec, ...] | None = None, end_v: float = 1.0) -> Curve:
+    """A NiMH capacity test made by the model itself, from full to ``end_v`` per cell."""
+    battery = Battery(load_chemistry("NiMh"), capacity, series, cells)
     pack = battery.pack(1.0, 25.0)
     t, v = [0.0], [pack.step(-current, 1e-3)]
-    while v[-1] > 1.0 * series and t[-1] < 10 * 3600:
+    while v[-1] > end_v * series and t[-1] < 10 * 3600:
         t.append(t[-1] + 10.0)
         v.append(pack.step(-current, 10.0))
     return Curve(np.array(t), np.array(v), np.full(len(t), -current), None, 0, "synthetic")
@@ -75,3 +79,38 @@ def test_the_discharge_keeps_its_place_on_the_logs_clock():
     a = log.arrays()
     k = int(np.searchsorted(a["t"], curve.start_s))
     assert a["current"][k] < 0 and curve.t[0] == 0.0 and curve.start_s > 0
+
+
+def test_a_weak_cell_is_found_from_the_step_of_its_collapse_and_saved_as_the_packs_cells(tmp_path):
+    # Four cells, one 20 % smaller, at 1C to 0.5 V per cell: the pack's voltage steps down by a cell's where
+    # the small one empties (the model's cell collapses within two minutes at 1C), and the fit finds it from
+    # that alone; with equal cells it misses by 44 mV per cell.
+    cells = tuple(weaken([CellSpec(2000.0)] * 4, 20.0))
+    curve = synthetic_discharge(cells=cells, end_v=0.5, current=2.0)
+    assert cell_step(curve, 4) == pytest.approx(1600, rel=0.03)
+    result = fit_discharge(curve, "NiMh", 4)
+    weak = result.figures["weak_cell"]
+    assert weak is not None and 0.7 <= weak["capacity_share"] <= 0.85
+    assert result.figures["rmse_v_per_cell_mv"] < 5.0 < 20.0 < weak["rmse_equal_cells_mv"]
+    c = result.figures["capacity"]
+    assert c["model_mah"] == pytest.approx(c["real_mah"], rel=0.01)
+    assert result.battery.cells is not None and len(result.battery.cells) == 4
+    save_battery("weak", result.battery, "synthetic", root=tmp_path)
+    _battery, saved = load_battery_cells("weak", root=tmp_path)
+    assert [c.capacity_mah for c in saved] == pytest.approx([c.capacity_mah for c in result.battery.cells])
+
+
+def test_a_pack_of_equal_cells_shows_no_step_and_gets_no_weak_cell():
+    curve = synthetic_discharge(end_v=0.5, current=2.0)
+    assert cell_step(curve, 4) is None
+    result = fit_discharge(curve, "NiMh", 4)
+    assert result.figures["weak_cell"] is None and result.battery.cells is None
+
+
+def test_of_the_recorded_discharges_only_the_akkumaster_pack_steps_by_a_cell():
+    # It falls 4.42 -> 3.43 V within two minutes at 362 mAh, 13 minutes before its end (docs/validation.md).
+    steps = {name: cell_step(read_curve(CURVES / f"{name}.csv"), cells) for name, cells in
+             [("nimh_4s_akkumaster_dis_015c", 4), ("nimh_4s_ultramat_dis_05c", 4), ("nimh_5s_polaron_dis_03c", 5),
+              ("nimh_4s_estation_dis_1c", 4), ("nicd_4s_akkumatik_dis_1c", 4), ("pb_6s_ub121000_dis_01c", 6)]}
+    assert steps.pop("nimh_4s_akkumaster_dis_015c") == pytest.approx(362, abs=3)
+    assert set(steps.values()) == {None}

@@ -41,7 +41,9 @@ def save_battery(name: str, battery: Battery, source: str = "", root: Path | Non
                  cells: Sequence[CellSpec] | None = None) -> Path:
     """Write the battery under `name` (an existing one of that name is replaced); returns the file.
     ``cells``: each cell's capacity, resistance (x the pack's cell resistance) and start state (None:
-    the run's), in order from the pack's negative end."""
+    the run's), in order from the pack's negative end; else the battery's own (a weak cell a discharge
+    fit found)."""
+    cells = battery.cells if cells is None else cells
     base = load_chemistry(battery.chem.name)
     changed = {f.name: getattr(battery.chem, f.name) for f in fields(Chemistry)
                if getattr(battery.chem, f.name) != getattr(base, f.name)}

@@ -18,6 +18,14 @@ Per cell (I > 0 = charge, T in °C, s = stored charge / capacity):
     o     = o * a_o + (1 - eta) * I * dt / (3600 * Q) [charge only]
     L     = L + (1 - eta) * I * dt / (3600 * Q) on charge, max(0, L + I * dt / (3600 * Q)) on discharge
     V    += k_over * L^2
+    V    -= M * (1 - h) / 2
+    h     = sgn(I) + (h - sgn(I)) * exp(-|I| * dt / (3600 * Q * q_h))     (while I != 0)
+
+h is where the cell stands between its OCV branches (Plett's one-state hysteresis): +1 on the charge
+branch, the OCV table (fitted on charges), -1 on the discharge branch, M lower; charge moves it towards
++1 and discharge towards -1, e-fold over q_h of the capacity. A pack starts on its charge branch. M is
+zero where the data show no hysteresis (everything but NiMH): those runs are unchanged. Like D, the step
+uses h before this step's, so the CV solve sees a constant.
 
 L is the overcharge a lithium cell took past full (no O2 cycle takes it up: it plates lithium and
 oxidises the electrolyte); its voltage climbs ever more steeply with it (k_over at a capacity's worth),
@@ -90,6 +98,7 @@ class Pack:
         self._vp = 0.0
         self._oc = 0.0
         self._over = 0.0
+        self._h = 1.0
 
         q_ah = self.capacity_mah / 1000.0
         scale_r = chem.ref_capacity_ah / q_ah * r_scale    # R x Ah is constant within a family [N11]
@@ -126,6 +135,7 @@ class Pack:
             self._xs, self._ys, self._slopes, len(self._xs) - 1, self.series,
             exp(-dt / c.pol_tau_s), c.pol_max_v,
             c.dip_v_per_charge, exp(-dt / c.dip_tau_s), c.overcharge_v_per_charge,
+            0.5 * c.hyst_v, dt / (self._q_as * c.hyst_soc),
         )
 
     def _cell_ocv(self) -> float:
@@ -149,7 +159,8 @@ class Pack:
         """Pack voltage at zero current now: U(s) with its temperature term plus the RC voltages
         that have not relaxed yet, i.e. what a charger reads when it switches its power stage off."""
         return (self._cell_ocv() + self._v1 + self._v2 + self._vp - self._dip()
-                + self.chem.overcharge_v_per_charge * self._over * self._over) * self.series
+                + self.chem.overcharge_v_per_charge * self._over * self._over
+                - 0.5 * self.chem.hyst_v * (1.0 - self._h)) * self.series
 
     def _dip(self) -> float:
         return self.chem.dip_v_per_charge * self._oc
@@ -159,7 +170,7 @@ class Pack:
         if dt != self._dt:
             self._set_dt(dt)
         (r0, r1b, a1, r2b, a2, ea_r, ea_r_ref, kc, kd, eps, inv_w0, w_t, dv_o2, k_t, q_rev,
-         ds_k, a_th, inv_ha, xs, ys, slopes, last, series, a_p, vp_max, k_dip, a_o, k_over) = self._k
+         ds_k, a_th, inv_ha, xs, ys, slopes, last, series, a_p, vp_max, k_dip, a_o, k_over, half_m, h_k) = self._k
         i = current_a
         s = self.soc
         t = self.temp_c
@@ -200,6 +211,13 @@ class Pack:
                 j = last
             e = ys[j - 1] + (s - xs[j - 1]) * slopes[j - 1] - k_t * (t - _T_REF_C)
         v = e - k_dip * self._oc * a_o + k_over * self._over * self._over + extra + i * r + v1 + v2 + vp
+        if half_m:
+            h = self._h
+            v -= half_m * (1.0 - h)
+            if i > 0.0:
+                self._h = 1.0 + (h - 1.0) * exp(-i * h_k)
+            elif i < 0.0:
+                self._h = -1.0 + (h + 1.0) * exp(i * h_k)
         q = i * (v - eta * e) + eta * i * q_rev
         t_final = self.ambient_c + q * inv_ha
         self.temp_c = t_final + (t - t_final) * a_th
@@ -238,13 +256,13 @@ class Pack:
         if dt != self._dt:
             self._set_dt(dt)
         (r0, r1b, a1, r2b, a2, ea_r, ea_r_ref, kc, kd, eps, inv_w0, w_t, dv_o2, k_t, q_rev,
-         ds_k, a_th, inv_ha, xs, ys, slopes, last, series, a_p, vp_max, k_dip, a_o, k_over) = self._k
+         ds_k, a_th, inv_ha, xs, ys, slopes, last, series, a_p, vp_max, k_dip, a_o, k_over, half_m, h_k) = self._k
         s = self.soc
         t = self.temp_c
         f = exp(ea_r / (t + _KELVIN) - ea_r_ref)
         vp = self._vp * a_p
         rest = (self._v1 * a1 + self._v2 * a2 - k_t * (t - _T_REF_C) + vp - k_dip * self._oc * a_o
-                + k_over * self._over * self._over)
+                + k_over * self._over * self._over - half_m * (1.0 - self._h))
         r_ohmic = (r0 + r1b + r2b) * f
         eta = 1.0 - exp((s - 1.0) * inv_w0 / max(_W_FLOOR, 1.0 + w_t * (t - _T_REF_C)))
         r_pol = kc / (1.0 - s + eps) * (1.0 - a_p)

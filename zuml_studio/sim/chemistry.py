@@ -32,7 +32,9 @@ class Chemistry:
     delta_v_per_cell: float      # typical -dV termination, V per cell (0 = not a -dV chemistry)
     # [ocv]
     ocv_soc: tuple[float, ...]   # 0 .. 1, strictly increasing
-    ocv_v: tuple[float, ...]     # OCV at 25 °C, non-decreasing
+    ocv_v: tuple[float, ...]     # OCV at 25 °C, non-decreasing: the charge branch
+    hyst_v: float                # the discharge branch lies this much lower (0: no hysteresis)
+    hyst_soc: float              # ... and a cell moves between the branches e-fold over this share of its capacity
     # [resistance]
     ref_capacity_ah: float
     r0_ohm: float
@@ -127,10 +129,12 @@ def _check(c: Chemistry) -> None:
     if any(b < a for a, b in zip(v, v[1:])):
         raise ValueError(_("ocv v must not fall with soc"))
     positive = ("charging_v", "ref_capacity_ah", "r0_ohm", "tau1_s", "tau2_s", "w0", "cth_j_per_k", "ha_w_per_k",
-                "pol_eps", "pol_tau_s", "pol_max_v", "dip_tau_s")
+                "pol_eps", "pol_tau_s", "pol_max_v", "dip_tau_s", "hyst_soc")
     for key in positive:
         if not getattr(c, key) > 0.0:
             raise ValueError(_("{key} must be > 0").format(key=key))
+    if c.hyst_v < 0.0:
+        raise ValueError(_("{key} must be >= 0").format(key="hyst_v"))
     if c.overcharge_v_per_charge < 0.0:
         raise ValueError(_("{key} must be >= 0").format(key="overcharge_v_per_charge"))
     if c.dip_v_per_charge < 0.0:

@@ -13,6 +13,7 @@ from dataclasses import dataclass, fields, replace
 import numpy as np
 
 from .battery import Pack
+from .cell_pack import CellPack, CellSpec, build_pack
 from .chemistry import Chemistry, load_chemistry
 from .curve import Curve, CurveError, require_charge
 from ..i18n import _
@@ -57,6 +58,8 @@ class Param:
 # Fitted for every chemistry: the battery (capacity, where it started), its resistance and OCV.
 _COMMON = (Param("capacity_mah", 0.0, 0.0, True), Param("start_soc", 0.0, 0.95),
            Param("r_scale", 0.1, 10.0, True), Param("ocv_offset_v", -0.15, 0.15), Param("ocv_scale", 0.3, 3.0, True))
+_NI_R_START = 8.0     # a Ni charge that misses ... is fitted again from this many times the default's resistance
+_NI_DONE_MV = 20.0    # ... the issue's limit (its cost as an RMSE in mV per cell)
 _FAMILY = {
     "ni": (Param("w0", 0.005, 0.3, True), Param("dv_o2_v", 0.0, 0.3), Param("k_t_v_per_k", 0.0, 0.03),
            Param("ha_w_per_k", 0.005, 0.5, True), Param("cth_j_per_k", 5.0, 300.0, True),
@@ -73,13 +76,15 @@ def family(chemistry: str) -> str:
 
 @dataclass(frozen=True)
 class Battery:
-    """A chemistry with (possibly fitted) parameters, a capacity and a cell count: what ``Pack`` is built from."""
+    """A chemistry with (possibly fitted) parameters, a capacity and a cell count: what ``Pack`` is built from;
+    ``cells`` where they are unequal (a weak cell a discharge fit found)."""
     chem: Chemistry
     capacity_mah: float
     series: int
+    cells: tuple[CellSpec, ...] | None = None
 
-    def pack(self, soc: float, ambient_c: float) -> Pack:
-        return Pack(self.chem, self.capacity_mah, self.series, soc, ambient_c)
+    def pack(self, soc: float, ambient_c: float) -> Pack | CellPack:
+        return build_pack(self.chem, self.capacity_mah, self.series, soc, ambient_c, self.cells)
 
 
 @dataclass
@@ -136,7 +141,8 @@ def charging(current: np.ndarray, i_cc: float) -> np.ndarray:
     return current >= _PAUSE_FRACTION * i_cc
 
 
-def simulate_curve(battery: Battery, curve: Curve, cv: np.ndarray, start_soc: float, pack: Pack | None = None) -> Run:
+def simulate_curve(battery: Battery, curve: Curve, cv: np.ndarray, start_soc: float,
+                   pack: Pack | CellPack | None = None) -> Run:
     """Drive the model with the log's current (its voltage where ``cv``); sample k is held over (t[k-1], t[k]].
     ``pack``: the model to drive (left in its end state for the caller), else a new one from ``battery``."""
     pack = pack or battery.pack(start_soc, curve.ambient_c)
@@ -357,11 +363,19 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
         # alone, then everything with the peak, the dip and the temperature. Fitting all at once
         # stalls where the model has no peak (the peak terms are flat there).
         shape = [p for p in params if p.name not in ("k_t_v_per_k", "ha_w_per_k", "cth_j_per_k")]
-        first, _, n1 = solve(shape, values, False)
-        candidates = [solve(params, first, True),
-                      solve(params, {**first, "k_t_v_per_k": 0.001, "dip_v_per_charge": 0.5}, True)]
-        values = min(candidates, key=lambda c: c[1])[0]
-        nfev += n1 + sum(c[2] for c in candidates)
+        best = None
+        for r_scale in (1.0, _NI_R_START):
+            first, _, n1 = solve(shape, {**values, "r_scale": r_scale}, False)
+            candidates = [solve(params, first, True),
+                          solve(params, {**first, "k_t_v_per_k": 0.001, "dip_v_per_charge": 0.5}, True)]
+            nfev += n1 + sum(c[2] for c in candidates)
+            best = min(candidates + ([best] if best else []), key=lambda c: c[1])
+            # A fit within the issue's limit is done; one that misses it begins again from _NI_R_START
+            # times the resistance (the Akkumatik NiCd pack with its leads reads 10x a cell's own: from
+            # the default's the fit stops in a shallower minimum).
+            if 2.0 * best[1] <= _NI_DONE_MV ** 2:
+                break
+        values = best[0]
     elif not only_capacity:
         values, _, n1 = solve(params, values, True)
         nfev += n1

@@ -12,6 +12,7 @@ import math
 
 import numpy as np
 
+from .cell_pack import CellSpec
 from .chemistry import Chemistry, load_chemistry
 from .curve import Curve, require_discharge
 from .fit import (_COMMON, NI, Battery, FitResult, Param, Run, _apply, _cannot_start, _prior, at_bounds,
@@ -27,8 +28,20 @@ _KNEE = Param("k_discharge_ohm", 1e-5, 0.1, True)
 # (the Akkumatik NiCd pack 90 mV/cell over its first four minutes after a charge), more than R0 and R1 do.
 _SLOW = (Param("r2_ohm", 1e-4, 2.0, True), Param("tau2_s", 60.0, 36000.0, True))
 _HEAT = (Param("k_t_v_per_k", 0.0, 0.03), Param("ha_w_per_k", 0.005, 0.5, True), Param("cth_j_per_k", 5.0, 300.0, True))
-_R_STARTS = (1.0, 4.0)       # the full fit begins from the default's resistance and from 4x it
+_R_STARTS = (0.1, 1.0, 4.0)  # the full fit begins from the default's resistance, a tenth and 4x it
 _START_SOC = Param("start_soc", 0.05, 1.0)    # a discharge mostly starts full
+# One cell emptying before the others shows on the pack's voltage as a step: a fall of at least
+# _STEP_SHARE of a cell's voltage within _STEP_WINDOW_S, the discharge going on for _STEP_AFTER_S after it
+# (the AkkuMaster NiMH pack falls 4.42 -> 3.43 V, one of its four cells, within two minutes 13 minutes
+# before its end). Where a pack shows one, the fit tries one more parameter, the weakest cell's capacity
+# over the others' (the others equal), and keeps it only where it brings the RMSE below _WEAK_GAIN of the
+# equal cells' and by _WEAK_GAIN_MV at least.
+_STEP_WINDOW_S = 120.0
+_STEP_SHARE = 0.5
+_STEP_AFTER_S = 180.0
+_WEAK = Param("weak_share", 0.2, 0.99)
+_WEAK_GAIN = 0.8
+_WEAK_GAIN_MV = 3.0
 
 
 def fit_curve(curve: Curve, chemistry: str, series: int, **kw) -> FitResult:
@@ -86,6 +99,34 @@ def model_delivered(battery: Battery, curve: Curve, start_soc: float, end_v: flo
     return run, taken
 
 
+def cell_step(curve: Curve, series: int) -> float | None:
+    """The delivered mAh where the pack's voltage steps down by a cell's (the middle of the steepest such
+    fall), None where it shows no such step."""
+    use = discharging(curve)
+    t, v, mah = curve.t[use], curve.v[use], curve.delivered_mah[use]
+    if series < 2 or len(t) < 3:
+        return None
+    later = np.searchsorted(t, t + _STEP_WINDOW_S)
+    ok = (later < len(t)) & (t >= t[0] + _STEP_WINDOW_S)
+    ok &= t[np.minimum(later, len(t) - 1)] <= t[-1] - _STEP_AFTER_S
+    at = np.flatnonzero(ok)
+    if not len(at):
+        return None
+    drop = v[at] - v[later[at]]
+    k = int(np.argmax(drop))
+    if drop[k] < _STEP_SHARE * float(np.median(v)) / series:
+        return None
+    return float(0.5 * (mah[at[k]] + mah[later[at[k]]]))
+
+
+def _battery(chem: Chemistry, values: dict, series: int) -> Battery:
+    """The fitted battery; with ``weak_share`` its last cell holds that share of the others' capacity."""
+    q = values["capacity_mah"]
+    share = values.get("weak_share")
+    cells = None if share is None else (CellSpec(q),) * (series - 1) + (CellSpec(q * share),)
+    return Battery(_apply(chem, values), q, series, cells)
+
+
 def discharge_figures(curve: Curve, run: Run, series: int, model_mah: float) -> dict:
     """The figures ``zuml fit --json`` prints for a discharge (the keys of a charge's, and ``capacity``)."""
     use = discharging(curve)
@@ -135,7 +176,7 @@ def fit_discharge(curve: Curve, chemistry: str, series: int, *, only_capacity: b
         start[p.name] = min(max(getattr(chem, p.name), p.lo * 1.001 if p.lo > 0 else p.lo), p.hi * 0.999)
 
     def residuals(values: dict) -> np.ndarray:
-        battery = Battery(_apply(chem, values), values["capacity_mah"], series)
+        battery = _battery(chem, values, series)
         run, model_mah = model_delivered(battery, work, values["start_soc"], end_v)
         return np.concatenate((_residuals(work, run, series, real_mah, model_mah), _prior(values)))
 
@@ -152,15 +193,34 @@ def fit_discharge(curve: Curve, chemistry: str, series: int, *, only_capacity: b
     values = min(tries, key=lambda c: c[1])[0]
     nfev = sum(c[2] for c in tries)
     if not only_capacity:
-        # A pack's resistance may be several times the default's (the Akkumatik NiCd pack's is 7x): from
-        # the default's alone the fit can stop in a shallower minimum.
+        # A pack's resistance may lie far from the default's either way (the NiCd default's, tuned on the
+        # Akkumatik charge, is twice what that pack's discharge fits): from the default's alone the fit
+        # can stop in a shallower minimum.
         tries = [solve(params, {**values, "r_scale": r}) for r in _R_STARTS]
         values = min(tries, key=lambda c: c[1])[0]
         nfev += sum(c[2] for c in tries)
     values = {p.name: values[p.name] for p in params}
-    battery = Battery(_apply(chem, values), values["capacity_mah"], series)
+    battery = _battery(chem, values, series)
     run, model_mah = model_delivered(battery, curve, values["start_soc"], end_v)
     report = discharge_figures(curve, run, series, model_mah)
+    report["weak_cell"] = None
+    step_mah = None if only_capacity else cell_step(work, series)
+    if step_mah is not None:
+        # Begun where the weak cell, as full as the others, empties at the step.
+        share = step_mah / (values["capacity_mah"] * values["start_soc"])
+        weak, _cost, n = solve([*params, _WEAK], {**values, "weak_share": min(0.95, max(0.3, share))})
+        nfev += n
+        weak_battery = _battery(chem, weak, series)
+        weak_run, weak_mah = model_delivered(weak_battery, curve, weak["start_soc"], end_v)
+        weak_report = discharge_figures(curve, weak_run, series, weak_mah)
+        before, after = report["rmse_v_per_cell_mv"], weak_report["rmse_v_per_cell_mv"]
+        if after <= _WEAK_GAIN * before and before - after >= _WEAK_GAIN_MV:
+            values = {p.name: weak[p.name] for p in params}
+            battery, run, report = weak_battery, weak_run, weak_report
+            report["weak_cell"] = {"capacity_share": round(weak["weak_share"], 4),
+                                   "capacity_mah": round(weak["capacity_mah"] * weak["weak_share"], 1),
+                                   "others_mah": round(weak["capacity_mah"], 1), "at_mah": round(step_mah, 1),
+                                   "rmse_equal_cells_mv": before}
     report["at_bound"] = at_bounds(params, values)
     report["cells"], report["cells_guessed"] = series, guess_series(curve, chemistry)
     return FitResult(battery, chemistry, {k: round(v, 6) for k, v in values.items()}, report, run, curve,

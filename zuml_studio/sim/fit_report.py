@@ -48,6 +48,13 @@ def figure_lines(report: dict) -> list[str]:
         lines.append(_("delivered {real} mAh (real), {model} mAh (model), {off}").format(
             real=f"{c['real_mah']:g}", model=f"{c['model_mah']:g}",
             off=f"{(c['model_mah'] / c['real_mah'] - 1.0) * 100:+.1f} %" if c["real_mah"] else "–"))
+    if report.get("weak_cell"):
+        w = report["weak_cell"]
+        lines.append(_("a weak cell: one cell holds {mah} mAh, {share} of the others' {others}; it empties at "
+                       "{at} mAh, where the pack's voltage steps down by a cell's (RMSE {equal} mV per cell with "
+                       "equal cells)").format(
+            mah=f"{w['capacity_mah']:.0f}", share=f"{w['capacity_share'] * 100:.0f} %", others=f"{w['others_mah']:.0f}",
+            at=f"{w['at_mah']:.0f}", equal=f"{w['rmse_equal_cells_mv']:g}"))
     if report.get("peak"):
         p = report["peak"]
         lines.append(_("peak at {real} mAh (real), {model} mAh (model)").format(real=f"{p['real_mah']:g}",

@@ -18,6 +18,8 @@ from .fit import FitResult
 from .fit_discharge import fit_curve
 
 _NEAR_S = 600.0          # steps this close after the compared part (the rest that follows it) count as its own
+_ROUNDS = 5              # at most this many fits with the scale set from the last one's capacity ...
+_SETTLED = 0.01          # ... until the capacity moves less than this share
 
 
 @dataclass(frozen=True)
@@ -78,14 +80,26 @@ def measure_curve(log: Log | None, curve: Curve, cells: int) -> MeasuredR | None
 
 def fit_with_measured_r(curve: Curve, chemistry: str, series: int, measured: MeasuredR) -> tuple[FitResult, float]:
     """The default model (capacity and start fitted) with its step made the measured one, and the scale
-    on R0 and R1. The model's resistance scales with the capacity the fit finds, so the scale is set
-    from the default's capacity, then once more from the capacity found with it."""
+    on R0 and R1. The model's resistance scales with the capacity the fit finds, so the scale is set from
+    a capacity, then again from the capacity found with it until that settles; begun from the default's
+    capacity and from the charge the curve moved (a default far from the pack, the NiCd one on the
+    Akkumatik pack, finds twice its capacity, and from there a second answer), the closer fit kept."""
     chem = load_chemistry(chemistry)
-    result = fit_curve(curve, chemistry, series, only_capacity=True)
-    scale = 1.0
-    for _round in range(2):
-        scaled, scale = with_measured_r(chem, result.battery.capacity_mah, measured)
-        result = fit_curve(curve, chemistry, series, only_capacity=True, base=scaled)
+    moved = float(curve.mah[-1] if curve.direction == "charge" else curve.delivered_mah[-1])
+    begins = (fit_curve(curve, chemistry, series, only_capacity=True).battery.capacity_mah, moved)
+    answers = [_settle(curve, chem, series, measured, capacity) for capacity in begins]
+    return min(answers, key=lambda a: a[0].figures["rmse_v_per_cell_mv"])
+
+
+def _settle(curve: Curve, chem: Chemistry, series: int, measured: MeasuredR,
+            capacity_mah: float) -> tuple[FitResult, float]:
+    for _round in range(_ROUNDS):
+        scaled, scale = with_measured_r(chem, capacity_mah, measured)
+        result = fit_curve(curve, chem.name, series, only_capacity=True, base=scaled)
+        settled = abs(result.battery.capacity_mah / capacity_mah - 1.0) < _SETTLED
+        capacity_mah = result.battery.capacity_mah
+        if settled:
+            break
     return result, scale
 
 

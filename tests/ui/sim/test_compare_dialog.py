@@ -184,6 +184,13 @@ def test_a_discharge_log_is_fitted_and_compared_as_a_discharge(dialog, qtbot, ac
     text = dialog.figures.text()
     assert "of the discharge" in text and "delivered 395.8 mAh (real)" in text, text
     assert len(curves_of(dialog.v_plot)) == 2
+    if action == "fit_log":
+        # its pack steps down by one cell's voltage at 362 mAh: the fit finds the weak cell, Save keeps it
+        assert "a weak cell: one cell holds " in text, text
+        assert dialog.save_as("AkkuMaster weak cell")
+        from zuml_studio.sim.batteries import load_battery_cells
+        _battery, cells = load_battery_cells("AkkuMaster weak cell")
+        assert len(cells) == 4 and cells[3].capacity_mah < cells[0].capacity_mah == cells[2].capacity_mah
 
 
 def test_simulate_macro_takes_the_resistance_from_the_logs_rests_and_says_so(dialog, qtbot):
