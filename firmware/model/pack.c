@@ -67,7 +67,7 @@ static double cell_ocv(const zm_constants_t *k, const zm_state_t *st)
 static double one_ocv(const zm_constants_t *k, const zm_state_t *st)
 {
     return (cell_ocv(k, st) + st->v1 + st->v2 + st->vp - k->k_dip * st->oc
-            + k->k_over * st->over * st->over) * k->series;
+            + k->k_over * st->over * st->over - k->half_m * (1.0 - st->h)) * k->series;
 }
 
 static double one_step(const zm_constants_t *k, zm_state_t *st, double current_a)
@@ -114,6 +114,14 @@ static double one_step(const zm_constants_t *k, zm_state_t *st, double current_a
         e = k->ys[j - 1] + (s - k->xs[j - 1]) * k->slopes[j - 1] - k->k_t * (t - T_REF_C);
     }
     v = e - k->k_dip * st->oc * k->a_o + k->k_over * st->over * st->over + extra + i * r + v1 + v2 + vp;
+    if (k->half_m != 0.0) {
+        double h = st->h;
+        v -= k->half_m * (1.0 - h);
+        if (i > 0.0)
+            st->h = 1.0 + (h - 1.0) * exp(-i * k->h_k);
+        else if (i < 0.0)
+            st->h = -1.0 + (h + 1.0) * exp(i * k->h_k);
+    }
     q = i * (v - eta * e) + eta * i * k->q_rev;
     t_final = k->ambient_c + q * k->inv_ha;
     st->temp_c = t_final + (t - t_final) * k->a_th;
@@ -141,7 +149,7 @@ static void cv_terms(const zm_constants_t *k, const zm_state_t *st, cv_terms_t *
     f = exp(k->ea_r / (t + KELVIN) - k->ea_r_ref);
     c->vp = st->vp * k->a_p;
     c->rest = (st->v1 * k->a1 + st->v2 * k->a2 - k->k_t * (t - T_REF_C) + c->vp - k->k_dip * st->oc * k->a_o
-               + k->k_over * st->over * st->over);
+               + k->k_over * st->over * st->over - k->half_m * (1.0 - st->h));
     c->r_ohmic = (k->r0 + k->r1b + k->r2b) * f;
     wf = 1.0 + k->w_t * (t - T_REF_C);
     eta = 1.0 - exp((s - 1.0) * k->inv_w0 / (wf > W_FLOOR ? wf : W_FLOOR));

@@ -78,7 +78,7 @@ class Pack:
 
     per_cell = False      # one state for every cell: the cells' voltages are voltage / series
     # What `step` carries from tick to tick: the C engine (sim/engine.py) copies it in and back.
-    STATE = ("soc", "temp_c", "current", "cell_voltage", "voltage", "_v1", "_v2", "_vp", "_oc", "_over")
+    STATE = ("soc", "temp_c", "current", "cell_voltage", "voltage", "_v1", "_v2", "_vp", "_oc", "_over", "_h")
 
     def __init__(self, chem: Chemistry, capacity_mah: float, series: int, soc: float = 0.0,
                  ambient_c: float = 25.0, r_scale: float = 1.0) -> None:
