@@ -221,6 +221,7 @@ class DevicePanel(QWidget):
 
     def clear_plot(self) -> None:
         self.plot.clear_session()
+        self.live.update_phases()
         self.telemetryReceived.emit(0)
 
     def calibrate(self) -> None:
@@ -313,6 +314,7 @@ class DevicePanel(QWidget):
                 self.runEnded.emit()
         if self.series.last_telemetry is not None:
             self.live.show_readings(self.series.last_telemetry)
+        self.live.update_phases()
         self.bar.show_monitor(self.monitor.link)
         error = self.session.update_text()
         if error:
