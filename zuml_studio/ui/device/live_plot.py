@@ -113,12 +113,19 @@ class LiveSeries:
         self.cell_count = 0                # cells that gave a reading (a 6-slot balance port reads 0 V in the rest)
         self.end_reason = ""               # the finish event's: how the macro ended ("" while it runs)
         self._counters = (0.0, 0.0)        # the run's charge in and out at its newest frame
+        self._ended: LivePhase | None = None   # the last phase of a finished run, until the next frame
 
     # -- reader thread ------------------------------------------------------------------------
     def add_telemetry(self, tel) -> None:
         with self.lock:
             self.last_telemetry = tel
             self.frames += 1
+            if self._ended is not None:
+                # The frame after the finish has the run's last counters (the last frame of the phase
+                # came up to a frame period before its end).
+                self._ended.mah_in = max(self._ended.mah_in, tel.mah_in - self._ended.base_in)
+                self._ended.mah_out = max(self._ended.mah_out, tel.mah_out - self._ended.base_out)
+                self._ended = None
             if not tel.running:
                 return
             t = float(tel.time_s)
@@ -176,6 +183,7 @@ class LiveSeries:
             elif ev.kind == "finish":
                 self.end_reason = ev.detail or _("finished")
                 self._close_open(x, self.end_reason)
+                self._ended = self.phases[-1] if self.phases else None
             elif ev.kind in ("pause", "resume") and self.phases and not self.phases[-1].closed:
                 if ev.kind == "pause":
                     self.phases[-1].pauses.append([x, x])
@@ -221,7 +229,7 @@ class LiveSeries:
             self._last_x = 0.0
             self.buffer.clear()
             self.cells, self.cells_from, self.cell_count = None, 0, 0
-            self.end_reason, self._counters = "", (0.0, 0.0)
+            self.end_reason, self._counters, self._ended = "", (0.0, 0.0), None
 
     def __len__(self) -> int:
         return len(self.buffer)
