@@ -95,6 +95,9 @@ class DevicePanel(QWidget):
         self.splitter = QSplitter(Qt.Orientation.Horizontal)
         self.splitter.setObjectName("deviceSplitter")
         self.splitter.setChildrenCollapsible(False)
+        # Standing in one column (the window's height is the panel's), the controls take the run's
+        # phases under them and the plot keeps the whole height; else the phases stand under the plot.
+        self.controls_scroll.stackedChanged.connect(self._place_phases)
         self.splitter.addWidget(self.controls_scroll)
         self.splitter.addWidget(self.live)
         self.splitter.setStretchFactor(0, 0)
@@ -306,6 +309,13 @@ class DevicePanel(QWidget):
         name = self.live.undo_new_run()
         if name is not None:
             self.run.run_name = name
+
+    def _place_phases(self, in_column: bool) -> None:
+        if in_column:
+            self.live.phases_in_column()
+            self.controls_scroll.hold(self.live.phase_box)
+        else:
+            self.live.keep_phases()
 
     def _update_readings(self) -> None:
         if self.run.follow(self.live.fresh_telemetry(), self.series.last_telemetry, self.live.new_finishes()):

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import weakref
 
-from PySide6.QtCore import QEvent, Qt
+from PySide6.QtCore import QEvent, Qt, Signal
 from PySide6.QtGui import QPalette
 from PySide6.QtWidgets import (QApplication, QBoxLayout, QComboBox, QDoubleSpinBox, QFrame, QHBoxLayout, QLabel,
                                QScrollArea, QSizePolicy, QSpinBox, QSplitter, QStyle, QStyleOptionComboBox,
@@ -164,7 +164,9 @@ STACK_PX = 480      # from this height the controls stand in one column
 class ControlsScroll(QScrollArea):
     """The controls in two narrow columns (what is on the charger; the run and the passport),
     preferring the width its columns want (QScrollArea caps its size hint at 36 lines of text,
-    which would squeeze the fields), and scrolling vertically only when the dock is too low."""
+    which would squeeze the fields), and scrolling vertically only when the dock is too low. Standing
+    in one column it may hold another part under the run's (``hold``): the live view's phases."""
+    stackedChanged = Signal(bool)
 
     def __init__(self, charger: QWidget, run: QWidget, passport: QWidget, parent: QWidget | None = None):
         super().__init__(parent)
@@ -176,6 +178,7 @@ class ControlsScroll(QScrollArea):
         b.addWidget(run)
         b.addWidget(passport)
         b.addStretch(1)
+        self._run_layout = b
         columns = QWidget()
         cols = QHBoxLayout(columns)
         cols.setContentsMargins(0, 0, 4, 0)
@@ -215,11 +218,18 @@ class ControlsScroll(QScrollArea):
             self._cols.addWidget(widget, stretch)
         self._line.setVisible(not stacked)
         self._cols.setDirection(QBoxLayout.Direction.TopToBottom if stacked else QBoxLayout.Direction.LeftToRight)
+        self.stackedChanged.emit(stacked)
         self.setMinimumWidth(self.widget().minimumSizeHint().width() + 14)
         splitter = self.parentWidget()
         if isinstance(splitter, QSplitter) and splitter.count() == 2:
             mine = self.sizeHint().width()
             splitter.setSizes([mine, max(1, sum(splitter.sizes()) - mine)])
+
+    def hold(self, widget: QWidget) -> None:
+        """``widget`` under the run's part, taking the column's spare height (it leaves when another
+        layout takes it)."""
+        self._run_layout.insertWidget(2, widget, 1)
+        widget.show()
 
     def sizeHint(self):  # noqa: N802
         hint = super().sizeHint()

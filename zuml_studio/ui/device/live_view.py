@@ -15,6 +15,7 @@ from PySide6.QtWidgets import (QCheckBox, QComboBox, QGridLayout, QHBoxLayout, Q
 from ...i18n import N_, _
 from .. import theme
 from ..plot_cursor import CursorReadout
+from ..sim.phase_table import COLUMNS as PHASE_COLUMNS
 from ..sim.phase_table import PhaseTable, run_summary
 from .device_style import ElidedCombo, field_spin
 from .live_plot import DEFAULT_FOLLOW_MIN, LivePlot, LiveSeries
@@ -24,6 +25,8 @@ RUNS_TIP = N_("Each Start begins a new run, plotted from 0; earlier runs stay he
 KEEP_RUNS = 10          # earlier runs kept for the run chooser (the session CSV keeps them all)
 PHASE_ROWS = 3          # rows of the phase table in view at first (the splitter gives it more)
 PLOT_MIN_H = 160        # the plot's height the phase table leaves it in a low dock
+# Section, start, duration, mAh out, T end: left out in a narrow column (the end and its reason matter most).
+NARROW_HIDDEN = tuple(PHASE_COLUMNS.index(name) for name in ("section", "start", "duration", "mAh out", "T end"))
 
 
 class LiveView(QWidget):
@@ -129,6 +132,28 @@ class LiveView(QWidget):
         self._body_moved = False
         self.body.splitterMoved.connect(self._body_moved_by_user)
         self._phases_key = None
+        self._in_column = False
+
+    def keep_phases(self) -> None:
+        """The phases under the plot again, every column shown (after ``phases_in_column``)."""
+        for column in NARROW_HIDDEN:
+            self.phase_table.setColumnHidden(column, False)
+        self._in_column = False
+        self._phases_key = None
+        self.update_phases()
+        self.body.addWidget(self.phase_box)
+        self.body.setCollapsible(1, True)
+        self._size_body()
+
+    def phases_in_column(self) -> None:
+        """The phases are going to stand in a narrow column beside the plot (the device panel's,
+        when the window's height is its own): the plot has the whole height, the table fewer columns
+        (each row's tooltip still has them all)."""
+        for column in NARROW_HIDDEN:
+            self.phase_table.setColumnHidden(column, True)
+        self._in_column = True
+        self._phases_key = None
+        self.update_phases()
 
     def _body_moved_by_user(self, *_args) -> None:
         self._body_moved = True
@@ -137,7 +162,7 @@ class LiveView(QWidget):
         """The phase table a few rows high under the plot, the plot keeping PLOT_MIN_H in a low dock;
         once the user moves the splitter, it is theirs."""
         total = self.body.height()
-        if self._body_moved or total <= 0:
+        if self._body_moved or total <= 0 or self.body.count() < 2:
             return
         rows = self.phase_table.verticalHeader().defaultSectionSize()
         wanted = (self.phase_table.horizontalHeader().sizeHint().height() + PHASE_ROWS * rows
@@ -158,7 +183,11 @@ class LiveView(QWidget):
         self._phases_key = key
         _version, phases = series.phases_copy()
         self.phase_table.set_phases(phases, max(1, series.cell_count))
-        self.summary.setText(live_summary(phases, series.end_reason))
+        text = live_summary(phases, series.end_reason)
+        # In a narrow column the run's line alone; what to change is in its tooltip (and the flagged row's).
+        shown = text.split("\n", 1)[0] if self._in_column else text
+        self.summary.setText(shown)
+        self.summary.setToolTip(text if shown != text else "")
 
     def _cursor_samples(self):
         """The drawn session's samples under the cursor readout's names (the cells' too, when there are)."""
