@@ -93,6 +93,8 @@ class ConnectionBar(QWidget):
         for name in chemistry_names():
             self.v_chem.addItem(name, name)
         self.add_named_batteries()
+        # As wide as "from the macro" or a chemistry: a saved battery's long name elides.
+        self.v_chem.size_by(self.v_chem.itemText(i) for i in range(1 + len(chemistry_names())))
         self.v_chem.setToolTip(_("The virtual battery's chemistry; 'from the macro' uses the editor macro's "
                                  "AKK_TYPE (NiMh if it has none); a saved fitted battery brings its own "
                                  "capacity and cells"))

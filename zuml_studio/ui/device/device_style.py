@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import weakref
 
-from PySide6.QtCore import QEvent, Qt, Signal
+from PySide6.QtCore import QEvent, QSize, Qt, Signal
 from PySide6.QtGui import QPalette
 from PySide6.QtWidgets import (QApplication, QBoxLayout, QComboBox, QDoubleSpinBox, QFrame, QHBoxLayout, QLabel,
                                QScrollArea, QSizePolicy, QSpinBox, QSplitter, QStyle, QStyleOptionComboBox,
@@ -99,7 +99,32 @@ def field_double(*args) -> QDoubleSpinBox:
 
 class ElidedCombo(QComboBox):
     """A combo box whose closed face elides a choice too long for it ("Junsi iCharger (106B/…"),
-    its whole text then heading the tooltip; the list shows every choice whole."""
+    its whole text then heading the tooltip; the list shows every choice whole.
+
+    ``size_by(texts)``: the box asks for the width of the longest of these texts (in the language
+    shown), not of its longest choice: choices the user adds (a saved battery's name) then elide
+    rather than widen the panel, and a language with longer words still gets its words whole."""
+    _size_texts: tuple[str, ...] = ()
+
+    def size_by(self, texts) -> None:
+        self._size_texts = tuple(texts)
+        self.updateGeometry()
+
+    def sizeHint(self) -> QSize:  # noqa: N802
+        return self._capped(super().sizeHint())
+
+    def minimumSizeHint(self) -> QSize:  # noqa: N802
+        return self._capped(super().minimumSizeHint())
+
+    def _capped(self, hint: QSize) -> QSize:
+        if not self._size_texts:
+            return hint
+        opt = QStyleOptionComboBox()
+        self.initStyleOption(opt)
+        text = max(self.fontMetrics().horizontalAdvance(t) for t in self._size_texts)
+        wanted = self.style().sizeFromContents(QStyle.ContentsType.CT_ComboBox, opt,
+                                               QSize(text + 4, self.fontMetrics().height()), self)
+        return QSize(min(hint.width(), wanted.width()), hint.height())
 
     def elided(self) -> bool:
         return self._face()[1]
