@@ -196,8 +196,12 @@ class DevicePanel(QWidget):
             return self._watch(target, watch_with)
         auto = target != VIRTUAL and (self.driver_combo.currentData() or AUTO) == AUTO
         self._auto_fallback = (target, self.ports.baudrate()) if auto else None
-        virtual = (self.bar.virtual_spec(self.virtual_battery(), self.virtual_eeprom_path())
-                   if target == VIRTUAL else None)
+        try:
+            virtual = (self.bar.virtual_spec(self.virtual_battery(), self.virtual_eeprom_path())
+                       if target == VIRTUAL else None)
+        except ValueError as exc:           # the virtual battery's cells, typed wrong
+            self.show_message(str(exc), "error")
+            return False
         self.session.open()
         ok = self.connection.open(target, self.ports.baudrate(), virtual, self.rate.value())
         if not ok:
