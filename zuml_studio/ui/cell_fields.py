@@ -53,10 +53,12 @@ class CellFields:
                                "e.g. 3,10,2 (empty: equal cells)").format(text=text, top=max(SPREAD_MAX_PCT))) from None
 
     def summary(self) -> str:
-        """The cells in a few words for a button's face: "equal", "−15 % #last", "±3,10,2 (seed 1)"."""
+        """The cells in a few words for a button's face: "equal", "−15 %" (the top cell), "−15 % #2",
+        "±3,10,2 (seed 1)"."""
         parts = []
         if self.weak_pct.value():
-            parts.append(f"−{self.weak_pct.value()} % {self.weak_cell.text()}")
+            which = f" #{self.weak_cell.value()}" if self.weak_cell.value() else ""
+            parts.append(f"−{self.weak_pct.value()} %{which}")
         if self.spread.text().strip():
             parts.append(_("±{spread} (seed {seed})").format(spread=self.spread.text().strip(),
                                                                seed=self.seed.value()))

@@ -6,8 +6,9 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Callable
 
+from PySide6.QtCore import Qt
 from PySide6.QtWidgets import (QComboBox, QFileDialog, QGridLayout, QHBoxLayout, QLabel, QMenu, QPushButton,
-                               QToolButton, QVBoxLayout, QWidget, QWidgetAction)
+                               QStyle, QToolButton, QVBoxLayout, QWidget, QWidgetAction)
 
 from ...device.drivers import AUTO, DRIVERS, ZUML
 from ...device.passport import akk_name
@@ -20,6 +21,7 @@ from .device_style import DEFAULT_BATTERY, FIELD_WIDTH, ElidedCombo, ElidedLabel
 from .port_chooser import PortChooser
 
 NAMED_BATTERY = "battery:"      # virtual chemistry box data of a saved fitted battery
+CELLS_TEXT_PX = 110             # the cells button's text at most
 MATCH = "match"
 
 
@@ -180,17 +182,26 @@ class ConnectionBar(QWidget):
         self.cells_button.setObjectName("virtualCells")
         self.cells_button.setPopupMode(QToolButton.ToolButtonPopupMode.InstantPopup)
         self.cells_button.setMenu(menu)
-        self.cells_button.setToolTip(_("The virtual battery's cells: equal, or one weak cell (which one, how much "
-                                       "less capacity) and a spread of capacity, resistance and start charge drawn "
-                                       "with a seed, as the simulator takes them; the live view shows the cells "
-                                       "and the balancer at work"))
+        self._cells_tip = _("The virtual battery's cells: equal, or one weak cell (which one, how much less "
+                            "capacity) and a spread of capacity, resistance and start charge drawn with a seed, as "
+                            "the simulator takes them; the live view shows the cells and the balancer at work")
+        self.cells_button.setToolTip(self._cells_tip)
         for signal in (self.v_weak.valueChanged, self.v_weak_cell.valueChanged, self.v_spread.textChanged,
                        self.v_seed.valueChanged):
             signal.connect(self._show_cells)
         self._show_cells()
 
     def _show_cells(self, *_args) -> None:
-        self.cells_button.setText(self.cells.summary())
+        """The choice on the button, cut to CELLS_TEXT_PX (whole in its tooltip): a spread must not
+        widen the row past the dock."""
+        full = self.cells.summary()
+        shown = self.cells_button.fontMetrics().elidedText(full, Qt.TextElideMode.ElideRight, CELLS_TEXT_PX)
+        self.cells_button.setText(shown)
+        self.cells_button.setToolTip(f"{full}\n\n{self._cells_tip}")
+        # The pop-up's arrow is drawn over the text's end unless there is room for it beside.
+        arrow = self.cells_button.style().pixelMetric(QStyle.PixelMetric.PM_MenuButtonIndicator, None,
+                                                      self.cells_button)
+        self.cells_button.setMinimumWidth(self.cells_button.sizeHint().width() + arrow)
 
     def add_named_batteries(self) -> None:
         """Offer the saved fitted batteries (docs/fit.md) after the chemistries."""

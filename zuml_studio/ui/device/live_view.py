@@ -8,9 +8,9 @@ from __future__ import annotations
 
 import math
 
-from PySide6.QtCore import QEvent, Qt, Signal
+from PySide6.QtCore import QEvent, QSize, Qt, Signal
 from PySide6.QtWidgets import (QCheckBox, QComboBox, QGridLayout, QHBoxLayout, QLabel, QSizePolicy, QSplitter,
-                               QToolButton, QVBoxLayout, QWidget)
+                               QStyle, QToolButton, QVBoxLayout, QWidget)
 
 from ...i18n import N_, _
 from .. import theme
@@ -100,7 +100,7 @@ class LiveView(QWidget):
 
     def _phases_layout(self) -> None:
         """The plot over the run's phases and its summary, in a splitter the user may move."""
-        self.phase_table = PhaseTable()
+        self.phase_table = LivePhaseTable()
         self.phase_table.setObjectName("livePhaseTable")
         self.phase_table.setToolTip(_("The run's phases as the charger reports them: why each ended (⚠: a default, "
                                       "the balancer or a protection, not the macro). Double-click a phase to show "
@@ -154,9 +154,11 @@ class LiveView(QWidget):
         self._in_column = True
         self._phases_key = None
         self.update_phases()
+        self.phase_table.setVisible(True)
 
     def _body_moved_by_user(self, *_args) -> None:
         self._body_moved = True
+        self.phase_table.setVisible(True)
 
     def _size_body(self) -> None:
         """The phase table a few rows high under the plot, the plot keeping PLOT_MIN_H in a low dock;
@@ -167,9 +169,14 @@ class LiveView(QWidget):
         rows = self.phase_table.verticalHeader().defaultSectionSize()
         wanted = (self.phase_table.horizontalHeader().sizeHint().height() + PHASE_ROWS * rows
                   + 2 * self.summary.fontMetrics().lineSpacing() + 14)
-        least = self.phase_box.minimumSizeHint().height()
-        # Too low for both: the plot alone (the phases come back when the dock grows).
-        wanted = 0 if total - least < PLOT_MIN_H else max(least, min(wanted, total - PLOT_MIN_H))
+        line = (self.summary.heightForWidth(self.body.width()) if self.summary.text()
+                else self.summary.fontMetrics().lineSpacing()) + 4
+        useful = line + self.phase_table.horizontalHeader().sizeHint().height() + 2 * rows + 2 * scroll_bar(self)
+        # A low dock: the run's line alone under the plot, or the plot alone; the table comes back as the dock
+        # grows, or when the user moves the splitter.
+        self.phase_table.setVisible(total - useful >= PLOT_MIN_H)
+        wanted = (max(useful, min(wanted, total - PLOT_MIN_H)) if total - useful >= PLOT_MIN_H
+                  else line if total - line >= PLOT_MIN_H else 0)
         self.body.blockSignals(True)
         self.body.setSizes([total - wanted, wanted])
         self.body.blockSignals(False)
@@ -186,7 +193,9 @@ class LiveView(QWidget):
         text = live_summary(phases, series.end_reason)
         # In a narrow column the run's line alone; what to change is in its tooltip (and the flagged row's).
         shown = text.split("\n", 1)[0] if self._in_column else text
-        self.summary.setText(shown)
+        if shown != self.summary.text():
+            self.summary.setText(shown)
+            self._size_body()               # its lines may have changed
         self.summary.setToolTip(text if shown != text else "")
 
     def _cursor_samples(self):
@@ -335,6 +344,21 @@ class LiveView(QWidget):
                 self.follow.setChecked(False)
                 self.plot.show_all()
             self.update_phases()
+
+
+def scroll_bar(widget: QWidget) -> int:
+    return widget.style().pixelMetric(QStyle.PixelMetric.PM_ScrollBarExtent, None, widget)
+
+
+class LivePhaseTable(PhaseTable):
+    """The simulator's phase table asking for PHASE_ROWS rows (a table view asks for 192 px whatever it
+    holds): a column that stands in a scroll area gets no scroll bar from it, and takes more as there is."""
+
+    def sizeHint(self) -> QSize:  # noqa: N802
+        hint = super().sizeHint()
+        rows = self.verticalHeader().defaultSectionSize() * PHASE_ROWS
+        scroll = self.horizontalScrollBar().sizeHint().height()
+        return QSize(hint.width(), self.horizontalHeader().sizeHint().height() + rows + scroll + 2 * self.frameWidth())
 
 
 def live_summary(phases: list, end_reason: str) -> str:
