@@ -130,3 +130,32 @@ def test_a_weak_cell_charge_on_the_virtual_charger_ends_by_the_balancer_and_says
     assert table.is_flagged(last)
     assert "last phase ⚠ C2: balancer: cell 4 reached" in panel.message_text()
     assert panel.live.phase_box.isVisible() and panel.live.body.sizes()[1] > 0
+
+
+def test_in_a_low_dock_the_plot_keeps_its_height_and_the_phases_come_back_when_it_grows(qtbot, make_panel):
+    from zuml_studio.ui.device.live_view import PLOT_MIN_H
+    panel = make_panel(size=(1354, 358))            # the Device dock's room in a 1366x768 window
+    feed_weak_cell_run(panel.live.series)
+    panel.live.update_phases()
+    qtbot.waitUntil(lambda: panel.plot.height() > 0)
+    assert panel.plot.height() >= PLOT_MIN_H
+    assert not panel.live.phase_table.isVisible()   # no room for a row: not a table of headers alone
+    panel.resize(1354, 760)
+    qtbot.waitUntil(lambda: panel.live.phase_table.isVisible())
+    assert panel.plot.height() >= PLOT_MIN_H and panel.live.phase_table.height() > 0
+
+
+def test_in_the_charge_mode_the_phases_stand_under_the_run_controls(make_window, qtbot):
+    w = make_window()
+    w.resize(1366, 768)
+    qtbot.waitUntil(lambda: w.size().width() == 1366)
+    w.modes.switch("charge")
+    panel = w.device_panel
+    qtbot.waitUntil(panel.controls_scroll.is_stacked)
+    assert panel.controls_scroll.isAncestorOf(panel.live.phase_box)
+    assert panel.live.phase_table.isColumnHidden(3) and not panel.live.phase_table.isColumnHidden(6)
+    w.modes.switch("write")
+    w.device_dock.show()
+    w.device_dock.raise_()
+    qtbot.waitUntil(lambda: not panel.controls_scroll.is_stacked())
+    assert panel.live.body.isAncestorOf(panel.live.phase_box) and not panel.live.phase_table.isColumnHidden(3)
