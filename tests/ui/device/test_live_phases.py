@@ -16,8 +16,8 @@ CEILING = "balancer: cell 4 reached 4.20V (ceiling)"
 
 def frame(t: float, mah_in: float, volts: float = 16.4, *, running: bool = True, mask: int = 0,
           temp: float | None = 26.0, run: int = 1) -> Telemetry:
-    return Telemetry(t, "charge", "charge" if running else "", 1, 0, run, run if running else 0, running, False, temp is not None,
-                     volts, 2.2 if running else 0.0, temp, 30.0, mah_in, 0.0, (4.08, 4.08, 4.08, 4.16),
+    return Telemetry(t, "charge", "charge" if running else "", 1, 0, run, run if running else 0, running, False,
+                     temp is not None, volts, 2.2 if running else 0.0, temp, 30.0, mah_in, 0.0, (4.08, 4.08, 4.08, 4.16),
                      balance_mask=mask)
 
 

@@ -180,7 +180,8 @@ class RunControls(QWidget):
     def follow(self, fresh, newest, finishes: list) -> bool:
         """Follow the charger's frames: ``fresh``, the newest frame since the last START or STOP
         (None: none yet), says whether the macro runs; ``newest`` (or None) shows its state;
-        ``finishes``, the finish events not seen before with the phase that ended last, are said. True if ``running`` changed."""
+        ``finishes``, the finish events not seen before with the phase that ended last, are said. True
+        if ``running`` changed."""
         changed = fresh is not None and fresh.running != self.running
         if changed:
             self.running = fresh.running
