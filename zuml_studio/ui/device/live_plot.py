@@ -75,6 +75,7 @@ class LivePhase(PhaseResult):
         """A telemetry frame of this phase."""
         self.mah_in, self.mah_out = max(0.0, tel.mah_in - self.base_in), max(0.0, tel.mah_out - self.base_out)
         self.v_end = tel.voltage_v
+        self.end_s = max(self.end_s, x)     # a running phase's duration so far (its end event sets the end)
         self.temp_end = math.nan if tel.temp_c is None else tel.temp_c
         self.run = tel.run or self.run
         self.cycle_pass = tel.cycle

@@ -9,8 +9,8 @@ from __future__ import annotations
 import math
 
 from PySide6.QtCore import QEvent, QSize, Qt, Signal
-from PySide6.QtWidgets import (QCheckBox, QComboBox, QGridLayout, QHBoxLayout, QLabel, QSizePolicy, QSplitter,
-                               QStyle, QToolButton, QVBoxLayout, QWidget)
+from PySide6.QtWidgets import (QCheckBox, QComboBox, QGridLayout, QHBoxLayout, QLabel, QLayout, QSizePolicy,
+                               QSplitter, QStyle, QToolButton, QVBoxLayout, QWidget)
 
 from ...i18n import N_, _
 from .. import theme
@@ -115,6 +115,9 @@ class LiveView(QWidget):
         box = QWidget()
         box.setObjectName("livePhases")
         layout = QVBoxLayout(box)
+        # Under the plot it asks for no height of its own: the panel's minimum stays the plot's (a low dock).
+        layout.setSizeConstraint(QLayout.SizeConstraint.SetNoConstraint)
+        box.setMinimumHeight(1)
         layout.setContentsMargins(0, 0, 0, 0)
         layout.setSpacing(2)
         layout.addWidget(self.summary)
@@ -141,6 +144,7 @@ class LiveView(QWidget):
         self._in_column = False
         self._phases_key = None
         self.update_phases()
+        self.phase_box.setMinimumHeight(1)
         self.body.addWidget(self.phase_box)
         self.body.setCollapsible(1, True)
         self._size_body()
@@ -155,6 +159,7 @@ class LiveView(QWidget):
         self._phases_key = None
         self.update_phases()
         self.phase_table.setVisible(True)
+        self.phase_box.setMinimumHeight(0)          # in the column: its layout's minimum
 
     def _body_moved_by_user(self, *_args) -> None:
         self._body_moved = True
@@ -194,8 +199,10 @@ class LiveView(QWidget):
         # In a narrow column the run's line alone; what to change is in its tooltip (and the flagged row's).
         shown = text.split("\n", 1)[0] if self._in_column else text
         if shown != self.summary.text():
+            lines = self.summary.heightForWidth(max(1, self.summary.width()))
             self.summary.setText(shown)
-            self._size_body()               # its lines may have changed
+            if self.summary.heightForWidth(max(1, self.summary.width())) != lines:
+                self._size_body()           # it took more lines or fewer: the table's room changes
         self.summary.setToolTip(text if shown != text else "")
 
     def _cursor_samples(self):
