@@ -361,6 +361,13 @@ class LivePhaseTable(PhaseTable):
     """The simulator's phase table asking for PHASE_ROWS rows (a table view asks for 192 px whatever it
     holds): a column that stands in a scroll area gets no scroll bar from it, and takes more as there is."""
 
+    def __init__(self, parent: QWidget | None = None):
+        super().__init__(parent)
+        self.phases.set_header_tips({
+            "V end": _("pack voltage at the phase's last telemetry frame"),
+            "T end": _("battery temperature at the phase's last telemetry frame (— without a sensor)"),
+            "notes": _("heat-sink pauses, how long the balancer bled each cell")})
+
     def sizeHint(self) -> QSize:  # noqa: N802
         hint = super().sizeHint()
         rows = self.verticalHeader().defaultSectionSize() * PHASE_ROWS

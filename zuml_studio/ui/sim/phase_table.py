@@ -98,6 +98,10 @@ class PhaseModel(QAbstractTableModel):
                 icons.add(REASON_COLUMN)
         return texts, icons
 
+    def set_header_tips(self, tips: dict[str, str]) -> None:
+        """Column titles' tooltips in place of the simulator's (a charger's table measures, not models)."""
+        self._tips = {**self._tips, **tips}
+
     def phase(self, row: int):
         return self._phases[row] if 0 <= row < len(self._phases) else None
 
