@@ -29,8 +29,7 @@ THEME_ENV = "ZUML_SCREENSHOT_THEME"     # the theme of a part shot (--device-pan
 WINDOW_SIZE = (1366, 768)
 WEAK_PACK = {"capacity_mah": 2200, "series": 4, "current_a": 2.2}     # a 4S LiPo 2200 mAh pack charged at 1C
 WEAK_PCT = 15
-LIVE_SPEED = 300        # the virtual charger's speed: the whole charge (about 65 simulated minutes) in LIVE_RUN_S
-LIVE_RUN_S = 15.0
+LIVE_SPEED = 300        # the virtual charger's speed: the whole charge (about 50 simulated minutes) in ten seconds
 
 
 def _application():
@@ -165,8 +164,8 @@ def _sim_weak_shot(out: Path, config: Path) -> None:
 
 
 def _live_weak_shot(out: Path, config: Path) -> None:
-    """The window in Charge mode: the virtual charger with the same pack charging by the same macro,
-    after some simulated minutes at high speed."""
+    """The window in Charge mode: the virtual charger with the same pack charging by the same macro
+    at high speed, to its end (the phases' end reasons, the balancer's ceiling that ended it)."""
     app, collector = _application()
     from PySide6.QtCore import QEventLoop, QTimer
 
@@ -201,7 +200,8 @@ def _live_weak_shot(out: Path, config: Path) -> None:
     panel.set_start_params(current_a=WEAK_PACK["current_a"], sensor=True)
     panel.start()
     until(panel.startFinished, "start")
-    _settle(app, int(LIVE_RUN_S * 1000))
+    until(panel.runEnded, "the end of the charge")
+    _settle(app, 1000)                  # the frames after the end: the run's last counters, the phases' line
     window.grab().save(str(out))
     panel.shutdown()
     window.close()

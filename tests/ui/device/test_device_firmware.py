@@ -50,6 +50,8 @@ def test_the_panel_flashes_lists_starts_and_monitors_the_firmware(qtbot, make_pa
     assert stopped.args[0] == "stop" and stopped.args[1]
     qtbot.waitUntil(lambda: any(p.closed for p in panel.plot.phases()), timeout=WAIT_MS)
     assert panel.plot.phases()[0].reason == "stopped"
+    table = panel.live.phase_table.phases            # the firmware's EVENT detail, listed as the simulator lists it
+    qtbot.waitUntil(lambda: table.rowCount() == 1 and table.index(0, 6).data() == "stopped", timeout=WAIT_MS)
 
     with qtbot.waitSignal(panel.connectedChanged, timeout=WAIT_MS) as gone:
         qtbot.mouseClick(panel.connect_button, Qt.MouseButton.LeftButton)

@@ -19,6 +19,10 @@ class Tel:
     current_a: float = 2.0
     temp_c: float = 25.0
     heatsink_c: float = 30.0
+    mah_in: float = 0.0
+    mah_out: float = 0.0
+    run: int = 1
+    cycle: int = 0
 
 
 def four_cells(t: float) -> tuple:

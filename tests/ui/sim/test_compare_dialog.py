@@ -217,3 +217,24 @@ def test_a_cycle_logs_discharge_is_chosen_and_fitted_on_its_own(dialog, qtbot):
     assert "delivered" in dialog.figures.text() and dialog.fitted.figures["direction"] == "discharge"
     assert dialog.load_log(str(CURVES / "lipo_4s_406duo_3c.csv"))
     assert not dialog.direction.isEnabled()                 # a curve CSV holds one direction
+
+
+def test_a_log_with_a_balance_tap_per_cell_shows_its_cells_in_the_pack_cells_hues(dialog, qtbot):
+    from zuml_studio.ui import theme
+    logs = helpers.ROOT / "tests" / "data" / "logs"
+    assert dialog.load_log(str(logs / "406DUO_Turnigy_4S_1500_A_Charge_0_CH1.txt"))
+    assert dialog.cells.value() == 4
+    names = [item.name() for item in curves_of(dialog.v_plot)]
+    assert names == ["cell 1", "cell 2", "cell 3", "cell 4", "log"]     # under the pack's line
+    hues = theme.colours(dialog.plots.palette()).plot.pack_cells
+    assert [item.opts["pen"].color().name() for item in curves_of(dialog.v_plot)[:4]] == list(hues[:4])
+    wait_for(qtbot, dialog, dialog.compare_macro)
+    assert [item.name() for item in curves_of(dialog.v_plot)][-2:] == ["log", "simulation"]
+    dialog.cells.setValue(3)                      # taps that are not one per cell of the pack: no cells drawn
+    dialog._draw(None, None, "")
+    assert [item.name() for item in curves_of(dialog.v_plot)] == ["log"]
+
+
+def test_a_log_without_taps_draws_no_cells(dialog):
+    assert dialog.load_log(str(CURVES / "lipo_4s_406duo_3c.csv"))
+    assert [item.name() for item in curves_of(dialog.v_plot)] == ["log"]

@@ -46,20 +46,24 @@ class VirtualSpec:
     speed: float = 60.0
     passport: str = "match"
     eeprom_path: Path | None = None     # keeps the EEPROM across connections (None: erased each time)
-    weak_cell_pct: float = 0.0          # the battery's top cell holds this % less capacity (0: equal cells)
+    weak_cell_pct: float = 0.0          # one cell holds this % less capacity (0: none) ...
+    weak_cell: int | None = None        # ... this one (1-based; None: the top one)
+    cell_spread: tuple[float, float, float] | None = None   # ± % of capacity, resistance, start charge per cell
+    seed: int = 1                       # the spread's draw
 
     def cells(self):
         """The unequal cells to build the battery with (`sim.cell_pack.CellSpec`), None for the
-        battery's own; DeviceSetupError says why a weak cell does not fit the battery."""
-        if not self.weak_cell_pct:
+        battery's own; DeviceSetupError says why the cells asked for do not fit the battery."""
+        if not self.weak_cell_pct and not self.cell_spread:
             return None
         from ...device.virtual_charger import BatterySpec, DeviceSetupError
         from ...sim.interpreter import StartError
         from ...sim.simulate import BatterySetup, pack_cells
         spec = BatterySpec.parse(self.battery)
         try:
-            return pack_cells(BatterySetup(weak_cell_pct=self.weak_cell_pct), spec.capacity_mah, spec.cells, 0.0,
-                              spec.file_cells())
+            setup = BatterySetup(weak_cell_pct=self.weak_cell_pct, weak_cell=self.weak_cell,
+                                 cell_spread=self.cell_spread, seed=self.seed)
+            return pack_cells(setup, spec.capacity_mah, spec.cells, 0.0, spec.file_cells())
         except StartError as exc:
             raise DeviceSetupError(str(exc)) from None
 

@@ -6,17 +6,22 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Callable
 
-from PySide6.QtWidgets import QComboBox, QFileDialog, QHBoxLayout, QLabel, QPushButton, QVBoxLayout, QWidget
+from PySide6.QtCore import Qt
+from PySide6.QtWidgets import (QComboBox, QFileDialog, QGridLayout, QHBoxLayout, QLabel, QMenu, QPushButton,
+                               QStyle, QToolButton, QVBoxLayout, QWidget, QWidgetAction)
 
 from ...device.drivers import AUTO, DRIVERS, ZUML
 from ...device.passport import akk_name
 from ...device.ports import VIRTUAL
 from ...i18n import _
+from ..cell_fields import CellFields
+from ..number_boxes import form_field
 from .connection import VirtualSpec
 from .device_style import DEFAULT_BATTERY, FIELD_WIDTH, ElidedCombo, ElidedLabel, field_spin, tint
 from .port_chooser import PortChooser
 
 NAMED_BATTERY = "battery:"      # virtual chemistry box data of a saved fitted battery
+CELLS_TEXT_PX = 110             # the cells button's text at most
 MATCH = "match"
 
 
@@ -93,18 +98,15 @@ class ConnectionBar(QWidget):
         for name in chemistry_names():
             self.v_chem.addItem(name, name)
         self.add_named_batteries()
+        # As wide as "from the macro" or a chemistry: a saved battery's long name elides.
+        self.v_chem.size_by(self.v_chem.itemText(i) for i in range(1 + len(chemistry_names())))
         self.v_chem.setToolTip(_("The virtual battery's chemistry; 'from the macro' uses the editor macro's "
                                  "AKK_TYPE (NiMh if it has none); a saved fitted battery brings its own "
                                  "capacity and cells"))
         self.v_mah = field_spin(100, 65000, DEFAULT_BATTERY[1], " mAh", _("the virtual battery's capacity"))
         self.v_mah.setSingleStep(100)
         self.v_cells = field_spin(1, 24, DEFAULT_BATTERY[2], _(" cells"), _("cells in series in the virtual battery"))
-        self.v_weak = field_spin(0, 90, 0, " %", _("one cell of the virtual battery (its top one) holds this many "
-                                                   "percent less capacity: the live view shows it run ahead and "
-                                                   "the balancer bleed it (off: equal cells)"))
-        self.v_weak.setObjectName("virtualWeakCell")
-        self.v_weak.setSpecialValueText(_("off"))
-        self.v_weak.setPrefix("−")
+        self._cell_choice()
         self.v_passport = ElidedCombo()
         self.v_passport.setObjectName("virtualPassport")
         self.v_passport.addItem(_("as battery"), MATCH)
@@ -123,9 +125,9 @@ class ConnectionBar(QWidget):
         vrow = QHBoxLayout(self.virtual_box)
         vrow.setContentsMargins(0, 0, 0, 0)
         vrow.setSpacing(4)
-        weak_label = QLabel(_("Weak cell"))
-        weak_label.setToolTip(self.v_weak.toolTip())
-        for w in (QLabel(_("Pack")), self.v_chem, self.v_mah, self.v_cells, weak_label, self.v_weak,
+        cells_label = QLabel(_("Cells"))
+        cells_label.setToolTip(self.cells_button.toolTip())
+        for w in (QLabel(_("Pack")), self.v_chem, self.v_mah, self.v_cells, cells_label, self.cells_button,
                   QLabel(_("Passport")), self.v_passport,
                   QLabel(_("Speed")), self.v_speed):
             vrow.addWidget(w)
@@ -135,7 +137,7 @@ class ConnectionBar(QWidget):
         self.info_label = ElidedLabel("")
         self.info_label.setObjectName("deviceInfo")
         tint(self.info_label, "info")
-        for box in (self.v_mah, self.v_cells, self.v_weak):
+        for box in (self.v_mah, self.v_cells):
             box.setMinimumWidth(box.sizeHint().width())     # the note gives way, not the numbers
         self.battery_note = ElidedLabel("")
         self.battery_note.setObjectName("virtualBatteryNote")
@@ -151,6 +153,55 @@ class ConnectionBar(QWidget):
         layout.setSpacing(3)
         layout.addLayout(top)
         layout.addLayout(second)
+
+    def _cell_choice(self) -> None:
+        """The virtual battery's cells as ``zuml simulate`` takes them (the simulator's fields), in a
+        pop-up under a button that says what is chosen: the row has no room for four more fields."""
+        self.cells = CellFields()
+        self.v_weak, self.v_weak_cell, self.v_spread, self.v_seed = (
+            self.cells.weak_pct, self.cells.weak_cell, self.cells.spread, self.cells.seed)
+        self.v_weak.setObjectName("virtualWeakCell")
+        self.cells_form = QWidget()
+        self.cells_form.setObjectName("virtualCellsForm")
+        grid = QGridLayout(self.cells_form)
+        grid.setContentsMargins(8, 6, 8, 6)
+        grid.setHorizontalSpacing(6)
+        grid.setVerticalSpacing(4)
+        for row, (text, widget) in enumerate(((_("Weak cell"), self.v_weak), (_("Which"), self.v_weak_cell),
+                                              (_("Spread"), self.v_spread), (_("Seed"), self.v_seed))):
+            label = QLabel(text)
+            label.setBuddy(widget)
+            label.setToolTip(widget.toolTip())
+            grid.addWidget(label, row, 0)
+            grid.addWidget(form_field(widget, min_width=FIELD_WIDTH), row, 1)
+        menu = QMenu(self)
+        action = QWidgetAction(menu)
+        action.setDefaultWidget(self.cells_form)
+        menu.addAction(action)
+        self.cells_button = QToolButton()
+        self.cells_button.setObjectName("virtualCells")
+        self.cells_button.setPopupMode(QToolButton.ToolButtonPopupMode.InstantPopup)
+        self.cells_button.setMenu(menu)
+        self._cells_tip = _("The virtual battery's cells: equal, or one weak cell (which one, how much less "
+                            "capacity) and a spread of capacity, resistance and start charge drawn with a seed, as "
+                            "the simulator takes them; the live view shows the cells and the balancer at work")
+        self.cells_button.setToolTip(self._cells_tip)
+        for signal in (self.v_weak.valueChanged, self.v_weak_cell.valueChanged, self.v_spread.textChanged,
+                       self.v_seed.valueChanged):
+            signal.connect(self._show_cells)
+        self._show_cells()
+
+    def _show_cells(self, *_args) -> None:
+        """The choice on the button, cut to CELLS_TEXT_PX (whole in its tooltip): a spread must not
+        widen the row past the dock."""
+        full = self.cells.summary()
+        shown = self.cells_button.fontMetrics().elidedText(full, Qt.TextElideMode.ElideRight, CELLS_TEXT_PX)
+        self.cells_button.setText(shown)
+        self.cells_button.setToolTip(f"{full}\n\n{self._cells_tip}")
+        # The pop-up's arrow is drawn over the text's end unless there is room for it beside.
+        arrow = self.cells_button.style().pixelMetric(QStyle.PixelMetric.PM_MenuButtonIndicator, None,
+                                                      self.cells_button)
+        self.cells_button.setMinimumWidth(self.cells_button.sizeHint().width() + arrow)
 
     def add_named_batteries(self) -> None:
         """Offer the saved fitted batteries (docs/fit.md) after the chemistries."""
@@ -194,9 +245,11 @@ class ConnectionBar(QWidget):
         return driver if target != VIRTUAL and driver in DRIVERS else None
 
     def virtual_spec(self, battery: str, eeprom: Path) -> VirtualSpec:
-        """The built-in virtual charger as chosen here, with ``battery`` and its EEPROM file."""
+        """The built-in virtual charger as chosen here, with ``battery`` and its EEPROM file;
+        ValueError says in words what is typed wrong in the cells' fields."""
         return VirtualSpec(battery, float(self.v_speed.value()), self.v_passport.currentData() or MATCH, eeprom,
-                           float(self.v_weak.value()))
+                           float(self.v_weak.value()), self.cells.weak_cell_number(), self.cells.cell_spread(),
+                           self.v_seed.value())
 
     # -- the connected charger ----------------------------------------------------------------
     def set_link_state(self, state: str, monitoring: bool, shut: bool) -> None:
@@ -206,7 +259,8 @@ class ConnectionBar(QWidget):
         self.connect_button.setEnabled(not shut and state != "disconnecting")
         self.replay_button.setEnabled(free and not shut)
         self.driver_combo.setEnabled(free and not self.ports.is_virtual())
-        for w in (self.ports, self.v_chem, self.v_mah, self.v_cells, self.v_weak, self.v_passport):
+        for w in (self.ports, self.v_chem, self.v_mah, self.v_cells, self.cells_button, self.cells_form,
+                  self.v_passport):
             w.setEnabled(free)
         self.rate.setEnabled(not monitoring)
         self.virtual_box.setVisible(self.ports.is_virtual())

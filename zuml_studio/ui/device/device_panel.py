@@ -95,6 +95,9 @@ class DevicePanel(QWidget):
         self.splitter = QSplitter(Qt.Orientation.Horizontal)
         self.splitter.setObjectName("deviceSplitter")
         self.splitter.setChildrenCollapsible(False)
+        # Standing in one column (the window's height is the panel's), the controls take the run's
+        # phases under them and the plot keeps the whole height; else the phases stand under the plot.
+        self.controls_scroll.stackedChanged.connect(self._place_phases)
         self.splitter.addWidget(self.controls_scroll)
         self.splitter.addWidget(self.live)
         self.splitter.setStretchFactor(0, 0)
@@ -193,8 +196,12 @@ class DevicePanel(QWidget):
             return self._watch(target, watch_with)
         auto = target != VIRTUAL and (self.driver_combo.currentData() or AUTO) == AUTO
         self._auto_fallback = (target, self.ports.baudrate()) if auto else None
-        virtual = (self.bar.virtual_spec(self.virtual_battery(), self.virtual_eeprom_path())
-                   if target == VIRTUAL else None)
+        try:
+            virtual = (self.bar.virtual_spec(self.virtual_battery(), self.virtual_eeprom_path())
+                       if target == VIRTUAL else None)
+        except ValueError as exc:           # the virtual battery's cells, typed wrong
+            self.show_message(str(exc), "error")
+            return False
         self.session.open()
         ok = self.connection.open(target, self.ports.baudrate(), virtual, self.rate.value())
         if not ok:
@@ -221,6 +228,7 @@ class DevicePanel(QWidget):
 
     def clear_plot(self) -> None:
         self.plot.clear_session()
+        self.live.update_phases()
         self.telemetryReceived.emit(0)
 
     def calibrate(self) -> None:
@@ -306,6 +314,13 @@ class DevicePanel(QWidget):
         if name is not None:
             self.run.run_name = name
 
+    def _place_phases(self, in_column: bool) -> None:
+        if in_column:
+            self.live.phases_in_column()
+            self.controls_scroll.hold(self.live.phase_box)
+        else:
+            self.live.keep_phases()
+
     def _update_readings(self) -> None:
         if self.run.follow(self.live.fresh_telemetry(), self.series.last_telemetry, self.live.new_finishes()):
             self._update_enabled()
@@ -313,6 +328,7 @@ class DevicePanel(QWidget):
                 self.runEnded.emit()
         if self.series.last_telemetry is not None:
             self.live.show_readings(self.series.last_telemetry)
+        self.live.update_phases()
         self.bar.show_monitor(self.monitor.link)
         error = self.session.update_text()
         if error:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import weakref
 
-from PySide6.QtCore import QEvent, Qt
+from PySide6.QtCore import QEvent, QSize, Qt, Signal
 from PySide6.QtGui import QPalette
 from PySide6.QtWidgets import (QApplication, QBoxLayout, QComboBox, QDoubleSpinBox, QFrame, QHBoxLayout, QLabel,
                                QScrollArea, QSizePolicy, QSpinBox, QSplitter, QStyle, QStyleOptionComboBox,
@@ -99,7 +99,32 @@ def field_double(*args) -> QDoubleSpinBox:
 
 class ElidedCombo(QComboBox):
     """A combo box whose closed face elides a choice too long for it ("Junsi iCharger (106B/…"),
-    its whole text then heading the tooltip; the list shows every choice whole."""
+    its whole text then heading the tooltip; the list shows every choice whole.
+
+    ``size_by(texts)``: the box asks for the width of the longest of these texts (in the language
+    shown), not of its longest choice: choices the user adds (a saved battery's name) then elide
+    rather than widen the panel, and a language with longer words still gets its words whole."""
+    _size_texts: tuple[str, ...] = ()
+
+    def size_by(self, texts) -> None:
+        self._size_texts = tuple(texts)
+        self.updateGeometry()
+
+    def sizeHint(self) -> QSize:  # noqa: N802
+        return self._capped(super().sizeHint())
+
+    def minimumSizeHint(self) -> QSize:  # noqa: N802
+        return self._capped(super().minimumSizeHint())
+
+    def _capped(self, hint: QSize) -> QSize:
+        if not self._size_texts:
+            return hint
+        opt = QStyleOptionComboBox()
+        self.initStyleOption(opt)
+        text = max(self.fontMetrics().horizontalAdvance(t) for t in self._size_texts)
+        wanted = self.style().sizeFromContents(QStyle.ContentsType.CT_ComboBox, opt,
+                                               QSize(text + 4, self.fontMetrics().height()), self)
+        return QSize(min(hint.width(), wanted.width()), hint.height())
 
     def elided(self) -> bool:
         return self._face()[1]
@@ -164,7 +189,9 @@ STACK_PX = 480      # from this height the controls stand in one column
 class ControlsScroll(QScrollArea):
     """The controls in two narrow columns (what is on the charger; the run and the passport),
     preferring the width its columns want (QScrollArea caps its size hint at 36 lines of text,
-    which would squeeze the fields), and scrolling vertically only when the dock is too low."""
+    which would squeeze the fields), and scrolling vertically only when the dock is too low. Standing
+    in one column it may hold another part under the run's (``hold``): the live view's phases."""
+    stackedChanged = Signal(bool)
 
     def __init__(self, charger: QWidget, run: QWidget, passport: QWidget, parent: QWidget | None = None):
         super().__init__(parent)
@@ -176,6 +203,7 @@ class ControlsScroll(QScrollArea):
         b.addWidget(run)
         b.addWidget(passport)
         b.addStretch(1)
+        self._run_layout = b
         columns = QWidget()
         cols = QHBoxLayout(columns)
         cols.setContentsMargins(0, 0, 4, 0)
@@ -215,11 +243,18 @@ class ControlsScroll(QScrollArea):
             self._cols.addWidget(widget, stretch)
         self._line.setVisible(not stacked)
         self._cols.setDirection(QBoxLayout.Direction.TopToBottom if stacked else QBoxLayout.Direction.LeftToRight)
+        self.stackedChanged.emit(stacked)
         self.setMinimumWidth(self.widget().minimumSizeHint().width() + 14)
         splitter = self.parentWidget()
         if isinstance(splitter, QSplitter) and splitter.count() == 2:
             mine = self.sizeHint().width()
             splitter.setSizes([mine, max(1, sum(splitter.sizes()) - mine)])
+
+    def hold(self, widget: QWidget) -> None:
+        """``widget`` under the run's part, taking the column's spare height (it leaves when another
+        layout takes it)."""
+        self._run_layout.insertWidget(2, widget, 1)
+        widget.show()
 
     def sizeHint(self):  # noqa: N802
         hint = super().sizeHint()

@@ -26,7 +26,7 @@ from __future__ import annotations
 import math
 import threading
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import pyqtgraph as pg
@@ -34,6 +34,7 @@ from PySide6.QtCore import Qt, QTimer, Signal
 
 from ...i18n import _
 from ...logs import gaps
+from ...sim.interpreter import PhaseResult
 from ..cell_curves import CellCurves
 from ..plot_backdrop import BackdropItem
 from ..sim.plot_data import cell_curves
@@ -49,23 +50,47 @@ DEFAULT_FOLLOW_MIN = 30
 MIN_VIEW_S = 60.0
 PERIOD_SAMPLES = 4097               # the first samples give the session's sample period
 CELL_ABSENT_V = 0.05               # a balance-port reading below this is no cell there (chargers send 0)
+PROTECTION = "protection: "        # the prefix of a protection's end reason (docs/protocol.md)
 
 
 @dataclass
-class LivePhase:
-    """One phase as the events tell it; ``end_s`` grows while it runs."""
-    section: str
-    index: int
-    repetition: int
-    offset: int
-    start_s: float
-    end_s: float
-    reason: str = ""
+class LivePhase(PhaseResult):
+    """One phase as the events tell it, in the simulator's terms (its end reason, what went in and
+    out, the pack at the end, pauses, how long the balancer bled each cell), so the simulator's
+    phase table and warnings read it as they read a simulated phase. The measurements come from the
+    telemetry frames that arrive while it is open; ``end_s`` grows while it runs."""
     closed: bool = False
+    v_end: float = math.nan            # no frame yet
+    temp_end: float = math.nan
+    base_in: float = 0.0               # the run's charge counters when the phase started
+    base_out: float = 0.0
+    last_x: float | None = None        # x of the phase's newest frame (for the balancer's time)
 
     @property
     def by_default(self) -> bool:
-        return self.reason.startswith(("default:", "limit:"))
+        # A charger's protection ends a phase too, and the user must look at it as at a default.
+        return super().by_default or self.reason.startswith(PROTECTION)
+
+    def measure(self, x: float, tel) -> None:
+        """A telemetry frame of this phase."""
+        self.mah_in, self.mah_out = max(0.0, tel.mah_in - self.base_in), max(0.0, tel.mah_out - self.base_out)
+        self.v_end = tel.voltage_v
+        self.end_s = max(self.end_s, x)     # a running phase's duration so far (its end event sets the end)
+        self.temp_end = math.nan if tel.temp_c is None else tel.temp_c
+        self.run = tel.run or self.run
+        self.cycle_pass = tel.cycle
+        cells = tuple(getattr(tel, "cells_v", ()) or ())
+        if cells:
+            self.cells_end = cells
+        mask = getattr(tel, "balance_mask", 0)
+        if self.last_x is not None and mask and cells:
+            dt = max(0.0, x - self.last_x)
+            bled = list(self.bled_s) + [0.0] * (len(cells) - len(self.bled_s))
+            for k in range(len(cells)):
+                if mask >> k & 1:
+                    bled[k] += dt
+            self.bled_s = tuple(bled)
+        self.last_x = x
 
 
 class LiveSeries:
@@ -87,12 +112,21 @@ class LiveSeries:
         self.cells: GrowingBuffer | None = None    # t and cell1_v … cellN_v, from row ``cells_from`` of ``buffer``
         self.cells_from = 0
         self.cell_count = 0                # cells that gave a reading (a 6-slot balance port reads 0 V in the rest)
+        self.end_reason = ""               # the finish event's: how the macro ended ("" while it runs)
+        self._counters = (0.0, 0.0)        # the run's charge in and out at its newest frame
+        self._ended: LivePhase | None = None   # the last phase of a finished run, until the next frame
 
     # -- reader thread ------------------------------------------------------------------------
     def add_telemetry(self, tel) -> None:
         with self.lock:
             self.last_telemetry = tel
             self.frames += 1
+            if self._ended is not None:
+                # The frame after the finish has the run's last counters (the last frame of the phase
+                # came up to a frame period before its end).
+                self._ended.mah_in = max(self._ended.mah_in, tel.mah_in - self._ended.base_in)
+                self._ended.mah_out = max(self._ended.mah_out, tel.mah_out - self._ended.base_out)
+                self._ended = None
             if not tel.running:
                 return
             t = float(tel.time_s)
@@ -105,6 +139,9 @@ class LiveSeries:
                                 math.nan if tel.temp_c is None else tel.temp_c,
                                 math.nan if tel.heatsink_c is None else tel.heatsink_c))
             self._add_cells(x, tuple(getattr(tel, "cells_v", ()) or ()))
+            self._counters = (tel.mah_in, tel.mah_out)
+            if self.phases and not self.phases[-1].closed:
+                self.phases[-1].measure(x, tel)     # the bands do not change: no new phase_version
 
     def _add_cells(self, x: float, volts: tuple[float, ...]) -> None:
         present = [k for k, v in enumerate(volts, 1) if v is not None and v > CELL_ABSENT_V]
@@ -125,20 +162,34 @@ class LiveSeries:
             if ev.number == 0 and self._run_t is not None:   # the first event of a new run
                 self._offset = self._last_x
                 self._run_t = 0.0
+                self._counters = (0.0, 0.0)
             elif self._run_t is None:
                 self._run_t = 0.0
             x = self._offset + float(ev.time_s)
             self.events.append((x, ev))
             if ev.kind == "phase_start":
                 self._close_open(x, "")
-                self.phases.append(LivePhase(ev.section, ev.index, ev.repetition, ev.offset, x, x))
+                self.phases.append(LivePhase(
+                    section=ev.section, index=ev.index, repetition=ev.repetition, cycle_pass=0, offset=ev.offset,
+                    start_s=x, end_s=x, run=len(self.phases) + 1, base_in=self._counters[0],
+                    base_out=self._counters[1]))
             elif ev.kind == "phase_end":
                 for p in reversed(self.phases):
                     if not p.closed and p.section == ev.section and p.index == ev.index:
+                        if p.last_x is None and self.last_telemetry is not None and self.last_telemetry.running:
+                            p.measure(x, self.last_telemetry)      # a phase shorter than a frame: the pack now
+                        self._end_pause(p, x)
                         p.end_s, p.reason, p.closed = max(x, p.start_s), ev.detail or _("ended"), True
                         break
             elif ev.kind == "finish":
-                self._close_open(x, ev.detail or _("finished"))
+                self.end_reason = ev.detail or _("finished")
+                self._close_open(x, self.end_reason)
+                self._ended = self.phases[-1] if self.phases else None
+            elif ev.kind in ("pause", "resume") and self.phases and not self.phases[-1].closed:
+                if ev.kind == "pause":
+                    self.phases[-1].pauses.append([x, x])
+                else:
+                    self._end_pause(self.phases[-1], x)
             else:
                 return
             self.phase_version += 1
@@ -146,13 +197,19 @@ class LiveSeries:
     def _close_open(self, x: float, reason: str) -> None:
         for p in self.phases:
             if not p.closed:
+                self._end_pause(p, x)
                 p.end_s, p.closed = max(x, p.start_s), True
                 p.reason = p.reason or reason
+
+    @staticmethod
+    def _end_pause(p: LivePhase, x: float) -> None:
+        if p.pauses and p.pauses[-1][1] <= p.pauses[-1][0]:
+            p.pauses[-1][1] = x
 
     # -- GUI thread ---------------------------------------------------------------------------
     def phases_copy(self) -> tuple[int, list[LivePhase]]:
         with self.lock:
-            return self.phase_version, [LivePhase(**p.__dict__) for p in self.phases]
+            return self.phase_version, [replace(p, pauses=[list(q) for q in p.pauses]) for p in self.phases]
 
     def last_x(self) -> float:
         with self.lock:
@@ -173,6 +230,7 @@ class LiveSeries:
             self._last_x = 0.0
             self.buffer.clear()
             self.cells, self.cells_from, self.cell_count = None, 0, 0
+            self.end_reason, self._counters, self._ended = "", (0.0, 0.0), None
 
     def __len__(self) -> int:
         return len(self.buffer)

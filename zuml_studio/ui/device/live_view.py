@@ -1,23 +1,32 @@
 """The live view: the readout of the newest frame (two lines over the plot), following the last minutes, All, Clear,
-the run chooser and the live plot below them. It owns the runs: the current one's series (telemetry goes
-into it from the reader thread) and up to ``KEEP_RUNS`` earlier ones."""
+the run chooser and the live plot below them; under the plot, the run's phases as the simulator lists them (the
+same table: start, end, the end reason the charger's EVENT frames carry, a warning sign where a default, the
+balancer or a protection ended one) and the run in one line (how it ended, the advice for a phase that warns).
+It owns the runs: the current one's series (telemetry goes into it from the reader thread) and up to
+``KEEP_RUNS`` earlier ones."""
 from __future__ import annotations
 
 import math
 
-from PySide6.QtCore import QEvent, Qt, Signal
-from PySide6.QtWidgets import (QCheckBox, QComboBox, QGridLayout, QHBoxLayout, QLabel, QSizePolicy, QToolButton,
-                               QVBoxLayout, QWidget)
+from PySide6.QtCore import QEvent, QSize, Qt, Signal
+from PySide6.QtWidgets import (QCheckBox, QComboBox, QGridLayout, QHBoxLayout, QLabel, QLayout, QSizePolicy,
+                               QSplitter, QStyle, QToolButton, QVBoxLayout, QWidget)
 
 from ...i18n import N_, _
 from .. import theme
 from ..plot_cursor import CursorReadout
+from ..sim.phase_table import COLUMNS as PHASE_COLUMNS
+from ..sim.phase_table import PhaseTable, run_summary
 from .device_style import ElidedCombo, field_spin
 from .live_plot import DEFAULT_FOLLOW_MIN, LivePlot, LiveSeries
 
 
 RUNS_TIP = N_("Each Start begins a new run, plotted from 0; earlier runs stay here to look at")
 KEEP_RUNS = 10          # earlier runs kept for the run chooser (the session CSV keeps them all)
+PHASE_ROWS = 3          # rows of the phase table in view at first (the splitter gives it more)
+PLOT_MIN_H = 160        # the plot's height the phase table leaves it in a low dock
+# Section, start, duration, mAh out, T end: left out in a narrow column (the end and its reason matter most).
+NARROW_HIDDEN = tuple(PHASE_COLUMNS.index(name) for name in ("section", "start", "duration", "mAh out", "T end"))
 
 
 class LiveView(QWidget):
@@ -80,13 +89,121 @@ class LiveView(QWidget):
         pv.setContentsMargins(0, 0, 0, 0)
         pv.setSpacing(0)
         pv.addLayout(self._top)
-        pv.addWidget(self.plot, 1)
+        self._phases_layout()
+        pv.addWidget(self.body, 1)
         self.readout = CursorReadout(self.plot, self._cursor_samples, lambda: self.plot.gap_s)
         self.follow.toggled.connect(lambda on: self.plot.set_follow(on, self.follow_minutes.value()))
         self.follow_minutes.valueChanged.connect(lambda v: self.plot.set_follow(self.plot.follow, v))
         self.plot.followChanged.connect(self._plot_follow_changed)
         self.all_button.clicked.connect(self._show_all)
         self.runChosen.connect(self._run_chosen)
+
+    def _phases_layout(self) -> None:
+        """The plot over the run's phases and its summary, in a splitter the user may move."""
+        self.phase_table = LivePhaseTable()
+        self.phase_table.setObjectName("livePhaseTable")
+        self.phase_table.setToolTip(_("The run's phases as the charger reports them: why each ended (⚠: a default, "
+                                      "the balancer or a protection, not the macro). Double-click a phase to show "
+                                      "its FAZE in the editor"))
+        self.phase_table.phaseActivated.connect(self.plot.phaseActivated)
+        self.summary = QLabel("")
+        self.summary.setObjectName("liveSummary")
+        self.summary.setWordWrap(True)
+        self.summary.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+        self.summary.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
+        self.summary.setContentsMargins(4, 2, 4, 0)
+        box = QWidget()
+        box.setObjectName("livePhases")
+        layout = QVBoxLayout(box)
+        # Under the plot it asks for no height of its own: the panel's minimum stays the plot's (a low dock).
+        layout.setSizeConstraint(QLayout.SizeConstraint.SetNoConstraint)
+        box.setMinimumHeight(1)
+        layout.setContentsMargins(0, 0, 0, 0)
+        layout.setSpacing(2)
+        layout.addWidget(self.summary)
+        layout.addWidget(self.phase_table, 1)
+        self.phase_table.setMinimumHeight(self.phase_table.verticalHeader().defaultSectionSize() * 2)
+        self.phase_box = box
+        self.body = QSplitter(Qt.Orientation.Vertical)
+        self.body.setObjectName("liveSplitter")
+        self.body.setChildrenCollapsible(False)
+        self.body.addWidget(self.plot)
+        self.body.addWidget(box)
+        self.body.setStretchFactor(0, 1)
+        self.body.setStretchFactor(1, 0)
+        self.body.setCollapsible(1, True)
+        self._body_moved = False
+        self.body.splitterMoved.connect(self._body_moved_by_user)
+        self._phases_key = None
+        self._in_column = False
+
+    def keep_phases(self) -> None:
+        """The phases under the plot again, every column shown (after ``phases_in_column``)."""
+        for column in NARROW_HIDDEN:
+            self.phase_table.setColumnHidden(column, False)
+        self._in_column = False
+        self._phases_key = None
+        self.update_phases()
+        self.phase_box.setMinimumHeight(1)
+        self.body.addWidget(self.phase_box)
+        self.body.setCollapsible(1, True)
+        self._size_body()
+
+    def phases_in_column(self) -> None:
+        """The phases are going to stand in a narrow column beside the plot (the device panel's,
+        when the window's height is its own): the plot has the whole height, the table fewer columns
+        (each row's tooltip still has them all)."""
+        for column in NARROW_HIDDEN:
+            self.phase_table.setColumnHidden(column, True)
+        self._in_column = True
+        self._phases_key = None
+        self.update_phases()
+        self.phase_table.setVisible(True)
+        self.phase_box.setMinimumHeight(0)          # in the column: its layout's minimum
+
+    def _body_moved_by_user(self, *_args) -> None:
+        self._body_moved = True
+        self.phase_table.setVisible(True)
+
+    def _size_body(self) -> None:
+        """The phase table a few rows high under the plot, the plot keeping PLOT_MIN_H in a low dock;
+        once the user moves the splitter, it is theirs."""
+        total = self.body.height()
+        if self._body_moved or total <= 0 or self.body.count() < 2:
+            return
+        rows = self.phase_table.verticalHeader().defaultSectionSize()
+        wanted = (self.phase_table.horizontalHeader().sizeHint().height() + PHASE_ROWS * rows
+                  + 2 * self.summary.fontMetrics().lineSpacing() + 14)
+        line = (self.summary.heightForWidth(self.body.width()) if self.summary.text()
+                else self.summary.fontMetrics().lineSpacing()) + 4
+        useful = line + self.phase_table.horizontalHeader().sizeHint().height() + 2 * rows + 2 * scroll_bar(self)
+        # A low dock: the run's line alone under the plot, or the plot alone; the table comes back as the dock
+        # grows, or when the user moves the splitter.
+        self.phase_table.setVisible(total - useful >= PLOT_MIN_H)
+        wanted = (max(useful, min(wanted, total - PLOT_MIN_H)) if total - useful >= PLOT_MIN_H
+                  else line if total - line >= PLOT_MIN_H else 0)
+        self.body.blockSignals(True)
+        self.body.setSizes([total - wanted, wanted])
+        self.body.blockSignals(False)
+
+    def update_phases(self) -> None:
+        """The shown run's phases and summary, when the charger reported something new."""
+        series = self.plot.series
+        key = (id(series), series.phase_version, series.frames, series.end_reason)
+        if key == self._phases_key:
+            return
+        self._phases_key = key
+        _version, phases = series.phases_copy()
+        self.phase_table.set_phases(phases, max(1, series.cell_count))
+        text = live_summary(phases, series.end_reason)
+        # In a narrow column the run's line alone; what to change is in its tooltip (and the flagged row's).
+        shown = text.split("\n", 1)[0] if self._in_column else text
+        if shown != self.summary.text():
+            lines = self.summary.heightForWidth(max(1, self.summary.width()))
+            self.summary.setText(shown)
+            if self.summary.heightForWidth(max(1, self.summary.width())) != lines:
+                self._size_body()           # it took more lines or fewer: the table's room changes
+        self.summary.setToolTip(text if shown != text else "")
 
     def _cursor_samples(self):
         """The drawn session's samples under the cursor readout's names (the cells' too, when there are)."""
@@ -102,6 +219,7 @@ class LiveView(QWidget):
     def resizeEvent(self, event) -> None:  # noqa: N802
         super().resizeEvent(event)
         self._place_controls()
+        self._size_body()
 
     def _place_controls(self) -> None:
         """The plot's controls beside the readings when both fit in the width, else below them."""
@@ -209,11 +327,16 @@ class LiveView(QWidget):
         return tel if tel is not None and self.series.frames > self.start_frames else None
 
     def new_finishes(self) -> list:
-        """The run's finish events not asked for before."""
+        """The run's finish events not asked for before, each with the phase that ended last before
+        it (None: no phase ran): its end reason is the rule that ended the run."""
         with self.series.lock:
             events = self.series.events[self._finished_seen:]
             self._finished_seen = len(self.series.events)
-        return [ev for _t, ev in events if ev.kind == "finish"]
+        finishes = [(x, ev) for x, ev in events if ev.kind == "finish"]
+        if not finishes:
+            return []
+        _version, phases = self.series.phases_copy()
+        return [(ev, next((p for p in reversed(phases) if p.start_s <= x), None)) for x, ev in finishes]
 
     def _show_runs(self, current_name: str) -> None:
         labels = [_("Run {n}: {name}").format(n=i + 1, name=name or "?") for i, (name, _s) in enumerate(self.runs)]
@@ -227,6 +350,39 @@ class LiveView(QWidget):
             if series is not self.series:
                 self.follow.setChecked(False)
                 self.plot.show_all()
+            self.update_phases()
+
+
+def scroll_bar(widget: QWidget) -> int:
+    return widget.style().pixelMetric(QStyle.PixelMetric.PM_ScrollBarExtent, None, widget)
+
+
+class LivePhaseTable(PhaseTable):
+    """The simulator's phase table asking for PHASE_ROWS rows (a table view asks for 192 px whatever it
+    holds): a column that stands in a scroll area gets no scroll bar from it, and takes more as there is."""
+
+    def __init__(self, parent: QWidget | None = None):
+        super().__init__(parent)
+        self.phases.set_header_tips({
+            "V end": _("pack voltage at the phase's last telemetry frame"),
+            "T end": _("battery temperature at the phase's last telemetry frame (— without a sensor)"),
+            "notes": _("heat-sink pauses, how long the balancer bled each cell")})
+
+    def sizeHint(self) -> QSize:  # noqa: N802
+        hint = super().sizeHint()
+        rows = self.verticalHeader().defaultSectionSize() * PHASE_ROWS
+        scroll = self.horizontalScrollBar().sizeHint().height()
+        return QSize(hint.width(), self.horizontalHeader().sizeHint().height() + rows + scroll + 2 * self.frameWidth())
+
+
+def live_summary(phases: list, end_reason: str) -> str:
+    """A charger's run in one line, as the simulator says a run: from its first phase's start to
+    its last phase's end, what went in and out, how it ended (running: the phase now)."""
+    if not phases:
+        return ""
+    end = end_reason or _("(running)")
+    return run_summary(phases[-1].end_s - phases[0].start_s, sum(p.mah_in for p in phases),
+                       sum(p.mah_out for p in phases), end, phases)
 
 
 class RowsFrom:

@@ -12,6 +12,7 @@ from ...safety import judge, named_template
 from ...sim.program import TASK_LABELS, TASK_WORDS
 from ...sim.reasons import shown_reason
 from ...sim.start_check import start_warnings
+from ..stacked_plot import band_label
 from ..timefmt import hmmss
 from . import unsafe_dialog
 from .connection import DeviceConnection, describe_error
@@ -179,16 +180,21 @@ class RunControls(QWidget):
     def follow(self, fresh, newest, finishes: list) -> bool:
         """Follow the charger's frames: ``fresh``, the newest frame since the last START or STOP
         (None: none yet), says whether the macro runs; ``newest`` (or None) shows its state;
-        ``finishes``, the finish events not seen before, are said. True if ``running`` changed."""
+        ``finishes``, the finish events not seen before with the phase that ended last, are said. True
+        if ``running`` changed."""
         changed = fresh is not None and fresh.running != self.running
         if changed:
             self.running = fresh.running
         if newest is not None:
             self._show_state(newest)
-        for ev in finishes:
+        for ev, last in finishes:
             how = shown_reason(ev.detail) or _("end")
+            if last is not None and last.reason and last.reason != ev.detail:
+                # "end of macro" says only that the macro ran out: the last phase's end says which rule ended it
+                how = _("{how}; last phase {phase}").format(how=how, phase=band_label(last))
             self.message.emit(_("{name} finished at {time}: {how}.").format(
-                name=self.run_name or _("The macro"), time=hmmss(ev.time_s), how=how), "ok")
+                name=self.run_name or _("The macro"), time=hmmss(ev.time_s), how=how),
+                "warn" if last is not None and last.warns else "ok")
         return changed
 
     def _show_state(self, tel) -> None:

@@ -17,12 +17,18 @@ from ...sim.batteries import BatteryFileError, save_battery
 from ...sim.chemistry import chemistry_names
 from ...sim.curve import DIRECTIONS, Curve, CurveError, log_directions, read_curve_and_log
 from ...sim.fit import FitResult, guess_series
+from ...sim.fit_cells import taps_per_cell
 from ...sim.fit_discharge import fit_curve
 from ...sim.fit_report import figure_lines, param_lines, resistance_words
 from ...sim.interpreter import StartError
 from .. import theme
 from ..background import BackgroundCall
-from .compare_plots import ComparePlots
+from ..cell_curves import legend_name
+from .compare_plots import ComparePlots, cell_role
+from .plot_data import cell_curves
+
+
+CELLS_DIFFER_V = 0.002     # cells within this of each other all along: one line would do
 
 
 class CompareDialog(QDialog):
@@ -230,6 +236,7 @@ class CompareDialog(QDialog):
         lines = []
         if self.curve is not None:
             n = self.cells.value()
+            lines += self._cell_lines(n)
             lines.append((self.v_plot, self.curve.t / 60.0, self.curve.v / n, "real", _("log")))
             if t is not None and v_model is not None:
                 real = np.interp(t, self.curve.t, self.curve.v)
@@ -237,6 +244,21 @@ class CompareDialog(QDialog):
                 lines += [(self.v_plot, t / 60.0, v_model / n, "model", label),
                           (self.d_plot, t / 60.0, (v_model - real) / n * 1000.0, "diff", None)]
         self.plots.show_lines(lines)
+
+    def _cell_lines(self, series: int) -> list:
+        """The log's cells where it has a balance tap per cell of the pack and they differ, drawn under the
+        pack's line as the simulator draws a pack's cells (each up to eight in its hue, else the lowest and
+        the highest)."""
+        if not taps_per_cell(self.curve, series):
+            return []
+        taps = self.curve.cells_v
+        spread = np.nanmax(taps, axis=1) - np.nanmin(taps, axis=1)
+        if not np.any(spread >= CELLS_DIFFER_V):
+            return []                       # equal cells: N lines on the pack's own, nothing to read
+        data = {f"cell{k}_v": taps[:, k - 1] for k in range(1, series + 1)}
+        minutes = self.curve.t / 60.0
+        return [(self.v_plot, minutes, data[c.column], cell_role(c), legend_name(c))
+                for c in cell_curves(data, tuple(data))]
 
     def _error(self, message: str) -> None:
         self.figures.setText(f"<span style='color:{theme.colours(self.palette()).error}'>{message}</span>")

@@ -10,14 +10,23 @@ from PySide6.QtCore import QEvent
 from ...i18n import _
 from ...logs import gaps
 from .. import theme
+from ..cell_curves import CELL_WIDTH, HIGHEST_HUE, LOWEST_HUE, cell_hue
 from ..stacked_plot import colour_axes, curve_pen
+from .plot_data import CellCurve
 
 LINE_WIDTH = 1.5
+CELL_ROLE = "cell:"
+
+
+def cell_role(curve: CellCurve) -> str:
+    """The role of a cell's line: its cell's hue (of many cells, the lowest's and the highest's)."""
+    return f"{CELL_ROLE}{curve.cell or (LOWEST_HUE if curve.kind == 'min' else HIGHEST_HUE)}"
 
 
 class ComparePlots(pg.GraphicsLayoutWidget):
     """``show_lines`` draws the lines; each is (plot, x, y, role, name) with the role one of
-    ``PlotColours.compare``'s keys ("real", "model", "diff")."""
+    ``PlotColours.compare``'s keys ("real", "model", "diff") or a cell's (``cell_role``: its hue is the
+    pack's cell's, as in the simulator's and the live plot)."""
 
     def __init__(self, parent=None):
         super().__init__(parent)
@@ -45,8 +54,10 @@ class ComparePlots(pg.GraphicsLayoutWidget):
         self.d_plot.clear()
         hues = self.colours.plot.compare
         for plot, x, y, role, name in self._lines:
+            hue, width = ((hues[role], LINE_WIDTH) if role in hues
+                          else (cell_hue(self, int(role[len(CELL_ROLE):])), CELL_WIDTH))
             # A gap in the log stays a gap (``logs/gaps.py``): no line is drawn across it.
-            plot.plot(*gaps.broken(x, y), pen=curve_pen(hues[role], width=LINE_WIDTH), name=name, connect="finite")
+            plot.plot(*gaps.broken(x, y), pen=curve_pen(hue, width=width), name=name, connect="finite")
 
     def _apply_look(self) -> None:
         look = self.colours.plot

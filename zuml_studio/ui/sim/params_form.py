@@ -15,8 +15,9 @@ from ...sim.chemistry import chemistry_names
 from ...sim.interpreter import StartParams
 from ...sim.program import TASK_LABELS
 from ...sim.charger_model import load_charger
-from ...sim.simulate import SPREAD_MAX_PCT, BatterySetup, parse_spread
+from ...sim.simulate import BatterySetup
 from ...sim.start_templates import factory_templates
+from ..cell_fields import DEFAULT_SEED, CellFields
 from ..number_boxes import double_spin_box, form_field, spin_box
 from ..timefmt import elapsed
 
@@ -28,7 +29,7 @@ FIELD_WIDTH = 104
 DEFAULTS = {"task": "charge", "repetitions": 3, "capacity_mah": 2000, "current_a": 2.0, "series": 4,
             "voltage_v": None, "chemistry": None, "soc_percent": None, "ambient_c": 25.0, "sensor": True,
             "auto": True, "template": None, "weak_cell_pct": 0, "weak_cell": None, "cell_spread": None,
-            "seed": 1, "charger": "imax_b6"}
+            "seed": DEFAULT_SEED, "charger": "imax_b6"}
 START_VALUES = ("task", "repetitions", "capacity_mah", "current_a", "series", "voltage_v", "sensor")
 
 
@@ -158,21 +159,11 @@ class ParamsForm(QWidget):
     # -- building --------------------------------------------------------------------------
     def _cell_fields(self) -> None:
         """The pack's cells (equal unless asked) and the charger whose balancer works on them."""
-        self.weak_pct = self._spin_box(0, 90, 0, " %", _("one cell holds this many percent less capacity than the "
-                                                         "others (off: none); the balancer and the per-cell "
-                                                         "curves show what happens to it"))
-        self.weak_pct.setSpecialValueText(_("off"))
-        self.weak_cell = self._spin_box(0, 255, 0, "", _("which cell is the weak one, counted from the pack's "
-                                                         "negative end (last: the top cell)"))
-        self.weak_cell.setSpecialValueText(_("last"))
-        self.weak_cell.setPrefix("#")
-        self.spread = form_field(QLineEdit(), max_width=FIELD_WIDTH)
-        self.spread.setPlaceholderText(_("off"))
-        self.spread.setToolTip(_("cells drawn unequal: capacity, resistance and start charge each within ± "
-                                 "CAP,R,SOC percent of the pack's (e.g. 3,10,2; each 0..{top:g}); empty: equal "
-                                 "cells").format(top=max(SPREAD_MAX_PCT)))
-        self.seed = self._spin_box(1, 99999, DEFAULTS["seed"], "", _("the draw of the spread: another number, "
-                                                                     "other cells; the same, the same cells"))
+        self.cells = CellFields()
+        self.weak_pct = form_field(self.cells.weak_pct, max_width=FIELD_WIDTH)
+        self.weak_cell = form_field(self.cells.weak_cell, max_width=FIELD_WIDTH)
+        self.spread = form_field(self.cells.spread, max_width=FIELD_WIDTH)
+        self.seed = form_field(self.cells.seed, max_width=FIELD_WIDTH)
         self.charger = QComboBox()
         for name in data.names("chargers"):
             self.charger.addItem(load_charger(name).name, name)
@@ -180,12 +171,6 @@ class ParamsForm(QWidget):
         self.charger.setToolTip(_("the charger whose limits and balancer the run uses: how much it bleeds a "
                                   "high cell, and the per-cell ceiling that ends a Li charge"))
         form_field(self.charger, max_width=FIELD_WIDTH).setMaximumWidth(2 * FIELD_WIDTH)
-        self.spread.textChanged.connect(self._spread_changed)
-        self._spread_changed()
-
-    def _spread_changed(self) -> None:
-        self.seed.setEnabled(bool(self.spread.text().strip()))
-
 
     @staticmethod
     def _spin_box(*args) -> QSpinBox:
@@ -243,18 +228,8 @@ class ParamsForm(QWidget):
         named = model[len(NAMED):] if isinstance(model, str) and model.startswith(NAMED) else None
         return BatterySetup(chemistry=None if named else model, soc=None if soc < 0 else soc / 100.0,
                             ambient_c=self.ambient.value(), battery=named, charger=self.charger.currentData(),
-                            cell_spread=self._cell_spread(), seed=self.seed.value(),
-                            weak_cell_pct=float(self.weak_pct.value()), weak_cell=self.weak_cell.value() or None)
-
-    def _cell_spread(self) -> tuple[float, float, float] | None:
-        text = self.spread.text().strip()
-        if not text:
-            return None
-        try:
-            return parse_spread(text)
-        except ValueError:
-            raise ValueError(_("cell spread '{text}': write CAP,R,SOC, three percentages from 0 to {top:g}, "
-                               "e.g. 3,10,2 (empty: equal cells)").format(text=text, top=max(SPREAD_MAX_PCT))) from None
+                            cell_spread=self.cells.cell_spread(), seed=self.seed.value(),
+                            weak_cell_pct=float(self.weak_pct.value()), weak_cell=self.cells.weak_cell_number())
 
     def auto_resimulate(self) -> bool:
         return self.auto.isChecked()

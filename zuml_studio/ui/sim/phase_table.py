@@ -4,6 +4,8 @@ default safety condition ended (not the macro), and charges a timer ended before
 capacity was in, are flagged."""
 from __future__ import annotations
 
+import math
+
 from PySide6.QtCore import QAbstractTableModel, QEvent, QModelIndex, Qt, Signal
 from PySide6.QtGui import QColor
 from PySide6.QtWidgets import QAbstractItemView, QHeaderView, QStyle, QTableView
@@ -51,12 +53,22 @@ class PhaseModel(QAbstractTableModel):
             self.dataChanged.emit(self.index(0, 0), self.index(len(self._phases) - 1, len(COLUMNS) - 1))
 
     def set_result(self, result) -> None:
-        self.beginResetModel()
-        self._phases = list(result.phases) if result is not None else []
-        self._series = getattr(result, "series", 1) or 1
+        self.set_phases(list(result.phases) if result is not None else [], getattr(result, "series", 1) or 1)
+
+    def set_phases(self, phases: list, series: int) -> None:
+        """Phases of the simulator's kind (``PhaseResult`` or a charger's ``LivePhase``). The same
+        number of phases again (a running phase that measured more) keeps the selection."""
+        same = len(phases) == len(self._phases) and series == self._series
+        if not same:
+            self.beginResetModel()
+        self._phases = phases
+        self._series = series
         self._training = any(p.repetition > 1 for p in self._phases)
         self._rows = {}
-        self.endResetModel()
+        if not same:
+            self.endResetModel()
+        elif phases:
+            self.dataChanged.emit(self.index(0, 0), self.index(len(phases) - 1, len(COLUMNS) - 1))
 
     def rowCount(self, parent=QModelIndex()) -> int:  # noqa: N802 - Qt's name
         return 0 if parent.isValid() else len(self._phases)
@@ -85,6 +97,10 @@ class PhaseModel(QAbstractTableModel):
             if DECORATION in roles:
                 icons.add(REASON_COLUMN)
         return texts, icons
+
+    def set_header_tips(self, tips: dict[str, str]) -> None:
+        """Column titles' tooltips in place of the simulator's (a charger's table measures, not models)."""
+        self._tips = {**self._tips, **tips}
 
     def phase(self, row: int):
         return self._phases[row] if 0 <= row < len(self._phases) else None
@@ -115,12 +131,12 @@ class PhaseModel(QAbstractTableModel):
         cells = (str(p.run or row + 1), section, phase, hmmss(p.start_s),
                  hmmss(p.end_s) if ended else "…", duration(p.end_s - p.start_s) if ended else "",
                  shown_reason(p.reason) or _("(running)"), f"{p.mah_in:.1f}", f"{p.mah_out:.1f}",
-                 f"{p.v_end:.3f}" if ended else "", f"{p.temp_end:.1f}" if ended else "",
+                 _measured(p.v_end, 3) if ended else "", _measured(p.temp_end, 1) if ended else "",
                  "; ".join(p.notes))
         flag = self.flag_tip(row)
         summary = flag or row_summary(p, self._series)      # the whole row on hover: a narrow table cuts columns off
         tips = [summary] * len(COLUMNS)
-        if not flag and ended:
+        if not flag and ended and not math.isnan(p.v_end):
             tips[4] = hmm(p.end_s)
             tips[9] = _("{pack} V pack, {cell} V per cell").format(pack=f"{p.v_end:.3f}",
                                                                   cell=f"{p.v_end / self._series:.3f}")
@@ -186,6 +202,14 @@ class PhaseTable(QTableView):
         self.phases.set_result(result)
         self._fit_columns()
 
+    def set_phases(self, phases: list, series: int) -> None:
+        """Fill from a charger's phases as they come (``LivePhase``); the columns fit again when a
+        phase starts or ends."""
+        before = [(p.reason, p.run) for p in self.phases._phases]
+        self.phases.set_phases(phases, series)
+        if [(p.reason, p.run) for p in phases] != before:
+            self._fit_columns()
+
     def _fit_columns(self) -> None:
         """Each column as wide as its widest text in the first SIZED_ROWS rows, or its title.
         Measured here from the texts: the view's resizeColumnsToContents asks the model eight
@@ -243,8 +267,14 @@ def row_summary(p, series: int) -> str:
     return _("{phase}: {start} to {end} ({duration}), ended by {reason}\n{charge}; at the end {pack} V "
              "({cell} V per cell), {temperature} °C").format(
         phase=head, start=hmmss(p.start_s), end=hmmss(p.end_s), duration=duration(p.end_s - p.start_s),
-        reason=shown_reason(p.reason), charge=charge, pack=f"{p.v_end:.3f}", cell=f"{p.v_end / max(series, 1):.3f}",
-        temperature=f"{p.temp_end:.1f}")
+        reason=shown_reason(p.reason), charge=charge, pack=_measured(p.v_end, 3),
+        cell=_measured(p.v_end / max(series, 1), 3),
+        temperature=_measured(p.temp_end, 1))
+
+
+def _measured(value: float, decimals: int) -> str:
+    """A measurement, or "—" where there was none (a charger without a temperature sensor)."""
+    return "—" if math.isnan(value) else f"{value:.{decimals}f}"
 
 
 def totals_text(result) -> str:
@@ -253,32 +283,41 @@ def totals_text(result) -> str:
     if result is None:
         return ""
     t = result.totals()
-    parts = [_("total {time}").format(time=hmmss(t["duration_s"])), _("in {n} mAh").format(n=f"{t['mah_in']:.0f}"),
-             _("out {n} mAh").format(n=f"{t['mah_out']:.0f}"), _("end: {reason}").format(reason=shown_reason(t["end"]) or "—")]
-    defaults = sum(1 for p in result.phases if p.by_default and not p.full_by_dtdt)
+    measured = []
+    if result.interpreter.params.task == "train":
+        measured = [r["discharged_mah"] for r in result.repetitions() if r["discharged_mah"] > 0]
+    return run_summary(t["duration_s"], t["mah_in"], t["mah_out"], t["end"], result.phases, measured)
+
+
+def run_summary(duration_s: float, mah_in: float, mah_out: float, end: str, phases: list,
+                measured: list[float] = ()) -> str:
+    """A run (simulated, or a charger's) in one line: duration, charge in and out, how it ended, the
+    phases that warn; the capacity each discharge of a training measured; the advice for the first
+    phase that warns."""
+    parts = [_("total {time}").format(time=hmmss(duration_s)), _("in {n} mAh").format(n=f"{mah_in:.0f}"),
+             _("out {n} mAh").format(n=f"{mah_out:.0f}"), _("end: {reason}").format(reason=shown_reason(end) or "—")]
+    defaults = sum(1 for p in phases if p.by_default and not p.full_by_dtdt)
     if defaults:
         parts.append("⚠ " + ngettext("{n} phase ended by a default", "{n} phases ended by a default",
                                      defaults).format(n=defaults))
-    short = sum(1 for p in result.phases if p.timer_before_full)
+    short = sum(1 for p in phases if p.timer_before_full)
     if short:
         parts.append("⚠ " + ngettext("{n} charge cut by a timer before full", "{n} charges cut by a timer before full",
                                      short).format(n=short))
-    pauses = sum(len(p.pauses) for p in result.phases)
+    pauses = sum(len(p.pauses) for p in phases)
     if pauses:
         parts.append(ngettext("{n} heat-sink pause, {minutes} min", "{n} heat-sink pauses, {minutes} min",
-                              pauses).format(n=pauses, minutes=f"{sum(p.paused_s for p in result.phases) / 60:.0f}"))
+                              pauses).format(n=pauses, minutes=f"{sum(p.paused_s for p in phases) / 60:.0f}"))
     text = " · ".join(parts)
-    if result.interpreter.params.task == "train":
-        measured = [r["discharged_mah"] for r in result.repetitions() if r["discharged_mah"] > 0]
-        if measured:
-            if len(measured) <= 6:
-                caps = ", ".join(f"{m:.0f}" for m in measured)
-            else:
-                caps = (", ".join(f"{m:.0f}" for m in measured[:3]) + ", … " + f"{measured[-1]:.0f}"
-                        + " " + _("(avg {n})").format(n=f"{sum(measured) / len(measured):.0f}"))
-            text += "\n" + _("measured capacity per discharge: {capacities} mAh").format(capacities=caps)
+    if measured:
+        if len(measured) <= 6:
+            caps = ", ".join(f"{m:.0f}" for m in measured)
+        else:
+            caps = (", ".join(f"{m:.0f}" for m in measured[:3]) + ", … " + f"{measured[-1]:.0f}"
+                    + " " + _("(avg {n})").format(n=f"{sum(measured) / len(measured):.0f}"))
+        text += "\n" + _("measured capacity per discharge: {capacities} mAh").format(capacities=caps)
     # Which phase, why, and what to change, for the first that warns (each row's tooltip has its own).
-    first = next((p for p in result.phases if p.warns), None)
+    first = next((p for p in phases if p.warns), None)
     if first is not None:
         text += "\n" + _("phase {run}: {advice}").format(run=first.run, advice=end_advice(first))
     return text
