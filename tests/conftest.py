@@ -12,6 +12,7 @@ os.environ["ZUML_STUDIO_CONFIG_DIR"] = tempfile.mkdtemp(prefix="zuml-studio-test
 # Nor the user's pack logbook.
 os.environ["ZUML_STUDIO_DATA_DIR"] = tempfile.mkdtemp(prefix="zuml-studio-tests-data-")
 
+import firmware_prebuild  # noqa: E402
 import pytest  # noqa: E402
 from chargers import KINDS  # noqa: E402
 from hypothesis import HealthCheck, settings  # noqa: E402
@@ -21,6 +22,14 @@ settings.register_profile("ci", derandomize=True, deadline=None, max_examples=20
                           suppress_health_check=[HealthCheck.too_slow])
 settings.register_profile("dev", deadline=None, max_examples=200)
 settings.load_profile("ci" if os.environ.get("CI") else os.environ.get("HYPOTHESIS_PROFILE", "dev"))
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_sessionstart(session):
+    """Under pytest-xdist (`./dev test`), the firmware is built by the controller before any worker starts."""
+    config = session.config
+    if not hasattr(config, "workerinput") and config.getoption("numprocesses", None):
+        firmware_prebuild.build()
 
 
 @pytest.fixture
