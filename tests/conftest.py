@@ -12,7 +12,7 @@ os.environ["ZUML_STUDIO_CONFIG_DIR"] = tempfile.mkdtemp(prefix="zuml-studio-test
 # Nor the user's pack logbook.
 os.environ["ZUML_STUDIO_DATA_DIR"] = tempfile.mkdtemp(prefix="zuml-studio-tests-data-")
 
-import firmware_prebuild  # noqa: E402
+import before_workers  # noqa: E402
 import pytest  # noqa: E402
 from chargers import KINDS  # noqa: E402
 from hypothesis import HealthCheck, settings  # noqa: E402
@@ -24,12 +24,23 @@ settings.register_profile("dev", deadline=None, max_examples=200)
 settings.load_profile("ci" if os.environ.get("CI") else os.environ.get("HYPOTHESIS_PROFILE", "dev"))
 
 
+def _parallel(config) -> bool:
+    """Whether pytest-xdist runs this session on workers (`./dev test`); True in the controller and the workers."""
+    return hasattr(config, "workerinput") or bool(config.getoption("numprocesses", None))
+
+
 @pytest.hookimpl(tryfirst=True)
 def pytest_sessionstart(session):
-    """Under pytest-xdist (`./dev test`), the firmware is built by the controller before any worker starts."""
-    config = session.config
-    if not hasattr(config, "workerinput") and config.getoption("numprocesses", None):
-        firmware_prebuild.build()
+    if _parallel(session.config) and not hasattr(session.config, "workerinput"):
+        before_workers.prepare()
+
+
+def pytest_collection_modifyitems(config, items):
+    """On workers, the frozen bundle's build (marked slow: minutes) is handed out first: handed out last (xdist
+    orders files by their number of tests), one worker would still be building it long after the other ended.
+    ./dev test passes --no-loadscope-reorder so that this order is kept."""
+    if _parallel(config):
+        items.sort(key=lambda item: item.get_closest_marker("slow") is None)
 
 
 @pytest.fixture
