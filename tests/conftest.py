@@ -14,7 +14,7 @@ os.environ["ZUML_STUDIO_DATA_DIR"] = tempfile.mkdtemp(prefix="zuml-studio-tests-
 
 import before_workers  # noqa: E402
 import pytest  # noqa: E402
-from chargers import KINDS  # noqa: E402
+from chargers import INSTALL, KINDS  # noqa: E402
 from hypothesis import HealthCheck, settings  # noqa: E402
 
 # Reproducible in CI: the same examples every run, no flaky deadlines on a loaded 2-core machine.
@@ -33,6 +33,19 @@ def _parallel(config) -> bool:
 def pytest_sessionstart(session):
     if _parallel(session.config) and not hasattr(session.config, "workerinput"):
         before_workers.prepare()
+
+
+def pytest_terminal_summary(terminalreporter):
+    """Name every firmware test that skipped, and the one command that installs what it lacked. Here, not in
+    tests/firmware/: the pytest-xdist controller, which writes the summary, loads no conftest below this one."""
+    skipped = [r for r in terminalreporter.stats.get("skipped", []) if "firmware" in r.nodeid]
+    if not skipped:
+        return
+    terminalreporter.section("firmware tests skipped")
+    for report in skipped:
+        reason = report.longrepr[2] if isinstance(report.longrepr, tuple) else str(report.longrepr)
+        terminalreporter.write_line(f"{report.nodeid}: {reason}")
+    terminalreporter.write_line(f"to run them: {INSTALL}")
 
 
 def pytest_collection_modifyitems(config, items):
