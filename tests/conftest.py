@@ -12,8 +12,9 @@ os.environ["ZUML_STUDIO_CONFIG_DIR"] = tempfile.mkdtemp(prefix="zuml-studio-test
 # Nor the user's pack logbook.
 os.environ["ZUML_STUDIO_DATA_DIR"] = tempfile.mkdtemp(prefix="zuml-studio-tests-data-")
 
+import before_workers  # noqa: E402
 import pytest  # noqa: E402
-from chargers import KINDS  # noqa: E402
+from chargers import INSTALL, KINDS  # noqa: E402
 from hypothesis import HealthCheck, settings  # noqa: E402
 
 # Reproducible in CI: the same examples every run, no flaky deadlines on a loaded 2-core machine.
@@ -21,6 +22,38 @@ settings.register_profile("ci", derandomize=True, deadline=None, max_examples=20
                           suppress_health_check=[HealthCheck.too_slow])
 settings.register_profile("dev", deadline=None, max_examples=200)
 settings.load_profile("ci" if os.environ.get("CI") else os.environ.get("HYPOTHESIS_PROFILE", "dev"))
+
+
+def _parallel(config) -> bool:
+    """Whether pytest-xdist runs this session on workers (`./dev test`); True in the controller and the workers."""
+    return hasattr(config, "workerinput") or bool(config.getoption("numprocesses", None))
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_sessionstart(session):
+    if _parallel(session.config) and not hasattr(session.config, "workerinput"):
+        before_workers.prepare()
+
+
+def pytest_terminal_summary(terminalreporter):
+    """Name every firmware test that skipped, and the one command that installs what it lacked. Here, not in
+    tests/firmware/: the pytest-xdist controller, which writes the summary, loads no conftest below this one."""
+    skipped = [r for r in terminalreporter.stats.get("skipped", []) if "firmware" in r.nodeid]
+    if not skipped:
+        return
+    terminalreporter.section("firmware tests skipped")
+    for report in skipped:
+        reason = report.longrepr[2] if isinstance(report.longrepr, tuple) else str(report.longrepr)
+        terminalreporter.write_line(f"{report.nodeid}: {reason}")
+    terminalreporter.write_line(f"to run them: {INSTALL}")
+
+
+def pytest_collection_modifyitems(config, items):
+    """On workers, the frozen bundle's build (marked slow: minutes) is handed out first: handed out last (xdist
+    orders files by their number of tests), one worker would still be building it long after the other ended.
+    ./dev test passes --no-loadscope-reorder so that this order is kept."""
+    if _parallel(config):
+        items.sort(key=lambda item: item.get_closest_marker("slow") is None)
 
 
 @pytest.fixture

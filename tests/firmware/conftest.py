@@ -39,15 +39,3 @@ def host_device(host_build):
     for proc in started:
         proc.terminate()
         proc.wait(timeout=10)
-
-
-def pytest_terminal_summary(terminalreporter):
-    """Name every firmware test that skipped, and the one command that installs what it lacked."""
-    skipped = [r for r in terminalreporter.stats.get("skipped", []) if "firmware" in r.nodeid]
-    if not skipped:
-        return
-    terminalreporter.section("firmware tests skipped")
-    for report in skipped:
-        reason = report.longrepr[2] if isinstance(report.longrepr, tuple) else str(report.longrepr)
-        terminalreporter.write_line(f"{report.nodeid}: {reason}")
-    terminalreporter.write_line(f"to run them: {INSTALL_HINT.replace('install the tools with: ', '')}")

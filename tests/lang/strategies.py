@@ -1,4 +1,6 @@
 """Hypothesis strategies: random valid macros built from the opcode table."""
+from functools import cache
+
 from hypothesis import strategies as st
 
 from zuml_studio.lang import opcodes as ops
@@ -20,6 +22,7 @@ def raw_for(operand: ops.Operand):
     return values
 
 
+@cache
 def statement(op: ops.Op):
     return st.tuples(*(raw_for(o) for o in op.operands)).map(
         lambda raws: Statement(op, [Arg(r) for r in raws])).filter(_trickle_ok)
@@ -36,35 +39,51 @@ def ops_in(place: Place, role: Role | None = None):
     return [op for op in ops.OPCODES if place in op.places and (role is None or op.role is role)]
 
 
+# The strategies below are made once, not at every draw (the same examples, found in half the time).
+phase_actions = st.sampled_from(ops_in(Place.PHASE, Role.ACTION)).flatmap(statement)
+phase_conditions = st.lists(st.sampled_from(ops_in(Place.PHASE, Role.CONDITION)), max_size=3, unique=True)
+
+
+@cache
 @st.composite
 def phases(draw):
     if draw(st.booleans()):
         actions = [draw(statement(ops.CONSTANT_I)), draw(statement(ops.CONSTANT_V))]
     else:
-        actions = [draw(st.sampled_from(ops_in(Place.PHASE, Role.ACTION)).flatmap(statement))]
-    conds = draw(st.lists(st.sampled_from(ops_in(Place.PHASE, Role.CONDITION)), max_size=3, unique=True))
-    body = actions + [draw(statement(op)) for op in conds]
+        actions = [draw(phase_actions)]
+    body = actions + [draw(statement(op)) for op in draw(phase_conditions)]
     return Phase(draw(st.permutations(body)))
 
 
 commands = st.sampled_from(ops_in(Place.BETWEEN)).flatmap(statement)
+cycle_items = st.lists(phases() | commands, min_size=1, max_size=2)
 
 
+@cache
 @st.composite
 def cycles(draw):
-    return Cycle(Arg(draw(st.integers(1, 255))), draw(st.lists(phases() | commands, min_size=1, max_size=2)))
+    return Cycle(Arg(draw(st.integers(1, 255))), draw(cycle_items))
 
 
+section_items = st.lists(phases() | cycles() | commands, max_size=3)
+
+
+@cache
 @st.composite
 def sections(draw, kind):
-    items = draw(st.lists(phases() | cycles() | commands, max_size=3))
+    items = draw(section_items)
     return Section(kind, items, present=bool(items) or draw(st.booleans()))
 
 
+intro_ops = st.lists(st.sampled_from(ops_in(Place.INTRO)), max_size=4, unique=True)
+names = st.text(NAME_CHARS, min_size=1, max_size=16)
+few_commands = st.lists(commands, max_size=2)
+
+
+@cache
 @st.composite
 def macros(draw):
-    intro_ops = draw(st.lists(st.sampled_from(ops_in(Place.INTRO)), max_size=4, unique=True))
-    name = draw(st.text(NAME_CHARS, min_size=1, max_size=16))
-    return Macro(name, [draw(statement(op)) for op in intro_ops], draw(sections("discharge")),
-                 draw(sections("charge")), draw(st.lists(commands, max_size=2)),
-                 between=draw(st.lists(commands, max_size=2)))
+    intro = draw(intro_ops)
+    name = draw(names)
+    return Macro(name, [draw(statement(op)) for op in intro], draw(sections("discharge")), draw(sections("charge")),
+                 draw(few_commands), between=draw(few_commands))
