@@ -15,6 +15,7 @@ from zuml_studio.sim.curve import Curve, read_curve
 from zuml_studio.sim.fit import Battery, fit
 from zuml_studio.sim.fit_cells import fit_cells, taps_per_cell
 from zuml_studio.sim.fit_cells_report import cell_lines
+from zuml_studio.sim.fit_discharge import fit_curve
 
 LOGS = ROOT / "tests" / "data" / "logs"
 REALDATA = ROOT / "tests" / "data" / "realdata"
@@ -107,6 +108,20 @@ def test_the_306b_pack_has_a_weak_cell_and_its_discharge_says_so_too():
     phase = [p for p in log.phases() if p.state == "discharge"][1]         # 0:47-1:10, before the charge
     end = int(np.searchsorted(a["t"], phase.end_s)) - 1
     assert np.argmin(a["cells"][end]) == 2 and a["current"][end] < -0.5
+
+
+def test_the_306b_discharge_fitted_cell_by_cell_names_the_same_weak_cell():
+    """The same pack's 2 A discharge (23.5 min, 793 mAh), fitted per cell on its own: cell 3 again holds
+    least, about as far below the others as the charge says, and every tap meets the issue's Li discharge
+    limit (20 mV/cell); a discharge has no ceiling, so no cell is called held."""
+    path = LOGS / "iCharger306B_2013-01-07_RB_1000.extracted_lines.txt"
+    result = fit_curve(read_curve(path, "discharge"), "LiPo", 3)
+    cells = fit_cells(result)
+    assert result.figures["direction"] == "discharge" and cells is not None
+    assert cells.weakest == 3
+    caps = [c.capacity_mah for c in cells.cells]
+    assert caps[2] < 0.85 * np.mean(caps[:2])
+    assert all(c.rmse_v_mv <= 20.0 and not c.at_bound and not c.held for c in cells.cells)
 
 
 def test_a_log_without_a_tap_per_cell_has_no_cell_fit():

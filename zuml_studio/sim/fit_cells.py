@@ -2,8 +2,8 @@
 
 The pack is fitted first (``fit.fit``); the cells share its fitted chemistry (OCV table, slow
 polarisation, heating), since a pack's cells are of one type. Each tap is then a one-cell curve driven
-by the pack's current at every sample, its voltage compared at every charging sample, and three values
-move: the cell's capacity, where it started, and one factor on the pack's fitted resistances (R0, R1,
+by the pack's current at every sample, its voltage compared at every sample of the log's direction
+(charging, or discharging for a discharge), and three values move: the cell's capacity, where it started, and one factor on the pack's fitted resistances (R0, R1,
 R2, as the pack fit's ``r_scale``). Fitted freely, with its own OCV offset and slope, a tap of a partial
 charge trades its OCV against its capacity and start (the reason the pack fit pulls them towards the
 table), and the spread between cells would be that trade rather than the cells. Why and what the
@@ -51,7 +51,7 @@ class CellFit:
     r_mohm: float
     rmse_v_mv: float
     top_v: float                 # the median of its samples within _HELD_MV of its highest: where it topped out
-    held_share: float            # the share of the charge it spent there
+    held_share: float            # the share of the charge it spent there (0 for a discharge)
     at_bound: tuple[str, ...] = ()
     held: bool = False           # held at v_max by the charger while the others rose (see _HELD_MARGIN)
 
@@ -119,14 +119,15 @@ def taps_per_cell(curve: Curve, series: int) -> bool:
 
 
 def fit_cells(result: FitResult) -> CellsFit | None:
-    """Each cell of the fitted charge from its balance tap; None where the log has no tap per cell, and
-    for a discharge (a tap is fitted where the pack's current charges it)."""
+    """Each cell of the fitted charge or discharge from its balance tap; None where the log has no tap per
+    cell."""
     curve, series = result.curve, result.battery.series
-    if curve.direction != "charge" or not taps_per_cell(curve, series):
+    if not taps_per_cell(curve, series):
         return None
     chem, capacity = result.battery.chem, result.battery.capacity_mah
     start_soc = float(result.params.get("start_soc", 0.0))
-    cells = [_fit_tap(_tap(curve, k), chem, capacity, start_soc) for k in range(series)]
+    charge = curve.direction == "charge"
+    cells = [_fit_tap(_tap(curve, k), chem, capacity, start_soc, charge) for k in range(series)]
     shares = [c.held_share for c in cells]
     held = [c.held_share - float(np.median(shares[:k] + shares[k + 1:])) > _HELD_MARGIN for k, c in enumerate(cells)]
     return CellsFit(tuple(replace(c, held=h) for c, h in zip(cells, held)), capacity)
@@ -144,12 +145,12 @@ def _scaled(chem: Chemistry, factor: float) -> Chemistry:
     return replace(chem, r0_ohm=chem.r0_ohm * factor, r1_ohm=chem.r1_ohm * factor, r2_ohm=chem.r2_ohm * factor)
 
 
-def _fit_tap(tap: Curve, chem: Chemistry, pack_capacity: float, start_soc: float) -> CellFit:
+def _fit_tap(tap: Curve, chem: Chemistry, pack_capacity: float, start_soc: float, charge: bool) -> CellFit:
     from scipy.optimize import least_squares   # lazy, as in fit.py
 
     work = tap.decimated(max(_STEP_S, float(tap.t[-1]) / _SAMPLES))
     by_current = np.zeros(len(work.t), bool)
-    compared = work.i > 0
+    compared = work.i > 0 if charge else work.i < 0
     weight = 1000.0 / math.sqrt(max(int(compared.sum()), 1))
     lo = np.array([math.log(pack_capacity / _CAPACITY_RANGE), 0.0, math.log(_R_SCALE[0])])
     hi = np.array([math.log(pack_capacity * _CAPACITY_RANGE), _SOC_MAX, math.log(_R_SCALE[1])])
@@ -172,7 +173,8 @@ def _fit_tap(tap: Curve, chem: Chemistry, pack_capacity: float, start_soc: float
     ends = [name for name, value, a, b in (("capacity_mah", sol.x[0], lo[0], hi[0]),
                                             ("r_scale", sol.x[2], lo[2], hi[2]))
             if min(abs(value - a), abs(value - b)) < _BOUND_LOG]
-    charging = tap.v[tap.i > 0]
-    top = charging[charging >= float(charging.max()) - _HELD_MV / 1000.0]
+    # Held at a ceiling is a charge's: a discharge's top is its start, and no charger holds a cell there.
+    along = tap.v[tap.i > 0 if charge else tap.i < 0]
+    top = along[along >= float(along.max()) - _HELD_MV / 1000.0]
     return CellFit(capacity, soc, factor, r_mohm, math.sqrt(2.0 * sol.cost), float(np.median(top)),
-                   len(top) / len(charging), tuple(ends))
+                   len(top) / len(along) if charge else 0.0, tuple(ends))
