@@ -41,9 +41,9 @@ def duration(seconds: float) -> str:
     """A short, readable length of time: ``"45 s"``, ``"12:30"`` (m:ss), ``"1:04:30"``."""
     sign, h, m, s = _split(seconds)
     if not h and not m:
-        return f"{sign}{s} s"
+        return sign + _("{seconds} s").format(seconds=s)
     if not h:
-        return f"{sign}{m}:{s:02d} min"
+        return sign + _("{minutes}:{seconds} min").format(minutes=m, seconds=f"{s:02d}")
     return f"{sign}{h}:{m:02d}:{s:02d}"
 
 
@@ -73,10 +73,10 @@ def elapsed(seconds: float) -> str:
     ``"58 min"``, ``"45 s"``."""
     sign, h, m, s = _split(seconds)
     if h:
-        return f"{sign}{h} h {m:02d} min"
+        return sign + _("{hours} h {minutes} min").format(hours=h, minutes=f"{m:02d}")
     if m:
-        return f"{sign}{m} min"
-    return f"{sign}{s} s"
+        return sign + _("{minutes} min").format(minutes=m)
+    return sign + _("{seconds} s").format(seconds=s)
 
 
 class TimeAxisItem(pg.AxisItem):
