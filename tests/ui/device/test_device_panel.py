@@ -127,16 +127,20 @@ def test_follow_keeps_the_newest_minutes_and_a_user_zoom_stops_it(qtbot, make_pa
     connect(qtbot, panel)
     flash_and_start(qtbot, panel)
     qtbot.waitUntil(lambda: panel.series.last_x() > 800 and panel.plot.points > 20, timeout=WAIT_MS)
-    qtbot.wait(100)
-    x0, x1 = panel.plot.tplot.vb.viewRange()[0]
-    assert x1 - x0 == pytest.approx(10 * 60 * 1.03, rel=0.05)
-    # the user pans: follow goes off and the view stays
+
+    def width() -> float:
+        x0, x1 = panel.plot.tplot.vb.viewRange()[0]
+        return x1 - x0
+
+    # the view follows on the plot's next frame: wait for it, not for a time (a loaded machine paints late)
+    qtbot.waitUntil(lambda: width() == pytest.approx(10 * 60 * 1.03, rel=0.05), timeout=WAIT_MS)
+    # the user pans: follow goes off and the view stays while telemetry goes on coming
     panel.plot.tplot.vb.translateBy(x=-120)
     panel.plot.tplot.vb.sigRangeChangedManually.emit([True, False])
     assert not panel.follow.isChecked()
-    qtbot.wait(300)
     view = panel.plot.tplot.vb.viewRange()[0]
-    qtbot.wait(300)
+    drawn = panel.plot.points          # the plot takes new points (and would follow) on its frames
+    qtbot.waitUntil(lambda: panel.plot.points > drawn + 10, timeout=WAIT_MS)
     assert panel.plot.tplot.vb.viewRange()[0] == view
     panel.all_button.click()
     lo, hi = panel.plot.tplot.vb.viewRange()[0]
