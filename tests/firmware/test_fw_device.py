@@ -32,6 +32,16 @@ def client(host_device):
         c.close()
 
 
+def until(predicate, timeout_s: float = 60.0) -> bool:
+    """Poll for a state (the device and the client's reader are other threads and processes)."""
+    deadline = time.monotonic() + timeout_s
+    while not predicate():
+        if time.monotonic() > deadline:
+            return False
+        time.sleep(0.02)
+    return True
+
+
 def test_identify_reports_the_store_and_the_limits(client):
     info = client().info
     assert info.protocol == 1 and info.max_data == 240
@@ -62,13 +72,15 @@ def test_a_run_reports_events_with_the_interpreters_texts_and_stops(client):
     events = []
     c.on_event(events.append)
     assert c.start(0, "charge", capacity_mah=2000, current_a=2.0, series=3) == "LiPo"
-    time.sleep(2.5)
+    # the device runs in real time: wait until it has run a second and sent telemetry of it, however late
+    # a loaded machine schedules it
+    assert until(lambda: c.status().run_s >= 1.0 and c.last_telemetry is not None and c.last_telemetry.running)
     status = c.status()
     assert status.state == "running" and status.name == "LiPo" and status.run_s >= 1.0
     telemetry = c.last_telemetry
     assert telemetry.section == "charge" and telemetry.phase == 1 and telemetry.current_a == pytest.approx(2.0)
     assert c.stop() == "finished"
-    time.sleep(0.3)
+    assert until(lambda: any(e.kind == "finish" for e in events))      # the events come on the reader thread
     kinds = [e.kind for e in events]
     assert kinds == ["section", "phase_start", "phase_end", "finish"]
     assert events[2].detail == "stopped" and events[1].offset == events[2].offset > 0
