@@ -1,5 +1,6 @@
 """Shared test helpers: paths of the project's files, seed macros compiled, platform marks."""
 import os
+import time
 from pathlib import Path
 
 import pytest
@@ -85,3 +86,14 @@ def contrast_ratio(a, b) -> float:
         return 0.2126 * ch(c.redF()) + 0.7152 * ch(c.greenF()) + 0.0722 * ch(c.blueF())
     hi, lo = sorted((lum(a), lum(b)), reverse=True)
     return (hi + 0.05) / (lo + 0.05)
+
+
+def until(predicate, timeout_s: float = 30.0) -> bool:
+    """Poll for a state another thread or process brings about; False if it has not come by the (generous)
+    bound. Tests wait for states, never for a time."""
+    deadline = time.monotonic() + timeout_s
+    while not predicate():
+        if time.monotonic() > deadline:
+            return False
+        time.sleep(0.01)
+    return True

@@ -17,22 +17,13 @@ from zuml_studio.lang.eeprom import pack
 from zuml_studio.sim.interpreter import StartParams
 from zuml_studio.sim.simulate import BatterySetup, simulate
 
-from helpers import compiled, needs_pty
+from helpers import compiled, needs_pty, until
 
 pytestmark = needs_pty
 
 
 def thread_names():
     return sorted(t.name for t in threading.enumerate())
-
-
-def wait_for(predicate, timeout=10.0):
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        if predicate():
-            return True
-        time.sleep(0.01)
-    return False
 
 
 def test_flash_verify_slots_backup_restore(any_client):
@@ -76,7 +67,7 @@ def test_charge_run_matches_the_simulator(charger):
     client.on_telemetry(telemetry.append)
     client.set_telemetry_rate(50)
     assert client.start(0, "charge", 1, 2000, 2.0, None, 4, sensor=False) == "NiMh-dV"
-    assert wait_for(lambda: any(e.kind == "finish" for e in events))
+    assert until(lambda: any(e.kind == "finish" for e in events))
     sim = simulate(rec, StartParams("charge", 1, 2000, 2.0, None, 4, False), BatterySetup("NiMh", 0.0))
     expected = [(e.kind, e.section, e.index, e.repetition, e.offset, e.detail) for e in sim.interpreter.events]
     got = [(e.kind, e.section, e.index, e.repetition, e.offset, e.detail) for e in events]
@@ -101,7 +92,7 @@ def test_stop_takes_effect_at_once_and_discharge_current_is_negative(make_charge
     client.on_telemetry(telemetry.append)
     client.set_telemetry_rate(50)
     client.start(0, "discharge", capacity_mah=2000, series=4, sensor=False)
-    assert wait_for(lambda: any(t.running and t.time_s > 2 for t in telemetry))
+    assert until(lambda: any(t.running and t.time_s > 2 for t in telemetry))
     assert client.status().state == "running"
     assert client.stop() == "finished"
     st = client.status()
@@ -216,7 +207,7 @@ def test_link_loss_is_reported(make_client):
     lost = []
     client.on_disconnect(lost.append)
     stop()
-    assert wait_for(lambda: lost, 5)
+    assert until(lambda: lost, 5)
     with pytest.raises(Disconnected):
         client.status()
     assert not client.connected
@@ -234,7 +225,7 @@ def test_many_chargers_leak_no_threads_or_fds(make_client):
         client.status()
         client.close()
         stop()
-    assert wait_for(lambda: thread_names() == before_threads, 5), thread_names()
+    assert until(lambda: thread_names() == before_threads, 5), thread_names()
     if before_fds is not None:
         assert len(os.listdir(fd_dir)) == before_fds
 
@@ -255,7 +246,7 @@ def test_a_host_that_does_not_read_never_blocks_the_device():
         os.write(fd, encode_frame(m.START, 2, m.encode_request(
             "START", slot=0, task=0, repetitions=1, capacity_mah=2000, current_ma=0, voltage_mv=0, series=4,
             sensor=0)))
-        assert wait_for(lambda: device.state == "finished", 20)      # nobody reads meanwhile
+        assert until(lambda: device.state == "finished", 20)      # nobody reads meanwhile
         time.sleep(0.3)
         parser, frames = FrameParser(), []
         os.set_blocking(fd, False)
@@ -289,7 +280,7 @@ def test_builtin_serve_and_speed_change(make_client):
         client.write_image(pack([compiled("NiMh-dV")]))
         client.start(0, "charge", 1, 2000, 2.0, None, 4, False)
         device.set_speed(100000)
-        assert wait_for(lambda: client.status().state == "finished", 10)
+        assert until(lambda: client.status().state == "finished", 10)
         assert client.status().end_reason == "end of macro"
     finally:
         stop()
@@ -317,13 +308,13 @@ def test_a_run_reports_telemetry_and_events_and_stops(any_charger, make_client):
     client.on_event(events.append)
     assert client.start(0, "charge", capacity_mah=2000, current_a=1.0, series=3, sensor=False) == "LiPo"
     # The first frames of the phase may come before the stage has reached its current: wait for it.
-    assert wait_for(lambda: client.last_telemetry is not None and client.last_telemetry.phase == 1
+    assert until(lambda: client.last_telemetry is not None and client.last_telemetry.phase == 1
                     and abs(client.last_telemetry.current_a - 1.0) <= 0.05)
     status = client.status()
     assert status.state == "running" and status.name == "LiPo" and status.slot == 0
     assert client.last_telemetry.section == "charge"
     assert client.stop() == "finished"
-    assert wait_for(lambda: [e.kind for e in events][-1:] == ["finish"])
+    assert until(lambda: [e.kind for e in events][-1:] == ["finish"])
     assert [e.kind for e in events] == ["section", "phase_start", "phase_end", "finish"]
     assert events[2].detail == "stopped" and events[1].offset == events[2].offset > 0
     assert client.status().end_reason == "stopped" and client.get_event(1).kind == "phase_start"

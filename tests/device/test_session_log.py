@@ -2,10 +2,10 @@
 telemetry frame and per event, flushed at least every second by its writer thread."""
 import csv
 import datetime
-import time
 
 import pytest
 
+from helpers import until
 from zuml_studio.device.messages import DeviceEvent, Telemetry
 from zuml_studio.sim.samples import COLUMNS as SIM_COLUMNS
 from zuml_studio.device.session_log import COLUMNS, SessionLog, display_path, event_text, session_path
@@ -133,11 +133,3 @@ def test_an_idle_charger_is_logged_every_ten_seconds_not_at_the_telemetry_rate(t
         log.add_telemetry(telemetry(running=False))
         assert log.rows == 6
 
-
-def until(predicate, timeout_s: float = 30.0) -> bool:
-    deadline = time.monotonic() + timeout_s
-    while not predicate():
-        if time.monotonic() > deadline:
-            return False
-        time.sleep(0.02)
-    return True

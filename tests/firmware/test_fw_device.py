@@ -6,7 +6,7 @@ import tty
 
 import pytest
 
-from helpers import compiled, needs_pty, unsafe_record
+from helpers import compiled, needs_pty, unsafe_record, until
 from zuml_studio.device import messages as m
 from zuml_studio.device import passport as pp
 from zuml_studio.device.client import ChargerClient
@@ -30,16 +30,6 @@ def client(host_device):
     yield connect
     for c in clients:
         c.close()
-
-
-def until(predicate, timeout_s: float = 60.0) -> bool:
-    """Poll for a state (the device and the client's reader are other threads and processes)."""
-    deadline = time.monotonic() + timeout_s
-    while not predicate():
-        if time.monotonic() > deadline:
-            return False
-        time.sleep(0.02)
-    return True
 
 
 def test_identify_reports_the_store_and_the_limits(client):
@@ -74,7 +64,8 @@ def test_a_run_reports_events_with_the_interpreters_texts_and_stops(client):
     assert c.start(0, "charge", capacity_mah=2000, current_a=2.0, series=3) == "LiPo"
     # the device runs in real time: wait until it has run a second and sent telemetry of it, however late
     # a loaded machine schedules it
-    assert until(lambda: c.status().run_s >= 1.0 and c.last_telemetry is not None and c.last_telemetry.running)
+    assert until(lambda: c.status().run_s >= 1.0 and c.last_telemetry is not None and c.last_telemetry.running,
+                 60.0)
     status = c.status()
     assert status.state == "running" and status.name == "LiPo" and status.run_s >= 1.0
     telemetry = c.last_telemetry
