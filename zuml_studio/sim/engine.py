@@ -18,6 +18,7 @@ from typing import Callable, Mapping
 
 import numpy as np
 
+from ..device import messages
 from .battery import Pack
 from .cell_pack import CellPack
 from .interpreter import FULL_SOC, Event, Interpreter, PhaseResult
@@ -157,11 +158,9 @@ def unavailable(interpreter: Interpreter) -> str | None:
 
 
 def template_bytes(t: StartTemplate) -> bytes:
-    """A start template as the firmware stores it (docs/protocol.md, GET_TEMPLATE); 0 = not given."""
-    milli = lambda x: 0 if x is None else round(x * 1000)  # noqa: E731
-    return bytes([("charge", "discharge", "train").index(t.task), t.repetitions]) + \
-        b"".join(v.to_bytes(2, "little") for v in (round(t.capacity_mah or 0), milli(t.current_a),
-                                                    milli(t.voltage_v))) + bytes([t.series or 0])
+    """A start template as the firmware stores it: the protocol's SET_TEMPLATE fields after the number
+    (docs/protocol.md; one codec, messages.py's); 0 = not given."""
+    return messages.encode_response("SET_TEMPLATE", **messages.template_fields(0, t))[1:]
 
 
 def _fixed(x: float) -> int:
