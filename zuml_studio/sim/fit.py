@@ -56,7 +56,7 @@ class Param:
 
 
 # Fitted for every chemistry: the battery (capacity, where it started), its resistance and OCV.
-_COMMON = (Param("capacity_mah", 0.0, 0.0, True), Param("start_soc", 0.0, 0.95),
+COMMON_PARAMS = (Param("capacity_mah", 0.0, 0.0, True), Param("start_soc", 0.0, 0.95),
            Param("r_scale", 0.1, 10.0, True), Param("ocv_offset_v", -0.15, 0.15), Param("ocv_scale", 0.3, 3.0, True))
 _NI_R_START = 8.0     # a Ni charge that misses ... is fitted again from this many times the default's resistance
 _NI_DONE_MV = 20.0    # ... the issue's limit (its cost as an RMSE in mV per cell)
@@ -254,7 +254,7 @@ def at_bounds(params: list[Param], values: dict) -> list[dict]:
     return out
 
 
-def _apply(chem: Chemistry, values: dict) -> Chemistry:
+def fitted_chemistry(chem: Chemistry, values: dict) -> Chemistry:
     """The chemistry with fitted values: R scaled, OCV shifted and stretched about its mean, family keys replaced."""
     mean = sum(chem.ocv_v) / len(chem.ocv_v)
     scale, offset, r = values.get("ocv_scale", 1.0), values.get("ocv_offset_v", 0.0), values.get("r_scale", 1.0)
@@ -294,7 +294,7 @@ def _residuals(curve: Curve, run: Run, cv: np.ndarray, series: int, chemistry: s
     return np.concatenate(parts)
 
 
-def _prior(values: dict) -> np.ndarray:
+def ocv_prior(values: dict) -> np.ndarray:
     """Soft pulls towards the chemistry's OCV: capacity and an OCV stretch trade off against each
     other on a partial charge, and the table shape is the better-known of the two."""
     return np.array([math.log(values.get("ocv_scale", 1.0)) * 10.0, values.get("ocv_offset_v", 0.0) * 100.0])
@@ -317,7 +317,7 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
     work = fit_samples(curve)
     cv = cv_mask(work, chemistry)
     mah = float(work.mah[-1])
-    params = list(_COMMON[:2] if only_capacity else _COMMON + _FAMILY[family(chemistry)])
+    params = list(COMMON_PARAMS[:2] if only_capacity else COMMON_PARAMS + _FAMILY[family(chemistry)])
     params[0] = Param("capacity_mah", max(mah * 0.5, 1.0), mah * 20.0, True)
     start = {"capacity_mah": min(max(mah * 1.05, params[0].lo * 1.01), params[0].hi * 0.99),
              "start_soc": 0.05, "r_scale": 1.0, "ocv_offset_v": 0.0, "ocv_scale": 1.0}
@@ -336,11 +336,11 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
 
     def solve(free: list[Param], begin: dict, end_terms: bool):
         def residuals(values: dict) -> np.ndarray:
-            battery = Battery(_apply(chem, values), values["capacity_mah"], series)
+            battery = Battery(fitted_chemistry(chem, values), values["capacity_mah"], series)
             run = simulate_curve(battery, work, cv, values.get("start_soc", 0.0))
             return np.concatenate((_residuals(work, run, cv, series, chemistry, real_peak if end_terms else None,
-                                              with_temp=end_terms), _prior(values)))
-        return solve_params(free, begin, residuals, max_nfev, lambda exc: _cannot_start(curve, chemistry, exc))
+                                              with_temp=end_terms), ocv_prior(values)))
+        return solve_params(free, begin, residuals, max_nfev, lambda exc: start_error(curve, chemistry, exc))
 
     # The capacity and start state first, with the chemistry's defaults: that is the default
     # model's answer, and every later stage starts from there.
@@ -380,7 +380,7 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
         values, _, n1 = solve(params, values, True)
         nfev += n1
     values = {p.name: values[p.name] for p in params}
-    battery = Battery(_apply(chem, values), values["capacity_mah"], series)
+    battery = Battery(fitted_chemistry(chem, values), values["capacity_mah"], series)
     full_cv = cv_mask(curve, chemistry)
     run = simulate_curve(battery, curve, full_cv, values.get("start_soc", 0.0))
     report = figures(curve, run, full_cv, series, chemistry)
@@ -414,7 +414,8 @@ def solve_params(free: list[Param], begin: dict, residuals, max_nfev: int | None
     return values_of(sol.x), sol.cost, int(sol.nfev)
 
 
-def _cannot_start(curve: Curve, chemistry: str, exc: ValueError) -> CurveError:
+def start_error(curve: Curve, chemistry: str, exc: ValueError) -> CurveError:
+    """The error of a fit whose model cannot run from its start values (a charge's or a discharge's)."""
     return CurveError(_("{name}: the fit cannot start: the {chemistry} model gives no finite voltage along this "
                         "curve from its start values ({error})").format(
             name=curve.name or "curve", chemistry=chemistry, error=exc))

@@ -15,8 +15,9 @@ import numpy as np
 from .cell_pack import CellSpec
 from .chemistry import Chemistry, load_chemistry
 from .curve import Curve, require_discharge
-from .fit import (_COMMON, NI, Battery, FitResult, Param, Run, _apply, _cannot_start, _prior, at_bounds,
-                  check_series, fit, fit_samples, guess_series, simulate_curve, soc_at_ocv, solve_params, temp_rise)
+from .fit import (COMMON_PARAMS, NI, Battery, FitResult, Param, Run, at_bounds, check_series, fit, fit_samples,
+                  fitted_chemistry, guess_series, ocv_prior, simulate_curve, soc_at_ocv, solve_params, start_error,
+                  temp_rise)
 
 _PAUSE_FRACTION = 0.5        # samples below this share of the discharge current are pauses, not compared
 _CAPACITY_WEIGHT = 7.0       # 1 % of delivered capacity weighs as 7 mV per cell (3 % is about a voltage limit)
@@ -124,7 +125,7 @@ def _battery(chem: Chemistry, values: dict, series: int) -> Battery:
     q = values["capacity_mah"]
     share = values.get("weak_share")
     cells = None if share is None else (CellSpec(q),) * (series - 1) + (CellSpec(q * share),)
-    return Battery(_apply(chem, values), q, series, cells)
+    return Battery(fitted_chemistry(chem, values), q, series, cells)
 
 
 def discharge_figures(curve: Curve, run: Run, series: int, model_mah: float) -> dict:
@@ -157,7 +158,7 @@ def _params(chem: Chemistry, curve: Curve, only_capacity: bool, mah: float) -> l
     if only_capacity:
         return [capacity, _START_SOC]
     heat = _HEAT if chem.name in NI and curve.temp is not None else ()
-    return [capacity, _START_SOC, *_COMMON[2:], _KNEE, *_SLOW, *heat]
+    return [capacity, _START_SOC, *COMMON_PARAMS[2:], _KNEE, *_SLOW, *heat]
 
 
 def fit_discharge(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = False,
@@ -178,10 +179,10 @@ def fit_discharge(curve: Curve, chemistry: str, series: int, *, only_capacity: b
     def residuals(values: dict) -> np.ndarray:
         battery = _battery(chem, values, series)
         run, model_mah = model_delivered(battery, work, values["start_soc"], end_v)
-        return np.concatenate((_residuals(work, run, series, real_mah, model_mah), _prior(values)))
+        return np.concatenate((_residuals(work, run, series, real_mah, model_mah), ocv_prior(values)))
 
     def solve(free: list[Param], begin: dict) -> tuple[dict, float, int]:
-        return solve_params(free, begin, residuals, max_nfev, lambda exc: _cannot_start(curve, chemistry, exc))
+        return solve_params(free, begin, residuals, max_nfev, lambda exc: start_error(curve, chemistry, exc))
 
     # Where it started: full (a capacity test follows a charge), or where the OCV meets the first voltage
     # plus what the current's drop hides; each begun with the capacity that empties it at the log's end.
