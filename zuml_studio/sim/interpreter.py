@@ -545,8 +545,8 @@ class Interpreter:
             r.bled_s = tuple(n * self.tick_s for n in a.bled_ticks)
         series = self.pack.series
         if series > 1:
-            volts = getattr(self.pack, "cell_voltages", None)
-            r.cells_end = tuple(volts) if volts is not None else (self.pack.voltage / series,) * series
+            r.cells_end = (tuple(self.pack.cell_voltages) if self._per_cell
+                           else (self.pack.voltage / series,) * series)
         if r.pauses and self.paused:
             r.pauses[-1][1] = self.time_s
         r.timer_before_full = bool(a.by_timer and r.section == "charge" and r.soc_end < FULL_SOC)
