@@ -20,7 +20,18 @@ typedef struct {
     uint16_t full;
 } cal_pair_t;
 
-/* 1 when `block` is a calibration a charger may use (version, check byte, no zero full scale). */
+enum { CAL_OK, CAL_BAD_FORM, CAL_OUT_OF_WINDOW };
+/* Where a block leaves its window: `input` reads `point` (0 or the board's maximum) as `reads`, more
+ * than `allowed` off (all in mV, mA or 0.01 degC). */
+typedef struct {
+    uint8_t input;
+    int32_t point, reads, allowed;
+} cal_miss_t;
+
+/* CAL_OK when `block` is a calibration a charger may use: version, check byte, and every input within
+ * its window around the nominal calibration (calib.c); CAL_BAD_FORM, or CAL_OUT_OF_WINDOW with `miss`. */
+uint8_t cal_block_check(const uint8_t *block, cal_miss_t *miss);
+/* 1 when cal_block_check says CAL_OK. */
 uint8_t cal_block_valid(const uint8_t *block);
 /* Uses `block` when valid, else the nominal calibration; returns 1 when the block was used. */
 uint8_t cal_use(const uint8_t *block);
