@@ -1,6 +1,6 @@
 """The iMAX B6's calibration window and duty bound (firmware/boards/imaxb6/calib.c, duty.c) built for the PC:
 a block is used only when every input reads the board's maximum and 0 within what its parts allow (voltages
-3 %, currents 10 %, the probe 5 % of the maximum; a quarter of that at 0), and the charge duty never exceeds
+3 %, currents 8 %, the probe 5 % of the maximum; a quarter of that at 0), and the charge duty never exceeds
 the one that puts the pack's ceiling plus 1.5 V on the output. Each boundary is met exactly, one unit inside
 and one outside, so a changed comparison or constant fails here."""
 import ctypes
@@ -13,7 +13,7 @@ from test_fw_b6_protect import lib as logic
 NOMINAL = [(0, 29902), (0, 30826), (26, 1646), (233, 6042), (0, 19154), (0, 5022), (0, 4985), (0, 9761),
            (0, 4899), (0, 5016), (0, 4993), (0, 4924), (0, 25395)]
 # (the board's maximum in mV, mA or 0.01 degC, per cent the parts allow) per input, calib.c's window
-WINDOW = [(27000, 3), (27000, 3), (1000, 10), (5000, 10), (18000, 3), (4350, 3), (4350, 3), (8700, 3),
+WINDOW = [(27000, 3), (27000, 3), (1000, 8), (5000, 8), (18000, 3), (4350, 3), (4350, 3), (8700, 3),
           (4350, 3), (4350, 3), (4350, 3), (4350, 3), (10000, 5)]
 OK, BAD_FORM, OUT_OF_WINDOW = 0, 1, 2
 

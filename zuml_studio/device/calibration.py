@@ -27,11 +27,11 @@ OFF, CHARGE, DISCHARGE = 0, 1, 2
 CURRENT_POINTS = {CHARGE: (100, 1000), DISCHARGE: (50, 300)}
 SETTLE_TOLERANCE = 0.005        # two whole-second averages this close: the output has settled
 # How far a meter's reading may be from the charger's own (docs/firmware.md, *Calibration*): the firmware
-# takes a calibration only within 3 % of the nominal one for a voltage and 10 % for a current, so the one
+# takes a calibration only within 3 % of the nominal one for a voltage and 8 % for a current, so the one
 # in use and the new one are at most twice that apart; at the 50 and 100 mA points the amplifiers' offset
 # (a quarter of the window at 0) adds up to 20 mA.
 VOLTAGE_AGREES = 0.06
-CURRENT_AGREES = 0.20
+CURRENT_AGREES = 0.16
 CURRENT_SLACK_MA = 20
 # With the output off the taps and the output see the same pack: its cells add up to it within the
 # meter's and the wires' error.

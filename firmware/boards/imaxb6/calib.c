@@ -12,15 +12,16 @@ static const cal_pair_t nominal[CAL_INPUTS] PROGMEM = {
 
 /* The window a calibration must fall in (docs/firmware.md, *Calibration*): per input a point of the
  * board's range (its maximum: 27 V out, 5 A charge, 1 A discharge, 18 V in, 4.35 V a cell, 100 degC) and
- * how far the parts let a board read it from the nominal calibration: voltages 3 % (two 1 % divider
- * resistors and a 1 % reference), currents 10 % (shunt, amplifier gain resistors, reference), the
- * probe 5 %. The value at the nominal zero must lie within a quarter of that (the amplifiers' offset). */
+ * how far a board may read it from the nominal calibration: voltages 3 % (two 1 % divider resistors
+ * and a 1 % reference), currents 8 % (shunt, amplifier gain resistors, reference: 4 %, twice; and no
+ * more, or a 5 A set point read 8 % low would put more than 5.5 A into the pack), the probe 5 %. The
+ * value at the nominal zero must lie within a quarter of that (the amplifiers' offset). */
 typedef struct {
     uint16_t point;
     uint8_t pct;
 } window_t;
 static const window_t window[CAL_INPUTS] PROGMEM = {
-    {27000, 3}, {27000, 3}, {1000, 10}, {5000, 10}, {18000, 3},
+    {27000, 3}, {27000, 3}, {1000, 8}, {5000, 8}, {18000, 3},
     {4350, 3}, {4350, 3}, {8700, 3}, {4350, 3}, {4350, 3}, {4350, 3}, {4350, 3}, {10000, 5},
 };
 

@@ -117,7 +117,7 @@ def test_each_current_is_asked_on_an_empty_field_and_a_typo_is_refused_in_amps(f
     dialog.use_reading.click()
     qtbot.waitUntil(lambda: not dialog.busy())
     assert dialog.log.toPlainText().splitlines()[-1] == (
-        "Stopped: the ammeter: 0.333 A entered, but the charger reads 1.000 A charging (more than 20 % apart): "
+        "Stopped: the ammeter: 0.333 A entered, but the charger reads 1.000 A charging (more than 16 % apart): "
         "check the meter's reading")
     assert "CAL_WRITE" not in [name for name, _p in connection.client.asked]
     assert connection.client.mode == 0 and dialog.reading.text() == ""
