@@ -95,6 +95,7 @@ class CalibrationDialog(QDialog):
         self.question.setWordWrap(True)
         self.reading = QLineEdit()      # empty at every question: never the previous step's reading
         self.reading.setPlaceholderText(_("mA, as the ammeter reads"))
+        self.reading.setMinimumWidth(self.reading.fontMetrics().horizontalAdvance(self.reading.placeholderText()) + 24)
         self.use_reading = QPushButton(_("Use This Reading"))
         row = QHBoxLayout()
         row.addWidget(self.question, 1)
