@@ -133,3 +133,19 @@ def test_a_five_amp_charge_on_a_calibration_inside_its_window_stays_under_5_5_a_
         run = run + 1 if b == a + 1 else 0
         longest = max(longest, run)
     assert longest < 10, f"{len(over)} ms above 5.5 A, {longest + 1} in a row"
+
+
+def test_the_charge_duty_stays_under_the_pack_ceiling_s_bound_when_no_current_flows(b6):
+    """The main leads come off during a 5 A charge of a 2S pack: the current reads 0 and the regulator opens
+    the stage; its duty stops where the output would be 2 x 4.35 V + 1.5 V from the 12 V input (duty.c), never
+    the 50 % boost, until the protections end the run."""
+    sim = b6(None, "--cells", "2", "--soc", "0.3", "--fault", "disconnect@2.5")
+    with ChargerClient(sim.port, timeout=10) as client:
+        client.start(0, series=2)
+    k, _ = sim.wait_line("FAULT|disconnect|")
+    k, off = sim.wait_line("OUTPUT|off|", k)
+    sim.stop()
+    rows = [r for r in read_trace(sim.trace) if 2500 <= r.t_ms <= float(off.split("|")[2]) * 1000]
+    bound = (2 * 4.35 + 1.5) / 12.0                       # the input: 12 V +- 1 %, read within 3 %
+    assert max(r.boost_duty for r in rows) == 0
+    assert 0.9 * bound < max(r.buck_duty for r in rows) <= bound * 1.05
