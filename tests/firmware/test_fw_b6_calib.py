@@ -157,3 +157,13 @@ def test_the_duty_bound_is_capped_at_half_boost_and_closed_without_an_input(lib)
     assert lib.duty_top(1000, 4350) == BUCK_FULL + BOOST_MAX              # 1 V in: boost, capped
     assert lib.duty_top(12000, -5000) == MARGIN_MV * BUCK_FULL // 12000   # no ceiling: the margin alone
     assert lib.duty_top(12000, 12000 - MARGIN_MV) == BUCK_FULL
+
+
+@pytest.mark.parametrize("pack", [3000, 11400, 25200])
+def test_the_pack_and_its_cells_agree_within_two_per_cent_and_50_mv(lib, pack):
+    lib.cal_pack_agrees.argtypes = [ctypes.c_int32, ctypes.c_int32]
+    lib.cal_pack_agrees.restype = ctypes.c_uint8
+    edge = (pack * 2 + 5000) // 100
+    assert lib.cal_pack_agrees(pack, pack) == 1
+    assert lib.cal_pack_agrees(pack, pack - edge) == 1 and lib.cal_pack_agrees(pack, pack + edge) == 1
+    assert lib.cal_pack_agrees(pack, pack - edge - 1) == 0 and lib.cal_pack_agrees(pack, pack + edge + 1) == 0

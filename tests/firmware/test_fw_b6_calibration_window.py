@@ -149,3 +149,27 @@ def test_the_charge_duty_stays_under_the_pack_ceiling_s_bound_when_no_current_fl
     bound = (2 * 4.35 + 1.5) / 12.0                       # the input: 12 V +- 1 %, read within 3 %
     assert max(r.boost_duty for r in rows) == 0
     assert 0.9 * bound < max(r.buck_duty for r in rows) <= bound * 1.05
+
+
+def toward_nominal(block: Block, k: int, share: float) -> Block:
+    """The block with input k's scale moved `share` towards (and past) its nominal one: inside the window."""
+    pairs = list(block.pairs)
+    zero, full = pairs[k]
+    pairs[k] = (zero, round(full * (1 - share if full > NOMINAL.pairs[k][1] else 1 + share)))
+    return Block(tuple(pairs))
+
+
+def test_a_start_is_refused_when_the_pack_and_its_balance_lead_read_apart(b6):
+    """Vout+ calibrated 2.8 % off the taps (inside its window; a typo of the pack's voltage): the pack and the
+    sum of its cells, one voltage with the output off, read more than 2 % + 50 mV apart."""
+    sim = b6(None, "--cells", "3", "--soc", "0.5")
+    with ChargerClient(sim.port, timeout=10) as client:
+        calibrator = Calibrator(client)
+        good = calibrator.read()[1]
+        calibrator.write(toward_nominal(good, VOUT, 0.028))
+        with pytest.raises(DeviceError) as caught:
+            client.start(0, series=3)
+        assert caught.value.message == "pack and balance lead read over 2% apart: calibrate or check the leads"
+        calibrator.write(toward_nominal(good, VOUT, 0.01))
+        client.start(0, series=3)
+        client.stop()

@@ -187,6 +187,18 @@ static uint8_t has_time_condition(const uint8_t *rec)
     return 0;
 }
 
+/* The balance port's cells added up (0 without a lead: then nothing to compare). */
+static int32_t balance_sum_mv(void)
+{
+    uint8_t n = protect_balance_cells(), k;
+    int32_t sum = 0;
+    if (!n)
+        return protect_latest[CAL_VOUT];
+    for (k = 0; k < n; k++)
+        sum += protect_cell_mv[k];
+    return sum;
+}
+
 const char *hal_run_start(const uint8_t *rec, uint8_t akk_type, int16_t series, int32_t capacity_mah,
                           uint8_t *code)
 {
@@ -197,6 +209,8 @@ const char *hal_run_start(const uint8_t *rec, uint8_t akk_type, int16_t series, 
         return PSTR("the charger is not calibrated: run zuml calibrate");
     *code = HAL_E_PROTECTION;
     cal_output_end_ms = 0;
+    if (!cal_pack_agrees(protect_latest[CAL_VOUT], balance_sum_mv()))
+        return PSTR("pack and balance lead read over 2% apart: calibrate or check the leads");
     why = protect_arm(akk_type, series, &trip);
     if (why)
         return why;

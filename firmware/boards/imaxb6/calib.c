@@ -93,6 +93,13 @@ uint8_t cal_block_valid(const uint8_t *block)
     return cal_block_check(block, &miss) == CAL_OK;
 }
 
+uint8_t cal_pack_agrees(int32_t pack_mv, int32_t cells_mv)
+{
+    /* two truthful calibrations agree within the ADC's steps (29 mV at Vout+, 5 mV a tap) and the
+     * nominal scale of a tap the procedure did not reach (within 3 %, on part of the pack) */
+    return labs(pack_mv - cells_mv) * 100L <= pack_mv * CAL_AGREE_PCT + CAL_AGREE_MV * 100L;
+}
+
 uint8_t cal_use(const uint8_t *block)
 {
     uint8_t k;

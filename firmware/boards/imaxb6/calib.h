@@ -37,6 +37,11 @@ uint8_t cal_block_valid(const uint8_t *block);
 uint8_t cal_use(const uint8_t *block);
 /* The calibration in use as a block (the nominal one, sealed, when none is valid). */
 void cal_block(uint8_t *block);
+/* With the output off the pack at the output and the sum of its cells at the balance lead are one voltage
+ * read through two calibrations: 1 when they agree within CAL_AGREE_PCT % + CAL_AGREE_MV. */
+#define CAL_AGREE_PCT 2
+#define CAL_AGREE_MV 50
+uint8_t cal_pack_agrees(int32_t pack_mv, int32_t cells_mv);
 /* The value (mV, mA, 0.01 degC) of an ADC16 reading, and the ADC16 reading of a value. */
 int32_t cal_value(uint8_t input, uint16_t adc16);
 uint16_t cal_adc16(uint8_t input, int32_t value);
