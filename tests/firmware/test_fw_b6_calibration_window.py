@@ -162,14 +162,16 @@ def toward_nominal(block: Block, k: int, share: float) -> Block:
 def test_a_start_is_refused_when_the_pack_and_its_balance_lead_read_apart(b6):
     """Vout+ calibrated 2.8 % off the taps (inside its window; a typo of the pack's voltage): the pack and the
     sum of its cells, one voltage with the output off, read more than 2 % + 50 mV apart."""
-    sim = b6(None, "--cells", "3", "--soc", "0.5")
+    sim = b6(None, "--cells", "3", "--soc", "0.5", "--speed", "1", "--press", "start@8:0.7")
     with ChargerClient(sim.port, timeout=10) as client:
         calibrator = Calibrator(client)
         good = calibrator.read()[1]
         calibrator.write(toward_nominal(good, VOUT, 0.028))
+        assert client.status().uptime_s < 7.5               # before the panel's START
         with pytest.raises(DeviceError) as caught:
             client.start(0, series=3)
         assert caught.value.message == "pack and balance lead read over 2% apart: calibrate or check the leads"
+        sim.wait_line(lambda line: line.startswith("LCD|") and "pack and balance" in line)   # the panel's START
         calibrator.write(toward_nominal(good, VOUT, 0.01))
         client.start(0, series=3)
         client.stop()
