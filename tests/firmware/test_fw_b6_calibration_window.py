@@ -3,7 +3,6 @@ the truth, and whose voltages all read 80 % and 120 %, are refused by CAL_WRITE 
 and a charger that finds one in its EEPROM at boot runs as "not calibrated" (no START, the output never on:
 the model's true current in the trace). A calibration inside the window runs a 5 A charge under 5.5 A true."""
 import re
-import struct
 
 import pytest
 
