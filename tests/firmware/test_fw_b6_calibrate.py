@@ -45,3 +45,14 @@ def test_zuml_calibrate_makes_the_simulated_b6_read_its_truth(b6, monkeypatch, c
         finally:
             calibrator.output(OFF)
     assert abs(amps - true_amps) <= 0.02 * true_amps
+
+
+def test_zuml_calibrate_refuses_a_pack_typed_ten_times_low_and_writes_nothing(b6, capsys):
+    """hostile-3/calibrate_typo.sh: 1.17 V typed for the 3S pack at ~11.4 V was stored as "Calibrated"."""
+    assert main(["calibrate", "--port", b6.port, "--baud", str(B6_BAUD), "--timeout", "5", "--pack-v", "1.17",
+                 "--supply-v", "0", "--cells-v", "none"]) == 1
+    err = capsys.readouterr().err
+    assert re.fullmatch(r"zuml: error: the pack: 1\.17 V entered, but the charger reads 1\d\.\d\d V at its output "
+                        r"\(more than 6 % apart\): check the meter's reading\n", err), err
+    with ChargerClient(b6.port, B6_BAUD) as client:
+        assert not Calibrator(client).read()[0]                # still not calibrated

@@ -66,11 +66,13 @@ def test_the_nominal_calibration_is_cheali_s_default_points(lib):
 
 
 def test_a_calibration_block_is_used_only_whole(lib):
-    good = sealed([(100, 30000)] * 13)
-    assert lib.cal_use(good) == 1 and lib.cal_value(VOUT, 100 + 32768) == 15000
+    pairs = [(0, 30000), (0, 30826), (26, 1646), (233, 6042), (0, 19154), (0, 5022), (0, 4985), (0, 9761),
+             (0, 4899), (0, 5016), (0, 4993), (0, 4924), (0, 25395)]      # nominal, Vout+ 0.3 % off
+    good = sealed(pairs)
+    assert lib.cal_use(good) == 1 and lib.cal_value(VOUT, 32768) == 15000
     torn = bytearray(good)
     torn[5] ^= 0x40                                 # a byte a power cut left half written
-    for bad in (bytes(torn), sealed([(100, 30000)] * 13, version=2), sealed([(100, 30000)] * 12 + [(0, 0)]),
+    for bad in (bytes(torn), sealed(pairs, version=2), sealed(pairs[:12] + [(0, 0)]),
                 b"\xff" * BLOCK):
         assert lib.cal_block_valid(bad) == 0
         assert lib.cal_use(bad) == 0                # falls back to the nominal calibration

@@ -31,11 +31,13 @@ def volts(text: str, what: str) -> float:
     return value
 
 
-def cells(text: str) -> list[float]:
-    found = [volts(item, "--cells-v") for item in text.split(";" if ";" in text else ",") if item.strip()]
-    if len(found) > 6:
-        raise CliError(_("--cells-v: the B6's balance port has at most 6 cells"))
-    return found
+def cells(text: str, what: str = "--cells-v") -> list[float] | None:
+    """The cells in mV (None: keep)."""
+    from ..device.calibration import CalibrationError, parse_cells
+    try:
+        return parse_cells(text)
+    except CalibrationError as exc:
+        raise CliError(f"{what}: {exc}") from None
 
 
 def ask(prompt: str) -> str:
@@ -64,10 +66,10 @@ class PromptMeter:
         return v * 1000 or None
 
     def cells_mv(self) -> list[float] | None:
-        text = self.args.cells_v
-        if text is None:
-            text = ask(_("Each cell at the balance port, cell 1 first (e.g. 3.91,3.92,3.90; empty: keep): "))
-        return [v * 1000 for v in cells(text)] or None
+        if self.args.cells_v is not None:
+            return cells(self.args.cells_v)
+        return cells(ask(_("Each cell at the balance port, cell 1 first (e.g. 3.91,3.92,3.90; empty: keep): ")),
+                     _("the cells"))
 
     def current_ma(self, mode: int, asked_ma: int) -> float:
         from ..device.calibration import CHARGE

@@ -18,7 +18,7 @@ from .messages import BY_NAME, decode_response
 
 INPUTS = ("Vout+", "Vout-", "I discharge", "I smps", "Vin", "Vb0", "Vb1", "Vb2", "Vb3", "Vb4", "Vb5", "Vb6",
           "T extern")
-VOUT, VOUT_MINUS, IDIS, ISMPS, VIN, VB0, VB1 = range(7)
+VOUT, VOUT_MINUS, IDIS, ISMPS, VIN, VB0, VB1, VB2 = range(8)
 VERSION = 1
 BLOCK_SIZE = 2 + 4 * len(INPUTS)
 FULL_SCALE = 65536
@@ -26,6 +26,18 @@ OFF, CHARGE, DISCHARGE = 0, 1, 2
 # The two points of each current (mA), as docs/firmware.md's procedure takes them (cheali's points).
 CURRENT_POINTS = {CHARGE: (100, 1000), DISCHARGE: (50, 300)}
 SETTLE_TOLERANCE = 0.005        # two whole-second averages this close: the output has settled
+# How far a meter's reading may be from the charger's own (docs/firmware.md, *Calibration*): the firmware
+# takes a calibration only within 3 % of the nominal one for a voltage and 8 % for a current, so the one
+# in use and the new one are at most twice that apart; at the 50 and 100 mA points the amplifiers' offset
+# (a quarter of the window at 0) adds up to 20 mA.
+VOLTAGE_AGREES = 0.06
+CURRENT_AGREES = 0.16
+CURRENT_SLACK_MA = 20
+# With the output off the taps and the output see the same pack: its cells add up to it within the
+# meter's and the wires' error.
+CELLS_ADD_UP = 0.03
+CELL_PRESENT_MV = 1000          # the firmware's: a tap above this carries a cell
+MAX_CELLS = 6
 ZERO_BELOW_0_KEPT = 64          # ADC16 counts: one 10-bit step
 SETTLE_SECONDS = 15
 EXTRA_S = 1.0                   # seconds added to each request's wait for its answer
@@ -59,9 +71,8 @@ class Block:
 
     def replaced(self, input_no: int, zero: int, full: int) -> Block:
         if not (0 <= zero < FULL_SCALE and 0 < full < FULL_SCALE):
-            raise CalibrationError(_("{input}: zero {zero} and full scale {full} are outside what the charger "
-                                     "stores (check the meter's reading)").format(input=INPUTS[input_no], zero=zero,
-                                                                                 full=full))
+            raise CalibrationError(_("{input}: the readings give a calibration the charger cannot store (check the "
+                                     "meter's readings)").format(input=INPUTS[input_no]))
         return Block(self.pairs[:input_no] + ((zero, full),) + self.pairs[input_no + 1:])
 
 
@@ -89,13 +100,96 @@ def current_points(low: tuple[float, int], high: tuple[float, int]) -> tuple[int
     """(zero, full) of a current input from two (meter mA, ADC16) points."""
     (i1, a1), (i2, a2) = low, high
     if a2 <= a1 or i2 <= i1:
-        raise CalibrationError(_("the two current points do not rise ({i1:g} mA at {a1}, {i2:g} mA at {a2}): "
-                                 "is the ammeter in series with the battery?").format(i1=i1, a1=a1, i2=i2, a2=a2))
+        raise CalibrationError(_("the two current points do not rise (the meter read {i1:g} mA, then {i2:g} mA): "
+                                 "is the ammeter in series with the battery?").format(i1=i1, i2=i2))
     full = (i2 - i1) * FULL_SCALE / (a2 - a1)
     zero = round(a1 - i1 * FULL_SCALE / full)
     # The block stores zero unsigned: an amplifier offset a little below 0 (seen on the discharge input)
     # is stored as 0, off by under a count's worth of current; a larger one means a wrong reading.
     return (0 if -ZERO_BELOW_0_KEPT <= zero < 0 else zero), round(full)
+
+
+def parse_cells(text: str) -> list[float] | None:
+    """The cells' volts as typed (``3.91,3.92,3.90``, or with ``;`` and decimal commas), cell 1 first, in mV;
+    None for "keep" (empty or ``none``). An empty item is refused: the cells after it would shift. The
+    error says what is wrong with the text; the caller names the field."""
+    text = text.strip()
+    if not text or text.lower() == "none":
+        return None
+    items = text.split(";") if ";" in text else text.split(",")
+    if len(items) > MAX_CELLS:
+        raise CalibrationError(_("the B6's balance port has at most 6 cells"))
+    cells = []
+    for number, item in enumerate(items, 1):
+        item = item.strip()
+        if not item:
+            raise CalibrationError(_("item {n} is empty: give every cell from cell 1 on").format(
+                n=number))
+        try:
+            volts = float(item.replace(",", "."))
+        except ValueError:
+            raise CalibrationError(_("{text!r} is not a number of volts").format(text=item)) from None
+        if not 0 < volts <= 5:
+            raise CalibrationError(_("cell {n}: {v:g} V is outside 0..5 V").format(n=number, v=volts))
+        cells.append(volts * 1000)
+    return cells
+
+
+def balance_cells_mv(readings: list[Reading]) -> list[float]:
+    """The cells the charger reads at its balance port, as the firmware computes them (cell 1 = Vb1 - Vb0,
+    cell 2 = Vb2 - Vb1, cells 3..6 alone), as many in a row as carry a cell."""
+    v = [r.value for r in readings]
+    all_cells = [v[VB1] - v[VB0], v[VB2] - v[VB1]] + v[VB2 + 1:VB2 + 5]
+    cells = []
+    for mv in all_cells:
+        if mv <= CELL_PRESENT_MV:
+            break
+        cells.append(float(mv))
+    return cells
+
+
+def _volts(mv: float) -> str:
+    return f"{mv / 1000:.2f} V"
+
+
+def _apart(a: float, b: float, share: float) -> bool:
+    return abs(a - b) > share * max(abs(a), abs(b))
+
+
+def check_voltages(readings: list[Reading], pack_mv: float, supply_mv: float | None,
+                   cells_mv: list[float] | None) -> None:
+    """The meter's voltages against what the charger reads and against each other, before any is used: a
+    typo (1.17 V for 11.7 V, a cell missed) stops the calibration with a sentence in volts."""
+    port = balance_cells_mv(readings)
+    if cells_mv is not None and len(cells_mv) != len(port):
+        raise CalibrationError(_("the cells: {n} entered, but the balance port shows {port}").format(
+            n=len(cells_mv), port=len(port)))
+    if _apart(pack_mv, readings[VOUT].value, VOLTAGE_AGREES):
+        raise CalibrationError(_("the pack: {typed} entered, but the charger reads {reads} at its output (more than "
+                                 "{pct} % apart): check the meter's reading").format(
+            typed=_volts(pack_mv), reads=_volts(readings[VOUT].value), pct=round(VOLTAGE_AGREES * 100)))
+    cells_sum = sum(cells_mv) if cells_mv else sum(port)
+    if port and _apart(pack_mv, cells_sum, CELLS_ADD_UP):
+        raise CalibrationError(_("the pack: {typed} entered, but its cells add up to {sum}: check the meter's "
+                                 "reading").format(typed=_volts(pack_mv), sum=_volts(cells_sum)))
+    if supply_mv is not None and _apart(supply_mv, readings[VIN].value, VOLTAGE_AGREES):
+        raise CalibrationError(_("the supply: {typed} entered, but the charger reads {reads} at its input (more "
+                                 "than {pct} % apart): check the meter's reading").format(
+            typed=_volts(supply_mv), reads=_volts(readings[VIN].value), pct=round(VOLTAGE_AGREES * 100)))
+    for number, (typed, reads) in enumerate(zip(cells_mv or [], port), 1):
+        if _apart(typed, reads, VOLTAGE_AGREES):
+            raise CalibrationError(_("cell {n}: {typed} entered, but the charger reads {reads} (more than {pct} % "
+                                     "apart): check the meter's reading").format(
+                n=number, typed=_volts(typed), reads=_volts(reads), pct=round(VOLTAGE_AGREES * 100)))
+
+
+def check_current(mode: int, entered_ma: float, reading_ma: float) -> None:
+    """The ammeter's reading against the current the charger reads it holds."""
+    if abs(entered_ma - reading_ma) > CURRENT_AGREES * abs(reading_ma) + CURRENT_SLACK_MA:
+        what = _("charging") if mode == CHARGE else _("discharging")
+        raise CalibrationError(_("the ammeter: {typed:.3f} A entered, but the charger reads {reads:.3f} A {what} "
+                                 "(more than {pct} % apart): check the meter's reading").format(
+            typed=entered_ma / 1000, reads=reading_ma / 1000, what=what, pct=round(CURRENT_AGREES * 100)))
 
 
 class Meter(Protocol):
@@ -169,14 +263,14 @@ class Calibrator:
         _calibrated, block = self.read()
         self.say(_("Measuring the voltages…"))
         readings = self.after_next_second()
-        block = block.replaced(VOUT, *voltage_point(meter.pack_mv(), readings[VOUT].adc16))
-        supply = meter.supply_mv()
+        pack, supply, cells = meter.pack_mv(), meter.supply_mv(), meter.cells_mv()
+        if cells is not None and len(cells) > MAX_CELLS:
+            raise CalibrationError(_("the B6's balance port has at most 6 cells"))
+        check_voltages(readings, pack, supply, cells)
+        block = block.replaced(VOUT, *voltage_point(pack, readings[VOUT].adc16))
         if supply is not None:
             block = block.replaced(VIN, *voltage_point(supply, readings[VIN].adc16))
-        cells = meter.cells_mv() or []
-        if len(cells) > 6:
-            raise CalibrationError(_("the B6's balance port has 6 cells"))
-        for k, mv in enumerate(cells):
+        for k, mv in enumerate(cells or []):
             # Vb1 and Vb2 are taps to ground (cell 1, cells 1 + 2); Vb3..Vb6 are cells 3..6 alone.
             total = sum(cells[:k + 1]) if k < 2 else mv
             block = block.replaced(VB1 + k, *voltage_point(total, readings[VB1 + k].adc16))
@@ -187,8 +281,10 @@ class Calibrator:
                     self.say((_("Charging at {ma} mA: waiting for it to settle…") if mode == CHARGE else
                               _("Discharging at {ma} mA: waiting for it to settle…")).format(ma=asked))
                     self.output(mode, asked)
-                    adc16 = self.settled(input_no).adc16
-                    points.append((meter.current_ma(mode, asked), adc16))
+                    reading = self.settled(input_no)
+                    entered = meter.current_ma(mode, asked)
+                    check_current(mode, entered, reading.value)
+                    points.append((entered, reading.adc16))
                 block = block.replaced(input_no, *current_points(*points))
         finally:
             self.output(OFF)

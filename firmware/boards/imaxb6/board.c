@@ -8,6 +8,7 @@
 #include <avr/wdt.h>
 #include <util/atomic.h>
 #include "../../core/app.h"
+#include "../../core/text.h"
 #include "../avr_uart.h"
 #include "adc.h"
 #include "calib.h"
@@ -186,6 +187,18 @@ static uint8_t has_time_condition(const uint8_t *rec)
     return 0;
 }
 
+/* The balance port's cells added up (0 without a lead: then nothing to compare). */
+static int32_t balance_sum_mv(void)
+{
+    uint8_t n = protect_balance_cells(), k;
+    int32_t sum = 0;
+    if (!n)
+        return protect_latest[CAL_VOUT];
+    for (k = 0; k < n; k++)
+        sum += protect_cell_mv[k];
+    return sum;
+}
+
 const char *hal_run_start(const uint8_t *rec, uint8_t akk_type, int16_t series, int32_t capacity_mah,
                           uint8_t *code)
 {
@@ -196,6 +209,8 @@ const char *hal_run_start(const uint8_t *rec, uint8_t akk_type, int16_t series, 
         return PSTR("the charger is not calibrated: run zuml calibrate");
     *code = HAL_E_PROTECTION;
     cal_output_end_ms = 0;
+    if (!cal_pack_agrees(protect_latest[CAL_VOUT], balance_sum_mv()))
+        return PSTR("pack and balance lead read over 2% apart: calibrate or check the leads");
     why = protect_arm(akk_type, series, &trip);
     if (why)
         return why;
@@ -258,6 +273,55 @@ static uint16_t stack_never_used(void)
     return n;
 }
 
+/* CAL_WRITE's refusal (1) of a block that is not one or lies outside its window, in the input's unit:
+ * "Vout+ reads 27.00V as 21.60V: more than 0.81V off" (docs/firmware.md, *Calibration*). */
+static uint8_t refused_calibration(uint8_t type, uint8_t seq, const uint8_t *block)
+{
+    static const char names[CAL_INPUTS][12] PROGMEM = {
+        "Vout+", "Vout-", "I discharge", "I charge", "Vin", "Vb0", "Vb1", "Vb2", "Vb3", "Vb4", "Vb5", "Vb6",
+        "T extern",
+    };
+    cal_miss_t miss, *m = &miss;
+    uint8_t k, verdict = cal_block_check(block, m);
+    char text[64], *p = text, unit = 'V';
+    int32_t reads, scale = 1000L;   /* micro-units per unit */
+    if (verdict == CAL_OK)
+        return 0;
+    if (verdict == CAL_BAD_FORM) {
+        app_error(type, seq, 4, PSTR("not a calibration block (version 1, check byte, no zero full scale)"));
+        return 1;
+    }
+    if (m->input == CAL_IDIS || m->input == CAL_ISMPS)
+        unit = 'A';
+    if (m->input == CAL_TEXTERN) {
+        unit = 'C';
+        scale = 10000L;
+    }
+    p = zc_put_P(p, names[m->input]);
+    p = zc_put_P(p, PSTR(" reads "));
+    p = zc_put_2f(p, (uint32_t)(m->point * scale));
+    *p++ = unit;
+    p = zc_put_P(p, PSTR(" as "));
+    reads = m->reads;
+    if (reads < 0) {
+        *p++ = '-';
+        reads = -reads;
+    }
+    p = zc_put_2f(p, (uint32_t)(reads * scale));
+    *p++ = unit;
+    p = zc_put_P(p, PSTR(": more than "));
+    p = zc_put_2f(p, (uint32_t)(m->allowed * scale));
+    *p++ = unit;
+    p = zc_put_P(p, PSTR(" off"));
+    app_tx_begin(0x7F, seq, (uint8_t)(2 + (p - text)));
+    app_tx(type);
+    app_tx(4);
+    for (k = 0; text + k < p; k++)
+        app_tx((uint8_t)text[k]);
+    app_tx_end();
+    return 1;
+}
+
 static void send_calibration(uint8_t type, uint8_t seq)
 {
     uint8_t block[CAL_BLOCK], k;
@@ -287,10 +351,8 @@ void hal_request(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uint8
     }
     switch (type) {
     case T_CAL_WRITE:
-        if (!cal_block_valid(p)) {
-            app_error(type, seq, 4, PSTR("not a calibration block (version 1, check byte, no zero full scale)"));
+        if (refused_calibration(type, seq, p))
             return;
-        }
         for (k = 0; k < CAL_BLOCK; k++) {
             alive();
             eeprom_update_byte((uint8_t *)(STORE_EEPROM + k), p[k]);

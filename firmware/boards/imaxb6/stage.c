@@ -5,14 +5,14 @@
 #include "pins.h"
 #include "protect.h"
 #include "calib.h"
+#include "duty.h"
 
 /* Timer1 fast PWM mode 14, TOP = ICR1 = 511: 31.25 kHz (cheali: TIMER1_PERIOD 512, mode 14). The duty
  * is kept in 1/64 of a count and dithered over the periods, so the average current steps finely
  * (one count moves ~0.1 A into a low-resistance pack). */
 #define TOP 511U
 #define FRAC 6
-#define BUCK_FULL ((uint32_t)(TOP + 1) << FRAC)
-#define BOOST_MAX ((uint32_t)((TOP + 1) / 2) << FRAC)   /* at most 50 % boost (cheali caps it so) */
+#define BUCK_FULL ((uint32_t)DUTY_BUCK_FULL)           /* (TOP + 1) << FRAC */
 #define DISCHARGE_MAX BUCK_FULL
 /* The duty at its top with less than a quarter of the current: no battery takes it (0.5 s of
  * current readings at ~800/s). */
@@ -23,7 +23,7 @@ static volatile int16_t i_set, v_set, v_now, i_now;
 static volatile uint32_t duty;
 static volatile uint16_t pwm_whole;
 static volatile uint8_t pwm_frac, pwm_acc, boosting;
-static volatile uint16_t starved;
+static volatile uint16_t starved, charge_top;
 
 void stage_off(void)
 {
@@ -102,7 +102,11 @@ void stage_set(uint8_t m, int32_t current_ma, int32_t voltage_mv)
         limit_ma = limit_mw * 1000L / v;
     if (current_ma > limit_ma)
         current_ma = limit_ma;
+    /* the charge duty's ceiling from Vin and the pack's ceiling, renewed with every set point (each tick):
+     * a current reading that is low cannot open the stage wider */
+    v = duty_top(protect_latest[CAL_VIN], protect_limits.armed ? protect_limits.pack_max_mv : B6_MAX_MV);
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
+        charge_top = (uint16_t)v;
         if (m != mode) {
             stage_off();
             if (m == STAGE_CHARGE) {
@@ -123,7 +127,7 @@ void stage_set(uint8_t m, int32_t current_ma, int32_t voltage_mv)
 static void step(void)
 {
     int32_t e = ((int32_t)i_set - i_now) / 4, ev, d = (int32_t)duty;
-    uint32_t top = mode == STAGE_CHARGE ? BUCK_FULL + BOOST_MAX : DISCHARGE_MAX;
+    uint32_t top = mode == STAGE_CHARGE ? charge_top : DISCHARGE_MAX;
     if (v_set) {
         ev = mode == STAGE_CHARGE ? (int32_t)v_set - v_now : (int32_t)v_now - v_set;
         if (ev < e)

@@ -9,8 +9,10 @@ from PySide6.QtCore import Signal
 from PySide6.QtWidgets import (QDialog, QDialogButtonBox, QDoubleSpinBox, QFormLayout, QHBoxLayout, QLabel,
                                QLineEdit, QPlainTextEdit, QPushButton, QVBoxLayout, QWidget)
 
-from ...device.calibration import CHARGE, INPUTS, CalibrationError, Calibrator
+from ...device.calibration import CHARGE, INPUTS, CalibrationError, Calibrator, parse_cells
 from ...i18n import _
+
+MAX_MA = 5000.0
 
 def procedure() -> str:
     return "<ol>" + "".join(f"<li>{step}</li>" for step in (
@@ -28,7 +30,8 @@ class _GuiMeter:
     """The user's readings: the voltages from the form, the currents asked on the GUI thread while the
     worker waits."""
 
-    def __init__(self, dialog: CalibrationDialog, pack_mv: float, supply_mv: float | None, cells_mv: list[float]):
+    def __init__(self, dialog: CalibrationDialog, pack_mv: float, supply_mv: float | None,
+                 cells_mv: list[float] | None):
         self.dialog = dialog
         self._pack, self._supply, self._cells = pack_mv, supply_mv, cells_mv
         self._answered = threading.Event()
@@ -41,7 +44,7 @@ class _GuiMeter:
         return self._supply
 
     def cells_mv(self) -> list[float] | None:
-        return self._cells or None
+        return self._cells
 
     def current_ma(self, mode: int, asked_ma: int) -> float:
         self._answered.clear()
@@ -70,6 +73,10 @@ class CalibrationDialog(QDialog):
         self.meter: _GuiMeter | None = None
         self.job = 0
         layout = QVBoxLayout(self)
+        self.status = QLabel()          # "connect first" until there is a charger to calibrate
+        self.status.setObjectName("calibrationStatus")
+        self.status.setWordWrap(True)
+        layout.addWidget(self.status)
         steps = QLabel(procedure())
         steps.setWordWrap(True)
         layout.addWidget(steps)
@@ -86,10 +93,9 @@ class CalibrationDialog(QDialog):
 
         self.question = QLabel()
         self.question.setWordWrap(True)
-        self.reading = QDoubleSpinBox()
-        self.reading.setRange(0.0, 5000.0)
-        self.reading.setDecimals(1)
-        self.reading.setSuffix(" mA")
+        self.reading = QLineEdit()      # empty at every question: never the previous step's reading
+        self.reading.setPlaceholderText(_("mA, as the ammeter reads"))
+        self.reading.setMinimumWidth(self.reading.fontMetrics().horizontalAdvance(self.reading.placeholderText()) + 24)
         self.use_reading = QPushButton(_("Use This Reading"))
         row = QHBoxLayout()
         row.addWidget(self.question, 1)
@@ -105,11 +111,26 @@ class CalibrationDialog(QDialog):
         self.start_button.clicked.connect(self.start)
         buttons.rejected.connect(self.reject)
         layout.addWidget(buttons)
-        self.use_reading.clicked.connect(lambda: self._answer(self.reading.value()))
+        self.use_reading.clicked.connect(self._use_reading)
+        self.reading.returnPressed.connect(self._use_reading)
+        self.reading.textChanged.connect(lambda _text: self.use_reading.setEnabled(self._typed_ma() is not None))
         self.askCurrent.connect(self._ask)
         self.said.connect(self.log.appendPlainText)
         self._asking(False)
+        connection.connected.connect(self._connection_changed)
+        connection.disconnected.connect(self._connection_changed)
+        self._connection_changed()
         self.resize(680, 560)
+
+    def _connection_changed(self, *_args) -> None:
+        """Nothing is asked before there is a charger: the form waits for the connection."""
+        connected = self.connection.is_connected()
+        self.status.setText("" if connected else
+                            _("Connect to the charger first (an iMAX B6 with the ZUML firmware)."))
+        self.status.setVisible(not connected)
+        for widget in (self.pack, self.supply, self.cells):
+            widget.setEnabled(connected)
+        self.start_button.setEnabled(connected and self.meter is None)
 
     @staticmethod
     def _volts(top: float) -> QDoubleSpinBox:
@@ -123,8 +144,10 @@ class CalibrationDialog(QDialog):
         return self.meter is not None
 
     def _asking(self, on: bool) -> None:
-        for widget in (self.question, self.reading, self.use_reading):
+        self.reading.clear()
+        for widget in (self.question, self.reading):
             widget.setEnabled(on)
+        self.use_reading.setEnabled(False)
         if not on:
             self.question.setText(_("The currents are asked here while the charger holds them."))
 
@@ -133,20 +156,28 @@ class CalibrationDialog(QDialog):
         self._asking(True)
         self.reading.setFocus()
 
+    def _typed_ma(self) -> float | None:
+        try:
+            value = float(self.reading.text().strip().replace(",", "."))
+        except ValueError:
+            return None
+        return value if 0 < value <= MAX_MA else None
+
+    def _use_reading(self) -> None:
+        value = self._typed_ma()
+        if value is not None and self.reading.isEnabled():
+            self._answer(value)
+
     def _answer(self, value: float | None) -> None:
         self._asking(False)
         if self.meter is not None:
             self.meter.answer(value)
 
-    def cells_mv(self) -> list[float]:
-        text = self.cells.text().replace(";", ",")
+    def cells_mv(self) -> list[float] | None:
         try:
-            cells = [float(item) * 1000 for item in text.split(",") if item.strip()]
-        except ValueError:
-            raise CalibrationError(_("the cells: {text!r} is not a list of volts").format(text=text)) from None
-        if len(cells) > 6 or any(not 0 < mv < 5000 for mv in cells):
-            raise CalibrationError(_("the cells: at most 6, each between 0 and 5 V"))
-        return cells
+            return parse_cells(self.cells.text())
+        except CalibrationError as exc:
+            raise CalibrationError(_("the cells: {reason}").format(reason=exc)) from None
 
     def start(self) -> None:
         self.log.clear()
@@ -182,7 +213,7 @@ class CalibrationDialog(QDialog):
     def _finish(self, line: str) -> None:
         self.meter = None
         self._asking(False)
-        self.start_button.setEnabled(True)
+        self._connection_changed()
         self.log.appendPlainText(line)
 
     def reject(self) -> None:
