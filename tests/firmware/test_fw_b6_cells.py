@@ -13,7 +13,7 @@ from zuml_studio.lang import eeprom
 
 STORE_SIZE = 404                    # IDENTIFY's eeprom_size on the B6
 LIPO_MAX_V = 4.35
-SLOTS = ("NiMh", "LiFe", "Pb", "NiCd", "LiPo")
+SLOTS = ("LiPo", "NiMh", "LiFe", "Pb", "NiCd")      # slot 1, the panel's first, is LiPo
 
 
 def macro(akk: str) -> bytes:
@@ -70,3 +70,55 @@ def test_a_3s_lipo_at_4_14_v_a_cell_refuses_a_macro_of_another_chemistry_without
     rows = read_trace(sim.trace)
     assert rows and not any(r.output_enabled for r in rows)
     assert max(r.cell_max_v for r in rows) <= LIPO_MAX_V + 0.050
+
+
+def test_a_start_during_a_run_is_busy_and_the_run_goes_on_with_its_counters(b6):
+    sim = b6("--cells", "3", "--soc", "0.5")
+    sim.wait_line("LCD|1 ")
+    with ChargerClient(sim.port, timeout=10) as client:
+        assert client.start(SLOTS.index("LiPo"), "charge", series=3) == "LiPo1A"
+        k, _ = sim.wait_line("LCD|C1 ")
+        sim.wait_line(lambda line: line.startswith("LCD|C1 ") and " 0m" in line and "  1mAh" in line, k)
+        before = client.status()
+        with pytest.raises(DeviceError) as refused:
+            client.start(SLOTS.index("LiPo"), "charge", series=3, capacity_mah=100)
+        assert refused.value.code == m.ErrorCode.BUSY
+        after = client.status()
+        assert after.state == "running" and after.run_s >= before.run_s and after.events == before.events
+
+
+def test_a_pack_reversed_mid_charge_is_off_within_10_ms_and_named_afterwards(b6):
+    sim = b6("--cells", "3", "--soc", "0.5", "--press", "start@0.3:0.7", "--fault", "reverse@1.5")
+    k, _ = sim.wait_line("FAULT|reverse|")
+    k, off = sim.wait_line("OUTPUT|off|", k)
+    assert float(off.split("|")[2]) - 1.5 <= 0.010
+    sim.wait_line("LCD|end LiPo1A|battery reversed", k)
+    with ChargerClient(sim.port, timeout=10) as client:
+        assert client.status().end_reason == "protection: battery reversed"
+    sim.stop()
+    rows = read_trace(sim.trace)
+    assert sum(1 for r in rows if abs(r.current_a) > 5.5) <= 10          # ms of the short through the pack
+
+
+def test_a_6s_pack_above_twice_the_input_is_refused_with_both_voltages(b6):
+    sim = b6("--cells", "6", "--soc", "0.9")                              # 24.5 V from a 12 V supply
+    sim.wait_line("LCD|1 ")
+    with ChargerClient(sim.port, timeout=10) as client:
+        with pytest.raises(DeviceError) as refused:
+            client.start(SLOTS.index("LiPo"), "charge", series=6)
+    assert refused.value.code == m.ErrorCode.PROTECTION
+    assert str(refused.value).startswith("the stage cannot reach the pack's 24.")
+    assert str(refused.value).endswith(" V in: at most twice the input")
+    sim.wait_line(lambda line: line.startswith("LCD|") and "twice" in line)
+
+
+def test_a_6s_pack_charged_past_twice_the_input_ends_saying_so_not_disconnected(b6):
+    # a small 6S pack from just within the boost's reach: its voltage rises past 2 x Vin and the current starves
+    sim = b6("--cells", "6", "--soc", "0.6", "--capacity", "15")
+    sim.wait_line("LCD|1 ")
+    with ChargerClient(sim.port, timeout=10) as client:
+        assert client.start(SLOTS.index("LiPo"), "charge", series=6) == "LiPo1A"
+        k, _ = sim.wait_line("LCD|end LiPo1A|")
+        assert client.status().end_reason == "protection: pack above twice the input"
+    sim.stop()
+    assert max(r.cell_max_v for r in read_trace(sim.trace)) <= LIPO_MAX_V + 0.050

@@ -184,12 +184,12 @@ void protect_raise(uint8_t trip)
 
 uint8_t protect_settled(void) { return !refine; }
 
-/* `holds` for this reading: one more in a row (a trip after PROTECT_DEBOUNCE), or the row starts again. */
-static void condition(uint8_t trip, uint8_t holds)
+/* `holds` for this reading: one more in a row (a trip after `readings`), or the row starts again. */
+static void condition_after(uint8_t trip, uint8_t holds, uint8_t readings)
 {
     if (!holds) {
         count[trip] = 0;
-    } else if (++count[trip] >= PROTECT_DEBOUNCE) {
+    } else if (++count[trip] >= readings) {
         /* limits that follow from another one name it: a reversed or lost pack also breaks the pack's,
          * the lead's and the cells' limits, and the more specific reason is the one a user can act on */
         if (count[TRIP_REVERSED])
@@ -200,6 +200,8 @@ static void condition(uint8_t trip, uint8_t holds)
         protect_raise(trip);
     }
 }
+
+static void condition(uint8_t trip, uint8_t holds) { condition_after(trip, holds, PROTECT_DEBOUNCE); }
 
 static void cell(uint8_t k, int16_t mv)
 {
@@ -256,10 +258,11 @@ uint8_t protect_reading(uint8_t input, int16_t value)
         for (k = 0; k < l->lead_cells; k++)
             sum = (int16_t)(sum + protect_cell_mv[k]);
         d = (int16_t)(value - sum);
-        /* a reversed pack also reads no voltage at Vout+: it trips here, and the Vout- readings after
-         * the output is off name it (refine) */
-        condition(TRIP_DISCONNECTED, protect_latest[CAL_VOUT_MINUS] <= TRIP_REVERSED_MV &&
-                  (value < TRIP_PRESENT_MV || (l->lead_cells && (d > TRIP_LEAD_MV || d < -TRIP_LEAD_MV))));
+        /* a reversed pack also pulls Vout+ down: it trips here, and the Vout- readings after the output
+         * is off name it (refine) */
+        condition_after(TRIP_DISCONNECTED, protect_latest[CAL_VOUT_MINUS] <= TRIP_REVERSED_MV &&
+                        (value < TRIP_PRESENT_MV || value < (int16_t)(l->pack_max_mv / LOST_FRACTION) ||
+                         (l->lead_cells && (d > TRIP_LEAD_MV || d < -TRIP_LEAD_MV))), LOST_READINGS);
         break;
     }
     case CAL_TEXTERN:

@@ -12,7 +12,12 @@ enum {
     TRIP_INPUT_LOW, TRIP_PROBE_HOT, TRIP_SINK_HOT, TRIP_PROBE_OPEN, TRIP_TIME, TRIP_CAPACITY, TRIP_HANG,
     TRIP_WATCHDOG, TRIP_UNCALIBRATED, TRIP_LITHIUM, TRIP_CELL_COUNT, TRIP_OUT_OF_REACH, TRIPS
 };
-#define PROTECT_DEBOUNCE 4         /* Vout+ is read every 2.5 ms: a lost pack is off within 10 ms */
+#define PROTECT_DEBOUNCE 4
+#define LOST_READINGS 3            /* Vout+ is read every 2.5 ms: a lost or reversed pack is off within 8 ms */
+#define LOST_FRACTION 4            /* a pack below 1/4 of its ceiling is lost: its cells at a quarter of
+                                    * their maximum, far below any under a discharge's load (1.09 V a
+                                    * LiPo cell, 0.45 V a NiMh one); a pack reversed mid-charge pulls the
+                                    * output there within a millisecond */
 #define REFINE_READINGS 4          /* Vout- readings after a trip (6.25 ms apart) that may still name it
                                     * "battery reversed": the output is off, and a reversed pack shows */
 
