@@ -122,3 +122,15 @@ def test_a_6s_pack_charged_past_twice_the_input_ends_saying_so_not_disconnected(
         assert client.status().end_reason == "protection: pack above twice the input"
     sim.stop()
     assert max(r.cell_max_v for r in read_trace(sim.trace)) <= LIPO_MAX_V + 0.050
+
+
+def test_a_run_ends_at_twice_its_capacity_as_the_pack_s_true_charge_says(b6):
+    sim = b6("--cells", "3", "--soc", "0.5")
+    sim.wait_line("LCD|1 ")
+    with ChargerClient(sim.port, timeout=10) as client:
+        assert client.start(SLOTS.index("LiPo"), "charge", series=3, capacity_mah=2) == "LiPo1A"
+        sim.wait_line("LCD|end LiPo1A|capacity limit")
+        assert client.status().end_reason == "protection: capacity limit"
+    sim.stop()
+    mah = sum(r.current_a for r in read_trace(sim.trace)) / 3600        # 1 ms rows: A ms -> mAh
+    assert 4.0 <= mah <= 4.0 * 1.05 + 0.1                               # 2 x 2 mAh; the slow check is 100 ms

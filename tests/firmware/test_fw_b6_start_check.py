@@ -68,7 +68,7 @@ def test_every_chemistry_checks_the_lead_s_count_and_a_lead_pulled_mid_run(b6):
 
 
 @pytest.mark.parametrize("akk, mv, cells", [
-    ("NiMh", 12600, 9), ("NiCd", 12600, 9), ("NiMh", 1000, 1), ("NiMh", 1500, 1), ("NiMh", 22500, 15),
+    ("NiMh", 12600, 9), ("NiCd", 12600, 9), ("NiCd", 1000, 1), ("NiCd", 1500, 1), ("NiCd", 999, 0), ("NiCd", 1501, 0), ("NiMh", 1000, 1), ("NiMh", 1500, 1), ("NiMh", 22500, 15),
     ("NiMh", 999, 0), ("NiMh", 1501, 0), ("NiMh", 1999, 0), ("NiMh", 2000, 2), ("NiMh", 22501, 0),
     ("Pb", 12600, 6), ("Pb", 1800, 1), ("Pb", 2300, 1), ("Pb", 1799, 0), ("Pb", 2301, 0), ("Pb", 23000, 10),
     ("Pb", 23001, 0),
@@ -121,6 +121,13 @@ def test_a_lost_pack_is_off_after_4_readings_and_its_reason_waits_4_vout_minus_r
     assert not b6.protect_settled()
     feed(b6, {VOUT_MINUS: 0})
     assert b6.protect_settled() and text(b6, feed(b6, {VOUT_MINUS: 11000})) == "battery disconnected"
+
+
+def test_a_pack_below_a_quarter_of_its_ceiling_is_lost_after_3_readings(b6):
+    assert refusal(b6, "LiPo", 3, cells_mv=[], vout=11700) == (None, None)          # no lead: 13.05 V ceiling
+    assert feed(b6, {VOUT: 13050 // 4}, 8) == 0
+    assert feed(b6, {VOUT: 13050 // 4 - 1}, 2) == 0
+    assert text(b6, feed(b6, {VOUT: 13050 // 4 - 1})) == "battery disconnected"
 
 
 def test_a_reversed_pack_behind_the_open_switch_names_the_first_trip(b6):
