@@ -111,9 +111,9 @@ def test_a_pack_above_twice_the_input_less_0_5_v_is_out_of_the_stage_s_reach(b6)
     assert refusal(b6, "LiPo", 6, cells_mv=cells, vout=23500, vin=12000)[0] is None
 
 
-def test_a_lost_pack_is_off_after_4_readings_and_its_reason_waits_4_vout_minus_readings_to_be_final(b6):
+def test_a_lost_pack_is_off_after_3_readings_and_its_reason_waits_4_vout_minus_readings_to_be_final(b6):
     assert refusal(b6, "LiPo", 3, cells_mv=[3900] * 3) == (None, None)
-    assert feed(b6, {VOUT: 0}, 3) == 0
+    assert feed(b6, {VOUT: 0}, 2) == 0
     assert feed(b6, {VOUT: 0}) == TRIP_DISCONNECTED   # the ADC interrupt switches the stage off on this
     for _ in range(3):
         assert not b6.protect_settled()
