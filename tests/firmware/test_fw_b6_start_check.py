@@ -68,7 +68,8 @@ def test_every_chemistry_checks_the_lead_s_count_and_a_lead_pulled_mid_run(b6):
 
 
 @pytest.mark.parametrize("akk, mv, cells", [
-    ("NiMh", 12600, 9), ("NiCd", 12600, 9), ("NiCd", 1000, 1), ("NiCd", 1500, 1), ("NiCd", 999, 0), ("NiCd", 1501, 0), ("NiMh", 1000, 1), ("NiMh", 1500, 1), ("NiMh", 22500, 15),
+    ("NiCd", 12600, 9), ("NiCd", 1000, 1), ("NiCd", 1500, 1), ("NiCd", 999, 0), ("NiCd", 1501, 0),
+    ("NiMh", 12600, 9), ("NiMh", 1000, 1), ("NiMh", 1500, 1), ("NiMh", 22500, 15),
     ("NiMh", 999, 0), ("NiMh", 1501, 0), ("NiMh", 1999, 0), ("NiMh", 2000, 2), ("NiMh", 22501, 0),
     ("Pb", 12600, 6), ("Pb", 1800, 1), ("Pb", 2300, 1), ("Pb", 1799, 0), ("Pb", 2301, 0), ("Pb", 23000, 10),
     ("Pb", 23001, 0),
