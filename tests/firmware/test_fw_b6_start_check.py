@@ -141,18 +141,26 @@ def test_a_reversed_pack_behind_the_open_switch_names_the_first_trip(b6):
     assert text(b6, feed(b6, {VOUT_MINUS: 500})) == "battery disconnected"
 
 
-def record(intro="", tf=None):
-    phase = "    FAZE\n      CONSTANT_I=1A\n" + (f"      IF(tf>{tf}) STOP_FAZE\n" if tf else "") + "    END_FAZE\n"
-    return compiled(f"MACRO T\n  AKK_TYPE=LiPo {intro}\n  CHARGE_SECTION\n{phase}  END_SECTION\nEND_MACRO\n")
+def record(intro="", *tfs):
+    phases = "".join("    FAZE\n      CONSTANT_I=1A\n" + (f"      IF(tf>{tf}) STOP_FAZE\n" if tf else "") +
+                     "    END_FAZE\n" for tf in tfs or (None,))
+    return compiled(f"MACRO T\n  AKK_TYPE=LiPo {intro}\n  CHARGE_SECTION\n{phases}  END_SECTION\nEND_MACRO\n")
 
 
-@pytest.mark.parametrize("intro, tf, minutes", [
-    ("", None, 720), ("", "1h", 720), ("", "11h", 720), ("", "396001", 721), ("IF(tm>11h) STOP_MACRO", None, 720),
-    ("IF(tm>20h) STOP_MACRO", "2h", 1260), ("", "827400", 1439), ("", "23h", 1440), ("IF(tm>100h) STOP_MACRO",
-                                                                                     None, 1440),
+@pytest.mark.parametrize("intro, tfs, minutes", [
+    ("", (), 720), ("", ("1h",), 720), ("", ("11h",), 720), ("", ("396001",), 721), ("", ("6h", "5h"), 720),
+    ("", ("10h", "8h"), 1140), ("", ("827400",), 1439), ("", ("23h",), 1440), ("", ("23h", "23h"), 1440),
+    ("", ("4294967295", "4294967295"), 1440),
+    ("IF(tm>11h) STOP_MACRO", (), 720), ("IF(tm>20h) STOP_MACRO", ("2h",), 1260),
+    ("IF(tm>13h) STOP_MACRO", ("20h",), 840), ("IF(tm>100h) STOP_MACRO", (), 1440),
 ])
-def test_the_time_limit_is_the_longest_time_condition_and_an_hour_between_12_and_24_h(b6, intro, tf, minutes):
-    assert b6.protect_time_limit_min(record(intro, tf)) == minutes
+def test_the_time_limit_is_the_macros_own_bound_and_an_hour_between_12_and_24_h(b6, intro, tfs, minutes):
+    # the run's IF(tm>x), else the sum of the phases' IF(tf>x)
+    assert b6.protect_time_limit_min(record(intro, *tfs)) == minutes
+
+
+def test_pb_float_s_16_h_absorption_and_6_h_float_fit_its_time_limit(b6):
+    assert b6.protect_time_limit_min(compiled("Pb-float")) == 23 * 60
 
 
 @pytest.mark.parametrize("mah, uah", [(0, 10_000_000), (-1, 10_000_000), (2000, 4_000_000), (24_999, 49_998_000),

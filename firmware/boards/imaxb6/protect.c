@@ -60,19 +60,27 @@ int16_t protect_cells_at_rest(uint8_t akk_type, int16_t mv)
 
 uint16_t protect_time_limit_min(const uint8_t *rec)
 {
-    uint8_t at, size;
-    uint32_t longest = 0, x;
+    uint8_t at, size, has_tm = 0;
+    uint32_t run = 0, phases = 0, x;
     for (at = rec[1]; at < rec[0] - 1; at = (uint8_t)(at + size)) {   /* rec[1]: the first instruction */
-        /* IF(tm>x) (87), IF(tf>x) (88): x in tenths of a second (spec section 3) */
-        if ((rec[at] == 87 || rec[at] == 88) && (x = zc_u32(rec + at + 1)) > longest)
-            longest = x;
+        /* IF(tm>x) (87) bounds the run, IF(tf>x) (88) its phase: x in tenths of a second (spec section 3),
+         * taken at most up to the ceiling, so the sum of 50 of them still fits */
+        if (rec[at] == 87 || rec[at] == 88) {
+            x = zc_u32(rec + at + 1);
+            if (x > TIME_CEILING_MIN * 600UL)
+                x = TIME_CEILING_MIN * 600UL;
+            if (rec[at] == 88)
+                phases += x;
+            else if (x > run)
+                run = x;
+            has_tm |= rec[at] == 87;
+        }
         size = zc_op_size(rec[at]);
         if (!size)
             break;
     }
-    longest = (longest + 599) / 600 + TIME_MARGIN_MIN;
-    return longest < TIME_LIMIT_MIN ? TIME_LIMIT_MIN : (longest > TIME_CEILING_MIN ? TIME_CEILING_MIN
-                                                                                   : (uint16_t)longest);
+    run = ((has_tm ? run : phases) + 599) / 600 + TIME_MARGIN_MIN;   /* minutes, a started one counted */
+    return run < TIME_LIMIT_MIN ? TIME_LIMIT_MIN : (run > TIME_CEILING_MIN ? TIME_CEILING_MIN : (uint16_t)run);
 }
 
 uint32_t protect_capacity_limit_uah(int32_t capacity_mah)

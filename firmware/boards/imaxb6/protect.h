@@ -77,8 +77,9 @@ uint8_t protect_is_li(uint8_t akk_type);
 int16_t protect_cells_at_rest(uint8_t akk_type, int16_t mv);
 /* The balance port's cells: how many in a row from cell 1 carry a cell. */
 uint8_t protect_balance_cells(void);
-/* The run's time limit (minutes): TIME_LIMIT_MIN, or the longest IF(tm>x)/IF(tf>x) of the record `rec`
- * and TIME_MARGIN_MIN more when that is longer; never past TIME_CEILING_MIN. */
+/* The run's time limit (minutes): TIME_LIMIT_MIN, or the macro's own bound and TIME_MARGIN_MIN more when
+ * that is longer: the record's IF(tm>x) (the whole run), else the sum of its IF(tf>x) (each phase once);
+ * never past TIME_CEILING_MIN. */
 uint16_t protect_time_limit_min(const uint8_t *rec);
 /* The charge a run may put in (uAh): 2 x `capacity_mah` (declared or entered), CAPACITY_LIMIT_UAH without
  * one (<= 0), never past CAPACITY_CEILING_UAH. */
