@@ -12,9 +12,10 @@ uint8_t hal_balancer_ceiling(int32_t *ceiling_uv)
     return 0;
 }
 
-const char *hal_run_start(const uint8_t *rec, uint8_t akk_type, int16_t series, int32_t capacity_mah, uint8_t *code)
+const char *hal_run_start(const uint8_t *rec, uint8_t akk_type, int16_t series, int32_t capacity_mah, uint8_t *code,
+                          char *sentence)
 {
-    (void)rec; (void)akk_type; (void)series; (void)capacity_mah; (void)code;
+    (void)rec; (void)akk_type; (void)series; (void)capacity_mah; (void)code; (void)sentence;
     return 0;
 }
 

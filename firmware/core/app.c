@@ -279,8 +279,44 @@ static ZC_NOINLINE uint8_t lockout(uint8_t seq)
     return 1;
 }
 
-/* Starts slot p[0] with a START request's values (docs/protocol.md). A PC's START is answered; a
- * panel's (panel = 1) is not: both get the refusal's text (in flash), NULL once the run started. */
+/* The board's say at START (hal_run_start): its refusal answered to the PC, the sentence when the board
+ * wrote one (on a stack of its own, left before the lockout's deeper one); the display's line, NULL to
+ * start. */
+static ZC_NOINLINE const char *board_start(uint8_t seq, uint8_t panel)
+{
+    char sentence[HAL_SENTENCE_MAX];
+    uint8_t code = E_START_ERROR;
+    const char *why;
+    sentence[0] = 0;
+    why = hal_run_start(run.rec, run.akk_type, run.series, run.capacity_mah, &code, sentence);
+    if (why && !panel) {
+        if (sentence[0])
+            send_error_text(T_START, seq, code, sentence);
+        else
+            send_error(T_START, seq, code, why);
+    }
+    return why;
+}
+
+/* The run of slot `number` begins, once the battery's passport allows it. */
+static const char *started(uint8_t seq, uint8_t number, uint8_t panel)
+{
+    if (lockout(seq))
+        return PSTR("the battery's passport forbids this macro");
+    slot = number;
+    task = run.start.task;   /* after the start template */
+    events = 0;
+    if (!panel)
+        answer_start(seq);
+    state = ST_RUNNING;
+    run_start_ms = last_tick_ms = hal_millis();
+    zc_control(&run);
+    return 0;
+}
+
+/* Starts slot p[0] with a START request's values (docs/protocol.md), while no run is on (a PC's START
+ * during one is BUSY, the panel starts only when idle). A PC's START is answered; a panel's
+ * (panel = 1) is not: both get the refusal's text (in flash), NULL once the run started. */
 static const char *start(uint8_t seq, const uint8_t *p, uint8_t panel)
 {
     zc_start_t s;
@@ -288,8 +324,6 @@ static const char *start(uint8_t seq, const uint8_t *p, uint8_t panel)
     uint8_t err, code = E_START_ERROR;
     const char *why;
     hal_output_t off = {HAL_OFF, 0, 0};
-    if (state == ST_RUNNING || state == ST_PAUSED)
-        zc_stop(&run);
     hal_output(&off);
     state = ST_IDLE;
     slot = 0xFF;
@@ -311,24 +345,15 @@ static const char *start(uint8_t seq, const uint8_t *p, uint8_t panel)
         s.sensor = p[10] != 0;
         s.template_no = 0;
         err = zc_start(&run, run.rec, len, &s, &board->core);
-        why = err ? start_error_text(err) : hal_run_start(run.rec, run.akk_type, run.series, run.capacity_mah, &code);
+        if (!err) {
+            why = board_start(seq, panel);
+            return why ? why : started(seq, p[0], panel);
+        }
+        why = start_error_text(err);
     }
-    if (why) {
-        if (!panel)
-            send_error(T_START, seq, code, why);
-        return why;
-    }
-    if (lockout(seq))
-        return PSTR("the battery's passport forbids this macro");
-    slot = p[0];
-    task = run.start.task;   /* after the start template */
-    events = 0;
     if (!panel)
-        answer_start(seq);
-    state = ST_RUNNING;
-    run_start_ms = last_tick_ms = hal_millis();
-    zc_control(&run);
-    return 0;
+        send_error(T_START, seq, code, why);
+    return why;
 }
 
 static ZC_NOINLINE void status(uint8_t seq)
@@ -467,6 +492,12 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
     case T_START:
         if (retry && slot == p[0]) {
             answer_start(seq);
+            return;
+        }
+        if (app_running()) {
+            /* a START during a run would restart its time and capacity limits: a host could keep
+             * them from ever firing */
+            send_error(type, seq, E_BUSY, PSTR("a macro runs: stop it first"));
             return;
         }
         start(seq, p, 0);

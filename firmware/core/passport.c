@@ -49,12 +49,6 @@ static void keep(lines_t *l, const char *line_end)
     l->at += n;
 }
 
-static ZC_NOINLINE char *put_type(char *p, uint8_t type)
-{
-    static const char names[9][6] PROGMEM = {"Undef", "Pb", "NiCd", "NiMh", "LiPo", "LiIon", "LiS", "LiFe", "New"};
-    return type < 9 ? zc_put_P(p, names[type]) : zc_put_uint(p, type);
-}
-
 /* "the macro charges at 3.00 A (charge phase 2); the battery allows 2 A" */
 static void conflict(lines_t *l, const char *what, int32_t micro, uint8_t volts, uint8_t section, uint8_t index,
                      uint8_t limit)
@@ -132,9 +126,9 @@ ZC_NOINLINE uint8_t zc_passport_conflicts(const zc_run_t *r, const uint8_t p[PAS
         keep(&l, zc_put_P(at, PSTR(" critical error(s) (CRIT): it is not fit for use")));
     }
     if (r->akk_type != p[0x16]) {
-        at = put_type(zc_put_P(l.line, r->akk_type ? PSTR("the macro is for ") :
+        at = zc_put_akk(zc_put_P(l.line, r->akk_type ? PSTR("the macro is for ") :
                                PSTR("the macro sets no battery type (AKK_TYPE ")), r->akk_type);
-        keep(&l, put_type(zc_put_P(at, r->akk_type ? PSTR("; the battery is ") : PSTR("); the battery is ")),
+        keep(&l, zc_put_akk(zc_put_P(at, r->akk_type ? PSTR("; the battery is ") : PSTR("); the battery is ")),
                           p[0x16]));
     }
     if (r->start.task != ZC_CHARGE)

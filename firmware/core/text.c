@@ -52,6 +52,12 @@ static ZC_NOINLINE char *put_hundredths(char *p, uint32_t v, uint8_t fixed)
     return p;
 }
 
+ZC_NOINLINE char *zc_put_akk(char *p, uint8_t type)
+{
+    static const char names[9][6] PROGMEM = {"Undef", "Pb", "NiCd", "NiMh", "LiPo", "LiIon", "LiS", "LiFe", "New"};
+    return type < 9 ? zc_put_P(p, names[type]) : zc_put_uint(p, type);
+}
+
 ZC_NOINLINE char *zc_put_2f(char *p, uint32_t micro)
 {
     return put_hundredths(p, (micro + 5000UL) / 10000UL, 1);

@@ -18,6 +18,8 @@ uint8_t zc_event_text(const zc_run_t *r, const zc_event_t *e, char *out);
 char *zc_put_uint(char *p, uint32_t v);
 /* micro-units with two decimals, rounded half up as Python's {:.2f} of the value; returns the end. */
 char *zc_put_2f(char *p, uint32_t micro);
+/* AKK_TYPE's name ("NiMh"), or its number when it has none; returns the end. */
+char *zc_put_akk(char *p, uint8_t type);
 /* The flash string s at p (no terminator); returns the end. */
 char *zc_put_P(char *p, const char *s);
 

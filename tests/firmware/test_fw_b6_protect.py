@@ -28,7 +28,7 @@ def lib():
     so.cal_adc16.restype = ctypes.c_uint16
     so.cal_adc16.argtypes = [ctypes.c_uint8, ctypes.c_int32]
     so.protect_arm.restype = ctypes.c_char_p
-    so.protect_arm.argtypes = [ctypes.c_uint8, ctypes.c_int16, ctypes.POINTER(ctypes.c_uint8)]
+    so.protect_arm.argtypes = [ctypes.c_uint8, ctypes.c_int16, ctypes.POINTER(ctypes.c_uint8), ctypes.c_char_p]
     so.protect_reading.argtypes = [ctypes.c_uint8, ctypes.c_int16]
     so.protect_text.restype = ctypes.c_char_p
     so.protect_cell_max_mv.restype = ctypes.c_uint16
@@ -110,9 +110,10 @@ def pack(lib, cells_mv, vout=None, vin=12000, vminus=0, probe=2500):
             ISMPS: 0, IDIS: 0, **taps}
 
 
-def arm(lib, akk, cells):
+def arm(lib, akk, cells, sentence=None):
+    """protect_arm's answer (its text, its trip); the sentence the PC would get into `sentence` when given."""
     trip = ctypes.c_uint8()
-    why = lib.protect_arm(AKK[akk], cells, ctypes.byref(trip))
+    why = lib.protect_arm(AKK[akk], cells, ctypes.byref(trip), sentence)
     return (why.decode() if why else None), trip.value
 
 

@@ -205,6 +205,10 @@ def test_start_shablon_takes_its_values_from_the_charger_and_a_missing_one_refus
     c.write_image(eeprom.pack([uses, lacks], c.info.eeprom_size))
     assert c.start(0, "discharge") == "T"          # template 2: charge 3S 2200 mAh at 2.2 A
     assert c.status().task == "charge"
+    with pytest.raises(DeviceError) as busy:
+        c.start(1, "charge", current_a=1.0)
+    assert busy.value.code == m.ErrorCode.BUSY                  # a START during a run: stop it first
+    c.stop()
     with pytest.raises(DeviceError) as refused:
         c.start(1, "charge", current_a=1.0)
     assert refused.value.code == m.ErrorCode.START_ERROR and "START_SHABLON" in str(refused.value)

@@ -52,7 +52,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                            "(repeatable); BUTTON: {buttons}").format(buttons=", ".join(BUTTONS)))
     b6.add_argument("--trace", type=Path, metavar="FILE",
                     help=_("write the model's true values every simulated ms as CSV: "
-                           "t_ms,buck_duty,boost_duty,output_enabled,current_a,voltage_v"))
+                           "t_ms,buck_duty,boost_duty,output_enabled,current_a,voltage_v,cell_max_v"))
     b6.add_argument("--lcd", action="store_true", help=_("print every change of the LCD on stderr as LCD|line1|line2"))
     b6.add_argument("--speed", type=float, metavar="X",
                     help=_("simulated seconds per wall-clock second (default 1; 0: as fast as this PC can)"))

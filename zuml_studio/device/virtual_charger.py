@@ -501,6 +501,10 @@ class VirtualCharger:
 
     def _do_start(self, slot: int, task: int, repetitions: int, capacity_mah: int, current_ma: int,
                   voltage_mv: int, series: int, sensor: int) -> bytes:
+        with self._lock:
+            if self._run is not None and not self._run.interpreter.finished:
+                # as the firmware: a START during a run would restart its limits' counters
+                raise _Refused(m.ErrorCode.BUSY, _("a macro runs: stop it first"))
         if task >= len(m.TASKS):
             raise _Refused(m.ErrorCode.BAD_REQUEST, _("task {task}: 0 charge, 1 discharge, 2 train").format(task=task))
         params = StartParams(m.TASKS[task], max(1, repetitions), float(capacity_mah) if capacity_mah else None,
@@ -528,9 +532,6 @@ class VirtualCharger:
                 interpreter = self._interpreter(record, params)
             except StartError as exc:
                 raise _Refused(m.ErrorCode.START_ERROR, str(exc)) from None
-            if self._run is not None and not self._run.interpreter.finished:
-                self._run.interpreter.stop("stopped: a new macro was started")
-                self._flush_events(self._run)
             self._run = _Run(slot, name, interpreter.params, interpreter, time.monotonic())   # after the template
             self._next_telemetry = time.monotonic()
         return m.encode_response("START", slot=slot, name=name)

@@ -23,8 +23,6 @@
 #define STORE_EEPROM (E2END + 1 - CAL_BLOCK)   /* the macro store's share; the calibration after it */
 #define IDLE_LATCH_MS 1000
 #define SLOW_MS 100
-#define RUN_TIME_LIMIT_MS (12UL * 3600UL * 1000UL)
-#define CAPACITY_LIMIT_UAH 10000000UL           /* without a capacity: 10 Ah */
 #define CAL_OUTPUT_MS 60000UL
 #define BALANCE_ON_MV 8                         /* bleed a cell this far above the lowest, until 3 */
 #define BALANCE_OFF_MV 3
@@ -39,7 +37,8 @@
 static volatile uint32_t millis;
 static volatile uint8_t beeps;
 static hal_output_t out;
-static uint8_t calibrated, run_has_time, balancing;
+static uint8_t calibrated, balancing;
+static uint16_t run_time_limit_min;
 static uint32_t run_capacity_uah, last_latch_ms, cal_output_end_ms;
 static int32_t sink_c100 = 2500;
 
@@ -140,7 +139,7 @@ int32_t hal_open_circuit_uv(void)
 void hal_output(const hal_output_t *o)
 {
     out = *o;
-    switch (o->kind) {
+    switch (protect_trip ? HAL_OFF : o->kind) {     /* a trip waiting for its reason stays off */
     case HAL_CURRENT:
         if (o->current_ua > 0)
             stage_set(STAGE_CHARGE, o->current_ua / 1000, 0);   /* over its ceiling the pack trips */
@@ -173,20 +172,6 @@ uint8_t hal_passport_exchange(const uint8_t *request, uint8_t len, uint8_t answe
     return 0;
 }
 
-static uint8_t has_time_condition(const uint8_t *rec)
-{
-    /* IF(tm>x) (87) or IF(tf>x) (88) anywhere in the record (spec section 3) */
-    uint8_t at, size;
-    for (at = rec[1]; at < rec[0] - 1; at = (uint8_t)(at + size)) {   /* rec[1]: the first instruction */
-        if (rec[at] == 87 || rec[at] == 88)
-            return 1;
-        size = zc_op_size(rec[at]);
-        if (!size)
-            break;
-    }
-    return 0;
-}
-
 /* The balance port's cells added up (0 without a lead: then nothing to compare). */
 static int32_t balance_sum_mv(void)
 {
@@ -200,7 +185,7 @@ static int32_t balance_sum_mv(void)
 }
 
 const char *hal_run_start(const uint8_t *rec, uint8_t akk_type, int16_t series, int32_t capacity_mah,
-                          uint8_t *code)
+                          uint8_t *code, char *sentence)
 {
     uint8_t trip;
     const char *why;
@@ -210,12 +195,15 @@ const char *hal_run_start(const uint8_t *rec, uint8_t akk_type, int16_t series, 
     *code = HAL_E_PROTECTION;
     cal_output_end_ms = 0;
     if (!cal_pack_agrees(protect_latest[CAL_VOUT], balance_sum_mv()))
-        return PSTR("pack and balance lead read over 2% apart: calibrate or check the leads");
-    why = protect_arm(akk_type, series, &trip);
-    if (why)
+        why = PSTR("pack and balance lead read over 2% apart: calibrate or check the leads");
+    else
+        why = protect_arm(akk_type, series, &trip, sentence);
+    if (why) {
+        panel_say(why);                      /* a PC's start too: the LCD says why */
         return why;
-    run_has_time = has_time_condition(rec);
-    run_capacity_uah = capacity_mah > 0 ? (uint32_t)capacity_mah * 2000UL : CAPACITY_LIMIT_UAH;
+    }
+    run_time_limit_min = protect_time_limit_min(rec);
+    run_capacity_uah = protect_capacity_limit_uah(capacity_mah);
     return 0;
 }
 
@@ -390,7 +378,7 @@ void hal_request(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uint8
             return;
         }
         if (p[0] && ma) {
-            why = protect_arm(4, 0, &trip);     /* as a LiPo pack of the balance port's cells */
+            why = protect_arm(4, 0, &trip, 0);  /* as a LiPo pack of the balance port's cells */
             if (why) {
                 app_error(type, seq, HAL_E_PROTECTION, why);
                 return;
@@ -416,7 +404,7 @@ static void slow_limits(void)
     if (app_running()) {
         if (sink_c100 > TRIP_SINK_C100)
             protect_raise(TRIP_SINK_HOT);
-        if (!run_has_time && r->time_ms > RUN_TIME_LIMIT_MS)
+        if (r->time_ms > run_time_limit_min * 60000UL)
             protect_raise(TRIP_TIME);
         if (r->total_in.uah > run_capacity_uah)
             protect_raise(TRIP_CAPACITY);
@@ -431,7 +419,7 @@ static void slow_limits(void)
 static void watch(void)
 {
     uint8_t trip = protect_trip;
-    if (trip) {
+    if (trip && protect_settled()) {
         stage_off();
         if (app_running())
             app_protect(protect_text(trip));

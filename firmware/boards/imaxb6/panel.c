@@ -194,6 +194,8 @@ static void end_screen(uint32_t now)
     show_long(1, strncmp_P(line, PSTR("protection: "), 12) ? line : line + 12, now);
 }
 
+void panel_say(const char *text) { message = text; }
+
 void panel_poll(uint32_t now, uint8_t calibrated)
 {
     uint8_t pressed = scan(now), state = app_state();

@@ -7,4 +7,7 @@
 
 void panel_poll(uint32_t now_ms, uint8_t calibrated);
 
+/* A refusal (text in flash) on line 2 until a key: the START the PC sent too. */
+void panel_say(const char *message);
+
 #endif

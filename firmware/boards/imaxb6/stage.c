@@ -141,8 +141,9 @@ static void step(void)
     duty = (uint32_t)d;
     apply();
     if ((uint32_t)d == top && i_now < i_set / 4) {
-        if (++starved >= STARVED_READINGS)
-            protect_raise(TRIP_DISCONNECTED);
+        if (++starved >= STARVED_READINGS)   /* a pack the boost cannot reach takes nothing either */
+            protect_raise(boosting && (int32_t)v_now > (int32_t)protect_latest[CAL_VIN] * BOOST_REACH - REACH_MARGIN_MV
+                          ? TRIP_OUT_OF_REACH : TRIP_DISCONNECTED);
     } else {
         starved = 0;
     }
