@@ -14,7 +14,7 @@ from typing import Iterator
 
 from ..device import messages as msg
 from ..device.client import DEFAULT_BAUD, ChargerClient, DeviceInfo, check_image
-from ..device.drivers import AUTO, DRIVERS, ZUML
+from ..device.drivers import AUTO, DRIVERS, LISTEN, ZUML
 from ..device.errors import (CommitUncertain, CommitUnverified, DeviceError, DeviceLinkError, ImageTooLarge,
                              NotACharger)
 from ..device.passport import FACTORY_WRITABLE, WRITABLE, Passport, PassportError, fitness_warnings, printable
@@ -512,9 +512,9 @@ def _monitor_charger(args: argparse.Namespace) -> int:
     if args.driver not in (AUTO,) + tuple(DRIVERS):
         raise CliError(_("--driver {driver}: choose {zuml}, {auto} or one of {drivers}").format(
                 driver=args.driver, zuml=ZUML, auto=AUTO, drivers=', '.join(DRIVERS)))
-    if args.rate is not None or args.until_end:
-        raise CliError(_("--rate and --until-end need a ZUML charger; a monitor-only charger sends at its own "
-                         "pace"))
+    if args.rate is not None or (args.until_end and args.driver != LISTEN):
+        raise CliError(_("--rate and --until-end need a ZUML charger ({until_end} also with --driver {listen}); a "
+                         "monitor-only charger sends at its own pace").format(until_end="--until-end", listen=LISTEN))
     if not args.port:
         raise CliError(_("give the port: --port /dev/ttyUSB0 (see `zuml ports`)"))
     log = None
@@ -527,7 +527,8 @@ def _monitor_charger(args: argparse.Namespace) -> int:
     try:
         link = MonitorLink(args.port, args.driver, args.baud, on_sample=lambda t: feed.put(("sample", t)),
                            on_status=lambda s: feed.put(("status", s)),
-                           on_closed=lambda e: feed.put(("closed", e)))
+                           on_closed=lambda e: feed.put(("closed", e)),
+                           on_extra=lambda kind, item: feed.put((kind, item)))
     except DeviceLinkError as exc:
         if log:
             log.close()
@@ -548,6 +549,14 @@ def _monitor_charger(args: argparse.Namespace) -> int:
             elif kind == "status":
                 sys.stderr.write(f"{item}\n")
                 sys.stderr.flush()
+            elif kind == "event":
+                out(event_line(item))
+                if log:
+                    log.add_event(item)
+                if args.until_end and item.kind == "finish":
+                    break
+            elif kind == "lcd":
+                out(lcd_line(item))
             else:
                 error = item
                 break
@@ -583,6 +592,11 @@ def _monitor_charger(args: argparse.Namespace) -> int:
         sys.stderr.write(_("zuml: error: session CSV: {error}\n").format(error=log.error))
         return 1
     return 0
+
+
+def lcd_line(lines: tuple[str, str]) -> str:
+    """The charger's display as it heard it (the ZUML firmware's listen-only stream)."""
+    return "LCD |{0:<16}|{1:<16}|".format(*lines)
 
 
 def _cells_text(t: msg.Telemetry) -> str:

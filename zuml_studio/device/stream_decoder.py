@@ -65,6 +65,11 @@ class StreamDecoder:
     def feed(self, data: bytes) -> list[Telemetry]:
         raise NotImplementedError
 
+    def take_extras(self) -> list[tuple[str, object]]:
+        """What the charger said besides samples since the last call: ``("event", DeviceEvent)`` and
+        ``("lcd", (line1, line2))`` (the ZUML firmware's listen-only stream); none for the others."""
+        return []
+
     def sample(self, r: Reading) -> Telemetry:
         key = (r.state, r.section)
         if r.running and key != self._key:
