@@ -8,7 +8,7 @@ events and the display's lines wait in ``take_extras()`` for the reader. Nothing
 """
 from __future__ import annotations
 
-from .frames import FrameParser
+from .frames import MAX_FRAME, FrameParser
 from .messages import BY_NAME, DEVICE_TYPES, EVENT, LCD, TELEMETRY, DeviceEvent, PayloadError, Telemetry, unpack_fields
 from .stream_decoder import StreamDecoder
 
@@ -17,6 +17,7 @@ MAX_EXTRAS = 1000          # events and display lines a reader has not taken yet
 
 class ZumlStreamDecoder(StreamDecoder):
     name = "zuml-tx"
+    max_record = MAX_FRAME
 
     def __init__(self) -> None:
         super().__init__()
@@ -49,6 +50,10 @@ class ZumlStreamDecoder(StreamDecoder):
         del self._extras[:-MAX_EXTRAS]
         self.bad = self._parser.bad_frames + self._bad_payloads
         return out
+
+    @property
+    def pending(self) -> int:
+        return self._parser.pending
 
     def take_extras(self) -> list[tuple[str, object]]:
         extras, self._extras = self._extras, []
