@@ -567,17 +567,59 @@ static void after_reset(void)
     fprintf(stderr, "RESET|%s|%.3f\n", by_watchdog ? "watchdog" : "other", now_s());
 }
 
-/* Presses typed on stdin while the B6 runs, one a line: `BUTTON [HOLD]` (start stop inc dec; HOLD seconds,
- * default 0.2), from now: the window's front panel sends them. A press that ended frees its place. */
+/* Presses typed on stdin while the B6 runs, one a line (the window's front panel sends them): `BUTTON [HOLD]`
+ * pressed now for HOLD seconds (default 0.2); `BUTTON down`, pressed until `BUTTON up [HELD]`, which lets
+ * it go now, or once it has been held HELD simulated seconds (a host slower than the wall still sees the
+ * hold the user made). A press of a button still down (a click faster than the simulation) follows it
+ * after RELEASE_S up, so the firmware sees both. BUTTON: start stop inc dec. A press that ended frees its
+ * place. */
+#define RELEASE_S 0.05
+static void press_line(char *line)
+{
+    char *arg = strchr(line, ' '), text[64];
+    timed_t press;
+    double now = now_s(), held = 0;
+    int k, up, down, last = -1;
+    if (arg)
+        *arg++ = 0;
+    up = arg && !strncmp(arg, "up", 2) && (!arg[2] || arg[2] == ' ');
+    down = arg && !strcmp(arg, "down");
+    snprintf(text, sizeof text, "%s@0%s%s", line, arg && !up && !down ? ":" : "", arg && !up && !down ? arg : "");
+    if (timed(text, button_names, 4, 1, &press) < 0 || (up && arg[2] && !number(arg + 3, 0, 1e6, &held))) {
+        fprintf(stderr, "zuml_b6_sim: not a press (BUTTON [HOLD|down|up [HELD]], BUTTON one of start stop inc "
+                        "dec): %s%s%s\n", line, arg ? " " : "", arg ? arg : "");
+        return;
+    }
+    for (k = 0; k < n_presses; k++)     /* this button's latest press that has not ended */
+        if (presses[k].what == press.what && now < presses[k].at_s + presses[k].hold_s &&
+            (last < 0 || presses[k].at_s > presses[last].at_s))
+            last = k;
+    if (up) {
+        if (last >= 0)
+            presses[last].hold_s = fmax(now - presses[last].at_s, held);
+        fprintf(stderr, "PRESS|%s|up|%.3f\n", button_names[press.what], now);
+        return;
+    }
+    if (down)
+        press.hold_s = 1e6;
+    press.at_s = last >= 0 ? presses[last].at_s + presses[last].hold_s + RELEASE_S : now;
+    for (k = 0; k < n_presses && presses[k].at_s + presses[k].hold_s >= now; k++)
+        ;
+    if (k == MAX_EVENTS)
+        return;
+    presses[k] = press;
+    if (k == n_presses)
+        n_presses++;
+    fprintf(stderr, "PRESS|%s|%.3f|%.3f\n", button_names[press.what], press.at_s, press.hold_s);
+}
+
 static void read_presses(void)
 {
     static char line[48];
     static size_t n;
     struct pollfd in = {0, POLLIN, 0};
-    char c, text[64], *space;
+    char c;
     while (poll(&in, 1, 0) == 1 && (in.revents & POLLIN) && read(0, &c, 1) == 1) {
-        timed_t press;
-        int k;
         if (c != '\n') {
             if (n < sizeof line - 1)
                 line[n++] = c;
@@ -585,23 +627,7 @@ static void read_presses(void)
         }
         line[n] = 0;
         n = 0;
-        space = strchr(line, ' ');
-        if (space)
-            *space = 0;
-        snprintf(text, sizeof text, "%s@0%s%s", line, space ? ":" : "", space ? space + 1 : "");
-        if (timed(text, button_names, 4, 1, &press) < 0) {
-            fprintf(stderr, "zuml_b6_sim: not a press (BUTTON [HOLD], BUTTON one of start stop inc dec): %s\n", line);
-            continue;
-        }
-        press.at_s = now_s();
-        for (k = 0; k < n_presses && presses[k].at_s + presses[k].hold_s >= press.at_s; k++)
-            ;
-        if (k == MAX_EVENTS)
-            continue;
-        presses[k] = press;
-        if (k == n_presses)
-            n_presses++;
-        fprintf(stderr, "PRESS|%s|%.3f|%.3f\n", button_names[press.what], press.at_s, press.hold_s);
+        press_line(line);
     }
 }
 
