@@ -65,6 +65,7 @@ class DevicePanel(QWidget):
     operationFinished = Signal(str, bool, str)   # "backup" | "restore" | "stop" | "passport" | "slots", ok, message
     phaseActivated = Signal(int)            # FAZE byte offset of a double-clicked band (the editor may show it)
     runEnded = Signal()                     # the run started here (or seen running) stopped
+    runSeen = Signal()                      # a run the window did not start runs (a B6's own START button)
 
     def __init__(self, get_record: Callable[[], tuple[bytes, str] | None], session_dir: Path,
                  parent: QWidget | None = None, *, port_lister: Callable | None = None):
@@ -333,6 +334,8 @@ class DevicePanel(QWidget):
             self._update_enabled()
             if not self.run.running:
                 self.runEnded.emit()
+            else:                           # a START here sets running itself: this one began on the charger
+                self.runSeen.emit()
         if self.series.last_telemetry is not None:
             self.live.show_readings(self.series.last_telemetry)
         self.live.update_phases()
