@@ -11,24 +11,11 @@ import pytest
 
 from b6_harness import B6, LINE_WAIT_S, build
 from host_core import FIRMWARE
+from test_fw_b6_acceptance import BENCH        # CC to 4.1 V per cell, then CV to 0.1 A
 from zuml_studio.device import messages as m
 from zuml_studio.device.client import ChargerClient
 from zuml_studio.device.frames import FrameParser, encode_frame
 
-BENCH = """MACRO Bench
-  AKK_TYPE=LiPo
-  CHARGE_SECTION
-    FAZE
-    CONSTANT_I=1A
-    IF(V>4.1S) STOP_FAZE()
-    END_FAZE
-    FAZE
-    CONSTANT_V=4.2S
-    IF(I<0.1A) STOP_FAZE()
-    END_FAZE
-  END_SECTION
-END_MACRO
-"""
 ROOT = FIRMWARE.parent
 
 

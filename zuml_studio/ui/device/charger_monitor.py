@@ -10,7 +10,7 @@ from typing import Callable
 
 from PySide6.QtCore import QObject, Signal
 
-from ...device.drivers import AUTO, DRIVERS
+from ...device.drivers import AUTO, DRIVERS, LISTEN
 from ...device.errors import DeviceLinkError
 from ...device.monitor_link import MonitorLink
 from ...file_errors import FileReadError, read_file_bytes
@@ -21,6 +21,9 @@ from ...logs.model import connected_cells
 
 def monitor_reason(title: str) -> str:
     """Why Flash and Start are off for the charger named ``title``."""
+    if title == _(DRIVERS[LISTEN].title):
+        return _("{title}: nothing reaches it from here (it has no receive line): its macros start from its "
+                 "buttons and go in through the ISP programmer").format(title=title)
     return _("{title} cannot run ZUML macros: it is monitor-only").format(title=title)
 
 
