@@ -36,7 +36,8 @@ def wait_lcd(qtbot, panel, test) -> None:
     qtbot.waitUntil(shown, timeout=WAIT_MS)
 
 
-def test_the_b6_workflow_on_the_simulated_b6_in_the_window(qtbot, make_panel, editor, tmp_path):
+def test_the_b6_workflow_on_the_simulated_b6_in_the_window(qtbot, make_panel, editor, tmp_path, monkeypatch):
+    monkeypatch.setenv("ZUML_STUDIO_DATA_DIR", str(tmp_path / "data"))
     panel = make_panel(size=(1366, 768))
     assert panel.ports.combo.itemData(1) == SIMULATED_B6
     assert not panel.front_panel.isVisible()
@@ -92,6 +93,7 @@ def test_the_b6_workflow_on_the_simulated_b6_in_the_window(qtbot, make_panel, ed
     connect(qtbot, panel, SIMULATED_B6)
     assert panel.slot_names() == ["LiPo", "Bench"]
     assert "not calibrated" not in lcd(panel)[1]
+    assert (tmp_path / "data" / "simulated-imaxb6-eeprom.bin").stat().st_size == 1024
 
 
 def test_a_simulated_b6_that_cannot_start_says_why(qtbot, make_panel, monkeypatch):

@@ -28,6 +28,7 @@ from ...device.drivers import AUTO
 from ...device.errors import NotACharger
 from ...device.ports import SIMULATED_B6, VIRTUAL
 from ...i18n import _
+from ...user_dirs import data_dir
 from .b6_front_panel import B6FrontPanel
 from .charger_monitor import ChargerMonitor, recording_cells
 from .charger_slots import ChargerSlots
@@ -211,7 +212,7 @@ class DevicePanel(QWidget):
             return False
         self.session.open()
         ok = self.connection.open(target, self.ports.baudrate(), virtual, self.rate.value(),
-                                  self.session_dir / SIMULATED_B6_EEPROM)
+                                  self.simulated_b6_eeprom_path())
         if not ok:
             self.session.close(discard_empty=True)
         else:
@@ -264,6 +265,11 @@ class DevicePanel(QWidget):
         """Where the built-in virtual charger keeps its EEPROM: like a real charger, it still
         holds its macros after a disconnect (and the next time ZUML Studio starts)."""
         return self.session_dir / VIRTUAL_EEPROM
+
+    def simulated_b6_eeprom_path(self) -> Path:
+        """The simulated iMAX B6's EEPROM (macros, templates, calibration), kept in the user's data
+        folder: the next session finds the charger as this one left it."""
+        return data_dir() / SIMULATED_B6_EEPROM
 
     def virtual_battery(self) -> str:
         """``CHEM:MAH:CELLS`` for the built-in virtual charger (``ConnectionBar.virtual_battery``)."""
