@@ -571,9 +571,9 @@ static void after_reset(void)
  * pressed now for HOLD seconds (default 0.2); `BUTTON down`, pressed until `BUTTON up [HELD]`, which lets
  * it go now, or once it has been held HELD simulated seconds (a host slower than the wall still sees the
  * hold the user made). A press of a button still down (a click faster than the simulation) follows it
- * after RELEASE_S up, so the firmware sees both. BUTTON: start stop inc dec. A press that ended frees its
- * place. */
-#define RELEASE_S 0.05
+ * after RELEASE_S up (a finger's pause), so the firmware sees both. BUTTON: start stop inc dec. A press
+ * that ended frees its place. */
+#define RELEASE_S 0.1
 static void press_line(char *line)
 {
     char *arg = strchr(line, ' '), text[64];
