@@ -3,9 +3,11 @@ display over TX unasked, `zuml monitor --driver zuml-tx` shows the run started f
 4's balancer; with a USB-serial adapter's TX on PD0 the request protocol is as before and cell 4 is not balanced,
 which the LCD and IDENTIFY say. Every wait is for a line the simulator or the monitor prints, never for a time."""
 import csv
+import os
 import subprocess
 import sys
 import threading
+import tty
 
 import pytest
 
@@ -95,8 +97,6 @@ def test_a_run_started_from_the_buttons_is_watched_listen_only_to_its_end(image,
 def test_without_the_receive_wire_a_request_gets_no_answer_and_the_stream_goes_on(image, two_macros):
     sim = B6(image, "--no-rx", "--eeprom", two_macros, "--speed", "0")
     try:
-        import os
-        import tty
         fd = os.open(sim.port, os.O_RDWR | os.O_NOCTTY)
         tty.setraw(fd)
         parser = FrameParser(m.DEVICE_TYPES)
@@ -130,5 +130,30 @@ def test_with_the_receive_wire_the_lcd_and_identify_say_cell_4_is_not_balanced(i
             assert [s.name for s in client.slots()] == ["Bench", "LiPo"]
         finally:
             client.close()
+        slots = subprocess.run([sys.executable, "-m", "zuml_studio.cli.main", "slots", "--port", sim.port],
+                               capture_output=True, text=True, cwd=ROOT)
+        assert slots.returncode == 0 and "(RX on PD0: cell 4 not balanced)" in slots.stdout, slots.stdout
+    finally:
+        sim.stop()
+
+
+def test_once_a_host_has_spoken_the_display_is_not_sent(image, two_macros):
+    sim = B6(image, "--eeprom", two_macros, "--speed", "0")
+    try:
+        fd = os.open(sim.port, os.O_RDWR | os.O_NOCTTY)
+        tty.setraw(fd)
+        parser = FrameParser(m.DEVICE_TYPES)
+        seen: list[int] = []
+        while m.LCD not in seen:                    # before: the display goes out unasked
+            seen += [f.type for f in parser.feed(os.read(fd, 256))]
+        os.write(fd, encode_frame(m.IDENTIFY, 9))
+        while seen.count(m.TELEMETRY) < 20:         # four seconds of telemetry after the answer
+            frames = parser.feed(os.read(fd, 256))
+            if m.IDENTIFY | m.RESPONSE_FLAG in seen:
+                assert m.LCD not in [f.type for f in frames]
+            seen += [f.type for f in frames]
+            if m.IDENTIFY | m.RESPONSE_FLAG not in seen:
+                seen = [t for t in seen if t != m.TELEMETRY]
+        os.close(fd)
     finally:
         sim.stop()

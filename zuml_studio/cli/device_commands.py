@@ -190,6 +190,7 @@ def cmd_slots(args: argparse.Namespace) -> int:
         image = client.read_image()
         found = _slots_or_error(image)
         checks = slot_checks(client, found)
+    out(_identity(client.info))         # which charger; a B6 with a receive wire says cell 4 is not balanced
     out(f"{'#':>3}  {'offset':>6}  {'size':>4}  {'name':<16}  {'chemistry':<9}  check")
     for s, check in zip(found, checks):
         out(f"{s.index:>3}  {s.offset:>6}  {len(s.record):>4}  {s.name:<16}  {_chemistry(s):<9}  {check}")
