@@ -139,8 +139,9 @@ def _device_errors(fn):
         except DeviceError as exc:
             raise CliError(_("the charger refused: {exc}").format(exc=exc), 1) from None
         except NotACharger as exc:        # most often a charger with its own firmware, which is only watched
-            raise CliError(_("{exc}; a charger without ZUML firmware (cheali, iCharger, iMAX B6, Ultramat…) is only "
-                             "monitored: zuml monitor --port {port} --driver auto").format(
+            raise CliError(_("{exc}; a charger without ZUML firmware (cheali, iCharger, iMAX B6, Ultramat…), or a "
+                             "B6 with it heard on its TX alone, is only monitored: zuml monitor --port {port} "
+                             "--driver auto").format(
                     exc=exc, port=args.port), 1) from None
         except DeviceLinkError as exc:
             raise CliError(str(exc), 1) from None
