@@ -50,7 +50,7 @@
 static const char usage[] =
     "usage: zuml_b6_sim ELF [--eeprom FILE] [--cells N] [--capacity MAH] [--soc F] [--cell-spread MV]\n"
     "       [--seed N] [--uncalibrated] [--fault KIND@S]... [--press BUTTON@S[:HOLD]]... [--trace FILE] [--lcd]\n"
-    "       [--speed X] [--no-rx]\n"
+    "       [--speed X] [--no-rx] [--end-with-stdin]\n"
     "KIND: disconnect reverse cell-high sensor-open sink-hot input-low hang; BUTTON: start stop inc dec\n";
 
 static const char *const button_names[4] = {"start", "stop", "inc", "dec"};   /* as b6_button[] */
@@ -72,6 +72,8 @@ static int n_faults, n_presses, lcd_on, step_count, hang_pending, refs_warned, o
 /* 1: a USB-serial adapter's TX is wired to PD0 (RXD): the pty's bytes reach the USART and the idle line holds
  * PD0 high; 0 (--no-rx): TX alone, as on the B6's 3-pin port; PD0 is cell 4's load, pulled low when undriven */
 static int rx_wire = 1;
+/* --end-with-stdin: stdin's end is the host's (a window that started this one and went away): stop then */
+static int end_with_stdin;
 static unsigned balancer_was;
 static FILE *trace;
 static avr_irq_t *adc_in[8], *button_pin[4], *rxd_pin;   /* looked up once: simavr walks its modules on every lookup */
@@ -466,6 +468,10 @@ static int parse(int argc, char **argv, options_t *o)
             rx_wire = 0;
             continue;
         }
+        if (!strcmp(name, "--end-with-stdin")) {
+            end_with_stdin = 1;
+            continue;
+        }
         for (n = 0; n < sizeof known / sizeof known[0] && strcmp(name, known[n]); n++)
             ;
         if (n == sizeof known / sizeof known[0])
@@ -619,7 +625,13 @@ static void read_presses(void)
     static size_t n;
     struct pollfd in = {0, POLLIN, 0};
     char c;
-    while (poll(&in, 1, 0) == 1 && (in.revents & POLLIN) && read(0, &c, 1) == 1) {
+    ssize_t got;
+    while (poll(&in, 1, 0) == 1 && (in.revents & (POLLIN | POLLHUP))) {
+        if ((got = read(0, &c, 1)) != 1) {
+            if (got == 0 && end_with_stdin)
+                stopping = 1;
+            return;
+        }
         if (c != '\n') {
             if (n < sizeof line - 1)
                 line[n++] = c;

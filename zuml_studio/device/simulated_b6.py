@@ -40,7 +40,9 @@ class SimulatedB6:
         self._stdin_lock = threading.Lock()
         self._booted = threading.Event()
         self._ended = False
-        self.proc = subprocess.Popen(argv + ["--eeprom", str(eeprom), "--lcd", "--speed", f"{speed:g}"],
+        # --end-with-stdin: a window that goes away without stopping it (a crash) closes its stdin: it ends too
+        self.proc = subprocess.Popen(argv + ["--eeprom", str(eeprom), "--lcd", "--speed", f"{speed:g}",
+                                             "--end-with-stdin"],
                                      stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                                      text=True)
         self.port = self.proc.stdout.readline().strip()
