@@ -18,13 +18,25 @@ ISR(USART_RXC_vect)
     }
 }
 
-void avr_uart_init(uint8_t ubrr)
+void avr_uart_init(uint8_t ubrr, uint8_t receive)
 {
     UCSRA = _BV(U2X);
     UBRRH = 0;
     UBRRL = ubrr;
-    UCSRB = _BV(RXEN) | _BV(TXEN) | _BV(RXCIE);
+    UCSRB = _BV(TXEN);
     UCSRC = _BV(URSEL) | _BV(UCSZ1) | _BV(UCSZ0);
+    if (receive)
+        avr_uart_receive();
+}
+
+void avr_uart_receive(void)
+{
+    UCSRB |= _BV(RXEN) | _BV(RXCIE);
+}
+
+uint8_t avr_uart_receiving(void)
+{
+    return (uint8_t)(UCSRB & _BV(RXEN));
 }
 
 int16_t hal_uart_read(void)

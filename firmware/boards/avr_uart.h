@@ -6,7 +6,10 @@
 
 #include <stdint.h>
 
-/* UBRR for double speed: F_CPU / (8 * baud) - 1, rounded by the board (its baud error is its own). */
-void avr_uart_init(uint8_t ubrr);
+/* UBRR for double speed: F_CPU / (8 * baud) - 1, rounded by the board (its baud error is its own);
+ * `receive` 0: transmit only, RXD (PD0) stays a port pin (the B6's cell 4 load) until avr_uart_receive. */
+void avr_uart_init(uint8_t ubrr, uint8_t receive);
+void avr_uart_receive(void);
+uint8_t avr_uart_receiving(void);   /* non-zero once the receiver owns RXD */
 
 #endif

@@ -32,6 +32,7 @@
 #define T_BOARD_LAST 0x3F
 #define T_TELEMETRY 0x40
 #define T_EVENT 0x41
+#define T_LCD 0x42
 #define T_ERROR 0x7F
 #define INTER_BYTE_MS 5
 #define EVENT_RING 4
@@ -667,6 +668,20 @@ void app_poll(void)
         next_telemetry_ms = now + 1000UL / telemetry_hz;
         send_telemetry();
     }
+}
+
+/* A listener on TX alone (docs/protocol.md, *Listen-only*) gets the LCD's lines too; a host that has
+ * spoken asks for what it wants, so it gets none (a 16-column line straight from the panel's copy). */
+void app_lcd(uint8_t row, const char *text)
+{
+    uint8_t k;
+    if (last.valid)
+        return;
+    tx_begin(T_LCD, device_seq++, 1 + APP_LCD_COLUMNS);
+    tx(row);
+    for (k = 0; k < APP_LCD_COLUMNS; k++)
+        tx(*text ? (uint8_t)*text++ : ' ');
+    tx_end();
 }
 
 uint8_t app_running(void) { return state == ST_RUNNING || state == ST_PAUSED; }

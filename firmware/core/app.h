@@ -36,6 +36,10 @@ uint8_t app_end_text(char *out);                    /* the end reason, ZC_TEXT_M
  * only start values; NULL when it started, else why not (in flash). */
 const char *app_start_slot(uint8_t number, uint8_t series, uint16_t current_ma);
 void app_stop(void);
+/* An LCD line (row 0/1, APP_LCD_COLUMNS characters or fewer, NUL-ended) as an unsolicited LCD frame while
+ * no host has spoken since the reset. */
+#define APP_LCD_COLUMNS 16
+void app_lcd(uint8_t row, const char *text);
 /* Ends the run on a board's protection (text in flash): output off, the events and STATUS carry
  * "protection: <text>". */
 void app_protect(const char *text);

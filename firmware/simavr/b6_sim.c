@@ -5,6 +5,7 @@
  * slows the run down, never changes what happens in it. */
 #define _DEFAULT_SOURCE
 #include <math.h>
+#include <poll.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -49,7 +50,7 @@
 static const char usage[] =
     "usage: zuml_b6_sim ELF [--eeprom FILE] [--cells N] [--capacity MAH] [--soc F] [--cell-spread MV]\n"
     "       [--seed N] [--uncalibrated] [--fault KIND@S]... [--press BUTTON@S[:HOLD]]... [--trace FILE] [--lcd]\n"
-    "       [--speed X]\n"
+    "       [--speed X] [--no-rx] [--end-with-stdin]\n"
     "KIND: disconnect reverse cell-high sensor-open sink-hot input-low hang; BUTTON: start stop inc dec\n";
 
 static const char *const button_names[4] = {"start", "stop", "inc", "dec"};   /* as b6_button[] */
@@ -68,9 +69,14 @@ static const char *eeprom_path;
 static uint8_t eeprom[EEPROM_SIZE], saved[EEPROM_SIZE];
 static timed_t faults[MAX_EVENTS], presses[MAX_EVENTS];
 static int n_faults, n_presses, lcd_on, step_count, hang_pending, refs_warned, output_was_on;
+/* 1: a USB-serial adapter's TX is wired to PD0 (RXD): the pty's bytes reach the USART and the idle line holds
+ * PD0 high; 0 (--no-rx): TX alone, as on the B6's 3-pin port; PD0 is cell 4's load, pulled low when undriven */
+static int rx_wire = 1;
+/* --end-with-stdin: stdin's end is the host's (a window that started this one and went away): stop then */
+static int end_with_stdin;
 static unsigned balancer_was;
 static FILE *trace;
-static avr_irq_t *adc_in[8], *button_pin[4];   /* looked up once: simavr walks its modules on every lookup */
+static avr_irq_t *adc_in[8], *button_pin[4], *rxd_pin;   /* looked up once: simavr walks its modules on every lookup */
 /* simavr clears its cycle timers at a reset (a watchdog's) and may zero its cycle count: the model's
  * clock goes on across it */
 static avr_cycle_count_t cycle_base, cycle_at_reset;
@@ -298,6 +304,16 @@ static void set_buttons(double now_s, int again)
     }
 }
 
+/* PD0 as the wire outside holds it while the AVR does not drive it (also after a reset, as the buttons) */
+static void set_rxd(int again)
+{
+    if (driven(B6_BAL4_LOAD))
+        return;
+    if (again)
+        avr_raise_irq(rxd_pin, !rx_wire);
+    avr_raise_irq(rxd_pin, rx_wire);
+}
+
 /* The main loop stops: the CPU is sent to an endless loop at the top of the flash while the interrupts stay
  * on, so an ISR that still runs cannot hide the hang from a watchdog fed only by the main loop. Called
  * between two avr_run()s: simavr sets the PC after its cycle timers, so a timer cannot move it. */
@@ -360,6 +376,7 @@ static avr_cycle_count_t step(struct avr_t *a, avr_cycle_count_t when, void *par
     b6_model_step(&model, (double)STEP_CYCLES / F_CPU);
     apply_faults(t);
     set_buttons(t, 0);
+    set_rxd(0);
     report_output(t);
     if (++step_count % STEPS_PER_MS == 0) {
         if (trace) {
@@ -451,6 +468,14 @@ static int parse(int argc, char **argv, options_t *o)
         }
         if (!strcmp(name, "--lcd")) {
             lcd_on = 1;
+            continue;
+        }
+        if (!strcmp(name, "--no-rx")) {
+            rx_wire = 0;
+            continue;
+        }
+        if (!strcmp(name, "--end-with-stdin")) {
+            end_with_stdin = 1;
             continue;
         }
         for (n = 0; n < sizeof known / sizeof known[0] && strcmp(name, known[n]); n++)
@@ -550,7 +575,78 @@ static void after_reset(void)
         watchdog_off();
     avr_cycle_timer_register(avr, STEP_CYCLES, step, NULL);
     set_buttons(now_s(), 1);
+    set_rxd(1);
     fprintf(stderr, "RESET|%s|%.3f\n", by_watchdog ? "watchdog" : "other", now_s());
+}
+
+/* Presses typed on stdin while the B6 runs, one a line (the window's front panel sends them): `BUTTON [HOLD]`
+ * pressed now for HOLD seconds (default 0.2); `BUTTON down`, pressed until `BUTTON up [HELD]`, which lets
+ * it go now, or once it has been held HELD simulated seconds (a host slower than the wall still sees the
+ * hold the user made). A press of a button still down (a click faster than the simulation) follows it
+ * after RELEASE_S up (a finger's pause), so the firmware sees both. BUTTON: start stop inc dec. A press
+ * that ended frees its place. */
+#define RELEASE_S 0.1
+static void press_line(char *line)
+{
+    char *arg = strchr(line, ' '), text[64];
+    timed_t press;
+    double now = now_s(), held = 0;
+    int k, up, down, last = -1;
+    if (arg)
+        *arg++ = 0;
+    up = arg && !strncmp(arg, "up", 2) && (!arg[2] || arg[2] == ' ');
+    down = arg && !strcmp(arg, "down");
+    snprintf(text, sizeof text, "%s@0%s%s", line, arg && !up && !down ? ":" : "", arg && !up && !down ? arg : "");
+    if (timed(text, button_names, 4, 1, &press) < 0 || (up && arg[2] && !number(arg + 3, 0, 1e6, &held))) {
+        fprintf(stderr, "zuml_b6_sim: not a press (BUTTON [HOLD|down|up [HELD]], BUTTON one of start stop inc "
+                        "dec): %s%s%s\n", line, arg ? " " : "", arg ? arg : "");
+        return;
+    }
+    for (k = 0; k < n_presses; k++)     /* this button's latest press that has not ended */
+        if (presses[k].what == press.what && now < presses[k].at_s + presses[k].hold_s &&
+            (last < 0 || presses[k].at_s > presses[last].at_s))
+            last = k;
+    if (up) {
+        if (last >= 0)
+            presses[last].hold_s = fmax(now - presses[last].at_s, held);
+        fprintf(stderr, "PRESS|%s|up|%.3f\n", button_names[press.what], now);
+        return;
+    }
+    if (down)
+        press.hold_s = 1e6;
+    press.at_s = last >= 0 ? presses[last].at_s + presses[last].hold_s + RELEASE_S : now;
+    for (k = 0; k < n_presses && presses[k].at_s + presses[k].hold_s >= now; k++)
+        ;
+    if (k == MAX_EVENTS)
+        return;
+    presses[k] = press;
+    if (k == n_presses)
+        n_presses++;
+    fprintf(stderr, "PRESS|%s|%.3f|%.3f\n", button_names[press.what], press.at_s, press.hold_s);
+}
+
+static void read_presses(void)
+{
+    static char line[48];
+    static size_t n;
+    struct pollfd in = {0, POLLIN, 0};
+    char c;
+    ssize_t got;
+    while (poll(&in, 1, 0) == 1 && (in.revents & (POLLIN | POLLHUP))) {
+        if ((got = read(0, &c, 1)) != 1) {
+            if (got == 0 && end_with_stdin)
+                stopping = 1;
+            return;
+        }
+        if (c != '\n') {
+            if (n < sizeof line - 1)
+                line[n++] = c;
+            continue;
+        }
+        line[n] = 0;
+        n = 0;
+        press_line(line);
+    }
 }
 
 int main(int argc, char **argv)
@@ -608,10 +704,15 @@ int main(int argc, char **argv)
     for (k = 0; k < 4; k++)
         button_pin[k] = avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(B6_PORT_LETTER(b6_button[k].port)),
                                       b6_button[k].bit);
+    rxd_pin = avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(B6_PORT_LETTER(B6_BAL4_LOAD.port)), B6_BAL4_LOAD.bit);
     avr_cycle_timer_register(avr, STEP_CYCLES, step, NULL);
     set_buttons(0, 1);
+    set_rxd(1);
     uart_pty_init(avr, &uart);
     uart_pty_connect(&uart, '0');
+    if (!rx_wire)                       /* no wire from the PC: what it sends reaches nothing */
+        avr_unconnect_irq(uart.irq + IRQ_UART_PTY_BYTE_OUT,
+                          avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_INPUT));
     {
         /* simavr sleeps the host at every poll of an empty receiver: that would tie simulated time to the wall's */
         uint32_t flags = 0;
@@ -627,9 +728,9 @@ int main(int argc, char **argv)
     signal(SIGINT, on_signal);
     printf("%s\n", uart.pty.slavename);
     fflush(stdout);
-    fprintf(stderr, "ZUML firmware on a simulated iMAX B6 (simavr): %s, %d-cell LiPo, seed %llu, %s, EEPROM %s\n",
+    fprintf(stderr, "ZUML firmware on a simulated iMAX B6 (simavr): %s, %d-cell LiPo, seed %llu, %s, EEPROM %s, %s\n",
             argv[1], o.cells, (unsigned long long)o.seed, o.calibrated ? "calibrated" : "uncalibrated",
-            eeprom_path ? eeprom_path : "in memory");
+            eeprom_path ? eeprom_path : "in memory", rx_wire ? "receive wire on PD0" : "TX only (no receive wire)");
     start = wall_s();
     while (!stopping) {
         /* a simulated millisecond at a time: the wall's clock is read once per ms, not per instruction */
@@ -645,6 +746,7 @@ int main(int argc, char **argv)
         }
         if (reset_seen)
             after_reset();
+        read_presses();
         if (hang_pending)
             hang_now();
         sim = now_s();

@@ -61,6 +61,7 @@ def test_a_start_the_firmware_refuses_is_one_line(firmware_port, zuml):
 @pytest.mark.parametrize("args, message", [
     (["--board", "atmega32", "--lcd"], "--lcd is for --board imaxb6"),
     (["--board", "host", "--fault", "hang@1"], "--fault is for --board imaxb6"),
+    (["--board", "atmega32", "--no-rx"], "--no-rx is for --board imaxb6"),
     (["--board", "imaxb6", "--fault", "melt@1"], "--fault melt@1: expected NAME@SECONDS, NAME one of disconnect"),
     (["--board", "imaxb6", "--fault", "hang@1:2"], "--fault hang@1:2: expected NAME@SECONDS,"),
     (["--board", "imaxb6", "--press", "start@1:x"], "--press start@1:x: expected NAME@SECONDS[:HOLD]"),
@@ -91,3 +92,25 @@ def test_the_simulated_b6_takes_its_options_through_the_cli(tmp_path):
         proc.terminate()
         proc.wait(timeout=30)
     assert (tmp_path / "ee.bin").read_bytes()[970:1024] == b"\xff" * 54
+
+
+@pytest.mark.skipif(bool(simavr_missing()), reason=f"{simavr_missing()} missing: no simulated B6 ({INSTALL})")
+def test_no_rx_through_the_cli_is_a_b6_heard_on_its_tx_alone(tmp_path):
+    """`zuml firmware-sim --board imaxb6 --no-rx` reaches the simulator: it says it has no receive wire (what
+    that means for the firmware: tests/firmware/test_fw_b6_txonly.py)."""
+    proc = subprocess.Popen([sys.executable, "-m", "zuml_studio.cli.main", "firmware-sim", "--board", "imaxb6",
+                             "--speed", "0", "--lcd", "--no-rx"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True)
+    try:
+        assert proc.stdout.readline().startswith("/dev/")
+        said = []
+        for line in proc.stderr:
+            said.append(line)
+            if line.startswith("LCD|") and "ready Vin" in line:
+                break
+        else:
+            raise AssertionError("the simulator ended before its idle screen")
+    finally:
+        proc.terminate()
+        proc.wait(timeout=30)
+    assert any("TX only (no receive wire)" in line for line in said)

@@ -24,7 +24,7 @@ STREAMS = {
 
 
 def test_registry():
-    assert set(DRIVERS) == {"cheali", "icharger", "imaxb6", "ultramat", "skyrc", "icharger-hid", "isdt"}
+    assert set(DRIVERS) == {"cheali", "icharger", "imaxb6", "ultramat", "zuml-tx", "skyrc", "icharger-hid", "isdt"}
     assert all(d.monitor_only for d in DRIVERS.values())
     assert DRIVERS["cheali"].baud == 57600 and DRIVERS["icharger"].baud == 128000 and 9600 in DRIVERS["icharger"].bauds
     assert DRIVERS["imaxb6"].baud == DRIVERS["ultramat"].baud == 9600
@@ -43,7 +43,7 @@ def test_decode_capture_hex_dump_and_refusal():
     dump = "# a dump\nRX " + ICHARGER_HID_REPORT[:32].hex(" ") + "\nTX 0f 03 55 00 55 ff ff\n"
     assert hex_dump_reports(dump.encode()) == ICHARGER_HID_REPORT
     assert decode_capture(dump.encode())[0] == "icharger-hid"
-    with pytest.raises(CaptureError, match="tried cheali, icharger, imaxb6, ultramat, skyrc, icharger-hid, isdt"):
+    with pytest.raises(CaptureError, match="tried cheali, icharger, imaxb6, ultramat, zuml-tx, skyrc, icharger-hid, isdt"):
         decode_capture(b"hello, this is not a charger\n" * 10)
     name, samples, bad = decode_capture(b"garbage", "cheali")          # a forced driver reports, never guesses
     assert (name, samples) == ("cheali", [])
@@ -81,7 +81,7 @@ def test_baud_sweep_moves_on_junk_or_time_and_names_what_it_tried():
     assert sweep.advance(104.6, b"\x81" * 250)                               # many bytes, no record
     while not sweep.done:
         sweep.advance(200.0, b"\x00" * 500)
-    assert "tried cheali, icharger, imaxb6, ultramat at 9600, 57600, 128000" in sweep.message("/dev/x", Detector())
+    assert "tried cheali, icharger, imaxb6, ultramat, zuml-tx at 9600, 57600, 128000" in sweep.message("/dev/x", Detector())
     assert usual_bauds()[:3] == (57600, 128000, 9600)
 
 
@@ -144,7 +144,7 @@ def test_memory_is_bounded_without_terminators(name):
         dec.feed(b"$1;1;" + b"7" * 997)
         dec.feed(b"\x0c" + b"A" * 999)
         dec.feed(b"{" + b"\x81" * 999)
-    assert len(dec._buf) <= dec.max_record
+    assert dec.pending <= dec.max_record
 
 
 def _mutate(data: bytes, rng: random.Random) -> bytes:
@@ -178,7 +178,7 @@ def test_fuzzed_streams_never_raise_and_never_invent_values(seed, cut, driver, s
     for i in range(0, len(data), cut):
         for t in dec.feed(data[i:i + cut]):
             assert 0 <= t.voltage_v < 70 and abs(t.current_a) < 400 and t.time_s >= 0
-    assert len(dec._buf) <= dec.max_record
+    assert dec.pending <= dec.max_record
 
 
 @pytest.mark.parametrize("name", list(STREAMS))

@@ -54,8 +54,8 @@ class B6:
     """One zuml_b6_sim process; `port` its pty, `lines` what it said on stderr so far."""
 
     def __init__(self, elf: Path, *args: str):
-        self.proc = subprocess.Popen([str(B6_SIM), str(elf), *map(str, args)], stdout=subprocess.PIPE,
-                                     stderr=subprocess.PIPE, text=True)
+        self.proc = subprocess.Popen([str(B6_SIM), str(elf), *map(str, args)], stdin=subprocess.PIPE,
+                                     stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         self.port = self.proc.stdout.readline().rstrip("\n")
         self.lines: list[str] = []
         self.changed = threading.Condition()
@@ -84,6 +84,11 @@ class B6:
                     return k, self.lines[k]
         raise AssertionError(f"the simulator ended before {predicate!r}: {self.lines[-10:]}")
 
+    def press(self, button: str, hold_s: float = 0.2) -> None:
+        """A front-panel button pressed now, live (the simulator's stdin; it answers PRESS|…)."""
+        self.proc.stdin.write(f"{button} {hold_s}\n")
+        self.proc.stdin.flush()
+
     def ask(self, request: str) -> str:
         """One probe request on the pty (tests/firmware/b6_probe.c), its answer line."""
         if self.fd is None:
@@ -97,6 +102,8 @@ class B6:
         return answer.decode().strip()
 
     def stop(self) -> None:
+        if self.proc.stdin and not self.proc.stdin.closed:
+            self.proc.stdin.close()
         if self.fd is not None:
             os.close(self.fd)
             self.fd = None

@@ -14,7 +14,7 @@ from typing import Iterator
 
 from ..device import messages as msg
 from ..device.client import DEFAULT_BAUD, ChargerClient, DeviceInfo, check_image
-from ..device.drivers import AUTO, DRIVERS, ZUML
+from ..device.drivers import AUTO, DRIVERS, LISTEN, ZUML
 from ..device.errors import (CommitUncertain, CommitUnverified, DeviceError, DeviceLinkError, ImageTooLarge,
                              NotACharger)
 from ..device.passport import FACTORY_WRITABLE, WRITABLE, Passport, PassportError, fitness_warnings, printable
@@ -139,8 +139,9 @@ def _device_errors(fn):
         except DeviceError as exc:
             raise CliError(_("the charger refused: {exc}").format(exc=exc), 1) from None
         except NotACharger as exc:        # most often a charger with its own firmware, which is only watched
-            raise CliError(_("{exc}; a charger without ZUML firmware (cheali, iCharger, iMAX B6, Ultramat…) is only "
-                             "monitored: zuml monitor --port {port} --driver auto").format(
+            raise CliError(_("{exc}; a charger without ZUML firmware (cheali, iCharger, iMAX B6, Ultramat…), or a "
+                             "B6 with it heard on its TX alone, is only monitored: zuml monitor --port {port} "
+                             "--driver auto").format(
                     exc=exc, port=args.port), 1) from None
         except DeviceLinkError as exc:
             raise CliError(str(exc), 1) from None
@@ -190,6 +191,7 @@ def cmd_slots(args: argparse.Namespace) -> int:
         image = client.read_image()
         found = _slots_or_error(image)
         checks = slot_checks(client, found)
+    out(_identity(client.info))         # which charger; a B6 with a receive wire says cell 4 is not balanced
     out(f"{'#':>3}  {'offset':>6}  {'size':>4}  {'name':<16}  {'chemistry':<9}  check")
     for s, check in zip(found, checks):
         out(f"{s.index:>3}  {s.offset:>6}  {len(s.record):>4}  {s.name:<16}  {_chemistry(s):<9}  {check}")
@@ -512,9 +514,9 @@ def _monitor_charger(args: argparse.Namespace) -> int:
     if args.driver not in (AUTO,) + tuple(DRIVERS):
         raise CliError(_("--driver {driver}: choose {zuml}, {auto} or one of {drivers}").format(
                 driver=args.driver, zuml=ZUML, auto=AUTO, drivers=', '.join(DRIVERS)))
-    if args.rate is not None or args.until_end:
-        raise CliError(_("--rate and --until-end need a ZUML charger; a monitor-only charger sends at its own "
-                         "pace"))
+    if args.rate is not None or (args.until_end and args.driver != LISTEN):
+        raise CliError(_("--rate and --until-end need a ZUML charger ({until_end} also with --driver {listen}); a "
+                         "monitor-only charger sends at its own pace").format(until_end="--until-end", listen=LISTEN))
     if not args.port:
         raise CliError(_("give the port: --port /dev/ttyUSB0 (see `zuml ports`)"))
     log = None
@@ -527,7 +529,8 @@ def _monitor_charger(args: argparse.Namespace) -> int:
     try:
         link = MonitorLink(args.port, args.driver, args.baud, on_sample=lambda t: feed.put(("sample", t)),
                            on_status=lambda s: feed.put(("status", s)),
-                           on_closed=lambda e: feed.put(("closed", e)))
+                           on_closed=lambda e: feed.put(("closed", e)),
+                           on_extra=lambda kind, item: feed.put((kind, item)))
     except DeviceLinkError as exc:
         if log:
             log.close()
@@ -548,6 +551,14 @@ def _monitor_charger(args: argparse.Namespace) -> int:
             elif kind == "status":
                 sys.stderr.write(f"{item}\n")
                 sys.stderr.flush()
+            elif kind == "event":
+                out(event_line(item))
+                if log:
+                    log.add_event(item)
+                if args.until_end and item.kind == "finish":
+                    break
+            elif kind == "lcd":
+                out(lcd_line(item))
             else:
                 error = item
                 break
@@ -583,6 +594,11 @@ def _monitor_charger(args: argparse.Namespace) -> int:
         sys.stderr.write(_("zuml: error: session CSV: {error}\n").format(error=log.error))
         return 1
     return 0
+
+
+def lcd_line(lines: tuple[str, str]) -> str:
+    """The charger's display as it heard it (the ZUML firmware's listen-only stream)."""
+    return "LCD |{0:<16}|{1:<16}|".format(*lines)
 
 
 def _cells_text(t: msg.Telemetry) -> str:

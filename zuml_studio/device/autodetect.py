@@ -20,8 +20,9 @@ JUNK_BYTES = 200                 # this many bytes at one baud without a record:
 MAX_HELD = 1000                  # samples a losing candidate keeps while detection goes on
 BURST_GAP_S = 0.25               # quiet that ends a burst (a line, a frame)
 MIN_BURST = 8                    # a shorter burst says nothing about the baud
-# The start of a record of any serial driver: a $-line, an iMAX B6 frame, an Ultramat frame.
-RECORD_START = re.compile(rb"\$[123];|\{[\x80-\xff]{8}|\x0c[0-9A-Fa-f]{8}")
+# The start of a record of any serial driver: a $-line, an iMAX B6 frame, an Ultramat frame, a ZUML
+# firmware's unasked frame (sync, length, TELEMETRY/EVENT/LCD).
+RECORD_START = re.compile(rb"\$[123];|\{[\x80-\xff]{8}|\x0c[0-9A-Fa-f]{8}|\xa5[\x0e-\xfa][\x40-\x42]")
 
 
 def usual_bauds() -> tuple[int, ...]:

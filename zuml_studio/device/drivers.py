@@ -2,7 +2,8 @@
 
 Each driver module (``cheali``, ``icharger_logview``, …) has ``decoder()`` returning a
 ``StreamDecoder``. These chargers cannot run ZUML macros: every driver here is
-``monitor_only`` (the panel disables Flash and Start and says why). ``zuml`` is our own
+``monitor_only`` (the panel disables Flash and Start and says why). ``zuml-tx`` is the ZUML
+firmware heard on its TX alone (an iMAX B6 with no receive wire: its macros start from its buttons). ``zuml`` is our own
 protocol (``ChargerClient``), listed so a port chooser can offer it beside the others.
 """
 from __future__ import annotations
@@ -18,6 +19,7 @@ from .stream_decoder import StreamDecoder
 
 AUTO = "auto"
 ZUML = "zuml"
+LISTEN = "zuml-tx"          # the ZUML firmware heard on its TX alone (zuml_stream)
 
 
 @dataclass(frozen=True)
@@ -46,6 +48,7 @@ DRIVERS: dict[str, Driver] = {d.name: d for d in (
     Driver("icharger", "Junsi iCharger (106B/206B/208B/306B/3010B)", "icharger_logview", 128000, (9600,), "serial"),
     Driver("imaxb6", N_("iMAX B6 / e-Station (original firmware)"), "imaxb6_serial", 9600, (), "serial"),
     Driver("ultramat", "Graupner Ultramat / Ultra Duo Plus", "ultramat", 9600, (), "serial"),
+    Driver(LISTEN, N_("iMAX B6 (ZUML firmware), listening on its TX"), "zuml_stream", 57600, (), "serial"),
     Driver("skyrc", "SkyRC USB (B6 mini, B6AC v2, Q200)", "skyrc_hid", None, (), "hid"),
     Driver("icharger-hid", "Junsi iCharger DUO/X (USB)", "icharger_hid", None, (), "hid"),
     Driver("isdt", "ISDT (C4, A4, Q8) USB", "isdt_hid", None, (), "hid"),

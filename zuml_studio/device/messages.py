@@ -127,6 +127,8 @@ MESSAGE_TYPES: tuple[MessageType, ...] = (
     MessageType(0x41, "EVENT", None, _f(
         "number:I time_ms:I kind:B section:B index:B repetition:B offset:H detail:u*"),
         "something happened: a phase started or ended (with its reason), pause, resume, music, ..."),
+    MessageType(0x42, "LCD", None, _f("row:B text:u*"),
+                "a line of the charger's display (row 0 or 1), sent only while no host has spoken (listen-only)"),
     MessageType(0x7F, "ERROR", None, _f("request_type:B code:B message:u*"),
                 "the request could not be served: its type, an ErrorCode, a message"),
 )
@@ -142,7 +144,7 @@ IDENTIFY, READ_EEPROM, BEGIN_WRITE, WRITE_STAGE, COMMIT, ABORT = (BY_NAME[n].cod
     "IDENTIFY", "READ_EEPROM", "BEGIN_WRITE", "WRITE_STAGE", "COMMIT", "ABORT"))
 START, STOP, STATUS, SET_TELEMETRY_RATE, GET_EVENT, PASSPORT = (BY_NAME[n].code for n in (
     "START", "STOP", "STATUS", "SET_TELEMETRY_RATE", "GET_EVENT", "PASSPORT"))
-TELEMETRY, EVENT, ERROR = 0x40, 0x41, 0x7F
+TELEMETRY, EVENT, LCD, ERROR = 0x40, 0x41, 0x42, 0x7F
 
 FLAG_RUNNING, FLAG_PAUSED, FLAG_SENSOR = 1, 2, 4
 

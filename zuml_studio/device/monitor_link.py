@@ -3,8 +3,9 @@ from a USB-HID device), runs them through the driver's decoder (detecting the dr
 for ``auto``) and hands samples over. No Qt: ``zuml monitor`` and the device panel share it.
 
 Callbacks run on the reader thread: ``on_sample(Telemetry)``, ``on_status(text)`` (the
-charger was recognised, the baud changed, …) and ``on_closed(error_text | None)`` once at
-the end. ``good``/``bad`` count the decoder's records; ``driver`` is the driver in use
+charger was recognised, the baud changed, …), ``on_extra(kind, item)`` for what a charger says
+besides samples (the ZUML firmware's events and display lines: ``StreamDecoder.take_extras``) and
+``on_closed(error_text | None)`` once at the end. ``good``/``bad`` count the decoder's records; ``driver`` is the driver in use
 (None while detecting).
 """
 from __future__ import annotations
@@ -27,6 +28,7 @@ class MonitorLink:
                  on_sample: Callable[[Telemetry], None] | None = None,
                  on_status: Callable[[str], None] | None = None,
                  on_closed: Callable[[str | None], None] | None = None,
+                 on_extra: Callable[[str, object], None] | None = None,
                  give_up: bool = True):
         from .hid_link import PREFIX
         self.port = port
@@ -40,6 +42,7 @@ class MonitorLink:
         self._on_sample = on_sample or (lambda t: None)
         self._on_status = on_status or (lambda s: None)
         self._on_closed = on_closed or (lambda e: None)
+        self._on_extra = on_extra or (lambda kind, item: None)
         self.driver: Driver | None = None if driver == AUTO else DRIVERS[driver]
         self._decoder = self.driver.decoder() if self.driver else None
         self._detector: Detector | None = None
@@ -131,6 +134,8 @@ class MonitorLink:
         for s in samples:
             self.samples += 1
             self._on_sample(s)
+        for kind, item in self._decoder.take_extras():
+            self._on_extra(kind, item)
 
     def _run_serial(self) -> None:
         dev = self._dev

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 from ..i18n import _
 
 VIRTUAL = "virtual"
+SIMULATED_B6 = "simulated-b6"      # the window's simulated iMAX B6 (device/simulated_b6.py)
 
 
 @dataclass(frozen=True)

@@ -5,7 +5,7 @@ this off the GUI thread or on a slow timer (>= 1 s)."""
 from __future__ import annotations
 
 from ..i18n import N_, _
-from .port_info import VIRTUAL, PortInfo
+from .port_info import SIMULATED_B6, VIRTUAL, PortInfo  # noqa: F401 - the names callers take from here
 
 # Its description is shown through _() (PortInfo.label), so the list follows the installed language.
 VIRTUAL_PORT = PortInfo(VIRTUAL, N_("built-in virtual charger (the simulator behind the protocol)"), virtual=True)

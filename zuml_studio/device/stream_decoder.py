@@ -65,6 +65,16 @@ class StreamDecoder:
     def feed(self, data: bytes) -> list[Telemetry]:
         raise NotImplementedError
 
+    @property
+    def pending(self) -> int:
+        """Bytes held for a record not complete yet (at most ``max_record``)."""
+        return len(self._buf)
+
+    def take_extras(self) -> list[tuple[str, object]]:
+        """What the charger said besides samples since the last call: ``("event", DeviceEvent)`` and
+        ``("lcd", (line1, line2))`` (the ZUML firmware's listen-only stream); none for the others."""
+        return []
+
     def sample(self, r: Reading) -> Telemetry:
         key = (r.state, r.section)
         if r.running and key != self._key:

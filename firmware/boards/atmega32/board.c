@@ -181,7 +181,7 @@ int main(void)
     OCR0 = 249;
     TIMSK |= _BV(OCIE0);
     /* USART: 115200 8N1, double speed */
-    avr_uart_init((uint8_t)(F_CPU / (8UL * BAUD) - 1));
+    avr_uart_init((uint8_t)(F_CPU / (8UL * BAUD) - 1), 1);
     /* Timer1: fast PWM, 10 bit, OC1A and OC1B */
     DDRD |= _BV(PD4) | _BV(PD5);
     TCCR1A = _BV(COM1A1) | _BV(COM1B1) | _BV(WGM11) | _BV(WGM10);

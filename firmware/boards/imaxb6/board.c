@@ -207,9 +207,19 @@ const char *hal_run_start(const uint8_t *rec, uint8_t akk_type, int16_t series, 
     return 0;
 }
 
+/* PD0 is cell 4's load or, when a USB-serial adapter's TX is wired to it, the PC's receive line
+ * (docs/firmware.md, Line). While cell 4 does not bleed PD0 is an input; an adapter's TX idles high, so
+ * PD0 high while undriven since the last round is that wire: the receiver takes PD0 until the reset
+ * and cell 4 is not balanced (its load follows the adapter's line, which no firmware can stop). */
+static void find_receive_wire(void)
+{
+    if (!avr_uart_receiving() && !(DDRD & _BV(B6_BAL4)) && (PIND & _BV(B6_BAL4)))
+        avr_uart_receive();
+}
+
 /* The balancer (docs/firmware.md): in a Li charge, once its cells are on the charged part of their
  * curve (the highest within 600 mV of the chemistry's maximum) or the pack holds its voltage, the cells
- * above the lowest bleed; cell 4's switch is the USART's RXD, which the PC link needs: never driven. */
+ * above the lowest bleed; cell 4 too unless PD0 is the receive line (find_receive_wire). */
 static void balance(void)
 {
     uint8_t n = protect_limits.li_cells, k, mask = 0;
@@ -230,9 +240,14 @@ static void balance(void)
                 mask |= (uint8_t)(1 << k);
         }
     }
-    balancing = (uint8_t)(mask & ~(1 << 3));
+    find_receive_wire();
+    balancing = (uint8_t)(avr_uart_receiving() ? mask & ~(1 << 3) : mask);
     /* atomic: the ADC interrupt drives the disable lines on the same ports (a trip must not be undone) */
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
+        if (!avr_uart_receiving()) {     /* cell 4's load: driven high to bleed, else an input (above) */
+            PORTD = (uint8_t)((PORTD & ~_BV(B6_BAL4)) | (balancing & 8 ? _BV(B6_BAL4) : 0));
+            DDRD = (uint8_t)((DDRD & ~_BV(B6_BAL4)) | (balancing & 8 ? _BV(B6_BAL4) : 0));
+        }
         PORTC = (uint8_t)((PORTC & ~(_BV(B6_BAL1) | _BV(B6_BAL2))) | (balancing & 1 ? _BV(B6_BAL1) : 0) |
                           (balancing & 2 ? _BV(B6_BAL2) : 0));
         PORTA = (uint8_t)((PORTA & ~_BV(B6_BAL3)) | (balancing & 4 ? _BV(B6_BAL3) : 0));
@@ -434,7 +449,8 @@ static void watch(void)
 int main(void)
 {
     static const char model[] PROGMEM = "iMAX B6 (ZUML firmware)";
-    static const char firmware[] PROGMEM = "zuml-fw 0.2 imaxb6";
+    /* only a host on the receive wire asks (find_receive_wire), so this always holds when it is read */
+    static const char firmware[] PROGMEM = "zuml-fw 0.2 imaxb6 (RX on PD0: cell 4 not balanced)";
     static const app_board_t board = {
         model, firmware, B6_CHARGE_MA, (uint16_t)(B6_CHARGE_MW / 100), B6_DISCHARGE_MA,
         (uint16_t)(B6_DISCHARGE_MW / 100), B6_MAX_MV, 8500,
@@ -452,7 +468,7 @@ int main(void)
     TCCR0 = _BV(WGM01) | _BV(CS01) | _BV(CS00);
     OCR0 = 249;
     TIMSK |= _BV(OCIE0);
-    avr_uart_init(UBRR_57600);
+    avr_uart_init(UBRR_57600, PIND & _BV(B6_BAL4));   /* PD0 an input since the reset: find_receive_wire */
     for (k = 0; k < CAL_BLOCK; k++)
         block[k] = eeprom_read_byte((const uint8_t *)(STORE_EEPROM + k));
     calibrated = cal_use(block);

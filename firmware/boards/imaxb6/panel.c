@@ -4,6 +4,7 @@
 #include "../../core/pgm.h"
 #include "../../core/store.h"
 #include "../../core/text.h"
+#include "../avr_uart.h"
 #include "lcd.h"
 #include "panel.h"
 #include "pins.h"
@@ -15,6 +16,7 @@
 #define START_HOLD_MS 500        /* START held this long starts a run: a brush does not */
 #define SHOW_MS 250
 #define SCROLL_MS 500
+#define LCD_FRAME_MS 2000        /* both lines go out again this often: a listener that joins late */
 
 static uint8_t keys, raw_last, steady, sel;
 static uint32_t key_ms, show_ms, start_down_ms;
@@ -103,6 +105,7 @@ static void show(uint8_t row, const char *text)
     if (strncmp(shown[row], text, LCD_COLUMNS) != 0) {
         strncpy(shown[row], text, LCD_COLUMNS);
         lcd_line(row, text);
+        app_lcd(row, shown[row]);
     }
 }
 
@@ -149,6 +152,8 @@ static void idle_screen(uint32_t now, uint8_t calibrated)
         p = put_milli(p, protect_latest[CAL_VIN], 2, 2);
         *p++ = 'V';
         *p = 0;
+        if (avr_uart_receiving())        /* PD0 is the PC's receive line (docs/firmware.md, Line) */
+            strcpy_P(p, PSTR(" cell 4 not balanced"));
     }
     show_long(1, line, now);
 }
@@ -238,6 +243,10 @@ void panel_poll(uint32_t now, uint8_t calibrated)
     }
     if (now - show_ms < SHOW_MS && !pressed)
         return;
+    if (now / LCD_FRAME_MS != show_ms / LCD_FRAME_MS) {
+        app_lcd(0, shown[0]);
+        app_lcd(1, shown[1]);
+    }
     show_ms = now;
     state = app_state();
     if (state == APP_RUNNING || state == APP_PAUSED)

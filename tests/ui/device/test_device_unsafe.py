@@ -111,7 +111,7 @@ def test_every_path_refuses_the_same_unsafe_macro(make_window, make_charger, qtb
     code, out, err = cli(capsys, "templates", "set", "--port", port, 2, "--capacity", 2000, "--current", 1,
                          "--series", 4)
     assert code == 0, err
-    assert "ok" in cli(capsys, "slots", "--port", port)[1].splitlines()[1]
+    assert "ok" in cli(capsys, "slots", "--port", port)[1].splitlines()[2]
     code, out, err = cli(capsys, "templates", "set", "--port", port, 2, "--series", 3)
     assert code == 1 and "slot 0 (Walk): E303" in err and "4.50 V per cell" in err
     with ChargerClient(port) as client:

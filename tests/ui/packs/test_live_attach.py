@@ -78,3 +78,46 @@ def test_no_pack_is_remembered_and_a_closed_question_asks_again(qtbot, panel):
         packs.ask_again_button.click()
     assert "1 charger will be asked again" in said.args[0]
     assert attachment(book, live._where()[0]) == (False, None)
+
+
+def _b6_on_its_tx() -> bytes:
+    """What a B6 with the ZUML firmware sends on its TX alone during a short run started on its buttons."""
+    from zuml_studio.device import messages as m
+    from zuml_studio.device.frames import encode_frame
+
+    def tel(t, running, mah):
+        return encode_frame(m.TELEMETRY, 0, m.Telemetry(
+            time_s=t, task="charge", section="charge" if running else "", repetition=1 if running else 0, cycle=0,
+            phase=1 if running else 0, run=1 if running else 0, running=running, paused=False, sensor=False,
+            voltage_v=12.0 + t / 100, current_a=1.0 if running else 0.0, temp_c=None, heatsink_c=25.0,
+            mah_in=mah, mah_out=0.0).encode())
+
+    def event(number, t, kind, detail=""):
+        return encode_frame(m.EVENT, 0, m.DeviceEvent(number, t, kind, "charge", 1 if "phase" in kind else 0, 1,
+                                                      -1, detail).encode())
+
+    lcd = encode_frame(m.LCD, 0, b"\x001 Bench" + b" " * 9)
+    stream = lcd + tel(0, False, 0) + event(0, 0, "section") + event(1, 0, "phase_start")
+    stream += b"".join(tel(t, True, t * 0.28) for t in range(1, 30))
+    stream += event(2, 30, "phase_end", "IF(V>4.1S) STOP_FAZE") + event(3, 30, "finish", "end of macro")
+    return stream + b"".join(tel(30 + t, False, 8.4) for t in range(1, 4))
+
+
+def test_a_run_started_on_a_b6_heard_on_its_tx_is_recorded_in_its_pack(qtbot, panel, tmp_path):
+    book = Logbook()
+    pack = add_pack(book, "Bench LiPo", "LiPo", 3, 2000)
+    live = LiveAttach(panel)
+    asked = []
+    live.ask = lambda parent, packs, where: asked.append(where) or packs[0]
+    capture = tmp_path / "b6-tx.bin"
+    capture.write_bytes(_b6_on_its_tx())
+    with qtbot.waitSignal(live.recorded, timeout=WAIT_MS) as recorded:
+        assert panel.replay(capture, speed=20)
+    assert recorded.args[0].status == "added", recorded.args[0].message
+    assert len(asked) == 1 and asked[0].startswith("port ")
+    [session] = pack_sessions(book, pack)
+    assert session.figures.charge_in_mah and session.figures.charge_in_mah > 0
+    # the panel showed what the charger sent: its display, the phase with its end reason
+    assert panel.front_panel.isVisible() and panel.front_panel.text() == ("1 Bench", "")
+    qtbot.waitUntil(lambda: any(p.closed and p.reason == "IF(V>4.1S) STOP_FAZE" for p in panel.plot.phases()),
+                    timeout=WAIT_MS)

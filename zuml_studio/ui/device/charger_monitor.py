@@ -10,7 +10,7 @@ from typing import Callable
 
 from PySide6.QtCore import QObject, Signal
 
-from ...device.drivers import AUTO, DRIVERS
+from ...device.drivers import AUTO, DRIVERS, LISTEN
 from ...device.errors import DeviceLinkError
 from ...device.monitor_link import MonitorLink
 from ...file_errors import FileReadError, read_file_bytes
@@ -21,6 +21,9 @@ from ...logs.model import connected_cells
 
 def monitor_reason(title: str) -> str:
     """Why Flash and Start are off for the charger named ``title``."""
+    if title == _(DRIVERS[LISTEN].title):
+        return _("{title}: nothing reaches it from here (it has no receive line): its macros start from its "
+                 "buttons and go in through the ISP programmer").format(title=title)
     return _("{title} cannot run ZUML macros: it is monitor-only").format(title=title)
 
 
@@ -30,10 +33,12 @@ class ChargerMonitor(QObject):
     message = Signal(str, str)         # text, kind
     placeholder = Signal(str)          # what the empty plot says
     ended = Signal(str, str)           # the link is gone: error ("" if asked for), its counts
+    lcdChanged = Signal(str, str)      # the charger's display, where its stream carries it (zuml-tx)
 
-    def __init__(self, on_sample: Callable, parent: QObject | None = None):
+    def __init__(self, on_sample: Callable, parent: QObject | None = None, on_event: Callable | None = None):
         super().__init__(parent)
         self._on_sample = on_sample
+        self._on_event = on_event or (lambda event: None)
         self.link: MonitorLink | None = None
         self._stop_replay: Callable | None = None     # stops the in-process replay behind the port
         self.status.connect(self._said)
@@ -43,7 +48,8 @@ class ChargerMonitor(QObject):
         """Open and start reading; returns "" or why it could not open."""
         try:
             self.link = MonitorLink(port, driver, baud, on_sample=self._on_sample, on_status=self.status.emit,
-                                    on_closed=lambda error: self.closed.emit(error or ""), give_up=False)
+                                    on_closed=lambda error: self.closed.emit(error or ""), on_extra=self._extra,
+                                    give_up=False)
         except DeviceLinkError as exc:
             self.link = None
             return str(exc)
@@ -70,6 +76,13 @@ class ChargerMonitor(QObject):
         if self.link.driver is None:
             self.placeholder.emit(_("listening: a charger sends while a program runs"))
         return True
+
+    def _extra(self, kind: str, item) -> None:
+        """On the reader thread: an event goes where a ZUML charger's go (no Qt), the display as a signal."""
+        if kind == "event":
+            self._on_event(item)
+        elif kind == "lcd":
+            self.lcdChanged.emit(*item)
 
     def is_monitoring(self) -> bool:
         """A monitor-only charger's link is open (or still being recognised)."""

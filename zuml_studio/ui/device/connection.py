@@ -1,5 +1,6 @@
 """The device panel's link to a charger: a QObject that owns the ``ChargerClient`` (and the
-built-in virtual charger, when that is what the user picked) and one worker QThread.
+built-in virtual charger or the simulated iMAX B6, when that is what the user picked) and one
+worker QThread.
 
 Every blocking call (open + IDENTIFY, reads, writes, START, the passport…) runs on the
 worker thread, one at a time in the order asked; its result or its error comes back to
@@ -28,6 +29,7 @@ from ...device.client import ChargerClient, DeviceInfo
 from ...device.errors import (CommitUncertain, CommitUnverified, DeviceError, DeviceLinkError, DeviceTimeout, Disconnected, ImageTooLarge,
                               InvalidImage, NotACharger, PermissionDenied, PortBusy, PortNotFound, VerifyFailed)
 from ...device.flashing import ImageFull, SlotOutOfRange
+from ...device.ports import SIMULATED_B6
 from ...file_errors import FileReadError
 from ...i18n import _
 from ...lang.eeprom import ImageError
@@ -75,6 +77,7 @@ class Opened:
     info: DeviceInfo
     virtual: VirtualSpec | None
     telemetry_hz: int
+    simulated_b6: bool = False          # the window's simulated iMAX B6: its front panel is drawn
 
 
 class _Worker(QObject):
@@ -105,6 +108,7 @@ class DeviceConnection(QObject):
     progress = Signal(str, int, int)    # stage, done, total of the running job
     _submit = Signal(int, object)
     _lost = Signal(object, object)      # client, error (from the reader thread)
+    lcdChanged = Signal(str, str)       # the simulated B6's display (from its reader thread)
 
     def __init__(self, on_telemetry: Callable | None = None, on_event: Callable | None = None,
                  parent: QObject | None = None):
@@ -117,6 +121,7 @@ class DeviceConnection(QObject):
         self._client: ChargerClient | None = None
         self._device = None             # the built-in VirtualCharger
         self._stop_virtual: Callable[[], None] | None = None
+        self._b6 = None                 # the simulated iMAX B6 (device.simulated_b6.SimulatedB6)
         self._jobs: dict[int, tuple[Callable | None, Callable | None]] = {}
         self._ids = itertools.count(1)
         self._closing = False
@@ -208,21 +213,31 @@ class DeviceConnection(QObject):
 
     # -- connect / disconnect -----------------------------------------------------------------
     def open(self, url: str, baud: int = 115200, virtual: VirtualSpec | None = None,
-             telemetry_hz: int = DEFAULT_TELEMETRY_HZ) -> bool:
+             telemetry_hz: int = DEFAULT_TELEMETRY_HZ, b6_eeprom: Path | None = None) -> bool:
         """Connect in the background: ``connected(Opened)`` or ``connectFailed(message)``.
-        ``virtual``: create the built-in virtual charger first and connect to its port."""
+        ``virtual``: create the built-in virtual charger first and connect to its port; ``url``
+        SIMULATED_B6: start the simulated iMAX B6 on the EEPROM file ``b6_eeprom`` first."""
         if self.state != "disconnected" or self._closing:
             return False
         self.state = "connecting"
 
         def job(progress):
-            return self._open(url, int(baud), virtual, int(telemetry_hz))
+            return self._open(url, int(baud), virtual, int(telemetry_hz), b6_eeprom)
 
         self.submit(job, self._opened, self._open_failed)
         return True
 
-    def _open(self, url: str, baud: int, virtual: VirtualSpec | None, hz: int) -> Opened:
+    def _open(self, url: str, baud: int, virtual: VirtualSpec | None, hz: int, b6_eeprom: Path | None) -> Opened:
         device = stop = None
+        simulated = url == SIMULATED_B6
+        if simulated:
+            from ...device.simulated_b6 import BAUD, SimulatedB6
+            if b6_eeprom is None:
+                raise ValueError(_("the simulated iMAX B6 needs a file for its EEPROM"))
+            b6 = SimulatedB6(b6_eeprom, on_lcd=self.lcdChanged.emit)
+            with self._res_lock:
+                self._b6 = b6
+            url, baud = b6.port, BAUD
         if virtual is not None:
             from ...device.transport import serve
             from ...device.virtual_charger import VirtualCharger
@@ -260,7 +275,7 @@ class DeviceConnection(QObject):
             hz = client.set_telemetry_rate(max(1, min(50, hz)))
         except DeviceError:
             pass            # a charger that keeps its own rate is still a charger
-        return Opened(url, client.info, virtual, hz)
+        return Opened(url, client.info, virtual, hz, simulated)
 
     def _opened(self, opened: Opened) -> None:
         client = self._client
@@ -321,8 +336,10 @@ class DeviceConnection(QObject):
 
     def _drop_virtual(self) -> None:
         with self._res_lock:
-            device, stop = self._device, self._stop_virtual
-            self._device = self._stop_virtual = None
+            device, stop, b6 = self._device, self._stop_virtual, self._b6
+            self._device = self._stop_virtual = self._b6 = None
+        if b6 is not None:
+            b6.close()
         if stop is not None:
             try:
                 stop()
@@ -342,6 +359,11 @@ class DeviceConnection(QObject):
         except ValueError:
             return False
         return True
+
+    @property
+    def simulated_b6(self):
+        """The simulated iMAX B6 while connected to it (its buttons, its display), else None."""
+        return self._b6
 
     def hang_up_virtual(self) -> None:
         """Stop the built-in virtual charger's port as if its cable were pulled (tests, demos)."""

@@ -26,8 +26,10 @@ from PySide6.QtWidgets import QHBoxLayout, QPushButton, QSplitter, QVBoxLayout, 
 
 from ...device.drivers import AUTO
 from ...device.errors import NotACharger
-from ...device.ports import VIRTUAL
+from ...device.ports import SIMULATED_B6, VIRTUAL
 from ...i18n import _
+from ...user_dirs import data_dir
+from .b6_front_panel import B6FrontPanel
 from .charger_monitor import ChargerMonitor, recording_cells
 from .charger_slots import ChargerSlots
 from .connection import DeviceConnection, Opened
@@ -40,6 +42,7 @@ from .session_label import SessionLabel
 
 READINGS_MS = 250
 VIRTUAL_EEPROM = "virtual-charger-eeprom.bin"
+SIMULATED_B6_EEPROM = "simulated-imaxb6-eeprom.bin"     # its macros, templates and calibration
 # The parts' controls, under the names the panel's callers and tests know.
 ALIASES = {"bar": ("ports", "driver_combo", "connect_button", "replay_button", "v_chem", "v_mah", "v_cells",
                    "v_passport", "v_speed", "rate", "virtual_box", "info_label", "add_named_batteries"),
@@ -63,6 +66,7 @@ class DevicePanel(QWidget):
     operationFinished = Signal(str, bool, str)   # "backup" | "restore" | "stop" | "passport" | "slots", ok, message
     phaseActivated = Signal(int)            # FAZE byte offset of a double-clicked band (the editor may show it)
     runEnded = Signal()                     # the run started here (or seen running) stopped
+    runSeen = Signal()                      # a run the window did not start runs (a B6's own START button)
 
     def __init__(self, get_record: Callable[[], tuple[bytes, str] | None], session_dir: Path,
                  parent: QWidget | None = None, *, port_lister: Callable | None = None):
@@ -73,7 +77,7 @@ class DevicePanel(QWidget):
         self._shut = False
         self.telemetry_taps: list[Callable] = []   # called with every frame, on the reader thread
         self._auto_fallback: tuple[str, int] | None = None   # (port, baud) to watch if no ZUML charger answers
-        self.monitor = ChargerMonitor(self._telemetry_rt, self)
+        self.monitor = ChargerMonitor(self._telemetry_rt, self, self._event_rt)
         self.connection = DeviceConnection(self._telemetry_rt, self._event_rt, self)
         self.bar = ConnectionBar(port_lister)
         self.charger = ChargerSlots(self.connection, get_record)
@@ -81,6 +85,7 @@ class DevicePanel(QWidget):
         self.passport = PassportView(self.connection)
         self.live = LiveView()
         self.session = SessionLabel(self.session_dir)
+        self.front_panel = B6FrontPanel()
         for part, names in ALIASES.items():
             for name in names:
                 setattr(self, name, getattr(getattr(self, part), name))
@@ -118,6 +123,7 @@ class DevicePanel(QWidget):
         layout.setContentsMargins(6, 4, 6, 3)
         layout.setSpacing(3)
         layout.addWidget(self.bar)
+        layout.addWidget(self.front_panel)
         layout.addWidget(self.splitter, 1)
         layout.addLayout(bottom)
 
@@ -130,6 +136,8 @@ class DevicePanel(QWidget):
         self.monitor.status.connect(self._monitor_status)
         self.monitor.placeholder.connect(self.plot.set_placeholder)
         self.monitor.ended.connect(self._closed)
+        self.monitor.lcdChanged.connect(self.front_panel.show_lcd)
+        self.connection.lcdChanged.connect(self.front_panel.show_lcd)
         self.connection.connected.connect(self._on_connected)
         self.connection.connectFailed.connect(self._on_connect_failed)
         self.connection.disconnected.connect(self._closed)
@@ -194,7 +202,7 @@ class DevicePanel(QWidget):
         watch_with = self.bar.monitor_driver(target)
         if watch_with is not None:
             return self._watch(target, watch_with)
-        auto = target != VIRTUAL and (self.driver_combo.currentData() or AUTO) == AUTO
+        auto = target not in (VIRTUAL, SIMULATED_B6) and (self.driver_combo.currentData() or AUTO) == AUTO
         self._auto_fallback = (target, self.ports.baudrate()) if auto else None
         try:
             virtual = (self.bar.virtual_spec(self.virtual_battery(), self.virtual_eeprom_path())
@@ -203,13 +211,14 @@ class DevicePanel(QWidget):
             self.show_message(str(exc), "error")
             return False
         self.session.open()
-        ok = self.connection.open(target, self.ports.baudrate(), virtual, self.rate.value())
+        ok = self.connection.open(target, self.ports.baudrate(), virtual, self.rate.value(),
+                                  self.simulated_b6_eeprom_path())
         if not ok:
             self.session.close(discard_empty=True)
         else:
             what = (_("the built-in virtual charger ({battery}, ×{speed:g})").format(battery=virtual.battery,
                                                                                      speed=virtual.speed)
-                    if virtual else target)
+                    if virtual else _("the simulated iMAX B6") if target == SIMULATED_B6 else target)
             self.show_message(_("Connecting to {what}…").format(what=what), "info")
             self._update_enabled()
         return ok
@@ -256,6 +265,11 @@ class DevicePanel(QWidget):
         """Where the built-in virtual charger keeps its EEPROM: like a real charger, it still
         holds its macros after a disconnect (and the next time ZUML Studio starts)."""
         return self.session_dir / VIRTUAL_EEPROM
+
+    def simulated_b6_eeprom_path(self) -> Path:
+        """The simulated iMAX B6's EEPROM (macros, templates, calibration), kept in the user's data
+        folder: the next session finds the charger as this one left it."""
+        return data_dir() / SIMULATED_B6_EEPROM
 
     def virtual_battery(self) -> str:
         """``CHEM:MAH:CELLS`` for the built-in virtual charger (``ConnectionBar.virtual_battery``)."""
@@ -326,6 +340,8 @@ class DevicePanel(QWidget):
             self._update_enabled()
             if not self.run.running:
                 self.runEnded.emit()
+            else:                           # a START here sets running itself: this one began on the charger
+                self.runSeen.emit()
         if self.series.last_telemetry is not None:
             self.live.show_readings(self.series.last_telemetry)
         self.live.update_phases()
@@ -372,7 +388,9 @@ class DevicePanel(QWidget):
         self.bar.show_charger(opened)
         self._set_state_connected()
         self.plot.set_placeholder(_("connected: Start a macro to plot its run"))
-        where = _("built-in virtual charger") if opened.virtual else opened.url
+        where = (_("built-in virtual charger") if opened.virtual else
+                 _("the simulated iMAX B6") if opened.simulated_b6 else opened.url)
+        self.front_panel.show_device(self.connection.simulated_b6)
         self.show_message(_("Connected to {where}: {model}, firmware {firmware}.").format(
             where=where, model=opened.info.model, firmware=opened.info.firmware), "ok")
         self.refresh_slots()
@@ -406,6 +424,7 @@ class DevicePanel(QWidget):
         self._update_enabled()
 
     def _set_state_disconnected(self) -> None:
+        self.front_panel.show_device(None)
         if self.run.running:                # the link went mid-run: what came of the run is still its record
             self.run.running = False
             self.runEnded.emit()
@@ -440,6 +459,7 @@ class DevicePanel(QWidget):
             self.connectedChanged.emit(False)
             return False
         self._set_state_connected(monitor=True)
+        self.front_panel.listen()            # a B6 heard on its TX: its display, when its stream carries it
         self._monitor_status()
         self.connectedChanged.emit(True)
         return True

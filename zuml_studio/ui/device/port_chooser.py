@@ -1,5 +1,6 @@
-"""Where to connect: the built-in virtual charger (first, the default), the serial ports
-found, or a port path / URL typed in; and the baud rate.
+"""Where to connect: the built-in virtual charger (first, the default), the simulated iMAX B6
+(the ZUML firmware on simavr, started by the window), the serial ports found, or a port path /
+URL typed in; and the baud rate.
 
 Port scans run on a thread pool, never on the GUI thread (a scan can take a while on some
 systems): once when the chooser is shown, then every 2 s while it is visible and
@@ -12,13 +13,15 @@ from typing import Callable
 from PySide6.QtCore import QObject, QRunnable, QThreadPool, QTimer, Signal
 from PySide6.QtWidgets import QComboBox, QHBoxLayout, QLineEdit, QSizePolicy, QWidget
 
-from ...device.ports import VIRTUAL, PortInfo, list_ports
+from ...device.ports import SIMULATED_B6, VIRTUAL, PortInfo, list_ports
 from ...i18n import N_, _
 from .device_style import ElidedCombo
 
 log = logging.getLogger(__name__)
 
 VIRTUAL_LABEL = N_("Virtual charger (built-in)")
+SIMULATED_B6_LABEL = N_("Simulated iMAX B6 (ZUML firmware)")
+BUILT_IN = 2                    # the list's first items: the virtual charger, the simulated B6
 BAUDS = (9600, 19200, 38400, 57600, 115200, 128000, 230400, 460800, 921600)
 DEFAULT_BAUD = 115200
 REFRESH_MS = 2000
@@ -36,7 +39,7 @@ class _Scan(QRunnable):
 
     def run(self) -> None:
         try:
-            found = [p for p in self.lister() if not p.virtual and p.device != VIRTUAL]
+            found = [p for p in self.lister() if not p.virtual and p.device not in (VIRTUAL, SIMULATED_B6)]
         except Exception:   # noqa: BLE001 - a platform quirk must not break the chooser
             log.exception("port scan failed")
             found = []
@@ -65,8 +68,11 @@ class PortChooser(QWidget):
         self.combo = ElidedCombo()
         self.combo.setObjectName("portCombo")
         self.combo.addItem(_(VIRTUAL_LABEL), VIRTUAL)
+        self.combo.addItem(_(SIMULATED_B6_LABEL), SIMULATED_B6)
         self.combo.setToolTip(_("The charger's port. The built-in virtual charger runs the simulator behind a "
-                                "real serial line (a pty), so everything works without hardware."))
+                                "real serial line (a pty), so everything works without hardware. The simulated "
+                                "iMAX B6 runs the ZUML firmware's own image on a model of the B6, with its display "
+                                "and buttons."))
         self.combo.setSizeAdjustPolicy(QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
         self.combo.setMinimumContentsLength(16)
         self.combo.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
@@ -108,14 +114,17 @@ class PortChooser(QWidget):
     def is_virtual(self) -> bool:
         return self.target() == VIRTUAL
 
+    def is_simulated_b6(self) -> bool:
+        return self.target() == SIMULATED_B6
+
     def baudrate(self) -> int:
         return int(self.baud.currentData() or DEFAULT_BAUD)
 
     def set_target(self, text: str) -> None:
         """Pick ``"virtual"`` or a listed port, or type anything else into the URL field."""
-        if text == VIRTUAL or not text:
+        if text in (VIRTUAL, SIMULATED_B6) or not text:
             self.url.clear()
-            self.combo.setCurrentIndex(0)
+            self.combo.setCurrentIndex(self.combo.findData(text or VIRTUAL))
             return
         index = self.combo.findData(text)
         if index >= 0:
@@ -128,7 +137,7 @@ class PortChooser(QWidget):
         self.url.clear()                # picking from the list means: use the list
 
     def ports(self) -> list[str]:
-        return [self.combo.itemData(i) for i in range(1, self.combo.count())]
+        return [self.combo.itemData(i) for i in range(BUILT_IN, self.combo.count())]
 
     # -- scanning ---------------------------------------------------------------------------------
     def refresh(self) -> bool:
@@ -150,11 +159,11 @@ class PortChooser(QWidget):
         self.scans += 1
         current = self.combo.currentData()
         wanted = [(p.label(), p.device) for p in found]
-        have = [(self.combo.itemText(i), self.combo.itemData(i)) for i in range(1, self.combo.count())]
+        have = [(self.combo.itemText(i), self.combo.itemData(i)) for i in range(BUILT_IN, self.combo.count())]
         if wanted != have:
             self.combo.blockSignals(True)
-            while self.combo.count() > 1:
-                self.combo.removeItem(1)
+            while self.combo.count() > BUILT_IN:
+                self.combo.removeItem(BUILT_IN)
             for label, device in wanted:
                 self.combo.addItem(label, device)
                 self.combo.setItemData(self.combo.count() - 1, label, 3)     # Qt.ToolTipRole

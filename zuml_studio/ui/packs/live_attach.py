@@ -47,6 +47,7 @@ class LiveAttach(QObject):
         device_panel.telemetry_taps.append(self.collector.add)
         device_panel.run.passportRead.connect(self._passport_read)
         device_panel.startFinished.connect(self._started)
+        device_panel.runSeen.connect(self._seen)
         device_panel.runEnded.connect(self._ended)
 
     def _passport_read(self, passport) -> None:
@@ -54,12 +55,19 @@ class LiveAttach(QObject):
 
     def _where(self) -> tuple[str, str]:
         opened = self.device.connection.opened
-        port = "virtual" if opened is None or opened.virtual else opened.url
+        link = self.device.monitor.link            # a charger only listened to (its runs start on it)
+        port = link.port if opened is None and link is not None else (
+            "virtual" if opened is None or opened.virtual else opened.url)
         serial = getattr(self._passport, "serial", "") or None
         key = attachment_key(port, serial)
         where = _("the battery with serial {serial}").format(serial=serial) if serial else _("port {port}").format(
                 port=port)
         return key, where
+
+    def _seen(self) -> None:
+        """A run started on the charger's own buttons (a B6 heard on its TX): as if started here."""
+        if not self.collector.collecting:
+            self._started(True)
 
     def _started(self, ok: bool, _text: str = "") -> None:
         self._pack = None
