@@ -47,6 +47,11 @@ class Verdict:
     def safe(self) -> bool:
         return not self.errors
 
+    def check(self) -> str:
+        """The one word a slot list shows for these bytes, everywhere (panel, ``zuml slots``,
+        ``zuml image --list``): "ok" or "UNSAFE (E303, W301)"."""
+        return _("ok") if self.safe else _("UNSAFE ({codes})").format(codes=", ".join(self.codes()))
+
     def codes(self) -> list[str]:
         """The errors' codes in order, each once ("E303", "W301", "PASSPORT")."""
         found: list[str] = []

@@ -204,8 +204,7 @@ def slot_checks(client: ChargerClient, found: list[Slot]) -> list[str]:
     """Each slot's check, judged on the bytes read back (never remembered): "ok", "BAD (why)" for a
     record that does not decode, "UNSAFE (codes)" for one the safety check refuses."""
     from ..safety import judge_slots
-    return [f"BAD ({s.error.message})" if verdict is None else
-            "ok" if verdict.safe else _("UNSAFE ({codes})").format(codes=", ".join(verdict.codes()))
+    return [f"BAD ({s.error.message})" if verdict is None else verdict.check()
             for s, verdict in zip(found, judge_slots(client, found))]
 
 

@@ -58,7 +58,7 @@ def check_text(verdict: Verdict | None) -> str:
     """The slot list's Check column."""
     if verdict is None:
         return _("BAD")
-    return _("ok") if verdict.safe else _("UNSAFE {codes}").format(codes=", ".join(verdict.codes()))
+    return verdict.check()
 
 
 class SlotTable(QTableWidget):
