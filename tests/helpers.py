@@ -1,5 +1,6 @@
 """Shared test helpers: paths of the project's files, seed macros compiled, platform marks."""
 import os
+import re
 import time
 from pathlib import Path
 
@@ -15,6 +16,12 @@ SEED_MACROS = ("Pb", "NiCd", "NiMh", "LiPo", "LiIon", "LiFe")
 
 def seed_text(name: str) -> str:
     return (MACROS / f"{name}.zuml").read_text()
+
+
+def bare_seed(name: str) -> str:
+    """A seed macro's text without the comments that say why its warnings are right (for tests that
+    edit its lines and compare them)."""
+    return re.sub(r"  //[^\n]*", "", seed_text(name))
 
 
 def compiled(name_or_text: str) -> bytes:

@@ -46,6 +46,35 @@ def test_writing_a_macro_for_another_chemistry_is_no_passport_problem_but_starti
     assert any("the battery is LiIon" in p for p in list(judge(record, passport, StartParams()).errors))
 
 
+def test_a_fast_nickel_charge_is_asked_about_and_above_2c_without_the_sensor_refused():
+    """W320 for a 0.5C-or-faster nickel charge with no IF(T>x); E320 at a start above 2C with the sensor
+    off (a temperature end cannot work), whether the rate is typed in the macro or entered at start."""
+    fast = compiled(NIMH_FAST)
+    assert judge(fast).safe and any(w.startswith("W320") for w in judge(fast).warnings)
+    assert judge(fast, start=StartParams(capacity_mah=1000, series=4)).safe
+    refused = judge(fast, start=StartParams(capacity_mah=1000, series=4, sensor=False))
+    assert refused.codes() == ["E320"] and "sensor off" in refused.errors[0]
+    with_t = compiled(NIMH_FAST.replace("STOP_FAZE\n", "STOP_FAZE\n    IF(T>40) STOP_FAZE\n", 1))
+    assert not any(w.startswith("W320") for w in judge(with_t).warnings)
+    assert judge(with_t, start=StartParams(capacity_mah=1000, series=4, sensor=False)).codes() == ["E320"]
+    entered = compiled(NIMH_FAST.replace("CONSTANT_I=5C", "CONSTANT_I=INPUT"))
+    assert judge(entered, start=StartParams(capacity_mah=1000, current_a=2, series=4, sensor=False)).safe
+    assert judge(entered, start=StartParams(capacity_mah=1000, current_a=2.5, series=4, sensor=False)).codes() == [
+        "E320"]
+
+
+NIMH_FAST = """MACRO Fast
+  AKK_TYPE=NiMh
+  CHARGE_SECTION
+    FAZE
+    CONSTANT_I=5C
+    IF(DELTA_PEAK>0.01S) STOP_FAZE
+    END_FAZE
+  END_SECTION
+END_MACRO
+"""
+
+
 def test_image_problems_name_the_slot():
     image = pack([compiled("NiMh"), unsafe_record()], 1024)
     problems = judge_image(image).errors

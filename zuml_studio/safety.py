@@ -74,7 +74,9 @@ def judge(record: bytes, passport: Passport | None = None, start: StartParams | 
     errors: list[str] = [missing] if missing else []
     warnings: list[str] = []
     for finding in lint(decoded.macro, series=params.series if params else None,
-                        capacity_mah=params.capacity_mah if params else None):
+                        capacity_mah=params.capacity_mah if params else None,
+                        current_a=params.current_a if params else None,
+                        sensor=params.sensor if start is not None else None):
         line = _lint_line(finding) + template_note
         if finding.severity is Severity.ERROR:
             errors.append(line)

@@ -52,7 +52,7 @@ def test_virtual_charger_flash_run_plot_stop_shutdown(qtbot, make_panel):
         with qtbot.waitSignal(panel.startFinished, timeout=WAIT_MS) as started:
             qtbot.mouseClick(panel.start_button, Qt.MouseButton.LeftButton)
         assert started.args == [True, "Started NiMh-dV (slot 0): charge."]
-    assert panel.plot.points > 50
+    qtbot.waitUntil(lambda: panel.plot.points > 50, timeout=WAIT_MS)     # the plot redraws on its own timer
     qtbot.waitUntil(lambda: panel.plot.band_count() >= 1, timeout=WAIT_MS)
     qtbot.waitUntil(lambda: any(p.closed for p in panel.plot.phases()), timeout=WAIT_MS)
     phase = panel.plot.phases()[0]
@@ -61,13 +61,16 @@ def test_virtual_charger_flash_run_plot_stop_shutdown(qtbot, make_panel):
     assert 3000 < phase.end_s - phase.start_s < 5000         # about 65 minutes of macro time
     spans = panel.plot.band_items[0].spans()
     assert spans and spans[0] == (phase.start_s, phase.end_s)
+    qtbot.waitUntil(lambda: "finished" in panel.message_text(), timeout=WAIT_MS)
+    assert "end of macro" in panel.message_text()
+    # The run is over (the reader thread adds no more rows): once the plot has drawn all the buffer
+    # holds, the two are compared.
+    qtbot.waitUntil(lambda: panel.plot.points == panel.series.buffer.snapshot()[0], timeout=WAIT_MS)
     x, v = np.asarray(panel.series.buffer.column("t")), np.asarray(panel.series.buffer.column("voltage"))
     assert len(x) == panel.plot.points and (x[1:] >= x[:-1]).all()
     assert 4.5 < float(v.max()) < 7.5
     drawn_x, drawn_v = panel.plot.curves["voltage"].getData()
     assert len(drawn_x) and (drawn_x[1:] >= drawn_x[:-1]).all() and set(drawn_v) <= set(v)
-    qtbot.waitUntil(lambda: "finished" in panel.message_text(), timeout=WAIT_MS)
-    assert "end of macro" in panel.message_text()
 
     with qtbot.waitSignal(panel.operationFinished, timeout=WAIT_MS) as stopped:
         qtbot.mouseClick(panel.stop_button, Qt.MouseButton.LeftButton)

@@ -3,11 +3,11 @@ import pytest
 from PySide6.QtCore import Qt
 from PySide6.QtGui import QColor, QFont, QFontDatabase, QFontMetricsF, QTextCharFormat, QTextFormat
 
-from helpers import MACROS
+from helpers import bare_seed
 from zuml_studio.lang.diagnostics import Diagnostic, Severity
 from zuml_studio.ui.editor.code_editor import CodeEditor, EditorWithFind
 
-LIPO = (MACROS / "LiPo.zuml").read_text()
+LIPO = bare_seed("LiPo")
 WAVE = QTextCharFormat.UnderlineStyle.WaveUnderline
 
 

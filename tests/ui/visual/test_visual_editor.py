@@ -5,14 +5,14 @@ from PySide6.QtCore import QMimeData, QPoint, QPointF, Qt
 from PySide6.QtGui import QDropEvent, QDragEnterEvent, QTextCursor
 from PySide6.QtWidgets import QApplication, QScrollBar
 
-from helpers import MACROS
+from helpers import bare_seed
 from zuml_studio.lang import visual_edits as ve
 from zuml_studio.lang import opcodes as ops
 from zuml_studio.lang.ast import Cycle
 from zuml_studio.lang.compiler import compile_source
 from zuml_studio.ui.visual.cards import MIME, CycleBox, PhaseCard, encode_path
 
-LIPO_TEXT = (MACROS / "LiPo.zuml").read_text()
+LIPO_TEXT = bare_seed("LiPo")
 
 
 def record(text):
