@@ -95,6 +95,11 @@ def contrast_ratio(a, b) -> float:
     return (hi + 0.05) / (lo + 0.05)
 
 
+# A bound on a wait for a GUI state (qtbot.waitUntil / waitSignal), far above what a loaded machine takes:
+# a wait returns as soon as the state comes, so a generous bound costs nothing and a hang still fails.
+WAIT_MS = 30_000
+
+
 def until(predicate, timeout_s: float = 30.0) -> bool:
     """Poll for a state another thread or process brings about; False if it has not come by the (generous)
     bound. Tests wait for states, never for a time."""

@@ -132,7 +132,7 @@ from zuml_studio.device.messages import encode_request  # noqa: E402
 from zuml_studio.safety import RAW_ALLOWED, RawSendGuard  # noqa: E402
 
 CHANGING_REQUESTS = {
-    "BEGIN_WRITE": {},
+    "BEGIN_WRITE": {"nonce": 0x1234ABCD},
     "WRITE_STAGE": {"token": 7, "offset": 0, "data": b"\x01\x02\x03"},
     "COMMIT": {"token": 7, "crc": 0x1234},
     "START": {"slot": 0, "task": 0, "repetitions": 1, "capacity_mah": 2200, "current_ma": 2000,

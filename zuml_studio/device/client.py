@@ -16,6 +16,7 @@ import errno
 import logging
 import queue
 import random
+import secrets
 import threading
 import time
 from dataclasses import dataclass
@@ -585,7 +586,9 @@ class ChargerClient:
         changed = sum(a != b for a, b in zip(current, image))
         if not changed:
             return WriteResult(size, 0, 0, 0, time.monotonic() - started)
-        token = self._call("BEGIN_WRITE", response_len=6)["token"]
+        nonce = secrets.randbits(32) or 1
+        token = self._call("BEGIN_WRITE", response_len=6, nonce=nonce)["token"]
+        proof = {"token": token, "nonce_taken": token == nonce}
         sent = chunks = 0
         commit_sent = confirmed = False
         try:
@@ -619,7 +622,7 @@ class ChargerClient:
             # Every answer to COMMIT was lost, perhaps not the COMMIT itself: the read-back tells.
         except Disconnected as exc:
             if commit_sent:
-                raise self._uncertain(exc, image, current) from None
+                raise self._uncertain(exc, image, current, proof) from None
             raise
         except BaseException:
             self._abort(token)
@@ -634,8 +637,8 @@ class ChargerClient:
                                                 "{url}: the charger confirmed the new image ({changed} bytes changed), "
                                                 "then the link failed while reading it back ({error}): reconnect to "
                                                 "verify it", changed).format(url=self.url, changed=changed, error=exc),
-                                       image, current) from None
-            raise self._uncertain(exc, image, current) from None
+                                       image, current, **proof) from None
+            raise self._uncertain(exc, image, current, proof) from None
         if back != image:
             if not confirmed and back == current:
                 raise DeviceTimeout(_("{url}: the charger did not take COMMIT; it keeps its previous image").format(
@@ -653,10 +656,27 @@ class ChargerClient:
             except DeviceLinkError:
                 pass
 
-    def _uncertain(self, exc: DeviceLinkError, image: bytes, current: bytes) -> CommitUncertain:
+    def _uncertain(self, exc: DeviceLinkError, image: bytes, current: bytes, proof: dict) -> CommitUncertain:
         return CommitUncertain(_("{url}: the link failed right after COMMIT ({error}); the charger holds "
                                  "either the new image or its previous one, never a mix: reconnect to tell "
-                                 "which").format(url=self.url, error=exc), image, current)
+                                 "which").format(url=self.url, error=exc), image, current, **proof)
+
+    def committed(self, lost: CommitUncertain | CommitUnverified) -> bool | None:
+        """After a reconnect: is this the charger that committed ``lost``'s write? COMMIT of its token
+        again is answered only by the unit that committed it (a repeated COMMIT), never by another of
+        its model, which knows no such token. ABORT first drops the write if it is still staged here,
+        so that asking never commits it late. None: it cannot be told (the charger did not take the
+        host's nonce as the token, or it restarted and forgot it: then False too)."""
+        if not lost.nonce_taken:
+            return None
+        self._abort(lost.token)
+        try:
+            answer = self._call("COMMIT", response_len=4, token=lost.token, crc=crc16(lost.image))
+        except DeviceError as exc:
+            if exc.code in (m.ErrorCode.BAD_TOKEN, m.ErrorCode.CRC_MISMATCH):
+                return False
+            raise
+        return answer["crc"] == crc16(lost.image)
 
     def start(self, slot: int, task: str = "charge", repetitions: int = 1, capacity_mah: float | None = None,
               current_a: float | None = None, voltage_v: float | None = None, series: int | None = None,

@@ -70,6 +70,8 @@ def test_virtual_charger_flash_run_plot_stop_shutdown(qtbot, make_panel):
     assert len(x) == panel.plot.points and (x[1:] >= x[:-1]).all()
     assert 4.5 < float(v.max()) < 7.5
     drawn_x, drawn_v = panel.plot.curves["voltage"].getData()
+    # A NaN breaks the line where frames came late (a gap, more of them on a loaded machine): no value of its own
+    drawn_v = drawn_v[~np.isnan(drawn_v)]
     assert len(drawn_x) and (drawn_x[1:] >= drawn_x[:-1]).all() and set(drawn_v) <= set(v)
 
     with qtbot.waitSignal(panel.operationFinished, timeout=WAIT_MS) as stopped:
@@ -161,14 +163,12 @@ def test_speed_changes_live(qtbot, make_panel):
 
 def test_layout_fits_a_small_dock(qtbot, make_panel):
     panel = make_panel(size=(1000, 320))
-    qtbot.wait(50)
-    assert panel.plot.width() >= 280 and panel.plot.height() >= 150
+    qtbot.waitUntil(lambda: panel.plot.width() >= 280 and panel.plot.height() >= 150, timeout=WAIT_MS)
     assert panel.controls_scroll.width() + panel.plot.width() <= 1000
     for w in (panel.flash_button, panel.start_button, panel.stop_button, panel.connect_button):
         assert w.isVisibleTo(panel)
     panel.resize(1400, 380)
-    qtbot.wait(50)
-    assert panel.plot.width() >= 700
+    qtbot.waitUntil(lambda: panel.plot.width() >= 700, timeout=WAIT_MS)
     # at the dock's size nothing in the controls scrolls
     assert not panel.controls_scroll.verticalScrollBar().isVisible()
 
