@@ -192,7 +192,7 @@ class RawSendGuard:
                 continue
             known = m.BY_CODE.get(code)
             errors.append(_("RAW: these bytes complete a {request} request (type 0x{code:02x}) the charger would "
-                            "act on").format(request=known.name if known else _("ZUML"), code=code))
+                            "act on").format(request=known.name if known else "ZUML", code=code))
         return Verdict(tuple(errors))
 
     def sent(self, data: bytes) -> None:
