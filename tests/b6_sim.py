@@ -1,22 +1,18 @@
 """The simulated iMAX B6 (`zuml firmware-sim --board imaxb6`) for tests that talk to it over its pty, and
 its model's truth from the --trace file."""
-import shutil
 import subprocess
 import sys
 from pathlib import Path
 
-import pytest
+from tools import SIMAVR, skip_unless
 
 FIRMWARE = Path(__file__).resolve().parents[1] / "firmware"
 B6_BAUD = 57600
-TOOLS = "apt-get install -y make gcc gcc-avr avr-libc binutils-avr simavr libsimavr-dev libelf-dev"
 
 
 def build_b6() -> None:
     """`make` the B6 image and its simulator, or skip saying which tools are missing."""
-    missing = [tool for tool in ("make", "gcc", "avr-gcc") if shutil.which(tool) is None]
-    if missing:
-        pytest.skip(f"{', '.join(missing)} not found ({TOOLS})")
+    skip_unless(SIMAVR)                     # the simulator links simavr and libelf
     done = subprocess.run(["make", "-s", "-C", str(FIRMWARE), "imaxb6", "simavr-imaxb6"], capture_output=True,
                           text=True)
     assert done.returncode == 0, done.stdout + done.stderr

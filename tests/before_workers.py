@@ -8,23 +8,20 @@ files at once:
   temporary file) while the frozen-bundle test copies the package with `cp -r`, which fails on a file that
   vanishes under it."""
 import compileall
-import shutil
 import subprocess
 
 from b6_sim import FIRMWARE
-from chargers import simavr_missing
-
-AVR_TOOLS = ("avr-gcc", "avr-size", "avr-objcopy")
+from tools import AVR, HOST, SIMAVR, missing
 PACKAGE = FIRMWARE.parent / "zuml_studio"
 
 
 def firmware_targets() -> list[str]:
     """The make targets this machine has the tools for (the tests needing the others skip, saying why)."""
-    if not (shutil.which("make") and shutil.which("gcc")):
+    if missing(HOST):
         return []
-    if not simavr_missing():
+    if not missing(SIMAVR):
         return ["host", "atmega32", "imaxb6", "simavr", "simavr-imaxb6"]
-    return ["host", "atmega32", "imaxb6"] if all(shutil.which(t) for t in AVR_TOOLS) else ["host"]
+    return ["host"] if missing(AVR) else ["host", "atmega32", "imaxb6"]
 
 
 def prepare() -> None:

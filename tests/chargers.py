@@ -1,8 +1,6 @@
 """Every device test that needs only a port runs against both chargers: the Python virtual
 charger and the C firmware (`zuml firmware-sim`: the ATmega32 image on simavr), so the two answer
 alike. The firmware runs skip, naming the tool they lack, where simavr or avr-gcc are missing."""
-import os
-import shutil
 import subprocess
 import sys
 from dataclasses import dataclass
@@ -10,19 +8,9 @@ from pathlib import Path
 
 import pytest
 
-INSTALL = "apt-get install -y make gcc gcc-avr avr-libc binutils-avr simavr libsimavr-dev libelf-dev"
+from tools import SIMAVR, needs
 
-
-def simavr_missing() -> str:
-    """What the firmware-sim lacks here ('' when nothing): tools, then headers."""
-    tools = [t for t in ("make", "gcc", "avr-gcc", "avr-size", "avr-objcopy") if not shutil.which(t)]
-    headers = [h for h in ("/usr/include/simavr/sim_avr.h", "/usr/include/libelf.h") if not os.path.exists(h)]
-    return ", ".join(tools + headers)
-
-
-NEEDS_FIRMWARE_SIM = pytest.mark.skipif(
-    os.name != "posix" or bool(simavr_missing()),
-    reason=f"{simavr_missing() or 'a POSIX pty'} missing: the firmware on simavr cannot run ({INSTALL})")
+NEEDS_FIRMWARE_SIM = needs(SIMAVR)
 FIRMWARE_SIM = pytest.param("firmware-sim", marks=NEEDS_FIRMWARE_SIM)
 KINDS = ["virtual", FIRMWARE_SIM]
 

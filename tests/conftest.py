@@ -14,7 +14,8 @@ os.environ["ZUML_STUDIO_DATA_DIR"] = tempfile.mkdtemp(prefix="zuml-studio-tests-
 
 import before_workers  # noqa: E402
 import pytest  # noqa: E402
-from chargers import INSTALL, KINDS  # noqa: E402
+from chargers import KINDS  # noqa: E402
+from tools import INSTALL  # noqa: E402
 from hypothesis import HealthCheck, settings  # noqa: E402
 
 # Reproducible in CI: the same examples every run, no flaky deadlines on a loaded 2-core machine.

@@ -1,5 +1,6 @@
 """Shared test helpers: paths of the project's files, seed macros compiled, platform marks."""
 import os
+import re
 import time
 from pathlib import Path
 
@@ -15,6 +16,12 @@ SEED_MACROS = ("Pb", "NiCd", "NiMh", "LiPo", "LiIon", "LiFe")
 
 def seed_text(name: str) -> str:
     return (MACROS / f"{name}.zuml").read_text()
+
+
+def bare_seed(name: str) -> str:
+    """A seed macro's text without the comments that say why its warnings are right (for tests that
+    edit its lines and compare them)."""
+    return re.sub(r"  //[^\n]*", "", seed_text(name))
 
 
 def compiled(name_or_text: str) -> bytes:
@@ -86,6 +93,11 @@ def contrast_ratio(a, b) -> float:
         return 0.2126 * ch(c.redF()) + 0.7152 * ch(c.greenF()) + 0.0722 * ch(c.blueF())
     hi, lo = sorted((lum(a), lum(b)), reverse=True)
     return (hi + 0.05) / (lo + 0.05)
+
+
+# A bound on a wait for a GUI state (qtbot.waitUntil / waitSignal), far above what a loaded machine takes:
+# a wait returns as soon as the state comes, so a generous bound costs nothing and a hang still fails.
+WAIT_MS = 30_000
 
 
 def until(predicate, timeout_s: float = 30.0) -> bool:

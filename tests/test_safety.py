@@ -46,6 +46,35 @@ def test_writing_a_macro_for_another_chemistry_is_no_passport_problem_but_starti
     assert any("the battery is LiIon" in p for p in list(judge(record, passport, StartParams()).errors))
 
 
+def test_a_fast_nickel_charge_is_asked_about_and_above_2c_without_the_sensor_refused():
+    """W320 for a 0.5C-or-faster nickel charge with no IF(T>x); E320 at a start above 2C with the sensor
+    off (a temperature end cannot work), whether the rate is typed in the macro or entered at start."""
+    fast = compiled(NIMH_FAST)
+    assert judge(fast).safe and any(w.startswith("W320") for w in judge(fast).warnings)
+    assert judge(fast, start=StartParams(capacity_mah=1000, series=4)).safe
+    refused = judge(fast, start=StartParams(capacity_mah=1000, series=4, sensor=False))
+    assert refused.codes() == ["E320"] and "sensor off" in refused.errors[0]
+    with_t = compiled(NIMH_FAST.replace("STOP_FAZE\n", "STOP_FAZE\n    IF(T>40) STOP_FAZE\n", 1))
+    assert not any(w.startswith("W320") for w in judge(with_t).warnings)
+    assert judge(with_t, start=StartParams(capacity_mah=1000, series=4, sensor=False)).codes() == ["E320"]
+    entered = compiled(NIMH_FAST.replace("CONSTANT_I=5C", "CONSTANT_I=INPUT"))
+    assert judge(entered, start=StartParams(capacity_mah=1000, current_a=2, series=4, sensor=False)).safe
+    assert judge(entered, start=StartParams(capacity_mah=1000, current_a=2.5, series=4, sensor=False)).codes() == [
+        "E320"]
+
+
+NIMH_FAST = """MACRO Fast
+  AKK_TYPE=NiMh
+  CHARGE_SECTION
+    FAZE
+    CONSTANT_I=5C
+    IF(DELTA_PEAK>0.01S) STOP_FAZE
+    END_FAZE
+  END_SECTION
+END_MACRO
+"""
+
+
 def test_image_problems_name_the_slot():
     image = pack([compiled("NiMh"), unsafe_record()], 1024)
     problems = judge_image(image).errors
@@ -95,3 +124,73 @@ def test_notes_are_never_asked_before_a_flash():
     record = compile_source((data.standard_macros_dir() / "NiMh-dV.zuml").read_text(encoding="utf-8")).record
     verdict = judge(record)
     assert not verdict.errors and not verdict.warnings
+
+
+# -- raw bytes typed by hand (the serial monitor) ---------------------------------------------------
+from zuml_studio.device.frames import encode_frame  # noqa: E402
+from zuml_studio.device.messages import encode_request  # noqa: E402
+from zuml_studio.safety import RAW_ALLOWED, RawSendGuard  # noqa: E402
+
+CHANGING_REQUESTS = {
+    "BEGIN_WRITE": {"nonce": 0x1234ABCD},
+    "WRITE_STAGE": {"token": 7, "offset": 0, "data": b"\x01\x02\x03"},
+    "COMMIT": {"token": 7, "crc": 0x1234},
+    "START": {"slot": 0, "task": 0, "repetitions": 1, "capacity_mah": 2200, "current_ma": 2000,
+              "voltage_mv": 0, "series": 3, "sensor": 0},
+    "SET_TEMPLATE": {"number": 1, "task": 0, "repetitions": 1, "capacity_mah": 2200, "current_ma": 9000,
+                     "voltage_mv": 4500, "series": 3},
+    "CAL_WRITE": {"block": bytes(8)},
+    "CAL_OUTPUT": {"mode": 1, "current_ma": 5000},
+    "PASSPORT": {"request": bytes(8)},
+}
+GARBAGE = b"AT\r\n\xa5\x05\x10\x01\xa5\xa5\x00\xff"     # false starts: sync bytes, a LEN, a START type
+
+
+def _frame(name: str, seq: int = 3) -> bytes:
+    from zuml_studio.device.messages import BY_NAME
+    return encode_frame(BY_NAME[name].code, seq, encode_request(name, **CHANGING_REQUESTS[name]))
+
+
+def test_every_request_that_changes_the_charger_is_refused_wherever_it_is_split():
+    for name in CHANGING_REQUESTS:
+        frame = _frame(name)
+        for before in (b"", GARBAGE):
+            whole = before + frame
+            assert not RawSendGuard().judge(whole).safe, name
+            for cut in range(1, len(whole)):
+                guard = RawSendGuard()
+                assert guard.judge(whole[:cut]).safe, (name, cut)
+                guard.sent(whole[:cut])
+                verdict = guard.judge(whole[cut:])
+                assert not verdict.safe and name in verdict.errors[0] and verdict.codes() == ["RAW"], (name, cut)
+
+
+def test_a_request_sent_a_byte_at_a_time_is_refused_at_its_last_byte():
+    for name in CHANGING_REQUESTS:
+        guard = RawSendGuard()
+        whole = GARBAGE + _frame(name)
+        for byte in whole[:-1]:
+            assert guard.judge(bytes([byte])).safe
+            guard.sent(bytes([byte]))
+        assert not guard.judge(whole[-1:]).safe, name
+
+
+def test_a_refused_send_is_not_remembered_and_reading_requests_pass():
+    from zuml_studio.device.messages import BY_NAME
+    guard = RawSendGuard()
+    frame = _frame("COMMIT")
+    guard.sent(frame[:4])
+    assert not guard.judge(frame[4:]).safe
+    assert guard.judge(b"hello\n").safe                    # the refused bytes never reached the charger
+    for code in RAW_ALLOWED:
+        payload = encode_request(BY_NAME["READ_EEPROM"].name, offset=0, length=16) if code == BY_NAME[
+            "READ_EEPROM"].code else b""
+        assert RawSendGuard().judge(encode_frame(code, 1, payload)).safe
+
+
+def test_a_request_whose_start_left_the_guards_memory_long_ago_is_no_frame():
+    guard = RawSendGuard()
+    frame = _frame("START")
+    guard.sent(frame[:5])
+    guard.sent(b"x" * 300)                                 # longer than any frame: that start is history
+    assert guard.judge(frame[5:]).safe

@@ -32,6 +32,14 @@ def test_generated_discharge_ends_at_the_chemistry_end_voltage(chemistry, series
     assert run.phases[0].reason.startswith("IF(V<") and not run.phases[0].by_default
 
 
+def test_a_nickel_charge_above_2c_needs_the_sensor_and_a_fast_one_states_its_temperature_end():
+    with pytest.raises(WizardError, match="needs the temperature sensor"):
+        new_macro(Answers("NiCd", 4, 1000, 3))
+    text = new_macro(Answers("NiCd", 4, 1000, 3, True))
+    assert "IF(T>45)" in text and compile_source(text).diagnostics == []
+    assert "IF(T>45)" in new_macro(Answers("NiMh", 4, 2000, 1))
+
+
 def test_low_rate_nickel_charge_is_timed_and_a_rate_between_is_refused():
     text = new_macro(Answers("NiMh", 4, 2000, 0.1))
     assert "DELTA_PEAK" not in text and "IF(tf>900min)" in text

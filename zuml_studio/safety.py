@@ -3,8 +3,9 @@
 Every path that puts a macro on a charger or starts one calls it (or ``judge_image`` for a whole
 EEPROM image): ``zuml flash`` of a .zuml or .bin, ``zuml image``, ``zuml restore``, ``zuml run``,
 ``zuml templates set``; the Device panel's Compile & Flash (the toolbar's Upload), Restore and
-Start; the virtual charger's START as a last line; the slot lists (panel and ``zuml slots``) mark
-what it refuses, judged again on the bytes read back. docs/safety.md states the policy.
+Start; the virtual charger's START as a last line; the slot lists (panel and ``zuml slots``, and
+``zuml image --list`` offline) mark what it refuses, judged again on the bytes read back. Raw bytes
+typed by hand (the serial monitor) go through ``RawSendGuard``. docs/safety.md states the policy.
 
 The check judges the values the charger will run with: a macro that names a start template
 (START_SHABLON=n) runs with the template's values, not the ones typed, so the caller passes the
@@ -17,6 +18,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Mapping
 
+from .device import messages as m
+from .device.crc import crc16
+from .device.frames import MAX_FRAME, MAX_PAYLOAD, OVERHEAD, SYNC
 from .device.passport import Passport, conflicts
 from .lang import opcodes as ops
 from .lang.decoder import decode_record
@@ -43,11 +47,16 @@ class Verdict:
     def safe(self) -> bool:
         return not self.errors
 
+    def check(self) -> str:
+        """The one word a slot list shows for these bytes, everywhere (panel, ``zuml slots``,
+        ``zuml image --list``): "ok" or "UNSAFE (E303, W301)"."""
+        return _("ok") if self.safe else _("UNSAFE ({codes})").format(codes=", ".join(self.codes()))
+
     def codes(self) -> list[str]:
         """The errors' codes in order, each once ("E303", "W301", "PASSPORT")."""
         found: list[str] = []
         for line in self.errors:
-            code = line.split(" ", 1)[0].split(":", 1)[0] if line[:1] in "EW" else "PASSPORT"
+            code = line.split(" ", 1)[0].split(":", 1)[0] if line[:1] in "EW" or line[:4] == "RAW:" else "PASSPORT"
             if code not in found:
                 found.append(code)
         return found
@@ -65,7 +74,9 @@ def judge(record: bytes, passport: Passport | None = None, start: StartParams | 
     errors: list[str] = [missing] if missing else []
     warnings: list[str] = []
     for finding in lint(decoded.macro, series=params.series if params else None,
-                        capacity_mah=params.capacity_mah if params else None):
+                        capacity_mah=params.capacity_mah if params else None,
+                        current_a=params.current_a if params else None,
+                        sensor=params.sensor if start is not None else None):
         line = _lint_line(finding) + template_note
         if finding.severity is Severity.ERROR:
             errors.append(line)
@@ -143,3 +154,46 @@ def _lint_line(finding) -> str:
     offset = getattr(finding.node, "offset", None)
     where = _(" (byte {offset})").format(offset=offset) if offset is not None else ""
     return f"{finding.code}{where}: {finding.message}"
+
+
+# The requests raw bytes may make: they read, stop or drop. Every other one writes or commits the
+# EEPROM, starts a macro, stores a template or a calibration, holds a current or talks to the battery:
+# only the paths that judge the macro (and the battery) may send those.
+RAW_ALLOWED = frozenset(m.BY_NAME[name].code for name in (
+    "IDENTIFY", "READ_EEPROM", "ABORT", "STOP", "STATUS", "SET_TELEMETRY_RATE", "GET_EVENT", "LIST_TEMPLATES",
+    "GET_TEMPLATE", "CAL_READ", "CAL_MEASURE"))
+
+
+class RawSendGuard:
+    """``judge`` of raw bytes sent by hand to a port a ZUML charger may be on (the serial monitor).
+
+    The charger's frame parser keeps its state between reads, so a request split over several sends
+    (or typed partly as text, partly as hex) is assembled all the same. The guard judges the stream:
+    the bytes already sent that a frame still under way could begin with (the last MAX_FRAME - 1),
+    then the new ones. Whatever frame ends in the new bytes is found, whichever sync byte the
+    charger's parser is at (after garbage, after an inter-byte timeout dropped a false start): every
+    frame a parser can assemble is a run of the stream with a good CRC."""
+
+    def __init__(self) -> None:
+        self._tail = b""
+
+    def judge(self, data: bytes) -> Verdict:
+        """Refuses ``data`` if it completes a request outside RAW_ALLOWED; ``sent`` records it once it went."""
+        stream = self._tail + bytes(data)
+        errors: list[str] = []
+        for at in range(len(stream)):
+            if stream[at] != SYNC or at + OVERHEAD > len(stream):
+                continue
+            length, code = stream[at + 1], stream[at + 2]
+            end = at + OVERHEAD + length
+            if length > MAX_PAYLOAD or end > len(stream) or end <= len(self._tail) or code in RAW_ALLOWED:
+                continue
+            if crc16(stream[at + 1:end - 2]) != int.from_bytes(stream[end - 2:end], "little"):
+                continue
+            known = m.BY_CODE.get(code)
+            errors.append(_("RAW: these bytes complete a {request} request (type 0x{code:02x}) the charger would "
+                            "act on").format(request=known.name if known else "ZUML", code=code))
+        return Verdict(tuple(errors))
+
+    def sent(self, data: bytes) -> None:
+        self._tail = (self._tail + bytes(data))[-(MAX_FRAME - 1):]

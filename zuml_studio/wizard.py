@@ -7,6 +7,7 @@ from dataclasses import dataclass
 from decimal import Decimal
 
 from . import data
+from .lang.lint import NICKEL_FAST_RATE, NICKEL_NO_SENSOR_MAX_RATE
 from .sim.chemistry import Chemistry, chemistry_names, load_chemistry
 from .i18n import _
 
@@ -91,7 +92,13 @@ def _nickel(chem: Chemistry, c: dict, a: Answers, rate: float) -> list[str]:
         raise WizardError(_("{name} at {rate}C shows no reliable -dV and is too fast for a timed charge: choose "
                             "{low}C or more, or {high}C or less").format(
                 name=chem.name, rate=_num(rate), low=c['min_delta_rate_c'], high=c['timed_max_rate_c']))
-    main = ["    FAZE", f"      CONSTANT_I={_num(rate)}C"] + ends + _sensor(c, a) + \
+    if rate > NICKEL_NO_SENSOR_MAX_RATE and not a.sensor:
+        raise WizardError(_("{name} at {rate}C needs the temperature sensor: above {top:g}C the charger refuses to "
+                            "start without it").format(name=chem.name, rate=_num(rate), top=NICKEL_NO_SENSOR_MAX_RATE))
+    # A fast charge always states its temperature limit (the lint's W320), as lithium does: inert
+    # without a sensor, in force with one.
+    fast = [f"      IF(T>{c['t_max_c']}) STOP_FAZE"] if rate >= NICKEL_FAST_RATE else _sensor(c, a)
+    main = ["    FAZE", f"      CONSTANT_I={_num(rate)}C"] + ends + fast + \
            [f"      IF(tf>{timer}min) STOP_FAZE", "    END_FAZE"]
     topoff = ["    FAZE", f"      TRICKLE({_num(c['topoff_rate_c'])}C, {_num(c['topoff_v1'])}S, "
                           f"{_num(c['topoff_v2'])}S)"] + _sensor(c, a) + \

@@ -382,7 +382,7 @@ static ZC_NOINLINE void status(uint8_t seq)
 #define AT_LEAST_6 0xFE
 #define UNKNOWN 0xFF
 static const uint8_t request_len[] PROGMEM = {
-    /* 0x01 IDENTIFY .. 0x06 ABORT */ 0, 3, 0, AT_LEAST_6, 6, 4,
+    /* 0x01 IDENTIFY .. 0x06 ABORT (BEGIN_WRITE: the host's nonce, or empty) */ 0, 3, ANY_LEN, AT_LEAST_6, 6, 4,
     /* 0x07 .. 0x0F */ UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN,
     /* 0x10 START .. 0x17 SET_TEMPLATE */ 11, 0, 0, 1, 4, 0, 1, 1 + ZC_TEMPLATE_SIZE,
     /* 0x18 .. 0x1F */ UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN, UNKNOWN,
@@ -433,7 +433,12 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
     case T_BEGIN:
         if (!retry) {
             store_stage_begin();
-            token = ++token_counter * 2654435761UL;
+            /* The host's random nonce is the token: a COMMIT of it repeated after a reconnect is answered
+             * only by the unit that committed it (docs/protocol.md), not by another of its model. No RAM:
+             * token and committed_token were there. An empty request (an older host) gets a counted one. */
+            token = len >= 4 ? le32(p) : 0;
+            if (!token)
+                token = ++token_counter * 2654435761UL;
             if (!token)
                 token = 1;
         }

@@ -7,11 +7,12 @@ import os
 import signal
 import subprocess
 import sys
+import threading
 import time
 
 import pytest
 
-from helpers import MACROS, compiled
+from helpers import MACROS, compiled, until
 from tests_cli_util import run_zuml
 from zuml_studio.device.client import ChargerClient
 from zuml_studio.lang.eeprom import slots
@@ -104,7 +105,9 @@ def test_restore_refuses_bad_images_before_writing(any_charger, zuml, tmp_path):
 
 
 def test_run_monitor_stop(any_charger, zuml, tmp_path):
-    charger = any_charger(speed=5000)
+    # The virtual charger runs at the wall's pace until the monitor is there (a loaded machine may take
+    # seconds to start it), then at 5000x: the run cannot end before the monitor watches it.
+    charger = any_charger(speed=1)
     port = charger.port
     # the virtual charger's battery is NiMh x4 at 5000x the wall's time, run to the end; the
     # firmware's a lithium x3 at the wall's time, watched for a few seconds
@@ -113,8 +116,17 @@ def test_run_monitor_stop(any_charger, zuml, tmp_path):
     code, out, err = zuml("run", "--port", port, "--slot", "0", "--capacity", "2000", "--current", "2",
                               "--series", series, "--no-sensor")
     assert code == 0 and out.strip() == f"started slot 0 ({name}): charge", err
-    until = ("--until-end",) if charger.virtual else ("--seconds", "2.5")
-    code, out, err = zuml("monitor", "--port", port, *until, "--rate", "20", "--csv", str(tmp_path / "m.csv"))
+    args = ("monitor", "--port", port, "--rate", "20", "--csv", str(tmp_path / "m.csv"))
+    if charger.virtual:
+        watching = []
+        monitor = threading.Thread(target=lambda: watching.append(zuml(*args, "--until-end")))
+        monitor.start()
+        assert until(lambda: charger.device.telemetry_hz == 20 or not monitor.is_alive())   # it asked for 20 Hz
+        charger.device.set_speed(5000)
+        monitor.join()
+        code, out, err = watching[0]
+    else:
+        code, out, err = zuml(*args, "--seconds", "2.5")
     assert code == 0, err
     lines = out.splitlines()
     assert any("charge" in line and " V " in line and "+" in line for line in lines), out

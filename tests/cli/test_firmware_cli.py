@@ -1,23 +1,19 @@
 """`zuml firmware-sim`: the C firmware behind a pty, driven by the device commands as a charger is."""
 import os
-import shutil
 import subprocess
 import sys
 
 import pytest
 
-from chargers import INSTALL, simavr_missing
+from tools import HOST, SIMAVR, needs
 from helpers import MACROS
 
 pytestmark = pytest.mark.skipif(os.name != "posix", reason="ptys need POSIX")
 
 
 BOARDS = [
-    pytest.param("host", marks=pytest.mark.skipif(not (shutil.which("gcc") and shutil.which("make")),
-                                                  reason=f"gcc/make not found: the firmware cannot be built ({INSTALL})")),
-    pytest.param("atmega32", marks=pytest.mark.skipif(bool(simavr_missing()),
-                                                      reason=f"{simavr_missing()} missing: no AVR build on simavr "
-                                                             f"({INSTALL})")),
+    pytest.param("host", marks=needs(HOST)),
+    pytest.param("atmega32", marks=needs(SIMAVR)),
 ]
 
 
@@ -74,7 +70,7 @@ def test_the_simulated_b6s_options_are_checked_before_anything_is_built(zuml, ar
     assert code != 0 and out == "" and message in err and len(err.strip().splitlines()) == 1
 
 
-@pytest.mark.skipif(bool(simavr_missing()), reason=f"{simavr_missing()} missing: no simulated B6 ({INSTALL})")
+@needs(SIMAVR)
 def test_the_simulated_b6_takes_its_options_through_the_cli(tmp_path):
     """--uncalibrated, --lcd and --eeprom through `zuml firmware-sim --board imaxb6`: the panel says why it will
     not charge, and the file holds no calibration."""

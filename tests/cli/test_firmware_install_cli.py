@@ -1,11 +1,8 @@
 """zuml firmware install / restore: the real avrdude against the emulated STK500v1 programmer."""
-import shutil
-
-import pytest
-
 from stk500_chip import FLASH_SIZE, Atmega32, Stk500Programmer
+from tools import AVRDUDE, needs
 
-needs_avrdude = pytest.mark.skipif(shutil.which("avrdude") is None, reason="avrdude not installed")
+needs_avrdude = needs(AVRDUDE)
 ORIGINAL = bytes((i * 5 + 1) & 0xFF for i in range(FLASH_SIZE))
 
 

@@ -44,6 +44,34 @@ def test_flash_lost_after_a_confirmed_commit_is_settled_on_reconnect(any_charger
     assert out.strip() == "NiMh-dV: appended as slot 0; verified after reconnecting"
 
 
+@pytest.mark.parametrize("commit_arrives", [True, False])
+def test_another_charger_of_the_model_holding_the_image_is_not_verified_after_reconnecting(
+        any_charger, zuml, monkeypatch, commit_arrives):
+    """Issue 34: the cable moved to a second charger of the same model and firmware, which already holds the
+    image, after a COMMIT lost on the line. IDENTIFY is equal; the write's token (the host's nonce) is not
+    known there: "not verified", exit 1, whether or not the first charger committed."""
+    from zuml_studio.cli import device_commands
+    monkeypatch.setattr(device_commands, "SETTLE_PAUSE_S", 0.01)
+    first, second = any_charger(), any_charger()
+    macro = str(MACROS / "NiMh-dV.zuml")
+    assert zuml("flash", "--port", second.port, macro)[0] == 0        # the second already holds the image
+    real = device_commands._connect
+    calls = []
+
+    def connect(args):
+        calls.append(args.port)
+        if len(calls) > 1:                                             # the reconnect reaches the second charger
+            args.port = second.port
+        return real(args)
+    monkeypatch.setattr(device_commands, "_connect", connect)
+    lose_link_after_commit(monkeypatch, commit_arrives=commit_arrives, confirmed=False)
+    code, out, err = zuml("flash", "--port", first.port, macro)
+    assert code == 1 and out == "" and "Traceback" not in err, (out, err)
+    assert "holds the new image, but it is not verified to be the one written to" in err.splitlines()[-1]
+    if first.virtual:
+        assert first.device.commits == int(commit_arrives)
+
+
 def test_flash_whose_commit_never_arrived_says_so_after_reconnecting(any_charger, zuml, monkeypatch):
     from zuml_studio.cli import device_commands
     monkeypatch.setattr(device_commands, "SETTLE_PAUSE_S", 0.01)

@@ -1,16 +1,16 @@
 """Installing and restoring the firmware with the real avrdude, against an emulated STK500v1 programmer
 holding an ATmega32 (tests/stk500_chip.py): every outcome is asserted on the chip's memories."""
 import json
-import shutil
 
 import pytest
+
+from tools import AVRDUDE, needs
 
 from stk500_chip import EEPROM_SIZE, FLASH_SIZE, Atmega32, Stk500Programmer
 from zuml_studio.device import avr_install
 from zuml_studio.device.avr_install import InstallError, Programmer
 
-pytestmark = pytest.mark.skipif(shutil.which("avrdude") is None,
-                                reason="avrdude not installed (apt-get install avrdude)")
+pytestmark = needs(AVRDUDE)
 
 ORIGINAL_FLASH = bytes((i * 7 + (i >> 8)) & 0xFF for i in range(FLASH_SIZE))
 ORIGINAL_EEPROM = bytes((i * 13 + 1) & 0xFF for i in range(EEPROM_SIZE))

@@ -35,7 +35,7 @@ def test_100_flashes_through_bit_errors_end_verified_or_with_an_error(make_charg
     images = [pack([compiled("NiMh-dV"), compiled("LiPo")], 256), pack([compiled("NiCd"), compiled("LiFe")], 256),
               pack([compiled("Pb")], 256)]
     device, port = make_charger(eeprom_size=256, faults=Faults(ber=1e-3), seed=7, speed=100)
-    client = connect(port, timeout=0.05)
+    client = connect(port)                 # the link's own timeouts: a fixed 0.05 s fails on a loaded machine
     client.set_telemetry_rate(1) if client.connected else None
     verified = failed = 0
     slowest = 0.0
@@ -53,7 +53,7 @@ def test_100_flashes_through_bit_errors_end_verified_or_with_an_error(make_charg
         assert all_records_valid(image) and image in images + [b"\xff" * 256]
     assert verified + failed == 100
     assert verified >= 50, (verified, failed, client.stats)
-    assert slowest < 10
+    assert slowest < 60                    # a bound on a hang, not a speed (benchmarks/ measure speed)
     assert client.stats["retries"] + client.stats["early_resends"] > 0       # the noise was real
 
 
@@ -165,3 +165,22 @@ def test_a_monitor_only_charger_whose_cable_is_pulled_says_the_zuml_links_senten
     os.close(slave)
     assert why == [f"{link.port}: the connection was lost (the charger closed the "
                    "line: it stopped, or its cable was pulled)"]
+
+
+def test_a_try_waits_for_the_links_measured_delay_and_an_explicit_timeout_is_kept(charger, make_client):
+    """A link whose answers come late (a simulated charger on a loaded machine: PASSPORT timed out at a quiet
+    machine's 0.11 s a try) gets tries as long as its measured delay, up to TIMEOUT_MAX_S."""
+    from zuml_studio.device.client import TIMEOUT_MAX_S
+    _device, port, client = charger
+    quiet = client._attempt_timeout(8, 32)
+    for _ in range(30):
+        client._measured(0.8)
+    slow = client._attempt_timeout(8, 32)
+    assert quiet < 0.8 <= slow <= TIMEOUT_MAX_S
+    for _ in range(30):
+        client._measured(60.0)
+    assert client._attempt_timeout(8, 32) == TIMEOUT_MAX_S
+    client.close()
+    fixed = make_client(port, timeout=0.3)
+    fixed._measured(2.0)
+    assert fixed._attempt_timeout(8, 32) == 0.3

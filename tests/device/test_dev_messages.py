@@ -11,7 +11,7 @@ SAMPLES = {
                           max_discharge_ma=1000, max_discharge_dw=50, max_mv=27000, write_us_per_byte=0,
                           model="iMAX B6 (virtual)", firmware="x 1.0")),
     "READ_EEPROM": (dict(offset=10, length=240), dict(offset=10, data=bytes(range(240)))),
-    "BEGIN_WRITE": ({}, dict(token=0xDEADBEEF, size=1024)),
+    "BEGIN_WRITE": (dict(nonce=0x5EED1234), dict(token=0xDEADBEEF, size=1024)),
     "WRITE_STAGE": (dict(token=1, offset=1000, data=b"\x00\xff" * 12), dict(offset=1000, length=24)),
     "COMMIT": (dict(token=5, crc=0x4B37), dict(changed=17, crc=0x4B37)),
     "ABORT": (dict(token=0), {}),

@@ -10,7 +10,7 @@ from zuml_studio.device.frames import FrameParser, encode_frame
 from zuml_studio.device.virtual_charger import BatterySpec, DeviceSetupError, VirtualCharger
 from zuml_studio.lang.eeprom import pack, slots
 
-from helpers import compiled
+from helpers import compiled, until
 
 
 class Wire:
@@ -76,8 +76,9 @@ def test_reads_are_bounded(dev):
         assert exc.value.code is m.ErrorCode.BAD_RANGE
 
 
-def _stage(w, image):
-    token = w.call("BEGIN_WRITE")["token"]
+def _stage(w, image, nonce=0x600D5EED):
+    token = w.call("BEGIN_WRITE", nonce=nonce)["token"]
+    assert token == nonce                                    # the host's nonce is the token
     for at in range(0, len(image), 240):
         w.call("WRITE_STAGE", token=token, offset=at, data=image[at:at + 240])
     return token
@@ -96,12 +97,12 @@ def test_commit_checks_crc_and_abandoned_transfers_change_nothing(dev):
     # the same COMMIT again (its answer was lost): success again, nothing more written
     assert w.call("COMMIT", token=token, crc=crc16(image)) == done
     # a new transfer that is abandoned (BEGIN again, or ABORT) never reaches the EEPROM
-    token = _stage(w, pack([compiled("LiPo")]))
-    w.call("BEGIN_WRITE")
+    token = _stage(w, pack([compiled("LiPo")]), nonce=2)
+    w.call("BEGIN_WRITE", nonce=3)
     with pytest.raises(RefusedError) as exc:
         w.call("COMMIT", token=token, crc=crc16(pack([compiled("LiPo")])))
     assert exc.value.code is m.ErrorCode.BAD_TOKEN and dev.eeprom_image == image
-    token = _stage(w, pack([compiled("LiPo")]))
+    token = _stage(w, pack([compiled("LiPo")]), nonce=4)
     w.call("ABORT", token=token)
     assert not dev.staging_open and dev.eeprom_image == image
 
@@ -152,10 +153,7 @@ def test_telemetry_is_coalesced_and_events_are_never_dropped():
         w.call("START", slot=0, task=0, repetitions=1, capacity_mah=2000, current_ma=0, voltage_mv=0, series=4,
                sensor=0)
         dev.start()
-        deadline = time.monotonic() + 10
-        while dev.state == "running" and time.monotonic() < deadline:
-            time.sleep(0.02)                             # nobody reads meanwhile
-        assert dev.state == "finished"
+        assert until(lambda: dev.state != "running") and dev.state == "finished"     # nobody reads meanwhile
         frames = FrameParser().feed(dev.read_output(1 << 22))
         events = [m.DeviceEvent.decode(f.payload) for f in frames if f.type == m.EVENT]
         assert [e.number for e in events] == list(range(len(dev.run_events)))

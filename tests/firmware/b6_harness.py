@@ -12,9 +12,8 @@ import tty
 from dataclasses import dataclass
 from pathlib import Path
 
-import pytest
 
-from chargers import INSTALL, simavr_missing
+from tools import SIMAVR, skip_unless
 from host_core import FIRMWARE
 
 B6_SIM = FIRMWARE / "build" / "simavr" / "zuml_b6_sim"
@@ -23,9 +22,7 @@ LINE_WAIT_S = 120.0        # a bound on a wait for a line, far above any run her
 
 def build(*targets: str) -> None:
     """`make` firmware targets (the harness, an image); skips naming the tools that are missing."""
-    missing = simavr_missing()
-    if missing or os.name != "posix":
-        pytest.skip(f"{missing or 'a POSIX pty'} missing: the simulated B6 cannot run ({INSTALL})")
+    skip_unless(SIMAVR)
     done = subprocess.run(["make", "-s", "-C", str(FIRMWARE), *targets], capture_output=True, text=True)
     assert done.returncode == 0, done.stdout + done.stderr
 

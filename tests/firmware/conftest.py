@@ -1,10 +1,10 @@
 """The firmware's host build, made once per session; firmware tests skip (saying why) without a C compiler."""
-import shutil
 import subprocess
 
 import pytest
 
-from host_core import FIRMWARE, INSTALL_HINT, LIBRARY, load
+from host_core import FIRMWARE, LIBRARY, load
+from tools import HOST, skip_unless
 
 HOST_DEVICE = FIRMWARE / "build" / "host" / "zuml_host"
 
@@ -12,9 +12,7 @@ HOST_DEVICE = FIRMWARE / "build" / "host" / "zuml_host"
 @pytest.fixture(scope="session")
 def host_build():
     """`make host` once: the core as a shared library and the device on a pty."""
-    missing = [tool for tool in ("gcc", "make") if shutil.which(tool) is None]
-    if missing:
-        pytest.skip(f"{' and '.join(missing)} not found: the firmware's host build cannot be made ({INSTALL_HINT})")
+    skip_unless(HOST)
     done = subprocess.run(["make", "-s", "-C", str(FIRMWARE), "host"], capture_output=True, text=True)
     assert done.returncode == 0, done.stdout + done.stderr
 

@@ -21,8 +21,6 @@ from zuml_studio.sim.start_templates import factory_templates
 ROOT = Path(__file__).resolve().parents[2]
 FIRMWARE = ROOT / "firmware"
 LIBRARY = FIRMWARE / "build" / "host" / "libzuml_host.so"
-INSTALL_HINT = "install the tools with: apt-get install -y make gcc gcc-avr avr-libc binutils-avr simavr libsimavr-dev " \
-               "libelf-dev"
 
 TASKS = {"charge": 0, "discharge": 1, "train": 2}
 NONE = -1

@@ -1,14 +1,12 @@
 """The iMAX B6 image fits its ATmega32: 32 KB of flash, and 2 KB of RAM with room left for the stack (its
 measured high-water mark is in docs/firmware.md, *Budgets*)."""
-import shutil
 import subprocess
 
-import pytest
 
-from host_core import FIRMWARE, INSTALL_HINT
+from host_core import FIRMWARE
+from tools import AVR, needs
 
-pytestmark = pytest.mark.skipif(not (shutil.which("avr-gcc") and shutil.which("avr-size") and shutil.which("make")),
-                                reason=f"avr-gcc/avr-size not found: no ATmega32 build ({INSTALL_HINT})")
+pytestmark = needs(AVR)
 
 STACK_RESERVE = 640     # the measured high-water mark (513 B) and room for what a test run did not reach
 

@@ -1,16 +1,15 @@
 """The iMAX B6 board's calibration and protections (firmware/boards/imaxb6/calib.c, protect.c) built for the
 PC and driven through ctypes: the decisions the ADC interrupt takes, reading by reading."""
 import ctypes
-import shutil
 import subprocess
 import tomllib
 
 import pytest
 
-from host_core import FIRMWARE, INSTALL_HINT, ROOT
+from host_core import FIRMWARE, ROOT
+from tools import HOST, needs
 
-pytestmark = pytest.mark.skipif(not (shutil.which("gcc") and shutil.which("make")),
-                                reason=f"gcc/make not found: no host build ({INSTALL_HINT})")
+pytestmark = needs(HOST)
 
 (VOUT, VOUT_MINUS, IDIS, ISMPS, VIN, VB0, VB1, VB2, VB3, VB4, VB5, VB6, TEXTERN) = range(13)
 BLOCK = 54

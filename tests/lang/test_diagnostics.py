@@ -1,10 +1,10 @@
 """Every error kind, with its line, column and code."""
 import pytest
 
-from helpers import seed_text
+from helpers import bare_seed
 from zuml_studio.lang.compiler import compile_source
 
-LIPO = seed_text("LiPo")
+LIPO = bare_seed("LiPo")
 
 
 def not_lint(diagnostics):

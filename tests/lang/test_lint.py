@@ -51,6 +51,8 @@ CASES = {
              charge(GOOD_LI)),
     "W317": (charge("FAZE CONSTANT_I=1C IF(V>1.5S) STOP_FAZE END_FAZE", NIMH),
              charge("FAZE CONSTANT_I=1C IF(V>1.5S) STOP_FAZE IF(DELTA_PEAK>0.01S) STOP_FAZE END_FAZE", NIMH)),
+    "W320": (charge(NIMH_DV.format("1C"), NIMH),
+             charge("FAZE CONSTANT_I=1C IF(DELTA_PEAK>0.01S) STOP_FAZE IF(T>40) STOP_FAZE END_FAZE", NIMH)),
     "W312": (charge("FAZE CONSTANT_I=1C IF(V>4.2S) STOP_FAZE END_FAZE\nFAZE CONSTANT_I=0.5C IF(V>4.1S) STOP_FAZE END_FAZE"),
              charge("FAZE CONSTANT_I=1C IF(V>4.1S) STOP_FAZE END_FAZE\nFAZE CONSTANT_I=0.5C IF(V>4.2S) STOP_FAZE END_FAZE")),
 }
@@ -96,6 +98,18 @@ def test_nicd_fast_charge_up_to_4c_is_legitimate_nimh_is_not():
     assert "W307" not in codes(charge(NIMH_DV.format("3C"), "AKK_TYPE=NiCd SERIES=4 CAPACITY=1000"))
     (d,) = [d for d in compile_source(charge(NIMH_DV.format("3C"), NIMH)).diagnostics if d.code == "W307"]
     assert d.message == "Charging NiMh at 3C is above 2C"
+
+
+def test_a_fast_nickel_charge_without_a_temperature_end_warns_as_loud_as_lithium_and_a_slow_one_not():
+    """Seed 001 §5.1.3: a fast charge (0.5-1C and up) is ended by temperature or voltage."""
+    from zuml_studio.lang.diagnostics import Severity
+    for intro in (NIMH, "AKK_TYPE=NiCd SERIES=4 CAPACITY=1000"):
+        (w320,) = [d for d in compile_source(charge(NIMH_DV.format("5C"), intro)).diagnostics if d.code == "W320"]
+        (w315,) = [d for d in compile_source(charge(GOOD_LI.replace("IF(T>45) STOP_FAZE", ""))).diagnostics
+                   if d.code == "W315"][:1]
+        assert w320.severity is w315.severity is Severity.WARNING and "no temperature limit" in w320.message
+    assert "W320" not in codes(charge(NIMH_DV.format("0.4C"), NIMH))
+    assert "W320" not in codes(charge(NIMH_DV.format("INPUT"), NIMH))      # judged with the current entered
 
 
 def test_messages_spell_the_chemistry_as_the_spec_does():

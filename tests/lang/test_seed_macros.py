@@ -56,3 +56,13 @@ def test_charge_ex_with_four_and_five_arguments():
     assert ins4.raws == (60, 0x8000 | 50, 3, 0x8000 | 10, 0)
     assert ins5.raws[-1] == 2
     assert ins4.size == 8
+
+
+def test_every_library_macro_checks_without_a_warning_or_says_on_its_line_why_the_warning_is_right():
+    from helpers import MACROS
+    from zuml_studio.lang.diagnostics import Severity
+    for path in sorted(MACROS.glob("*.zuml")):
+        lines = path.read_text().splitlines()
+        for d in compile_source(path.read_text()).diagnostics:
+            if d.severity is not Severity.NOTE:
+                assert f"// {d.code} right" in lines[d.line - 1], (path.name, d.line, d.code, d.message)

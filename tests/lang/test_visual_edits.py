@@ -2,7 +2,7 @@
 does what it says to the AST and the bytes, and keeps the comments it does not touch."""
 import pytest
 
-from helpers import MACROS, SEED_MACROS, seed_text
+from helpers import MACROS, SEED_MACROS, bare_seed, seed_text
 from zuml_studio.lang import visual_edits as ve
 from zuml_studio.lang import opcodes as ops
 from zuml_studio.lang.ast import Cycle, Phase
@@ -66,7 +66,7 @@ def test_set_value_rewrites_only_the_statement_and_keeps_its_comment():
 
 
 def test_set_value_writes_the_canonical_statement():
-    text = seed_text("Pb")
+    text = bare_seed("Pb")
     m = macro(text)
     cond = m.charge.items[1].statements[1]           # IF(t>120) STOP_FAZE()
     new = ve.set_value(text, cond, 0, "30min")
@@ -117,7 +117,7 @@ def test_add_condition_is_a_new_line_after_the_last_statement_with_the_phase_ind
 
 
 def test_add_condition_follows_the_files_own_indentation():
-    text = seed_text("LiPo")                       # phase contents at the FAZE's indentation
+    text = bare_seed("LiPo")                       # phase contents at the FAZE's indentation
     m = macro(text)
     new = ve.add_condition(text, m.discharge.items[0], IF_T, "45")
     assert "    IF(V<2.8S) STOP_FAZE()\n    IF(T>45) STOP_FAZE\n    END_FAZE\n" in new

@@ -5,7 +5,7 @@ import sys
 from PySide6.QtCore import Qt
 from PySide6.QtGui import QTextCursor
 
-from helpers import MACROS
+from helpers import MACROS, WAIT_MS
 from zuml_studio.lang.compiler import compile_source
 
 LIPO = str(MACROS / "LiPo.zuml")
@@ -42,7 +42,7 @@ def test_typing_an_error_underlines_it_and_lists_it_then_fixing_clears_both(make
     _move_to_end_of(w.editor, "CONSTANT_I=1C")
     runs = w.validator.runs
     qtbot.keyClick(w.editor, Qt.Key.Key_Backspace)          # CONSTANT_I=1 : a number without its unit
-    qtbot.waitUntil(lambda: len(_errors(w)) == 1, timeout=2000)
+    qtbot.waitUntil(lambda: len(_errors(w)) == 1, timeout=WAIT_MS)
     assert w.validator.runs == runs + 1
     (item,) = _errors(w)
     assert item.text(1) == "5:16" and item.text(3) == "E201"
@@ -50,7 +50,7 @@ def test_typing_an_error_underlines_it_and_lists_it_then_fixing_clears_both(make
     assert underline.cursor.blockNumber() == 4
     assert "✖" in w.state_label.text()
     qtbot.keyClicks(w.editor, "C")
-    qtbot.waitUntil(lambda: not _errors(w), timeout=2000)
+    qtbot.waitUntil(lambda: not _errors(w), timeout=WAIT_MS)
     assert not _red_underlines(w.editor)
     assert "valid" in w.state_label.text()
 
@@ -68,7 +68,7 @@ def test_debounce_checks_once_after_a_burst_of_typing(make_window, qtbot):
 def test_activating_a_problem_moves_the_cursor_there(make_window, qtbot):
     w = make_window(LIPO)
     w.editor.setPlainText(open(LIPO).read().replace("IF(V>4.1S)", "IF(V>4.1)"))
-    qtbot.waitUntil(lambda: len(_errors(w)) == 1, timeout=2000)
+    qtbot.waitUntil(lambda: len(_errors(w)) == 1, timeout=WAIT_MS)
     w.editor.goto(1, 1)
     (item,) = _errors(w)
     w.problems.itemActivated.emit(item, 0)
@@ -101,7 +101,7 @@ def test_invalid_text_keeps_the_last_bytes_greyed_with_a_banner(make_window, qtb
     w = make_window(LIPO)
     before = w.hex_view.record_hex()
     w.editor.setPlainText(open(LIPO).read().replace("END_MACRO", ""))
-    qtbot.waitUntil(lambda: w.hex_view.banner.isVisible(), timeout=2000)
+    qtbot.waitUntil(lambda: w.hex_view.banner.isVisible(), timeout=WAIT_MS)
     assert w.hex_view.record_hex() == before
 
 
@@ -250,7 +250,7 @@ def test_visual_editor_is_docked_and_follows_the_text(make_window, qtbot):
     assert visual is w.visual and visual.macro().name == "LiPo"
     w.show_visual()
     w.editor.setPlainText(open(LIPO).read().replace("MACRO LiPo", "MACRO LiPo2"))
-    qtbot.waitUntil(lambda: visual.macro().name == "LiPo2", timeout=2000)
+    qtbot.waitUntil(lambda: visual.macro().name == "LiPo2", timeout=WAIT_MS)
 
 
 def test_the_device_panel_is_built_after_the_first_paint_and_knows_the_macro(tmp_path, qtbot):

@@ -2,7 +2,7 @@
 from PySide6.QtCore import Qt
 from PySide6.QtGui import QTextCursor
 
-from helpers import MACROS
+from helpers import MACROS, WAIT_MS
 
 LIPO = str(MACROS / "LiPo.zuml")
 
@@ -45,9 +45,9 @@ def test_every_debounced_change_reaches_the_recovery_file(make_window, qtbot):
     recovery = w.recovery.root / f"{w._recovery_key}.zuml"
     # Well before any periodic autosave: the debounced check (250 ms) writes it.
     qtbot.waitUntil(lambda: recovery.exists() and recovery.read_text().endswith("// typed just now"),
-                    timeout=2000)
+                    timeout=WAIT_MS)
     qtbot.keyClick(w.editor, Qt.Key.Key_Backspace)
-    qtbot.waitUntil(lambda: recovery.read_text().endswith("// typed just no"), timeout=2000)
+    qtbot.waitUntil(lambda: recovery.read_text().endswith("// typed just no"), timeout=WAIT_MS)
     assert not list(w.recovery.root.glob(".*.tmp"))          # written beside, renamed over: no leftovers
     w.editor.document().setModified(False)
 

@@ -206,8 +206,7 @@ def slot_checks(client: ChargerClient, found: list[Slot]) -> list[str]:
     """Each slot's check, judged on the bytes read back (never remembered): "ok", "BAD (why)" for a
     record that does not decode, "UNSAFE (codes)" for one the safety check refuses."""
     from ..safety import judge_slots
-    return [f"BAD ({s.error.message})" if verdict is None else
-            "ok" if verdict.safe else _("UNSAFE ({codes})").format(codes=", ".join(verdict.codes()))
+    return [f"BAD ({s.error.message})" if verdict is None else verdict.check()
             for s, verdict in zip(found, judge_slots(client, found))]
 
 
@@ -277,9 +276,11 @@ def _identity(info: DeviceInfo) -> str:
 def _settle(args: argparse.Namespace, lost: CommitUncertain | CommitUnverified, done: str,
             flashed: DeviceInfo) -> None:
     """The link failed once COMMIT was out: say what is known, reconnect, read the EEPROM back and
-    say what is there (returns only when it holds the new image). The charger that answers must be
-    the one written to, as far as IDENTIFY tells (the protocol has no serial number): a port that
-    vanished may come back under its name as another device."""
+    say what is there (returns only when it holds the new image and the charger is the one written
+    to). IDENTIFY tells another model from the one flashed; two chargers of one model answer it alike,
+    so the charger must also know the write's token, the host's random nonce (``client.committed``):
+    a port that vanished may come back under its name as another unit. When it cannot be told, the
+    write is "not verified"."""
     sys.stderr.write(_("zuml: warning: {lost}\n").format(lost=lost))
     sys.stderr.flush()
     for __ in range(SETTLE_TRIES):
@@ -291,13 +292,21 @@ def _settle(args: argparse.Namespace, lost: CommitUncertain | CommitUnverified, 
                                      "{was} written to): nothing is known about the write; run `zuml slots` on that "
                                      "charger when it is back").format(
                             port=args.port, now=_identity(client.info), was=_identity(flashed)), 1)
+                same = client.committed(lost)
                 now = client.read_image()
         except DeviceLinkError:
             continue
         verdict = lost.settle(now)
-        if verdict == "new":
+        if verdict == "new" and same:
             out(_("{done}; verified after reconnecting").format(done=done))
             return
+        if verdict == "new":
+            why = (_("it does not know this write's token: another charger of the same model, or it restarted")
+                   if same is False else _("this charger's firmware cannot tell (it does not take the host's "
+                                           "nonce)"))
+            raise CliError(_("{port}: after reconnecting, the charger that answers holds the new image, but it is "
+                             "not verified to be the one written to ({why}); run `zuml slots` on the charger you "
+                             "meant to write").format(port=args.port, why=why), 1)
         if verdict == "previous":
             raise CliError(_("reconnected and read back: the charger kept its previous image; nothing was "
                              "written, flash again"), 1)

@@ -190,13 +190,17 @@ def cmd_image(args: argparse.Namespace) -> int:
 
 
 def _list(path: str, image: bytes, found) -> int:
+    """The records in an image judged as ``zuml slots`` judges a charger's (the factory start templates
+    and no battery passport: offline, the image is all there is)."""
+    from ..safety import judge
     out(f"{'slot':>4}  {'offset':>6}  {'size':>4}  {'name':<16}  {'type':<6}  check")
     bad = 0
     for slot in found:
         if slot.ok:
             akk = slot.decoded.macro.declared(AKK_TYPE)
             kind = AKK_TYPE.operands[0].kind.format(akk.args[0].raw) if akk else "-"
-            out(f"{slot.index:>4}  {slot.offset:>6}  {len(slot.record):>4}  {slot.name:<16}  {kind:<6}  ok")
+            check = judge(slot.record).check()
+            out(f"{slot.index:>4}  {slot.offset:>6}  {len(slot.record):>4}  {slot.name:<16}  {kind:<6}  {check}")
         else:
             bad += 1
             out(_("{index:>4}  {offset:>6}  {n_record:>4}  {value:<16}  {value:<6}  BAD: byte {offset2}: "

@@ -16,6 +16,7 @@ import errno
 import logging
 import queue
 import random
+import secrets
 import threading
 import time
 from dataclasses import dataclass
@@ -40,7 +41,13 @@ MIN_CHUNK = 16
 PIECE_FAILURES = 8            # requests of one piece that may fail in a row (each already retried)
 BACKOFF_S = 0.02              # first wait after a failed piece; doubles, at most BACKOFF_MAX_S
 BACKOFF_MAX_S = 0.5
-TIMEOUT_MARGIN_S = 0.1        # device processing and OS latency on top of the wire time
+TIMEOUT_MARGIN_S = 0.1        # device processing and OS latency on top of the wire time, at least
+# The link's own delay, measured: each answer's time beyond its wire time (first tries only, as an
+# answer to a resent request may be the first one's) updates a smoothed delay and its variation, and a
+# try waits for the delay plus four variations (RFC 6298's estimator), so a slow link (a simulated
+# charger on a loaded machine, a Bluetooth bridge) gets the time it takes. A try that timed out waits
+# twice as long the next time, up to TIMEOUT_MAX_S.
+TIMEOUT_MAX_S = 5.0
 READ_POLL_S = 0.02
 
 
@@ -142,6 +149,8 @@ class ChargerClient:
         self.timeout = timeout
         self.retries = retries
         self._byte_s = 10.0 / self.baudrate
+        self._delay_s: float | None = None        # the link's smoothed delay beyond the wire time
+        self._delay_var_s = 0.0
         self._serial = open_serial(url, self.baudrate, exclusive)
         try:
             self._serial.reset_input_buffer()      # stale frames a previous session left in the port
@@ -369,11 +378,25 @@ class ChargerClient:
                     self.stats["stale"] += 1
 
     # -- requests -------------------------------------------------------------------------------------
+    def _wire_s(self, request_len: int, response_len: int) -> float:
+        return (request_len + OVERHEAD + response_len + OVERHEAD) * self._byte_s
+
     def _attempt_timeout(self, request_len: int, response_len: int) -> float:
         if self.timeout is not None:
             return self.timeout
-        wire = (request_len + OVERHEAD + response_len + OVERHEAD) * self._byte_s
-        return wire * 1.5 + TIMEOUT_MARGIN_S
+        margin = TIMEOUT_MARGIN_S
+        if self._delay_s is not None:
+            margin = max(margin, self._delay_s + 4 * self._delay_var_s)
+        return min(TIMEOUT_MAX_S, self._wire_s(request_len, response_len) * 1.5 + margin)
+
+    def _measured(self, delay_s: float) -> None:
+        """One first try's answer came ``delay_s`` after its wire time: update the link's delay."""
+        delay_s = max(0.0, delay_s)
+        if self._delay_s is None:
+            self._delay_s, self._delay_var_s = delay_s, delay_s / 2
+        else:
+            self._delay_var_s = 0.75 * self._delay_var_s + 0.25 * abs(self._delay_s - delay_s)
+            self._delay_s = 0.875 * self._delay_s + 0.125 * delay_s
 
     def request(self, name: str, payload: bytes = b"", *, response_len: int = MAX_FRAME,
                 extra_s: float = 0.0) -> bytes:
@@ -391,6 +414,7 @@ class ChargerClient:
             seq = self._seq
             frame = encode_frame(code, seq, payload)
             per_try = self._attempt_timeout(len(payload), response_len) + extra_s
+            first_try = per_try
             # After garbage where the answer should be, wait a little for the rest of it, then resend.
             grace = min(per_try, 0.002 + 0.25 * (response_len + OVERHEAD) * self._byte_s)
             pending = _Pending(code, seq)
@@ -399,7 +423,9 @@ class ChargerClient:
             self.stats["requests"] += 1
             timeouts = 0
             resends = 0
-            deadline_total = time.monotonic() + per_try * (self.retries + 1)
+            # Tries double (per_try, 2x, 4x, ...): the whole request may take their sum.
+            deadline_total = time.monotonic() + per_try * ((2 ** (self.retries + 1) - 1) if self.timeout is None
+                                                           else self.retries + 1)
             try:
                 while True:
                     self._write(frame)
@@ -421,6 +447,9 @@ class ChargerClient:
                                 wait = min(wait, wait_more - (now - pending.suspect))
                             self._cv.wait(max(0.0005, wait))
                         if pending.done:
+                            if timeouts + resends == 0 and self.timeout is None:
+                                self._measured(time.monotonic() - sent_at - extra_s
+                                               - self._wire_s(len(payload), len(pending.payload or b"")))
                             break
                         if self._disconnected is not None:
                             raise self._disconnected
@@ -432,10 +461,12 @@ class ChargerClient:
                     timeouts += 1
                     self.stats["timeouts"] += 1
                     if timeouts > self.retries or time.monotonic() >= deadline_total + per_try:
-                        raise DeviceTimeout(_("{url}: no answer to {name} after {timeouts} tries ({per_try:.2f} "
-                                              "s each)").format(
-                                url=self.url, name=name, timeouts=timeouts, per_try=per_try))
+                        raise DeviceTimeout(_("{url}: no answer to {name} after {timeouts} tries ({first:.2f} s "
+                                              "to {per_try:.2f} s each)").format(
+                                url=self.url, name=name, timeouts=timeouts, first=first_try, per_try=per_try))
                     self.stats["retries"] += 1
+                    if self.timeout is None:
+                        per_try = min(per_try * 2, max(TIMEOUT_MAX_S, first_try))
             finally:
                 with self._cv:
                     self._pending = None
@@ -555,7 +586,9 @@ class ChargerClient:
         changed = sum(a != b for a, b in zip(current, image))
         if not changed:
             return WriteResult(size, 0, 0, 0, time.monotonic() - started)
-        token = self._call("BEGIN_WRITE", response_len=6)["token"]
+        nonce = secrets.randbits(32) or 1
+        token = self._call("BEGIN_WRITE", response_len=6, nonce=nonce)["token"]
+        proof = {"token": token, "nonce_taken": token == nonce}
         sent = chunks = 0
         commit_sent = confirmed = False
         try:
@@ -589,7 +622,7 @@ class ChargerClient:
             # Every answer to COMMIT was lost, perhaps not the COMMIT itself: the read-back tells.
         except Disconnected as exc:
             if commit_sent:
-                raise self._uncertain(exc, image, current) from None
+                raise self._uncertain(exc, image, current, proof) from None
             raise
         except BaseException:
             self._abort(token)
@@ -604,8 +637,8 @@ class ChargerClient:
                                                 "{url}: the charger confirmed the new image ({changed} bytes changed), "
                                                 "then the link failed while reading it back ({error}): reconnect to "
                                                 "verify it", changed).format(url=self.url, changed=changed, error=exc),
-                                       image, current) from None
-            raise self._uncertain(exc, image, current) from None
+                                       image, current, **proof) from None
+            raise self._uncertain(exc, image, current, proof) from None
         if back != image:
             if not confirmed and back == current:
                 raise DeviceTimeout(_("{url}: the charger did not take COMMIT; it keeps its previous image").format(
@@ -623,10 +656,27 @@ class ChargerClient:
             except DeviceLinkError:
                 pass
 
-    def _uncertain(self, exc: DeviceLinkError, image: bytes, current: bytes) -> CommitUncertain:
+    def _uncertain(self, exc: DeviceLinkError, image: bytes, current: bytes, proof: dict) -> CommitUncertain:
         return CommitUncertain(_("{url}: the link failed right after COMMIT ({error}); the charger holds "
                                  "either the new image or its previous one, never a mix: reconnect to tell "
-                                 "which").format(url=self.url, error=exc), image, current)
+                                 "which").format(url=self.url, error=exc), image, current, **proof)
+
+    def committed(self, lost: CommitUncertain | CommitUnverified) -> bool | None:
+        """After a reconnect: is this the charger that committed ``lost``'s write? COMMIT of its token
+        again is answered only by the unit that committed it (a repeated COMMIT), never by another of
+        its model, which knows no such token. ABORT first drops the write if it is still staged here,
+        so that asking never commits it late. None: it cannot be told (the charger did not take the
+        host's nonce as the token, or it restarted and forgot it: then False too)."""
+        if not lost.nonce_taken:
+            return None
+        self._abort(lost.token)
+        try:
+            answer = self._call("COMMIT", response_len=4, token=lost.token, crc=crc16(lost.image))
+        except DeviceError as exc:
+            if exc.code in (m.ErrorCode.BAD_TOKEN, m.ErrorCode.CRC_MISMATCH):
+                return False
+            raise
+        return answer["crc"] == crc16(lost.image)
 
     def start(self, slot: int, task: str = "charge", repetitions: int = 1, capacity_mah: float | None = None,
               current_a: float | None = None, voltage_v: float | None = None, series: int | None = None,

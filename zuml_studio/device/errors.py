@@ -57,14 +57,19 @@ class Disconnected(DeviceLinkError):
 
 class _AfterCommit(DeviceLinkError):
     """A link failure once COMMIT had gone out: ``image`` is what was written, ``previous`` what
-    the EEPROM held before; ``settle`` tells from a fresh read (after reconnecting) which is there."""
+    the EEPROM held before; ``settle`` tells from a fresh read (after reconnecting) which is there.
+    ``token``: the write's token, the host's random nonce when the charger took it (``nonce_taken``),
+    so that ``ChargerClient.committed`` can ask a charger whether it is the one that committed it."""
 
     holds = "either"
 
-    def __init__(self, message: str, image: bytes = b"", previous: bytes = b""):
+    def __init__(self, message: str, image: bytes = b"", previous: bytes = b"", token: int = 0,
+                 nonce_taken: bool = False):
         super().__init__(message)
         self.image = image
         self.previous = previous
+        self.token = token
+        self.nonce_taken = nonce_taken
 
     def settle(self, now: bytes) -> str:
         """"new", "previous" or "other" (the EEPROM changed since, by another hand)."""

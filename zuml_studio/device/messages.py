@@ -86,8 +86,9 @@ MESSAGE_TYPES: tuple[MessageType, ...] = (
         "who is there: protocol version, EEPROM size, charger limits (W in tenths), model and firmware"),
     MessageType(0x02, "READ_EEPROM", _f("offset:H length:B"), _f("offset:H data:s*"),
                 "read length (1..240) EEPROM bytes at offset"),
-    MessageType(0x03, "BEGIN_WRITE", (), _f("token:I size:H"),
-                "open a write transaction: staging := a copy of the EEPROM; answers its token"),
+    MessageType(0x03, "BEGIN_WRITE", _f("nonce:I"), _f("token:I size:H"),
+                "open a write transaction: staging := a copy of the EEPROM; the host's random nonce is the "
+                "token (an empty request: the charger picks one); answers the token"),
     MessageType(0x04, "WRITE_STAGE", _f("token:I offset:H data:s*"), _f("offset:H length:B"),
                 "write up to 240 bytes into the staging copy"),
     MessageType(0x05, "COMMIT", _f("token:I crc:H"), _f("changed:H crc:H"),

@@ -401,7 +401,9 @@ class VirtualCharger:
             if spec is None or spec.request is None:
                 raise _Refused(m.ErrorCode.UNKNOWN_TYPE, _("unknown request type 0x{type:02x}").format(type=frame.type))
             try:
-                fields = m.decode_request(frame.type, frame.payload)
+                # An empty BEGIN_WRITE (a host without a nonce) lets the charger pick the token.
+                fields = {"nonce": 0} if frame.type == m.BEGIN_WRITE and not frame.payload else \
+                    m.decode_request(frame.type, frame.payload)
             except m.PayloadError as exc:
                 raise _Refused(m.ErrorCode.BAD_REQUEST, f"{spec.name}: {exc}") from None
             handler = getattr(self, "_do_" + spec.name.lower(), None)
@@ -444,10 +446,10 @@ class VirtualCharger:
             data = bytes(self.eeprom[offset:offset + length])
         return m.encode_response("READ_EEPROM", offset=offset, data=data)
 
-    def _do_begin_write(self) -> bytes:
+    def _do_begin_write(self, nonce: int) -> bytes:
         with self._eeprom_lock:
             self._staging = bytearray(self.eeprom)
-            token = 0
+            token = nonce           # the host's: a COMMIT of it after a reconnect tells this charger from another
             while token in (0, self._token) or (self._committed and token == self._committed[0]):
                 token = self.rng.getrandbits(32)
             self._token = token

@@ -29,6 +29,12 @@ DPEAK_MIN_RATE = {"NICD": 0.5, "NIMH": 0.3}
 # Fastest charge (seed 001 §5.1.4: 1-4C "very fast" charging is for sintered NiCd cells; NiMH 0.5-2C).
 NICKEL_MAX_RATE = {"NICD": 4.0, "NIMH": 2.0}
 TIMER_ONLY_MAX_RATE = 0.2
+# Seed 001 §5.1.3: a fast charge (0.5-1C) is allowed between +10 and +40 °C and is ended by
+# temperature or voltage; above 2C (§5.1.4's very fast 1-4C, for sintered NiCd) with the charger's
+# sensor off at start, nothing can stop a cell that overheats: refused.
+NICKEL_FAST_RATE = 0.5
+NICKEL_FAST_T_MAX = 40
+NICKEL_NO_SENSOR_MAX_RATE = 2.0
 # Seed 001 §5.1.5-5.1.6: a permanent top-up is 0.025-0.06C, at most 0.1C for cells made for it.
 TRICKLE_MAX_RATE = 0.1
 # Seed 001 §5.1.1, §5.3.1: the normal charge is 0.1C for 14-16 h.
@@ -48,6 +54,8 @@ class Context:
     series: int | None
     capacity_mah: int | None
     charger: object | None = None      # sim.charger_model.ChargerLimits, when the charger is known
+    current_a: float | None = None     # the current entered at start (for CONSTANT_I=INPUT)
+    sensor: bool | None = None         # the temperature sensor at start (None: not started yet)
 
     @property
     def chem_name(self) -> str:
@@ -62,8 +70,15 @@ class Context:
         """A stored current as a multiple of the capacity, when it can be known before start."""
         return relative_value(raw, self.capacity_mah / 1000 if self.capacity_mah else None)
 
+    def charge_rate(self, raw: int) -> float | None:
+        """``c_rate``, and for a current entered at start the value entered, when both are known."""
+        if raw == INPUT_U16:
+            return self.current_a * 1000 / self.capacity_mah if self.current_a and self.capacity_mah else None
+        return self.c_rate(raw)
+
 def _context(macro: Macro, charger=None, given_series: int | None = None,
-             given_capacity: float | None = None) -> Context:
+             given_capacity: float | None = None, current_a: float | None = None,
+             sensor: bool | None = None) -> Context:
     akk = macro.declared(ops.AKK_TYPE)
     name = ops.AKK_TYPE.operands[0].kind.name_of(akk.args[0].raw) if akk else None
     limits = None
@@ -76,7 +91,8 @@ def _context(macro: Macro, charger=None, given_series: int | None = None,
     capacity = macro.declared(ops.CAPACITY)
     cap = capacity.args[0].raw if capacity and capacity.args[0].raw not in (0, 0xFFFF) else None
     declared = series.args[0].raw if series else None
-    return Context(macro, name or "UNDEF", limits, declared or given_series, cap or given_capacity, charger)
+    return Context(macro, name or "UNDEF", limits, declared or given_series, cap or given_capacity, charger,
+                   current_a, sensor)
 
 
 def _phases(items) -> Iterator[Phase]:
@@ -264,6 +280,32 @@ def rule_nickel_rate(ctx: Context) -> Iterator[Finding]:
             message = _("Charging {chem_name} at {rate:g}C is above {top:g}C").format(
                 chem_name=ctx.chem_name, rate=rate, top=top)
             yield _warn(st, "W307", message, hint)
+
+
+def rule_nickel_temperature(ctx: Context) -> Iterator[Finding]:
+    """W320: a fast nickel charge (0.5C or more) with no IF(T>x) of its own; E320: above 2C started with
+    the sensor off (no temperature end can work then)."""
+    if ctx.chemistry not in NICKEL_MAX_RATE:
+        return
+    for phase in _phases(ctx.macro.charge.items):
+        st = _charge_current(phase)
+        rate = ctx.charge_rate(_current_raw(st)) if st is not None and st.op is not ops.TRICKLE else None
+        if rate is None or rate < NICKEL_FAST_RATE:
+            continue
+        if ctx.sensor is False and rate > NICKEL_NO_SENSOR_MAX_RATE + 1e-9:
+            message = _("A {rate:g}C {chem_name} charge started with the temperature sensor off: above {top:g}C "
+                        "only the battery's temperature can end it safely").format(
+                rate=rate, chem_name=ctx.chem_name, top=NICKEL_NO_SENSOR_MAX_RATE)
+            hint = _("connect the sensor and start with it on, or charge at {top:g}C or less").format(
+                top=NICKEL_NO_SENSOR_MAX_RATE)
+            yield Finding(st, Severity.ERROR, "E320", message, hint)
+        elif _code(phase, 81) is None:
+            message = _("This {rate:g}C {chem_name} charge has no temperature limit: a fast nickel charge that "
+                        "misses its -dV overheats the cells until the charger's default stops at 60 °C").format(
+                rate=rate, chem_name=ctx.chem_name)
+            hint = _("add IF(T>{t_max}) STOP_FAZE; seed 001: a fast charge (0.5-1C) runs between +10 and "
+                     "+{t_max} °C, ended by temperature or voltage").format(t_max=NICKEL_FAST_T_MAX)
+            yield _warn(st, "W320", message, hint)
 
 
 def rule_timer_only(ctx: Context) -> Iterator[Finding]:
@@ -487,15 +529,17 @@ def _amps(ctx: Context, raw: int) -> float | None:
 
 RULES: tuple[Rule, ...] = (
     rule_chemistry_declared, rule_charge_ends_only_by_default, rule_charge_voltage, rule_discharge_voltage,
-    rule_delta_peak, rule_nickel_rate, rule_timer_only, rule_bare_time, rule_relative_units_at_start,
+    rule_delta_peak, rule_nickel_rate, rule_nickel_temperature, rule_timer_only, rule_bare_time, rule_relative_units_at_start,
     rule_trickle_lithium, rule_unreachable_phase, rule_trickle_rate, rule_slow_charge_time,
     rule_lithium_temperature, rule_delta_peak_misplaced, rule_nimh_voltage_only, rule_charger_limits,
     rule_pack_voltage_without_balancer,
 )
 
 
-def lint(macro: Macro, charger=None, *, series: int | None = None, capacity_mah: float | None = None) -> list[Finding]:
-    """``charger``: the charger model's ``ChargerLimits`` when known (adds W318 and W319). ``series`` and
-    ``capacity_mah``: values entered at start, for what the macro leaves open."""
-    ctx = _context(macro, charger, series, capacity_mah)
+def lint(macro: Macro, charger=None, *, series: int | None = None, capacity_mah: float | None = None,
+         current_a: float | None = None, sensor: bool | None = None) -> list[Finding]:
+    """``charger``: the charger model's ``ChargerLimits`` when known (adds W318 and W319). ``series``,
+    ``capacity_mah``, ``current_a`` and ``sensor``: values entered at start, for what the macro leaves
+    open (``sensor`` None: not a start; False adds E320)."""
+    ctx = _context(macro, charger, series, capacity_mah, current_a, sensor)
     return [finding for rule in RULES for finding in rule(ctx)]

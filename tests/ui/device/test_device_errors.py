@@ -6,11 +6,11 @@ import os
 import socket
 import sys
 import threading
-import time
 
 import pytest
 
 from device_helpers import WAIT_MS, connect, flash_and_start
+from helpers import until
 from zuml_studio.device.client import ChargerClient
 from zuml_studio.device.ports import PortInfo
 
@@ -150,15 +150,15 @@ def test_the_link_going_away_resets_the_panel_and_keeps_plot_and_csv(qtbot, make
 
 def test_flash_needs_a_link_and_a_valid_macro(qtbot, make_panel, editor):
     panel = make_panel()
-    with qtbot.waitSignal(panel.flashFinished, timeout=1000) as blocker:
+    with qtbot.waitSignal(panel.flashFinished, timeout=WAIT_MS) as blocker:
         panel.flash()
     assert blocker.args == [False, "Connect to a charger first, then Compile & Flash."]
     connect(qtbot, panel)
     editor.set(None)
-    with qtbot.waitSignal(panel.flashFinished, timeout=1000) as blocker:
+    with qtbot.waitSignal(panel.flashFinished, timeout=WAIT_MS) as blocker:
         panel.flash()
     assert not blocker.args[0] and "The macro has errors" in blocker.args[1]
-    with qtbot.waitSignal(panel.startFinished, timeout=1000) as blocker:
+    with qtbot.waitSignal(panel.startFinished, timeout=WAIT_MS) as blocker:
         panel.start()
     assert not blocker.args[0] and "Compile & Flash one first" in blocker.args[1]
 
@@ -213,20 +213,20 @@ def test_port_scans_run_off_the_gui_thread(qtbot, tmp_path, editor):
 
     gui = threading.current_thread()
     seen = []
+    release = threading.Event()                # the scan lasts until the test lets it end
 
     def slow_lister():
         seen.append(threading.current_thread() is gui)
-        time.sleep(0.3)
+        release.wait(WAIT_MS / 1000)
         return [PortInfo("/dev/ttyUSB7", "CP2102 USB to UART", "", 0x10C4, 0xEA60)]
 
     panel = DevicePanel(editor, tmp_path, port_lister=slow_lister)
     qtbot.addWidget(panel)
     try:
-        started = time.monotonic()
         panel.show()                               # the first scan starts when the panel shows
-        assert time.monotonic() - started < 0.25  # and does not wait for it
+        assert until(lambda: seen) and not release.is_set()    # show() returned with the scan still going
         with qtbot.waitSignal(panel.ports.portsScanned, timeout=WAIT_MS):
-            pass
+            release.set()
         assert seen and not any(seen)
         combo = panel.ports.combo
         assert combo.itemText(0) == "Virtual charger (built-in)" and combo.currentIndex() == 0

@@ -88,3 +88,24 @@ def test_a_lost_write_is_not_settled_by_another_device_on_the_port(qtbot, make_p
     qtbot.waitUntil(lambda: panel.message_text().startswith("Another device answers on this port now"),
                     timeout=WAIT_MS)
     assert "not the Charger-Written-To" in panel.message_text()
+
+
+def test_a_lost_write_is_not_verified_on_a_twin_that_does_not_know_its_token(qtbot, make_panel, monkeypatch):
+    """Issue 34: a second charger of the same model and firmware, holding the same image, answers IDENTIFY
+    alike. Only the unit that committed the write knows its token (the host's nonce): here the charger read
+    does not (the token noted is another), so the new image it holds is not verified."""
+    from zuml_studio.ui.device.charger_slots import ChargerSlots
+    real = ChargerSlots._note_unsettled
+
+    def twin(self, what, exc):
+        real(self, what, exc)
+        if self._unsettled is not None:
+            exc.token ^= 0x5A5A5A5A                  # the write this charger never saw
+    monkeypatch.setattr(ChargerSlots, "_note_unsettled", twin)
+    panel = make_panel()
+    connect(qtbot, panel)
+    lose_link_after_commit(monkeypatch)
+    with qtbot.waitSignal(panel.flashFinished, timeout=WAIT_MS):
+        panel.flash()
+    qtbot.waitUntil(lambda: "not verified to be the one written to" in panel.message_text(), timeout=WAIT_MS)
+    assert panel.slot_names() == ["NiMh-dV"]

@@ -48,11 +48,13 @@ def test_virtual_charger_flash_run_plot_stop_shutdown(qtbot, make_panel):
 
     # START: charge, current 2 A, no sensor; the plot fills and the phase band appears
     panel.set_start_params(task="charge", capacity_mah=2000, current_a=2.0, series=4, sensor=False)
-    with qtbot.waitSignal(panel.telemetryReceived, timeout=WAIT_MS, check_params_cb=lambda n: n > 50):
+    # How many frames a 2-second run sends depends on how often the machine lets it run (36 on a loaded
+    # one): the test waits for the plot to have some, not for a count.
+    with qtbot.waitSignal(panel.telemetryReceived, timeout=WAIT_MS, check_params_cb=lambda n: n > 0):
         with qtbot.waitSignal(panel.startFinished, timeout=WAIT_MS) as started:
             qtbot.mouseClick(panel.start_button, Qt.MouseButton.LeftButton)
         assert started.args == [True, "Started NiMh-dV (slot 0): charge."]
-    assert panel.plot.points > 50
+    qtbot.waitUntil(lambda: panel.plot.points > 1, timeout=WAIT_MS)      # the plot redraws on its own timer
     qtbot.waitUntil(lambda: panel.plot.band_count() >= 1, timeout=WAIT_MS)
     qtbot.waitUntil(lambda: any(p.closed for p in panel.plot.phases()), timeout=WAIT_MS)
     phase = panel.plot.phases()[0]
@@ -61,13 +63,18 @@ def test_virtual_charger_flash_run_plot_stop_shutdown(qtbot, make_panel):
     assert 3000 < phase.end_s - phase.start_s < 5000         # about 65 minutes of macro time
     spans = panel.plot.band_items[0].spans()
     assert spans and spans[0] == (phase.start_s, phase.end_s)
+    qtbot.waitUntil(lambda: "finished" in panel.message_text(), timeout=WAIT_MS)
+    assert "end of macro" in panel.message_text()
+    # The run is over (the reader thread adds no more rows): once the plot has drawn all the buffer
+    # holds, the two are compared.
+    qtbot.waitUntil(lambda: panel.plot.points == panel.series.buffer.snapshot()[0], timeout=WAIT_MS)
     x, v = np.asarray(panel.series.buffer.column("t")), np.asarray(panel.series.buffer.column("voltage"))
     assert len(x) == panel.plot.points and (x[1:] >= x[:-1]).all()
     assert 4.5 < float(v.max()) < 7.5
     drawn_x, drawn_v = panel.plot.curves["voltage"].getData()
+    # A NaN breaks the line where frames came late (a gap, more of them on a loaded machine): no value of its own
+    drawn_v = drawn_v[~np.isnan(drawn_v)]
     assert len(drawn_x) and (drawn_x[1:] >= drawn_x[:-1]).all() and set(drawn_v) <= set(v)
-    qtbot.waitUntil(lambda: "finished" in panel.message_text(), timeout=WAIT_MS)
-    assert "end of macro" in panel.message_text()
 
     with qtbot.waitSignal(panel.operationFinished, timeout=WAIT_MS) as stopped:
         qtbot.mouseClick(panel.stop_button, Qt.MouseButton.LeftButton)
@@ -158,14 +165,12 @@ def test_speed_changes_live(qtbot, make_panel):
 
 def test_layout_fits_a_small_dock(qtbot, make_panel):
     panel = make_panel(size=(1000, 320))
-    qtbot.wait(50)
-    assert panel.plot.width() >= 280 and panel.plot.height() >= 150
+    qtbot.waitUntil(lambda: panel.plot.width() >= 280 and panel.plot.height() >= 150, timeout=WAIT_MS)
     assert panel.controls_scroll.width() + panel.plot.width() <= 1000
     for w in (panel.flash_button, panel.start_button, panel.stop_button, panel.connect_button):
         assert w.isVisibleTo(panel)
     panel.resize(1400, 380)
-    qtbot.wait(50)
-    assert panel.plot.width() >= 700
+    qtbot.waitUntil(lambda: panel.plot.width() >= 700, timeout=WAIT_MS)
     # at the dock's size nothing in the controls scrolls
     assert not panel.controls_scroll.verticalScrollBar().isVisible()
 

@@ -89,6 +89,11 @@ def test_every_path_refuses_the_same_unsafe_macro(make_window, make_charger, qtb
     assert code == 0 and "E303" in err and "zuml: warning:" in err and "--force-unsafe" in err
     code, out, err = cli(capsys, "slots", "--port", port)
     assert code == 0 and "UNSAFE (E303)" in out
+    slots_line = next(line for line in out.splitlines() if "UNSAFE" in line)
+    # A backup of the same bytes checked offline gets the same word (one verdict everywhere).
+    (tmp_path / "backup.bin").write_bytes(device.eeprom)
+    code, listed, err = cli(capsys, "image", "--list", tmp_path / "backup.bin")
+    assert slots_line.split()[-2:] == next(line for line in listed.splitlines() if "UNSAFE" in line).split()[-2:]
     code, out, err = cli(capsys, "run", "--port", port, "--slot", 0, "--current", 1, "--no-sensor")
     assert code == 1 and "E303" in err and device.state == "idle"
 
@@ -96,7 +101,7 @@ def test_every_path_refuses_the_same_unsafe_macro(make_window, make_charger, qtb
     connect(qtbot, panel, port)
     assert panel.slot_names() == ["Walk"]
     check = panel.table.item(0, 4)
-    assert check.text() == "UNSAFE E303" and "4.50 V per cell" in check.toolTip()
+    assert check.text() == "UNSAFE (E303)" and "4.50 V per cell" in check.toolTip()
     panel.set_start_params(current_a=1.0, series=3, sensor=False)
     with qtbot.waitSignal(panel.startFinished, timeout=WAIT_MS) as started:
         panel.start(0)
@@ -120,7 +125,7 @@ def test_every_path_refuses_the_same_unsafe_macro(make_window, make_charger, qtb
     code, out, err = cli(capsys, "run", "--port", port, "--slot", 0, "--series", 4, "--current", 1, "--no-sensor")
     assert code == 1 and "[start template 2: " in err and "3 cells" in err, err
     connect(qtbot, panel, port)
-    assert panel.table.item(0, 4).text() == "UNSAFE E303"
+    assert panel.table.item(0, 4).text() == "UNSAFE (E303)"
     panel.set_start_params(current_a=1.0, series=4, sensor=False)      # the values typed do not matter
     with qtbot.waitSignal(panel.startFinished, timeout=WAIT_MS) as started:
         panel.start(0)

@@ -1,11 +1,9 @@
 """Device ▸ Install Firmware on an iMAX B6…: the warnings first, Install only once they are read, then the
 real avrdude against the emulated STK500v1 programmer (tests/stk500_chip.py), off the GUI thread."""
-import shutil
-
-import pytest
 from PySide6.QtWidgets import QLabel
 
 from stk500_chip import FLASH_SIZE, Atmega32, Stk500Programmer
+from tools import AVRDUDE, needs
 from zuml_studio.ui.device.firmware_install_dialog import FirmwareInstallDialog
 
 ORIGINAL = bytes((i * 3 + 7) & 0xFF for i in range(FLASH_SIZE))
@@ -25,7 +23,7 @@ def test_the_device_menu_opens_the_dialog_with_its_warnings(make_window, qtbot):
     dialog.close()
 
 
-@pytest.mark.skipif(shutil.which("avrdude") is None, reason="avrdude not installed")
+@needs(AVRDUDE)
 def test_install_then_restore_from_the_dialog(qtbot, tmp_path):
     image = tmp_path / "zuml.bin"
     image.write_bytes(bytes(range(200)) * 50)

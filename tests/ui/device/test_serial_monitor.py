@@ -66,7 +66,36 @@ def test_a_zuml_request_typed_by_hand_is_not_sent(make_window, qtbot, pty_port):
     monitor.hex_mode.setChecked(True)
     monitor.ending.setCurrentIndex(monitor.ending.findData("none"))
     monitor.send_line.setText(encode_frame(START, 1, bytes(12)).hex(" "))
-    assert not monitor.send() and "the line holds a ZUML request" in monitor.message.text()
+    assert not monitor.send() and "completes a ZUML request" in monitor.message.text()
     monitor.send_line.setText("55 aa")
     assert monitor.send() and os.read(device, 16) == b"\x55\xaa"
+    monitor.close()
+
+
+def test_a_request_split_over_sends_and_modes_is_refused_where_it_would_complete(make_window, qtbot, pty_port):
+    """The charger's parser keeps a frame's first bytes until the rest comes: garbage, then a COMMIT's
+    first bytes in hex, the rest typed as text escapes, is a COMMIT all the same. Nothing of the
+    completing line reaches the port, while bytes that complete nothing still go."""
+    from zuml_studio.device.frames import encode_frame
+    from zuml_studio.device.messages import COMMIT, encode_request
+    device, path = pty_port
+    frame = encode_frame(COMMIT, 9, encode_request("COMMIT", token=1, crc=0xBEEF))
+    w = make_window()
+    w.device_panel.ports.set_target(path)
+    monitor = w.show_serial_monitor()
+    assert monitor.open_port(), monitor.message.text()
+    monitor.ending.setCurrentIndex(monitor.ending.findData("none"))
+    monitor.send_line.setText("hi\\xa5")
+    assert monitor.send() and os.read(device, 16) == b"hi\xa5"
+    monitor.hex_mode.setChecked(True)
+    monitor.send_line.setText(frame[:3].hex(" "))
+    assert monitor.send() and os.read(device, 16) == frame[:3]
+    monitor.text_mode.setChecked(True)
+    monitor.send_line.setText("".join(f"\\x{b:02x}" for b in frame[3:]))
+    assert not monitor.send() and "COMMIT" in monitor.message.text()
+    monitor.hex_mode.setChecked(True)
+    monitor.send_line.setText(frame[3:].hex(" "))
+    assert not monitor.send() and "COMMIT" in monitor.message.text()
+    monitor.send_line.setText("00")
+    assert monitor.send() and os.read(device, 16) == b"\x00"
     monitor.close()

@@ -2,10 +2,10 @@
 import pytest
 from PySide6.QtCore import Qt
 
-from helpers import MACROS
+from helpers import bare_seed
 from zuml_studio.ui.editor.code_editor import EditorWithFind
 
-LIPO = (MACROS / "LiPo.zuml").read_text()
+LIPO = bare_seed("LiPo")
 
 
 @pytest.fixture

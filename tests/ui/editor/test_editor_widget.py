@@ -3,11 +3,11 @@ import pytest
 from PySide6.QtCore import Qt
 from PySide6.QtGui import QColor, QFont, QFontDatabase, QFontMetricsF, QTextCharFormat, QTextFormat
 
-from helpers import MACROS
+from helpers import WAIT_MS, bare_seed
 from zuml_studio.lang.diagnostics import Diagnostic, Severity
 from zuml_studio.ui.editor.code_editor import CodeEditor, EditorWithFind
 
-LIPO = (MACROS / "LiPo.zuml").read_text()
+LIPO = bare_seed("LiPo")
 WAVE = QTextCharFormat.UnderlineStyle.WaveUnderline
 
 
@@ -199,7 +199,7 @@ def test_tab_inserts_spaces_and_indents_selected_lines(editor, qtbot):
 def test_goto_current_line_and_cursor_line_changed(editor, qtbot):
     editor.setPlainText(LIPO)
     editor.goto(1)
-    with qtbot.waitSignal(editor.cursorLineChanged, timeout=1000) as blocker:
+    with qtbot.waitSignal(editor.cursorLineChanged, timeout=WAIT_MS) as blocker:
         editor.goto(12, 10)
     assert blocker.args == [12]
     assert editor.current_line() == 12

@@ -6,6 +6,7 @@ import pyqtgraph as pg
 import pytest
 from PySide6.QtCore import QPoint, Qt
 
+from helpers import WAIT_MS
 from zuml_studio.sim.samples import COLUMNS
 from zuml_studio.ui.sim.params_form import FROM_AKK
 from zuml_studio.ui.sim.phase_table import DEFAULT_TIP, NOTES_COLUMN, REASON_COLUMN, TIMER_TIP
@@ -313,7 +314,7 @@ def test_ctrl_double_click_on_a_band_emits_the_faze_offset(panel, run, qtbot):
     ctrl = Qt.KeyboardModifier.ControlModifier
     with qtbot.assertNotEmitted(panel.phaseActivated):      # a plain double-click is the window's (maximise)
         double_click(qtbot, plot.viewport(), at)
-    with qtbot.waitSignal(panel.phaseActivated, timeout=2000) as blocker:
+    with qtbot.waitSignal(panel.phaseActivated, timeout=WAIT_MS) as blocker:
         double_click(qtbot, plot.viewport(), at, ctrl)
     assert blocker.args == [p.offset]
 

@@ -3,9 +3,8 @@ from types import SimpleNamespace
 
 import pytest
 
-from helpers import MACROS
+from helpers import bare_seed
 
-LIPO = str(MACROS / "LiPo.zuml")
 
 
 @pytest.fixture
@@ -18,7 +17,7 @@ def visual(qtbot):
     def make(text=None, size=(800, 650)):
         editor = CodeEditor()
         qtbot.addWidget(editor)
-        editor.setPlainText(text if text is not None else (MACROS / "LiPo.zuml").read_text())
+        editor.setPlainText(text if text is not None else bare_seed("LiPo"))
         validator = Validator(delay_ms=10)
         view = VisualEditor(editor)
         qtbot.addWidget(view)
@@ -34,12 +33,15 @@ def visual(qtbot):
 
 
 @pytest.fixture
-def window_with_visual(make_window, qtbot):
-    """The real main window with the visual editor wired to its editor and validator."""
+def window_with_visual(make_window, qtbot, tmp_path):
+    """The real main window with the visual editor wired to its editor and validator (on the LiPo seed
+    without its comments, as the tests compare its lines)."""
     from zuml_studio.ui.visual import VisualEditor
+    bare = tmp_path / "LiPo.zuml"
+    bare.write_text(bare_seed("LiPo"))
 
-    def make(path=LIPO):
-        w = make_window(path)
+    def make(path=None):
+        w = make_window(str(bare) if path is None else path)
         view = VisualEditor(w.editor)
         qtbot.addWidget(view)
         w.validator.validated.connect(view.show_result)

@@ -5,14 +5,14 @@ from PySide6.QtCore import QMimeData, QPoint, QPointF, Qt
 from PySide6.QtGui import QDropEvent, QDragEnterEvent, QTextCursor
 from PySide6.QtWidgets import QApplication, QScrollBar
 
-from helpers import MACROS
+from helpers import WAIT_MS, bare_seed
 from zuml_studio.lang import visual_edits as ve
 from zuml_studio.lang import opcodes as ops
 from zuml_studio.lang.ast import Cycle
 from zuml_studio.lang.compiler import compile_source
 from zuml_studio.ui.visual.cards import MIME, CycleBox, PhaseCard, encode_path
 
-LIPO_TEXT = (MACROS / "LiPo.zuml").read_text()
+LIPO_TEXT = bare_seed("LiPo")
 
 
 def record(text):
@@ -29,7 +29,7 @@ def settle(qtbot, v, text):
         last = v.validator.last
         return (last is not None and last.ok == want.ok and (not want.ok or last.record == want.record) and
                 v.view.macro() is not None and ve.shape(v.view.macro()) == ve.shape(want.macro))
-    qtbot.waitUntil(done, timeout=2000)
+    qtbot.waitUntil(done, timeout=WAIT_MS)
 
 
 def cards(view, kind=None):
@@ -93,12 +93,12 @@ def test_editing_the_text_changes_the_cards(visual, qtbot):
     cursor = v.editor.document().find("CONSTANT_V=4.2S")
     cursor.insertText("CONSTANT_V=4.1S")
     qtbot.waitUntil(lambda: "4.1 V/cell" in v.view.items[("charge", 1)].sentence.text().replace("\u00a0", " "),
-                    timeout=2000)
+                    timeout=WAIT_MS)
     # a new phase in the text is a new card
     cursor = v.editor.document().find("  END_SECTION", v.editor.document().find("  CHARGE_SECTION"))
     cursor.movePosition(QTextCursor.MoveOperation.StartOfBlock)
     cursor.insertText("    FAZE\n      CONSTANT_I=0.1C\n      IF(tf>1h) STOP_FAZE\n    END_FAZE\n")
-    qtbot.waitUntil(lambda: ("charge", 2) in v.view.items, timeout=2000)
+    qtbot.waitUntil(lambda: ("charge", 2) in v.view.items, timeout=WAIT_MS)
     assert v.view.items[("charge", 2)].sentence.text().replace("\u00a0", " ") == "Charge at 0.1C for 1 h"
 
 
@@ -170,7 +170,7 @@ def test_one_card_edit_is_one_undo_step_and_undo_restores_text_and_cards(visual,
     type_into(qtbot, field.line, "4.15")
     assert v.editor.document().isUndoAvailable()
     settle(qtbot, v, v.editor.toPlainText())
-    qtbot.waitUntil(lambda: "4.15" in card.sentence.text(), timeout=2000)
+    qtbot.waitUntil(lambda: "4.15" in card.sentence.text(), timeout=WAIT_MS)
     (_k, field), = v.view.items[("charge", 1)].condition_fields
     type_into(qtbot, field.line, "0.05")                 # a second edit, with a rewritten statement
     after_first = LIPO_TEXT.replace("CONSTANT_V=4.2S", "CONSTANT_V=4.15S")
@@ -179,7 +179,7 @@ def test_one_card_edit_is_one_undo_step_and_undo_restores_text_and_cards(visual,
     assert v.editor.toPlainText() == after_first
     v.editor.undo()
     assert v.editor.toPlainText() == LIPO_TEXT
-    qtbot.waitUntil(lambda: "4.2\u00a0V/cell" in v.view.items[("charge", 1)].sentence.text(), timeout=2000)
+    qtbot.waitUntil(lambda: "4.2\u00a0V/cell" in v.view.items[("charge", 1)].sentence.text(), timeout=WAIT_MS)
     assert v.view.items[("charge", 1)].action_fields[0][2].value_text() == "4.2S"
 
 
@@ -194,7 +194,7 @@ def test_ctrl_z_in_the_visual_editor_undoes_the_last_card_edit(visual, qtbot):
     qtbot.keyClick(card, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
     assert v.editor.toPlainText() == LIPO_TEXT
     settle(qtbot, v, LIPO_TEXT)
-    qtbot.waitUntil(lambda: v.view.items[("charge", 0)].action_combo.currentData() == "CONSTANT_I", timeout=2000)
+    qtbot.waitUntil(lambda: v.view.items[("charge", 0)].action_combo.currentData() == "CONSTANT_I", timeout=WAIT_MS)
     qtbot.keyClick(v.view, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier | Qt.KeyboardModifier.ShiftModifier)
     assert v.editor.toPlainText() == moved
 
@@ -213,7 +213,7 @@ def test_reordering_phases_by_drop_changes_the_byte_code(window_with_visual, qtb
     assert w.editor.toPlainText() == _swapped_lipo()
     qtbot.waitUntil(lambda: w.validator.last.record == record(_swapped_lipo()), timeout=3000)
     assert w.validator.last.record != before
-    qtbot.waitUntil(lambda: view.items[("charge", 0)].action_combo.currentData() == "CONSTANT_V", timeout=2000)
+    qtbot.waitUntil(lambda: view.items[("charge", 0)].action_combo.currentData() == "CONSTANT_V", timeout=WAIT_MS)
 
 
 def _drop(widget, target_y, path):
@@ -249,7 +249,7 @@ def test_the_move_buttons_are_a_mouse_path(visual, qtbot):
     qtbot.mouseClick(first.down, Qt.MouseButton.LeftButton)
     assert v.editor.toPlainText() == _swapped_lipo()
     settle(qtbot, v, _swapped_lipo())
-    qtbot.waitUntil(lambda: v.view.items[("charge", 1)].action_combo.currentData() == "CONSTANT_I", timeout=2000)
+    qtbot.waitUntil(lambda: v.view.items[("charge", 1)].action_combo.currentData() == "CONSTANT_I", timeout=WAIT_MS)
     qtbot.mouseClick(v.view.items[("charge", 1)].up, Qt.MouseButton.LeftButton)
     assert v.editor.toPlainText() == LIPO_TEXT
 
@@ -375,7 +375,7 @@ def test_invalid_text_greys_the_cards_under_a_banner_and_blocks_editing(visual, 
     v = visual()
     cursor = v.editor.document().find("CONSTANT_V=4.2S")
     cursor.insertText("CONSTANT_V=4.2")               # a voltage without its unit: an error
-    qtbot.waitUntil(lambda: v.view.banner.isVisible(), timeout=2000)
+    qtbot.waitUntil(lambda: v.view.banner.isVisible(), timeout=WAIT_MS)
     assert v.view.is_stale()
     assert "showing the last valid version" in v.view.banner.text()
     assert not v.view.content.isEnabled() and not v.view.intro.isEnabled()
@@ -387,7 +387,7 @@ def test_invalid_text_greys_the_cards_under_a_banner_and_blocks_editing(visual, 
     assert v.editor.toPlainText() == broken
     cursor = v.editor.document().find("CONSTANT_V=4.2")
     cursor.insertText("CONSTANT_V=4.25S")
-    qtbot.waitUntil(lambda: not v.view.banner.isVisible(), timeout=2000)
+    qtbot.waitUntil(lambda: not v.view.banner.isVisible(), timeout=WAIT_MS)
     assert v.view.content.isEnabled() and v.view.items[("charge", 1)].isEnabled()
     assert "4.25" in v.view.items[("charge", 1)].sentence.text()
 

@@ -25,8 +25,9 @@ def test_every_chemistry_preview_compiles_without_diagnostics(wizard, chemistry,
     result = compile_source(text)
     assert result.ok and result.diagnostics == []
     assert f"AKK_TYPE={chemistry}" in text
-    # lithium always states its 45 °C limit (lint W315); the others only with a sensor
-    assert ("IF(T>" in text) == (sensor or chemistry.startswith("Li"))
+    # lithium (lint W315) and a fast nickel charge (W320: the default 1C) always state their 45 °C limit;
+    # lead only with a sensor
+    assert ("IF(T>" in text) == (sensor or chemistry != "Pb")
     assert wizard.ok_button().isEnabled() and not wizard.error.isVisible()
     assert wizard.rate.placeholderText() == f"default {default_rate(chemistry):g}"
 

@@ -58,7 +58,7 @@ def check_text(verdict: Verdict | None) -> str:
     """The slot list's Check column."""
     if verdict is None:
         return _("BAD")
-    return _("ok") if verdict.safe else _("UNSAFE {codes}").format(codes=", ".join(verdict.codes()))
+    return verdict.check()
 
 
 class SlotTable(QTableWidget):
@@ -424,22 +424,29 @@ class ChargerSlots(QWidget):
         if not self.connection.is_connected():
             return
 
-        def done(checked):
+        lost = self._unsettled[1] if self._unsettled is not None else None
+
+        def job(client, progress):
+            # Asked before the read: a write still staged there is dropped, never committed late.
+            same = client.committed(lost) if lost is not None else None
+            return checked_image(client, client.read_image()), same
+
+        def done(result):
+            checked, same = result
             self.show_image(*checked)
-            self._settle(checked[0])
+            self._settle(checked[0], same)
             self.operationFinished.emit("slots", True, "")
 
-        self.connection.call(lambda client, progress: checked_image(client, client.read_image()), done,
-                             lambda exc: self._failed("slots", exc))
+        self.connection.call(job, done, lambda exc: self._failed("slots", exc))
 
     def _note_unsettled(self, what: str, exc) -> None:
         if isinstance(exc, (CommitUncertain, CommitUnverified)):
             self._unsettled = (what, exc, self.charger_info)
 
-    def _settle(self, image: bytes) -> None:
+    def _settle(self, image: bytes, same: bool | None) -> None:
         """The first image read after a write whose end was lost tells what the charger holds, when
-        the charger read is the one written to, as far as IDENTIFY tells (the protocol has no serial
-        number): a port that vanished may come back under its name as another device."""
+        the charger read is the one written to: IDENTIFY tells another model, the write's token
+        (``same``, from ``ChargerClient.committed``) another unit of the same model."""
         if self._unsettled is None:
             return
         (what, exc, written_to), self._unsettled = self._unsettled, None
@@ -451,7 +458,12 @@ class ChargerSlots(QWidget):
             return
         verdict = exc.settle(image)
         flash = what == "flash"
-        if verdict == "new":
+        if verdict == "new" and not same:
+            self.message.emit(_("Read back after the lost link: this charger holds the new image, but it is not "
+                                "verified to be the one written to (it does not know that write: another charger "
+                                "of the same model, or it restarted). Check the charger you meant to write."),
+                              "warn")
+        elif verdict == "new":
             self.message.emit(_("Read back after the lost link: the flash is on the charger, verified.") if flash
                               else _("Read back after the lost link: the restored image is on the charger, "
                                      "verified."), "ok")

@@ -13,11 +13,10 @@ from PySide6.QtWidgets import (QButtonGroup, QComboBox, QDialog, QHBoxLayout, QL
 
 from ...device.client import open_serial
 from ...device.errors import DeviceLinkError
-from ...device.frames import FrameParser
-from ...device.messages import HOST_TYPES
 from ...device.ports import VIRTUAL
 from ...device.serial_text import SendLineError, as_hex, as_text, parse_send
 from ...i18n import _, ngettext
+from ...safety import RawSendGuard
 
 POLL_MS = 50
 MAX_BLOCKS = 5000           # lines kept in the view (a port that never stops talking)
@@ -35,6 +34,9 @@ class SerialMonitor(QDialog):
         self._owned = protocol_owns_port
         self.port = None
         self.received = b""                     # everything read since the port was opened (the view's source)
+        # What was sent, as the charger's parser holds it: kept across sends, modes and reopening the
+        # port (the charger's parser does not reset when the host closes its end).
+        self.guard = RawSendGuard()
 
         self.where = QLabel()
         self.where.setObjectName("monitorPort")
@@ -173,16 +175,19 @@ class SerialMonitor(QDialog):
         except SendLineError as exc:
             self.say(str(exc))
             return False
-        if FrameParser(HOST_TYPES).feed(data):
-            # One path decides what reaches a charger (safety.judge): a hand-made request would pass it by.
-            self.say(_("Not sent: the line holds a ZUML request; talk to a ZUML charger through the Device panel, "
-                       "whose safety check guards what reaches it."))
+        verdict = self.guard.judge(data)
+        if not verdict.safe:
+            # Writing, starting or storing goes through the Device panel, whose check judges the macro.
+            self.say(_("Not sent: with what was sent before, the line completes a ZUML request that changes the "
+                       "charger; use the Device panel, whose safety check guards what reaches it. ({why})").format(
+                    why=verdict.errors[0]))
             return False
         try:
             self.port.write(data)
         except OSError as exc:                  # pyserial's SerialException and its timeout are OSErrors
             self.close_port(_("The port closed: {reason}").format(reason=exc))
             return False
+        self.guard.sent(data)
         self.say(ngettext("Sent {n} byte.", "Sent {n} bytes.", len(data)).format(n=len(data)))
         self.send_line.clear()
         return True

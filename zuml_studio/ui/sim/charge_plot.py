@@ -10,6 +10,8 @@ from about two points per pixel of them, and all bands of a plot are one item
 from __future__ import annotations
 
 import math
+from functools import partial
+from typing import Callable
 
 import numpy as np
 import pyqtgraph as pg
@@ -89,9 +91,10 @@ class ChargePlot(StackedPlot):
         self.show_run(run)
         self.show_bands()
 
-    def show_run(self, run: PlotData) -> None:
+    def show_run(self, run: PlotData, *, place: bool = True) -> None:
         """The run's curves, cells and view; its phases' bands and labels stay those of the run before
-        until ``show_bands`` (the panel gives each its own turn of the event loop)."""
+        until ``show_bands`` (the panel gives each its own turn of the event loop). ``place`` False
+        leaves the curves' display data and the overlays to ``place_view``, a turn of its own."""
         result = run.result
         t = run.data[CLOCK]
         self._run, self._t, self._v = run, t, run.data["voltage_v"]
@@ -110,6 +113,12 @@ class ChargePlot(StackedPlot):
             self.tplot.setXRange(0.0, end, padding=0.01)
         finally:
             self._batch = False
+        if place:
+            self._view_changed()
+
+    def place_view(self) -> None:
+        """The curves' display data for the view, the voltage's y range and the labels and legends
+        (``show_run``'s last part)."""
         self._view_changed()
 
     def show_bands(self) -> None:
@@ -123,19 +132,26 @@ class ChargePlot(StackedPlot):
 
     def prepare_paint(self) -> None:
         """What the next paint would do first, done now: the y ranges pyqtgraph fits lazily, and the
-        axes' tick pictures (half of a new run's paint; the panel gives each its own turn)."""
-        for plot in self.plots:
-            plot.vb.prepareForPaint()
-        for plot in self.plots:
-            for name in ("left", "right", "bottom"):
-                axis = plot.getAxis(name)
-                if axis.isVisible() and axis.picture is None:
-                    scratch = QPicture()
-                    painter = QPainter(scratch)
-                    try:
-                        axis.paint(painter, None, None)     # makes axis.picture, which the paint then replays
-                    finally:
-                        painter.end()
+        axes' tick pictures (half of a new run's paint)."""
+        for step in self.paint_steps():
+            step()
+
+    def paint_steps(self) -> list[Callable[[], None]]:
+        """``prepare_paint`` as one step per plot (each 2-5 ms: the panel gives each its own turn)."""
+        return [partial(self._prepare_plot_paint, plot) for plot in self.plots]
+
+    @staticmethod
+    def _prepare_plot_paint(plot) -> None:
+        plot.vb.prepareForPaint()
+        for name in ("left", "right", "bottom"):
+            axis = plot.getAxis(name)
+            if axis.isVisible() and axis.picture is None:
+                scratch = QPicture()
+                painter = QPainter(scratch)
+                try:
+                    axis.paint(painter, None, None)     # makes axis.picture, which the paint then replays
+                finally:
+                    painter.end()
 
     def clear_run(self) -> None:
         """No run: empty curves, no bands or labels, the placeholder (another macro was opened).

@@ -48,6 +48,8 @@ class SimulatorPanel(QWidget):
         self._clock = QElapsedTimer()
         self._sized = False
         self._table_pending = None          # a run whose phases are still to be listed
+        self._steps: list = []              # what is left of drawing a new run, one step a turn (_show)
+        self._chain = 0                     # the newest drawing's number: an older one's steps stop
         self._message_kind = "info"
 
         self.form = ParamsForm()
@@ -304,28 +306,32 @@ class SimulatorPanel(QWidget):
             self._refresh_hint()
 
     def _show(self, run, finished: bool = False) -> None:
-        """A PlotData: the run, ready to draw. The plot takes its curves now, its phase bands, its axes
-        and its paint each a moment later, then the phase table, and then ``simulationFinished`` if
-        the run reached its end: five slices of GUI-thread time, each short enough not to be felt
-        (all in one turn of the event loop took 25-30 ms)."""
+        """A PlotData: the run, ready to draw. The plot takes its data and range now; its view's curves
+        and legends, its phase bands, each plot's axes and its paint each a moment later, then the phase
+        table, and then ``simulationFinished`` if the run reached its end: eight slices of GUI-thread
+        time, each of a few ms (all in one turn of the event loop took 25-30 ms; five slices left one of
+        6-15 ms, the three plots' axes, which put the event loop's longest gap above 16 ms)."""
         result = self._result = run.result
         self.plot.setUpdatesEnabled(False)
-        self.plot.show_run(run)
+        self.plot.show_run(run, place=False)
         self._table_pending = (result, finished)
-        QTimer.singleShot(PAINT_AFTER_MS, self, self._show_bands)
+        self._steps = [self.plot.place_view, self.plot.show_bands, *self.plot.paint_steps(), self._paint_plot]
+        self._chain += 1
+        chain = self._chain
+        QTimer.singleShot(PAINT_AFTER_MS, self, lambda: self._next_step(chain))
 
-    def _show_bands(self) -> None:
-        self.plot.show_bands()
-        QTimer.singleShot(PAINT_AFTER_MS, self, self._prepare_paint)
-
-    def _prepare_paint(self) -> None:
-        self.plot.prepare_paint()
-        QTimer.singleShot(PAINT_AFTER_MS, self, self._paint_plot)
+    def _next_step(self, chain: int) -> None:
+        if chain != self._chain or not self._steps:
+            return                      # a newer run's chain has taken over
+        self._steps.pop(0)()
+        if self._steps:
+            QTimer.singleShot(PAINT_AFTER_MS, self, lambda: self._next_step(chain))
+        else:
+            QTimer.singleShot(TABLE_AFTER_MS, self, self._show_table)
 
     def _paint_plot(self) -> None:
         self.plot.setUpdatesEnabled(True)
         self.plot.viewport().update()
-        QTimer.singleShot(TABLE_AFTER_MS, self, self._show_table)
 
     def _show_table(self) -> None:
         if self._table_pending is None:
