@@ -90,7 +90,7 @@ def test_the_simulated_b6_takes_its_options_through_the_cli(tmp_path):
     assert (tmp_path / "ee.bin").read_bytes()[970:1024] == b"\xff" * 54
 
 
-@pytest.mark.skipif(bool(simavr_missing()), reason=f"{simavr_missing()} missing: no simulated B6 ({INSTALL})")
+@needs(SIMAVR)
 def test_no_rx_through_the_cli_is_a_b6_heard_on_its_tx_alone(tmp_path):
     """`zuml firmware-sim --board imaxb6 --no-rx` reaches the simulator: it says it has no receive wire (what
     that means for the firmware: tests/firmware/test_fw_b6_txonly.py)."""
