@@ -20,6 +20,7 @@ that counts up while discharging counts as discharged."""
 from __future__ import annotations
 
 import csv
+import math
 import re
 from dataclasses import dataclass, field, replace
 
@@ -219,10 +220,12 @@ def _guess_lines(lines: list[str]) -> CsvGuess:
                    and not all(_is_number(f, True) for f in _split(lines[k], sep) if f)), None)
     if header is None:
         raise LogFormatError(_("not a CSV with a header: no line names the columns"))
-    rows = [_split(lines[k], sep) for k in content if k > header][:PROBE_LINES]
+    names = _split(lines[header], sep)
+    rows = [r for r in (_split(lines[k], sep) for k in content[:header + PROBE_LINES * 2] if k > header)
+            if r != names][:PROBE_LINES]                 # a record set's header again is not a row
+    names = names[:MAX_COLUMNS]
     comma = any(_DECIMAL_COMMA.match(f) for row in rows for f in row) and (
         sep != "," or any("," in f for row in rows for f in row))
-    names = _split(lines[header], sep)[:MAX_COLUMNS]
     columns = _guess_columns(names, rows, comma)
     return CsvGuess(sep, comma, header, tuple(columns))
 
@@ -240,7 +243,9 @@ def _values(rows: list[list[str]], k: int, comma: bool) -> list[float]:
 
 def _guess_columns(names: list[str], rows: list[list[str]], comma: bool) -> list[Column]:
     parsed = [_unit_of(n) for n in names]
-    numeric = [bool(_values(rows, k, comma)) for k in range(len(names))]
+    # A column may take a role when its probed fields are numbers (some may be empty: not measured then).
+    numeric = [bool(_values(rows, k, comma)) or (bool(rows) and all(k < len(r) and not r[k] for r in rows))
+               for k in range(len(names))]
     taken: dict[str, int] = {}
     cells: list[int] = []
     for k, (bare, unit) in enumerate(parsed):
@@ -348,6 +353,7 @@ def read(data: bytes, g: CsvGuess | None = None) -> Log:
     cells = [k for k, c in enumerate(g.columns) if c.role == "cell"]
     used = sorted(set(at.values()) | set(cells))
     names = [c.name for c in g.columns]
+    optional = {at["temp"]} if "temp" in at else set()     # an empty temperature: not measured then
     sets = [_Set()]
     bad = 0
     header_due = False                              # a block's first line names its columns
@@ -378,7 +384,8 @@ def read(data: bytes, g: CsvGuess | None = None) -> Log:
             bad += 1
             continue
         try:
-            sets[-1].rows.append([_number(fields[k], g.decimal_comma) * SCALE.get(g.columns[k].unit, 1.0)
+            sets[-1].rows.append([math.nan if k in optional and not fields[k] else
+                                  _number(fields[k], g.decimal_comma) * SCALE.get(g.columns[k].unit, 1.0)
                                   for k in used])
         except ValueError:
             bad += 1

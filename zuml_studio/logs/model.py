@@ -14,6 +14,8 @@ from ..i18n import _, ngettext
 
 # Volts and amperes beyond any charger (as sim.curve's limits): a sample past them is left out.
 MAX_MEASURED = 2000.0
+# No cell of any chemistry reads more (LiHV ends at 4.35 V): a per-cell column above it is not a cell.
+MAX_CELL_V = 5.0
 # The states a log sample can be in; every format maps its own onto these.
 STATES = ("charge", "discharge", "pause", "idle")
 SECTION_OF = {"charge": "charge", "discharge": "discharge"}
@@ -152,6 +154,16 @@ def time_order_text(note: dict) -> str:
             k=note["first_sample"], t=note["time_s"], prev=note["previous_s"], n=note["record_sets"])
 
 
+def charge_check_text(note: dict) -> str:
+    """The one line a reader of the log is told when the charger's counter and the integrated current
+    disagree (``charge.disagreement``)."""
+    return _("the charger's counter says in {cin:.0f} mAh, out {cout:.0f} mAh: {pct:.0f} % from the integrated "
+             "current (in {iin:.0f}, out {iout:.0f} mAh, shown); a gap in the log or a counter that does not "
+             "count this charge").format(cin=note["in_counter_mah"], cout=note["out_counter_mah"],
+                                         pct=note["difference"] * 100, iin=note["in_integrated_mah"],
+                                         iout=note["out_integrated_mah"])
+
+
 def from_samples(fmt: str, device: str, samples: Sequence[Telemetry], bad_records: int = 0, **meta) -> Log:
     """A Log from ready samples (a live driver's decoder, for instance); cell columns are cut
     to ``connected_cells`` as every reader's are; where time goes back a new record set
@@ -162,6 +174,8 @@ def from_samples(fmt: str, device: str, samples: Sequence[Telemetry], bad_record
         meta["time_order"] = note
     width = connected_cells([s.cells_v for s in samples])
     cut = [s if len(s.cells_v) <= width else replace(s, cells_v=s.cells_v[:width]) for s in samples]
+    if cut and all(s.temp_c == 0.0 for s in cut):           # 0 throughout: no probe
+        cut = [replace(s, temp_c=None, sensor=False) for s in cut]
     if cut:
         q_in, q_out, differ = _driver_charge(cut)
         cut = [replace(s, mah_in=a, mah_out=b) for s, a, b in zip(cut, q_in, q_out)]
@@ -185,7 +199,10 @@ def _driver_charge(samples: Sequence[Telemetry]) -> tuple[list[float], list[floa
 
 def connected_cells(cells: Sequence[Sequence[float]]) -> int:
     """How many per-cell columns to keep: those at the end that read 0 V in every sample are
-    balance taps not connected."""
+    balance taps not connected; none when a column reads more than any cell can hold (an iCharger
+    charging NiMH sends 5.2 V in its first cell slot: a 4-cell pack is not one cell)."""
+    if any(v > MAX_CELL_V for c in cells for v in c):
+        return 0
     width = max((len(c) for c in cells), default=0)
     while width and all(len(c) < width or c[width - 1] == 0.0 for c in cells):
         width -= 1
@@ -264,6 +281,8 @@ class SampleBuilder:
             meta["time_order"] = note
         if self.out_of_range[0]:
             meta["out_of_range"] = {"left_out": self.out_of_range[0], "first_sample": self.out_of_range[1]}
+        if self.temp and all(x == 0.0 for x in self.temp):
+            self.temp[:] = [None] * len(self.temp)      # a probe column that reads 0 throughout: no probe
         q_in, q_out, differ = self._charge()
         if differ is not None:
             meta["charge_check"] = differ

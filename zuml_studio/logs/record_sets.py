@@ -3,7 +3,8 @@
 
 Where a set lies on the session's time line: at its start time stamp relative to the first set's,
 but never before the previous set's end plus one time step. Which way it goes: its name says
-(…Entladen…/…discharg… a discharge, …Laden…/…charg… a charge, …Pause… a pause); a set whose name
+(…Entladen…/…discharg… a discharge, …Laden…/…charg… a charge, …Pause… a pause, …Idle… idle, as
+``zuml log export --dataexplorer`` names them); a set whose name
 says neither, logged with a current that is never negative, is a discharge when its voltage falls
 under load (a falling voltage under load is never a charge: an export with positive discharge
 current), else the current's sign decides."""
@@ -22,13 +23,15 @@ FALL = 0.02
 
 
 def direction_of(name: str) -> str:
-    """"discharge", "charge", "pause", or "" when the set's name does not say."""
+    """"discharge", "charge", "pause", "idle", or "" when the set's name does not say."""
     lower = name.lower()
     if "entlad" in lower or "discharg" in lower:
         return "discharge"
     if "lad" in lower or "charg" in lower:
         return "charge"
-    return "pause" if "pause" in lower else ""
+    if "pause" in lower:
+        return "pause"
+    return "idle" if "idle" in lower else ""
 
 
 def direction_by_voltage(volts: Sequence[float], amps: Sequence[float] | None) -> str:
