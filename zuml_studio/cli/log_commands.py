@@ -9,7 +9,8 @@ from ..logs.export import write_csv, write_record_sets
 from ..logs.model import charge_check_text, out_of_range_text, time_order_text
 from ..logs.summary import summarize
 from ..recovery import atomic_text_file
-from .common import CliError, out, out_json, read_bytes
+from ..file_errors import FileReadError, read_file_bytes
+from .common import CliError, out, out_json
 from .sim_commands import hms
 from ..i18n import _, ngettext
 
@@ -37,7 +38,10 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def load(path: str, fmt: str | None, columns: str | None = None) -> Log:
-    data = read_bytes(path)
+    try:
+        data = read_file_bytes(path, pipes=False)
+    except FileReadError as exc:
+        raise CliError(str(exc), 1) from None
     if columns is not None:
         return _load_csv(path, data, columns)
     try:

@@ -41,6 +41,11 @@ MAX_COLUMNS = 256
 MAX_NAME = 200
 PROBE_LINES = 40
 RECORDSET = "### RECORDSET"
+UTF16_BOMS = (b"\xff\xfe", b"\xfe\xff")
+# A head of this many bytes without a line end is a header longer than it: the reader judges the file.
+LONG_LINE = 1024
+# The guess reads the columns from the file's first bytes only (its header and PROBE_LINES rows).
+GUESS_BYTES = 1 << 20
 # Where a column's name gives no unit: the largest value read as V (pack), V (cell), A. Beyond these
 # no hobby charger measures (a 30S pack is 126 V; the largest charger outputs 40-60 A), so the values
 # are mV or mA. Said in the log's meta (csv_assumed), never silently.
@@ -49,11 +54,11 @@ CURVE_CSV = b"time_s,voltage_v,current_a"      # the fit's plain curve CSV (sim/
 
 # Words of a column's name (lower case) -> role; the first column that fits a role takes it.
 WORDS = {
-    "time": ("zeit", "time", "sec", "elapsed", "sn", "t"),
-    "voltage": ("spannung", "voltage", "volatge", "volt", "u", "v", "ubat", "vbat"),
-    "current": ("strom", "current", "curr", "i", "ibat", "amp"),
-    "temp": ("temperatur", "temperature", "temp", "t_bat"),
-    "charge": ("ladung", "charge", "capacity", "kapazit", "mah", "ah", "q"),
+    "time": ("zeit", "time", "sec", "elapsed", "sn", "t", "время"),
+    "voltage": ("spannung", "voltage", "volatge", "volt", "u", "v", "ubat", "vbat", "напряжение"),
+    "current": ("strom", "current", "curr", "i", "ibat", "amp", "ток"),
+    "temp": ("temperatur", "temperature", "temp", "t_bat", "температура"),
+    "charge": ("ladung", "charge", "capacity", "kapazit", "mah", "ah", "q", "заряд", "емкость", "ёмкость"),
 }
 # Columns of a role whose names have one of these words are something else (a supply voltage,
 # the charger's inside temperature, a raw ADC value, a date or a power).
@@ -74,7 +79,9 @@ _META = re.compile(r"(\w+)=(?:'([^']*)'|(\S+))")
 _DECIMAL_COMMA = re.compile(r"^\s*-?\d+,\d+\s*$")
 _UNIT_WORDS = {"sec": "s", "s": "s", "seconds": "s", "sekunden": "s", "min": "min", "minutes": "min", "h": "h",
                "hours": "h", "std": "h", "ms": "ms", "v": "V", "mv": "mV", "a": "A", "ma": "mA", "°c": "°C",
-               "c": "°C", "degc": "°C", "°f": "°F", "f": "°F", "mah": "mAh", "ah": "Ah"}
+               "c": "°C", "degc": "°C", "°f": "°F", "f": "°F", "mah": "mAh", "ah": "Ah",
+               "с": "s", "мин": "min", "ч": "h", "мс": "ms", "в": "V", "мв": "mV", "а": "A", "ма": "mA",
+               "°с": "°C", "мач": "mAh", "ач": "Ah"}
 
 
 @dataclass(frozen=True)
@@ -111,13 +118,19 @@ class CsvGuess:
 
 
 def decode(data: bytes) -> str:
-    """UTF-16 with its byte-order mark (Excel's "Unicode text"), UTF-8, else Windows code page 1252."""
-    if data.startswith((b"\xff\xfe", b"\xfe\xff")):
+    """UTF-16 with its byte-order mark (Excel's "Unicode text"), UTF-8, else a Windows code page:
+    1251 (Cyrillic) when most letters are bytes above 0xBF (Russian words are all such bytes; German
+    ones have an umlaut here and there), else 1252."""
+    if data.startswith(UTF16_BOMS):
         return data.decode("utf-16", "replace")
     try:
         return data.decode("utf-8-sig")
-    except UnicodeDecodeError:              # written on Windows: code page 1252
-        return data.decode("cp1252", "replace")
+    except UnicodeDecodeError:
+        pass
+    sample = data[:65536]
+    high = sum(sample.count(bytes([b])) for b in range(0xC0, 0x100))
+    latin = sum(sample.count(bytes([b])) for b in range(0x41, 0x7B) if chr(b).isalpha())
+    return data.decode("cp1251" if high > latin else "cp1252", "replace")
 
 
 def _content_lines(lines: list[str]) -> list[int]:
@@ -160,10 +173,13 @@ def _number(text: str, comma: bool) -> float:
 def _separator(lines: list[str]) -> str:
     """The separator that splits the last probed lines into one field count of at least 2."""
     tail = lines[-PROBE_LINES:]
+    fits = []
     for sep in SEPARATORS:
         counts = {_width(line, sep) for line in tail}
-        if len(counts) == 1 and counts.pop() >= 2:
-            return sep
+        if len(counts) == 1 and (n := counts.pop()) >= 2:
+            fits.append((sum(_width(line, sep) == n for line in lines), sep))
+    if fits:        # the one that also splits the header so: '|' over the ',' of decimal commas
+        return max(fits, key=lambda f: (f[0], -SEPARATORS.index(f[1])))[1]
     best = max(SEPARATORS, key=lambda s: min(_width(line, s) for line in tail))
     if min(_width(line, best) for line in tail) < 2:
         raise LogFormatError(_("not a CSV: no separator (; tab , |) splits its lines into columns"))
@@ -187,7 +203,7 @@ def _unit_of(name: str) -> tuple[str, str]:
 
 
 def _words(name: str) -> list[str]:
-    return [w for w in re.split(r"[^a-zäöüß°0-9]+", name.lower()) if w]
+    return [w for w in re.split(r"[^a-zäöüßа-яё°0-9]+", name.lower()) if w]
 
 
 def _fits(role: str, name: str, bare: str, unit: str) -> bool:
@@ -206,7 +222,18 @@ def _fits(role: str, name: str, bare: str, unit: str) -> bool:
 def guess(data: bytes) -> CsvGuess:
     """The separator, decimal comma, header line and each column's role and unit (of the first
     record set, where the file has ``### RECORDSET`` blocks)."""
-    return _guess_lines(decode(data).splitlines())
+    return _guess_lines(_head_lines(data))
+
+
+def _head_lines(data: bytes) -> list[str]:
+    """The lines of the file's first ``GUESS_BYTES`` (whole lines where there is a line end): the
+    guess and the preview look at no more, so a large file costs them no more than a small one."""
+    head = data[:GUESS_BYTES]
+    if len(data) > GUESS_BYTES:
+        end = max(head.rfind(b"\n"), head.rfind(b"\r"))
+        if end > 0:
+            head = head[:end + (2 if head.startswith(b"\xff\xfe") else 1)]    # UTF-16 LE: "\n\0"
+    return decode(head).splitlines()
 
 
 def _guess_lines(lines: list[str]) -> CsvGuess:
@@ -346,9 +373,9 @@ def read(data: bytes, g: CsvGuess | None = None) -> Log:
     exports, each restarting at time 0) are record sets, placed on one time line and given their
     direction as the ``.osd`` reader does (``record_sets``); so is each part of a file after its time
     goes back. No row is left out for its time."""
-    lines = decode(data).splitlines()
-    g = g or _guess_lines(lines)
+    g = g or guess(data)
     check(g)
+    lines = decode(data).splitlines()
     at = {c.role: k for k, c in enumerate(g.columns) if c.role not in ("-", "cell")}
     cells = [k for k, c in enumerate(g.columns) if c.role == "cell"]
     used = sorted(set(at.values()) | set(cells))
@@ -446,18 +473,26 @@ def read_as(data: bytes, spec: str | None) -> Log:
 
 def preview(data: bytes, g: CsvGuess, rows: int = 3) -> list[list[str]]:
     """The first data rows' fields as the file has them."""
-    lines = decode(data).splitlines()[g.header_line + 1:]
+    lines = _head_lines(data)[g.header_line + 1:]
     return [_split(line, g.separator) for line in lines if line.strip() and not line.lstrip().startswith("#")][:rows]
 
 
 def sniff(head: bytes, name: str) -> bool:
     """A text whose guess finds a time and a voltage column (last in the detection order); not
-the fit's plain curve CSV, which ``sim.curve`` reads as it is."""
-    if b"\x00" in head or head.lstrip(b"\xef\xbb\xbf").startswith(CURVE_CSV):
+the fit's plain curve CSV, which ``sim.curve`` reads as it is. A header longer than the bytes
+looked at (a single line with a separator and no end) is left to the reader to judge."""
+    if head.lstrip(b"\xef\xbb\xbf").startswith(CURVE_CSV):
         return False
+    if b"\x00" in head and not head.startswith(UTF16_BOMS):
+        return False
+    text = decode(head)
+    lines = text.splitlines()
+    if len(lines) <= 1 and len(head) >= LONG_LINE:
+        return any(sep in text for sep in SEPARATORS)
+    if len(lines) > 1 and not text.endswith(("\n", "\r")):
+        lines = lines[:-1]                       # the head cuts the last line
     try:
-        g = guess(head[:head.rfind(b"\n")] if b"\n" in head else head)
-        check(g)
+        check(_guess_lines(lines))
     except LogFormatError:
         return False
     return True

@@ -96,7 +96,7 @@ def import_file(book: Logbook, pack: Pack, path: Path, *, source: str = "file",
                 passport: tuple[int | None, int | None] = (None, None)) -> ImportResult:
     """``passport``: the battery passport's (ERR, CRIT) counters, when the run read them."""
     try:
-        data = read_file_bytes(path)
+        data = read_file_bytes(path, pipes=False)
     except FileReadError as exc:
         return ImportResult(str(path), "error", str(exc))
     digest = file_sha256(data)
