@@ -79,3 +79,11 @@ def test_a_choice_without_voltage_is_refused_in_the_dialog(window, qtbot):
     dialog.roles[1].setCurrentIndex(dialog.roles[1].findData("-"))
     dialog.accept_button().click()
     assert dialog.isVisible() and "no voltage column" in dialog.error.text()
+
+
+def test_the_dialog_says_which_units_were_assumed(window, qtbot):
+    # The SkyRC logger's header gives no unit: "Current" 310 is read as mA, and the dialog says so.
+    open_log(window, qtbot, REAL / "skyrc_B6ACv2_Charging_head100.csv")
+    about = window.csv_dialog.findChild(type(window.csv_dialog.error), "csvAbout").text()
+    assert "Units the header does not give (check them):" in about
+    assert "  Current: no unit in the header: read as mA (largest value" in about
