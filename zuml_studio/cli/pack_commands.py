@@ -9,6 +9,7 @@ from ..packs.db import Logbook, LogbookError
 from ..packs.register import PackError, add_pack, get_pack, list_packs, remove_pack
 from ..packs.sessions import ImportResult, import_files
 from ..packs.summary import pack_summary, write_sessions_csv
+from ..packs.text import printable
 from .common import CliError, out, out_json
 from ..i18n import _, ngettext
 
@@ -84,7 +85,7 @@ def cmd_list(args: argparse.Namespace) -> int:
         out(_("no packs yet: `zuml pack add NAME --chemistry C --cells N --capacity MAH`"))
     for p in packs:
         out(_("{name}: {chemistry} {cells}S {capacity:g} mAh, {sessions}, {verdict}").format(
-                name=p["name"], chemistry=p["chemistry"], cells=p["cells"], capacity=p["capacity_mah"],
+                name=printable(p["name"]), chemistry=p["chemistry"], cells=p["cells"], capacity=p["capacity_mah"],
                 sessions=ngettext("{n} session", "{n} sessions", len(p["sessions"])).format(n=len(p["sessions"])),
                 verdict=p["health"]["verdict"]))
     return 0
@@ -98,20 +99,20 @@ def cmd_show(args: argparse.Namespace) -> int:
         return 0
     _num = lambda v, fmt: "–" if v is None else format(v, fmt)  # noqa: E731
     out(_("{name}: {chemistry}, {cells} cells, {capacity:g} mAh rated").format(
-            name=info["name"], chemistry=info["chemistry"], cells=info["cells"], capacity=info["capacity_mah"]))
+            name=printable(info["name"]), chemistry=info["chemistry"], cells=info["cells"], capacity=info["capacity_mah"]))
     for key, label in (("bought", _("bought")), ("serial", _("serial")), ("notes", _("notes"))):
         if info[key]:
-            out(f"  {label}: {info[key]}")
+            out(f"  {label}: {printable(str(info[key]))}")
     out(_("  health: {verdict}").format(verdict=info["health"]["verdict"]))
     for reason in info["health"]["reasons"]:
-        out(f"    {reason}")
+        out(f"    {printable(reason)}")
     out(ngettext("  {n} session", "  {n} sessions", len(info["sessions"])).format(n=len(info["sessions"])))
     if info["sessions"]:
         out("    " + _("date        in mAh  out mAh  capacity  mΩ/cell  ΔV mV  T max  file"))
     for s in info["sessions"]:
         out(f"    {s['recorded'][:10]:<10} {_num(s['charge_in_mah'], '7.0f'):>7} {_num(s['charge_out_mah'], '8.0f'):>8}"
             f" {_num(s['capacity_mah'], '9.0f'):>9} {_num(s['resistance_mohm_per_cell'], '8.1f'):>8}"
-            f" {_num(s['cell_deviation_mv'], '6.0f'):>6} {_num(s['t_max_c'], '6.1f'):>6}  {s['file']}")
+            f" {_num(s['cell_deviation_mv'], '6.0f'):>6} {_num(s['t_max_c'], '6.1f'):>6}  {printable(s['file'])}")
     return 0
 
 
@@ -133,8 +134,11 @@ def cmd_import(args: argparse.Namespace) -> int:
     if missing:
         raise CliError(_("{path}: no such file or folder").format(path=missing[0]), 1)
     bar = sys.stderr.isatty()
+    added: list[ImportResult] = []
 
     def progress(done: int, total: int, result: ImportResult) -> None:
+        if result.status == "added":
+            added.append(result)
         if bar:
             filled = _BAR * done // total
             sys.stderr.write(f"\r[{'#' * filled}{'.' * (_BAR - filled)}] {done}/{total}")
@@ -142,7 +146,7 @@ def cmd_import(args: argparse.Namespace) -> int:
                 sys.stderr.write("\n")
             sys.stderr.flush()
         label = {"added": _("added"), "known": _("known"), "error": _("skipped")}[result.status]
-        line = f"{label}: {result.path}" + (f": {result.message}" if result.message else "")
+        line = f"{label}: {printable(result.path)}" + (f": {printable(result.message)}" if result.message else "")
         if bar:
             sys.stderr.write("\r" + " " * (_BAR + 24) + "\r")
         out(line)
@@ -150,7 +154,9 @@ def cmd_import(args: argparse.Namespace) -> int:
     try:
         results = import_files(book, pack, args.paths, progress)
     except LogbookError as exc:
-        raise CliError(str(exc), 1) from None
+        raise CliError(ngettext("{error} (the import stopped there; the {n} file added before it is kept)",
+                                "{error} (the import stopped there; the {n} files added before it are kept)",
+                                len(added)).format(error=exc, n=len(added)), 1) from None
     counts = {s: sum(r.status == s for r in results) for s in ("added", "known", "error")}
     out(_("pack {name!r}: {added} added, {known} already known, {error} not read").format(name=pack.name, **counts))
     if counts["error"] and not counts["added"] and not counts["known"]:

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import datetime as dt
 import hashlib
-import os
 import re
 import sqlite3
 from collections.abc import Callable, Iterable
@@ -17,6 +16,7 @@ from ..logs import LogFormatError, read_log
 from .db import Logbook
 from .figures import SessionFigures, session_figures
 from .register import Pack
+from .text import storable, stored_path
 from ..i18n import _
 
 _DATE_IN_NAME = re.compile(r"(?<!\d)((?:19|20)\d\d)[-_.]?(0[1-9]|1[0-2])[-_.]?(0[1-9]|[12]\d|3[01])(?!\d)")
@@ -98,18 +98,18 @@ def import_file(book: Logbook, pack: Pack, path: Path, *, source: str = "file",
     try:
         data = read_file_bytes(path, pipes=False)
     except FileReadError as exc:
-        return ImportResult(str(path), "error", str(exc))
+        return ImportResult(storable(str(path)), "error", storable(str(exc)))
     digest = file_sha256(data)
     known = _session_of(book, digest)
     if known:
-        return ImportResult(str(path), "known", _("already in pack {pack!r} as {file}").format(
+        return ImportResult(storable(str(path)), "known", _("already in pack {pack!r} as {file}").format(
                 pack=known[0], file=known[1]))
     try:
         log = read_log(data, path.name)
     except LogFormatError as exc:
-        return ImportResult(str(path), "error", str(exc))
+        return ImportResult(storable(str(path)), "error", storable(str(exc)))
     if not log.samples:
-        return ImportResult(str(path), "error", _("the log holds no sample"))
+        return ImportResult(storable(str(path)), "error", _("the log holds no sample"))
     figures = session_figures(log, pack.cells)
     if source == "live":
         recorded, recorded_from = dt.datetime.now(dt.timezone.utc).isoformat(timespec="seconds"), "run"
@@ -117,7 +117,7 @@ def import_file(book: Logbook, pack: Pack, path: Path, *, source: str = "file",
         recorded, recorded_from = recorded_date(path)
     columns = ("pack_id", "sha256", "file", "source", "format", "device", "recorded", "recorded_from",
                "imported", "passport_errors", "passport_critical") + FIGURE_COLUMNS
-    values = (pack.id, digest, str(Path(os.path.abspath(path))), source, log.format, log.device, recorded,
+    values = (pack.id, digest, stored_path(path), source, log.format, log.device, recorded,
               recorded_from, dt.datetime.now(dt.timezone.utc).isoformat(timespec="seconds"), *passport,
               *(getattr(figures, c) for c in FIGURE_COLUMNS))
     try:
@@ -125,13 +125,13 @@ def import_file(book: Logbook, pack: Pack, path: Path, *, source: str = "file",
             conn.execute(f"INSERT INTO sessions ({', '.join(columns)}) VALUES ({', '.join('?' * len(columns))})",
                          values)
     except sqlite3.IntegrityError:        # another instance imported the same bytes meanwhile
-        pack_name, file = _session_of(book, digest) or (pack.name, str(path))
-        return ImportResult(str(path), "known", _("already in pack {pack!r} as {file}").format(
+        pack_name, file = _session_of(book, digest) or (pack.name, stored_path(path))
+        return ImportResult(storable(str(path)), "known", _("already in pack {pack!r} as {file}").format(
                 pack=pack_name, file=file))
     if log.cells and log.cells != pack.cells:
-        return ImportResult(str(path), "added", _("the log shows {log_cells} cells, the pack has {cells}").format(
+        return ImportResult(storable(str(path)), "added", _("the log shows {log_cells} cells, the pack has {cells}").format(
                 log_cells=log.cells, cells=pack.cells))
-    return ImportResult(str(path), "added")
+    return ImportResult(storable(str(path)), "added")
 
 
 def _session_of(book: Logbook, digest: str) -> tuple[str, str] | None:

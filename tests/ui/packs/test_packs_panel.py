@@ -75,7 +75,7 @@ def test_a_folder_of_real_logs_becomes_a_pack_with_its_trend(make_window, qtbot,
     days = [dt.datetime.fromtimestamp(t, dt.timezone.utc).date().isoformat() for t in x]
     assert days == ["2008-07-05", "2014-08-23", "2014-09-16"]
     expected = [_largest_discharge_mah(LOGS / n) / 1200 * 100 for n in NIMH]
-    assert y == pytest.approx(expected, abs=0.1)
+    assert y == pytest.approx(expected, abs=0.5)      # a phase end's step counted or not
     assert len(panel.trend_plot.points["resistance_mohm_per_cell"][0]) == 3
     assert "Health:" in panel.health.text()
     # the same folder again adds nothing
