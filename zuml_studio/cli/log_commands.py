@@ -76,6 +76,8 @@ def cmd_info(args: argparse.Namespace) -> int:
         sets = info["record_sets"]
         out(ngettext("  record sets  {n}: {names}", "  record sets  {n}: {names}", len(sets)).format(
                 n=len(sets), names="; ".join(name or "–" for name in sets)))
+    if info.get("started"):
+        out(_("  recorded     {when} (the log's own time stamp)").format(when=info["started"]))
     out(_("  samples      {samples} ({bad} bad records), {duration}").format(
             samples=info['samples'], bad=info['bad_records'], duration=hms(info['duration_s'])))
     if "out_of_range" in info:

@@ -25,7 +25,7 @@ import re
 from dataclasses import dataclass, field, replace
 
 from . import record_sets
-from .model import Log, LogFormatError, SampleBuilder, in_time_order
+from .model import Log, LogFormatError, SampleBuilder, in_time_order, started_at_ms
 from ..i18n import _
 
 FORMAT = "csv"
@@ -451,6 +451,9 @@ def read(data: bytes, g: CsvGuess | None = None) -> Log:
         meta["csv_assumed"] = g.assumptions()
     if any(named):
         meta["record_sets"] = named
+    started = started_at_ms(first_ms) if first_ms is not None else None
+    if started:
+        meta["started"] = started
     if notes:
         first = dict(notes[0])
         first["record_sets"] = sum(n["record_sets"] - 1 for n in notes) + 1

@@ -2,6 +2,7 @@
 its phases, and ``SampleBuilder``, which every reader fills column by column."""
 from __future__ import annotations
 
+import datetime as dt
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
@@ -152,6 +153,13 @@ def time_order_text(note: dict) -> str:
                     "time goes back at sample {k} ({t:g} s after {prev:g} s): read as {n} record sets, "
                     "each following the last; no sample left out", note["record_sets"]).format(
             k=note["first_sample"], t=note["time_s"], prev=note["previous_s"], n=note["record_sets"])
+
+
+def started_at_ms(epoch_ms: float) -> str | None:
+    """A record set's start time stamp (ms since 1970, UTC) as an ISO date-time, None when implausible."""
+    if not 315_532_800_000 <= epoch_ms <= 4_102_444_800_000:       # 1980 to 2100
+        return None
+    return dt.datetime.fromtimestamp(epoch_ms / 1000.0, dt.timezone.utc).isoformat(timespec="seconds")
 
 
 def charge_check_text(note: dict) -> str:

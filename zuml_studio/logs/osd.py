@@ -22,7 +22,7 @@ import zlib
 import numpy as np
 
 from . import record_sets
-from .model import Log, LogFormatError, SampleBuilder
+from .model import Log, LogFormatError, SampleBuilder, started_at_ms
 from ..i18n import _
 
 MAX_UNZIPPED = 512 * 1024 * 1024
@@ -178,7 +178,11 @@ def read(data: bytes) -> Log:
     if not len(builder):
         raise LogFormatError(_("no data points in any record set"))
     device = header.get("DeviceName", "") or "DataExplorer"
-    return builder.build("dataexplorer-osd", device, 0, record_sets=names, comment=header.get("FileComment", ""))
+    meta = {"record_sets": names, "comment": header.get("FileComment", "")}
+    started = started_at_ms(start0) if start0 is not None else None
+    if started:
+        meta["started"] = started              # the first record set's time stamp
+    return builder.build("dataexplorer-osd", device, 0, **meta)
 
 
 def _set_data(data: bytes, d: dict, bounds: list[int], step_ms: float, name: str):

@@ -35,7 +35,8 @@ def summarize(log: Log) -> dict:
         out["resistance"] = {"readings": len(log.resistance), "last_pack_mohm": last[1],
                              "last_cells_mohm": list(last[2])}
     for key in ("battery", "channel", "header", "record_sets", "events", "other_channel_records",
-                "other_channel_lines", "csv_columns", "csv_assumed", "time_order", "out_of_range", "charge_check"):
+                "other_channel_lines", "csv_columns", "csv_assumed", "time_order", "out_of_range", "charge_check",
+                "started"):
         if key in log.meta:
             out[key] = log.meta[key]
     return out

@@ -65,6 +65,9 @@ MIGRATIONS: tuple[str, ...] = (
         pack_id INTEGER REFERENCES packs(id) ON DELETE CASCADE
     );
     """,
+    """
+    ALTER TABLE sessions ADD COLUMN foreign_reason TEXT;
+    """,
 )
 SCHEMA_VERSION = len(MIGRATIONS)
 

@@ -41,9 +41,12 @@ class Health:
 
 
 def trend(pack: Pack, sessions: list[Session]) -> list[TrendPoint]:
-    """One point per session, oldest first."""
+    """One point per session, oldest first; a session filed though it seems another pack's (``--force``)
+    is left out."""
     out = []
     for s in sessions:
+        if s.foreign_reason:
+            continue
         f = s.figures
         pct = (round(f.capacity_mah / pack.capacity_mah * 100.0, 1)
                if f.capacity_mah is not None and f.capacity_from == "discharge" else None)

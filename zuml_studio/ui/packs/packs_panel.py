@@ -301,7 +301,7 @@ class PacksPanel(QWidget):
         self.progress.hide()
         counts = {s: sum(r.status == s for r in results) for s in ("added", "known", "error")}
         self.statusMessage.emit(_("{added} added, {known} already known, {error} not read").format(**counts))
-        errors = [f"{Path(r.path).name}: {r.message}" for r in results if r.status == "error"]
+        errors = [f"{Path(r.path).name}: {r.message}" for r in results if r.status in ("error", "foreign")]
         self.show_pack()
         self.importFinished.emit(results)
         if errors and self.isVisible():
