@@ -42,9 +42,12 @@ def session_figures(log: Log, cells: int) -> SessionFigures:
         r = resistance_mohm_per_cell(t, v, i, cells)
         r_from = "rest steps" if r is not None else None
     if r is None and log.resistance:
-        cells_mohm = [float(np.mean(c)) for _t, _p, c in log.resistance if c]
+        # A charger that measured nothing sends 0: unknown, not 0 mΩ
+        cells_mohm = [float(np.mean(c)) for _t, _p, c in log.resistance if c and all(x > 0 for x in c)]
         if cells_mohm:
             r, r_from = float(np.median(cells_mohm)), "charger"
+    if r is not None and not r > 0:          # no rest step or reading that measures anything: unknown
+        r, r_from = None, None
     temps = a["temp"][np.isfinite(a["temp"])]
     last = log.samples[-1] if log.samples else None
     return SessionFigures(
