@@ -74,7 +74,8 @@ class PackTrendPlot(pg.GraphicsLayoutWidget):
             else:
                 empty = pg.TextItem(_("– (no session measures it)"), color=self.look.plot.ink, anchor=(0.5, 0.5))
                 plot.addItem(empty)
-                empty.setPos(timestamp(points[0].recorded) if points else 0.0, 0.5)
+                stamps = [timestamp(p.recorded) for p in points] or [0.0]
+                empty.setPos((min(stamps) + max(stamps)) / 2.0, 0.5)
             if limits[field] is not None:
                 plot.addItem(pg.InfiniteLine(limits[field], angle=0, pen=pg.mkPen(
                         self.look.error, width=1, style=Qt.PenStyle.DashLine)))
