@@ -127,7 +127,7 @@ def import_file(book: Logbook, pack: Pack, path: Path, *, source: str = "file",
     if foreign and not force:
         return ImportResult(storable(str(path)), "foreign", _("not this pack's: {reason} (--force files it, "
                                                               "marked)").format(reason=foreign))
-    figures = session_figures(log, pack.cells)
+    figures = session_figures(log, pack.cells, pack.chemistry)
     if source == "live":
         recorded, recorded_from = dt.datetime.now(dt.timezone.utc).isoformat(timespec="seconds"), "run"
     else:
