@@ -120,5 +120,5 @@ def test_a_named_pipe_given_as_a_log_is_refused_as_a_device_is(tmp_path, capsys)
     import os
     fifo = tmp_path / "log.csv"
     os.mkfifo(fifo)
-    assert main(["log", "info", str(fifo)]) == 1                  # no writer: reading it would hang
+    assert main(["log", "info", str(fifo)]) == 2                  # no writer: reading it would hang
     assert capsys.readouterr().err.strip().endswith(f"{fifo}: a named pipe, not a log file")

@@ -84,5 +84,5 @@ def test_a_capacity_far_above_the_rating_gives_no_verdict_but_says_what_to_check
     verdict = health(Pack(1, "P", "NiMh", 4, 1000.0, None, "", None),
                      [Session(1, "a.lov", "file", None, None, "2024-01-01", "log", f)])
     assert verdict.verdict == "unknown"
-    assert verdict.reasons[0] == ("the discharge on 2024-01-01 took 2240 mAh, 224 % of the 1000 mAh rated: check "
-                                  "the pack's rating, or whether the log is this pack's")
+    assert verdict.reasons[0] == ("the discharge on 2024-01-01 took 2240 mAh (224 %) of a pack rated 1000 mAh: "
+                                  "check the pack's rating, or whether the log is this pack's")

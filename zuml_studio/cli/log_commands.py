@@ -41,7 +41,7 @@ def load(path: str, fmt: str | None, columns: str | None = None) -> Log:
     try:
         data = read_file_bytes(path, pipes=False)
     except FileReadError as exc:
-        raise CliError(str(exc), 1) from None
+        raise CliError(str(exc)) from None
     if columns is not None:
         return _load_csv(path, data, columns)
     try:

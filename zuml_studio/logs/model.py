@@ -165,9 +165,9 @@ def started_at_ms(epoch_ms: float) -> str | None:
 def charge_check_text(note: dict) -> str:
     """The one line a reader of the log is told when the charger's counter and the integrated current
     disagree (``charge.disagreement``)."""
-    return _("the charger's counter says in {cin:.0f} mAh, out {cout:.0f} mAh: {pct:.0f} % from the integrated "
-             "current (in {iin:.0f}, out {iout:.0f} mAh, shown); a gap in the log or a counter that does not "
-             "count this charge").format(cin=note["in_counter_mah"], cout=note["out_counter_mah"],
+    return _("the charger's counter says in {cin:.0f} mAh, out {cout:.0f} mAh, the integrated current in "
+             "{iin:.0f}, out {iout:.0f} mAh (shown; they differ by {pct:.0f} %): a gap in the log or a counter "
+             "that does not count this charge").format(cin=note["in_counter_mah"], cout=note["out_counter_mah"],
                                          pct=note["difference"] * 100, iin=note["in_integrated_mah"],
                                          iout=note["out_integrated_mah"])
 

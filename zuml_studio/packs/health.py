@@ -65,7 +65,7 @@ def health(pack: Pack, sessions: list[Session]) -> Health:
     capacity = [p for p in points if p.capacity_pct is not None]
     if capacity and capacity[-1].capacity_pct > CAPACITY_MAX_SHARE * 100.0:
         last = capacity[-1]
-        unsure.append(_("the discharge on {date} took {mah:.0f} mAh, {pct:.0f} % of the {rated:.0f} mAh rated: "
+        unsure.append(_("the discharge on {date} took {mah:.0f} mAh ({pct:.0f} %) of a pack rated {rated:.0f} mAh: "
                         "check the pack's rating, or whether the log is this pack's").format(
                 date=last.recorded[:10], mah=last.capacity_pct * pack.capacity_mah / 100.0, pct=last.capacity_pct,
                 rated=pack.capacity_mah))
