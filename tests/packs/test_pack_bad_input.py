@@ -19,8 +19,10 @@ DATA = __import__("pathlib").Path(__file__).resolve().parents[1] / "data" / "log
 
 
 def _csv(offset: float) -> bytes:
+    """A charge; each offset its own length (charges of the same length and mAh are one charge twice)."""
     return ("Zeit [s];Spannung [V];Strom [A]\n" + "".join(
-        f"{i * 10};{7.4 + i * 0.003 + offset:.4f};2,0\n".replace(".", ",") for i in range(100))).encode()
+        f"{i * 10};{7.4 + i * 0.003 + offset:.4f};2,0\n".replace(".", ",")
+        for i in range(100 + int(offset * 100)))).encode()
 
 
 @pytest.fixture(autouse=True)

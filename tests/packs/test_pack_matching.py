@@ -56,3 +56,22 @@ def test_a_session_is_dated_by_its_log(book, name, when):
     assert result.status == "added"
     (session,) = pack_sessions(book, pack)
     assert (session.recorded, session.recorded_from) == (when, "log")
+
+
+def test_the_same_charge_in_two_formats_is_kept_once_with_both_files(book, tmp_path):
+    # A .lov and the raw capture of the same charge (the iCharger 208B's lines, extracted from the .lov)
+    pack = add_pack(book, "3S", "LiPo", 3, 1000)
+    lov = DATA / "iCharger208B_Storage.lov"
+    raw = DATA.parent / "realdata" / "icharger208B_Storage_lines.txt"
+    first, second = import_files(book, pack, [lov, raw])
+    assert first.status == "added"
+    assert second.status == "known" and second.message.startswith(f"the same charge as {lov}")
+    (session,) = pack_sessions(book, pack)
+    assert session.as_dict()["same_files"] == [str(raw)]
+
+
+def test_different_charges_of_one_pack_are_kept_apart(book):
+    pack = add_pack(book, "Rx", "NiMh", 4, 2000)
+    results = import_files(book, pack, [DATA / "AkkuMasterC4_2007-12-28-EmpfaengerAA4-Laden.csv",
+                                        DATA / "AkkuMasterC4_2007-12-28-EmpfaengerAA4-Entladen.csv"])
+    assert [r.status for r in results] == ["added", "added"]

@@ -67,6 +67,7 @@ MIGRATIONS: tuple[str, ...] = (
     """,
     """
     ALTER TABLE sessions ADD COLUMN foreign_reason TEXT;
+    ALTER TABLE sessions ADD COLUMN same_files TEXT NOT NULL DEFAULT '';
     """,
 )
 SCHEMA_VERSION = len(MIGRATIONS)

@@ -39,12 +39,16 @@ class Session:
     # Why the log seems another pack's, when it was filed all the same (--force): its figures are kept out
     # of the trend and the health verdict.
     foreign_reason: str | None = None
+    # The other files that hold the same charge (a .lov and its raw capture, an .osd and its CSV export),
+    # one a line: recognised on import and kept once.
+    same_files: str = ""
 
     def as_dict(self) -> dict:
         return {"file": self.file, "source": self.source, "format": self.format, "device": self.device,
                 "recorded": self.recorded, "recorded_from": self.recorded_from, **self.figures.as_dict(),
                 "passport_errors": self.passport_errors, "passport_critical": self.passport_critical,
-                "foreign_reason": self.foreign_reason}
+                "foreign_reason": self.foreign_reason,
+                "same_files": [f for f in self.same_files.split("\n") if f]}
 
 
 @dataclass(frozen=True)
@@ -128,6 +132,13 @@ def import_file(book: Logbook, pack: Pack, path: Path, *, source: str = "file",
         return ImportResult(storable(str(path)), "foreign", _("not this pack's: {reason} (--force files it, "
                                                               "marked)").format(reason=foreign))
     figures = session_figures(log, pack.cells, pack.chemistry)
+    same = _same_charge(book, pack, figures)
+    if same is not None:
+        with book.write() as conn:
+            conn.execute("UPDATE sessions SET same_files = same_files || ? WHERE id = ?",
+                         (stored_path(path) + "\n", same[0]))
+        return ImportResult(storable(str(path)), "known", _("the same charge as {file} (duration and charge agree): "
+                                                            "kept once, both files listed").format(file=same[1]))
     if source == "live":
         recorded, recorded_from = dt.datetime.now(dt.timezone.utc).isoformat(timespec="seconds"), "run"
     else:
@@ -154,6 +165,29 @@ def import_file(book: Logbook, pack: Pack, path: Path, *, source: str = "file",
     return ImportResult(storable(str(path)), "added")
 
 
+# Two files hold the same charge when their durations and charges in and out agree within these.
+SAME_DURATION = 0.01
+SAME_CHARGE = 0.02
+SAME_MIN_MAH = 2.0
+
+
+def _same_charge(book: Logbook, pack: Pack, figures: SessionFigures) -> tuple[int, str] | None:
+    """A session of the pack holding the charge ``figures`` describe (another format of the same
+    recording): (its id, its file), else None. Logs that moved no charge are never the same."""
+    if not figures.charge_in_mah and not figures.charge_out_mah:
+        return None
+    for row in book.read("SELECT id, file, duration_s, charge_in_mah, charge_out_mah FROM sessions "
+                         "WHERE pack_id = ?", (pack.id,)):
+        if row["duration_s"] is None or abs(row["duration_s"] - figures.duration_s) > max(
+                2.0, SAME_DURATION * figures.duration_s):
+            continue
+        if all(a is not None and b is not None and abs(a - b) <= max(SAME_MIN_MAH, SAME_CHARGE * max(a, b))
+               for a, b in ((row["charge_in_mah"], figures.charge_in_mah),
+                            (row["charge_out_mah"], figures.charge_out_mah))):
+            return row["id"], row["file"]
+    return None
+
+
 def _session_of(book: Logbook, digest: str) -> tuple[str, str] | None:
     rows = book.read("SELECT packs.name, sessions.file FROM sessions JOIN packs ON packs.id = sessions.pack_id "
                      "WHERE sha256 = ?", (digest,))
@@ -165,7 +199,7 @@ def pack_sessions(book: Logbook, pack: Pack) -> list[Session]:
     rows = book.read("SELECT * FROM sessions WHERE pack_id = ? ORDER BY recorded, id", (pack.id,))
     return [Session(r["id"], r["file"], r["source"], r["format"], r["device"], r["recorded"], r["recorded_from"],
                     SessionFigures(**{c: r[c] for c in FIGURE_COLUMNS}), r["passport_errors"],
-                    r["passport_critical"], r["foreign_reason"])
+                    r["passport_critical"], r["foreign_reason"], r["same_files"])
             for r in rows]
 
 
