@@ -130,3 +130,15 @@ def test_a_damaged_logbook_is_shown_not_replaced(make_window, tmp_path):
     panel = dock_panel(w, w.packs_dock)
     assert "damaged" in panel.error_label.text() and not panel.error_label.isHidden()
     assert (tmp_path / "data" / "packs.sqlite3").read_bytes() == b"junk" * 500
+
+
+def test_a_pack_added_from_the_command_line_appears_in_the_open_window(qtbot):
+    from zuml_studio.cli.main import main
+    from zuml_studio.ui.packs.packs_panel import PacksPanel
+    panel = PacksPanel()
+    qtbot.addWidget(panel)
+    panel.show()
+    assert panel.pack_list.count() == 0
+    assert main(["pack", "add", "From the shell", "--chemistry", "LiPo", "--cells", "3", "--capacity", "1000"]) == 0
+    qtbot.waitUntil(lambda: panel.pack_list.count() == 1, timeout=10_000)     # another connection's commit
+    assert panel.pack_list.item(0).text() == "From the shell"
