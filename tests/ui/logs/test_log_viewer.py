@@ -191,3 +191,12 @@ def test_a_nimh_log_without_cell_voltages_has_no_per_cell_axis(viewer, qtbot):
     right = document.plot.vplot.getAxis("right")
     assert not document.plot.per_cell_axis and not right.style["showValues"] and right.labelText == ""
     assert document.plot.legends[document.plot.vplot].names() == ["pack voltage"]
+
+
+def test_the_totals_say_what_their_figures_cannot(viewer, qtbot):
+    # The 3010B's counter says 684 mAh, its current integrates to 660: shown, and the difference said.
+    document = opened(viewer, qtbot, str(LOGS.parent / "realdata" / "icharger3010B_2500NiMh_lines.txt"))
+    text = document.totals.text()
+    assert "660 mAh" in text and "the charger&#x27;s counter says in 684 mAh" in text and "differ by 4 %" in text
+    document = opened(viewer, qtbot, str(LOGS / "eStationBC6_2008-07-05_EmpfaengerAA.osd"))
+    assert "no temperature in this log" in document.totals.text()
