@@ -17,7 +17,7 @@ def test_info_json_has_the_documented_fields():
             "charge_in_mah", "charge_out_mah", "cells", "phases"} <= set(info)
     assert (info["format"], info["device"], info["samples"], info["cells"]) == \
         ("icharger-duo-txt", "Junsi iCharger X8", 1375, 5)
-    assert (info["charge_in_mah"], info["charge_out_mah"], info["i_max_a"]) == (2016.0, 0.0, 6.02)
+    assert (info["charge_in_mah"], info["charge_out_mah"], info["i_max_a"]) == (2015.9, 0.0, 6.02)   # integrated
     assert info["phases"] == [{"state": "charge", "start_s": 0.0, "end_s": 1374.0}]
     assert info["resistance"]["readings"] == 23
 
@@ -26,7 +26,7 @@ def test_info_table_names_charger_and_phases():
     rc, out, _ = run_zuml("log", "info", str(LOGS / "PolaronPro_2014-08-23_5S_NiMh_cycle.osd"))
     assert rc == 0
     assert "dataexplorer-osd, PolaronPro" in out
-    assert "charge       in 1917 mAh, out 1440 mAh" in out
+    assert "charge       in 1916 mAh, out 1437 mAh" in out     # integrated; the counter: 1917, 1440
     assert "discharge" in out and "pause" in out
 
 
@@ -40,7 +40,7 @@ def test_export_writes_one_row_per_sample(tmp_path):
         [f"cell{k}_v" for k in range(1, 7)]
     assert rows[-1]["current_a"] == "-1.5000" and rows[-1]["state"] == "discharge"
     assert rows[-1]["temp_c"] == ""                 # no probe: empty, not 0
-    assert (rows[-1]["charge_in_mah"], rows[-1]["charge_out_mah"]) == ("95.0", "149.0")
+    assert (rows[-1]["charge_in_mah"], rows[-1]["charge_out_mah"]) == ("96.5", "149.4")    # the counter: 95, 149
 
 
 def test_errors_are_one_line(tmp_path):

@@ -20,18 +20,25 @@ def test_add_import_show_json_export_remove(zuml, tmp_path):
     folder.mkdir()
     for name in ("406DUO_Turnigy_4S_1500_A_Charge_0_CH1.txt", "X8_LiPo_5S_2200mA_Charge_4.txt"):
         shutil.copy(DATA / name, folder / name)
+    code, out, _err = zuml("pack", "import", str(folder), "--pack", "Turnigy 4S #2")
+    # The X8 log is a 5S pack's: skipped with its reason, then filed marked with --force.
+    assert code == 0 and "1 added, 0 already known, 0 not read" in out
+    assert "not this pack's: the log's balance taps show 5 cells, the pack has 4 (--force files it, marked)" in out
+    assert "1 log skipped as another pack's (its reason above; --force files it)" in out
     code, out, _err = zuml("pack", "import", str(folder), str(folder / "X8_LiPo_5S_2200mA_Charge_4.txt"),
-                           "--pack", "Turnigy 4S #2")
-    assert code == 0 and "2 added, 1 already known, 0 not read" in out
-    assert "the log shows 5 cells, the pack has 4" in out
+                           "--pack", "Turnigy 4S #2", "--force")
+    assert code == 0 and "1 added, 2 already known, 0 not read" in out
+    assert "filed as asked, marked: the log's balance taps show 5 cells, the pack has 4" in out
     code, out, _err = zuml("pack", "show", "Turnigy 4S #2", "--json")
     info = json.loads(out)
     assert info["bought"] == "2024-05-01" and len(info["sessions"]) == 2
     for s in info["sessions"]:
         assert {"file", "charge_in_mah", "charge_out_mah", "resistance_mohm_per_cell", "cell_deviation_mv",
                 "t_max_c"} <= s.keys()
-    assert [s["charge_in_mah"] for s in info["sessions"]] == [1117.0, 2016.0]
-    assert len(info["trend"]) == 2 and set(info["health"]) == {"verdict", "reasons"}
+    assert [s["charge_in_mah"] for s in info["sessions"]] == [1113.2, 2015.9]     # integrated (counters: 1117, 2016)
+    # the 5S log filed with --force is marked and kept out of the trend
+    assert [s["foreign_reason"] for s in info["sessions"]].count(None) == 1
+    assert len(info["trend"]) == 1 and set(info["health"]) == {"verdict", "reasons"}
     assert info["health"]["verdict"] in ("good", "poor", "unknown") and info["health"]["reasons"]
     code, out, _err = zuml("pack", "show", "Turnigy 4S #2")
     assert code == 0 and "2 sessions" in out and "health:" in out

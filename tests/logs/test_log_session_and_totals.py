@@ -84,7 +84,13 @@ def test_integrate_current_splits_at_zero_crossings_and_skips_gaps():
 def test_charge_from_counter_banks_each_phase():
     ins, outs = charge_from_counter([0, 50, 95, 95, 0, -10, -149, -149, 0, 20])
     assert ins[-1] == 115.0 and outs[-1] == 149.0
-    assert charge_from_counter([10, 9, 10])[0] == [10, 9, 10]     # rounding jitter is not a new count
+    assert charge_from_counter([10, 9, 10])[0] == [0, -1, 0]      # rounding jitter is not a new count
+
+
+def test_a_counter_that_does_not_start_at_zero_counts_from_its_first_value():
+    # Akkumatik: a discharge whose counter starts at 1 867 mAh has moved nothing yet.
+    ins, outs = charge_from_counter([-1867, -2000, -3317])
+    assert (ins[-1], outs[-1]) == (0.0, 1450.0)
 
 
 def test_summary_fields():

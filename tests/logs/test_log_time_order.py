@@ -1,6 +1,6 @@
 """Time that goes back in a log (issue 27: 161 mutated real logs were summarised with a negative
-duration): the samples out of order are left out, the longest part whose time never falls is read,
-and the summary says where."""
+duration; issue 33: never drop a row for its time): where time goes back a new record set starts,
+following the last, and the summary says where."""
 import pytest
 
 from helpers import ROOT
@@ -27,26 +27,40 @@ def test_time_that_never_falls_is_kept_whole():
     assert in_time_order([0.0, 1.0, 1.0, 2.0]) == (None, None)     # a repeat: a session's next run
 
 
-@pytest.mark.parametrize("times, kept, first", [
-    ([0, 1, 2, 9e9, 4, 5, 6], [0, 1, 2, 4, 5, 6], 5),                # one garbled time drops one sample
-    ([0, 1, 2, -50, 4, 5], [0, 1, 2, 4, 5], 4),
-    ([0, 1, 2, 3, 4, 0.5, 1.5, 2.5], [0, 1, 2, 3, 4], 6),             # a clock reset: the longer part
-    ([10, 11, 0, 1, 2, 3, 4], [2, 3, 4, 5, 6], 3),
+@pytest.mark.parametrize("times, placed, first, sets", [
+    ([0, 1, 2, 9e9, 4, 5, 6], [0, 1, 2, 9e9, 9e9 + 1, 9e9 + 2, 9e9 + 3], 5, 2),    # nothing dropped
+    ([0, 1, 2, -50, 4, 5], [0, 1, 2, 3, 57, 58], 4, 2),
+    ([0, 1, 2, 3, 4, 0.5, 1.5, 2.5], [0, 1, 2, 3, 4, 5, 6, 7], 6, 2),            # a clock reset: a new set
+    ([10, 11, 0, 1, 2, 3, 4], [10, 11, 12, 13, 14, 15, 16], 3, 2),
+    ([0, 1, 0, 1, 0, 1], [0, 1, 2, 3, 4, 5], 3, 3),
 ])
-def test_the_longest_part_in_time_order_is_kept_and_the_first_fault_named(times, kept, first):
-    keep, note = in_time_order(times)
-    assert keep == kept
-    assert note["first_sample"] == first and note["left_out"] == len(times) - len(kept)
+def test_time_that_goes_back_starts_a_new_record_set_and_no_sample_is_left_out(times, placed, first, sets):
+    moved, note = in_time_order(times)
+    assert moved == pytest.approx(placed)
+    assert note["first_sample"] == first and note["record_sets"] == sets and note["left_out"] == 0
     assert note["time_s"] < note["previous_s"]
 
 
-def test_a_real_log_with_one_time_sent_back_reads_the_rest_and_says_so():
+def test_a_csv_whose_time_restarts_at_row_120_reads_all_200_rows_as_two_record_sets():
+    # The hostile-3 reproducer (csv_hostile.py time_backwards): 200 rows 10 s apart, time back to 0 at row 120.
+    rows = [f"{(i if i < 120 else i - 120) * 10:.1f};{7.4 + i * 0.004:.3f};2,000".replace(".", ",")
+            for i in range(200)]
+    log = read_log(("Zeit [s];Spannung [V];Strom [A]\n" + "\n".join(rows) + "\n").encode(), "back.csv")
+    assert (len(log.samples), log.bad_records) == (200, 0)
+    assert [s.time_s for s in log.samples] == [10.0 * i for i in range(200)]
+    assert log.meta["time_order"]["record_sets"] == 2
+    assert min(p.start_s for p in log.phases()) >= 0
+
+
+def test_a_real_log_with_one_time_sent_back_reads_every_sample_and_says_so():
     whole = summarize(read_log(AKKUMASTER.read_bytes(), AKKUMASTER.name))
     info = summarize(read_log(_with_times({101: "5.00"}), AKKUMASTER.name))
-    assert info["samples"] == whole["samples"] - 1 and info["duration_s"] == whole["duration_s"] > 0
-    assert info["time_order"] == {"first_sample": 101, "time_s": 5.0, "previous_s": 990.0, "left_out": 1}
+    assert info["samples"] == whole["samples"]
+    assert info["time_order"] == {"first_sample": 101, "time_s": 5.0, "previous_s": 990.0, "left_out": 0,
+                                  "record_sets": 2}
     assert time_order_text(info["time_order"]) == \
-        "time goes back at sample 101 (5 s after 990 s): 1 sample out of time order left out"
+        "time goes back at sample 101 (5 s after 990 s): read as 2 record sets, each following the last; " \
+        "no sample left out"
 
 
 def test_log_info_prints_the_time_fault_on_its_own_line(capsys, tmp_path):
@@ -54,4 +68,5 @@ def test_log_info_prints_the_time_fault_on_its_own_line(capsys, tmp_path):
     path.write_bytes(_with_times({k: "0.00" for k in range(51, 61)}))
     assert main(["log", "info", str(path)]) == 0
     out = capsys.readouterr().out
-    assert "  time goes back at sample 51 (0 s after 490 s): 10 samples out of time order left out\n" in out
+    assert "  time goes back at sample 51 (0 s after 490 s): read as 2 record sets, each following the last; " \
+           "no sample left out\n" in out

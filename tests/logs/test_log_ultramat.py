@@ -50,7 +50,7 @@ def test_ultramat_18_lov_reads_its_discharge():
         assert s.voltage_v == field(f, 13) / 1000
         assert s.current_a == -field(f, 17) / 1000
         assert s.section == "discharge" and s.running
-    assert log.samples[-1].mah_out == field(frames[-1], 21) and log.samples[-1].mah_in == 0
+    assert log.samples[-1].mah_out == pytest.approx(field(frames[-1], 21), abs=0.5) and log.samples[-1].mah_in == 0
     assert [p.state for p in log.phases()] == ["discharge"]
     assert log.samples[-1].time_s == 37.0
 
@@ -67,7 +67,7 @@ def test_ultra_duo_plus_45_lov_reads_the_outlet_that_charges():
         assert s.temp_c == pytest.approx(field(f, 117) / 10)
         assert s.section == "charge"
     last = frames[-1]
-    assert log.samples[-1].mah_in == field(last, 113) == 24
+    assert log.samples[-1].mah_in == pytest.approx(field(last, 113), abs=0.5) and field(last, 113) == 24
     assert log.samples[0].temp_c == 23.1 and log.samples[-1].voltage_v == 6.058
     assert log.cells == 0                      # the 4 balance taps read 0 V: not connected
 

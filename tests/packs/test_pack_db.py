@@ -30,10 +30,10 @@ def test_a_version_1_logbook_is_migrated_and_keeps_its_packs(tmp_path):
                      "VALUES ('Old', 'NiMh', 4, 2000, '2020-01-01')")
     old.close()
     book = Logbook(path)
-    assert book.version == db.SCHEMA_VERSION == 2
+    assert book.version == db.SCHEMA_VERSION == 3
     assert get_pack(book, "Old").cells == 4
     columns = {r[1] for r in book.conn.execute("PRAGMA table_info(sessions)")}
-    assert {"passport_critical", "passport_errors"} <= columns
+    assert {"passport_critical", "passport_errors", "foreign_reason"} <= columns
 
 
 def test_a_newer_schema_is_refused(tmp_path):

@@ -45,8 +45,9 @@ def test_a_folder_is_imported_whole_and_unreadable_files_are_reported(book, tmp_
     assert sorted(r.status for r in results) == ["added", "added", "error"]
     assert seen == [(1, 3), (2, 3), (3, 3)]
     sessions = pack_sessions(book, pack)
+    # The Ultramat .osd holds its own start time stamp; the eStation's (an older DataExplorer) none.
     assert [(s.recorded, s.recorded_from) for s in sessions] == [("2008-07-05", "file name"),
-                                                                 ("2014-09-16", "file name")]
+                                                                 ("2014-09-15T20:16:25+00:00", "log")]
 
 
 def test_trend_points_and_csv(book, tmp_path):

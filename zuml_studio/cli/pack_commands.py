@@ -9,6 +9,7 @@ from ..packs.db import Logbook, LogbookError
 from ..packs.register import PackError, add_pack, get_pack, list_packs, remove_pack
 from ..packs.sessions import ImportResult, import_files
 from ..packs.summary import pack_summary, write_sessions_csv
+from ..packs.text import printable
 from .common import CliError, out, out_json
 from ..i18n import _, ngettext
 
@@ -40,6 +41,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     imp = psub.add_parser("import", help=_("import log files (folders: every file in them) as sessions of a pack"))
     imp.add_argument("paths", nargs="+", metavar="PATH")
     imp.add_argument("--pack", required=True, metavar="NAME")
+    imp.add_argument("--force", action="store_true",
+                     help=_("file logs whose chemistry or cells contradict the pack's too (marked, kept out of "
+                            "the trend and health)"))
     imp.set_defaults(run=cmd_import)
     exp = psub.add_parser("export", help=_("a pack's sessions as CSV, one row per session"))
     exp.add_argument("name", metavar="NAME")
@@ -84,7 +88,7 @@ def cmd_list(args: argparse.Namespace) -> int:
         out(_("no packs yet: `zuml pack add NAME --chemistry C --cells N --capacity MAH`"))
     for p in packs:
         out(_("{name}: {chemistry} {cells}S {capacity:g} mAh, {sessions}, {verdict}").format(
-                name=p["name"], chemistry=p["chemistry"], cells=p["cells"], capacity=p["capacity_mah"],
+                name=printable(p["name"]), chemistry=p["chemistry"], cells=p["cells"], capacity=p["capacity_mah"],
                 sessions=ngettext("{n} session", "{n} sessions", len(p["sessions"])).format(n=len(p["sessions"])),
                 verdict=p["health"]["verdict"]))
     return 0
@@ -98,20 +102,25 @@ def cmd_show(args: argparse.Namespace) -> int:
         return 0
     _num = lambda v, fmt: "–" if v is None else format(v, fmt)  # noqa: E731
     out(_("{name}: {chemistry}, {cells} cells, {capacity:g} mAh rated").format(
-            name=info["name"], chemistry=info["chemistry"], cells=info["cells"], capacity=info["capacity_mah"]))
+            name=printable(info["name"]), chemistry=info["chemistry"], cells=info["cells"], capacity=info["capacity_mah"]))
     for key, label in (("bought", _("bought")), ("serial", _("serial")), ("notes", _("notes"))):
         if info[key]:
-            out(f"  {label}: {info[key]}")
+            out(f"  {label}: {printable(str(info[key]))}")
     out(_("  health: {verdict}").format(verdict=info["health"]["verdict"]))
     for reason in info["health"]["reasons"]:
-        out(f"    {reason}")
+        out(f"    {printable(reason)}")
     out(ngettext("  {n} session", "  {n} sessions", len(info["sessions"])).format(n=len(info["sessions"])))
     if info["sessions"]:
         out("    " + _("date        in mAh  out mAh  capacity  mΩ/cell  ΔV mV  T max  file"))
+    dated = {"log": "", "file name": "n", "file time": "t", "run": ""}
     for s in info["sessions"]:
-        out(f"    {s['recorded'][:10]:<10} {_num(s['charge_in_mah'], '7.0f'):>7} {_num(s['charge_out_mah'], '8.0f'):>8}"
+        mark = dated.get(s["recorded_from"], "?")
+        out(f"    {s['recorded'][:10] + mark:<11}{_num(s['charge_in_mah'], '7.0f'):>7} {_num(s['charge_out_mah'], '8.0f'):>8}"
             f" {_num(s['capacity_mah'], '9.0f'):>9} {_num(s['resistance_mohm_per_cell'], '8.1f'):>8}"
-            f" {_num(s['cell_deviation_mv'], '6.0f'):>6} {_num(s['t_max_c'], '6.1f'):>6}  {s['file']}")
+            f" {_num(s['cell_deviation_mv'], '6.0f'):>6} {_num(s['t_max_c'], '6.1f'):>6}  {printable(s['file'])}")
+    if any(s["recorded_from"] in ("file name", "file time") for s in info["sessions"]):
+        out("    " + _("dates from the logs' own time stamps; n: from the file's name, t: the file's modification "
+                      "time (the log holds no date)"))
     return 0
 
 
@@ -133,27 +142,37 @@ def cmd_import(args: argparse.Namespace) -> int:
     if missing:
         raise CliError(_("{path}: no such file or folder").format(path=missing[0]), 1)
     bar = sys.stderr.isatty()
+    added: list[ImportResult] = []
 
     def progress(done: int, total: int, result: ImportResult) -> None:
+        if result.status == "added":
+            added.append(result)
         if bar:
             filled = _BAR * done // total
             sys.stderr.write(f"\r[{'#' * filled}{'.' * (_BAR - filled)}] {done}/{total}")
             if done == total:
                 sys.stderr.write("\n")
             sys.stderr.flush()
-        label = {"added": _("added"), "known": _("known"), "error": _("skipped")}[result.status]
-        line = f"{label}: {result.path}" + (f": {result.message}" if result.message else "")
+        label = {"added": _("added"), "known": _("known"), "error": _("skipped"),
+                 "foreign": _("skipped")}[result.status]
+        line = f"{label}: {printable(result.path)}" + (f": {printable(result.message)}" if result.message else "")
         if bar:
             sys.stderr.write("\r" + " " * (_BAR + 24) + "\r")
         out(line)
 
     try:
-        results = import_files(book, pack, args.paths, progress)
+        results = import_files(book, pack, args.paths, progress, force=args.force)
     except LogbookError as exc:
-        raise CliError(str(exc), 1) from None
-    counts = {s: sum(r.status == s for r in results) for s in ("added", "known", "error")}
+        raise CliError(ngettext("{error} (the import stopped there; the {n} file added before it is kept)",
+                                "{error} (the import stopped there; the {n} files added before it are kept)",
+                                len(added)).format(error=exc, n=len(added)), 1) from None
+    counts = {s: sum(r.status == s for r in results) for s in ("added", "known", "error", "foreign")}
     out(_("pack {name!r}: {added} added, {known} already known, {error} not read").format(name=pack.name, **counts))
-    if counts["error"] and not counts["added"] and not counts["known"]:
+    if counts["foreign"]:
+        out(ngettext("{n} log skipped as another pack's (its reason above; --force files it)",
+                     "{n} logs skipped as another pack's (their reasons above; --force files them)",
+                     counts["foreign"]).format(n=counts["foreign"]))
+    if counts["error"] and not counts["added"] and not counts["known"] and not counts["foreign"]:
         raise CliError(_("nothing imported: no file given is a log ZUML Studio reads (each one's reason above)"), 1)
     return 0
 

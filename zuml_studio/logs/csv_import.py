@@ -19,10 +19,13 @@ discharging (the SkyRC logger's) is read with the unit ``-A`` or ``-mA``. A char
 that counts up while discharging counts as discharged."""
 from __future__ import annotations
 
+import csv
+import math
 import re
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
-from .model import Log, LogFormatError, SampleBuilder, state_from_current
+from . import record_sets
+from .model import Log, LogFormatError, SampleBuilder, in_time_order, started_at_ms
 from ..i18n import _
 
 FORMAT = "csv"
@@ -33,16 +36,29 @@ UNITS = {"time": ("s", "min", "h", "ms", "day"), "voltage": ("V", "mV"), "cell":
 SCALE = {"s": 1.0, "min": 60.0, "h": 3600.0, "ms": 0.001, "day": 86400.0, "V": 1.0, "mV": 0.001, "A": 1.0,
          "mA": 0.001, "-A": -1.0, "-mA": -0.001, "°C": 1.0, "mAh": 1.0, "Ah": 1000.0}
 MAX_COLUMNS = 256
+# A column's name is read up to this many characters: the guess stays linear and bounded (a header
+# field of 50 000 '(' took minutes).
+MAX_NAME = 200
 PROBE_LINES = 40
+RECORDSET = "### RECORDSET"
+UTF16_BOMS = (b"\xff\xfe", b"\xfe\xff")
+# A head of this many bytes without a line end is a header longer than it: the reader judges the file.
+LONG_LINE = 1024
+# The guess reads the columns from the file's first bytes only (its header and PROBE_LINES rows).
+GUESS_BYTES = 1 << 20
+# Where a column's name gives no unit: the largest value read as V (pack), V (cell), A. Beyond these
+# no hobby charger measures (a 30S pack is 126 V; the largest charger outputs 40-60 A), so the values
+# are mV or mA. Said in the log's meta (csv_assumed), never silently.
+PLAUSIBLE = {"voltage": 200.0, "cell": 10.0, "current": 60.0}
 CURVE_CSV = b"time_s,voltage_v,current_a"      # the fit's plain curve CSV (sim/curve.py), read there
 
 # Words of a column's name (lower case) -> role; the first column that fits a role takes it.
 WORDS = {
-    "time": ("zeit", "time", "sec", "elapsed", "sn", "t"),
-    "voltage": ("spannung", "voltage", "volatge", "volt", "u", "v", "ubat", "vbat"),
-    "current": ("strom", "current", "curr", "i", "ibat", "amp"),
-    "temp": ("temperatur", "temperature", "temp", "t_bat"),
-    "charge": ("ladung", "charge", "capacity", "kapazit", "mah", "ah", "q"),
+    "time": ("zeit", "time", "sec", "elapsed", "sn", "t", "время"),
+    "voltage": ("spannung", "voltage", "volatge", "volt", "u", "v", "ubat", "vbat", "напряжение"),
+    "current": ("strom", "current", "curr", "i", "ibat", "amp", "ток"),
+    "temp": ("temperatur", "temperature", "temp", "t_bat", "температура"),
+    "charge": ("ladung", "charge", "capacity", "kapazit", "mah", "ah", "q", "заряд", "емкость", "ёмкость"),
 }
 # Columns of a role whose names have one of these words are something else (a supply voltage,
 # the charger's inside temperature, a raw ADC value, a date or a power).
@@ -57,12 +73,15 @@ NOT = {
 # Among the columns that fit, the first with the earliest of these words wins.
 PREFER = {"voltage": ("calibrated", "bat", "akku", "accu", "lipo", "pack"), "current": ("calibrated",),
           "temp": ("calibrated", "bat", "akku")}
-_UNIT = re.compile(r"[\[(]\s*([^\])]*?)\s*[\])]")
-_CELL = re.compile(r"(?:zellenspannung|cellvoltage|cell|zelle)\s*_?\s*(\d{1,2})", re.IGNORECASE)
+_UNIT = re.compile(r"[\[(]([^\[\]()]*)[\])]")
+_CELL = re.compile(r"(?:zellenspannung|cellvoltage|cell|zelle)[\s_]{0,3}(\d{1,2})", re.IGNORECASE)
+_META = re.compile(r"(\w+)=(?:'([^']*)'|(\S+))")
 _DECIMAL_COMMA = re.compile(r"^\s*-?\d+,\d+\s*$")
 _UNIT_WORDS = {"sec": "s", "s": "s", "seconds": "s", "sekunden": "s", "min": "min", "minutes": "min", "h": "h",
                "hours": "h", "std": "h", "ms": "ms", "v": "V", "mv": "mV", "a": "A", "ma": "mA", "°c": "°C",
-               "c": "°C", "degc": "°C", "°f": "°F", "f": "°F", "mah": "mAh", "ah": "Ah"}
+               "c": "°C", "degc": "°C", "°f": "°F", "f": "°F", "mah": "mAh", "ah": "Ah",
+               "с": "s", "мин": "min", "ч": "h", "мс": "ms", "в": "V", "мв": "mV", "а": "A", "ма": "mA",
+               "°с": "°C", "мач": "mAh", "ач": "Ah"}
 
 
 @dataclass(frozen=True)
@@ -70,6 +89,8 @@ class Column:
     name: str
     role: str = "-"        # one of ROLES
     unit: str = ""         # one of UNITS[role]
+    # Why the unit was chosen when the name gives none ("" : the name gives it).
+    assumed: str = field(default="", compare=False)
 
 
 @dataclass(frozen=True)
@@ -91,12 +112,25 @@ class CsvGuess:
         """The columns as ``--columns`` takes them."""
         return ",".join(f"{c.role}:{c.unit}" if c.role != "-" else "-" for c in self.columns)
 
+    def assumptions(self) -> list[str]:
+        """One line per unit the header does not give: what was assumed and why."""
+        return [f"{c.name or c.role}: {c.assumed}" for c in self.columns if c.role != "-" and c.assumed]
+
 
 def decode(data: bytes) -> str:
+    """UTF-16 with its byte-order mark (Excel's "Unicode text"), UTF-8, else a Windows code page:
+    1251 (Cyrillic) when most letters are bytes above 0xBF (Russian words are all such bytes; German
+    ones have an umlaut here and there), else 1252."""
+    if data.startswith(UTF16_BOMS):
+        return data.decode("utf-16", "replace")
     try:
         return data.decode("utf-8-sig")
-    except UnicodeDecodeError:              # written on Windows: code page 1252
-        return data.decode("cp1252", "replace")
+    except UnicodeDecodeError:
+        pass
+    sample = data[:65536]
+    high = sum(sample.count(bytes([b])) for b in range(0xC0, 0x100))
+    latin = sum(sample.count(bytes([b])) for b in range(0x41, 0x7B) if chr(b).isalpha())
+    return data.decode("cp1251" if high > latin else "cp1252", "replace")
 
 
 def _content_lines(lines: list[str]) -> list[int]:
@@ -104,7 +138,18 @@ def _content_lines(lines: list[str]) -> list[int]:
 
 
 def _split(line: str, sep: str) -> list[str]:
-    return [part.strip().strip('"').strip() for part in line.split(sep)]
+    """The fields of one line, RFC 4180 quoting understood (a quoted "3,85" is one field)."""
+    if '"' not in line:
+        return [part.strip() for part in line.split(sep)]
+    try:
+        fields = next(csv.reader([line], delimiter=sep))
+    except (csv.Error, StopIteration):
+        return [part.strip().strip('"').strip() for part in line.split(sep)]
+    return [f.strip() for f in fields]
+
+
+def _width(line: str, sep: str) -> int:
+    return len(_split(line, sep))
 
 
 def _is_number(text: str, comma: bool) -> bool:
@@ -128,18 +173,22 @@ def _number(text: str, comma: bool) -> float:
 def _separator(lines: list[str]) -> str:
     """The separator that splits the last probed lines into one field count of at least 2."""
     tail = lines[-PROBE_LINES:]
+    fits = []
     for sep in SEPARATORS:
-        counts = {len(line.split(sep)) for line in tail}
-        if len(counts) == 1 and counts.pop() >= 2:
-            return sep
-    best = max(SEPARATORS, key=lambda s: min(len(line.split(s)) for line in tail))
-    if min(len(line.split(best)) for line in tail) < 2:
+        counts = {_width(line, sep) for line in tail}
+        if len(counts) == 1 and (n := counts.pop()) >= 2:
+            fits.append((sum(_width(line, sep) == n for line in lines), sep))
+    if fits:        # the one that also splits the header so: '|' over the ',' of decimal commas
+        return max(fits, key=lambda f: (f[0], -SEPARATORS.index(f[1])))[1]
+    best = max(SEPARATORS, key=lambda s: min(_width(line, s) for line in tail))
+    if min(_width(line, best) for line in tail) < 2:
         raise LogFormatError(_("not a CSV: no separator (; tab , |) splits its lines into columns"))
     return best
 
 
 def _unit_of(name: str) -> tuple[str, str]:
     """(name without its unit, unit) of ``Spannung [V]``, ``Current (mA)``, ``time_s``, ``mAH``."""
+    name = name[:MAX_NAME]
     m = _UNIT.search(name)
     if m:
         unit = _UNIT_WORDS.get(m.group(1).strip().lower().split(",")[0].strip(), "")
@@ -154,7 +203,7 @@ def _unit_of(name: str) -> tuple[str, str]:
 
 
 def _words(name: str) -> list[str]:
-    return [w for w in re.split(r"[^a-zäöüß°0-9]+", name.lower()) if w]
+    return [w for w in re.split(r"[^a-zäöüßа-яё°0-9]+", name.lower()) if w]
 
 
 def _fits(role: str, name: str, bare: str, unit: str) -> bool:
@@ -171,21 +220,39 @@ def _fits(role: str, name: str, bare: str, unit: str) -> bool:
 
 
 def guess(data: bytes) -> CsvGuess:
-    """The separator, decimal comma, header line and each column's role and unit."""
-    lines = decode(data).splitlines()
+    """The separator, decimal comma, header line and each column's role and unit (of the first
+    record set, where the file has ``### RECORDSET`` blocks)."""
+    return _guess_lines(_head_lines(data))
+
+
+def _head_lines(data: bytes) -> list[str]:
+    """The lines of the file's first ``GUESS_BYTES`` (whole lines where there is a line end): the
+    guess and the preview look at no more, so a large file costs them no more than a small one."""
+    head = data[:GUESS_BYTES]
+    if len(data) > GUESS_BYTES:
+        end = max(head.rfind(b"\n"), head.rfind(b"\r"))
+        if end > 0:
+            head = head[:end + (2 if head.startswith(b"\xff\xfe") else 1)]    # UTF-16 LE: "\n\0"
+    return decode(head).splitlines()
+
+
+def _guess_lines(lines: list[str]) -> CsvGuess:
     content = _content_lines(lines)
     if len(content) < 2:
         raise LogFormatError(_("not a CSV: fewer than two lines"))
     probe = [lines[k] for k in content[:PROBE_LINES * 2]]
     sep = _separator(probe)
-    width = len(probe[-1].split(sep))
-    header = next((k for k in content if len(lines[k].split(sep)) == width
-                   and not all(_is_number(f, sep != ",") for f in _split(lines[k], sep) if f)), None)
+    width = _width(probe[-1], sep)
+    header = next((k for k in content if _width(lines[k], sep) == width
+                   and not all(_is_number(f, True) for f in _split(lines[k], sep) if f)), None)
     if header is None:
         raise LogFormatError(_("not a CSV with a header: no line names the columns"))
-    rows = [_split(lines[k], sep) for k in content if k > header][:PROBE_LINES]
-    comma = sep != "," and any(_DECIMAL_COMMA.match(f) for row in rows for f in row)
-    names = _split(lines[header], sep)[:MAX_COLUMNS]
+    names = _split(lines[header], sep)
+    rows = [r for r in (_split(lines[k], sep) for k in content[:header + PROBE_LINES * 2] if k > header)
+            if r != names][:PROBE_LINES]                 # a record set's header again is not a row
+    names = names[:MAX_COLUMNS]
+    comma = any(_DECIMAL_COMMA.match(f) for row in rows for f in row) and (
+        sep != "," or any("," in f for row in rows for f in row))
     columns = _guess_columns(names, rows, comma)
     return CsvGuess(sep, comma, header, tuple(columns))
 
@@ -203,7 +270,9 @@ def _values(rows: list[list[str]], k: int, comma: bool) -> list[float]:
 
 def _guess_columns(names: list[str], rows: list[list[str]], comma: bool) -> list[Column]:
     parsed = [_unit_of(n) for n in names]
-    numeric = [bool(_values(rows, k, comma)) for k in range(len(names))]
+    # A column may take a role when its probed fields are numbers (some may be empty: not measured then).
+    numeric = [bool(_values(rows, k, comma)) or (bool(rows) and all(k < len(r) and not r[k] for r in rows))
+               for k in range(len(names))]
     taken: dict[str, int] = {}
     cells: list[int] = []
     for k, (bare, unit) in enumerate(parsed):
@@ -218,24 +287,26 @@ def _guess_columns(names: list[str], rows: list[list[str]], comma: bool) -> list
     if "time" not in taken and numeric and numeric[0] and 0 not in taken.values():
         taken["time"] = 0                          # an unnamed first column counts the time
     out = [Column(name) for name in names]
-    for role, k in taken.items():
-        out[k] = Column(names[k], role, parsed[k][1] or _unit_by_size(role, _values(rows, k, comma)))
-    for k in cells:
-        out[k] = Column(names[k], "cell", parsed[k][1] or _unit_by_size("cell", _values(rows, k, comma)))
+    for role, k in list(taken.items()) + [("cell", k) for k in cells]:
+        unit, why = (parsed[k][1], "") if parsed[k][1] else _unit_by_size(role, _values(rows, k, comma))
+        out[k] = Column(names[k], role, unit, why)
     return out
 
 
-def _unit_by_size(role: str, values: list[float]) -> str:
+def _unit_by_size(role: str, values: list[float]) -> tuple[str, str]:
+    """(unit, why) for a column whose name gives no unit: the reading that gives a plausible pack."""
     if not values:
-        return UNITS[role][0]
+        return UNITS[role][0], _("no unit in the header and no value: {unit} assumed").format(unit=UNITS[role][0])
     big = max(abs(v) for v in values)
-    if role in ("voltage", "cell"):
-        return "mV" if big > 100 else "V"
-    if role == "current":
-        return "mA" if big > 50 else "A"
+    if role in PLAUSIBLE:
+        small, large = ("V", "mV") if role in ("voltage", "cell") else ("A", "mA")
+        unit = small if big <= PLAUSIBLE[role] else large
+        return unit, _("no unit in the header: read as {unit} (largest value {big:g}; {small} up to {top:g}, "
+                       "{large} beyond: no charger measures more)").format(
+                unit=unit, big=big, small=small, large=large, top=PLAUSIBLE[role])
     if role == "time" and values[0] > 20000 and len(values) > 1 and 0 < values[1] - values[0] < 0.01:
-        return "day"                               # a spreadsheet date: days since 30 Dec 1899
-    return UNITS[role][0]
+        return "day", _("no unit in the header: read as days (a spreadsheet date, days since 1899)")
+    return UNITS[role][0], _("no unit in the header: {unit} assumed").format(unit=UNITS[role][0])
 
 
 def parse_columns(spec: str, names: tuple[str, ...]) -> tuple[Column, ...]:
@@ -271,45 +342,122 @@ def check(g: CsvGuess) -> None:
         raise LogFormatError(_("more than one {role} column").format(role=twice[0]))
 
 
+@dataclass
+class _Set:
+    """One record set's rows as columns (a ``### RECORDSET`` block, or the part after time went back)."""
+    name: str = ""
+    start_ms: float = -1.0
+    step_ms: float = -1.0
+    rows: list = field(default_factory=list)
+
+
+def _set_meta(line: str) -> dict[str, str]:
+    """``# source=… recordset='1) Entladen' timestep_ms=1000.0 startTimeStamp_epoch_ms=…``."""
+    return {m.group(1): m.group(2) if m.group(2) is not None else m.group(3) for m in _META.finditer(line)}
+
+
+def _float_or(text: str | None, default: float) -> float:
+    try:
+        return float(text) if text is not None else default
+    except ValueError:
+        return default
+
+
+def _median_step(times: list[float]) -> float:
+    steps = sorted(b - a for a, b in zip(times, times[1:]) if b > a)
+    return steps[len(steps) // 2] if steps else 1.0
+
+
 def read(data: bytes, g: CsvGuess | None = None) -> Log:
-    """The rows as the guess (or a corrected one) says."""
+    """The rows as the guess (or a corrected one) says. ``### RECORDSET`` blocks (DataExplorer-style
+    exports, each restarting at time 0) are record sets, placed on one time line and given their
+    direction as the ``.osd`` reader does (``record_sets``); so is each part of a file after its time
+    goes back. No row is left out for its time."""
     g = g or guess(data)
     check(g)
     lines = decode(data).splitlines()
     at = {c.role: k for k, c in enumerate(g.columns) if c.role not in ("-", "cell")}
     cells = [k for k, c in enumerate(g.columns) if c.role == "cell"]
     used = sorted(set(at.values()) | set(cells))
-    temp_f = at.get("temp") is not None and g.columns[at["temp"]].unit == "°F"
-    builder = SampleBuilder()
+    names = [c.name for c in g.columns]
+    optional = {at["temp"]} if "temp" in at else set()     # an empty temperature: not measured then
+    sets = [_Set()]
     bad = 0
-    t0 = None
-    for line in lines[g.header_line + 1:]:
-        if not line.strip() or line.lstrip().startswith("#"):
+    header_due = False                              # a block's first line names its columns
+    for n, line in enumerate(lines):
+        stripped = line.strip()
+        if stripped == RECORDSET:
+            if sets[-1].rows or sets[-1].name:
+                sets.append(_Set())
+            header_due = n > g.header_line
+            continue
+        if not stripped:
+            continue
+        if stripped.startswith("#"):
+            meta = _set_meta(stripped)
+            if "recordset" in meta and not sets[-1].rows:
+                sets[-1].name = meta["recordset"]
+                sets[-1].start_ms = _float_or(meta.get("startTimeStamp_epoch_ms"), -1.0)
+                sets[-1].step_ms = _float_or(meta.get("timestep_ms"), -1.0)
+            continue
+        if n <= g.header_line:
             continue
         fields = _split(line, g.separator)
+        if header_due or fields[:len(names)] == names:     # the next block's header
+            header_due = False
+            if not all(_is_number(f, g.decimal_comma) for f in fields if f):
+                continue
         if len(fields) < len(g.columns):
             bad += 1
             continue
         try:
-            x = {k: _number(fields[k], g.decimal_comma) * SCALE.get(g.columns[k].unit, 1.0) for k in used}
+            sets[-1].rows.append([math.nan if k in optional and not fields[k] else
+                                  _number(fields[k], g.decimal_comma) * SCALE.get(g.columns[k].unit, 1.0)
+                                  for k in used])
         except ValueError:
             bad += 1
+    builder = SampleBuilder()
+    col = {k: j for j, k in enumerate(used)}
+    temp_f = "temp" in at and g.columns[at["temp"]].unit == "°F"
+    end_s = first_ms = None
+    notes = []
+    named = []
+    for part in sets:
+        if not part.rows:
             continue
-        t = x[at["time"]]
-        t0 = t if t0 is None else t0
-        current = x[at["current"]] if "current" in at else 0.0
-        temp = x[at["temp"]] if "temp" in at else None
+        columns = list(zip(*part.rows))
+        times = [t - columns[col[at["time"]]][0] for t in columns[col[at["time"]]]]
+        placed, note = in_time_order(times)
+        if note is not None:
+            notes.append(note)
+            times = placed
+        step = part.step_ms / 1000.0 if part.step_ms > 0 else _median_step(times)
+        if first_ms is None and part.start_ms > 0:
+            first_ms = part.start_ms
+        offset = record_sets.offset_s(end_s, step, part.start_ms, first_ms)
+        temp = columns[col[at["temp"]]] if "temp" in at else None
         if temp is not None and temp_f:
-            temp = (temp - 32.0) / 1.8
-        counter = x[at["charge"]] if "charge" in at else None
-        state = state_from_current(current)
-        if counter is not None and state == "discharge":
-            counter = -abs(counter)            # a counter that counts up in either direction
-        builder.add(round(t - t0, 6), x[at["voltage"]], current, state, temp=temp,
-                    cells=[x[k] for k in cells], counter=counter)
+            temp = [(x - 32.0) / 1.8 for x in temp]
+        record_sets.add_set(builder, part.name, [round(t + offset, 6) for t in times], columns[col[at["voltage"]]],
+                            columns[col[at["current"]]] if "current" in at else None,
+                            columns[col[at["charge"]]] if "charge" in at else None,
+                            temp=temp, cells=[columns[col[k]] for k in cells])
+        end_s = times[-1] + offset
+        named.append(part.name)
     if not len(builder):
         raise LogFormatError(_("no data row ({bad} bad rows)").format(bad=bad))
     meta = {"csv_columns": g.spec(), "csv_key": g.key}
+    if g.assumptions():
+        meta["csv_assumed"] = g.assumptions()
+    if any(named):
+        meta["record_sets"] = named
+    started = started_at_ms(first_ms) if first_ms is not None else None
+    if started:
+        meta["started"] = started
+    if notes:
+        first = dict(notes[0])
+        first["record_sets"] = sum(n["record_sets"] - 1 for n in notes) + 1
+        meta["time_order"] = first
     if "current" not in at:
         meta["current_measured"] = False
     return builder.build(FORMAT, _("CSV file"), bad, **meta)
@@ -328,18 +476,26 @@ def read_as(data: bytes, spec: str | None) -> Log:
 
 def preview(data: bytes, g: CsvGuess, rows: int = 3) -> list[list[str]]:
     """The first data rows' fields as the file has them."""
-    lines = decode(data).splitlines()[g.header_line + 1:]
+    lines = _head_lines(data)[g.header_line + 1:]
     return [_split(line, g.separator) for line in lines if line.strip() and not line.lstrip().startswith("#")][:rows]
 
 
 def sniff(head: bytes, name: str) -> bool:
     """A text whose guess finds a time and a voltage column (last in the detection order); not
-the fit's plain curve CSV, which ``sim.curve`` reads as it is."""
-    if b"\x00" in head or head.lstrip(b"\xef\xbb\xbf").startswith(CURVE_CSV):
+the fit's plain curve CSV, which ``sim.curve`` reads as it is. A header longer than the bytes
+looked at (a single line with a separator and no end) is left to the reader to judge."""
+    if head.lstrip(b"\xef\xbb\xbf").startswith(CURVE_CSV):
         return False
+    if b"\x00" in head and not head.startswith(UTF16_BOMS):
+        return False
+    text = decode(head)
+    lines = text.splitlines()
+    if len(lines) <= 1 and len(head) >= LONG_LINE:
+        return any(sep in text for sep in SEPARATORS)
+    if len(lines) > 1 and not text.endswith(("\n", "\r")):
+        lines = lines[:-1]                       # the head cuts the last line
     try:
-        g = guess(head[:head.rfind(b"\n")] if b"\n" in head else head)
-        check(g)
+        check(_guess_lines(lines))
     except LogFormatError:
         return False
     return True

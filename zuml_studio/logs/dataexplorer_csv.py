@@ -3,14 +3,15 @@ line naming the device (``AkkuMasterC4`` or ``device;configuration``), a header 
 ``Zeit [sec];Spannung [V];Strom [A];Ladung [mAh]`` (``Time [sec]`` in English), then one row
 per point, ``;``-separated, the decimal point or comma as the user's settings had it.
 
-The export says nothing about the direction: the current's sign decides the state (a
-discharge exported with positive current reads as a charge). Which column is what:
-``columns.py``. Times may also be ``hh:mm:ss.SSS``."""
+The export says nothing about the direction: a discharge exported with positive current is
+told by its voltage falling under load, else the current's sign decides (``record_sets``).
+Which column is what: ``columns.py``. Times may also be ``hh:mm:ss.SSS``."""
 from __future__ import annotations
 
 import re
 
-from .columns import add_row, parse_column, roles
+from . import record_sets
+from .columns import parse_column, roles
 from .model import Log, LogFormatError, SampleBuilder
 from ..i18n import _
 
@@ -55,7 +56,7 @@ def read(data: bytes) -> Log:
     r = roles(columns)
     if r.voltage is None:
         raise LogFormatError(_("no column in volts ([V]) for the pack voltage"))
-    builder = SampleBuilder()
+    rows: list[list[float]] = []
     bad = 0
     for line in lines[2:]:
         if not line.strip():
@@ -70,8 +71,14 @@ def read(data: bytes) -> Log:
         except ValueError:
             bad += 1
             continue
-        add_row(builder, r, numbers, t)
-    if not len(builder):
+        rows.append([t] + numbers)
+    if not rows:
         raise LogFormatError(_("no data row ({bad} bad rows)").format(bad=bad))
+    cols = list(zip(*rows))
+    pick = lambda k: None if k is None else cols[k + 1]        # noqa: E731
+    mah = pick(r.mah) if r.mah is not None else (None if r.ah is None else [x * 1000.0 for x in cols[r.ah + 1]])
+    builder = SampleBuilder()
+    record_sets.add_set(builder, "", cols[0], pick(r.voltage), pick(r.current), mah, temp=pick(r.temp),
+                        cells=[cols[k + 1] for k in r.cells])
     meta = {} if r.current is not None else {"current_measured": False}
     return builder.build("dataexplorer-csv", device, bad, **meta)

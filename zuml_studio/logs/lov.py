@@ -16,6 +16,7 @@ A record whose length prefix does not fit is counted as bad, as is every record 
 refuses (checksum, shape)."""
 from __future__ import annotations
 
+import datetime as dt
 import re
 from dataclasses import replace
 
@@ -23,6 +24,9 @@ from ..device.drivers import DRIVERS
 from ..device.messages import Telemetry
 from .model import Log, LogFormatError, from_samples
 from ..i18n import _
+
+_DATE = re.compile(r"(?:(?P<d1>\d\d)\.(?P<m1>\d\d)\.(?P<y1>\d{4})|(?P<y2>\d{4})-(?P<m2>\d\d)-(?P<d2>\d\d)), "
+                   r"(?P<H>\d\d):(?P<M>\d\d):(?P<S>\d\d)")
 
 MAGIC = b"LogView-Stream:"
 SLACK = 16
@@ -133,4 +137,22 @@ def read(data: bytes) -> Log:
     if not samples:
         raise LogFormatError(_("LogView file from '{device}': no {name} record read ({n_records} records, {bad} "
                                "bad)").format(device=device, name=name, n_records=len(records), bad=bad))
-    return from_samples("logview-lov", device, samples, bad, driver=name)
+    meta = {"driver": name}
+    started = _started(data)
+    if started:
+        meta["started"] = started
+    return from_samples("logview-lov", device, samples, bad, **meta)
+
+
+def _started(data: bytes) -> str | None:
+    """The first date-time in the header ("22.05.2011, 08:54:07" or "2011-04-21, 21:45:32": LogView's
+    local time when the recording began), as an ISO date-time without a zone."""
+    head = data[:512].decode("latin-1")
+    m = _DATE.search(head)
+    if not m:
+        return None
+    day, month, year = (m["d1"], m["m1"], m["y1"]) if m["d1"] else (m["d2"], m["m2"], m["y2"])
+    try:
+        return dt.datetime(int(year), int(month), int(day), int(m["H"]), int(m["M"]), int(m["S"])).isoformat()
+    except ValueError:
+        return None

@@ -2,19 +2,21 @@
 its phases, and ``SampleBuilder``, which every reader fills column by column."""
 from __future__ import annotations
 
+import datetime as dt
 import math
-from bisect import bisect_right
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from ..device.messages import Telemetry
-from .charge import charge_from_counter, integrate_current
+from .charge import charge_from_counter, disagreement, integrate_current
 from ..i18n import _, ngettext
 
 # Volts and amperes beyond any charger (as sim.curve's limits): a sample past them is left out.
 MAX_MEASURED = 2000.0
+# No cell of any chemistry reads more (LiHV ends at 4.35 V): a per-cell column above it is not a cell.
+MAX_CELL_V = 5.0
 # The states a log sample can be in; every format maps its own onto these.
 STATES = ("charge", "discharge", "pause", "idle")
 SECTION_OF = {"charge": "charge", "discharge": "discharge"}
@@ -109,36 +111,30 @@ class Log:
         return out
 
 
-def in_time_order(times: Sequence[float]) -> tuple[list[int] | None, dict | None]:
-    """Which samples to keep where time goes back: the longest run of samples whose time never falls
-    (one garbled time then drops one sample, a clock reset keeps the longer part), and a note saying
-    where the first one out of order is. (None, None) when time never falls. A time repeated is kept:
-    a session's next run starts at the instant the last one ended."""
+def in_time_order(times: Sequence[float]) -> tuple[list[float] | None, dict | None]:
+    """Where time goes back, a new record set starts (a CSV export's next block, a charger's clock reset):
+    its samples are moved to follow the previous set's end by one time step (the log's median step),
+    so no sample is left out and no duration is negative. Returns the times so placed and a note saying
+    where the first fall is and how many record sets there are; (None, None) when time never falls.
+    A time repeated is not a fall: a session's next run starts at the instant the last one ended."""
     t = np.asarray(times, float)
-    if len(t) < 2 or bool((np.diff(t) >= 0).all()):
+    if len(t) < 2:
         return None, None
-    # Longest non-decreasing subsequence (patience sorting): O(n log n).
-    tails: list[float] = []
-    tail_at: list[int] = []
-    before = [-1] * len(t)
-    for k, x in enumerate(t.tolist()):
-        j = bisect_right(tails, x)
-        before[k] = tail_at[j - 1] if j else -1
-        if j == len(tails):
-            tails.append(x)
-            tail_at.append(k)
-        else:
-            tails[j], tail_at[j] = x, k
-    keep = []
-    k = tail_at[-1]
-    while k >= 0:
-        keep.append(k)
-        k = before[k]
-    keep.reverse()
-    first = int(np.flatnonzero(np.diff(t) < 0)[0]) + 1
+    steps = np.diff(t)
+    falls = np.flatnonzero(steps < 0)
+    if not len(falls):
+        return None, None
+    forward = steps[steps > 0]
+    step = float(np.median(forward)) if len(forward) else 1.0
+    shifted = t.copy()
+    offset = 0.0
+    for k in (falls + 1).tolist():
+        offset = shifted[k - 1] + step - t[k]
+        shifted[k:] = t[k:] + offset
+    first = int(falls[0]) + 1
     note = {"first_sample": first + 1, "time_s": float(t[first]), "previous_s": float(t[first - 1]),
-            "left_out": len(t) - len(keep)}
-    return keep, note
+            "record_sets": len(falls) + 1, "left_out": 0}
+    return shifted.tolist(), note
 
 
 def out_of_range_text(note: dict) -> str:
@@ -151,30 +147,70 @@ def out_of_range_text(note: dict) -> str:
 
 
 def time_order_text(note: dict) -> str:
-    """The one line a reader of the log is told about time out of order."""
-    return ngettext("time goes back at sample {k} ({t:g} s after {prev:g} s): {n} sample out of time order "
-                    "left out",
-                    "time goes back at sample {k} ({t:g} s after {prev:g} s): {n} samples out of time order "
-                    "left out", note["left_out"]).format(
-            k=note["first_sample"], t=note["time_s"], prev=note["previous_s"], n=note["left_out"])
+    """The one line a reader of the log is told about time that goes back."""
+    return ngettext("time goes back at sample {k} ({t:g} s after {prev:g} s): read as {n} record set, "
+                    "each following the last; no sample left out",
+                    "time goes back at sample {k} ({t:g} s after {prev:g} s): read as {n} record sets, "
+                    "each following the last; no sample left out", note["record_sets"]).format(
+            k=note["first_sample"], t=note["time_s"], prev=note["previous_s"], n=note["record_sets"])
+
+
+def started_at_ms(epoch_ms: float) -> str | None:
+    """A record set's start time stamp (ms since 1970, UTC) as an ISO date-time, None when implausible."""
+    if not 315_532_800_000 <= epoch_ms <= 4_102_444_800_000:       # 1980 to 2100
+        return None
+    return dt.datetime.fromtimestamp(epoch_ms / 1000.0, dt.timezone.utc).isoformat(timespec="seconds")
+
+
+def charge_check_text(note: dict) -> str:
+    """The one line a reader of the log is told when the charger's counter and the integrated current
+    disagree (``charge.disagreement``)."""
+    return _("the charger's counter says in {cin:.0f} mAh, out {cout:.0f} mAh, the integrated current in "
+             "{iin:.0f}, out {iout:.0f} mAh (shown; they differ by {pct:.0f} %): a gap in the log or a counter "
+             "that does not count this charge").format(cin=note["in_counter_mah"], cout=note["out_counter_mah"],
+                                         pct=note["difference"] * 100, iin=note["in_integrated_mah"],
+                                         iout=note["out_integrated_mah"])
 
 
 def from_samples(fmt: str, device: str, samples: Sequence[Telemetry], bad_records: int = 0, **meta) -> Log:
     """A Log from ready samples (a live driver's decoder, for instance); cell columns are cut
-    to ``connected_cells`` as every reader's are; samples out of time order are left out
-    (``in_time_order``, said in ``meta["time_order"]``)."""
-    keep, note = in_time_order([s.time_s for s in samples])
-    if keep is not None:
-        samples = [samples[k] for k in keep]
+    to ``connected_cells`` as every reader's are; where time goes back a new record set
+    follows the last (``in_time_order``, said in ``meta["time_order"]``)."""
+    placed, note = in_time_order([s.time_s for s in samples])
+    if placed is not None:
+        samples = [replace(s, time_s=t) for s, t in zip(samples, placed)]
         meta["time_order"] = note
     width = connected_cells([s.cells_v for s in samples])
-    cut = tuple(s if len(s.cells_v) <= width else replace(s, cells_v=s.cells_v[:width]) for s in samples)
-    return Log(fmt, device, cut, bad_records, dict(meta))
+    cut = [s if len(s.cells_v) <= width else replace(s, cells_v=s.cells_v[:width]) for s in samples]
+    if cut and all(s.temp_c == 0.0 for s in cut):           # 0 throughout: no probe
+        cut = [replace(s, temp_c=None, sensor=False) for s in cut]
+    if cut:
+        q_in, q_out, differ = _driver_charge(cut)
+        cut = [replace(s, mah_in=a, mah_out=b) for s, a, b in zip(cut, q_in, q_out)]
+        if differ is not None:
+            meta["charge_check"] = differ
+    return Log(fmt, device, tuple(cut), bad_records, dict(meta))
+
+
+def _driver_charge(samples: Sequence[Telemetry]) -> tuple[list[float], list[float], dict | None]:
+    """A driver's samples' charge as a reader's (``SampleBuilder._charge``): the current integrated,
+    compared with the driver's counter, which is counted from its first value; the counter alone
+    where no current is logged."""
+    in0, out0 = samples[0].mah_in, samples[0].mah_out
+    counted = ([s.mah_in - in0 for s in samples], [s.mah_out - out0 for s in samples])
+    currents = [s.current_a for s in samples]
+    if not any(currents):
+        return counted[0], counted[1], None
+    q_in, q_out = integrate_current([s.time_s for s in samples], currents)
+    return q_in, q_out, disagreement((q_in[-1], q_out[-1]), (counted[0][-1], counted[1][-1]))
 
 
 def connected_cells(cells: Sequence[Sequence[float]]) -> int:
     """How many per-cell columns to keep: those at the end that read 0 V in every sample are
-    balance taps not connected."""
+    balance taps not connected; none when a column reads more than any cell can hold (an iCharger
+    charging NiMH sends 5.2 V in its first cell slot: a 4-cell pack is not one cell)."""
+    if any(v > MAX_CELL_V for c in cells for v in c):
+        return 0
     width = max((len(c) for c in cells), default=0)
     while width and all(len(c) < width or c[width - 1] == 0.0 for c in cells):
         width -= 1
@@ -184,8 +220,9 @@ def connected_cells(cells: Sequence[Sequence[float]]) -> int:
 class SampleBuilder:
     """Columns of one log as a reader decodes them; ``build`` turns them into Telemetry.
 
-    Charge: an explicit cumulative in/out wins, else the charger's (signed, per-phase)
-    counter, else the integral of the current (``charge.py``). Per-cell columns that are
+    Charge: an explicit cumulative in/out wins, else the integral of the current, compared with
+    the charger's (signed, per-phase) counter where there is one, else that counter's difference
+    (``charge.py``). Per-cell columns that are
     zero in every sample at the end of the list (balance taps not connected) are dropped."""
 
     def __init__(self) -> None:
@@ -202,10 +239,6 @@ class SampleBuilder:
         self.cycle: list[int] = []
         # Samples left out for a voltage or current no charger measures: (how many, the first's number).
         self.out_of_range = (0, 0)
-
-    def _columns(self) -> tuple[list, ...]:
-        return (self.t, self.v, self.i, self.state, self.temp, self.heatsink, self.cells, self.counter,
-                self.q_in, self.q_out, self.cycle)
 
     def __len__(self) -> int:
         return len(self.t)
@@ -235,23 +268,32 @@ class SampleBuilder:
         self.q_out.append(_finite(mah_out))
         self.cycle.append(int(cycle))
 
-    def _charge(self) -> tuple[list[float], list[float]]:
+    def _charge(self) -> tuple[list[float], list[float], dict | None]:
+        """(in, out, disagreement): explicit totals (our own session CSV) win; else the current
+        integrated, compared with the counter where there is one; else the counter's difference."""
         n = len(self.t)
         if n and all(q is not None for q in self.q_in) and all(q is not None for q in self.q_out):
-            return list(self.q_in), list(self.q_out)
-        if n and all(c is not None for c in self.counter):
-            return charge_from_counter(self.counter)
-        return integrate_current(self.t, self.i)
+            return list(self.q_in), list(self.q_out), None
+        counted = charge_from_counter(self.counter) if n and all(c is not None for c in self.counter) else None
+        if counted is not None and not any(self.i):
+            return counted[0], counted[1], None
+        q_in, q_out = integrate_current(self.t, self.i)
+        if counted is None or not n:
+            return q_in, q_out, None
+        return q_in, q_out, disagreement((q_in[-1], q_out[-1]), (counted[0][-1], counted[1][-1]))
 
     def build(self, fmt: str, device: str, bad_records: int = 0, *, resistance=(), **meta) -> Log:
-        keep, note = in_time_order(self.t)
-        if keep is not None:
-            for column in self._columns():
-                column[:] = [column[k] for k in keep]
+        placed, note = in_time_order(self.t)
+        if placed is not None:
+            self.t[:] = placed
             meta["time_order"] = note
         if self.out_of_range[0]:
             meta["out_of_range"] = {"left_out": self.out_of_range[0], "first_sample": self.out_of_range[1]}
-        q_in, q_out = self._charge()
+        if self.temp and all(x == 0.0 for x in self.temp):
+            self.temp[:] = [None] * len(self.temp)      # a probe column that reads 0 throughout: no probe
+        q_in, q_out, differ = self._charge()
+        if differ is not None:
+            meta["charge_check"] = differ
         width = connected_cells(self.cells)
         samples = []
         runs = 0

@@ -9,9 +9,8 @@ stored record, point-major. Value = (raw/1000 − reduction)·factor + offset.
 
 Which records are stored is device specific (calculated ones are left out); the count
 follows from the block's size and each stored column is matched, in order, to the record
-whose ``_minValue``/``_maxValue`` it has. A set whose name says discharge ("Entladen")
-or charge ("Laden") gives its samples that state and the current and charge that sign;
-otherwise the current's sign decides."""
+whose ``_minValue``/``_maxValue`` it has. Where each set lies on the time line and which way it
+goes: ``record_sets.py`` (one rule with the CSV exports)."""
 from __future__ import annotations
 
 import io
@@ -22,7 +21,8 @@ import zlib
 
 import numpy as np
 
-from .model import Log, LogFormatError, SampleBuilder, state_from_current
+from . import record_sets
+from .model import Log, LogFormatError, SampleBuilder, started_at_ms
 from ..i18n import _
 
 MAX_UNZIPPED = 512 * 1024 * 1024
@@ -172,16 +172,17 @@ def read(data: bytes) -> Log:
             continue
         if start_ms > 0 and start0 is None:
             start0 = start_ms
-        step = step_ms / 1000.0 if step_ms > 0 else 1.0
-        offset = 0.0 if end_s is None else end_s + step
-        if start_ms > 0 and start0 is not None and end_s is not None:
-            offset = max(offset, (start_ms - start0) / 1000.0)
+        offset = record_sets.offset_s(end_s, step_ms / 1000.0 if step_ms > 0 else 1.0, start_ms, start0)
         _add_set(builder, d["records"], columns, t + offset, name)
         end_s = float(t[-1] + offset)
     if not len(builder):
         raise LogFormatError(_("no data points in any record set"))
     device = header.get("DeviceName", "") or "DataExplorer"
-    return builder.build("dataexplorer-osd", device, 0, record_sets=names, comment=header.get("FileComment", ""))
+    meta = {"record_sets": names, "comment": header.get("FileComment", "")}
+    started = started_at_ms(start0) if start0 is not None else None
+    if started:
+        meta["started"] = started              # the first record set's time stamp
+    return builder.build("dataexplorer-osd", device, 0, **meta)
 
 
 def _set_data(data: bytes, d: dict, bounds: list[int], step_ms: float, name: str):
@@ -261,24 +262,5 @@ def _add_set(builder: SampleBuilder, records: list[dict], columns: np.ndarray, t
     heatsink = find(("°C",), ("temp", "int"))
     cells = sorted((int(m.group(1)), r) for r in values
                    if records[r].get("_unit") == "V" and (m := _CELL.search(records[r].get("_name", "").strip())))
-    cell_cols = [values[r] for __, r in cells]
-    lower = name.lower()
-    direction = "discharge" if ("entlad" in lower or "discharg" in lower) else \
-        "charge" if ("lad" in lower or "charg" in lower) else "pause" if "pause" in lower else ""
-    held = builder.counter[-1] if builder.counter and builder.counter[-1] is not None else 0.0
-    for k in range(len(t)):
-        i = float(amps[k]) if amps is not None else 0.0
-        q = float(mah[k]) if mah is not None else None
-        if direction == "discharge":
-            i, q = -abs(i), (None if q is None else -abs(q))
-        elif direction == "charge":
-            i, q = abs(i), (None if q is None else abs(q))
-        if direction == "pause":
-            q = held if mah is not None else None
-        state = direction or state_from_current(i)
-        builder.add(float(t[k]), float(volts[k]), i, state,
-                    temp=None if temp is None else float(temp[k]),
-                    heatsink=None if heatsink is None else float(heatsink[k]),
-                    cells=[float(col[k]) for col in cell_cols], counter=q)
-        if q is not None:
-            held = q
+    record_sets.add_set(builder, name, t, volts, amps, mah, temp=temp, heatsink=heatsink,
+                        cells=[values[r] for __, r in cells])

@@ -78,7 +78,7 @@ def read_log_file(path: str | Path, fmt: str | None = None,
     """``read_log`` of a file; a file that cannot be read or decoded raises ``LogFormatError``
     whose message starts with the path."""
     try:
-        data = read_file_bytes(path)
+        data = read_file_bytes(path, pipes=False)
     except FileReadError as exc:
         raise LogFormatError(str(exc)) from None
     try:

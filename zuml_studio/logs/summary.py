@@ -7,8 +7,8 @@ from .model import Log
 def summarize(log: Log) -> dict:
     """format, device, samples, bad_records, duration_s, v_min, v_max, i_max_a (largest |I|),
     charge_in_mah, charge_out_mah (totals at the last sample), cells, phases, plus what the
-    file adds (battery, channel, internal-resistance readings…), ``time_order`` where samples
-    out of time order were left out (``model.in_time_order``) and ``out_of_range`` where samples
+    file adds (battery, channel, internal-resistance readings…), ``time_order`` where time goes
+    back and a new record set follows the last (``model.in_time_order``) and ``out_of_range`` where samples
     no charger could have measured were (``model.MAX_MEASURED``)."""
     s = log.samples
     volts = [x.voltage_v for x in s]
@@ -35,7 +35,8 @@ def summarize(log: Log) -> dict:
         out["resistance"] = {"readings": len(log.resistance), "last_pack_mohm": last[1],
                              "last_cells_mohm": list(last[2])}
     for key in ("battery", "channel", "header", "record_sets", "events", "other_channel_records",
-                "other_channel_lines", "csv_columns", "time_order", "out_of_range"):
+                "other_channel_lines", "csv_columns", "csv_assumed", "time_order", "out_of_range", "charge_check",
+                "started"):
         if key in log.meta:
             out[key] = log.meta[key]
     return out

@@ -65,6 +65,10 @@ MIGRATIONS: tuple[str, ...] = (
         pack_id INTEGER REFERENCES packs(id) ON DELETE CASCADE
     );
     """,
+    """
+    ALTER TABLE sessions ADD COLUMN foreign_reason TEXT;
+    ALTER TABLE sessions ADD COLUMN same_files TEXT NOT NULL DEFAULT '';
+    """,
 )
 SCHEMA_VERSION = len(MIGRATIONS)
 
@@ -118,7 +122,8 @@ class Logbook:
         if "locked" in str(exc) or "busy" in str(exc):
             return LogbookError(_("{path}: the pack logbook is busy (another ZUML Studio is writing it): "
                                   "{error}").format(path=self.path, error=exc))
-        return LogbookError(_("{path}: cannot write the pack logbook: {error}").format(path=self.path, error=exc))
+        return LogbookError(_("{path}: cannot write the pack logbook: {error}; this change is not kept, what "
+                              "was written before it is").format(path=self.path, error=exc))
 
     def _check(self, existed: bool) -> None:
         if not existed:
@@ -156,17 +161,29 @@ class Logbook:
 
     @contextmanager
     def write(self) -> Iterator[sqlite3.Connection]:
-        """One transaction, taken before it reads (BEGIN IMMEDIATE): another writer waits its turn."""
+        """One transaction, taken before it reads (BEGIN IMMEDIATE): another writer waits its turn. A write
+        that fails (a full disk at COMMIT, a read-only folder holding the ``-wal`` file) is rolled back and
+        raised as one ``LogbookError`` line: what was written before this transaction is kept, nothing of it."""
         try:
             self.conn.execute("BEGIN IMMEDIATE")
         except sqlite3.OperationalError as exc:
             raise self._unwritable(exc) from None
         try:
             yield self.conn
+            self.conn.execute("COMMIT")
+        except sqlite3.OperationalError as exc:
+            self._rollback()
+            raise self._unwritable(exc) from None
         except BaseException:
-            self.conn.execute("ROLLBACK")
+            self._rollback()
             raise
-        self.conn.execute("COMMIT")
+
+    def _rollback(self) -> None:
+        if self.conn.in_transaction:
+            try:
+                self.conn.execute("ROLLBACK")
+            except sqlite3.Error:
+                pass                # the transaction is gone already (SQLite rolls back on some errors)
 
     def read(self, sql: str, params: tuple = ()) -> list[sqlite3.Row]:
         cur = self.conn.execute(sql, params)

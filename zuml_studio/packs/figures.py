@@ -10,6 +10,7 @@ import numpy as np
 from ..logs.charge import MAX_STEP_S
 from ..logs.model import Log
 from ..logs.rest_steps import resistance_mohm_per_cell
+from ..sim.chemistry import load_chemistry
 
 
 @dataclass(frozen=True)
@@ -20,7 +21,9 @@ class SessionFigures:
     energy_in_wh: float | None
     energy_out_wh: float | None
     capacity_mah: float | None
-    capacity_from: str | None          # "discharge": the largest discharge; "charge": the largest charge
+    # "discharge": the largest discharge, which reached the chemistry's cut-off; "partial: N %": it stopped
+    # with N % of its voltage range (from where it began to the cut-off) covered: not the pack's capacity
+    capacity_from: str | None
     resistance_mohm_per_cell: float | None
     resistance_from: str | None        # "rest steps" (docs/validation.md) or "charger" (its own Ri readings)
     cell_deviation_mv: float | None
@@ -30,21 +33,25 @@ class SessionFigures:
         return asdict(self)
 
 
-def session_figures(log: Log, cells: int) -> SessionFigures:
-    """``cells``: the pack's cells in series (a log without balance taps does not say)."""
+def session_figures(log: Log, cells: int, chemistry: str | None = None) -> SessionFigures:
+    """``cells``: the pack's cells in series (a log without balance taps does not say); ``chemistry``:
+    the pack's, for whether a discharge reached its cut-off (None: not judged, a discharge counts)."""
     a = log.arrays()
     t, v, i = a["t"], a["voltage"], a["current"]
     current = log.meta.get("current_measured", True) and len(t) > 0
     e_in, e_out = _energy_wh(t, v, i) if current else (None, None)
-    cap, cap_from = _capacity(log) if current else (None, None)
+    cap, cap_from = _capacity(log, cells, chemistry) if current else (None, None)
     r, r_from = None, None
     if current:
         r = resistance_mohm_per_cell(t, v, i, cells)
         r_from = "rest steps" if r is not None else None
     if r is None and log.resistance:
-        cells_mohm = [float(np.mean(c)) for _t, _p, c in log.resistance if c]
+        # A charger that measured nothing sends 0: unknown, not 0 mΩ
+        cells_mohm = [float(np.mean(c)) for _t, _p, c in log.resistance if c and all(x > 0 for x in c)]
         if cells_mohm:
             r, r_from = float(np.median(cells_mohm)), "charger"
+    if r is not None and not r > 0:          # no rest step or reading that measures anything: unknown
+        r, r_from = None, None
     temps = a["temp"][np.isfinite(a["temp"])]
     last = log.samples[-1] if log.samples else None
     return SessionFigures(
@@ -75,25 +82,45 @@ def _energy_wh(t: np.ndarray, v: np.ndarray, i: np.ndarray) -> tuple[float, floa
     return float(step[step > 0].sum()), float(abs(step[step < 0].sum()))
 
 
-def _capacity(log: Log) -> tuple[float | None, str | None]:
-    """The largest charge taken out in one discharge phase (what the pack holds); a log with no
-    discharge gives the largest charge put in during one charge phase (an upper bound: a charge puts in
-    more than it stores)."""
+def _capacity(log: Log, cells: int, chemistry: str | None) -> tuple[float | None, str | None]:
+    """The largest charge taken out in one discharge phase, what the pack holds when that discharge
+    ran to the chemistry's cut-off ("discharge"); one that stopped before says how far it went
+    ("partial: N %" of its voltage range, from where it began to the cut-off). A charge is no capacity
+    (it may start part full and puts in more than the pack stores): a log with no discharge gives none."""
     s = log.samples
-    best: dict[str, float] = {"discharge": 0.0, "charge": 0.0}
+    best, best_range = 0.0, None
     k = 0
     for phase in log.phases():
         start = k
         while k < len(s) and s[k].time_s <= phase.end_s:
             k += 1
-        if phase.state in best and k > start:
-            field = "mah_out" if phase.state == "discharge" else "mah_in"
-            first = getattr(s[max(start - 1, 0)], field)
-            best[phase.state] = max(best[phase.state], getattr(s[k - 1], field) - first)
-    for source in ("discharge", "charge"):
-        if best[source] > 1.0:
-            return best[source], source
-    return None, None
+        if phase.state == "discharge" and k > start:
+            taken = s[k - 1].mah_out - s[max(start - 1, 0)].mah_out
+            if taken > best:
+                best, best_range = taken, _range_covered(s[start:k], cells, chemistry)
+    if best <= 1.0:
+        return None, None
+    if best_range is None or best_range >= REACHED_CUT_OFF:
+        return best, "discharge"
+    return best, f"partial: {best_range * 100:.0f} %"
+
+
+# A discharge that covered this much of its voltage range (start to cut-off) reached the cut-off: a
+# charger ends a discharge at the cut-off voltage under load, within its rounding and the leads' drop.
+REACHED_CUT_OFF = 0.9
+
+
+def _range_covered(samples, cells: int, chemistry: str | None) -> float | None:
+    """How much of the range from its first loaded voltage to the cut-off a discharge covered (1: it
+    reached the cut-off); None when the chemistry or the cells are not known."""
+    loaded = [x.voltage_v for x in samples if x.current_a < -0.005]
+    if chemistry is None or cells < 1 or len(loaded) < 3:
+        return None
+    cut_off = load_chemistry(chemistry).discharge_end_v * cells
+    top = float(np.median(loaded[:3]))
+    if top <= cut_off:
+        return 1.0
+    return float(min(1.0, max(0.0, (top - loaded[-1]) / (top - cut_off))))
 
 
 def _end_of_charge_deviation_mv(log: Log) -> float | None:

@@ -15,6 +15,9 @@ from ..i18n import _
 CAPACITY_MIN_SHARE = 0.80
 RESISTANCE_MAX_GROWTH = 1.5
 CELL_DEVIATION_MAX_MV = 30.0
+# A pack measured at more than this share of its rating is not judged by it: the rating or the log is
+# wrong (a 224 % "good" pack is a typo or another pack's log).
+CAPACITY_MAX_SHARE = 1.3
 
 
 @dataclass(frozen=True)
@@ -41,9 +44,12 @@ class Health:
 
 
 def trend(pack: Pack, sessions: list[Session]) -> list[TrendPoint]:
-    """One point per session, oldest first."""
+    """One point per session, oldest first; a session filed though it seems another pack's (``--force``)
+    is left out."""
     out = []
     for s in sessions:
+        if s.foreign_reason:
+            continue
         f = s.figures
         pct = (round(f.capacity_mah / pack.capacity_mah * 100.0, 1)
                if f.capacity_mah is not None and f.capacity_from == "discharge" else None)
@@ -55,8 +61,15 @@ def health(pack: Pack, sessions: list[Session]) -> Health:
     points = trend(pack, sessions)
     failed: list[str] = []
     passed: list[str] = []
+    unsure: list[str] = []          # what keeps a verdict from being given
     capacity = [p for p in points if p.capacity_pct is not None]
-    if capacity:
+    if capacity and capacity[-1].capacity_pct > CAPACITY_MAX_SHARE * 100.0:
+        last = capacity[-1]
+        unsure.append(_("the discharge on {date} took {mah:.0f} mAh ({pct:.0f} %) of a pack rated {rated:.0f} mAh: "
+                        "check the pack's rating, or whether the log is this pack's").format(
+                date=last.recorded[:10], mah=last.capacity_pct * pack.capacity_mah / 100.0, pct=last.capacity_pct,
+                rated=pack.capacity_mah))
+    elif capacity:
         last = capacity[-1]
         text = _("capacity {pct:.0f} %, {mah:.0f} of {rated:.0f} mAh rated, on {date}").format(
                 pct=last.capacity_pct, mah=last.capacity_pct * pack.capacity_mah / 100.0, rated=pack.capacity_mah,
@@ -96,7 +109,9 @@ def health(pack: Pack, sessions: list[Session]) -> Health:
             passed.append(_("the passport counts {n} errors, no critical one, on {date}").format(
                     n=last.passport_errors or 0, date=last.recorded[:10]))
     if failed:
-        return Health("poor", tuple(failed))
+        return Health("poor", tuple(failed + unsure))
+    if unsure:
+        return Health("unknown", tuple(unsure + passed))
     if passed:
         return Health("good", tuple(passed))
     if not sessions:

@@ -52,7 +52,9 @@ class RunCollector:
 
 def record_run(book: Logbook, pack: Pack, samples: list[Telemetry], device: str, *,
                passport: tuple[int | None, int | None] = (None, None), folder: Path | None = None) -> ImportResult:
-    """Write the run as ``<folder>/<pack> <UTC time>.csv`` and import it as a live session of ``pack``."""
+    """Write the run as ``<folder>/<pack> <UTC time>.csv`` and import it as a live session of ``pack``.
+    The file is created, never overwritten: a second run in the same second, or a pack whose name
+    reads the same once made safe for a file name, gets ``… (2).csv``."""
     if not samples:
         return ImportResult("", "error", _("the run recorded no sample"))
     folder = folder or runs_dir()
@@ -61,9 +63,22 @@ def record_run(book: Logbook, pack: Pack, samples: list[Telemetry], device: str,
     path = folder / f"{safe} {stamp}.csv"
     try:
         folder.mkdir(parents=True, exist_ok=True)
-        with open(path, "w", encoding="utf-8", newline="") as fh:
+        fh, path = _create(folder, f"{safe} {stamp}")
+        with fh:
             write_csv(from_samples("live", device, samples), fh)
     except OSError as exc:
         return ImportResult(str(path), "error", _("{path}: cannot write: {error}").format(
                 path=path, error=exc.strerror or exc))
     return import_file(book, pack, path, source="live", passport=passport)
+
+
+def _create(folder: Path, stem: str, tries: int = 1000):
+    """A new file ``stem.csv`` (``stem (2).csv``… where that exists), opened for writing: never one
+    that is there already (exclusive create, so two writers at once cannot take the same name)."""
+    for n in range(1, tries + 1):
+        path = folder / (f"{stem}.csv" if n == 1 else f"{stem} ({n}).csv")
+        try:
+            return open(path, "x", encoding="utf-8", newline=""), path
+        except FileExistsError:
+            continue
+    raise FileExistsError(f"{folder / stem}.csv and {tries - 1} numbered names")

@@ -7,6 +7,7 @@ import re
 from pathlib import Path
 
 from ..logs import LogFormatError, read_log_file
+from .text import path_of
 from ..sim.batteries import battery_names, save_battery
 from ..sim.curve import CurveError, charge_from_log
 from ..sim.fit import FitResult, fit
@@ -30,10 +31,10 @@ def fit_pack_model(book: Logbook, pack: Pack) -> tuple[str, FitResult]:
     ``model_name(pack)``. Takes seconds to minutes (call it off the GUI thread)."""
     failed = ""
     for session in reversed(pack_sessions(book, pack)):
-        if session.figures.charge_in_mah is None or not Path(session.file).is_file():
+        if session.figures.charge_in_mah is None or not path_of(session.file).is_file():
             continue
         try:
-            curve = charge_from_log(read_log_file(session.file), session.file)
+            curve = charge_from_log(read_log_file(path_of(session.file)), session.file)
             result = fit(curve, pack.chemistry, pack.cells)
         except (LogFormatError, CurveError) as exc:
             failed = str(exc)

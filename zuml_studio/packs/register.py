@@ -7,6 +7,7 @@ import re
 from dataclasses import dataclass
 
 from ..sim.chemistry import load_chemistry
+from .text import storable
 from .db import Logbook, LogbookError
 from ..i18n import _
 
@@ -57,6 +58,9 @@ def _checked(name: str, chemistry: str, cells: int, capacity_mah: float, bought:
 
 def add_pack(book: Logbook, name: str, chemistry: str, cells: int, capacity_mah: float, *,
              bought: str | None = None, notes: str = "", serial: str | None = None) -> Pack:
+    """A name, notes or serial with bytes that are not UTF-8 (a shell's argument) are kept with those
+    bytes as ``\\xNN`` (``text.storable``)."""
+    name, notes, serial = storable(name), storable(notes), None if serial is None else storable(serial)
     chem = _checked(name, chemistry, cells, capacity_mah, bought)
     with book.write() as conn:
         if conn.execute("SELECT 1 FROM packs WHERE name = ?", (name,)).fetchone():
@@ -80,6 +84,7 @@ def list_packs(book: Logbook) -> list[Pack]:
 
 
 def get_pack(book: Logbook, name: str) -> Pack:
+    name = storable(name)
     rows = book.read("SELECT * FROM packs WHERE name = ?", (name,))
     if not rows:
         known = ", ".join(p.name for p in list_packs(book)) or _("none yet")

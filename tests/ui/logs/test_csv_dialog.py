@@ -35,7 +35,8 @@ def test_the_guess_is_shown_corrected_and_remembered_for_the_header(window, qtbo
     with src.open() as fh:
         body = list(csv.reader(fh))[1:]
     document = open_log(window, qtbot, src)
-    assert document.log.samples[-1].current_a == pytest.approx(float(body[-1][2]) / 1000)   # as guessed
+    # As guessed: the logger's discharge current is positive, its voltage falls under load: a discharge.
+    assert document.log.samples[-1].current_a == pytest.approx(-float(body[-1][2]) / 1000)
     dialog = window.csv_dialog
     assert isinstance(dialog, CsvDialog) and dialog.isVisible()
     assert dialog.spec() == "time:s,voltage:V,current:mA,charge:mAh"
@@ -46,7 +47,8 @@ def test_the_guess_is_shown_corrected_and_remembered_for_the_header(window, qtbo
     corrected = blocker.args[0]
     assert window.tabs.count() == 1
     assert corrected.log.samples[-1].current_a == pytest.approx(-float(body[-1][2]) / 1000)
-    assert corrected.log.samples[-1].mah_out == float(body[-1][3])
+    # integrated; the logger's 1 mAh counter agrees
+    assert corrected.log.samples[-1].mah_out == pytest.approx(float(body[-1][3]) - float(body[0][3]), abs=1.0)
     # another file with the same header: read with the remembered columns, no dialog this time
     window.csv_dialog = None
     other = tmp_path / "again.csv"
@@ -77,3 +79,11 @@ def test_a_choice_without_voltage_is_refused_in_the_dialog(window, qtbot):
     dialog.roles[1].setCurrentIndex(dialog.roles[1].findData("-"))
     dialog.accept_button().click()
     assert dialog.isVisible() and "no voltage column" in dialog.error.text()
+
+
+def test_the_dialog_says_which_units_were_assumed(window, qtbot):
+    # The SkyRC logger's header gives no unit: "Current" 310 is read as mA, and the dialog says so.
+    open_log(window, qtbot, REAL / "skyrc_B6ACv2_Charging_head100.csv")
+    about = window.csv_dialog.findChild(type(window.csv_dialog.error), "csvAbout").text()
+    assert "Units the header does not give (check them):" in about
+    assert "  Current: no unit in the header: read as mA (largest value" in about

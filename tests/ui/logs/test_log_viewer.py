@@ -182,3 +182,21 @@ def test_a_long_raw_capture_shows_how_far_its_reading_is(viewer, qtbot, monkeypa
     assert [d for d, _t, _m, _v in seen] == sorted(d for d, _t, _m, _v in seen) and len(seen) >= 3
     assert seen[-1] == (size, size, 1000, 1000) and all(t == size for _d, t, _m, _v in seen)
     assert viewer.busy.maximum() == 0 or not viewer.busy.isVisible()
+
+
+def test_a_nimh_log_without_cell_voltages_has_no_per_cell_axis(viewer, qtbot):
+    # The iCharger 3010B charging 4 NiMH cells sends 5.2 V in its first cell slot: no cell (issue 33).
+    document = opened(viewer, qtbot, str(LOGS.parent / "realdata" / "icharger3010B_2500NiMh_lines.txt"))
+    assert document.log.cells == 0
+    right = document.plot.vplot.getAxis("right")
+    assert not document.plot.per_cell_axis and not right.style["showValues"] and right.labelText == ""
+    assert document.plot.legends[document.plot.vplot].names() == ["pack voltage"]
+
+
+def test_the_totals_say_what_their_figures_cannot(viewer, qtbot):
+    # The 3010B's counter says 684 mAh, its current integrates to 660: shown, and the difference said.
+    document = opened(viewer, qtbot, str(LOGS.parent / "realdata" / "icharger3010B_2500NiMh_lines.txt"))
+    text = document.totals.text()
+    assert "660 mAh" in text and "the charger&#x27;s counter says in 684 mAh" in text and "differ by 4 %" in text
+    document = opened(viewer, qtbot, str(LOGS / "eStationBC6_2008-07-05_EmpfaengerAA.osd"))
+    assert "no temperature in this log" in document.totals.text()

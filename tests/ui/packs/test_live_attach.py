@@ -121,3 +121,35 @@ def test_a_run_started_on_a_b6_heard_on_its_tx_is_recorded_in_its_pack(qtbot, pa
     assert panel.front_panel.isVisible() and panel.front_panel.text() == ("1 Bench", "")
     qtbot.waitUntil(lambda: any(p.closed and p.reason == "IF(V>4.1S) STOP_FAZE" for p in panel.plot.phases()),
                     timeout=WAIT_MS)
+
+
+def test_only_packs_that_match_the_run_are_offered(qtbot, panel):
+    book = Logbook()
+    add_pack(book, "LiPo 3S", "LiPo", 3, 2200)
+    nimh = add_pack(book, "Bench NiMH", "NiMh", 4, 2000)
+    live = LiveAttach(panel)
+    assert live.run_battery()[1] == 4                              # the run's 4 cells entered at START
+    offered = []
+    live.ask = lambda parent, packs, where: offered.append([p.name for p in packs]) or packs[0]
+    connect(qtbot, panel)
+    ok, text = flash_and_start(qtbot, panel)
+    assert ok, text
+    assert offered == [["Bench NiMH"]] and live._pack == nimh      # a 3S LiPo is no choice for a 4-cell run
+    panel.stop()
+
+
+def test_with_no_pack_matching_the_run_nothing_is_recorded_nor_remembered(qtbot, panel):
+    book = Logbook()
+    add_pack(book, "LiPo 3S", "LiPo", 3, 2200)
+    live = LiveAttach(panel)
+    asked = []
+    live.ask = lambda parent, packs, where: asked.append(packs) or packs[0]
+    said = []
+    live.statusMessage.connect(said.append)
+    connect(qtbot, panel)
+    ok, text = flash_and_start(qtbot, panel)
+    assert ok, text
+    assert asked == [] and live._pack is None and not live.collector.collecting
+    assert any(m.startswith("No pack in the logbook matches this run") for m in said)
+    assert attachment(book, live._where()[0]) == (False, None)
+    panel.stop()

@@ -59,6 +59,7 @@ class CsvDialog(QDialog):
         self.setObjectName("csvDialog")
         self.setWindowTitle(_("CSV columns: {name}").format(name=name))
         self.guess = csv_import.guess(data)
+        assumed = self.guess.assumptions() if spec in (None, "", self.guess.spec()) else []
         if spec:
             self.guess = self.guess.with_columns(
                 csv_import.parse_columns(spec, tuple(c.name for c in self.guess.columns)))
@@ -67,7 +68,11 @@ class CsvDialog(QDialog):
                   "wrong: it is kept for CSVs with these columns.").format(
             separator=_(SEPARATOR_WORDS[g.separator]), mark=_("comma") if g.decimal_comma else _("point"),
             line=g.header_line + 1)
+        if assumed:
+            about += "\n" + _("Units the header does not give (check them):") + "\n" + "\n".join(
+                    "  " + line for line in assumed)
         label = QLabel(about)
+        label.setObjectName("csvAbout")
         label.setWordWrap(True)
         rows = csv_import.preview(data, g, PREVIEW_ROWS)
         self.table = QTableWidget(len(g.columns), 3 + len(rows))

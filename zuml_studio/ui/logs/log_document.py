@@ -13,7 +13,7 @@ from PySide6.QtWidgets import (QCheckBox, QFrame, QHBoxLayout, QLabel, QListWidg
 
 from ...i18n import N_, _, ngettext
 from ...logs import Log
-from ...logs.model import Phase
+from ...logs.model import Phase, charge_check_text, time_order_text
 from ...logs.cycles import split_cycles
 from ...logs.summary import summarize
 from ...logs.window_stats import Between, between
@@ -39,6 +39,8 @@ def totals_html(name: str, info: dict, key_colour: str) -> str:
             (_("discharged"), num(info["charge_out_mah"], ".0f", "mAh"))]
     if info["t_max_c"] is not None:
         rows.append((_("temperature"), f"{info['t_min_c']:.1f} – {info['t_max_c']:.1f} °C"))
+    else:
+        rows.append((_("temperature"), _("no temperature in this log")))
     if info["cells"]:
         rows.append((_("cells"), str(info["cells"])))
     if "battery" in info:
@@ -49,8 +51,15 @@ def totals_html(name: str, info: dict, key_colour: str) -> str:
         rows.append((_("resistance"), _("pack {pack}, cells {cells}").format(
             pack=pack, cells=" ".join(f"{c:.1f}" for c in r["last_cells_mohm"]))))
     rows.append((_("phases"), str(len(info["phases"]))))
+    if info.get("record_sets"):
+        rows.append((_("record sets"), str(len(info["record_sets"]))))
     body = "".join(f"<tr><td style='color:{key_colour}; padding-right:8px'>{k}</td><td>{v}</td></tr>" for k, v in rows)
-    return f"<b>{html.escape(name)}</b><table cellspacing='0' cellpadding='1'>{body}</table>"
+    # What the figures above cannot say by themselves: the counter's disagreement, units assumed, time going back.
+    notes = ([charge_check_text(info["charge_check"])] if "charge_check" in info else []) + \
+        [_("assumed: {what}").format(what=line) for line in info.get("csv_assumed", ())] + \
+        ([time_order_text(info["time_order"])] if "time_order" in info else [])
+    said = "".join(f"<p>⚠ {html.escape(note)}</p>" for note in notes)
+    return f"<b>{html.escape(name)}</b><table cellspacing='0' cellpadding='1'>{body}</table>{said}"
 
 
 class HiddenCurves:

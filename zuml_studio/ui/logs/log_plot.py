@@ -144,6 +144,13 @@ class LogPlot(StackedPlot):
         first = self.layers[0]
         cells = first.data["cells"].shape[1]       # Log.cells, counted once already (a pass over the samples)
         self.set_series_count(cells or 1)
+        # No per-cell voltages (a NiMH pack on a charger's one slot): no per-cell axis, or it would read
+        # the pack's voltage as one cell's.
+        self.per_cell_axis = cells > 0
+        right = self.vplot.getAxis("right")
+        right.setStyle(showValues=self.per_cell_axis)
+        short, self._short_labels = bool(self._short_labels), None
+        self._label_axes(short)                     # the titles again, the per-cell one as it now is
         alone = len(self.layers) == 1
         for layer in self.layers:
             self._draw(layer, cells, alone)
@@ -161,6 +168,11 @@ class LogPlot(StackedPlot):
             plot.setLimits(xMin=start - 0.05 * span, xMax=end + 0.05 * span, minXRange=min(10.0, span / 2))
         self.tplot.setXRange(start, start + span, padding=0.01)
         self._view_changed()
+
+    def _axis_label(self, axis, text: str) -> None:
+        if axis is self.vplot.getAxis("right") and not getattr(self, "per_cell_axis", True):
+            text = ""
+        super()._axis_label(axis, text)
 
     def _colour(self, role: Role) -> str:
         if role == "deviation":

@@ -35,7 +35,7 @@ def _read_and_prepare(path: str, choices: dict[str, str], progress=None) -> Prep
         log = read_log_file(path, progress=progress)
     except LogFormatError as exc:
         try:
-            g = csv_import.guess(read_file_bytes(path))
+            g = csv_import.guess(read_file_bytes(path, pipes=False))
         except (LogFormatError, FileReadError):
             raise exc from None
         if key_hash(g.key) not in choices:
@@ -49,7 +49,7 @@ def _read_and_prepare(path: str, choices: dict[str, str], progress=None) -> Prep
 
 def _read_csv(path: str, spec: str) -> Log:
     try:
-        return csv_import.read_as(read_file_bytes(path), spec)
+        return csv_import.read_as(read_file_bytes(path, pipes=False), spec)
     except (LogFormatError, FileReadError) as exc:
         raise LogFormatError(f"{path}: {exc}") from None
 
@@ -238,7 +238,7 @@ class LogWindow(QMainWindow):
         """The CSV dialog, non-modal; accepted, its columns are kept for the header and the file
         is read again with them (in place of ``document``)."""
         try:
-            dialog = CsvDialog(Path(path).name, read_file_bytes(path), spec, self)
+            dialog = CsvDialog(Path(path).name, read_file_bytes(path, pipes=False), spec, self)
         except (LogFormatError, FileReadError) as exc:
             self.show_error(f"{path}: {exc}")
             return

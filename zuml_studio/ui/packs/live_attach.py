@@ -19,7 +19,8 @@ CANCELLED = object()        # ask_pack's answer when the user closed the questio
 
 
 def ask_pack(parent: QWidget, packs: list[Pack], where: str):
-    """The pack on the charger at ``where`` (a Pack), None for "record no pack here", or CANCELLED."""
+    """The pack on the charger at ``where`` (a Pack), None for "record no pack here", or CANCELLED.
+    ``packs`` are those that match the run (``LiveAttach.matching``), the first offered first."""
     none = _("No pack: do not record runs here")
     names = [p.name for p in packs] + [none]
     name, ok = QInputDialog.getItem(parent, _("Which Pack Is This?"), _(
@@ -53,6 +54,23 @@ class LiveAttach(QObject):
     def _passport_read(self, passport) -> None:
         self._passport = passport
 
+    def run_battery(self) -> tuple[str | None, int]:
+        """The run's chemistry (the virtual charger's battery; a real charger's is not known at START)
+        and cells in series (0: not entered)."""
+        chemistry = None
+        opened = self.device.connection.opened
+        if opened is None or opened.virtual:
+            chemistry = self.device.v_chem.currentData()
+        return chemistry, int(self.device.series_spin.value())
+
+    def matching(self, packs: list[Pack]) -> list[Pack]:
+        """The packs this run can be: the same cells, the same chemistry where the run's is known, and
+        the passport's serial where the battery and the pack have one."""
+        chemistry, cells = self.run_battery()
+        serial = getattr(self._passport, "serial", "") or None
+        return [p for p in packs if (not cells or p.cells == cells) and (chemistry is None or p.chemistry == chemistry)
+                and (serial is None or p.serial is None or p.serial == serial)]
+
     def _where(self) -> tuple[str, str]:
         opened = self.device.connection.opened
         link = self.device.monitor.link            # a charger only listened to (its runs start on it)
@@ -85,6 +103,13 @@ class LiveAttach(QObject):
                 packs = list_packs(book)
                 if not packs:
                     return                    # nothing to attach to yet: ask once there is a pack
+                packs = self.matching(packs)
+                if not packs:                 # never offer a NiMH pack for a LiPo run: not recorded, asked again
+                    chemistry, cells = self.run_battery()
+                    self.statusMessage.emit(_("No pack in the logbook matches this run ({chemistry}, {cells} cells): "
+                                              "not recorded.").format(chemistry=chemistry or _("chemistry not known"),
+                                                                      cells=cells or "–"))
+                    return
                 answer = self.ask(self.device, packs, where)
                 if answer is CANCELLED:
                     return

@@ -3,9 +3,10 @@
 fitted model. All data work is ``zuml_studio.packs``; this is only its view."""
 from __future__ import annotations
 
+import sqlite3
 from pathlib import Path
 
-from PySide6.QtCore import QObject, Qt, Signal
+from PySide6.QtCore import QObject, Qt, QTimer, Signal
 from PySide6.QtGui import QAction
 from PySide6.QtWidgets import (QFileDialog, QHBoxLayout, QHeaderView, QLabel, QListWidget, QListWidgetItem,
                                QMessageBox, QProgressBar, QPushButton, QSplitter, QTableWidget, QTableWidgetItem,
@@ -24,6 +25,8 @@ from .report import ReportError, write_report
 from .trend_plot import PackTrendPlot
 from ...i18n import N_, _, ngettext
 
+# How often the dock looks whether another writer changed the logbook (one PRAGMA: microseconds).
+WATCH_MS = 1000
 COLUMNS = (("recorded", N_("date")), ("charge_in_mah", N_("in mAh")), ("charge_out_mah", N_("out mAh")),
            ("capacity_mah", N_("capacity mAh")), ("resistance_mohm_per_cell", N_("mΩ/cell")),
            ("cell_deviation_mv", N_("ΔV cells mV")), ("t_max_c", N_("T max °C")), ("file", N_("file")))
@@ -141,6 +144,29 @@ class PacksPanel(QWidget):
         self.report_button.clicked.connect(self._choose_report)
         self.simulate_button.clicked.connect(self.simulate_on_pack)
         self.refresh()
+        # Another writer (`zuml pack add` in a terminal, a second window) commits: SQLite's data_version
+        # moves, and the shown register follows within a second, without a restart.
+        self._data_version = self._logbook_version()
+        self._watch = QTimer(self)
+        self._watch.setInterval(WATCH_MS)
+        self._watch.timeout.connect(self._follow_other_writers)
+        self._watch.start()
+
+    def _logbook_version(self) -> int | None:
+        if self.error or self.book is None:
+            return None
+        try:
+            return int(self.book.conn.execute("PRAGMA data_version").fetchone()[0])
+        except sqlite3.Error:
+            return None
+
+    def _follow_other_writers(self) -> None:
+        if self._job is not None:
+            return
+        version = self._logbook_version()
+        if version is not None and version != self._data_version:
+            self._data_version = version
+            self.refresh()
 
     def showEvent(self, event) -> None:  # noqa: N802
         """Shown again: another instance (or `zuml pack import`) may have written the logbook meanwhile."""
@@ -301,7 +327,7 @@ class PacksPanel(QWidget):
         self.progress.hide()
         counts = {s: sum(r.status == s for r in results) for s in ("added", "known", "error")}
         self.statusMessage.emit(_("{added} added, {known} already known, {error} not read").format(**counts))
-        errors = [f"{Path(r.path).name}: {r.message}" for r in results if r.status == "error"]
+        errors = [f"{Path(r.path).name}: {r.message}" for r in results if r.status in ("error", "foreign")]
         self.show_pack()
         self.importFinished.emit(results)
         if errors and self.isVisible():

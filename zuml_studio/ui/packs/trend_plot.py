@@ -6,7 +6,7 @@ import datetime as dt
 
 import numpy as np
 import pyqtgraph as pg
-from PySide6.QtCore import Qt
+from PySide6.QtCore import QEvent, Qt
 
 from ...packs.health import CAPACITY_MIN_SHARE, CELL_DEVIATION_MAX_MV, RESISTANCE_MAX_GROWTH, TrendPoint
 from .. import theme
@@ -27,16 +27,20 @@ def timestamp(recorded: str) -> float:
 
 
 class PackTrendPlot(pg.GraphicsLayoutWidget):
+    """Follows the theme: a palette change redraws it in the new colours."""
+
     def __init__(self, parent=None):
         super().__init__(parent)
         self.look = theme.colours(self.palette())
         self.setBackground(self.look.plot.paper)
+        self.shown: list[TrendPoint] = []
         self.points: dict[str, tuple[np.ndarray, np.ndarray]] = {}
         self.plots: dict[str, pg.PlotItem] = {}
         first = None
         for row, (field, title, _hue) in enumerate(ROWS):
             plot = self.addPlot(row=row, col=0, axisItems={"bottom": pg.DateAxisItem(orientation="bottom")})
             plot.setLabel("left", _(title))
+            plot.getAxis("left").enableAutoSIPrefix(False)      # "mΩ/cell", never "mΩ/cell (x0.001)"
             plot.getAxis("left").setWidth(52)        # the same for all three: their x axes line up
             plot.showGrid(x=True, y=True, alpha=self.look.plot.grid_alpha)
             plot.setMenuEnabled(False)
@@ -49,7 +53,9 @@ class PackTrendPlot(pg.GraphicsLayoutWidget):
             self.plots[field] = plot
 
     def show_trend(self, points: list[TrendPoint]) -> None:
-        """Draw the points (a session without a figure leaves no point on that plot)."""
+        """Draw the points (a session without a figure leaves no point on that plot, and a plot with no
+        point draws no line and says so)."""
+        self.shown = list(points)
         self.points = {}
         resistance = [p.resistance_mohm_per_cell for p in points if p.resistance_mohm_per_cell is not None]
         limits = {"capacity_pct": CAPACITY_MIN_SHARE * 100.0, "cell_deviation_mv": CELL_DEVIATION_MAX_MV,
@@ -65,6 +71,11 @@ class PackTrendPlot(pg.GraphicsLayoutWidget):
             if len(x):
                 plot.plot(x, y, pen=curve_pen(colour), symbol="o", symbolSize=7, symbolBrush=colour,
                           symbolPen=colour)
+            else:
+                empty = pg.TextItem(_("– (no session measures it)"), color=self.look.plot.ink, anchor=(0.5, 0.5))
+                plot.addItem(empty)
+                stamps = [timestamp(p.recorded) for p in points] or [0.0]
+                empty.setPos((min(stamps) + max(stamps)) / 2.0, 0.5)
             if limits[field] is not None:
                 plot.addItem(pg.InfiniteLine(limits[field], angle=0, pen=pg.mkPen(
                         self.look.error, width=1, style=Qt.PenStyle.DashLine)))
@@ -75,3 +86,14 @@ class PackTrendPlot(pg.GraphicsLayoutWidget):
             stamps = [timestamp(p.recorded) for p in points]
             pad = max(86400.0 * 15, (max(stamps) - min(stamps)) * 0.05)
             self.plots[ROWS[0][0]].setXRange(min(stamps) - pad, max(stamps) + pad, padding=0)
+
+    def changeEvent(self, event) -> None:  # noqa: N802
+        super().changeEvent(event)
+        if event.type() == QEvent.Type.PaletteChange and hasattr(self, "plots"):
+            look = theme.colours(self.palette())
+            if look is not self.look:
+                self.look = look
+                self.setBackground(look.plot.paper)
+                for plot in self.plots.values():
+                    colour_axes(plot, look.plot)
+                self.show_trend(self.shown)
