@@ -250,7 +250,7 @@ class DevicePanel(QWidget):
         self.session.close()
 
     def message_text(self) -> str:
-        return self.message.text()
+        return self.message.full_text
 
     def virtual_eeprom_path(self) -> Path:
         """Where the built-in virtual charger keeps its EEPROM: like a real charger, it still

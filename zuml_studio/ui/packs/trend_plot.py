@@ -6,7 +6,7 @@ import datetime as dt
 
 import numpy as np
 import pyqtgraph as pg
-from PySide6.QtCore import Qt
+from PySide6.QtCore import QEvent, Qt
 
 from ...packs.health import CAPACITY_MIN_SHARE, CELL_DEVIATION_MAX_MV, RESISTANCE_MAX_GROWTH, TrendPoint
 from .. import theme
@@ -32,6 +32,7 @@ class PackTrendPlot(pg.GraphicsLayoutWidget):
         self.look = theme.colours(self.palette())
         self.setBackground(self.look.plot.paper)
         self.points: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+        self._trend: list[TrendPoint] = []
         self.plots: dict[str, pg.PlotItem] = {}
         first = None
         for row, (field, title, _hue) in enumerate(ROWS):
@@ -48,8 +49,23 @@ class PackTrendPlot(pg.GraphicsLayoutWidget):
                 plot.getAxis("bottom").setStyle(showValues=False)
             self.plots[field] = plot
 
+    def changeEvent(self, event) -> None:  # noqa: N802
+        """A theme chosen while the window is open: paper, axes, grid and curves follow it."""
+        super().changeEvent(event)
+        if event.type() == QEvent.Type.PaletteChange and hasattr(self, "plots"):
+            look = theme.colours(self.palette())
+            if look is self.look:
+                return
+            self.look = look
+            self.setBackground(look.plot.paper)
+            for plot in self.plots.values():
+                colour_axes(plot, look.plot)
+                plot.showGrid(x=True, y=True, alpha=look.plot.grid_alpha)
+            self.show_trend(self._trend)
+
     def show_trend(self, points: list[TrendPoint]) -> None:
         """Draw the points (a session without a figure leaves no point on that plot)."""
+        self._trend = list(points)
         self.points = {}
         resistance = [p.resistance_mohm_per_cell for p in points if p.resistance_mohm_per_cell is not None]
         limits = {"capacity_pct": CAPACITY_MIN_SHARE * 100.0, "cell_deviation_mv": CELL_DEVIATION_MAX_MV,
