@@ -29,7 +29,7 @@ from .sim.sim_panel import SimulatorPanel
 from .validation import Validator
 from .visual import VisualEditor
 from .window import actions as window_actions
-from .window.docks import CHARGE, WRITE, build_docks, dock_specs, place
+from .window.docks import CHARGE, WRITE, build_docks, dock_specs, make_readable, place
 from .window.documents import APP_NAME, EMPTY_MACRO, DocumentFiles
 from .window.modes import Modes
 from .window.plot_focus import PlotFocus
@@ -93,7 +93,8 @@ class MainWindow(DocumentFiles, QMainWindow):
         self.device_dock.visibilityChanged.connect(lambda visible: visible and self.device_panel)
         QTimer.singleShot(DEVICE_PANEL_DELAY_MS, self, lambda: self.isVisible() and self.device_panel)
         self.modes = Modes(self, self.settings, self.editor_box,
-                           lambda mode: place(self, self.dock_specs, self.docks, mode), LAYOUT_VERSION)
+                           lambda mode: place(self, self.dock_specs, self.docks, mode), LAYOUT_VERSION,
+                           lambda: make_readable(self, self.dock_specs, self.docks))
         self.plot_focus = PlotFocus(self, self.editor_box)
         self.plot_focus.watch(self.sim_panel.plot, self.sim_dock)
         install_packs_dock(self)
