@@ -240,7 +240,8 @@ class ControlsScroll(QScrollArea):
                 box.installEventFilter(self)
 
     def eventFilter(self, watched, event) -> bool:  # noqa: N802
-        if event.type() == QEvent.Type.Wheel and isinstance(watched, QWidget) and not watched.hasFocus():
+        if event.type() == QEvent.Type.Wheel and isinstance(watched, (QComboBox, QAbstractSpinBox)) \
+                and watched.property("wheelGuarded") and not watched.hasFocus():
             QApplication.sendEvent(self.verticalScrollBar(), event)
             return True
         return super().eventFilter(watched, event)
