@@ -68,3 +68,15 @@ def test_open_starts_in_the_documents_then_where_the_last_macro_was(make_window,
     assert w.open_file(str(mine))
     w.open_dialog()
     assert asked[-1] == str(mine.parent)
+
+
+def test_a_squeezed_problems_list_gives_the_message_its_width(make_window, qtbot):
+    w = make_window(str(MACROS / "LiPo.zuml"))
+    w.validate_now()
+    problems = w.problems
+    problems.resize(150, 300)
+    qtbot.waitUntil(lambda: problems.isColumnHidden(1) and problems.isColumnHidden(3))
+    item = problems.topLevelItem(0)
+    assert item.toolTip(2).startswith(f"{item.text(1)} {item.text(3)}: ")       # where and which: on the tooltip
+    problems.resize(400, 300)
+    qtbot.waitUntil(lambda: not problems.isColumnHidden(1) and not problems.isColumnHidden(3))
