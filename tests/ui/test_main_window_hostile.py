@@ -103,7 +103,8 @@ def test_a_hand_edited_settings_file_with_garbage_values_reads_as_defaults(make_
     asked = []
     monkeypatch.setattr(w, "ask_open_path", lambda title, start, filters: asked.append(start) or "")
     w.open_dialog()
-    assert asked == [str(w.user_macros)]
+    from zuml_studio.ui.window.documents import documents_dir
+    assert asked == [str(documents_dir())]          # where the user keeps documents, not a hidden config folder
     from pathlib import Path
 
     from zuml_studio.ui.logs import LogWindow

@@ -57,13 +57,14 @@ def _cut_controls(root):
                 or isinstance(widget, QAbstractButton) and isinstance(widget.parentWidget(), QAbstractScrollArea):
             continue
         name = widget.objectName() or getattr(widget, "text", lambda: "")() or type(widget).__name__
+        scrolled = _scrolled(widget)
+        shown = widget.visibleRegion().boundingRect()
+        if shown.isEmpty() and not scrolled:     # a dock behind another's tab: not on screen at all
+            continue
         need = widget.minimumSizeHint()
         if widget.height() < min(need.height(), widget.maximumHeight()) - 1:
             out.append(f"{name!r}: {widget.height()} px high, needs {need.height()}")
-        if _scrolled(widget):
-            continue
-        shown = widget.visibleRegion().boundingRect()
-        if shown.isEmpty():         # a dock behind another's tab: not on screen at all
+        if scrolled:
             continue
         if shown.height() < widget.height() - 1 or shown.width() < widget.width() - 1:
             out.append(f"{name!r}: {shown.width()}x{shown.height()} of {widget.width()}x{widget.height()} px shown")

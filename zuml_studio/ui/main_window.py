@@ -29,7 +29,7 @@ from .sim.sim_panel import SimulatorPanel
 from .validation import Validator
 from .visual import VisualEditor
 from .window import actions as window_actions
-from .window.docks import build_docks, dock_specs, place
+from .window.docks import CHARGE, WRITE, build_docks, dock_specs, make_readable, place
 from .window.documents import APP_NAME, EMPTY_MACRO, DocumentFiles
 from .window.modes import Modes
 from .window.plot_focus import PlotFocus
@@ -93,7 +93,8 @@ class MainWindow(DocumentFiles, QMainWindow):
         self.device_dock.visibilityChanged.connect(lambda visible: visible and self.device_panel)
         QTimer.singleShot(DEVICE_PANEL_DELAY_MS, self, lambda: self.isVisible() and self.device_panel)
         self.modes = Modes(self, self.settings, self.editor_box,
-                           lambda mode: place(self, self.dock_specs, self.docks, mode), LAYOUT_VERSION)
+                           lambda mode: place(self, self.dock_specs, self.docks, mode), LAYOUT_VERSION,
+                           lambda: make_readable(self, self.dock_specs, self.docks))
         self.plot_focus = PlotFocus(self, self.editor_box)
         self.plot_focus.watch(self.sim_panel.plot, self.sim_dock)
         install_packs_dock(self)
@@ -117,6 +118,7 @@ class MainWindow(DocumentFiles, QMainWindow):
             panel = DevicePanel(self._current_record, self.config / "sessions")
             panel.statusMessage.connect(lambda message: self.statusBar().showMessage(message, 6000))
             panel.connectedChanged.connect(self._device_connected)
+            panel.startFinished.connect(self._watch_started_run)
             self._device_panel = panel
             self.live_runs = bind_live_runs(self, panel)
             self.device_dock.setWidget(panel)
@@ -203,7 +205,9 @@ class MainWindow(DocumentFiles, QMainWindow):
     def _validated(self, result: CompileResult) -> None:
         self.autosave(wait=False)   # every debounced change reaches the recovery file, off the GUI thread
         self.editor.set_diagnostics(result.diagnostics)
-        self.problems.set_diagnostics(result.diagnostics)
+        last_valid = self.validator.last_valid
+        self.problems.set_diagnostics(result.diagnostics, [] if result.ok or last_valid is None
+                                      else last_valid.warnings)
         self.hex_view.show_result(result, self.validator.last_valid)
         self.hex_view.select_line(self.editor.current_line())
         errors, warnings = len(result.errors), len(result.warnings)
@@ -471,6 +475,15 @@ class MainWindow(DocumentFiles, QMainWindow):
             self.device_panel.flash()
         elif self.device_panel.connect_to():
             self._upload_pending = True
+
+    def _watch_started_run(self, ok: bool, _text: str) -> None:
+        """A run started from the Write mode: the Charge mode, where its curve can be read (in the
+        Write mode the live plot is a strip under the editor, a few pixels high beside the Visual tab).
+        A floating Device window is the user's own layout: it stays."""
+        if ok and self.modes.current == WRITE and not self.device_dock.isFloating():
+            self.modes.switch(CHARGE)
+            self.device_panel.show_message(self.device_panel.message_text() + "\n"
+                                           + _("The Charge mode shows the run (View ▸ Write goes back)."), "ok")
 
     def _device_connected(self, connected: bool) -> None:
         pending, self._upload_pending = self._upload_pending, False

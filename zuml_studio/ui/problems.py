@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 from PySide6.QtCore import QRect, QSize, Qt, Signal
-from PySide6.QtGui import QColor
+from PySide6.QtGui import QColor, QPalette
 from PySide6.QtWidgets import QHeaderView, QStyle, QStyledItemDelegate, QTreeWidget, QTreeWidgetItem
 
 from ..i18n import _
@@ -12,6 +12,7 @@ from . import theme
 _ROLE = Qt.ItemDataRole.UserRole
 MESSAGE = 2                 # the column that wraps
 CELL_MARGINS_PX = 8
+NARROW_PX = 220             # narrower than this, the list shows the message alone (where and code: the tooltip)
 
 
 class _WrappingDelegate(QStyledItemDelegate):
@@ -58,19 +59,38 @@ class ProblemsView(QTreeWidget):
                        Severity.WARNING: style.standardIcon(QStyle.StandardPixmap.SP_MessageBoxWarning),
                        Severity.NOTE: style.standardIcon(QStyle.StandardPixmap.SP_MessageBoxInformation)}
 
-    def set_diagnostics(self, diagnostics: list[Diagnostic]) -> None:
+    def set_diagnostics(self, diagnostics: list[Diagnostic], earlier: list[Diagnostic] = ()) -> None:
+        """``earlier``: the warnings of the last valid version, shown greyed while the text has errors
+        (the safety check reads only a macro that compiles: its warnings would vanish with a typo)."""
         self.clear()
-        for d in diagnostics:
-            text = d.message + (f" — {d.hint}" if d.hint else "")
+        stale = _("(last valid version)")
+        for d, old in [(d, False) for d in diagnostics] + [(d, True) for d in earlier if d.is_warning]:
+            text = d.message + (f" — {d.hint}" if d.hint else "") + (f" {stale}" if old else "")
             item = QTreeWidgetItem(["", f"{d.line}:{d.column}", text, d.code])
             item.setIcon(0, self._icons[d.severity])
-            tip = f"{d.message}\n{d.hint}" if d.hint else d.message
-            for col in range(1, 4):         # the list is narrow: the whole message on any cell
+            tip = f"{d.line}:{d.column} {d.code}: " + (f"{d.message}\n{d.hint}" if d.hint else d.message)
+            if old:
+                tip += "\n" + _("Checked on the last version without errors: fix the errors to check this one.")
+            for col in range(4):            # the list is narrow: the whole message on any cell
                 item.setToolTip(col, tip)
             item.setData(0, _ROLE, (d.line, d.column))
-            if d.is_warning:
+            if old:
+                grey = self.palette().color(QPalette.ColorGroup.Disabled, QPalette.ColorRole.Text)
+                for col in range(1, 4):
+                    item.setForeground(col, grey)
+            elif d.is_warning:
                 item.setForeground(3, QColor(theme.colours(self.palette()).warning))
             self.addTopLevelItem(item)
+
+    def resizeEvent(self, event) -> None:  # noqa: N802
+        super().resizeEvent(event)
+        # Squeezed (a layout saved in a wider window, a long language beside the device panel), the
+        # message keeps the width and reads a few words a line, not one: where and which code are
+        # on every row's tooltip, and the columns come back when the list is wide again.
+        narrow = self.viewport().width() < NARROW_PX
+        for column in (1, 3):
+            if self.isColumnHidden(column) != narrow:
+                self.setColumnHidden(column, narrow)
 
     def _activated(self, item: QTreeWidgetItem, _column: int = 0) -> None:
         line, column = item.data(0, _ROLE)

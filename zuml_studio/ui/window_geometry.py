@@ -5,19 +5,31 @@ from __future__ import annotations
 import struct
 
 from PySide6.QtCore import QPoint, QRect
+from PySide6.QtGui import QGuiApplication
+from PySide6.QtWidgets import QWidget
 
 PREFERRED_W, PREFERRED_H = 1500, 950      # what the layout was drawn for
 SCREEN_SHARE = 0.92                       # of the available area, when the screen is smaller
 FIT_SLACK_PX = 16                         # frames and shadows may hang over the edge a little
 
 
-def first_geometry(available: QRect) -> QRect:
+def first_geometry(available: QRect, preferred_w: int = PREFERRED_W, preferred_h: int = PREFERRED_H) -> QRect:
     """The preferred size, shrunk to the screen's available area, centred in it."""
-    width = min(PREFERRED_W, int(available.width() * SCREEN_SHARE))
-    height = min(PREFERRED_H, int(available.height() * SCREEN_SHARE))
+    width = min(preferred_w, int(available.width() * SCREEN_SHARE))
+    height = min(preferred_h, int(available.height() * SCREEN_SHARE))
     rect = QRect(0, 0, width, height)
     rect.moveCenter(available.center())
     return rect
+
+
+def place_on_screen(window: QWidget, preferred_w: int, preferred_h: int) -> None:
+    """A window of its own at its preferred size, shrunk to the screen it opens on (its title bar
+    and status line inside the screen: a 1200x760 window on a 768 px laptop hid its last lines), centred."""
+    screen = window.screen() or QGuiApplication.primaryScreen()
+    if screen is None:
+        window.resize(preferred_w, preferred_h)
+        return
+    window.setGeometry(first_geometry(screen.availableGeometry(), preferred_w, preferred_h))
 
 
 def fits(frame: QRect, available: QRect) -> bool:

@@ -38,6 +38,24 @@ def test_replay_a_recording_into_the_panel(qtbot, make_panel, tmp_path):
     assert rows[-1]["time_s"] == "158.0"
 
 
+def test_after_a_replay_the_port_is_the_one_chosen_before_and_connect_reaches_it(qtbot, make_panel, tmp_path):
+    """The replay's pty went into "or a port / URL" and stayed: Connect with "Virtual charger
+    (built-in)" chosen then tried the dead pty."""
+    from device_helpers import connect
+    src = tmp_path / "icharger.txt"
+    src.write_bytes(b"".join((DATA / "icharger306B_RB_1000_lines_head300.txt").read_bytes().splitlines(True)[:20]))
+    panel = make_panel((1366, 520))
+    assert panel.ports.target() == "virtual"
+    with qtbot.waitSignal(panel.connectedChanged, timeout=WAIT_MS):
+        assert panel.replay(src, speed=1000)
+    assert panel.ports.target() != "virtual"            # the pty, while the replay plays
+    with qtbot.waitSignal(panel.connectedChanged, timeout=WAIT_MS):
+        panel.disconnect()
+    assert panel.ports.target() == "virtual" and panel.ports.url.text() == ""
+    connect(qtbot, panel)
+    assert "virtual" in panel.message_text()
+
+
 def test_a_file_that_is_no_recording(qtbot, make_panel, tmp_path):
     bad = tmp_path / "x.txt"
     bad.write_text("nothing to see\n")

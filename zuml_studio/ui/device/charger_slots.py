@@ -339,7 +339,11 @@ class ChargerSlots(QWidget):
             self.refresh_slots()
 
     def _flash_done(self, ok: bool, text: str) -> None:
-        self.result_label.setText(text)
+        # A refusal's reasons are the message line's (under the plot, the panel's width): here only its
+        # first line, so a five-line refusal does not push Backup, Restore and the progress out of view.
+        first = text.split("\n", 1)[0]
+        self.result_label.setText(first)
+        self.result_label.setToolTip(text if first != text else "")
         tint(self.result_label, "ok" if ok else "error")
         self.message.emit(text, "ok" if ok else "error")
         self.changed.emit()

@@ -145,8 +145,10 @@ class ConnectionBar(QWidget):
         vrow.insertWidget(4, self.battery_note, 1)
         second.addWidget(self.virtual_box, 2)
         second.addWidget(self.info_label, 3)
-        second.addWidget(QLabel(_("Telemetry")))
-        second.addWidget(self.rate)
+        # The telemetry rate ends the first row, the shorter one: on the second, beside the battery's
+        # fields, it made the panel 1100 px wide at least in Russian, squeezing the Problems beside it.
+        top.addWidget(QLabel(_("Telemetry")))
+        top.addWidget(self.rate)
 
         layout = QVBoxLayout(self)
         layout.setContentsMargins(0, 0, 0, 0)

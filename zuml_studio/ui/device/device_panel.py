@@ -75,6 +75,7 @@ class DevicePanel(QWidget):
         self._get_record = get_record
         self.session_dir = Path(session_dir)
         self._shut = False
+        self._before_replay: tuple[str, str] | None = None     # (the replay's pty, the target chosen before)
         self.telemetry_taps: list[Callable] = []   # called with every frame, on the reader thread
         self._auto_fallback: tuple[str, int] | None = None   # (port, baud) to watch if no ZUML charger answers
         self.monitor = ChargerMonitor(self._telemetry_rt, self, self._event_rt)
@@ -259,7 +260,7 @@ class DevicePanel(QWidget):
         self.session.close()
 
     def message_text(self) -> str:
-        return self.message.text()
+        return self.message.full_text
 
     def virtual_eeprom_path(self) -> Path:
         """Where the built-in virtual charger keeps its EEPROM: like a real charger, it still
@@ -297,8 +298,12 @@ class DevicePanel(QWidget):
         if served is None:
             return False
         self._fresh_run(Path(path).name, served[1])
+        # The replay's pty goes into the URL field for the connection; it is the replay's, not the
+        # user's choice: when the replay ends the field gets back what the user had chosen.
+        self._before_replay = (served[0], self.ports.target())
         if not self.connect_to(served[0], served[1].driver):
             self.monitor.stop_replay()
+            self._forget_replay_port()
             return False
         self.monitor.say_replaying(Path(path), *served)
         return True
@@ -407,7 +412,14 @@ class DevicePanel(QWidget):
         self.show_message(message, "error")
         self.connectedChanged.emit(False)
 
+    def _forget_replay_port(self) -> None:
+        pty, chosen = self._before_replay or ("", "")
+        self._before_replay = None
+        if pty and self.ports.url.text().strip() == pty:
+            self.ports.set_target(chosen)
+
     def _closed(self, error: str, counts: str = "") -> None:
+        self._forget_replay_port()
         self.session.close()
         self._set_state_disconnected()
         kept = " " + _("The plot and the session CSV are kept.") if self.plot.points or error else ""

@@ -6,8 +6,8 @@ import weakref
 
 from PySide6.QtCore import QEvent, QSize, Qt, Signal
 from PySide6.QtGui import QPalette
-from PySide6.QtWidgets import (QApplication, QBoxLayout, QComboBox, QDoubleSpinBox, QFrame, QHBoxLayout, QLabel,
-                               QScrollArea, QSizePolicy, QSpinBox, QSplitter, QStyle, QStyleOptionComboBox,
+from PySide6.QtWidgets import (QAbstractSpinBox, QApplication, QBoxLayout, QComboBox, QDoubleSpinBox, QFrame,
+                               QHBoxLayout, QLabel, QScrollArea, QSizePolicy, QSpinBox, QSplitter, QStyle, QStyleOptionComboBox,
                                QStylePainter, QToolTip, QVBoxLayout, QWidget)
 
 from .. import theme
@@ -226,6 +226,26 @@ class ControlsScroll(QScrollArea):
     def is_stacked(self) -> bool:
         return self._cols.direction() == QBoxLayout.Direction.TopToBottom
 
+    def showEvent(self, event) -> None:  # noqa: N802
+        super().showEvent(event)
+        self._guard_wheel()
+
+    def _guard_wheel(self) -> None:
+        """A wheel turned over a box the user has not clicked scrolls the column (it used to change
+        the cells or the task while the user scrolled past); a focused box still takes it."""
+        for box in self.widget().findChildren(QWidget):
+            if isinstance(box, (QComboBox, QAbstractSpinBox)) and not box.property("wheelGuarded"):
+                box.setProperty("wheelGuarded", True)
+                box.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
+                box.installEventFilter(self)
+
+    def eventFilter(self, watched, event) -> bool:  # noqa: N802
+        if event.type() == QEvent.Type.Wheel and isinstance(watched, (QComboBox, QAbstractSpinBox)) \
+                and watched.property("wheelGuarded") and not watched.hasFocus():
+            QApplication.sendEvent(self.verticalScrollBar(), event)
+            return True
+        return super().eventFilter(watched, event)
+
     def resizeEvent(self, event) -> None:  # noqa: N802
         super().resizeEvent(event)
         self._stack(self.height() >= STACK_PX)
@@ -270,12 +290,15 @@ class MessageLine(QLabel):
 
     def __init__(self, parent: QWidget | None = None):
         super().__init__("", parent)
+        self.full_text = ""             # as said, with its line breaks
         self.setObjectName("deviceMessage")
         self.setWordWrap(True)
         self.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
         self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Preferred)
 
     def say(self, text: str, kind: str = "info") -> None:
-        self.setText(text)
+        self.full_text = text
+        # One paragraph: the line is as wide as the panel, a list's line breaks would take the plot's height.
+        self.setText("  ".join(line.strip() for line in text.split("\n") if line.strip()))
         tint(self, kind)
         self.setToolTip(text if len(text) > 80 else "")

@@ -5,17 +5,18 @@ from __future__ import annotations
 from PySide6.QtCore import QEventLoop, QTimer, Signal
 from PySide6.QtWidgets import QCheckBox, QComboBox, QGridLayout, QHBoxLayout, QLabel, QPushButton, QVBoxLayout, QWidget
 
+from ...device.errors import DeviceError
 from ...device.passport import fitness_warnings
 from ...i18n import N_, _
 from ...lang.eeprom import Slot
 from ...safety import judge, named_template
-from ...sim.program import TASK_LABELS, TASK_WORDS
+from ...sim.program import TASK_LABELS, TASK_WORDS, Program
 from ...sim.reasons import shown_reason
 from ...sim.start_check import start_warnings
 from ..stacked_plot import band_label
 from ..timefmt import hmmss
 from . import unsafe_dialog
-from .connection import DeviceConnection, describe_error
+from .connection import DeviceConnection, describe_error, lead_cells_text
 from .device_style import DEFAULT_BATTERY, ElidedCombo, ElidedLabel, field_double, field_spin, heading
 
 START_TIP = N_("Check the battery's passport, then start the slot's macro")
@@ -74,7 +75,7 @@ class RunControls(QWidget):
         self.run_label.setObjectName("runState")
         # Room for the usual "running · C1 · 0:12:34": a run's state is not cut off at 1366 px.
         self.run_label.setMinimumWidth(self.run_label.fontMetrics().horizontalAdvance(
-            _("running") + " · " + _("C{index}").format(index=10) + " · 00:00:00"))
+            _("running") + " · " + _("C{index}").format(index=10) + " · 0:00:00"))     # hmmss: one digit of hours
 
         b = QVBoxLayout(self)
         b.setContentsMargins(0, 0, 0, 0)
@@ -255,7 +256,9 @@ class RunControls(QWidget):
 
         self.message.emit(_("Starting {name} (slot {slot})…").format(name=name, slot=slot), "info")
         self.runStarting.emit()
-        self.connection.call(job, lambda r: self._started(r, slot, params), self._start_failed)
+        declared = _declared_cells(record)
+        self.connection.call(job, lambda r: self._started(r, slot, params),
+                             lambda exc: self._start_failed(exc, params["series"] or 0, declared))
         self.changed.emit()
 
     def _started(self, answer, slot: int, params: dict) -> None:
@@ -283,8 +286,10 @@ class RunControls(QWidget):
             name=value, slot=slot, task=_(task) if task else params["task"])
             + "".join(f"\n⚠ {w}" for w in warnings))
 
-    def _start_failed(self, exc) -> None:
+    def _start_failed(self, exc, entered: int = 0, declared: int = 0) -> None:
         self.runUndone.emit()
+        if isinstance(exc, DeviceError):    # the charger knows what its port shows; the PC knows what was asked
+            exc.lines = [lead_cells_text(line, entered, declared) for line in exc.lines]
         self._start_done(False, describe_error(exc, "start"))
 
     def _start_done(self, ok: bool, text: str) -> None:
@@ -331,3 +336,13 @@ class RunControls(QWidget):
             loop.exec()
         self.operationFinished.disconnect(finished)
         return bool(answer and answer[0])
+
+
+def _declared_cells(record: bytes) -> int:
+    """The SERIES the macro on the charger declares (0: none, the cells entered count)."""
+    from ...lang import opcodes as ops
+    from ...lang.record import DecodeError
+    try:
+        return Program(record).intro.declarations.get(ops.SERIES.code) or 0
+    except DecodeError:
+        return 0

@@ -4,17 +4,19 @@ while the Device panel is connected its protocol owns the port, and the monitor 
 so. Reading polls the open port on the GUI thread (a few bytes a tick, never blocking)."""
 from __future__ import annotations
 
+import time
 from collections.abc import Callable
 
 from PySide6.QtCore import Qt, QTimer
 from PySide6.QtGui import QFontDatabase, QTextCursor
-from PySide6.QtWidgets import (QButtonGroup, QComboBox, QDialog, QHBoxLayout, QLabel, QLineEdit, QPlainTextEdit,
+from PySide6.QtWidgets import (QButtonGroup, QCheckBox, QComboBox, QDialog, QHBoxLayout, QLabel, QLineEdit, QPlainTextEdit,
                                QPushButton, QRadioButton, QVBoxLayout, QWidget)
 
 from ...device.client import open_serial
 from ...device.errors import DeviceLinkError
 from ...device.ports import VIRTUAL
-from ...device.serial_text import SendLineError, as_hex, as_text, parse_send
+from ...device.serial_lines import MonitorLines
+from ...device.serial_text import SendLineError, parse_send
 from ...i18n import _, ngettext
 from ...safety import RawSendGuard
 
@@ -51,6 +53,12 @@ class SerialMonitor(QDialog):
         for button in (self.text_mode, self.hex_mode):
             modes.addButton(button)
             button.toggled.connect(self._redraw)
+        self.timestamps = QCheckBox(_("Timestamps"))
+        self.timestamps.setObjectName("monitorTimestamps")
+        self.timestamps.setToolTip(_("Each line with the time it arrived; in Hex a line per burst of bytes"))
+        self.timestamps.toggled.connect(self._redraw)
+        self._lines = MonitorLines()
+        self._bursts: list[tuple[float, bytes]] = []    # what came in, with when: the view is drawn again from it
         clear = QPushButton(_("Clear"))
         clear.clicked.connect(self.clear)
         self.view = QPlainTextEdit()
@@ -76,6 +84,7 @@ class SerialMonitor(QDialog):
         top.addWidget(self.where, 1)
         top.addWidget(self.text_mode)
         top.addWidget(self.hex_mode)
+        top.addWidget(self.timestamps)
         top.addWidget(clear)
         top.addWidget(self.open_button)
         bottom = QHBoxLayout()
@@ -136,8 +145,7 @@ class SerialMonitor(QDialog):
             return False
         port.timeout = 0                        # reads return what is there, at once
         self.port = port
-        self.received = b""
-        self.view.clear()
+        self.clear()
         self._timer.start()
         self.say(_("Open: {port} at {baud} baud.").format(port=url, baud=baud))
         self.refresh()
@@ -193,22 +201,31 @@ class SerialMonitor(QDialog):
         return True
 
     # -- the view ------------------------------------------------------------------------------
-    def _render(self, data: bytes) -> str:
-        return as_hex(data) if self.hex_mode.isChecked() else as_text(data)
+    def _options(self) -> None:
+        self._lines.hex_mode = self.hex_mode.isChecked()
+        self._lines.timestamps = self.timestamps.isChecked()
 
     def _append(self, data: bytes) -> None:
+        when = time.time()
+        self._bursts.append((when, data))
+        if len(self._bursts) > MAX_BLOCKS:          # the view keeps as many lines: older bursts are gone from it
+            del self._bursts[:len(self._bursts) - MAX_BLOCKS]
+        self._options()
         cursor = self.view.textCursor()
         cursor.movePosition(QTextCursor.MoveOperation.End)
-        cursor.insertText(self._render(data))
+        cursor.insertText(self._lines.render(when, data))
         self.view.setTextCursor(cursor)
         self.view.ensureCursorVisible()
 
     def _redraw(self) -> None:
-        self.view.setPlainText(self._render(self.received))
+        self._options()
+        self.view.setPlainText(self._lines.render_all(self._bursts))
         self.view.moveCursor(QTextCursor.MoveOperation.End)
 
     def clear(self) -> None:
         self.received = b""
+        self._bursts.clear()
+        self._lines.render_all([])
         self.view.clear()
 
     def text(self) -> str:

@@ -22,6 +22,7 @@ from ..timefmt import duration, hmmss
 from .log_plot import STATE_WORDS, LogPlot
 
 SIDE_WIDTH = 250
+SIDE_MAX_WIDTH = 400        # the side never takes the plot's width (its tables wrap below that)
 
 
 def totals_html(name: str, info: dict, key_colour: str) -> str:
@@ -218,7 +219,9 @@ class LogDocument(QWidget):
         panel.setWidgetResizable(True)
         panel.setFrameShape(QFrame.Shape.NoFrame)
         panel.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
-        panel.setFixedWidth(SIDE_WIDTH + panel.verticalScrollBar().sizeHint().width())
+        # As wide as its figures need (Russian words run longer: a fixed 250 px cut them on the right).
+        panel.setFixedWidth(min(max(SIDE_WIDTH, inner.sizeHint().width()), SIDE_MAX_WIDTH)
+                            + panel.verticalScrollBar().sizeHint().width())
         panel.setSizePolicy(QSizePolicy.Policy.Fixed, QSizePolicy.Policy.Expanding)
         left = QVBoxLayout()
         left.setContentsMargins(0, 0, 0, 0)

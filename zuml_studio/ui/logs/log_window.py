@@ -13,6 +13,7 @@ from ...logs import Log, LogFormatError, csv_import, read_log_file
 from ...logs.export import write_csv
 from ..background import BackgroundCall
 from ..settings_values import text_value
+from ..window_geometry import place_on_screen
 from .csv_dialog import CsvChoices, CsvDialog, key_hash
 from .log_document import HiddenCurves, LogDocument, Prepared, prepare
 
@@ -109,7 +110,7 @@ class LogWindow(QMainWindow):
         self.statusBar().addPermanentWidget(self.busy_label)
         self.statusBar().addPermanentWidget(self.busy)
         self._show_reading()
-        self.resize(1200, 760)
+        place_on_screen(self, 1200, 760)
 
     # -- documents ---------------------------------------------------------------------------
     def current(self) -> LogDocument | None:

@@ -20,6 +20,7 @@ from ...packs.sessions import ImportResult, import_files, pack_sessions, remove_
 from ...packs.summary import pack_summary, write_sessions_csv
 from .. import theme
 from ..background import BackgroundCall
+from ..device.confirm_dialogs import documents_folder
 from .add_pack_dialog import AddPackDialog
 from .report import ReportError, write_report
 from .trend_plot import PackTrendPlot
@@ -53,6 +54,7 @@ class PacksPanel(QWidget):
             except LogbookError as exc:       # shown in the dock; the logbook is never replaced
                 self.error = str(exc)
         self._job: BackgroundCall | None = None
+        self._save_dir = ""                        # where the user last saved an export or a report
         self._session_ids: list[int] = []          # the table's rows' sessions
         self._bridge = _Progress(self)
         self._bridge.step.connect(self._progress_step)
@@ -367,8 +369,10 @@ class PacksPanel(QWidget):
         pack = self.current_pack()
         if pack is None:
             return
-        path, _f = QFileDialog.getSaveFileName(self, _("Export the Sessions"), f"{pack.name}.csv", "CSV (*.csv)")
+        path, _f = QFileDialog.getSaveFileName(self, _("Export the Sessions"), self._save_start(f"{pack.name}.csv"),
+                                               "CSV (*.csv)")
         if path:
+            self._save_dir = str(Path(path).parent)
             self.export_csv(path)
 
     def export_csv(self, path: str) -> bool:
@@ -384,10 +388,16 @@ class PacksPanel(QWidget):
         pack = self.current_pack()
         if pack is None:
             return
-        path, _f = QFileDialog.getSaveFileName(self, _("Pack Report"), f"{pack.name}.pdf",
+        path, _f = QFileDialog.getSaveFileName(self, _("Pack Report"), self._save_start(f"{pack.name}.pdf"),
                                                _("PDF (*.pdf);;PNG image (*.png)"))
         if path:
+            self._save_dir = str(Path(path).parent)
             self.write_report(path)
+
+    def _save_start(self, name: str) -> str:
+        """A save dialog's suggestion: in the folder last saved to, else the user's documents (a bare
+        name would start in the current directory: the source tree when run from a checkout)."""
+        return str(Path(self._save_dir or documents_folder()) / name)
 
     def write_report(self, path: str) -> bool:
         pack = self.current_pack()

@@ -94,6 +94,26 @@ def place(window: QMainWindow, specs: list[DockSpec], docks: dict[str, QDockWidg
     window.resize(size)
 
 
+READABLE_SHARE = 0.6    # a dock restored narrower (or lower) than this share of its first size gets that size back
+
+
+def make_readable(window: QMainWindow, specs: list[DockSpec], docks: dict[str, QDockWidget]) -> list[str]:
+    """Docks a restored layout left too small to read (a layout saved in a wider window, or on another
+    screen: the Problems dock came back 70-130 px wide, one word per line) back at their first size;
+    the neighbours give the room. Returns the names of the docks resized."""
+    size = window.size()
+    resized = []
+    for orientation, length, now in ((Qt.Orientation.Horizontal, lambda s: s.width, QDockWidget.width),
+                                     (Qt.Orientation.Vertical, lambda s: s.height, QDockWidget.height)):
+        small = [s for s in specs if length(s) and docks[s.name].isVisible() and not docks[s.name].isFloating()
+                 and now(docks[s.name]) < length(s) * READABLE_SHARE]
+        if small:
+            window.resizeDocks([docks[s.name] for s in small], [length(s) for s in small], orientation)
+            resized += [s.name for s in small]
+    window.resize(size)
+    return resized
+
+
 def in_place(window: QMainWindow, specs: list[DockSpec], docks: dict[str, QDockWidget]) -> bool:
     """Every dock docked in its area, in its set of tabs. The modes differ only in which docks
     show: then only that changes, for Qt leaves a shown tab bar behind each time docks are tabified

@@ -48,7 +48,7 @@ def is_standard(path: str | Path | None) -> bool:
 def documents_dir() -> Path:
     """The user's documents folder (exports go there by default), the home folder without one."""
     found = QStandardPaths.writableLocation(QStandardPaths.StandardLocation.DocumentsLocation)
-    return Path(found) if found else Path.home()
+    return Path(found) if found and Path(found).is_dir() else Path.home()
 
 
 class DocumentFiles:
@@ -68,6 +68,7 @@ class DocumentFiles:
         self.setWindowModified(dirty)
         self._update_title()
         self.sim_panel.new_macro()
+        self.visual.say("")             # the last macro's refusal is not this one's
         self.validator.forget()
         self.validate_now()
         self.editor.goto(1, 1)
@@ -112,7 +113,7 @@ class DocumentFiles:
     def open_dialog(self) -> None:
         if not self.maybe_save():
             return
-        start = text_value(self.settings, "lastDir", str(self.user_macros))
+        start = text_value(self.settings, "lastDir", str(documents_dir()))
         path = self.ask_open_path(_("Open macro"), start,
                                   _("ZUML macros") + f" (*{EXTENSION});;" + _("All files") + " (*)")
         if path:
@@ -250,7 +251,8 @@ class DocumentFiles:
             return
         recent = [p for p in self.recent_files() if p != path]
         self.settings.setValue("recentFiles", [path] + recent[:MAX_RECENT - 1])
-        self.settings.setValue("lastDir", str(Path(path).parent))
+        if not is_standard(path):       # Open starts where the user keeps macros, never in the package
+            self.settings.setValue("lastDir", str(Path(path).parent))
         self._fill_recent()
 
     def recent_files(self) -> list[str]:

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from PySide6.QtCore import QObject, QSettings, Signal
+from PySide6.QtCore import QObject, QSettings, QTimer, Signal
 from PySide6.QtWidgets import QMainWindow, QWidget
 
 from ..settings_values import bytes_value, text_value
@@ -24,12 +24,13 @@ class Modes(QObject):
     changed = Signal(str)
 
     def __init__(self, window: QMainWindow, settings: QSettings, editor: QWidget, place: Callable[[str], None],
-                 version: int):
+                 version: int, readable: Callable[[], object] = lambda: None):
         super().__init__(window)
         self.window = window
         self.settings = settings
         self.editor = editor             # the central widget: only the Write mode shows it
         self.place = place
+        self.readable = readable         # docks a restored layout left too small get their first size back
         self.version = version           # a saved layout of another version is ignored
         saved = text_value(settings, MODE_KEY, WRITE)
         self.current = saved if saved in MODES else WRITE
@@ -70,5 +71,7 @@ class Modes(QObject):
         state = bytes_value(self.settings, layout_key(self.current))
         if state is None or not self.window.restoreState(state, self.version):
             self.place(self.current)
+        else:                           # once the window has laid the restored docks out at its size
+            QTimer.singleShot(0, self.readable)
         self.window.resize(size)
         self.changed.emit(self.current)

@@ -1,0 +1,105 @@
+"""A walk through every mode on a laptop screen (1366x768), in English and Russian, light and
+dark, and again after a restart: no control clipped, no label cut that could wrap, the plot of
+the mode's task with at least its 60 % of the window, and no window of its own larger than the
+screen it opens on. Each language runs once per theme; a run on the virtual charger is started
+from the Write mode, as a user does, and must land where its curve can be read."""
+from pathlib import Path
+
+import pytest
+from PySide6.QtWidgets import QApplication
+
+from helpers import MACROS
+from test_truncation import _cut_controls, _cut_labels, _settle
+from test_window_modes import WATCHED_SHARE, share
+
+LAPTOP = (1366, 768)
+LOG = Path(__file__).resolve().parents[1] / "data" / "logs" / "X8_LiPo_5S_2200mA_Charge_4.txt"
+
+
+def elided_with_room(root) -> list[str]:
+    """One-line labels that elide their text although they stand two lines high (they could wrap)."""
+    from zuml_studio.ui.device.device_style import ElidedLabel
+    out = []
+    for label in root.findChildren(ElidedLabel):
+        if label.isVisible() and label.text() != label.full_text() \
+                and label.height() >= 2 * label.fontMetrics().lineSpacing():
+            out.append(f"{label.objectName() or label.full_text()!r}: elided in {label.width()}x{label.height()} px")
+    return out
+
+
+def too_big_windows() -> list[str]:
+    """Windows of their own (not the main window, which the test sizes) larger than their screen."""
+    out = []
+    for widget in QApplication.topLevelWidgets():
+        if not widget.isVisible() or not widget.isWindow() or widget.objectName() == "mainWindow":
+            continue
+        available = widget.screen().availableGeometry()
+        frame = widget.frameGeometry()
+        if frame.width() > available.width() or frame.height() > available.height():
+            out.append(f"{type(widget).__name__} {frame.width()}x{frame.height()} on {available.width()}x"
+                       f"{available.height()}")
+    return out
+
+
+def problems_of(w) -> list[str]:
+    return _cut_controls(w) + _cut_labels(w.statusBar()) + elided_with_room(w)
+
+
+@pytest.fixture(params=[("en", "light"), ("en", "dark"), ("ru", "light"), ("ru", "dark")],
+                ids=lambda p: "-".join(p))
+def laptop_walk(request, qapp, system_theme):
+    from zuml_studio import i18n
+    from zuml_studio.ui import theme
+    from zuml_studio.ui.language import install_qt_catalogue
+    language, look = request.param
+    i18n.install(language)
+    install_qt_catalogue(language)
+    theme.apply_theme(look)
+    yield language
+    i18n.install("en")
+    install_qt_catalogue("en")
+
+
+def test_every_mode_reads_on_a_laptop_screen(laptop_walk, make_window, qtbot, tmp_path):
+    from device_helpers import WAIT_MS, connect, flash_and_start
+    config = tmp_path / "walk"
+    w = make_window(str(MACROS / "NiMh-dV.zuml"), config)
+    w.resize(*LAPTOP)
+    qtbot.waitUntil(lambda: w.width() == LAPTOP[0])
+    _settle()
+    found = [f"write: {p}" for p in problems_of(w)]
+
+    w.modes.switch("simulate")
+    w.sim_panel.simulate()
+    assert w.sim_panel.wait(60_000)
+    qtbot.waitUntil(lambda: share(w.sim_panel.plot, w) >= WATCHED_SHARE)
+    _settle()
+    found += [f"simulate: {p}" for p in problems_of(w)]
+
+    w.modes.switch("write")                 # a run started where the editor is: the Charge mode shows it
+    w.show_visual()
+    panel = w.device_panel
+    connect(qtbot, panel)
+    ok, text = flash_and_start(qtbot, panel)
+    assert ok, text
+    qtbot.waitUntil(lambda: w.modes.current == "charge" and panel.is_running(), timeout=WAIT_MS)
+    qtbot.waitUntil(lambda: share(panel.plot, w) >= WATCHED_SHARE)
+    _settle()
+    found += [f"charge: {p}" for p in problems_of(w)]
+
+    logs = w.open_log(str(LOG))                 # the status line and "Add a log to compare…" on the screen
+    qtbot.waitUntil(lambda: logs.current() is not None, timeout=WAIT_MS)
+    _settle()
+    found += too_big_windows() + [f"logs: {p}" for p in _cut_controls(logs)]
+    logs.close()
+    w.modes.switch("write")
+    w.ask_close_run = lambda: "stop"
+    w.close()
+
+    again = make_window(str(MACROS / "NiMh-dV.zuml"), config)     # Preferences > Restart: the layouts kept
+    again.resize(*LAPTOP)
+    qtbot.waitUntil(lambda: again.width() == LAPTOP[0])
+    _settle()
+    assert again.problems_dock.width() >= 200, f"Problems came back {again.problems_dock.width()} px wide"
+    found += [f"after a restart: {p}" for p in problems_of(again)]
+    assert not found, "\n".join(found)
