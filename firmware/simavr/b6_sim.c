@@ -362,9 +362,15 @@ static avr_cycle_count_t step(struct avr_t *a, avr_cycle_count_t when, void *par
     set_buttons(t, 0);
     report_output(t);
     if (++step_count % STEPS_PER_MS == 0) {
-        if (trace)
-            fprintf(trace, "%ld,%.4f,%.4f,%d,%.4f,%.4f\n", now_ms(), model.drive.buck_duty, model.drive.boost_duty,
-                    b6_model_output_enabled(&model), model.i_batt_a, model.v_term_v);
+        if (trace) {
+            double top = 0;
+            int k;
+            for (k = 0; k < model.cells; k++)
+                if (b6_model_cell_v(&model, k) > top)
+                    top = b6_model_cell_v(&model, k);
+            fprintf(trace, "%ld,%.4f,%.4f,%d,%.4f,%.4f,%.4f\n", now_ms(), model.drive.buck_duty,
+                    model.drive.boost_duty, b6_model_output_enabled(&model), model.i_batt_a, model.v_term_v, top);
+        }
         if (lcd_on)
             lcd_print_if_settled();
     }
@@ -495,7 +501,7 @@ static int parse(int argc, char **argv, options_t *o)
             trace = fopen(value, "w");
             if (!trace)
                 return fail("cannot write the trace", value);
-            fputs("t_ms,buck_duty,boost_duty,output_enabled,current_a,voltage_v\n", trace);
+            fputs("t_ms,buck_duty,boost_duty,output_enabled,current_a,voltage_v,cell_max_v\n", trace);
         }
     }
     return 1;

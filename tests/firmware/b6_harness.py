@@ -38,13 +38,16 @@ class Row:
     output_enabled: int
     current_a: float
     voltage_v: float
+    cell_max_v: float          # the highest cell's true voltage
 
 
 def read_trace(path: Path) -> list[Row]:
     with open(path, newline="") as f:
         reader = csv.reader(f)
-        assert next(reader) == ["t_ms", "buck_duty", "boost_duty", "output_enabled", "current_a", "voltage_v"]
-        return [Row(int(r[0]), float(r[1]), float(r[2]), int(r[3]), float(r[4]), float(r[5])) for r in reader]
+        assert next(reader) == ["t_ms", "buck_duty", "boost_duty", "output_enabled", "current_a", "voltage_v",
+                                "cell_max_v"]
+        return [Row(int(r[0]), float(r[1]), float(r[2]), int(r[3]), float(r[4]), float(r[5]), float(r[6]))
+                for r in reader]
 
 
 class B6:

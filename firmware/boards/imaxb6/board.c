@@ -25,9 +25,23 @@
 #define RUN_TIME_LIMIT_MS (12UL * 3600UL * 1000UL)
 #define CAPACITY_LIMIT_UAH 10000000UL           /* without a capacity: 10 Ah */
 #define CAL_OUTPUT_MS 60000UL
-#define BALANCE_ON_MV 8                         /* bleed a cell this far above the lowest, until 3 */
-#define BALANCE_OFF_MV 3
+/* The balancer (docs/firmware.md, Balancer). Cheali's facts: it decides with the loads off, once the cells
+ * have settled (Balancer.h balancerStartStableCount 6 x 0.7 s), bleeds every cell above the lowest for
+ * at most maxBalanceTime 15 s, then switches all off and decides again; the current is the lowest that
+ * keeps every cell at the charge voltage per cell (TheveninMethod.cpp calculateI), and the charge ends
+ * when a cell is there and the current has fallen to minIc = Ic / 10 (ProgramData.cpp). */
+#define BALANCE_ON_MV 8                         /* a cell this far above the lowest starts bleeding */
+#define BALANCE_OFF_MV 3                        /* ... one that bled in the last window goes on down to this */
 #define BALANCE_FROM_MV 600                     /* below the chemistry's maximum: the charged part of the curve */
+#define BALANCE_BLEED_SLOWS 150                 /* a window of bleeding: 15 s of 100 ms */
+#define BALANCE_SETTLE_SLOWS 40                 /* the loads off this long (4 s) before a decision */
+#define BALANCE_MAX_BLEEDERS 3                  /* 3 x 4.2 V x 0.3 A = 3.8 W; 4 would be 5.0 W, over the board's
+                                                 * 5 W for heat it burns ([C] MAX_DISCHARGE_P) */
+#define BALANCE_CELLS 0x37                      /* the cells that may bleed: not cell 4 (PD0, the USART's RXD) */
+#define HOLD_MA_PER_MV 5                        /* the hold's gain: the cap moves 5 mA per mV off the ceiling
+                                                 * every 100 ms (x ~50 mOhm per cell: 0.25 a step, no overshoot) */
+#define CEILING_AT_MV 5                         /* a cell read this close to its ceiling is held at it */
+#define HELD_END_SHARE 10                       /* a held charge ends at 1/10 of its phase's current (minIc) */
 #define T_CAL_READ 0x30
 #define T_CAL_WRITE 0x31
 #define T_CAL_MEASURE 0x32
@@ -38,7 +52,9 @@
 static volatile uint32_t millis;
 static volatile uint8_t beeps;
 static hal_output_t out;
-static uint8_t calibrated, run_has_time, balancing;
+static uint8_t calibrated, run_has_time, balancing, bled_before, balance_slows;
+static int16_t hold_ma = B6_CHARGE_MA;                        /* the hold's cap on the charge current, < 0: none */
+static uint16_t ceiling_mv;                     /* the run's charge voltage per cell: the hold's ceiling; 0: none */
 static uint32_t run_capacity_uah, last_latch_ms, cal_output_end_ms;
 static int32_t sink_c100 = 2500;
 
@@ -109,11 +125,31 @@ int32_t hal_cell_uv(uint8_t cell)
     return mv * 1000L;
 }
 
-/* The B6's balancer ends no charge itself: the phase's conditions and the protections do. */
+/* Whether the stage charges now (a charge current or voltage set). */
+static uint8_t charging(void)
+{
+    return out.kind == HAL_VOLTAGE_CHARGE || (out.kind == HAL_CURRENT && out.current_ua > 0);
+}
+
+/* The held charge's end (cheali's): the highest cell at its ceiling and the current down to a tenth of
+ * the phase's own. */
 uint8_t hal_balancer_ceiling(int32_t *ceiling_uv)
 {
-    *ceiling_uv = 0;
-    return 0;
+    uint8_t k, at = 0;
+    int32_t top = 0, v;
+    *ceiling_uv = (int32_t)ceiling_mv * 1000L;
+    if (!ceiling_mv || !charging())
+        return 0;
+    for (k = 0; k < protect_limits.li_cells; k++) {
+        v = hal_cell_uv(k);
+        if (v > top) {
+            top = v;
+            at = (uint8_t)(k + 1);
+        }
+    }
+    if (top < *ceiling_uv - CEILING_AT_MV * 1000L || hal_current_ua() > out.current_ua / HELD_END_SHARE)
+        return 0;
+    return at;
 }
 
 void hal_measure_latch(void)
@@ -189,6 +225,9 @@ static uint8_t has_time_condition(const uint8_t *rec)
 const char *hal_run_start(const uint8_t *rec, uint8_t akk_type, int16_t series, int32_t capacity_mah,
                           uint8_t *code)
 {
+    /* LiPo, LiIon, LiS, LiFe: the charge voltage per cell the balancer holds the highest cell at (cheali
+     * ProgramData.cpp Vc: LiPo 4.200, LiFe 3.600; LiIon 4.20, spec section 5's end voltage; LiS: none) */
+    static const uint16_t charge_mv[4] PROGMEM = {4200, 4200, 0, 3600};
     uint8_t trip;
     const char *why;
     *code = HAL_E_UNCALIBRATED;
@@ -200,41 +239,111 @@ const char *hal_run_start(const uint8_t *rec, uint8_t akk_type, int16_t series, 
     if (why)
         return why;
     run_has_time = has_time_condition(rec);
+    ceiling_mv = protect_limits.li_cells ? pgm_read_word(&charge_mv[akk_type - 4]) : 0;
     run_capacity_uah = capacity_mah > 0 ? (uint32_t)capacity_mah * 2000UL : CAPACITY_LIMIT_UAH;
     return 0;
 }
 
-/* The balancer (docs/firmware.md): in a Li charge, once its cells are on the charged part of their
- * curve (the highest within 600 mV of the chemistry's maximum) or the pack holds its voltage, the cells
- * above the lowest bleed; cell 4's switch is the USART's RXD, which the PC link needs: never driven. */
+/* One balance load switch: driven high to bleed, an input (and its latch low) while it does not (as
+ * cheali's setBalancerOutput). Driven low before it turns into an input, so its gate never sees the
+ * pull-up. */
+static void bleed_pin(volatile uint8_t *ddr, volatile uint8_t *port, uint8_t bit, uint8_t on)
+{
+    if (on) {
+        *ddr |= bit;
+        *port |= bit;
+    } else {
+        *port &= (uint8_t)~bit;
+        *ddr &= (uint8_t)~bit;
+    }
+}
+
+static void bleed(uint8_t mask)
+{
+    balancing = (uint8_t)(mask & BALANCE_CELLS);
+    /* atomic: the ADC interrupt drives the disable lines on the same ports (a trip must not be undone) */
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
+        bleed_pin(&DDRC, &PORTC, _BV(B6_BAL1), balancing & 1);
+        bleed_pin(&DDRC, &PORTC, _BV(B6_BAL2), balancing & 2);
+        bleed_pin(&DDRA, &PORTA, _BV(B6_BAL3), balancing & 4);
+        if (BALANCE_CELLS & 8)
+            bleed_pin(&DDRD, &PORTD, _BV(B6_BAL4), balancing & 8);
+        bleed_pin(&DDRD, &PORTD, _BV(B6_BAL5), balancing & 16);
+        bleed_pin(&DDRD, &PORTD, _BV(B6_BAL6), balancing & 32);
+    }
+}
+
+/* The cells to bleed now, decided with the loads off: each more than BALANCE_ON_MV above the lowest (or
+ * BALANCE_OFF_MV if it bled in the last window), at most BALANCE_MAX_BLEEDERS, the highest first. */
+static uint8_t bleeders(uint8_t n, int16_t low)
+{
+    uint8_t mask = 0, pick, k, at;
+    for (pick = 0; pick < BALANCE_MAX_BLEEDERS; pick++) {
+        int16_t best = 0;
+        at = 0xFF;
+        for (k = 0; k < n; k++) {
+            uint8_t bit = (uint8_t)(1 << k);
+            int16_t over = (int16_t)(protect_cell_mv[k] - low);
+            if (!(mask & bit) && (BALANCE_CELLS & bit) && over > best &&
+                (over > BALANCE_ON_MV || (over > BALANCE_OFF_MV && (bled_before & bit)))) {
+                best = over;
+                at = k;
+            }
+        }
+        if (at == 0xFF)
+            break;
+        mask |= (uint8_t)(1 << at);
+    }
+    return mask;
+}
+
+/* Every 100 ms. The hold: while a Li charge runs with its balance lead, the pack voltage may rise only
+ * as far as takes the highest cell to its ceiling (the regulator then lowers the current: the cells decide
+ * it, as cheali's). The balancer: in that charge, once its cells are on the charged part of their curve
+ * (the highest within 600 mV of the chemistry's maximum) or the pack holds its voltage, windows of 15 s
+ * bleeding and 4 s off: at most 2 switch changes in 19 s, whatever the noise. */
 static void balance(void)
 {
-    uint8_t n = protect_limits.li_cells, k, mask = 0;
+    uint8_t n = protect_limits.li_cells, k;
     int16_t low = 0x7FFF, high = 0;
-    uint8_t charging = out.kind == HAL_VOLTAGE_CHARGE || (out.kind == HAL_CURRENT && out.current_ua > 0);
+    uint8_t on = app_running() && charging();
     for (k = 0; k < n; k++) {
         if (protect_cell_mv[k] < low)
             low = protect_cell_mv[k];
         if (protect_cell_mv[k] > high)
             high = protect_cell_mv[k];
     }
-    if (app_running() && n > 1 && charging &&
-        (high >= (int16_t)protect_limits.cell_max_mv + CELL_MARGIN_MV - BALANCE_FROM_MV ||
-         (out.kind == HAL_VOLTAGE_CHARGE && adc_value(CAL_VOUT) >= out.voltage_uv / 1000 - 50))) {
-        for (k = 0; k < n; k++) {
-            int16_t over = (int16_t)(protect_cell_mv[k] - low);
-            if (over > BALANCE_ON_MV || (over > BALANCE_OFF_MV && (balancing & (1 << k))))
-                mask |= (uint8_t)(1 << k);
-        }
+    if (on && n && ceiling_mv) {
+        /* below the ceiling the cap grows from where it was (a phase change restarts the stage from zero,
+         * not the cells); above it, it falls from the current now; never above the phase's own */
+        int32_t room = (int32_t)ceiling_mv - high, cap = hold_ma;
+        if (room < 0 && protect_latest[CAL_ISMPS] < cap)
+            cap = protect_latest[CAL_ISMPS];
+        cap += room * HOLD_MA_PER_MV;
+        if (cap > out.current_ua / 1000)
+            cap = out.current_ua / 1000;
+        hold_ma = (int16_t)(cap < 0 ? 0 : cap);
+    } else {
+        hold_ma = B6_CHARGE_MA;
     }
-    balancing = (uint8_t)(mask & ~(1 << 3));
-    /* atomic: the ADC interrupt drives the disable lines on the same ports (a trip must not be undone) */
-    ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
-        PORTC = (uint8_t)((PORTC & ~(_BV(B6_BAL1) | _BV(B6_BAL2))) | (balancing & 1 ? _BV(B6_BAL1) : 0) |
-                          (balancing & 2 ? _BV(B6_BAL2) : 0));
-        PORTA = (uint8_t)((PORTA & ~_BV(B6_BAL3)) | (balancing & 4 ? _BV(B6_BAL3) : 0));
-        PORTD = (uint8_t)((PORTD & ~(_BV(B6_BAL5) | _BV(B6_BAL6))) | (balancing & 16 ? _BV(B6_BAL5) : 0) |
-                          (balancing & 32 ? _BV(B6_BAL6) : 0));
+    stage_cap(hold_ma);
+    if (!on || n < 2 || (high < (int16_t)protect_limits.cell_max_mv + CELL_MARGIN_MV - BALANCE_FROM_MV &&
+                         !(out.kind == HAL_VOLTAGE_CHARGE && adc_value(CAL_VOUT) >= out.voltage_uv / 1000 - 50))) {
+        if (balancing)
+            bleed(0);
+        bled_before = 0;
+        balance_slows = 0;
+        return;
+    }
+    if (balancing) {
+        if (++balance_slows >= BALANCE_BLEED_SLOWS) {
+            bled_before = balancing;
+            bleed(0);
+            balance_slows = 0;
+        }
+    } else if (++balance_slows >= BALANCE_SETTLE_SLOWS) {
+        bleed(bleeders(n, low));
+        balance_slows = 0;
     }
 }
 
@@ -394,9 +503,6 @@ int main(void)
     uint32_t last_slow = 0;
     MCUCSR = 0;
     stage_init();                    /* first: every disable line high, both switches low */
-    DDRC |= _BV(B6_BAL1) | _BV(B6_BAL2);
-    DDRA |= _BV(B6_BAL3);
-    DDRD |= _BV(B6_BAL5) | _BV(B6_BAL6);
     DDRB |= _BV(B6_BUZZER);          /* PB0..PB3 stay inputs: the buttons */
     /* Timer0: CTC, /64, 250 counts = 1 ms */
     TCCR0 = _BV(WGM01) | _BV(CS01) | _BV(CS00);
