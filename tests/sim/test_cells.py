@@ -19,19 +19,24 @@ def _weak_run(**setup):
     return simulate(record_of("LiPo"), StartParams("charge", 1, 2000, 2.0, None, 4), BatterySetup(**setup))
 
 
-def test_a_weak_cell_never_passes_the_b6_ceiling_and_its_reading_ends_the_charge():
+def test_a_weak_cell_is_held_at_the_b6_ceiling_and_the_charge_ends_when_its_current_has_fallen():
     r = _weak_run(weak_cell_pct=15.0)
     cc, cv = r.phases
     a = r.log.arrays()
     volts = np.column_stack([a[c] for c in CELLS])
-    assert volts.max() <= 4.2 + 0.0005                      # read to 1 mV, as the B6 reads its taps
+    assert volts.max() <= 4.2 + 0.0005                      # held at the ceiling, to the solve's tolerance
     assert cc.reason == "IF(V>4.1S) STOP_FAZE"
     assert cv.reason == "balancer: cell 4 reached 4.20V (ceiling)" and cv.by_default
-    assert max(cv.cells_end) == cv.cells_end[3] and min(cv.cells_end) < 4.15   # the others are not full
+    in_cv = a["phase"] == cv.run
+    held = in_cv & (volts[:, 3] > 4.2 - 0.0005)
+    assert held.sum() > 600 and np.all(np.diff(a["current_a"][held]) <= 1e-9)   # held: the current only falls
+    assert a["current_a"][in_cv][0] <= a["current_a"][~in_cv][-1]             # no jump at the CV's start
+    assert a["current_a"][in_cv][-1] <= 0.1 * 2.0 + 1e-9                        # ended at a tenth of 2 A
+    assert max(cv.cells_end) == cv.cells_end[3] and min(cv.cells_end) < 4.19   # the others are not full
     in_cv = a["phase"] == cv.run
     assert np.any(a["balance_mask"][in_cv] & 0b1000)           # the weak cell bleeds during CV
     assert cv.bled_s[:3] == (0.0, 0.0, 0.0) and cv.bled_s[3] == cv.end_s - cv.start_s
-    assert "balancer: cell 4 3 min" in cv.notes
+    assert "balancer: cell 4 41 min" in cv.notes
     # the pack's sum is what the charger measured
     assert np.allclose(volts.sum(axis=1), a["voltage_v"], atol=1e-4)
 
@@ -94,8 +99,8 @@ def test_the_b6_balancer_bleeds_through_its_resistor_and_keeps_bleeding_down_to_
     assert bal.mask([4.000, 4.005, 4.009]) == 0b100                  # more than 8 mV above the lowest
     assert bal.mask([4.000, 4.005, 4.004], bleeding=0b100) == 0b100  # once bleeding: while above the lowest
     assert bal.mask([4.000, 4.005, 4.000], bleeding=0b100) == 0
-    assert bal.ceiling_reason("LiPo", [4.1, 4.1996]) == "balancer: cell 2 reached 4.20V (ceiling)"
-    assert bal.ceiling_reason("LiPo", [4.1, 4.1994]) is None and bal.ceiling_reason("NiMh", [9.0]) is None
+    assert bal.ceiling_reason("LiPo", [4.1, 4.1996], 0.1, 1.0) == "balancer: cell 2 reached 4.20V (ceiling)"
+    assert bal.ceiling_reason("LiPo", [4.1, 4.1994], 0.1, 1.0) is None and bal.ceiling_reason("NiMh", [9.0], 0.1, 1.0) is None
 
 
 @pytest.mark.parametrize("table, said", [
@@ -129,3 +134,11 @@ def test_the_balancer_acts_alike_however_the_run_is_advanced():
     assert stepped.phases == whole.phases
     assert (stepped.log.arrays()["balance_mask"] == whole.log.arrays()["balance_mask"]).all()
     assert whole.log.arrays()["balance_mask"].any()
+
+
+def test_the_b6_balancer_ends_a_held_charge_only_when_its_current_has_fallen_to_a_tenth():
+    from zuml_studio.sim.charger_model import load_charger
+    bal = load_charger("imax_b6").balancer
+    assert bal.ceiling_reason("LiPo", [4.1, 4.2], 0.1, 1.0) is not None        # at a tenth: cheali's minIc
+    assert bal.ceiling_reason("LiPo", [4.1, 4.2], 0.1001, 1.0) is None
+    assert bal.ceiling_reason("LiPo", [4.1, 4.2], 0.0, 0.0) is None           # no current asked (a pause)
