@@ -300,8 +300,8 @@ static uint8_t bleeders(uint8_t n, int16_t low)
 /* Every 100 ms. The hold: while a Li charge runs with its balance lead, the pack voltage may rise only
  * as far as takes the highest cell to its ceiling (the regulator then lowers the current: the cells decide
  * it, as cheali's). The balancer: in that charge, once its cells are on the charged part of their curve
- * (the highest within 600 mV of the chemistry's maximum) or the pack holds its voltage, windows of 15 s
- * bleeding and 4 s off: at most 2 switch changes in 19 s, whatever the noise. */
+ * (the highest within 600 mV of the chemistry's maximum) or the pack holds its voltage, windows of at most
+ * 15 s bleeding, then 4 s off: at most 2 + BALANCE_MAX_BLEEDERS switch changes in 19 s, whatever the noise. */
 static void balance(void)
 {
     uint8_t n = protect_limits.li_cells, k;
@@ -336,11 +336,24 @@ static void balance(void)
         return;
     }
     if (balancing) {
-        if (++balance_slows >= BALANCE_BLEED_SLOWS) {
+        /* a cell leaves its window early once it reads at most the lowest cell that does not bleed (its
+         * own bleed lowers it: it leaves a little early, never late); only leaving, so a window makes at
+         * most 1 + BALANCE_MAX_BLEEDERS changes */
+        uint8_t keep = balancing;
+        low = 0x7FFF;
+        for (k = 0; k < n; k++)
+            if (!(balancing & (1 << k)) && protect_cell_mv[k] < low)
+                low = protect_cell_mv[k];
+        for (k = 0; k < n; k++)
+            if (protect_cell_mv[k] <= low)
+                keep &= (uint8_t)~(1 << k);
+        if (++balance_slows >= BALANCE_BLEED_SLOWS || !keep) {
             bled_before = balancing;
-            bleed(0);
+            keep = 0;
             balance_slows = 0;
         }
+        if (keep != balancing)
+            bleed(keep);
     } else if (++balance_slows >= BALANCE_SETTLE_SLOWS) {
         bleed(bleeders(n, low));
         balance_slows = 0;
