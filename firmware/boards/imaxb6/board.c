@@ -10,6 +10,7 @@
 #include "../../core/app.h"
 #include "../avr_uart.h"
 #include "adc.h"
+#include "balance.h"
 #include "calib.h"
 #include "lcd.h"
 #include "panel.h"
@@ -25,23 +26,9 @@
 #define RUN_TIME_LIMIT_MS (12UL * 3600UL * 1000UL)
 #define CAPACITY_LIMIT_UAH 10000000UL           /* without a capacity: 10 Ah */
 #define CAL_OUTPUT_MS 60000UL
-/* The balancer (docs/firmware.md, Balancer). Cheali's facts: it decides with the loads off, once the cells
- * have settled (Balancer.h balancerStartStableCount 6 x 0.7 s), bleeds every cell above the lowest for
- * at most maxBalanceTime 15 s, then switches all off and decides again; the current is the lowest that
- * keeps every cell at the charge voltage per cell (TheveninMethod.cpp calculateI), and the charge ends
- * when a cell is there and the current has fallen to minIc = Ic / 10 (ProgramData.cpp). */
-#define BALANCE_ON_MV 8                         /* a cell this far above the lowest starts bleeding */
-#define BALANCE_OFF_MV 3                        /* ... one that bled in the last window goes on down to this */
 #define BALANCE_FROM_MV 600                     /* below the chemistry's maximum: the charged part of the curve */
-#define BALANCE_BLEED_SLOWS 150                 /* a window of bleeding: 15 s of 100 ms */
-#define BALANCE_SETTLE_SLOWS 40                 /* the loads off this long (4 s) before a decision */
-#define BALANCE_MAX_BLEEDERS 3                  /* 3 x 4.2 V x 0.3 A = 3.8 W; 4 would be 5.0 W, over the board's
-                                                 * 5 W for heat it burns ([C] MAX_DISCHARGE_P) */
-#define BALANCE_CELLS 0x37                      /* the cells that may bleed: not cell 4 (PD0, the USART's RXD) */
-#define HOLD_MA_PER_MV 5                        /* the hold's gain: the cap moves 5 mA per mV off the ceiling
-                                                 * every 100 ms (x ~50 mOhm per cell: 0.25 a step, no overshoot) */
-#define CEILING_AT_MV 5                         /* a cell read this close to its ceiling is held at it */
-#define HELD_END_SHARE 10                       /* a held charge ends at 1/10 of its phase's current (minIc) */
+#define BALANCE_BLEED_SLOWS 150                 /* a window of bleeding: at most 15 s of 100 ms (cheali) */
+#define BALANCE_SETTLE_SLOWS 40                 /* the loads off this long (4 s) before a decision (cheali) */
 #define T_CAL_READ 0x30
 #define T_CAL_WRITE 0x31
 #define T_CAL_MEASURE 0x32
@@ -138,7 +125,7 @@ uint8_t hal_balancer_ceiling(int32_t *ceiling_uv)
     uint8_t k, at = 0;
     int32_t top = 0, v;
     *ceiling_uv = (int32_t)ceiling_mv * 1000L;
-    if (!ceiling_mv || !charging())
+    if (!charging())
         return 0;
     for (k = 0; k < protect_limits.li_cells; k++) {
         v = hal_cell_uv(k);
@@ -147,9 +134,7 @@ uint8_t hal_balancer_ceiling(int32_t *ceiling_uv)
             at = (uint8_t)(k + 1);
         }
     }
-    if (top < *ceiling_uv - CEILING_AT_MV * 1000L || hal_current_ua() > out.current_ua / HELD_END_SHARE)
-        return 0;
-    return at;
+    return balance_held_end(top, *ceiling_uv, hal_current_ua(), out.current_ua) ? at : 0;
 }
 
 void hal_measure_latch(void)
@@ -225,9 +210,6 @@ static uint8_t has_time_condition(const uint8_t *rec)
 const char *hal_run_start(const uint8_t *rec, uint8_t akk_type, int16_t series, int32_t capacity_mah,
                           uint8_t *code)
 {
-    /* LiPo, LiIon, LiS, LiFe: the charge voltage per cell the balancer holds the highest cell at (cheali
-     * ProgramData.cpp Vc: LiPo 4.200, LiFe 3.600; LiIon 4.20, spec section 5's end voltage; LiS: none) */
-    static const uint16_t charge_mv[4] PROGMEM = {4200, 4200, 0, 3600};
     uint8_t trip;
     const char *why;
     *code = HAL_E_UNCALIBRATED;
@@ -239,7 +221,7 @@ const char *hal_run_start(const uint8_t *rec, uint8_t akk_type, int16_t series, 
     if (why)
         return why;
     run_has_time = has_time_condition(rec);
-    ceiling_mv = protect_limits.li_cells ? pgm_read_word(&charge_mv[akk_type - 4]) : 0;
+    ceiling_mv = protect_limits.li_cells ? balance_ceiling_mv(akk_type) : 0;
     run_capacity_uah = capacity_mah > 0 ? (uint32_t)capacity_mah * 2000UL : CAPACITY_LIMIT_UAH;
     return 0;
 }
@@ -273,33 +255,9 @@ static void bleed(uint8_t mask)
     }
 }
 
-/* The cells to bleed now, decided with the loads off: each more than BALANCE_ON_MV above the lowest (or
- * BALANCE_OFF_MV if it bled in the last window), at most BALANCE_MAX_BLEEDERS, the highest first. */
-static uint8_t bleeders(uint8_t n, int16_t low)
-{
-    uint8_t mask = 0, pick, k, at;
-    for (pick = 0; pick < BALANCE_MAX_BLEEDERS; pick++) {
-        int16_t best = 0;
-        at = 0xFF;
-        for (k = 0; k < n; k++) {
-            uint8_t bit = (uint8_t)(1 << k);
-            int16_t over = (int16_t)(protect_cell_mv[k] - low);
-            if (!(mask & bit) && (BALANCE_CELLS & bit) && over > best &&
-                (over > BALANCE_ON_MV || (over > BALANCE_OFF_MV && (bled_before & bit)))) {
-                best = over;
-                at = k;
-            }
-        }
-        if (at == 0xFF)
-            break;
-        mask |= (uint8_t)(1 << at);
-    }
-    return mask;
-}
-
-/* Every 100 ms. The hold: while a Li charge runs with its balance lead, the pack voltage may rise only
- * as far as takes the highest cell to its ceiling (the regulator then lowers the current: the cells decide
- * it, as cheali's). The balancer: in that charge, once its cells are on the charged part of their curve
+/* Every 100 ms. The hold: while a Li charge runs with its balance lead, the charge current is capped so
+ * that the highest cell stays at its ceiling (balance_cap: the cells decide the current, as cheali's). The
+ * balancer: in that charge, once its cells are on the charged part of their curve
  * (the highest within 600 mV of the chemistry's maximum) or the pack holds its voltage, windows of at most
  * 15 s bleeding, then 4 s off: at most 2 + BALANCE_MAX_BLEEDERS switch changes in 19 s, whatever the noise. */
 static void balance(void)
@@ -313,19 +271,9 @@ static void balance(void)
         if (protect_cell_mv[k] > high)
             high = protect_cell_mv[k];
     }
-    if (on && n && ceiling_mv) {
-        /* below the ceiling the cap grows from where it was (a phase change restarts the stage from zero,
-         * not the cells); above it, it falls from the current now; never above the phase's own */
-        int32_t room = (int32_t)ceiling_mv - high, cap = hold_ma;
-        if (room < 0 && protect_latest[CAL_ISMPS] < cap)
-            cap = protect_latest[CAL_ISMPS];
-        cap += room * HOLD_MA_PER_MV;
-        if (cap > out.current_ua / 1000)
-            cap = out.current_ua / 1000;
-        hold_ma = (int16_t)(cap < 0 ? 0 : cap);
-    } else {
-        hold_ma = B6_CHARGE_MA;
-    }
+    hold_ma = on && n && ceiling_mv ? balance_cap(hold_ma, (int16_t)(ceiling_mv - high),
+                                                  stage_battery_ma(protect_latest[CAL_ISMPS]),
+                                                  out.current_ua / 1000) : B6_CHARGE_MA;
     stage_cap(hold_ma);
     if (!on || n < 2 || (high < (int16_t)protect_limits.cell_max_mv + CELL_MARGIN_MV - BALANCE_FROM_MV &&
                          !(out.kind == HAL_VOLTAGE_CHARGE && adc_value(CAL_VOUT) >= out.voltage_uv / 1000 - 50))) {
@@ -339,14 +287,7 @@ static void balance(void)
         /* a cell leaves its window early once it reads at most the lowest cell that does not bleed (its
          * own bleed lowers it: it leaves a little early, never late); only leaving, so a window makes at
          * most 1 + BALANCE_MAX_BLEEDERS changes */
-        uint8_t keep = balancing;
-        low = 0x7FFF;
-        for (k = 0; k < n; k++)
-            if (!(balancing & (1 << k)) && protect_cell_mv[k] < low)
-                low = protect_cell_mv[k];
-        for (k = 0; k < n; k++)
-            if (protect_cell_mv[k] <= low)
-                keep &= (uint8_t)~(1 << k);
+        uint8_t keep = balance_keep(protect_cell_mv, n, balancing);
         if (++balance_slows >= BALANCE_BLEED_SLOWS || !keep) {
             bled_before = balancing;
             keep = 0;
@@ -355,7 +296,7 @@ static void balance(void)
         if (keep != balancing)
             bleed(keep);
     } else if (++balance_slows >= BALANCE_SETTLE_SLOWS) {
-        bleed(bleeders(n, low));
+        bleed(balance_bleeders(protect_cell_mv, n, bled_before));
         balance_slows = 0;
     }
 }
