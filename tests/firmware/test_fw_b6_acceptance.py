@@ -190,3 +190,47 @@ def test_in_boost_the_battery_current_is_regulated_shown_and_counted_within_5_pe
     true_mah = sum(r.current_a for r in rows if r.output_enabled) / 3600.0
     # the LCD shows whole mAh, the last line a moment before the end; the inductor's count would be 1.8x
     assert true_mah - 1.5 <= counted_mah <= true_mah, (counted_mah, true_mah)
+
+
+HELD = """MACRO Held
+  AKK_TYPE=LiPo
+  CHARGE_SECTION
+    FAZE
+    CONSTANT_I=1A
+    IF(V>4.25S) STOP_FAZE()
+    END_FAZE
+  END_SECTION
+END_MACRO
+"""
+
+
+def test_a_weak_cell_pack_ends_the_same_way_on_the_simulated_b6_and_in_the_simulator(image, tmp_path):
+    # the pack cannot reach 4.25 V per cell while its cells are held at 4.20 V, so the phase ends by the
+    # balancer's held end (a tenth of 1 A) on both sides, with the same reason, and no cell past the ceiling
+    from zuml_studio.sim.simulate import BatterySetup, simulate
+    from zuml_studio.sim.interpreter import StartParams
+    store = eeprom.pack([compiled(HELD)], STORE_SIZE)
+    path = tmp_path / "ee.bin"
+    path.write_bytes(store + b"\xff" * (1024 - len(store)))
+    sim = B6(image, "--speed", "0", "--lcd", "--eeprom", path, "--trace", tmp_path / "t.csv", "--press", START,
+             "--cells", "3", "--soc", "0.85", "--capacity", "20", "--weak-cell", "30")
+    try:
+        sim.wait_line("LCD|end Held|")
+        client = ChargerClient(sim.port, timeout=10)
+        try:
+            status = client.status()
+            events = [client.get_event(k) for k in range(status.events)]
+        finally:
+            client.close()
+    finally:
+        sim.stop()
+    device = [e.detail for e in events if e.kind == "phase_end"]
+    assert device == ["balancer: cell 3 reached 4.20V (ceiling)"], device
+    assert max(r.cell_max_v for r in read_trace(tmp_path / "t.csv")) < 4.20 + 0.025   # the taps' calibration
+    # the simulator's B6 on the same macro and a pack as weak (its cell resistance scales with 1/capacity: a
+    # 20 mAh cell at 1 A would start at 4.2 V, so 200 mAh)
+    result = simulate(compiled(HELD), StartParams("charge", 1, 200, None, None, 3),
+                      BatterySetup(soc=0.85, weak_cell_pct=30.0))
+    assert [p.reason for p in result.phases] == device
+    cells = result.log.arrays()
+    assert max(cells[f"cell{k}_v"].max() for k in (1, 2, 3)) <= 4.20 + 0.005

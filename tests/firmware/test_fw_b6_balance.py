@@ -24,7 +24,8 @@ def lib():
     so.balance_bleeders.restype = ctypes.c_uint8
     so.balance_bleeders.argtypes = [ctypes.POINTER(ctypes.c_int16), ctypes.c_uint8, ctypes.c_uint8]
     so.balance_keep.restype = ctypes.c_uint8
-    so.balance_keep.argtypes = [ctypes.POINTER(ctypes.c_int16), ctypes.c_uint8, ctypes.c_uint8]
+    so.balance_keep.argtypes = [ctypes.POINTER(ctypes.c_int16), ctypes.c_uint8, ctypes.c_uint8,
+                                ctypes.POINTER(ctypes.c_int16)]
     so.balance_cap.restype = ctypes.c_int16
     so.balance_cap.argtypes = [ctypes.c_int16, ctypes.c_int16, ctypes.c_int16, ctypes.c_int32]
     so.balance_held_end.restype = ctypes.c_uint8
@@ -71,12 +72,17 @@ def test_cell_4_never_bleeds_its_switch_is_the_usart_s_rxd(lib):
     assert bleeders(lib, [4000, 4010, 4000, 4050, 4000, 4000]) == 0b10
 
 
-def test_a_bleeding_cell_goes_on_while_above_the_lowest_cell_that_does_not_bleed(lib):
-    keep = lambda mv, bleeding: lib.balance_keep(cells(*mv), len(mv), bleeding)
+def test_a_bleeding_cell_goes_on_while_its_presumed_voltage_is_above_the_lowest_cell_that_does_not_bleed(lib):
+    def keep(mv, bleeding, drop=(0,) * 6):
+        return lib.balance_keep(cells(*mv), len(mv), bleeding, cells(*drop))
     assert keep([4000, 4001, 4000], 0b010) == 0b010
     assert keep([4000, 4000, 4005], 0b010) == 0                  # at the lowest: it leaves
     assert keep([4010, 3990, 4000], 0b011) == 0b001              # a bled cell reading low is not the reference
     assert keep([4003, 4001, 4005], 0b011) == 0
+    # its own bleed took 9 mV off its reading: it is presumed 9 mV higher (cheali's Voff - Von)
+    assert keep([4000, 3992, 4000], 0b010, (0, 9, 0)) == 0b010
+    assert keep([4000, 3991, 4000], 0b010, (0, 9, 0)) == 0
+    assert keep([3995, 3996, 4000], 0b010, (9, 0, 0)) == 0b010   # only a bleeding cell's own drop counts
 
 
 def test_the_hold_caps_the_current_by_5_ma_per_mv_from_where_it_was_or_from_the_current_above_the_ceiling(lib):

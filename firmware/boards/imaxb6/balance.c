@@ -38,7 +38,7 @@ uint8_t balance_bleeders(const volatile int16_t *cell_mv, uint8_t n, uint8_t ble
     return mask;
 }
 
-uint8_t balance_keep(const volatile int16_t *cell_mv, uint8_t n, uint8_t bleeding)
+uint8_t balance_keep(const volatile int16_t *cell_mv, uint8_t n, uint8_t bleeding, const int16_t *drop_mv)
 {
     uint8_t k, keep = bleeding;
     int16_t low = 0x7FFF;
@@ -46,7 +46,7 @@ uint8_t balance_keep(const volatile int16_t *cell_mv, uint8_t n, uint8_t bleedin
         if (!(bleeding & (1 << k)) && cell_mv[k] < low)
             low = cell_mv[k];
     for (k = 0; k < n; k++)
-        if (cell_mv[k] <= low)
+        if ((bleeding & (1 << k)) && cell_mv[k] + drop_mv[k] <= low)
             keep &= (uint8_t)~(1 << k);
     return keep;
 }

@@ -25,9 +25,10 @@ uint16_t balance_ceiling_mv(uint8_t akk_type);
 /* The cells to bleed (bit k: cell k+1), decided with the loads off: each more than BALANCE_ON_MV above
  * the lowest (BALANCE_OFF_MV if it is in `bled_before`), at most BALANCE_MAX_BLEEDERS, the highest first. */
 uint8_t balance_bleeders(const volatile int16_t *cell_mv, uint8_t n, uint8_t bled_before);
-/* The cells of `bleeding` that go on: those above the lowest cell that does not bleed (a bled cell reads
- * low by its own bleed: it leaves a little early, never late). */
-uint8_t balance_keep(const volatile int16_t *cell_mv, uint8_t n, uint8_t bleeding);
+/* The cells of `bleeding` that go on: those whose presumed voltage (the reading now plus `drop_mv`, what
+ * its own bleed took off its reading when it started: cheali's Voff - Von) is above the lowest cell that
+ * does not bleed. */
+uint8_t balance_keep(const volatile int16_t *cell_mv, uint8_t n, uint8_t bleeding, const int16_t *drop_mv);
 /* The hold's next cap on the charge current (mA), from the last one, the highest cell's room to its ceiling
  * (mV), the current now and the phase's own: below the ceiling it grows from where it was (a phase change
  * restarts the stage, not the cells), above it, it falls from the current now; never above the phase's. */

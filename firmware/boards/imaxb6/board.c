@@ -40,6 +40,8 @@ static volatile uint32_t millis;
 static volatile uint8_t beeps;
 static hal_output_t out;
 static uint8_t calibrated, run_has_time, balancing, bled_before, balance_slows;
+static int16_t bleed_drop_mv[6];                /* each cell's reading before its bleed, then what the bleed took
+                                                 * off it (cheali's Voff - Von) */
 static int16_t hold_ma = B6_CHARGE_MA;                        /* the hold's cap on the charge current, < 0: none */
 static uint16_t ceiling_mv;                     /* the run's charge voltage per cell: the hold's ceiling; 0: none */
 static uint32_t run_capacity_uah, last_latch_ms, cal_output_end_ms;
@@ -284,11 +286,14 @@ static void balance(void)
         return;
     }
     if (balancing) {
-        /* a cell leaves its window early once it reads at most the lowest cell that does not bleed (its
-         * own bleed lowers it: it leaves a little early, never late); only leaving, so a window makes at
-         * most 1 + BALANCE_MAX_BLEEDERS changes */
-        uint8_t keep = balance_keep(protect_cell_mv, n, balancing);
-        if (++balance_slows >= BALANCE_BLEED_SLOWS || !keep) {
+        /* a cell leaves its window early once its presumed voltage is at most the lowest cell that does
+         * not bleed; only leaving, so a window makes at most 1 + BALANCE_MAX_BLEEDERS changes */
+        uint8_t keep;
+        if (++balance_slows == 1)                /* 100 ms into the window: what each bleed takes off its reading */
+            for (k = 0; k < n; k++)
+                bleed_drop_mv[k] = balancing & (1 << k) ? bleed_drop_mv[k] - protect_cell_mv[k] : 0;
+        keep = balance_keep(protect_cell_mv, n, balancing, bleed_drop_mv);
+        if (balance_slows >= BALANCE_BLEED_SLOWS || !keep) {
             bled_before = balancing;
             keep = 0;
             balance_slows = 0;
@@ -296,6 +301,8 @@ static void balance(void)
         if (keep != balancing)
             bleed(keep);
     } else if (++balance_slows >= BALANCE_SETTLE_SLOWS) {
+        for (k = 0; k < n; k++)
+            bleed_drop_mv[k] = protect_cell_mv[k];
         bleed(balance_bleeders(protect_cell_mv, n, bled_before));
         balance_slows = 0;
     }
