@@ -169,12 +169,14 @@ def six_cells_charged_for(b6, seconds):
 
 
 def test_a_flat_6s_pack_does_not_chatter(b6):
-    # cells equal within the taps' noise: the balancer decides with its loads off (4 s after the last change)
-    # and bleeds in 15 s windows: at most 2 switch changes in any 19 s (the review measured 40 in 6 s)
+    # cells equal but for the taps' calibration: the balancer decides with its loads off (4 s after the last
+    # change) and bleeds in windows of at most 15 s, cells only leaving them: at most 2 + 3 switch changes
+    # in any 19 s, and never 2 within 4 s (the review measured 40 in 6 s)
     lines, _ = six_cells_charged_for(b6, 30.0)
     changes = [float(line.split("|")[1]) for line in lines if line.startswith("BALANCER|")]
     for t in changes:
-        assert sum(1 for u in changes if t <= u < t + 19.0) <= 2, changes
+        assert sum(1 for u in changes if t <= u < t + 19.0) <= 5, changes
+        assert sum(1 for u in changes if t <= u < t + 4.0) <= 1, changes
 
 
 def test_in_boost_the_battery_current_is_regulated_shown_and_counted_within_5_percent(b6):
