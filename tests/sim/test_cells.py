@@ -29,14 +29,14 @@ def test_a_weak_cell_is_held_at_the_b6_ceiling_and_the_charge_ends_when_its_curr
     assert cv.reason == "balancer: cell 4 reached 4.20V (ceiling)" and cv.by_default
     in_cv = a["phase"] == cv.run
     held = in_cv & (volts[:, 3] > 4.2 - 0.0005)
-    assert held.sum() > 600 and np.all(np.diff(a["current_a"][held]) <= 1e-9)   # held: the current only falls
+    assert held.sum() > 300 and np.all(np.diff(a["current_a"][held]) <= 1e-9)   # held: the current only falls
     assert a["current_a"][in_cv][0] <= a["current_a"][~in_cv][-1]             # no jump at the CV's start
-    assert a["current_a"][in_cv][-1] <= 0.1 * 2.0 + 1e-9                        # ended at a tenth of 2 A
-    assert max(cv.cells_end) == cv.cells_end[3] and min(cv.cells_end) < 4.19   # the others are not full
+    assert a["current_a"][in_cv][-1] <= 0.1 * 2.0 + 0.161      # the cells keep a tenth of 2 A (0.16 A bled)
+    assert max(cv.cells_end) == cv.cells_end[3] and min(cv.cells_end) < 4.15   # the others are not full
     in_cv = a["phase"] == cv.run
     assert np.any(a["balance_mask"][in_cv] & 0b1000)           # the weak cell bleeds during CV
     assert cv.bled_s[:3] == (0.0, 0.0, 0.0) and cv.bled_s[3] == cv.end_s - cv.start_s
-    assert "balancer: cell 4 41 min" in cv.notes
+    assert "balancer: cell 4 12 min" in cv.notes
     # the pack's sum is what the charger measured
     assert np.allclose(volts.sum(axis=1), a["voltage_v"], atol=1e-4)
 
@@ -142,3 +142,42 @@ def test_the_b6_balancer_ends_a_held_charge_only_when_its_current_has_fallen_to_
     assert bal.ceiling_reason("LiPo", [4.1, 4.2], 0.1, 1.0) is not None        # at a tenth: cheali's minIc
     assert bal.ceiling_reason("LiPo", [4.1, 4.2], 0.1001, 1.0) is None
     assert bal.ceiling_reason("LiPo", [4.1, 4.2], 0.0, 0.0) is None           # no current asked (a pause)
+
+
+CC_TO_CEILING = """MACRO Past
+  AKK_TYPE={chem}
+  CHARGE_SECTION
+    FAZE
+    CONSTANT_I=1C
+    IF(V>{over}S) STOP_FAZE()
+    END_FAZE
+    FAZE
+    CONSTANT_I=1C
+    CONSTANT_V={cv}S
+    IF(I<0.05C) STOP_FAZE()
+    END_FAZE
+  END_SECTION
+END_MACRO
+"""
+
+
+@pytest.mark.parametrize("charger", ["imax_b6", "icharger_406duo"])
+@pytest.mark.parametrize("chem, over, cv", [("LiPo", "4.25", "4.2"), ("LiFe", "3.65", "3.6"), ("LiIon", "4.24", "4.2")])
+@pytest.mark.parametrize("spread", [dict(weak_cell_pct=15.0), dict(cell_spread=(10.0, 30.0, 10.0), seed=3),
+                                    dict(weak_cell_pct=30.0, weak_cell=1)])
+def test_no_cell_passes_its_ceiling_at_any_tick_and_no_phase_starts_above_its_own_current(charger, chem, over, cv,
+                                                                                         spread):
+    # a CC that asks for more than the ceiling (the balancer's held end ends it), then a CV at the ceiling
+    from helpers import compiled
+    from zuml_studio.sim.charger_model import load_charger
+    record = compiled(CC_TO_CEILING.format(chem=chem, over=over, cv=cv))
+    r = simulate(record, StartParams("charge", 1, 2200, None, None, 4), BatterySetup(charger=charger, **spread))
+    ceiling = load_charger(charger).balancer.ceiling_v[chem]
+    a = r.log.arrays()
+    volts = np.column_stack([a[c] for c in CELLS])
+    assert volts.max() <= ceiling + 0.005
+    cc, cv_phase = r.phases
+    assert cc.reason.startswith("balancer: cell")                       # held, then ended at a tenth of 1C
+    in_cv = a["phase"] == cv_phase.run
+    assert a["current_a"][in_cv].max() <= 2.2 + 1e-6                    # its own limit, 1C (a 1.2 A bleed may
+                                                                        # let it start above the CC's end)

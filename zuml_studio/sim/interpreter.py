@@ -486,7 +486,7 @@ class Interpreter:
                 if detector.update(a.t_phase, v) > dpeak[0]:
                     reason = dpeak[1]
             if reason is None and ceiling is not None:
-                reason = ceiling.ceiling_reason(chem_name, pack.cell_voltages, i, own)
+                reason = ceiling.ceiling_reason(chem_name, pack.cell_voltages, i, own, pack.bleed_a)
             if reason is None:
                 if sensor:
                     if t_max_default and temp > DEFAULT_T_MAX:

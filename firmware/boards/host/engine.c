@@ -226,7 +226,7 @@ int32_t ze_run(ze_run_t *e, int32_t max_ticks)
             }
             e->balance_mask[n] = ph.mask;
         }
-        zh_set_ceiling(ph.ceiling ? zm_ceiling_cell(bal, p->cell_voltages, cells, i, own) : 0, ceiling_uv);
+        zh_set_ceiling(ph.ceiling ? zm_ceiling_cell(bal, p->cell_voltages, cells, i, own, p->bleed_a) : 0, ceiling_uv);
         running = zh_measure(fixed(v), fixed(i), fixed(temp), fixed(hs), fixed(ocv));
         n++;
         e->ticks++;
