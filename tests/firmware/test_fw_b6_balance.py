@@ -29,7 +29,9 @@ def lib():
     so.balance_cap.restype = ctypes.c_int16
     so.balance_cap.argtypes = [ctypes.c_int16, ctypes.c_int16, ctypes.c_int16, ctypes.c_int32]
     so.balance_held_end.restype = ctypes.c_uint8
-    so.balance_held_end.argtypes = [ctypes.c_int32] * 4
+    so.balance_held_end.argtypes = [ctypes.c_int32] * 5
+    so.balance_bled_ua.restype = ctypes.c_int32
+    so.balance_bled_ua.argtypes = [ctypes.POINTER(ctypes.c_int16), ctypes.c_uint8, ctypes.c_uint8]
     return so
 
 
@@ -95,10 +97,19 @@ def test_the_hold_caps_the_current_by_5_ma_per_mv_from_where_it_was_or_from_the_
     assert cap(100, -100, 50, 2000) == 0                        # never below zero
 
 
-def test_a_held_charge_ends_at_its_ceiling_less_5_mv_and_a_tenth_of_its_current(lib):
+def test_a_held_charge_ends_at_its_ceiling_less_5_mv_and_a_tenth_of_its_current_kept_by_the_cells(lib):
     end = lib.balance_held_end
-    assert end(4195000, 4200000, 100000, 1000000) == 1
-    assert end(4194999, 4200000, 100000, 1000000) == 0          # below the ceiling
-    assert end(4195000, 4200000, 100001, 1000000) == 0          # more than a tenth
-    assert end(4195000, 0, 0, 1000000) == 0                     # no ceiling (a chemistry without one)
-    assert end(4195000, 4200000, 0, 0) == 0                     # no current asked
+    assert end(4195000, 4200000, 100000, 0, 1000000) == 1
+    assert end(4194999, 4200000, 100000, 0, 1000000) == 0       # below the ceiling
+    assert end(4195000, 4200000, 100001, 0, 1000000) == 0       # more than a tenth
+    assert end(4195000, 4200000, 400000, 300000, 1000000) == 1  # a tenth kept, 0.3 A bled
+    assert end(4195000, 4200000, 400001, 300000, 1000000) == 0
+    assert end(4195000, 0, 0, 0, 1000000) == 0                  # no ceiling (a chemistry without one)
+    assert end(4195000, 4200000, 0, 0, 0) == 0                  # no current asked
+
+
+def test_a_load_bleeds_300_ma_at_4_2_v(lib):
+    bled = lambda mv, bleeding: lib.balance_bled_ua(cells(*mv), len(mv), bleeding)
+    assert bled([4200, 4200, 4200], 0b101) == 600000
+    assert bled([4200, 4200, 4200], 0) == 0
+    assert bled([4200, 3500, 4200, 4200, 4200, 4200], 0b100010) == 250000 + 300000   # the 6th cell counts

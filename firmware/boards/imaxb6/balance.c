@@ -62,8 +62,18 @@ int16_t balance_cap(int16_t cap_ma, int16_t room_mv, int16_t now_ma, int32_t own
     return (int16_t)(cap < 0 ? 0 : cap);
 }
 
-uint8_t balance_held_end(int32_t top_uv, int32_t ceiling_uv, int32_t current_ua, int32_t own_ua)
+int32_t balance_bled_ua(const volatile int16_t *cell_mv, uint8_t n, uint8_t bleeding)
+{
+    int32_t ua = 0;
+    uint8_t k;
+    for (k = 0; k < n; k++)
+        if (bleeding & (1 << k))
+            ua += (int32_t)cell_mv[k] * 1000L / BLEED_OHM;
+    return ua;
+}
+
+uint8_t balance_held_end(int32_t top_uv, int32_t ceiling_uv, int32_t current_ua, int32_t bled_ua, int32_t own_ua)
 {
     return ceiling_uv > 0 && own_ua > 0 && top_uv >= ceiling_uv - CEILING_AT_MV * 1000L &&
-           current_ua <= own_ua / HELD_END_SHARE;
+           current_ua - bled_ua <= own_ua / HELD_END_SHARE;
 }

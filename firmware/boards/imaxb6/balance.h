@@ -19,6 +19,7 @@
                                     * x ~50 mOhm per cell, a quarter of the way a step: no overshoot */
 #define CEILING_AT_MV 5            /* a cell read this close to its ceiling is at it (the hold's own ripple) */
 #define HELD_END_SHARE 10          /* a held charge ends at 1/10 of its phase's current (minIc = Ic / 10) */
+#define BLEED_OHM 14               /* a load: 300 mA at 4.2 V, the B6 manual's balance drain (the simulated B6's) */
 
 /* The charge voltage per cell the balancer holds the highest cell at, mV, by AKK_TYPE; 0: none. */
 uint16_t balance_ceiling_mv(uint8_t akk_type);
@@ -33,7 +34,10 @@ uint8_t balance_keep(const volatile int16_t *cell_mv, uint8_t n, uint8_t bleedin
  * (mV), the current now and the phase's own: below the ceiling it grows from where it was (a phase change
  * restarts the stage, not the cells), above it, it falls from the current now; never above the phase's. */
 int16_t balance_cap(int16_t cap_ma, int16_t room_mv, int16_t now_ma, int32_t own_ma);
-/* 1 when a held charge ends: the highest cell at its ceiling and the current down to a tenth of the phase's. */
-uint8_t balance_held_end(int32_t top_uv, int32_t ceiling_uv, int32_t current_ua, int32_t own_ua);
+/* What the loads of `bleeding` draw from their cells now, uA. */
+int32_t balance_bled_ua(const volatile int16_t *cell_mv, uint8_t n, uint8_t bleeding);
+/* 1 when a held charge ends: the highest cell at its ceiling and the charge the cells keep (the current less
+ * what the loads bleed, `bled_ua`) down to a tenth of the phase's current (the simulator's B6 the same). */
+uint8_t balance_held_end(int32_t top_uv, int32_t ceiling_uv, int32_t current_ua, int32_t bled_ua, int32_t own_ua);
 
 #endif
