@@ -100,7 +100,8 @@ def test_the_b6_balancer_bleeds_through_its_resistor_and_keeps_bleeding_down_to_
     assert bal.mask([4.000, 4.005, 4.004], bleeding=0b100) == 0b100  # once bleeding: while above the lowest
     assert bal.mask([4.000, 4.005, 4.000], bleeding=0b100) == 0
     assert bal.ceiling_reason("LiPo", [4.1, 4.1996], 0.1, 1.0) == "balancer: cell 2 reached 4.20V (ceiling)"
-    assert bal.ceiling_reason("LiPo", [4.1, 4.1994], 0.1, 1.0) is None and bal.ceiling_reason("NiMh", [9.0], 0.1, 1.0) is None
+    assert bal.ceiling_reason("LiPo", [4.1, 4.1994], 0.1, 1.0) is None
+    assert bal.ceiling_reason("NiMh", [9.0], 0.1, 1.0) is None
 
 
 @pytest.mark.parametrize("table, said", [
@@ -142,6 +143,8 @@ def test_the_b6_balancer_ends_a_held_charge_only_when_its_current_has_fallen_to_
     assert bal.ceiling_reason("LiPo", [4.1, 4.2], 0.1, 1.0) is not None        # at a tenth: cheali's minIc
     assert bal.ceiling_reason("LiPo", [4.1, 4.2], 0.1001, 1.0) is None
     assert bal.ceiling_reason("LiPo", [4.1, 4.2], 0.0, 0.0) is None           # no current asked (a pause)
+    assert bal.ceiling_reason("LiPo", [4.1, 4.2], 0.26, 1.0, [0.16, 0.0]) is not None   # a tenth kept, 0.16 A bled
+    assert bal.ceiling_reason("LiPo", [4.1, 4.2], 0.2601, 1.0, [0.0, 0.16]) is None
 
 
 CC_TO_CEILING = """MACRO Past
