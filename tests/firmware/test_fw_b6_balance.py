@@ -29,7 +29,7 @@ def lib():
     so.balance_cap.restype = ctypes.c_int16
     so.balance_cap.argtypes = [ctypes.c_int16, ctypes.c_int16, ctypes.c_int16, ctypes.c_int32]
     so.balance_held_end.restype = ctypes.c_uint8
-    so.balance_held_end.argtypes = [ctypes.c_int32] * 5
+    so.balance_held_end.argtypes = [ctypes.c_int32] * 4 + [ctypes.c_uint8, ctypes.c_int32]
     so.balance_bled_ua.restype = ctypes.c_int32
     so.balance_bled_ua.argtypes = [ctypes.POINTER(ctypes.c_int16), ctypes.c_uint8, ctypes.c_uint8]
     return so
@@ -99,13 +99,14 @@ def test_the_hold_caps_the_current_by_5_ma_per_mv_from_where_it_was_or_from_the_
 
 def test_a_held_charge_ends_at_its_ceiling_less_5_mv_and_a_tenth_of_its_current_kept_by_the_cells(lib):
     end = lib.balance_held_end
-    assert end(4195000, 4200000, 100000, 0, 1000000) == 1
-    assert end(4194999, 4200000, 100000, 0, 1000000) == 0       # below the ceiling
-    assert end(4195000, 4200000, 100001, 0, 1000000) == 0       # more than a tenth
-    assert end(4195000, 4200000, 400000, 300000, 1000000) == 1  # a tenth kept, 0.3 A bled
-    assert end(4195000, 4200000, 400001, 300000, 1000000) == 0
-    assert end(4195000, 0, 0, 0, 1000000) == 0                  # no ceiling (a chemistry without one)
-    assert end(4195000, 4200000, 0, 0, 0) == 0                  # no current asked
+    assert end(4195000, 4200000, 100000, 0, 3, 1000000) == 1
+    assert end(4194999, 4200000, 100000, 0, 3, 1000000) == 0       # below the ceiling
+    assert end(4195000, 4200000, 100001, 0, 3, 1000000) == 0       # more than a tenth
+    assert end(4195000, 4200000, 300000, 600000, 3, 1000000) == 1  # a tenth kept: 0.6 A bled over 3 cells
+    assert end(4195000, 4200000, 300001, 600000, 3, 1000000) == 0
+    assert end(4195000, 4200000, 100000, 0, 0, 1000000) == 0       # no cells
+    assert end(4195000, 0, 0, 0, 3, 1000000) == 0                  # no ceiling (a chemistry without one)
+    assert end(4195000, 4200000, 0, 0, 3, 0) == 0                  # no current asked
 
 
 def test_a_load_bleeds_300_ma_at_4_2_v(lib):

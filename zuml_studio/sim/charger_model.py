@@ -70,14 +70,14 @@ class BalancerSpec:
     def ceiling_reason(self, chemistry: str, cell_voltages, current_a: float, own_a: float,
                        bleed_a=None) -> str | None:
         """The end reason of a charge held at the ceiling: a cell read (to 1 mV) at the chemistry's ceiling
-        and the charge the cells keep (``current_a`` less every cell's bleed, ``bleed_a``), which the charger
-        lowers to hold that cell there, fallen to a tenth of the phase's own ``own_a`` (cheali: a cell at Vc
+        and the charge the cells keep (``current_a`` less the mean of the cells' bleeds, ``bleed_a``), which the
+        charger lowers to hold that cell there, fallen to a tenth of the phase's own ``own_a`` (cheali: a cell at Vc
         and I <= minIc = Ic / 10; the B6 firmware measures it with its loads off; a bleed as strong as the
         charge no longer fills the pack); else None."""
         ceiling = self.ceiling_v.get(chemistry)
         top = max(cell_voltages)
         at = cell_voltages.index(top)
-        net = current_a - sum(bleed_a or ())
+        net = current_a - (sum(bleed_a) / len(bleed_a) if bleed_a else 0.0)
         if ceiling is None or not own_a > 0.0 or net * 10.0 > own_a or round(top, 3) < ceiling:
             return None
         return f"balancer: cell {at + 1} reached {ceiling:.2f}V (ceiling)"
