@@ -76,7 +76,7 @@ uint8_t zm_ceiling_cell(const zm_balancer_t *b, const double *cell_v, int32_t n,
         }
     for (k = 0; k < n; k++)
         bled += bleed_a[k];
-    if (!(own_a > 0.0) || (current_a - bled / n) * 10.0 > own_a)
+    if (own_a < 0.0 || (current_a - bled / n) * 10.0 > own_a)
         return 0;
     /* far from the ceiling the rounding to 1 mV cannot decide: no text conversion every tick */
     if (top < b->ceiling_v - 0.001)

@@ -106,7 +106,9 @@ def test_a_held_charge_ends_at_its_ceiling_less_5_mv_and_a_tenth_of_its_current_
     assert end(4195000, 4200000, 300001, 600000, 3, 1000000) == 0
     assert end(4195000, 4200000, 100000, 0, 0, 1000000) == 0       # no cells
     assert end(4195000, 0, 0, 0, 3, 1000000) == 0                  # no ceiling (a chemistry without one)
-    assert end(4195000, 4200000, 0, 0, 3, 0) == 0                  # no current asked
+    assert end(4195000, 4200000, 0, 0, 3, 0) == 1                  # a CV phase: once the cells keep nothing
+    assert end(4195000, 4200000, 1, 0, 3, 0) == 0
+    assert end(4195000, 4200000, 0, 0, 3, -1) == 0                 # no current asked
 
 
 def test_a_load_bleeds_300_ma_at_4_2_v(lib):

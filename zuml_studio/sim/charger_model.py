@@ -71,14 +71,15 @@ class BalancerSpec:
                        bleed_a=None) -> str | None:
         """The end reason of a charge held at the ceiling: a cell read (to 1 mV) at the chemistry's ceiling
         and the charge the cells keep (``current_a`` less the mean of the cells' bleeds, ``bleed_a``), which the
-        charger lowers to hold that cell there, fallen to a tenth of the phase's own ``own_a`` (cheali: a cell at Vc
-        and I <= minIc = Ic / 10; the B6 firmware measures it with its loads off; a bleed as strong as the
-        charge no longer fills the pack); else None."""
+        charger lowers to hold that cell there, fallen to a tenth of ``own_a``: a constant-current phase's own
+        current (cheali: a cell at Vc and I <= minIc = Ic / 10), 0 for a phase that holds a voltage (its own
+        current condition ends it as the hold lowers the current; this, once the bleeds take it all), < 0
+        when the phase asks for no current now (a pause); else None."""
         ceiling = self.ceiling_v.get(chemistry)
         top = max(cell_voltages)
         at = cell_voltages.index(top)
         net = current_a - (sum(bleed_a) / len(bleed_a) if bleed_a else 0.0)
-        if ceiling is None or not own_a > 0.0 or net * 10.0 > own_a or round(top, 3) < ceiling:
+        if ceiling is None or own_a < 0.0 or net * 10.0 > own_a or round(top, 3) < ceiling:
             return None
         return f"balancer: cell {at + 1} reached {ceiling:.2f}V (ceiling)"
 

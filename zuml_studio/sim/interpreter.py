@@ -439,7 +439,7 @@ class Interpreter:
             else:
                 tch, ich, tdis, idis, _ = a.pulse
                 i = ich if a.t_phase % (tch + tdis) < tch else -idis
-            own = (a.i_max if mode == _CV else i) if i > 0.0 else 0.0
+            own = (0.0 if mode == _CV else i) if i > 0.0 else -1.0   # the held end's share (ceiling_reason)
             if ceiling_v is not None and i > 0.0:
                 i = pack.current_for_ceiling(i, ceiling_v, dt)
             if i:

@@ -176,7 +176,7 @@ int32_t ze_run(ze_run_t *e, int32_t max_ticks)
             else
                 i = i < -i_max ? -i_max : (i > 0.0 ? 0.0 : i);
         }
-        own = i > 0.0 ? (out.kind == HAL_VOLTAGE_CHARGE ? out.current_ua / 1e6 : i) : 0.0;
+        own = i > 0.0 ? (out.kind == HAL_VOLTAGE_CHARGE ? 0.0 : i) : -1.0;
         if (ph.ceiling && i > 0.0)
             i = zm_pack_current_for_ceiling(p, i, bal->ceiling_v);
         if (i != 0.0) {

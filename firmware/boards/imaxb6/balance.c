@@ -75,6 +75,6 @@ int32_t balance_bled_ua(const volatile int16_t *cell_mv, uint8_t n, uint8_t blee
 uint8_t balance_held_end(int32_t top_uv, int32_t ceiling_uv, int32_t current_ua, int32_t bled_ua, uint8_t n,
                          int32_t own_ua)
 {
-    return ceiling_uv > 0 && own_ua > 0 && n && top_uv >= ceiling_uv - CEILING_AT_MV * 1000L &&
+    return ceiling_uv > 0 && own_ua >= 0 && n && top_uv >= ceiling_uv - CEILING_AT_MV * 1000L &&
            current_ua - bled_ua / n <= own_ua / HELD_END_SHARE;
 }

@@ -37,8 +37,9 @@ int16_t balance_cap(int16_t cap_ma, int16_t room_mv, int16_t now_ma, int32_t own
 /* What the loads of `bleeding` draw from their cells now, uA. */
 int32_t balance_bled_ua(const volatile int16_t *cell_mv, uint8_t n, uint8_t bleeding);
 /* 1 when a held charge ends: the highest cell at its ceiling and the charge the `n` cells keep (the current
- * less the mean of what the loads bleed, `bled_ua` in all) down to a tenth of the phase's current (the
- * simulator's B6 the same). */
+ * less the mean of what the loads bleed, `bled_ua` in all) down to a tenth of `own_ua`: a constant-current
+ * phase's own current, 0 for a phase that holds a voltage (its own current condition ends it; this, once
+ * the bleeds take all the charge). The simulator's B6 the same. */
 uint8_t balance_held_end(int32_t top_uv, int32_t ceiling_uv, int32_t current_ua, int32_t bled_ua, uint8_t n,
                          int32_t own_ua);
 

@@ -137,7 +137,8 @@ uint8_t hal_balancer_ceiling(int32_t *ceiling_uv)
         }
     }
     v = balance_bled_ua(protect_cell_mv, protect_limits.li_cells, balancing);
-    return balance_held_end(top, *ceiling_uv, hal_current_ua(), v, protect_limits.li_cells, out.current_ua) ? at : 0;
+    return balance_held_end(top, *ceiling_uv, hal_current_ua(), v, protect_limits.li_cells,
+                            out.kind == HAL_VOLTAGE_CHARGE ? 0 : out.current_ua) ? at : 0;
 }
 
 void hal_measure_latch(void)
