@@ -32,7 +32,8 @@ class SimulatedB6:
     def truth(self, column: str) -> float:
         lines = self.trace.read_text().splitlines()
         index = lines[0].split(",").index(column)
-        rows = [line.split(",") for line in lines[-1001:-1] if line.count(",") == 6 and line[0].isdigit()]
+        rows = [line.split(",") for line in lines[-1001:-1]
+                if line.count(",") == lines[0].count(",") and line[0].isdigit()]
         return sum(float(row[index]) for row in rows) / len(rows)
 
     def stop(self) -> None:

@@ -64,15 +64,20 @@ static double round3(double x)
     return strtod(text, 0);
 }
 
-uint8_t zm_ceiling_cell(const zm_balancer_t *b, const double *cell_v, int32_t n)
+uint8_t zm_ceiling_cell(const zm_balancer_t *b, const double *cell_v, int32_t n, double current_a, double own_a,
+                        const double *bleed_a)
 {
-    double top = cell_v[0];
+    double top = cell_v[0], bled = 0.0;
     int32_t k, at = 0;
     for (k = 1; k < n; k++)
         if (cell_v[k] > top) {
             top = cell_v[k];
             at = k;
         }
+    for (k = 0; k < n; k++)
+        bled += bleed_a[k];
+    if (own_a < 0.0 || (current_a - bled / n) * 10.0 > own_a)
+        return 0;
     /* far from the ceiling the rounding to 1 mV cannot decide: no text conversion every tick */
     if (top < b->ceiling_v - 0.001)
         return 0;

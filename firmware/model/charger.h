@@ -28,7 +28,10 @@ double zm_charger_step(zm_charger_t *c, double current_a, double pack_v);
 
 double zm_bleed(const zm_balancer_t *b, double cell_v);
 uint32_t zm_balance_mask(const zm_balancer_t *b, const double *cell_v, int32_t n, uint32_t bleeding);
-/* The cell (from 1) whose voltage read to 1 mV has reached the ceiling, the first of the highest; 0: none. */
-uint8_t zm_ceiling_cell(const zm_balancer_t *b, const double *cell_v, int32_t n);
+/* The cell (from 1) whose voltage read to 1 mV has reached the ceiling, the first of the highest, once the charge the
+ * cells keep (current_a less the mean of bleed_a) has fallen to a tenth of own_a (charger_model.py's
+ * ceiling_reason: 0 for a CV phase, < 0 when no current is asked); 0: none. */
+uint8_t zm_ceiling_cell(const zm_balancer_t *b, const double *cell_v, int32_t n, double current_a, double own_a,
+                        const double *bleed_a);
 
 #endif

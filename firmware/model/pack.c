@@ -243,16 +243,15 @@ static double cell_voltage(const zm_constants_t *k, const cv_terms_t *c, double 
     return v + k->ys[j - 1] + (s - k->xs[j - 1]) * slope;
 }
 
-static double cells_current_for_voltage(zm_pack_t *p, double v_pack)
+/* cell_pack._solve: the series current at which cells [from, to) sum to v_target at the end of the step */
+static double solve_cells(const zm_pack_t *p, const cv_terms_t *terms, int32_t from, int32_t to, double v_target,
+                          double x)
 {
-    cv_terms_t terms[ZM_MAX_CELLS];
-    double x = p->cv_guess, lo = -INFINITY, hi = INFINITY;
-    int32_t n = p->cells, k, step;
-    for (k = 0; k < n; k++)
-        cv_terms(&p->k[k], &p->s[k], &terms[k]);
+    double lo = -INFINITY, hi = INFINITY;
+    int32_t k, step;
     for (step = 0; step < CV_MAX_STEPS; step++) {
-        double f = -v_pack, df = 0.0, nx;
-        for (k = 0; k < n; k++) {
+        double f = -v_target, df = 0.0, nx;
+        for (k = from; k < to; k++) {
             double dv, v = cell_voltage(&p->k[k], &terms[k], p->s[k].soc, p->bleed_a[k], x, &dv);
             f += v;
             df += dv;
@@ -273,8 +272,30 @@ static double cells_current_for_voltage(zm_pack_t *p, double v_pack)
         }
         x = nx;
     }
-    p->cv_guess = x;
     return x;
+}
+
+static double cells_current_for_voltage(zm_pack_t *p, double v_pack)
+{
+    cv_terms_t terms[ZM_MAX_CELLS];
+    int32_t n = p->cells, k;
+    for (k = 0; k < n; k++)
+        cv_terms(&p->k[k], &p->s[k], &terms[k]);
+    p->cv_guess = solve_cells(p, terms, 0, n, v_pack, p->cv_guess);
+    return p->cv_guess;
+}
+
+double zm_pack_current_for_ceiling(zm_pack_t *p, double current_a, double ceiling_v)
+{
+    cv_terms_t terms[ZM_MAX_CELLS];
+    int32_t k;
+    for (k = 0; k < p->cells; k++) {
+        double dv;
+        cv_terms(&p->k[k], &p->s[k], &terms[k]);
+        if (cell_voltage(&p->k[k], &terms[k], p->s[k].soc, p->bleed_a[k], current_a, &dv) > ceiling_v)
+            current_a = solve_cells(p, terms, k, k + 1, ceiling_v, current_a);
+    }
+    return current_a > 0.0 ? current_a : 0.0;
 }
 
 /* -- either ---------------------------------------------------------------------------------------- */

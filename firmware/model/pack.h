@@ -41,6 +41,8 @@ typedef struct {
 
 double zm_pack_step(zm_pack_t *p, double current_a);
 double zm_pack_current_for_voltage(zm_pack_t *p, double v_pack);
+/* CellPack.current_for_ceiling: the lower of current_a and each cell's current to ceiling_v (>= 0); cells only. */
+double zm_pack_current_for_ceiling(zm_pack_t *p, double current_a, double ceiling_v);
 double zm_pack_open_circuit_voltage(const zm_pack_t *p);
 double zm_pack_temp_c(const zm_pack_t *p);
 double zm_pack_soc(const zm_pack_t *p);

@@ -48,7 +48,7 @@
 #define RXEN_BIT 4
 
 static const char usage[] =
-    "usage: zuml_b6_sim ELF [--eeprom FILE] [--cells N] [--capacity MAH] [--soc F] [--cell-spread MV]\n"
+    "usage: zuml_b6_sim ELF [--eeprom FILE] [--cells N] [--capacity MAH] [--soc F] [--cell-spread MV] [--weak-cell PCT]\n"
     "       [--seed N] [--uncalibrated] [--fault KIND@S]... [--press BUTTON@S[:HOLD]]... [--trace FILE] [--lcd]\n"
     "       [--speed X] [--no-rx] [--end-with-stdin]\n"
     "KIND: disconnect reverse cell-high sensor-open sink-hot input-low hang; BUTTON: start stop inc dec\n";
@@ -380,13 +380,13 @@ static avr_cycle_count_t step(struct avr_t *a, avr_cycle_count_t when, void *par
     report_output(t);
     if (++step_count % STEPS_PER_MS == 0) {
         if (trace) {
-            double high = 0;
+            double top = 0;
             int k;
             for (k = 0; k < model.cells; k++)
-                if (b6_model_cell_v(&model, k) > high)
-                    high = b6_model_cell_v(&model, k);
+                if (b6_model_cell_v(&model, k) > top)
+                    top = b6_model_cell_v(&model, k);
             fprintf(trace, "%ld,%.4f,%.4f,%d,%.4f,%.4f,%.4f\n", now_ms(), model.drive.buck_duty,
-                    model.drive.boost_duty, b6_model_output_enabled(&model), model.i_batt_a, model.v_term_v, high);
+                    model.drive.boost_duty, b6_model_output_enabled(&model), model.i_batt_a, model.v_term_v, top);
         }
         if (lcd_on)
             lcd_print_if_settled();
@@ -449,7 +449,7 @@ static int timed(const char *text, const char *const *names, int n, int hold_all
 
 typedef struct {
     int cells, calibrated;
-    double capacity_mah, soc, spread_mv, speed;
+    double capacity_mah, soc, spread_mv, weak_pct, speed;
     uint64_t seed;
 } options_t;
 
@@ -457,7 +457,7 @@ static int parse(int argc, char **argv, options_t *o)
 {
     int k;
     static const char *const known[] = {"--eeprom", "--cells", "--capacity", "--soc", "--cell-spread", "--seed",
-                                        "--speed", "--fault", "--press", "--trace"};
+                                        "--speed", "--fault", "--press", "--trace", "--weak-cell"};
     for (k = 2; k < argc; k++) {
         const char *name = argv[k], *value = k + 1 < argc ? argv[k + 1] : NULL;
         double v;
@@ -506,6 +506,9 @@ static int parse(int argc, char **argv, options_t *o)
         } else if (!strcmp(name, "--cell-spread")) {
             if (!number(value, 0, 1000, &o->spread_mv))
                 return fail("--cell-spread is 0..1000 mV", value);
+        } else if (!strcmp(name, "--weak-cell")) {
+            if (!number(value, 0, 90, &o->weak_pct))
+                return fail("--weak-cell is 0..90 % less capacity in the last cell", value);
         } else if (!strcmp(name, "--seed")) {
             if (!number(value, 0, 4294967295.0, &v) || v != floor(v))
                 return fail("--seed is a whole number 0..4294967295", value);
@@ -665,6 +668,7 @@ int main(int argc, char **argv)
     if (!parse(argc, argv, &o))
         return 2;
     b6_model_init(&model, o.seed, o.cells, o.capacity_mah, o.soc, o.spread_mv);
+    model.capacity_as[o.cells - 1] *= 1.0 - o.weak_pct / 100.0;     /* --weak-cell: the last cell */
     memcpy(saved, eeprom, EEPROM_SIZE);     /* as read: a calibration written below goes to the file too */
     /* a block already in the EEPROM file (a `zuml calibrate` of an earlier run) is the charger's own */
     if (!o.calibrated)

@@ -3,6 +3,8 @@
 LiPo pack whose cells start 60 mV apart ends its CV with the cells within 10 mV. Runs are started from the front
 panel (--press), so everything happens at a simulated time the test chose, and the test waits for the harness's
 lines (LCD, OUTPUT, FAULT), never for a time."""
+import re
+
 import pytest
 
 from b6_harness import B6, build, read_trace
@@ -137,3 +139,104 @@ def test_a_3s_lipo_60_mv_apart_ends_its_cv_with_the_cells_within_10_mv(b6):
     off = [line for line in sim.lines[:end] if line.startswith("OUTPUT|off|")][-1]    # the CV phase's end
     cells = [float(v) for v in off.split("|")[3:]]
     assert len(cells) == 3 and max(cells) - min(cells) <= 0.010, cells
+
+
+def held_run(b6, *args):
+    """A Bench charge started from the panel, run to its end: (the end reason, the trace's rows, the lines)."""
+    sim = b6("--press", START, *args)
+    sim.wait_line("LCD|end Bench|")
+    reason, _ = end_reason_and_finish(sim)
+    sim.stop()
+    return reason, read_trace(sim.trace), sim.lines
+
+
+def test_a_3s_pack_200_mv_apart_ends_normally_with_its_highest_cell_held_at_the_ceiling(b6):
+    # the highest cell starts 20 mV under LiPo's 4.20 V: the 1 A CC would take it over 4.30 V (the trip) in
+    # seconds; the balancer's hold lowers the current instead and the macro ends by its own conditions
+    reason, rows, _ = held_run(b6, "--cells", "3", "--soc", "0.9", "--capacity", "20", "--cell-spread", "200")
+    assert not reason.startswith("protection"), reason
+    on = [r for r in rows if r.output_enabled]
+    assert max(r.cell_max_v for r in rows) < 4.20 + 0.025     # the ceiling and the taps' calibration (seed 0)
+    assert max(r.current_a for r in on[len(on) // 2:]) < 0.5  # the current fell as the cell was held
+
+
+def six_cells_charged_for(b6, seconds):
+    """A flat 6S pack half charged (23 V: the stage boosts from 12 V), charged at 1 A until STOP: its lines and
+    trace once the output is off."""
+    sim = b6("--press", START, "--press", f"stop@{seconds}", "--cells", "6", "--soc", "0.5", "--capacity", "2000")
+    k, _ = sim.wait_line("LCD|C1 ")
+    sim.wait_line(lambda line: line.startswith("OUTPUT|off|") and float(line.split("|")[2]) >= seconds, k)
+    sim.stop()
+    return sim.lines, read_trace(sim.trace)
+
+
+def test_a_flat_6s_pack_does_not_chatter(b6):
+    # cells equal but for the taps' calibration: the balancer decides with its loads off (4 s after the last
+    # change) and bleeds in windows of at most 15 s, cells only leaving them: at most 2 + 3 switch changes
+    # in any 19 s, and a cell starts at most once in 4 s (the review measured 40 changes in 6 s)
+    lines, _ = six_cells_charged_for(b6, 30.0)
+    changes = [(float(line.split("|")[1]), int(line.split("|")[2])) for line in lines if line.startswith("BALANCER|")]
+    starts = [t for (t, mask), (_, before) in zip(changes, [(0.0, 0)] + changes) if mask & ~before]
+    for t, _ in changes:
+        assert sum(1 for u, _ in changes if t <= u < t + 19.0) <= 5, changes
+    assert all(b - a >= 4.0 for a, b in zip(starts, starts[1:])), changes
+
+
+def test_in_boost_the_battery_current_is_regulated_shown_and_counted_within_5_percent(b6):
+    lines, rows = six_cells_charged_for(b6, 12.0)
+    on = [r for r in rows if r.output_enabled and r.t_ms > 5000]        # past the start's ramp
+    assert min(r.boost_duty for r in on) > 0                               # the stage boosts throughout
+    true_a = sum(r.current_a for r in on) / len(on)
+    assert abs(true_a - 1.00) <= 0.05, true_a                              # regulated: the set 1 A
+    shown = [float(line.split("V")[1].split("A")[0]) for line in lines
+             if line.startswith("LCD|C1 ") and line.split("|")[1].endswith("A")]
+    assert shown and all(abs(a - true_a) <= 0.05 * true_a for a in shown[len(shown) // 2:]), (shown, true_a)
+    counted_mah = [int(line.split("|")[2].split("mAh")[0]) for line in lines if line.startswith("LCD|C1 ")][-1]
+    true_mah = sum(r.current_a for r in rows if r.output_enabled) / 3600.0
+    # the LCD shows whole mAh, the last line a moment before the end; the inductor's count would be 1.8x
+    assert true_mah - 1.5 <= counted_mah <= true_mah, (counted_mah, true_mah)
+
+
+HELD = """MACRO Held
+  AKK_TYPE=LiPo
+  CHARGE_SECTION
+    FAZE
+    CONSTANT_I=1A
+    IF(V>4.25S) STOP_FAZE()
+    END_FAZE
+  END_SECTION
+END_MACRO
+"""
+
+
+def test_a_weak_cell_pack_ends_the_same_way_on_the_simulated_b6_and_in_the_simulator(image, tmp_path):
+    # the pack cannot reach 4.25 V per cell while its cells are held at 4.20 V, so the phase ends by the
+    # balancer's held end (a tenth of 1 A) on both sides, with the same reason, and no cell past the ceiling
+    from zuml_studio.sim.simulate import BatterySetup, simulate
+    from zuml_studio.sim.interpreter import StartParams
+    store = eeprom.pack([compiled(HELD)], STORE_SIZE)
+    path = tmp_path / "ee.bin"
+    path.write_bytes(store + b"\xff" * (1024 - len(store)))
+    sim = B6(image, "--speed", "0", "--lcd", "--eeprom", path, "--trace", tmp_path / "t.csv", "--press", START,
+             "--cells", "3", "--soc", "0.85", "--capacity", "20", "--weak-cell", "30")
+    try:
+        sim.wait_line("LCD|end Held|")
+        client = ChargerClient(sim.port, timeout=10)
+        try:
+            status = client.status()
+            events = [client.get_event(k) for k in range(status.events)]
+        finally:
+            client.close()
+    finally:
+        sim.stop()
+    # the cell the B6 names is the one it reads highest: its cell 1 reads through Vb0's nominal calibration
+    device = [re.sub(r"cell \d", "cell N", e.detail) for e in events if e.kind == "phase_end"]
+    assert device == ["balancer: cell N reached 4.20V (ceiling)"], device
+    assert max(r.cell_max_v for r in read_trace(tmp_path / "t.csv")) < 4.20 + 0.025   # the taps' calibration
+    # the simulator's B6 on the same macro and a pack as weak (its cell resistance scales with 1/capacity: a
+    # 20 mAh cell at 1 A would start at 4.2 V, so 200 mAh)
+    result = simulate(compiled(HELD), StartParams("charge", 1, 200, None, None, 3),
+                      BatterySetup(soc=0.85, weak_cell_pct=30.0))
+    assert [re.sub(r"cell \d", "cell N", p.reason) for p in result.phases] == device
+    cells = result.log.arrays()
+    assert max(cells[f"cell{k}_v"].max() for k in (1, 2, 3)) <= 4.20 + 0.005

@@ -19,19 +19,23 @@ def _weak_run(**setup):
     return simulate(record_of("LiPo"), StartParams("charge", 1, 2000, 2.0, None, 4), BatterySetup(**setup))
 
 
-def test_a_weak_cell_never_passes_the_b6_ceiling_and_its_reading_ends_the_charge():
+def test_a_weak_cell_is_held_at_the_b6_ceiling_and_the_charge_ends_by_the_macro_with_the_pack_balanced():
     r = _weak_run(weak_cell_pct=15.0)
     cc, cv = r.phases
     a = r.log.arrays()
     volts = np.column_stack([a[c] for c in CELLS])
-    assert volts.max() <= 4.2 + 0.0005                      # read to 1 mV, as the B6 reads its taps
+    assert volts.max() <= 4.2 + 0.0005                      # held at the ceiling, to the solve's tolerance
     assert cc.reason == "IF(V>4.1S) STOP_FAZE"
-    assert cv.reason == "balancer: cell 4 reached 4.20V (ceiling)" and cv.by_default
-    assert max(cv.cells_end) == cv.cells_end[3] and min(cv.cells_end) < 4.15   # the others are not full
+    assert cv.reason == "IF(I<0.1A) STOP_FAZE" and not cv.by_default
+    in_cv = a["phase"] == cv.run
+    held = in_cv & (volts[:, 3] > 4.2 - 0.0005)
+    assert held.sum() > 300 and np.all(np.diff(a["current_a"][held]) <= 1e-9)   # held: the current only falls
+    assert a["current_a"][in_cv][0] <= a["current_a"][~in_cv][-1]             # no jump at the CV's start
+    assert max(cv.cells_end) == cv.cells_end[3] and min(cv.cells_end) > 4.195   # balanced while held
     in_cv = a["phase"] == cv.run
     assert np.any(a["balance_mask"][in_cv] & 0b1000)           # the weak cell bleeds during CV
-    assert cv.bled_s[:3] == (0.0, 0.0, 0.0) and cv.bled_s[3] == cv.end_s - cv.start_s
-    assert "balancer: cell 4 3 min" in cv.notes
+    assert cv.bled_s[:3] == (0.0, 0.0, 0.0) and cv.end_s - cv.start_s - 2 <= cv.bled_s[3] <= cv.end_s - cv.start_s
+    assert "balancer: cell 4 64 min" in cv.notes
     # the pack's sum is what the charger measured
     assert np.allclose(volts.sum(axis=1), a["voltage_v"], atol=1e-4)
 
@@ -94,8 +98,9 @@ def test_the_b6_balancer_bleeds_through_its_resistor_and_keeps_bleeding_down_to_
     assert bal.mask([4.000, 4.005, 4.009]) == 0b100                  # more than 8 mV above the lowest
     assert bal.mask([4.000, 4.005, 4.004], bleeding=0b100) == 0b100  # once bleeding: while above the lowest
     assert bal.mask([4.000, 4.005, 4.000], bleeding=0b100) == 0
-    assert bal.ceiling_reason("LiPo", [4.1, 4.1996]) == "balancer: cell 2 reached 4.20V (ceiling)"
-    assert bal.ceiling_reason("LiPo", [4.1, 4.1994]) is None and bal.ceiling_reason("NiMh", [9.0]) is None
+    assert bal.ceiling_reason("LiPo", [4.1, 4.1996], 0.1, 1.0) == "balancer: cell 2 reached 4.20V (ceiling)"
+    assert bal.ceiling_reason("LiPo", [4.1, 4.1994], 0.1, 1.0) is None
+    assert bal.ceiling_reason("NiMh", [9.0], 0.1, 1.0) is None
 
 
 @pytest.mark.parametrize("table, said", [
@@ -113,7 +118,8 @@ def test_a_bad_balancer_table_is_refused_in_one_line(table, said):
 
 def test_the_weak_cell_can_be_any_cell_and_must_be_in_the_pack():
     r = _weak_run(weak_cell_pct=15.0, weak_cell=2)
-    assert r.phases[-1].reason == "balancer: cell 2 reached 4.20V (ceiling)"
+    cells = r.phases[-1].cells_end
+    assert max(cells) == cells[1] and np.argmax(np.array(cells)) == 1
     with pytest.raises(StartError, match="weak cell 5: the pack has cells 1 to 4"):
         _weak_run(weak_cell_pct=15.0, weak_cell=5)
 
@@ -129,3 +135,54 @@ def test_the_balancer_acts_alike_however_the_run_is_advanced():
     assert stepped.phases == whole.phases
     assert (stepped.log.arrays()["balance_mask"] == whole.log.arrays()["balance_mask"]).all()
     assert whole.log.arrays()["balance_mask"].any()
+
+
+def test_the_b6_balancer_ends_a_held_charge_only_when_its_current_has_fallen_to_a_tenth():
+    from zuml_studio.sim.charger_model import load_charger
+    bal = load_charger("imax_b6").balancer
+    assert bal.ceiling_reason("LiPo", [4.1, 4.2], 0.1, 1.0) is not None        # at a tenth: cheali's minIc
+    assert bal.ceiling_reason("LiPo", [4.1, 4.2], 0.1001, 1.0) is None
+    assert bal.ceiling_reason("LiPo", [4.1, 4.2], 0.0, -1.0) is None          # no current asked (a pause)
+    assert bal.ceiling_reason("LiPo", [4.1, 4.2], 0.08, 0.0, [0.16, 0.0]) is not None   # CV: the bleeds take all
+    assert bal.ceiling_reason("LiPo", [4.1, 4.2], 0.0801, 0.0, [0.16, 0.0]) is None
+    assert bal.ceiling_reason("LiPo", [4.1, 4.2], 0.18, 1.0, [0.16, 0.0]) is not None   # 0.16 A bled over 2 cells
+    assert bal.ceiling_reason("LiPo", [4.1, 4.2], 0.1801, 1.0, [0.0, 0.16]) is None
+
+
+CC_TO_CEILING = """MACRO Past
+  AKK_TYPE={chem}
+  CHARGE_SECTION
+    FAZE
+    CONSTANT_I=1C
+    IF(V>{over}S) STOP_FAZE()
+    END_FAZE
+    FAZE
+    CONSTANT_I=1C
+    CONSTANT_V={cv}S
+    IF(I<0.05C) STOP_FAZE()
+    END_FAZE
+  END_SECTION
+END_MACRO
+"""
+
+
+@pytest.mark.parametrize("charger", ["imax_b6", "icharger_406duo"])
+@pytest.mark.parametrize("chem, over, cv", [("LiPo", "4.25", "4.2"), ("LiFe", "3.65", "3.6"), ("LiIon", "4.24", "4.2")])
+@pytest.mark.parametrize("spread", [dict(weak_cell_pct=15.0), dict(cell_spread=(10.0, 30.0, 10.0), seed=3),
+                                    dict(weak_cell_pct=30.0, weak_cell=1)])
+def test_no_cell_passes_its_ceiling_at_any_tick_and_no_phase_starts_above_its_own_current(charger, chem, over, cv,
+                                                                                         spread):
+    # a CC that asks for more than the ceiling (the balancer's held end ends it), then a CV at the ceiling
+    from helpers import compiled
+    from zuml_studio.sim.charger_model import load_charger
+    record = compiled(CC_TO_CEILING.format(chem=chem, over=over, cv=cv))
+    r = simulate(record, StartParams("charge", 1, 2200, None, None, 4), BatterySetup(charger=charger, **spread))
+    ceiling = load_charger(charger).balancer.ceiling_v[chem]
+    a = r.log.arrays()
+    volts = np.column_stack([a[c] for c in CELLS])
+    assert volts.max() <= ceiling + 0.005
+    cc, cv_phase = r.phases
+    assert cc.reason.startswith("balancer: cell")                       # held, then ended at a tenth of 1C
+    in_cv = a["phase"] == cv_phase.run
+    assert a["current_a"][in_cv].max() <= 2.2 + 1e-6                    # its own limit, 1C (a 1.2 A bleed may
+                                                                        # let it start above the CC's end)

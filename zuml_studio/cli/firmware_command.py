@@ -40,6 +40,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     b6 = p.add_argument_group(_("the simulated iMAX B6 (--board imaxb6 only)"))
     b6.add_argument("--cell-spread", type=float, metavar="MV",
                     help=_("the cells start this far apart, lowest to highest (mV, default 0)"))
+    b6.add_argument("--weak-cell", type=float, metavar="PCT",
+                    help=_("the last cell holds PCT %% less capacity (0..90, default 0)"))
     b6.add_argument("--seed", type=int, help=_("draws the components' tolerances (default 0)"))
     b6.add_argument("--uncalibrated", action="store_true",
                     help=_("start with no calibration in the EEPROM (default: the one the calibration procedure "
@@ -96,7 +98,7 @@ def timed_events(values: list[str] | None, names: tuple[str, ...], option: str, 
 
 def b6_arguments(args: argparse.Namespace) -> list[str]:
     """The simulated B6's own options, as zuml_b6_sim takes them; refused for the other boards."""
-    given = [name for name in ("cell_spread", "seed", "fault", "press", "trace", "speed")
+    given = [name for name in ("cell_spread", "weak_cell", "seed", "fault", "press", "trace", "speed")
              if getattr(args, name) is not None] + [name for name in ("uncalibrated", "lcd", "no_rx") if getattr(args, name)]
     if args.board != "imaxb6":
         if given:
@@ -107,11 +109,13 @@ def b6_arguments(args: argparse.Namespace) -> list[str]:
         raise CliError(_("--cells is 1..6 on the iMAX B6 (its balance port)"))
     if args.cell_spread is not None and not 0 <= args.cell_spread <= 1000:
         raise CliError(_("--cell-spread is 0..1000 mV"))
+    if args.weak_cell is not None and not 0 <= args.weak_cell <= 90:
+        raise CliError(_("--weak-cell is 0..90 %"))
     if args.seed is not None and not 0 <= args.seed <= 0xFFFFFFFF:
         raise CliError(_("--seed is 0..4294967295"))
     if args.speed is not None and not 0 <= args.speed <= 1e6:
         raise CliError(_("--speed is 0 (as fast as this PC can) or the simulated seconds per second"))
-    argv = [item for name in ("cell_spread", "seed", "speed") if getattr(args, name) is not None
+    argv = [item for name in ("cell_spread", "weak_cell", "seed", "speed") if getattr(args, name) is not None
             for item in ("--" + name.replace("_", "-"), str(getattr(args, name)))]
     argv += [item for value in timed_events(args.fault, FAULTS, "--fault", False) for item in ("--fault", value)]
     argv += [item for value in timed_events(args.press, BUTTONS, "--press", True) for item in ("--press", value)]

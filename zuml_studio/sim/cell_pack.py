@@ -143,31 +143,46 @@ class CellPack:
     def current_for_voltage(self, v_pack: float, dt: float) -> float:
         """The series current that makes the sum of the cells' voltages v_pack at the end of a step of dt."""
         terms = [(c.cv_terms(dt), c.soc, c._xs, c._ys, c._slopes, b) for c, b in zip(self.cells, self.bleed_a)]
-        x = self._cv_guess
-        lo, hi = -inf, inf
-        for _step in range(_CV_MAX_STEPS):
-            f, df = -v_pack, 0.0
-            for term in terms:
-                v, dv = _cell_voltage(term, x)
-                f += v
-                df += dv
-            if abs(f) <= _CV_TOLERANCE_V:
-                break
-            if f < 0.0:
-                lo = x
-            else:
-                hi = x
-            nx = x - f / df
-            if not lo < nx < hi:
-                nx = 0.5 * (lo + hi)
-            if hi - lo < 1e-12:
-                # A jump (a cell's O2 overvoltage as its current changes sign): no current gives
-                # the voltage exactly; the one just below it is held.
-                x = lo
-                break
-            x = nx
-        self._cv_guess = x
+        x = self._cv_guess = _solve(terms, v_pack, self._cv_guess)
         return x
+
+    def current_for_ceiling(self, current_a: float, ceiling_v: float, dt: float) -> float:
+        """The lower of ``current_a`` and, for each cell, the series current that puts it at ``ceiling_v`` at
+        the end of a step of dt (never below 0): a balancing charger holds its highest cell at the ceiling
+        and the current follows (cheali derives the current from the cells' voltages)."""
+        for c, b in zip(self.cells, self.bleed_a):
+            term = (c.cv_terms(dt), c.soc, c._xs, c._ys, c._slopes, b)
+            if _cell_voltage(term, current_a)[0] > ceiling_v:
+                current_a = _solve((term,), ceiling_v, current_a)
+        return current_a if current_a > 0.0 else 0.0
+
+
+def _solve(terms, v_target: float, x: float) -> float:
+    """The series current at which the cells of ``terms`` sum to ``v_target`` at the end of the step: Newton
+    from ``x``, kept inside the bracket found so far (bisection when it leaves it)."""
+    lo, hi = -inf, inf
+    for _step in range(_CV_MAX_STEPS):
+        f, df = -v_target, 0.0
+        for term in terms:
+            v, dv = _cell_voltage(term, x)
+            f += v
+            df += dv
+        if abs(f) <= _CV_TOLERANCE_V:
+            break
+        if f < 0.0:
+            lo = x
+        else:
+            hi = x
+        nx = x - f / df
+        if not lo < nx < hi:
+            nx = 0.5 * (lo + hi)
+        if hi - lo < 1e-12:
+            # A jump (a cell's O2 overvoltage as its current changes sign): no current gives
+            # the voltage exactly; the one just below it is held.
+            x = lo
+            break
+        x = nx
+    return x
 
 
 def _cell_voltage(term: tuple, current: float) -> tuple[float, float]:

@@ -6,8 +6,9 @@ in the converter, discharging burns all of V * |I| in the load transistor.
 
 The balancer (``[balancer]``, optional) watches each cell of a lithium pack during a charge:
 it bleeds every cell more than ``spread_v`` above the lowest (through a load resistor on the
-tap, ``bleed_r_ohm``: V_cell / R, or a regulated ``bleed_a``), and a cell at its chemistry's
-``ceiling_v`` ends the charge.
+tap, ``bleed_r_ohm``: V_cell / R, or a regulated ``bleed_a``); the charge current is held so that no
+cell passes its chemistry's ``ceiling_v``, and the charge ends when a cell is there and the current has
+fallen to a tenth of the phase's own.
 """
 from __future__ import annotations
 
@@ -47,7 +48,7 @@ class BalancerSpec:
     bleed_a: float | None          # ... or a regulated current (exactly one of the two)
     during: str                    # "charge": every charge phase; "cv": only phases that hold a voltage
     spread_v: float                # a cell bleeds while it is more than this above the lowest cell
-    ceiling_v: dict[str, float]    # per chemistry: a cell at this voltage ends the charge
+    ceiling_v: dict[str, float]    # per chemistry: no cell is charged past this voltage
 
     def bleed(self, cell_v: float) -> float:
         """The current a bleeding cell at ``cell_v`` gives to its load, A."""
@@ -66,13 +67,21 @@ class BalancerSpec:
                 mask |= 1 << k
         return mask
 
-    def ceiling_reason(self, chemistry: str, cell_voltages) -> str | None:
-        """The end reason when a cell has reached the chemistry's ceiling (read to 1 mV), else None."""
+    def ceiling_reason(self, chemistry: str, cell_voltages, current_a: float, own_a: float,
+                       bleed_a=None) -> str | None:
+        """The end reason of a charge held at the ceiling: a cell read (to 1 mV) at the chemistry's ceiling
+        and the charge the cells keep (``current_a`` less the mean of the cells' bleeds, ``bleed_a``), which the
+        charger lowers to hold that cell there, fallen to a tenth of ``own_a``: a constant-current phase's own
+        current (cheali: a cell at Vc and I <= minIc = Ic / 10), 0 for a phase that holds a voltage (its own
+        current condition ends it as the hold lowers the current; this, once the bleeds take it all), < 0
+        when the phase asks for no current now (a pause); else None."""
         ceiling = self.ceiling_v.get(chemistry)
         top = max(cell_voltages)
-        if ceiling is None or round(top, 3) < ceiling:
+        at = cell_voltages.index(top)
+        net = current_a - (sum(bleed_a) / len(bleed_a) if bleed_a else 0.0)
+        if ceiling is None or own_a < 0.0 or net * 10.0 > own_a or round(top, 3) < ceiling:
             return None
-        return f"balancer: cell {cell_voltages.index(top) + 1} reached {ceiling:.2f}V (ceiling)"
+        return f"balancer: cell {at + 1} reached {ceiling:.2f}V (ceiling)"
 
 
 def load_charger(name: str = "imax_b6") -> ChargerLimits:

@@ -395,6 +395,7 @@ class Interpreter:
         section_code = 1 if a.result.section == "charge" else 0
         ceiling = self._balancer if section_code else None
         bleeder = ceiling if ceiling is not None and (ceiling.during == "charge" or mode == _CV) else None
+        ceiling_v = ceiling.ceiling_v[pack.chem.name] if ceiling is not None else None
         per_cell = self._per_cell
         chem_name = pack.chem.name
         mask = a.mask
@@ -438,6 +439,9 @@ class Interpreter:
             else:
                 tch, ich, tdis, idis, _ = a.pulse
                 i = ich if a.t_phase % (tch + tdis) < tch else -idis
+            own = (0.0 if mode == _CV else i) if i > 0.0 else -1.0   # the held end's share (ceiling_reason)
+            if ceiling_v is not None and i > 0.0:
+                i = pack.current_for_ceiling(i, ceiling_v, dt)
             if i:
                 asked = i
                 i = limit(i, pack.voltage)
@@ -482,7 +486,7 @@ class Interpreter:
                 if detector.update(a.t_phase, v) > dpeak[0]:
                     reason = dpeak[1]
             if reason is None and ceiling is not None:
-                reason = ceiling.ceiling_reason(chem_name, pack.cell_voltages)
+                reason = ceiling.ceiling_reason(chem_name, pack.cell_voltages, i, own, pack.bleed_a)
             if reason is None:
                 if sensor:
                     if t_max_default and temp > DEFAULT_T_MAX:

@@ -153,7 +153,7 @@ int32_t ze_run(ze_run_t *e, int32_t max_ticks)
            e->n_phase_cells + 4 * cells <= e->phase_cells_cap) {
         hal_output_t out;
         uint8_t state, running, was_paused = run->paused;
-        double i, v, hs, ocv, temp;
+        double i, own, v, hs, ocv, temp;
         state = zh_control(fixed(ch->heatsink_c), fixed(p->voltage), fixed(zm_pack_temp_c(p)), &out);
         if (state == 0) {
             e->finished = 1;
@@ -176,6 +176,9 @@ int32_t ze_run(ze_run_t *e, int32_t max_ticks)
             else
                 i = i < -i_max ? -i_max : (i > 0.0 ? 0.0 : i);
         }
+        own = i > 0.0 ? (out.kind == HAL_VOLTAGE_CHARGE ? 0.0 : i) : -1.0;
+        if (ph.ceiling && i > 0.0)
+            i = zm_pack_current_for_ceiling(p, i, bal->ceiling_v);
         if (i != 0.0) {
             double asked = i;
             i = zm_limit_current(ch, i, p->voltage);
@@ -223,7 +226,7 @@ int32_t ze_run(ze_run_t *e, int32_t max_ticks)
             }
             e->balance_mask[n] = ph.mask;
         }
-        zh_set_ceiling(ph.ceiling ? zm_ceiling_cell(bal, p->cell_voltages, cells) : 0, ceiling_uv);
+        zh_set_ceiling(ph.ceiling ? zm_ceiling_cell(bal, p->cell_voltages, cells, i, own, p->bleed_a) : 0, ceiling_uv);
         running = zh_measure(fixed(v), fixed(i), fixed(temp), fixed(hs), fixed(ocv));
         n++;
         e->ticks++;

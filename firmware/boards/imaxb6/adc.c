@@ -58,10 +58,15 @@ static void select(void)
 static void reading(uint8_t input, uint16_t adc16)
 {
     int16_t value = (int16_t)cal_value(input, adc16);
+    if (protect_reading(input, value))     /* the inductor's current: the stage's own limit */
+        stage_off();
+    if (input == CAL_ISMPS && stage_battery_ma(value) != value) {
+        /* in boost the battery's current is regulated, shown and counted, not the inductor's */
+        value = stage_battery_ma(value);
+        adc16 = cal_adc16(CAL_ISMPS, value);
+    }
     sum[input] += adc16;
     count[input]++;
-    if (protect_reading(input, value))
-        stage_off();
     if (input == CAL_VOUT)
         stage_voltage(value);
     else if ((input == CAL_ISMPS && stage_mode() == STAGE_CHARGE) ||

@@ -11,6 +11,7 @@
 #include "../../core/text.h"
 #include "../avr_uart.h"
 #include "adc.h"
+#include "balance.h"
 #include "calib.h"
 #include "lcd.h"
 #include "panel.h"
@@ -24,9 +25,9 @@
 #define IDLE_LATCH_MS 1000
 #define SLOW_MS 100
 #define CAL_OUTPUT_MS 60000UL
-#define BALANCE_ON_MV 8                         /* bleed a cell this far above the lowest, until 3 */
-#define BALANCE_OFF_MV 3
 #define BALANCE_FROM_MV 600                     /* below the chemistry's maximum: the charged part of the curve */
+#define BALANCE_BLEED_SLOWS 150                 /* a window of bleeding: at most 15 s of 100 ms (cheali) */
+#define BALANCE_SETTLE_SLOWS 40                 /* the loads off this long (4 s) before a decision (cheali) */
 #define T_CAL_READ 0x30
 #define T_CAL_WRITE 0x31
 #define T_CAL_MEASURE 0x32
@@ -37,8 +38,12 @@
 static volatile uint32_t millis;
 static volatile uint8_t beeps;
 static hal_output_t out;
-static uint8_t calibrated, balancing;
+static uint8_t calibrated, balancing, bled_before, balance_slows;
 static uint16_t run_time_limit_min;
+static int16_t bleed_drop_mv[6];                /* each cell's reading before its bleed, then what the bleed took
+                                                 * off it (cheali's Voff - Von) */
+static int16_t hold_ma = B6_CHARGE_MA;                        /* the hold's cap on the charge current, < 0: none */
+static uint16_t ceiling_mv;                     /* the run's charge voltage per cell: the hold's ceiling; 0: none */
 static uint32_t run_capacity_uah, last_latch_ms, cal_output_end_ms;
 static int32_t sink_c100 = 2500;
 
@@ -109,11 +114,31 @@ int32_t hal_cell_uv(uint8_t cell)
     return mv * 1000L;
 }
 
-/* The B6's balancer ends no charge itself: the phase's conditions and the protections do. */
+/* Whether the stage charges now (a charge current or voltage set). */
+static uint8_t charging(void)
+{
+    return out.kind == HAL_VOLTAGE_CHARGE || (out.kind == HAL_CURRENT && out.current_ua > 0);
+}
+
+/* The held charge's end (cheali's): the highest cell at its ceiling and the current down to a tenth of
+ * the phase's own. */
 uint8_t hal_balancer_ceiling(int32_t *ceiling_uv)
 {
-    *ceiling_uv = 0;
-    return 0;
+    uint8_t k, at = 0;
+    int32_t top = 0, v;
+    *ceiling_uv = (int32_t)ceiling_mv * 1000L;
+    if (!charging())
+        return 0;
+    for (k = 0; k < protect_limits.li_cells; k++) {
+        v = hal_cell_uv(k);
+        if (v > top) {
+            top = v;
+            at = (uint8_t)(k + 1);
+        }
+    }
+    v = balance_bled_ua(protect_cell_mv, protect_limits.li_cells, balancing);
+    return balance_held_end(top, *ceiling_uv, hal_current_ua(), v, protect_limits.li_cells,
+                            out.kind == HAL_VOLTAGE_CHARGE ? 0 : out.current_ua) ? at : 0;
 }
 
 void hal_measure_latch(void)
@@ -203,6 +228,7 @@ const char *hal_run_start(const uint8_t *rec, uint8_t akk_type, int16_t series, 
         return why;
     }
     run_time_limit_min = protect_time_limit_min(rec);
+    ceiling_mv = protect_limits.li_cells ? balance_ceiling_mv(akk_type) : 0;
     run_capacity_uah = protect_capacity_limit_uah(capacity_mah);
     return 0;
 }
@@ -217,42 +243,86 @@ static void find_receive_wire(void)
         avr_uart_receive();
 }
 
-/* The balancer (docs/firmware.md): in a Li charge, once its cells are on the charged part of their
- * curve (the highest within 600 mV of the chemistry's maximum) or the pack holds its voltage, the cells
- * above the lowest bleed; cell 4 too unless PD0 is the receive line (find_receive_wire). */
+/* One balance load switch: driven high to bleed, an input (and its latch low) while it does not (as
+ * cheali's setBalancerOutput). Driven low before it turns into an input, so its gate never sees the
+ * pull-up. */
+static void bleed_pin(volatile uint8_t *ddr, volatile uint8_t *port, uint8_t bit, uint8_t on)
+{
+    if (on) {
+        *ddr |= bit;
+        *port |= bit;
+    } else {
+        *port &= (uint8_t)~bit;
+        *ddr &= (uint8_t)~bit;
+    }
+}
+
+static void bleed(uint8_t mask)
+{
+    uint8_t pd0_free = !avr_uart_receiving();    /* PD0: cell 4's load unless it is the receive line */
+    balancing = (uint8_t)(mask & BALANCE_CELLS & (pd0_free ? 0xFF : ~8));
+    /* atomic: the ADC interrupt drives the disable lines on the same ports (a trip must not be undone) */
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
+        bleed_pin(&DDRC, &PORTC, _BV(B6_BAL1), balancing & 1);
+        bleed_pin(&DDRC, &PORTC, _BV(B6_BAL2), balancing & 2);
+        bleed_pin(&DDRA, &PORTA, _BV(B6_BAL3), balancing & 4);
+        if (pd0_free)
+            bleed_pin(&DDRD, &PORTD, _BV(B6_BAL4), balancing & 8);
+        bleed_pin(&DDRD, &PORTD, _BV(B6_BAL5), balancing & 16);
+        bleed_pin(&DDRD, &PORTD, _BV(B6_BAL6), balancing & 32);
+    }
+}
+
+/* Every 100 ms. The hold: while a Li charge runs with its balance lead, the charge current is capped so
+ * that the highest cell stays at its ceiling (balance_cap: the cells decide the current, as cheali's). The
+ * balancer: in that charge, once its cells are on the charged part of their curve
+ * (the highest within 600 mV of the chemistry's maximum) or the pack holds its voltage, windows of at most
+ * 15 s bleeding, then 4 s off: at most 2 + BALANCE_MAX_BLEEDERS switch changes in 19 s, whatever the noise.
+ * Cell 4 bleeds too unless PD0 is the receive line (find_receive_wire). */
 static void balance(void)
 {
-    uint8_t n = protect_limits.li_cells, k, mask = 0;
+    uint8_t n = protect_limits.li_cells, k;
     int16_t low = 0x7FFF, high = 0;
-    uint8_t charging = out.kind == HAL_VOLTAGE_CHARGE || (out.kind == HAL_CURRENT && out.current_ua > 0);
+    uint8_t on = app_running() && charging();
+    find_receive_wire();
     for (k = 0; k < n; k++) {
         if (protect_cell_mv[k] < low)
             low = protect_cell_mv[k];
         if (protect_cell_mv[k] > high)
             high = protect_cell_mv[k];
     }
-    if (app_running() && n > 1 && charging &&
-        (high >= (int16_t)protect_limits.cell_max_mv + CELL_MARGIN_MV - BALANCE_FROM_MV ||
-         (out.kind == HAL_VOLTAGE_CHARGE && adc_value(CAL_VOUT) >= out.voltage_uv / 1000 - 50))) {
-        for (k = 0; k < n; k++) {
-            int16_t over = (int16_t)(protect_cell_mv[k] - low);
-            if (over > BALANCE_ON_MV || (over > BALANCE_OFF_MV && (balancing & (1 << k))))
-                mask |= (uint8_t)(1 << k);
-        }
+    hold_ma = on && n && ceiling_mv ? balance_cap(hold_ma, (int16_t)(ceiling_mv - high),
+                                                  stage_battery_ma(protect_latest[CAL_ISMPS]),
+                                                  out.current_ua / 1000) : B6_CHARGE_MA;
+    stage_cap(hold_ma);
+    if (!on || n < 2 || (high < (int16_t)protect_limits.cell_max_mv + CELL_MARGIN_MV - BALANCE_FROM_MV &&
+                         !(out.kind == HAL_VOLTAGE_CHARGE && adc_value(CAL_VOUT) >= out.voltage_uv / 1000 - 50))) {
+        if (balancing)
+            bleed(0);
+        bled_before = 0;
+        balance_slows = 0;
+        return;
     }
-    find_receive_wire();
-    balancing = (uint8_t)(avr_uart_receiving() ? mask & ~(1 << 3) : mask);
-    /* atomic: the ADC interrupt drives the disable lines on the same ports (a trip must not be undone) */
-    ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
-        if (!avr_uart_receiving()) {     /* cell 4's load: driven high to bleed, else an input (above) */
-            PORTD = (uint8_t)((PORTD & ~_BV(B6_BAL4)) | (balancing & 8 ? _BV(B6_BAL4) : 0));
-            DDRD = (uint8_t)((DDRD & ~_BV(B6_BAL4)) | (balancing & 8 ? _BV(B6_BAL4) : 0));
+    if (balancing) {
+        /* a cell leaves its window early once its presumed voltage is at most the lowest cell that does
+         * not bleed; only leaving, so a window makes at most 1 + BALANCE_MAX_BLEEDERS changes */
+        uint8_t keep;
+        if (++balance_slows == 1)                /* 100 ms into the window: what each bleed takes off its reading */
+            for (k = 0; k < n; k++)
+                bleed_drop_mv[k] = balancing & (1 << k) ? bleed_drop_mv[k] - protect_cell_mv[k] : 0;
+        keep = balance_keep(protect_cell_mv, n, balancing, bleed_drop_mv);
+        if (balance_slows >= BALANCE_BLEED_SLOWS || !keep) {
+            bled_before = balancing;
+            keep = 0;
+            balance_slows = 0;
         }
-        PORTC = (uint8_t)((PORTC & ~(_BV(B6_BAL1) | _BV(B6_BAL2))) | (balancing & 1 ? _BV(B6_BAL1) : 0) |
-                          (balancing & 2 ? _BV(B6_BAL2) : 0));
-        PORTA = (uint8_t)((PORTA & ~_BV(B6_BAL3)) | (balancing & 4 ? _BV(B6_BAL3) : 0));
-        PORTD = (uint8_t)((PORTD & ~(_BV(B6_BAL5) | _BV(B6_BAL6))) | (balancing & 16 ? _BV(B6_BAL5) : 0) |
-                          (balancing & 32 ? _BV(B6_BAL6) : 0));
+        if (keep != balancing)
+            bleed(keep);
+    } else if (++balance_slows >= BALANCE_SETTLE_SLOWS) {
+        for (k = 0; k < n; k++)
+            bleed_drop_mv[k] = protect_cell_mv[k];
+        bleed(balance_bleeders(protect_cell_mv, n, bled_before));
+        balance_slows = 0;
     }
 }
 
@@ -460,9 +530,6 @@ int main(void)
     uint32_t last_slow = 0;
     MCUCSR = 0;
     stage_init();                    /* first: every disable line high, both switches low */
-    DDRC |= _BV(B6_BAL1) | _BV(B6_BAL2);
-    DDRA |= _BV(B6_BAL3);
-    DDRD |= _BV(B6_BAL5) | _BV(B6_BAL6);
     DDRB |= _BV(B6_BUZZER);          /* PB0..PB3 stay inputs: the buttons */
     /* Timer0: CTC, /64, 250 counts = 1 ms */
     TCCR0 = _BV(WGM01) | _BV(CS01) | _BV(CS00);

@@ -162,8 +162,7 @@ static void run_screen(void)
 {
     const zc_run_t *r = app_run();
     char line[LCD_COLUMNS + 8], *p = line;
-    int32_t ma = (protect_latest[CAL_ISMPS] > 0 ? protect_latest[CAL_ISMPS] : 0) -
-                 (protect_latest[CAL_IDIS] > 0 ? protect_latest[CAL_IDIS] : 0);
+    int32_t ma = hal_current_ua() / 1000;    /* the battery's (in boost not the inductor's), as counted */
     *p++ = r->paused ? 'P' : (r->phase_section ? 'C' : 'D');
     *p++ = (char)('0' + r->phase_index % 10);
     *p++ = ' ';

@@ -19,7 +19,7 @@
 #define STARVED_READINGS 400
 
 static volatile uint8_t mode;
-static volatile int16_t i_set, v_set, v_now, i_now;
+static volatile int16_t i_set, i_cap, v_set, v_now, i_now;
 static volatile uint32_t duty;
 static volatile uint16_t pwm_whole;
 static volatile uint8_t pwm_frac, pwm_acc, boosting;
@@ -110,6 +110,13 @@ void stage_set(uint8_t m, int32_t current_ma, int32_t voltage_mv)
         if (m != mode) {
             stage_off();
             if (m == STAGE_CHARGE) {
+                /* from off, the duty starts where the current is about to flow (cheali SMPS_PID::init: the
+                 * buck full when the pack is above the input): 95 % of Vout / Vin, so a phase change does
+                 * not spend a second of its first tick ramping up from zero */
+                int32_t vin = protect_latest[CAL_VIN], vout = (int32_t)protect_latest[CAL_VOUT] * 95 / 100;
+                if (vin > 0 && vout > 0)
+                    duty = vout >= vin ? BUCK_FULL : BUCK_FULL * (uint32_t)vout / (uint32_t)vin;
+                apply();
                 PORTD &= (uint8_t)~(_BV(B6_SMPS_DISABLE) | _BV(B6_OUTPUT_DISABLE));
             } else {
                 PORTD &= (uint8_t)~_BV(B6_OUTPUT_DISABLE);
@@ -122,11 +129,18 @@ void stage_set(uint8_t m, int32_t current_ma, int32_t voltage_mv)
     }
 }
 
+void stage_cap(int16_t ma)
+{
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE) { i_cap = ma; }
+}
+
 /* One integral step towards the set point: the current's error, or the voltage's when that one asks
- * for less (CV within the current limit). The duty carries over from tick to tick. */
+ * for less (CV within the current limit). A charge's current is also under the balancer's cap. The duty
+ * carries over from tick to tick. */
 static void step(void)
 {
-    int32_t e = ((int32_t)i_set - i_now) / 4, ev, d = (int32_t)duty;
+    int16_t set = mode == STAGE_CHARGE && i_cap >= 0 && i_cap < i_set ? i_cap : i_set;
+    int32_t e = ((int32_t)set - i_now) / 4, ev, d = (int32_t)duty;
     uint32_t top = mode == STAGE_CHARGE ? charge_top : DISCHARGE_MAX;
     if (v_set) {
         ev = mode == STAGE_CHARGE ? (int32_t)v_set - v_now : (int32_t)v_now - v_set;
@@ -140,7 +154,7 @@ static void step(void)
         d = (int32_t)top;
     duty = (uint32_t)d;
     apply();
-    if ((uint32_t)d == top && i_now < i_set / 4) {
+    if ((uint32_t)d == top && i_now < set / 4) {
         if (++starved >= STARVED_READINGS)   /* a pack the boost cannot reach takes nothing either */
             protect_raise(boosting && (int32_t)v_now > (int32_t)protect_latest[CAL_VIN] * BOOST_REACH - REACH_MARGIN_MV
                           ? TRIP_OUT_OF_REACH : TRIP_DISCONNECTED);
@@ -157,6 +171,15 @@ void stage_current(int16_t ma)
 }
 
 void stage_voltage(int16_t mv) { v_now = mv; }
+
+int16_t stage_battery_ma(int16_t inductor_ma)
+{
+    /* the boost switch closed (a share d of the period) shorts the inductor to ground; the battery gets
+     * its current only the rest of the period: I_battery = I_inductor x (1 - d), d = duty - BUCK_FULL */
+    if (!boosting || inductor_ma <= 0)
+        return inductor_ma;
+    return (int16_t)((int32_t)inductor_ma * (int32_t)(2 * BUCK_FULL - duty) / (int32_t)BUCK_FULL);
+}
 
 int32_t stage_loss_mw(void)
 {

@@ -15,6 +15,12 @@ void stage_off(void);
  * duty carries over from the last set point: only a start from off begins at zero. */
 void stage_set(uint8_t mode, int32_t current_ma, int32_t voltage_mv);
 uint8_t stage_mode(void);
+/* The balancer's hold (docs/firmware.md, Balancer): a charge's current is at most `ma` too (< 0: no cap),
+ * so it falls as the highest cell reaches its ceiling. */
+void stage_cap(int16_t ma);
+/* The battery's share of a charge current reading (mA): in boost the inductor's current reaches the
+ * battery only while the boost switch is open; in buck all of it does. */
+int16_t stage_battery_ma(int16_t inductor_ma);
 /* From the ADC interrupt: a new reading of the charge current, discharge current or output voltage. */
 void stage_current(int16_t ma);
 void stage_voltage(int16_t mv);
