@@ -14,7 +14,6 @@ from typing import Iterator
 
 from ..device import messages as msg
 from ..device.client import DEFAULT_BAUD, ChargerClient, DeviceInfo, check_image
-from ..device.avrdude import ProgrammerError
 from ..device.drivers import AUTO, DRIVERS, ZUML
 from ..device.errors import (CommitUncertain, CommitUnverified, DeviceError, DeviceLinkError, ImageTooLarge,
                              NotACharger)
@@ -165,8 +164,6 @@ def _device_errors(fn):
             raise CliError(_("EEPROM image: {exc}").format(exc=exc), 1) from None
         except PassportError as exc:
             raise CliError(f"passport: {exc}", 2) from None
-        except ProgrammerError as exc:
-            raise CliError(str(exc), 1) from None
     return run
 
 
@@ -244,13 +241,13 @@ def _progress(line: str) -> None:
 
 def _read_chip(args: argparse.Namespace):
     """The B6's EEPROM through its programmer (the ZUML image checked in its flash first)."""
-    from ..device.isp_store import read_chip
+    from ..device.isp_store import disconnect_warning, read_chip
+    sys.stderr.write(_("zuml: warning: {line}\n").format(line=disconnect_warning()))
     return read_chip(_programmer(args), _progress)
 
 
 def _write_chip(args: argparse.Namespace, chip, image: bytes) -> int:
-    from ..device.isp_store import disconnect_warning, write_image
-    sys.stderr.write(_("zuml: warning: {line}\n").format(line=disconnect_warning()))
+    from ..device.isp_store import write_image
     return write_image(_programmer(args), chip, image, _progress)
 
 

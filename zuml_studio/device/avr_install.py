@@ -251,7 +251,11 @@ def keep_original(folder: Path, saved: Saved, say: Say) -> None:
 
 def default_backup_folder() -> Path:
     """A new folder in the settings folder, never one that exists."""
-    base = backups_root() / time.strftime("imaxb6-%Y%m%d-%H%M%S")
+    return fresh_folder(backups_root() / time.strftime("imaxb6-%Y%m%d-%H%M%S"))
+
+
+def fresh_folder(base: Path) -> Path:
+    """``base``, or ``base-2``, ``base-3``…: the first that does not exist."""
     folder, n = base, 1
     while folder.exists():
         n += 1

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..i18n import _
+from .errors import DeviceLinkError
 
 PART = "m32"
 AVRDUDE_INSTALL = "apt-get install avrdude"
@@ -24,8 +25,9 @@ SILENCE_S = 60.0
 TOTAL_S = 300.0
 
 
-class ProgrammerError(Exception):
-    """A precise one-line reason an operation through the programmer stopped (and what was already done)."""
+class ProgrammerError(DeviceLinkError):
+    """A precise one-line reason an operation through the programmer stopped (and what was already done): the
+    programmer is the link to the charger here."""
 
 
 class AvrdudeStopped(ProgrammerError):

@@ -15,6 +15,7 @@ starts idle after the reset), which is why the battery must be disconnected firs
 from __future__ import annotations
 
 import tempfile
+import time
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from pathlib import Path
@@ -26,6 +27,8 @@ from . import messages as m
 from .avr_install import EEPROM_SIZE, ZUML_IMAGE
 from .avrdude import Programmer, ProgrammerError, read_file_written, run_avrdude
 from .calibration import BLOCK_SIZE, Block, CalibrationError
+from .client import DeviceInfo, WriteResult, check_image
+from .errors import DeviceError, ImageTooLarge
 
 CALIBRATION_AT = EEPROM_SIZE - BLOCK_SIZE           # 970: the store's bytes are the ones below it
 TEMPLATES, TEMPLATE_SIZE = 16, 9                     # firmware/core/store.h, zuml.h
@@ -34,6 +37,12 @@ IMAGE_SIZE = (CALIBRATION_AT - 2 - TEMPLATES * TEMPLATE_STORED) // 2     # 404
 TEMPLATES_AT = 2 * IMAGE_SIZE                        # 808
 TEMPLATES_FLAG_AT, TEMPLATES_READY = TEMPLATES_AT + TEMPLATES * TEMPLATE_STORED, 0x5A
 MODEL = "iMAX B6 (ZUML firmware)"
+SCHEME = "isp:"                 # a port "isp:usbasp" or "isp:stk500v1@/dev/ttyUSB0": the B6 through a programmer
+USBASP = SCHEME + "usbasp"
+# The B6 board's limits (firmware/boards/imaxb6: 5 A / 50 W charge, 1 A / 5 W discharge, 27 V), for the window's
+# display; a start is never made through the programmer.
+B6_LIMITS = dict(protocol=0, model=MODEL, eeprom_size=IMAGE_SIZE, max_data=0, max_charge_a=5.0, max_charge_w=50.0,
+                 max_discharge_a=1.0, max_discharge_w=5.0, max_v=27.0, write_s_per_byte=0.0085)
 
 Say = Callable[[str], None]
 
@@ -56,9 +65,11 @@ class ChipInfo:
 
 @dataclass(frozen=True)
 class ChipStore:
-    """A B6's whole EEPROM as read through the programmer. It answers what ``safety.judge_slots`` asks of a
-    charger: no passport (the B6's passport line is not wired) and its own start templates."""
+    """A B6's whole EEPROM as read through the programmer (and the firmware's name from its flash). It answers
+    what ``safety.judge_slots`` asks of a charger: no passport (the B6's passport line is not wired) and its own
+    start templates."""
     data: bytes
+    firmware: str = ""
     info: ChipInfo = ChipInfo()
 
     @property
@@ -130,11 +141,12 @@ def read_chip(programmer: Programmer, say: Say) -> ChipStore:
     firmware, whose own settings it would overwrite)."""
     say(_("Reading the charger's flash and EEPROM through the programmer…"))
     flash, data = _read(programmer, with_flash=True)
-    if not ZUML_IMAGE.search(flash):
+    found = ZUML_IMAGE.search(flash)
+    if not found:
         raise ProgrammerError(_("the charger does not run the ZUML firmware (its flash holds no ZUML imaxb6 image): "
                                 "its EEPROM is another firmware's; install ZUML first (zuml firmware install); "
                                 "nothing was written"))
-    return ChipStore(data)
+    return ChipStore(data, found.group().rstrip(b"\0").decode("ascii"))
 
 
 def write_image(programmer: Programmer, chip: ChipStore, image: bytes, say: Say) -> int:
@@ -159,3 +171,95 @@ def write_image(programmer: Programmer, chip: ChipStore, image: bytes, say: Say)
         raise ProgrammerError(_("the templates or the calibration changed during the write (byte {at}): did the "
                                 "firmware run in between? Check with zuml slots --programmer").format(at=at))
     return changed
+
+
+def programmer_of(url: str) -> Programmer | None:
+    """The programmer an "isp:" port names (None for any other port)."""
+    if not url.startswith(SCHEME):
+        return None
+    name, __, port = url[len(SCHEME):].partition("@")
+    return Programmer(name.strip() or "usbasp", port.strip() or None)
+
+
+class ProgrammerClient:
+    """The B6 through its programmer, answering what the window's slot jobs ask of a ``ChargerClient``: the
+    image read and written (each write after a read of the flash that shows the ZUML image), the start
+    templates from the EEPROM, no passport. Nothing here runs a macro or streams telemetry: the processor is
+    held in reset while avrdude works, so runs are started on the front panel."""
+
+    connected = True
+
+    def __init__(self, url: str, say: Say | None = None):
+        """Reads the chip at once (as a serial client's IDENTIFY): one that does not run ZUML is refused here."""
+        programmer = programmer_of(url)
+        if programmer is None:
+            raise ValueError(f"not a programmer port: {url}")
+        self.programmer = programmer
+        self._say = say or (lambda line: None)
+        self._chip = read_chip(programmer, self._say)
+        self.info = DeviceInfo(firmware=self._chip.firmware, **B6_LIMITS)
+
+    def close(self) -> None:
+        self.connected = False
+
+    def on_telemetry(self, callback) -> None:
+        pass
+
+    def on_event(self, callback) -> None:
+        pass
+
+    def on_disconnect(self, callback) -> None:
+        pass
+
+    def set_telemetry_rate(self, hz: int) -> int:
+        raise self._no_run()
+
+    def read_image(self, progress=None, *, stage: str = "read") -> bytes:
+        """The store's image, the flash read first (its ZUML image checked); ``progress`` before and after."""
+        step = progress or (lambda stage, done, total: None)
+        step(stage, 0, IMAGE_SIZE)
+        self._chip = read_chip(self.programmer, self._say)
+        step(stage, IMAGE_SIZE, IMAGE_SIZE)
+        return self._chip.image
+
+    def templates_named(self, numbers: Iterable[int | None]) -> dict[int, StartTemplate]:
+        __, data = _read(self.programmer, with_flash=False)
+        return ChipStore(data).templates_named(numbers)
+
+    def passport_if_any(self) -> None:
+        return None
+
+    def passport_read(self):
+        raise DeviceError(m.ErrorCode.NO_PASSPORT, _("the iMAX B6 has no passport line"))
+
+    def write_image(self, image: bytes, progress=None, *, validate: bool = True,
+                    current: bytes | None = None) -> WriteResult:
+        if len(image) > IMAGE_SIZE:
+            raise ImageTooLarge(len(image), IMAGE_SIZE)
+        image = bytes(image) + b"\xff" * (IMAGE_SIZE - len(image))
+        if validate:
+            check_image(image)
+        if current is None or current != self._chip.image:
+            self.read_image(progress)
+        step = progress or (lambda stage, done, total: None)
+        step("write", 0, TEMPLATES_AT)
+        started = time.monotonic()
+        changed = write_image(self.programmer, self._chip, image, self._say)
+        step("verify", TEMPLATES_AT, TEMPLATES_AT)
+        self._chip = ChipStore(self._chip.with_image(image), self._chip.firmware)
+        return WriteResult(IMAGE_SIZE, changed, TEMPLATES_AT, 1, time.monotonic() - started)
+
+    def start(self, *args, **kwargs) -> str:
+        raise self._no_run()
+
+    def stop(self) -> str:
+        raise self._no_run()
+
+    def status(self):
+        raise self._no_run()
+
+    @staticmethod
+    def _no_run() -> DeviceError:
+        return DeviceError(m.ErrorCode.UNKNOWN_TYPE, _("through the programmer the charger is held in reset: "
+                                                       "remove the programmer and start the macro on the charger's "
+                                                       "front panel (START held)"))

@@ -230,8 +230,9 @@ def test_port_scans_run_off_the_gui_thread(qtbot, tmp_path, editor):
         assert seen and not any(seen)
         combo = panel.ports.combo
         assert combo.itemText(0) == "Virtual charger (built-in)" and combo.currentIndex() == 0
-        assert combo.itemData(1) == "/dev/ttyUSB7" and "CP2102" in combo.itemText(1)
-        combo.setCurrentIndex(1)
+        assert combo.itemText(1) == "iMAX B6 (ZUML) through a USBasp" and combo.itemData(1) == "isp:usbasp"
+        assert combo.itemData(2) == "/dev/ttyUSB7" and "CP2102" in combo.itemText(2)
+        combo.setCurrentIndex(2)
         assert panel.ports.target() == "/dev/ttyUSB7"
         assert not panel.virtual_box.isVisible()
         panel.ports.url.setText("socket://127.0.0.1:7777")

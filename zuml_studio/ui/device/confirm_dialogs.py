@@ -61,3 +61,18 @@ def ask_close_during_run(parent: QWidget | None, run: str, virtual: bool) -> str
     box.setEscapeButton(cancel)
     box.exec()
     return {id(stop): STOP, id(leave): LEAVE}.get(id(box.clickedButton()), CANCEL)
+
+
+def confirm_programmer(parent: QWidget | None) -> bool:
+    """Before the window reaches a B6 through its ISP programmer: the battery must be off the charger."""
+    from ...device.isp_store import disconnect_warning
+    box = QMessageBox(QMessageBox.Icon.Warning, _("iMAX B6 through the programmer"), disconnect_warning(),
+                      parent=parent)
+    box.setInformativeText(_("Every read and write through the programmer resets the charger. Is the battery "
+                             "disconnected?"))
+    go = box.addButton(_("The battery is disconnected"), QMessageBox.ButtonRole.AcceptRole)
+    cancel = box.addButton(QMessageBox.StandardButton.Cancel)
+    box.setDefaultButton(cancel)
+    box.setEscapeButton(cancel)
+    box.exec()
+    return box.clickedButton() is go

@@ -28,6 +28,7 @@ from ...device.client import ChargerClient, DeviceInfo
 from ...device.errors import (CommitUncertain, CommitUnverified, DeviceError, DeviceLinkError, DeviceTimeout, Disconnected, ImageTooLarge,
                               InvalidImage, NotACharger, PermissionDenied, PortBusy, PortNotFound, VerifyFailed)
 from ...device.flashing import ImageFull, SlotOutOfRange
+from ...device.isp_store import ProgrammerClient, programmer_of
 from ...file_errors import FileReadError
 from ...i18n import _
 from ...lang.eeprom import ImageError
@@ -243,7 +244,7 @@ class DeviceConnection(QObject):
             with self._res_lock:
                 self._device, self._stop_virtual = device, stop
         try:
-            client = ChargerClient(url, baud)
+            client = ProgrammerClient(url) if programmer_of(url) else ChargerClient(url, baud)
         except BaseException:
             self._drop_virtual()
             raise

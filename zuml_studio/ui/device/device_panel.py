@@ -26,9 +26,11 @@ from PySide6.QtWidgets import QHBoxLayout, QPushButton, QSplitter, QVBoxLayout, 
 
 from ...device.drivers import AUTO
 from ...device.errors import NotACharger
+from ...device.isp_store import ProgrammerClient
 from ...device.ports import VIRTUAL
 from ...i18n import _
 from .charger_monitor import ChargerMonitor, recording_cells
+from . import confirm_dialogs
 from .charger_slots import ChargerSlots
 from .connection import DeviceConnection, Opened
 from .connection_bar import ConnectionBar
@@ -190,6 +192,10 @@ class DevicePanel(QWidget):
         target = self.ports.target()
         if self.connection.state != "disconnected" or self.is_monitoring():
             self.show_message(_("Already connected (or connecting): Disconnect first."), "warn")
+            return False
+        if self.ports.is_programmer() and not confirm_dialogs.confirm_programmer(self):
+            self.show_message(_("Not connected: disconnect the battery first, then connect through the programmer."),
+                              "warn")
             return False
         watch_with = self.bar.monitor_driver(target)
         if watch_with is not None:
@@ -427,7 +433,12 @@ class DevicePanel(QWidget):
         connected = self.connection.state == "connected"
         idle = connected and not self.connection.busy
         self.charger.set_enabled(idle, reason)
-        self.run.set_enabled(connected, idle, reason)
+        # Through the programmer the processor is held in reset: macros only, runs start on the front panel
+        programmer = connected and isinstance(self.connection.client, ProgrammerClient)
+        self.run.set_enabled(connected, idle, reason or (_("Through the programmer the charger is held in reset: "
+                                                           "remove the programmer and start the macro on the "
+                                                           "charger's front panel (START held)")
+                                                         if programmer else ""))
         self.pp_refresh.setEnabled(idle and not monitoring)
 
     # ================================================================ monitor-only chargers

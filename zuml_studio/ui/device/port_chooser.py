@@ -12,6 +12,7 @@ from typing import Callable
 from PySide6.QtCore import QObject, QRunnable, QThreadPool, QTimer, Signal
 from PySide6.QtWidgets import QComboBox, QHBoxLayout, QLineEdit, QSizePolicy, QWidget
 
+from ...device.isp_store import SCHEME as ISP_SCHEME, USBASP
 from ...device.ports import VIRTUAL, PortInfo, list_ports
 from ...i18n import N_, _
 from .device_style import ElidedCombo
@@ -19,6 +20,8 @@ from .device_style import ElidedCombo
 log = logging.getLogger(__name__)
 
 VIRTUAL_LABEL = N_("Virtual charger (built-in)")
+USBASP_LABEL = N_("iMAX B6 (ZUML) through a USBasp")
+FIXED = 2               # the entries before the ports found: the virtual charger, the B6 through a USBasp
 BAUDS = (9600, 19200, 38400, 57600, 115200, 128000, 230400, 460800, 921600)
 DEFAULT_BAUD = 115200
 REFRESH_MS = 2000
@@ -65,8 +68,11 @@ class PortChooser(QWidget):
         self.combo = ElidedCombo()
         self.combo.setObjectName("portCombo")
         self.combo.addItem(_(VIRTUAL_LABEL), VIRTUAL)
+        self.combo.addItem(_(USBASP_LABEL), USBASP)
         self.combo.setToolTip(_("The charger's port. The built-in virtual charger runs the simulator behind a "
-                                "real serial line (a pty), so everything works without hardware."))
+                                "real serial line (a pty), so everything works without hardware. An iMAX B6 with "
+                                "the ZUML firmware can also be reached through the ISP programmer it was installed "
+                                "with (macros only; runs start on its front panel; the battery disconnected)."))
         self.combo.setSizeAdjustPolicy(QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
         self.combo.setMinimumContentsLength(16)
         self.combo.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
@@ -74,7 +80,8 @@ class PortChooser(QWidget):
         self.url.setObjectName("portUrl")
         self.url.setPlaceholderText(_("or a port / URL"))      # the examples are in the tooltip
         self.url.setToolTip(_("A port path or URL to use instead of the list: {examples}. Empty: use the list.").format(
-            examples="/dev/ttyUSB0, COM3, /dev/pts/3 (`zuml virtual-charger`), socket://127.0.0.1:7777"))
+            examples="/dev/ttyUSB0, COM3, /dev/pts/3 (`zuml virtual-charger`), socket://127.0.0.1:7777, "
+                     "isp:stk500v1@/dev/ttyUSB0 (an avrdude programmer and its port)"))
         self.url.setClearButtonEnabled(True)
         self.url.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
         self.baud = QComboBox()
@@ -108,6 +115,10 @@ class PortChooser(QWidget):
     def is_virtual(self) -> bool:
         return self.target() == VIRTUAL
 
+    def is_programmer(self) -> bool:
+        """The B6 through its ISP programmer (avrdude), not a serial line."""
+        return self.target().startswith(ISP_SCHEME)
+
     def baudrate(self) -> int:
         return int(self.baud.currentData() or DEFAULT_BAUD)
 
@@ -128,7 +139,7 @@ class PortChooser(QWidget):
         self.url.clear()                # picking from the list means: use the list
 
     def ports(self) -> list[str]:
-        return [self.combo.itemData(i) for i in range(1, self.combo.count())]
+        return [self.combo.itemData(i) for i in range(FIXED, self.combo.count())]
 
     # -- scanning ---------------------------------------------------------------------------------
     def refresh(self) -> bool:
@@ -150,11 +161,11 @@ class PortChooser(QWidget):
         self.scans += 1
         current = self.combo.currentData()
         wanted = [(p.label(), p.device) for p in found]
-        have = [(self.combo.itemText(i), self.combo.itemData(i)) for i in range(1, self.combo.count())]
+        have = [(self.combo.itemText(i), self.combo.itemData(i)) for i in range(FIXED, self.combo.count())]
         if wanted != have:
             self.combo.blockSignals(True)
-            while self.combo.count() > 1:
-                self.combo.removeItem(1)
+            while self.combo.count() > FIXED:
+                self.combo.removeItem(FIXED)
             for label, device in wanted:
                 self.combo.addItem(label, device)
                 self.combo.setItemData(self.combo.count() - 1, label, 3)     # Qt.ToolTipRole
