@@ -260,6 +260,10 @@ class ProgrammerClient:
 
     @staticmethod
     def _no_run() -> DeviceError:
-        return DeviceError(m.ErrorCode.UNKNOWN_TYPE, _("through the programmer the charger is held in reset: "
-                                                       "remove the programmer and start the macro on the charger's "
-                                                       "front panel (START held)"))
+        return DeviceError(m.ErrorCode.UNKNOWN_TYPE, no_run_text())
+
+
+def no_run_text() -> str:
+    """Why nothing is started through the programmer (the window's Start says it too)."""
+    return _("Through the programmer the charger is held in reset: remove the programmer and start the macro on "
+             "the charger's front panel (START held)")

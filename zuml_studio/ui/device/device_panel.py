@@ -26,7 +26,7 @@ from PySide6.QtWidgets import QHBoxLayout, QPushButton, QSplitter, QVBoxLayout, 
 
 from ...device.drivers import AUTO
 from ...device.errors import NotACharger
-from ...device.isp_store import ProgrammerClient
+from ...device.isp_store import ProgrammerClient, no_run_text
 from ...device.ports import VIRTUAL
 from ...i18n import _
 from .charger_monitor import ChargerMonitor, recording_cells
@@ -435,10 +435,7 @@ class DevicePanel(QWidget):
         self.charger.set_enabled(idle, reason)
         # Through the programmer the processor is held in reset: macros only, runs start on the front panel
         programmer = connected and isinstance(self.connection.client, ProgrammerClient)
-        self.run.set_enabled(connected, idle, reason or (_("Through the programmer the charger is held in reset: "
-                                                           "remove the programmer and start the macro on the "
-                                                           "charger's front panel (START held)")
-                                                         if programmer else ""))
+        self.run.set_enabled(connected, idle, reason or (no_run_text() if programmer else ""))
         self.pp_refresh.setEnabled(idle and not monitoring)
 
     # ================================================================ monitor-only chargers
