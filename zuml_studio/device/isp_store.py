@@ -252,6 +252,12 @@ class ProgrammerClient:
     def start(self, *args, **kwargs) -> str:
         raise self._no_run()
 
+    def request(self, name: str, *args, **kwargs) -> bytes:
+        """The serial requests (calibration among them) do not go through a programmer."""
+        raise DeviceError(m.ErrorCode.UNKNOWN_TYPE, _("{request} needs the charger's serial requests; through the "
+                                                      "programmer only its macro store is reached").format(
+                                                          request=name))
+
     def stop(self) -> str:
         raise self._no_run()
 

@@ -91,3 +91,36 @@ def test_a_chip_without_the_zuml_firmware_does_not_connect(make_panel, qtbot, b6
         assert panel.connect_to(target)
     assert blocker.args == [False]
     assert "does not run the ZUML firmware" in panel.message_text()
+
+
+def test_backup_and_restore_through_the_programmer(make_panel, qtbot, tmp_path, b6, battery_off):
+    from helpers import compiled
+    from zuml_studio.lang.eeprom import pack
+    chip, target = b6
+    chip.eeprom[:] = b6_eeprom([compiled(LIPO)])
+    panel = make_panel()
+    connect(qtbot, panel, target)
+    assert panel.charger.slot_names() == ["LiPo-B6"]
+    with qtbot.waitSignal(panel.operationFinished, timeout=WAIT_MS) as saved:
+        panel.backup(tmp_path / "b6.bin")
+    assert saved.args[:2] == ["backup", True], saved.args
+    assert (tmp_path / "b6.bin").read_bytes() == bytes(chip.eeprom[:IMAGE_SIZE])
+    (tmp_path / "two.bin").write_bytes(pack([compiled(LIPO), compiled("NiMh")], IMAGE_SIZE))
+    before = bytes(chip.eeprom)
+    with qtbot.waitSignal(panel.operationFinished, timeout=WAIT_MS) as restored:
+        panel.restore(tmp_path / "two.bin")
+    assert restored.args[:2] == ["restore", True], restored.args
+    assert panel.charger.slot_names() == ["LiPo-B6", "NiMh"]
+    assert chip.eeprom[TEMPLATES_AT:] == before[TEMPLATES_AT:]
+
+
+def test_what_needs_the_serial_requests_says_so_through_the_programmer(make_panel, qtbot, b6, battery_off):
+    from zuml_studio.device.errors import DeviceError
+    chip, target = b6
+    panel = make_panel()
+    connect(qtbot, panel, target)
+    client = panel.connection.client
+    with pytest.raises(DeviceError, match="through the programmer only its macro store is reached"):
+        client.request("CAL_READ")
+    with pytest.raises(DeviceError, match="front panel"):
+        client.start(0)
