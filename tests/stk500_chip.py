@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import os
 import select
+import termios
 import threading
 import tty
 from dataclasses import dataclass, field
@@ -118,6 +119,10 @@ class Stk500Programmer:
             while (length := self._command_length()) is not None and len(self._pending) >= length:
                 command = bytes(self._pending[:length])
                 del self._pending[:length]
+                # avrdude reads each answer before its next command, except the answers to the GET_SYNCs it
+                # sends and drains at the start: one answered after its drain would be read as the answer to
+                # a later command (on a loaded machine). A new command makes whatever is unread stale.
+                termios.tcflush(self._slave, termios.TCIFLUSH)
                 os.write(self._master, self._answer(command))
 
     def _command_length(self) -> int | None:

@@ -227,13 +227,6 @@ def cmd_slots(args: argparse.Namespace) -> int:
     return 0
 
 
-def _programmer(args: argparse.Namespace):
-    from ..device.avrdude import Programmer
-    if args.baud is not None and not 300 <= args.baud <= 2_000_000:
-        raise CliError(_("--baud is 300..2000000"))
-    return Programmer(args.programmer, args.port, args.baud)
-
-
 def _progress(line: str) -> None:
     sys.stderr.write(line + "\n")
     sys.stderr.flush()
@@ -242,13 +235,15 @@ def _progress(line: str) -> None:
 def _read_chip(args: argparse.Namespace):
     """The B6's EEPROM through its programmer (the ZUML image checked in its flash first)."""
     from ..device.isp_store import disconnect_warning, read_chip
+    from .firmware_install_command import programmer
     sys.stderr.write(_("zuml: warning: {line}\n").format(line=disconnect_warning()))
-    return read_chip(_programmer(args), _progress)
+    return read_chip(programmer(args), _progress)
 
 
 def _write_chip(args: argparse.Namespace, chip, image: bytes) -> int:
     from ..device.isp_store import write_image
-    return write_image(_programmer(args), chip, image, _progress)
+    from .firmware_install_command import programmer
+    return write_image(programmer(args), chip, image, _progress)
 
 
 def slot_checks(client: ChargerClient, found: list[Slot]) -> list[str]:

@@ -25,19 +25,25 @@ def test_the_device_menu_opens_the_dialog_with_its_warnings(make_window, qtbot):
     dialog.close()
 
 
-@pytest.mark.skipif(shutil.which("avrdude") is None, reason="avrdude not installed")
-def test_install_then_restore_from_the_dialog(qtbot, tmp_path):
+def filled(qtbot, tmp_path, port):
+    """The dialog with the emulated programmer, an image and tmp_path/original as the backup folder."""
     image = tmp_path / "zuml.bin"
     image.write_bytes(bytes(range(200)) * 50)
-    chip = Atmega32(flash=bytearray(ORIGINAL), lfuse=0x3F, hfuse=0xC9)
     dialog = FirmwareInstallDialog()
     qtbot.addWidget(dialog)
+    dialog.programmer.setCurrentText("stk500v1")
+    dialog.port.setText(port)
+    dialog.image.setText(str(image))
+    dialog.backup.setText(str(tmp_path / "original"))
+    dialog.read_it.setChecked(True)
+    return dialog
+
+
+@pytest.mark.skipif(shutil.which("avrdude") is None, reason="avrdude not installed")
+def test_install_then_restore_from_the_dialog(qtbot, tmp_path):
+    chip = Atmega32(flash=bytearray(ORIGINAL), lfuse=0x3F, hfuse=0xC9)
     with Stk500Programmer(chip) as programmer:
-        dialog.programmer.setCurrentText("stk500v1")
-        dialog.port.setText(programmer.port)
-        dialog.image.setText(str(image))
-        dialog.backup.setText(str(tmp_path / "original"))
-        dialog.read_it.setChecked(True)
+        dialog = filled(qtbot, tmp_path, programmer.port)
         dialog.install_button.click()
         assert not dialog.install_button.isEnabled() and not dialog.restore_button.isEnabled()
         qtbot.waitUntil(lambda: not dialog.busy(), timeout=120_000)
@@ -71,17 +77,9 @@ def test_a_locked_original_is_said_before_anything_is_written_and_installed_only
     answer = [False]
     monkeypatch.setattr(firmware_install_dialog, "ask_no_way_back",
                         lambda parent, reason: asked.append(reason) or answer[0])
-    image = tmp_path / "zuml.bin"
-    image.write_bytes(bytes(range(200)) * 50)
     chip = Atmega32(flash=bytearray(ORIGINAL), lfuse=0x3F, hfuse=0xC9, lock=0xFC)
-    dialog = FirmwareInstallDialog()
-    qtbot.addWidget(dialog)
     with Stk500Programmer(chip) as programmer:
-        dialog.programmer.setCurrentText("stk500v1")
-        dialog.port.setText(programmer.port)
-        dialog.image.setText(str(image))
-        dialog.backup.setText(str(tmp_path / "original"))
-        dialog.read_it.setChecked(True)
+        dialog = filled(qtbot, tmp_path, programmer.port)
         dialog.install_button.click()
         qtbot.waitUntil(lambda: not dialog.busy() and bool(asked), timeout=120_000)
         assert "lock bits are set (lock byte 0xFC)" in asked[0] and "no way back" in asked[0]

@@ -9,28 +9,22 @@ from pathlib import Path
 
 from PySide6.QtCore import Qt, Signal
 from PySide6.QtWidgets import (QCheckBox, QComboBox, QDialog, QDialogButtonBox, QFileDialog, QFormLayout,
-                               QHBoxLayout, QLabel, QLineEdit, QMessageBox, QPlainTextEdit, QPushButton, QVBoxLayout,
-                               QWidget)
+                               QHBoxLayout, QLabel, QLineEdit, QPlainTextEdit, QPushButton, QVBoxLayout, QWidget)
 
 from ...device import avr_install
 from ...device.avrdude import Programmer
 from ...i18n import _
 from ..background import BackgroundCall
+from .confirm_dialogs import ask_warning
 
 PROGRAMMERS = ("usbasp", "stk500v1", "avrisp", "arduino", "usbtiny")
 
 
 def ask_no_way_back(parent: QWidget | None, reason: str) -> bool:
     """The original cannot be read: install anyway? Cancel is the default."""
-    box = QMessageBox(QMessageBox.Icon.Warning, _("No way back to the original firmware"), reason, parent=parent)
-    box.setInformativeText(_("Install the ZUML firmware anyway, knowing that the charger's own firmware is then "
-                             "lost for good?"))
-    go = box.addButton(_("Install, there is no way back"), QMessageBox.ButtonRole.DestructiveRole)
-    cancel = box.addButton(QMessageBox.StandardButton.Cancel)
-    box.setDefaultButton(cancel)
-    box.setEscapeButton(cancel)
-    box.exec()
-    return box.clickedButton() is go
+    return ask_warning(parent, _("No way back to the original firmware"), reason,
+                       _("Install the ZUML firmware anyway, knowing that the charger's own firmware is then lost for "
+                         "good?"), _("Install, there is no way back"))
 
 
 class FirmwareInstallDialog(QDialog):
