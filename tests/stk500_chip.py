@@ -123,6 +123,8 @@ class Stk500Programmer:
                 # sends and drains at the start: one answered after its drain would be read as the answer to
                 # a later command (on a loaded machine). A new command makes whatever is unread stale.
                 termios.tcflush(self._slave, termios.TCIFLUSH)
+                if command == b"\x30\x20" and self._pending.startswith(b"\x30\x20"):
+                    continue            # GET_SYNCs that came together: only the last one is waited for
                 os.write(self._master, self._answer(command))
 
     def _command_length(self) -> int | None:

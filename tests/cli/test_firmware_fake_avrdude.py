@@ -145,16 +145,17 @@ def test_an_update_s_backup_is_never_called_the_original(zuml, chip, image, tmp_
            "kept in " in out
 
 
-@pytest.mark.parametrize("mode, said", [
-    ("hang_chatty", "avrdude was still running after 1 s (its last words: usbasp_transmit(): retrying ...), so it "
-                    "was stopped (is the programmer plugged in and the chip powered?); nothing was written"),
-    ("hang_silent", "avrdude stopped answering: nothing from it for 0.5 s, so it was stopped (is the programmer "
-                    "still plugged in?); nothing was written"),
+@pytest.mark.parametrize("mode, total, silence, said", [
+    ("hang_chatty", 2.0, 60.0, "avrdude was still running after 2 s (its last words: usbasp_transmit(): retrying "
+                               "...), so it was stopped (is the programmer plugged in and the chip powered?); "
+                               "nothing was written"),
+    ("hang_silent", 300.0, 1.0, "avrdude stopped answering: nothing from it for 1 s, so it was stopped (is the "
+                                "programmer still plugged in?); nothing was written"),
 ])
 def test_an_avrdude_that_never_ends_is_stopped_after_the_stated_limits(zuml, chip, image, tmp_path, monkeypatch,
-                                                                      mode, said):
-    monkeypatch.setattr(avrdude, "TOTAL_S", 1.0)
-    monkeypatch.setattr(avrdude, "SILENCE_S", 0.5)
+                                                                      mode, total, silence, said):
+    monkeypatch.setattr(avrdude, "TOTAL_S", total)
+    monkeypatch.setattr(avrdude, "SILENCE_S", silence)
     chip.mode(mode)
     code, out, err = install(zuml, image, tmp_path / "bk")
     assert code == 1 and last_line(err).startswith(f"zuml: error: {said}")
