@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import os
 import select
+import termios
 import threading
 import tty
 from dataclasses import dataclass, field
@@ -118,6 +119,12 @@ class Stk500Programmer:
             while (length := self._command_length()) is not None and len(self._pending) >= length:
                 command = bytes(self._pending[:length])
                 del self._pending[:length]
+                # avrdude reads each answer before its next command, except the answers to the GET_SYNCs it
+                # sends and drains at the start: one answered after its drain would be read as the answer to
+                # a later command (on a loaded machine). A new command makes whatever is unread stale.
+                termios.tcflush(self._slave, termios.TCIFLUSH)
+                if command == b"\x30\x20" and self._pending.startswith(b"\x30\x20"):
+                    continue            # GET_SYNCs that came together: only the last one is waited for
                 os.write(self._master, self._answer(command))
 
     def _command_length(self) -> int | None:
@@ -174,3 +181,40 @@ class Stk500Programmer:
     def _byte_address(self, memory: int) -> int:
         # LOAD_ADDRESS takes a word address for the flash and a byte address for the EEPROM (AVR061).
         return self._address * 2 if memory == ord("F") else self._address
+
+
+def main(argv: list[str] | None = None) -> int:
+    """``python tests/stk500_chip.py [--flash IMAGE.hex] [--eeprom FILE]``: the emulated programmer on a pty for
+    trying ``zuml flash --programmer stk500v1 --port PTY`` by hand; prints the pty, serves until Ctrl+C, then
+    saves the EEPROM back to FILE (docs/firmware.md, *Macros through the programmer*)."""
+    import argparse
+    import signal
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+    from zuml_studio.device.avr_install import ihex_bytes
+
+    parser = argparse.ArgumentParser(description="an emulated STK500v1 programmer holding an iMAX B6's ATmega32")
+    parser.add_argument("--flash", type=Path, help="an Intel HEX image in the flash (firmware/build/imaxb6/zuml.hex)")
+    parser.add_argument("--eeprom", type=Path, help="the EEPROM, 1024 raw bytes, read at start and saved at the end")
+    args = parser.parse_args(argv)
+    chip = Atmega32(lfuse=0x3F, hfuse=0xC9)
+    if args.flash:
+        chip.flash[:] = ihex_bytes(args.flash.read_text(), FLASH_SIZE)
+    if args.eeprom and args.eeprom.exists():
+        chip.eeprom[:] = args.eeprom.read_bytes().ljust(EEPROM_SIZE, b"\xff")[:EEPROM_SIZE]
+    stop = threading.Event()
+    signal.signal(signal.SIGTERM, lambda *_: stop.set())
+    signal.signal(signal.SIGINT, lambda *_: stop.set())
+    with Stk500Programmer(chip) as programmer:
+        print(programmer.port, flush=True)
+        while not stop.wait(0.5):
+            pass
+    if args.eeprom:
+        args.eeprom.write_bytes(bytes(chip.eeprom))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

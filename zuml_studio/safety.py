@@ -1,7 +1,8 @@
 """The one safety check on bytes bound for a charger: ``judge``.
 
 Every path that puts a macro on a charger or starts one calls it (or ``judge_image`` for a whole
-EEPROM image): ``zuml flash`` of a .zuml or .bin, ``zuml image``, ``zuml restore``, ``zuml run``,
+EEPROM image): ``zuml flash`` of a .zuml or .bin and ``zuml restore`` (over a serial line or through
+an iMAX B6's ISP programmer, device/isp_store.py), ``zuml image``, ``zuml run``,
 ``zuml templates set``; the Device panel's Compile & Flash (the toolbar's Upload), Restore and
 Start; the virtual charger's START as a last line; the slot lists (panel and ``zuml slots``, and
 ``zuml image --list`` offline) mark what it refuses, judged again on the bytes read back. Raw bytes

@@ -3,7 +3,7 @@ from stk500_chip import FLASH_SIZE, Atmega32, Stk500Programmer
 from tools import AVRDUDE, needs
 
 needs_avrdude = needs(AVRDUDE)
-ORIGINAL = bytes((i * 5 + 1) & 0xFF for i in range(FLASH_SIZE))
+ORIGINAL = bytes((i * 5 + (i >> 8)) & 0xFF for i in range(FLASH_SIZE))
 
 
 @needs_avrdude
@@ -19,11 +19,16 @@ def test_install_then_restore_from_the_printed_backup(zuml, tmp_path):
         assert "simulated board only" in err                  # the warnings come first
         code, out, err = zuml("firmware", "install", *link, "--image", str(image), "--backup-dir",
                               str(tmp_path / "orig"), "--fix-fuses", "--yes")
+        assert code == 1 and "orig is not a new or empty folder: a backup is never written over" in err
+        code, out, err = zuml("firmware", "install", *link, "--image", str(image), "--backup-dir",
+                              str(tmp_path / "orig2"), "--fix-fuses", "--yes")
         assert code == 0, err
         assert chip.flash[:10240] == bytes(range(256)) * 40 and chip.lfuse == 0x3F
-        assert f"zuml firmware restore {tmp_path / 'orig'}" in out
-        code, out, err = zuml("firmware", "restore", str(tmp_path / "orig"), *link)
+        restore = f"zuml firmware restore {tmp_path / 'orig2'} --programmer stk500v1 --port {programmer.port}"
+        assert out.splitlines()[-1] == f"To put the backup back: {restore}"
+        code, out, err = zuml(*restore.split()[1:])
         assert code == 0, err
+        assert out.splitlines()[-1] == "The original firmware is back (verified: flash, EEPROM and fuses)"
     assert chip.flash == ORIGINAL and chip.lfuse == 0xFF
 
 

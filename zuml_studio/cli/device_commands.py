@@ -30,20 +30,21 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("ports", help=_("list serial ports (and how to get a virtual charger)"))
     p.set_defaults(run=cmd_ports)
 
-    p = _with_port(sub.add_parser("slots", help=_("list the macros in a charger's EEPROM")))
+    p = _with_programmer(sub.add_parser("slots", help=_("list the macros in a charger's EEPROM")))
     p.set_defaults(run=cmd_slots)
 
-    p = _with_port(sub.add_parser("flash", help=_("write a macro to the charger (replace by name, or append)")))
-    p.add_argument("file", metavar="FILE", help=_("a .zuml macro or a compiled .bin record"))
-    p.add_argument("--slot", type=int, metavar="N", help=_("replace slot N (N = the slot count appends)"))
+    p = _with_programmer(sub.add_parser("flash", help=_("write macros to the charger (each replaces the one of its "
+                                                        "name, or is appended)")))
+    p.add_argument("file", metavar="FILE", nargs="+", help=_("a .zuml macro or a compiled .bin record"))
+    p.add_argument("--slot", type=int, metavar="N", help=_("replace slot N (N = the slot count appends); one FILE"))
     add_force_unsafe(p)
     p.set_defaults(run=cmd_flash)
 
-    p = _with_port(sub.add_parser("backup", help=_("save the charger's whole EEPROM image")))
+    p = _with_programmer(sub.add_parser("backup", help=_("save the charger's whole EEPROM image")))
     p.add_argument("-o", "--output", required=True, metavar="image.bin")
     p.set_defaults(run=cmd_backup)
 
-    p = _with_port(sub.add_parser("restore", help=_("write a saved EEPROM image back to the charger")))
+    p = _with_programmer(sub.add_parser("restore", help=_("write a saved EEPROM image back to the charger")))
     p.add_argument("file", metavar="image.bin")
     add_force_unsafe(p)
     p.set_defaults(run=cmd_restore)
@@ -123,6 +124,21 @@ def _with_port(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
     p.add_argument("--port", default=os.environ.get("ZUML_PORT"), required="ZUML_PORT" not in os.environ,
                    metavar="PORT", help=_("serial port, e.g. /dev/ttyUSB0, COM3, socket://HOST:PORT (default: "
                                           "$ZUML_PORT)"))
+    return _link_options(p)
+
+
+def _with_programmer(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
+    """--port, or --programmer: an iMAX B6 with the ZUML firmware reached through its ISP programmer (avrdude)."""
+    p.add_argument("--port", metavar="PORT",
+                   help=_("serial port, e.g. /dev/ttyUSB0, COM3, socket://HOST:PORT (default: $ZUML_PORT); with "
+                          "--programmer, the programmer's port (avrdude -P), for serial programmers"))
+    p.add_argument("--programmer", metavar="ID",
+                   help=_("reach an iMAX B6 with the ZUML firmware through its ISP programmer instead: avrdude's "
+                          "programmer id (-c), e.g. usbasp; the battery must be disconnected"))
+    return _link_options(p)
+
+
+def _link_options(p: argparse.ArgumentParser) -> argparse.ArgumentParser:
     p.add_argument("--baud", type=int, metavar="B",
                    help=_("default {default_baud} for a ZUML charger, the charger's own for the other drivers").format(
                            default_baud=DEFAULT_BAUD))
@@ -158,6 +174,7 @@ MIN_TIMEOUT_S, MAX_TIMEOUT_S = 0.01, 60.0
 
 
 def _connect(args: argparse.Namespace) -> ChargerClient:
+    args.port = args.port or os.environ.get("ZUML_PORT")
     if not args.port:
         raise CliError(_("give the port: --port /dev/ttyUSB0 (see `zuml ports`)"))
     if args.timeout is not None and not MIN_TIMEOUT_S <= args.timeout <= MAX_TIMEOUT_S:
@@ -187,11 +204,17 @@ def cmd_ports(args: argparse.Namespace) -> int:
 
 @_device_errors
 def cmd_slots(args: argparse.Namespace) -> int:
-    with _connect(args) as client:
-        image = client.read_image()
-        found = _slots_or_error(image)
-        checks = slot_checks(client, found)
-    out(_identity(client.info))         # which charger; a B6 with a receive wire says cell 4 is not balanced
+    if args.programmer:
+        chip = _read_chip(args)
+        image, found = chip.image, _slots_or_error(chip.image)
+        checks = slot_checks(chip, found)
+    else:
+        with _connect(args) as client:
+            image = client.read_image()
+            found = _slots_or_error(image)
+            checks = slot_checks(client, found)
+    if not args.programmer:             # which charger; a B6 with a receive wire says cell 4 is not balanced
+        out(_identity(client.info))
     out(f"{'#':>3}  {'offset':>6}  {'size':>4}  {'name':<16}  {'chemistry':<9}  check")
     for s, check in zip(found, checks):
         out(f"{s.index:>3}  {s.offset:>6}  {len(s.record):>4}  {s.name:<16}  {_chemistry(s):<9}  {check}")
@@ -199,7 +222,31 @@ def cmd_slots(args: argparse.Namespace) -> int:
     out(ngettext("{count} macro; free {free} of {size} bytes", "{count} macros; free {free} of {size} bytes",
                  len(found)).format(
             count=len(found), free=len(image) - used, size=len(image)))
+    if args.programmer:
+        out(_("start templates: {numbers}{note}").format(
+            numbers=", ".join(map(str, chip.templates())) or _("none"),
+            note="" if chip.templates_ready else _(" (the factory table: the firmware stores it at its next start)")))
+        out(_("calibration: {state}").format(state=chip.calibration_problem() or _("valid")))
     return 0
+
+
+def _progress(line: str) -> None:
+    sys.stderr.write(line + "\n")
+    sys.stderr.flush()
+
+
+def _read_chip(args: argparse.Namespace):
+    """The B6's EEPROM through its programmer (the ZUML image checked in its flash first)."""
+    from ..device.isp_store import disconnect_warning, read_chip
+    from .firmware_install_command import programmer
+    sys.stderr.write(_("zuml: warning: {line}\n").format(line=disconnect_warning()))
+    return read_chip(programmer(args), _progress)
+
+
+def _write_chip(args: argparse.Namespace, chip, image: bytes) -> int:
+    from ..device.isp_store import write_image
+    from .firmware_install_command import programmer
+    return write_image(programmer(args), chip, image, _progress)
 
 
 def slot_checks(client: ChargerClient, found: list[Slot]) -> list[str]:
@@ -232,35 +279,64 @@ def _record(path: str, force: bool) -> bytes:
     return data
 
 
-@_device_errors
-def cmd_flash(args: argparse.Namespace) -> int:
-    from ..device.flashing import ImageFull, SlotOutOfRange, merge_record
+def _judged(records: list[tuple[str, bytes]], charger, force: bool) -> None:
+    """Each record through the one safety check, against the charger's own templates (and passport)."""
     from ..safety import judge, named_template
-    record = _record(args.file, args.force_unsafe)
-    name = decode_record(record).macro.name
-    with _connect(args) as client:
-        verdict = judge(record, client.passport_if_any(), templates=client.templates_named([named_template(record)]),
-                        charger_max_a=client.info.max_charge_a)
-        refuse_unsafe(list(verdict.errors), args.force_unsafe, args.file)
-        current = client.read_image()
-        _slots_or_error(current)
+    for path, record in records:
+        verdict = judge(record, charger.passport_if_any(), templates=charger.templates_named([named_template(record)]),
+                        charger_max_a=charger.info.max_charge_a)
+        refuse_unsafe(list(verdict.errors), force, path)
+
+
+def _merged(current: bytes, records: list[tuple[str, bytes]], slot: int | None):
+    """The image with each record put in, in turn; the merges (what each did)."""
+    from ..device.flashing import ImageFull, SlotOutOfRange, merge_record
+    _slots_or_error(current)
+    merges, image = [], current
+    for __, record in records:
         try:
-            merged = merge_record(current, record, args.slot)
+            merges.append(merge_record(image, record, slot))
         except SlotOutOfRange as exc:
             raise CliError(_("--slot {slot}: the charger has slots 0..{last} ({count} appends)").format(
-                    slot=args.slot, last=exc.count - 1, count=exc.count), 1) from None
+                    slot=slot, last=exc.count - 1, count=exc.count), 1) from None
         except ImageFull as exc:
-            raise CliError(_("{name} does not fit: {exc}").format(name=name, exc=exc), 1) from None
+            raise CliError(_("{name} does not fit: {exc}").format(name=exc.name, exc=exc), 1) from None
+        image = merges[-1].image
+    return merges
+
+
+def _flashed(merges, changed: int) -> None:
+    """What changed per slot, then the bytes written (one line for one macro, as before)."""
+    for merge in merges[:-1]:
+        out(f"{merge.name}: {merge.action}")
+    out(ngettext("{name}: {action}; {changed} byte written, verified",
+                 "{name}: {action}; {changed} bytes written, verified", changed).format(
+            name=merges[-1].name, action=merges[-1].action, changed=changed))
+
+
+@_device_errors
+def cmd_flash(args: argparse.Namespace) -> int:
+    if args.slot is not None and len(args.file) > 1:
+        raise CliError(_("--slot takes one FILE"))
+    records = [(path, _record(path, args.force_unsafe)) for path in args.file]
+    if args.programmer:
+        chip = _read_chip(args)
+        _judged(records, chip, args.force_unsafe)
+        merges = _merged(chip.image, records, args.slot)
+        _flashed(merges, _write_chip(args, chip, merges[-1].image))
+        return 0
+    with _connect(args) as client:
+        _judged(records, client, args.force_unsafe)
+        current = client.read_image()
+        merges = _merged(current, records, args.slot)
         try:
-            result = client.write_image(merged.image, current=current)
+            result = client.write_image(merges[-1].image, current=current)
         except (CommitUncertain, CommitUnverified) as exc:
             lost = exc
         else:
-            out(ngettext("{name}: {action}; {changed} byte written, verified",
-                         "{name}: {action}; {changed} bytes written, verified", result.changed).format(
-                    name=name, action=merged.action, changed=result.changed))
+            _flashed(merges, result.changed)
             return 0
-    _settle(args, lost, f"{name}: {merged.action}", client.info)
+    _settle(args, lost, "; ".join(f"{merge.name}: {merge.action}" for merge in merges), client.info)
     return 0
 
 
@@ -320,8 +396,11 @@ def _settle(args: argparse.Namespace, lost: CommitUncertain | CommitUnverified, 
 
 @_device_errors
 def cmd_backup(args: argparse.Namespace) -> int:
-    with _connect(args) as client:
-        image = client.read_image()
+    if args.programmer:
+        image = _read_chip(args).image
+    else:
+        with _connect(args) as client:
+            image = client.read_image()
     write_bytes(args.output, image)
     try:
         found = len(records(image))
@@ -337,6 +416,18 @@ def cmd_restore(args: argparse.Namespace) -> int:
     from ..safety import judge_image, named_template
     image = read_bytes(args.file)
     check_image(image)
+    if args.programmer:
+        chip = _read_chip(args)
+        if len(image) > chip.info.eeprom_size:
+            raise ImageTooLarge(len(image), chip.info.eeprom_size)
+        verdict = judge_image(image, templates=chip.templates_named(named_template(s.record) for s in slots(image)
+                                                                     if s.ok))
+        refuse_unsafe(list(verdict.errors), args.force_unsafe, args.file)
+        changed = _write_chip(args, chip, image + b"\xff" * (chip.info.eeprom_size - len(image)))
+        out(ngettext("restored {file}: {changed} byte written, verified",
+                     "restored {file}: {changed} bytes written, verified", changed).format(file=args.file,
+                                                                                         changed=changed))
+        return 0
     with _connect(args) as client:
         if len(image) > client.info.eeprom_size:
             raise ImageTooLarge(len(image), client.info.eeprom_size)

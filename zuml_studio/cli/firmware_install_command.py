@@ -26,10 +26,14 @@ def register(sub: argparse._SubParsersAction) -> None:
     install.add_argument("--image", type=Path, metavar="FILE",
                          help=_("the image to write (.elf, .hex or .bin; default: the imaxb6 image, built)"))
     install.add_argument("--backup-dir", type=Path, metavar="DIR",
-                         help=_("where the original is saved (default: a new folder in the settings folder)"))
+                         help=_("where the original is saved: a new or empty folder (default: a new folder in the "
+                                "settings folder)"))
     install.add_argument("--fix-fuses", action="store_true",
-                         help=_("program BODEN and BODLEVEL (brown-out at 4.0 V) when they are not; the clock "
-                                "bits stay"))
+                         help=_("set the fuses the B6 needs where they differ: brown-out at 4.0 V, the 16 MHz "
+                                "crystal, JTAG off (docs/firmware.md)"))
+    install.add_argument("--no-way-back", action="store_true",
+                         help=_("install even when the charger's original cannot be read (a locked chip): it is "
+                                "then lost for good"))
     install.add_argument("--yes", action="store_true", help=_("do not ask: the warnings are read"))
     install.set_defaults(run=cmd_install)
     restore = actions.add_parser("restore", help=_("write a backup made by install back (flash, EEPROM, fuses)"))
@@ -39,7 +43,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def programmer(args: argparse.Namespace):
-    from ..device.avr_install import Programmer
+    from ..device.avrdude import Programmer
     if args.baud is not None and not 300 <= args.baud <= 2_000_000:
         raise CliError(_("--baud is 300..2000000"))
     return Programmer(args.programmer, args.port, args.baud)
@@ -62,28 +66,30 @@ def confirmed(yes: bool) -> bool:
 
 def cmd_install(args: argparse.Namespace) -> int:
     from ..device import avr_install
+    from ..device.avrdude import ProgrammerError, avrdude_path
     chosen = programmer(args)
     try:
-        avr_install.avrdude_path()
-    except avr_install.InstallError as exc:
+        avrdude_path()
+    except ProgrammerError as exc:
         raise CliError(str(exc)) from None
     if not confirmed(args.yes):
         raise CliError(_("not installed"), 1)
     folder = args.backup_dir or avr_install.default_backup_folder()
     try:
         image = args.image or avr_install.build_image()
-        avr_install.install(chosen, image, folder, args.fix_fuses, say)
-    except avr_install.InstallError as exc:
+        avr_install.install(chosen, image, folder, args.fix_fuses, say, args.no_way_back)
+    except ProgrammerError as exc:
         raise CliError(str(exc), 1) from None
-    say(_("To put the original back: zuml firmware restore {folder}").format(folder=folder))
+    say(_("To put the backup back: {command}").format(command=avr_install.restore_command(chosen, folder)))
     return 0
 
 
 def cmd_restore(args: argparse.Namespace) -> int:
     from ..device import avr_install
+    from ..device.avrdude import ProgrammerError
     chosen = programmer(args)
     try:
         avr_install.restore(chosen, args.backup, say)
-    except avr_install.InstallError as exc:
+    except ProgrammerError as exc:
         raise CliError(str(exc), 1) from None
     return 0

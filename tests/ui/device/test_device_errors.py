@@ -231,8 +231,9 @@ def test_port_scans_run_off_the_gui_thread(qtbot, tmp_path, editor):
         combo = panel.ports.combo
         assert combo.itemText(0) == "Virtual charger (built-in)" and combo.currentIndex() == 0
         assert combo.itemText(1) == "Simulated iMAX B6 (ZUML firmware)"
-        assert combo.itemData(2) == "/dev/ttyUSB7" and "CP2102" in combo.itemText(2)
-        combo.setCurrentIndex(2)
+        assert combo.itemText(2) == "iMAX B6 (ZUML) through a USBasp" and combo.itemData(2) == "isp:usbasp"
+        assert combo.itemData(3) == "/dev/ttyUSB7" and "CP2102" in combo.itemText(3)
+        combo.setCurrentIndex(3)
         assert panel.ports.target() == "/dev/ttyUSB7"
         assert not panel.virtual_box.isVisible()
         panel.ports.url.setText("socket://127.0.0.1:7777")

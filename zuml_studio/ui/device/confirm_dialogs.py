@@ -38,8 +38,16 @@ def restore_text(file_name: str, on_charger: list[str], in_image: list[str] | No
 
 
 def confirm_restore(parent: QWidget | None, text: str) -> bool:
-    box = QMessageBox(QMessageBox.Icon.Warning, _("Restore the charger's EEPROM"), text, parent=parent)
-    go = box.addButton(_("Restore"), QMessageBox.ButtonRole.DestructiveRole)
+    return ask_warning(parent, _("Restore the charger's EEPROM"), text, "", _("Restore"))
+
+
+def ask_warning(parent: QWidget | None, title: str, text: str, question: str, go_text: str,
+                role: QMessageBox.ButtonRole = QMessageBox.ButtonRole.DestructiveRole) -> bool:
+    """A warning with one button that goes ahead (``go_text``) and Cancel, the default: True if it goes ahead."""
+    box = QMessageBox(QMessageBox.Icon.Warning, title, text, parent=parent)
+    if question:
+        box.setInformativeText(question)
+    go = box.addButton(go_text, role)
     cancel = box.addButton(QMessageBox.StandardButton.Cancel)
     box.setDefaultButton(cancel)
     box.setEscapeButton(cancel)
@@ -61,3 +69,11 @@ def ask_close_during_run(parent: QWidget | None, run: str, virtual: bool) -> str
     box.setEscapeButton(cancel)
     box.exec()
     return {id(stop): STOP, id(leave): LEAVE}.get(id(box.clickedButton()), CANCEL)
+
+
+def confirm_programmer(parent: QWidget | None) -> bool:
+    """Before the window reaches a B6 through its ISP programmer: the battery must be off the charger."""
+    from ...device.isp_store import disconnect_warning
+    return ask_warning(parent, _("iMAX B6 through the programmer"), disconnect_warning(),
+                       _("Every read and write through the programmer resets the charger. Is the battery "
+                         "disconnected?"), _("The battery is disconnected"), QMessageBox.ButtonRole.AcceptRole)

@@ -31,6 +31,7 @@ from ...device.errors import (CommitUncertain, CommitUnverified, DeviceError, De
                               InvalidImage, NotACharger, PermissionDenied, PortBusy, PortNotFound, VerifyFailed)
 from ...device.flashing import ImageFull, SlotOutOfRange
 from ...device.ports import SIMULATED_B6
+from ...device.isp_store import ProgrammerClient, programmer_of
 from ...file_errors import FileReadError
 from ...i18n import _, ngettext
 from ...lang.eeprom import ImageError
@@ -259,7 +260,7 @@ class DeviceConnection(QObject):
             with self._res_lock:
                 self._device, self._stop_virtual = device, stop
         try:
-            client = ChargerClient(url, baud)
+            client = ProgrammerClient(url) if programmer_of(url) else ChargerClient(url, baud)
         except BaseException:
             self._drop_virtual()
             raise

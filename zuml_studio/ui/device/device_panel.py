@@ -26,11 +26,13 @@ from PySide6.QtWidgets import QHBoxLayout, QPushButton, QSplitter, QVBoxLayout, 
 
 from ...device.drivers import AUTO
 from ...device.errors import NotACharger
+from ...device.isp_store import ProgrammerClient, no_run_text
 from ...device.ports import SIMULATED_B6, VIRTUAL
 from ...i18n import _
 from ...user_dirs import data_dir
 from .b6_front_panel import B6FrontPanel
 from .charger_monitor import ChargerMonitor, recording_cells
+from . import confirm_dialogs
 from .charger_slots import ChargerSlots
 from .connection import DeviceConnection, Opened
 from .connection_bar import ConnectionBar
@@ -199,6 +201,10 @@ class DevicePanel(QWidget):
         target = self.ports.target()
         if self.connection.state != "disconnected" or self.is_monitoring():
             self.show_message(_("Already connected (or connecting): Disconnect first."), "warn")
+            return False
+        if self.ports.is_programmer() and not confirm_dialogs.confirm_programmer(self):
+            self.show_message(_("Not connected: disconnect the battery first, then connect through the programmer."),
+                              "warn")
             return False
         watch_with = self.bar.monitor_driver(target)
         if watch_with is not None:
@@ -458,7 +464,9 @@ class DevicePanel(QWidget):
         connected = self.connection.state == "connected"
         idle = connected and not self.connection.busy
         self.charger.set_enabled(idle, reason)
-        self.run.set_enabled(connected, idle, reason)
+        # Through the programmer the processor is held in reset: macros only, runs start on the front panel
+        programmer = connected and isinstance(self.connection.client, ProgrammerClient)
+        self.run.set_enabled(connected, idle, reason or (no_run_text() if programmer else ""))
         self.pp_refresh.setEnabled(idle and not monitoring)
 
     # ================================================================ monitor-only chargers

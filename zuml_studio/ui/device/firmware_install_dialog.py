@@ -1,6 +1,8 @@
 """Device ▸ Install Firmware on an iMAX B6…: the warnings a user must read, then the same steps as
-`zuml firmware install` (device/avr_install.py) off the GUI thread, each step shown as it happens;
-Restore puts a saved original back."""
+`zuml firmware install` (device/avr_install.py) off the GUI thread, each step shown as it happens, with the
+same rules: a new backup folder each time, a locked original said before anything is written (installed over
+only after the user says yes to "no way back"), the fuses checked and set only when asked; Restore puts a
+saved backup back."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -10,10 +12,19 @@ from PySide6.QtWidgets import (QCheckBox, QComboBox, QDialog, QDialogButtonBox, 
                                QHBoxLayout, QLabel, QLineEdit, QPlainTextEdit, QPushButton, QVBoxLayout, QWidget)
 
 from ...device import avr_install
+from ...device.avrdude import Programmer
 from ...i18n import _
 from ..background import BackgroundCall
+from .confirm_dialogs import ask_warning
 
 PROGRAMMERS = ("usbasp", "stk500v1", "avrisp", "arduino", "usbtiny")
+
+
+def ask_no_way_back(parent: QWidget | None, reason: str) -> bool:
+    """The original cannot be read: install anyway? Cancel is the default."""
+    return ask_warning(parent, _("No way back to the original firmware"), reason,
+                       _("Install the ZUML firmware anyway, knowing that the charger's own firmware is then lost for "
+                         "good?"), _("Install, there is no way back"))
 
 
 class FirmwareInstallDialog(QDialog):
@@ -44,7 +55,8 @@ class FirmwareInstallDialog(QDialog):
         form.addRow(_("Image:"), self._with_browse(self.image, self._choose_image))
         self.backup = QLineEdit(str(avr_install.default_backup_folder()))
         form.addRow(_("Save the original in:"), self.backup)
-        self.fix_fuses = QCheckBox(_("Turn brown-out detection on at 4.0 V if it is off (the clock fuses stay)"))
+        self.fix_fuses = QCheckBox(_("Set the fuses the B6 needs where they differ: brown-out at 4.0 V, the 16 MHz "
+                                     "crystal, JTAG off"))
         form.addRow("", self.fix_fuses)
         layout.addLayout(form)
 
@@ -89,9 +101,8 @@ class FirmwareInstallDialog(QDialog):
         if folder:
             self.restore(Path(folder))
 
-    def programmer_choice(self) -> avr_install.Programmer:
-        return avr_install.Programmer(self.programmer.currentText().strip() or "usbasp",
-                                      self.port.text().strip() or None)
+    def programmer_choice(self) -> Programmer:
+        return Programmer(self.programmer.currentText().strip() or "usbasp", self.port.text().strip() or None)
 
     def busy(self) -> bool:
         return self._call is not None
@@ -101,14 +112,15 @@ class FirmwareInstallDialog(QDialog):
         self.install_button.setEnabled(idle and self.read_it.isChecked())
         self.restore_button.setEnabled(idle)
 
-    def install(self) -> None:
+    def install(self, no_way_back: bool = False) -> None:
+        """``no_way_back``: the user accepted that an original which cannot be read is lost."""
         programmer, folder, fix = self.programmer_choice(), Path(self.backup.text().strip()), self.fix_fuses.isChecked()
         image = Path(self.image.text().strip()) if self.image.text().strip() else None
 
         def work():
             chosen = image or avr_install.build_image()
-            avr_install.install(programmer, chosen, folder, fix, self.said.emit)
-            return _("Done. To put the original back: Restore an Original…, folder {folder}").format(folder=folder)
+            avr_install.install(programmer, chosen, folder, fix, self.said.emit, no_way_back)
+            return _("Done. To put the backup back: Restore an Original…, folder {folder}").format(folder=folder)
         self._run(work)
 
     def restore(self, folder: Path) -> None:
@@ -123,7 +135,7 @@ class FirmwareInstallDialog(QDialog):
         self.log.clear()
         self._call = BackgroundCall(work, self)
         self._call.done.connect(lambda text: self._finished(str(text)))
-        self._call.failed.connect(lambda exc: self._finished(_("Stopped: {reason}").format(reason=exc)))
+        self._call.failed.connect(self._failed)
         self._update_enabled()
         self._call.start()
 
@@ -131,7 +143,15 @@ class FirmwareInstallDialog(QDialog):
         self.log.appendPlainText(line)
         self._call.wait()
         self._call = None
+        folder = Path(self.backup.text().strip())
+        if folder.exists():         # used now: the next install saves into a new folder (never over a backup)
+            self.backup.setText(str(avr_install.fresh_folder(folder)))
         self._update_enabled()
+
+    def _failed(self, exc: BaseException) -> None:
+        self._finished(_("Stopped: {reason}").format(reason=exc))
+        if isinstance(exc, avr_install.OriginalUnreadable) and ask_no_way_back(self, str(exc)):
+            self.install(no_way_back=True)
 
     def reject(self) -> None:
         if not self.busy():         # avrdude writing the chip is not stopped halfway by a Close

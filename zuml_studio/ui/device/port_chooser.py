@@ -13,6 +13,7 @@ from typing import Callable
 from PySide6.QtCore import QObject, QRunnable, QThreadPool, QTimer, Signal
 from PySide6.QtWidgets import QComboBox, QHBoxLayout, QLineEdit, QSizePolicy, QWidget
 
+from ...device.isp_store import SCHEME as ISP_SCHEME, USBASP
 from ...device.ports import SIMULATED_B6, VIRTUAL, PortInfo, list_ports
 from ...i18n import N_, _
 from .device_style import ElidedCombo
@@ -21,7 +22,8 @@ log = logging.getLogger(__name__)
 
 VIRTUAL_LABEL = N_("Virtual charger (built-in)")
 SIMULATED_B6_LABEL = N_("Simulated iMAX B6 (ZUML firmware)")
-BUILT_IN = 2                    # the list's first items: the virtual charger, the simulated B6
+USBASP_LABEL = N_("iMAX B6 (ZUML) through a USBasp")
+FIXED = 3               # the entries before the ports found: the virtual charger, the simulated B6, the B6 through a USBasp
 BAUDS = (9600, 19200, 38400, 57600, 115200, 128000, 230400, 460800, 921600)
 DEFAULT_BAUD = 115200
 REFRESH_MS = 2000
@@ -69,10 +71,13 @@ class PortChooser(QWidget):
         self.combo.setObjectName("portCombo")
         self.combo.addItem(_(VIRTUAL_LABEL), VIRTUAL)
         self.combo.addItem(_(SIMULATED_B6_LABEL), SIMULATED_B6)
+        self.combo.addItem(_(USBASP_LABEL), USBASP)
         self.combo.setToolTip(_("The charger's port. The built-in virtual charger runs the simulator behind a "
                                 "real serial line (a pty), so everything works without hardware. The simulated "
                                 "iMAX B6 runs the ZUML firmware's own image on a model of the B6, with its display "
-                                "and buttons."))
+                                "and buttons. An iMAX B6 with the ZUML firmware can also be reached through the ISP "
+                                "programmer it was installed with (macros only; runs start on its front panel; the "
+                                "battery disconnected)."))
         self.combo.setSizeAdjustPolicy(QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
         self.combo.setMinimumContentsLength(16)
         self.combo.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
@@ -80,7 +85,8 @@ class PortChooser(QWidget):
         self.url.setObjectName("portUrl")
         self.url.setPlaceholderText(_("or a port / URL"))      # the examples are in the tooltip
         self.url.setToolTip(_("A port path or URL to use instead of the list: {examples}. Empty: use the list.").format(
-            examples="/dev/ttyUSB0, COM3, /dev/pts/3 (`zuml virtual-charger`), socket://127.0.0.1:7777"))
+            examples="/dev/ttyUSB0, COM3, /dev/pts/3 (`zuml virtual-charger`), socket://127.0.0.1:7777, "
+                     "isp:stk500v1@/dev/ttyUSB0 (an avrdude programmer and its port)"))
         self.url.setClearButtonEnabled(True)
         self.url.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
         self.baud = QComboBox()
@@ -116,6 +122,9 @@ class PortChooser(QWidget):
 
     def is_simulated_b6(self) -> bool:
         return self.target() == SIMULATED_B6
+    def is_programmer(self) -> bool:
+        """The B6 through its ISP programmer (avrdude), not a serial line."""
+        return self.target().startswith(ISP_SCHEME)
 
     def baudrate(self) -> int:
         return int(self.baud.currentData() or DEFAULT_BAUD)
@@ -137,7 +146,7 @@ class PortChooser(QWidget):
         self.url.clear()                # picking from the list means: use the list
 
     def ports(self) -> list[str]:
-        return [self.combo.itemData(i) for i in range(BUILT_IN, self.combo.count())]
+        return [self.combo.itemData(i) for i in range(FIXED, self.combo.count())]
 
     # -- scanning ---------------------------------------------------------------------------------
     def refresh(self) -> bool:
@@ -159,11 +168,11 @@ class PortChooser(QWidget):
         self.scans += 1
         current = self.combo.currentData()
         wanted = [(p.label(), p.device) for p in found]
-        have = [(self.combo.itemText(i), self.combo.itemData(i)) for i in range(BUILT_IN, self.combo.count())]
+        have = [(self.combo.itemText(i), self.combo.itemData(i)) for i in range(FIXED, self.combo.count())]
         if wanted != have:
             self.combo.blockSignals(True)
-            while self.combo.count() > BUILT_IN:
-                self.combo.removeItem(BUILT_IN)
+            while self.combo.count() > FIXED:
+                self.combo.removeItem(FIXED)
             for label, device in wanted:
                 self.combo.addItem(label, device)
                 self.combo.setItemData(self.combo.count() - 1, label, 3)     # Qt.ToolTipRole
