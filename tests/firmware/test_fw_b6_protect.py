@@ -181,3 +181,84 @@ def test_without_a_probe_at_the_start_its_input_is_not_judged(lib):
     feed(lib, pack(lib, [3900] * 3, probe=0))
     assert arm(lib, "LiPo", 3) == (None, 0)
     assert feed(lib, pack(lib, [3900] * 3, probe=0), 10) == 0
+
+
+def armed(lib, akk="LiPo", cells_mv=(3900, 3900, 3900), **start):
+    """Limits armed for a pack of `cells_mv` on the output and its balance lead."""
+    lib.protect_disarm()
+    feed(lib, pack(lib, list(cells_mv), **start))
+    assert arm(lib, akk, len(cells_mv)) == (None, 0)
+
+
+FULL = {VB1: 4300, VB2: 8600, VB3: 4300}        # a 3S LiPo lead with every cell at its ceiling
+
+
+# Each limit exactly at its threshold holds, one unit (1 mV, 1 mA, 0.01 degC) past it trips after its readings
+# in a row, and one reading fewer does not: a boundary moved by one, a threshold scaled or a debounce changed is
+# seen (tools/mutate_firmware.py's comparison and constant mutants).
+@pytest.mark.parametrize("at, past, times, why", [
+    ({ISMPS: 5250}, {ISMPS: 5251}, 4, "over current"),
+    ({IDIS: 1050}, {IDIS: 1051}, 4, "over current"),                       # a discharge over-current
+    ({VIN: 11000}, {VIN: 10999}, 4, "input below 11V"),
+    ({VOUT_MINUS: 500}, {VOUT_MINUS: 501}, 4, "battery reversed"),
+    ({TEXTERN: 6000}, {TEXTERN: 6001}, 4, "probe over 60C"),
+    ({TEXTERN: 100}, {TEXTERN: 99}, 4, "probe open"),
+    ({**FULL, VOUT: 3 * 4350}, {**FULL, VOUT: 3 * 4350 + 1}, 4, "pack over max"),
+    ({VB3: 4300}, {VB3: 4301}, 4, "cell 3 over max"),                      # a cell exactly at the ceiling
+    ({VB1: 4300, VB2: 8200}, {VB1: 4301, VB2: 8201}, 4, "cell 1 over max"),
+    ({VB2: 3900 + 4300}, {VB2: 3900 + 4301}, 4, "cell 2 over max"),
+    ({VOUT: 11700 + 1000}, {VOUT: 11700 + 1001}, 16, "battery disconnected"),   # Vout above the taps' sum
+    ({VOUT: 11700 - 1000}, {VOUT: 11700 - 1001}, 16, "battery disconnected"),   # the taps above Vout
+    ({VOUT: 500, VB1: 0, VB2: 0, VB3: 0}, {VOUT: 499, VB1: 0, VB2: 0, VB3: 0}, 16, "battery disconnected"),
+])
+def test_a_limit_holds_at_its_threshold_and_trips_one_unit_past_it(lib, at, past, times, why):
+    armed(lib)
+    assert feed(lib, at, 40) == 0
+    assert feed(lib, past, times - 1) == 0
+    assert text(lib, feed(lib, past)) == why
+
+
+@pytest.mark.parametrize("reading, why", [(12000, "probe over 60C"), (12001, "probe open")])
+def test_a_probe_reading_above_120_c_is_an_open_probe_not_a_hot_pack(lib, reading, why):
+    armed(lib)
+    assert text(lib, feed(lib, {TEXTERN: reading}, 4)) == why
+
+
+@pytest.mark.parametrize("k", range(6))
+def test_every_cell_of_a_6s_pack_is_checked_under_its_own_name(lib, k):
+    armed(lib, cells_mv=[3900] * 6)
+    cells = [3900] * 6
+    cells[k] = 4301
+    assert text(lib, feed(lib, pack(lib, cells, vout=6 * 3900), 4)) == f"cell {k + 1} over max"
+
+
+def test_the_lead_check_holds_without_a_lead_and_names_a_lead_that_comes_off(lib):
+    armed(lib, "NiMh", [], vout=8 * 1200)
+    assert feed(lib, pack(lib, [], vout=8 * 1200), 40) == 0                # no lead, no cells: nothing to compare
+    armed(lib, cells_mv=[3900] * 4)
+    assert text(lib, feed(lib, pack(lib, [3900] * 3), 4)) == "balance lead 3 cells"
+
+
+@pytest.mark.parametrize("start, cells, why", [
+    (dict(cells_mv=[3900] * 3), 4, "balance lead 3 cells"),                 # SERIES above the balance count
+    (dict(cells_mv=[3900] * 3), 2, "balance lead 3 cells"),                 # ... and below it
+    (dict(cells_mv=[3900, 3900, 4301]), 3, "cell 3 over max"),
+    (dict(cells_mv=[], vout=3 * 4350 + 1), 3, "pack over max"),
+    (dict(cells_mv=[3900] * 3, vin=10999), 3, "input below 11V"),
+    (dict(cells_mv=[], vout=499), 3, "no battery"),
+    (dict(cells_mv=[3900] * 3, vminus=501), 3, "battery reversed"),
+])
+def test_a_start_one_unit_past_a_limit_is_refused(lib, start, cells, why):
+    lib.protect_disarm()
+    feed(lib, pack(lib, **start))
+    assert arm(lib, "LiPo", cells)[0] == why
+
+
+@pytest.mark.parametrize("start", [
+    dict(cells_mv=[3900, 3900, 4300]), dict(cells_mv=[], vout=3 * 4350), dict(cells_mv=[3900] * 3, vin=11000),
+    dict(cells_mv=[], vout=500), dict(cells_mv=[3900] * 3, vminus=500),
+])
+def test_a_start_exactly_at_a_limit_is_allowed(lib, start):
+    lib.protect_disarm()
+    feed(lib, pack(lib, **start))
+    assert arm(lib, "LiPo", 3) == (None, 0)
