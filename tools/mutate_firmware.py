@@ -30,13 +30,17 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 BOARD = "boards/imaxb6"
 HOST_TESTS = ["tests/firmware/test_fw_b6_protect.py"]
-SIM_TESTS = ["tests/firmware/test_fw_b6_limits.py", "tests/firmware/test_fw_b6_acceptance.py"]
+# the simulated B6's tests of limits and faults; not its 40 s runs to a macro's end nor `zuml calibrate`'s
+ACCEPTANCE = "tests/firmware/test_fw_b6_acceptance.py::test_a_"
+SIM_TESTS = ["tests/firmware/test_fw_b6_limits.py",
+             ACCEPTANCE + "fault_switches_the_output_off_within_100_ms_and_ends_the_run_with_its_reason",
+             ACCEPTANCE + "hang_switches_the_output_off_within_100_ms_and_the_watchdog_reports_it"]
 # The tests that can kill a mutant of each file, fastest first (the host build holds protect.c and calib.c
 # only; the others run on the simulated B6).
 SELECTION = {
     "protect.c": HOST_TESTS + SIM_TESTS,
     "protect.h": HOST_TESTS + SIM_TESTS,
-    "calib.c": HOST_TESTS + SIM_TESTS + ["tests/firmware/test_fw_b6_calibrate.py"],
+    "calib.c": HOST_TESTS + SIM_TESTS,
     "adc.c": SIM_TESTS,
     "stage.c": SIM_TESTS,
     "board.c": SIM_TESTS,

@@ -40,7 +40,6 @@ static volatile uint8_t beeps;
 static hal_output_t out;
 static uint8_t calibrated, run_has_time, balancing;
 static uint32_t run_capacity_uah, last_latch_ms, cal_output_end_ms;
-static int32_t sink_c100 = 2500;
 
 ISR(TIMER0_COMP_vect)
 {
@@ -95,7 +94,7 @@ int32_t hal_current_ua(void)
     return ((in > 0 ? in : 0) - (away > 0 ? away : 0)) * 1000L;
 }
 int32_t hal_battery_uc(void) { return adc_value(CAL_TEXTERN) * 10000L; }
-int32_t hal_heatsink_uc(void) { return sink_c100 * 10000L; }
+int32_t hal_heatsink_uc(void) { return protect_sink_c100() * 10000L; }
 uint8_t hal_battery_sensor(void)
 {
     int16_t t = protect_latest[CAL_TEXTERN];
@@ -349,11 +348,8 @@ void hal_request(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uint8
 static void slow_limits(void)
 {
     const zc_run_t *r = app_run();
-    int32_t target = 2500 + stage_loss_mw() / 5;        /* 25 degC + 2 K/W */
-    sink_c100 += (target - sink_c100) / 600;             /* 60 s at 100 ms steps */
+    protect_sink_step(stage_loss_mw());
     if (app_running()) {
-        if (sink_c100 > TRIP_SINK_C100)
-            protect_raise(TRIP_SINK_HOT);
         if (!run_has_time && r->time_ms > RUN_TIME_LIMIT_MS)
             protect_raise(TRIP_TIME);
         if (r->total_in.uah > run_capacity_uah)

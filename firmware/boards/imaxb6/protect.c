@@ -7,6 +7,7 @@ protect_limits_t protect_limits;
 volatile uint8_t protect_trip;
 volatile int16_t protect_latest[CAL_INPUTS];
 volatile int16_t protect_cell_mv[6];
+int32_t protect_sink_sum = (int32_t)SINK_AMBIENT_C100 * SINK_STEPS;
 static uint8_t count[TRIPS];
 
 uint16_t protect_cell_max_mv(uint8_t akk_type)
@@ -173,3 +174,14 @@ const char *protect_text(uint8_t trip)
     };
     return texts[trip < TRIPS ? trip : 0];
 }
+
+/* The estimate kept as its sum over the time constant: a step of (target - estimate) / SINK_STEPS in 0.01 degC
+ * would stop up to 6 K short of its target. */
+void protect_sink_step(int32_t loss_mw)
+{
+    protect_sink_sum += SINK_AMBIENT_C100 + loss_mw / SINK_MW_PER_C100 - protect_sink_sum / SINK_STEPS;
+    if (protect_sink_c100() > TRIP_SINK_C100)
+        protect_raise(TRIP_SINK_HOT);
+}
+
+int32_t protect_sink_c100(void) { return protect_sink_sum / SINK_STEPS; }

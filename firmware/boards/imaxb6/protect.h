@@ -30,6 +30,9 @@ enum {
 #define TRIP_LEAD_MV 1000          /* Li: the pack and its cells' sum apart by more */
 #define TRIP_PROBE_C100 6000
 #define TRIP_SINK_C100 8000
+#define SINK_AMBIENT_C100 2500     /* the heat-sink estimate: 25 degC + 2 K/W of the stage's losses, 60 s */
+#define SINK_MW_PER_C100 5
+#define SINK_STEPS 600             /* its time constant in 100 ms steps */
 #define PROBE_PRESENT_C100 200     /* a probe reads at least 2 degC; an open input reads 0 */
 #define PROBE_OPEN_LOW_C100 100
 #define PROBE_OPEN_HIGH_C100 12000
@@ -50,6 +53,7 @@ extern protect_limits_t protect_limits;
 extern volatile uint8_t protect_trip;  /* the first trip since protect_arm, TRIP_NONE while none */
 extern volatile int16_t protect_latest[13];   /* each input's last reading: mV, mA, 0.01 degC */
 extern volatile int16_t protect_cell_mv[6];
+extern int32_t protect_sink_sum;       /* the heat sink's estimate x SINK_STEPS (the B6 has no sensor) */
 
 /* Absolute maximum per cell of AKK_TYPE `akk_type` (spec section 5; firmware decisions for LiS,
  * Undef, New), mV. */
@@ -66,5 +70,9 @@ uint8_t protect_reading(uint8_t input, int16_t value);
 /* A trip found elsewhere (the stage, the main loop); the first one stays. */
 void protect_raise(uint8_t trip);
 const char *protect_text(uint8_t trip);
+/* One 100 ms step of the heat-sink estimate towards what `loss_mw` of the stage's losses hold it at; over
+ * TRIP_SINK_C100 it trips (armed only). */
+void protect_sink_step(int32_t loss_mw);
+int32_t protect_sink_c100(void);      /* the estimate, 0.01 degC */
 
 #endif
