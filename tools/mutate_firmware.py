@@ -35,26 +35,27 @@ ACCEPTANCE = "tests/firmware/test_fw_b6_acceptance.py::test_a_"
 SIM_TESTS = ["tests/firmware/test_fw_b6_limits.py",
              ACCEPTANCE + "fault_switches_the_output_off_within_100_ms_and_ends_the_run_with_its_reason",
              ACCEPTANCE + "hang_switches_the_output_off_within_100_ms_and_the_watchdog_reports_it"]
-# The tests that can kill a mutant of each file, fastest first (the host build holds protect.c and calib.c
-# only; the others run on the simulated B6).
+HOST = (["build/host/libzuml_b6_logic.so"], HOST_TESTS)
+SIM = (["imaxb6", "simavr-imaxb6"], SIM_TESTS)
+# The tests that can kill a mutant of each file, in steps, fastest first: (make targets, tests). The host build
+# holds protect.c and calib.c only, and takes a second; the others need the B6 image and its simulator.
 SELECTION = {
-    "protect.c": HOST_TESTS + SIM_TESTS,
-    "protect.h": HOST_TESTS + SIM_TESTS,
-    "calib.c": HOST_TESTS + SIM_TESTS,
-    "adc.c": SIM_TESTS,
-    "stage.c": SIM_TESTS,
-    "board.c": SIM_TESTS,
+    "protect.c": [HOST, SIM],
+    "protect.h": [HOST, SIM],
+    "calib.c": [HOST, SIM],
+    "adc.c": [SIM],
+    "stage.c": [SIM],
+    "board.c": [SIM],
 }
 # board.c is mostly the protocol and the panel: only its limits are mutated.
 FUNCTIONS = {"board.c": {"slow_limits", "hal_run_start", "watch", "hal_output"}}
 DEFINES = {"board.c": re.compile(r"LIMIT|CAPACITY|CAL_OUTPUT|SLOW_MS|SINK")}
 # thresholds compared with readings: an LSB matters, so they get +-1 too
 LSB_DEFINES = re.compile(r"^(TRIP_|CELL_|PROBE_|PROTECT_DEBOUNCE)")
-REMOVABLE_CALLS = {"stage_off", "protect_raise", "condition", "condition_after", "cells", "cell"}
+REMOVABLE_CALLS = {"stage_off", "protect_raise", "condition", "condition_after", "counted", "cells", "cell"}
 KINDS = ("compare", "constant", "call", "guard")
 BOUNDARY = {">": ">=", ">=": ">", "<": "<=", "<=": "<"}
 NEGATION = {">": "<=", ">=": "<", "<": ">=", "<=": ">", "==": "!=", "!=": "=="}
-BUILD_TARGETS = ["imaxb6", "simavr-imaxb6", "build/host/libzuml_b6_logic.so"]
 
 TOKEN = re.compile(r"""
     (?P<space>\s+) | (?P<comment>/\*.*?\*/|//[^\n]*) | (?P<string>"(?:\\.|[^"\\\n])*"|'(?:\\.|[^'\\\n])*')
@@ -219,18 +220,17 @@ class Worker:
                     (self.firmware / rel).parent.mkdir(parents=True, exist_ok=True)
                     shutil.copy2(src, self.firmware / rel)
 
-    def build(self) -> bool:
-        done = subprocess.run(["make", "-s", "-C", str(self.firmware), *BUILD_TARGETS], capture_output=True,
-                              text=True)
+    def build(self, targets: list[str]) -> bool:
+        done = subprocess.run(["make", "-s", "-C", str(self.firmware), *targets], capture_output=True, text=True)
         return done.returncode == 0
 
     def tests(self, files: list[str]) -> tuple[str, str]:
         """("killed"|"survived"|"error", the first failing test) for the test files, stopping at the first failure."""
         env = dict(os.environ, ZUML_TEST_FIRMWARE=str(self.firmware))
         try:
-            done = subprocess.run([sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", "-n", "0",
-                                   *files], cwd=ROOT, env=env, capture_output=True,
-                                  text=True, timeout=self.timeout_s)
+            done = subprocess.run([sys.executable, "-m", "pytest", "-x", "-q", "-rf", "-p", "no:cacheprovider",
+                                   "-n", "0", *files], cwd=ROOT, env=env, capture_output=True, text=True,
+                                  timeout=self.timeout_s)
         except subprocess.TimeoutExpired:
             return "killed", f"timeout after {self.timeout_s:.0f} s"
         failed = re.search(r"^FAILED (\S+)", done.stdout, re.M)
@@ -246,9 +246,13 @@ class Worker:
         original = (ROOT / "firmware" / BOARD / mutant.file).read_text()
         path.write_text(mutant.apply(original))
         try:
-            if not self.build():
-                return "not viable", "does not compile", time.monotonic() - started
-            verdict, why = self.tests(SELECTION[mutant.file])
+            verdict, why = "survived", ""
+            for targets, tests in SELECTION[mutant.file]:
+                if not self.build(targets):
+                    return "not viable", "does not compile", time.monotonic() - started
+                verdict, why = self.tests(tests)
+                if verdict != "survived":
+                    break
             return verdict, why, time.monotonic() - started
         finally:
             path.write_text(original)
@@ -274,12 +278,11 @@ def main(argv: list[str] | None = None) -> int:
     jobs = max(1, min(args.jobs, len(mutants)))
     workers = [Worker(workdir / f"w{n}", args.timeout) for n in range(jobs)]
     print(f"{len(mutants)} mutants, {jobs} workers in {workdir}", flush=True)
-    base = workers[0]
-    if not base.build() or base.tests(sorted({t for f in SELECTION.values() for t in f}))[0] != "survived":
+    steps = (HOST, SIM)
+    every = sorted({t for targets, tests in steps for t in tests})
+    if not all(w.build(targets) for w in workers for targets, _ in steps) or workers[0].tests(every)[0] != "survived":
         print("mutate_firmware: the unmutated firmware does not build or its tests fail: fix that first")
         return 2
-    for w in workers[1:]:
-        w.build()
     free = list(workers)
     results: list[tuple[Mutant, str, str, float]] = []
 

@@ -197,8 +197,9 @@ FULL = {VB1: 4300, VB2: 8600, VB3: 4300}        # a 3S LiPo lead with every cell
 # in a row, and one reading fewer does not: a boundary moved by one, a threshold scaled or a debounce changed is
 # seen (tools/mutate_firmware.py's comparison and constant mutants).
 @pytest.mark.parametrize("at, past, times, why", [
-    ({ISMPS: 5250}, {ISMPS: 5251}, 4, "over current"),
-    ({IDIS: 1050}, {IDIS: 1051}, 4, "over current"),                       # a discharge over-current
+    # the currents as the ADC reads them: two charge readings between two discharge ones (adc.c)
+    ({ISMPS: 5250, IDIS: 0}, {ISMPS: 5251, IDIS: 0}, 4, "over current"),
+    ({ISMPS: 0, IDIS: 1050}, {ISMPS: 0, IDIS: 1051}, 4, "over current"),   # a discharge over-current
     ({VIN: 11000}, {VIN: 10999}, 4, "input below 11V"),
     ({VOUT_MINUS: 500}, {VOUT_MINUS: 501}, 4, "battery reversed"),
     ({TEXTERN: 6000}, {TEXTERN: 6001}, 4, "probe over 60C"),
@@ -290,3 +291,64 @@ def test_the_heat_sink_estimate_trips_from_the_stages_own_losses(lib):
     sink.value = 8100 * 600                    # cools back to the room's 25 degC with no losses
     lib.protect_disarm()
     assert sink_steps(lib, 0, 6000) is None and sink.value // 600 == 2500
+
+
+def test_an_unknown_chemistry_gets_the_highest_ceiling_and_only_li_types_are_li(lib):
+    assert [lib.protect_cell_max_mv(k) for k in (8, 9, 255)] == [4350, 4350, 4350]
+    assert [lib.protect_is_li(k) for k in range(10)] == [0, 0, 0, 0, 1, 1, 1, 1, 0, 0]
+
+
+@pytest.mark.parametrize("tap_mv, cells", [(1000, 2), (1001, 3)])
+def test_a_tap_carries_a_cell_above_1_v(lib, tap_mv, cells):
+    lib.protect_disarm()
+    feed(lib, pack(lib, [3900, 3900, tap_mv], vout=7800 + tap_mv))
+    assert lib.protect_balance_cells() == cells
+
+
+def test_all_six_taps_count_and_a_li_start_without_series_takes_the_lead_s_count(lib):
+    lib.protect_disarm()
+    feed(lib, pack(lib, [3900] * 6))
+    assert lib.protect_balance_cells() == 6
+    assert arm(lib, "LiPo", 0) == (None, 0)
+    assert text(lib, feed(lib, pack(lib, [3900] * 5 + [4301], vout=6 * 3900), 4)) == "cell 6 over max"
+
+
+@pytest.mark.parametrize("fault, why", [
+    ({IDIS: 1200}, "over current"), ({VIN: 10000}, "input below 11V"), ({TEXTERN: 6500}, "probe over 60C"),
+    ({VB3: 4400}, "battery disconnected"),
+])
+def test_a_trip_while_the_pack_reads_lost_keeps_its_own_name_unless_the_loss_explains_it(lib, fault, why):
+    armed(lib)
+    assert text(lib, feed(lib, {**pack(lib, [3900] * 3, vout=0), **fault}, 4)) == why
+
+
+@pytest.mark.parametrize("vminus, why, times", [(500, "battery disconnected", 16), (501, "battery reversed", 4)])
+def test_vout_minus_at_0_5_v_is_a_lost_pack_and_above_it_a_reversed_one(lib, vminus, why, times):
+    armed(lib)
+    lost = pack(lib, [3900] * 3, vout=0, vminus=vminus)
+    assert feed(lib, lost, times - 1) == 0
+    assert text(lib, feed(lib, lost)) == why
+
+
+def test_cells_1_and_2_are_checked_when_a_tap_below_them_moves(lib):
+    armed(lib, cells_mv=[3900] * 3)
+    feed(lib, {VB0: 300, VB1: 4600})                       # cell 1: 4.3 V on a lead whose minus reads 0.3 V
+    assert text(lib, feed(lib, {VB0: 0}, 4)) == "cell 1 over max"
+    armed(lib, cells_mv=[3900] * 3)
+    feed(lib, {VB1: 4300, VB2: 8600})                      # cell 2: 4.3 V
+    assert text(lib, feed(lib, {VB1: 4000}, 4)) == "cell 2 over max"
+
+
+@pytest.mark.parametrize("probe, judged", [(199, False), (200, True), (12000, True), (12001, False)])
+def test_a_probe_is_judged_when_it_read_2_to_120_c_at_the_start(lib, probe, judged):
+    armed(lib, probe=probe)
+    assert bool(feed(lib, {TEXTERN: 0}, 4)) == judged
+
+
+@pytest.mark.parametrize("c100, loss_mw, trips", [(8000, 27500, False), (8001, 27505, True)])
+def test_the_heat_sink_estimate_trips_above_80_c_not_at_it(lib, c100, loss_mw, trips):
+    armed(lib)
+    ctypes.c_int32.in_dll(lib, "protect_sink_sum").value = c100 * 600     # held there by these losses
+    assert (sink_steps(lib, loss_mw, 10) is not None) == trips
+    lib.protect_disarm()
+    ctypes.c_int32.in_dll(lib, "protect_sink_sum").value = 2500 * 600
