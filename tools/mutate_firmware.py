@@ -4,9 +4,9 @@
                                               [--list] [--workdir DIR] [--timeout S]
 
 Each mutant changes one thing in firmware/boards/imaxb6/{protect.c,protect.h,adc.c,stage.c,calib.c} or in
-board.c's limits: a comparison (`>` <-> `>=`, `<` <-> `<=`, or negated), a limit constant (x2, /2, and
-+-1 for the thresholds compared with readings), a switch-off or protection call removed, an `if` that guards
-a limit never taken. Sites are found by tokenizing the C (comments and strings skipped, functions tracked),
+board.c's limits: a comparison (`>` <-> `>=`, `<` <-> `<=`, or negated), a limit constant (a #define: x2, /2,
+and +-1 for the thresholds compared with readings), a number in a function (x2, /2; not an index, a shift, a
+bit or a case label), a switch-off or protection call removed, an `if` that guards a limit never taken. Sites are found by tokenizing the C (comments and strings skipped, functions tracked),
 never by line numbers, so the tool runs on whatever the code is today. A mutant is built as the B6 image,
 its simulator and the host build of the protections, then judged by the tests that can kill it (SELECTION,
 the fast host tests first, pytest -x): killed when a test fails, survived when all pass, not viable when it
@@ -53,7 +53,8 @@ DEFINES = {"board.c": re.compile(r"LIMIT|CAPACITY|CAL_OUTPUT|SLOW_MS|SINK")}
 # thresholds compared with readings: an LSB matters, so they get +-1 too
 LSB_DEFINES = re.compile(r"^(TRIP_|CELL_|PROBE_|PROTECT_DEBOUNCE)")
 REMOVABLE_CALLS = {"stage_off", "protect_raise", "condition", "condition_after", "counted", "cells", "cell"}
-KINDS = ("compare", "constant", "call", "guard")
+KINDS = ("compare", "constant", "literal", "call", "guard")
+TARGET_KINDS = ("compare", "constant", "literal")     # every one of these should be killed
 BOUNDARY = {">": ">=", ">=": ">", "<": "<=", "<=": "<"}
 NEGATION = {">": "<=", ">=": "<", "<": ">=", "<=": ">", "==": "!=", "!=": "=="}
 
@@ -140,7 +141,7 @@ def mutants_of(file: str, text: str) -> list[Mutant]:
     tokens = tokenize(text)
     allowed = FUNCTIONS.get(file)
     out: list[Mutant] = []
-    depth, function, candidate, k = 0, "", "", 0
+    depth, function, candidate, k, brackets = 0, "", "", 0, 0
     while k < len(tokens):
         t = tokens[k]
         if t.text == "#":                                  # a preprocessor line, to its (unescaped) end
@@ -156,14 +157,22 @@ def mutants_of(file: str, text: str) -> list[Mutant]:
                 k += 1
             continue
         if t.text == "{":
-            if depth == 0:
-                function = candidate
+            if depth == 0:                                 # a function's body, or a table's initializer
+                function = candidate if k and tokens[k - 1].text == ")" else ""
             depth += 1
         elif t.text == "}":
             depth -= 1
         elif depth == 0 and t.kind == "name" and k + 1 < len(tokens) and tokens[k + 1].text == "(":
             candidate = t.text
-        inside = depth > 0 and (allowed is None or function in allowed)
+        brackets += (t.text == "[") - (t.text == "]")
+        inside = depth > 0 and function != "" and (allowed is None or function in allowed)
+        before = tokens[k - 1].text if k else ""
+        if inside and t.kind == "number" and not brackets and before not in ("<<", ">>", "case", "_BV") \
+                and int(re.match(r"0[xX][0-9a-fA-F]+|\d+", t.text).group(), 0) >= 2 \
+                and not (before == "(" and k > 1 and tokens[k - 2].text == "_BV"):
+            line = _line_of(text, t.start)
+            for r in (f"({t.text} * 2)", f"({t.text} / 2)"):
+                out.append(Mutant(file, line, function, "literal", t.start, t.start + len(t.text), t.text, r))
         if inside and t.kind == "op" and t.text in NEGATION:
             line = _line_of(text, t.start)
             for r in dict.fromkeys([BOUNDARY.get(t.text), NEGATION[t.text]]):
@@ -310,7 +319,7 @@ def main(argv: list[str] | None = None) -> int:
         viable = sum(1 for r in results if r[0].kind == kind) - len(judged)
         if judged:
             print(f"{kind:10} {killed:4} / {len(judged):<4} ({viable})")
-        failing |= kind in ("compare", "constant") and killed < len(judged)
+        failing |= kind in TARGET_KINDS and killed < len(judged)
     seconds = [r[3] for r in results if r[1] != "not viable"]
     if seconds:
         print(f"per mutant: {sum(seconds) / len(seconds):.1f} s mean, {max(seconds):.1f} s at most")

@@ -352,3 +352,16 @@ def test_the_heat_sink_estimate_trips_above_80_c_not_at_it(lib, c100, loss_mw, t
     assert (sink_steps(lib, loss_mw, 10) is not None) == trips
     lib.protect_disarm()
     ctypes.c_int32.in_dll(lib, "protect_sink_sum").value = 2500 * 600
+
+
+def test_a_reversed_pack_trips_on_its_current_first_and_is_named_by_the_next_vout_minus_reading(lib):
+    armed(lib)
+    lib.protect_named.restype = ctypes.c_uint8
+    assert text(lib, feed(lib, {ISMPS: 0, IDIS: 6000}, 4)) == "over current"     # the short, before Vout- is read
+    assert not lib.protect_named()
+    feed(lib, {VOUT_MINUS: 11000})
+    assert lib.protect_named() and text(lib, ctypes.c_uint8.in_dll(lib, "protect_trip").value) == "battery reversed"
+    armed(lib)
+    feed(lib, {ISMPS: 0, IDIS: 6000}, 4)
+    feed(lib, {VOUT_MINUS: 500})                                                  # not reversed: its own name
+    assert lib.protect_named() and text(lib, ctypes.c_uint8.in_dll(lib, "protect_trip").value) == "over current"

@@ -18,9 +18,10 @@ static const char *s = "x < y";   // a > b in a comment
 /* if (a >= b) in a comment */
 static int f(const int *p, int a)
 {
+    static const int t[4] = {7, 1};
     if (p->x >= a << 2)
         stage_off();
-    return a != 3;
+    return a != 3 && t[2] && _BV(5);
 }
 """
 
@@ -31,10 +32,11 @@ def test_each_comparison_limit_and_switch_off_is_one_mutant_and_nothing_in_text_
         (2, "#define TRIP_X_MV", "constant", "500", r) for r in ("((500) * 2)", "((500) / 2)", "(500 + 1)", "(500 - 1)")
     } | {
         (3, "#define FAST", "constant", "4", "((4) * 2)"), (3, "#define FAST", "constant", "4", "((4) / 2)"),
-        (9, "f", "compare", ">=", ">"), (9, "f", "compare", ">=", "<"),
-        (9, "f", "guard", "(p->x >= a << 2)", "(0 && (p->x >= a << 2))"),
-        (10, "f", "call", "stage_off()", "(void)0"),
-        (11, "f", "compare", "!=", "=="),
+        (9, "f", "literal", "7", "(7 * 2)"), (9, "f", "literal", "7", "(7 / 2)"),
+        (10, "f", "compare", ">=", ">"), (10, "f", "compare", ">=", "<"),
+        (10, "f", "guard", "(p->x >= a << 2)", "(0 && (p->x >= a << 2))"),
+        (11, "f", "call", "stage_off()", "(void)0"),
+        (12, "f", "compare", "!=", "=="), (12, "f", "literal", "3", "(3 * 2)"), (12, "f", "literal", "3", "(3 / 2)"),
     }
 
 

@@ -367,6 +367,9 @@ static void watch(void)
     uint8_t trip = protect_trip;
     if (trip) {
         stage_off();
+        if (!protect_named())
+            return;                  /* off already; the name within one Vout- reading (6 ms) */
+        trip = protect_trip;
         if (app_running())
             app_protect(protect_text(trip));
         cal_output_end_ms = 0;

@@ -12,6 +12,7 @@ int32_t protect_sink_sum = (int32_t)SINK_AMBIENT_C100 * SINK_STEPS;
  * two of its readings, and a shared count would start again at each of them (the discharge's over-current
  * would never trip). */
 #define DISCHARGE_COUNT TRIPS
+#define NAMED TRIP_NONE              /* count[NAMED]: Vout- has been read since the trip */
 static uint8_t count[TRIPS + 1];
 
 uint16_t protect_cell_max_mv(uint8_t akk_type)
@@ -130,6 +131,13 @@ uint8_t protect_reading(uint8_t input, int16_t value)
 {
     const protect_limits_t *l = &protect_limits;
     protect_latest[input] = value;
+    if (protect_trip && input == CAL_VOUT_MINUS) {
+        /* a reversed pack trips first on its current (or its lost voltage), before Vout- is read: the
+         * output is off at once, the name follows from this reading */
+        if (value > TRIP_REVERSED_MV && (protect_trip == TRIP_OVER_CURRENT || protect_trip == TRIP_DISCONNECTED))
+            protect_trip = TRIP_REVERSED;
+        count[NAMED] = 1;
+    }
     if (!l->armed || protect_trip) {
         if (input >= CAL_VB0 && input <= CAL_VB6)
             cells(input, value);      /* kept up to date for the start's checks and the readout */
@@ -165,6 +173,11 @@ uint8_t protect_reading(uint8_t input, int16_t value)
         break;
     }
     return protect_trip;
+}
+
+uint8_t protect_named(void)
+{
+    return count[NAMED] || (protect_trip != TRIP_OVER_CURRENT && protect_trip != TRIP_DISCONNECTED);
 }
 
 const char *protect_text(uint8_t trip)

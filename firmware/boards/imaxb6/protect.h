@@ -69,6 +69,9 @@ void protect_disarm(void);
 uint8_t protect_reading(uint8_t input, int16_t value);
 /* A trip found elsewhere (the stage, the main loop); the first one stays. */
 void protect_raise(uint8_t trip);
+/* Whether protect_trip is its final name: an over-current or a lost pack waits for one reading of Vout-,
+ * which renames it `battery reversed` when that is what it was (the output is off meanwhile). */
+uint8_t protect_named(void);
 const char *protect_text(uint8_t trip);
 /* One 100 ms step of the heat-sink estimate towards what `loss_mw` of the stage's losses hold it at; over
  * TRIP_SINK_C100 it trips (armed only). */
