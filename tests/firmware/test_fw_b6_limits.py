@@ -1,7 +1,8 @@
 """The B6's limits measured on the simulated B6 by the model's TRUE values (--trace), each test written to kill a
 kind of mutant tools/mutate_firmware.py makes (issue 31, section 6): a 20 A macro gets the board's 5 A / 50 W at
 most, a discharge its 1 A / 5 W; a run stops at its capacity limit; a duty at its top with no current switches off
-after half a second; a trip switches the output off from the ADC interrupt while the main loop is slow; a start
+after half a second; a trip switches the output off from the ADC interrupt while the main loop is slow, and a slow
+main loop is not a hang; a start
 with SERIES above the balance lead's count is refused. Runs started on the front panel happen at simulated times
 the test chose; the test waits for the harness's lines, never for a time."""
 import pytest
@@ -166,3 +167,11 @@ def test_a_trip_switches_the_output_off_from_the_interrupt_while_the_main_loop_i
     on_s, off_s, k = on_and_off(sim)
     assert on_s < 1.5 and off_s - 1.5 <= 0.035, (on_s, off_s)
     sim.wait_line("LCD|end Twenty|cell 3 over max", k)
+
+
+def test_a_slow_main_loop_is_not_a_hang(b6):
+    # parked 45 ms of every 50: slower than any loop of the image's, still under the 50 ms hang check
+    sim = b6(CHARGE_20A, "--cells", "3", "--soc", "0.5", "--press", START, "--fault", "slow-loop@1.5",
+             "--press", "stop@2.5")
+    on_s, off_s, k = on_and_off(sim)
+    assert off_s >= 2.5, sim.lines[k - 5:k + 5]             # STOP ended it, not a hang trip
