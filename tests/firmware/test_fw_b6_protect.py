@@ -365,3 +365,8 @@ def test_a_reversed_pack_trips_on_its_current_first_and_is_named_by_the_next_vou
     feed(lib, {ISMPS: 0, IDIS: 6000}, 4)
     feed(lib, {VOUT_MINUS: 500})                                                  # not reversed: its own name
     assert lib.protect_named() and text(lib, ctypes.c_uint8.in_dll(lib, "protect_trip").value) == "over current"
+
+
+def test_a_tap_beyond_the_run_s_cells_is_a_lead_fault_not_a_cell_over_max(lib):
+    armed(lib)
+    assert text(lib, feed(lib, pack(lib, [3900, 3900, 3900, 4400], vout=3 * 3900), 4)) == "balance lead 4 cells"
