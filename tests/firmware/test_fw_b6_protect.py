@@ -370,3 +370,22 @@ def test_a_reversed_pack_trips_on_its_current_first_and_is_named_by_the_next_vou
 def test_a_tap_beyond_the_run_s_cells_is_a_lead_fault_not_a_cell_over_max(lib):
     armed(lib)
     assert text(lib, feed(lib, pack(lib, [3900, 3900, 3900, 4400], vout=3 * 3900), 4)) == "balance lead 4 cells"
+
+
+@pytest.mark.parametrize("first, why", [
+    (pack(None, [3900] * 3, vout=0), "battery reversed"),                   # lost, then Vout- shows it reversed
+    ({VB3: 4400}, "cell 3 over max"),                                        # a cell's trip keeps its name
+])
+def test_only_a_lost_pack_or_an_over_current_is_renamed_reversed(lib, first, why):
+    armed(lib)
+    feed(lib, {**first, VOUT_MINUS: 0}, 16)
+    lib.protect_named.restype = ctypes.c_uint8
+    feed(lib, {VOUT_MINUS: 11000})
+    assert lib.protect_named() and text(lib, ctypes.c_uint8.in_dll(lib, "protect_trip").value) == why
+
+
+def test_a_start_sees_the_cells_as_the_lead_s_minus_tap_last_read_them(lib):
+    lib.protect_disarm()
+    feed(lib, {**pack(lib, [3900] * 3), VB0: 300, VB1: 4600})               # cell 1: 4.3 V
+    feed(lib, {VB0: 0})                                                      # cell 1: 4.6 V
+    assert arm(lib, "LiPo", 3)[0] == "cell 1 over max"
