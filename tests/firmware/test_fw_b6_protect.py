@@ -389,3 +389,9 @@ def test_a_start_sees_the_cells_as_the_lead_s_minus_tap_last_read_them(lib):
     feed(lib, {**pack(lib, [3900] * 3), VB0: 300, VB1: 4600})               # cell 1: 4.3 V
     feed(lib, {VB0: 0})                                                      # cell 1: 4.6 V
     assert arm(lib, "LiPo", 3)[0] == "cell 1 over max"
+
+
+def test_a_trip_other_than_an_over_current_or_a_lost_pack_is_named_at_once(lib):
+    armed(lib)
+    lib.protect_named.restype = ctypes.c_uint8
+    assert text(lib, feed(lib, {VB3: 4400}, 4)) == "cell 3 over max" and lib.protect_named()
