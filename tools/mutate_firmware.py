@@ -196,20 +196,21 @@ def mutants_of(file: str, text: str) -> list[Mutant]:
 
 def all_mutants(firmware: Path, only: list[str] | None = None, kinds: tuple[str, ...] = KINDS) -> list[Mutant]:
     """The mutants of every file in SELECTION, restricted to `only` (FILE or FILE:FIRST-LAST) and `kinds`."""
-    ranges: dict[str, tuple[int, int]] = {}
+    ranges: dict[str, list[tuple[int, int]]] = {}
     for item in only or []:
         name, _, lines = item.partition(":")
         if name not in SELECTION:
             raise SystemExit(f"mutate_firmware: {name}: not one of {', '.join(SELECTION)}")
         first, _, last = lines.partition("-")
-        ranges[name] = (int(first or 1), int(last or first or 10 ** 9))
+        ranges.setdefault(name, []).append((int(first or 1), int(last or first or 10 ** 9)))
     out = []
     for name in SELECTION:
         if ranges and name not in ranges:
             continue
-        first, last = ranges.get(name, (1, 10 ** 9))
+        spans = ranges.get(name, [(1, 10 ** 9)])
         text = (firmware / BOARD / name).read_text()
-        out += [m for m in mutants_of(name, text) if m.kind in kinds and first <= m.line <= last]
+        out += [m for m in mutants_of(name, text)
+                if m.kind in kinds and any(first <= m.line <= last for first, last in spans)]
     return out
 
 

@@ -65,3 +65,13 @@ def test_the_sites_follow_the_code_not_its_line_numbers():
     # every comparison operator in a function body (the file has none outside one but its #include <...>)
     code = [t for t in mutate.tokenize(protect) if not protect[protect.rfind("\n", 0, t.start) + 1:].startswith("#")]
     assert len({m.start for m in compares}) == sum(1 for t in code if t.kind == "op" and t.text in mutate.NEGATION)
+
+
+def test_only_picks_files_and_line_ranges():
+    every = mutate.all_mutants(FIRMWARE)
+    picked = mutate.all_mutants(FIRMWARE, ["protect.c:1-40", "protect.c:100-120", "stage.c"], ("compare",))
+    assert picked and {m.file for m in picked} == {"protect.c", "stage.c"}
+    assert all(m.kind == "compare" for m in picked)
+    assert all(m.file == "stage.c" or m.line <= 40 or 100 <= m.line <= 120 for m in picked)
+    assert len([m for m in every if m.file == "stage.c" and m.kind == "compare"]) == \
+           len([m for m in picked if m.file == "stage.c"])
