@@ -290,8 +290,12 @@ def main(argv: list[str] | None = None) -> int:
     print(f"{len(mutants)} mutants, {jobs} workers in {workdir}", flush=True)
     steps = (HOST, SIM)
     every = sorted({t for targets, tests in steps for t in tests})
-    if not all(w.build(targets) for w in workers for targets, _ in steps) or workers[0].tests(every)[0] != "survived":
-        print("mutate_firmware: the unmutated firmware does not build or its tests fail: fix that first")
+    if not all(w.build(targets) for w in workers for targets, _ in steps):
+        print("mutate_firmware: the unmutated firmware does not build: fix that first")
+        return 2
+    verdict, why = workers[0].tests(every)
+    if verdict != "survived":
+        print(f"mutate_firmware: the tests fail on the unmutated firmware ({why.strip()}): fix that first")
         return 2
     free = list(workers)
     results: list[tuple[Mutant, str, str, float]] = []
