@@ -248,6 +248,8 @@ class Worker:
             return "survived", ""
         if done.returncode == 1:
             return "killed", failed.group(1) if failed else "a test failed"
+        if done.returncode < 0 or "Segmentation fault" in done.stderr:
+            return "killed", "the tests crashed"      # the host build of the mutant wrote out of bounds
         return "error", done.stdout[-400:] + done.stderr[-400:]
 
     def judge(self, mutant: Mutant) -> tuple[str, str, float]:
