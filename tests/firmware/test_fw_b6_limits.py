@@ -171,6 +171,6 @@ def test_a_trip_switches_the_output_off_from_the_interrupt_while_the_main_loop_i
 def test_a_slow_main_loop_is_not_a_hang(b6):
     # parked 45 ms of every 50: slower than any loop of the image's, still under the 50 ms hang check
     sim = b6(CHARGE_20A, "--cells", "3", "--soc", "0.5", "--press", START, "--fault", "slow-loop@1.5",
-             "--press", "stop@2.5")
+             "--press", "stop@2.5:1")           # held 1 s: the slow loop scans the keys once per 50 ms
     on_s, off_s, k = on_and_off(sim)
     assert off_s >= 2.5, sim.lines[k - 5:k + 5]             # STOP ended it, not a hang trip
