@@ -398,6 +398,6 @@ def test_a_trip_other_than_an_over_current_or_a_lost_pack_is_named_at_once(lib):
 
 
 def test_a_reading_rounds_to_the_nearest_unit_on_both_sides_of_zero(lib):
-    nominal(lib)                                    # Vout: zero 0, 29 902 mV full scale; I smps: zero 26
+    nominal(lib)                                    # Vout: zero 0, 29 902 mV full scale; I dis: zero 26
     assert [lib.cal_value(VOUT, d) for d in (1, 10, 12)] == [0, 5, 5]          # 0.46, 4.56, 5.48 mV
-    assert [lib.cal_value(ISMPS, 26 - d) for d in (19, 20)] == [0, -1]         # -0.48, -0.50 mA
+    assert [lib.cal_value(IDIS, 26 - d) for d in (19, 20)] == [0, -1]          # -0.48, -0.50 mA
