@@ -152,8 +152,9 @@ def test_a_duty_at_its_top_with_no_current_switches_off_after_half_a_second(b6):
     sim = b6(CHARGE_20A, "--cells", "6", "--soc", "1", "--press", START)
     on_s, off_s, k = on_and_off(sim)
     assert end_reason(sim).startswith("protection:")
-    # 400 current readings at ~800/s once the duty reaches its top (~0.1 s from zero)
-    assert 0.4 <= off_s - on_s <= 0.8, off_s - on_s
+    # 400 current readings (0.5 s) once the duty reaches its top, ~0.28 s from zero: 0.78 s measured; half or
+    # twice the readings fall outside
+    assert 0.65 <= off_s - on_s <= 0.95, off_s - on_s
     sim.stop()
     assert all(r.current_a < 0.5 for r in read_trace(sim.trace))
 
