@@ -6,7 +6,7 @@
 #include "b6_model.h"
 
 const char *const b6_fault_names[B6_FAULT_KINDS] = {
-    "disconnect", "reverse", "cell-high", "sensor-open", "sink-hot", "input-low", "hang",
+    "disconnect", "reverse", "cell-high", "sensor-open", "sink-hot", "input-low", "hang", "slow-loop",
 };
 
 /* Component values cheali does not give: assumed, typical of a 50 W buck/boost of this kind. */

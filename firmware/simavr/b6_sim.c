@@ -33,6 +33,8 @@
 #define PRESS_S 0.2                     /* a press held this long unless BUTTON@S:HOLD says otherwise */
 #define LCD_SETTLE_MS 3                 /* print the LCD once it has had no write this long */
 #define LCD_MAX_WAIT_MS 100             /* ... or at the latest this long after the first change */
+#define SLOW_PERIOD_MS 50               /* the slow-loop fault: parked 45 ms of every 50, below the image's 50 ms */
+#define SLOW_PARK_MS 45                 /* hang check, so the main loop is slow, not hung */
 /* ATmega32 registers in data space */
 #define R_TCCR1A 0x4F
 #define R_TCCR1B 0x4E
@@ -51,7 +53,7 @@ static const char usage[] =
     "usage: zuml_b6_sim ELF [--eeprom FILE] [--cells N] [--capacity MAH] [--soc F] [--cell-spread MV] [--weak-cell PCT]\n"
     "       [--seed N] [--uncalibrated] [--fault KIND@S]... [--press BUTTON@S[:HOLD]]... [--trace FILE] [--lcd]\n"
     "       [--speed X] [--no-rx] [--end-with-stdin]\n"
-    "KIND: disconnect reverse cell-high sensor-open sink-hot input-low hang; BUTTON: start stop inc dec\n";
+    "KIND: disconnect reverse cell-high sensor-open sink-hot input-low hang slow-loop; BUTTON: start stop inc dec\n";
 
 static const char *const button_names[4] = {"start", "stop", "inc", "dec"};   /* as b6_button[] */
 
@@ -74,6 +76,10 @@ static int n_faults, n_presses, lcd_on, step_count, hang_pending, refs_warned, o
 static int rx_wire = 1;
 /* --end-with-stdin: stdin's end is the host's (a window that started this one and went away): stop then */
 static int end_with_stdin;
+/* the slow-loop fault: from slow_from_ms on, the main loop is parked SLOW_PARK_MS of every SLOW_PERIOD_MS */
+static long slow_from_ms = -1;
+static int parked;
+static avr_flashaddr_t parked_pc;
 static unsigned balancer_was;
 static FILE *trace;
 static avr_irq_t *adc_in[8], *button_pin[4], *rxd_pin;   /* looked up once: simavr walks its modules on every lookup */
@@ -314,19 +320,48 @@ static void set_rxd(int again)
     avr_raise_irq(rxd_pin, rx_wire);
 }
 
+/* The rjmp . at the top of the flash, where a stopped main loop is sent. */
+static avr_flashaddr_t park_loop(void)
+{
+    uint32_t end = avr->flashend - 1;
+    if (avr->flash[end] != 0xFF || (avr->flash[end + 1] != 0xFF && avr->flash[end + 1] != 0xCF))
+        fprintf(stderr, "zuml_b6_sim: the image reaches the last flash word; hang overwrites it\n");
+    avr->flash[end] = 0xFF;             /* rjmp . = 0xCFFF, little endian */
+    avr->flash[end + 1] = 0xCF;
+    return end;
+}
+
+/* The slow-loop fault's state for now: 1 while the main loop should be parked. */
+static int park_wanted(void)
+{
+    return slow_from_ms >= 0 && now_ms() >= slow_from_ms && (now_ms() - slow_from_ms) % SLOW_PERIOD_MS < SLOW_PARK_MS;
+}
+
+/* Parks the main loop or lets it go on where it was (between two avr_run()s, outside any ISR: an ISR's
+ * return address must be the main loop's own). */
+static void park_now(void)
+{
+    if (avr->interrupts.running_ptr || parked == park_wanted())
+        return;
+    if (!parked) {
+        parked_pc = avr->pc;
+        avr->pc = park_loop();
+    } else {
+        avr->pc = parked_pc;
+    }
+    parked = !parked;
+}
+
 /* The main loop stops: the CPU is sent to an endless loop at the top of the flash while the interrupts stay
  * on, so an ISR that still runs cannot hide the hang from a watchdog fed only by the main loop. Called
  * between two avr_run()s: simavr sets the PC after its cycle timers, so a timer cannot move it. */
 static void hang_now(void)
 {
-    uint32_t end = avr->flashend - 1;
     if (avr->interrupts.running_ptr)
         return;                         /* inside an ISR: wait for the main loop */
-    if (avr->flash[end] != 0xFF || avr->flash[end + 1] != 0xFF)
-        fprintf(stderr, "zuml_b6_sim: the image reaches the last flash word; hang overwrites it\n");
-    avr->flash[end] = 0xFF;             /* rjmp . = 0xCFFF, little endian */
-    avr->flash[end + 1] = 0xCF;
-    avr->pc = end;
+    avr->pc = park_loop();
+    parked = 0;                         /* for good: the slow-loop fault ends */
+    slow_from_ms = -1;
     hang_pending = 0;
     fprintf(stderr, "FAULT|hang|%.3f\n", now_s());
 }
@@ -342,6 +377,8 @@ static void apply_faults(double now_s)
             hang_pending = 1;
             continue;
         }
+        if (faults[k].what == B6_FAULT_SLOW_LOOP)
+            slow_from_ms = (long)(faults[k].at_s * 1000 + 0.5);
         model.fault[faults[k].what] = 1;
         fprintf(stderr, "FAULT|%s|%.3f\n", b6_fault_names[faults[k].what], now_s);
     }
@@ -519,7 +556,7 @@ static int parse(int argc, char **argv, options_t *o)
         } else if (!strcmp(name, "--fault")) {
             if (n_faults == MAX_EVENTS || timed(value, b6_fault_names, B6_FAULT_KINDS, 0, &faults[n_faults]) < 0)
                 return fail("--fault is KIND@SECONDS, KIND one of disconnect reverse cell-high sensor-open sink-hot "
-                            "input-low hang (at most 32)", value);
+                            "input-low hang slow-loop (at most 32)", value);
             n_faults++;
         } else if (!strcmp(name, "--press")) {
             if (n_presses == MAX_EVENTS || timed(value, button_names, 4, 1, &presses[n_presses]) < 0)
@@ -572,6 +609,7 @@ static void after_reset(void)
 {
     int by_watchdog = avr->data[R_MCUCSR] >> WDRF_BIT & 1;
     reset_seen = 0;
+    parked = 0;                         /* the reset moved the PC */
     if (avr->cycle < cycle_at_reset)
         cycle_base += cycle_at_reset;
     if (by_watchdog)
@@ -743,7 +781,8 @@ int main(int argc, char **argv)
         double sim;
         do                              /* one instruction at a time while a hang waits for the main loop */
             state = avr_run(avr);
-        while (avr->cycle < until && !reset_seen && !hang_pending && state != cpu_Done && state != cpu_Crashed);
+        while (avr->cycle < until && !reset_seen && !hang_pending && parked == park_wanted() && state != cpu_Done &&
+               state != cpu_Crashed);
         if (state == cpu_Done || state == cpu_Crashed) {
             fprintf(stderr, "zuml_b6_sim: the AVR stopped (state %d)\n", state);
             break;
@@ -753,6 +792,7 @@ int main(int argc, char **argv)
         read_presses();
         if (hang_pending)
             hang_now();
+        park_now();
         sim = now_s();
         if (o.speed > 0) {
             double ahead = sim / o.speed - (wall_s() - start);

@@ -8,6 +8,7 @@ the same models, and hands the readings back in the core's fixed-point units.
 from __future__ import annotations
 
 import ctypes
+import os
 import random
 from dataclasses import dataclass
 from pathlib import Path
@@ -19,7 +20,8 @@ from zuml_studio.sim.simulate import BatterySetup, models, prepare
 from zuml_studio.sim.start_templates import factory_templates
 
 ROOT = Path(__file__).resolve().parents[2]
-FIRMWARE = ROOT / "firmware"
+# tools/mutate_firmware.py points the firmware tests at a worker's mutated copy of firmware/
+FIRMWARE = Path(os.environ.get("ZUML_TEST_FIRMWARE") or ROOT / "firmware")
 LIBRARY = FIRMWARE / "build" / "host" / "libzuml_host.so"
 
 TASKS = {"charge": 0, "discharge": 1, "train": 2}

@@ -183,3 +183,223 @@ def test_without_a_probe_at_the_start_its_input_is_not_judged(lib):
     feed(lib, pack(lib, [3900] * 3, probe=0))
     assert arm(lib, "LiPo", 3) == (None, 0)
     assert feed(lib, pack(lib, [3900] * 3, probe=0), 10) == 0
+
+
+def armed(lib, akk="LiPo", cells_mv=(3900, 3900, 3900), **start):
+    """Limits armed for a pack of `cells_mv` on the output and its balance lead."""
+    lib.protect_disarm()
+    feed(lib, pack(lib, list(cells_mv), **start))
+    assert arm(lib, akk, len(cells_mv)) == (None, 0)
+
+
+FULL = {VB1: 4300, VB2: 8600, VB3: 4300}        # a 3S LiPo lead with every cell at its ceiling
+
+
+# Each limit exactly at its threshold holds, one unit (1 mV, 1 mA, 0.01 degC) past it trips after its readings
+# in a row, and one reading fewer does not: a boundary moved by one, a threshold scaled or a debounce changed is
+# seen (tools/mutate_firmware.py's comparison and constant mutants).
+@pytest.mark.parametrize("at, past, times, why", [
+    # the currents as the ADC reads them: two charge readings between two discharge ones (adc.c)
+    ({ISMPS: 5250, IDIS: 0}, {ISMPS: 5251, IDIS: 0}, 4, "over current"),
+    ({ISMPS: 0, IDIS: 1050}, {ISMPS: 0, IDIS: 1051}, 4, "over current"),   # a discharge over-current
+    ({VIN: 11000}, {VIN: 10999}, 4, "input below 11V"),
+    ({VOUT_MINUS: 500}, {VOUT_MINUS: 501}, 4, "battery reversed"),
+    ({TEXTERN: 6000}, {TEXTERN: 6001}, 4, "probe over 60C"),
+    ({TEXTERN: 100}, {TEXTERN: 99}, 4, "probe open"),
+    ({**FULL, VOUT: 3 * 4350}, {**FULL, VOUT: 3 * 4350 + 1}, 4, "pack over max"),
+    ({VB3: 4300}, {VB3: 4301}, 4, "cell 3 over max"),                      # a cell exactly at the ceiling
+    ({VB1: 4300, VB2: 8200}, {VB1: 4301, VB2: 8201}, 4, "cell 1 over max"),
+    ({VB2: 3900 + 4300}, {VB2: 3900 + 4301}, 4, "cell 2 over max"),
+    ({VOUT: 11700 + 1000}, {VOUT: 11700 + 1001}, 16, "battery disconnected"),   # Vout above the taps' sum
+    ({VOUT: 11700 - 1000}, {VOUT: 11700 - 1001}, 16, "battery disconnected"),   # the taps above Vout
+    ({VOUT: 500, VB1: 0, VB2: 0, VB3: 0}, {VOUT: 499, VB1: 0, VB2: 0, VB3: 0}, 16, "battery disconnected"),
+])
+def test_a_limit_holds_at_its_threshold_and_trips_one_unit_past_it(lib, at, past, times, why):
+    armed(lib)
+    assert feed(lib, at, 40) == 0
+    assert feed(lib, past, times - 1) == 0
+    assert text(lib, feed(lib, past)) == why
+
+
+@pytest.mark.parametrize("reading, why", [(12000, "probe over 60C"), (12001, "probe open")])
+def test_a_probe_reading_above_120_c_is_an_open_probe_not_a_hot_pack(lib, reading, why):
+    armed(lib)
+    assert text(lib, feed(lib, {TEXTERN: reading}, 4)) == why
+
+
+@pytest.mark.parametrize("k", range(6))
+def test_every_cell_of_a_6s_pack_is_checked_under_its_own_name(lib, k):
+    armed(lib, cells_mv=[3900] * 6)
+    cells = [3900] * 6
+    cells[k] = 4301
+    assert text(lib, feed(lib, pack(lib, cells, vout=6 * 3900), 4)) == f"cell {k + 1} over max"
+
+
+def test_the_lead_check_holds_without_a_lead_and_names_a_lead_that_comes_off(lib):
+    armed(lib, "NiMh", [], vout=8 * 1200)
+    assert feed(lib, pack(lib, [], vout=8 * 1200), 40) == 0                # no lead, no cells: nothing to compare
+    armed(lib, cells_mv=[3900] * 4)
+    assert text(lib, feed(lib, pack(lib, [3900] * 3), 4)) == "balance lead 3 cells"
+
+
+@pytest.mark.parametrize("start, cells, why", [
+    (dict(cells_mv=[3900] * 3), 4, "balance lead 3 cells"),                 # SERIES above the balance count
+    (dict(cells_mv=[3900] * 3), 2, "balance lead 3 cells"),                 # ... and below it
+    (dict(cells_mv=[3900, 3900, 4301]), 3, "cell 3 over max"),
+    (dict(cells_mv=[], vout=3 * 4350 + 1), 3, "pack over max"),
+    (dict(cells_mv=[3900] * 3, vin=10999), 3, "input below 11V"),
+    (dict(cells_mv=[], vout=499), 3, "no battery"),
+    (dict(cells_mv=[3900] * 3, vminus=501), 3, "battery reversed"),
+])
+def test_a_start_one_unit_past_a_limit_is_refused(lib, start, cells, why):
+    lib.protect_disarm()
+    feed(lib, pack(lib, **start))
+    assert arm(lib, "LiPo", cells)[0] == why
+
+
+@pytest.mark.parametrize("start", [
+    dict(cells_mv=[3900, 3900, 4300]), dict(cells_mv=[], vout=3 * 4350), dict(cells_mv=[3900] * 3, vin=11000),
+    dict(cells_mv=[], vout=500), dict(cells_mv=[3900] * 3, vminus=500),
+])
+def test_a_start_exactly_at_a_limit_is_allowed(lib, start):
+    lib.protect_disarm()
+    feed(lib, pack(lib, **start))
+    assert arm(lib, "LiPo", 3) == (None, 0)
+
+
+def sink_steps(lib, loss_mw, steps):
+    """The heat-sink estimate after `steps` 100 ms steps at `loss_mw`; the step a trip came at (None without)."""
+    lib.protect_sink_step.argtypes = [ctypes.c_int32]
+    trip = ctypes.c_uint8.in_dll(lib, "protect_trip")
+    for n in range(steps):
+        lib.protect_sink_step(loss_mw)
+        if trip.value:
+            return n + 1
+    return None
+
+
+def test_the_heat_sink_estimate_trips_from_the_stages_own_losses(lib):
+    # The stock B6 has no heat-sink sensor (cheali: Tintern {0,0}): this estimate is the protection, and a sink
+    # heated from outside is not seen (docs/firmware.md, Heat sink).
+    sink = ctypes.c_int32.in_dll(lib, "protect_sink_sum")                  # the estimate x 600 steps
+    armed(lib)
+    sink.value = 2500 * 600
+    # the B6's largest losses (10 % of 50 W charging, or the whole 5 W discharging): 25 + 2 x 5 = 35 degC, no trip
+    assert sink_steps(lib, 5000, 6000) is None and sink.value // 600 == 3500
+    # 40 W of losses: from 35 towards 105 degC with 60 s of time constant, over 80 degC after 60 ln(70/25) = 62 s
+    n = sink_steps(lib, 40000, 1200)
+    assert n is not None and 590 <= n <= 650, n
+    assert text(lib, ctypes.c_uint8.in_dll(lib, "protect_trip").value) == "heat sink over 80C"
+    sink.value = 8100 * 600                    # cools back to the room's 25 degC with no losses
+    lib.protect_disarm()
+    assert sink_steps(lib, 0, 6000) is None and sink.value // 600 == 2500
+
+
+def test_an_unknown_chemistry_gets_the_highest_ceiling_and_only_li_types_are_li(lib):
+    assert [lib.protect_cell_max_mv(k) for k in (8, 9, 255)] == [4350, 4350, 4350]
+    assert [lib.protect_is_li(k) for k in range(10)] == [0, 0, 0, 0, 1, 1, 1, 1, 0, 0]
+
+
+@pytest.mark.parametrize("tap_mv, cells", [(1000, 2), (1001, 3)])
+def test_a_tap_carries_a_cell_above_1_v(lib, tap_mv, cells):
+    lib.protect_disarm()
+    feed(lib, pack(lib, [3900, 3900, tap_mv], vout=7800 + tap_mv))
+    assert lib.protect_balance_cells() == cells
+
+
+def test_all_six_taps_count_and_a_li_start_without_series_takes_the_lead_s_count(lib):
+    lib.protect_disarm()
+    feed(lib, pack(lib, [3900] * 6))
+    assert lib.protect_balance_cells() == 6
+    assert arm(lib, "LiPo", 0) == (None, 0)
+    assert text(lib, feed(lib, pack(lib, [3900] * 5 + [4301], vout=6 * 3900), 4)) == "cell 6 over max"
+
+
+@pytest.mark.parametrize("fault, why", [
+    ({IDIS: 1200}, "over current"), ({VIN: 10000}, "input below 11V"), ({TEXTERN: 6500}, "probe over 60C"),
+    ({VB3: 4400}, "battery disconnected"),
+])
+def test_a_trip_while_the_pack_reads_lost_keeps_its_own_name_unless_the_loss_explains_it(lib, fault, why):
+    armed(lib)
+    assert text(lib, feed(lib, {**pack(lib, [3900] * 3, vout=0), **fault}, 4)) == why
+
+
+@pytest.mark.parametrize("vminus, why, times", [(500, "battery disconnected", 16), (501, "battery reversed", 4)])
+def test_vout_minus_at_0_5_v_is_a_lost_pack_and_above_it_a_reversed_one(lib, vminus, why, times):
+    armed(lib)
+    lost = pack(lib, [3900] * 3, vout=0, vminus=vminus)
+    assert feed(lib, lost, times - 1) == 0
+    assert text(lib, feed(lib, lost)) == why
+
+
+def test_cells_1_and_2_are_checked_when_a_tap_below_them_moves(lib):
+    armed(lib, cells_mv=[3900] * 3)
+    feed(lib, {VB0: 300, VB1: 4600})                       # cell 1: 4.3 V on a lead whose minus reads 0.3 V
+    assert text(lib, feed(lib, {VB0: 0}, 4)) == "cell 1 over max"
+    armed(lib, cells_mv=[3900] * 3)
+    feed(lib, {VB1: 4300, VB2: 8600})                      # cell 2: 4.3 V
+    assert text(lib, feed(lib, {VB1: 4000}, 4)) == "cell 2 over max"
+
+
+@pytest.mark.parametrize("probe, judged", [(199, False), (200, True), (12000, True), (12001, False)])
+def test_a_probe_is_judged_when_it_read_2_to_120_c_at_the_start(lib, probe, judged):
+    armed(lib, probe=probe)
+    assert bool(feed(lib, {TEXTERN: 0}, 4)) == judged
+
+
+@pytest.mark.parametrize("c100, loss_mw, trips", [(8000, 27500, False), (8001, 27505, True)])
+def test_the_heat_sink_estimate_trips_above_80_c_not_at_it(lib, c100, loss_mw, trips):
+    armed(lib)
+    ctypes.c_int32.in_dll(lib, "protect_sink_sum").value = c100 * 600     # held there by these losses
+    assert (sink_steps(lib, loss_mw, 10) is not None) == trips
+    lib.protect_disarm()
+    ctypes.c_int32.in_dll(lib, "protect_sink_sum").value = 2500 * 600
+
+
+def test_a_reversed_pack_trips_on_its_current_first_and_is_named_by_a_vout_minus_reading_after_it(lib):
+    armed(lib)
+    lib.protect_settled.restype = ctypes.c_uint8
+    assert text(lib, feed(lib, {ISMPS: 0, IDIS: 6000}, 4)) == "over current"     # the short, before Vout- is read
+    assert not lib.protect_settled()
+    feed(lib, {VOUT_MINUS: 11000})
+    assert lib.protect_settled() and text(lib, ctypes.c_uint8.in_dll(lib, "protect_trip").value) == "battery reversed"
+    armed(lib)
+    feed(lib, {ISMPS: 0, IDIS: 6000}, 4)
+    feed(lib, {VOUT_MINUS: 500}, 3)                                               # not reversed: its own name ...
+    assert not lib.protect_settled()
+    feed(lib, {VOUT_MINUS: 500})                                                  # ... once 4 readings said so
+    assert lib.protect_settled() and text(lib, ctypes.c_uint8.in_dll(lib, "protect_trip").value) == "over current"
+
+
+def test_a_tap_beyond_the_run_s_cells_is_a_lead_fault_not_a_cell_over_max(lib):
+    armed(lib)
+    assert text(lib, feed(lib, pack(lib, [3900, 3900, 3900, 4400], vout=3 * 3900), 4)) == "balance lead 4 cells"
+
+
+def test_a_lost_pack_that_vout_minus_then_shows_reversed_is_named_reversed(lib):
+    armed(lib)
+    feed(lib, {**pack(None, [3900] * 3, vout=0), VOUT_MINUS: 0}, 16)
+    lib.protect_settled.restype = ctypes.c_uint8
+    feed(lib, {VOUT_MINUS: 11000})
+    assert lib.protect_settled() and text(lib, ctypes.c_uint8.in_dll(lib, "protect_trip").value) == "battery reversed"
+
+
+def test_a_start_sees_the_cells_as_the_lead_s_minus_tap_last_read_them(lib):
+    lib.protect_disarm()
+    feed(lib, {**pack(lib, [3900] * 3), VB0: 300, VB1: 4600})               # cell 1: 4.3 V
+    feed(lib, {VB0: 0})                                                      # cell 1: 4.6 V
+    assert arm(lib, "LiPo", 3)[0] == "cell 1 over max"
+
+
+def test_a_trip_keeps_its_name_when_vout_minus_shows_no_reversed_pack(lib):
+    armed(lib)
+    lib.protect_settled.restype = ctypes.c_uint8
+    assert text(lib, feed(lib, {VB3: 4400}, 4)) == "cell 3 over max" and not lib.protect_settled()
+    feed(lib, {VOUT_MINUS: 0}, 4)
+    assert lib.protect_settled() and text(lib, ctypes.c_uint8.in_dll(lib, "protect_trip").value) == "cell 3 over max"
+
+
+def test_a_reading_rounds_to_the_nearest_unit_on_both_sides_of_zero(lib):
+    nominal(lib)                                    # Vout: zero 0, 29 902 mV full scale; I dis: zero 26
+    assert [lib.cal_value(VOUT, d) for d in (1, 10, 12)] == [0, 5, 5]          # 0.46, 4.56, 5.48 mV
+    assert [lib.cal_value(IDIS, 26 - d) for d in (19, 20)] == [0, -1]          # -0.48, -0.50 mA

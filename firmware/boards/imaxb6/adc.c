@@ -15,6 +15,7 @@
 #define FAST 4
 #define SLOW 10
 #define MUX 0x80                 /* an input behind the multiplexer: address in the low bits */
+#define EMPTY_ADDRESS 6          /* cheali's ADC_CAPACITOR_DISCHARGE_ADDRESS: MADDR_V_BALANSER6 */
 #define HANG_READINGS 160        /* ~50 ms of slots (312 us each) without the main loop */
 
 static const uint8_t fast[FAST][2] PROGMEM = {
@@ -83,12 +84,32 @@ static void reading(uint8_t input, uint16_t adc16)
     }
 }
 
+/* Before each reading behind the multiplexer (during the fast slot before it), as cheali does for the
+ * B6's simplified Vb0..Vb2 circuit (generic/50W AnalogInputsADC.cpp, ENABLE_ADC_MUX_CAPACITOR_DISCHARGE):
+ * after the slot's first conversion the mux's output (PA6) is driven low on Vb6's address, emptying the
+ * capacitor the last tap charged; after the second it is an input again on the next input's address. */
+static void empty_mux(void)
+{
+    uint8_t channel = pgm_read_byte(&slow[next_slow][0]);
+    if (!(slot & 1) || !(channel & MUX) || conversion > 2)
+        return;                      /* the next slot is a fast one, or not behind the mux */
+    if (conversion == 1) {
+        PORTB = (uint8_t)((PORTB & ~B6_MUX_MASK) | (EMPTY_ADDRESS << B6_MUX_SHIFT));
+        DDRA |= _BV(B6_ADC_MUX);     /* PORTA's bit stays 0: driven low */
+    } else {
+        DDRA &= (uint8_t)~_BV(B6_ADC_MUX);
+        PORTB = (uint8_t)((PORTB & ~B6_MUX_MASK) | ((channel & 7) << B6_MUX_SHIFT));
+    }
+}
+
 ISR(ADC_vect)
 {
     uint16_t v = ADC;
     if (conversion >= DROP)
         burst += v;
-    if (++conversion == DROP + TAKE) {
+    ++conversion;
+    empty_mux();
+    if (conversion == DROP + TAKE) {
         uint16_t adc16 = (uint16_t)(burst << 4);
         uint8_t done = input;
         conversion = 0;

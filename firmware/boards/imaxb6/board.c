@@ -45,7 +45,6 @@ static int16_t bleed_drop_mv[6];                /* each cell's reading before it
 static int16_t hold_ma = B6_CHARGE_MA;                        /* the hold's cap on the charge current, < 0: none */
 static uint16_t ceiling_mv;                     /* the run's charge voltage per cell: the hold's ceiling; 0: none */
 static uint32_t run_capacity_uah, last_latch_ms, cal_output_end_ms;
-static int32_t sink_c100 = 2500;
 
 ISR(TIMER0_COMP_vect)
 {
@@ -100,7 +99,7 @@ int32_t hal_current_ua(void)
     return ((in > 0 ? in : 0) - (away > 0 ? away : 0)) * 1000L;
 }
 int32_t hal_battery_uc(void) { return adc_value(CAL_TEXTERN) * 10000L; }
-int32_t hal_heatsink_uc(void) { return sink_c100 * 10000L; }
+int32_t hal_heatsink_uc(void) { return protect_sink_c100() * 10000L; }
 uint8_t hal_battery_sensor(void)
 {
     int16_t t = protect_latest[CAL_TEXTERN];
@@ -484,11 +483,8 @@ void hal_request(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uint8
 static void slow_limits(void)
 {
     const zc_run_t *r = app_run();
-    int32_t target = 2500 + stage_loss_mw() / 5;        /* 25 degC + 2 K/W */
-    sink_c100 += (target - sink_c100) / 600;             /* 60 s at 100 ms steps */
+    protect_sink_step(stage_loss_mw());
     if (app_running()) {
-        if (sink_c100 > TRIP_SINK_C100)
-            protect_raise(TRIP_SINK_HOT);
         if (r->time_ms > run_time_limit_min * 60000UL)
             protect_raise(TRIP_TIME);
         if (r->total_in.uah > run_capacity_uah)
@@ -506,6 +502,7 @@ static void watch(void)
     uint8_t trip = protect_trip;
     if (trip && protect_settled()) {
         stage_off();
+        trip = protect_trip;        /* as the Vout- readings after the switch-off named it (protect_settled) */
         if (app_running())
             app_protect(protect_text(trip));
         cal_output_end_ms = 0;

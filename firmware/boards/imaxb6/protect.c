@@ -9,8 +9,13 @@ protect_limits_t protect_limits;
 volatile uint8_t protect_trip;
 volatile int16_t protect_latest[CAL_INPUTS];
 volatile int16_t protect_cell_mv[6];
-static uint8_t count[TRIP_TIME];     /* the readings in a row each condition held (the trips below TRIP_TIME) */
+/* Readings in a row per trip (those below TRIP_TIME), and the discharge current's own: the ADC reads the
+ * charge current twice between two of its readings, and a shared count would start again at each of them
+ * (the discharge's over-current would never trip). */
+#define DISCHARGE_COUNT TRIP_TIME
+static uint8_t count[TRIP_TIME + 1];
 static volatile uint8_t refine;      /* Vout- readings left that may name the trip "battery reversed" */
+int32_t protect_sink_sum = (int32_t)SINK_AMBIENT_C100 * SINK_STEPS;
 
 uint16_t protect_cell_max_mv(uint8_t akk_type)
 {
@@ -192,12 +197,12 @@ void protect_raise(uint8_t trip)
 
 uint8_t protect_settled(void) { return !refine; }
 
-/* `holds` for this reading: one more in a row (a trip after `readings`), or the row starts again. */
-static void condition_after(uint8_t trip, uint8_t holds, uint8_t readings)
+/* `holds` for this reading: one more in count[at] (a trip after `readings` in a row), or the row starts again. */
+static void counted(uint8_t at, uint8_t trip, uint8_t holds, uint8_t readings)
 {
     if (!holds) {
-        count[trip] = 0;
-    } else if (++count[trip] >= readings) {
+        count[at] = 0;
+    } else if (++count[at] >= readings) {
         /* limits that follow from another one name it: a reversed or lost pack also breaks the pack's,
          * the lead's and the cells' limits, and the more specific reason is the one a user can act on */
         if (count[TRIP_REVERSED])
@@ -209,6 +214,7 @@ static void condition_after(uint8_t trip, uint8_t holds, uint8_t readings)
     }
 }
 
+static void condition_after(uint8_t trip, uint8_t holds, uint8_t readings) { counted(trip, trip, holds, readings); }
 static void condition(uint8_t trip, uint8_t holds) { condition_after(trip, holds, PROTECT_DEBOUNCE); }
 
 static void cell(uint8_t k, int16_t mv)
@@ -256,7 +262,7 @@ uint8_t protect_reading(uint8_t input, int16_t value)
         cells(input, value);
     switch (input) {
     case CAL_ISMPS: condition(TRIP_OVER_CURRENT, value > TRIP_CHARGE_MA); break;
-    case CAL_IDIS: condition(TRIP_OVER_CURRENT, value > TRIP_DISCHARGE_MA); break;
+    case CAL_IDIS: counted(DISCHARGE_COUNT, TRIP_OVER_CURRENT, value > TRIP_DISCHARGE_MA, PROTECT_DEBOUNCE); break;
     case CAL_VOUT_MINUS: condition(TRIP_REVERSED, value > TRIP_REVERSED_MV); break;
     case CAL_VIN: condition(TRIP_INPUT_LOW, value < TRIP_INPUT_MV); break;
     case CAL_VOUT: {
@@ -297,3 +303,14 @@ const char *protect_text(uint8_t trip)
     };
     return texts[trip < TRIPS ? trip : 0];
 }
+
+/* The estimate kept as its sum over the time constant: a step of (target - estimate) / SINK_STEPS in 0.01 degC
+ * would stop up to 6 K short of its target. */
+void protect_sink_step(int32_t loss_mw)
+{
+    protect_sink_sum += SINK_AMBIENT_C100 + loss_mw / SINK_MW_PER_C100 - protect_sink_sum / SINK_STEPS;
+    if (protect_sink_c100() > TRIP_SINK_C100)
+        protect_raise(TRIP_SINK_HOT);
+}
+
+int32_t protect_sink_c100(void) { return protect_sink_sum / SINK_STEPS; }

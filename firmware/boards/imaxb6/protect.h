@@ -41,6 +41,9 @@ enum {
 #define TIME_CEILING_MIN (24U * 60U)     /* whatever the macro says */
 #define CAPACITY_LIMIT_UAH 10000000UL    /* the charge into a run without a capacity: 10 Ah */
 #define CAPACITY_CEILING_UAH 50000000UL  /* 2 x the capacity, at most 50 Ah: the B6's 5 A for 10 h */
+#define SINK_AMBIENT_C100 2500     /* the heat-sink estimate: 25 degC + 2 K/W of the stage's losses, 60 s */
+#define SINK_MW_PER_C100 5
+#define SINK_STEPS 600             /* its time constant in 100 ms steps */
 #define PROBE_PRESENT_C100 200     /* a probe reads at least 2 degC; an open input reads 0 */
 #define PROBE_OPEN_LOW_C100 100
 #define PROBE_OPEN_HIGH_C100 12000
@@ -66,6 +69,7 @@ extern protect_limits_t protect_limits;
 extern volatile uint8_t protect_trip;  /* the first trip since protect_arm, TRIP_NONE while none */
 extern volatile int16_t protect_latest[13];   /* each input's last reading: mV, mA, 0.01 degC */
 extern volatile int16_t protect_cell_mv[6];
+extern int32_t protect_sink_sum;       /* the heat sink's estimate x SINK_STEPS (the B6 has no sensor) */
 
 /* Absolute maximum per cell of AKK_TYPE `akk_type` (spec section 5; firmware decisions for LiS,
  * Undef, New), mV. */
@@ -98,5 +102,9 @@ void protect_raise(uint8_t trip);
 /* The trip's reason is final: a reversed pack had its REFINE_READINGS to show since the output went off. */
 uint8_t protect_settled(void);
 const char *protect_text(uint8_t trip);
+/* One 100 ms step of the heat-sink estimate towards what `loss_mw` of the stage's losses hold it at; over
+ * TRIP_SINK_C100 it trips (armed only). */
+void protect_sink_step(int32_t loss_mw);
+int32_t protect_sink_c100(void);      /* the estimate, 0.01 degC */
 
 #endif

@@ -7,10 +7,10 @@
 #include "calib.h"
 #include "duty.h"
 
-/* Timer1 fast PWM mode 14, TOP = ICR1 = 511: 31.25 kHz (cheali: TIMER1_PERIOD 512, mode 14). The duty
- * is kept in 1/64 of a count and dithered over the periods, so the average current steps finely
- * (one count moves ~0.1 A into a low-resistance pack). */
-#define TOP 511U
+/* Timer1 fast PWM mode 14, TOP = ICR1 = 512 as cheali's (generic/50W TIMER1_PERIOD 512, Timer1.cpp
+ * ICR1 = TIMER1_PERIOD): 513 counts, 31.19 kHz. The duty is kept in 1/64 of a count and dithered over the
+ * periods, so the average current steps finely (one count moves ~0.1 A into a low-resistance pack). */
+#define TOP 512U
 #define FRAC 6
 #define BUCK_FULL ((uint32_t)DUTY_BUCK_FULL)           /* (TOP + 1) << FRAC */
 #define DISCHARGE_MAX BUCK_FULL
