@@ -2,15 +2,14 @@
 ctypes: which cells bleed, the cap that holds the highest cell at its ceiling, the held charge's end. Each
 constant and comparison has a case on each side of it (docs/firmware.md, Balancer)."""
 import ctypes
-import shutil
 import subprocess
 
 import pytest
 
-from host_core import FIRMWARE, INSTALL_HINT
+from host_core import FIRMWARE
+from tools import HOST, needs
 
-pytestmark = pytest.mark.skipif(not (shutil.which("gcc") and shutil.which("make")),
-                                reason=f"gcc/make not found: no host build ({INSTALL_HINT})")
+pytestmark = needs(HOST)
 AKK = {"Undef": 0, "Pb": 1, "NiCd": 2, "NiMh": 3, "LiPo": 4, "LiIon": 5, "LiS": 6, "LiFe": 7, "New": 8}
 
 
