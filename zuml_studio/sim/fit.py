@@ -16,6 +16,7 @@ from .battery import Pack
 from .cell_pack import CellPack, CellSpec, build_pack
 from .chemistry import Chemistry, load_chemistry
 from .curve import Curve, CurveError, require_charge
+from .fit_checks import coverage, heat_check
 from ..i18n import _
 
 NI = ("NiCd", "NiMh")
@@ -143,7 +144,8 @@ def charging(current: np.ndarray, i_cc: float) -> np.ndarray:
 
 def simulate_curve(battery: Battery, curve: Curve, cv: np.ndarray, start_soc: float,
                    pack: Pack | CellPack | None = None) -> Run:
-    """Drive the model with the log's current (its voltage where ``cv``); sample k is held over (t[k-1], t[k]].
+    """Drive the model with the log's current (its voltage where ``cv``: a charge's CV, a discharge's hold at its
+    end voltage); sample k is held over (t[k-1], t[k]].
     ``pack``: the model to drive (left in its end state for the caller), else a new one from ``battery``."""
     pack = pack or battery.pack(start_soc, curve.ambient_c)
     n = len(curve.t)
@@ -156,7 +158,8 @@ def simulate_curve(battery: Battery, curve: Curve, cv: np.ndarray, start_soc: fl
     step, for_v = pack.step, pack.current_for_voltage
     for k in range(1, n):
         dt = t[k] - t[k - 1]
-        cur = max(0.0, for_v(vl[k], dt)) if cvl[k] else il[k]
+        # Held at a voltage, the model's current keeps the log's direction (a discharge's hold never charges).
+        cur = (max(0.0, for_v(vl[k], dt)) if il[k] >= 0.0 else min(0.0, for_v(vl[k], dt))) if cvl[k] else il[k]
         v[k] = step(cur, dt)
         i[k] = cur
         temp[k] = pack.temp_c
@@ -386,6 +389,10 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
     report = figures(curve, run, full_cv, series, chemistry)
     report["at_bound"] = at_bounds(params, values)
     report["cells"], report["cells_guessed"] = series, guess_series(curve, chemistry)
+    use = np.flatnonzero(charging(curve.i, cc_current(curve, full_cv)))
+    report["coverage"] = coverage(chem, (float(curve.v[use[0]]) / series, float(curve.v[use[-1]]) / series),
+                                  float(curve.mah[-1]), values["capacity_mah"], values["start_soc"], chemistry in LI)
+    report["heat"] = heat_check(report["temp_rise"], "ha_w_per_k" in values)
     return FitResult(battery, chemistry, {k: round(v, 6) for k, v in values.items()}, report, run, curve, full_cv,
                      nfev)
 
