@@ -257,12 +257,15 @@ def at_bounds(params: list[Param], values: dict) -> list[dict]:
     return out
 
 
+_CHEM_FIELDS = frozenset(f.name for f in fields(Chemistry))    # once: dataclasses.fields costs per call
+
+
 def fitted_chemistry(chem: Chemistry, values: dict) -> Chemistry:
     """The chemistry with fitted values: R scaled, OCV shifted and stretched about its mean, family keys replaced."""
     mean = sum(chem.ocv_v) / len(chem.ocv_v)
     scale, offset, r = values.get("ocv_scale", 1.0), values.get("ocv_offset_v", 0.0), values.get("r_scale", 1.0)
     ocv = tuple(mean + offset + scale * (x - mean) for x in chem.ocv_v)
-    own = {k: v for k, v in values.items() if k in {f.name for f in fields(Chemistry)}}
+    own = {k: v for k, v in values.items() if k in _CHEM_FIELDS}
     own.setdefault("r2_ohm", chem.r2_ohm * r)    # a fitted slow pair is its own value, else scaled with R
     return replace(chem, ocv_v=ocv, r0_ohm=chem.r0_ohm * r, r1_ohm=chem.r1_ohm * r, **own)
 
