@@ -10,7 +10,7 @@ from tests_cli_util import run_zuml
 
 CURVES = ROOT / "tests" / "data" / "curves"
 LOGS = ROOT / "tests" / "data" / "logs"
-FIGURE_KEYS = {"direction", "rmse_v_per_cell_mv", "rmse_i_cv_pct", "peak", "temp_rise", "window_s"}
+FIGURE_KEYS = {"direction", "rmse_v_per_cell_mv", "rmse_i_cv_pct", "rmse_temp_c", "peak", "temp_rise", "window_s"}
 CLAIM_KEYS = {"coverage", "heat", "withheld"}      # what a fit may claim (issue 35 §2)
 
 

@@ -205,12 +205,21 @@ def figures(curve: Curve, run: Run, cv: np.ndarray, series: int, chemistry: str)
     if curve.temp is not None:
         out["temp_rise"] = {"real_c": temp_rise(curve.temp), "model_c": temp_rise(run.temp),
                             "real_window_s": span, "model_window_s": span}
+    out["rmse_temp_c"] = rmse_temp(curve, run)
     return out
 
 
 def temp_rise(temp: np.ndarray) -> float:
     """The highest temperature over the first one (°C)."""
     return round(float(np.max(temp) - temp[0]), 2)
+
+
+def rmse_temp(curve: Curve, run: Run) -> float | None:
+    """The temperature's RMSE over the window (°C), None where the log has no probe: the fit's quality per
+    quantity next to its figures (issue 35 §4)."""
+    if curve.temp is None:
+        return None
+    return round(float(np.sqrt(np.mean((run.temp - curve.temp) ** 2))), 2)
 
 
 def check_series(curve: Curve, chem: Chemistry, series: int) -> None:

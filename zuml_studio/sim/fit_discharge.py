@@ -17,8 +17,8 @@ from .chemistry import Chemistry, load_chemistry
 from .curve import Curve, require_discharge
 from .fit_checks import coverage, delivered_check, heat_check
 from .fit import (COMMON_PARAMS, LI, NI, Battery, FitResult, Param, Run, at_bounds, check_series, fit, fit_samples,
-                  fitted_chemistry, guess_series, ocv_prior, simulate_curve, soc_at_ocv, solve_params, start_error,
-                  temp_rise)
+                  fitted_chemistry, guess_series, ocv_prior, rmse_temp, simulate_curve, soc_at_ocv, solve_params,
+                  start_error, temp_rise)
 
 _PAUSE_FRACTION = 0.5        # samples below this share of the discharge current are pauses, not compared
 _CAPACITY_WEIGHT = 7.0       # 1 % of delivered capacity weighs as 7 mV per cell (3 % is about a voltage limit)
@@ -176,6 +176,7 @@ def discharge_figures(curve: Curve, run: Run, series: int, model_mah: float) -> 
         err_i = (run.i[hold] - curve.i[hold]) / discharge_current(curve) * 100.0
         out["rmse_i_cv_pct"] = round(float(np.sqrt(np.mean(err_i ** 2))), 2)
     out["capacity"].update(delivered_check(float(curve.delivered_mah[-1]), model_mah))
+    out["rmse_temp_c"] = rmse_temp(curve, run)
     if curve.temp is not None:
         out["temp_rise"] = {"real_c": temp_rise(curve.temp), "model_c": temp_rise(run.temp),
                             "real_window_s": span, "model_window_s": span}

@@ -43,6 +43,8 @@ def figure_lines(report: dict) -> list[str]:
         lines.append(_("RMSE voltage: {n} mV per cell").format(n=f"{report['rmse_v_per_cell_mv']:g}"))
     if report.get("rmse_i_cv_pct") is not None:
         lines.append(_("RMSE current in CV: {share} of the CC current").format(share=f"{report['rmse_i_cv_pct']:g} %"))
+    if report.get("rmse_temp_c") is not None:
+        lines.append(_("RMSE temperature: {n} °C").format(n=f"{report['rmse_temp_c']:g}"))
     if report.get("capacity"):
         c = report["capacity"]
         lines.append(_("delivered {real} mAh (real), {model} mAh (model), {off}").format(
