@@ -18,7 +18,8 @@ def test_fit_json_carries_each_cell_and_the_spread(zuml):
     cell_fit = data["cell_fit"]
     assert [c["cell"] for c in cell_fit["cells"]] == [1, 2, 3, 4]
     assert set(cell_fit["cells"][0]) == {"cell", "capacity_mah", "start_soc", "r_scale", "r_mohm", "rmse_v_mv",
-                                         "top_v", "held_pct", "held", "at_bound"}
+                                         "top_v", "held_pct", "held", "at_bound", "coverage", "capacity_measured"}
+    assert cell_fit["implausible"] == []                      # four cells of one pack
     for key in ("capacity_mah", "r_mohm"):
         spread = cell_fit[key]
         assert spread["min"] <= spread["mean"] <= spread["max"] and spread["spread_pct"] >= 0

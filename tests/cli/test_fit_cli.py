@@ -10,18 +10,22 @@ from tests_cli_util import run_zuml
 
 CURVES = ROOT / "tests" / "data" / "curves"
 LOGS = ROOT / "tests" / "data" / "logs"
-FIGURE_KEYS = {"direction", "rmse_v_per_cell_mv", "rmse_i_cv_pct", "peak", "temp_rise", "window_s"}
+FIGURE_KEYS = {"direction", "rmse_v_per_cell_mv", "rmse_i_cv_pct", "rmse_temp_c", "peak", "temp_rise", "window_s"}
+CLAIM_KEYS = {"coverage", "heat", "withheld"}      # what a fit may claim (issue 35 §2)
 
 
 def test_fit_json_has_exactly_the_issue_keys_and_nulls_where_the_log_has_no_part(zuml):
     rc, out, err = zuml("fit", str(CURVES / "lipo_4s_406duo_3c.csv"), "--chemistry", "LiPo", "--cells", "4", "--json")
     assert rc == 0, err
     data = json.loads(out)
-    assert set(data) == {"params", "at_bound", "cells", "cells_guessed", "cell_fit"} | FIGURE_KEYS
+    assert set(data) == {"params", "at_bound", "cells", "cells_guessed", "cell_fit"} | FIGURE_KEYS | CLAIM_KEYS
     assert data["peak"] is None                       # no -dV peak in a Li charge
     assert set(data["temp_rise"]) == {"real_c", "model_c", "real_window_s", "model_window_s"}
     assert data["rmse_v_per_cell_mv"] <= 15 and data["rmse_i_cv_pct"] <= 10
     assert {"capacity_mah", "start_soc", "r_scale", "ocv_offset_v", "ocv_scale"} <= set(data["params"])
+    # 3.83 -> 4.20 V/cell is under half the pack's range: its capacity is withheld (null), with the range it covered.
+    assert not data["coverage"]["fixed"] and data["params"]["capacity_mah"] is None
+    assert data["withheld"] == ["capacity_mah", "start_soc"] and data["coverage"]["v_per_cell"][0] < 3.9
 
 
 def test_fit_of_a_nimh_log_reports_the_peak_and_reads_the_charger_file_itself(zuml):
@@ -91,7 +95,7 @@ def test_fit_runs_as_a_user_runs_it():
     rc, out, err = run_zuml("fit", str(CURVES / "life_2s_308duo_05c.csv"), "--chemistry", "LiFe", "--cells", "2",
                             "--json")
     assert rc == 0, err
-    assert set(json.loads(out)) == {"params", "at_bound", "cells", "cells_guessed", "cell_fit"} | FIGURE_KEYS
+    assert set(json.loads(out)) == {"params", "at_bound", "cells", "cells_guessed", "cell_fit"} | FIGURE_KEYS | CLAIM_KEYS
 
 
 def test_a_charge_too_short_for_the_fit_steps_is_one_line(zuml, tmp_path):
@@ -216,7 +220,7 @@ def test_fit_json_of_a_discharge_only_log_says_its_direction_and_capacity(zuml):
     assert rc == 0, err
     data = json.loads(out)
     assert set(data) == {"params", "at_bound", "cells", "cells_guessed", "cell_fit", "capacity",
-                         "weak_cell"} | FIGURE_KEYS
+                         "weak_cell"} | FIGURE_KEYS | CLAIM_KEYS
     assert data["weak_cell"] is None                  # its voltage shows no cell's step
     assert data["direction"] == "discharge" and data["peak"] is None and data["rmse_i_cv_pct"] is None
     real, model = data["capacity"]["real_mah"], data["capacity"]["model_mah"]

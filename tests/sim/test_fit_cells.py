@@ -169,3 +169,21 @@ def test_a_tap_the_model_cannot_follow_is_said_and_a_tap_not_read_is_no_cell():
     wrong[:, 1] = 1900.0
     for taps in (unread, wrong):
         assert fit_cells(replace(result, curve=replace(curve, cells_v=taps))) is None
+
+
+def test_cells_impossible_next_to_each_other_are_flagged_not_reported_as_weakest():
+    from zuml_studio.sim.fit_cells_report import cell_lines
+    from zuml_studio.sim.fit_checks import cells_plausible
+    # The Akkumatik 2S Li-ion per-cell fit: 2005 mAh / 382 mΩ next to 8128 mAh / 8.6 mΩ.
+    flags = cells_plausible([2005.0, 8128.0], [382.0, 8.6])
+    assert [f["quantity"] for f in flags] == ["capacity_mah", "r_mohm"]
+    assert cells_plausible([2000.0, 2300.0], [10.0, 14.0]) == []
+    cell = {"capacity_mah": 0, "start_soc": 0.5, "r_mohm": 0, "rmse_v_mv": 1.0, "held": False, "at_bound": [],
+            "top_v": 3.6, "held_pct": 0.0, "coverage": None}
+    report = {"cells": [{**cell, "cell": 1, "capacity_mah": 2005.0, "r_mohm": 382.0},
+                        {**cell, "cell": 2, "capacity_mah": 8128.0, "r_mohm": 8.6}],
+              "capacity_mah": {"min": 2005, "max": 8128, "mean": 5066, "spread_pct": 121},
+              "r_mohm": {"min": 8.6, "max": 382, "mean": 195, "spread_pct": 191}, "weakest": 1,
+              "highest_resistance": 1, "implausible": flags}
+    text = "\n".join(cell_lines(report))
+    assert "capacity differ 4.0×" in text and "not measurements" in text and "weakest" not in text

@@ -12,6 +12,7 @@ import pytest
 
 from zuml_studio.sim.curve import read_curve
 from zuml_studio.sim.fit import LI, NI
+from zuml_studio.sim.fit_checks import HEAT_PARAMS, withheld
 from zuml_studio.sim.fit_discharge import fit_curve
 from zuml_studio.sim.measured_r import MeasuredR, fit_with_measured_r
 
@@ -90,6 +91,21 @@ def test_model_meets_the_issue_figures(name, kind):
     assert result.figures["direction"] == direction
     bad = check(result.figures, limits(entry["chemistry"], 1.0 if kind == "fitted" else 2.0, direction))
     assert not bad, f"{name} ({kind}): " + "; ".join(bad)
+    claims_only_what_it_fixed(result.figures, direction)
+
+
+def claims_only_what_it_fixed(fig: dict, direction: str) -> None:
+    """Issue 35 §2: a discharge's model delivers the log's charge within 3 % or says it is no fit; heat terms
+    whose temperature rise misses the pack's by more than 3 °C are withheld; a capacity the window does not
+    fix is withheld with the range it covered."""
+    if direction == "discharge":
+        assert fig["capacity"]["ok"] == (abs(fig["capacity"]["error_pct"]) <= 3.0)
+    hidden = withheld(fig)
+    if fig["heat"] is not None:
+        rise_ok = abs(fig["temp_rise"]["model_c"] - fig["temp_rise"]["real_c"]) <= 3.0
+        assert rise_ok == fig["heat"]["fitted"] == (not hidden & set(HEAT_PARAMS))
+    cover = fig["coverage"]
+    assert cover["fixed"] == (cover["share"] >= 0.5) == ("capacity_mah" not in hidden)
 
 
 def test_the_measured_resistance_column_covers_every_curve_whose_log_has_a_step():
@@ -124,3 +140,13 @@ def test_validation_md_is_regenerated_with_every_curve_and_its_three_columns():
         step = REST_STEPS[name]
         assert cells[5] == "no step" if step is None else cells[5].endswith(f"({step['mohm_per_cell']:.0f} mΩ)")
         assert (cells[7] == "–") == (cells[2] == "charge")
+
+
+def test_the_polaron_nimh_discharges_heat_terms_are_withheld_and_the_akkumatik_held_end_is_followed():
+    # The fitted Polaron NiMH discharge warms 11 °C where the pack warmed 3 °C: its heat terms are no result.
+    polaron = fit_curve(read_curve(CURVES / "nimh_5s_polaron_dis_03c.csv"), "NiMh", 5).figures
+    assert not polaron["heat"]["fitted"] and set(HEAT_PARAMS) <= withheld(polaron)
+    # The Akkumatik NiCd discharge ends held at 3.40-3.45 V with its current stepped from 1 A to 0.2 A: driven by
+    # that voltage the model delivers the log's charge (cut at the first 3.40 V it fell 6.8 % short).
+    akkumatik = fit_curve(read_curve(CURVES / "nicd_4s_akkumatik_dis_1c.csv"), "NiCd", 4).figures
+    assert akkumatik["capacity"]["ok"] and akkumatik["rmse_i_cv_pct"] < 10

@@ -14,6 +14,7 @@ from ..sim.fit import guess_series
 from ..sim.fit_cells import fit_cells
 from ..sim.fit_cells_report import cell_lines
 from ..sim.fit_discharge import fit_curve
+from ..sim.fit_checks import withheld
 from ..sim.fit_report import figure_lines, param_lines, resistance_words
 from ..sim.interpreter import StartError
 from ..sim.simulate import BatterySetup, model_chemistry
@@ -103,7 +104,9 @@ def cmd_fit(args: argparse.Namespace) -> int:
         except (BatteryFileError, OSError) as exc:
             raise CliError(str(exc)) from None
     if args.json:
-        out_json({"params": result.params, **result.figures, "cell_fit": cells.report() if cells else None})
+        hidden = withheld(result.figures)       # not results: null, with the reason in "coverage" / "heat"
+        out_json({"params": {k: None if k in hidden else v for k, v in result.params.items()},
+                  "withheld": sorted(hidden), **result.figures, "cell_fit": cells.report() if cells else None})
         return 0
     header = (_("{log}: {chemistry} {series}S, {samples} samples, {minutes:.0f} min of charge")
               if curve.direction == "charge" else
@@ -111,7 +114,7 @@ def cmd_fit(args: argparse.Namespace) -> int:
     out(header.format(log=args.log, chemistry=chemistry, series=series, samples=len(curve.t),
                       minutes=curve.t[-1] / 60))
     _mention_other(args, log, curve)
-    for line in param_lines(result.params, result.battery):
+    for line in param_lines(result.params, result.battery, result.figures):
         out(f"  {line}")
     for line in figure_lines(result.figures):
         out(line)

@@ -16,6 +16,7 @@ from .battery import Pack
 from .cell_pack import CellPack, CellSpec, build_pack
 from .chemistry import Chemistry, load_chemistry
 from .curve import Curve, CurveError, require_charge
+from .fit_checks import coverage, heat_check
 from ..i18n import _
 
 NI = ("NiCd", "NiMh")
@@ -143,7 +144,8 @@ def charging(current: np.ndarray, i_cc: float) -> np.ndarray:
 
 def simulate_curve(battery: Battery, curve: Curve, cv: np.ndarray, start_soc: float,
                    pack: Pack | CellPack | None = None) -> Run:
-    """Drive the model with the log's current (its voltage where ``cv``); sample k is held over (t[k-1], t[k]].
+    """Drive the model with the log's current (its voltage where ``cv``: a charge's CV, a discharge's hold at its
+    end voltage); sample k is held over (t[k-1], t[k]].
     ``pack``: the model to drive (left in its end state for the caller), else a new one from ``battery``."""
     pack = pack or battery.pack(start_soc, curve.ambient_c)
     n = len(curve.t)
@@ -156,7 +158,8 @@ def simulate_curve(battery: Battery, curve: Curve, cv: np.ndarray, start_soc: fl
     step, for_v = pack.step, pack.current_for_voltage
     for k in range(1, n):
         dt = t[k] - t[k - 1]
-        cur = max(0.0, for_v(vl[k], dt)) if cvl[k] else il[k]
+        # Held at a voltage, the model's current keeps the log's direction (a discharge's hold never charges).
+        cur = (max(0.0, for_v(vl[k], dt)) if il[k] >= 0.0 else min(0.0, for_v(vl[k], dt))) if cvl[k] else il[k]
         v[k] = step(cur, dt)
         i[k] = cur
         temp[k] = pack.temp_c
@@ -202,12 +205,21 @@ def figures(curve: Curve, run: Run, cv: np.ndarray, series: int, chemistry: str)
     if curve.temp is not None:
         out["temp_rise"] = {"real_c": temp_rise(curve.temp), "model_c": temp_rise(run.temp),
                             "real_window_s": span, "model_window_s": span}
+    out["rmse_temp_c"] = rmse_temp(curve, run)
     return out
 
 
 def temp_rise(temp: np.ndarray) -> float:
     """The highest temperature over the first one (°C)."""
     return round(float(np.max(temp) - temp[0]), 2)
+
+
+def rmse_temp(curve: Curve, run: Run) -> float | None:
+    """The temperature's RMSE over the window (°C), None where the log has no probe: the fit's quality per
+    quantity next to its figures (issue 35 §4)."""
+    if curve.temp is None:
+        return None
+    return round(float(np.sqrt(np.mean((run.temp - curve.temp) ** 2))), 2)
 
 
 def check_series(curve: Curve, chem: Chemistry, series: int) -> None:
@@ -254,12 +266,15 @@ def at_bounds(params: list[Param], values: dict) -> list[dict]:
     return out
 
 
+_CHEM_FIELDS = frozenset(f.name for f in fields(Chemistry))    # once: dataclasses.fields costs per call
+
+
 def fitted_chemistry(chem: Chemistry, values: dict) -> Chemistry:
     """The chemistry with fitted values: R scaled, OCV shifted and stretched about its mean, family keys replaced."""
     mean = sum(chem.ocv_v) / len(chem.ocv_v)
     scale, offset, r = values.get("ocv_scale", 1.0), values.get("ocv_offset_v", 0.0), values.get("r_scale", 1.0)
     ocv = tuple(mean + offset + scale * (x - mean) for x in chem.ocv_v)
-    own = {k: v for k, v in values.items() if k in {f.name for f in fields(Chemistry)}}
+    own = {k: v for k, v in values.items() if k in _CHEM_FIELDS}
     own.setdefault("r2_ohm", chem.r2_ohm * r)    # a fitted slow pair is its own value, else scaled with R
     return replace(chem, ocv_v=ocv, r0_ohm=chem.r0_ohm * r, r1_ohm=chem.r1_ohm * r, **own)
 
@@ -386,6 +401,10 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
     report = figures(curve, run, full_cv, series, chemistry)
     report["at_bound"] = at_bounds(params, values)
     report["cells"], report["cells_guessed"] = series, guess_series(curve, chemistry)
+    use = np.flatnonzero(charging(curve.i, cc_current(curve, full_cv)))
+    report["coverage"] = coverage(chem, (float(curve.v[use[0]]) / series, float(curve.v[use[-1]]) / series),
+                                  float(curve.mah[-1]), values["capacity_mah"], values["start_soc"], chemistry in LI)
+    report["heat"] = heat_check(report["temp_rise"], "ha_w_per_k" in values)
     return FitResult(battery, chemistry, {k: round(v, 6) for k, v in values.items()}, report, run, curve, full_cv,
                      nfev)
 

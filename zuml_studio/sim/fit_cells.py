@@ -18,7 +18,8 @@ import numpy as np
 from .cell_pack import CellSpec
 from .chemistry import Chemistry
 from .curve import Curve, CurveError
-from .fit import Battery, FitResult, simulate_curve
+from .fit import LI, Battery, FitResult, simulate_curve
+from .fit_checks import cells_plausible, coverage
 from ..i18n import _
 
 # The taps are one per cell where their sum is this close to the pack voltage (median over the
@@ -54,12 +55,19 @@ class CellFit:
     held_share: float            # the share of the charge it spent there (0 for a discharge)
     at_bound: tuple[str, ...] = ()
     held: bool = False           # held at v_max by the charger while the others rose (see _HELD_MARGIN)
+    coverage: dict | None = None  # fit_checks.coverage: whether its window fixes its capacity
+
+    @property
+    def measured(self) -> bool:
+        """Whether its capacity is a measurement: it took the pack's current over enough of its range."""
+        return not self.held and (self.coverage is None or self.coverage["fixed"])
 
     def as_dict(self, number: int) -> dict:
         return {"cell": number, "capacity_mah": round(self.capacity_mah, 1), "start_soc": round(self.start_soc, 4),
                 "r_scale": round(self.r_scale, 4), "r_mohm": round(self.r_mohm, 2),
                 "rmse_v_mv": round(self.rmse_v_mv, 2), "top_v": round(self.top_v, 4),
-                "held_pct": round(self.held_share * 100.0, 1), "held": self.held, "at_bound": list(self.at_bound)}
+                "held_pct": round(self.held_share * 100.0, 1), "held": self.held, "at_bound": list(self.at_bound),
+                "coverage": self.coverage, "capacity_measured": self.measured}
 
 
 @dataclass(frozen=True)
@@ -72,7 +80,7 @@ class CellsFit:
     def weakest(self) -> int:
         """The cell (1-based) that holds least (fills and empties first), among those that took the pack's
         current (a held cell's capacity is not measured); the lowest of all when every one was held."""
-        free = [k for k, c in enumerate(self.cells) if not c.held] or range(len(self.cells))
+        free = [k for k, c in enumerate(self.cells) if c.measured] or range(len(self.cells))
         return 1 + min(free, key=lambda k: self.cells[k].capacity_mah)
 
     @property
@@ -84,7 +92,8 @@ class CellsFit:
         return {"cells": [c.as_dict(k) for k, c in enumerate(self.cells, start=1)],
                 "capacity_mah": _spread([c.capacity_mah for c in self.cells]),
                 "r_mohm": _spread([c.r_mohm for c in self.cells]),
-                "weakest": self.weakest, "highest_resistance": self.highest_resistance}
+                "weakest": self.weakest, "highest_resistance": self.highest_resistance,
+                "implausible": cells_plausible([c.capacity_mah for c in self.cells], [c.r_mohm for c in self.cells])}
 
     def saved(self) -> list[CellSpec]:
         """The cells as a battery file keeps them (``save_battery(..., cells=...)``): the taps' differences
@@ -176,5 +185,7 @@ def _fit_tap(tap: Curve, chem: Chemistry, pack_capacity: float, start_soc: float
     # Held at a ceiling is a charge's: a discharge's top is its start, and no charger holds a cell there.
     along = tap.v[tap.i > 0 if charge else tap.i < 0]
     top = along[along >= float(along.max()) - _HELD_MV / 1000.0]
+    window = float(tap.mah[-1] if charge else tap.delivered_mah[-1])
+    cover = coverage(chem, (float(along[0]), float(along[-1])), window, capacity, soc, chem.name in LI)
     return CellFit(capacity, soc, factor, r_mohm, math.sqrt(2.0 * sol.cost), float(np.median(top)),
-                   len(top) / len(along) if charge else 0.0, tuple(ends))
+                   len(top) / len(along) if charge else 0.0, tuple(ends), coverage=cover)

@@ -15,15 +15,23 @@ import numpy as np
 from .cell_pack import CellSpec
 from .chemistry import Chemistry, load_chemistry
 from .curve import Curve, require_discharge
-from .fit import (COMMON_PARAMS, NI, Battery, FitResult, Param, Run, at_bounds, check_series, fit, fit_samples,
-                  fitted_chemistry, guess_series, ocv_prior, simulate_curve, soc_at_ocv, solve_params, start_error,
-                  temp_rise)
+from .fit_checks import coverage, delivered_check, heat_check
+from .fit import (COMMON_PARAMS, LI, NI, Battery, FitResult, Param, Run, at_bounds, check_series, fit, fit_samples,
+                  fitted_chemistry, guess_series, ocv_prior, rmse_temp, simulate_curve, soc_at_ocv, solve_params,
+                  start_error, temp_rise)
 
 _PAUSE_FRACTION = 0.5        # samples below this share of the discharge current are pauses, not compared
 _CAPACITY_WEIGHT = 7.0       # 1 % of delivered capacity weighs as 7 mV per cell (3 % is about a voltage limit)
 _TEMP_WEIGHT = 1.0           # 1 °C of temperature error weighs as 1 mV per cell, as on a charge
 _RUN_ON = 3.0                # the model is driven past the log's end for at most this many times its charge
-_RUN_ON_STEP_S = 10.0
+_RUN_ON_STEP_S = 10.0       # at least this, or the curve's own step
+# A charger that ends a discharge by holding its end voltage steps the current down (the Akkumatik 2S Li-ion
+# log: 1.5 A to 0.35 A at 3.33 V/cell over its last minutes; the Akkumatik NiCd one 1.0 to 0.2 A at 3.40-3.45 V
+# over its last 9 minutes, 10 % of its charge): samples within _HOLD_V of the lowest voltage
+# under current, at less than _HOLD_I of the current before, are driven by the log's voltage as a charge's CV.
+_HOLD_V = 0.02
+_HOLD_I = 0.92
+_HOLD_WEIGHT = 150.0         # 10 % of the discharge current weighs as 15 mV per cell (as a charge's CV)
 _KNEE = Param("k_discharge_ohm", 1e-5, 0.1, True)
 # The slow RC pair for every family: from rest into a discharge a pack's voltage falls for minutes
 # (the Akkumatik NiCd pack 90 mV/cell over its first four minutes after a charge), more than R0 and R1 do.
@@ -70,16 +78,39 @@ def end_voltage(curve: Curve) -> float:
     return float(curve.v[use[-1]]) if len(use) else float(curve.v[-1])
 
 
-def model_delivered(battery: Battery, curve: Curve, start_soc: float, end_v: float) -> tuple[Run, float]:
+def hold_mask(curve: Curve) -> np.ndarray:
+    """Samples where the charger held the discharge's end voltage and stepped its current down (see _HOLD_V)."""
+    out = -curve.i
+    mask = np.zeros(len(curve.t), bool)
+    flowing = out > 0.0
+    if not flowing.any():
+        return mask
+    v_min = float(curve.v[flowing].min())
+    reached = np.flatnonzero(flowing & (curve.v <= v_min * (1.0 + _HOLD_V)))
+    first = int(reached[0])
+    before = out[:first + 1][flowing[:first + 1]]
+    mask[first:] = flowing[first:] & (out[first:] < _HOLD_I * float(np.median(before))) & \
+        (curve.v[first:] <= v_min * (1.0 + _HOLD_V))
+    return mask
+
+
+def model_delivered(battery: Battery, curve: Curve, start_soc: float, end_v: float,
+                    hold: np.ndarray | None = None) -> tuple[Run, float]:
     """The model along the curve and the mAh it delivers until its voltage first reaches ``end_v``
     (interpolated between samples); where it is still above at the log's end it is driven on at the
-    log's last discharge current (up to _RUN_ON times the log's charge)."""
+    log's last discharge current (up to _RUN_ON times the log's charge). Where the log ``hold``s its end
+    voltage the model is held there too and delivers what its own current takes out over the log's window
+    (cut where it reaches ``end_v`` before the hold: a model that empties early is not a fit)."""
     pack = battery.pack(start_soc, curve.ambient_c)
-    cv = np.zeros(len(curve.t), bool)
-    run = simulate_curve(battery, curve, cv, start_soc, pack=pack)
+    hold = np.zeros(len(curve.t), bool) if hold is None else hold
+    run = simulate_curve(battery, curve, hold, start_soc, pack=pack)
     mah = curve.delivered_mah
-    use = discharging(curve)
+    use = discharging(curve) & ~hold
+    if hold.any():
+        use[int(np.argmax(hold)):] = False
     below = np.flatnonzero(use & (run.v <= end_v))
+    if hold.any() and not len(below):
+        return run, float(Curve(curve.t, run.v, run.i, None, 0).delivered_mah[-1])
     if len(below):
         k = int(below[0])
         if k == 0:
@@ -89,10 +120,13 @@ def model_delivered(battery: Battery, curve: Curve, start_soc: float, end_v: flo
         return run, float(mah[k - 1] + (mah[k] - mah[k - 1]) * min(1.0, max(0.0, share)))
     i_end = -discharge_current(curve)
     taken, v_before = float(mah[-1]), float(run.v[-1])
-    step_mah = -i_end * _RUN_ON_STEP_S / 3.6
+    # The run-on in steps of the curve's own (a decimated curve's are coarser): in 10 s steps a 10 h lead-acid
+    # discharge driven on for hours cost 24 s a fit.
+    step_s = max(_RUN_ON_STEP_S, float(np.median(np.diff(curve.t)))) if len(curve.t) > 1 else _RUN_ON_STEP_S
+    step_mah = -i_end * step_s / 3.6
     limit = taken + _RUN_ON * max(taken, 1.0)
     while taken < limit:
-        v = pack.step(i_end, _RUN_ON_STEP_S)
+        v = pack.step(i_end, step_s)
         if v <= end_v:
             share = (v_before - end_v) / (v_before - v) if v_before > v else 1.0
             return run, taken + step_mah * share
@@ -130,23 +164,31 @@ def _battery(chem: Chemistry, values: dict, series: int) -> Battery:
 
 def discharge_figures(curve: Curve, run: Run, series: int, model_mah: float) -> dict:
     """The figures ``zuml fit --json`` prints for a discharge (the keys of a charge's, and ``capacity``)."""
-    use = discharging(curve)
+    hold = hold_mask(curve)
+    use = discharging(curve) & ~hold
     err_v = (run.v[use] - curve.v[use]) / series * 1000.0
     span = [round(float(curve.t[0]), 1), round(float(curve.t[-1]), 1)]
     out: dict = {"direction": "discharge",
                  "rmse_v_per_cell_mv": round(float(np.sqrt(np.mean(err_v ** 2))), 2) if use.any() else None,
                  "rmse_i_cv_pct": None, "peak": None, "temp_rise": None, "window_s": span,
                  "capacity": {"real_mah": round(float(curve.delivered_mah[-1]), 1), "model_mah": round(model_mah, 1)}}
+    if hold.any():
+        err_i = (run.i[hold] - curve.i[hold]) / discharge_current(curve) * 100.0
+        out["rmse_i_cv_pct"] = round(float(np.sqrt(np.mean(err_i ** 2))), 2)
+    out["capacity"].update(delivered_check(float(curve.delivered_mah[-1]), model_mah))
+    out["rmse_temp_c"] = rmse_temp(curve, run)
     if curve.temp is not None:
         out["temp_rise"] = {"real_c": temp_rise(curve.temp), "model_c": temp_rise(run.temp),
                             "real_window_s": span, "model_window_s": span}
     return out
 
 
-def _residuals(curve: Curve, run: Run, series: int, real_mah: float, model_mah: float) -> np.ndarray:
+def _residuals(curve: Curve, run: Run, series: int, real_mah: float, model_mah: float,
+               hold: np.ndarray) -> np.ndarray:
     """Each part weighted so its sum of squares is its mean square in mV per cell."""
-    use = discharging(curve)
-    parts = [(run.v[use] - curve.v[use]) / series * 1000.0 / math.sqrt(max(int(use.sum()), 1)),
+    use = discharging(curve) & ~hold
+    parts = [(run.i[hold] - curve.i[hold]) / discharge_current(curve) * _HOLD_WEIGHT / math.sqrt(max(int(hold.sum()), 1)),
+             (run.v[use] - curve.v[use]) / series * 1000.0 / math.sqrt(max(int(use.sum()), 1)),
              np.array([(model_mah - real_mah) / max(real_mah, 1.0) * 100.0 * _CAPACITY_WEIGHT])]
     if curve.temp is not None:
         parts.append((run.temp - curve.temp) * _TEMP_WEIGHT / math.sqrt(len(curve.t)))
@@ -176,10 +218,12 @@ def fit_discharge(curve: Curve, chemistry: str, series: int, *, only_capacity: b
     for p in params[5:]:
         start[p.name] = min(max(getattr(chem, p.name), p.lo * 1.001 if p.lo > 0 else p.lo), p.hi * 0.999)
 
+    hold = hold_mask(work)
+
     def residuals(values: dict) -> np.ndarray:
         battery = _battery(chem, values, series)
-        run, model_mah = model_delivered(battery, work, values["start_soc"], end_v)
-        return np.concatenate((_residuals(work, run, series, real_mah, model_mah), ocv_prior(values)))
+        run, model_mah = model_delivered(battery, work, values["start_soc"], end_v, hold)
+        return np.concatenate((_residuals(work, run, series, real_mah, model_mah, hold), ocv_prior(values)))
 
     def solve(free: list[Param], begin: dict) -> tuple[dict, float, int]:
         return solve_params(free, begin, residuals, max_nfev, lambda exc: start_error(curve, chemistry, exc))
@@ -202,7 +246,7 @@ def fit_discharge(curve: Curve, chemistry: str, series: int, *, only_capacity: b
         nfev += sum(c[2] for c in tries)
     values = {p.name: values[p.name] for p in params}
     battery = _battery(chem, values, series)
-    run, model_mah = model_delivered(battery, curve, values["start_soc"], end_v)
+    run, model_mah = model_delivered(battery, curve, values["start_soc"], end_v, hold_mask(curve))
     report = discharge_figures(curve, run, series, model_mah)
     report["weak_cell"] = None
     step_mah = None if only_capacity else cell_step(work, series)
@@ -212,7 +256,7 @@ def fit_discharge(curve: Curve, chemistry: str, series: int, *, only_capacity: b
         weak, _cost, n = solve([*params, _WEAK], {**values, "weak_share": min(0.95, max(0.3, share))})
         nfev += n
         weak_battery = _battery(chem, weak, series)
-        weak_run, weak_mah = model_delivered(weak_battery, curve, weak["start_soc"], end_v)
+        weak_run, weak_mah = model_delivered(weak_battery, curve, weak["start_soc"], end_v, hold_mask(curve))
         weak_report = discharge_figures(curve, weak_run, series, weak_mah)
         before, after = report["rmse_v_per_cell_mv"], weak_report["rmse_v_per_cell_mv"]
         if after <= _WEAK_GAIN * before and before - after >= _WEAK_GAIN_MV:
@@ -224,6 +268,10 @@ def fit_discharge(curve: Curve, chemistry: str, series: int, *, only_capacity: b
                                    "rmse_equal_cells_mv": before}
     report["at_bound"] = at_bounds(params, values)
     report["cells"], report["cells_guessed"] = series, guess_series(curve, chemistry)
+    use = np.flatnonzero(discharging(curve))
+    report["coverage"] = coverage(chem, (float(curve.v[use[0]]) / series, float(curve.v[use[-1]]) / series), real_mah,
+                                  values["capacity_mah"], values["start_soc"], chemistry in LI)
+    report["heat"] = heat_check(report["temp_rise"], any(p.name == "ha_w_per_k" for p in params))
     return FitResult(battery, chemistry, {k: round(v, 6) for k, v in values.items()}, report, run, curve,
-                     np.zeros(len(curve.t), bool), nfev)
+                     hold_mask(curve), nfev)
 

@@ -43,6 +43,8 @@ def figure_lines(report: dict) -> list[str]:
         lines.append(_("RMSE voltage: {n} mV per cell").format(n=f"{report['rmse_v_per_cell_mv']:g}"))
     if report.get("rmse_i_cv_pct") is not None:
         lines.append(_("RMSE current in CV: {share} of the CC current").format(share=f"{report['rmse_i_cv_pct']:g} %"))
+    if report.get("rmse_temp_c") is not None:
+        lines.append(_("RMSE temperature: {n} °C").format(n=f"{report['rmse_temp_c']:g}"))
     if report.get("capacity"):
         c = report["capacity"]
         lines.append(_("delivered {real} mAh (real), {model} mAh (model), {off}").format(
@@ -70,7 +72,29 @@ def figure_lines(report: dict) -> list[str]:
         why = real_end_why(end["kind"], end["values"]) if "kind" in end else shown_reason(end["why"])
         lines.append(_("{who} ended at {minutes} min, {mah} mAh: {why}").format(
             who=_(WHO.get(who, who)), minutes=f"{end['time_s'] / 60:.1f}", mah=f"{end['mah']:g}", why=why))
-    lines += bound_lines(report)
+    lines += bound_lines(report) + claim_lines(report)
+    return lines
+
+
+def claim_lines(report: dict) -> list[str]:
+    """What the fit may not claim (sim/fit_checks.py): a capacity the window does not fix, heat terms whose
+    rise misses the pack's, a model that does not deliver the log's charge."""
+    lines = []
+    cover = report.get("coverage")
+    if cover and not cover["fixed"]:
+        lines.append(_("⚠ capacity not fixed by this log: it covers {v0}–{v1} V per cell, {mah} mAh, {share} of the "
+                       "range; a capacity and start state from it are not results").format(
+            v0=f"{cover['v_per_cell'][0]:.3f}", v1=f"{cover['v_per_cell'][1]:.3f}", mah=f"{cover['mah']:.0f}",
+            share=f"{cover['share'] * 100:.0f} %"))
+    heat = report.get("heat")
+    if heat and not heat["fitted"]:
+        lines.append(_("⚠ heat terms not fitted: the model's temperature rise is {off} °C off the pack's (limit "
+                       "±{limit} °C)").format(off=f"{heat['rise_error_c']:+.1f}", limit=f"{heat['limit_c']:g}"))
+    delivered = (report.get("capacity") or {}).get("ok")
+    if delivered is False:
+        lines.append(_("⚠ not a fit: the model on the log's own current delivers {off} of the log's charge (limit "
+                       "±{limit} %)").format(off=f"{report['capacity']['error_pct']:+.1f} %",
+                                             limit=f"{report['capacity']['limit_pct']:g}"))
     return lines
 
 
@@ -121,8 +145,11 @@ PARAM_WORDS = {
 }
 
 
-def param_lines(params: dict, battery) -> list[str]:
-    """The fitted parameters in words and units (a fitted ``fit.Battery`` gives the resistance)."""
+def param_lines(params: dict, battery, report: dict | None = None) -> list[str]:
+    """The fitted parameters in words and units (a fitted ``fit.Battery`` gives the resistance); those the
+    fit's ``report`` withholds (fit_checks.withheld: said by ``claim_lines``) left out."""
+    from .fit_checks import withheld
+    params = {k: v for k, v in params.items() if k not in withheld(report or {})}
     chem, q_ah = battery.chem, battery.capacity_mah / 1000.0
     r_cell = (chem.r0_ohm + chem.r1_ohm) * chem.ref_capacity_ah / max(q_ah, 1e-6) * 1000.0
     text = {

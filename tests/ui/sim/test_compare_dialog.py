@@ -45,7 +45,9 @@ def test_fit_draws_the_fitted_model_and_save_offers_it_in_the_model_box(dialog, 
     assert not dialog.save_button.isEnabled()
     wait_for(qtbot, dialog, dialog.fit_log)
     assert dialog.save_button.isEnabled()
-    assert "fitted: capacity " in dialog.figures.text()
+    # 3.83 -> 4.20 V/cell covers under half the pack: its capacity is said not fixed, not given (issue 35 §2).
+    assert "capacity not fixed by this log" in dialog.figures.text() and "fitted: capacity " not in dialog.figures.text()
+    assert "fitted: internal resistance" in dialog.figures.text()
     assert len(curves_of(dialog.v_plot)) == 2
     assert dialog.save_as("4S 1500 LiPo")
     form = ParamsForm()

@@ -160,7 +160,7 @@ class CompareDialog(QDialog):
     def _fitted(self, fitted: FitResult) -> None:
         self.fitted = fitted
         self._draw(self.curve.t, fitted.run.v, _("fitted model"))
-        params = "; ".join(param_lines(fitted.params, fitted.battery))
+        params = "; ".join(param_lines(fitted.params, fitted.battery, fitted.figures))
         lines = figure_lines(fitted.figures) + [_("fitted: {parameters}").format(parameters=params)]
         self.figures.setText("\n".join(lines))
         self.save_button.setEnabled(True)
