@@ -128,7 +128,7 @@ def test_a_log_without_a_tap_per_cell_has_no_cell_fit():
     # A curve CSV has no taps; the iCharger 3010B's one tap on a 4-cell NiMH pack is no cell.
     assert not taps_per_cell(read_curve(ROOT / "tests" / "data" / "curves" / "lipo_4s_406duo_3c.csv"), 4)
     nimh = read_curve(REALDATA / "icharger3010B_2500NiMh_lines.txt")
-    assert nimh.cells_v is not None and not taps_per_cell(nimh, 4)
+    assert not taps_per_cell(nimh, 4)
     assert fit_cells(fit(nimh, "NiMh", 4)) is None
 
 
