@@ -12,8 +12,10 @@ import tty
 import pytest
 
 from b6_harness import B6, LINE_WAIT_S, build
+from helpers import HOT_LIION
 from host_core import FIRMWARE
 from test_fw_b6_acceptance import BENCH        # CC to 4.1 V per cell, then CV to 0.1 A
+from tools import AVRDUDE, needs
 from zuml_studio.device import messages as m
 from zuml_studio.device.client import ChargerClient
 from zuml_studio.device.frames import FrameParser, encode_frame
@@ -157,3 +159,56 @@ def test_once_a_host_has_spoken_the_display_is_not_sent(image, two_macros):
         os.close(fd)
     finally:
         sim.stop()
+
+
+@needs(AVRDUDE)
+def test_macros_flashed_through_the_programmer_run_from_the_buttons_and_are_watched_listen_only(image, tmp_path):
+    """Issue 32's "done when", end to end: `zuml flash --programmer` (the real avrdude, the emulated STK500v1
+    chip holding the real image) writes two macros and refuses an E303 one, leaving the templates and the
+    calibration byte-identical; the simulated B6 without a receive wire, started on that EEPROM, runs the first
+    macro from its buttons while `zuml monitor` (listen-only) shows its curve and its end reason."""
+    from stk500_chip import Atmega32, Stk500Programmer
+    from zuml_studio.device.avr_install import FLASH_SIZE, ihex_bytes
+    from zuml_studio.device.isp_store import TEMPLATES_AT
+
+    # the EEPROM as the firmware leaves it (its templates stored, the simulated board's calibration)
+    first = tmp_path / "first.bin"
+    sim = B6(image, "--eeprom", first, "--speed", "0")
+    try:
+        with ChargerClient(sim.port, timeout=10) as client:
+            assert client.list_templates() == [1, 2, 3]
+    finally:
+        sim.stop()
+    as_left = first.read_bytes()
+    chip = Atmega32(flash=bytearray(ihex_bytes(image.with_suffix(".hex").read_text(), FLASH_SIZE)),
+                    eeprom=bytearray(as_left), lfuse=0x3F, hfuse=0xC9)
+    hot = tmp_path / "hot.zuml"
+    hot.write_text(HOT_LIION)
+    zuml = [sys.executable, "-m", "zuml_studio.cli.main", "flash", "--programmer", "stk500v1", "--port"]
+    with Stk500Programmer(chip) as programmer:
+        done = subprocess.run([*zuml, programmer.port, str(ROOT / "macros" / "LiPo.zuml"),
+                               str(ROOT / "macros" / "NiMh.zuml")], capture_output=True, text=True, cwd=ROOT)
+        assert done.returncode == 0, done.stderr
+        refused = subprocess.run([*zuml, programmer.port, str(hot)], capture_output=True, text=True, cwd=ROOT)
+        assert refused.returncode == 1 and "E303" in refused.stdout + refused.stderr
+    assert bytes(chip.eeprom[TEMPLATES_AT:]) == as_left[TEMPLATES_AT:]     # templates and calibration untouched
+    written = tmp_path / "written.bin"
+    written.write_bytes(bytes(chip.eeprom))
+
+    sim = B6(image, "--no-rx", "--eeprom", written, "--cells", "3", "--soc", "0.9", "--capacity", "20",
+             "--speed", "0", "--lcd")
+    monitor = Monitor("--driver", "zuml-tx", "--port", sim.port, "--until-end")
+    try:
+        monitor.wait_line(lambda line: line.startswith("LCD |1 LiPo"))
+        sim.press("start", 0.7)
+        sim.wait_line("PRESS|start|")
+        assert monitor.proc.wait(timeout=LINE_WAIT_S) == 0, monitor.proc.stderr.read()
+    finally:
+        if monitor.proc.poll() is None:
+            monitor.proc.terminate()
+        sim.stop()
+    events = [line for line in monitor.lines if line.startswith("*")]
+    assert events[-1].endswith("finish: end of macro"), events
+    assert any(e.endswith("IF(I<0.1A) STOP_FAZE") for e in events), events
+    samples = [line.split() for line in monitor.lines if line.startswith("  ") and " charge " in line]
+    assert samples and max(float(s[5]) for s in samples) > 0.5

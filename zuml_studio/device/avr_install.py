@@ -49,7 +49,7 @@ READ_PROTECTED = 0x03                   # lock byte: LB2 | LB1; either programme
 LONGEST_PATTERN = 256                   # a flash that repeats a pattern this short (or shorter) was not read
 MANIFEST = "backup.json"
 # The imaxb6 image's firmware name, in its flash (boards/imaxb6/board.c): how ZUML's own image is told apart
-ZUML_IMAGE = re.compile(rb"zuml-fw [ -~]{1,16} imaxb6\x00")
+ZUML_IMAGE = re.compile(rb"zuml-fw [ -~]{1,16} imaxb6(?: [ -~]{1,64})?\x00")   # a note may follow (the RX wire)
 FIRMWARE = Path(__file__).resolve().parents[2] / "firmware"
 IMAGE = FIRMWARE / "build" / "imaxb6" / "zuml.elf"
 FORMATS = {".hex": "i", ".ihex": "i", ".elf": "e", ".bin": "r"}
