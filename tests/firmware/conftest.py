@@ -3,6 +3,7 @@ import subprocess
 
 import pytest
 
+from b6_harness import B6
 from host_core import FIRMWARE, LIBRARY, load
 from tools import HOST, skip_unless
 
@@ -37,3 +38,23 @@ def host_device(host_build):
     for proc in started:
         proc.terminate()
         proc.wait(timeout=10)
+
+
+@pytest.fixture
+def b6_on(image, tmp_path):
+    """run(eeprom, *args): the module's image on the simulated B6 at full speed, with its LCD and a trace of the
+    model's true values (`sim.trace`), `eeprom` (padded with 0xFF) in a file of its own; all stopped after."""
+    started = []
+
+    def run(eeprom: bytes, *args):
+        n = len(started)
+        path = tmp_path / f"ee{n}.bin"
+        path.write_bytes(eeprom.ljust(1024, b"\xff"))
+        sim = B6(image, "--speed", "0", "--lcd", "--eeprom", path, "--trace", tmp_path / f"t{n}.csv", *args)
+        sim.trace = tmp_path / f"t{n}.csv"
+        started.append(sim)
+        return sim
+
+    yield run
+    for sim in started:
+        sim.stop()

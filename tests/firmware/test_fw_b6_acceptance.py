@@ -39,23 +39,10 @@ def image():
 
 
 @pytest.fixture
-def b6(image, tmp_path):
+def b6(b6_on):
     """start(*args): the image on the simulated B6 with the Bench macro in slot 1 (EEPROM file per test)."""
-    started = []
     store = eeprom.pack([compiled(BENCH)], STORE_SIZE)
-
-    def start(*args):
-        path = tmp_path / f"ee{len(started)}.bin"
-        path.write_bytes(store + b"\xff" * (1024 - len(store)))
-        sim = B6(image, "--speed", "0", "--lcd", "--eeprom", path, "--trace", tmp_path / f"t{len(started)}.csv",
-                 *args)
-        sim.trace = tmp_path / f"t{len(started)}.csv"
-        started.append(sim)
-        return sim
-
-    yield start
-    for sim in started:
-        sim.stop()
+    return lambda *args: b6_on(store, *args)
 
 
 def end_reason_and_finish(sim):

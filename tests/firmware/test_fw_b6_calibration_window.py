@@ -6,7 +6,7 @@ import re
 
 import pytest
 
-from b6_harness import B6, build, read_trace
+from b6_harness import build, read_trace
 from fake_b6_calibration import NOMINAL
 from helpers import compiled, until
 from host_core import FIRMWARE
@@ -57,27 +57,15 @@ def image():
 
 
 @pytest.fixture
-def b6(image, tmp_path):
+def b6(b6_on):
     """start(calibration=None, *args): the image on the simulated B6, Five in slot 0, the block given (else the
     model's own) in its EEPROM."""
-    started = []
-
     def start(calibration: Block | None = None, *args):
-        store = eeprom.pack([compiled(FIVE_AMPS)], STORE_SIZE)
-        image_bytes = bytearray(store + b"\xff" * (1024 - len(store)))
+        data = bytearray(eeprom.pack([compiled(FIVE_AMPS)], STORE_SIZE).ljust(1024, b"\xff"))
         if calibration is not None:
-            image_bytes[CAL_AT:] = calibration.encode()
-        path = tmp_path / f"ee{len(started)}.bin"
-        path.write_bytes(bytes(image_bytes))
-        sim = B6(image, "--speed", "0", "--lcd", "--eeprom", path, "--trace", tmp_path / f"t{len(started)}.csv",
-                 *args)
-        sim.trace = tmp_path / f"t{len(started)}.csv"
-        started.append(sim)
-        return sim
-
-    yield start
-    for sim in started:
-        sim.stop()
+            data[CAL_AT:] = calibration.encode()
+        return b6_on(bytes(data), *args)
+    return start
 
 
 def test_cal_write_refuses_each_lying_block_naming_its_point_and_keeps_the_calibration(b6):

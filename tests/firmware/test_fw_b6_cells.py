@@ -3,7 +3,7 @@ balance lead is evidence for every chemistry, no run starts without a cell count
 during a run is BUSY, a reversed pack mid-charge is off within 10 ms, a pack the boost cannot reach says so."""
 import pytest
 
-from b6_harness import B6, build, read_trace
+from b6_harness import build, read_trace
 from helpers import compiled
 from host_core import FIRMWARE
 from zuml_studio.device import messages as m
@@ -29,23 +29,10 @@ def image():
 
 
 @pytest.fixture
-def b6(image, tmp_path):
+def b6(b6_on):
     """start(*args): the image on the simulated B6, one macro per chemistry of SLOTS in its slots."""
-    started = []
     store = eeprom.pack([macro(akk) for akk in SLOTS], STORE_SIZE)
-
-    def start(*args):
-        path = tmp_path / f"ee{len(started)}.bin"
-        path.write_bytes(store + b"\xff" * (1024 - len(store)))
-        sim = B6(image, "--speed", "0", "--lcd", "--eeprom", path, "--trace", tmp_path / f"t{len(started)}.csv",
-                 *args)
-        sim.trace = tmp_path / f"t{len(started)}.csv"
-        started.append(sim)
-        return sim
-
-    yield start
-    for sim in started:
-        sim.stop()
+    return lambda *args: b6_on(store, *args)
 
 
 @pytest.mark.parametrize("akk", ["NiMh", "LiFe", "Pb", "NiCd"])

@@ -6,7 +6,7 @@ main loop is not a hang; a start with SERIES above the balance lead's count is r
 panel happen at simulated times the test chose; the test waits for the harness's lines, never for a time."""
 import pytest
 
-from b6_harness import B6, LINE_WAIT_S, Row, build, read_trace
+from b6_harness import LINE_WAIT_S, Row, build, read_trace
 from helpers import compiled, until
 from host_core import FIRMWARE
 from zuml_studio.device.client import ChargerClient, DeviceError
@@ -44,23 +44,9 @@ def image():
 
 
 @pytest.fixture
-def b6(image, tmp_path):
+def b6(b6_on):
     """start(macro, *args): the image on the simulated B6 with `macro` in slot 1 (an EEPROM file per start)."""
-    started = []
-
-    def start(macro, *args):
-        store = eeprom.pack([compiled(macro)], STORE_SIZE)
-        path = tmp_path / f"ee{len(started)}.bin"
-        path.write_bytes(store + b"\xff" * (1024 - len(store)))
-        sim = B6(image, "--speed", "0", "--lcd", "--eeprom", path, "--trace", tmp_path / f"t{len(started)}.csv",
-                 *args)
-        sim.trace = tmp_path / f"t{len(started)}.csv"
-        started.append(sim)
-        return sim
-
-    yield start
-    for sim in started:
-        sim.stop()
+    return lambda macro, *args: b6_on(eeprom.pack([compiled(macro)], STORE_SIZE), *args)
 
 
 def switched_on(line: str) -> bool:
