@@ -33,7 +33,7 @@ AREAS: dict[str, dict[str, str]] = {
     "device_commands": {
         "ports": N_("list serial ports (and how to get a virtual charger)"),
         "slots": N_("list the macros in a charger's EEPROM"),
-        "flash": N_("write a macro to the charger (replace by name, or append)"),
+        "flash": N_("write macros to the charger (each replaces the one of its name, or is appended)"),
         "backup": N_("save the charger's whole EEPROM image"),
         "restore": N_("write a saved EEPROM image back to the charger"),
         "run": N_("start the macro in a slot"),

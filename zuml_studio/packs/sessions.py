@@ -132,17 +132,18 @@ def import_file(book: Logbook, pack: Pack, path: Path, *, source: str = "file",
         return ImportResult(storable(str(path)), "foreign", _("not this pack's: {reason} (--force files it, "
                                                               "marked)").format(reason=foreign))
     figures = session_figures(log, pack.cells, pack.chemistry)
-    same = _same_charge(book, pack, figures)
+    if source == "live":
+        recorded, recorded_from = dt.datetime.now(dt.timezone.utc).isoformat(timespec="seconds"), "run"
+    else:
+        recorded, recorded_from = recorded_date(path, log)
+    # a run recorded live is a recording of its own; a file may be another format of one already filed
+    same = None if source == "live" else _same_charge(book, pack, figures, recorded, recorded_from)
     if same is not None:
         with book.write() as conn:
             conn.execute("UPDATE sessions SET same_files = same_files || ? WHERE id = ?",
                          (stored_path(path) + "\n", same[0]))
         return ImportResult(storable(str(path)), "known", _("the same charge as {file} (duration and charge agree): "
                                                             "kept once, both files listed").format(file=same[1]))
-    if source == "live":
-        recorded, recorded_from = dt.datetime.now(dt.timezone.utc).isoformat(timespec="seconds"), "run"
-    else:
-        recorded, recorded_from = recorded_date(path, log)
     columns = ("pack_id", "sha256", "file", "source", "format", "device", "recorded", "recorded_from",
                "imported", "passport_errors", "passport_critical", "foreign_reason") + FIGURE_COLUMNS
     values = (pack.id, digest, stored_path(path), source, log.format, log.device, recorded,
@@ -169,23 +170,36 @@ def import_file(book: Logbook, pack: Pack, path: Path, *, source: str = "file",
 SAME_DURATION = 0.01
 SAME_CHARGE = 0.02
 SAME_MIN_MAH = 2.0
+SAME_START_S = 120.0       # two logs both dated by their own time stamps start this close, or are two charges
 
 
-def _same_charge(book: Logbook, pack: Pack, figures: SessionFigures) -> tuple[int, str] | None:
+def _same_charge(book: Logbook, pack: Pack, figures: SessionFigures, recorded: str,
+                 recorded_from: str) -> tuple[int, str] | None:
     """A session of the pack holding the charge ``figures`` describe (another format of the same
-    recording): (its id, its file), else None. Logs that moved no charge are never the same."""
+    recording): (its id, its file), else None. Logs that moved no charge are never the same; two that
+    both carry their own start time must start together."""
     if not figures.charge_in_mah and not figures.charge_out_mah:
         return None
-    for row in book.read("SELECT id, file, duration_s, charge_in_mah, charge_out_mah FROM sessions "
-                         "WHERE pack_id = ?", (pack.id,)):
+    for row in book.read("SELECT id, file, duration_s, charge_in_mah, charge_out_mah, recorded, recorded_from "
+                         "FROM sessions WHERE pack_id = ?", (pack.id,)):
         if row["duration_s"] is None or abs(row["duration_s"] - figures.duration_s) > max(
                 2.0, SAME_DURATION * figures.duration_s):
+            continue
+        if recorded_from == "log" and row["recorded_from"] == "log" and not _together(recorded, row["recorded"]):
             continue
         if all(a is not None and b is not None and abs(a - b) <= max(SAME_MIN_MAH, SAME_CHARGE * max(a, b))
                for a, b in ((row["charge_in_mah"], figures.charge_in_mah),
                             (row["charge_out_mah"], figures.charge_out_mah))):
             return row["id"], row["file"]
     return None
+
+
+def _together(a: str, b: str) -> bool:
+    try:
+        ta, tb = dt.datetime.fromisoformat(a), dt.datetime.fromisoformat(b)
+        return abs((ta - tb).total_seconds()) <= SAME_START_S
+    except (TypeError, ValueError):         # naive against aware, or no date: the time cannot tell them apart
+        return True
 
 
 def _session_of(book: Logbook, digest: str) -> tuple[str, str] | None:

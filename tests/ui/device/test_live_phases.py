@@ -103,9 +103,22 @@ def test_the_chosen_earlier_run_shows_its_own_phases(qtbot):
     assert view.phase_table.phases.rowCount() == 2
 
 
+HELD = """MACRO Held
+  AKK_TYPE=LiPo
+  CHARGE_SECTION
+    FAZE
+    CONSTANT_I=INPUT
+    IF(V>4.25S) STOP_FAZE()
+    END_FAZE
+  END_SECTION
+END_MACRO
+"""
+
+
 @pytest.mark.skipif(os.name != "posix", reason="the built-in virtual charger uses a pty here")
 def test_a_weak_cell_charge_on_the_virtual_charger_ends_by_the_balancer_and_says_so(qtbot, make_panel, editor):
-    editor.set("LiPo")
+    # a constant current to a pack voltage its held weak cell never lets it reach: the balancer ends the phase
+    editor.set(HELD)
     panel = make_panel(size=(1354, 560))
     bar = panel.bar
     bar.v_chem.setCurrentIndex(bar.v_chem.findData("LiPo"))
@@ -123,12 +136,12 @@ def test_a_weak_cell_charge_on_the_virtual_charger_ends_by_the_balancer_and_says
     assert started.args[0], started.args[1]
     qtbot.waitUntil(lambda: "finished" in panel.message_text(), timeout=WAIT_MS)
     table = panel.live.phase_table
-    qtbot.waitUntil(lambda: table.phases.rowCount() >= 2 and "end of macro" in panel.live.summary.text(),
+    qtbot.waitUntil(lambda: table.phases.rowCount() >= 1 and "end of macro" in panel.live.summary.text(),
                     timeout=WAIT_MS)
     last = table.phases.rowCount() - 1
     assert table.phases.index(last, 6).data().startswith("balancer: cell 4 reached")
     assert table.is_flagged(last)
-    assert "last phase ⚠ C2: balancer: cell 4 reached" in panel.message_text()
+    assert "last phase ⚠ C1: balancer: cell 4 reached" in panel.message_text()
     assert panel.live.phase_box.isVisible() and panel.live.body.sizes()[1] > 0
 
 

@@ -128,10 +128,11 @@ def test_only_packs_that_match_the_run_are_offered(qtbot, panel):
     add_pack(book, "LiPo 3S", "LiPo", 3, 2200)
     nimh = add_pack(book, "Bench NiMH", "NiMh", 4, 2000)
     live = LiveAttach(panel)
-    assert live.run_battery()[1] == 4                              # the run's 4 cells entered at START
+    assert live.run_battery() == (None, 0)                         # nothing connected: no run to know
     offered = []
     live.ask = lambda parent, packs, where: offered.append([p.name for p in packs]) or packs[0]
     connect(qtbot, panel)
+    assert live.run_battery()[1] == 4                              # the run's 4 cells entered at START
     ok, text = flash_and_start(qtbot, panel)
     assert ok, text
     assert offered == [["Bench NiMH"]] and live._pack == nimh      # a 3S LiPo is no choice for a 4-cell run

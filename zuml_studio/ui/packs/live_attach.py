@@ -56,11 +56,11 @@ class LiveAttach(QObject):
 
     def run_battery(self) -> tuple[str | None, int]:
         """The run's chemistry (the virtual charger's battery; a real charger's is not known at START)
-        and cells in series (0: not entered)."""
-        chemistry = None
+        and cells in series (0: not entered, or a run only listened to)."""
         opened = self.device.connection.opened
-        if opened is None or opened.virtual:
-            chemistry = self.device.v_chem.currentData()
+        if opened is None:                  # a monitor-only link or a replay: the panel's START fields are not its
+            return None, 0
+        chemistry = self.device.v_chem.currentData() if opened.virtual else None
         return chemistry, int(self.device.series_spin.value())
 
     def matching(self, packs: list[Pack]) -> list[Pack]:
