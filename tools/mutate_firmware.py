@@ -29,20 +29,24 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 BOARD = "boards/imaxb6"
-HOST_TESTS = ["tests/firmware/test_fw_b6_protect.py"]
+HOST_TESTS = ["tests/firmware/test_fw_b6_protect.py", "tests/firmware/test_fw_b6_start_check.py",
+              "tests/firmware/test_fw_b6_calib.py"]
 # the simulated B6's tests of limits and faults; not its 40 s runs to a macro's end nor `zuml calibrate`'s
 ACCEPTANCE = "tests/firmware/test_fw_b6_acceptance.py::test_a_"
-SIM_TESTS = ["tests/firmware/test_fw_b6_limits.py",
+SIM_TESTS = ["tests/firmware/test_fw_b6_limits.py", "tests/firmware/test_fw_b6_cells.py",
              ACCEPTANCE + "fault_switches_the_output_off_within_100_ms_and_ends_the_run_with_its_reason",
              ACCEPTANCE + "hang_switches_the_output_off_within_100_ms_and_the_watchdog_reports_it"]
 HOST = (["build/host/libzuml_b6_logic.so"], HOST_TESTS)
+BALANCE_HOST = (["build/host/libzuml_b6_logic.so"], ["tests/firmware/test_fw_b6_balance.py"])
 SIM = (["imaxb6", "simavr-imaxb6"], SIM_TESTS)
 # The tests that can kill a mutant of each file, in steps, fastest first: (make targets, tests). The host build
-# holds protect.c and calib.c only, and takes a second; the others need the B6 image and its simulator.
+# holds protect.c, calib.c, duty.c and balance.c and takes a second; the others need the B6 image and its simulator.
 SELECTION = {
     "protect.c": [HOST, SIM],
     "protect.h": [HOST, SIM],
     "calib.c": [HOST, SIM],
+    "duty.c": [HOST, SIM],
+    "balance.c": [BALANCE_HOST, SIM],
     "adc.c": [SIM],
     "stage.c": [SIM],
     "board.c": [SIM],
