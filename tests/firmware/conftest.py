@@ -3,7 +3,7 @@ import subprocess
 
 import pytest
 
-from b6_harness import B6
+from b6_harness import B6, build
 from host_core import FIRMWARE, LIBRARY, load
 from tools import HOST, skip_unless
 
@@ -38,6 +38,13 @@ def host_device(host_build):
     for proc in started:
         proc.terminate()
         proc.wait(timeout=10)
+
+
+@pytest.fixture(scope="session")
+def image():
+    """The iMAX B6 image and its simulator, built once (skipped, naming the tools, where they are missing)."""
+    build("imaxb6", "simavr-imaxb6")
+    return FIRMWARE / "build" / "imaxb6" / "zuml.elf"
 
 
 @pytest.fixture

@@ -7,9 +7,8 @@ import re
 
 import pytest
 
-from b6_harness import B6, build, read_trace
+from b6_harness import B6, read_trace
 from helpers import compiled
-from host_core import FIRMWARE
 from zuml_studio.device.client import ChargerClient
 from zuml_studio.lang import eeprom
 
@@ -30,12 +29,6 @@ END_MACRO
 STORE_SIZE = 404                    # IDENTIFY's eeprom_size on the B6 (docs/firmware.md, Calibration)
 FAULT_AT_S = 1.5
 START = "start@0.3:0.7"             # START held 0.7 s (the panel wants 0.5 s)
-
-
-@pytest.fixture(scope="module")
-def image():
-    build("imaxb6", "simavr-imaxb6")
-    return FIRMWARE / "build" / "imaxb6" / "zuml.elf"
 
 
 @pytest.fixture

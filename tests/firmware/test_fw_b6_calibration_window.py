@@ -6,10 +6,9 @@ import re
 
 import pytest
 
-from b6_harness import build, read_trace
+from b6_harness import read_trace
 from fake_b6_calibration import NOMINAL
 from helpers import compiled, until
-from host_core import FIRMWARE
 from zuml_studio.device.calibration import INPUTS, ISMPS, VIN, VOUT, VOUT_MINUS, Block, Calibrator
 from zuml_studio.device.client import ChargerClient
 from zuml_studio.device.errors import DeviceError
@@ -48,12 +47,6 @@ REFUSAL = {"I/3": r"I charge reads 5\.00A as 1\.[5-8]\dA: more than 0\.40A off",
            "3I": r"I charge reads 5\.00A as 1[4-6]\.\d\dA: more than 0\.40A off",
            "V80%": r"Vout\+ reads 27\.00V as 2[12]\.\d\dV: more than 0\.81V off",
            "V120%": r"Vout\+ reads 27\.00V as 3[23]\.\d\dV: more than 0\.81V off"}
-
-
-@pytest.fixture(scope="module")
-def image():
-    build("imaxb6", "simavr-imaxb6")
-    return FIRMWARE / "build" / "imaxb6" / "zuml.elf"
 
 
 @pytest.fixture

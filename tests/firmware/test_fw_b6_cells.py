@@ -3,9 +3,8 @@ balance lead is evidence for every chemistry, no run starts without a cell count
 during a run is BUSY, a reversed pack mid-charge is off within 10 ms, a pack the boost cannot reach says so."""
 import pytest
 
-from b6_harness import build, read_trace
+from b6_harness import read_trace
 from helpers import compiled
-from host_core import FIRMWARE
 from zuml_studio.device import messages as m
 from zuml_studio.device.client import ChargerClient
 from zuml_studio.device.errors import DeviceError
@@ -20,12 +19,6 @@ def macro(akk: str) -> bytes:
     """A charge at 1 A with no cell count anywhere (no SERIES, no S values): only its chemistry."""
     return compiled(f"MACRO {akk}1A\n  AKK_TYPE={akk}\n  CHARGE_SECTION\n    FAZE\n      CONSTANT_I=1A\n"
                     "      IF(tf>1h) STOP_FAZE\n    END_FAZE\n  END_SECTION\nEND_MACRO\n")
-
-
-@pytest.fixture(scope="module")
-def image():
-    build("imaxb6", "simavr-imaxb6")
-    return FIRMWARE / "build" / "imaxb6" / "zuml.elf"
 
 
 @pytest.fixture

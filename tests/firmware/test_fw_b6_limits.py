@@ -6,9 +6,8 @@ main loop is not a hang; a start with SERIES above the balance lead's count is r
 panel happen at simulated times the test chose; the test waits for the harness's lines, never for a time."""
 import pytest
 
-from b6_harness import LINE_WAIT_S, Row, build, read_trace
+from b6_harness import LINE_WAIT_S, Row, read_trace
 from helpers import compiled, until
-from host_core import FIRMWARE
 from zuml_studio.device.client import ChargerClient, DeviceError
 from zuml_studio.lang import eeprom
 
@@ -35,12 +34,6 @@ DISCHARGE_5A = """MACRO Drain
 END_MACRO
 """
 CAPACITY_FACTOR = 2                 # a run stops at twice the capacity it was started with (docs/firmware.md)
-
-
-@pytest.fixture(scope="module")
-def image():
-    build("imaxb6", "simavr-imaxb6")
-    return FIRMWARE / "build" / "imaxb6" / "zuml.elf"
 
 
 @pytest.fixture

@@ -11,7 +11,7 @@ import tty
 
 import pytest
 
-from b6_harness import B6, LINE_WAIT_S, build
+from b6_harness import B6, LINE_WAIT_S
 from helpers import HOT_LIION
 from host_core import FIRMWARE
 from test_fw_b6_acceptance import BENCH        # CC to 4.1 V per cell, then CV to 0.1 A
@@ -21,12 +21,6 @@ from zuml_studio.device.client import ChargerClient
 from zuml_studio.device.frames import FrameParser, encode_frame
 
 ROOT = FIRMWARE.parent
-
-
-@pytest.fixture(scope="module")
-def image():
-    build("imaxb6", "simavr-imaxb6")
-    return FIRMWARE / "build" / "imaxb6" / "zuml.elf"
 
 
 @pytest.fixture
