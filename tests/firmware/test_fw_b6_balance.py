@@ -2,11 +2,10 @@
 ctypes: which cells bleed, the cap that holds the highest cell at its ceiling, the held charge's end. Each
 constant and comparison has a case on each side of it (docs/firmware.md, Balancer)."""
 import ctypes
-import subprocess
 
 import pytest
 
-from host_core import FIRMWARE
+from test_fw_b6_protect import lib as logic  # noqa: F401 - the host build, made once
 from tools import HOST, needs
 
 pytestmark = needs(HOST)
@@ -14,11 +13,8 @@ AKK = {"Undef": 0, "Pb": 1, "NiCd": 2, "NiMh": 3, "LiPo": 4, "LiIon": 5, "LiS": 
 
 
 @pytest.fixture(scope="module")
-def lib():
-    done = subprocess.run(["make", "-s", "-C", str(FIRMWARE), "build/host/libzuml_b6_logic.so"],
-                          capture_output=True, text=True)
-    assert done.returncode == 0, done.stdout + done.stderr
-    so = ctypes.CDLL(str(FIRMWARE / "build" / "host" / "libzuml_b6_logic.so"))
+def lib(logic):
+    so = logic
     so.balance_ceiling_mv.restype = ctypes.c_uint16
     so.balance_bleeders.restype = ctypes.c_uint8
     so.balance_bleeders.argtypes = [ctypes.POINTER(ctypes.c_int16), ctypes.c_uint8, ctypes.c_uint8]
