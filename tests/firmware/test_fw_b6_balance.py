@@ -17,7 +17,7 @@ def lib(logic):
     so = logic
     so.balance_ceiling_mv.restype = ctypes.c_uint16
     so.balance_bleeders.restype = ctypes.c_uint8
-    so.balance_bleeders.argtypes = [ctypes.POINTER(ctypes.c_int16), ctypes.c_uint8, ctypes.c_uint8]
+    so.balance_bleeders.argtypes = [ctypes.POINTER(ctypes.c_int16)] + [ctypes.c_uint8] * 3
     so.balance_keep.restype = ctypes.c_uint8
     so.balance_keep.argtypes = [ctypes.POINTER(ctypes.c_int16), ctypes.c_uint8, ctypes.c_uint8,
                                 ctypes.POINTER(ctypes.c_int16)]
@@ -34,8 +34,8 @@ def cells(*mv):
     return (ctypes.c_int16 * 6)(*mv)
 
 
-def bleeders(lib, mv, bled_before=0):
-    return lib.balance_bleeders(cells(*mv), len(mv), bled_before)
+def bleeders(lib, mv, bled_before=0, can=0x3F):
+    return lib.balance_bleeders(cells(*mv), len(mv), bled_before, can)
 
 
 def test_the_ceiling_is_the_charge_voltage_per_cell_of_the_simulator_s_b6(lib):
@@ -68,6 +68,14 @@ def test_cell_4_bleeds_as_the_others_do(lib):
     # PD0 is cell 4's load on a TX-only B6; board.c leaves it out only while PD0 is a receive wire
     assert bleeders(lib, [4000, 4000, 4000, 4050, 4000, 4000]) == 0b1000
     assert bleeders(lib, [4000, 4010, 4000, 4050, 4000, 4000]) == 0b1010
+
+
+def test_while_pd0_receives_the_three_bleeders_are_chosen_among_the_other_cells(lib):
+    # board.c passes all but cell 4 while PD0 is the receive line: the window still bleeds 3 cells
+    no_4 = 0x3F & ~0b1000
+    assert bleeders(lib, [4000, 4020, 4030, 4060, 4040, 4010], can=no_4) == 0b010110   # cells 5, 3, 2
+    assert bleeders(lib, [4000, 4000, 4000, 4050, 4000, 4000], can=no_4) == 0
+    assert bleeders(lib, [4000, 4020, 4030, 4060, 4040, 4010], can=0x3F) == 0b011100   # with cell 4: 4, 5, 3
 
 
 def test_a_bleeding_cell_goes_on_while_its_presumed_voltage_is_above_the_lowest_cell_that_does_not_bleed(lib):

@@ -12,7 +12,7 @@ uint16_t balance_ceiling_mv(uint8_t akk_type)
     return mv;
 }
 
-uint8_t balance_bleeders(const volatile int16_t *cell_mv, uint8_t n, uint8_t bled_before)
+uint8_t balance_bleeders(const volatile int16_t *cell_mv, uint8_t n, uint8_t bled_before, uint8_t can)
 {
     uint8_t mask = 0, pick, k, at;
     int16_t low = 0x7FFF;
@@ -25,7 +25,7 @@ uint8_t balance_bleeders(const volatile int16_t *cell_mv, uint8_t n, uint8_t ble
         for (k = 0; k < n; k++) {
             uint8_t bit = (uint8_t)(1 << k);
             int16_t over = (int16_t)(cell_mv[k] - low);
-            if (!(mask & bit) && (BALANCE_CELLS & bit) && over > best &&
+            if (!(mask & bit) && (can & bit) && over > best &&
                 (over > BALANCE_ON_MV || (over > BALANCE_OFF_MV && (bled_before & bit)))) {
                 best = over;
                 at = k;

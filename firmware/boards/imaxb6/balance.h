@@ -14,7 +14,6 @@
 #define BALANCE_OFF_MV 3           /* ... one that bled in the last window, this far */
 #define BALANCE_MAX_BLEEDERS 3     /* 3 x 4.2 V x 0.3 A = 3.8 W; 4 would be 5.0 W, over the 5 W the board burns
                                     * ([C] MAX_DISCHARGE_P); 0.3 A: the B6 manual's balance drain */
-#define BALANCE_CELLS 0x3F         /* the cells that may bleed: all six (cell 4 is left out in board.c while PD0 is the receive line) */
 #define HOLD_MA_PER_MV 5           /* the cap moves 5 mA per mV off the ceiling per decision (every 100 ms):
                                     * x ~50 mOhm per cell, a quarter of the way a step: no overshoot */
 #define CEILING_AT_MV 5            /* a cell read this close to its ceiling is at it (the hold's own ripple) */
@@ -23,9 +22,10 @@
 
 /* The charge voltage per cell the balancer holds the highest cell at, mV, by AKK_TYPE; 0: none. */
 uint16_t balance_ceiling_mv(uint8_t akk_type);
-/* The cells to bleed (bit k: cell k+1), decided with the loads off: each more than BALANCE_ON_MV above
- * the lowest (BALANCE_OFF_MV if it is in `bled_before`), at most BALANCE_MAX_BLEEDERS, the highest first. */
-uint8_t balance_bleeders(const volatile int16_t *cell_mv, uint8_t n, uint8_t bled_before);
+/* The cells to bleed (bit k: cell k+1), decided with the loads off: among those of `can` (the cells whose
+ * load can switch now: not cell 4 while PD0 is the receive line), each more than BALANCE_ON_MV above the
+ * lowest (BALANCE_OFF_MV if it is in `bled_before`), at most BALANCE_MAX_BLEEDERS, the highest first. */
+uint8_t balance_bleeders(const volatile int16_t *cell_mv, uint8_t n, uint8_t bled_before, uint8_t can);
 /* The cells of `bleeding` that go on: those whose presumed voltage (the reading now plus `drop_mv`, what
  * its own bleed took off its reading when it started: cheali's Voff - Von) is above the lowest cell that
  * does not bleed. */

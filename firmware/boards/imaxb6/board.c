@@ -259,7 +259,7 @@ static void bleed_pin(volatile uint8_t *ddr, volatile uint8_t *port, uint8_t bit
 static void bleed(uint8_t mask)
 {
     uint8_t pd0_free = !avr_uart_receiving();    /* PD0: cell 4's load unless it is the receive line */
-    balancing = (uint8_t)(mask & BALANCE_CELLS & (pd0_free ? 0xFF : ~8));
+    balancing = (uint8_t)(mask & (pd0_free ? 0xFF : ~8));
     /* atomic: the ADC interrupt drives the disable lines on the same ports (a trip must not be undone) */
     ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
         bleed_pin(&DDRC, &PORTC, _BV(B6_BAL1), balancing & 1);
@@ -320,7 +320,7 @@ static void balance(void)
     } else if (++balance_slows >= BALANCE_SETTLE_SLOWS) {
         for (k = 0; k < n; k++)
             bleed_drop_mv[k] = protect_cell_mv[k];
-        bleed(balance_bleeders(protect_cell_mv, n, bled_before));
+        bleed(balance_bleeders(protect_cell_mv, n, bled_before, avr_uart_receiving() ? (uint8_t)~8 : 0xFF));
         balance_slows = 0;
     }
 }
