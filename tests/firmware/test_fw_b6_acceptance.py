@@ -100,9 +100,6 @@ def test_a_macro_started_with_the_buttons_alone_runs_to_its_end(b6):
     assert max(r.voltage_v for r in on) < 3 * 4.2 + 0.05
 
 
-@pytest.mark.xfail(strict=True, reason="since the round-two merge (issue #31) the 20 mAh pack's CV ends at 19.3 s with "
-                   "its true cells 10.3 mV apart (the fw-balance branch alone: 20.3 s, 3.7 mV); the hold ends the CV "
-                   "before the balancer's 4 s + 15 s window is through: open, see the closing note")
 def test_a_3s_lipo_60_mv_apart_ends_its_cv_with_the_cells_within_10_mv(b6):
     sim = b6("--cells", "3", "--soc", "0.9", "--capacity", "20", "--cell-spread", "60", "--press", START)
     k, _ = sim.wait_line("LCD|C2 ")

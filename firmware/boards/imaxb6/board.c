@@ -28,6 +28,8 @@
 #define BALANCE_FROM_MV 600                     /* below the chemistry's maximum: the charged part of the curve */
 #define BALANCE_BLEED_SLOWS 150                 /* a window of bleeding: at most 15 s of 100 ms (cheali) */
 #define BALANCE_SETTLE_SLOWS 40                 /* the loads off this long (4 s) before a decision (cheali) */
+#define BALANCE_DROP_READS 4                    /* the first 4 decisions of a window measure each bleed's drop */
+#define BALANCE_FILTER 4                        /* the balancer's cells: a filter of 4 decisions (0.4 s) */
 #define T_CAL_READ 0x30
 #define T_CAL_WRITE 0x31
 #define T_CAL_MEASURE 0x32
@@ -40,8 +42,10 @@ static volatile uint8_t beeps;
 static hal_output_t out;
 static uint8_t calibrated, balancing, bled_before, balance_slows;
 static uint16_t run_time_limit_min;
-static int16_t bleed_drop_mv[6];                /* each cell's reading before its bleed, then what the bleed took
+static int16_t bleed_drop_mv[6];                /* each cell's average before its bleed, then what the bleed took
                                                  * off it (cheali's Voff - Von) */
+static int16_t cell_filtered[6];                /* x BALANCE_FILTER, mV: cells 1 and 2 are differences of taps to
+                                                 * ground read in steps of 5 and 10 mV, one reading a few mV off */
 static int16_t hold_ma = B6_CHARGE_MA;                        /* the hold's cap on the charge current, < 0: none */
 static uint16_t ceiling_mv;                     /* the run's charge voltage per cell: the hold's ceiling; 0: none */
 static uint32_t run_capacity_uah, last_latch_ms, cal_output_end_ms;
@@ -280,15 +284,17 @@ static void bleed(uint8_t mask)
  * Cell 4 bleeds too unless PD0 is the receive line (find_receive_wire). */
 static void balance(void)
 {
-    uint8_t n = protect_limits.li_cells, k;
-    int16_t low = 0x7FFF, high = 0;
+    uint8_t n = protect_limits.li_cells, k, ref = 0xFF;   /* ref: the lowest cell that does not bleed */
+    int16_t high = 0, mv[6];
     uint8_t on = app_running() && charging();
     find_receive_wire();
     for (k = 0; k < n; k++) {
-        if (protect_cell_mv[k] < low)
-            low = protect_cell_mv[k];
         if (protect_cell_mv[k] > high)
             high = protect_cell_mv[k];
+        cell_filtered[k] = (int16_t)(cell_filtered[k] + protect_cell_mv[k] - cell_filtered[k] / BALANCE_FILTER);
+        mv[k] = (int16_t)(cell_filtered[k] / BALANCE_FILTER);
+        if (!(balancing & (1 << k)) && (ref == 0xFF || mv[k] < mv[ref]))
+            ref = k;
     }
     hold_ma = on && n && ceiling_mv ? balance_cap(hold_ma, (int16_t)(ceiling_mv - high),
                                                   stage_battery_ma(protect_latest[CAL_ISMPS]),
@@ -304,12 +310,25 @@ static void balance(void)
     }
     if (balancing) {
         /* a cell leaves its window early once its presumed voltage is at most the lowest cell that does
-         * not bleed; only leaving, so a window makes at most 1 + BALANCE_MAX_BLEEDERS changes */
-        uint8_t keep;
-        if (++balance_slows == 1)                /* 100 ms into the window: what each bleed takes off its reading */
-            for (k = 0; k < n; k++)
-                bleed_drop_mv[k] = balancing & (1 << k) ? bleed_drop_mv[k] - protect_cell_mv[k] : 0;
-        keep = balance_keep(protect_cell_mv, n, balancing, bleed_drop_mv);
+         * not bleed (`ref`); only leaving, so a window makes at most 1 + BALANCE_MAX_BLEEDERS changes. On the
+         * filtered cells (cell_filtered): on single readings a cell left its window seconds early. */
+        uint8_t keep = balancing;
+        if (ref != 0xFF && ++balance_slows <= BALANCE_DROP_READS) {
+            /* what each bleed takes off its cell (cheali's Voff - Von): its gap to `ref` before (filtered, with
+             * the loads off) less the gap in the first readings after, their mean. Against `ref`, as the
+             * charge moves every cell when the loads go on (a CV phase lifts them all), the bleed only its own. */
+            int16_t base = bleed_drop_mv[ref];
+            for (k = 0; k < n; k++) {
+                if (balance_slows == 1)
+                    bleed_drop_mv[k] = (int16_t)((bleed_drop_mv[k] - base) * BALANCE_DROP_READS);
+                bleed_drop_mv[k] = (int16_t)(bleed_drop_mv[k] - (protect_cell_mv[k] - protect_cell_mv[ref]));
+            }
+            if (balance_slows == BALANCE_DROP_READS)
+                for (k = 0; k < n; k++)
+                    bleed_drop_mv[k] = balancing & (1 << k) ? (int16_t)(bleed_drop_mv[k] / BALANCE_DROP_READS) : 0;
+        } else {
+            keep = balance_keep(mv, n, balancing, bleed_drop_mv);
+        }
         if (balance_slows >= BALANCE_BLEED_SLOWS || !keep) {
             bled_before = balancing;
             keep = 0;
@@ -319,8 +338,8 @@ static void balance(void)
             bleed(keep);
     } else if (++balance_slows >= BALANCE_SETTLE_SLOWS) {
         for (k = 0; k < n; k++)
-            bleed_drop_mv[k] = protect_cell_mv[k];
-        bleed(balance_bleeders(protect_cell_mv, n, bled_before, avr_uart_receiving() ? (uint8_t)~8 : 0xFF));
+            bleed_drop_mv[k] = mv[k];
+        bleed(balance_bleeders(mv, n, bled_before, avr_uart_receiving() ? (uint8_t)~8 : 0xFF));
         balance_slows = 0;
     }
 }
