@@ -6,7 +6,7 @@
 #include "b6_model.h"
 
 const char *const b6_fault_names[B6_FAULT_KINDS] = {
-    "disconnect", "reverse", "cell-high", "sensor-open", "sink-hot", "input-low", "hang", "slow-loop",
+    "disconnect", "reverse", "cell-high", "sensor-open", "sink-hot", "input-low", "hang", "slow-loop", "input-sag",
 };
 
 /* Component values cheali does not give: assumed, typical of a 50 W buck/boost of this kind. */
@@ -20,6 +20,7 @@ const char *const b6_fault_names[B6_FAULT_KINDS] = {
 #define DISCHARGE_FULL_A 1.2    /* the discharger's current at 100 % of its PWM reference */
 #define VIN_V 12.0              /* the supply (the B6 takes 11..18 V) */
 #define VIN_LOW_V 10.5          /* what the input-low fault sags it to */
+#define VIN_SAG_V 11.3          /* the input-sag fault's: above the 11 V trip, under half a charged 6S pack */
 #define CELL_HIGH_V 4.35        /* what one tap reads under the cell-high fault */
 #define SINK_HOT_C 95.0
 #define AMBIENT_C 25.0
@@ -112,12 +113,18 @@ int b6_model_output_enabled(const b6_model_t *m)
     return m->drive.output_on && (m->drive.smps_on || m->drive.discharge_on);
 }
 
+/* The supply now, faults applied. */
+static double supply_v(const b6_model_t *m)
+{
+    return m->fault[B6_FAULT_INPUT_LOW] ? VIN_LOW_V : m->fault[B6_FAULT_INPUT_SAG] ? VIN_SAG_V : m->vin_v;
+}
+
 void b6_model_step(b6_model_t *m, double dt)
 {
     const b6_drive_t *d = &m->drive;
     int connected = d->output_on && !m->fault[B6_FAULT_DISCONNECT];
     int reversed = m->fault[B6_FAULT_REVERSE];
-    double vin = m->fault[B6_FAULT_INPUT_LOW] ? VIN_LOW_V : m->vin_v;
+    double vin = supply_v(m);
     double d1 = d->smps_on ? d->buck_duty : 0, d2 = d->smps_on ? d->boost_duty : 0;
     double e = 0, r = WIRE_R, bleed[B6_MAX_CELLS] = {0}, t;
     int k;
@@ -184,7 +191,7 @@ double b6_model_quantity(const b6_model_t *m, b6_quantity_t q)
     case B6_Q_I_SMPS:
         return m->il_a;
     case B6_Q_VIN:
-        return m->fault[B6_FAULT_INPUT_LOW] ? VIN_LOW_V : m->vin_v;
+        return supply_v(m);
     case B6_Q_TAP0:
         return 0;
     case B6_Q_TAP1:

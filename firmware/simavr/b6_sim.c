@@ -53,7 +53,7 @@ static const char usage[] =
     "usage: zuml_b6_sim ELF [--eeprom FILE] [--cells N] [--capacity MAH] [--soc F] [--cell-spread MV] [--weak-cell PCT]\n"
     "       [--seed N] [--uncalibrated] [--fault KIND@S]... [--press BUTTON@S[:HOLD]]... [--trace FILE] [--lcd]\n"
     "       [--speed X] [--no-rx] [--end-with-stdin]\n"
-    "KIND: disconnect reverse cell-high sensor-open sink-hot input-low hang slow-loop; BUTTON: start stop inc dec\n";
+    "KIND: disconnect reverse cell-high sensor-open sink-hot input-low input-sag hang slow-loop; BUTTON: start stop inc dec\n";
 
 static const char *const button_names[4] = {"start", "stop", "inc", "dec"};   /* as b6_button[] */
 
@@ -556,7 +556,7 @@ static int parse(int argc, char **argv, options_t *o)
         } else if (!strcmp(name, "--fault")) {
             if (n_faults == MAX_EVENTS || timed(value, b6_fault_names, B6_FAULT_KINDS, 0, &faults[n_faults]) < 0)
                 return fail("--fault is KIND@SECONDS, KIND one of disconnect reverse cell-high sensor-open sink-hot "
-                            "input-low hang slow-loop (at most 32)", value);
+                            "input-low input-sag hang slow-loop (at most 32)", value);
             n_faults++;
         } else if (!strcmp(name, "--press")) {
             if (n_presses == MAX_EVENTS || timed(value, button_names, 4, 1, &presses[n_presses]) < 0)

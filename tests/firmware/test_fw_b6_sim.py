@@ -100,6 +100,7 @@ def test_the_lcd_shows_what_the_image_writes_and_the_buttons_pull_their_lines_lo
     ("cell-high", "m3", 4.35),         # the third (last) cell's tap reads 4.35 V
     ("sensor-open", "m7", 0.0),        # an unplugged probe reads 0 V
     ("input-low", "a4", 10.5),         # the supply sags below 11 V
+    ("input-sag", "a4", 11.3),         # ... or only under half a charged 6S pack, over the 11 V trip
 ])
 def test_a_fault_changes_what_the_board_reads(b6, fault, asked, value):
     sim = b6("--cells", "3", "--soc", "0.5", "--fault", f"{fault}@0.2")

@@ -23,7 +23,8 @@ BOARDS = {
                [str(BUILD / "simavr" / "zuml_b6_sim"), str(BUILD / "imaxb6" / "zuml.elf")]),
     "host": (("host",), ("make", "gcc"), [str(BUILD / "host" / "zuml_host")]),
 }
-FAULTS = ("disconnect", "reverse", "cell-high", "sensor-open", "sink-hot", "input-low", "hang", "slow-loop")
+FAULTS = ("disconnect", "reverse", "cell-high", "sensor-open", "sink-hot", "input-low", "hang", "slow-loop",
+          "input-sag")
 BUTTONS = ("start", "stop", "inc", "dec")
 
 
