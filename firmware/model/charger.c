@@ -56,6 +56,84 @@ uint32_t zm_balance_mask(const zm_balancer_t *b, const double *cell_v, int32_t n
     return mask;
 }
 
+/* The cells to bleed at a window's start, the highest first: more than spread_v above the lowest (spread_off_v
+ * for one that bled in the last window), at most max_bleeders; a tie goes to the first cell. */
+static uint32_t bleeders(const zm_balancer_t *b, const double *v, int32_t n, uint32_t bled)
+{
+    double low = v[0];
+    uint32_t mask = 0;
+    int32_t k, pick;
+    for (k = 1; k < n; k++)
+        if (v[k] < low)
+            low = v[k];
+    for (pick = 0; pick < b->max_bleeders; pick++) {
+        double best = 0.0;
+        int32_t at = -1;
+        for (k = 0; k < n; k++) {
+            double over = v[k] - low;
+            if (!(mask >> k & 1) && over > best && (over > b->spread_v || ((bled >> k & 1) && over > b->spread_off_v))) {
+                best = over;
+                at = k;
+            }
+        }
+        if (at < 0)
+            break;
+        mask |= 1UL << at;
+    }
+    return mask;
+}
+
+uint32_t zm_balance_window(const zm_balancer_t *b, zm_window_t *w, const double *v, int32_t n, double dt,
+                           int32_t holding)
+{
+    double top = v[0], low = 0.0;
+    uint32_t keep;
+    int32_t k, ref = -1;
+    if (!(b->window_s > 0.0))
+        return w->mask = zm_balance_mask(b, v, n, w->mask);
+    for (k = 1; k < n; k++)
+        if (v[k] > top)
+            top = v[k];
+    if (top < b->from_v && !holding) {
+        w->mask = w->bled = 0;
+        w->t = 0.0;
+        return 0;
+    }
+    w->t += dt;
+    if (!w->mask) {
+        if (w->t >= b->settle_s) {
+            for (k = 0; k < n; k++)
+                w->before[k] = v[k];
+            w->mask = bleeders(b, v, n, w->bled);
+            w->first = 1;
+            w->t = 0.0;
+        }
+        return w->mask;
+    }
+    for (k = 0; k < n; k++)
+        if (!(w->mask >> k & 1) && (ref < 0 || v[k] < v[ref]))
+            ref = k;
+    keep = w->mask;
+    if (w->first) {
+        /* what each bleed took off its cell, against the lowest cell that does not bleed (the charge moves them
+         * all as the loads go on) */
+        for (k = 0; k < n; k++)
+            w->drop[k] = w->mask >> k & 1 ? (w->before[k] - w->before[ref]) - (v[k] - v[ref]) : 0.0;
+        w->first = 0;
+    } else {
+        low = v[ref];
+        for (k = 0; k < n; k++)
+            if ((keep >> k & 1) && v[k] + w->drop[k] <= low)
+                keep &= ~(1UL << k);
+    }
+    if (w->t >= b->window_s || !keep) {
+        w->bled = w->mask;
+        keep = 0;
+        w->t = 0.0;
+    }
+    return w->mask = keep;
+}
+
 /* Python's round(x, 3): correctly rounded, ties to even on the exact binary value (as printf's %.3f) */
 static double round3(double x)
 {

@@ -118,12 +118,13 @@ def test_a_weak_cell_shows_in_the_table_the_json_and_the_csv(tmp_path):
             "--weak-cell", "15"]
     rc, out, err = run_zuml(*lipo)
     assert rc == 0, err
-    assert "phase 2 (charge): cells at the end 4.198 V (cell 1) to 4.200 V (cell 4)" in out
+    # the B6's windows: the CV's own current ends it as a window closes, the others 24 mV under the weak cell
+    assert "phase 2 (charge): cells at the end 4.176 V (cell 1) to 4.200 V (cell 4)" in out
     rc, out, err = run_zuml(*lipo, "--json", "--csv", str(tmp_path / "w.csv"))
     data = json.loads(out)
     cells = data["phases"][-1]["cells"]
     assert (cells["min_cell"], cells["max_cell"]) == (1, 4)
-    assert 4.1995 <= cells["max_v"] <= 4.2005 and cells["min_v"] > 4.195
+    assert 4.1995 <= cells["max_v"] <= 4.2005 and cells["min_v"] > 4.17
     assert data["battery"]["cells"][3] == {"capacity_mah": 1700.0, "r_scale": 1.0, "soc": None}
     rows = list(csv.reader((tmp_path / "w.csv").open()))
     masks = {int(r[-1]) for r in rows[1:]}

@@ -205,7 +205,7 @@ def test_setup_errors():
 def test_telemetry_carries_the_unequal_cells_and_the_balancers_mask():
     from zuml_studio.sim.cell_pack import CellSpec
     cells = [CellSpec(2000.0)] * 3 + [CellSpec(1700.0)]           # the last cell 15 % weaker
-    dev = VirtualCharger("LiPo:2000:4", speed=100000, cells=cells)
+    dev = VirtualCharger("LiPo:2000:4", speed=100, cells=cells)
     try:
         dev.eeprom[:] = pack([compiled("LiPo")])
         w = Wire(dev)
@@ -213,8 +213,10 @@ def test_telemetry_carries_the_unequal_cells_and_the_balancers_mask():
                sensor=1)
         t0 = time.monotonic()
         seen = []
-        for k in range(1, 200):                                      # up to 5.5 h of the charge, 100 s a step
-            dev.step(t0 + k * 0.001)
+        # the B6 balances once a cell is at 3.75 V, in windows of 15 s (4 s off): a TELEMETRY every 100 s of the
+        # charge (1 Hz at 100x), up to 5.5 h, 5 s a step
+        for k in range(1, 4000):
+            dev.step(t0 + k * 0.05)
             frames = FrameParser().feed(dev.read_output(1 << 20))
             seen += [m.Telemetry.decode(f.payload) for f in frames if f.type == m.TELEMETRY]
             if seen and seen[-1].running and seen[-1].balance_mask:

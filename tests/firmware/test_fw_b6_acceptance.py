@@ -182,6 +182,8 @@ END_MACRO
 def test_a_weak_cell_pack_ends_the_same_way_on_the_simulated_b6_and_in_the_simulator(image, tmp_path):
     # the pack cannot reach 4.25 V per cell while its cells are held at 4.20 V, so the phase ends by the
     # balancer's held end (a tenth of 1 A) on both sides, with the same reason, and no cell past the ceiling
+    import dataclasses
+    from zuml_studio.sim.chemistry import load_chemistry
     from zuml_studio.sim.simulate import BatterySetup, simulate
     from zuml_studio.sim.interpreter import StartParams
     store = eeprom.pack([compiled(HELD)], STORE_SIZE)
@@ -202,11 +204,21 @@ def test_a_weak_cell_pack_ends_the_same_way_on_the_simulated_b6_and_in_the_simul
     # the cell the B6 names is the one it reads highest: its cell 1 reads through Vb0's nominal calibration
     device = [re.sub(r"cell \d", "cell N", e.detail) for e in events if e.kind == "phase_end"]
     assert device == ["balancer: cell N reached 4.20V (ceiling)"], device
-    assert max(r.cell_max_v for r in read_trace(tmp_path / "t.csv")) < 4.20 + 0.025   # the taps' calibration
-    # the simulator's B6 on the same macro and a pack as weak (its cell resistance scales with 1/capacity: a
-    # 20 mAh cell at 1 A would start at 4.2 V, so 200 mAh)
-    result = simulate(compiled(HELD), StartParams("charge", 1, 200, None, None, 3),
-                      BatterySetup(soc=0.85, weak_cell_pct=30.0))
+    rows = read_trace(tmp_path / "t.csv")
+    assert max(r.cell_max_v for r in rows) < 4.20 + 0.025   # the taps' calibration
+    on = [r for r in rows if r.output_enabled and r.t_ms > 500]           # the run (past the power-up's instant)
+    b6_s, b6_mah = (on[-1].t_ms - on[0].t_ms) / 1000, sum(r.current_a for r in on) / 3600
+    # the simulator's B6 on the same macro and pack: the simulated B6's own cell (its OCV table, 30 mOhm at any
+    # capacity, no RC pairs; b6_model.c), 20 mAh with the last cell 30 % weaker
+    lipo = load_chemistry("LiPo")
+    b6_cell = dataclasses.replace(lipo, ocv_v=(3.00, 3.45, 3.60, 3.70, 3.75, 3.79, 3.83, 3.87, 3.92, 4.00, 4.08, 4.20),
+                                  r0_ohm=0.03 * 0.020 / lipo.ref_capacity_ah, r1_ohm=0.0, r2_ohm=0.0)
+    result = simulate(compiled(HELD), StartParams("charge", 1, 20, None, None, 3),
+                      BatterySetup(soc=0.85, weak_cell_pct=30.0, chem=b6_cell))
     assert [re.sub(r"cell \d", "cell N", p.reason) for p in result.phases] == device
     cells = result.log.arrays()
     assert max(cells[f"cell{k}_v"].max() for k in (1, 2, 3)) <= 4.20 + 0.005
+    # the same end within 10 %: 14.3 s and 2.82 mAh on the B6, 14 s and 2.90 mAh simulated (1 s ticks)
+    phase = result.phases[0]
+    assert abs(phase.end_s - phase.start_s - b6_s) <= 0.10 * b6_s, (phase.end_s, b6_s)
+    assert abs(cells["mah_in"][-1] - b6_mah) <= 0.10 * b6_mah, (cells["mah_in"][-1], b6_mah)

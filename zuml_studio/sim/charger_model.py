@@ -8,11 +8,15 @@ The balancer (``[balancer]``, optional) watches each cell of a lithium pack duri
 it bleeds every cell more than ``spread_v`` above the lowest (through a load resistor on the
 tap, ``bleed_r_ohm``: V_cell / R, or a regulated ``bleed_a``); the charge current is held so that no
 cell passes its chemistry's ``ceiling_v``, and the charge ends when a cell is there and the current has
-fallen to a tenth of the phase's own.
+fallen to a tenth of the phase's own. With ``window_s`` it bleeds as the B6's firmware does
+(docs/firmware.md, Balancer): windows of at most ``window_s`` of up to ``max_bleeders`` cells, the
+highest first, each decided after ``settle_s`` with the loads off, once a cell reaches ``from_v`` or a
+CV phase holds its voltage; a cell leaves its window early once it is presumed down to the lowest cell
+that does not bleed (its reading plus what its own bleed took off it).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from math import exp
 
 from .. import data
@@ -49,6 +53,12 @@ class BalancerSpec:
     during: str                    # "charge": every charge phase; "cv": only phases that hold a voltage
     spread_v: float                # a cell bleeds while it is more than this above the lowest cell
     ceiling_v: dict[str, float]    # per chemistry: no cell is charged past this voltage
+    window_s: float = 0.0          # a window's longest bleed (0: the cells of ``mask`` bleed every tick)
+    settle_s: float = 0.0          # the loads off this long before a window's decision
+    spread_off_v: float = 0.0      # a cell that bled in the last window bleeds again from this above the lowest
+    max_bleeders: int = 0          # at most this many cells bleed at once
+    from_v: dict[str, float] = field(default_factory=dict)   # per chemistry: no window while every cell is below
+
 
     def bleed(self, cell_v: float) -> float:
         """The current a bleeding cell at ``cell_v`` gives to its load, A."""
@@ -67,6 +77,67 @@ class BalancerSpec:
                 mask |= 1 << k
         return mask
 
+    def window(self, w: BalanceWindow, cell_voltages, dt: float, holding: bool, chemistry: str) -> int:
+        """The cells that bleed over the next tick of ``dt`` s, ``w`` carrying the windows from tick to tick
+        (without ``window_s``: ``mask``'s); ``holding``: the phase holds its voltage (then the windows run
+        below ``from_v`` too). firmware/model/charger.c's zm_balance_window, operation for operation."""
+        v = cell_voltages
+        if not self.window_s > 0.0:
+            w.mask = self.mask(v, w.mask)
+            return w.mask
+        if max(v) < self.from_v.get(chemistry, 0.0) and not holding:
+            w.mask = w.bled = 0
+            w.t = 0.0
+            return 0
+        w.t += dt
+        if not w.mask:
+            if w.t >= self.settle_s:
+                w.before = list(v)
+                w.mask = self._bleeders(v, w.bled)
+                w.first = True
+                w.t = 0.0
+            return w.mask
+        ref = -1
+        for k, x in enumerate(v):
+            if not w.mask >> k & 1 and (ref < 0 or x < v[ref]):
+                ref = k
+        keep = w.mask
+        if w.first:
+            # what each bleed took off its cell, against the lowest cell that does not bleed (the charge moves
+            # them all as the loads go on)
+            w.drop = [(w.before[k] - w.before[ref]) - (x - v[ref]) if w.mask >> k & 1 else 0.0
+                      for k, x in enumerate(v)]
+            w.first = False
+        else:
+            low = v[ref]
+            for k, x in enumerate(v):
+                if keep >> k & 1 and x + w.drop[k] <= low:
+                    keep &= ~(1 << k)
+        if w.t >= self.window_s or not keep:
+            w.bled = w.mask
+            keep = 0
+            w.t = 0.0
+        w.mask = keep
+        return keep
+
+    def _bleeders(self, v, bled: int) -> int:
+        """The cells to bleed at a window's start, the highest first: more than ``spread_v`` above the lowest
+        (``spread_off_v`` for one that bled in the last window), at most ``max_bleeders``; a tie goes to the
+        first cell."""
+        low = min(v)
+        mask = 0
+        for _pick in range(self.max_bleeders):
+            best, at = 0.0, -1
+            for k, x in enumerate(v):
+                over = x - low
+                if not mask >> k & 1 and over > best and (over > self.spread_v or
+                                                          (bled >> k & 1 and over > self.spread_off_v)):
+                    best, at = over, k
+            if at < 0:
+                break
+            mask |= 1 << at
+        return mask
+
     def ceiling_reason(self, chemistry: str, cell_voltages, current_a: float, own_a: float,
                        bleed_a=None) -> str | None:
         """The end reason of a charge held at the ceiling: a cell read (to 1 mV) at the chemistry's ceiling
@@ -82,6 +153,18 @@ class BalancerSpec:
         if ceiling is None or own_a < 0.0 or net * 10.0 > own_a or round(top, 3) < ceiling:
             return None
         return f"balancer: cell {at + 1} reached {ceiling:.2f}V (ceiling)"
+
+
+@dataclass
+class BalanceWindow:
+    """A balancer's windows from tick to tick (zm_window_t), new at each phase's start."""
+
+    mask: int = 0                  # the cells bleeding now (bit k-1: cell k)
+    bled: int = 0                  # the cells that bled in the last window
+    first: bool = False            # the window's first tick: its drops not measured yet
+    t: float = 0.0                 # seconds in the window, or with the loads off
+    before: list = field(default_factory=list)
+    drop: list = field(default_factory=list)
 
 
 def load_charger(name: str = "imax_b6") -> ChargerLimits:
@@ -128,11 +211,16 @@ def _from_toml(parsed: dict) -> ChargerLimits:
 def _balancer(bal: dict) -> BalancerSpec:
     r, amps = bal.get("bleed_r_ohm"), bal.get("bleed_a")
     spec = BalancerSpec(None if r is None else float(r), None if amps is None else float(amps), str(bal["during"]),
-                        float(bal["spread_v"]), {str(k): float(v) for k, v in bal["ceiling_v"].items()})
+                        float(bal["spread_v"]), {str(k): float(v) for k, v in bal["ceiling_v"].items()},
+                        float(bal.get("window_s", 0.0)), float(bal.get("settle_s", 0.0)),
+                        float(bal.get("spread_off_v", 0.0)), int(bal.get("max_bleeders", 0)),
+                        {str(k): float(v) for k, v in bal.get("from_v", {}).items()})
     if (r is None) == (amps is None) or (spec.bleed_r_ohm or spec.bleed_a or 0.0) <= 0.0:
         raise ValueError(_("balancer: give bleed_r_ohm or bleed_a (one of them, > 0)"))
     if spec.during not in ("charge", "cv") or spec.spread_v < 0.0:
         raise ValueError(_("balancer: during must be \"charge\" or \"cv\", spread_v >= 0"))
+    if spec.window_s and (spec.window_s < 0.0 or spec.settle_s < 0.0 or spec.max_bleeders < 1):
+        raise ValueError(_("balancer: window_s and settle_s >= 0 s, max_bleeders >= 1"))
     if not all(0.0 < v < 10.0 for v in spec.ceiling_v.values()):
         raise ValueError(_("balancer: each ceiling_v must be 0..10 V"))
     return spec

@@ -81,7 +81,8 @@ class _Charger(ctypes.Structure):
 
 class _Balancer(ctypes.Structure):
     _fields_ = [("on", _I32), ("cv_only", _I32), ("bleed_r_ohm", _D), ("bleed_a", _D), ("spread_v", _D),
-                ("ceiling_v", _D)]
+                ("ceiling_v", _D), ("window_s", _D), ("settle_s", _D), ("spread_off_v", _D), ("from_v", _D),
+                ("max_bleeders", _I32)]
 
 
 class _Event(ctypes.Structure):
@@ -211,8 +212,10 @@ def _c_balancer(it: Interpreter) -> _Balancer:
     spec = it._balancer           # the interpreter's own decision: unequal cells, a chemistry with a ceiling
     if spec is None:
         return _Balancer()
+    chem = it.pack.chem.name
     return _Balancer(1, int(spec.during == "cv"), spec.bleed_r_ohm or 0.0, spec.bleed_a or 0.0, spec.spread_v,
-                     spec.ceiling_v[it.pack.chem.name])
+                     spec.ceiling_v[chem], spec.window_s, spec.settle_s, spec.spread_off_v, spec.from_v.get(chem, 0.0),
+                     spec.max_bleeders)
 
 
 def _set_templates(lib: ctypes.CDLL, templates: Mapping[int, StartTemplate]) -> None:

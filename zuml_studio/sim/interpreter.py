@@ -16,7 +16,7 @@ from ..lang.formatter import format_args
 from ..lang.opcodes import canonical_text
 from ..lang.operands import CURRENT, INPUT_U16, VOLTAGE, absolute_value
 from .battery import Pack
-from .charger_model import Charger
+from .charger_model import BalanceWindow, Charger
 from .chemistry import load_chemistry
 from .delta_peak import DeltaPeakDetector
 from .program import CommandStep, DefaultDischarge, PhaseCode, Program, SectionStart
@@ -34,6 +34,7 @@ DEFAULT_CAPACITY_FACTOR = 1.5
 DEFAULT_DISCHARGE_A = 0.1
 # dT/dt as cheali-charger measures it: the temperature change over a 60 s window, not before 2 min.
 DTDT_WINDOW_S = 60.0
+HOLDING_V = 0.05            # a CV phase within this of its voltage holds it: the B6 balances there (engine.c)
 DTDT_HOLDOFF_S = 120.0
 # Not a charger rule: a simulation of a macro that never ends stops here, and says so. The
 # charger sets no limit of its own (cheali's time limit defaults to unlimited; tm and tf are
@@ -188,7 +189,7 @@ class _Active:
     default_end_v: float | None = None                  # empty discharge section
     by_timer: bool = False                              # ended by IF(tf>x) or IF(tm>x)
     bled_ticks: list = field(default_factory=list)      # per cell: ticks the balancer bled it
-    mask: int = 0                                       # the cells bleeding now (bit k-1: cell k), across runs of ticks
+    window: BalanceWindow = field(default_factory=BalanceWindow)   # the balancer's, across runs of ticks
 
 
 class Interpreter:
@@ -398,7 +399,8 @@ class Interpreter:
         ceiling_v = ceiling.ceiling_v[pack.chem.name] if ceiling is not None else None
         per_cell = self._per_cell
         chem_name = pack.chem.name
-        mask = a.mask
+        window = a.window
+        mask = window.mask
         bled = a.bled_ticks
         run_no = a.result.run
         pauses = a.result.pauses
@@ -408,7 +410,11 @@ class Interpreter:
             hs = charger.heatsink_c
             if per_cell:
                 # decided on the cells' last readings, bleeding over this tick
-                mask = a.mask = bleeder.mask(pack.cell_voltages, mask) if bleeder is not None and not self.paused else 0
+                if bleeder is not None and not self.paused:
+                    mask = bleeder.window(window, pack.cell_voltages, dt, mode == _CV and a.charging and
+                                          pack.voltage >= a.v_set - HOLDING_V, chem_name)
+                else:
+                    mask = window.mask = 0
                 pack.set_bleed(mask, bleeder)
             if self.paused:
                 if hs < self.tc_continue:

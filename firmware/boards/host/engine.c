@@ -10,6 +10,7 @@
 #include "engine.h"
 #include "host.h"
 
+#define HOLDING_V 0.05             /* a CV phase within this of its voltage holds it: the B6 balances there */
 #define EVENT_ROOM 300             /* the most events one tick can make: a phase end, ~128 commands, a start */
 
 static ze_run_t *cur;              /* the run the event sink writes to (one run at a time: host.c is one board) */
@@ -17,7 +18,7 @@ static ze_run_t *cur;              /* the run the event sink writes to (one run 
 static struct {
     double phase_q_in, phase_q_out, measured_v, clip_asked, clip_given, clip_v, clipped_s;
     int32_t clip_set, bleeder, ceiling;
-    uint32_t mask;
+    zm_window_t win;
     int64_t bled[ZM_MAX_CELLS];
 } ph;
 
@@ -161,8 +162,12 @@ int32_t ze_run(ze_run_t *e, int32_t max_ticks)
         }
         if (e->per_cell) {
             /* decided on the cells' last readings, bleeding over this tick */
-            ph.mask = ph.bleeder && !was_paused ? zm_balance_mask(bal, p->cell_voltages, cells, ph.mask) : 0;
-            set_bleed(p, ph.mask, bal);
+            if (ph.bleeder && !was_paused)
+                zm_balance_window(bal, &ph.win, p->cell_voltages, cells, dt,
+                                  out.kind == HAL_VOLTAGE_CHARGE && p->voltage >= out.voltage_uv / 1e6 - HOLDING_V);
+            else
+                ph.win.mask = 0;
+            set_bleed(p, ph.win.mask, bal);
         }
         if (out.kind == HAL_CURRENT) {
             i = out.current_ua / 1e6;
@@ -221,10 +226,10 @@ int32_t ze_run(ze_run_t *e, int32_t max_ticks)
             int32_t k;
             for (k = 0; k < cells; k++) {
                 e->cells[(int64_t)n * cells + k] = (float)p->cell_voltages[k];
-                if (ph.mask >> k & 1)
+                if (ph.win.mask >> k & 1)
                     ph.bled[k]++;
             }
-            e->balance_mask[n] = ph.mask;
+            e->balance_mask[n] = ph.win.mask;
         }
         zh_set_ceiling(ph.ceiling ? zm_ceiling_cell(bal, p->cell_voltages, cells, i, own, p->bleed_a) : 0, ceiling_uv);
         running = zh_measure(fixed(v), fixed(i), fixed(temp), fixed(hs), fixed(ocv));
