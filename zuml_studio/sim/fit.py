@@ -12,6 +12,7 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
+from . import engine
 from .battery import Pack
 from .cell_pack import CellPack, CellSpec, build_pack
 from .chemistry import Chemistry, load_chemistry
@@ -149,6 +150,9 @@ def simulate_curve(battery: Battery, curve: Curve, cv: np.ndarray, start_soc: fl
     ``pack``: the model to drive (left in its end state for the caller), else a new one from ``battery``."""
     pack = pack or battery.pack(start_soc, curve.ambient_c)
     n = len(curve.t)
+    if engine.drivable(pack):
+        # The same steps in C (bit for bit, tests/sim/test_drive.py): a fit runs this hundreds of times.
+        return Run(*engine.drive(pack, track(curve, cv)))
     v = np.empty(n)
     i = np.empty(n)
     temp = np.empty(n)
@@ -166,9 +170,39 @@ def simulate_curve(battery: Battery, curve: Curve, cv: np.ndarray, start_soc: fl
     return Run(v, i, temp)
 
 
+_tracks: list = [None]      # the last curve driven, its hold mask and its track: a fit drives one curve many times
+
+
+def track(curve: Curve, cv: np.ndarray) -> engine.Track:
+    """The curve as `simulate_curve` steps it in C: its first sample over 1 ms (as the model's first voltage),
+    where ``cv`` held by the log's voltage (never the first)."""
+    key = np.asarray(cv, bool).tobytes()
+    last = _tracks[0]
+    if last is not None and last[0] is curve and last[1] == key:
+        return last[2]
+    n = len(curve.t)
+    dt = np.empty(n)
+    dt[0] = 1e-3
+    dt[1:] = np.diff(curve.t)
+    held = np.asarray(cv, bool).copy()
+    held[0] = False
+    made = engine.Track(dt, curve.i, curve.v, held)
+    _tracks[0] = (curve, key, made)
+    return made
+
+
 def smooth(t: np.ndarray, y: np.ndarray, window_s: float = _SMOOTH_S) -> np.ndarray:
+    return smoothed(y, smooth_window(t, window_s))
+
+
+def smooth_window(t: np.ndarray, window_s: float = _SMOOTH_S) -> int:
+    """The moving average's width in samples of ``t`` (its median step)."""
     dt = float(np.median(np.diff(t))) if len(t) > 1 else 1.0
-    w = max(1, int(round(window_s / max(dt, 1e-3))))
+    return max(1, int(round(window_s / max(dt, 1e-3))))
+
+
+def smoothed(y: np.ndarray, w: int) -> np.ndarray:
+    """``y``'s moving average over ``w`` samples, its ends held."""
     if w <= 1 or len(y) < w:
         return y.copy()
     kernel = np.ones(w) / w
@@ -279,34 +313,46 @@ def fitted_chemistry(chem: Chemistry, values: dict) -> Chemistry:
     return replace(chem, ocv_v=ocv, r0_ohm=chem.r0_ohm * r, r1_ohm=chem.r1_ohm * r, **own)
 
 
-def _residuals(curve: Curve, run: Run, cv: np.ndarray, series: int, chemistry: str, peak_real,
-               with_temp: bool = True) -> np.ndarray:
-    """Each part weighted so its sum of squares is its mean square in the units of the issue's limits."""
-    parts = []
-    cc = measured(curve, cv)
-    if cc.any():
-        parts.append((run.v[cc] - curve.v[cc]) / series * 1000.0 / math.sqrt(cc.sum()))
-    if cv.any():
-        # 10 % of the CC current weighs as much as 15 mV per cell (the two Li limits).
-        parts.append((run.i[cv] - curve.i[cv]) / cc_current(curve, cv) * 150.0 / math.sqrt(cv.sum()))
-    if curve.temp is not None:
-        parts.append((run.temp - curve.temp) * _TEMP_WEIGHT / math.sqrt(len(curve.t)))
-    if curve.temp is not None and peak_real is not None:
-        # NiCd/NiMH's rise itself (an issue figure): it comes in the last minutes, which weigh little
-        # among all the samples.
-        rise = (float(run.temp.max() - run.temp[0]) - float(curve.temp.max() - curve.temp[0])) * _RISE_WEIGHT
-        parts.append(np.array([rise]))
-    if peak_real is not None:
-        model_mah, model_dv = peak(curve.t[cc], run.v[cc], curve.mah[cc], series)
-        parts.append(np.array([(model_mah - peak_real[0]) / max(peak_real[0], 1.0) * 400.0,
-                               (model_dv - peak_real[1]) * 12.0]))
-        # The fall after the real peak, point by point: unlike the peak figures it changes smoothly
-        # with the parameters, so the optimiser finds a dip even from a model that has none.
-        k, real_tail = peak_real[2], peak_real[3]
-        model_s = smooth(curve.t[cc], run.v[cc])
-        tail = (model_s[k:] - model_s[k]) - real_tail
-        parts.append(tail / series * 1000.0 * _TAIL_WEIGHT / math.sqrt(len(tail)))
-    return np.concatenate(parts)
+class Residuals:
+    """A charge's residuals for a model's run along ``curve``, each part weighted so its sum of squares is its
+    mean square in the units of the issue's limits; what does not depend on the run is computed once (a fit
+    calls this hundreds of times). ``peak_real``: the log's peak figures (NiCd/NiMH), else None."""
+
+    def __init__(self, curve: Curve, cv: np.ndarray, series: int, peak_real) -> None:
+        self.curve, self.cv, self.series, self.peak_real = curve, cv, series, peak_real
+        self.cc = measured(curve, cv)
+        self.i_cc = cc_current(curve, cv)
+        self.t_cc, self.mah_cc = curve.t[self.cc], curve.mah[self.cc]
+        self.window = smooth_window(self.t_cc)
+
+    def __call__(self, run: Run, end_terms: bool) -> np.ndarray:
+        curve, cv, cc, series = self.curve, self.cv, self.cc, self.series
+        peak_real = self.peak_real if end_terms else None
+        parts = []
+        if cc.any():
+            parts.append((run.v[cc] - curve.v[cc]) / series * 1000.0 / math.sqrt(cc.sum()))
+        if cv.any():
+            # 10 % of the CC current weighs as much as 15 mV per cell (the two Li limits).
+            parts.append((run.i[cv] - curve.i[cv]) / self.i_cc * 150.0 / math.sqrt(cv.sum()))
+        if curve.temp is not None:
+            parts.append((run.temp - curve.temp) * _TEMP_WEIGHT / math.sqrt(len(curve.t)))
+        if curve.temp is not None and peak_real is not None:
+            # NiCd/NiMH's rise itself (an issue figure): it comes in the last minutes, which weigh little
+            # among all the samples.
+            rise = (float(run.temp.max() - run.temp[0]) - float(curve.temp.max() - curve.temp[0])) * _RISE_WEIGHT
+            parts.append(np.array([rise]))
+        if peak_real is not None:
+            model_s = smoothed(run.v[cc], self.window)
+            k = int(np.argmax(model_s))
+            model_mah, model_dv = float(self.mah_cc[k]), float((model_s[k] - model_s[-1]) / series * 1000.0)
+            parts.append(np.array([(model_mah - peak_real[0]) / max(peak_real[0], 1.0) * 400.0,
+                                   (model_dv - peak_real[1]) * 12.0]))
+            # The fall after the real peak, point by point: unlike the peak figures it changes smoothly
+            # with the parameters, so the optimiser finds a dip even from a model that has none.
+            k, real_tail = peak_real[2], peak_real[3]
+            tail = (model_s[k:] - model_s[k]) - real_tail
+            parts.append(tail / series * 1000.0 * _TAIL_WEIGHT / math.sqrt(len(tail)))
+        return np.concatenate(parts)
 
 
 def ocv_prior(values: dict) -> np.ndarray:
@@ -349,12 +395,13 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
         real_peak = (*peak(work.t[use], work.v[use], work.mah[use], series), k_peak,
                      real_s[k_peak:] - real_s[k_peak])
 
+    parts = Residuals(work, cv, series, real_peak)
+
     def solve(free: list[Param], begin: dict, end_terms: bool):
         def residuals(values: dict) -> np.ndarray:
             battery = Battery(fitted_chemistry(chem, values), values["capacity_mah"], series)
             run = simulate_curve(battery, work, cv, values.get("start_soc", 0.0))
-            return np.concatenate((_residuals(work, run, cv, series, chemistry, real_peak if end_terms else None,
-                                              with_temp=end_terms), ocv_prior(values)))
+            return np.concatenate((parts(run, end_terms), ocv_prior(values)))
         return solve_params(free, begin, residuals, max_nfev, lambda exc: start_error(curve, chemistry, exc))
 
     # The capacity and start state first, with the chemistry's defaults: that is the default
