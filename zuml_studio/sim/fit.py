@@ -8,6 +8,7 @@ and the weights: docs/fit.md; how well it does on real recordings: docs/validati
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass, fields, replace
 
 import numpy as np
@@ -461,7 +462,7 @@ def solve_params(free: list[Param], begin: dict, residuals, max_nfev: int | None
     """Move the ``free`` parameters from ``begin`` (the others held) to the least squares of
     ``residuals(values)``: (values, cost, evaluations). ``cannot_start(exc)`` is the error raised where
     the model gives no finite residual at the start."""
-    from scipy.optimize import least_squares   # lazy: scipy costs start-up time
+    least_squares = solver()
 
     def to_x(values: dict) -> np.ndarray:
         return np.array([math.log(values[p.name]) if p.log else values[p.name] for p in free])
@@ -478,6 +479,15 @@ def solve_params(free: list[Param], begin: dict, residuals, max_nfev: int | None
     except ValueError as exc:      # scipy's words ("Residuals are not finite in the initial point")
         raise cannot_start(exc) from None
     return values_of(sol.x), sol.cost, int(sol.nfev)
+
+
+def solver():
+    """scipy's ``least_squares``, imported on a fit's first use (scipy costs start-up time), its OpenBLAS on one
+    thread unless the user set it: a fit's SVDs are of a few columns, and threads fighting for a loaded machine's
+    cores made one fit 18 s instead of 2 (benchmarks/bench_fit.py)."""
+    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+    from scipy.optimize import least_squares
+    return least_squares
 
 
 def start_error(curve: Curve, chemistry: str, exc: ValueError) -> CurveError:
