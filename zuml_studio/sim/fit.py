@@ -18,7 +18,7 @@ from .battery import Pack
 from .cell_pack import CellPack, CellSpec, build_pack
 from .chemistry import Chemistry, load_chemistry
 from .curve import Curve, CurveError, require_charge
-from .fit_checks import coverage, heat_check
+from .fit_checks import HEAT_PARAMS, coverage, heat_check
 from ..i18n import _
 
 NI = ("NiCd", "NiMh")
@@ -244,6 +244,21 @@ def figures(curve: Curve, run: Run, cv: np.ndarray, series: int, chemistry: str)
     return out
 
 
+def quality(report: dict, curve: Curve, held: np.ndarray) -> dict:
+    """The fit's quality per quantity it was fitted to, each RMSE with its unit and the window it is taken over
+    (s from the curve's start): what every fitted figure is to be read with (issue 35 §4). ``held``: the samples
+    where the current is compared (a charge's CV, a discharge's hold)."""
+    span = report["window_s"]
+    out = {"voltage": {"rmse": report["rmse_v_per_cell_mv"], "unit": "mV/cell", "window_s": span}}
+    if report["rmse_i_cv_pct"] is not None:
+        at = np.flatnonzero(held)
+        out["held_current"] = {"rmse": report["rmse_i_cv_pct"], "unit": "% of the constant current",
+                               "window_s": [round(float(curve.t[at[0]]), 1), round(float(curve.t[at[-1]]), 1)]}
+    if report["rmse_temp_c"] is not None:
+        out["temperature"] = {"rmse": report["rmse_temp_c"], "unit": "°C", "window_s": span}
+    return out
+
+
 def temp_rise(temp: np.ndarray) -> float:
     """The highest temperature over the first one (°C)."""
     return round(float(np.max(temp) - temp[0]), 2)
@@ -380,6 +395,11 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
     cv = cv_mask(work, chemistry)
     mah = float(work.mah[-1])
     params = list(COMMON_PARAMS[:2] if only_capacity else COMMON_PARAMS + _FAMILY[family(chemistry)])
+    if curve.temp is None:
+        # Without a probe nothing fixes the heat terms: fitted to the voltage alone they took any value (the
+        # eStation NiMH pack's heat loss at its bound, 20 °C of warming at 1 A, a charge its macro then ended
+        # by dT/dt after 35 min). The chemistry's own are kept.
+        params = [p for p in params if p.name not in HEAT_PARAMS]
     params[0] = Param("capacity_mah", max(mah * 0.5, 1.0), mah * 20.0, True)
     start = {"capacity_mah": min(max(mah * 1.05, params[0].lo * 1.01), params[0].hi * 0.99),
              "start_soc": 0.05, "r_scale": 1.0, "ocv_offset_v": 0.0, "ocv_scale": 1.0}
@@ -425,12 +445,13 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
         # Then the shape of the charge (OCV, resistance, the end-of-charge climb) from the voltage
         # alone, then everything with the peak, the dip and the temperature. Fitting all at once
         # stalls where the model has no peak (the peak terms are flat there).
-        shape = [p for p in params if p.name not in ("k_t_v_per_k", "ha_w_per_k", "cth_j_per_k")]
+        shape = [p for p in params if p.name not in HEAT_PARAMS]
+        # The second start: a strong overcharge dip and (where the heat terms are fitted) almost no voltage per kelvin.
+        other = {"dip_v_per_charge": 0.5, **({"k_t_v_per_k": 0.001} if len(shape) < len(params) else {})}
         best = None
         for r_scale in (1.0, _NI_R_START):
             first, _, n1 = solve(shape, {**values, "r_scale": r_scale}, False)
-            candidates = [solve(params, first, True),
-                          solve(params, {**first, "k_t_v_per_k": 0.001, "dip_v_per_charge": 0.5}, True)]
+            candidates = [solve(params, first, True), solve(params, {**first, **other}, True)]
             nfev += n1 + sum(c[2] for c in candidates)
             best = min(candidates + ([best] if best else []), key=lambda c: c[1])
             # A fit within the issue's limit is done; one that misses it begins again from _NI_R_START
@@ -453,6 +474,7 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
     report["coverage"] = coverage(chem, (float(curve.v[use[0]]) / series, float(curve.v[use[-1]]) / series),
                                   float(curve.mah[-1]), values["capacity_mah"], values["start_soc"], chemistry in LI)
     report["heat"] = heat_check(report["temp_rise"], "ha_w_per_k" in values)
+    report["quality"] = quality(report, curve, full_cv)
     return FitResult(battery, chemistry, {k: round(v, 6) for k, v in values.items()}, report, run, curve, full_cv,
                      nfev)
 

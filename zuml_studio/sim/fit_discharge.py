@@ -18,7 +18,7 @@ from .chemistry import Chemistry, load_chemistry
 from .curve import Curve, require_discharge
 from .fit_checks import coverage, delivered_check, heat_check
 from .fit import (COMMON_PARAMS, LI, NI, Battery, FitResult, Param, Run, at_bounds, check_series, fit, fit_samples,
-                  fitted_chemistry, guess_series, ocv_prior, rmse_temp, simulate_curve, soc_at_ocv, solve_params,
+                  fitted_chemistry, guess_series, ocv_prior, quality, rmse_temp, simulate_curve, soc_at_ocv, solve_params,
                   start_error, temp_rise)
 
 _PAUSE_FRACTION = 0.5        # samples below this share of the discharge current are pauses, not compared
@@ -317,6 +317,7 @@ def fit_discharge(curve: Curve, chemistry: str, series: int, *, only_capacity: b
     report["coverage"] = coverage(chem, (float(curve.v[use[0]]) / series, float(curve.v[use[-1]]) / series), real_mah,
                                   values["capacity_mah"], values["start_soc"], chemistry in LI)
     report["heat"] = heat_check(report["temp_rise"], any(p.name == "ha_w_per_k" for p in params))
+    report["quality"] = quality(report, curve, hold_mask(curve))
     return FitResult(battery, chemistry, {k: round(v, 6) for k, v in values.items()}, report, run, curve,
                      hold_mask(curve), nfev)
 
