@@ -58,13 +58,15 @@ def test_heat_terms_are_not_fitted_without_a_probe():
     assert (result.battery.chem.ha_w_per_k, result.battery.chem.cth_j_per_k, result.battery.chem.k_t_v_per_k) == (
         chem.ha_w_per_k, chem.cth_j_per_k, chem.k_t_v_per_k)
     prediction = predict_own(result)
-    assert prediction["why"].startswith("IF(DELTA_PEAK")
+    assert prediction["why"].startswith("IF(DELTA_PEAK") and prediction["ended_by"] == "own_end"
 
 
 def test_a_prediction_far_off_says_not_to_trust_the_model_and_why():
     far = {"real_mah": 2800.0, "model_mah": 617.0, "charge_error_pct": -78.0, "real_s": 10000.0, "model_s": 1080.0,
-           "time_error_pct": -89.2, "trusted": False, "why": "IF(DELTA_PEAK>0.04V) STOP_FAZE"}
+           "time_error_pct": -89.2, "trusted": False, "why": "IF(DELTA_PEAK>0.04V) STOP_FAZE", "ended_by": "own_end"}
     words = trust_words(far)
     assert "do not trust" in words and "617" in words and "2800" in words and "-78 %" in words
-    assert "18 min" in words and "DELTA_PEAK" in words and f"{TRUST_PCT:g} %" in words
+    assert "ends there after 18 min: IF(DELTA_PEAK>0.04V)" in words and f"{TRUST_PCT:g} %" in words
+    assert "never reaches the log's own end" in trust_words({**far, "ended_by": "backup"})
+    assert "the charger's own limit ends it" in trust_words({**far, "ended_by": "charger", "why": "default: T>60"})
     assert trust_words({**far, "trusted": True}) is None and trust_words(None) is None

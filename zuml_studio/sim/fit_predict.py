@@ -53,8 +53,9 @@ def own_program(result: FitResult) -> tuple[str, StartParams] | None:
 
 def predict_own(result: FitResult) -> dict | None:
     """The fitted model on its log's own program: ``{"real_mah", "model_mah", "charge_error_pct", "real_s",
-    "model_s", "time_error_pct", "trusted", "why"}`` (``why``: the model's end, English as the phase-end reasons
-    are); None where the log's end is no program's (``own_program``)."""
+    "model_s", "time_error_pct", "trusted", "why", "ended_by"}`` (``why``: the model's end, English as the phase-end
+    reasons are; ``ended_by``: "own_end", "backup" (the program's timer at twice the log's time: the model never got
+    to the log's end) or "charger" (a limit of its own)); None where the log's end is no program's (``own_program``)."""
     from ..lang.compiler import compile_source     # the compiler only where a prediction is asked for
 
     made = own_program(result)
@@ -82,25 +83,32 @@ def predict_own(result: FitResult) -> dict | None:
     charge_off = (model_mah / real_mah - 1.0) * 100.0 if real_mah else 0.0
     time_off = (model_s / real_s - 1.0) * 100.0 if real_s else 0.0
     last = it.phases[-1] if it.phases else None
+    why = (last.reason if last else "") or it.end_reason
+    # What ended it: the log's own end, the program's backup timer (the model never got there), or a limit of
+    # the charger's own (its dT/dt, capacity or temperature end: "default: ...").
+    ended_by = "backup" if why.startswith("IF(tf>") else "charger" if why.startswith("default") else "own_end"
     return {"real_mah": round(real_mah, 1), "model_mah": round(model_mah, 1), "charge_error_pct": round(charge_off, 1),
             "real_s": round(real_s, 1), "model_s": round(model_s, 1), "time_error_pct": round(time_off, 1),
-            "trusted": bool(abs(charge_off) <= TRUST_PCT), "why": (last.reason if last else "") or it.end_reason}
+            "trusted": bool(abs(charge_off) <= TRUST_PCT), "why": why, "ended_by": ended_by}
 
 
 def trust_words(prediction: dict | None) -> str | None:
     """Why the model is not to be trusted for this pack, in the user's language (None: it may be)."""
     if prediction is None or prediction["trusted"]:
         return None
+    how = {"own_end": _("it ends there after {minutes} min: {why}"),
+           "backup": _("it never reaches the log's own end: the program's timer stops it after {minutes} min"),
+           "charger": _("the charger's own limit ends it after {minutes} min: {why}")}[prediction.get("ended_by", "own_end")]
     return _("⚠ do not trust this model for this pack: on the program its own log ran it predicts {model} mAh where "
-             "the log has {real} mAh ({off}; more than ±{limit} % off), ending after {minutes} min "
-             "({why})").format(model=f"{prediction['model_mah']:.0f}", real=f"{prediction['real_mah']:.0f}",
-                              off=f"{prediction['charge_error_pct']:+.0f} %", limit=f"{TRUST_PCT:g}",
-                              minutes=f"{prediction['model_s'] / 60:.0f}", why=prediction["why"])
+             "the log has {real} mAh ({off}; more than ±{limit} off); {how}").format(
+        model=f"{prediction['model_mah']:.0f}", real=f"{prediction['real_mah']:.0f}",
+        off=f"{prediction['charge_error_pct']:+.0f} %", limit=f"{TRUST_PCT:g} %",
+        how=how.format(minutes=f"{prediction['model_s'] / 60:.0f}", why=prediction["why"]))
 
 
 def prediction_line(prediction: dict) -> str:
     """The prediction next to the log's figure, in the user's language."""
-    return _("on its own log's program: {model} mAh predicted, {real} mAh logged ({off}); end after {m_min} min "
+    return _("On its own log's program: {model} mAh predicted, {real} mAh logged ({off}); end after {m_min} min "
              "predicted, {r_min} min logged").format(
         model=f"{prediction['model_mah']:.0f}", real=f"{prediction['real_mah']:.0f}",
         off=f"{prediction['charge_error_pct']:+.1f} %", m_min=f"{prediction['model_s'] / 60:.0f}",
