@@ -51,7 +51,7 @@ def _load() -> str:
 def main() -> int:
     samples = Path(sys.argv[1]) if len(sys.argv) > 1 else Path("/work/shared/realdata/samples")
     training = tomllib.loads((CURVES / "training.toml").read_text())
-    worst, slowest = 0.0, (0.0, "")
+    worst, slowest, cpu_most = 0.0, (0.0, ""), 0.0
     for name, entry in training.items():
         curve = read_curve(CURVES / f"{name}.csv")
         wall, result = _timed(lambda: fit_curve(curve, entry["chemistry"], entry["cells"]))
@@ -59,6 +59,7 @@ def main() -> int:
         per_2h = wall * min(1.0, 2.0 / max(hours, 1e-6)) if hours > 2 else wall
         worst = max(worst, per_2h)
         slowest = max(slowest, (wall, name))
+        cpu_most = max(cpu_most, _cpu[0])
         print(f"{name:30s} {curve.direction:9s} {hours:5.1f} h  {wall:6.2f} s (CPU {_cpu[0]:.2f} s)  RMSE "
               f"{result.figures['rmse_v_per_cell_mv']} mV/cell")
     log = samples / "dataexplorer" / "UltramatACDCEQ_2014-09-16_4S_NiMH_cycle.osd"
@@ -78,7 +79,8 @@ def main() -> int:
     verdict = "meets" if worst <= TARGET_2H_S else "MISSES"
     print(f"slowest fit per 2 h of curve: {worst:.2f} s ({verdict} the {TARGET_2H_S:g} s target)")
     verdict = "meets" if slowest[0] <= TARGET_ONE_S else "MISSES"
-    print(f"slowest single fit: {slowest[1]} {slowest[0]:.2f} s ({verdict} issue 35's {TARGET_ONE_S:g} s; {_load()})")
+    print(f"slowest single fit: {slowest[1]} {slowest[0]:.2f} s ({verdict} issue 35's {TARGET_ONE_S:g} s; {_load()}); "
+          f"the most CPU a single fit took: {cpu_most:.2f} s")
     t0, c0 = time.perf_counter(), time.process_time()
     for _ in range(10):
         fit_curve(curve, "NiMh", 4)
