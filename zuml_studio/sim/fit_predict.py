@@ -51,17 +51,20 @@ def own_program(result: FitResult) -> tuple[str, StartParams] | None:
     return f"MACRO own\n  AKK_TYPE={chemistry}\n{body}END_MACRO\n", params
 
 
-def predict_own(result: FitResult) -> dict | None:
+def predict_own(result: FitResult, sensor: bool | None = None) -> dict | None:
     """The fitted model on its log's own program: ``{"real_mah", "model_mah", "charge_error_pct", "real_s",
     "model_s", "time_error_pct", "trusted", "why", "ended_by"}`` (``why``: the model's end, English as the phase-end
     reasons are; ``ended_by``: "own_end", "backup" (the program's timer at twice the log's time: the model never got
-    to the log's end) or "charger" (a limit of its own)); None where the log's end is no program's (``own_program``)."""
+    to the log's end) or "charger" (a limit of its own)); None where the log's end is no program's (``own_program``).
+    ``sensor``: run with a temperature sensor or without (default: as the log had one)."""
     from ..lang.compiler import compile_source     # the compiler only where a prediction is asked for
 
     made = own_program(result)
     if made is None:
         return None
     text, params = made
+    if sensor is not None:
+        params = replace(params, sensor=sensor)
     compiled = compile_source(text)
     if not compiled.ok:
         return None
