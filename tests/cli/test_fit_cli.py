@@ -12,14 +12,25 @@ CURVES = ROOT / "tests" / "data" / "curves"
 LOGS = ROOT / "tests" / "data" / "logs"
 FIGURE_KEYS = {"direction", "rmse_v_per_cell_mv", "rmse_i_cv_pct", "rmse_temp_c", "peak", "temp_rise", "window_s"}
 CLAIM_KEYS = {"coverage", "heat", "withheld"}      # what a fit may claim (issue 35 §2)
+QUALITY_KEYS = {"quality", "own_program"}          # its quality per quantity and its own log predicted (issue 35 §4)
 
 
 def test_fit_json_has_exactly_the_issue_keys_and_nulls_where_the_log_has_no_part(zuml):
     rc, out, err = zuml("fit", str(CURVES / "lipo_4s_406duo_3c.csv"), "--chemistry", "LiPo", "--cells", "4", "--json")
     assert rc == 0, err
     data = json.loads(out)
-    assert set(data) == {"params", "at_bound", "cells", "cells_guessed", "cell_fit"} | FIGURE_KEYS | CLAIM_KEYS
+    assert set(data) == {"params", "at_bound", "cells", "cells_guessed", "cell_fit"} | FIGURE_KEYS | CLAIM_KEYS | \
+        QUALITY_KEYS
     assert data["peak"] is None                       # no -dV peak in a Li charge
+    # Each quantity's RMSE with its unit and window, next to the figures: the voltage over the whole charge, the
+    # current where the charger held the voltage, the temperature.
+    q = data["quality"]
+    assert set(q) == {"voltage", "held_current", "temperature"}
+    assert q["voltage"] == {"rmse": data["rmse_v_per_cell_mv"], "unit": "mV/cell", "window_s": data["window_s"]}
+    assert q["held_current"]["rmse"] == data["rmse_i_cv_pct"] and q["temperature"]["rmse"] == data["rmse_temp_c"]
+    assert data["window_s"][0] < q["held_current"]["window_s"][0] < q["held_current"]["window_s"][1]
+    own = data["own_program"]
+    assert abs(own["charge_error_pct"]) <= 10 and abs(own["time_error_pct"]) <= 10 and own["trusted"]
     assert set(data["temp_rise"]) == {"real_c", "model_c", "real_window_s", "model_window_s"}
     assert data["rmse_v_per_cell_mv"] <= 15 and data["rmse_i_cv_pct"] <= 10
     assert {"capacity_mah", "start_soc", "r_scale", "ocv_offset_v", "ocv_scale"} <= set(data["params"])
@@ -34,7 +45,9 @@ def test_fit_of_a_nimh_log_reports_the_peak_and_reads_the_charger_file_itself(zu
     data = json.loads(out)
     assert set(data["peak"]) == {"real_mah", "model_mah", "real_dv_mv_per_cell", "model_dv_mv_per_cell"}
     assert data["temp_rise"] is None and data["rmse_i_cv_pct"] is None
-    assert {"w0", "dv_o2_v", "k_t_v_per_k", "ha_w_per_k"} <= set(data["params"])
+    assert {"w0", "dv_o2_v", "dip_v_per_charge"} <= set(data["params"])
+    # No probe in the log: nothing fixes the heat terms, they keep the chemistry's (issue 35 §4).
+    assert not {"k_t_v_per_k", "ha_w_per_k", "cth_j_per_k"} & set(data["params"])
 
 
 def test_fit_reads_a_charger_log_through_the_log_readers(zuml):
@@ -95,7 +108,8 @@ def test_fit_runs_as_a_user_runs_it():
     rc, out, err = run_zuml("fit", str(CURVES / "life_2s_308duo_05c.csv"), "--chemistry", "LiFe", "--cells", "2",
                             "--json")
     assert rc == 0, err
-    assert set(json.loads(out)) == {"params", "at_bound", "cells", "cells_guessed", "cell_fit"} | FIGURE_KEYS | CLAIM_KEYS
+    assert set(json.loads(out)) == {"params", "at_bound", "cells", "cells_guessed", "cell_fit"} | FIGURE_KEYS | \
+        CLAIM_KEYS | QUALITY_KEYS
 
 
 def test_a_charge_too_short_for_the_fit_steps_is_one_line(zuml, tmp_path):
@@ -221,7 +235,7 @@ def test_fit_json_of_a_discharge_only_log_says_its_direction_and_capacity(zuml):
     assert rc == 0, err
     data = json.loads(out)
     assert set(data) == {"params", "at_bound", "cells", "cells_guessed", "cell_fit", "capacity",
-                         "weak_cell"} | FIGURE_KEYS | CLAIM_KEYS
+                         "weak_cell"} | FIGURE_KEYS | CLAIM_KEYS | QUALITY_KEYS
     assert data["weak_cell"] is None                  # its voltage shows no cell's step
     assert data["direction"] == "discharge" and data["peak"] is None and data["rmse_i_cv_pct"] is None
     real, model = data["capacity"]["real_mah"], data["capacity"]["model_mah"]

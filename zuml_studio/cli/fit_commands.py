@@ -15,6 +15,7 @@ from ..sim.fit_cells import fit_cells
 from ..sim.fit_cells_report import cell_lines
 from ..sim.fit_discharge import fit_curve
 from ..sim.fit_checks import withheld
+from ..sim.fit_predict import predict_own, prediction_line, trust_words
 from ..sim.fit_report import figure_lines, param_lines, resistance_words
 from ..sim.interpreter import StartError
 from ..sim.simulate import BatterySetup, model_chemistry
@@ -103,10 +104,12 @@ def cmd_fit(args: argparse.Namespace) -> int:
             saved = save_battery(args.save, result.battery, args.log, cells=cells.saved() if cells else None)
         except (BatteryFileError, OSError) as exc:
             raise CliError(str(exc)) from None
+    prediction = predict_own(result)
     if args.json:
         hidden = withheld(result.figures)       # not results: null, with the reason in "coverage" / "heat"
         out_json({"params": {k: None if k in hidden else v for k, v in result.params.items()},
-                  "withheld": sorted(hidden), **result.figures, "cell_fit": cells.report() if cells else None})
+                  "withheld": sorted(hidden), **result.figures, "own_program": prediction,
+                  "cell_fit": cells.report() if cells else None})
         return 0
     header = (_("{log}: {chemistry} {series}S, {samples} samples, {minutes:.0f} min of charge")
               if curve.direction == "charge" else
@@ -118,6 +121,10 @@ def cmd_fit(args: argparse.Namespace) -> int:
         out(f"  {line}")
     for line in figure_lines(result.figures):
         out(line)
+    if prediction is not None:
+        out(prediction_line(prediction))
+        if trust_words(prediction):
+            out(trust_words(prediction))
     for line in cell_lines(cells.report()) if cells else ():
         out(line)
     if saved:

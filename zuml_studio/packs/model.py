@@ -11,6 +11,7 @@ from .text import path_of
 from ..sim.batteries import battery_names, save_battery
 from ..sim.curve import CurveError, charge_from_log
 from ..sim.fit import FitResult, fit
+from ..sim.fit_predict import predict_own
 from .db import Logbook
 from .register import Pack, PackError
 from .sessions import pack_sessions
@@ -24,6 +25,14 @@ def model_name(pack: Pack) -> str:
 
 def has_model(pack: Pack) -> bool:
     return model_name(pack) in battery_names()
+
+
+def fit_quality(result: FitResult) -> dict:
+    """What a pack's fitted model is to be read with: ``{"quality": {quantity: {"rmse", "unit", "window_s"}},
+    "own_program": {...} | None}``, the RMSE per quantity over its window (``FitResult.figures["quality"]``) and
+    what the model predicts on its own log's program against the log (``sim.fit_predict.predict_own``: its
+    ``trusted`` is False where the charge is more than 15 % off). Runs a simulation: off the GUI thread."""
+    return {"quality": result.figures["quality"], "own_program": predict_own(result)}
 
 
 def fit_pack_model(book: Logbook, pack: Pack) -> tuple[str, FitResult]:

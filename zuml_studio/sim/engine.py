@@ -125,6 +125,9 @@ def library() -> ctypes.CDLL | None:
         lib.ze_run.restype = _I32
         lib.ze_stop.argtypes = [_P(_Run)]
         lib.zh_set_template.argtypes = [_U8, ctypes.c_char_p]
+        lib.zm_drive.argtypes = [_P(_Pack), _P(_P(_Constants)), _P(_I32), _P(_D), _P(_D), _P(_U8), _I32, _D,
+                                 _P(_D), _P(_D), _P(_D)]
+        lib.zm_drive.restype = _I32
         _library.append(lib)
     return _library[0]
 
@@ -172,11 +175,14 @@ def _doubles(values) -> ctypes.Array:
     return (_D * len(values))(*values)
 
 
-def _constants(cell: Pack, dt: float, keep: list) -> _Constants:
+def _constants(cell: Pack, dt: float, keep: list, tables: list | None = None) -> _Constants:
+    """The cell's constants at a tick of dt; ``tables``: its OCV table as C arrays where already made (they
+    do not change with dt)."""
     (r0, r1b, a1, r2b, a2, ea_r, ea_r_ref, kc, kd, eps, inv_w0, w_t, dv_o2, k_t, q_rev, ds_k, a_th, inv_ha,
      xs, ys, slopes, last, series, a_p, vp_max, k_dip, a_o, k_over, half_m, h_k) = cell.step_constants(dt)
-    tables = [_doubles(xs), _doubles(ys), _doubles(slopes)]
-    keep.extend(tables)
+    if tables is None:
+        tables = [_doubles(xs), _doubles(ys), _doubles(slopes)]
+        keep.extend(tables)
     return _Constants(r0, r1b, a1, r2b, a2, ea_r, ea_r_ref, kc, kd, eps, inv_w0, w_t, dv_o2, k_t, q_rev, ds_k,
                       a_th, inv_ha, a_p, vp_max, k_dip, a_o, k_over, half_m, h_k, cell.ambient_c, *tables, last,
                       series)
@@ -305,8 +311,59 @@ def _run(lib: ctypes.CDLL, it: Interpreter, templates: Mapping[int, StartTemplat
     _write_back(pack, c_pack, charger, c_charger)
 
 
+def drivable(pack: Pack | CellPack) -> bool:
+    """Whether `drive` can run this pack in C (the library is built and carries its model)."""
+    return library() is not None and all(type(c) is Pack and len(c.step_constants(1.0)) == _K_LENGTH
+                                         for c in _cells(pack))
+
+
+class Track:
+    """Samples as `drive` steps them (built once, driven many times: a fit runs one curve hundreds of times):
+    sample k lasts dt[k] at current[k], or where cv[k] at the current that holds voltage[k], kept to
+    current[k]'s direction."""
+
+    def __init__(self, dt: np.ndarray, current: np.ndarray, voltage: np.ndarray, cv: np.ndarray) -> None:
+        steps, which = np.unique(np.asarray(dt, np.float64), return_inverse=True)
+        self.steps = [float(x) for x in steps]
+        self.n = len(dt)
+        self._arrays = (np.ascontiguousarray(which, np.int32), np.ascontiguousarray(current, np.float64),
+                        np.ascontiguousarray(voltage, np.float64), np.ascontiguousarray(cv, np.uint8))
+        which, current, voltage, cv = self._arrays
+        self.pointers = (which.ctypes.data_as(_P(_I32)), current.ctypes.data_as(_P(_D)),
+                         voltage.ctypes.data_as(_P(_D)), cv.ctypes.data_as(_P(_U8)))
+
+
+def drive(pack: Pack | CellPack, track: Track, stop_v: float = -np.inf) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Steps ``pack`` through the track's samples in C, as a fit's Python loop does (sim/fit.py simulate_curve,
+    bit for bit), stopping after the first sample at or below ``stop_v``; the pack is left in its end state.
+    Returns the pack's voltage, current and temperature per sample done (check `drivable` first)."""
+    lib = library()
+    keep: list = []
+    c_pack = _c_pack(pack, track.steps[0], keep)
+    if isinstance(pack, CellPack):
+        c_pack.cv_guess = pack._cv_guess
+    cells = _cells(pack)
+    first = [c_pack.k[k] for k in range(len(cells))]
+    ocv = [[c.xs, c.ys, c.slopes] for c in first]
+    tables = [(_Constants * len(cells))(*(_constants(c, step, keep, t) for c, t in zip(cells, ocv)))
+              for step in track.steps[1:]]
+    ks = (_P(_Constants) * len(track.steps))(c_pack.k, *tables)
+    v, i, temp = np.empty(track.n), np.empty(track.n), np.empty(track.n)
+    done = lib.zm_drive(ctypes.byref(c_pack), ks, *track.pointers, track.n, stop_v, v.ctypes.data_as(_P(_D)),
+                        i.ctypes.data_as(_P(_D)), temp.ctypes.data_as(_P(_D)))
+    _write_back_pack(pack, c_pack)
+    if isinstance(pack, CellPack):
+        pack._cv_guess = c_pack.cv_guess
+    return v[:done], i[:done], temp[:done]
+
+
 def _write_back(pack: Pack | CellPack, c_pack: _Pack, charger, c_charger: _Charger) -> None:
     """The models' state at the end, as the reference leaves it."""
+    _write_back_pack(pack, c_pack)
+    charger.heatsink_c = c_charger.heatsink_c
+
+
+def _write_back_pack(pack: Pack | CellPack, c_pack: _Pack) -> None:
     for k, cell in enumerate(_cells(pack)):
         for name, field in zip(Pack.STATE, _STATE_FIELDS):
             setattr(cell, name, getattr(c_pack.s[k], field))
@@ -315,7 +372,6 @@ def _write_back(pack: Pack | CellPack, c_pack: _Pack, charger, c_charger: _Charg
         pack.cell_voltages = c_pack.cell_voltages[:pack.series]
         pack.voltage, pack.cell_voltage = c_pack.voltage, c_pack.voltage / pack.series
         pack.current = c_pack.current
-    charger.heatsink_c = c_charger.heatsink_c
 
 
 class _Reader:

@@ -8,15 +8,17 @@ and the weights: docs/fit.md; how well it does on real recordings: docs/validati
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
+from . import engine
 from .battery import Pack
 from .cell_pack import CellPack, CellSpec, build_pack
 from .chemistry import Chemistry, load_chemistry
 from .curve import Curve, CurveError, require_charge
-from .fit_checks import coverage, heat_check
+from .fit_checks import HEAT_PARAMS, coverage, heat_check
 from ..i18n import _
 
 NI = ("NiCd", "NiMh")
@@ -149,6 +151,9 @@ def simulate_curve(battery: Battery, curve: Curve, cv: np.ndarray, start_soc: fl
     ``pack``: the model to drive (left in its end state for the caller), else a new one from ``battery``."""
     pack = pack or battery.pack(start_soc, curve.ambient_c)
     n = len(curve.t)
+    if engine.drivable(pack):
+        # The same steps in C (bit for bit, tests/sim/test_drive.py): a fit runs this hundreds of times.
+        return Run(*engine.drive(pack, track(curve, cv)))
     v = np.empty(n)
     i = np.empty(n)
     temp = np.empty(n)
@@ -166,9 +171,39 @@ def simulate_curve(battery: Battery, curve: Curve, cv: np.ndarray, start_soc: fl
     return Run(v, i, temp)
 
 
+_tracks: list = [None]      # the last curve driven, its hold mask and its track: a fit drives one curve many times
+
+
+def track(curve: Curve, cv: np.ndarray) -> engine.Track:
+    """The curve as `simulate_curve` steps it in C: its first sample over 1 ms (as the model's first voltage),
+    where ``cv`` held by the log's voltage (never the first)."""
+    key = np.asarray(cv, bool).tobytes()
+    last = _tracks[0]
+    if last is not None and last[0] is curve and last[1] == key:
+        return last[2]
+    n = len(curve.t)
+    dt = np.empty(n)
+    dt[0] = 1e-3
+    dt[1:] = np.diff(curve.t)
+    held = np.asarray(cv, bool).copy()
+    held[0] = False
+    made = engine.Track(dt, curve.i, curve.v, held)
+    _tracks[0] = (curve, key, made)
+    return made
+
+
 def smooth(t: np.ndarray, y: np.ndarray, window_s: float = _SMOOTH_S) -> np.ndarray:
+    return smoothed(y, smooth_window(t, window_s))
+
+
+def smooth_window(t: np.ndarray, window_s: float = _SMOOTH_S) -> int:
+    """The moving average's width in samples of ``t`` (its median step)."""
     dt = float(np.median(np.diff(t))) if len(t) > 1 else 1.0
-    w = max(1, int(round(window_s / max(dt, 1e-3))))
+    return max(1, int(round(window_s / max(dt, 1e-3))))
+
+
+def smoothed(y: np.ndarray, w: int) -> np.ndarray:
+    """``y``'s moving average over ``w`` samples, its ends held."""
     if w <= 1 or len(y) < w:
         return y.copy()
     kernel = np.ones(w) / w
@@ -206,6 +241,21 @@ def figures(curve: Curve, run: Run, cv: np.ndarray, series: int, chemistry: str)
         out["temp_rise"] = {"real_c": temp_rise(curve.temp), "model_c": temp_rise(run.temp),
                             "real_window_s": span, "model_window_s": span}
     out["rmse_temp_c"] = rmse_temp(curve, run)
+    return out
+
+
+def quality(report: dict, curve: Curve, held: np.ndarray) -> dict:
+    """The fit's quality per quantity it was fitted to, each RMSE with its unit and the window it is taken over
+    (s from the curve's start): what every fitted figure is to be read with (issue 35 §4). ``held``: the samples
+    where the current is compared (a charge's CV, a discharge's hold)."""
+    span = report["window_s"]
+    out = {"voltage": {"rmse": report["rmse_v_per_cell_mv"], "unit": "mV/cell", "window_s": span}}
+    if report["rmse_i_cv_pct"] is not None:
+        at = np.flatnonzero(held)
+        out["held_current"] = {"rmse": report["rmse_i_cv_pct"], "unit": "% of the constant current",
+                               "window_s": [round(float(curve.t[at[0]]), 1), round(float(curve.t[at[-1]]), 1)]}
+    if report["rmse_temp_c"] is not None:
+        out["temperature"] = {"rmse": report["rmse_temp_c"], "unit": "°C", "window_s": span}
     return out
 
 
@@ -279,34 +329,46 @@ def fitted_chemistry(chem: Chemistry, values: dict) -> Chemistry:
     return replace(chem, ocv_v=ocv, r0_ohm=chem.r0_ohm * r, r1_ohm=chem.r1_ohm * r, **own)
 
 
-def _residuals(curve: Curve, run: Run, cv: np.ndarray, series: int, chemistry: str, peak_real,
-               with_temp: bool = True) -> np.ndarray:
-    """Each part weighted so its sum of squares is its mean square in the units of the issue's limits."""
-    parts = []
-    cc = measured(curve, cv)
-    if cc.any():
-        parts.append((run.v[cc] - curve.v[cc]) / series * 1000.0 / math.sqrt(cc.sum()))
-    if cv.any():
-        # 10 % of the CC current weighs as much as 15 mV per cell (the two Li limits).
-        parts.append((run.i[cv] - curve.i[cv]) / cc_current(curve, cv) * 150.0 / math.sqrt(cv.sum()))
-    if curve.temp is not None:
-        parts.append((run.temp - curve.temp) * _TEMP_WEIGHT / math.sqrt(len(curve.t)))
-    if curve.temp is not None and peak_real is not None:
-        # NiCd/NiMH's rise itself (an issue figure): it comes in the last minutes, which weigh little
-        # among all the samples.
-        rise = (float(run.temp.max() - run.temp[0]) - float(curve.temp.max() - curve.temp[0])) * _RISE_WEIGHT
-        parts.append(np.array([rise]))
-    if peak_real is not None:
-        model_mah, model_dv = peak(curve.t[cc], run.v[cc], curve.mah[cc], series)
-        parts.append(np.array([(model_mah - peak_real[0]) / max(peak_real[0], 1.0) * 400.0,
-                               (model_dv - peak_real[1]) * 12.0]))
-        # The fall after the real peak, point by point: unlike the peak figures it changes smoothly
-        # with the parameters, so the optimiser finds a dip even from a model that has none.
-        k, real_tail = peak_real[2], peak_real[3]
-        model_s = smooth(curve.t[cc], run.v[cc])
-        tail = (model_s[k:] - model_s[k]) - real_tail
-        parts.append(tail / series * 1000.0 * _TAIL_WEIGHT / math.sqrt(len(tail)))
-    return np.concatenate(parts)
+class Residuals:
+    """A charge's residuals for a model's run along ``curve``, each part weighted so its sum of squares is its
+    mean square in the units of the issue's limits; what does not depend on the run is computed once (a fit
+    calls this hundreds of times). ``peak_real``: the log's peak figures (NiCd/NiMH), else None."""
+
+    def __init__(self, curve: Curve, cv: np.ndarray, series: int, peak_real) -> None:
+        self.curve, self.cv, self.series, self.peak_real = curve, cv, series, peak_real
+        self.cc = measured(curve, cv)
+        self.i_cc = cc_current(curve, cv)
+        self.t_cc, self.mah_cc = curve.t[self.cc], curve.mah[self.cc]
+        self.window = smooth_window(self.t_cc)
+
+    def __call__(self, run: Run, end_terms: bool) -> np.ndarray:
+        curve, cv, cc, series = self.curve, self.cv, self.cc, self.series
+        peak_real = self.peak_real if end_terms else None
+        parts = []
+        if cc.any():
+            parts.append((run.v[cc] - curve.v[cc]) / series * 1000.0 / math.sqrt(cc.sum()))
+        if cv.any():
+            # 10 % of the CC current weighs as much as 15 mV per cell (the two Li limits).
+            parts.append((run.i[cv] - curve.i[cv]) / self.i_cc * 150.0 / math.sqrt(cv.sum()))
+        if curve.temp is not None:
+            parts.append((run.temp - curve.temp) * _TEMP_WEIGHT / math.sqrt(len(curve.t)))
+        if curve.temp is not None and peak_real is not None:
+            # NiCd/NiMH's rise itself (an issue figure): it comes in the last minutes, which weigh little
+            # among all the samples.
+            rise = (float(run.temp.max() - run.temp[0]) - float(curve.temp.max() - curve.temp[0])) * _RISE_WEIGHT
+            parts.append(np.array([rise]))
+        if peak_real is not None:
+            model_s = smoothed(run.v[cc], self.window)
+            k = int(np.argmax(model_s))
+            model_mah, model_dv = float(self.mah_cc[k]), float((model_s[k] - model_s[-1]) / series * 1000.0)
+            parts.append(np.array([(model_mah - peak_real[0]) / max(peak_real[0], 1.0) * 400.0,
+                                   (model_dv - peak_real[1]) * 12.0]))
+            # The fall after the real peak, point by point: unlike the peak figures it changes smoothly
+            # with the parameters, so the optimiser finds a dip even from a model that has none.
+            k, real_tail = peak_real[2], peak_real[3]
+            tail = (model_s[k:] - model_s[k]) - real_tail
+            parts.append(tail / series * 1000.0 * _TAIL_WEIGHT / math.sqrt(len(tail)))
+        return np.concatenate(parts)
 
 
 def ocv_prior(values: dict) -> np.ndarray:
@@ -333,6 +395,11 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
     cv = cv_mask(work, chemistry)
     mah = float(work.mah[-1])
     params = list(COMMON_PARAMS[:2] if only_capacity else COMMON_PARAMS + _FAMILY[family(chemistry)])
+    if curve.temp is None:
+        # Without a probe nothing fixes the heat terms: fitted to the voltage alone they took any value (the
+        # eStation NiMH pack's heat loss at its bound, 20 °C of warming at 1 A, a charge its macro then ended
+        # by dT/dt after 35 min). The chemistry's own are kept.
+        params = [p for p in params if p.name not in HEAT_PARAMS]
     params[0] = Param("capacity_mah", max(mah * 0.5, 1.0), mah * 20.0, True)
     start = {"capacity_mah": min(max(mah * 1.05, params[0].lo * 1.01), params[0].hi * 0.99),
              "start_soc": 0.05, "r_scale": 1.0, "ocv_offset_v": 0.0, "ocv_scale": 1.0}
@@ -349,12 +416,13 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
         real_peak = (*peak(work.t[use], work.v[use], work.mah[use], series), k_peak,
                      real_s[k_peak:] - real_s[k_peak])
 
+    parts = Residuals(work, cv, series, real_peak)
+
     def solve(free: list[Param], begin: dict, end_terms: bool):
         def residuals(values: dict) -> np.ndarray:
             battery = Battery(fitted_chemistry(chem, values), values["capacity_mah"], series)
             run = simulate_curve(battery, work, cv, values.get("start_soc", 0.0))
-            return np.concatenate((_residuals(work, run, cv, series, chemistry, real_peak if end_terms else None,
-                                              with_temp=end_terms), ocv_prior(values)))
+            return np.concatenate((parts(run, end_terms), ocv_prior(values)))
         return solve_params(free, begin, residuals, max_nfev, lambda exc: start_error(curve, chemistry, exc))
 
     # The capacity and start state first, with the chemistry's defaults: that is the default
@@ -377,12 +445,13 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
         # Then the shape of the charge (OCV, resistance, the end-of-charge climb) from the voltage
         # alone, then everything with the peak, the dip and the temperature. Fitting all at once
         # stalls where the model has no peak (the peak terms are flat there).
-        shape = [p for p in params if p.name not in ("k_t_v_per_k", "ha_w_per_k", "cth_j_per_k")]
+        shape = [p for p in params if p.name not in HEAT_PARAMS]
+        # The second start: a strong overcharge dip and (where the heat terms are fitted) almost no voltage per kelvin.
+        other = {"dip_v_per_charge": 0.5, **({"k_t_v_per_k": 0.001} if len(shape) < len(params) else {})}
         best = None
         for r_scale in (1.0, _NI_R_START):
             first, _, n1 = solve(shape, {**values, "r_scale": r_scale}, False)
-            candidates = [solve(params, first, True),
-                          solve(params, {**first, "k_t_v_per_k": 0.001, "dip_v_per_charge": 0.5}, True)]
+            candidates = [solve(params, first, True), solve(params, {**first, **other}, True)]
             nfev += n1 + sum(c[2] for c in candidates)
             best = min(candidates + ([best] if best else []), key=lambda c: c[1])
             # A fit within the issue's limit is done; one that misses it begins again from _NI_R_START
@@ -405,6 +474,7 @@ def fit(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = Fals
     report["coverage"] = coverage(chem, (float(curve.v[use[0]]) / series, float(curve.v[use[-1]]) / series),
                                   float(curve.mah[-1]), values["capacity_mah"], values["start_soc"], chemistry in LI)
     report["heat"] = heat_check(report["temp_rise"], "ha_w_per_k" in values)
+    report["quality"] = quality(report, curve, full_cv)
     return FitResult(battery, chemistry, {k: round(v, 6) for k, v in values.items()}, report, run, curve, full_cv,
                      nfev)
 
@@ -414,7 +484,7 @@ def solve_params(free: list[Param], begin: dict, residuals, max_nfev: int | None
     """Move the ``free`` parameters from ``begin`` (the others held) to the least squares of
     ``residuals(values)``: (values, cost, evaluations). ``cannot_start(exc)`` is the error raised where
     the model gives no finite residual at the start."""
-    from scipy.optimize import least_squares   # lazy: scipy costs start-up time
+    least_squares = solver()
 
     def to_x(values: dict) -> np.ndarray:
         return np.array([math.log(values[p.name]) if p.log else values[p.name] for p in free])
@@ -431,6 +501,15 @@ def solve_params(free: list[Param], begin: dict, residuals, max_nfev: int | None
     except ValueError as exc:      # scipy's words ("Residuals are not finite in the initial point")
         raise cannot_start(exc) from None
     return values_of(sol.x), sol.cost, int(sol.nfev)
+
+
+def solver():
+    """scipy's ``least_squares``, imported on a fit's first use (scipy costs start-up time), its OpenBLAS on one
+    thread unless the user set it: a fit's SVDs are of a few columns, and threads fighting for a loaded machine's
+    cores made one fit 18 s instead of 2 (benchmarks/bench_fit.py)."""
+    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+    from scipy.optimize import least_squares
+    return least_squares
 
 
 def start_error(curve: Curve, chemistry: str, exc: ValueError) -> CurveError:

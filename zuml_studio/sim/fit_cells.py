@@ -18,7 +18,7 @@ import numpy as np
 from .cell_pack import CellSpec
 from .chemistry import Chemistry
 from .curve import Curve, CurveError
-from .fit import LI, Battery, FitResult, simulate_curve
+from .fit import LI, Battery, FitResult, simulate_curve, solver
 from .fit_checks import cells_plausible, coverage
 from ..i18n import _
 
@@ -155,7 +155,7 @@ def _scaled(chem: Chemistry, factor: float) -> Chemistry:
 
 
 def _fit_tap(tap: Curve, chem: Chemistry, pack_capacity: float, start_soc: float, charge: bool) -> CellFit:
-    from scipy.optimize import least_squares   # lazy, as in fit.py
+    least_squares = solver()
 
     work = tap.decimated(max(_STEP_S, float(tap.t[-1]) / _SAMPLES))
     by_current = np.zeros(len(work.t), bool)

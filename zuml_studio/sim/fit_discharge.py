@@ -12,12 +12,13 @@ import math
 
 import numpy as np
 
+from . import engine
 from .cell_pack import CellSpec
 from .chemistry import Chemistry, load_chemistry
 from .curve import Curve, require_discharge
 from .fit_checks import coverage, delivered_check, heat_check
 from .fit import (COMMON_PARAMS, LI, NI, Battery, FitResult, Param, Run, at_bounds, check_series, fit, fit_samples,
-                  fitted_chemistry, guess_series, ocv_prior, rmse_temp, simulate_curve, soc_at_ocv, solve_params,
+                  fitted_chemistry, guess_series, ocv_prior, quality, rmse_temp, simulate_curve, soc_at_ocv, solve_params,
                   start_error, temp_rise)
 
 _PAUSE_FRACTION = 0.5        # samples below this share of the discharge current are pauses, not compared
@@ -101,37 +102,74 @@ def model_delivered(battery: Battery, curve: Curve, start_soc: float, end_v: flo
     log's last discharge current (up to _RUN_ON times the log's charge). Where the log ``hold``s its end
     voltage the model is held there too and delivers what its own current takes out over the log's window
     (cut where it reaches ``end_v`` before the hold: a model that empties early is not a fit)."""
-    pack = battery.pack(start_soc, curve.ambient_c)
-    hold = np.zeros(len(curve.t), bool) if hold is None else hold
-    run = simulate_curve(battery, curve, hold, start_soc, pack=pack)
-    mah = curve.delivered_mah
-    use = discharging(curve) & ~hold
-    if hold.any():
-        use[int(np.argmax(hold)):] = False
-    below = np.flatnonzero(use & (run.v <= end_v))
-    if hold.any() and not len(below):
-        return run, float(Curve(curve.t, run.v, run.i, None, 0).delivered_mah[-1])
-    if len(below):
-        k = int(below[0])
-        if k == 0:
-            return run, 0.0
-        v0, v1 = run.v[k - 1], run.v[k]
-        share = (v0 - end_v) / (v0 - v1) if v0 > v1 else 1.0
-        return run, float(mah[k - 1] + (mah[k] - mah[k - 1]) * min(1.0, max(0.0, share)))
-    i_end = -discharge_current(curve)
-    taken, v_before = float(mah[-1]), float(run.v[-1])
-    # The run-on in steps of the curve's own (a decimated curve's are coarser): in 10 s steps a 10 h lead-acid
-    # discharge driven on for hours cost 24 s a fit.
-    step_s = max(_RUN_ON_STEP_S, float(np.median(np.diff(curve.t)))) if len(curve.t) > 1 else _RUN_ON_STEP_S
-    step_mah = -i_end * step_s / 3.6
-    limit = taken + _RUN_ON * max(taken, 1.0)
-    while taken < limit:
-        v = pack.step(i_end, step_s)
-        if v <= end_v:
-            share = (v_before - end_v) / (v_before - v) if v_before > v else 1.0
-            return run, taken + step_mah * share
-        taken, v_before = taken + step_mah, v
-    return run, taken
+    return Delivery(curve, end_v, hold)(battery, start_soc)
+
+
+class Delivery:
+    """`model_delivered` along one curve, what does not depend on the model computed once (a fit runs it
+    hundreds of times)."""
+
+    def __init__(self, curve: Curve, end_v: float, hold: np.ndarray | None = None) -> None:
+        self.curve, self.end_v = curve, end_v
+        self.hold = hold = np.zeros(len(curve.t), bool) if hold is None else hold
+        self.mah = curve.delivered_mah
+        use = discharging(curve) & ~hold
+        if hold.any():
+            use[int(np.argmax(hold)):] = False
+        self.use = use
+        self.i_end = -discharge_current(curve)
+        # The run-on in steps of the curve's own (a decimated curve's are coarser): in 10 s steps a 10 h lead-acid
+        # discharge driven on for hours cost 24 s a fit.
+        self.step_s = max(_RUN_ON_STEP_S, float(np.median(np.diff(curve.t)))) if len(curve.t) > 1 else _RUN_ON_STEP_S
+        self.step_mah = -self.i_end * self.step_s / 3.6
+        taken = float(self.mah[-1])
+        limit = taken + _RUN_ON * max(taken, 1.0)
+        # The run-on's running sums, as a loop adding step_mah to the log's charge makes them (cumsum adds in
+        # order): where each step starts, and the sum that ends the run-on.
+        count = int((limit - taken) / self.step_mah) + 2 if self.step_mah > 0 else 0
+        sums = np.cumsum(np.concatenate(([taken], np.full(count, self.step_mah))))
+        n = int(np.argmax(sums >= limit)) if (sums >= limit).any() else len(sums)
+        self.marks, self.run_on_end = sums[:n], float(sums[n]) if n < len(sums) else taken
+        self._run_on_track = None
+
+    def __call__(self, battery: Battery, start_soc: float) -> tuple[Run, float]:
+        curve, end_v, hold, mah = self.curve, self.end_v, self.hold, self.mah
+        pack = battery.pack(start_soc, curve.ambient_c)
+        run = simulate_curve(battery, curve, hold, start_soc, pack=pack)
+        below = np.flatnonzero(self.use & (run.v <= end_v))
+        if hold.any() and not len(below):
+            return run, float(Curve(curve.t, run.v, run.i, None, 0).delivered_mah[-1])
+        if len(below):
+            k = int(below[0])
+            if k == 0:
+                return run, 0.0
+            v0, v1 = run.v[k - 1], run.v[k]
+            share = (v0 - end_v) / (v0 - v1) if v0 > v1 else 1.0
+            return run, float(mah[k - 1] + (mah[k] - mah[k - 1]) * min(1.0, max(0.0, share)))
+        return run, self._run_on(pack, float(run.v[-1]))
+
+    def _run_on(self, pack, v_before: float) -> float:
+        """The model driven on at the log's discharge current from its end until it reaches ``end_v``."""
+        end_v, step_mah, marks = self.end_v, self.step_mah, self.marks
+        if not len(marks):
+            return self.run_on_end
+        if engine.drivable(pack):
+            if self._run_on_track is None:
+                n = len(marks)
+                self._run_on_track = engine.Track(np.full(n, self.step_s), np.full(n, self.i_end), np.zeros(n),
+                                                  np.zeros(n, bool))
+            v = engine.drive(pack, self._run_on_track, end_v)[0]
+        else:
+            v = []
+            for _ in marks:
+                v.append(pack.step(self.i_end, self.step_s))
+                if v[-1] <= end_v:
+                    break
+        if v[-1] > end_v:
+            return self.run_on_end
+        before = v[-2] if len(v) > 1 else v_before
+        share = (before - end_v) / (before - v[-1]) if before > v[-1] else 1.0
+        return float(marks[len(v) - 1]) + step_mah * share
 
 
 def cell_step(curve: Curve, series: int) -> float | None:
@@ -183,16 +221,23 @@ def discharge_figures(curve: Curve, run: Run, series: int, model_mah: float) -> 
     return out
 
 
-def _residuals(curve: Curve, run: Run, series: int, real_mah: float, model_mah: float,
-               hold: np.ndarray) -> np.ndarray:
-    """Each part weighted so its sum of squares is its mean square in mV per cell."""
-    use = discharging(curve) & ~hold
-    parts = [(run.i[hold] - curve.i[hold]) / discharge_current(curve) * _HOLD_WEIGHT / math.sqrt(max(int(hold.sum()), 1)),
-             (run.v[use] - curve.v[use]) / series * 1000.0 / math.sqrt(max(int(use.sum()), 1)),
-             np.array([(model_mah - real_mah) / max(real_mah, 1.0) * 100.0 * _CAPACITY_WEIGHT])]
-    if curve.temp is not None:
-        parts.append((run.temp - curve.temp) * _TEMP_WEIGHT / math.sqrt(len(curve.t)))
-    return np.concatenate(parts)
+class Residuals:
+    """A discharge's residuals for a model's run and the charge it delivered, each part weighted so its sum of
+    squares is its mean square in mV per cell; what does not depend on the run is computed once."""
+
+    def __init__(self, curve: Curve, series: int, real_mah: float, hold: np.ndarray) -> None:
+        self.curve, self.series, self.real_mah, self.hold = curve, series, real_mah, hold
+        self.use = discharging(curve) & ~hold
+        self.i_dis = discharge_current(curve)
+
+    def __call__(self, run: Run, model_mah: float) -> np.ndarray:
+        curve, hold, use, real_mah = self.curve, self.hold, self.use, self.real_mah
+        parts = [(run.i[hold] - curve.i[hold]) / self.i_dis * _HOLD_WEIGHT / math.sqrt(max(int(hold.sum()), 1)),
+                 (run.v[use] - curve.v[use]) / self.series * 1000.0 / math.sqrt(max(int(use.sum()), 1)),
+                 np.array([(model_mah - real_mah) / max(real_mah, 1.0) * 100.0 * _CAPACITY_WEIGHT])]
+        if curve.temp is not None:
+            parts.append((run.temp - curve.temp) * _TEMP_WEIGHT / math.sqrt(len(curve.t)))
+        return np.concatenate(parts)
 
 
 def _params(chem: Chemistry, curve: Curve, only_capacity: bool, mah: float) -> list[Param]:
@@ -219,11 +264,11 @@ def fit_discharge(curve: Curve, chemistry: str, series: int, *, only_capacity: b
         start[p.name] = min(max(getattr(chem, p.name), p.lo * 1.001 if p.lo > 0 else p.lo), p.hi * 0.999)
 
     hold = hold_mask(work)
+    delivery, parts = Delivery(work, end_v, hold), Residuals(work, series, real_mah, hold)
 
     def residuals(values: dict) -> np.ndarray:
-        battery = _battery(chem, values, series)
-        run, model_mah = model_delivered(battery, work, values["start_soc"], end_v, hold)
-        return np.concatenate((_residuals(work, run, series, real_mah, model_mah, hold), ocv_prior(values)))
+        run, model_mah = delivery(_battery(chem, values, series), values["start_soc"])
+        return np.concatenate((parts(run, model_mah), ocv_prior(values)))
 
     def solve(free: list[Param], begin: dict) -> tuple[dict, float, int]:
         return solve_params(free, begin, residuals, max_nfev, lambda exc: start_error(curve, chemistry, exc))
@@ -272,6 +317,7 @@ def fit_discharge(curve: Curve, chemistry: str, series: int, *, only_capacity: b
     report["coverage"] = coverage(chem, (float(curve.v[use[0]]) / series, float(curve.v[use[-1]]) / series), real_mah,
                                   values["capacity_mah"], values["start_soc"], chemistry in LI)
     report["heat"] = heat_check(report["temp_rise"], any(p.name == "ha_w_per_k" for p in params))
+    report["quality"] = quality(report, curve, hold_mask(curve))
     return FitResult(battery, chemistry, {k: round(v, 6) for k, v in values.items()}, report, run, curve,
                      hold_mask(curve), nfev)
 

@@ -76,6 +76,20 @@ def figure_lines(report: dict) -> list[str]:
     return lines
 
 
+QUALITY = {
+    "voltage": N_("RMSE voltage {rmse} mV per cell over {span}"),
+    "held_current": N_("RMSE current where the voltage was held {rmse} of the constant current over {span}"),
+    "temperature": N_("RMSE temperature {rmse} °C over {span}"),
+}
+
+
+def quality_lines(quality: dict) -> list[str]:
+    """The fit's quality per quantity (``figures["quality"]``), each with its window."""
+    return [_(QUALITY[name]).format(rmse=f"{q['rmse']:g}" + (" %" if name == "held_current" else ""),
+                                    span=_minutes(q["window_s"]))
+            for name, q in quality.items() if name in QUALITY and q["rmse"] is not None]
+
+
 def claim_lines(report: dict) -> list[str]:
     """What the fit may not claim (sim/fit_checks.py): a capacity the window does not fix, heat terms whose
     rise misses the pack's, a model that does not deliver the log's charge."""

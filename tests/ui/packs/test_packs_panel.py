@@ -120,6 +120,20 @@ def test_simulate_the_macro_on_the_packs_fitted_model(make_window, qtbot, monkey
     qtbot.waitUntil(lambda: not w.sim_panel.is_running() and w.sim_panel.result() is not None, timeout=60000)
     assert w.sim_panel.form.start_params().series == 4
     assert "Simulate the macro on pack 'Turnigy 4S #2'" == panel.simulate_button.text()
+    # The fit's quality next to it (issue 33 §2): its RMSE per quantity, and the charge it predicts for the pack's
+    # own log's program against the logged one; this model follows its log, so no warning.
+    note = panel.model_label.text()
+    assert not panel.model_label.isHidden()
+    assert "RMSE voltage" in note and "mV per cell over 0.0–18.0 min" in note and "RMSE temperature" in note
+    assert "1113 mAh predicted, 1113 mAh logged (+0.0 %)" in note and "do not trust" not in note
+    # A model whose prediction is more than 15 % off says not to trust it, and why.
+    far = {"real_mah": 2800.0, "model_mah": 617.0, "charge_error_pct": -78.0, "real_s": 10000.0, "model_s": 1080.0,
+           "time_error_pct": -89.2, "trusted": False, "why": "IF(DELTA_PEAK>0.04V) STOP_FAZE", "ended_by": "own_end"}
+    note = panel._model_note({"quality": {"voltage": {"rmse": 31.0, "unit": "mV/cell", "window_s": [0.0, 600.0]}},
+                              "own_program": far})
+    assert "RMSE voltage 31 mV per cell over 0.0–10.0 min" in note
+    assert "617 mAh predicted, 2800 mAh logged (-78.0 %)" in note and "do not trust this model" in note
+    assert "ends there after 18 min: IF(DELTA_PEAK&gt;0.04V) STOP_FAZE" in note
 
 
 def test_a_damaged_logbook_is_shown_not_replaced(make_window, tmp_path):

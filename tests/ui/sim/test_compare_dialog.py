@@ -48,6 +48,9 @@ def test_fit_draws_the_fitted_model_and_save_offers_it_in_the_model_box(dialog, 
     # 3.83 -> 4.20 V/cell covers under half the pack: its capacity is said not fixed, not given (issue 35 §2).
     assert "capacity not fixed by this log" in dialog.figures.text() and "fitted: capacity " not in dialog.figures.text()
     assert "fitted: internal resistance" in dialog.figures.text()
+    # What the fitted model predicts on the log's own program, next to the log (issue 35 §4): it follows it.
+    assert "On its own log's program: 1116 mAh predicted, 1112 mAh logged (+0.3 %)" in dialog.figures.text()
+    assert "do not trust" not in dialog.figures.text()
     assert len(curves_of(dialog.v_plot)) == 2
     assert dialog.save_as("4S 1500 LiPo")
     form = ParamsForm()

@@ -14,7 +14,9 @@ from PySide6.QtWidgets import (QFileDialog, QHBoxLayout, QHeaderView, QLabel, QL
 
 from ...packs.db import Logbook, LogbookError
 from ...packs.health import trend
-from ...packs.model import fit_pack_model, has_model, model_name
+from ...packs.model import fit_pack_model, fit_quality, has_model, model_name
+from ...sim.fit_predict import prediction_line, trust_words
+from ...sim.fit_report import quality_lines
 from ...packs.register import Pack, PackError, forget_attachments, get_pack, list_packs, remove_pack
 from ...packs.sessions import ImportResult, import_files, pack_sessions, remove_session
 from ...packs.summary import pack_summary, write_sessions_csv
@@ -89,6 +91,13 @@ class PacksPanel(QWidget):
         self.csv_button = QPushButton(_("Sessions CSV…"))
         self.report_button = QPushButton(_("Report…"))
         self.simulate_button = QPushButton()
+        # The last fit's quality per pack: its RMSE and what it predicts for the pack's own log (issue 33 §2).
+        self.model_label = QLabel()
+        self.model_label.setWordWrap(True)
+        self.model_label.setTextFormat(Qt.TextFormat.RichText)
+        self.model_label.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+        self.model_label.hide()
+        self._model_notes: dict[int, str] = {}
         self.progress = QProgressBar()
         self.progress.hide()
         self.table = QTableWidget(0, len(COLUMNS))
@@ -109,6 +118,7 @@ class PacksPanel(QWidget):
         buttons.addStretch(1)
         middle.addLayout(buttons)
         middle.addWidget(self.simulate_button)
+        middle.addWidget(self.model_label)
         middle.addWidget(self.progress)
         middle.addWidget(self.table, 1)
         middle_box = QWidget()
@@ -261,6 +271,9 @@ class PacksPanel(QWidget):
         word = {"good": _("good"), "poor": _("poor"), "unknown": _("unknown")}[verdict]
         self.health.setText(f"<span style='color:{colour}'><b>" + _escape(_("Health: {verdict}").format(
                 verdict=word)) + "</b></span><br>" + "<br>".join("• " + _escape(r) for r in info["health"]["reasons"]))
+        note = self._model_notes.get(pack.id)
+        self.model_label.setText(note or "")
+        self.model_label.setVisible(bool(note))
         self.simulate_button.setText(
                 _("Simulate the macro on pack '{name}'").format(name=pack.name) if has_model(pack)
                 else _("Fit the model of pack '{name}' and simulate the macro on it").format(name=pack.name))
@@ -422,15 +435,37 @@ class PacksPanel(QWidget):
         def job():
             book = Logbook(path)
             try:
-                return fit_pack_model(book, pack)[0]
+                name, result = fit_pack_model(book, pack)
+                return name, fit_quality(result)
             finally:
                 book.close()
+
+        def fitted(made) -> None:
+            name, quality = made
+            self._model_notes[pack.id] = self._model_note(quality)
+            self.progress.hide()
+            self.show_pack()
+            self.simulateOnPack.emit(name, pack.cells, pack.capacity_mah)
 
         self.progress.setRange(0, 0)
         self.progress.setFormat(_("fitting the model of pack '{name}'…").format(name=pack.name))
         self.progress.show()
-        self._start(job, lambda name: (self.progress.hide(), self.show_pack(),
-                                       self.simulateOnPack.emit(name, pack.cells, pack.capacity_mah)))
+        self._start(job, fitted)
+
+    def _model_note(self, quality: dict) -> str:
+        """The fit's RMSE per quantity and its prediction of the pack's own log, with a warning where the model
+        is not to be trusted (rich text)."""
+        lines = [_escape(_("The model's fit: {lines}").format(lines="; ".join(quality_lines(quality["quality"]))))]
+        prediction = quality["own_program"]
+        if prediction is None:
+            lines.append(_escape(_("Its own log's charge cannot be predicted: the log ends without the charge's "
+                                   "own end (no -dV, no held voltage)")))
+        else:
+            lines.append(_escape(prediction_line(prediction)))
+            warning = trust_words(prediction)
+            if warning:
+                lines.append(f"<span style='color:{self._look.error}'><b>{_escape(warning)}</b></span>")
+        return "<br>".join(lines)
 
 
 def _escape(text: str) -> str:

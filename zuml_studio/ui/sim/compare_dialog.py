@@ -19,6 +19,7 @@ from ...sim.curve import DIRECTIONS, Curve, CurveError, log_directions, read_cur
 from ...sim.fit import FitResult, guess_series
 from ...sim.fit_cells import taps_per_cell
 from ...sim.fit_discharge import fit_curve
+from ...sim.fit_predict import predict_own, prediction_line, trust_words
 from ...sim.fit_report import figure_lines, param_lines, resistance_words
 from ...sim.interpreter import StartError
 from .. import theme
@@ -155,13 +156,21 @@ class CompareDialog(QDialog):
         if self.curve is None or self._job is not None:
             return
         curve, chemistry, cells = self.curve, self.chemistry.currentData(), self.cells.value()
-        self._run(_("Fitting the model to the log…"), lambda: fit_curve(curve, chemistry, cells), self._fitted)
+        def job() -> tuple[FitResult, dict | None]:
+            fitted = fit_curve(curve, chemistry, cells)
+            return fitted, predict_own(fitted)
 
-    def _fitted(self, fitted: FitResult) -> None:
+        self._run(_("Fitting the model to the log…"), job, self._fitted)
+
+    def _fitted(self, made: tuple[FitResult, dict | None]) -> None:
+        fitted, prediction = made
         self.fitted = fitted
         self._draw(self.curve.t, fitted.run.v, _("fitted model"))
         params = "; ".join(param_lines(fitted.params, fitted.battery, fitted.figures))
         lines = figure_lines(fitted.figures) + [_("fitted: {parameters}").format(parameters=params)]
+        # What the fitted model predicts on the log's own program, and whether to trust it (sim/fit_predict.py).
+        if prediction is not None:
+            lines += [prediction_line(prediction)] + ([trust_words(prediction)] if trust_words(prediction) else [])
         self.figures.setText("\n".join(lines))
         self.save_button.setEnabled(True)
 
