@@ -65,7 +65,8 @@ _FAMILY = {
     "ni": (Param("w0", 0.005, 0.3, True), Param("dv_o2_v", 0.0, 0.3), Param("k_t_v_per_k", 0.0, 0.03),
            Param("ha_w_per_k", 0.005, 0.5, True), Param("cth_j_per_k", 5.0, 300.0, True),
            Param("dip_v_per_charge", 0.0, 5.0), Param("dip_tau_s", 60.0, 36000.0, True)),
-    "li": (Param("r2_ohm", 1e-4, 2.0, True), Param("tau2_s", 60.0, 36000.0, True)),
+    "li": (Param("r2_ohm", 1e-4, 2.0, True), Param("tau2_s", 60.0, 36000.0, True),
+           Param("diffusion_tau_s", 1.0, 20000.0, True)),
     "pb": (Param("k_charge_ohm", 1e-5, 0.1, True), Param("pol_tau_s", 30.0, 20000.0, True),
            Param("pol_max_v", 0.01, 0.6, True)),
 }
