@@ -2,10 +2,10 @@
 Chen2020 (figures stored by tools/pybamm_cv_reference.py: the suite never needs PyBaMM), and the fit against
 every lithium charge with a CV phase in shared/realdata (stored at 10 s steps by tools/cv_tail_realdata.py)."""
 import json
+import sys
 from dataclasses import replace
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 from zuml_studio.sim.battery import Pack
@@ -16,36 +16,14 @@ from zuml_studio.sim.fit import fit
 DATA = Path(__file__).resolve().parents[1] / "data"
 PYBAMM = json.loads((DATA / "pybamm_cv_chen2020.json").read_text())
 REAL = json.loads((DATA / "cv_tail" / "figures.json").read_text())
-# Chen2020 (LG M50): 5.0 Ah nominal (1C = 5 A), 5.14 Ah between 2.5 and 4.2 V by its own OCV (PyBaMM at C/100).
-CHEN_MAH = 5140.0
-NOMINAL_A = 5.0
-
-
-def cc_cv(chem, rate: float) -> tuple[float, float]:
-    """A cell from empty charged as PyBaMM's experiment does: rate x 5 A until 4.2 V, then 4.2 V held until
-    C/50, the current the interpreter's CC-CV gives (the lower of the set current and the one that holds the
-    voltage). Returns the CV phase's duration (s) and its current half-way through it (A)."""
-    pack = Pack(chem, CHEN_MAH, 1, 0.0)
-    i_cc, i_end = rate * NOMINAL_A, NOMINAL_A / PYBAMM["end_c"]
-    t, t_cv, times, amps = 0.0, None, [], []
-    while t < 6 * 3600.0:
-        i = min(i_cc, pack.current_for_voltage(PYBAMM["v_max"], 1.0))
-        if t_cv is None and i < i_cc:
-            t_cv = t
-        if t_cv is not None and i < i_end:
-            break
-        pack.step(i, 1.0)
-        t += 1.0
-        times.append(t)
-        amps.append(i)
-    cv_s = t - t_cv
-    return cv_s, float(np.interp(t_cv + cv_s / 2.0, times, amps))
+sys.path.append(str(DATA.parents[1] / "tools"))
+from cv_tail_realdata import cc_cv  # noqa: E402  (the tool's run, the one docs/validation.md shows)
 
 
 @pytest.mark.parametrize("rate", PYBAMM["rates"])
 def test_the_liion_cv_tail_is_within_10_percent_of_pybamm_dfn(rate):
     dfn = PYBAMM["models"]["DFN"][f"{rate:g}C"]
-    cv_s, half_a = cc_cv(load_chemistry("LiIon"), rate)
+    cv_s, half_a = cc_cv(load_chemistry("LiIon"), rate, PYBAMM)
     assert cv_s == pytest.approx(dfn["cv_s"], rel=0.10)
     assert half_a == pytest.approx(dfn["cv_half_a"], rel=0.10)
 
@@ -61,7 +39,7 @@ def test_the_diffusion_term_is_what_shapes_the_tail():
     # Without it (the same R, RC pairs and OCV) the 2C CV phase lasts half as long as the DFN's (the best R and
     # slow RC pair without diffusion still miss it by 13 %: docs/validation.md).
     chem = replace(load_chemistry("LiIon"), diffusion_tau_s=0.0)
-    cv_s, _half_a = cc_cv(chem, 2.0)
+    cv_s, _half_a = cc_cv(chem, 2.0, PYBAMM)
     assert cv_s < 0.6 * PYBAMM["models"]["DFN"]["2C"]["cv_s"]
 
 
