@@ -52,7 +52,7 @@ double zm_sum(const double *x, int32_t n, int32_t neumaier)
 
 static double cell_ocv(const zm_constants_t *k, const zm_state_t *st)
 {
-    double s = st->soc, u;
+    double s = st->soc + st->surf, u;
     if (s < 0.0) {
         u = k->ys[0] + s * COLLAPSE_V_PER_SOC;
     } else {
@@ -72,8 +72,8 @@ static double one_ocv(const zm_constants_t *k, const zm_state_t *st)
 
 static double one_step(const zm_constants_t *k, zm_state_t *st, double current_a)
 {
-    double i = current_a, s = st->soc, t = st->temp_c, f, vp, eta, r, extra, oc, over, v1, v2, e = 0.0, v, q;
-    double t_final;
+    double i = current_a, s = st->soc, t = st->temp_c, f, vp, eta, r, extra, oc, over, v1, v2, e, v, q;
+    double t_final, ds, x, su;
     f = exp(k->ea_r / (t + KELVIN) - k->ea_r_ref);
     vp = st->vp * k->a_p;
     if (i > 0.0) {
@@ -99,19 +99,23 @@ static double one_step(const zm_constants_t *k, zm_state_t *st, double current_a
     }
     v1 = st->v1 * k->a1 + i * k->r1b * f;
     v2 = st->v2 * k->a2 + i * k->r2b * f;
-    s += eta * i * k->ds_k;
-    if (s > 1.0) {
+    ds = eta * i * k->ds_k;
+    x = st->surf * k->a_x + ds * k->b_x;
+    s += ds;
+    if (s > 1.0)
         s = 1.0;
-    } else if (s < 0.0) {
-        if (s < SOC_FLOOR)
-            s = SOC_FLOOR;
-        e = k->ys[0] + s * COLLAPSE_V_PER_SOC - k->k_t * (t - T_REF_C);
-    }
-    if (s >= 0.0) {
-        int32_t j = bisect_right(k->xs, k->last + 1, s);
+    else if (s < SOC_FLOOR)
+        s = SOC_FLOOR;
+    su = s + x;                        /* the surface, where the OCV is read */
+    if (su < 0.0) {
+        if (su < SOC_FLOOR)
+            su = SOC_FLOOR;
+        e = k->ys[0] + su * COLLAPSE_V_PER_SOC - k->k_t * (t - T_REF_C);
+    } else {
+        int32_t j = bisect_right(k->xs, k->last + 1, su);
         if (j > k->last)
             j = k->last;
-        e = k->ys[j - 1] + (s - k->xs[j - 1]) * k->slopes[j - 1] - k->k_t * (t - T_REF_C);
+        e = k->ys[j - 1] + (su - k->xs[j - 1]) * k->slopes[j - 1] - k->k_t * (t - T_REF_C);
     }
     v = e - k->k_dip * st->oc * k->a_o + k->k_over * st->over * st->over + extra + i * r + v1 + v2 + vp;
     if (k->half_m != 0.0) {
@@ -131,6 +135,7 @@ static double one_step(const zm_constants_t *k, zm_state_t *st, double current_a
     st->vp = vp;
     st->oc = oc;
     st->over = over;
+    st->surf = x;
     st->current = i;
     st->cell_voltage = v;
     v *= k->series;
@@ -140,7 +145,7 @@ static double one_step(const zm_constants_t *k, zm_state_t *st, double current_a
 
 /* Pack.cv_terms */
 typedef struct {
-    double rest, r_ohmic, g_charge, extra, vp, r_pol, vp_max, r_dis, g_dis;
+    double rest, r_ohmic, g_charge, extra, vp, r_pol, vp_max, r_dis, g_dis, x0, b_x;
 } cv_terms_t;
 
 static void cv_terms(const zm_constants_t *k, const zm_state_t *st, cv_terms_t *c)
@@ -159,6 +164,8 @@ static void cv_terms(const zm_constants_t *k, const zm_state_t *st, cv_terms_t *
     c->vp_max = k->vp_max;
     c->r_dis = c->r_ohmic + k->kd / ((s > 0.0 ? s : 0.0) + k->eps);
     c->g_dis = k->ds_k;
+    c->x0 = st->surf * k->a_x;
+    c->b_x = k->b_x;
 }
 
 /* Pack._solve_ocv: rhs = U(soc + g*i) + r*i on the piecewise-linear table */
@@ -185,16 +192,18 @@ static double solve_ocv(const zm_constants_t *k, double s, double rhs, double r,
 static double one_current_for_voltage(const zm_constants_t *k, const zm_state_t *st, double v_pack)
 {
     cv_terms_t c;
-    double target, charge_rhs, i;
+    double target, charge_rhs, i, s, g;
     cv_terms(k, st, &c);
     target = v_pack / k->series;
     charge_rhs = target - c.rest - c.extra;
-    i = solve_ocv(k, st->soc, charge_rhs, c.r_ohmic + c.r_pol, c.g_charge);
+    s = st->soc + c.x0;
+    g = c.g_charge + c.g_charge * c.b_x;
+    i = solve_ocv(k, s, charge_rhs, c.r_ohmic + c.r_pol, g);
     if (i > 0.0 && c.vp + i * c.r_pol > c.vp_max)
-        i = solve_ocv(k, st->soc, charge_rhs + c.vp - c.vp_max, c.r_ohmic, c.g_charge);
+        i = solve_ocv(k, s, charge_rhs + c.vp - c.vp_max, c.r_ohmic, g);
     if (i > 0.0)
         return i;
-    i = solve_ocv(k, st->soc, target - c.rest, c.r_dis, c.g_dis);
+    i = solve_ocv(k, s, target - c.rest, c.r_dis, c.g_dis + c.g_dis * c.b_x);
     return i < 0.0 ? i : 0.0;
 }
 
@@ -204,7 +213,7 @@ static double one_current_for_voltage(const zm_constants_t *k, const zm_state_t 
 static double cell_voltage(const zm_constants_t *k, const cv_terms_t *c, double s, double bleed, double x,
                            double *slope_out)
 {
-    double i = x - bleed, g, v, dv, pol, slope;
+    double i = x - bleed, g, gx, v, dv, pol, slope;
     int32_t j;
     if (i > 0.0) {
         g = c->g_charge;
@@ -222,11 +231,14 @@ static double cell_voltage(const zm_constants_t *k, const cv_terms_t *c, double 
         v = c->rest + c->r_dis * i;
         dv = c->r_dis;
     }
+    gx = g * c->b_x;
     s += g * i;
     if (s > 1.0) {
         s = 1.0;
         g = 0.0;
     }
+    s += c->x0 + gx * i;               /* the surface, where the OCV is read */
+    g += gx;
     if (s < 0.0) {
         if (s < SOC_FLOOR) {
             *slope_out = dv;

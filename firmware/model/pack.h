@@ -15,7 +15,7 @@
 /* Pack._k for the run's tick, in its order, and the OCV table it points into. */
 typedef struct {
     double r0, r1b, a1, r2b, a2, ea_r, ea_r_ref, kc, kd, eps, inv_w0, w_t, dv_o2, k_t, q_rev, ds_k, a_th, inv_ha;
-    double a_p, vp_max, k_dip, a_o, k_over, half_m, h_k;
+    double a_p, vp_max, k_dip, a_o, k_over, half_m, h_k, a_x, b_x;
     double ambient_c;
     const double *xs, *ys, *slopes;    /* last + 1 points, last segments */
     int32_t last, series;
@@ -23,7 +23,7 @@ typedef struct {
 
 /* What Pack.step carries from tick to tick (Pack.STATE's order). */
 typedef struct {
-    double soc, temp_c, current, cell_voltage, voltage, v1, v2, vp, oc, over, h;
+    double soc, temp_c, current, cell_voltage, voltage, v1, v2, vp, oc, over, h, surf;
 } zm_state_t;
 
 /* One Pack (cells == 0: `series` identical cells, one state) or a CellPack of `cells` one-cell Packs. */

@@ -97,16 +97,21 @@ def test_seed_nickel_macros_end_by_a_default_and_say_so(name):
     assert r.to_json()["phases"][0]["by_default"] is True
 
 
-def test_liion_5ah_cc_cv_to_c50_matches_pybamm_within_15_percent():
+def test_liion_5ah_cc_cv_to_c50_matches_pybamm_dfn_within_15_percent():
+    # PyBaMM 26.10's DFN of Chen2020 at 1C (tests/data/pybamm_cv_chen2020.json): CC 42.5 min, CV 75.8 min
+    # (its SPM: 49.2 and 57.8 min, the figures this test held before the model had diffusion).
     r = run("LiIon-CCCV", capacity=5000, series=1, current=5.0)
     cc, cv = r.phases
     assert cc.reason == "IF(V>4.2S) STOP_FAZE" and cv.reason == "IF(I<0.02C) STOP_FAZE"
-    assert abs(cc.end_s / 3600 - 0.82) / 0.82 < 0.15
-    assert abs(cv.end_s / 3600 - 1.78) / 1.78 < 0.15
+    assert abs(cc.end_s / 3600 - 0.708) / 0.708 < 0.15
+    assert abs(cv.end_s / 3600 - 1.972) / 1.972 < 0.15
     a = r.log.arrays()
     in_cv = a["phase"] == 2
     current = a["current_a"][in_cv]
-    assert current[0] > 4.0 and current[-1] < 0.1 and np.all(np.diff(current[10:]) <= 1e-6)   # tapers
+    # It tapers, with a shoulder where the surface crosses the OCV's flat stretch (85-92 %, the DFN's shoulder:
+    # 3.07 -> 2.45 A over its CV's second tenth): the current may rise there by under 1 % of the CC current.
+    later_max = np.maximum.accumulate(current[::-1])[::-1]
+    assert current[0] > 4.0 and current[-1] < 0.1 and np.all(later_max[10:] - current[10:] < 0.05)
     assert np.all(np.abs(a["voltage_v"][in_cv][5:] - 4.2) < 0.005)
 
 

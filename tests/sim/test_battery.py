@@ -156,12 +156,14 @@ def test_nimh_overcharge_passes_50c():
 
 # -- Li CC-CV, Pb absorption ---------------------------------------------------------------------
 
-def test_liion_cccv_matches_pybamm_spm_chen2020():
+def test_liion_cccv_matches_pybamm_dfn_chen2020():
+    # PyBaMM's DFN at 1C: CC 42.5 min, CC + CV 118.3 min (tests/data/pybamm_cv_chen2020.json; tests/sim/test_cv_tail.py
+    # holds the CV phase itself at 0.5, 1 and 2C). Its SPM's 0.82 h and 1.78 h were held here before.
     pack = Pack(load_chemistry("LiIon"), 5000, 1)
     t_cc = cc_until_v(pack, 5.0, 4.2)
     t_total = t_cc + cv_until_i(pack, 4.2, 0.1, 5.0)
-    assert t_cc == pytest.approx(0.82, rel=0.15)
-    assert t_total == pytest.approx(1.78, rel=0.15)
+    assert t_cc == pytest.approx(0.708, rel=0.15)
+    assert t_total == pytest.approx(1.972, rel=0.15)
     assert pack.soc > 0.98
 
 
@@ -304,8 +306,10 @@ def test_a_capacity_that_is_no_positive_finite_number_is_refused(capacity):
         Pack(load_chemistry("NiMh"), capacity, 4)
 
 
-@pytest.mark.parametrize("name, full_v", [("LiPo", 4.2), ("LiIon", 4.2), ("LiFe", 3.6)])
-def test_a_lithium_cell_past_full_climbs_steeply(name, full_v):
+# LiIon's particles' surface leads their bulk (solid-state diffusion): at 1C it passes 4.2 V from 69 % on, as
+# PyBaMM's DFN of Chen2020 does (42 min of CC at 1C, tests/data/pybamm_cv_chen2020.json), so 90 % reads 4.39 V.
+@pytest.mark.parametrize("name, full_v, at_90", [("LiPo", 4.2, 0.1), ("LiIon", 4.2, 0.2), ("LiFe", 3.6, 0.1)])
+def test_a_lithium_cell_past_full_climbs_steeply(name, full_v, at_90):
     """Issue 27: a LiPo taken to 150 % sat at about 4.25 V; past full the voltage climbs (the charge
     goes into plating and the electrolyte, not the cell), so an overcharge shows as one."""
     pack = Pack(load_chemistry(name), 2000, 1)
@@ -314,7 +318,7 @@ def test_a_lithium_cell_past_full_climbs_steeply(name, full_v):
         v = pack.step(2.0, DT)
         if second in (3240, 4680, 5400):               # 90 %, 130 %, 150 %
             volts[second] = v
-    assert volts[3240] < full_v + 0.1
+    assert volts[3240] < full_v + at_90
     assert volts[4680] > full_v + 0.2
     assert volts[5400] > full_v + 0.6 and volts[5400] > volts[4680] + 0.3
     after = pack.open_circuit_voltage()

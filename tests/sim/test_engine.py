@@ -156,3 +156,13 @@ def test_a_run_stopped_between_chunks_ends_as_the_reference_stopped_there():
     assert (mine.end_reason, mine.phases[-1].reason) == ("cancelled", "cancelled")
     assert mine.phases == ref.phases and mine.events == ref.events
     assert np.array_equal(mine.log.arrays()["voltage_v"], ref.log.arrays()["voltage_v"])
+
+
+def test_lithium_diffusion_runs_the_same_in_c_for_a_pack_and_unequal_cells():
+    # LiIon has solid-state diffusion (diffusion_tau_s): its surface state in C as in Python, in a CC-CV tail,
+    # a discharge and a balanced pack of unequal cells.
+    for task in ("charge", "discharge"):
+        both(compiled("LiIon-CCCV"), StartParams(task, 1, 5000, 5.0, None, 1, True), limit_s=6 * 3600)
+    setup = BatterySetup(charger="icharger_406duo", cell_spread=(5.0, 20.0, 5.0), weak_cell_pct=15.0, seed=3)
+    ref = both(compiled("LiIon-CCCV"), StartParams("charge", 1, 3000, 3.0, None, 4, True), setup, limit_s=6 * 3600)
+    assert ref._per_cell

@@ -10,7 +10,8 @@ Per cell (I > 0 = charge, T in °C, s = stored charge / capacity):
             (Tremblay charge polarisation through an RC: a lead-acid cell's surface charge relaxes
              over minutes, and gassing caps it)
     Vk    = Vk * a_k + I * Rk * f * (1 - a_k),   a_k = exp(-dt / tau_k)   (exact for constant I)
-    E     = U(s) - kT * (T - 25)
+    x     = x * a_x + eta * I * dt / (3600 * Q) * (tau_x / dt) * (1 - a_x),   a_x = exp(-dt / tau_x)
+    E     = U(s + x) - kT * (T - 25)
     D     = k_dip * o * a_o,   a_o = exp(-dt / tau_dip)
     V     = E + (1 - eta) * dV_O2 [charge only] - D + I * (R0 * f + Rpol) + V1 + V2 + Vp
     q     = I * (V - eta * E) + eta * I * q_rev     (all input power not stored as chemistry is heat)
@@ -20,6 +21,13 @@ Per cell (I > 0 = charge, T in °C, s = stored charge / capacity):
     V    += k_over * L^2
     V    -= M * (1 - h) / 2
     h     = sgn(I) + (h - sgn(I)) * exp(-|I| * dt / (3600 * Q * q_h))     (while I != 0)
+
+x is solid-state diffusion (lithium): how far the particles' surface, where the OCV is read, is ahead of
+their bulk s. It lags the current with tau_x (`diffusion_tau_s`) and under a steady current settles at the
+charge of tau_x seconds: a single particle's surface leads its mean by R^2/(15 D) seconds of current, so
+tau_x = R^2/(15 D) (the steady gain of Fick's law in a sphere). In CV the surface reaches the full end of the
+steep OCV first and the current falls as the bulk catches up: the tail's shape follows the OCV's curvature,
+which no RC pair's linear overvoltage does. tau_x = 0: no diffusion (x stays 0).
 
 h is where the cell stands between its OCV branches (Plett's one-state hysteresis): +1 on the charge
 branch, the OCV table (fitted on charges), -1 on the discharge branch, M lower; charge moves it towards
@@ -78,7 +86,8 @@ class Pack:
 
     per_cell = False      # one state for every cell: the cells' voltages are voltage / series
     # What `step` carries from tick to tick: the C engine (sim/engine.py) copies it in and back.
-    STATE = ("soc", "temp_c", "current", "cell_voltage", "voltage", "_v1", "_v2", "_vp", "_oc", "_over", "_h")
+    STATE = ("soc", "temp_c", "current", "cell_voltage", "voltage", "_v1", "_v2", "_vp", "_oc", "_over", "_h",
+             "_surf")
 
     def __init__(self, chem: Chemistry, capacity_mah: float, series: int, soc: float = 0.0,
                  ambient_c: float = 25.0, r_scale: float = 1.0) -> None:
@@ -99,6 +108,7 @@ class Pack:
         self._oc = 0.0
         self._over = 0.0
         self._h = 1.0
+        self._surf = 0.0      # x: the particles' surface ahead of their bulk (state of charge)
 
         q_ah = self.capacity_mah / 1000.0
         scale_r = chem.ref_capacity_ah / q_ah * r_scale    # R x Ah is constant within a family [N11]
@@ -134,6 +144,7 @@ class Pack:
         c = self.chem
         a1 = exp(-dt / c.tau1_s)
         a2 = exp(-dt / c.tau2_s)
+        a_x = exp(-dt / c.diffusion_tau_s) if c.diffusion_tau_s > 0.0 else 0.0
         self._dt = dt
         self._k = (
             self._r0, self._r1 * (1.0 - a1), a1, self._r2 * (1.0 - a2), a2,
@@ -144,12 +155,13 @@ class Pack:
             exp(-dt / c.pol_tau_s), c.pol_max_v,
             c.dip_v_per_charge, exp(-dt / c.dip_tau_s), c.overcharge_v_per_charge,
             0.5 * c.hyst_v, dt / (self._q_as * c.hyst_soc),
+            a_x, c.diffusion_tau_s / dt * (1.0 - a_x),
         )
         self._k_by_dt[dt] = self._k
 
     def _cell_ocv(self) -> float:
         """U(soc) at the present temperature, per cell."""
-        xs, s = self._xs, self.soc
+        xs, s = self._xs, self.soc + self._surf
         if s < 0.0:
             u = self._ys[0] + s * _COLLAPSE_V_PER_SOC
         else:
@@ -179,7 +191,8 @@ class Pack:
         if dt != self._dt:
             self._set_dt(dt)
         (r0, r1b, a1, r2b, a2, ea_r, ea_r_ref, kc, kd, eps, inv_w0, w_t, dv_o2, k_t, q_rev,
-         ds_k, a_th, inv_ha, xs, ys, slopes, last, series, a_p, vp_max, k_dip, a_o, k_over, half_m, h_k) = self._k
+         ds_k, a_th, inv_ha, xs, ys, slopes, last, series, a_p, vp_max, k_dip, a_o, k_over, half_m, h_k, a_x,
+         b_x) = self._k
         i = current_a
         s = self.soc
         t = self.temp_c
@@ -207,18 +220,23 @@ class Pack:
             extra = 0.0
         v1 = self._v1 * a1 + i * r1b * f
         v2 = self._v2 * a2 + i * r2b * f
-        s += eta * i * ds_k
+        ds = eta * i * ds_k
+        x = self._surf * a_x + ds * b_x
+        s += ds
         if s > 1.0:
             s = 1.0
-        elif s < 0.0:
-            if s < _SOC_FLOOR:
-                s = _SOC_FLOOR
-            e = ys[0] + s * _COLLAPSE_V_PER_SOC - k_t * (t - _T_REF_C)
-        if s >= 0.0:
-            j = bisect_right(xs, s)
+        elif s < _SOC_FLOOR:
+            s = _SOC_FLOOR
+        su = s + x      # the surface, where the OCV is read
+        if su < 0.0:
+            if su < _SOC_FLOOR:
+                su = _SOC_FLOOR
+            e = ys[0] + su * _COLLAPSE_V_PER_SOC - k_t * (t - _T_REF_C)
+        else:
+            j = bisect_right(xs, su)
             if j > last:
                 j = last
-            e = ys[j - 1] + (s - xs[j - 1]) * slopes[j - 1] - k_t * (t - _T_REF_C)
+            e = ys[j - 1] + (su - xs[j - 1]) * slopes[j - 1] - k_t * (t - _T_REF_C)
         v = e - k_dip * self._oc * a_o + k_over * self._over * self._over + extra + i * r + v1 + v2 + vp
         if half_m:
             h = self._h
@@ -236,6 +254,7 @@ class Pack:
         self._vp = vp
         self._oc = oc
         self._over = over
+        self._surf = x
         self.current = i
         self.cell_voltage = v
         v *= series
@@ -244,16 +263,18 @@ class Pack:
 
     def current_for_voltage(self, v_pack: float, dt: float) -> float:
         """The current that makes the terminal voltage equal v_pack at the end of a step of dt (algebraic CV solve, see notes §0.2); may be negative."""
-        rest, r_ohmic, g_charge, extra, vp, r_pol, vp_max, r_dis, g_dis = self.cv_terms(dt)
+        rest, r_ohmic, g_charge, extra, vp, r_pol, vp_max, r_dis, g_dis, x0, b_x = self.cv_terms(dt)
         target = v_pack / self.series
         charge_rhs = target - rest - extra
-        i = self._solve_ocv(charge_rhs, r_ohmic + r_pol, g_charge)
+        s = self.soc + x0
+        g = g_charge + g_charge * b_x
+        i = self._solve_ocv(s, charge_rhs, r_ohmic + r_pol, g)
         if i > 0.0 and vp + i * r_pol > vp_max:
             # The gassing cap holds: polarisation is a constant, not a resistance, for this step.
-            i = self._solve_ocv(charge_rhs + vp - vp_max, r_ohmic, g_charge)
+            i = self._solve_ocv(s, charge_rhs + vp - vp_max, r_ohmic, g)
         if i > 0.0:
             return i
-        i = self._solve_ocv(target - rest, r_dis, g_dis)
+        i = self._solve_ocv(s, target - rest, r_dis, g_dis + g_dis * b_x)
         # Between the discharge and charge branches (O2 overvoltage step) no current flows.
         return i if i < 0.0 else 0.0
 
@@ -261,11 +282,12 @@ class Pack:
         """One cell's voltage at the end of a step of dt as a function of its current i: on charge
         U(soc + g_charge*i) + rest + extra + r_ohmic*i + (min(vp + i*r_pol, vp_max) - vp), on discharge
         U(soc + g_dis*i) + rest + r_dis*i (what `step` computes, with everything that does not
-        depend on i in `rest`)."""
+        depend on i in `rest`), where the OCV is read at the surface: soc + x0 + g*b_x*i further on."""
         if dt != self._dt:
             self._set_dt(dt)
         (r0, r1b, a1, r2b, a2, ea_r, ea_r_ref, kc, kd, eps, inv_w0, w_t, dv_o2, k_t, q_rev,
-         ds_k, a_th, inv_ha, xs, ys, slopes, last, series, a_p, vp_max, k_dip, a_o, k_over, half_m, h_k) = self._k
+         ds_k, a_th, inv_ha, xs, ys, slopes, last, series, a_p, vp_max, k_dip, a_o, k_over, half_m, h_k, a_x,
+         b_x) = self._k
         s = self.soc
         t = self.temp_c
         f = exp(ea_r / (t + _KELVIN) - ea_r_ref)
@@ -276,14 +298,14 @@ class Pack:
         eta = 1.0 - exp((s - 1.0) * inv_w0 / max(_W_FLOOR, 1.0 + w_t * (t - _T_REF_C)))
         r_pol = kc / (1.0 - s + eps) * (1.0 - a_p)
         return (rest, r_ohmic, eta * ds_k, (1.0 - eta) * dv_o2, vp, r_pol, vp_max,
-                r_ohmic + kd / ((s if s > 0.0 else 0.0) + eps), ds_k)
+                r_ohmic + kd / ((s if s > 0.0 else 0.0) + eps), ds_k, self._surf * a_x, b_x)
 
-    def _solve_ocv(self, rhs: float, r: float, g: float) -> float:
-        """Solve rhs = U(soc + g*i) + r*i for i exactly on the piecewise-linear OCV table.
+    def _solve_ocv(self, s: float, rhs: float, r: float, g: float) -> float:
+        """Solve rhs = U(s + g*i) + r*i for i exactly on the piecewise-linear OCV table.
 
         The left side rises monotonically with i, so walking from the present segment towards
         the solution never turns back."""
-        xs, ys, slopes, s = self._xs, self._ys, self._slopes, self.soc
+        xs, ys, slopes = self._xs, self._ys, self._slopes
         last = len(xs) - 1
         j = min(max(bisect_right(xs, s), 1), last)
         while True:

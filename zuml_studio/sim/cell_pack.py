@@ -187,7 +187,7 @@ def _solve(terms, v_target: float, x: float) -> float:
 
 def _cell_voltage(term: tuple, current: float) -> tuple[float, float]:
     """One cell's voltage at the end of the step at series current `current`, and its slope."""
-    (rest, r_ohmic, g_charge, extra, vp, r_pol, vp_max, r_dis, g_dis), s, xs, ys, slopes, bleed = term
+    (rest, r_ohmic, g_charge, extra, vp, r_pol, vp_max, r_dis, g_dis, x0, b_x), s, xs, ys, slopes, bleed = term
     i = current - bleed
     if i > 0.0:
         g = g_charge
@@ -203,11 +203,14 @@ def _cell_voltage(term: tuple, current: float) -> tuple[float, float]:
         g = g_dis
         v = rest + r_dis * i
         dv = r_dis
+    gx = g * b_x
     s += g * i
     if s > 1.0:
-        # `step` holds a full cell at 1: its OCV no longer rises with the current
+        # `step` holds a full cell at 1: its bulk no longer rises with the current
         s = 1.0
         g = 0.0
+    s += x0 + gx * i      # the surface, where the OCV is read (Pack.step)
+    g += gx
     if s < 0.0:
         if s < _SOC_FLOOR:
             return v + ys[0] + _SOC_FLOOR * _COLLAPSE_V_PER_SOC, dv

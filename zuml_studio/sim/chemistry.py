@@ -35,6 +35,8 @@ class Chemistry:
     ocv_v: tuple[float, ...]     # OCV at 25 °C, non-decreasing: the charge branch
     hyst_v: float                # the discharge branch lies this much lower (0: no hysteresis)
     hyst_soc: float              # ... and a cell moves between the branches e-fold over this share of its capacity
+    diffusion_tau_s: float       # solid-state diffusion: the OCV is read at the particles' surface, which leads
+                                 # the bulk by this many seconds of current (R^2 / 15 D; 0 = none)
     # [resistance]
     ref_capacity_ah: float
     r0_ohm: float
@@ -133,6 +135,8 @@ def _check(c: Chemistry) -> None:
     for key in positive:
         if not getattr(c, key) > 0.0:
             raise ValueError(_("{key} must be > 0").format(key=key))
+    if c.diffusion_tau_s < 0.0:
+        raise ValueError(_("{key} must be >= 0").format(key="diffusion_tau_s"))
     if c.hyst_v < 0.0:
         raise ValueError(_("{key} must be >= 0").format(key="hyst_v"))
     if c.overcharge_v_per_charge < 0.0:

@@ -40,8 +40,9 @@ _SECTIONS = ("discharge", "charge")
 _EVENTS_CAP = 1024                 # engine.c returns early while fewer than 300 are free
 _PHASE_ENDS = 256                  # a phase end's cells per ze_run (it returns early as they fill)
 _MAX_CELLS = 32                   # the balance mask is a uint32
-_K_LENGTH = 30                    # Pack.step_constants' length, as _Constants carries it
-_STATE_FIELDS = ("soc", "temp_c", "current", "cell_voltage", "voltage", "v1", "v2", "vp", "oc", "over", "h")
+_K_LENGTH = 32                    # Pack.step_constants' length, as _Constants carries it
+_STATE_FIELDS = ("soc", "temp_c", "current", "cell_voltage", "voltage", "v1", "v2", "vp", "oc", "over", "h",
+                 "surf")
 _D, _I32, _U8 = ctypes.c_double, ctypes.c_int32, ctypes.c_uint8
 _P = ctypes.POINTER
 
@@ -60,7 +61,7 @@ class _Constants(ctypes.Structure):
     _fields_ = [(name, _D) for name in ("r0", "r1b", "a1", "r2b", "a2", "ea_r", "ea_r_ref", "kc", "kd", "eps",
                                         "inv_w0", "w_t", "dv_o2", "k_t", "q_rev", "ds_k", "a_th", "inv_ha",
                                         "a_p", "vp_max", "k_dip", "a_o", "k_over", "half_m", "h_k",
-                                        "ambient_c")] + \
+                                        "a_x", "b_x", "ambient_c")] + \
                [("xs", _P(_D)), ("ys", _P(_D)), ("slopes", _P(_D)), ("last", _I32), ("series", _I32)]
 
 
@@ -179,12 +180,13 @@ def _constants(cell: Pack, dt: float, keep: list, tables: list | None = None) ->
     """The cell's constants at a tick of dt; ``tables``: its OCV table as C arrays where already made (they
     do not change with dt)."""
     (r0, r1b, a1, r2b, a2, ea_r, ea_r_ref, kc, kd, eps, inv_w0, w_t, dv_o2, k_t, q_rev, ds_k, a_th, inv_ha,
-     xs, ys, slopes, last, series, a_p, vp_max, k_dip, a_o, k_over, half_m, h_k) = cell.step_constants(dt)
+     xs, ys, slopes, last, series, a_p, vp_max, k_dip, a_o, k_over, half_m, h_k, a_x, b_x) = cell.step_constants(dt)
     if tables is None:
         tables = [_doubles(xs), _doubles(ys), _doubles(slopes)]
         keep.extend(tables)
     return _Constants(r0, r1b, a1, r2b, a2, ea_r, ea_r_ref, kc, kd, eps, inv_w0, w_t, dv_o2, k_t, q_rev, ds_k,
-                      a_th, inv_ha, a_p, vp_max, k_dip, a_o, k_over, half_m, h_k, cell.ambient_c, *tables, last,
+                      a_th, inv_ha, a_p, vp_max, k_dip, a_o, k_over, half_m, h_k, a_x, b_x, cell.ambient_c, *tables,
+                      last,
                       series)
 
 

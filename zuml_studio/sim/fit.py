@@ -61,13 +61,15 @@ class Param:
 # Fitted for every chemistry: the battery (capacity, where it started), its resistance and OCV.
 COMMON_PARAMS = (Param("capacity_mah", 0.0, 0.0, True), Param("start_soc", 0.0, 0.95),
            Param("r_scale", 0.1, 10.0, True), Param("ocv_offset_v", -0.15, 0.15), Param("ocv_scale", 0.3, 3.0, True))
+# Lithium's solid-state diffusion (Chemistry.diffusion_tau_s): from none (1 s) to a particle slower than any cell's
+DIFFUSION = Param("diffusion_tau_s", 1.0, 20000.0, True)
 _NI_R_START = 8.0     # a Ni charge that misses ... is fitted again from this many times the default's resistance
 _NI_DONE_MV = 20.0    # ... the limit (its cost as an RMSE in mV per cell)
 _FAMILY = {
     "ni": (Param("w0", 0.005, 0.3, True), Param("dv_o2_v", 0.0, 0.3), Param("k_t_v_per_k", 0.0, 0.03),
            Param("ha_w_per_k", 0.005, 0.5, True), Param("cth_j_per_k", 5.0, 300.0, True),
            Param("dip_v_per_charge", 0.0, 5.0), Param("dip_tau_s", 60.0, 36000.0, True)),
-    "li": (Param("r2_ohm", 1e-4, 2.0, True), Param("tau2_s", 60.0, 36000.0, True)),
+    "li": (Param("r2_ohm", 1e-4, 2.0, True), Param("tau2_s", 60.0, 36000.0, True), DIFFUSION),
     "pb": (Param("k_charge_ohm", 1e-5, 0.1, True), Param("pol_tau_s", 30.0, 20000.0, True),
            Param("pol_max_v", 0.01, 0.6, True)),
 }

@@ -17,8 +17,9 @@ from .cell_pack import CellSpec
 from .chemistry import Chemistry, load_chemistry
 from .curve import Curve, require_discharge
 from .fit_checks import coverage, delivered_check, heat_check
-from .fit import (COMMON_PARAMS, LI, NI, Battery, FitResult, Param, Run, at_bounds, check_series, fit, fit_samples,
-                  fitted_chemistry, guess_series, ocv_prior, quality, rmse_temp, simulate_curve, soc_at_ocv, solve_params,
+from .fit import (COMMON_PARAMS, DIFFUSION, LI, NI, Battery, FitResult, Param, Run, at_bounds, check_series, fit,
+                  fit_samples, fitted_chemistry, guess_series, ocv_prior, quality, rmse_temp, simulate_curve, soc_at_ocv,
+                  solve_params,
                   start_error, temp_rise)
 
 _PAUSE_FRACTION = 0.5        # samples below this share of the discharge current are pauses, not compared
@@ -245,7 +246,8 @@ def _params(chem: Chemistry, curve: Curve, only_capacity: bool, mah: float) -> l
     if only_capacity:
         return [capacity, _START_SOC]
     heat = _HEAT if chem.name in NI and curve.temp is not None else ()
-    return [capacity, _START_SOC, *COMMON_PARAMS[2:], _KNEE, *_SLOW, *heat]
+    diffusion = (DIFFUSION,) if chem.name in LI else ()
+    return [capacity, _START_SOC, *COMMON_PARAMS[2:], _KNEE, *_SLOW, *diffusion, *heat]
 
 
 def fit_discharge(curve: Curve, chemistry: str, series: int, *, only_capacity: bool = False,
