@@ -4,7 +4,11 @@ and peak memory against the target of 4x the file.
 
 Run: python benchmarks/bench_csv_guess.py [MB ...]   (default 100)
 Prints per header field length N the guess's time, then per size the file's MB, rows, seconds and
-the reading process's peak resident memory (a fresh process per size, so the peak is its own)."""
+the reading process's peak resident memory (a fresh process per size, so the peak is its own).
+
+Measured (2 shared cores, issue 33 §1): a 100.3 MB CSV of 1 560 000 rows read in 24 s with a peak of
+317 MB = 3.2x the file (the interpreter and numpy alone: 30 MB); before the Log held numpy columns (a
+Telemetry per row) it took 2.26 GB = 22x."""
 from __future__ import annotations
 
 import resource

@@ -80,9 +80,9 @@ def _reading(log: Log, data: dict, seconds: float, gap_s: float) -> Reading | No
     if gaps.in_gap(t, seconds, gap_s):
         return None
     k = int(np.argmin(np.abs(t - seconds)))
-    s = log.samples[k]
+    c = log.columns
     current = float(data["current"][k]) if log.meta.get("current_measured", True) else None
-    return Reading(float(t[k]), float(data["voltage"][k]), current, float(s.mah_in - s.mah_out))
+    return Reading(float(t[k]), float(data["voltage"][k]), current, float(c.mah_in[k] - c.mah_out[k]))
 
 
 def _stat(values: np.ndarray) -> Stat | None:
@@ -113,8 +113,8 @@ def between(log: Log, a_s: float, b_s: float) -> Between:
             curves[name] = stat
     q_in = q_out = e_in = e_out = None
     if len(inside):
-        first, last = log.samples[inside[0]], log.samples[inside[-1]]
-        q_in, q_out = last.mah_in - first.mah_in, last.mah_out - first.mah_out
+        c, first, last = log.columns, inside[0], inside[-1]
+        q_in, q_out = float(c.mah_in[last] - c.mah_in[first]), float(c.mah_out[last] - c.mah_out[first])
         if "current" in columns:
             e_in, e_out = _energy(t[inside], data["voltage"][inside], data["current"][inside], gap_s)
     return Between(_reading(log, data, a_s, gap_s), _reading(log, data, b_s, gap_s), start, end, len(inside),
