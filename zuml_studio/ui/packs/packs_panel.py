@@ -23,6 +23,7 @@ from ..background import BackgroundCall
 from ..device.confirm_dialogs import documents_folder
 from .add_pack_dialog import AddPackDialog
 from .report import ReportError, write_report
+from ...packs.report_data import model_lines, session_curves
 from .trend_plot import PackTrendPlot
 from ...i18n import N_, _, ngettext
 
@@ -55,6 +56,7 @@ class PacksPanel(QWidget):
                 self.error = str(exc)
         self._job: BackgroundCall | None = None
         self._save_dir = ""                        # where the user last saved an export or a report
+        self._fits: dict = {}                      # pack name -> (fitted file, FitResult): the report shows it
         self._session_ids: list[int] = []          # the table's rows' sessions
         self._bridge = _Progress(self)
         self._bridge.step.connect(self._progress_step)
@@ -390,9 +392,34 @@ class PacksPanel(QWidget):
             return
         path, _f = QFileDialog.getSaveFileName(self, _("Pack Report"), self._save_start(f"{pack.name}.pdf"),
                                                _("PDF (*.pdf);;PNG image (*.png)"))
-        if path:
-            self._save_dir = str(Path(path).parent)
+        if not path:
+            return
+        self._save_dir = str(Path(path).parent)
+        if pack.name in self._fits or self._job is not None:
             self.write_report(path)
+            return
+        book_path = self.book.path
+
+        def job():
+            book = Logbook(book_path)
+            try:
+                name, result = fit_pack_model(book, pack)
+                return name, result
+            except PackError:
+                return None
+            finally:
+                book.close()
+
+        def done(fitted) -> None:
+            self.progress.hide()
+            if fitted is not None:
+                self._fits[pack.name] = (fitted[1].curve.name, fitted[1])
+            self.write_report(path)
+
+        self.progress.setRange(0, 0)
+        self.progress.setFormat(_("fitting the model of pack '{name}'…").format(name=pack.name))
+        self.progress.show()
+        self._start(job, done)
 
     def _save_start(self, name: str) -> str:
         """A save dialog's suggestion: in the folder last saved to, else the user's documents (a bare
@@ -400,9 +427,14 @@ class PacksPanel(QWidget):
         return str(Path(self._save_dir or documents_folder()) / name)
 
     def write_report(self, path: str) -> bool:
+        """The report, with the model this window last fitted to the pack (``_choose_report`` fits one first)."""
         pack = self.current_pack()
+        sessions = pack_sessions(self.book, pack)
+        curves, _missing = session_curves(pack, sessions)
+        fitted = self._fits.get(pack.name)
         try:
-            write_report(path, pack_summary(self.book, pack), trend(pack, pack_sessions(self.book, pack)))
+            write_report(path, pack_summary(self.book, pack), trend(pack, sessions), curves,
+                         model_lines(fitted[1] if fitted else None, fitted[0] if fitted else ""))
         except ReportError as exc:
             self._failed(exc)
             return False
@@ -422,7 +454,9 @@ class PacksPanel(QWidget):
         def job():
             book = Logbook(path)
             try:
-                return fit_pack_model(book, pack)[0]
+                name, result = fit_pack_model(book, pack)
+                self._fits[pack.name] = (result.curve.name, result)
+                return name
             finally:
                 book.close()
 
