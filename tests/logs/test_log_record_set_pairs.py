@@ -95,6 +95,8 @@ def test_a_log_and_its_dataexplorer_style_export_read_to_the_same_sessions(path)
     back = read_log(text.getvalue().encode(), _name(path) + ".export.csv")
     assert back.format == "csv" and back.bad_records == 0
     same_sessions(log, back)
+    if log.meta.get("started"):                      # dated as the log is (a time without a zone: UTC)
+        assert back.meta["started"][:19] == log.meta["started"][:19]
 
 
 def test_log_export_dataexplorer_writes_the_record_sets(tmp_path, capsys):

@@ -5,6 +5,7 @@ one ``### RECORDSET`` block per phase, each restarting at time 0 (``write_record
 from __future__ import annotations
 
 import csv
+import datetime as dt
 from typing import TextIO
 
 from ..device.session_log import cell_columns
@@ -16,6 +17,21 @@ from .model import STATES, Log
 SET_NAMES = {"charge": "Laden", "discharge": "Entladen", "pause": "Pause", "idle": "Idle"}
 # Where the time line starts when the log gives no date (ms since 1970: 2001-09-09).
 EPOCH_MS = 1.0e12
+
+
+def start_ms(log: Log) -> float:
+    """The log's own start (``meta["started"]``; a time without a zone read as UTC) in ms since 1970, else
+    ``EPOCH_MS``: an export of a dated log is dated as it is."""
+    started = log.meta.get("started")
+    if started:
+        try:
+            when = dt.datetime.fromisoformat(str(started))
+        except ValueError:
+            return EPOCH_MS
+        if when.tzinfo is None:
+            when = when.replace(tzinfo=dt.timezone.utc)
+        return when.timestamp() * 1000.0
+    return EPOCH_MS
 
 COLUMNS = ("t_s", "voltage_v", "current_a", "temp_c", "charge_in_mah", "charge_out_mah", "state")
 
@@ -53,12 +69,13 @@ def write_record_sets(log: Log, stream: TextIO, source: str = "") -> int:
     names = ["time_s", "Spannung [V]"] + (["Strom [A]"] if current else []) + ["Ladung [mAh]"] + \
         (["Temperatur [°C]"] if temp else []) + [f"ZellenSpannung {k + 1} [V]" for k in range(width)]
     rows = 0
+    first_ms = start_ms(log)
     for n, (phase, (start, end)) in enumerate(zip(log.phases(), log.phase_bounds())):
         t0 = float(c.t[start])
         name = f"{n + 1}) {SET_NAMES[phase.state]}"
         stream.write("### RECORDSET\n")
         stream.write(f"# source={source or 'log'} device={log.device.replace(' ', '_')} recordset='{name}' "
-                     f"timestep_ms={step_ms!r} startTimeStamp_epoch_ms={EPOCH_MS + t0 * 1000.0!r}\n")
+                     f"timestep_ms={step_ms!r} startTimeStamp_epoch_ms={first_ms + (t0 - float(c.t[0])) * 1000.0!r}\n")
         writer.writerow(names)
         before = start - 1 if start else start              # the step into the set counts in it
         q_in0, q_out0 = float(c.mah_in[before]), float(c.mah_out[before])
