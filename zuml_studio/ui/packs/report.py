@@ -129,7 +129,7 @@ def _paint_curves(painter: QPainter, rect: QRectF, title: str, series: list[tupl
                                 38, 14), align | Qt.AlignmentFlag.AlignRight, f"{value:.3g}")
     painter.drawText(QRectF(area.left(), area.bottom() + 1, 40, 14), Qt.AlignmentFlag.AlignLeft, "0")
     painter.drawText(QRectF(area.right() - 60, area.bottom() + 1, 60, 14), Qt.AlignmentFlag.AlignRight,
-                     f"{x_top:.3g} h")
+                     _("{hours:.3g} h").format(hours=x_top))
     for n, (_label, x, y) in enumerate(drawn):
         colour = QColor(_COLOURS[n % len(_COLOURS)])
         painter.setPen(QPen(colour, 1.2))
@@ -151,8 +151,9 @@ def _paint_curves(painter: QPainter, rect: QRectF, title: str, series: list[tupl
 
 
 def _legend(painter: QPainter, area: QRectF, labels: list[str]) -> None:
-    """The sessions' dates in their colours, in the plot's top left corner."""
+    """The sessions' dates in their colours, in the plot's top left corner, on the paper's white."""
     y = area.top() + 2
+    painter.fillRect(QRectF(area.left() + 2, y, 72, 11 * len(labels) + 2), QColor(255, 255, 255, 220))
     for n, label in enumerate(labels):
         painter.setPen(QColor(_COLOURS[n % len(_COLOURS)]))
         painter.drawText(QRectF(area.left() + 4, y, 90, 12), Qt.AlignmentFlag.AlignLeft, label)
@@ -168,7 +169,8 @@ def _paint_sessions(painter: QPainter, sessions: list[dict], y: float, line: int
     painter.setFont(bold)
     x = _MARGIN
     for name, width in columns:
-        painter.drawText(QRectF(x, y, width, line), Qt.AlignmentFlag.AlignLeft, name)
+        name = painter.fontMetrics().elidedText(name, Qt.TextElideMode.ElideRight, width - 4)
+        painter.drawText(QRectF(x, y, width - 4, line), Qt.AlignmentFlag.AlignLeft, name)
         x += width
     y += line
     painter.drawLine(_MARGIN, int(y), w - _MARGIN, int(y))
