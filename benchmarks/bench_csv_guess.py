@@ -6,8 +6,8 @@ Run: python benchmarks/bench_csv_guess.py [MB ...]   (default 100)
 Prints per header field length N the guess's time, then per size the file's MB, rows, seconds and
 the reading process's peak resident memory (a fresh process per size, so the peak is its own).
 
-Measured (2 shared cores, issue 33 §1): a 100.3 MB CSV of 1 560 000 rows read in 24 s with a peak of
-317 MB = 3.2x the file (the interpreter and numpy alone: 30 MB); before the Log held numpy columns (a
+Measured (2 shared cores, issue 33 §1): a 100.3 MB CSV of 1 560 000 rows read in 24 s (quiet; 90 s
+under the other engineers' load) with a peak of 317 MB = 3.2x the file (the interpreter and numpy alone: 30 MB); before the Log held numpy columns (a
 Telemetry per row) it took 2.26 GB = 22x."""
 from __future__ import annotations
 
@@ -56,11 +56,11 @@ def write_csv(path: Path, megabytes: float) -> int:
 
 def read_once(path: str) -> None:
     from zuml_studio.logs import read_log
-    t = time.perf_counter()
+    t, cpu = time.perf_counter(), time.process_time()
     log = read_log(Path(path).read_bytes(), Path(path).name)
-    seconds = time.perf_counter() - t
+    seconds, cpu = time.perf_counter() - t, time.process_time() - cpu
     peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-    print(f"{len(log.samples)} {seconds:.2f} {peak_mb:.0f}")
+    print(f"{len(log.samples)} {seconds:.2f} {peak_mb:.0f} {cpu:.2f}")
 
 
 def main(sizes: list[float]) -> None:
@@ -74,8 +74,9 @@ def main(sizes: list[float]) -> None:
             if out.returncode:
                 print(out.stderr.strip().splitlines()[-1])
                 continue
-            samples, seconds, peak = out.stdout.split()
-            print(f"read {size:6.1f} MB, {rows} rows -> {samples} samples: {float(seconds):6.1f} s, "
+            samples, seconds, peak, cpu = out.stdout.split()
+            print(f"read {size:6.1f} MB, {rows} rows -> {samples} samples: {float(seconds):6.1f} s "
+                  f"({float(cpu):.1f} s CPU), "
                   f"peak {float(peak):6.0f} MB = {float(peak) / size:4.1f}x the file (target 4x)", flush=True)
 
 

@@ -1,5 +1,6 @@
-"""What reading a log gives: ``Log`` (samples as ``Telemetry``, bad records, charger, metadata),
-its phases, and ``SampleBuilder``, which every reader fills column by column."""
+"""What reading a log gives: ``Log`` (its samples as numpy ``Columns``, each a ``Telemetry`` when asked
+for; bad records, charger, metadata), its phases, and ``SampleBuilder``, which every reader fills row by
+row or a block of columns at a time."""
 from __future__ import annotations
 
 import datetime as dt
