@@ -5,6 +5,7 @@ fit gives no such figure)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -66,7 +67,7 @@ def model_lines(result: FitResult | None, logged_file: str = "") -> list[str]:
         value = f.get(key)
         return "–" if value is None else f"{format(value, spec)} {unit}"
 
-    lines = [_("Fitted to {file}").format(file=logged_file or result.curve.name or "–"),
+    lines = [_("Fitted to {file}").format(file=Path(logged_file or result.curve.name).name or "–"),
              _("fit quality (RMSE): voltage {v} per cell, CV current {i}, temperature {t}").format(
                      v=fig("rmse_v_per_cell_mv", ".1f", "mV"), i=fig("rmse_i_cv_pct", ".1f", "%"),
                      t=fig("rmse_temp_c", ".1f", "°C"))]

@@ -11,6 +11,7 @@ from PySide6.QtGui import QColor, QFont, QImage, QPageLayout, QPageSize, QPainte
 
 from ...packs.health import TrendPoint
 from ...packs.report_data import SessionCurve
+from ...packs.summary import DATED_MARK, dates_note
 from .trend_plot import PackTrendPlot
 from ...i18n import _
 
@@ -176,10 +177,10 @@ def _paint_sessions(painter: QPainter, sessions: list[dict], y: float, line: int
     painter.drawLine(_MARGIN, int(y), w - _MARGIN, int(y))
     y += 3
     painter.setFont(small)
-    room = int((h - _MARGIN - y) // 16)
+    room = int((h - _MARGIN - y) // 16) - 2        # the notes under the table
     shown = sessions if len(sessions) <= room else sessions[-(room - 1):]
     for s in shown:
-        cells = (s["recorded"][:10], _fmt(s["charge_in_mah"], ".0f"), _fmt(s["charge_out_mah"], ".0f"),
+        cells = (s["recorded"][:10] + DATED_MARK.get(s["recorded_from"], "?"), _fmt(s["charge_in_mah"], ".0f"), _fmt(s["charge_out_mah"], ".0f"),
                  _fmt(s["capacity_mah"], ".0f"), _fmt(s["resistance_mohm_per_cell"], ".1f"),
                  _fmt(s["cell_deviation_mv"], ".0f"), _fmt(s["t_max_c"], ".1f"), Path(s["file"]).name)
         x = _MARGIN
@@ -188,9 +189,12 @@ def _paint_sessions(painter: QPainter, sessions: list[dict], y: float, line: int
             painter.drawText(QRectF(x, y, width - 4, 16), Qt.AlignmentFlag.AlignLeft, text)
             x += width
         y += 16
-    if len(shown) < len(sessions):
-        painter.drawText(QRectF(_MARGIN, y, w - 2 * _MARGIN, 16), Qt.AlignmentFlag.AlignLeft,
-                         _("(the {n} earliest sessions are in the CSV export)").format(n=len(sessions) - len(shown)))
+    notes = [_("(the {n} earliest sessions are in the CSV export)").format(n=len(sessions) - len(shown))] \
+        if len(shown) < len(sessions) else []
+    notes += [n for n in (dates_note(sessions),) if n]
+    for note in notes:
+        painter.drawText(QRectF(_MARGIN, y, w - 2 * _MARGIN, 16), Qt.AlignmentFlag.AlignLeft, note)
+        y += 16
 
 
 def report_image(info: dict, points: list[TrendPoint], curves: list[SessionCurve] = (), model: list[str] = (),
