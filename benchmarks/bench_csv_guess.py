@@ -6,9 +6,9 @@ Run: python benchmarks/bench_csv_guess.py [MB ...]   (default 100)
 Prints per header field length N the guess's time, then per size the file's MB, rows, seconds and
 the reading process's peak resident memory (a fresh process per size, so the peak is its own).
 
-Measured (2 shared cores, issue 33 §1): a 100.3 MB CSV of 1 560 000 rows read in 24 s (quiet; 90 s
-under the other engineers' load) with a peak of 317 MB = 3.2x the file (the interpreter and numpy alone: 30 MB); before the Log held numpy columns (a
-Telemetry per row) it took 2.26 GB = 22x."""
+Measured (2 shared cores, issue 33 §1): a 100.1 MB CSV of 1 490 000 rows read in 19 s (7.4 s of CPU: the
+rest is the other engineers' load) with a peak of 308 MB = 3.1x the file (the interpreter and numpy alone:
+30 MB); before the Log held numpy columns (a Telemetry per row) it took 2.26 GB = 22x."""
 from __future__ import annotations
 
 import resource
@@ -47,7 +47,7 @@ def write_csv(path: Path, megabytes: float) -> int:
             lines = []
             for i in range(rows, rows + 10_000):
                 cells = ";".join(f"{3.7 + (i % 500) * 0.001:.3f}" for _ in range(6))
-                lines.append(f"{i:.1f};{22.2 + (i % 500) * 0.006:.3f};2,500;{i * 2.5 / 3600:.1f};{cells}"
+                lines.append(f"{i:.1f};{22.2 + (i % 500) * 0.006:.3f};2,500;{i * 2500 / 3600:.1f};{cells}"
                              .replace(".", ","))
             fh.write("\n".join(lines) + "\n")
             rows += 10_000
