@@ -73,8 +73,10 @@ def model_lines(result: FitResult | None, logged_file: str = "") -> list[str]:
                      t=fig("rmse_temp_c", ".1f", "°C"))]
     peak = f.get("peak")
     logged, model = (peak["real_mah"], peak["model_mah"]) if peak else (_logged_mah(result), None)
-    lines.append(_("charge to the end: logged {logged}, the model predicts {model}").format(
-            logged="–" if logged is None else f"{logged:.0f} mAh", model="–" if model is None else f"{model:.0f} mAh"))
+    said = _("charge to the −ΔV peak: logged {logged}, the model predicts {model}") if peak else \
+        _("charge to the end: logged {logged}, the model predicts {model}")
+    lines.append(said.format(logged="–" if logged is None else f"{logged:.0f} mAh",
+                             model="–" if model is None else f"{model:.0f} mAh"))
     if logged and model is not None and abs(model - logged) / logged > TRUST:
         lines.append(_("the model's charge differs from the log's by {pct:.0f} % (over {trust:.0f} %): do not trust "
                        "its predictions for this pack").format(pct=abs(model - logged) / logged * 100,

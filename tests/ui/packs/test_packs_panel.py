@@ -161,4 +161,4 @@ def test_the_report_fits_the_model_first_and_shows_its_quality(make_window, qtbo
     assert path.endswith("r.png") and len(curves) == 1
     assert model[0].startswith("Fitted to ") and "406DUO" in model[0]
     assert model[1].startswith("fit quality (RMSE): voltage ") and " mV per cell" in model[1]
-    assert model[2].startswith("charge to the end: logged ")
+    assert model[2].startswith("charge to the end: logged ") and model[2].endswith("the model predicts –")
