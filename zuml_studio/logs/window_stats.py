@@ -63,16 +63,24 @@ class Between:
         return None if x is None or y is None else y - x
 
 
+# Samples worked at a time.
+_BLOCK = 1 << 16
+
+
 def deviation_mv(cells: np.ndarray) -> np.ndarray:
     """Highest minus lowest cell per sample, in mV; NaN where fewer than two cells read."""
     cells = np.asarray(cells, dtype=float)
     if cells.ndim != 2 or cells.shape[1] < 2:
         return np.full(len(cells), np.nan)
-    finite = np.isfinite(cells)
-    high = np.where(finite, cells, -np.inf).max(axis=1)
-    low = np.where(finite, cells, np.inf).min(axis=1)
-    with np.errstate(invalid="ignore"):
-        return np.where(finite.sum(axis=1) >= 2, (high - low) * 1000.0, np.nan)
+    out = np.empty(len(cells))
+    for lo in range(0, len(cells), _BLOCK):         # a block at a time: a long log's cells are not copied whole
+        part = cells[lo:lo + _BLOCK]
+        finite = np.isfinite(part)
+        high = np.where(finite, part, -np.inf).max(axis=1)
+        low = np.where(finite, part, np.inf).min(axis=1)
+        with np.errstate(invalid="ignore"):
+            out[lo:lo + _BLOCK] = np.where(finite.sum(axis=1) >= 2, (high - low) * 1000.0, np.nan)
+    return out
 
 
 def _reading(log: Log, data: dict, seconds: float, gap_s: float) -> Reading | None:
