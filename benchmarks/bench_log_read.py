@@ -7,6 +7,7 @@ about the neighbours than about the reader) and MB/s per size: a linear reader k
 Run: python benchmarks/bench_log_read.py [MB ...]"""
 from __future__ import annotations
 
+import lzma
 import sys
 import time
 from pathlib import Path
@@ -20,6 +21,7 @@ FILES = [
     ("iCharger DUO/X text", DATA / "logs" / "406DUO_Turnigy_4S_1500_A_Charge_0_CH1.txt", 0),
     ("LogView open format", DATA / "logs" / "LogViewOpenFormat_TimeGiven_Offsets_Factor.txt", 5),
     ("DataExplorer CSV", DATA / "logs" / "AkkuMasterC4_2007-12-28-EmpfaengerAA4-Laden.csv", 2),
+    ("DataExplorer record-set CSV export", DATA / "realdata" / "NiMH_AA_Rx_eStationBC6_cycle.csv.xz", 0),
     ("raw capture: iCharger lines", DATA / "realdata" / "icharger306B_RB_1000_lines_head300.txt", 0),
     ("raw capture: cheali lines", DATA / "realdata" / "cheali_captured_lines_from_issues.txt", 0),
     ("raw capture: iMAX B6 frames", DATA / "realdata" / "imaxb6_Ladung3S450mAh_frames_head300.txt", 0),
@@ -31,7 +33,8 @@ def grown(path: Path, head_lines: int, size: int) -> bytes:
     """The file with its records repeated to ``size`` bytes. Their times repeat too, so each
     repetition goes back in time and is left out (``logs.model.in_time_order``): the figures
     include that search, the worst case of a log's time order."""
-    lines = path.read_bytes().splitlines(keepends=True)
+    raw = lzma.decompress(path.read_bytes()) if path.suffix == ".xz" else path.read_bytes()
+    lines = raw.splitlines(keepends=True)
     head, body = b"".join(lines[:head_lines]), b"".join(lines[head_lines:])
     return head + body * max(1, (size - len(head)) // len(body))
 
@@ -45,7 +48,7 @@ def main() -> int:
         for mb in sizes:
             data = grown(path, head, int(mb * 1e6))
             t0 = time.process_time()
-            summarize(read_log(data, path.name))
+            summarize(read_log(data, path.name.removesuffix(".xz")))
             took = time.process_time() - t0
             cells.append(f"{took:.2f} ({len(data) / 1e6 / took:.1f})")
         print(f"| {what} | {' | '.join(cells)} |", flush=True)

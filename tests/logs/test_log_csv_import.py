@@ -6,6 +6,7 @@ import csv
 import io
 from pathlib import Path
 
+import numpy as np
 import pytest
 from logdata import data
 
@@ -90,3 +91,19 @@ def test_a_csv_without_time_or_voltage_is_refused_with_the_reason():
 
 def test_the_fit_s_curve_csv_is_left_to_the_fit():
     assert not csv_import.sniff(b"time_s,voltage_v,current_a\n0,4.0,1.0\n1,4.1,1.0\n", "c.csv")
+
+
+def test_a_csv_is_read_into_columns_a_block_at_a_time_with_progress(monkeypatch):
+    # Issue 33 §1 (cost): the rows go into numpy columns, never a Telemetry per row; the reader says how far
+    # it is after each block of lines (the log window's progress bar).
+    from zuml_studio.logs import csv_import as reader
+    monkeypatch.setattr(reader, "TEXT_BLOCK", 64)
+    rows = "".join(f"{k};{7.4 + k * 0.01:.2f};2,0\n".replace(".", ",") for k in range(50))
+    data = ("Zeit [s];Spannung [V];Strom [A]\n" + rows).encode()
+    told = []
+    log = read_log(data, "x.csv", progress=lambda done, total: told.append((done, total)))
+    assert len(told) > 5 and told[-1] == (len(data), len(data))
+    assert all(a[0] <= b[0] for a, b in zip(told, told[1:]))
+    assert isinstance(log.columns.voltage, np.ndarray) and len(log.columns.voltage) == 50
+    assert log.samples[-1].voltage_v == pytest.approx(7.89) and log.samples[-1].time_s == 49.0
+    assert log.samples[3] == log.columns.sample(3)

@@ -1,5 +1,4 @@
 """A session's figures on real recordings, against numbers computed here from the samples."""
-from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -69,7 +68,7 @@ def test_capacity_comes_from_a_discharge_to_the_cut_off_else_it_says_partial():
     assert session_figures(log, 4, "NiMh").capacity_from == "discharge"       # to 3.2 V: 0.8 V per cell
     # The same log cut where its first discharge is half way: partial, with how far it went.
     first_discharge_end = next(k for k, s in enumerate(log.samples) if s.section != "discharge" and k > 10)
-    half = replace(log, samples=log.samples[:first_discharge_end // 2])
+    half = log.head(first_discharge_end // 2)
     f = session_figures(half, 4, "NiMh")
     assert f.capacity_from.startswith("partial: ") and f.capacity_from.endswith(" %")
     assert 10 <= int(f.capacity_from.split()[1]) < 90

@@ -1,8 +1,8 @@
 """Charger log files: read them (one module per format), summarise, export. No Qt here.
 
 ``read_log(data, name)`` recognises the format from the bytes (``registry.detect``) and
-returns a ``Log``: the samples as ``device.messages.Telemetry``, the bad-record count and
-what the file says about the charger."""
+returns a ``Log``: the samples as numpy columns (``model.Columns``; ``log.samples`` makes each a
+``device.messages.Telemetry`` when asked for), the bad-record count and what the file says about the charger."""
 from .model import Log, LogFormatError, Phase
 from .registry import FORMATS, LogReader, detect, read_log, read_log_file
 

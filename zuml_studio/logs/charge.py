@@ -6,6 +6,8 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+import numpy as np
+
 from ..device.charge_counter import ChargeCounter
 
 SECONDS_PER_HOUR = 3600.0
@@ -16,33 +18,37 @@ MAX_STEP_S = 60.0
 AGREE = 0.03
 # Totals below this are not compared (a counter's 1 mAh steps are a large part of them).
 COMPARE_FROM_MAH = 20.0
+# Samples worked at a time over a long log.
+_BLOCK = 1 << 16
 
 
-def integrate_current(times_s: Sequence[float], currents_a: Sequence[float]) -> tuple[list[float], list[float]]:
+def integrate_current(times_s: Sequence[float] | np.ndarray,
+                      currents_a: Sequence[float] | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Cumulative mAh in (current > 0) and out (current < 0), trapezoidal per step.
 
     A step whose halves have opposite signs is split at the zero crossing; a step back in
-    time or longer than ``MAX_STEP_S`` adds nothing."""
+    time or longer than ``MAX_STEP_S`` adds nothing. Worked in blocks so a long log's temporaries stay small."""
+    t = np.asarray(times_s, float)
+    i = np.asarray(currents_a, float)
+    n = len(t)
+    ins, outs = np.zeros(n), np.zeros(n)
     q_in = q_out = 0.0
-    ins: list[float] = []
-    outs: list[float] = []
-    prev_t = prev_i = None
-    for t, i in zip(times_s, currents_a):
-        if prev_t is not None:
-            dt = t - prev_t
-            if 0.0 < dt <= MAX_STEP_S:
-                if (prev_i >= 0.0) == (i >= 0.0):
-                    area = (prev_i + i) * 0.5 * dt
-                    pos, neg = (area, 0.0) if area >= 0 else (0.0, -area)
-                else:
-                    cross = dt * abs(prev_i) / (abs(prev_i) + abs(i))
-                    a1, a2 = prev_i * cross * 0.5, i * (dt - cross) * 0.5
-                    pos, neg = max(a1, 0.0) + max(a2, 0.0), -min(a1, 0.0) - min(a2, 0.0)
-                q_in += pos * 1000.0 / SECONDS_PER_HOUR
-                q_out += neg * 1000.0 / SECONDS_PER_HOUR
-        ins.append(q_in)
-        outs.append(q_out)
-        prev_t, prev_i = t, i
+    for lo in range(0, max(n - 1, 0), _BLOCK):
+        hi = min(lo + _BLOCK, n - 1)
+        dt = t[lo + 1:hi + 1] - t[lo:hi]
+        a, b = i[lo:hi], i[lo + 1:hi + 1]
+        same = (a >= 0.0) == (b >= 0.0)
+        area = (a + b) * 0.5 * dt
+        with np.errstate(invalid="ignore", divide="ignore"):
+            cross = np.where(same, 0.0, dt * np.abs(a) / (np.abs(a) + np.abs(b)))
+        a1, a2 = a * cross * 0.5, b * (dt - cross) * 0.5
+        pos = np.where(same, np.maximum(area, 0.0), np.maximum(a1, 0.0) + np.maximum(a2, 0.0))
+        neg = np.where(same, np.maximum(-area, 0.0), -np.minimum(a1, 0.0) - np.minimum(a2, 0.0))
+        ok = (dt > 0.0) & (dt <= MAX_STEP_S)
+        step_in = np.cumsum(np.where(ok, pos, 0.0) * (1000.0 / SECONDS_PER_HOUR)) + q_in
+        step_out = np.cumsum(np.where(ok, neg, 0.0) * (1000.0 / SECONDS_PER_HOUR)) + q_out
+        ins[lo + 1:hi + 1], outs[lo + 1:hi + 1] = step_in, step_out
+        q_in, q_out = float(step_in[-1]), float(step_out[-1])
     return ins, outs
 
 
@@ -62,6 +68,21 @@ def charge_from_counter(counter_mah: Sequence[float]) -> tuple[list[float], list
         ins = [q - in0 for q in ins]
         outs = [q - out0 for q in outs]
     return ins, outs
+
+
+def counter_totals(counter_mah: Sequence[float] | np.ndarray) -> tuple[float, float]:
+    """``charge_from_counter``'s last (in, out) without its lists (a long log's counter)."""
+    counter = ChargeCounter()
+    values = np.asarray(counter_mah, float)
+    if not len(values):
+        return 0.0, 0.0
+    first = None
+    for lo in range(0, len(values), _BLOCK):
+        for c in values[lo:lo + _BLOCK].tolist():
+            totals = counter.add(c)
+            if first is None:
+                first = totals
+    return counter.totals[0] - first[0], counter.totals[1] - first[1]
 
 
 def disagreement(integrated: tuple[float, float], counted: tuple[float, float]) -> dict | None:

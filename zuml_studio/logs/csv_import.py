@@ -19,10 +19,14 @@ discharging (the SkyRC logger's) is read with the unit ``-A`` or ``-mA``. A char
 that counts up while discharging counts as discharged."""
 from __future__ import annotations
 
+import codecs
 import csv
 import math
 import re
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field, replace
+
+import numpy as np
 
 from . import record_sets
 from .model import Log, LogFormatError, SampleBuilder, in_time_order, started_at_ms
@@ -46,6 +50,8 @@ UTF16_BOMS = (b"\xff\xfe", b"\xfe\xff")
 LONG_LINE = 1024
 # The guess reads the columns from the file's first bytes only (its header and PROBE_LINES rows).
 GUESS_BYTES = 1 << 20
+# The reader decodes and reads this many bytes at a time (a large file is never held decoded whole).
+TEXT_BLOCK = 1 << 20
 # Where a column's name gives no unit: the largest value read as V (pack), V (cell), A. Beyond these
 # no hobby charger measures (a 30S pack is 126 V; the largest charger outputs 40-60 A), so the values
 # are mV or mA. Said in the log's meta (csv_assumed), never silently.
@@ -123,14 +129,42 @@ def decode(data: bytes) -> str:
     ones have an umlaut here and there), else 1252."""
     if data.startswith(UTF16_BOMS):
         return data.decode("utf-16", "replace")
+    return data.decode(_encoding(data), "replace")
+
+
+def _encoding(data: bytes) -> str:
+    """``decode``'s choice for bytes without a UTF-16 mark, found without decoding them whole."""
+    if data.isascii():
+        return "ascii"
+    check = codecs.getincrementaldecoder("utf-8")()
     try:
-        return data.decode("utf-8-sig")
+        for at in range(0, len(data), TEXT_BLOCK):
+            check.decode(data[at:at + TEXT_BLOCK])
+        check.decode(b"", final=True)
+        return "utf-8-sig"
     except UnicodeDecodeError:
         pass
     sample = data[:65536]
     high = sum(sample.count(bytes([b])) for b in range(0xC0, 0x100))
     latin = sum(sample.count(bytes([b])) for b in range(0x41, 0x7B) if chr(b).isalpha())
-    return data.decode("cp1251" if high > latin else "cp1252", "replace")
+    return "cp1251" if high > latin else "cp1252"
+
+
+def _text_blocks(data: bytes) -> Iterator[tuple[str, int]]:
+    """The file's text in blocks of whole lines, each with the bytes read up to its end: a large file is
+    never held decoded whole (UTF-16, rare and made by a spreadsheet, is)."""
+    if data.startswith(UTF16_BOMS):
+        yield decode(data), len(data)
+        return
+    encoding = _encoding(data)
+    at = 0
+    if data.startswith(b"\xef\xbb\xbf") and encoding == "utf-8-sig":
+        at, encoding = 3, "utf-8"
+    while at < len(data):
+        end = data.find(b"\n", at + TEXT_BLOCK)
+        end = len(data) if end < 0 else end + 1
+        yield data[at:end].decode(encoding, "replace"), end
+        at = end
 
 
 def _content_lines(lines: list[str]) -> list[int]:
@@ -344,11 +378,11 @@ def check(g: CsvGuess) -> None:
 
 @dataclass
 class _Set:
-    """One record set's rows as columns (a ``### RECORDSET`` block, or the part after time went back)."""
+    """One record set (a ``### RECORDSET`` block): its name, time stamps and first row."""
     name: str = ""
     start_ms: float = -1.0
     step_ms: float = -1.0
-    rows: list = field(default_factory=list)
+    first: int = 0
 
 
 def _set_meta(line: str) -> dict[str, str]:
@@ -363,70 +397,123 @@ def _float_or(text: str | None, default: float) -> float:
         return default
 
 
-def _median_step(times: list[float]) -> float:
-    steps = sorted(b - a for a, b in zip(times, times[1:]) if b > a)
-    return steps[len(steps) // 2] if steps else 1.0
+def _median_step(times: np.ndarray) -> float:
+    steps = np.diff(times)
+    steps = steps[steps > 0]
+    return float(np.sort(steps)[len(steps) // 2]) if len(steps) else 1.0
 
 
-def read(data: bytes, g: CsvGuess | None = None) -> Log:
+def _plain_row(line: str, sep: str, used: list[int], scale: list[float], comma: bool,
+               width: int) -> list[float] | None:
+    """A row's numbers the quick way (no quotes, every used field a plain finite number; a decimal comma
+    where the line has no point), None where ``read`` must look closer (a header, a bad row, an empty
+    temperature, quotes)."""
+    if '"' in line or (comma and "." in line):
+        return None
+    if comma:
+        line = line.replace(",", ".")
+    fields = line.split(sep)
+    if len(fields) < width:
+        return None
+    try:
+        row = [float(fields[k]) * x for k, x in zip(used, scale)]
+        return row if math.isfinite(math.fsum(row)) else None
+    except (ValueError, OverflowError):
+        return None
+
+
+def read(data: bytes, g: CsvGuess | None = None, progress: Callable[[int, int], None] | None = None) -> Log:
     """The rows as the guess (or a corrected one) says. ``### RECORDSET`` blocks (DataExplorer-style
     exports, each restarting at time 0) are record sets, placed on one time line and given their
     direction as the ``.osd`` reader does (``record_sets``); so is each part of a file after its time
-    goes back. No row is left out for its time."""
+    goes back. No row is left out for its time. The rows go straight into one array (a row per line at
+    most), read a block of lines at a time; ``progress(bytes read, bytes)`` is told after each block."""
     g = g or guess(data)
     check(g)
-    lines = decode(data).splitlines()
     at = {c.role: k for k, c in enumerate(g.columns) if c.role not in ("-", "cell")}
     cells = [k for k, c in enumerate(g.columns) if c.role == "cell"]
     used = sorted(set(at.values()) | set(cells))
+    scale = [SCALE.get(g.columns[k].unit, 1.0) for k in used]
     names = [c.name for c in g.columns]
-    optional = {at["temp"]} if "temp" in at else set()     # an empty temperature: not measured then
+    optional = at.get("temp", -1)                   # an empty temperature: not measured then
+    comma = g.decimal_comma
+    values = np.empty((data.count(b"\n") + 1 if not data.startswith(UTF16_BOMS) else len(data) // 2 + 1,
+                       len(used)))
+    rows = 0
+    pending: list[list[float]] = []
     sets = [_Set()]
     bad = 0
     header_due = False                              # a block's first line names its columns
-    for n, line in enumerate(lines):
-        stripped = line.strip()
-        if stripped == RECORDSET:
-            if sets[-1].rows or sets[-1].name:
-                sets.append(_Set())
-            header_due = n > g.header_line
-            continue
-        if not stripped:
-            continue
-        if stripped.startswith("#"):
-            meta = _set_meta(stripped)
-            if "recordset" in meta and not sets[-1].rows:
-                sets[-1].name = meta["recordset"]
-                sets[-1].start_ms = _float_or(meta.get("startTimeStamp_epoch_ms"), -1.0)
-                sets[-1].step_ms = _float_or(meta.get("timestep_ms"), -1.0)
-            continue
-        if n <= g.header_line:
-            continue
-        fields = _split(line, g.separator)
-        if header_due or fields[:len(names)] == names:     # the next block's header
-            header_due = False
-            if not all(_is_number(f, g.decimal_comma) for f in fields if f):
+    n = -1
+
+    def store() -> None:
+        nonlocal rows
+        if pending:
+            values[rows:rows + len(pending)] = pending
+            rows += len(pending)
+            pending.clear()
+
+    for text, done in _text_blocks(data):
+        for line in text.splitlines():
+            n += 1
+            stripped = line.strip()
+            if stripped == RECORDSET:
+                store()
+                if rows > sets[-1].first or sets[-1].name:
+                    sets.append(_Set(first=rows))
+                header_due = n > g.header_line
                 continue
-        if len(fields) < len(g.columns):
-            bad += 1
-            continue
-        try:
-            sets[-1].rows.append([math.nan if k in optional and not fields[k] else
-                                  _number(fields[k], g.decimal_comma) * SCALE.get(g.columns[k].unit, 1.0)
-                                  for k in used])
-        except ValueError:
-            bad += 1
+            if not stripped:
+                continue
+            if stripped.startswith("#"):
+                meta = _set_meta(stripped)
+                if "recordset" in meta and rows + len(pending) == sets[-1].first:
+                    sets[-1].name = meta["recordset"]
+                    sets[-1].start_ms = _float_or(meta.get("startTimeStamp_epoch_ms"), -1.0)
+                    sets[-1].step_ms = _float_or(meta.get("timestep_ms"), -1.0)
+                continue
+            if n <= g.header_line:
+                continue
+            if not header_due:
+                row = _plain_row(line, g.separator, used, scale, comma, len(g.columns))
+                if row is not None:
+                    pending.append(row)
+                    continue
+            fields = _split(line, g.separator)
+            if header_due or fields[:len(names)] == names:     # the next block's header
+                header_due = False
+                if not all(_is_number(f, comma) for f in fields if f):
+                    continue
+            if len(fields) < len(g.columns):
+                bad += 1
+                continue
+            try:
+                pending.append([math.nan if k == optional and not fields[k] else _number(fields[k], comma) * x
+                                for k, x in zip(used, scale)])
+            except ValueError:
+                bad += 1
+        store()
+        if progress is not None:
+            progress(done, len(data))
     builder = SampleBuilder()
     col = {k: j for j, k in enumerate(used)}
+    cell_at = [col[k] for k in cells]
+    # Cell columns side by side in the file are one view of the rows, not a copy.
+    cell_view = (lambda lo, hi: values[lo:hi, cell_at[0]:cell_at[-1] + 1]) \
+        if cell_at and cell_at == list(range(cell_at[0], cell_at[-1] + 1)) else \
+        (lambda lo, hi: values[lo:hi, cell_at] if cell_at else None)
     temp_f = "temp" in at and g.columns[at["temp"]].unit == "°F"
     end_s = first_ms = None
     notes = []
     named = []
-    for part in sets:
-        if not part.rows:
+    bounds = [part.first for part in sets[1:]] + [rows]
+    for part, hi in zip(sets, bounds):
+        lo = part.first
+        if hi <= lo:
             continue
-        columns = list(zip(*part.rows))
-        times = [t - columns[col[at["time"]]][0] for t in columns[col[at["time"]]]]
+        column = lambda role: values[lo:hi, col[at[role]]] if role in at else None    # noqa: E731
+        times = column("time")                  # the rows' own array, worked in place: no copy
+        times -= times[0]
         placed, note = in_time_order(times)
         if note is not None:
             notes.append(note)
@@ -435,14 +522,13 @@ def read(data: bytes, g: CsvGuess | None = None) -> Log:
         if first_ms is None and part.start_ms > 0:
             first_ms = part.start_ms
         offset = record_sets.offset_s(end_s, step, part.start_ms, first_ms)
-        temp = columns[col[at["temp"]]] if "temp" in at else None
+        temp = column("temp")
         if temp is not None and temp_f:
-            temp = [(x - 32.0) / 1.8 for x in temp]
-        record_sets.add_set(builder, part.name, [round(t + offset, 6) for t in times], columns[col[at["voltage"]]],
-                            columns[col[at["current"]]] if "current" in at else None,
-                            columns[col[at["charge"]]] if "charge" in at else None,
-                            temp=temp, cells=[columns[col[k]] for k in cells])
-        end_s = times[-1] + offset
+            temp = (temp - 32.0) / 1.8
+        end_s = float(times[-1]) + offset
+        times += offset
+        record_sets.add_set(builder, part.name, np.round(times, 6, out=times), column("voltage"),
+                            column("current"), column("charge"), temp=temp, cells=cell_view(lo, hi))
         named.append(part.name)
     if not len(builder):
         raise LogFormatError(_("no data row ({bad} bad rows)").format(bad=bad))

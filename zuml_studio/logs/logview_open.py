@@ -141,7 +141,7 @@ def read(data: bytes) -> Log:
             kind, ch_text, rest = head.group(1), head.group(2), head.group(3) or ""
             ch = channels.setdefault(int(ch_text or 1), _Channel())
             if kind == "N" and int(ch_text or 1) == chosen and len(builder):
-                set_offset = builder.t[-1] + (ch.increment_s or DEFAULT_STEP_S)
+                set_offset = builder.last("t") + (ch.increment_s or DEFAULT_STEP_S)
                 t_next, given_start = 0.0, None
             elif kind == "C" and int(ch_text or 1) == chosen:
                 roles = None

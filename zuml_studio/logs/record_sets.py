@@ -14,7 +14,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from .model import SampleBuilder, state_from_current
+from .model import STATES, SampleBuilder, states_from_current
 
 # Currents within this of zero are not load (as model.state_from_current).
 LOAD_A = 0.005
@@ -62,26 +62,32 @@ def offset_s(end_s: float | None, step_s: float, start_ms: float, first_start_ms
 def add_set(builder: SampleBuilder, name: str, t: Sequence[float], volts: Sequence[float],
             amps: Sequence[float] | None, mah: Sequence[float] | None = None, *,
             temp: Sequence[float] | None = None, heatsink: Sequence[float] | None = None,
-            cells: Sequence[Sequence[float]] = ()) -> str:
-    """One set's samples (columns; None: not logged) in its direction (current and charge signed by
+            cells: Sequence[Sequence[float]] | np.ndarray | None = ()) -> str:
+    """One set's samples (columns, ``cells`` one per cell or samples × cells; None: not logged) in its direction (current and charge signed by
     it; a pause holds the charge counter). Returns the direction used ("" : the current's sign)."""
     direction = direction_of(name) or direction_by_voltage(volts, amps)
-    held = builder.counter[-1] if builder.counter and builder.counter[-1] is not None else 0.0
-    for k in range(len(t)):
-        i = float(amps[k]) if amps is not None else 0.0
-        q = float(mah[k]) if mah is not None else None
-        if direction == "discharge":
-            i, q = -abs(i), (None if q is None else -abs(q))
-        elif direction == "charge":
-            i, q = abs(i), (None if q is None else abs(q))
-        elif q is not None and i < -LOAD_A:
-            q = -abs(q)                     # a counter that counts up in either direction
-        if direction == "pause":
-            q = held if mah is not None else None
-        builder.add(float(t[k]), float(volts[k]), i, direction or state_from_current(i),
-                    temp=None if temp is None else float(temp[k]),
-                    heatsink=None if heatsink is None else float(heatsink[k]),
-                    cells=[float(col[k]) for col in cells], counter=q)
+    held = builder.last("counter")
+    t = np.asarray(t, float)
+    n = len(t)
+    i = np.zeros(n) if amps is None else np.array(amps, float)
+    q = None if mah is None else np.array(mah, float)
+    if direction == "discharge":
+        np.negative(np.abs(i, out=i), out=i)
         if q is not None:
-            held = q
+            np.negative(np.abs(q, out=q), out=q)
+    elif direction == "charge":
+        np.abs(i, out=i)
+        if q is not None:
+            np.abs(q, out=q)
+    elif q is not None:
+        q = np.where(i < -LOAD_A, -np.abs(q), q)        # a counter that counts up in either direction
+    if direction == "pause" and q is not None:
+        q = np.full(n, 0.0 if held is None else held)
+    state = np.full(n, STATES.index(direction), np.int8) if direction else states_from_current(i)
+    builder.add_columns(t, np.asarray(volts, float), i, state,
+                        temp=None if temp is None else np.asarray(temp, float),
+                        heatsink=None if heatsink is None else np.asarray(heatsink, float),
+                        cells=cells if isinstance(cells, np.ndarray) or cells is None else
+                        np.column_stack([np.asarray(c, float) for c in cells]) if len(cells) else None,
+                        counter=q)
     return direction

@@ -40,7 +40,8 @@ FORMATS: tuple[LogReader, ...] = (
     LogReader("dataexplorer-csv", "DataExplorer CSV export", dataexplorer_csv.sniff, dataexplorer_csv.read),
     LogReader(raw_capture.FORMAT, "raw capture of a charger's serial stream or HID reports", raw_capture.sniff,
               raw_capture.read, raw_capture.read),
-    LogReader(csv_import.FORMAT, "CSV with a header (columns guessed)", csv_import.sniff, csv_import.read),
+    LogReader(csv_import.FORMAT, "CSV with a header (columns guessed)", csv_import.sniff, csv_import.read,
+              lambda data, progress: csv_import.read(data, None, progress)),
 )
 BY_NAME = {f.name: f for f in FORMATS}
 

@@ -1,6 +1,8 @@
 """What ``zuml log info`` prints and the log viewer shows as totals: one dict per log."""
 from __future__ import annotations
 
+import numpy as np
+
 from .model import Log
 
 
@@ -10,24 +12,24 @@ def summarize(log: Log) -> dict:
     file adds (battery, channel, internal-resistance readings…), ``time_order`` where time goes
     back and a new record set follows the last (``model.in_time_order``) and ``out_of_range`` where samples
     no charger could have measured were (``model.MAX_MEASURED``)."""
-    s = log.samples
-    volts = [x.voltage_v for x in s]
-    temps = [x.temp_c for x in s if x.temp_c is not None]
+    c = log.columns
+    s = len(c) > 0
+    temps = c.temp[np.isfinite(c.temp)]
     current = log.meta.get("current_measured", True)
     out = {
         "format": log.format,
         "device": log.device,
-        "samples": len(s),
+        "samples": len(c),
         "bad_records": log.bad_records,
-        "duration_s": round(s[-1].time_s - s[0].time_s, 3) if s else 0.0,
-        "v_min": round(min(volts), 4) if s else None,
-        "v_max": round(max(volts), 4) if s else None,
-        "i_max_a": round(max(abs(x.current_a) for x in s), 4) if s and current else None,
-        "charge_in_mah": round(s[-1].mah_in, 1) if s and current else None,
-        "charge_out_mah": round(s[-1].mah_out, 1) if s and current else None,
+        "duration_s": round(float(c.t[-1] - c.t[0]), 3) if s else 0.0,
+        "v_min": round(float(c.voltage.min()), 4) if s else None,
+        "v_max": round(float(c.voltage.max()), 4) if s else None,
+        "i_max_a": round(float(np.abs(c.current).max()), 4) if s and current else None,
+        "charge_in_mah": round(float(c.mah_in[-1]), 1) if s and current else None,
+        "charge_out_mah": round(float(c.mah_out[-1]), 1) if s and current else None,
         "cells": log.cells,
-        "t_min_c": round(min(temps), 2) if temps else None,
-        "t_max_c": round(max(temps), 2) if temps else None,
+        "t_min_c": round(float(temps.min()), 2) if len(temps) else None,
+        "t_max_c": round(float(temps.max()), 2) if len(temps) else None,
         "phases": [p.as_dict() for p in log.phases()],
     }
     if log.resistance:

@@ -63,16 +63,24 @@ class Between:
         return None if x is None or y is None else y - x
 
 
+# Samples worked at a time.
+_BLOCK = 1 << 16
+
+
 def deviation_mv(cells: np.ndarray) -> np.ndarray:
     """Highest minus lowest cell per sample, in mV; NaN where fewer than two cells read."""
     cells = np.asarray(cells, dtype=float)
     if cells.ndim != 2 or cells.shape[1] < 2:
         return np.full(len(cells), np.nan)
-    finite = np.isfinite(cells)
-    high = np.where(finite, cells, -np.inf).max(axis=1)
-    low = np.where(finite, cells, np.inf).min(axis=1)
-    with np.errstate(invalid="ignore"):
-        return np.where(finite.sum(axis=1) >= 2, (high - low) * 1000.0, np.nan)
+    out = np.empty(len(cells))
+    for lo in range(0, len(cells), _BLOCK):         # a block at a time: a long log's cells are not copied whole
+        part = cells[lo:lo + _BLOCK]
+        finite = np.isfinite(part)
+        high = np.where(finite, part, -np.inf).max(axis=1)
+        low = np.where(finite, part, np.inf).min(axis=1)
+        with np.errstate(invalid="ignore"):
+            out[lo:lo + _BLOCK] = np.where(finite.sum(axis=1) >= 2, (high - low) * 1000.0, np.nan)
+    return out
 
 
 def _reading(log: Log, data: dict, seconds: float, gap_s: float) -> Reading | None:
@@ -80,9 +88,9 @@ def _reading(log: Log, data: dict, seconds: float, gap_s: float) -> Reading | No
     if gaps.in_gap(t, seconds, gap_s):
         return None
     k = int(np.argmin(np.abs(t - seconds)))
-    s = log.samples[k]
+    c = log.columns
     current = float(data["current"][k]) if log.meta.get("current_measured", True) else None
-    return Reading(float(t[k]), float(data["voltage"][k]), current, float(s.mah_in - s.mah_out))
+    return Reading(float(t[k]), float(data["voltage"][k]), current, float(c.mah_in[k] - c.mah_out[k]))
 
 
 def _stat(values: np.ndarray) -> Stat | None:
@@ -113,8 +121,8 @@ def between(log: Log, a_s: float, b_s: float) -> Between:
             curves[name] = stat
     q_in = q_out = e_in = e_out = None
     if len(inside):
-        first, last = log.samples[inside[0]], log.samples[inside[-1]]
-        q_in, q_out = last.mah_in - first.mah_in, last.mah_out - first.mah_out
+        c, first, last = log.columns, inside[0], inside[-1]
+        q_in, q_out = float(c.mah_in[last] - c.mah_in[first]), float(c.mah_out[last] - c.mah_out[first])
         if "current" in columns:
             e_in, e_out = _energy(t[inside], data["voltage"][inside], data["current"][inside], gap_s)
     return Between(_reading(log, data, a_s, gap_s), _reading(log, data, b_s, gap_s), start, end, len(inside),

@@ -8,7 +8,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from ..logs.charge import MAX_STEP_S
-from ..logs.model import Log
+from ..logs.model import STATES, Columns, Log
 from ..logs.rest_steps import resistance_mohm_per_cell
 from ..sim.chemistry import load_chemistry
 
@@ -53,11 +53,11 @@ def session_figures(log: Log, cells: int, chemistry: str | None = None) -> Sessi
     if r is not None and not r > 0:          # no rest step or reading that measures anything: unknown
         r, r_from = None, None
     temps = a["temp"][np.isfinite(a["temp"])]
-    last = log.samples[-1] if log.samples else None
+    c = log.columns
     return SessionFigures(
         duration_s=float(t[-1] - t[0]) if len(t) else 0.0,
-        charge_in_mah=_r(last.mah_in, 1) if current else None,
-        charge_out_mah=_r(last.mah_out, 1) if current else None,
+        charge_in_mah=_r(c.mah_in[-1], 1) if current else None,
+        charge_out_mah=_r(c.mah_out[-1], 1) if current else None,
         energy_in_wh=_r(e_in, 3), energy_out_wh=_r(e_out, 3),
         capacity_mah=_r(cap, 1), capacity_from=cap_from,
         resistance_mohm_per_cell=_r(r, 1), resistance_from=r_from,
@@ -87,17 +87,17 @@ def _capacity(log: Log, cells: int, chemistry: str | None) -> tuple[float | None
     ran to the chemistry's cut-off ("discharge"); one that stopped before says how far it went
     ("partial: N %" of its voltage range, from where it began to the cut-off). A charge is no capacity
     (it may start part full and puts in more than the pack stores): a log with no discharge gives none."""
-    s = log.samples
+    c = log.columns
     best, best_range = 0.0, None
     k = 0
     for phase in log.phases():
         start = k
-        while k < len(s) and s[k].time_s <= phase.end_s:
-            k += 1
+        k = int(np.searchsorted(c.t, phase.end_s, side="right")) if k < len(c) else k
+        k = max(k, start)
         if phase.state == "discharge" and k > start:
-            taken = s[k - 1].mah_out - s[max(start - 1, 0)].mah_out
+            taken = float(c.mah_out[k - 1] - c.mah_out[max(start - 1, 0)])
             if taken > best:
-                best, best_range = taken, _range_covered(s[start:k], cells, chemistry)
+                best, best_range = taken, _range_covered(c.window(start, k), cells, chemistry)
     if best <= 1.0:
         return None, None
     if best_range is None or best_range >= REACHED_CUT_OFF:
@@ -110,22 +110,26 @@ def _capacity(log: Log, cells: int, chemistry: str | None) -> tuple[float | None
 REACHED_CUT_OFF = 0.9
 
 
-def _range_covered(samples, cells: int, chemistry: str | None) -> float | None:
+def _range_covered(samples: Columns, cells: int, chemistry: str | None) -> float | None:
     """How much of the range from its first loaded voltage to the cut-off a discharge covered (1: it
     reached the cut-off); None when the chemistry or the cells are not known."""
-    loaded = [x.voltage_v for x in samples if x.current_a < -0.005]
+    loaded = samples.voltage[samples.current < -0.005]
     if chemistry is None or cells < 1 or len(loaded) < 3:
         return None
     cut_off = load_chemistry(chemistry).discharge_end_v * cells
     top = float(np.median(loaded[:3]))
     if top <= cut_off:
         return 1.0
-    return float(min(1.0, max(0.0, (top - loaded[-1]) / (top - cut_off))))
+    return float(min(1.0, max(0.0, (top - float(loaded[-1])) / (top - cut_off))))
 
 
 def _end_of_charge_deviation_mv(log: Log) -> float | None:
     """max − min cell at the last sample of the last charge phase with every cell read."""
-    for s in reversed(log.samples):
-        if s.section == "charge" and s.running and len(s.cells_v) >= 2 and all(c > 0 for c in s.cells_v):
-            return (max(s.cells_v) - min(s.cells_v)) * 1000.0
-    return None
+    c = log.columns
+    if c.cells.shape[1] < 2:
+        return None
+    read = np.flatnonzero((c.state == STATES.index("charge")) & (c.cells > 0).all(axis=1))
+    if not len(read):
+        return None
+    cells = c.cells[read[-1]]
+    return float(cells.max() - cells.min()) * 1000.0

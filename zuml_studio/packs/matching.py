@@ -12,7 +12,7 @@ import re
 
 import numpy as np
 
-from ..logs.model import Log, state_of
+from ..logs.model import STATES, Log
 from ..sim.chemistry import load_chemistry
 from ..sim.fit import DISCHARGE_SERIES_TOLERANCE, SERIES_TOLERANCE
 from .register import Pack
@@ -49,7 +49,8 @@ def mismatch(log: Log, pack: Pack, file_name: str = "") -> str | None:
                                                                                      pack=pack.cells)
     for state, typical, tolerance in (("charge", own.charging_v, SERIES_TOLERANCE),
                                       ("discharge", own.nominal_v, DISCHARGE_SERIES_TOLERANCE)):
-        volts = [s.voltage_v for s in log.samples if state_of(s) == state and abs(s.current_a) > 0.05]
+        c = log.columns
+        volts = c.voltage[(c.state == STATES.index(state)) & (np.abs(c.current) > 0.05)]
         if len(volts) < MIN_SAMPLES:
             continue
         per_cell = float(np.median(volts)) / pack.cells

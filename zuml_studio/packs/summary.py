@@ -11,9 +11,22 @@ from .db import Logbook
 from .health import health, trend
 from .register import Pack
 from .sessions import FIGURE_COLUMNS, pack_sessions
+from ..i18n import _
 
 CSV_COLUMNS = ("recorded", "file", "format", "device", "source") + FIGURE_COLUMNS + (
         "passport_errors", "passport_critical")
+
+
+# A session's date's source as one letter after it (``pack show`` and the report): none for the log's own.
+DATED_MARK = {"log": "", "file name": "n", "file time": "t", "run": ""}
+
+
+def dates_note(sessions: list[dict]) -> str | None:
+    """The line that explains ``DATED_MARK``'s letters, when a session is dated otherwise than by its log."""
+    if any(s["recorded_from"] in ("file name", "file time") for s in sessions):
+        return _("dates from the logs' own time stamps; n: from the file's name, t: the file's modification "
+                 "time (the log holds no date)")
+    return None
 
 
 def pack_summary(book: Logbook, pack: Pack) -> dict:

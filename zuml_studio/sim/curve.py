@@ -17,7 +17,7 @@ import numpy as np
 from ..file_errors import read_file_bytes
 from .battery import AMBIENT_MAX_C, AMBIENT_MIN_C
 from ..logs import Log, LogFormatError, read_log
-from ..logs.model import MAX_MEASURED
+from ..logs.model import MAX_MEASURED, STATES
 from ..i18n import _
 
 # Chargers drop out of "charge" for a sample or two (a measurement pause); gaps up to this
@@ -204,7 +204,7 @@ def charge_from_log(log: Log, name: str = "") -> Curve:
 def discharge_from_log(log: Log, name: str = "") -> Curve:
     """The longest discharge in the log, its current negative. A log without a direction (an AkkuMaster
     "Entladen" export) calls its discharge a charge: a "charge" whose voltage falls all the way is taken."""
-    if any(s.section == "discharge" for s in log.samples):
+    if (log.states() == STATES.index("discharge")).any():
         return _longest(log, "discharge", name)
     try:
         curve = _longest(log, "charge", name)
@@ -251,7 +251,7 @@ def _longest(log: Log, section: str, name: str) -> Curve:
     """The longest phase of ``section`` in the log (phases closer than two minutes merged); its current
     positive for a charge, negative for a discharge."""
     a = log.arrays()
-    charging = np.array([s.section == section and s.running and not s.paused for s in log.samples], bool)
+    charging = log.states() == STATES.index(section)
     if not charging.any():
         raise CurveError((_("{value}: no charge in the log") if section == "charge" else
                           _("{value}: no discharge in the log")).format(value=name or 'log'))

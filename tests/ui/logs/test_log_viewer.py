@@ -200,3 +200,24 @@ def test_the_totals_say_what_their_figures_cannot(viewer, qtbot):
     assert "660 mAh" in text and "the charger&#x27;s counter says in 684 mAh" in text and "differ by 4 %" in text
     document = opened(viewer, qtbot, str(LOGS / "eStationBC6_2008-07-05_EmpfaengerAA.osd"))
     assert "no temperature in this log" in document.totals.text()
+
+
+def test_a_csv_being_read_fills_the_progress_bar(viewer, qtbot, monkeypatch, tmp_path):
+    # Issue 33 §1: a large CSV says how far its reading is, block by block (blocks made small here).
+    from zuml_studio.logs import csv_import
+    monkeypatch.setattr(csv_import, "TEXT_BLOCK", 256)
+    path = tmp_path / "long.csv"
+    path.write_text("Zeit [s];Spannung [V];Strom [A]\n" +
+                    "".join(f"{k};{7.4 + k * 0.001:.3f};2,0\n".replace(".", ",") for k in range(400)))
+    shown = []
+    real = viewer._show_progress
+
+    def record(done, total):
+        real(done, total)
+        shown.append((done, total, viewer.busy.maximum(), viewer.busy.value()))
+    monkeypatch.setattr(viewer, "_show_progress", record)
+    document = opened(viewer, qtbot, str(path))
+    assert len(document.log.samples) == 400
+    size = path.stat().st_size
+    assert len(shown) > 5 and shown[-1] == (size, size, 1000, 1000)
+    assert [s[3] for s in shown] == sorted(s[3] for s in shown)        # it only goes forward

@@ -156,3 +156,23 @@ def test_a_pack_added_from_the_command_line_appears_in_the_open_window(qtbot):
     assert main(["pack", "add", "From the shell", "--chemistry", "LiPo", "--cells", "3", "--capacity", "1000"]) == 0
     qtbot.waitUntil(lambda: panel.pack_list.count() == 1, timeout=10_000)     # another connection's commit
     assert panel.pack_list.item(0).text() == "From the shell"
+
+
+def test_the_report_fits_the_model_first_and_shows_its_quality(make_window, qtbot, monkeypatch, tmp_path):
+    from zuml_studio.ui.packs import packs_panel
+    w = make_window()
+    panel = dock_panel(w, w.packs_dock)
+    _add(panel, monkeypatch, "Turnigy 4S #3", "LiPo", 4, 1500)
+    with qtbot.waitSignal(panel.importFinished, timeout=60000):
+        panel.import_paths([str(LOGS / "406DUO_Turnigy_4S_1500_A_Charge_0_CH1.txt")])
+    written = []
+    monkeypatch.setattr(packs_panel.QFileDialog, "getSaveFileName", lambda *a: (str(tmp_path / "r.png"), ""))
+    monkeypatch.setattr(packs_panel, "write_report", lambda path, info, points, curves, model:
+                        written.append((path, curves, model)))
+    panel._choose_report()
+    qtbot.waitUntil(lambda: bool(written), timeout=120000)          # fitted off the GUI thread, then written
+    path, curves, model = written[0]
+    assert path.endswith("r.png") and len(curves) == 1
+    assert model[0].startswith("Fitted to ") and "406DUO" in model[0]
+    assert model[1].startswith("fit quality (RMSE): voltage ") and " mV per cell" in model[1]
+    assert model[2].startswith("charge to the end: logged ") and model[2].endswith("the model predicts –")

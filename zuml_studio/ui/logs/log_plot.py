@@ -195,9 +195,10 @@ class LogPlot(StackedPlot):
         ink.setAlpha(22)
         return pg.mkBrush(ink)
 
-    def _curve(self, plot: pg.PlotItem, layer: Layer, y, role: Role, **kw) -> None:
+    def _curve(self, plot: pg.PlotItem, layer: Layer, y, role: Role, scale: float = 1.0, **kw) -> None:
         """A curve whose points ``_draw_view`` gives for each view (pyqtgraph's own peak
-        downsampling groups samples by count, not time, and joins them across gaps)."""
+        downsampling groups samples by count, not time, and joins them across gaps); ``scale``
+        multiplies the drawn points, not the log's column (a long log's cells are not copied)."""
         y = np.asarray(y, dtype=float)
         if not np.isfinite(y).any():
             return
@@ -209,7 +210,7 @@ class LogPlot(StackedPlot):
             curve = plot.plot([], [], pen=self._pen(role), antialias=False, connect="finite", **kw)
         curve.setClipToView(False)
         curve.setDownsampling(ds=1, auto=False)
-        curve.source = (layer.data["t"], y, layer.gap_s)
+        curve.source = (layer.data["t"], y, layer.gap_s, scale)
         curve.setVisible(curve_key(role) not in self.hidden)
         self.items.append((plot, curve, role))
 
@@ -223,8 +224,9 @@ class LogPlot(StackedPlot):
             return
         self._drawn_view = key
         for _plot, curve, _role in self.items:
-            t, y, gap_s = curve.source
-            curve.setData(*gaps.envelope(t, y, x0, x1, pixels, gap_s))
+            t, y, gap_s, scale = curve.source
+            x, drawn = gaps.envelope(t, y, x0, x1, pixels, gap_s)
+            curve.setData(x, drawn * scale if scale != 1.0 else drawn)
 
     def _draw(self, layer: Layer, cells: int, alone: bool) -> None:
         """The first log in the quantities' colours (with its cells and the charger's inside
@@ -234,7 +236,7 @@ class LogPlot(StackedPlot):
             self._curve(self.vplot, layer, d["voltage"], "voltage")
             # Cells on the pack axis times the cell count: the right axis reads them in V per cell.
             for k in range(d["cells"].shape[1] if alone else 0):
-                self._curve(self.vplot, layer, d["cells"][:, k] * cells, ("cell", k))
+                self._curve(self.vplot, layer, d["cells"][:, k], ("cell", k), scale=cells)
             deviation = alone and d["cells"].shape[1] >= 2
             if deviation:
                 self._curve(self.tplot, layer, deviation_mv(d["cells"]), "deviation")

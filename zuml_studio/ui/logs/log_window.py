@@ -31,7 +31,7 @@ class CsvColumnsNeeded(LogFormatError):
 
 def _read_and_prepare(path: str, choices: dict[str, str], progress=None) -> Prepared:
     """Read a log; a CSV with the columns remembered for its header (``choices``: key_hash -> spec);
-    ``progress(done, total)`` where the reader can tell (raw captures)."""
+    ``progress(done, total)`` where the reader can tell (raw captures, CSV files)."""
     try:
         log = read_log_file(path, progress=progress)
     except LogFormatError as exc:

@@ -15,8 +15,7 @@ from PySide6.QtWidgets import (QFileDialog, QHBoxLayout, QHeaderView, QLabel, QL
 from ...packs.db import Logbook, LogbookError
 from ...packs.health import trend
 from ...packs.model import fit_pack_model, fit_quality, has_model, model_name
-from ...sim.fit_predict import prediction_line, trust_words
-from ...sim.fit_report import quality_lines
+from ...sim.fit_predict import trust_words
 from ...packs.register import Pack, PackError, forget_attachments, get_pack, list_packs, remove_pack
 from ...packs.sessions import ImportResult, import_files, pack_sessions, remove_session
 from ...packs.summary import pack_summary, write_sessions_csv
@@ -25,6 +24,7 @@ from ..background import BackgroundCall
 from ..device.confirm_dialogs import documents_folder
 from .add_pack_dialog import AddPackDialog
 from .report import ReportError, write_report
+from ...packs.report_data import model_lines, session_curves
 from .trend_plot import PackTrendPlot
 from ...i18n import N_, _, ngettext
 
@@ -57,6 +57,7 @@ class PacksPanel(QWidget):
                 self.error = str(exc)
         self._job: BackgroundCall | None = None
         self._save_dir = ""                        # where the user last saved an export or a report
+        self._fits: dict = {}                      # pack name -> (fitted file, fit_quality): the report shows it
         self._session_ids: list[int] = []          # the table's rows' sessions
         self._bridge = _Progress(self)
         self._bridge.step.connect(self._progress_step)
@@ -403,9 +404,34 @@ class PacksPanel(QWidget):
             return
         path, _f = QFileDialog.getSaveFileName(self, _("Pack Report"), self._save_start(f"{pack.name}.pdf"),
                                                _("PDF (*.pdf);;PNG image (*.png)"))
-        if path:
-            self._save_dir = str(Path(path).parent)
+        if not path:
+            return
+        self._save_dir = str(Path(path).parent)
+        if pack.name in self._fits or self._job is not None:
             self.write_report(path)
+            return
+        book_path = self.book.path
+
+        def job():
+            book = Logbook(book_path)
+            try:
+                name, result = fit_pack_model(book, pack)
+                return result, fit_quality(result)
+            except PackError:
+                return None
+            finally:
+                book.close()
+
+        def done(fitted) -> None:
+            self.progress.hide()
+            if fitted is not None:
+                self._fits[pack.name] = (fitted[0].curve.name, fitted[1])
+            self.write_report(path)
+
+        self.progress.setRange(0, 0)
+        self.progress.setFormat(_("fitting the model of pack '{name}'…").format(name=pack.name))
+        self.progress.show()
+        self._start(job, done)
 
     def _save_start(self, name: str) -> str:
         """A save dialog's suggestion: in the folder last saved to, else the user's documents (a bare
@@ -413,9 +439,14 @@ class PacksPanel(QWidget):
         return str(Path(self._save_dir or documents_folder()) / name)
 
     def write_report(self, path: str) -> bool:
+        """The report, with the model this window last fitted to the pack (``_choose_report`` fits one first)."""
         pack = self.current_pack()
+        sessions = pack_sessions(self.book, pack)
+        curves, _missing = session_curves(pack, sessions)
+        fitted = self._fits.get(pack.name)
         try:
-            write_report(path, pack_summary(self.book, pack), trend(pack, pack_sessions(self.book, pack)))
+            write_report(path, pack_summary(self.book, pack), trend(pack, sessions), curves,
+                         model_lines(fitted[1] if fitted else None, fitted[0] if fitted else ""))
         except ReportError as exc:
             self._failed(exc)
             return False
@@ -436,13 +467,14 @@ class PacksPanel(QWidget):
             book = Logbook(path)
             try:
                 name, result = fit_pack_model(book, pack)
-                return name, fit_quality(result)
+                return name, result, fit_quality(result)
             finally:
                 book.close()
 
         def fitted(made) -> None:
-            name, quality = made
-            self._model_notes[pack.id] = self._model_note(quality)
+            name, result, quality = made
+            self._fits[pack.name] = (result.curve.name, quality)
+            self._model_notes[pack.id] = self._model_note(quality, result.curve.name)
             self.progress.hide()
             self.show_pack()
             self.simulateOnPack.emit(name, pack.cells, pack.capacity_mah)
@@ -452,20 +484,12 @@ class PacksPanel(QWidget):
         self.progress.show()
         self._start(job, fitted)
 
-    def _model_note(self, quality: dict) -> str:
-        """The fit's RMSE per quantity and its prediction of the pack's own log, with a warning where the model
-        is not to be trusted (rich text)."""
-        lines = [_escape(_("The model's fit: {lines}").format(lines="; ".join(quality_lines(quality["quality"]))))]
-        prediction = quality["own_program"]
-        if prediction is None:
-            lines.append(_escape(_("Its own log's charge cannot be predicted: the log ends without the charge's "
-                                   "own end (no -dV, no held voltage)")))
-        else:
-            lines.append(_escape(prediction_line(prediction)))
-            warning = trust_words(prediction)
-            if warning:
-                lines.append(f"<span style='color:{self._look.error}'><b>{_escape(warning)}</b></span>")
-        return "<br>".join(lines)
+    def _model_note(self, quality: dict, logged_file: str = "") -> str:
+        """The fit's quality and its prediction of the pack's own log (the report's lines), the warning in the
+        error colour where the model is not to be trusted (rich text)."""
+        warning = trust_words(quality["own_program"])
+        return "<br>".join(f"<span style='color:{self._look.error}'><b>{_escape(line)}</b></span>"
+                           if line == warning else _escape(line) for line in model_lines(quality, logged_file))
 
 
 def _escape(text: str) -> str:

@@ -74,14 +74,15 @@ class PackTrendPlot(pg.GraphicsLayoutWidget):
             else:
                 empty = pg.TextItem(_("– (no session measures it)"), color=self.look.plot.ink, anchor=(0.5, 0.5))
                 plot.addItem(empty)
-                stamps = [timestamp(p.recorded) for p in points] or [0.0]
-                empty.setPos((min(stamps) + max(stamps)) / 2.0, 0.5)
             if limits[field] is not None:
                 plot.addItem(pg.InfiniteLine(limits[field], angle=0, pen=pg.mkPen(
                         self.look.error, width=1, style=Qt.PenStyle.DashLine)))
             # The limit and zero in view, so a point's distance from the limit reads at a glance.
             top = max([limits[field] or 0.0, *y]) if len(y) or limits[field] else 1.0
             plot.setYRange(0.0, top * 1.1, padding=0)
+            if not len(x):                      # the words in the middle of the plot, not on its edge
+                stamps = [timestamp(p.recorded) for p in points] or [0.0]
+                empty.setPos((min(stamps) + max(stamps)) / 2.0, top * 0.55)
         if points:
             stamps = [timestamp(p.recorded) for p in points]
             pad = max(86400.0 * 15, (max(stamps) - min(stamps)) * 0.05)
