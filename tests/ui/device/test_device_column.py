@@ -6,7 +6,8 @@ from PySide6.QtGui import QWheelEvent
 from PySide6.QtWidgets import QApplication
 
 from zuml_studio.device.errors import DeviceError
-from zuml_studio.ui.device.connection import describe_error, lead_cells_text
+from zuml_studio.sim.reasons import lead_cells_text
+from zuml_studio.ui.device.connection import describe_error
 
 
 def wheel(widget, down: bool = True) -> None:
@@ -58,3 +59,15 @@ def test_balance_lead_is_said_with_the_cells_entered_or_declared():
     refused = DeviceError(17, "balance lead 3 cells")
     refused.lines = [lead_cells_text(line, 4, 0) for line in refused.lines]
     assert "you entered 4 cells; the balance lead shows 3" in describe_error(refused, "start")
+
+
+def test_a_run_ended_by_the_balance_lead_says_the_cells_entered(qtbot, make_panel):
+    """A live end reason from the charger ("protection: balance lead 3 cells") in the device panel's
+    message says what the user entered at start, in words."""
+    from zuml_studio.device.messages import DeviceEvent
+    panel = make_panel((1366, 360))
+    said = []
+    panel.run.message.connect(lambda text, _kind: said.append(text))
+    panel.run.run_name, panel.run.run_cells = "LiPo", (4, 0)
+    panel.run.follow(None, None, [(DeviceEvent(7, 65.0, "finish", detail="protection: balance lead 3 cells"), None)])
+    assert said == ["LiPo finished at 0:01:05: protection: you entered 4 cells; the balance lead shows 3."]
