@@ -623,15 +623,17 @@ static void after_reset(void)
 /* Presses typed on stdin while the B6 runs, one a line (the window's front panel sends them): `BUTTON [HOLD]`
  * pressed now for HOLD seconds (default 0.2); `BUTTON down`, pressed until `BUTTON up [HELD]`, which lets
  * it go now, or once it has been held HELD simulated seconds (a host slower than the wall still sees the
- * hold the user made). A press of a button still down (a click faster than the simulation) follows it
- * after RELEASE_S up (a finger's pause), so the firmware sees both. BUTTON: start stop inc dec. A press
- * that ended frees its place. */
+ * hold the user made). One finger, as the window's one mouse: a press while any button is still down (a
+ * click faster than the simulation) follows it after RELEASE_S up (a finger's pause), so the firmware sees
+ * each alone. (INC clicked while START was still down in simulated time, under a loaded host, changed the
+ * keys twice within INC's press: the firmware's 30 ms debounce never saw INC steady, and the click was
+ * lost.) BUTTON: start stop inc dec. A press that ended frees its place. */
 #define RELEASE_S 0.1
 static void press_line(char *line)
 {
     char *arg = strchr(line, ' '), text[64];
     timed_t press;
-    double now = now_s(), held = 0;
+    double now = now_s(), held = 0, free_at = now;
     int k, up, down, last = -1;
     if (arg)
         *arg++ = 0;
@@ -647,6 +649,11 @@ static void press_line(char *line)
         if (presses[k].what == press.what && now < presses[k].at_s + presses[k].hold_s &&
             (last < 0 || presses[k].at_s > presses[last].at_s))
             last = k;
+    for (k = 0; k < n_presses; k++)     /* the finger free: after every press down by then (a later one: anew) */
+        if (presses[k].at_s <= free_at && free_at < presses[k].at_s + presses[k].hold_s + RELEASE_S) {
+            free_at = presses[k].at_s + presses[k].hold_s + RELEASE_S;
+            k = -1;
+        }
     if (up) {
         if (last >= 0)
             presses[last].hold_s = fmax(now - presses[last].at_s, held);
@@ -655,7 +662,7 @@ static void press_line(char *line)
     }
     if (down)
         press.hold_s = 1e6;
-    press.at_s = last >= 0 ? presses[last].at_s + presses[last].hold_s + RELEASE_S : now;
+    press.at_s = free_at;
     for (k = 0; k < n_presses && presses[k].at_s + presses[k].hold_s >= now; k++)
         ;
     if (k == MAX_EVENTS)

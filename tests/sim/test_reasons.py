@@ -35,3 +35,18 @@ def test_russian_translates_the_words_and_keeps_the_symbols(russian):
 def test_the_macros_own_conditions_are_zuml_and_pass_through(russian):
     assert shown_reason("DELTA_PEAK>0.2S") == "DELTA_PEAK>0.2S"
     assert shown_reason("") == ""
+
+
+LEAD_TRIP = "protection: balance lead 3 cells"      # the B6 ended a run: its lead shows other cells than at start
+
+
+def test_a_chargers_balance_lead_protection_is_said_with_the_cells_asked_for():
+    assert shown_reason(LEAD_TRIP, 4, 0) == "protection: you entered 4 cells; the balance lead shows 3"
+    assert shown_reason(LEAD_TRIP, 4, 2) == "protection: the macro declares 2 cells (SERIES); the balance lead shows 3"
+    assert shown_reason(LEAD_TRIP) == LEAD_TRIP                 # started elsewhere: as the charger said it
+    assert shown_reason("protection: over current", 4, 0) == "protection: over current"
+
+
+def test_a_chargers_balance_lead_protection_in_russian(russian):
+    assert shown_reason(LEAD_TRIP, 4, 0) == "защита: вы ввели 4 элемента; разъём балансира показывает 3"
+    assert shown_reason(LEAD_TRIP, 5, 0) == "защита: вы ввели 5 элементов; разъём балансира показывает 3"

@@ -2,6 +2,7 @@
 the text has an error, the Visual editor's refusal goes with its macro, the pack trend follows a
 theme chosen while it is open, the Logs window fits its screen, and Open starts where the user
 keeps documents, then where the last macro was opened or saved."""
+from PySide6.QtCore import Qt
 from PySide6.QtGui import QColor
 
 from helpers import MACROS
@@ -74,9 +75,10 @@ def test_a_squeezed_problems_list_gives_the_message_its_width(make_window, qtbot
     w = make_window(str(MACROS / "LiPo.zuml"))
     w.validate_now()
     problems = w.problems
-    problems.resize(150, 300)
+    narrow = Qt.Orientation.Horizontal     # the user drags the dock's edge, as a test resizes the dock
+    w.resizeDocks([w.problems_dock], [150], narrow)
     qtbot.waitUntil(lambda: problems.isColumnHidden(1) and problems.isColumnHidden(3))
     item = problems.topLevelItem(0)
     assert item.toolTip(2).startswith(f"{item.text(1)} {item.text(3)}: ")       # where and which: on the tooltip
-    problems.resize(400, 300)
+    w.resizeDocks([w.problems_dock], [400], narrow)
     qtbot.waitUntil(lambda: not problems.isColumnHidden(1) and not problems.isColumnHidden(3))

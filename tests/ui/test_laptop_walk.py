@@ -13,6 +13,7 @@ from test_truncation import _cut_controls, _cut_labels, _settle
 from test_window_modes import WATCHED_SHARE, share
 
 LAPTOP = (1366, 768)
+READABLE = {"problems": 240}    # px: narrower, the Problems list reads a word or two a line
 LOG = Path(__file__).resolve().parents[1] / "data" / "logs" / "X8_LiPo_5S_2200mA_Charge_4.txt"
 
 
@@ -41,8 +42,19 @@ def too_big_windows() -> list[str]:
     return out
 
 
+def squeezed_docks(w) -> list[str]:
+    """Docks on screen narrower than the width they read at (the Problems list one word a line)."""
+    out = []
+    for spec in w.dock_specs:
+        dock = w.docks[spec.name]
+        if READABLE.get(spec.name) and dock.isVisible() and not dock.visibleRegion().isEmpty() \
+                and dock.width() < READABLE[spec.name]:
+            out.append(f"{spec.name} dock {dock.width()} px wide, reads from {READABLE[spec.name]}")
+    return out
+
+
 def problems_of(w) -> list[str]:
-    return _cut_controls(w) + _cut_labels(w.statusBar()) + elided_with_room(w)
+    return _cut_controls(w) + _cut_labels(w.statusBar()) + elided_with_room(w) + squeezed_docks(w)
 
 
 @pytest.fixture(params=[("en", "light"), ("en", "dark"), ("ru", "light"), ("ru", "dark")],
@@ -102,4 +114,29 @@ def test_every_mode_reads_on_a_laptop_screen(laptop_walk, make_window, qtbot, tm
     _settle()
     assert again.problems_dock.width() >= 200, f"Problems came back {again.problems_dock.width()} px wide"
     found += [f"after a restart: {p}" for p in problems_of(again)]
+    assert not found, "\n".join(found)
+
+
+WIDTHS = (1366, 1280, 1024, 1100, 1366)     # a laptop, a smaller one, a 1024 px screen, and back
+
+
+def test_the_problems_list_reads_at_every_width(qapp, make_window, qtbot, tmp_path):
+    """Narrowed from a wide window and widened again, the Problems list (with an error in it) is
+    never squeezed to a word a line: beside the simulator where the window leaves it its readable
+    width, else a tab of the simulator's set, and back beside it when the window is wide again."""
+    macro = tmp_path / "wrong.zuml"
+    macro.write_text((MACROS / "NiMh-dV.zuml").read_text().replace("IF(tf>4h)", "IF(tf>4h) STOP_FAZE IF("))
+    w = make_window(str(macro))
+    qtbot.waitUntil(lambda: w.problems.topLevelItemCount() > 0)
+    found = []
+    for width in WIDTHS:
+        w.resize(width, LAPTOP[1])
+        qtbot.waitUntil(lambda: w.width() == width)
+        _settle()
+        found += [f"{width} px: {p}" for p in squeezed_docks(w)]
+        if not w.problems_dock.visibleRegion().isEmpty():
+            continue
+        tabbed = w.sim_dock in w.tabifiedDockWidgets(w.problems_dock)
+        found += [] if tabbed else [f"{width} px: the Problems list neither beside the simulator nor its tab"]
+    assert w.sim_dock not in w.tabifiedDockWidgets(w.problems_dock), "wide again, Problems stayed a tab"
     assert not found, "\n".join(found)

@@ -10,17 +10,23 @@ from __future__ import annotations
 
 import re
 
-from ..i18n import _
+from ..i18n import _, ngettext
 
 _DEFAULT_CAPACITY = re.compile(r"capacity (?P<factor>[\d.]+)x")
 _EMPTY_DISCHARGE = re.compile(r"empty discharge section, (?P<condition>.+)")
 _LIMIT_HOURS = re.compile(r"simulation stopped after (?P<hours>[\d.]+)h")
 _STOPPED_FOR = re.compile(r"stopped: (?P<why>.+)")
 _CEILING = re.compile(r"balancer: cell (?P<cell>\d+) reached (?P<volts>[\d.]+)V \(ceiling\)")
+_PROTECTION = "protection: "        # a charger's own protection ended the run (firmware/core/app.c)
+_LEAD_CELLS = re.compile(r"balance lead (\d+) cells?")
 
 
-def shown_reason(reason: str) -> str:
-    """``reason`` as a person reads it in the installed language ("" stays "")."""
+def shown_reason(reason: str, entered: int = 0, declared: int = 0) -> str:
+    """``reason`` as a person reads it in the installed language ("" stays ""). ``entered``, ``declared``:
+    the cells entered at start and the SERIES of the macro running (0: not known), for a charger's
+    "balance lead 3 cells"."""
+    if reason.startswith(_PROTECTION):
+        return _("protection: {what}").format(what=lead_cells_text(reason[len(_PROTECTION):], entered, declared))
     if reason == "end of macro":
         return _("end of macro")
     if reason == "stopped":
@@ -39,6 +45,22 @@ def shown_reason(reason: str) -> str:
             rest = _("simulation stopped after {hours}h").format(hours=m["hours"])
         return _("limit: {what}").format(what=rest)
     return reason
+
+
+def lead_cells_text(line: str, entered: int, declared: int) -> str:
+    """The charger's "balance lead 3 cells" (it knows only what its port shows) said with the count
+    the PC asked for: "you entered 4 cells; the balance lead shows 3"."""
+    found = _LEAD_CELLS.search(line)
+    if found is None or not (entered or declared):
+        return line
+    shown = int(found.group(1))
+    if declared:
+        said = ngettext("the macro declares {n} cell (SERIES); the balance lead shows {shown}",
+                        "the macro declares {n} cells (SERIES); the balance lead shows {shown}", declared)
+    else:
+        said = ngettext("you entered {n} cell; the balance lead shows {shown}",
+                        "you entered {n} cells; the balance lead shows {shown}", entered)
+    return line[:found.start()] + said.format(n=declared or entered, shown=shown) + line[found.end():]
 
 
 def _default_condition(condition: str) -> str:

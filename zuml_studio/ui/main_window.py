@@ -29,7 +29,7 @@ from .sim.sim_panel import SimulatorPanel
 from .validation import Validator
 from .visual import VisualEditor
 from .window import actions as window_actions
-from .window.docks import CHARGE, WRITE, build_docks, dock_specs, make_readable, place
+from .window.docks import CHARGE, WRITE, build_docks, dock_specs, make_readable, place, width_changed_place
 from .window.documents import APP_NAME, EMPTY_MACRO, DocumentFiles
 from .window.modes import Modes
 from .window.plot_focus import PlotFocus
@@ -96,6 +96,12 @@ class MainWindow(DocumentFiles, QMainWindow):
                            lambda mode: place(self, self.dock_specs, self.docks, mode), LAYOUT_VERSION,
                            lambda: make_readable(self, self.dock_specs, self.docks))
         self.plot_focus = PlotFocus(self, self.editor_box)
+        # A dock placed by the window's width (Problems: beside the simulator, or its tab when the
+        # window is too narrow) moves when the window crosses that width, or when a mode's layout
+        # saved at another width comes back: the mode's first layout at this width.
+        self._refit = QTimer(self, singleShot=True, interval=0)
+        self._refit.timeout.connect(self._refit_docks)
+        self.modes.changed.connect(lambda _mode: self._refit.start())
         self.plot_focus.watch(self.sim_panel.plot, self.sim_dock)
         install_packs_dock(self)
         self.statusBar().messageChanged.connect(self._status_while_hidden)
@@ -303,6 +309,14 @@ class MainWindow(DocumentFiles, QMainWindow):
         if missing > 0 and below and not self.visual_dock.isFloating():
             self._borrowed = (below[0], below[0].height())
             self.resizeDocks(below[:1], [max(1, below[0].height() - missing)], Qt.Orientation.Vertical)
+
+    def resizeEvent(self, event) -> None:  # noqa: N802
+        super().resizeEvent(event)
+        self._refit_docks()             # now: what a test or the user sees after a resize is the layout
+
+    def _refit_docks(self) -> None:
+        if self.plot_focus.maximised() is None and width_changed_place(self, self.dock_specs, self.docks):
+            place(self, self.dock_specs, self.docks, self.modes.current)
 
     def switch_mode(self, mode: str | None) -> None:
         """View > a mode (None: Reset Layout). A maximised plot is put back first: its layout is not

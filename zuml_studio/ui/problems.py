@@ -1,7 +1,7 @@
 """The problems list: every diagnostic of the open macro; activating one moves the cursor."""
 from __future__ import annotations
 
-from PySide6.QtCore import QRect, QSize, Qt, Signal
+from PySide6.QtCore import QRect, QSize, Qt, QTimer, Signal
 from PySide6.QtGui import QColor, QPalette
 from PySide6.QtWidgets import QHeaderView, QStyle, QStyledItemDelegate, QTreeWidget, QTreeWidgetItem
 
@@ -52,6 +52,8 @@ class ProblemsView(QTreeWidget):
         header.setSectionResizeMode(3, QHeaderView.ResizeMode.ResizeToContents)
         header.setStretchLastSection(False)
         header.sectionResized.connect(lambda index, _old, _new: index == MESSAGE and self.scheduleDelayedItemsLayout())
+        self._fit = QTimer(self, singleShot=True, interval=0)
+        self._fit.timeout.connect(self._fit_columns)
         self.itemActivated.connect(self._activated)
         self.itemDoubleClicked.connect(self._activated)
         style = self.style()
@@ -84,9 +86,14 @@ class ProblemsView(QTreeWidget):
 
     def resizeEvent(self, event) -> None:  # noqa: N802
         super().resizeEvent(event)
-        # Squeezed (a layout saved in a wider window, a long language beside the device panel), the
-        # message keeps the width and reads a few words a line, not one: where and which code are
-        # on every row's tooltip, and the columns come back when the list is wide again.
+        # Once the resize is over: a column hidden within it left the tree painting rows of the
+        # old columns, and Qt crashed (a segmentation fault shrinking the window to 1100 px).
+        self._fit.start()
+
+    def _fit_columns(self) -> None:
+        """Squeezed (the user narrowed the dock), the message keeps the width and reads a few words
+        a line, not one: where and which code are on every row's tooltip, and the columns come back
+        when the list is wide again."""
         narrow = self.viewport().width() < NARROW_PX
         for column in (1, 3):
             if self.isColumnHidden(column) != narrow:

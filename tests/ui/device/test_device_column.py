@@ -6,7 +6,8 @@ from PySide6.QtGui import QWheelEvent
 from PySide6.QtWidgets import QApplication
 
 from zuml_studio.device.errors import DeviceError
-from zuml_studio.ui.device.connection import describe_error, lead_cells_text
+from zuml_studio.sim.reasons import lead_cells_text
+from zuml_studio.ui.device.connection import describe_error
 
 
 def wheel(widget, down: bool = True) -> None:
@@ -58,3 +59,29 @@ def test_balance_lead_is_said_with_the_cells_entered_or_declared():
     refused = DeviceError(17, "balance lead 3 cells")
     refused.lines = [lead_cells_text(line, 4, 0) for line in refused.lines]
     assert "you entered 4 cells; the balance lead shows 3" in describe_error(refused, "start")
+
+
+def test_a_run_ended_by_the_balance_lead_says_the_cells_entered(qtbot, make_panel):
+    """A live end reason from the charger ("protection: balance lead 3 cells") in the device panel's
+    message says what the user entered at start, in words."""
+    from zuml_studio.device.messages import DeviceEvent
+    panel = make_panel((1366, 360))
+    said = []
+    panel.run.message.connect(lambda text, _kind: said.append(text))
+    panel.run.run_name, panel.run.run_cells = "LiPo", (4, 0)
+    panel.run.follow(None, None, [(DeviceEvent(7, 65.0, "finish", detail="protection: balance lead 3 cells"), None)])
+    assert said == ["LiPo finished at 0:01:05: protection: you entered 4 cells; the balance lead shows 3."]
+
+
+def test_the_virtual_battery_note_reads_whole_where_the_row_has_room(qtbot, make_panel, editor):
+    """At 1500 px (a 1920x1080 screen's first window) the battery's note beside the virtual charger's
+    fields is whole, not "LiPo 4S…" beside a "not connected" standing in hundreds of pixels of its own."""
+    editor.set("LiPo")
+    panel = make_panel((1500, 380))
+    note, info = panel.bar.battery_note, panel.bar.info_label
+    panel.virtual_battery()                 # as a change of the battery's choice or of the macro does
+    qtbot.waitUntil(lambda: note.isVisible() and note.full_text() != "")
+    def whole():
+        assert note.text() == note.full_text(), (note.text(), note.width(), panel.bar.virtual_box.width())
+    qtbot.waitUntil(whole)
+    assert info.text() == info.full_text(), info.text()

@@ -17,7 +17,6 @@ from __future__ import annotations
 import atexit
 import itertools
 import logging
-import re
 import threading
 import weakref
 from dataclasses import dataclass
@@ -33,7 +32,7 @@ from ...device.flashing import ImageFull, SlotOutOfRange
 from ...device.ports import SIMULATED_B6
 from ...device.isp_store import ProgrammerClient, programmer_of
 from ...file_errors import FileReadError
-from ...i18n import _, ngettext
+from ...i18n import _
 from ...lang.eeprom import ImageError
 from ...lang.record import DecodeError
 
@@ -421,24 +420,6 @@ def _shutdown_all() -> None:
 
 
 # -- messages a user can act on -------------------------------------------------------------------
-
-_LEAD_CELLS = re.compile(r"balance lead (\d+) cells?")
-
-
-def lead_cells_text(line: str, entered: int, declared: int) -> str:
-    """The charger's "balance lead 3 cells" (it knows only what its port shows) said with the count
-    the PC asked for: "you entered 4 cells; the balance lead shows 3"."""
-    found = _LEAD_CELLS.search(line)
-    if found is None or not (entered or declared):
-        return line
-    shown = int(found.group(1))
-    if declared:
-        said = ngettext("the macro declares {n} cell (SERIES); the balance lead shows {shown}",
-                        "the macro declares {n} cells (SERIES); the balance lead shows {shown}", declared)
-    else:
-        said = ngettext("you entered {n} cell; the balance lead shows {shown}",
-                        "you entered {n} cells; the balance lead shows {shown}", entered)
-    return line[:found.start()] + said.format(n=declared or entered, shown=shown) + line[found.end():]
 
 
 def describe_error(exc: BaseException, action: str = "") -> str:

@@ -8,7 +8,7 @@ from typing import Callable
 
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import (QComboBox, QFileDialog, QGridLayout, QHBoxLayout, QLabel, QMenu, QPushButton,
-                               QStyle, QToolButton, QVBoxLayout, QWidget, QWidgetAction)
+                               QSizePolicy, QStyle, QToolButton, QVBoxLayout, QWidget, QWidgetAction)
 
 from ...device.drivers import AUTO, DRIVERS, ZUML
 from ...device.passport import akk_name
@@ -142,9 +142,13 @@ class ConnectionBar(QWidget):
         self.battery_note = ElidedLabel("")
         self.battery_note.setObjectName("virtualBatteryNote")
         self.battery_note.setMinimumWidth(60)
+        # The charger's state at its whole text's width, the battery's note in the rest of the row: the
+        # note was cut to "LiPo 4S…" at 1920 px while "not connected" beside it stood in 700 px of its own.
+        for label in (self.battery_note, self.info_label):
+            label.setSizePolicy(QSizePolicy.Policy.Preferred, QSizePolicy.Policy.Preferred)
         vrow.insertWidget(4, self.battery_note, 1)
-        second.addWidget(self.virtual_box, 2)
-        second.addWidget(self.info_label, 3)
+        second.addWidget(self.virtual_box, 1)
+        second.addWidget(self.info_label)
         # The telemetry rate ends the first row, the shorter one: on the second, beside the battery's
         # fields, it made the panel 1100 px wide at least in Russian, squeezing the Problems beside it.
         top.addWidget(QLabel(_("Telemetry")))

@@ -174,6 +174,12 @@ class ElidedLabel(QLabel):
     def full_text(self) -> str:
         return self._full
 
+    def sizeHint(self) -> QSize:  # noqa: N802
+        """The whole text's width: a layout that respects the hint (Preferred) gives it that where
+        the row has room, and elides it only down to the minimum width where it has not."""
+        hint = super().sizeHint()
+        return QSize(self.fontMetrics().horizontalAdvance(self._full) + 2 * self.margin() + 4, hint.height())
+
     def resizeEvent(self, event) -> None:  # noqa: N802
         super().resizeEvent(event)
         self._elide()

@@ -239,7 +239,7 @@ class LiveView(QWidget):
         hue = theme.colours(self.palette()).quantities
         t = "—" if tel.temp_c is None else f"{tel.temp_c:.1f} °C"
         tc = "—" if tel.heatsink_c is None else f"{tel.heatsink_c:.1f} °C"
-        amounts = _("charged in {mah_in} mAh · discharged out {mah_out} mAh").format(
+        amounts = _("charged {mah_in} mAh · discharged {mah_out} mAh").format(
             mah_in=f"{tel.mah_in:.0f}", mah_out=f"{tel.mah_out:.0f}")
         self.readings.setText(
             f"<span style='color:{hue['voltage']};'><b>{tel.voltage_v:.3f} V</b></span>&nbsp;&nbsp;"

@@ -11,12 +11,12 @@ from ...i18n import N_, _
 from ...lang.eeprom import Slot
 from ...safety import judge, named_template
 from ...sim.program import TASK_LABELS, TASK_WORDS, Program
-from ...sim.reasons import shown_reason
+from ...sim.reasons import lead_cells_text, shown_reason
 from ...sim.start_check import start_warnings
 from ..stacked_plot import band_label
 from ..timefmt import hmmss
 from . import unsafe_dialog
-from .connection import DeviceConnection, describe_error, lead_cells_text
+from .connection import DeviceConnection, describe_error
 from .device_style import DEFAULT_BATTERY, ElidedCombo, ElidedLabel, field_double, field_spin, heading
 
 START_TIP = N_("Check the battery's passport, then start the slot's macro")
@@ -39,6 +39,7 @@ class RunControls(QWidget):
         self.slots: list[Slot] = []
         self.run_name = ""                      # the macro started last
         self.run_slot_index: int | None = None  # ... and its slot (None: started elsewhere)
+        self.run_cells = (0, 0)                 # ... the cells entered and its SERIES (0: not known)
         self.running = False                    # it runs (started here, or the newest frame says so)
         self.charger_max_a: float | None = None
         self.run_slot = ElidedCombo()
@@ -189,7 +190,7 @@ class RunControls(QWidget):
         if newest is not None:
             self._show_state(newest)
         for ev, last in finishes:
-            how = shown_reason(ev.detail) or _("end")
+            how = shown_reason(ev.detail, *self.run_cells) or _("end")
             if last is not None and last.reason and last.reason != ev.detail:
                 # "end of macro" says only that the macro ran out: the last phase's end says which rule ended it
                 how = _("{how}; last phase {phase}").format(how=how, phase=band_label(last))
@@ -257,11 +258,11 @@ class RunControls(QWidget):
         self.message.emit(_("Starting {name} (slot {slot})…").format(name=name, slot=slot), "info")
         self.runStarting.emit()
         declared = _declared_cells(record)
-        self.connection.call(job, lambda r: self._started(r, slot, params),
+        self.connection.call(job, lambda r: self._started(r, slot, params, declared),
                              lambda exc: self._start_failed(exc, params["series"] or 0, declared))
         self.changed.emit()
 
-    def _started(self, answer, slot: int, params: dict) -> None:
+    def _started(self, answer, slot: int, params: dict, declared: int) -> None:
         kind, value, passport, warnings = answer
         self.passportRead.emit(passport)
         name = self.slots[slot].name if slot < len(self.slots) else "?"
@@ -279,6 +280,7 @@ class RunControls(QWidget):
             return
         self.run_name = value
         self.run_slot_index = slot
+        self.run_cells = (params["series"] or 0, declared)
         self.running = True
         self.runStarted.emit(value, params["series"] or 1)
         task = TASK_WORDS.get(params["task"])

@@ -121,37 +121,58 @@ class ChargePlot(StackedPlot):
         (``show_run``'s last part)."""
         self._view_changed()
 
+    def place_steps(self) -> list[Callable[[], None]]:
+        """``place_view`` in two steps (the panel gives each a turn of the event loop of its own): the
+        curves' display data, then the voltage's range, the labels and the legends."""
+        return [self._set_view_curves, self._place_overlays]
+
+    def _set_view_curves(self) -> None:
+        self._set_curves()
+        self._thin_dense_curves()
+
+    def _place_overlays(self) -> None:
+        self._fit_voltage(self._t, self._v, *self._cell_bounds)
+        self._place_placeholder()
+        self._place_labels()
+        self._place_legends()
+
     def show_bands(self) -> None:
         """The shown run's phase bands, heat-sink pauses and labels."""
-        phases = list(self._run.result.phases) if self._run is not None else []
-        had_bands = bool(self._phases)
-        self._set_bands(phases)
-        self._set_pauses(phases)
-        if bool(phases) != had_bands:       # the voltage's y range keeps room for the labels, or no more
-            self._view_changed()
-
-    def prepare_paint(self) -> None:
-        """What the next paint would do first, done now: the y ranges pyqtgraph fits lazily, and the
-        axes' tick pictures (half of a new run's paint)."""
-        for step in self.paint_steps():
+        for step in self.band_steps():
             step()
 
+    def band_steps(self) -> list[Callable[[], None]]:
+        """``show_bands`` in two steps: the bands and labels, then the pauses (and the voltage's y
+        range, which keeps room for the labels, or no more)."""
+        phases = list(self._run.result.phases) if self._run is not None else []
+        had_bands = bool(self._phases)
+
+        def pauses() -> None:
+            self._set_pauses(phases)
+            if bool(phases) != had_bands:
+                self._view_changed()
+        return [partial(self._set_bands, phases), pauses]
+
     def paint_steps(self) -> list[Callable[[], None]]:
-        """``prepare_paint`` as one step per plot (each 2-5 ms: the panel gives each its own turn)."""
-        return [partial(self._prepare_plot_paint, plot) for plot in self.plots]
+        """What the next paint would do first, as steps of 1-3 ms each (a plot's whole share took up
+        to 6 ms): each plot's y range, which pyqtgraph fits lazily, then each of its axes' tick
+        pictures (half of a new run's paint)."""
+        steps: list[Callable[[], None]] = []
+        for plot in self.plots:
+            steps.append(plot.vb.prepareForPaint)
+            steps += [partial(self._prepare_axis_paint, plot, name) for name in ("left", "right", "bottom")]
+        return steps
 
     @staticmethod
-    def _prepare_plot_paint(plot) -> None:
-        plot.vb.prepareForPaint()
-        for name in ("left", "right", "bottom"):
-            axis = plot.getAxis(name)
-            if axis.isVisible() and axis.picture is None:
-                scratch = QPicture()
-                painter = QPainter(scratch)
-                try:
-                    axis.paint(painter, None, None)     # makes axis.picture, which the paint then replays
-                finally:
-                    painter.end()
+    def _prepare_axis_paint(plot, name: str) -> None:
+        axis = plot.getAxis(name)
+        if axis.isVisible() and axis.picture is None:
+            scratch = QPicture()
+            painter = QPainter(scratch)
+            try:
+                axis.paint(painter, None, None)     # makes axis.picture, which the paint then replays
+            finally:
+                painter.end()
 
     def clear_run(self) -> None:
         """No run: empty curves, no bands or labels, the placeholder (another macro was opened).
@@ -254,12 +275,8 @@ class ChargePlot(StackedPlot):
     def _view_changed(self, *_) -> None:
         if self._batch:
             return
-        self._set_curves()
-        self._thin_dense_curves()
-        self._fit_voltage(self._t, self._v, *self._cell_bounds)
-        self._place_placeholder()
-        self._place_labels()
-        self._place_legends()
+        self._set_view_curves()
+        self._place_overlays()
 
     def _display(self, name: str) -> tuple[np.ndarray, np.ndarray]:
         x, y = self.curves[name].getData()

@@ -306,16 +306,17 @@ class SimulatorPanel(QWidget):
             self._refresh_hint()
 
     def _show(self, run, finished: bool = False) -> None:
-        """A PlotData: the run, ready to draw. The plot takes its data and range now; its view's curves
-        and legends, its phase bands, each plot's axes and its paint each a moment later, then the phase
-        table, and then ``simulationFinished`` if the run reached its end: eight slices of GUI-thread
-        time, each of a few ms (all in one turn of the event loop took 25-30 ms; five slices left one of
-        6-15 ms, the three plots' axes, which put the event loop's longest gap above 16 ms)."""
+        """A PlotData: the run, ready to draw. The plot takes its data and range now; its view's curves,
+        its legends, its phase bands, its pauses, each plot's y range and each of its axes, and its paint
+        each a moment later, then the phase table, its totals, and ``simulationFinished`` if the run
+        reached its end: twenty slices of GUI-thread time of 0.1-2.5 ms each (thread CPU, median of a
+        47 h run's), the paint 5-6 ms (all in one turn took 25-30 ms; eight slices left ones of 4-6 ms,
+        which a worker holding the GIL or a loaded machine stretched past 16 ms of wall time)."""
         result = self._result = run.result
         self.plot.setUpdatesEnabled(False)
         self.plot.show_run(run, place=False)
         self._table_pending = (result, finished)
-        self._steps = [self.plot.place_view, self.plot.show_bands, *self.plot.paint_steps(), self._paint_plot]
+        self._steps = [*self.plot.place_steps(), *self.plot.band_steps(), *self.plot.paint_steps(), self._paint_plot]
         self._chain += 1
         chain = self._chain
         QTimer.singleShot(PAINT_AFTER_MS, self, lambda: self._next_step(chain))
@@ -334,10 +335,17 @@ class SimulatorPanel(QWidget):
         self.plot.viewport().update()
 
     def _show_table(self) -> None:
+        """The phase table, then (a turn later: the two took up to 5 ms) the totals and the run's line."""
+        if self._table_pending is None:
+            return
+        self.table.set_result(self._table_pending[0])
+        chain = self._chain
+        QTimer.singleShot(PAINT_AFTER_MS, self, lambda: chain == self._chain and self._show_totals())
+
+    def _show_totals(self) -> None:
         if self._table_pending is None:
             return
         (result, finished), self._table_pending = self._table_pending, None
-        self.table.set_result(result)
         self.totals.setText(totals_text(result))
         self.totals.setToolTip(self._repetitions_tip(result))
         self.run_label.setText(self._describe(result))

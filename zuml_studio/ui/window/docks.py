@@ -29,6 +29,12 @@ class DockSpec:
     tab_with: str = ""                      # a tab beside this dock (a dock listed before it)
     width: int = 0                          # its first width, px (0: as the window's layout gives)
     height: int = 0                         # its first height, px
+    narrow_tab_with: str = ""               # a tab beside this dock instead, when the window leaves it
+    readable_width: int = 0                 # less than this width beside its neighbours (px)
+
+
+PROBLEMS_READABLE_PX = 240     # a message of the Problems list reads a few words a line, its place and code beside
+SEPARATOR_PX = 12              # the splitter between two docks side by side, and the area's margins
 
 
 def dock_specs() -> list[DockSpec]:
@@ -38,8 +44,10 @@ def dock_specs() -> list[DockSpec]:
         DockSpec("library", "libraryDock", _("Library"), lambda w: w.library, Area.LeftDockWidgetArea, width=230),
         DockSpec("hex", "hexDock", _("Bytes"), lambda w: w.hex_view, Area.RightDockWidgetArea, width=420),
         DockSpec("visual", "visualDock", _("Visual"), lambda w: w.visual, Area.RightDockWidgetArea, tab_with="hex"),
+        # Beside the simulator it reads a message a few words a line; a window too narrow for that
+        # beside the device panel (a 1024 px screen) makes it a tab of the simulator's set instead.
         DockSpec("problems", "problemsDock", _("Problems"), lambda w: w.problems, Area.BottomDockWidgetArea,
-                 width=330),
+                 width=330, narrow_tab_with="sim", readable_width=PROBLEMS_READABLE_PX),
         DockSpec("sim", "simulatorDock", _("Simulator"), lambda w: w.sim_panel, Area.BottomDockWidgetArea,
                  (WRITE, SIMULATE), beside="problems", width=1170, height=400),
         DockSpec("device", "deviceDock", _("Device"), lambda w: QWidget(), Area.BottomDockWidgetArea,
@@ -67,6 +75,27 @@ def build_docks(window: QMainWindow, specs: list[DockSpec]) -> dict[str, QDockWi
     return docks
 
 
+def tab_of(window: QMainWindow, specs: list[DockSpec], docks: dict[str, QDockWidget], spec: DockSpec) -> str:
+    """The dock ``spec``'s dock is a tab with ('' for none) at the window's present width."""
+    if spec.narrow_tab_with and too_narrow(window, specs, docks, spec):
+        return spec.narrow_tab_with
+    return spec.tab_with
+
+
+def too_narrow(window: QMainWindow, specs: list[DockSpec], docks: dict[str, QDockWidget], spec: DockSpec) -> bool:
+    """Whether the window leaves ``spec``'s dock less than its readable width beside the set of
+    tabs it would otherwise stand beside (those need their widest one's minimum width)."""
+    first = spec.narrow_tab_with
+    group = [docks[s.name] for s in specs if s.name == first or s.tab_with == first]
+    needed = max(dock.minimumSizeHint().width() for dock in group) + spec.readable_width + SEPARATOR_PX
+    return window.width() < needed
+
+
+def _tabbed_away(window: QMainWindow, specs: list[DockSpec], docks: dict[str, QDockWidget], name: str) -> bool:
+    spec = next(s for s in specs if s.name == name)
+    return tab_of(window, specs, docks, spec) != spec.tab_with
+
+
 def place(window: QMainWindow, specs: list[DockSpec], docks: dict[str, QDockWidget], mode: str) -> None:
     """The first layout of ``mode``: every dock back in its area, beside or tabbed with the one
     the table names, shown if the mode lists it."""
@@ -79,14 +108,14 @@ def place(window: QMainWindow, specs: list[DockSpec], docks: dict[str, QDockWidg
         shown_tabs = [s for s in specs if s.tab_with == spec.name and mode in s.modes]
         if mode not in spec.modes and shown_tabs:
             docks[shown_tabs[0].name].raise_()
-        elif not spec.tab_with:
+        elif not tab_of(window, specs, docks, spec):
             docks[spec.name].raise_()
     toolbar = window.findChild(QToolBar, "mainToolBar")
     if toolbar is not None:
         # Its commands are the editor's (New, Save, Verify, Upload, Simulate): watching a charge, the
         # plot takes its row; the menus keep every command, and the mode's layout keeps the choice.
         toolbar.setVisible(mode != CHARGE)
-    shown = [s for s in specs if mode in s.modes]
+    shown = [s for s in specs if mode in s.modes and not _tabbed_away(window, specs, docks, s.name)]
     for orientation, length in ((Qt.Orientation.Horizontal, lambda s: s.width),
                                 (Qt.Orientation.Vertical, lambda s: s.height)):
         sized = [s for s in shown if length(s)]
@@ -114,6 +143,19 @@ def make_readable(window: QMainWindow, specs: list[DockSpec], docks: dict[str, Q
     return resized
 
 
+def width_changed_place(window: QMainWindow, specs: list[DockSpec], docks: dict[str, QDockWidget]) -> bool:
+    """Whether a dock placed by the window's width (``narrow_tab_with``) stands in the other place
+    now: beside its neighbours in a window too narrow for it, or a tab in one wide enough."""
+    for spec in specs:
+        dock = docks[spec.name]
+        if not spec.narrow_tab_with or dock.isFloating() or window.dockWidgetArea(dock) != spec.area:
+            continue                        # moved by the user: left where it is
+        tabbed = docks[spec.narrow_tab_with] in window.tabifiedDockWidgets(dock)
+        if tabbed != _tabbed_away(window, specs, docks, spec.name):
+            return True
+    return False
+
+
 def in_place(window: QMainWindow, specs: list[DockSpec], docks: dict[str, QDockWidget]) -> bool:
     """Every dock docked in its area, in its set of tabs. The modes differ only in which docks
     show: then only that changes, for Qt leaves a shown tab bar behind each time docks are tabified
@@ -122,8 +164,8 @@ def in_place(window: QMainWindow, specs: list[DockSpec], docks: dict[str, QDockW
         dock = docks[spec.name]
         if dock.isFloating() or window.dockWidgetArea(dock) != spec.area:
             return False
-        first = spec.tab_with or spec.name
-        tabs = {docks[s.name] for s in specs if s.name == first or s.tab_with == first} - {dock}
+        first = tab_of(window, specs, docks, spec) or spec.name
+        tabs = {docks[s.name] for s in specs if s.name == first or tab_of(window, specs, docks, s) == first} - {dock}
         if set(window.tabifiedDockWidgets(dock)) != tabs:
             return False
     return True
@@ -138,8 +180,11 @@ def arrange(window: QMainWindow, specs: list[DockSpec], docks: dict[str, QDockWi
         dock.setFloating(False)
         window.addDockWidget(spec.area, dock)
     for spec in specs:
-        if spec.beside:
+        if spec.beside and not _tabbed_away(window, specs, docks, spec.beside):
             window.splitDockWidget(docks[spec.beside], docks[spec.name], Qt.Orientation.Horizontal)
     for spec in specs:
         if spec.tab_with:
             window.tabifyDockWidget(docks[spec.tab_with], docks[spec.name])
+    for spec in specs:                      # after its set's own tabs: the last tab
+        if _tabbed_away(window, specs, docks, spec.name):
+            window.tabifyDockWidget(docks[spec.narrow_tab_with], docks[spec.name])
