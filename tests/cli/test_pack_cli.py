@@ -120,3 +120,12 @@ def test_two_processes_importing_at_once_keep_the_logbook_whole(zuml, data_dir):
     assert sum(shown.values()) == 3 and min(shown.values()) >= 1
     with sqlite3.connect(data_dir / "packs.sqlite3") as conn:
         assert conn.execute("PRAGMA integrity_check").fetchone()[0] == "ok"
+
+
+def test_a_discharge_not_from_full_shows_what_was_taken_out_in_parentheses_and_why(zuml, tmp_path):
+    assert zuml("pack", "add", "Rx AA", "--chemistry", "NiMH", "--cells", "4", "--capacity", "2000")[0] == 0
+    assert zuml("pack", "import", str(DATA / "AkkuMasterC4_2007-12-28-EmpfaengerAA4-Entladen.csv"),
+                "--pack", "Rx AA")[0] == 0
+    code, out, _err = zuml("pack", "show", "Rx AA")
+    assert code == 0 and "(396)" in out and "health: unknown" in out
+    assert "(capacity): taken out, not the pack's capacity: 2007-12-28: the discharge began at about " in out

@@ -74,6 +74,18 @@ def test_capacity_comes_from_a_discharge_to_the_cut_off_else_it_says_partial():
     assert 10 <= int(f.capacity_from.split()[1]) < 90
 
 
+def test_a_discharge_that_did_not_begin_full_is_no_capacity_and_says_where_it_began():
+    # 1.28 V per cell at 0.15 A: a NiMH pack at about a third, not full; it ran to its cut-off all the same.
+    log = read_log_file(DATA / "AkkuMasterC4_2007-12-28-EmpfaengerAA4-Entladen.csv")
+    f = session_figures(log, 4, "NiMh")
+    assert f.capacity_mah == pytest.approx(396, abs=1)
+    kind, pct = f.capacity_from.split(": ")
+    assert kind == "not from full" and 15 <= int(pct.rstrip(" %")) < 50
+    # A discharge after the log's own charge began full, whatever its first voltage.
+    cycle = session_figures(read_log_file(DATA / "eStationBC6_2008-07-05_EmpfaengerAA.osd"), 4, "NiMh")
+    assert cycle.capacity_from == "discharge" and cycle.capacity_mah == pytest.approx(893, abs=1)
+
+
 def test_a_capacity_far_above_the_rating_gives_no_verdict_but_says_what_to_check():
     from zuml_studio.packs.health import health
     from zuml_studio.packs.register import Pack

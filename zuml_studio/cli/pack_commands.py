@@ -8,7 +8,7 @@ from pathlib import Path
 from ..packs.db import Logbook, LogbookError
 from ..packs.register import PackError, add_pack, get_pack, list_packs, remove_pack
 from ..packs.sessions import ImportResult, import_files
-from ..packs.summary import DATED_MARK, dates_note, pack_summary, write_sessions_csv
+from ..packs.summary import DATED_MARK, capacity_note, capacity_text, dates_note, pack_summary, write_sessions_csv
 from ..packs.text import printable
 from .common import CliError, out, out_json
 from ..i18n import _, ngettext
@@ -115,11 +115,11 @@ def cmd_show(args: argparse.Namespace) -> int:
     for s in info["sessions"]:
         mark = DATED_MARK.get(s["recorded_from"], "?")
         out(f"    {s['recorded'][:10] + mark:<11}{_num(s['charge_in_mah'], '7.0f'):>7} {_num(s['charge_out_mah'], '8.0f'):>8}"
-            f" {_num(s['capacity_mah'], '9.0f'):>9} {_num(s['resistance_mohm_per_cell'], '8.1f'):>8}"
+            f" {capacity_text(s):>9} {_num(s['resistance_mohm_per_cell'], '8.1f'):>8}"
             f" {_num(s['cell_deviation_mv'], '6.0f'):>6} {_num(s['t_max_c'], '6.1f'):>6}  {printable(s['file'])}")
-    note = dates_note(info["sessions"])
-    if note:
-        out("    " + note)
+    for note in (capacity_note(info["sessions"]), dates_note(info["sessions"])):
+        if note:
+            out("    " + printable(note))
     return 0
 
 

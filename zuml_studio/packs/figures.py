@@ -21,8 +21,9 @@ class SessionFigures:
     energy_in_wh: float | None
     energy_out_wh: float | None
     capacity_mah: float | None
-    # "discharge": the largest discharge, which reached the chemistry's cut-off; "partial: N %": it stopped
-    # with N % of its voltage range (from where it began to the cut-off) covered: not the pack's capacity
+    # "discharge": a discharge from full to the chemistry's cut-off (the pack's capacity); "not from full: N %":
+    # it began at about N % charged; "partial: N %": it stopped with N % of its voltage range (from where it
+    # began to the cut-off) covered. The last two are what was taken out, not the pack's capacity.
     capacity_from: str | None
     resistance_mohm_per_cell: float | None
     resistance_from: str | None        # "rest steps" (docs/validation.md) or "charger" (its own Ri readings)
@@ -83,26 +84,60 @@ def _energy_wh(t: np.ndarray, v: np.ndarray, i: np.ndarray) -> tuple[float, floa
 
 
 def _capacity(log: Log, cells: int, chemistry: str | None) -> tuple[float | None, str | None]:
-    """The largest charge taken out in one discharge phase, what the pack holds when that discharge
-    ran to the chemistry's cut-off ("discharge"); one that stopped before says how far it went
-    ("partial: N %" of its voltage range, from where it began to the cut-off). A charge is no capacity
-    (it may start part full and puts in more than the pack stores): a log with no discharge gives none."""
+    """The largest charge taken out in one discharge phase, and whether it is what the pack holds:
+    "discharge" when that discharge began full (a charge ran before it in the log, or its first loaded
+    voltage says so) and ran to the chemistry's cut-off; "not from full: N %" when it began at about N %
+    charged; "partial: N %" when it stopped with N % of its voltage range covered. A discharge that is the
+    pack's capacity is preferred to a larger one that is not. A charge is no capacity (it may start part
+    full and puts in more than the pack stores): a log with no discharge gives none."""
     c = log.columns
-    best, best_range = 0.0, None
-    k = 0
+    found = []                                  # (is the capacity, taken, label)
+    k, charged = 0, False
     for phase in log.phases():
         start = k
         k = int(np.searchsorted(c.t, phase.end_s, side="right")) if k < len(c) else k
         k = max(k, start)
-        if phase.state == "discharge" and k > start:
-            taken = float(c.mah_out[k - 1] - c.mah_out[max(start - 1, 0)])
-            if taken > best:
-                best, best_range = taken, _range_covered(c.window(start, k), cells, chemistry)
-    if best <= 1.0:
+        if phase.state == "charge" and k > start:
+            charged = True
+        if phase.state != "discharge" or k <= start:
+            continue
+        taken = float(c.mah_out[k - 1] - c.mah_out[max(start - 1, 0)])
+        window = c.window(start, k)
+        began = None if charged else _start_soc(window, cells, chemistry)
+        covered = _range_covered(window, cells, chemistry)
+        if began is not None and began < STARTED_FULL:
+            found.append((False, taken, f"not from full: {began * 100:.0f} %"))
+        elif covered is not None and covered < REACHED_CUT_OFF:
+            found.append((False, taken, f"partial: {covered * 100:.0f} %"))
+        else:
+            found.append((True, taken, "discharge"))
+    found = [f for f in found if f[1] > 1.0]
+    if not found:
         return None, None
-    if best_range is None or best_range >= REACHED_CUT_OFF:
-        return best, "discharge"
-    return best, f"partial: {best_range * 100:.0f} %"
+    _is, taken, label = max(found, key=lambda f: (f[0], f[1]))
+    return taken, label
+
+
+# A discharge that began at this state of charge or above began full: a NiMH pack's resting voltage
+# does not tell 85 % from 100 % (its curve is flat at the top), so the bar is set below it.
+STARTED_FULL = 0.8
+# The loaded voltage is raised by the current through this many times the chemistry's reference cell's
+# resistance before it is read as a resting voltage: an aged or smaller pack's resistance is higher.
+RESISTANCE_ALLOWANCE = 3.0
+
+
+def _start_soc(samples: Columns, cells: int, chemistry: str | None) -> float | None:
+    """The state of charge a discharge began at, from its first loaded voltage per cell raised by the
+    current through RESISTANCE_ALLOWANCE x the chemistry's cell resistance, read on its resting voltage
+    curve; None when the chemistry or the cells are not known."""
+    loaded = samples.current < -0.005
+    if chemistry is None or cells < 1 or loaded.sum() < 3:
+        return None
+    chem = load_chemistry(chemistry)
+    v_cell = float(np.median(samples.voltage[loaded][:3])) / cells
+    amps = float(np.median(-samples.current[loaded][:3]))
+    resting = v_cell + amps * chem.r0_ohm * RESISTANCE_ALLOWANCE
+    return float(np.interp(resting, chem.ocv_v, chem.ocv_soc))
 
 
 # A discharge that covered this much of its voltage range (start to cut-off) reached the cut-off: a

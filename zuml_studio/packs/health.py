@@ -116,5 +116,5 @@ def health(pack: Pack, sessions: list[Session]) -> Health:
         return Health("good", tuple(passed))
     if not sessions:
         return Health("unknown", (_("no session yet: import a log or attach a run"),))
-    return Health("unknown", (_("no session measures the capacity (a discharge), the resistance (a rest after "
-                                "a current) or the cells"),))
+    return Health("unknown", (_("no session measures the capacity (a discharge from full to the cut-off), the "
+                                "resistance (a rest after a current) or the cells"),))

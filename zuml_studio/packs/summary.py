@@ -29,6 +29,32 @@ def dates_note(sessions: list[dict]) -> str | None:
     return None
 
 
+def capacity_text(session: dict, spec: str = ".0f") -> str:
+    """A session's capacity column: the figure when it is the pack's (a discharge from full to the cut-off),
+    in parentheses when it is only what was taken out (see ``capacity_note``), "–" when none."""
+    value = session["capacity_mah"]
+    if value is None:
+        return "–"
+    text = format(value, spec)
+    return text if session["capacity_from"] == "discharge" else f"({text})"
+
+
+def capacity_note(sessions: list[dict]) -> str | None:
+    """Why a capacity in parentheses is not the pack's, per session, in the user's language."""
+    why = []
+    for s in sessions:
+        label = s["capacity_from"] or ""
+        kind, _sep, pct = label.partition(": ")
+        if kind == "not from full":
+            why.append(_("{date}: the discharge began at about {pct} charged").format(date=s["recorded"][:10], pct=pct))
+        elif kind == "partial":
+            why.append(_("{date}: the discharge stopped with {pct} of its range to the cut-off covered").format(
+                    date=s["recorded"][:10], pct=pct))
+    if not why:
+        return None
+    return _("(capacity): taken out, not the pack's capacity: {why}").format(why="; ".join(why))
+
+
 def pack_summary(book: Logbook, pack: Pack) -> dict:
     """The pack's fields, ``sessions`` (oldest first), ``trend`` and ``health`` (``verdict``, ``reasons``)."""
     sessions = pack_sessions(book, pack)

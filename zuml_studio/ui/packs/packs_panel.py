@@ -18,7 +18,7 @@ from ...packs.model import fit_pack_model, fit_quality, has_model, model_name
 from ...sim.fit_predict import trust_words
 from ...packs.register import Pack, PackError, forget_attachments, get_pack, list_packs, remove_pack
 from ...packs.sessions import ImportResult, import_files, pack_sessions, remove_session
-from ...packs.summary import pack_summary, write_sessions_csv
+from ...packs.summary import capacity_note, capacity_text, pack_summary, write_sessions_csv
 from .. import theme
 from ..background import BackgroundCall
 from ..device.confirm_dialogs import documents_folder
@@ -284,11 +284,13 @@ class PacksPanel(QWidget):
         for r, s in enumerate(sessions):
             for c, (key, _title) in enumerate(COLUMNS):
                 value = s[key]
-                text = ("–" if value is None else value[:10] if key == "recorded" else Path(value).name
-                        if key == "file" else f"{value:g}")
+                text = (capacity_text(s, "g") if key == "capacity_mah" else "–" if value is None
+                        else value[:10] if key == "recorded" else Path(value).name if key == "file" else f"{value:g}")
                 item = QTableWidgetItem(text)
                 if key == "file":
                     item.setToolTip(value)
+                elif key == "capacity_mah" and text.startswith("("):
+                    item.setToolTip(capacity_note([s]))
                 elif key != "recorded":
                     item.setTextAlignment(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
                 self.table.setItem(r, c, item)

@@ -11,7 +11,7 @@ from PySide6.QtGui import QColor, QFont, QImage, QPageLayout, QPageSize, QPainte
 
 from ...packs.health import TrendPoint
 from ...packs.report_data import SessionCurve
-from ...packs.summary import DATED_MARK, dates_note
+from ...packs.summary import DATED_MARK, capacity_note, capacity_text, dates_note
 from .trend_plot import PackTrendPlot
 from ...i18n import _
 
@@ -181,7 +181,7 @@ def _paint_sessions(painter: QPainter, sessions: list[dict], y: float, line: int
     shown = sessions if len(sessions) <= room else sessions[-(room - 1):]
     for s in shown:
         cells = (s["recorded"][:10] + DATED_MARK.get(s["recorded_from"], "?"), _fmt(s["charge_in_mah"], ".0f"), _fmt(s["charge_out_mah"], ".0f"),
-                 _fmt(s["capacity_mah"], ".0f"), _fmt(s["resistance_mohm_per_cell"], ".1f"),
+                 capacity_text(s), _fmt(s["resistance_mohm_per_cell"], ".1f"),
                  _fmt(s["cell_deviation_mv"], ".0f"), _fmt(s["t_max_c"], ".1f"), Path(s["file"]).name)
         x = _MARGIN
         for (_name, width), text in zip(columns, cells):
@@ -191,7 +191,7 @@ def _paint_sessions(painter: QPainter, sessions: list[dict], y: float, line: int
         y += 16
     notes = [_("(the {n} earliest sessions are in the CSV export)").format(n=len(sessions) - len(shown))] \
         if len(shown) < len(sessions) else []
-    notes += [n for n in (dates_note(sessions),) if n]
+    notes += [n for n in (capacity_note(sessions), dates_note(sessions)) if n]
     for note in notes:
         painter.drawText(QRectF(_MARGIN, y, w - 2 * _MARGIN, 16), Qt.AlignmentFlag.AlignLeft, note)
         y += 16
