@@ -311,6 +311,9 @@ static const char *started(uint8_t seq, uint8_t number, uint8_t panel)
         answer_start(seq);
     state = ST_RUNNING;
     run_start_ms = last_tick_ms = hal_millis();
+    /* the first tick's averages are the run's own: readings of the idle pack before START (up to the idle
+     * latch's second) would dilute its current, and the charge counted in that tick with it */
+    hal_measure_latch();
     zc_control(&run);
     return 0;
 }

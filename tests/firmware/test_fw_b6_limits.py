@@ -132,6 +132,7 @@ def test_a_duty_at_its_top_with_no_current_switches_off_after_half_a_second(b6):
     # most: the duty stays at its top and no current flows
     sim = b6(CHARGE_20A, "--cells", "6", "--soc", "0.5", "--press", START, "--fault", "input-sag@3")
     on_s, off_s, k = on_and_off(sim)
+    sim.wait_line("LCD|end Twenty|", k)         # the interrupt switched off; the main loop then ends the run
     assert on_s < 3 and end_reason(sim) == "protection: pack above twice the input"
     # 400 current readings (0.5 s) at the top once the current has fallen: 0.65 s after the sag measured;
     # half or twice the readings fall outside
