@@ -27,7 +27,8 @@ LI = ("LiPo", "LiIon", "LiFe")
 # the current has fallen below this fraction of the constant current before it.
 _CV_V_FRACTION = 0.995
 _CV_I_FRACTION = 0.92
-_CV_HOLD_FRACTION = 0.99     # ... and while it stays this close (a lower CC step after the hold is CC again)
+_CV_HOLD_FRACTION = 0.99     # ... and while it stays this close to the voltage held (a lower CC step after the
+                             # hold is CC again)
 _SMOOTH_S = 60.0            # the peak and -dV are read from a 1-minute moving average (as chargers filter)
 _PAUSE_FRACTION = 0.5      # CC samples below this fraction of the CC current are measurement pauses
 _FIT_SAMPLES = 400           # ... or coarser, so that a long charge has at most about this many samples (a fit
@@ -124,7 +125,11 @@ def cv_mask(curve: Curve, chemistry: str) -> np.ndarray:
         return mask
     first = reached[0]
     i_cc = float(np.median(curve.i[:first + 1]))
-    mask[first:] = (curve.i[first:] < _CV_I_FRACTION * i_cc) & (curve.v[first:] >= _CV_HOLD_FRACTION * vmax)
+    falling = curve.i[first:] < _CV_I_FRACTION * i_cc
+    # The voltage held is the hold's own median, not the log's maximum: a charger that overshoots as it turns to
+    # CV (the 308DUO's 2S LiFe, 7.29 V, then held at 7.20 V) would else end its hold 1.2 % under that peak.
+    held_v = float(np.median(curve.v[first:][falling])) if falling.any() else vmax
+    mask[first:] = falling & (curve.v[first:] >= _CV_HOLD_FRACTION * held_v)
     return mask
 
 
