@@ -148,3 +148,17 @@ def test_at_bounds_names_the_packs_size_resistance_and_ocv_only():
     values = {"capacity_mah": 19950.0, "r_scale": 9.98, "ocv_offset_v": 0.0, "start_soc": 0.95, "r2_ohm": 1e-4}
     assert at_bounds(params, values) == [{"name": "capacity_mah", "value": 19950.0, "bound": "upper"},
                                          {"name": "r_scale", "value": 9.98, "bound": "upper"}]
+
+
+def test_a_charge_that_starts_at_its_held_voltage_has_no_cv_figure_only_a_dash_and_why():
+    # The X6 LiFe top-up: 10 A for 9 s, then held at 3.60 V/cell. Its 10 A is no CC phase, and the 0.14 A its
+    # first hold's edge once gave as the CC current made the CV figure "336 %".
+    from zuml_studio.sim.fit_report import figure_lines, quality_lines
+    curve = read_curve(ROOT / "tests" / "data" / "logs" / "X6_LiFe_10-3A_Cycle_2.txt")
+    result = fit(curve, "LiFe", 6, only_capacity=True)
+    figures = result.figures
+    assert figures["rmse_i_cv_pct"] is None and figures["no_cc_phase"]
+    assert figures["quality"]["held_current"]["rmse"] is None
+    assert figures["quality"]["held_current"]["note"] == "no CC phase"
+    assert any("– over" in line and "no CC phase" in line for line in quality_lines(figures["quality"]))
+    assert any("CV: – (no CC phase" in line for line in figure_lines(figures))

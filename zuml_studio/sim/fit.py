@@ -30,6 +30,7 @@ _CV_I_FRACTION = 0.92
 _CV_HOLD_FRACTION = 0.99     # ... and while it stays this close to the voltage held (a lower CC step after the
                              # hold is CC again)
 _SMOOTH_S = 60.0            # the peak and -dV are read from a 1-minute moving average (as chargers filter)
+_CC_MIN_S = 60.0            # a CC phase shorter than this before the hold is none (the CV figure is then "–")
 _PAUSE_FRACTION = 0.5      # CC samples below this fraction of the CC current are measurement pauses
 _FIT_SAMPLES = 400           # ... or coarser, so that a long charge has at most about this many samples (a fit
                              # of a 2 h NiMH charge in about a second: benchmarks/bench_fit.py)
@@ -133,6 +134,16 @@ def cv_mask(curve: Curve, chemistry: str) -> np.ndarray:
     return mask
 
 
+def has_cc_phase(curve: Curve, cv: np.ndarray) -> bool:
+    """Whether the charge ran at constant current for at least _CC_MIN_S before its voltage hold: a full pack topped
+    up (the X6 LiFe, held at 3.60 V/cell from its 12th second) has no CC current to measure the CV current against."""
+    if not cv.any():
+        return True
+    first = int(np.flatnonzero(cv)[0])
+    on = np.flatnonzero(curve.i[:first] > 0.0)
+    return bool(len(on)) and float(curve.t[first] - curve.t[on[0]]) >= _CC_MIN_S
+
+
 def cc_current(curve: Curve, cv: np.ndarray) -> float:
     """The constant current before the voltage hold (the whole charge's median where there is none)."""
     cc = curve.i[~cv] if (~cv).any() else curve.i
@@ -233,7 +244,9 @@ def figures(curve: Curve, run: Run, cv: np.ndarray, series: int, chemistry: str)
     out: dict = {"direction": "charge",
                  "rmse_v_per_cell_mv": round(float(np.sqrt(np.mean(err_v ** 2))), 2) if cc.any() else None,
                  "rmse_i_cv_pct": None, "peak": None, "temp_rise": None}
-    if cv.any():
+    if cv.any() and not has_cc_phase(curve, cv):
+        out["no_cc_phase"] = True         # unknown, not a share of a current the charger never held
+    elif cv.any():
         err_i = (run.i[cv] - curve.i[cv]) / cc_current(curve, cv) * 100.0
         out["rmse_i_cv_pct"] = round(float(np.sqrt(np.mean(err_i ** 2))), 2)
     if chemistry in NI:
@@ -257,10 +270,12 @@ def quality(report: dict, curve: Curve, held: np.ndarray) -> dict:
     where the current is compared (a charge's CV, a discharge's hold)."""
     span = report["window_s"]
     out = {"voltage": {"rmse": report["rmse_v_per_cell_mv"], "unit": "mV/cell", "window_s": span}}
-    if report["rmse_i_cv_pct"] is not None:
+    if report["rmse_i_cv_pct"] is not None or report.get("no_cc_phase"):
         at = np.flatnonzero(held)
         out["held_current"] = {"rmse": report["rmse_i_cv_pct"], "unit": "% of the constant current",
                                "window_s": [round(float(curve.t[at[0]]), 1), round(float(curve.t[at[-1]]), 1)]}
+        if report.get("no_cc_phase"):
+            out["held_current"]["note"] = "no CC phase"
     if report["rmse_temp_c"] is not None:
         out["temperature"] = {"rmse": report["rmse_temp_c"], "unit": "°C", "window_s": span}
     return out
