@@ -18,7 +18,6 @@ TRAINING = tomllib.loads((CURVES / "training.toml").read_text())
 LIMIT_PCT = 10.0
 # What the model cannot reach yet, and why (docs/fit.md "Its own program").
 MISSES = {
-    "pb_6s_ub121000_03c": "the absorption tail: the model's current falls to the log's 3 % of CC in twice its time",
     "nimh_4s_akkumaster_02c": "a 0.2C charge's -dV of 4.8 mV/cell: the model's is shallower, the charge runs 14 % on",
 }
 
