@@ -680,9 +680,9 @@ def main() -> int:
         "|---|---|---|---|---|---|---|",
         *cv_rows,
         "",
-        "Hobby chargers end the CV at 10–20 % of the CC current. LiPo at 2.7–3C: 4 minutes of CV, 17–22 % of "
+        "Hobby chargers end the CV at 9–13 % of the CC current here. LiPo at 2.7–3C: 4 minutes of CV, 17–22 % of "
         "the time and 7–9 % of the charge, ending at 13 % of CC. LiFe at 0.5C (a top-up): 8.4 minutes, 56 % "
-        "of the time and 24 % of the charge, ending at 10 %: even at a sixth of the rate the LFP tail is "
+        "of the time and 24 % of the charge, ending at 9 %: even at a sixth of the rate the LFP tail is "
         "twice as long, consistent with the LFP voltage rising only in the last few percent, so the "
         "charger reaches its limit with more charge still to go. That rise is curved, not the straight line "
         "from 90 to 100 % of the PyBaMM-based table: the LiFe OCV now has points at 95 % (3.40 V) and 98 % "

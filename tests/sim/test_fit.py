@@ -9,7 +9,7 @@ from helpers import ROOT
 from zuml_studio.sim.batteries import BatteryFileError, battery_names, load_battery, save_battery
 from zuml_studio.sim.chemistry import load_chemistry
 from zuml_studio.sim.curve import Curve, CurveError, read_curve, read_curve_csv
-from zuml_studio.sim.fit import Battery, cv_mask, fit, guess_series, simulate_curve
+from zuml_studio.sim.fit import Battery, cc_current, cv_mask, fit, guess_series, simulate_curve
 
 CURVES = ROOT / "tests" / "data" / "curves"
 TRAINING = tomllib.loads((CURVES / "training.toml").read_text())
@@ -162,3 +162,12 @@ def test_a_charge_that_starts_at_its_held_voltage_has_no_cv_figure_only_a_dash_a
     assert figures["quality"]["held_current"]["note"] == "no CC phase"
     assert any("– over" in line and "no CC phase" in line for line in quality_lines(figures["quality"]))
     assert any("CV: – (no CC phase" in line for line in figure_lines(figures))
+
+
+def test_a_hold_after_an_overshoot_is_measured_against_the_voltage_held():
+    # The 308DUO turns to CV at a 7.29 V overshoot and holds 7.20 V: 1.2 % under that peak, the hold once ended at
+    # its 560th second, and the tail that followed was taken for CC (its current 2.62 A, the charger's 3.0 A).
+    curve = read_curve(ROOT / "tests" / "data" / "curves" / "life_2s_308duo_05c.csv")
+    cv = cv_mask(curve, "LiFe")
+    assert cv[-1] and cv[np.flatnonzero(cv)[0]:-1].sum() >= 50
+    assert cc_current(curve, cv) == pytest.approx(2.995, abs=0.01)
