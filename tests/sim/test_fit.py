@@ -153,6 +153,7 @@ def test_at_bounds_names_the_packs_size_resistance_and_ocv_only():
 def test_a_charge_that_starts_at_its_held_voltage_has_no_cv_figure_only_a_dash_and_why():
     # The X6 LiFe top-up: 10 A for 9 s, then held at 3.60 V/cell. Its 10 A is no CC phase, and the 0.14 A its
     # first hold's edge once gave as the CC current made the CV figure "336 %".
+    from zuml_studio.sim.compare import real_end
     from zuml_studio.sim.fit_report import figure_lines, quality_lines
     curve = read_curve(ROOT / "tests" / "data" / "logs" / "X6_LiFe_10-3A_Cycle_2.txt")
     result = fit(curve, "LiFe", 6, only_capacity=True)
@@ -162,6 +163,7 @@ def test_a_charge_that_starts_at_its_held_voltage_has_no_cv_figure_only_a_dash_a
     assert figures["quality"]["held_current"]["note"] == "no CC phase"
     assert any("– over" in line and "no CC phase" in line for line in quality_lines(figures["quality"]))
     assert any("CV: – (no CC phase" in line for line in figure_lines(figures))
+    assert real_end(curve, "LiFe", 6)["values"]["share"] == "–"       # nor the log's end a share of it
 
 
 def test_a_hold_after_an_overshoot_is_measured_against_the_voltage_held():
