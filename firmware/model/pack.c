@@ -184,7 +184,13 @@ static double solve_ocv(const zm_constants_t *k, double s, double rhs, double r,
             j++;
         else if (s_end < k->xs[j - 1] && j > 1)
             j--;
-        else
+        else if (s_end < 0.0) {
+            /* past empty the OCV collapses as one_step reads it (Pack._solve_ocv) */
+            i = (rhs - k->ys[0] - s * COLLAPSE_V_PER_SOC) / (r + COLLAPSE_V_PER_SOC * g);
+            if (s + g * i < SOC_FLOOR)
+                i = (rhs - k->ys[0] - SOC_FLOOR * COLLAPSE_V_PER_SOC) / r;
+            return i;
+        } else
             return i;
     }
 }

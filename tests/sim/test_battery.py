@@ -334,3 +334,14 @@ def test_the_simulator_sees_a_lithium_overcharge():
     result = run(text, capacity=2000, series=2, sensor=False)
     phase = result.phases[0]
     assert phase.reason == "IF(V>4.3S) STOP_FAZE" and 2000 < phase.mah_in < 2400, (phase.reason, phase.mah_in)
+
+
+def test_a_discharge_held_at_its_end_voltage_past_empty_falls_to_nothing():
+    # The Akkumatik NiCd held 0.86 V/cell for its last 9 minutes: the model held there runs on into its OCV's
+    # collapse below empty, and its current must fall with it (it ran on at the table's first slope to -6 %, for hours).
+    pack = Pack(load_chemistry("NiCd"), 1000.0, 4, 0.02)
+    for _ in range(3600):
+        i = min(0.0, pack.current_for_voltage(3.44, 1.0))
+        v = pack.step(i, 1.0)
+        assert v == pytest.approx(3.44, abs=1e-6)
+    assert -0.01 < i <= 0.0 and pack.soc > -0.06

@@ -9,7 +9,7 @@ from helpers import ROOT
 from zuml_studio.sim.batteries import BatteryFileError, battery_names, load_battery, save_battery
 from zuml_studio.sim.chemistry import load_chemistry
 from zuml_studio.sim.curve import Curve, CurveError, read_curve, read_curve_csv
-from zuml_studio.sim.fit import Battery, cv_mask, fit, guess_series, simulate_curve
+from zuml_studio.sim.fit import Battery, cc_current, cv_mask, fit, guess_series, simulate_curve
 
 CURVES = ROOT / "tests" / "data" / "curves"
 TRAINING = tomllib.loads((CURVES / "training.toml").read_text())
@@ -148,3 +148,28 @@ def test_at_bounds_names_the_packs_size_resistance_and_ocv_only():
     values = {"capacity_mah": 19950.0, "r_scale": 9.98, "ocv_offset_v": 0.0, "start_soc": 0.95, "r2_ohm": 1e-4}
     assert at_bounds(params, values) == [{"name": "capacity_mah", "value": 19950.0, "bound": "upper"},
                                          {"name": "r_scale", "value": 9.98, "bound": "upper"}]
+
+
+def test_a_charge_that_starts_at_its_held_voltage_has_no_cv_figure_only_a_dash_and_why():
+    # The X6 LiFe top-up: 10 A for 9 s, then held at 3.60 V/cell. Its 10 A is no CC phase, and the 0.14 A its
+    # first hold's edge once gave as the CC current made the CV figure "336 %".
+    from zuml_studio.sim.compare import real_end
+    from zuml_studio.sim.fit_report import figure_lines, quality_lines
+    curve = read_curve(ROOT / "tests" / "data" / "logs" / "X6_LiFe_10-3A_Cycle_2.txt")
+    result = fit(curve, "LiFe", 6, only_capacity=True)
+    figures = result.figures
+    assert figures["rmse_i_cv_pct"] is None and figures["no_cc_phase"]
+    assert figures["quality"]["held_current"]["rmse"] is None
+    assert figures["quality"]["held_current"]["note"] == "no CC phase"
+    assert any("– over" in line and "no CC phase" in line for line in quality_lines(figures["quality"]))
+    assert any("CV: – (no CC phase" in line for line in figure_lines(figures))
+    assert real_end(curve, "LiFe", 6)["values"]["share"] == "–"       # nor the log's end a share of it
+
+
+def test_a_hold_after_an_overshoot_is_measured_against_the_voltage_held():
+    # The 308DUO turns to CV at a 7.29 V overshoot and holds 7.20 V: 1.2 % under that peak, the hold once ended at
+    # its 560th second, and the tail that followed was taken for CC (its current 2.62 A, the charger's 3.0 A).
+    curve = read_curve(ROOT / "tests" / "data" / "curves" / "life_2s_308duo_05c.csv")
+    cv = cv_mask(curve, "LiFe")
+    assert cv[-1] and cv[np.flatnonzero(cv)[0]:-1].sum() >= 50
+    assert cc_current(curve, cv) == pytest.approx(2.995, abs=0.01)

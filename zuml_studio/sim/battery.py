@@ -316,5 +316,12 @@ class Pack:
                 j += 1
             elif s_end < xs[j - 1] and j > 1:
                 j -= 1
+            elif s_end < 0.0:
+                # Past empty the OCV collapses as `step` reads it: a voltage held there (a discharge's end held)
+                # draws a current that falls to nothing, not one that runs on at the table's first slope.
+                i = (rhs - ys[0] - s * _COLLAPSE_V_PER_SOC) / (r + _COLLAPSE_V_PER_SOC * g)
+                if s + g * i < _SOC_FLOOR:
+                    i = (rhs - ys[0] - _SOC_FLOOR * _COLLAPSE_V_PER_SOC) / r
+                return i
             else:
                 return i

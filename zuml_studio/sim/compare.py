@@ -8,7 +8,8 @@ import numpy as np
 
 from .charger_model import ChargerLimits, load_charger
 from .curve import Curve, require_charge, require_discharge
-from .fit import NI, Run, cc_current, charging, cv_mask, figures, measured, peak, soc_at_ocv, temp_rise
+from .fit import (NI, Run, cc_current, charging, cv_mask, figures, has_cc_phase, measured, peak, soc_at_ocv,
+                  temp_rise)
 from .fit_discharge import discharge_current, discharge_figures, end_voltage
 from .fit_report import real_end_why
 from .chemistry import load_chemistry
@@ -54,7 +55,9 @@ def real_end(curve: Curve, chemistry: str, series: int) -> dict:
         drop = peak(curve.t[use], curve.v[use], curve.mah[use], series)[1]     # as the figures read it
         kind, values = ("dv", {"drop": f"{drop:.1f}"}) if drop > 0.5 else ("log_ends", {})
     elif cv.any():
-        kind, values = "cv", {"a": f"{i:.3g}", "share": f"{100 * i / cc_current(curve, cv):.0f} %", "v": f"{v:.3f}"}
+        # A charge that started at its held voltage has no CC current to state the end's share of: "–".
+        share = f"{100 * i / cc_current(curve, cv):.0f} %" if has_cc_phase(curve, cv) else "–"
+        kind, values = "cv", {"a": f"{i:.3g}", "share": share, "v": f"{v:.3f}"}
     else:
         kind, values = "cc", {}
     return {**end, "why": real_end_why(kind, values, translate=False), "kind": kind, "values": values}

@@ -27,8 +27,10 @@ LI = ("LiPo", "LiIon", "LiFe")
 # the current has fallen below this fraction of the constant current before it.
 _CV_V_FRACTION = 0.995
 _CV_I_FRACTION = 0.92
-_CV_HOLD_FRACTION = 0.99     # ... and while it stays this close (a lower CC step after the hold is CC again)
+_CV_HOLD_FRACTION = 0.99     # ... and while it stays this close to the voltage held (a lower CC step after the
+                             # hold is CC again)
 _SMOOTH_S = 60.0            # the peak and -dV are read from a 1-minute moving average (as chargers filter)
+_CC_MIN_S = 60.0            # a CC phase shorter than this before the hold is none (the CV figure is then "–")
 _PAUSE_FRACTION = 0.5      # CC samples below this fraction of the CC current are measurement pauses
 _FIT_SAMPLES = 400           # ... or coarser, so that a long charge has at most about this many samples (a fit
                              # of a 2 h NiMH charge in about a second: benchmarks/bench_fit.py)
@@ -63,6 +65,10 @@ COMMON_PARAMS = (Param("capacity_mah", 0.0, 0.0, True), Param("start_soc", 0.0, 
            Param("r_scale", 0.1, 10.0, True), Param("ocv_offset_v", -0.15, 0.15), Param("ocv_scale", 0.3, 3.0, True))
 # Lithium's solid-state diffusion (Chemistry.diffusion_tau_s): from none (1 s) to a particle slower than any cell's
 DIFFUSION = Param("diffusion_tau_s", 1.0, 20000.0, True)
+# Lead's absorption tail: the charge acceptance (w0) and the gassing voltage its refused share raises (dv_o2_v).
+# With polarisation capped at pol_max_v alone the UB121000's absorption current fell to 3 % of CC in twice the
+# log's time (2.6 A where the log had 1.0 A at its end); its fitted gassing voltage is 0.44 V, past Ni's 0.3 bound.
+GASSING = (Param("w0", 0.005, 0.3, True), Param("dv_o2_v", 0.0, 0.6))
 _NI_R_START = 8.0     # a Ni charge that misses ... is fitted again from this many times the default's resistance
 _NI_DONE_MV = 20.0    # ... the issue's limit (its cost as an RMSE in mV per cell)
 _FAMILY = {
@@ -71,7 +77,7 @@ _FAMILY = {
            Param("dip_v_per_charge", 0.0, 5.0), Param("dip_tau_s", 60.0, 36000.0, True)),
     "li": (Param("r2_ohm", 1e-4, 2.0, True), Param("tau2_s", 60.0, 36000.0, True), DIFFUSION),
     "pb": (Param("k_charge_ohm", 1e-5, 0.1, True), Param("pol_tau_s", 30.0, 20000.0, True),
-           Param("pol_max_v", 0.01, 0.6, True)),
+           Param("pol_max_v", 0.01, 0.6, True), *GASSING),
 }
 
 
@@ -124,8 +130,22 @@ def cv_mask(curve: Curve, chemistry: str) -> np.ndarray:
         return mask
     first = reached[0]
     i_cc = float(np.median(curve.i[:first + 1]))
-    mask[first:] = (curve.i[first:] < _CV_I_FRACTION * i_cc) & (curve.v[first:] >= _CV_HOLD_FRACTION * vmax)
+    falling = curve.i[first:] < _CV_I_FRACTION * i_cc
+    # The voltage held is the hold's own median, not the log's maximum: a charger that overshoots as it turns to
+    # CV (the 308DUO's 2S LiFe, 7.29 V, then held at 7.20 V) would else end its hold 1.2 % under that peak.
+    held_v = float(np.median(curve.v[first:][falling])) if falling.any() else vmax
+    mask[first:] = falling & (curve.v[first:] >= _CV_HOLD_FRACTION * held_v)
     return mask
+
+
+def has_cc_phase(curve: Curve, cv: np.ndarray) -> bool:
+    """Whether the charge ran at constant current for at least _CC_MIN_S before its voltage hold: a full pack topped
+    up (the X6 LiFe, held at 3.60 V/cell from its 12th second) has no CC current to measure the CV current against."""
+    if not cv.any():
+        return True
+    first = int(np.flatnonzero(cv)[0])
+    on = np.flatnonzero(curve.i[:first] > 0.0)
+    return bool(len(on)) and float(curve.t[first] - curve.t[on[0]]) >= _CC_MIN_S
 
 
 def cc_current(curve: Curve, cv: np.ndarray) -> float:
@@ -228,7 +248,9 @@ def figures(curve: Curve, run: Run, cv: np.ndarray, series: int, chemistry: str)
     out: dict = {"direction": "charge",
                  "rmse_v_per_cell_mv": round(float(np.sqrt(np.mean(err_v ** 2))), 2) if cc.any() else None,
                  "rmse_i_cv_pct": None, "peak": None, "temp_rise": None}
-    if cv.any():
+    if cv.any() and not has_cc_phase(curve, cv):
+        out["no_cc_phase"] = True         # unknown, not a share of a current the charger never held
+    elif cv.any():
         err_i = (run.i[cv] - curve.i[cv]) / cc_current(curve, cv) * 100.0
         out["rmse_i_cv_pct"] = round(float(np.sqrt(np.mean(err_i ** 2))), 2)
     if chemistry in NI:
@@ -252,10 +274,12 @@ def quality(report: dict, curve: Curve, held: np.ndarray) -> dict:
     where the current is compared (a charge's CV, a discharge's hold)."""
     span = report["window_s"]
     out = {"voltage": {"rmse": report["rmse_v_per_cell_mv"], "unit": "mV/cell", "window_s": span}}
-    if report["rmse_i_cv_pct"] is not None:
+    if report["rmse_i_cv_pct"] is not None or report.get("no_cc_phase"):
         at = np.flatnonzero(held)
         out["held_current"] = {"rmse": report["rmse_i_cv_pct"], "unit": "% of the constant current",
                                "window_s": [round(float(curve.t[at[0]]), 1), round(float(curve.t[at[-1]]), 1)]}
+        if report.get("no_cc_phase"):
+            out["held_current"]["note"] = "no CC phase"
     if report["rmse_temp_c"] is not None:
         out["temperature"] = {"rmse": report["rmse_temp_c"], "unit": "°C", "window_s": span}
     return out

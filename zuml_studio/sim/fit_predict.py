@@ -7,9 +7,11 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
+import numpy as np
+
 from .compare import log_charger, real_end
 from .fit import LI, NI, FitResult, cc_current, cv_mask
-from .fit_discharge import discharge_current, end_voltage
+from .fit_discharge import discharge_current, end_voltage, hold_mask
 from .interpreter import StartError, StartParams
 from .simulate import BatterySetup, simulate
 from ..i18n import _
@@ -27,10 +29,18 @@ def own_program(result: FitResult) -> tuple[str, StartParams] | None:
     backup = f"      IF(tf>{math.ceil(_BACKUP * float(curve.t[-1]) / 60.0)}m) STOP_FAZE\n"
     sensor = curve.temp is not None
     if curve.direction == "discharge":
-        # To the log's end voltage at its current (a charger that held that voltage and stepped its current down,
-        # the Akkumatik NiCd's last 10 %, is not followed: the model held there never falls to the log's last current).
-        phase = f"      CONSTANT_I=INPUT\n      IF(V<{end_voltage(curve):.2f}V) STOP_FAZE\n"
-        body = "  DISCHARGE_SECTION\n    FAZE\n" + phase + backup + "    END_FAZE\n  END_SECTION\n"
+        # To the log's end voltage at its current; where the log's charger then held that voltage and stepped its
+        # current down (the Akkumatik NiCd's last 10 %), the program holds it too, until the log's last current.
+        hold = hold_mask(curve)
+        if hold.any():
+            at = np.flatnonzero(hold)
+            hold_v, stop = float(np.median(curve.v[at])), float(-curve.i[at[-1]])
+            phases = (f"    FAZE\n      CONSTANT_I=INPUT\n      IF(V<{hold_v:.2f}V) STOP_FAZE\n{backup}    END_FAZE\n"
+                      f"    FAZE\n      CONSTANT_V={hold_v:.2f}V\n      IF(I<{stop:.3f}A) STOP_FAZE\n{backup}    END_FAZE\n")
+        else:
+            phases = (f"    FAZE\n      CONSTANT_I=INPUT\n      IF(V<{end_voltage(curve):.2f}V) STOP_FAZE\n{backup}"
+                      "    END_FAZE\n")
+        body = "  DISCHARGE_SECTION\n" + phases + "  END_SECTION\n"
         params = StartParams("discharge", 1, round(result.battery.capacity_mah), round(discharge_current(curve), 3),
                              None, series, sensor)
     else:

@@ -43,6 +43,8 @@ def figure_lines(report: dict) -> list[str]:
         lines.append(_("RMSE voltage: {n} mV per cell").format(n=f"{report['rmse_v_per_cell_mv']:g}"))
     if report.get("rmse_i_cv_pct") is not None:
         lines.append(_("RMSE current in CV: {share} of the CC current").format(share=f"{report['rmse_i_cv_pct']:g} %"))
+    elif report.get("no_cc_phase"):
+        lines.append(_("RMSE current in CV: – (no CC phase: the charge started at its held voltage)"))
     if report.get("rmse_temp_c") is not None:
         lines.append(_("RMSE temperature: {n} °C").format(n=f"{report['rmse_temp_c']:g}"))
     if report.get("capacity"):
@@ -84,10 +86,19 @@ QUALITY = {
 
 
 def quality_lines(quality: dict) -> list[str]:
-    """The fit's quality per quantity (``figures["quality"]``), each with its window."""
-    return [_(QUALITY[name]).format(rmse=f"{q['rmse']:g}" + (" %" if name == "held_current" else ""),
-                                    span=_minutes(q["window_s"]))
-            for name, q in quality.items() if name in QUALITY and q["rmse"] is not None]
+    """The fit's quality per quantity (``figures["quality"]``), each with its window; a held current with no CC
+    current to measure it against is "–", with why."""
+    lines = []
+    for name, q in quality.items():
+        if name not in QUALITY:
+            continue
+        if q["rmse"] is not None:
+            lines.append(_(QUALITY[name]).format(rmse=f"{q['rmse']:g}" + (" %" if name == "held_current" else ""),
+                                                 span=_minutes(q["window_s"])))
+        elif q.get("note") == "no CC phase":
+            lines.append(_("RMSE current where the voltage was held – over {span} (no CC phase: the charge started "
+                           "at its held voltage)").format(span=_minutes(q["window_s"])))
+    return lines
 
 
 def claim_lines(report: dict) -> list[str]:
