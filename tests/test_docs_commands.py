@@ -189,9 +189,9 @@ def test_the_command_line_page_has_every_command_and_every_option():
 
 
 # Named in the docs but outside the checkout: the shared data (and validation.md's paths inside its
-# samples/), and the frozen bundle's insides.
-ELSEWHERE = ("../shared/", "shared/", "realdata/", "dataexplorer/", "icharger/", "curves/", "_internal/",
-             "zuml-studio-VERSION")
+# samples/), what a build makes, and the frozen bundle's insides.
+ELSEWHERE = ("../shared/", "shared/", "realdata/", "dataexplorer/", "icharger/", "curves/", "imaxb6_serial/",
+             "skyrc_hid/", "build/", "_internal/", "zuml-studio-VERSION")
 LOOKED_UP_FROM = [ROOT, ROOT / "zuml_studio", ROOT / "resources", ROOT / "firmware", ROOT / "packaging",
                   ROOT / "docs", ROOT / "tests"]
 
