@@ -173,3 +173,28 @@ def test_a_boost_at_its_top_that_a_rising_pack_starves_switches_off_half_a_secon
     fed = [r for r in rows if r.current_a >= min(5.0, 50.0 / r.voltage_v) / 4]
     assert fed and rows[-1].boost_duty >= 0.5 and fed[-1].boost_duty >= 0.5        # starved at the top
     assert 0.6 <= off_s - fed[-1].t_ms / 1000 <= 1.0, (off_s, fed[-1])
+
+
+def _macro(section: str, current: str, volts: str = "") -> str:
+    hold = f"\n    CONSTANT_V={volts}" if volts else ""
+    return (f"MACRO Own\n  AKK_TYPE=LiPo\n  {section}_SECTION\n    FAZE\n    CONSTANT_I={current}{hold}\n"
+            f"    IF(tf>60) STOP_FAZE()\n    END_FAZE\n  END_SECTION\nEND_MACRO\n")
+
+
+@pytest.mark.parametrize("macro, task, cells, amps", [
+    (_macro("CHARGE", "1A"), "charge", 2, 1.0),                      # a current alone
+    (_macro("CHARGE", "1A", "4.1S"), "charge", 2, 1.0),              # CC-CV, the pack below its CV
+    (_macro("DISCHARGE", "0.4A"), "discharge", 1, 0.4),
+    (_macro("DISCHARGE", "0.4A", "3.3S"), "discharge", 1, 0.4),
+])
+def test_a_macro_below_the_board_s_limits_gets_its_own_current(b6, macro, task, cells, amps):
+    # below the 5 A / 50 W (1 A / 5 W) clamp nothing hides a set point passed on twice or half as large
+    sim = b6(macro, "--cells", cells, "--soc", "0.5")
+    started(sim, task, cells)
+    k, on = sim.wait_line(switched_on)
+    on_ms = float(on.split("|")[2]) * 1000
+    assert until(lambda: any(r.t_ms >= on_ms + 1500 for r in trace_rows(sim)), LINE_WAIT_S)
+    sim.stop()
+    rows = [r for r in read_trace(sim.trace) if on_ms + 500 <= r.t_ms < on_ms + 1500]
+    mean_a = sum(abs(r.current_a) for r in rows) / len(rows)
+    assert amps * 0.8 <= mean_a <= amps * 1.05, mean_a
