@@ -1,7 +1,7 @@
 """The B6's limits measured on the simulated B6 by the model's TRUE values (--trace), each test written to kill a
 kind of mutant tools/mutate_firmware.py makes (issue 31, section 6): a 20 A macro gets the board's 5 A / 50 W at
-most, a discharge its 1 A / 5 W; a run stops at its capacity limit; a duty at its top with no current switches off
-after half a second; a trip switches the output off from the ADC interrupt while the main loop is slow, and a slow
+most, a discharge its 1 A / 5 W, and a macro below them its own current; a run stops at its capacity limit; a duty at its top with no current switches off
+after half a second (a pack the boost cannot reach, or one that rises until the boost starves); a trip switches the output off from the ADC interrupt while the main loop is slow, and a slow
 main loop is not a hang; a start with SERIES above the balance lead's count is refused. Runs started on the front
 panel happen at simulated times the test chose; the test waits for the harness's lines, never for a time."""
 import pytest
@@ -102,6 +102,31 @@ def test_a_macro_above_the_board_gets_its_current_and_power_at_most(b6, macro, t
     assert worst <= allowed * 1.10, worst                                      # no 10 ms above it either
 
 
+def _macro(section: str, current: str, volts: str = "") -> str:
+    hold = f"\n    CONSTANT_V={volts}" if volts else ""
+    return (f"MACRO Own\n  AKK_TYPE=LiPo\n  {section}_SECTION\n    FAZE\n    CONSTANT_I={current}{hold}\n"
+            f"    IF(tf>60) STOP_FAZE()\n    END_FAZE\n  END_SECTION\nEND_MACRO\n")
+
+
+@pytest.mark.parametrize("macro, task, cells, amps", [
+    (_macro("CHARGE", "1A"), "charge", 2, 1.0),                      # a current alone
+    (_macro("CHARGE", "1A", "4.1S"), "charge", 2, 1.0),              # CC-CV, the pack below its CV
+    (_macro("DISCHARGE", "0.4A"), "discharge", 1, 0.4),
+    (_macro("DISCHARGE", "0.4A", "3.3S"), "discharge", 1, 0.4),
+])
+def test_a_macro_below_the_board_s_limits_gets_its_own_current(b6, macro, task, cells, amps):
+    # below the 5 A / 50 W (1 A / 5 W) clamp nothing hides a set point passed on twice or half as large
+    sim = b6(macro, "--cells", cells, "--soc", "0.5")
+    started(sim, task, cells)
+    k, on = sim.wait_line(switched_on)
+    on_ms = float(on.split("|")[2]) * 1000
+    assert until(lambda: any(r.t_ms >= on_ms + 1500 for r in trace_rows(sim)), LINE_WAIT_S)
+    sim.stop()
+    rows = [r for r in read_trace(sim.trace) if on_ms + 500 <= r.t_ms < on_ms + 1500]
+    mean_a = sum(abs(r.current_a) for r in rows) / len(rows)
+    assert amps * 0.8 <= mean_a <= amps * 1.05, mean_a
+
+
 def test_a_run_stops_at_twice_its_capacity_by_the_true_charge(b6):
     sim = b6(CHARGE_20A, "--cells", "3", "--soc", "0.5")
     started(sim, "charge", 3, capacity_mah=1)
@@ -174,27 +199,3 @@ def test_a_boost_at_its_top_that_a_rising_pack_starves_switches_off_half_a_secon
     assert fed and rows[-1].boost_duty >= 0.5 and fed[-1].boost_duty >= 0.5        # starved at the top
     assert 0.6 <= off_s - fed[-1].t_ms / 1000 <= 1.0, (off_s, fed[-1])
 
-
-def _macro(section: str, current: str, volts: str = "") -> str:
-    hold = f"\n    CONSTANT_V={volts}" if volts else ""
-    return (f"MACRO Own\n  AKK_TYPE=LiPo\n  {section}_SECTION\n    FAZE\n    CONSTANT_I={current}{hold}\n"
-            f"    IF(tf>60) STOP_FAZE()\n    END_FAZE\n  END_SECTION\nEND_MACRO\n")
-
-
-@pytest.mark.parametrize("macro, task, cells, amps", [
-    (_macro("CHARGE", "1A"), "charge", 2, 1.0),                      # a current alone
-    (_macro("CHARGE", "1A", "4.1S"), "charge", 2, 1.0),              # CC-CV, the pack below its CV
-    (_macro("DISCHARGE", "0.4A"), "discharge", 1, 0.4),
-    (_macro("DISCHARGE", "0.4A", "3.3S"), "discharge", 1, 0.4),
-])
-def test_a_macro_below_the_board_s_limits_gets_its_own_current(b6, macro, task, cells, amps):
-    # below the 5 A / 50 W (1 A / 5 W) clamp nothing hides a set point passed on twice or half as large
-    sim = b6(macro, "--cells", cells, "--soc", "0.5")
-    started(sim, task, cells)
-    k, on = sim.wait_line(switched_on)
-    on_ms = float(on.split("|")[2]) * 1000
-    assert until(lambda: any(r.t_ms >= on_ms + 1500 for r in trace_rows(sim)), LINE_WAIT_S)
-    sim.stop()
-    rows = [r for r in read_trace(sim.trace) if on_ms + 500 <= r.t_ms < on_ms + 1500]
-    mean_a = sum(abs(r.current_a) for r in rows) / len(rows)
-    assert amps * 0.8 <= mean_a <= amps * 1.05, mean_a
