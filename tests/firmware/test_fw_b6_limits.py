@@ -1,9 +1,10 @@
-"""The B6's limits measured on the simulated B6 by the model's TRUE values (--trace), each test written to kill a
-kind of mutant tools/mutate_firmware.py makes (issue 31, section 6): a 20 A macro gets the board's 5 A / 50 W at
-most, a discharge its 1 A / 5 W, and a macro below them its own current; a run stops at its capacity limit; a duty at its top with no current switches off
-after half a second (a pack the boost cannot reach, or one that rises until the boost starves); a trip switches the output off from the ADC interrupt while the main loop is slow, and a slow
-main loop is not a hang; a start with SERIES above the balance lead's count is refused. Runs started on the front
-panel happen at simulated times the test chose; the test waits for the harness's lines, never for a time."""
+"""The B6's limits measured on the simulated B6 by the model's TRUE values (--trace), each test written to kill a kind
+of mutant tools/mutate_firmware.py makes (issue 31, section 6): a 20 A macro gets the board's 5 A / 50 W at most, a
+discharge its 1 A / 5 W, and a macro below them its own current; a run stops at its capacity limit; a duty at its
+top with no current switches off after half a second (a pack the boost cannot reach, or one that rises until the
+boost starves); a trip switches the output off from the ADC interrupt while the main loop is slow, and a slow main
+loop is not a hang; a start with SERIES above the balance lead's count is refused. Runs started on the front panel
+happen at simulated times the test chose; the test waits for the harness's lines, never for a time."""
 import pytest
 
 from b6_harness import LINE_WAIT_S, Row, read_trace
