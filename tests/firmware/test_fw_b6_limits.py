@@ -128,6 +128,16 @@ def test_a_macro_below_the_board_s_limits_gets_its_own_current(b6, macro, task, 
     assert amps * 0.8 <= mean_a <= amps * 1.05, mean_a
 
 
+def test_the_main_loop_s_limits_run_every_100_ms_the_balancer_s_first_decision_40_of_them_after_the_start(b6):
+    # the heat-sink estimate, the time and capacity limits and the balancer step once per 100 ms (SLOW_MS); the
+    # balancer's settling (40 steps, cheali's 4 s) shows the period on the simulated B6: 3.99 s measured
+    sim = b6(_macro("CHARGE", "1A"), "--cells", "3", "--soc", "0.5", "--cell-spread", "40")
+    started(sim, "charge", 3)
+    k, on = sim.wait_line(switched_on)
+    k, bleed = sim.wait_line(lambda line: line.startswith("BALANCER|") and not line.endswith("|0"), k)
+    sim.stop()
+    assert 3.5 <= float(bleed.split("|")[1]) - float(on.split("|")[2]) <= 4.6, (on, bleed)
+
 def test_a_run_stops_at_twice_its_capacity_by_the_true_charge(b6):
     sim = b6(CHARGE_20A, "--cells", "3", "--soc", "0.5")
     started(sim, "charge", 3, capacity_mah=1)
