@@ -128,6 +128,19 @@ def test_a_macro_below_the_board_s_limits_gets_its_own_current(b6, macro, task, 
     assert amps * 0.8 <= mean_a <= amps * 1.05, mean_a
 
 
+def test_a_cc_cv_charge_holds_its_own_voltage(b6):
+    # 2S at rest 7.66 V, CV at 3.85 V a cell: the CV binds within 0.25 s (0.5 A of the 1 A measured), so a
+    # voltage set point passed on twice or half as large shows in the trace's true voltage
+    sim = b6(_macro("CHARGE", "1A", "3.85S"), "--cells", "2", "--soc", "0.5")
+    started(sim, "charge", 2)
+    k, on = sim.wait_line(switched_on)
+    on_ms = float(on.split("|")[2]) * 1000
+    assert until(lambda: any(r.t_ms >= on_ms + 2500 for r in trace_rows(sim)), LINE_WAIT_S)
+    sim.stop()
+    rows = [r for r in read_trace(sim.trace) if on_ms + 500 <= r.t_ms < on_ms + 2500]
+    mean_v, mean_a = (sum(x) / len(rows) for x in zip(*((r.voltage_v, r.current_a) for r in rows)))
+    assert abs(mean_v - 7.70) <= 0.03 and 0.2 <= mean_a <= 0.8, (mean_v, mean_a)
+
 def test_the_main_loop_s_limits_run_every_100_ms_the_balancer_s_first_decision_40_of_them_after_the_start(b6):
     # the heat-sink estimate, the time and capacity limits and the balancer step once per 100 ms (SLOW_MS); the
     # balancer's settling (40 steps, cheali's 4 s) shows the period on the simulated B6: 3.99 s measured
