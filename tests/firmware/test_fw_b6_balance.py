@@ -120,3 +120,20 @@ def test_a_load_bleeds_300_ma_at_4_2_v(lib):
     assert bled([4200, 4200, 4200], 0b101) == 600000
     assert bled([4200, 4200, 4200], 0) == 0
     assert bled([4200, 3500, 4200, 4200, 4200, 4200], 0b100010) == 250000 + 300000   # the 6th cell counts
+
+
+def test_cells_that_all_read_above_16_v_still_bleed_from_the_lowest_of_them(lib):
+    # a tap on the wrong pin can make a "cell" read a whole pack (up to 27 V): the lowest is the reference
+    # whatever the readings, not a start value below them
+    assert bleeders(lib, [20000, 20020]) == 0b10
+    assert bleeders(lib, [16400, 16400, 16409]) == 0b100
+    assert lib.balance_keep(cells(20000, 19990), 2, 0b10, cells(0, 0)) == 0        # it reached the lowest
+
+
+def test_only_the_pack_s_cells_are_read_not_the_taps_past_them(lib):
+    # the board's six readings are one array: with a 2-cell pack, a third tap reading high is no cell of it
+    assert lib.balance_bleeders(cells(4000, 4000, 4500, 4500, 4500, 4500), 2, 0, 0x3F) == 0
+    assert lib.balance_bleeders(cells(4000, 4020, 4500, 4500, 4500, 4500), 2, 0b100, 0x3F) == 0b10
+    # nor does balance_keep judge a tap past them, even with its bit in the mask (the count changed between calls)
+    assert lib.balance_keep(cells(4000, 4010, 3990, 0, 0, 0), 2, 0b110, cells(0, 0, 0)) == 0b110
+    assert lib.balance_bled_ua(cells(4200, 4200, 4200, 0, 0, 0), 2, 0b100) == 0

@@ -167,3 +167,23 @@ def test_the_pack_and_its_cells_agree_within_two_per_cent_and_50_mv(lib, pack):
     assert lib.cal_pack_agrees(pack, pack) == 1
     assert lib.cal_pack_agrees(pack, pack - edge) == 1 and lib.cal_pack_agrees(pack, pack + edge) == 1
     assert lib.cal_pack_agrees(pack, pack - edge - 1) == 0 and lib.cal_pack_agrees(pack, pack + edge + 1) == 0
+
+
+def adc16(zero: int, full: int, value: int) -> int:
+    """calib.c's cal_adc16: the nearest ADC16 code to `value` (0 for a negative one), at most 65535."""
+    return min(zero + (max(value, 0) * 65536 + full // 2) // full, 65535)
+
+
+def test_a_value_turns_into_its_nearest_adc16_code_and_one_past_the_scale_into_65535(lib):
+    # cal_adc16 turns the battery's current into the code the averages count in boost (adc.c): its
+    # rounding is half a code, not a whole one nor a quarter, and a value past the input's scale is the
+    # top code, never one wrapped to 16 bits (29902 mV per 65536: 40 V is code 87 666, kept as 65535)
+    lib.cal_use(sealed(NOMINAL))
+    for k in (VOUT, ISMPS, IDIS):
+        zero, full = NOMINAL[k]
+        for v in list(range(0, 40)) + [1000, 4999, 5000, 12600, 20000]:
+            assert lib.cal_adc16(k, v) == adc16(zero, full, v), (k, v)
+    edge = (65535 - NOMINAL[ISMPS][0]) * NOMINAL[ISMPS][1] // 65536          # the highest value below the top
+    assert lib.cal_adc16(ISMPS, edge) < 65535 and lib.cal_adc16(ISMPS, edge + 2) == 65535
+    assert lib.cal_adc16(VOUT, 40000) == 65535
+    assert lib.cal_adc16(ISMPS, -5) == NOMINAL[ISMPS][0]

@@ -1,9 +1,10 @@
-"""The B6's limits measured on the simulated B6 by the model's TRUE values (--trace), each test written to kill a
-kind of mutant tools/mutate_firmware.py makes (issue 31, section 6): a 20 A macro gets the board's 5 A / 50 W at
-most, a discharge its 1 A / 5 W; a run stops at its capacity limit; a duty at its top with no current switches off
-after half a second; a trip switches the output off from the ADC interrupt while the main loop is slow, and a slow
-main loop is not a hang; a start with SERIES above the balance lead's count is refused. Runs started on the front
-panel happen at simulated times the test chose; the test waits for the harness's lines, never for a time."""
+"""The B6's limits measured on the simulated B6 by the model's TRUE values (--trace), each test written to kill a kind
+of mutant tools/mutate_firmware.py makes (issue 31, section 6): a 20 A macro gets the board's 5 A / 50 W at most, a
+discharge its 1 A / 5 W, and a macro below them its own current; a run stops at its capacity limit; a duty at its
+top with no current switches off after half a second (a pack the boost cannot reach, or one that rises until the
+boost starves); a trip switches the output off from the ADC interrupt while the main loop is slow, and a slow main
+loop is not a hang; a start with SERIES above the balance lead's count is refused. Runs started on the front panel
+happen at simulated times the test chose; the test waits for the harness's lines, never for a time."""
 import pytest
 
 from b6_harness import LINE_WAIT_S, Row, read_trace
@@ -102,6 +103,54 @@ def test_a_macro_above_the_board_gets_its_current_and_power_at_most(b6, macro, t
     assert worst <= allowed * 1.10, worst                                      # no 10 ms above it either
 
 
+def _macro(section: str, current: str, volts: str = "") -> str:
+    hold = f"\n    CONSTANT_V={volts}" if volts else ""
+    return (f"MACRO Own\n  AKK_TYPE=LiPo\n  {section}_SECTION\n    FAZE\n    CONSTANT_I={current}{hold}\n"
+            f"    IF(tf>60) STOP_FAZE()\n    END_FAZE\n  END_SECTION\nEND_MACRO\n")
+
+
+@pytest.mark.parametrize("macro, task, cells, amps", [
+    (_macro("CHARGE", "1A"), "charge", 2, 1.0),                      # a current alone
+    (_macro("CHARGE", "1A", "4.1S"), "charge", 2, 1.0),              # CC-CV, the pack below its CV
+    (_macro("DISCHARGE", "0.4A"), "discharge", 1, 0.4),
+    (_macro("DISCHARGE", "0.4A", "3.3S"), "discharge", 1, 0.4),
+])
+def test_a_macro_below_the_board_s_limits_gets_its_own_current(b6, macro, task, cells, amps):
+    # below the 5 A / 50 W (1 A / 5 W) clamp nothing hides a set point passed on twice or half as large
+    sim = b6(macro, "--cells", cells, "--soc", "0.5")
+    started(sim, task, cells)
+    k, on = sim.wait_line(switched_on)
+    on_ms = float(on.split("|")[2]) * 1000
+    assert until(lambda: any(r.t_ms >= on_ms + 1500 for r in trace_rows(sim)), LINE_WAIT_S)
+    sim.stop()
+    rows = [r for r in read_trace(sim.trace) if on_ms + 500 <= r.t_ms < on_ms + 1500]
+    mean_a = sum(abs(r.current_a) for r in rows) / len(rows)
+    assert amps * 0.8 <= mean_a <= amps * 1.05, mean_a
+
+
+def test_a_cc_cv_charge_holds_its_own_voltage(b6):
+    # 2S at rest 7.66 V, CV at 3.85 V a cell: the CV binds within 0.25 s (0.5 A of the 1 A measured), so a
+    # voltage set point passed on twice or half as large shows in the trace's true voltage
+    sim = b6(_macro("CHARGE", "1A", "3.85S"), "--cells", "2", "--soc", "0.5")
+    started(sim, "charge", 2)
+    k, on = sim.wait_line(switched_on)
+    on_ms = float(on.split("|")[2]) * 1000
+    assert until(lambda: any(r.t_ms >= on_ms + 2500 for r in trace_rows(sim)), LINE_WAIT_S)
+    sim.stop()
+    rows = [r for r in read_trace(sim.trace) if on_ms + 500 <= r.t_ms < on_ms + 2500]
+    mean_v, mean_a = (sum(x) / len(rows) for x in zip(*((r.voltage_v, r.current_a) for r in rows)))
+    assert abs(mean_v - 7.70) <= 0.03 and 0.2 <= mean_a <= 0.8, (mean_v, mean_a)
+
+def test_the_main_loop_s_limits_run_every_100_ms_the_balancer_s_first_decision_40_of_them_after_the_start(b6):
+    # the heat-sink estimate, the time and capacity limits and the balancer step once per 100 ms (SLOW_MS); the
+    # balancer's settling (40 steps, cheali's 4 s) shows the period on the simulated B6: 3.99 s measured
+    sim = b6(_macro("CHARGE", "1A"), "--cells", "3", "--soc", "0.5", "--cell-spread", "40")
+    started(sim, "charge", 3)
+    k, on = sim.wait_line(switched_on)
+    k, bleed = sim.wait_line(lambda line: line.startswith("BALANCER|") and not line.endswith("|0"), k)
+    sim.stop()
+    assert 3.5 <= float(bleed.split("|")[1]) - float(on.split("|")[2]) <= 4.6, (on, bleed)
+
 def test_a_run_stops_at_twice_its_capacity_by_the_true_charge(b6):
     sim = b6(CHARGE_20A, "--cells", "3", "--soc", "0.5")
     started(sim, "charge", 3, capacity_mah=1)
@@ -157,3 +206,20 @@ def test_a_slow_main_loop_is_not_a_hang(b6):
              "--press", "stop@2.5:1")           # held 1 s: the slow loop scans the keys once per 50 ms
     on_s, off_s, k = on_and_off(sim)
     assert off_s >= 2.5, sim.lines[k - 5:k + 5]             # STOP ended it, not a hang trip
+
+
+def test_a_boost_at_its_top_that_a_rising_pack_starves_switches_off_half_a_second_later(b6):
+    # a 6S pack at 3.87 V a cell passes START (below twice 12 V less 0.5 V) and takes current from the boost at
+    # its 50 % top until its rising voltage lets less than a quarter of the set point (50 W / V) through; then
+    # 400 current readings (0.5 s) end it. As the board reads the current a few per cent off the truth, its
+    # own crossing comes later than the trace's: 0.76 s after the true one measured; half the readings
+    # (0.51 s) and twice (1.26 s) fall outside
+    sim = b6(CHARGE_20A, "--cells", "6", "--soc", "0.6", "--capacity", "20", "--press", START)
+    on_s, off_s, k = on_and_off(sim)
+    assert end_reason(sim) == "protection: pack above twice the input"
+    sim.stop()
+    rows = [r for r in read_trace(sim.trace) if r.output_enabled]
+    fed = [r for r in rows if r.current_a >= min(5.0, 50.0 / r.voltage_v) / 4]
+    assert fed and rows[-1].boost_duty >= 0.5 and fed[-1].boost_duty >= 0.5        # starved at the top
+    assert 0.6 <= off_s - fed[-1].t_ms / 1000 <= 1.0, (off_s, fed[-1])
+

@@ -407,3 +407,10 @@ def test_a_reading_rounds_to_the_nearest_unit_on_both_sides_of_zero(lib):
     nominal(lib)                                    # Vout: zero 0, 29 902 mV full scale; I dis: zero 26
     assert [lib.cal_value(VOUT, d) for d in (1, 10, 12)] == [0, 5, 5]          # 0.46, 4.56, 5.48 mV
     assert [lib.cal_value(IDIS, 26 - d) for d in (19, 20)] == [0, -1]          # -0.48, -0.50 mA
+
+
+def test_a_trip_number_past_the_table_reads_as_no_trip(lib):
+    # TRIPS (31) and above name no trip: the text is no trip's own row, never the row past the table's end
+    assert lib.protect_text(30).decode() == "pack above twice the input"
+    row = ctypes.CFUNCTYPE(ctypes.c_void_p, ctypes.c_uint8)(("protect_text", lib))
+    assert row(31) == row(255) == row(0)
