@@ -4,6 +4,7 @@ fitted model. All data work is ``zuml_studio.packs``; this is only its view."""
 from __future__ import annotations
 
 import sqlite3
+from collections.abc import Callable
 from pathlib import Path
 
 from PySide6.QtCore import QObject, Qt, QTimer, Signal
@@ -412,28 +413,7 @@ class PacksPanel(QWidget):
         if pack.name in self._fits or self._job is not None:
             self.write_report(path)
             return
-        book_path = self.book.path
-
-        def job():
-            book = Logbook(book_path)
-            try:
-                name, result = fit_pack_model(book, pack)
-                return result, fit_quality(result)
-            except PackError:
-                return None
-            finally:
-                book.close()
-
-        def done(fitted) -> None:
-            self.progress.hide()
-            if fitted is not None:
-                self._fits[pack.name] = (fitted[0].curve.name, fitted[1])
-            self.write_report(path)
-
-        self.progress.setRange(0, 0)
-        self.progress.setFormat(_("fitting the model of pack '{name}'…").format(name=pack.name))
-        self.progress.show()
-        self._start(job, done)
+        self._fit_then(pack, lambda _name: self.write_report(path), quiet=True)
 
     def _save_start(self, name: str) -> str:
         """A save dialog's suggestion: in the folder last saved to, else the user's documents (a bare
@@ -463,6 +443,16 @@ class PacksPanel(QWidget):
         if has_model(pack):
             self.simulateOnPack.emit(model_name(pack), pack.cells, pack.capacity_mah)
             return
+
+        def simulate(name: str) -> None:
+            self.show_pack()
+            self.simulateOnPack.emit(name, pack.cells, pack.capacity_mah)
+
+        self._fit_then(pack, simulate)
+
+    def _fit_then(self, pack: Pack, then: Callable[[str | None], None], quiet: bool = False) -> None:
+        """Fits the pack's model off the GUI thread, keeps its quality for the report and the note, then calls
+        ``then(name)``; ``quiet``: a pack with no log to fit calls ``then(None)`` instead of saying why."""
         path = self.book.path
 
         def job():
@@ -470,16 +460,20 @@ class PacksPanel(QWidget):
             try:
                 name, result = fit_pack_model(book, pack)
                 return name, result, fit_quality(result)
+            except PackError:
+                if quiet:
+                    return None
+                raise
             finally:
                 book.close()
 
         def fitted(made) -> None:
-            name, result, quality = made
-            self._fits[pack.name] = (result.curve.name, quality)
-            self._model_notes[pack.id] = self._model_note(quality, result.curve.name)
             self.progress.hide()
-            self.show_pack()
-            self.simulateOnPack.emit(name, pack.cells, pack.capacity_mah)
+            if made is not None:
+                name, result, quality = made
+                self._fits[pack.name] = (result.curve.name, quality)
+                self._model_notes[pack.id] = self._model_note(quality, result.curve.name)
+            then(made[0] if made is not None else None)
 
         self.progress.setRange(0, 0)
         self.progress.setFormat(_("fitting the model of pack '{name}'…").format(name=pack.name))
