@@ -9,6 +9,7 @@ import pytest
 
 from b6_harness import LINE_WAIT_S, Row, read_trace
 from helpers import compiled, until
+from zuml_studio.device.calibration import Calibrator
 from zuml_studio.device.client import ChargerClient, DeviceError
 from zuml_studio.lang import eeprom
 
@@ -140,6 +141,23 @@ def test_a_cc_cv_charge_holds_its_own_voltage(b6):
     rows = [r for r in read_trace(sim.trace) if on_ms + 500 <= r.t_ms < on_ms + 2500]
     mean_v, mean_a = (sum(x) / len(rows) for x in zip(*((r.voltage_v, r.current_a) for r in rows)))
     assert abs(mean_v - 7.70) <= 0.03 and 0.2 <= mean_a <= 0.8, (mean_v, mean_a)
+
+
+def test_a_calibration_current_switches_off_by_itself_a_minute_after_it_began(b6):
+    # CAL_OUTPUT (the calibration's known current) ends after 60 s whatever the PC does next (CAL_OUTPUT_MS);
+    # measured 61.4-61.5 s of simulated time: the firmware's millisecond count runs about 2.2 % slow on the
+    # simulated B6 (its STATUS uptime 4.89 s for 5 s), so the window allows for that, not for x2 or /2
+    sim = b6(_macro("CHARGE", "1A", "4.2S"), "--cells", "3", "--soc", "0.5")
+    client = ChargerClient(sim.port, timeout=10)
+    try:
+        Calibrator(client).output(1, 500)
+    finally:
+        client.close()
+    k, on = sim.wait_line(switched_on)
+    _k, off = sim.wait_line("OUTPUT|off|", k)
+    lasted_s = float(off.split("|")[2]) - float(on.split("|")[2])
+    assert 58.5 <= lasted_s <= 62.5, lasted_s
+
 
 def test_the_main_loop_s_limits_run_every_100_ms_the_balancer_s_first_decision_40_of_them_after_the_start(b6):
     # the heat-sink estimate, the time and capacity limits and the balancer step once per 100 ms (SLOW_MS); the
