@@ -176,3 +176,8 @@ def test_the_report_fits_the_model_first_and_shows_its_quality(make_window, qtbo
     assert model[0].startswith("Fitted to ") and "406DUO" in model[0]
     assert model[1].startswith("RMSE voltage ") and " mV per cell over " in model[1]
     assert any(line.startswith("On its own log's program: ") and " mAh logged (" in line for line in model)
+    # A second report keeps the fitted model and reads the logs off the GUI thread again, without refitting.
+    monkeypatch.setattr(packs_panel, "fit_pack_model", lambda *a: pytest.fail("fitted twice"))
+    panel._choose_report()
+    qtbot.waitUntil(lambda: len(written) == 2, timeout=120000)
+    assert written[1][2] == model and len(written[1][1]) == 1

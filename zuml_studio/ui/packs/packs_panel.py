@@ -410,21 +410,26 @@ class PacksPanel(QWidget):
         if not path:
             return
         self._save_dir = str(Path(path).parent)
-        if pack.name in self._fits or self._job is not None:
+        if self._job is not None:
             self.write_report(path)
             return
-        self._fit_then(pack, lambda _name: self.write_report(path), quiet=True)
+        # the sessions' logs are read off the GUI thread too (a long log takes seconds)
+        self._fit_then(pack, lambda _name, curves: self.write_report(path, curves), quiet=True,
+                       fit=pack.name not in self._fits,
+                       also=lambda book: session_curves(pack, pack_sessions(book, pack))[0])
 
     def _save_start(self, name: str) -> str:
         """A save dialog's suggestion: in the folder last saved to, else the user's documents (a bare
         name would start in the current directory: the source tree when run from a checkout)."""
         return str(Path(self._save_dir or documents_folder()) / name)
 
-    def write_report(self, path: str) -> bool:
-        """The report, with the model this window last fitted to the pack (``_choose_report`` fits one first)."""
+    def write_report(self, path: str, curves: list | None = None) -> bool:
+        """The report, with the model this window last fitted to the pack (``_choose_report`` fits one first);
+        ``curves``: the sessions' curves where already read (``session_curves``), else read here."""
         pack = self.current_pack()
         sessions = pack_sessions(self.book, pack)
-        curves, _missing = session_curves(pack, sessions)
+        if curves is None:
+            curves, _missing = session_curves(pack, sessions)
         fitted = self._fits.get(pack.name)
         try:
             write_report(path, pack_summary(self.book, pack), trend(pack, sessions), curves,
@@ -444,39 +449,46 @@ class PacksPanel(QWidget):
             self.simulateOnPack.emit(model_name(pack), pack.cells, pack.capacity_mah)
             return
 
-        def simulate(name: str) -> None:
+        def simulate(name: str, _also) -> None:
             self.show_pack()
             self.simulateOnPack.emit(name, pack.cells, pack.capacity_mah)
 
         self._fit_then(pack, simulate)
 
-    def _fit_then(self, pack: Pack, then: Callable[[str | None], None], quiet: bool = False) -> None:
-        """Fits the pack's model off the GUI thread, keeps its quality for the report and the note, then calls
-        ``then(name)``; ``quiet``: a pack with no log to fit calls ``then(None)`` instead of saying why."""
+    def _fit_then(self, pack: Pack, then: Callable[[str | None, object], None], quiet: bool = False,
+                  fit: bool = True, also: Callable[[Logbook], object] | None = None) -> None:
+        """Off the GUI thread: fits the pack's model (``fit``), keeping its quality for the report and the note,
+        and runs ``also(book)``; then calls ``then(name, also's result)``. ``quiet``: a pack with no log to fit
+        gives the name None instead of saying why."""
         path = self.book.path
 
         def job():
             book = Logbook(path)
             try:
-                name, result = fit_pack_model(book, pack)
-                return name, result, fit_quality(result)
-            except PackError:
-                if quiet:
-                    return None
-                raise
+                made = None
+                if fit:
+                    try:
+                        name, result = fit_pack_model(book, pack)
+                        made = name, result, fit_quality(result)
+                    except PackError:
+                        if not quiet:
+                            raise
+                return made, also(book) if also else None
             finally:
                 book.close()
 
-        def fitted(made) -> None:
+        def fitted(out) -> None:
+            made, extra = out
             self.progress.hide()
             if made is not None:
                 name, result, quality = made
                 self._fits[pack.name] = (result.curve.name, quality)
                 self._model_notes[pack.id] = self._model_note(quality, result.curve.name)
-            then(made[0] if made is not None else None)
+            then(made[0] if made is not None else None, extra)
 
         self.progress.setRange(0, 0)
-        self.progress.setFormat(_("fitting the model of pack '{name}'…").format(name=pack.name))
+        self.progress.setFormat(_("fitting the model of pack '{name}'…").format(name=pack.name) if fit
+                                else _("reading the logs of pack '{name}'…").format(name=pack.name))
         self.progress.show()
         self._start(job, fitted)
 
