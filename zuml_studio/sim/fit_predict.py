@@ -10,7 +10,8 @@ from dataclasses import replace
 import numpy as np
 
 from .compare import log_charger, real_end
-from .fit import LI, NI, FitResult, cc_current, cv_mask
+from .curve import Curve
+from .fit import LI, NI, FitResult, cc_current, cv_mask, measured, smooth
 from .fit_discharge import discharge_current, end_voltage, hold_mask
 from .interpreter import StartError, StartParams
 from .simulate import BatterySetup, simulate
@@ -19,11 +20,37 @@ from ..i18n import _
 TRUST_PCT = 15.0            # a predicted charge this far off the log's: the model is not to be trusted (issue 33)
 _COOL_K_PER_W = 0.01        # the heat sink of a charger as big as the log's needed
 _BACKUP = 2.0               # the program's own timer: this many times the log's time (a model that never ends)
+# A -dV ends a charge within a minute or two of the fall; a charge that ran on for this share of its charge after
+# its voltage had fallen as far as it ends was not ended by its -dV (every other nickel log: under 0.2 %).
+_DV_LATE_SHARE = 0.05
+
+
+def drop_first_reached(curve: Curve, chemistry: str, series: int) -> dict | None:
+    """Where a nickel charge's own voltage first fell as far below its peak as it ends (1-minute average, the samples
+    ``real_end`` reads): ``{"mah", "before_end_s", "drop_mv_per_cell"}``; None for a charge without a -dV end. A
+    charger that ended on its -dV stopped there; one that ran on long after (the AkkuMaster C4's 0.2C charge: 52 min)
+    ended on something the voltage does not show, which no -dV program states (docs/validation.md)."""
+    if real_end(curve, chemistry, series)["kind"] != "dv":
+        return None
+    use = measured(curve, cv_mask(curve, chemistry))
+    t, mah, s = curve.t[use], curve.mah[use], smooth(curve.t[use], curve.v[use])
+    top = int(np.argmax(s))
+    fall = s[top] - s[top:]
+    first = top + int(np.flatnonzero(fall >= fall[-1] - 1e-9)[0])
+    return {"mah": round(float(mah[first]), 1), "before_end_s": round(float(t[-1] - t[first]), 1),
+            "drop_mv_per_cell": round(float(fall[-1]) / series * 1000.0, 2)}
+
+
+def dv_ended_it(curve: Curve, chemistry: str, series: int) -> bool:
+    """Whether a nickel charge with a -dV stopped where its voltage first fell that far (not long after it)."""
+    reached = drop_first_reached(curve, chemistry, series)
+    return reached is not None and reached["mah"] >= (1.0 - _DV_LATE_SHARE) * float(curve.mah[-1])
 
 
 def own_program(result: FitResult) -> tuple[str, StartParams] | None:
     """The macro of the program the fitted log ran (its current, its end) and its start values; None where the
-    log's end is not one a macro states (a charge that just stops: the log ends, not the program)."""
+    log's end is not one a macro states (a charge that just stops: the log ends, not the program; a nickel charge
+    whose charger ran on long after its -dV, to a timer or counter the log does not state)."""
     curve, chemistry, series = result.curve, result.chemistry, result.battery.series
     end = real_end(curve, chemistry, series)
     backup = f"      IF(tf>{math.ceil(_BACKUP * float(curve.t[-1]) / 60.0)}m) STOP_FAZE\n"
@@ -46,6 +73,8 @@ def own_program(result: FitResult) -> tuple[str, StartParams] | None:
     else:
         cv = cv_mask(curve, chemistry)
         current = round(cc_current(curve, cv), 3)
+        if end["kind"] == "dv" and not dv_ended_it(curve, chemistry, series):
+            return None
         if end["kind"] == "dv":
             # The pack's drop below its peak to the nearest hundredth of a volt (what the byte code keeps), at least one.
             drop = max(0.01, round(float(end["values"]["drop"]) * series / 1000.0, 2))
