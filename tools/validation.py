@@ -86,53 +86,156 @@ def _claims_text(answers: dict, discharges: dict) -> str:
 
 def _own_program_text(answers: dict, discharges: dict) -> str:
     """Each fitted model on its own log's program (issue 35 §4, sim/fit_predict.py), and why a miss misses."""
-    from zuml_studio.sim.compare import real_end
-    from zuml_studio.sim.fit_predict import predict_own
+    from zuml_studio.sim.fit_predict import drop_first_reached, dv_ended_it, predict_own
 
     fits = {name: a[2] for name, a in answers.items()} | {name: d[4] for name, d in discharges.items()}
-    rows, misses = [], []
+    rows, misses, unstated = [], [], []
     for name, fitted in fits.items():
         p = predict_own(fitted)
+        curve, chemistry, series = fitted.curve, fitted.chemistry, fitted.battery.series
+        reached = drop_first_reached(curve, chemistry, series)
+        if p is None and reached is not None and not dv_ended_it(curve, chemistry, series):
+            rows.append(f"| {name} | {curve.mah[-1]:.0f} / – | – | {curve.t[-1] / 60:.0f} / – | – | no program: the "
+                        f"charger stopped {reached['before_end_s'] / 60:.0f} min after its -dV |")
+            unstated.append(name)
+            continue
         if p is None:
             rows.append(f"| {name} | – | – | – | – | no program: the log just stops |")
+            unstated.append(name)
             continue
         rows.append(f"| {name} | {p['real_mah']:.0f} / {p['model_mah']:.0f} | {p['charge_error_pct']:+.1f} % | "
                     f"{p['real_s'] / 60:.0f} / {p['model_s'] / 60:.0f} | {p['time_error_pct']:+.1f} % | "
                     f"`{p['why']}` |")
         if max(abs(p["charge_error_pct"]), abs(p["time_error_pct"])) > 10.0:
-            misses.append((name, fitted, p))
-    why = []
-    for name, fitted, p in misses:
-        curve, series = fitted.curve, fitted.battery.series
-        end = real_end(curve, fitted.chemistry, series)
-        if end["kind"] != "dv":
-            why.append(f"* {name}: {p['charge_error_pct']:+.1f} % charge, {p['time_error_pct']:+.1f} % time.")
-            continue
-        drop = float(end["values"]["drop"])
-        s = smooth(curve.t, curve.v)
-        first = int(np.flatnonzero(np.maximum.accumulate(s) - s >= drop * series / 1000.0)[0])
-        why.append(
-            f"* {name}: {p['charge_error_pct']:+.1f} % charge, {p['time_error_pct']:+.1f} % time, ended by "
-            f"`{p['why']}`. The log's end is no -dV a program can state: its own 1-minute voltage falls the "
-            f"{drop:g} mV/cell it ends below its peak already at {curve.mah[first]:.0f} mAh, "
-            f"{(curve.t[-1] - curve.t[first]) / 60:.0f} min before the charger stopped at {curve.mah[-1]:.0f} mAh "
-            f"({(curve.mah[first] / curve.mah[-1] - 1) * 100:+.0f} %), so the program's DELTA_PEAK would end the "
-            f"log itself short. The model falls {fitted.figures['peak']['model_dv_mv_per_cell']:g} mV/cell after "
-            f"its peak (the log {fitted.figures['peak']['real_dv_mv_per_cell']:g}) and runs on to the charger's "
-            "own limit (tests/sim/test_fit_predict.py holds it as a strict xfail).")
+            misses.append((name, p))
+    why = [f"* {name}: {p['charge_error_pct']:+.1f} % charge, {p['time_error_pct']:+.1f} % time, ended by "
+           f"`{p['why']}`." for name, p in misses]
+    within = len(rows) - len(misses) - len(unstated)
     return "\n".join([
         "Each fitted model run on the program its own log ran (`sim/fit_predict.py`: the log's current and end as "
         "a macro, from the fit's start state, on the simulator; a discharge whose charger held its end voltage "
         "holds it too; fit.md \"Its own program\"), against the log: charge (mAh, log / model) and end time "
-        "(min, log / model). The issue's limit is 10 % on each (tests/sim/test_fit_predict.py, one test per curve).",
+        "(min, log / model). The issue's limit is 10 % on each (tests/sim/test_fit_predict.py, one test per curve). "
+        "A nickel charge gets its -dV as the program's end only where its charger stopped on it: where the log's "
+        "1-minute voltage first fell as far below its peak as it ends within 5 % of the log's charge of the end "
+        "(every nickel log here but one: within 8 s).",
         "",
         "| curve | charge, log / model (mAh) | off | end, log / model (min) | off | the model's end |",
         "|---|---|---|---|---|---|",
         *rows,
         "",
-        f"{len(rows) - len(misses)} of {len(rows)} within 10 % on both."
+        f"{within} of {len(rows) - len(unstated)} with a program within 10 % on both"
+        + (f"; {len(unstated)} without one (below, held as a strict xfail)." if unstated else ".")
         + (" The misses, measured:" if misses else ""),
         *([""] + why if why else []),
+        "",
+        _akkumaster_end_text(answers["nimh_4s_akkumaster_02c"][2]),
+    ])
+
+
+_DATAEXPLORER = "9ac18d4b36c9abf77a506ef80d59319ce3561a2f"
+# The same AkkuMaster C4's other charges (the78mole/dataexplorer @ 9ac18d4b, DataFilesTestSamples/DataExplorer/
+# AkkuMasterC4/, not in shared/): cells, current (A), mAh at the 1-minute voltage's peak, mAh at the end, minutes
+# from the peak to the end, fall at the end (mV/cell). Read with zuml_studio.sim.curve and sim.fit.smooth.
+_AKKUMASTER_SISTERS = (
+    ("2007-12-28-Empfaenger600-Laden.csv", 4, 0.433, 1288, 1439, 20.8, 17.9),
+    ("2007-12-28-EmpfaengerAA5-Laden.csv", 5, 0.50, 2143, 2287, 17.2, 17.2),
+    ("2008-03-09_EmpfaengerSubC2100.osd", 4, 0.50, 1918, 2392, 56.8, 57.5),
+    ("2008-03-16_EmpfaengerSubC2100.osd", 4, 0.50, 1949, 2399, 54.0, 57.9),
+    ("2008-04-12_EmpfaengerSubC2100.osd", 4, 0.50, 1911, 2310, 47.8, 57.5),
+)
+
+
+def _akkumaster_end_text(fitted) -> str:
+    """What ended the AkkuMaster C4's 0.2C charge, from its log, its charger's other logs and its protocol; and
+    what the fitted model does there (issue 35 §4's last open point)."""
+    from zuml_studio.sim.fit_predict import drop_first_reached
+
+    curve, series = fitted.curve, fitted.battery.series
+    reached = drop_first_reached(curve, fitted.chemistry, series)
+    s, m = smooth(curve.t, curve.v), smooth(curve.t, fitted.run.v)
+    top, m_top = int(np.argmax(s)), int(np.argmax(m))
+    after = curve.mah >= reached["mah"]
+    peak = fitted.figures["peak"]
+    counted = float(np.mean(curve.i)) * float(curve.t[-1] - curve.t[0]) / 3.6     # the source's counter: 917 mAh
+    sisters = "\n".join(f"| {f} | {n} | {a:.3g} A | {p_mah} | {e_mah} | {e_mah / p_mah:.2f} | {mins:.0f} | "
+                         f"{fall:.1f} |" for f, n, a, p_mah, e_mah, mins, fall in _AKKUMASTER_SISTERS)
+    return "\n".join([
+        "**What ended the AkkuMaster charge** (nimh_4s_akkumaster_02c, H-Tronic AkkuMaster C4, 4 AA NiMH at "
+        "0.15 A). Its voltage did not: the 1-minute voltage peaks at "
+        f"{s[top]:.3f} V at {curve.mah[top]:.0f} mAh, has fallen the {reached['drop_mv_per_cell']:.1f} mV/cell it "
+        f"ends below that at {reached['mah']:.0f} mAh, and from there to the end, "
+        f"{reached['before_end_s'] / 60:.0f} min and {curve.mah[-1] - reached['mah']:.0f} mAh later, lies flat "
+        f"between {s[after].min():.3f} and {s[after].max():.3f} V: nothing in the voltage changed when the charger "
+        f"stopped at {curve.mah[-1]:.0f} mAh after {curve.t[-1] / 60:.0f} min. What the log and the charger say:",
+        "",
+        "* The protocol (DataExplorer's AkkuMaster C4 driver, <https://github.com/the78mole/dataexplorer/blob/"
+        f"{_DATAEXPLORER}/AkkuMaster/src/gde/device/htronic/AkkuMasterC4SerialPort.java>): the current column is the program's set charge current (read from "
+        "the settings, not measured); the voltage comes in 5 mV steps (1.25 mV/cell); a program's settings are its "
+        "number, battery type, cells, nominal capacity (mAh), discharge and charge currents and a wait time; the "
+        "charger reports charge and discharge counters, voltage, times and cycles, and no temperature. The pack's "
+        "two exports of that day are its discharge (\"-Entladen\") and this charge (\"-Laden\"), and "
+        "DataExplorer starts a record set where a program turns from discharging to charging: this charge began "
+        "where a 0.15 A discharge to 0.80 V/cell ended (nimh_4s_akkumaster_dis_015c; 1.14 V/cell at its start).",
+        "* No pulses or pauses: the charger's own counter (the source's last \"Ladung\", 1 mAh steps) reads "
+        f"917 mAh, and {counted:.1f} mAh is 0.150 A over the log's {curve.t[-1] / 60:.0f} min; a reflex or pulsed "
+        "charge would count less than its set current over its time. No sign of a "
+        "temperature end: 0.9 W of overcharge into four AA cells, the voltage flat for the last hour (a warming "
+        "NiMH cell's voltage falls), and the protocol carries no temperature.",
+        "* The same charger's other charges (<https://github.com/the78mole/dataexplorer/tree/"
+        f"{_DATAEXPLORER}/DataFilesTestSamples/DataExplorer/AkkuMasterC4>, the commit `shared/realdata/provenance.tsv` "
+        "names for this log; not in `shared/`; 10 s samples, the same 1-minute average):",
+        "",
+        "| log | cells | current | peak at (mAh) | end (mAh) | end / peak | min after the peak | fall at the end "
+        "(mV/cell) |",
+        "|---|---|---|---|---|---|---|---|",
+        f"| 2007-12-28-EmpfaengerAA4-Laden.csv (this log) | {series} | 0.15 A | {curve.mah[top]:.0f} | {curve.mah[-1]:.0f} | "
+        f"{curve.mah[-1] / curve.mah[top]:.2f} | {(curve.t[-1] - curve.t[top]) / 60:.0f} | "
+        f"{peak['real_dv_mv_per_cell']:.1f} |",
+        sisters,
+        "",
+        "  None of them stopped on its voltage: the three SubC 2100 mAh charges at 0.24C fell 57–58 mV/cell over "
+        "48–57 min before the charger stopped, the two at 0.43–0.5 A 17–18 mV/cell over 17–21 min. The end came "
+        "1.07–1.25× the charge at the peak, 17–69 min after it: no rule on the voltage alone gives all six. A -dV "
+        "threshold would have to exceed the 57–58 mV/cell the SubC charges fell through (a 50 min fall, whatever "
+        "the filter), which the two faster charges never reached (17–18) and this log never came near (its "
+        f"deepest 1-minute fall after the peak {(s[top] - s[top:].min()) * 1000 / series:.1f}); a share of charge "
+        "past the peak differs between the AA5 and SubC charges at the same 0.5 A (1.07 and 1.21–1.25). A limit counted "
+        "per program does (a timer; a charge limit from the nominal capacity the C4 asks for, the SubC 2100 "
+        "charges stopping at 1.10–1.14× 2100 mAh; or a -dV held off until such a count), and no log records it. "
+        "No manual or format note for the C4's end rules is in `shared/` or the searched public sources.",
+        "",
+        "So no program derived from the log states its end: `IF(DELTA_PEAK>0.02V)` (its drop, to the byte "
+        f"code's hundredth) would stop the log itself at {reached['mah']:.0f} mAh "
+        f"({(reached['mah'] / curve.mah[-1] - 1) * 100:+.0f} %), and a charge or time limit at the log's own "
+        f"{curve.mah[-1]:.0f} mAh would be the answer written into the question. `own_program` gives no program "
+        "for such a log (a -dV first reached more than 5 % of the charge before the end): `zuml fit` prints no "
+        "prediction (`own_program` null in `--json`), the Packs report says the log's charge cannot be predicted, "
+        "and tests/sim/test_fit_predict.py holds it as a "
+        "strict xfail (and, per nickel log, where each charger stopped against its drop).",
+        "",
+        "**The model there.** The fitted model, driven by the log's current, peaks at "
+        f"{peak['model_mah']:.0f} mAh (the log {peak['real_mah']:.0f}, {(peak['model_mah'] / peak['real_mah'] - 1) * 100:+.1f} %) "
+        f"and falls {peak['model_dv_mv_per_cell']:.1f} mV/cell after it (the log {peak['real_dv_mv_per_cell']:.1f}): "
+        "within the issue's 10 % and 3 mV/cell (tests/sim/test_validation.py). Its 1-minute voltage peaks at "
+        f"{m[m_top]:.3f} V where the log's reaches {s[top]:.3f} V, and over the log's last "
+        f"{reached['before_end_s'] / 60:.0f} min lies flat at {m[after].min():.3f}–{m[after].max():.3f} V "
+        f"(the log {s[after].min():.3f}–{s[after].max():.3f}): the same peak and plateau, the model's peak "
+        f"{(s[top] - m[m_top]) * 1000 / series:.1f} mV/cell lower and sharpened less. The "
+        f"{peak['real_dv_mv_per_cell'] - peak['model_dv_mv_per_cell']:.1f} mV/cell between the falls is about one "
+        "step of the charger's 1.25 mV/cell reading, inside the fit's "
+        f"{fitted.figures['rmse_v_per_cell_mv']:.1f} mV/cell RMSE; a model that fell deeper would only end a "
+        "DELTA_PEAK program earlier, as the log's own voltage does, never at the charger's end. Not a fidelity gap "
+        "worth fitting harder for this prediction.",
+        "",
+        "**The issue's other two logs** (§1's 9-cell iCharger LiPo charge, §2's Akkumatik 2S Li-ion partial "
+        "discharge, 3.61 → 3.33 V/cell over 87 min) are not in `shared/`: every folder of it was searched on "
+        "2026-12-05 (realdata's samples and notes, repro, research, seeds, spec). The only Akkumatik recording is "
+        "the NiCd cycle (nicd_4s_akkumatik_08c and _dis_1c); the iCharger logs have at most 6 cells, and the one "
+        "9-cell line is a format example in `realdata/icharger_logview.md`, not a charge. The checks the issue "
+        "asks of them run on the logs that are here (the tables above and \"What a fit may claim\"), and the "
+        "Akkumatik Li-ion case on a 2S Li-ion discharge with a held end made from the LiIon default "
+        "(tests/sim/test_fit_discharge.py).",
     ])
 
 
