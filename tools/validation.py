@@ -95,7 +95,8 @@ def _own_program_text(answers: dict, discharges: dict) -> str:
         curve, chemistry, series = fitted.curve, fitted.chemistry, fitted.battery.series
         reached = drop_first_reached(curve, chemistry, series)
         if p is None and reached is not None and not dv_ended_it(curve, chemistry, series):
-            rows.append(f"| {name} | {curve.mah[-1]:.0f} / – | – | {curve.t[-1] / 60:.0f} / – | – | no program: the "
+            rows.append(f"| {name} | {curve.mah[-1]:.0f} / – | – | {curve.t[-1] / 60:.0f} / – | – | "
+                        "no program: the "
                         f"charger stopped {reached['before_end_s'] / 60:.0f} min after its -dV |")
             unstated.append(name)
             continue
@@ -170,7 +171,8 @@ def _akkumaster_end_text(fitted) -> str:
         f"stopped at {curve.mah[-1]:.0f} mAh after {curve.t[-1] / 60:.0f} min. What the log and the charger say:",
         "",
         "* The protocol (DataExplorer's AkkuMaster C4 driver, <https://github.com/the78mole/dataexplorer/blob/"
-        f"{_DATAEXPLORER}/AkkuMaster/src/gde/device/htronic/AkkuMasterC4SerialPort.java>): the current column is the program's set charge current (read from "
+        f"{_DATAEXPLORER}/AkkuMaster/src/gde/device/htronic/AkkuMasterC4SerialPort.java>): the current column is "
+        "the program's set charge current (read from "
         "the settings, not measured); the voltage comes in 5 mV steps (1.25 mV/cell); a program's settings are its "
         "number, battery type, cells, nominal capacity (mAh), discharge and charge currents and a wait time; the "
         "charger reports charge and discharge counters, voltage, times and cycles, and no temperature. The pack's "
@@ -189,18 +191,21 @@ def _akkumaster_end_text(fitted) -> str:
         "| log | cells | current | peak at (mAh) | end (mAh) | end / peak | min after the peak | fall at the end "
         "(mV/cell) |",
         "|---|---|---|---|---|---|---|---|",
-        f"| 2007-12-28-EmpfaengerAA4-Laden.csv (this log) | {series} | 0.15 A | {curve.mah[top]:.0f} | {curve.mah[-1]:.0f} | "
+        f"| 2007-12-28-EmpfaengerAA4-Laden.csv (this log) | {series} | 0.15 A | {curve.mah[top]:.0f} | "
+        f"{curve.mah[-1]:.0f} | "
         f"{curve.mah[-1] / curve.mah[top]:.2f} | {(curve.t[-1] - curve.t[top]) / 60:.0f} | "
         f"{peak['real_dv_mv_per_cell']:.1f} |",
         sisters,
         "",
         "  None of them stopped on its voltage: the three SubC 2100 mAh charges at 0.24C fell 57–58 mV/cell over "
-        "48–57 min before the charger stopped, the two at 0.43–0.5 A 17–18 mV/cell over 17–21 min. The end came "
+        "48–57 min before the charger stopped, the two at 0.43–0.5 A 17–18 mV/cell over 17–21 min. The end "
+        "came "
         "1.07–1.25× the charge at the peak, 17–69 min after it: no rule on the voltage alone gives all six. A -dV "
         "threshold would have to exceed the 57–58 mV/cell the SubC charges fell through (a 50 min fall, whatever "
         "the filter), which the two faster charges never reached (17–18) and this log never came near (its "
         f"deepest 1-minute fall after the peak {(s[top] - s[top:].min()) * 1000 / series:.1f}); a share of charge "
-        "past the peak differs between the AA5 and SubC charges at the same 0.5 A (1.07 and 1.21–1.25). A limit counted "
+        "past the peak differs between the AA5 and SubC charges at the same 0.5 A (1.07 and 1.21–1.25). A limit "
+        "counted "
         "per program does (a timer; a charge limit from the nominal capacity the C4 asks for, the SubC 2100 "
         "charges stopping at 1.10–1.14× 2100 mAh; or a -dV held off until such a count), and no log records it. "
         "No manual or format note for the C4's end rules is in `shared/` or the searched public sources.",
@@ -215,7 +220,8 @@ def _akkumaster_end_text(fitted) -> str:
         "strict xfail (and, per nickel log, where each charger stopped against its drop).",
         "",
         "**The model there.** The fitted model, driven by the log's current, peaks at "
-        f"{peak['model_mah']:.0f} mAh (the log {peak['real_mah']:.0f}, {(peak['model_mah'] / peak['real_mah'] - 1) * 100:+.1f} %) "
+        f"{peak['model_mah']:.0f} mAh (the log {peak['real_mah']:.0f}, "
+        f"{(peak['model_mah'] / peak['real_mah'] - 1) * 100:+.1f} %) "
         f"and falls {peak['model_dv_mv_per_cell']:.1f} mV/cell after it (the log {peak['real_dv_mv_per_cell']:.1f}): "
         "within the issue's 10 % and 3 mV/cell (tests/sim/test_validation.py). Its 1-minute voltage peaks at "
         f"{m[m_top]:.3f} V where the log's reaches {s[top]:.3f} V, and over the log's last "
