@@ -65,8 +65,8 @@ def model_lines(quality: dict | None, logged_file: str = "") -> list[str]:
     lines += quality_lines(quality["quality"]) or [_("fit quality (RMSE): –")]
     prediction = quality["own_program"]
     if prediction is None:
-        lines.append(_("Its own log's charge cannot be predicted: the log ends without the charge's "
-                       "own end (no -dV, no held voltage)"))
+        lines.append(_("Its own log's charge cannot be predicted: the log does not show what ended the charge "
+                       "(it stopped without a -dV or a held voltage, or ran on long after its -dV)"))
         return lines
     lines.append(prediction_line(prediction))
     warning = trust_words(prediction)
