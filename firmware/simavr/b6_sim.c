@@ -101,6 +101,13 @@ static avr_irq_t *adc_in[8], *button_pin[4], *rxd_pin, *uart_in;   /* looked up 
  * clock goes on across it */
 static avr_cycle_count_t cycle_base, cycle_at_reset;
 static int reset_seen;
+/* the longest stretch with the interrupts off (an ISR or a cli() section) since the image's first sei(): a
+ * Timer0 match is lost only past 1 ms; INTERRUPTS|off|MAX_US|AT_S|PC at the end (PC: the first instruction
+ * run with them off, a byte address in the flash) */
+static avr_cycle_count_t off_since, off_max;
+static double off_max_at;
+static avr_flashaddr_t off_pc, off_max_pc;
+static int sei_seen;
 static void (*mcu_reset)(struct avr_t *);
 
 static avr_cycle_count_t now_cycles(void) { return cycle_base + avr->cycle; }
@@ -478,6 +485,23 @@ static void timer0_modes(void)
     }
 }
 
+/* After each instruction: the interrupts' state (simavr runs one instruction per avr_run) */
+static void watch_interrupts(void)
+{
+    if (avr->sreg[S_I]) {
+        if (off_since && now_cycles() - off_since > off_max) {
+            off_max = now_cycles() - off_since;
+            off_max_at = (double)off_since / F_CPU;
+            off_max_pc = off_pc;
+        }
+        off_since = 0;
+        sei_seen = 1;
+    } else if (sei_seen && !off_since) {
+        off_since = now_cycles();
+        off_pc = avr->pc;
+    }
+}
+
 /* ---- EEPROM ---- */
 
 static void save_eeprom(void)
@@ -680,6 +704,8 @@ static void after_reset(void)
     int by_watchdog = avr->data[R_MCUCSR] >> WDRF_BIT & 1;
     reset_seen = 0;
     parked = 0;                         /* the reset moved the PC */
+    sei_seen = 0;                       /* the image starts again with its interrupts off */
+    off_since = 0;
     if (avr->cycle < cycle_at_reset)
         cycle_base += cycle_at_reset;
     if (by_watchdog)
@@ -862,9 +888,10 @@ int main(int argc, char **argv)
         avr_cycle_count_t until = avr->cycle + F_CPU / 1000;
         int state;
         double sim;
-        do                              /* one instruction at a time while a hang waits for the main loop */
+        do {                            /* one instruction at a time while a hang waits for the main loop */
             state = avr_run(avr);
-        while (avr->cycle < until && !reset_seen && !hang_pending && parked == park_wanted() && state != cpu_Done &&
+            watch_interrupts();
+        } while (avr->cycle < until && !reset_seen && !hang_pending && parked == park_wanted() && state != cpu_Done &&
                state != cpu_Crashed);
         if (state == cpu_Done || state == cpu_Crashed) {
             fprintf(stderr, "zuml_b6_sim: the AVR stopped (state %d)\n", state);
@@ -890,6 +917,7 @@ int main(int argc, char **argv)
         }
     }
     save_eeprom();
+    fprintf(stderr, "INTERRUPTS|off|%.1f|%.3f|0x%x\n", off_max * 1e6 / F_CPU, off_max_at, (unsigned)off_max_pc);
     if (trace)
         fclose(trace);
     /* not uart_pty_stop(): it signals its thread and can wait for it forever; exiting ends it */
