@@ -57,6 +57,12 @@ def rx_at(seconds: float, name: str, seq: int, **fields) -> tuple[str, str]:
     return "--rx", f"{frame.hex()}@{seconds}"
 
 
+def start_at(seconds: float, cells: int, capacity_mah: int = 2000, seq: int = 7) -> tuple[str, str]:
+    """The PC's START of slot 1's charge (`cells` in series), reaching the B6 at simulated `seconds`."""
+    return rx_at(seconds, "START", seq, slot=0, task=0, repetitions=1, capacity_mah=capacity_mah, current_ma=0,
+                 voltage_mv=0, series=cells, sensor=1)
+
+
 class B6:
     """One zuml_b6_sim process; `port` its pty, `lines` what it said on stderr so far."""
 

@@ -3,7 +3,7 @@ simulated time, and PC requests reach the B6 at simulated times the test chooses
 a known phase against the firmware's 1 s measuring window whatever the host's speed."""
 import pytest
 
-from b6_harness import rx_at
+from b6_harness import rx_at, start_at
 from helpers import compiled
 from zuml_studio.lang import eeprom
 
@@ -21,11 +21,6 @@ CC_CV = """MACRO Held
 END_MACRO
 """
 
-
-def start_at(seconds: float, cells: int, capacity_mah: int = 2000, seq: int = 7) -> tuple[str, str]:
-    """The PC's START of slot 1's charge, reaching the B6 at simulated `seconds`."""
-    return rx_at(seconds, "START", seq, slot=0, task=0, repetitions=1, capacity_mah=capacity_mah, current_ma=0,
-                 voltage_mv=0, series=cells, sensor=0)
 
 
 def test_the_firmware_s_uptime_keeps_the_simulated_time(b6_on):
