@@ -205,6 +205,11 @@ def test_a_calibration_in_the_eeprom_file_is_kept_and_uncalibrated_erases_it(b6,
     (["--speed", "-1"], "--speed is 0"),
     (["--seed", "1.5"], "--seed is a whole number"),
     (["--bogus"], "unknown option"),
+    (["--rx", "a5f@1"], "--rx is HEX@SECONDS"),                 # not whole bytes
+    (["--rx", "zz@1"], "--rx is HEX@SECONDS"),
+    (["--rx", "a5"], "--rx is HEX@SECONDS"),
+    (["--rx", "00" * 49 + "@1"], "--rx is HEX@SECONDS"),       # past simavr's receive queue
+    (["--rx", "a5@1", "--no-rx"], "--rx needs the receive wire"),
 ])
 def test_bad_options_are_one_line_and_exit_2(probe, args, message):
     done = subprocess.run([str(B6_SIM), str(probe), *args], capture_output=True, text=True, timeout=30)
