@@ -19,13 +19,13 @@
 #include "avr_adc.h"
 #include "avr_eeprom.h"
 #include "avr_ioport.h"
-#include "avr_timer.h"
 #include "avr_uart.h"
 #include "parts/uart_pty.h"
 #include "b6_board.h"
 #include "b6_calibration.h"
 #include "b6_model.h"
 #include "sim_eeprom.h"
+#include "sim_timer0.h"
 
 #define F_CPU 16000000UL
 #define EEPROM_SIZE 1024
@@ -39,9 +39,6 @@
 #define SLOW_PERIOD_MS 50               /* the slow-loop fault: parked 45 ms of every 50, below the image's 50 ms */
 #define SLOW_PARK_MS 45                 /* hang check, so the main loop is slow, not hung */
 /* ATmega32 registers in data space */
-#define R_TCCR0 0x53
-#define WGM00_BIT 6
-#define WGM01_BIT 3
 #define R_TCCR1A 0x4F
 #define R_TCCR1B 0x4E
 #define R_OCR1A 0x4A
@@ -467,24 +464,6 @@ static avr_cycle_count_t step(struct avr_t *a, avr_cycle_count_t when, void *par
     return when + STEP_CYCLES;
 }
 
-/* simavr 1.6 gives the ATmega32's Timer0 no WGM bits (its megax core is shared with the ATmega8, whose Timer0
- * has none): TCCR0's CTC is ignored and the compare matches every 256 counts, so the firmware's millisecond
- * clock (CTC, OCR0 249) ran 2.3 % slow. Timer0 gets its WGM00/WGM01 bits and modes as the datasheet has them
- * (simavr's own fix after 1.6, commit 8d8e833, issue #538); a simavr that already has them is left alone. */
-static void timer0_modes(void)
-{
-    avr_io_t *io;
-    for (io = avr->io_port; io; io = io->next) {
-        avr_timer_t *t = (avr_timer_t *)io;
-        if (strcmp(io->kind, "timer") || t->name != '0' || t->wgm[0].reg)
-            continue;
-        t->wgm[0] = (avr_regbit_t)AVR_IO_REGBIT(R_TCCR0, WGM00_BIT);
-        t->wgm[1] = (avr_regbit_t)AVR_IO_REGBIT(R_TCCR0, WGM01_BIT);
-        t->wgm_op[2] = (avr_timer_wgm_t)AVR_TIMER_WGM_CTC();
-        t->wgm_op[3] = (avr_timer_wgm_t)AVR_TIMER_WGM_FASTPWM8();
-    }
-}
-
 /* After each instruction: the interrupts' state (simavr runs one instruction per avr_run) */
 static void watch_interrupts(void)
 {
@@ -835,7 +814,7 @@ int main(int argc, char **argv)
         return 1;
     }
     avr_init(avr);
-    timer0_modes();
+    sim_timer0_modes(avr);
     mcu_reset = avr->reset;
     avr->reset = on_reset;
     avr->frequency = F_CPU;
