@@ -17,6 +17,7 @@
 #include "parts/uart_pty.h"
 #include "../sim_battery.h"
 #include "sim_eeprom.h"
+#include "sim_timer0.h"
 
 #define F_CPU 16000000UL
 #define EEPROM_SIZE 1024
@@ -115,6 +116,7 @@ int main(int argc, char **argv)
         return 1;
     }
     avr_init(avr);
+    sim_timer0_modes(avr);
     avr->frequency = F_CPU;
     avr->vcc = avr->avcc = avr->aref = 5000;
     avr->log = LOG_ERROR;

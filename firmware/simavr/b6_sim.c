@@ -4,6 +4,7 @@
  * Everything is timed in simulated time: --speed 0 runs as fast as the host can, and a slow host only
  * slows the run down, never changes what happens in it. */
 #define _DEFAULT_SOURCE
+#include <ctype.h>
 #include <math.h>
 #include <poll.h>
 #include <signal.h>
@@ -24,12 +25,14 @@
 #include "b6_calibration.h"
 #include "b6_model.h"
 #include "sim_eeprom.h"
+#include "sim_timer0.h"
 
 #define F_CPU 16000000UL
 #define EEPROM_SIZE 1024
 #define STEP_CYCLES 800                 /* 50 us: the model's step, the drive's sampling */
 #define STEPS_PER_MS 20
 #define MAX_EVENTS 32
+#define MAX_RX_BYTES 48                 /* an --rx frame: within simavr's 64-byte receive queue */
 #define PRESS_S 0.2                     /* a press held this long unless BUTTON@S:HOLD says otherwise */
 #define LCD_SETTLE_MS 3                 /* print the LCD once it has had no write this long */
 #define LCD_MAX_WAIT_MS 100             /* ... or at the latest this long after the first change */
@@ -52,7 +55,7 @@
 static const char usage[] =
     "usage: zuml_b6_sim ELF [--eeprom FILE] [--cells N] [--capacity MAH] [--soc F] [--cell-spread MV] [--weak-cell PCT]\n"
     "       [--seed N] [--uncalibrated] [--fault KIND@S]... [--press BUTTON@S[:HOLD]]... [--trace FILE] [--lcd]\n"
-    "       [--speed X] [--no-rx] [--end-with-stdin]\n"
+    "       [--speed X] [--no-rx] [--rx HEX@S]... [--end-with-stdin]\n"
     "KIND: disconnect reverse cell-high sensor-open sink-hot input-low input-sag hang slow-loop; BUTTON: start stop inc dec\n";
 
 static const char *const button_names[4] = {"start", "stop", "inc", "dec"};   /* as b6_button[] */
@@ -63,6 +66,13 @@ typedef struct {
     int done;
 } timed_t;
 
+/* --rx: bytes that reach the USART's receiver at a simulated time, as if the PC sent them then */
+typedef struct {
+    double at_s;
+    uint8_t bytes[MAX_RX_BYTES];
+    int n, done;
+} rx_t;
+
 static avr_t *avr;
 static uart_pty_t uart;
 static b6_model_t model;
@@ -70,7 +80,8 @@ static volatile sig_atomic_t stopping;
 static const char *eeprom_path;
 static uint8_t eeprom[EEPROM_SIZE], saved[EEPROM_SIZE];
 static timed_t faults[MAX_EVENTS], presses[MAX_EVENTS];
-static int n_faults, n_presses, lcd_on, step_count, hang_pending, refs_warned, output_was_on;
+static rx_t rxs[MAX_EVENTS];
+static int n_faults, n_presses, n_rxs, lcd_on, step_count, hang_pending, refs_warned, output_was_on;
 /* 1: a USB-serial adapter's TX is wired to PD0 (RXD): the pty's bytes reach the USART and the idle line holds
  * PD0 high; 0 (--no-rx): TX alone, as on the B6's 3-pin port; PD0 is cell 4's load, pulled low when undriven */
 static int rx_wire = 1;
@@ -82,11 +93,18 @@ static int parked;
 static avr_flashaddr_t parked_pc;
 static unsigned balancer_was;
 static FILE *trace;
-static avr_irq_t *adc_in[8], *button_pin[4], *rxd_pin;   /* looked up once: simavr walks its modules on every lookup */
+static avr_irq_t *adc_in[8], *button_pin[4], *rxd_pin, *uart_in;   /* looked up once: simavr walks its modules on every lookup */
 /* simavr clears its cycle timers at a reset (a watchdog's) and may zero its cycle count: the model's
  * clock goes on across it */
 static avr_cycle_count_t cycle_base, cycle_at_reset;
 static int reset_seen;
+/* the longest stretch with the interrupts off (an ISR or a cli() section) since the image's first sei(): a
+ * Timer0 match is lost only past 1 ms; INTERRUPTS|off|MAX_US|AT_S|PC at the end (PC: the first instruction
+ * run with them off, a byte address in the flash) */
+static avr_cycle_count_t off_since, off_max;
+static double off_max_at;
+static avr_flashaddr_t off_pc, off_max_pc;
+static int sei_seen;
 static void (*mcu_reset)(struct avr_t *);
 
 static avr_cycle_count_t now_cycles(void) { return cycle_base + avr->cycle; }
@@ -384,6 +402,20 @@ static void apply_faults(double now_s)
     }
 }
 
+/* RX|T|N when an --rx frame's N bytes enter the receiver (at the USART's own rate from there) */
+static void apply_rxs(double now_s)
+{
+    int k, b;
+    for (k = 0; k < n_rxs; k++) {
+        if (rxs[k].done || now_s < rxs[k].at_s)
+            continue;
+        rxs[k].done = 1;
+        for (b = 0; b < rxs[k].n; b++)
+            avr_raise_irq(uart_in, rxs[k].bytes[b]);
+        fprintf(stderr, "RX|%.3f|%d\n", now_s, rxs[k].n);
+    }
+}
+
 /* ---- the model's clock ---- */
 
 /* OUTPUT|on|T and OUTPUT|off|T|CELL1|CELL2|... (the cells' true voltages, V) when the stage switches;
@@ -412,6 +444,7 @@ static avr_cycle_count_t step(struct avr_t *a, avr_cycle_count_t when, void *par
     sample_drive();
     b6_model_step(&model, (double)STEP_CYCLES / F_CPU);
     apply_faults(t);
+    apply_rxs(t);
     set_buttons(t, 0);
     set_rxd(0);
     report_output(t);
@@ -429,6 +462,23 @@ static avr_cycle_count_t step(struct avr_t *a, avr_cycle_count_t when, void *par
             lcd_print_if_settled();
     }
     return when + STEP_CYCLES;
+}
+
+/* After each instruction: the interrupts' state (simavr runs one instruction per avr_run) */
+static void watch_interrupts(void)
+{
+    if (avr->sreg[S_I]) {
+        if (off_since && now_cycles() - off_since > off_max) {
+            off_max = now_cycles() - off_since;
+            off_max_at = (double)off_since / F_CPU;
+            off_max_pc = off_pc;
+        }
+        off_since = 0;
+        sei_seen = 1;
+    } else if (sei_seen && !off_since) {
+        off_since = now_cycles();
+        off_pc = avr->pc;
+    }
 }
 
 /* ---- EEPROM ---- */
@@ -484,6 +534,25 @@ static int timed(const char *text, const char *const *names, int n, int hold_all
     return k;
 }
 
+/* "HEX@SECONDS": up to MAX_RX_BYTES bytes in hex digits */
+static int rx_at(const char *text, rx_t *out)
+{
+    const char *at = strchr(text, '@');
+    unsigned byte;
+    int k;
+    if (!at || (at - text) % 2 || at == text || (at - text) / 2 > MAX_RX_BYTES || !number(at + 1, 0, 1e7, &out->at_s))
+        return 0;
+    for (k = 0; k < (at - text) / 2; k++) {
+        if (!isxdigit((unsigned char)text[2 * k]) || !isxdigit((unsigned char)text[2 * k + 1]) ||
+            sscanf(text + 2 * k, "%2x", &byte) != 1)
+            return 0;
+        out->bytes[k] = (uint8_t)byte;
+    }
+    out->n = k;
+    out->done = 0;
+    return 1;
+}
+
 typedef struct {
     int cells, calibrated;
     double capacity_mah, soc, spread_mv, weak_pct, speed;
@@ -494,7 +563,7 @@ static int parse(int argc, char **argv, options_t *o)
 {
     int k;
     static const char *const known[] = {"--eeprom", "--cells", "--capacity", "--soc", "--cell-spread", "--seed",
-                                        "--speed", "--fault", "--press", "--trace", "--weak-cell"};
+                                        "--speed", "--fault", "--press", "--trace", "--weak-cell", "--rx"};
     for (k = 2; k < argc; k++) {
         const char *name = argv[k], *value = k + 1 < argc ? argv[k + 1] : NULL;
         double v;
@@ -562,6 +631,10 @@ static int parse(int argc, char **argv, options_t *o)
             if (n_presses == MAX_EVENTS || timed(value, button_names, 4, 1, &presses[n_presses]) < 0)
                 return fail("--press is BUTTON@SECONDS[:HOLD], BUTTON one of start stop inc dec (at most 32)", value);
             n_presses++;
+        } else if (!strcmp(name, "--rx")) {
+            if (n_rxs == MAX_EVENTS || !rx_at(value, &rxs[n_rxs]))
+                return fail("--rx is HEX@SECONDS, 1..48 bytes in hex digits (at most 32)", value);
+            n_rxs++;
         } else if (!strcmp(name, "--trace")) {
             trace = fopen(value, "w");
             if (!trace)
@@ -610,6 +683,8 @@ static void after_reset(void)
     int by_watchdog = avr->data[R_MCUCSR] >> WDRF_BIT & 1;
     reset_seen = 0;
     parked = 0;                         /* the reset moved the PC */
+    sei_seen = 0;                       /* the image starts again with its interrupts off */
+    off_since = 0;
     if (avr->cycle < cycle_at_reset)
         cycle_base += cycle_at_reset;
     if (by_watchdog)
@@ -712,6 +787,10 @@ int main(int argc, char **argv)
     memset(lcd.ddram, ' ', sizeof lcd.ddram);
     if (!parse(argc, argv, &o))
         return 2;
+    if (n_rxs && !rx_wire) {
+        fail("--rx needs the receive wire", "--no-rx");
+        return 2;
+    }
     b6_model_init(&model, o.seed, o.cells, o.capacity_mah, o.soc, o.spread_mv);
     model.capacity_as[o.cells - 1] *= 1.0 - o.weak_pct / 100.0;     /* --weak-cell: the last cell */
     memcpy(saved, eeprom, EEPROM_SIZE);     /* as read: a calibration written below goes to the file too */
@@ -735,6 +814,7 @@ int main(int argc, char **argv)
         return 1;
     }
     avr_init(avr);
+    sim_timer0_modes(avr);
     mcu_reset = avr->reset;
     avr->reset = on_reset;
     avr->frequency = F_CPU;
@@ -753,6 +833,7 @@ int main(int argc, char **argv)
     for (k = 0; k < 4; k++)
         button_pin[k] = avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(B6_PORT_LETTER(b6_button[k].port)),
                                       b6_button[k].bit);
+    uart_in = avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_INPUT);
     rxd_pin = avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(B6_PORT_LETTER(B6_BAL4_LOAD.port)), B6_BAL4_LOAD.bit);
     avr_cycle_timer_register(avr, STEP_CYCLES, step, NULL);
     set_buttons(0, 1);
@@ -786,9 +867,10 @@ int main(int argc, char **argv)
         avr_cycle_count_t until = avr->cycle + F_CPU / 1000;
         int state;
         double sim;
-        do                              /* one instruction at a time while a hang waits for the main loop */
+        do {                            /* one instruction at a time while a hang waits for the main loop */
             state = avr_run(avr);
-        while (avr->cycle < until && !reset_seen && !hang_pending && parked == park_wanted() && state != cpu_Done &&
+            watch_interrupts();
+        } while (avr->cycle < until && !reset_seen && !hang_pending && parked == park_wanted() && state != cpu_Done &&
                state != cpu_Crashed);
         if (state == cpu_Done || state == cpu_Crashed) {
             fprintf(stderr, "zuml_b6_sim: the AVR stopped (state %d)\n", state);
@@ -814,6 +896,7 @@ int main(int argc, char **argv)
         }
     }
     save_eeprom();
+    fprintf(stderr, "INTERRUPTS|off|%.1f|%.3f|0x%x\n", off_max * 1e6 / F_CPU, off_max_at, (unsigned)off_max_pc);
     if (trace)
         fclose(trace);
     /* not uart_pty_stop(): it signals its thread and can wait for it forever; exiting ends it */

@@ -7,6 +7,7 @@ import csv
 import os
 import select
 import subprocess
+import termios
 import threading
 import tty
 from dataclasses import dataclass
@@ -15,6 +16,8 @@ from pathlib import Path
 
 from tools import SIMAVR, skip_unless
 from host_core import FIRMWARE
+from zuml_studio.device import messages as m
+from zuml_studio.device.frames import FrameParser, encode_frame
 
 B6_SIM = FIRMWARE / "build" / "simavr" / "zuml_b6_sim"
 LINE_WAIT_S = 120.0        # a bound on a wait for a line, far above any run here: a hang fails, it does not wait
@@ -45,6 +48,19 @@ def read_trace(path: Path) -> list[Row]:
                                 "cell_max_v"]
         return [Row(int(r[0]), float(r[1]), float(r[2]), int(r[3]), float(r[4]), float(r[5]), float(r[6]))
                 for r in reader]
+
+
+def rx_at(seconds: float, name: str, seq: int, **fields) -> tuple[str, str]:
+    """The option that makes a PC request (`name` with its fields) reach the B6's receiver at simulated
+    `seconds`, whatever the host's speed: `--rx HEX@SECONDS`. `seq` tells its answer apart (`B6.answers`)."""
+    frame = encode_frame(m.BY_NAME[name].code, seq, m.encode_request(name, **fields))
+    return "--rx", f"{frame.hex()}@{seconds}"
+
+
+def start_at(seconds: float, cells: int, capacity_mah: int = 2000, seq: int = 7) -> tuple[str, str]:
+    """The PC's START of slot 1's charge (`cells` in series), reaching the B6 at simulated `seconds`."""
+    return rx_at(seconds, "START", seq, slot=0, task=0, repetitions=1, capacity_mah=capacity_mah, current_ma=0,
+                 voltage_mv=0, series=cells, sensor=1)
 
 
 class B6:
@@ -97,6 +113,21 @@ class B6:
             assert select.select([self.fd], [], [], LINE_WAIT_S)[0], f"no answer to {request!r}: {answer!r}"
             answer += os.read(self.fd, 64)
         return answer.decode().strip()
+
+    def answers(self, count: int) -> dict[int, dict]:
+        """The next `count` answers to --rx requests on the pty, decoded, by their seq ({"error": (request, code, text)} for a refusal; telemetry and events skipped)."""
+        if self.fd is None:
+            self.fd = os.open(self.port, os.O_RDWR | os.O_NOCTTY)
+            tty.setraw(self.fd, termios.TCSANOW)        # not TCSAFLUSH: an answer already waiting is kept
+        parser, got = FrameParser(), {}
+        while len(got) < count:
+            assert select.select([self.fd], [], [], LINE_WAIT_S)[0], f"no answer after {sorted(got)}"
+            for frame in parser.feed(os.read(self.fd, 256)):
+                if frame.type == m.ERROR:
+                    got[frame.seq] = {"error": m.decode_error(frame.payload)}
+                elif frame.type & m.RESPONSE_FLAG:
+                    got[frame.seq] = m.decode_response(frame.type & 0x7F, frame.payload)
+        return got
 
     def stop(self) -> None:
         if self.proc.stdin and not self.proc.stdin.closed:

@@ -6,6 +6,8 @@
  *   bNNN the buck switch (OC1B, PD4) at NNN/512, the output and the SMPS enabled  -> "ok\n"
  *   lHH  the balancer's load switches, bit n-1 = cell n                   -> "ok\n"
  *   x    everything off: the disable lines high, no PWM                   -> "ok\n"
+ *   t0   Timer0 in CTC at 16 MHz / 64 / (OCR0 249 + 1) = 1 kHz: cell 1's load on for 1000 compare matches
+ *        (the firmware's millisecond clock)                               -> "ok\n"
  * Line 1 of the LCD reads "PROBE" (or "PROBE WDT" after a watchdog reset), line 2 "KEYS sdiS" with each button
  * pressed shown by its letter; START switches the buck on at 500/512 as b500 does. The watchdog (30 ms) is fed
  * by the main loop only. */
@@ -103,6 +105,28 @@ static uint32_t adc_sum(uint8_t channel)
     return sum;
 }
 
+/* 1000 Timer0 compare matches, polled (never an interrupt to be late), between cell 1's load going on and off:
+ * the harness's BALANCER lines time them */
+static void timer0_second(void)
+{
+    uint16_t matches = 0;
+    TCCR0 = 0;
+    TCNT0 = 0;
+    OCR0 = 249;
+    TIFR = _BV(OCF0);
+    TCCR0 = _BV(WGM01) | _BV(CS01) | _BV(CS00);
+    PORTC |= 0x40;
+    while (matches < 1000) {
+        wdt_reset();
+        if (TIFR & _BV(OCF0)) {
+            TIFR = _BV(OCF0);
+            matches++;
+        }
+    }
+    PORTC &= (uint8_t)~0x40;
+    TCCR0 = 0;
+}
+
 static int hex(int c) { return c >= '0' && c <= '9' ? c - '0' : (c >= 'A' && c <= 'F' ? c - 'A' + 10 : -1); }
 
 int main(void)
@@ -165,6 +189,9 @@ int main(void)
                 PORTA = (uint8_t)((PORTA & ~_BV(5)) | (mask & 4 ? _BV(5) : 0));
                 DDRD |= _BV(2) | _BV(7);
                 PORTD = (uint8_t)((PORTD & ~(_BV(2) | _BV(7))) | (mask & 16 ? _BV(2) : 0) | (mask & 32 ? _BV(7) : 0));
+                put('o'); put('k'); put('\n');
+            } else if (c == 't' && n == '0') {
+                timer0_second();
                 put('o'); put('k'); put('\n');
             } else if (c == 'x') {
                 off();

@@ -133,14 +133,20 @@ void adc_init(void)
 
 void adc_latch(void)
 {
+    /* one input at a time, the division outside: the 11 divisions under one lock held the interrupts off
+     * for 515 us, half of Timer0's millisecond */
     uint8_t k;
-    ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
-        for (k = 0; k < CAL_INPUTS; k++) {
-            if (count[k])
-                average[k] = (uint16_t)(sum[k] / count[k]);
+    uint32_t s;
+    uint16_t n;
+    for (k = 0; k < CAL_INPUTS; k++) {
+        ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
+            s = sum[k];
+            n = count[k];
             sum[k] = 0;
             count[k] = 0;
         }
+        if (n)
+            average[k] = (uint16_t)(s / n);
     }
 }
 
