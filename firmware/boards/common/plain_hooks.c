@@ -1,8 +1,8 @@
 /* The HAL hooks of a board with no requests, averaging or protections of its own (the PC's device on
  * a pty, the generic ATmega32, the core measured alone): nothing refuses a start, and every request
  * the core does not know is unknown. The iMAX B6 has its own (boards/imaxb6). */
-#include "../core/app.h"
-#include "../core/pgm.h"
+#include "../../core/app.h"
+#include "../../core/pgm.h"
 
 void hal_measure_latch(void) {}
 

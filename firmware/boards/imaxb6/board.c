@@ -9,7 +9,7 @@
 #include <util/atomic.h>
 #include "../../core/app.h"
 #include "../../core/text.h"
-#include "../avr_uart.h"
+#include "../common/avr_uart.h"
 #include "adc.h"
 #include "balance.h"
 #include "calib.h"
