@@ -8,8 +8,8 @@ in an editable install alike, so the installed package never needs the source tr
 wheel (and the bundle frozen from it) ships every language; an editable install, which has no build
 step, compiles them in memory at start (`zuml_studio.i18n`).
 
-The C simulation engine (the firmware's core with the models of firmware/model/, the sources listed in
-firmware/engine.sources) is compiled into ``zuml_studio/sim/_engine/libzuml_engine.so``: in the build for
+The C simulation engine (the firmware's core with the models of firmware/host/model/, the sources listed in
+firmware/host/engine.sources) is compiled into ``zuml_studio/sim/_engine/libzuml_engine.so``: in the build for
 a wheel, in the source tree for an editable install. Without a C compiler the build warns and the app runs
 the Python interpreter, the reference, in its place (`zuml simulate` says which engine ran).
 """
@@ -35,7 +35,7 @@ def build_engine(target: Path) -> None:
     """Compile the C simulation engine to ``target``; a loud warning (no failure) when it cannot be."""
     firmware = Path(__file__).parent / "firmware"
     try:
-        sources = [str(firmware / line) for line in (firmware / "engine.sources").read_text().split()]
+        sources = [str(firmware / line) for line in (firmware / "host" / "engine.sources").read_text().split()]
     except OSError as exc:
         print(f"WARNING: the C simulation engine was not built (no sources: {exc}); ZUML Studio will simulate "
               "with the slower Python interpreter.", file=sys.stderr)

@@ -8,38 +8,15 @@
 #include "record.h"
 #include "pgm.h"
 #include "passport.h"
+#include "protocol.h"
 
 #define SYNC 0xA5
 #define MAX_PAYLOAD 250
-#define MAX_DATA 240
-#define RESPONSE 0x80
-#define T_IDENTIFY 0x01
-#define T_READ 0x02
-#define T_BEGIN 0x03
-#define T_STAGE 0x04
-#define T_COMMIT 0x05
-#define T_ABORT 0x06
-#define T_START 0x10
-#define T_STOP 0x11
-#define T_STATUS 0x12
-#define T_RATE 0x13
-#define T_GET_EVENT 0x14
-#define T_LIST_TEMPLATES 0x15
-#define T_GET_TEMPLATE 0x16
-#define T_SET_TEMPLATE 0x17
-#define T_PASSPORT 0x20
 #define T_BOARD_FIRST 0x30       /* 0x30..0x3F: the board's own requests (hal_request) */
 #define T_BOARD_LAST 0x3F
-#define T_TELEMETRY 0x40
-#define T_EVENT 0x41
-#define T_LCD 0x42
-#define T_ERROR 0x7F
 #define INTER_BYTE_MS 5
 #define EVENT_RING 4
 
-enum { E_BAD_FRAME = 1, E_BAD_REQUEST, E_UNKNOWN_TYPE, E_BAD_RANGE, E_BAD_TOKEN, E_CRC_MISMATCH, E_BAD_SLOT,
-       E_INVALID_RECORD, E_PASSPORT_CONFLICT, E_START_ERROR, E_NO_PASSPORT, E_PASSPORT_ERROR, E_INTERNAL,
-       E_NO_TEMPLATE, E_BUSY, E_UNCALIBRATED, E_PROTECTION };
 enum { ST_IDLE, ST_RUNNING, ST_PAUSED, ST_FINISHED };
 
 typedef struct {
@@ -65,7 +42,7 @@ static struct {
 } last;                                   /* the last request served, to answer a retry the same */
 static uint32_t token, token_counter, committed_token;
 static uint16_t committed_changed, committed_crc;
-static uint8_t state = ST_IDLE, slot = 0xFF, task;
+static uint8_t state = ST_IDLE, slot = NO_SLOT, task;
 static uint32_t run_start_ms, last_tick_ms, events, next_telemetry_ms;
 static uint8_t telemetry_hz = 5, device_seq;
 static stored_event_t ring[EVENT_RING];
@@ -86,6 +63,12 @@ void app_tx16(uint16_t v) { tx((uint8_t)v); tx((uint8_t)(v >> 8)); }
 static void tx32(uint32_t v) { tx16((uint16_t)v); tx16((uint16_t)(v >> 16)); }
 static void tx_text(const char *s, uint8_t n) { while (n--) tx((uint8_t)*s++); }
 static void tx_text_P(const char *s, uint8_t n) { while (n--) tx(pgm_read_byte(s++)); }
+/* A frame's field as wide as protocol.h (the Python table) makes it: TX_FIELD(4) is tx32. */
+#define TX_FIELD(bytes) TX_FIELD_(bytes)
+#define TX_FIELD_(bytes) tx_##bytes
+#define tx_1 tx
+#define tx_2 tx16
+#define tx_4 tx32
 
 void app_tx_begin(uint8_t type, uint8_t seq, uint8_t len)
 {
@@ -151,14 +134,17 @@ static void send_event(uint8_t type, uint8_t seq, uint32_t number, const zc_even
                 : zc_event_text(&run, e, detail), with_phase = e->kind == ZC_EV_PHASE_START ||
                 e->kind == ZC_EV_PHASE_END, with_offset = with_phase || e->kind == ZC_EV_MUSIC ||
                 e->kind == ZC_EV_LIGHT;
-    tx_begin(type, seq, (uint8_t)(14 + n));
-    tx32(number);
-    tx32(e->time_ms);
-    tx((uint8_t)(e->kind - 1));
-    tx(with_phase || e->kind == ZC_EV_SECTION ? e->section : 0xFF);
-    tx(with_phase ? e->index : 0);
-    tx(with_phase || e->kind == ZC_EV_SECTION ? e->repetition : 0);
-    tx16(with_offset ? e->offset : 0xFFFF);
+    /* EVENT's fields by name; protocol.h writes them in the table's order and widths */
+#define EV_NUMBER number
+#define EV_TIME_MS e->time_ms
+#define EV_KIND (uint8_t)(e->kind - 1)
+#define EV_SECTION (with_phase || e->kind == ZC_EV_SECTION ? e->section : SECTION_NONE)
+#define EV_INDEX (with_phase ? e->index : 0)
+#define EV_REPETITION (with_phase || e->kind == ZC_EV_SECTION ? e->repetition : 0)
+#define EV_OFFSET (with_offset ? e->offset : NO_OFFSET)
+#define TX_EVENT(name, bytes) TX_FIELD(bytes)(EV_##name);
+    tx_begin(type, seq, (uint8_t)(EVENT_FIXED + n));
+    EVENT_FIELDS(TX_EVENT)
     tx_text(detail, n);
     tx_end();
 }
@@ -198,21 +184,25 @@ static void send_telemetry(void)
 {
     uint8_t live = state == ST_RUNNING || state == ST_PAUSED;
     int32_t mv = hal_pack_uv() / 1000L;
-    tx_begin(T_TELEMETRY, device_seq++, 30);
-    tx32(state == ST_IDLE ? 0 : run.time_ms);
-    tx(task);
-    tx(live && run.active ? run.phase_section : 0xFF);
-    tx(live ? run.phase_rep : 0);
-    tx(live ? run.phase_pass : 0);
-    tx(live ? run.phase_index : 0);
-    tx16(live ? run.run_no : 0);
-    tx((uint8_t)((live ? 1 : 0) | (run.paused && live ? 2 : 0) | (hal_battery_sensor() ? 4 : 0)));
-    tx16((uint16_t)(mv < 0 ? 0 : (mv > 0xFFFF ? 0xFFFF : mv)));
-    tx32((uint32_t)(hal_current_ua() / 1000L));
-    tx16((uint16_t)(hal_battery_sensor() ? centi(hal_battery_uc()) : 0x7FFF));
-    tx16((uint16_t)centi(hal_heatsink_uc()));
-    tx32(run.total_in.uah / 100);        /* 0.1 mAh */
-    tx32(run.total_out.uah / 100);
+    /* TELEMETRY's fields by name; protocol.h writes them in the table's order and widths */
+#define TM_TIME_MS (state == ST_IDLE ? 0 : run.time_ms)
+#define TM_TASK task
+#define TM_SECTION (live && run.active ? run.phase_section : SECTION_NONE)
+#define TM_REPETITION (live ? run.phase_rep : 0)
+#define TM_CYCLE (live ? run.phase_pass : 0)
+#define TM_PHASE (live ? run.phase_index : 0)
+#define TM_RUN (live ? run.run_no : 0)
+#define TM_FLAGS (uint8_t)((live ? FLAG_RUNNING : 0) | (run.paused && live ? FLAG_PAUSED : 0) | \
+                  (hal_battery_sensor() ? FLAG_SENSOR : 0))
+#define TM_VOLTAGE_MV (uint16_t)(mv < 0 ? 0 : (mv > 0xFFFF ? 0xFFFF : mv))
+#define TM_CURRENT_MA (uint32_t)(hal_current_ua() / 1000L)
+#define TM_TEMP_C100 (uint16_t)(hal_battery_sensor() ? centi(hal_battery_uc()) : TEMP_UNKNOWN)
+#define TM_HEATSINK_C100 (uint16_t)centi(hal_heatsink_uc())
+#define TM_MAH10_IN (run.total_in.uah / 100)            /* 0.1 mAh */
+#define TM_MAH10_OUT (run.total_out.uah / 100)
+#define TX_TELEMETRY(name, bytes) TX_FIELD(bytes)(TM_##name);
+    tx_begin(T_TELEMETRY, device_seq++, TELEMETRY_FIXED);
+    TELEMETRY_FIELDS(TX_TELEMETRY)
     tx_end();
 }
 
@@ -225,7 +215,7 @@ static void identify(uint8_t seq)
 {
     uint8_t m = text_len_P(board->model), f = text_len_P(board->firmware);
     tx_begin(T_IDENTIFY | RESPONSE, seq, (uint8_t)(26 + m + f));
-    tx(1);
+    tx(PROTOCOL_VERSION);
     tx16(store_size());
     tx(MAX_DATA);
     tx32(board->max_charge_ma);
@@ -330,7 +320,7 @@ static const char *start(uint8_t seq, const uint8_t *p, uint8_t panel)
     hal_output_t off = {HAL_OFF, 0, 0};
     hal_output(&off);
     state = ST_IDLE;
-    slot = 0xFF;
+    slot = NO_SLOT;
     protection = 0;
     len = store_record(p[0], run.rec);
     if (len == 0) {
@@ -363,7 +353,7 @@ static const char *start(uint8_t seq, const uint8_t *p, uint8_t panel)
 static ZC_NOINLINE void status(uint8_t seq)
 {
     char reason[ZC_TEXT_MAX];
-    uint8_t name_n = slot == 0xFF ? 0 : (uint8_t)strlen((const char *)run.rec + 4);
+    uint8_t name_n = slot == NO_SLOT ? 0 : (uint8_t)strlen((const char *)run.rec + 4);
     uint8_t reason_n = state == ST_FINISHED ? reason_text(reason) : 0;
     tx_begin(T_STATUS | RESPONSE, seq, (uint8_t)(20 + name_n + reason_n));
     tx(state);
@@ -411,7 +401,8 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
         send_error(type, seq, E_BAD_REQUEST, PSTR("the payload does not fit the request's layout"));
         return;
     }
-    if (app_running() && (type == T_BEGIN || type == T_STAGE || type == T_COMMIT || type == T_SET_TEMPLATE)) {
+    if (app_running() && (type == T_BEGIN_WRITE || type == T_WRITE_STAGE || type == T_COMMIT ||
+                          type == T_SET_TEMPLATE)) {
         send_error(type, seq, E_BUSY, busy);
         return;
     }
@@ -419,21 +410,21 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
     case T_IDENTIFY:
         identify(seq);
         return;
-    case T_READ: {
+    case T_READ_EEPROM: {
         uint16_t at, off;
         off = le16(p);
         if (p[2] == 0 || p[2] > MAX_DATA || (uint32_t)off + p[2] > store_size()) {
             send_error(type, seq, E_BAD_RANGE, outside_eeprom);
             return;
         }
-        tx_begin(T_READ | RESPONSE, seq, (uint8_t)(2 + p[2]));
+        tx_begin(T_READ_EEPROM | RESPONSE, seq, (uint8_t)(2 + p[2]));
         tx16(off);
         for (at = off; at < off + p[2]; at++)
             tx(store_read(at));
         tx_end();
         return;
     }
-    case T_BEGIN:
+    case T_BEGIN_WRITE:
         if (!retry) {
             store_stage_begin();
             /* The host's random nonce is the token: a COMMIT of it repeated after a reconnect is answered
@@ -445,12 +436,12 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
             if (!token)
                 token = 1;
         }
-        tx_begin(T_BEGIN | RESPONSE, seq, 6);
+        tx_begin(T_BEGIN_WRITE | RESPONSE, seq, 6);
         tx32(token);
         tx16(store_size());
         tx_end();
         return;
-    case T_STAGE: {
+    case T_WRITE_STAGE: {
         uint16_t off, k;
         off = le16(p + 4);
         if (!token || le32(p) != token) {
@@ -463,7 +454,7 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
         }
         for (k = 0; k < (uint16_t)(len - 6); k++)
             store_stage_write((uint16_t)(off + k), p[6 + k]);
-        tx_begin(T_STAGE | RESPONSE, seq, 3);
+        tx_begin(T_WRITE_STAGE | RESPONSE, seq, 3);
         tx16(off);
         tx((uint8_t)(len - 6));
         tx_end();
@@ -520,13 +511,13 @@ static void handle(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uin
     case T_STATUS:
         status(seq);
         return;
-    case T_RATE:
+    case T_SET_TELEMETRY_RATE:
         if (p[0] < 1 || p[0] > 50) {
             send_error(type, seq, E_BAD_RANGE, PSTR("the telemetry rate is 1..50 Hz"));
             return;
         }
         telemetry_hz = p[0];
-        tx_begin(T_RATE | RESPONSE, seq, 1);
+        tx_begin(T_SET_TELEMETRY_RATE | RESPONSE, seq, 1);
         tx(telemetry_hz);
         tx_end();
         return;

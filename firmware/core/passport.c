@@ -7,7 +7,7 @@
 #include "record.h"
 #include "text.h"
 #include "pgm.h"
-#include "../hal.h"
+#include "hal.h"
 
 #define MAGIC 0xA7
 /* the longest conflict: "the macro lets the voltage rise to 2147.48 V (discharge phase 255); the

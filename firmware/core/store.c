@@ -1,7 +1,7 @@
 #include "store.h"
 #include "pgm.h"
 #include "zuml.h"
-#include "../hal.h"
+#include "hal.h"
 
 #define JOURNAL_COMMITTING 0xA5
 #define TEMPLATES_READY 0x5A

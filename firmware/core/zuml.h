@@ -8,7 +8,7 @@
 #define ZUML_CORE_H
 
 #include <stdint.h>
-#include "../hal.h"
+#include "hal.h"
 
 #define ZC_MAX_RECORD 255
 #define ZC_NONE (-1L)              /* a start value not given */

@@ -1,4 +1,4 @@
-"""The simulated iMAX B6 itself (firmware/simavr/b6_*), checked with a probe image written from cheali's pin map
+"""The simulated iMAX B6 itself (firmware/harness/b6_*), checked with a probe image written from cheali's pin map
 (tests/firmware/b6_probe.c) rather than with our firmware: what reaches each ADC channel and multiplexer address,
 the buck stage and its trace, the LCD and the buttons, every fault, a hang and the watchdog, the calibration block.
 Expected values come from cheali's default calibration (the full scales in docs/firmware.md), not from the

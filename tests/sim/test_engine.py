@@ -1,4 +1,4 @@
-"""The C simulation engine (sim/engine.py, firmware/boards/host/engine.c) against the Python interpreter, the
+"""The C simulation engine (sim/engine.py, firmware/host/engine.c) against the Python interpreter, the
 reference: on the same start, the same phases (every field: section, index, repetition, offset, start and
 end, reason, charge counts, end state, pauses, clip, cells, balancer), the same events, the same totals
 and the same sample log, bit for bit (the C models do the Python's double operations in its order)."""

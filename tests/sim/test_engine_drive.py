@@ -1,4 +1,4 @@
-"""The fit's objective on the C engine (sim/engine.py drive, firmware/model/drive.c, issue 35 §4): a pack
+"""The fit's objective on the C engine (sim/engine.py drive, firmware/host/model/drive.c, issue 35 §4): a pack
 driven along a curve in C is the Python loop's, bit for bit, for a one-state pack and a pack of unequal cells,
 driven by current, by a charge's CV voltage and by a discharge's hold, and a discharge's run-on past the log."""
 import tomllib

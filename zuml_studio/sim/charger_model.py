@@ -80,7 +80,7 @@ class BalancerSpec:
     def window(self, w: BalanceWindow, cell_voltages, dt: float, holding: bool, chemistry: str) -> int:
         """The cells that bleed over the next tick of ``dt`` s, ``w`` carrying the windows from tick to tick
         (without ``window_s``: ``mask``'s); ``holding``: the phase holds its voltage (then the windows run
-        below ``from_v`` too). firmware/model/charger.c's zm_balance_window, operation for operation."""
+        below ``from_v`` too). firmware/host/model/charger.c's zm_balance_window, operation for operation."""
         v = cell_voltages
         if not self.window_s > 0.0:
             w.mask = self.mask(v, w.mask)

@@ -1,6 +1,6 @@
 """The C simulation engine: the firmware's interpreter core on the host board with the battery and
-charger models in C (firmware/boards/host/engine.c, firmware/model/), run for a whole simulation in one
-library, ``_engine/libzuml_engine.so``, built with the package (setup.py, from firmware/engine.sources).
+charger models in C (firmware/host/engine.c, firmware/host/model/), run for a whole simulation in one
+library, ``_engine/libzuml_engine.so``, built with the package (setup.py, from firmware/host/engine.sources).
 
 The Python interpreter (`interpreter.py`) stays the reference: `run` builds the same `Interpreter` (its
 program, start values, pack and charger, its StartErrors), hands the models' constants and state to C,

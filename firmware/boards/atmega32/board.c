@@ -12,7 +12,7 @@
 #include <avr/io.h>
 #include <avr/pgmspace.h>
 #include "../../core/app.h"
-#include "../avr_uart.h"
+#include "../common/avr_uart.h"
 #include "calibration.h"
 
 #define BAUD 115200UL

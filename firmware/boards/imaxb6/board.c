@@ -8,8 +8,9 @@
 #include <avr/wdt.h>
 #include <util/atomic.h>
 #include "../../core/app.h"
+#include "../../core/protocol.h"
 #include "../../core/text.h"
-#include "../avr_uart.h"
+#include "../common/avr_uart.h"
 #include "adc.h"
 #include "balance.h"
 #include "calib.h"
@@ -30,11 +31,7 @@
 #define BALANCE_SETTLE_SLOWS 40                 /* the loads off this long (4 s) before a decision (cheali) */
 #define BALANCE_DROP_READS 4                    /* the first 4 decisions of a window measure each bleed's drop */
 #define BALANCE_FILTER 4                        /* the balancer's cells: a filter of 4 decisions (0.4 s) */
-#define T_CAL_READ 0x30
-#define T_CAL_WRITE 0x31
-#define T_CAL_MEASURE 0x32
-#define T_CAL_OUTPUT 0x33
-#define T_STACK 0x34
+#define T_STACK 0x34                            /* after protocol.h's T_CAL_*: the stack never used (tests) */
 #define PAINT 0xAA
 
 static volatile uint32_t millis;
@@ -217,10 +214,10 @@ const char *hal_run_start(const uint8_t *rec, uint8_t akk_type, int16_t series, 
 {
     uint8_t trip;
     const char *why;
-    *code = HAL_E_UNCALIBRATED;
+    *code = E_UNCALIBRATED;
     if (!calibrated)
         return PSTR("the charger is not calibrated: run zuml calibrate");
-    *code = HAL_E_PROTECTION;
+    *code = E_PROTECTION;
     cal_output_end_ms = 0;
     if (!cal_pack_agrees(protect_latest[CAL_VOUT], balance_sum_mv()))
         why = PSTR("pack and balance lead read over 2% apart: calibrate or check the leads");
@@ -379,7 +376,7 @@ static uint8_t refused_calibration(uint8_t type, uint8_t seq, const uint8_t *blo
     if (verdict == CAL_OK)
         return 0;
     if (verdict == CAL_BAD_FORM) {
-        app_error(type, seq, 4, PSTR("not a calibration block (version 1, check byte, no zero full scale)"));
+        app_error(type, seq, E_BAD_RANGE, PSTR("not a calibration block (version 1, check byte, no zero full scale)"));
         return 1;
     }
     if (m->input == CAL_IDIS || m->input == CAL_ISMPS)
@@ -404,9 +401,9 @@ static uint8_t refused_calibration(uint8_t type, uint8_t seq, const uint8_t *blo
     p = zc_put_2f(p, (uint32_t)(m->allowed * scale));
     *p++ = unit;
     p = zc_put_P(p, PSTR(" off"));
-    app_tx_begin(0x7F, seq, (uint8_t)(2 + (p - text)));
+    app_tx_begin(T_ERROR, seq, (uint8_t)(2 + (p - text)));
     app_tx(type);
-    app_tx(4);
+    app_tx(E_BAD_RANGE);
     for (k = 0; text + k < p; k++)
         app_tx((uint8_t)text[k]);
     app_tx_end();
@@ -417,7 +414,7 @@ static void send_calibration(uint8_t type, uint8_t seq)
 {
     uint8_t block[CAL_BLOCK], k;
     cal_block(block);
-    app_tx_begin((uint8_t)(type | 0x80), seq, 1 + CAL_BLOCK);
+    app_tx_begin((uint8_t)(type | RESPONSE), seq, 1 + CAL_BLOCK);
     app_tx(calibrated);
     for (k = 0; k < CAL_BLOCK; k++)
         app_tx(block[k]);
@@ -429,15 +426,15 @@ void hal_request(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uint8
     static const uint8_t lengths[5] PROGMEM = {0, CAL_BLOCK, 0, 3, 0};
     uint8_t k;
     if (type > T_STACK) {
-        app_error(type, seq, 3, PSTR("unknown request type"));
+        app_error(type, seq, E_UNKNOWN_TYPE, PSTR("unknown request type"));
         return;
     }
     if (len != pgm_read_byte(&lengths[type - T_CAL_READ])) {
-        app_error(type, seq, 2, PSTR("the payload does not fit the request's layout"));
+        app_error(type, seq, E_BAD_REQUEST, PSTR("the payload does not fit the request's layout"));
         return;
     }
     if (running && (type == T_CAL_WRITE || type == T_CAL_OUTPUT)) {
-        app_error(type, seq, HAL_E_BUSY, PSTR("a macro runs: stop it first"));
+        app_error(type, seq, E_BUSY, PSTR("a macro runs: stop it first"));
         return;
     }
     switch (type) {
@@ -454,13 +451,13 @@ void hal_request(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uint8
         send_calibration(type, seq);
         return;
     case T_STACK:
-        app_tx_begin(T_STACK | 0x80, seq, 4);
+        app_tx_begin(T_STACK | RESPONSE, seq, 4);
         app_tx16(stack_never_used());
         app_tx16((uint16_t)(RAMEND + 1 - (uint16_t)&__bss_end));
         app_tx_end();
         return;
     case T_CAL_MEASURE:
-        app_tx_begin(T_CAL_MEASURE | 0x80, seq, 6 * CAL_INPUTS);
+        app_tx_begin(T_CAL_MEASURE | RESPONSE, seq, 6 * CAL_INPUTS);
         for (k = 0; k < CAL_INPUTS; k++) {
             int32_t v = adc_value(k);
             app_tx16(adc_average(k));
@@ -477,19 +474,19 @@ void hal_request(uint8_t type, uint8_t seq, const uint8_t *p, uint8_t len, uint8
         protect_disarm();
         cal_output_end_ms = 0;
         if (p[0] > 2 || (p[0] == 1 && ma > 2000) || (p[0] == 2 && ma > 500)) {
-            app_error(type, seq, 4, PSTR("mode 0..2, at most 2000 mA charging, 500 mA discharging"));
+            app_error(type, seq, E_BAD_RANGE, PSTR("mode 0..2, at most 2000 mA charging, 500 mA discharging"));
             return;
         }
         if (p[0] && ma) {
             why = protect_arm(4, 0, &trip, 0);  /* as a LiPo pack of the balance port's cells */
             if (why) {
-                app_error(type, seq, HAL_E_PROTECTION, why);
+                app_error(type, seq, E_PROTECTION, why);
                 return;
             }
             stage_set(p[0] == 1 ? STAGE_CHARGE : STAGE_DISCHARGE, ma, p[0] == 1 ? protect_limits.pack_max_mv : 0);
             cal_output_end_ms = hal_millis() + CAL_OUTPUT_MS;
         }
-        app_tx_begin(T_CAL_OUTPUT | 0x80, seq, 3);
+        app_tx_begin(T_CAL_OUTPUT | RESPONSE, seq, 3);
         app_tx(p[0]);
         app_tx16(ma);
         app_tx_end();

@@ -4,7 +4,7 @@
 #include "../../core/pgm.h"
 #include "../../core/store.h"
 #include "../../core/text.h"
-#include "../avr_uart.h"
+#include "../common/avr_uart.h"
 #include "lcd.h"
 #include "panel.h"
 #include "pins.h"

@@ -1,5 +1,5 @@
 /* A board with no hardware behind the HAL: the firmware core alone, linked for the ATmega32 to
- * measure what the core takes (`make core-size`); every driver a real board adds comes on top. */
+ * measure what the core takes (`make size`); every driver a real board adds comes on top. */
 #include "../../core/app.h"
 #include "../../core/pgm.h"
 

@@ -1,8 +1,8 @@
 /* The host board: the HAL backed by variables a test harness sets (through ctypes), so the core
  * runs on a PC against the same battery model as the Python interpreter. Built as libzuml_host.so. */
 #include <string.h>
-#include "../../core/zuml.h"
-#include "../../core/text.h"
+#include "../core/zuml.h"
+#include "../core/text.h"
 #include "host.h"
 
 #define HOST_EEPROM 1024
@@ -110,7 +110,7 @@ void zh_set_ceiling(uint8_t cell, int32_t ceiling_uv)
     hw.ceiling_uv = ceiling_uv;
 }
 
-/* The run's state, read by the engine (boards/host/engine.c) that drives this board from C. */
+/* The run's state, read by the engine (host/engine.c) that drives this board from C. */
 const zc_run_t *zh_run(void) { return &run; }
 
 void zh_stop(void) { zc_stop(&run); }

@@ -4,7 +4,7 @@
 #define ZH_HOST_H
 
 #include <stdint.h>
-#include "../../core/zuml.h"
+#include "../core/zuml.h"
 
 uint8_t zh_start(const uint8_t *rec, uint16_t len, const zc_start_t *s, const zc_board_t *b);
 uint8_t zh_control(int32_t heatsink_uc, int32_t pack_uv, int32_t battery_uc, hal_output_t *out);

@@ -1,5 +1,5 @@
 /* The battery both PC-side harnesses put on the firmware's output (the host pty device,
- * boards/host/pty_main.c, and the ATmega32 on simavr, simavr/avr_sim.c): a linear OCV, a
+ * harness/pty_main.c, and the ATmega32 on simavr, harness/avr_sim.c): a linear OCV, a
  * series resistance, coulomb counting and a heat sink that warms with |I|. A plain load for
  * protocol and end-to-end tests; the differential test drives the core with the simulator's
  * own battery model instead (zuml_studio/sim/battery.py). Header-only: each harness is one

@@ -1,5 +1,5 @@
 /* The battery models of zuml_studio/sim/battery.py (Pack) and sim/cell_pack.py (CellPack) in C, for the
- * simulation engine (boards/host/engine.c). Host only: never linked into an AVR image.
+ * simulation engine (host/engine.c). Host only: never linked into an AVR image.
  *
  * Every function does the Python's double-precision operations in the Python's order (build with
  * -ffp-contract=off, no fast-math), so a run is bit for bit the reference's; the names are the Python's,

@@ -15,7 +15,7 @@
 #include "avr_adc.h"
 #include "avr_eeprom.h"
 #include "parts/uart_pty.h"
-#include "../sim_battery.h"
+#include "sim_battery.h"
 #include "sim_eeprom.h"
 #include "sim_timer0.h"
 

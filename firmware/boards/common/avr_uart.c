@@ -1,6 +1,6 @@
 #include <avr/interrupt.h>
 #include <avr/io.h>
-#include "../hal.h"
+#include "../../core/hal.h"
 #include "avr_uart.h"
 
 /* A frame's bytes arrive every 87-174 us while the core may be busy for a millisecond or two. */

@@ -1,14 +1,14 @@
 /* The simulation engine: the core on the host board (host.c) driven tick by tick from C on the battery and
- * charger models of firmware/model/, the loop of zuml_studio/sim/interpreter.py's _ticks (which stays the
+ * charger models of firmware/host/model/, the loop of zuml_studio/sim/interpreter.py's _ticks (which stays the
  * reference; tests/sim/test_engine.py holds the two together). Built as libzuml_engine.so and run through
  * ctypes by zuml_studio/sim/engine.py, which builds the models from Python's and reads the buffers back. */
 #ifndef ZE_ENGINE_H
 #define ZE_ENGINE_H
 
 #include <stdint.h>
-#include "../../core/zuml.h"
-#include "../../model/pack.h"
-#include "../../model/charger.h"
+#include "../core/zuml.h"
+#include "model/pack.h"
+#include "model/charger.h"
 
 #define ZE_TEXT 80
 #define ZE_LIMIT 100               /* an event kind of the engine's own: the simulation's limit cut the phase */

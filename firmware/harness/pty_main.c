@@ -15,9 +15,9 @@
 #include <termios.h>
 #include <time.h>
 #include <unistd.h>
-#include "../../core/app.h"
-#include "../../core/pgm.h"
-#include "../../sim_battery.h"
+#include "../core/app.h"
+#include "../core/pgm.h"
+#include "sim_battery.h"
 
 #define EEPROM_SIZE 1024
 

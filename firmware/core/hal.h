@@ -46,17 +46,14 @@ void hal_measure_latch(void);
 
 /* The board's say at START, after the core accepted the macro (its record, chemistry, cells,
  * capacity as resolved): NULL to start, else why not (text in flash, a line for a display) and the
- * error code *code (HAL_E_UNCALIBRATED, HAL_E_PROTECTION); the board may write the whole sentence, with
+ * error code *code (protocol.h's E_UNCALIBRATED, E_PROTECTION); the board may write the whole sentence, with
  * its volts, to `sentence` (HAL_SENTENCE_MAX bytes with the NUL; "" as given otherwise): the PC gets it.
  * The board arms its run's protections here. */
-#define HAL_E_BUSY 15
-#define HAL_E_UNCALIBRATED 16
-#define HAL_E_PROTECTION 17
 #define HAL_SENTENCE_MAX 100
 const char *hal_run_start(const uint8_t *rec, uint8_t akk_type, int16_t series, int32_t capacity_mah,
                           uint8_t *code, char *sentence);
 /* A board's own request, types 0x30..0x3F (docs/protocol.md): answers it through app_tx_* or
- * app_error (UNKNOWN_TYPE for one it lacks); `running`: a macro runs. */
+ * app_error (E_UNKNOWN_TYPE for one it lacks); `running`: a macro runs. */
 void hal_request(uint8_t type, uint8_t seq, const uint8_t *payload, uint8_t len, uint8_t running);
 
 /* Time. */

@@ -1,5 +1,5 @@
 /* The simulation engine (engine.h): one tick is interpreter.py's _ticks body, with the core deciding what
- * the macro does (zc_control, zc_measure through host.c) and the models of firmware/model/ doing what the
+ * the macro does (zc_control, zc_measure through host.c) and the models of firmware/host/model/ doing what the
  * Python's Pack, CellPack and Charger do, in the same order. What PhaseResult holds that the core does not
  * report (the charge counts in A*s, the clip, the balancer's time per cell, the state at the end) is tracked
  * here, as the reference tracks it. */
