@@ -9,6 +9,7 @@ import select
 import subprocess
 import termios
 import threading
+import time
 import tty
 from dataclasses import dataclass
 from pathlib import Path
@@ -21,6 +22,10 @@ from zuml_studio.device.frames import FrameParser, encode_frame
 
 B6_SIM = FIRMWARE / "build" / "simavr" / "zuml_b6_sim"
 LINE_WAIT_S = 120.0        # a bound on a wait for a line, far above any run here: a hang fails, it does not wait
+# The bound is on the simulator's own CPU time: a loaded machine stretches the wall time a run takes (60 s
+# simulated took over 120 s of wall time under `stress-ng --cpu 2`), not the work it does. The wall time's
+# backstop only catches a simulator that stopped being scheduled at all.
+WALL_BACKSTOP_S = 15 * LINE_WAIT_S
 
 
 def build(*targets: str) -> None:
@@ -85,13 +90,35 @@ class B6:
             self.lines.append("<exit>")
             self.changed.notify_all()
 
+    def _cpu_s(self) -> float:
+        """The simulator's CPU seconds so far (0 once it has exited or where /proc is missing)."""
+        try:
+            with open(f"/proc/{self.proc.pid}/stat") as f:
+                fields = f.read().rpartition(")")[2].split()
+        except OSError:
+            return 0.0
+        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+    def _patience(self):
+        """A test for "waited too long": LINE_WAIT_S of the simulator's CPU time, or the wall time's backstop."""
+        wall, cpu = time.monotonic(), self._cpu_s()
+        return lambda: (self._cpu_s() - cpu > LINE_WAIT_S or time.monotonic() - wall > WALL_BACKSTOP_S)
+
+    def _readable(self, what: str) -> None:
+        """Wait until the pty has bytes to read, as patiently as `_patience` says."""
+        expired = self._patience()
+        while not select.select([self.fd], [], [], 1.0)[0]:
+            assert not expired(), f"{what} after {LINE_WAIT_S} s of the simulator's CPU time"
+
     def wait_line(self, predicate, start: int = 0) -> tuple[int, str]:
         """The first stderr line from index `start` on that satisfies `predicate` (a prefix or a function)."""
         test = (lambda line: line.startswith(predicate)) if isinstance(predicate, str) else predicate
+        expired = self._patience()
         with self.changed:
-            found = self.changed.wait_for(
-                lambda: any(test(line) or line == "<exit>" for line in self.lines[start:]), timeout=LINE_WAIT_S)
-            assert found, f"no line for {predicate!r} in {LINE_WAIT_S} s: {self.lines[-10:]}"
+            while not self.changed.wait_for(
+                    lambda: any(test(line) or line == "<exit>" for line in self.lines[start:]), timeout=1.0):
+                assert not expired(), (f"no line for {predicate!r} in {LINE_WAIT_S} s of the simulator's CPU time: "
+                                       f"{self.lines[-10:]}")
             for k in range(start, len(self.lines)):
                 if test(self.lines[k]):
                     return k, self.lines[k]
@@ -110,7 +137,7 @@ class B6:
         os.write(self.fd, request.encode())
         answer = b""
         while not answer.endswith(b"\n"):
-            assert select.select([self.fd], [], [], LINE_WAIT_S)[0], f"no answer to {request!r}: {answer!r}"
+            self._readable(f"no answer to {request!r}: {answer!r}")
             answer += os.read(self.fd, 64)
         return answer.decode().strip()
 
@@ -121,7 +148,7 @@ class B6:
             tty.setraw(self.fd, termios.TCSANOW)        # not TCSAFLUSH: an answer already waiting is kept
         parser, got = FrameParser(), {}
         while len(got) < count:
-            assert select.select([self.fd], [], [], LINE_WAIT_S)[0], f"no answer after {sorted(got)}"
+            self._readable(f"no answer after {sorted(got)}")
             for frame in parser.feed(os.read(self.fd, 256)):
                 if frame.type == m.ERROR:
                     got[frame.seq] = {"error": m.decode_error(frame.payload)}
