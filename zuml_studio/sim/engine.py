@@ -19,6 +19,7 @@ from typing import Callable, Mapping
 import numpy as np
 
 from ..device import messages
+from ..lang import opcodes as ops
 from .battery import Pack
 from .cell_pack import CellPack
 from .interpreter import FULL_SOC, Event, Interpreter, PhaseResult
@@ -35,7 +36,7 @@ _NONE = -1
  _EV_FINISH) = range(1, 9)
 _EV_LIMIT = 100
 _R_CONDITION, _R_STOP_MACRO = 1, 6
-_IF_TF_GT = 88                     # its byte code: a timer, like the macro's IF(tm>x) STOP_MACRO
+_IF_TF_GT = ops.IF_TF_GT.code       # its byte code: a timer, like the macro's IF(tm>x) STOP_MACRO
 _SECTIONS = ("discharge", "charge")
 _EVENTS_CAP = 1024                 # engine.c returns early while fewer than 300 are free
 _PHASE_ENDS = 256                  # a phase end's cells per ze_run (it returns early as they fill)

@@ -43,7 +43,10 @@ DTDT_HOLDOFF_S = 120.0
 DEFAULT_LIMIT_S = 1000 * 3600.0
 
 _CC, _CV, _PULSE, _TRICKLE = range(4)
-_TIMERS = (87, 88)          # tm, tf: a charge they end is checked against the pack's state (timer before full)
+# The conditions' codes as plain ints, from the one opcode table: the hot loop compares them every tick.
+_T_GT, _V_LT, _V_GT, _I_LT, _TF_GT, _DPEAK_GT = (op.code for op in (ops.IF_T_GT, ops.IF_V_LT, ops.IF_V_GT,
+                                                                   ops.IF_I_LT, ops.IF_TF_GT, ops.IF_DPEAK_GT))
+_TIMERS = (ops.IF_TM_GT.code, _TF_GT)  # tm, tf: a charge they end is checked against the pack's state (timer before full)
 # A pack the model holds at this state of charge or more is full: a timer ending a charge there did
 # not cut it short, and the dT/dt default ending it there is the normal end of a fast nickel charge.
 FULL_SOC = 0.95
@@ -234,9 +237,10 @@ class Interpreter:
         self.series = self.program.intro.series(p.series)
         self.akk_type = decl.get(ops.AKK_TYPE.code, 0)
         cond = self.program.intro.conditions
-        self.tc_pause = cond[85].raws[0] if 85 in cond else DEFAULT_TC_PAUSE
-        self.tc_continue = cond[86].raws[0] if 86 in cond else DEFAULT_TC_CONTINUE
-        self.tm_stop = (cond[87].raws[0] / 10.0, _reason(cond[87])) if 87 in cond else None
+        tc_gt, tc_lt, tm_gt = ops.IF_TC_GT.code, ops.IF_TC_LT.code, ops.IF_TM_GT.code
+        self.tc_pause = cond[tc_gt].raws[0] if tc_gt in cond else DEFAULT_TC_PAUSE
+        self.tc_continue = cond[tc_lt].raws[0] if tc_lt in cond else DEFAULT_TC_CONTINUE
+        self.tm_stop = (cond[tm_gt].raws[0] / 10.0, _reason(cond[tm_gt])) if tm_gt in cond else None
         if p.repetitions < 1:
             raise StartError(_("training needs at least 1 repetition"))
         # As the charger asks for every INPUT value at start: a missing one is an error now, not mid-run.
@@ -291,7 +295,7 @@ class Interpreter:
                 self._section, self._repetition = step.section, step.repetition
                 self._event("section", section=step.section, repetition=step.repetition)
             elif isinstance(step, CommandStep):
-                kind = "music" if step.op.code == 100 else "light"
+                kind = "music" if step.op is ops.MUSIC else "light"
                 self._event(kind, offset=step.offset,
                             detail=canonical_text(step.op, format_args(step.op, step.raws)))
             elif isinstance(step, (PhaseCode, DefaultDischarge)):
@@ -314,7 +318,7 @@ class Interpreter:
         if isinstance(code, DefaultDischarge):
             end_v = self._chemistry_end_v()
             active = _Active(result, _CC, False, i_set=-DEFAULT_DISCHARGE_A, default_end_v=end_v * (self.series or 1))
-            active.conditions.append((82, active.default_end_v, f"default: empty discharge section, V<{end_v:.2f}V/cell"))
+            active.conditions.append((_V_LT, active.default_end_v, f"default: empty discharge section, V<{end_v:.2f}V/cell"))
         else:
             active = self._compile(code, result, charging)
         if self._per_cell:
@@ -334,40 +338,40 @@ class Interpreter:
             return self.pack.chem.discharge_end_v
 
     def _compile(self, code: PhaseCode, result: PhaseResult, charging: bool) -> _Active:
-        by_code = {a.op.code: a for a in code.actions}
+        by_op = {a.op: a for a in code.actions}
         sign = 1.0 if charging else -1.0
         limits = self.charger.limits
-        if 62 in by_code:
-            tch, ich, tdis, idis, tv = by_code[62].raws
+        if ops.CHARGE_EX in by_op:
+            tch, ich, tdis, idis, tv = by_op[ops.CHARGE_EX].raws
             active = _Active(result, _PULSE, True, pulse=(float(tch), self.current(ich), float(tdis),
                                                           self.current(idis), tv))
-        elif 63 in by_code:
-            i, v1, v2 = by_code[63].raws
+        elif ops.TRICKLE in by_op:
+            i, v1, v2 = by_op[ops.TRICKLE].raws
             active = _Active(result, _TRICKLE, True, trickle=(self.current(i), self.voltage(v1), self.voltage(v2)))
-        elif 60 in by_code and 61 in by_code:
+        elif ops.CONSTANT_I in by_op and ops.CONSTANT_V in by_op:
             # CC-CV: the voltage is held with the current limited to CONSTANT_I, in either direction.
-            i = self.current(by_code[60].raws[0])
-            active = _Active(result, _CV, charging, v_set=self.voltage(by_code[61].raws[0]), i_max=i)
-        elif 61 in by_code:
+            i = self.current(by_op[ops.CONSTANT_I].raws[0])
+            active = _Active(result, _CV, charging, v_set=self.voltage(by_op[ops.CONSTANT_V].raws[0]), i_max=i)
+        elif ops.CONSTANT_V in by_op:
             fallback = limits.max_charge_a if charging else limits.max_discharge_a
             i_max = self.params.current_a if self.params.current_a else fallback
-            active = _Active(result, _CV, charging, v_set=self.voltage(by_code[61].raws[0]), i_max=i_max)
+            active = _Active(result, _CV, charging, v_set=self.voltage(by_op[ops.CONSTANT_V].raws[0]), i_max=i_max)
         else:
-            active = _Active(result, _CC, charging, i_set=sign * self.current(by_code[60].raws[0]))
+            active = _Active(result, _CC, charging, i_set=sign * self.current(by_op[ops.CONSTANT_I].raws[0]))
         for ins in code.conditions:
             c = ins.op.code
             raw = ins.raws[0]
             reason = _reason(ins)
-            if c == 81:
+            if c == _T_GT:
                 active.own_t = True
                 threshold = float(raw)
-            elif c in (82, 83, 89):
+            elif c in (_V_LT, _V_GT, _DPEAK_GT):
                 threshold = self.voltage(raw)
-            elif c == 84:
+            elif c == _I_LT:
                 threshold = self.current(raw)
-            else:   # 88: tf, tenths of a second
+            else:   # IF(tf>x): tenths of a second
                 threshold = raw / 10.0
-            if c == 89:
+            if c == _DPEAK_GT:
                 active.detector = DeltaPeakDetector(limits.dpeak_window_s, limits.dpeak_holdoff_s)
                 active.dpeak = (threshold, reason)
             else:
@@ -483,10 +487,10 @@ class Interpreter:
             # -- end conditions: the macro's own first, then the defaults ------------------
             reason = None
             for c, x, text in conds:
-                if (c == 83 and v > x) or (c == 82 and v < x) or (c == 88 and a.t_phase > x) or \
-                        (c == 84 and round(abs(i), 6) < x and not self.paused) or (c == 81 and sensor and temp > x):
+                if (c == _V_GT and v > x) or (c == _V_LT and v < x) or (c == _TF_GT and a.t_phase > x) or \
+                        (c == _I_LT and round(abs(i), 6) < x and not self.paused) or (c == _T_GT and sensor and temp > x):
                     reason = text
-                    a.by_timer = c == 88
+                    a.by_timer = c == _TF_GT
                     break
             if reason is None and detector is not None and not self.paused:
                 if detector.update(a.t_phase, v) > dpeak[0]:

@@ -29,20 +29,20 @@ def start_warnings(record: bytes, params: StartParams, charger: ChargerLimits | 
     for step in program.steps(params.task):
         if not isinstance(step, PhaseCode):
             continue
-        by_code = {a.op.code: a for a in step.actions}
+        by_op = {a.op: a for a in step.actions}
         where = (_("charge phase {index}") if step.section == "charge"
                  else _("discharge phase {index}")).format(index=step.index)
-        if 62 in by_code:
-            raw = by_code[62].raws[1]
-        elif 60 in by_code:
-            raw = by_code[60].raws[0]
+        if ops.CHARGE_EX in by_op:
+            raw = by_op[ops.CHARGE_EX].raws[1]
+        elif ops.CONSTANT_I in by_op:
+            raw = by_op[ops.CONSTANT_I].raws[0]
         else:
             continue
         amps = absolute_value(raw, params.current_a, capacity_ah)
         if amps is None:
             continue
-        charging = step.section == "charge" or 62 in by_code
-        has_dpeak = any(c.op.code == 89 for c in step.conditions)
+        charging = step.section == "charge" or ops.CHARGE_EX in by_op
+        has_dpeak = any(c.op is ops.IF_DPEAK_GT for c in step.conditions)
         if charging and has_dpeak and min_rate and capacity_ah and amps / capacity_ah < min_rate - 1e-9:
             out.append(_("{where}: {amps:.2f} A is {rate:.2f}C of {capacity:g} mAh; {chemistry} shows no reliable -dV "
                          "below {min_rate:g}C ({min_amps:.2f} A): a timer or a default will end this charge").format(
