@@ -28,6 +28,7 @@ import struct
 from dataclasses import dataclass, replace
 from typing import Callable
 
+from ..domain.units import MAH_PER_AH
 from ..lang import opcodes as ops
 from ..lang.formatter import format_args
 from ..lang.opcodes import canonical_text
@@ -377,7 +378,7 @@ def default_passport(chemistry: str, capacity_mah: float, series: int, serial: s
         v_limit = min(255, math.ceil(chem.max_v * series - 1e-9))
     except KeyError:
         v_limit = 0
-    a_limit = min(255, max(1, math.ceil(2 * capacity_mah / 1000.0 - 1e-9)))
+    a_limit = min(255, max(1, math.ceil(2 * capacity_mah / MAH_PER_AH - 1e-9)))
     return Passport(serial, "ZUML", code, 0, 0, v_limit, a_limit, 25)
 
 

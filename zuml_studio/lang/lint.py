@@ -13,6 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Callable, Iterator
 
+from ..domain.units import MAH_PER_AH
 from . import opcodes as ops
 from .ast import Cycle, Macro, Phase, Statement
 from .checker import Finding
@@ -68,7 +69,7 @@ class Context:
 
     def c_rate(self, raw: int) -> float | None:
         """A stored current as a multiple of the capacity, when it can be known before start."""
-        return relative_value(raw, self.capacity_mah / 1000 if self.capacity_mah else None)
+        return relative_value(raw, self.capacity_mah / MAH_PER_AH if self.capacity_mah else None)
 
     def charge_rate(self, raw: int) -> float | None:
         """``c_rate``, and for a current entered at start the value entered, when both are known."""
@@ -245,7 +246,7 @@ def _dpeak_rate(ctx: Context, st: Statement, raw: int, min_rate: float) -> Itera
         return
     if raw == INPUT_U16:
         if ctx.capacity_mah:
-            amps = min_rate * ctx.capacity_mah / 1000
+            amps = min_rate * ctx.capacity_mah / MAH_PER_AH
             message = _("The current is entered at start: below {amps:.2f} A ({min_rate:g}C of the declared "
                         "{capacity_mah} mAh) a {name} cell shows no reliable -dV").format(
                 amps=amps, min_rate=min_rate, capacity_mah=ctx.capacity_mah, name=name)
@@ -519,7 +520,7 @@ def _amps(ctx: Context, raw: int) -> float | None:
     if raw == INPUT_U16:
         return None
     if raw & RELATIVE_FLAG:
-        return ctx.c_rate(raw) * ctx.capacity_mah / 1000 if ctx.capacity_mah else None
+        return ctx.c_rate(raw) * ctx.capacity_mah / MAH_PER_AH if ctx.capacity_mah else None
     return raw / 100
 
 

@@ -6,6 +6,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ..domain.units import AS_PER_MAH
 from .charger_model import ChargerLimits, load_charger
 from .curve import Curve, require_charge, require_discharge
 from .fit import (NI, Run, cc_current, charging, cv_mask, figures, has_cc_phase, measured, peak, soc_at_ocv,
@@ -137,7 +138,7 @@ def _compare_discharge(curve: Curve, record: bytes, chemistry: str | None, serie
     sim, said = _simulate(record, params, BatterySetup(chem_name, soc, ambient, log_charger(curve, charger), battery),
                           measured_r)
     part, run, m_temp = _resampled(curve, sim)
-    delivered = sim.interpreter.q_out / 3.6
+    delivered = sim.interpreter.q_out / AS_PER_MAH
     report = discharge_figures(part, run, series, delivered)
     report["capacity"]["real_mah"] = round(float(curve.delivered_mah[-1]), 1)     # each over its whole run
     if report["temp_rise"] is not None:
@@ -186,6 +187,6 @@ def compare(curve: Curve, record: bytes, chemistry: str | None, series: int, cap
                                "real_window_s": [round(float(curve.t[0]), 1), round(float(curve.t[-1]), 1)],
                                "model_window_s": [0.0, round(float(m_t[-1]), 1)]}
     report["ends"] = {"real": real_end(curve, sim.chemistry, series),
-                      "model": _model_end(sim, sim.interpreter.q_in / 3.6)}
+                      "model": _model_end(sim, sim.interpreter.q_in / AS_PER_MAH)}
     report["resistance"] = said
     return Comparison(sim, part.t, run, part_cv, report)

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..domain.units import AS_PER_MAH
 from ..file_errors import read_file_bytes
 from .battery import AMBIENT_MAX_C, AMBIENT_MIN_C
 from ..logs import Log, LogFormatError, read_log
@@ -79,14 +80,14 @@ class Curve:
         """Charge put in since the start, mAh (trapezoid on the log's own current)."""
         dt = np.diff(self.t, prepend=self.t[0])
         i_mid = np.concatenate(([self.i[0]], (self.i[1:] + self.i[:-1]) / 2))
-        return np.cumsum(np.clip(i_mid, 0.0, None) * dt) / 3.6
+        return np.cumsum(np.clip(i_mid, 0.0, None) * dt) / AS_PER_MAH
 
     @property
     def delivered_mah(self) -> np.ndarray:
         """Charge taken out since the start, mAh (a discharge's capacity figure)."""
         dt = np.diff(self.t, prepend=self.t[0])
         i_mid = np.concatenate(([self.i[0]], (self.i[1:] + self.i[:-1]) / 2))
-        return np.cumsum(np.clip(-i_mid, 0.0, None) * dt) / 3.6
+        return np.cumsum(np.clip(-i_mid, 0.0, None) * dt) / AS_PER_MAH
 
     @property
     def direction(self) -> str:

@@ -9,6 +9,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..domain.units import AS_PER_MAH
 from .compare import log_charger, real_end
 from .fit import LI, NI, FitResult, cc_current, cv_mask
 from .fit_discharge import discharge_current, end_voltage, hold_mask
@@ -91,7 +92,7 @@ def predict_own(result: FitResult, sensor: bool | None = None) -> dict | None:
     it = sim.interpreter
     discharge = curve.direction == "discharge"
     real_mah = float(curve.delivered_mah[-1] if discharge else curve.mah[-1])
-    model_mah = (it.q_out if discharge else it.q_in) / 3.6
+    model_mah = (it.q_out if discharge else it.q_in) / AS_PER_MAH
     real_s, model_s = float(curve.t[-1] - curve.t[0]), float(it.time_s)
     charge_off = (model_mah / real_mah - 1.0) * 100.0 if real_mah else 0.0
     time_off = (model_s / real_s - 1.0) * 100.0 if real_s else 0.0

@@ -11,6 +11,7 @@ import random
 from dataclasses import dataclass, field, replace
 from typing import Iterator, Mapping
 
+from ..domain.units import AS_PER_MAH, SECONDS_PER_HOUR
 from ..lang import opcodes as ops
 from ..lang.formatter import format_args
 from ..lang.opcodes import canonical_text
@@ -40,7 +41,7 @@ DTDT_HOLDOFF_S = 120.0
 # charger sets no limit of its own (cheali's time limit defaults to unlimited; tm and tf are
 # u32 tenths of a second, 119 304 h), so the bound is the simulator's: 1000 h holds a 10-cycle
 # training of a 10 Ah pack at 0.1C (~200 h) five times over, at 30 bytes a tick (~108 MB at 1 s).
-DEFAULT_LIMIT_S = 1000 * 3600.0
+DEFAULT_LIMIT_S = 1000 * SECONDS_PER_HOUR
 
 _CC, _CV, _PULSE, _TRICKLE = range(4)
 # The conditions' codes as plain ints, from the one opcode table: the hot loop compares them every tick.
@@ -393,7 +394,8 @@ class Interpreter:
         dpeak = a.dpeak
         # Rounded to µA·s (and the count to nA·s below): 1.5 × 0.3 Ah is 1619.9999999999998 A·s in
         # floats, and 36 × 0.3 A·s sums to a hair over 10.8; the charger's integer count is exact.
-        cap_limit = round(DEFAULT_CAPACITY_FACTOR * self.capacity_ah * 3600.0, 6) if self.capacity_ah else None
+        cap_limit = (round(DEFAULT_CAPACITY_FACTOR * self.capacity_ah * SECONDS_PER_HOUR, 6) if self.capacity_ah
+                     else None)
         check_defaults = a.result.section == "charge"
         t_max_default = not a.own_t
         tm_stop = self.tm_stop
@@ -477,7 +479,8 @@ class Interpreter:
                 v = self._pulse_measurement(a, v)
             a.measured_v = v
             temp = pack.temp_c
-            log.append(self.time_s, section_code, run_no, v, i, temp, hs, self.q_in / 3.6, self.q_out / 3.6)
+            log.append(self.time_s, section_code, run_no, v, i, temp, hs, self.q_in / AS_PER_MAH,
+                       self.q_out / AS_PER_MAH)
             if per_cell:
                 log.append_cells(pack.cell_voltages, mask)
                 if mask:
@@ -549,8 +552,8 @@ class Interpreter:
         r = a.result
         r.end_s = self.time_s
         r.reason = reason
-        r.mah_in = a.q_in / 3.6
-        r.mah_out = a.q_out / 3.6
+        r.mah_in = a.q_in / AS_PER_MAH
+        r.mah_out = a.q_out / AS_PER_MAH
         r.v_end = a.measured_v
         r.temp_end = self.pack.temp_c
         r.soc_end = self.pack.soc

@@ -4,6 +4,7 @@ limits cut a current that is too large). The simulator panel, ``zuml simulate`` 
 panel show them; none stops a start."""
 from __future__ import annotations
 
+from ..domain.units import MAH_PER_AH
 from ..lang import opcodes as ops
 from ..lang.lint import DPEAK_MIN_RATE
 from ..lang.operands import DISPLAY_NAMES, absolute_value
@@ -46,7 +47,7 @@ def start_warnings(record: bytes, params: StartParams, charger: ChargerLimits | 
         if charging and has_dpeak and min_rate and capacity_ah and amps / capacity_ah < min_rate - 1e-9:
             out.append(_("{where}: {amps:.2f} A is {rate:.2f}C of {capacity:g} mAh; {chemistry} shows no reliable -dV "
                          "below {min_rate:g}C ({min_amps:.2f} A): a timer or a default will end this charge").format(
-                where=where, amps=amps, rate=amps / capacity_ah, capacity=capacity_ah * 1000,
+                where=where, amps=amps, rate=amps / capacity_ah, capacity=capacity_ah * MAH_PER_AH,
                 chemistry=DISPLAY_NAMES[akk], min_rate=min_rate, min_amps=min_rate * capacity_ah))
         if charger is not None:
             top = charger.max_charge_a if charging else charger.max_discharge_a
