@@ -28,19 +28,20 @@ from dataclasses import dataclass
 from typing import Mapping, NamedTuple, TextIO
 
 import numpy as np
+from ..domain import csv_columns
+from ..domain.csv_columns import BALANCE_MASK, SAMPLE_COLUMNS
 from ..i18n import _
 
-COLUMNS = ("time_s", "section", "phase", "voltage_v", "current_a", "temp_c", "heatsink_c", "mah_in", "mah_out")
+COLUMNS = SAMPLE_COLUMNS
 SECTION_NAMES = ("discharge", "charge")
 MEASURED = COLUMNS[3:]
 CHUNK = 16_384           # ticks per sealed chunk: < 65 536 (uint16 phase offsets)
-BALANCE_MASK = "balance_mask"
 _TYPES = {"d": np.float64, "b": np.int8, "q": np.int64, "f": np.float32, "I": np.uint32}   # of the staging arrays
 
 
 def cell_columns(cells: int) -> tuple[str, ...]:
     """``cell1_v`` … ``cellN_v`` and ``balance_mask`` for a pack of more than one cell, else ()."""
-    return tuple(f"cell{k}_v" for k in range(1, cells + 1)) + (BALANCE_MASK,) if cells > 1 else ()
+    return csv_columns.cell_columns(cells) + (BALANCE_MASK,) if cells > 1 else ()
 
 
 class Sample(NamedTuple):
