@@ -11,6 +11,8 @@ import random
 from dataclasses import dataclass, field, replace
 from typing import Iterator, Mapping
 
+from ..domain import end_reasons
+from ..domain.end_reasons import EndCode, EndReason, read
 from ..domain.units import AS_PER_MAH, SECONDS_PER_HOUR
 from ..lang import opcodes as ops
 from ..lang.formatter import format_args
@@ -120,7 +122,7 @@ class PhaseResult:
     @property
     def by_default(self) -> bool:
         """Ended by one of the charger's default safety conditions (or its balancer), not by the macro's own."""
-        return self.reason.startswith(("default:", "limit:", "balancer:"))
+        return read(self.reason).by_default
 
     @property
     def full_by_dtdt(self) -> bool:
@@ -128,7 +130,8 @@ class PhaseResult:
         sensor the charger always watches it (spec §3), and a nickel pack charged at about 1C warms
         by 1 °C/min as it becomes full, minutes before its -dV (the dT/dt method): the charger's
         normal end of a fast charge, not something the user must act on."""
-        return self.section == "charge" and self.reason.startswith("default: dT/dt") and self.soc_end >= FULL_SOC
+        return (self.section == "charge" and read(self.reason).code is EndCode.DEFAULT_DTDT
+                and self.soc_end >= FULL_SOC)
 
     @property
     def warns(self) -> bool:
@@ -268,7 +271,7 @@ class Interpreter:
                          else _("a voltage per cell (S) needs the cell count: declare SERIES or give it at start"))
 
     # -- running ----------------------------------------------------------------------------
-    def stop(self, reason: str = "stopped") -> None:
+    def stop(self, reason: EndReason = end_reasons.STOPPED) -> None:
         if self._active:
             self._end_phase(self._active, reason)
         self._finish(reason)
@@ -302,7 +305,7 @@ class Interpreter:
             elif isinstance(step, (PhaseCode, DefaultDischarge)):
                 self._active = self._start_phase(step)
                 return True
-        self._finish(self._stop_reason or "end of macro")
+        self._finish(self._stop_reason or end_reasons.END_OF_MACRO)
         return False
 
     def _start_phase(self, code: PhaseCode | DefaultDischarge) -> _Active:
@@ -319,7 +322,8 @@ class Interpreter:
         if isinstance(code, DefaultDischarge):
             end_v = self._chemistry_end_v()
             active = _Active(result, _CC, False, i_set=-DEFAULT_DISCHARGE_A, default_end_v=end_v * (self.series or 1))
-            active.conditions.append((_V_LT, active.default_end_v, f"default: empty discharge section, V<{end_v:.2f}V/cell"))
+            active.conditions.append((_V_LT, active.default_end_v,
+                                      EndReason(EndCode.DEFAULT_EMPTY_DISCHARGE, end_v=end_v)))
         else:
             active = self._compile(code, result, charging)
         if self._per_cell:
@@ -503,14 +507,14 @@ class Interpreter:
             if reason is None:
                 if sensor:
                     if t_max_default and temp > DEFAULT_T_MAX:
-                        reason = f"default: T>{DEFAULT_T_MAX:g}"
+                        reason = EndReason(EndCode.DEFAULT_T, limit_c=DEFAULT_T_MAX)
                     elif check_defaults and a.t_phase >= a.dtdt_next:
                         rate = (temp - a.dtdt_t0) * 60.0 / DTDT_WINDOW_S
                         a.dtdt_t0, a.dtdt_next = temp, a.dtdt_next + DTDT_WINDOW_S
                         if a.t_phase > DTDT_HOLDOFF_S and rate > DEFAULT_DTDT_C_PER_MIN:
-                            reason = f"default: dT/dt>{DEFAULT_DTDT_C_PER_MIN:g}C/min"
+                            reason = EndReason(EndCode.DEFAULT_DTDT, rate=DEFAULT_DTDT_C_PER_MIN)
                 elif check_defaults and cap_limit is not None and round(a.q_in, 9) > cap_limit:
-                    reason = f"default: capacity {DEFAULT_CAPACITY_FACTOR:g}x"
+                    reason = EndReason(EndCode.DEFAULT_CAPACITY, factor=DEFAULT_CAPACITY_FACTOR)
             if reason is None and tm_stop is not None and self.time_s > tm_stop[0]:
                 # STOP_MACRO: the remaining phases and sections are skipped; the conclusion still runs.
                 a.by_timer = True
@@ -519,7 +523,7 @@ class Interpreter:
                 self._steps = self.program.conclusion_steps()
                 return ticks
             if reason is None and self.time_s >= self.limit_s:
-                reason = f"limit: simulation stopped after {self.limit_s / 3600:g}h"
+                reason = EndReason(EndCode.SIM_LIMIT, hours=self.limit_s / SECONDS_PER_HOUR)
                 self._end_phase(a, reason)
                 self._finish(reason)
                 return ticks
@@ -548,7 +552,7 @@ class Interpreter:
             return self.pack.open_circuit_voltage()          # power stage off
         return a.measured_v
 
-    def _end_phase(self, a: _Active, reason: str) -> None:
+    def _end_phase(self, a: _Active, reason: EndReason) -> None:
         r = a.result
         r.end_s = self.time_s
         r.reason = reason
@@ -571,7 +575,7 @@ class Interpreter:
         self._event("phase_end", section=r.section, index=r.index, repetition=r.repetition, offset=r.offset,
                     detail=reason)
 
-    def _finish(self, reason: str) -> None:
+    def _finish(self, reason: EndReason) -> None:
         if not self.finished:
             self.finished = True
             self.end_reason = reason
@@ -599,7 +603,7 @@ def with_template(program: Program, params: StartParams,
     return replace(apply_template(params, template), template=number)
 
 
-def _reason(ins) -> str:
-    """A condition's canonical text, the way phase end reasons are reported."""
-    return canonical_text(ins.op, format_args(ins.op, ins.raws))
+def _reason(ins) -> EndReason:
+    """A condition's end reason: its canonical text."""
+    return end_reasons.condition(canonical_text(ins.op, format_args(ins.op, ins.raws)))
 
