@@ -1,4 +1,4 @@
-"""The battery passport of spec §4 (seed 003): an 8-byte request, a 32-byte answer.
+"""The battery passport of docs/zuml-2.0.md §4 (seed 003): an 8-byte request, a 32-byte answer.
 
 Request: ``A7 | RW_INDEX | PAGE | DATA0..3 | XOR of bytes 0..6`` where RW_INDEX is 0x00
 (whole passport), 0x1X (read page X) or 0x2X (write page X) and PAGE repeats X.

@@ -15,7 +15,7 @@ What lives in the device:
 - a battery (``BatterySpec``: chemistry, capacity, cells) and the charger's power stage,
   both persistent across runs (the battery keeps its charge and heat, and relaxes while idle);
 - the interpreter, advanced in real time × ``speed`` by the device thread in small chunks;
-- the battery's passport chip (spec §4) with a live TEMP byte;
+- the battery's passport chip (docs/zuml-2.0.md §4) with a live TEMP byte;
 - the start templates (START_SHABLON=n), the factory table at first, kept in memory and changed
   with SET_TEMPLATE;
 - telemetry at 1..50 Hz (coalesced: a slow host gets the newest), events (queued, never

@@ -2,7 +2,7 @@
 
 Each rule is a function over the checked AST that reports Findings (warnings,
 or errors where a value is plainly dangerous). Limits come from the chemistry
-data files (spec §5 values, resources/chemistries/*.toml), from the thesis
+data files (docs/zuml-2.0.md §5 values, resources/chemistries/*.toml), from the thesis
 seed 001 (-dV needs a fast enough charge; a timer alone is no end for a fast one;
 trickle at most 0.1C; a 0.1C charge takes 14-16 h; lithium charges within 0-45 °C;
 NiMH is not ended by a voltage cut-off), and, when one is given, from the charger
@@ -22,7 +22,7 @@ from .opcodes import Role
 from .operands import DISPLAY_NAMES, INPUT_U16, RELATIVE_FLAG, TIME, relative_value
 from ..i18n import _
 
-# -dV per cell that a charger can tell from noise, and that a cell really shows (seed 001; spec §5).
+# -dV per cell that a charger can tell from noise, and that a cell really shows (seed 001; docs/zuml-2.0.md §5).
 DPEAK_MIN_V = 0.003
 DPEAK_MAX_V = 0.02
 # Slowest charge whose -dV is reliable (seed 001: NiCd from about 0.5C, NiMH from 0.2-0.3C).

@@ -1,4 +1,4 @@
-"""The one table of ZUML 2.0 commands (spec §1, "Commands and their codes").
+"""The one table of ZUML 2.0 commands (docs/zuml-2.0.md §1, "Commands and their codes").
 
 The parser, checker, encoder, decoder, listing, interpreter, highlighter, linter
 and the generated docs all read this table; nothing else lists opcodes.

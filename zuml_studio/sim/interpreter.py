@@ -1,5 +1,5 @@
 """The charger's interpreter, emulated: runs a record's byte code tick by tick
-against a battery pack and a power stage (spec §3).
+against a battery pack and a power stage (docs/zuml-2.0.md §3).
 
 No wall-clock time and no I/O: ``advance(n)`` runs at most n ticks and returns;
 the simulator calls it until the macro ends, the virtual charger calls it in
@@ -27,7 +27,7 @@ from .samples import SampleLog
 from .start_templates import StartTemplate, apply_template, chosen_template, factory_templates
 from ..i18n import _
 
-# Defaults of spec §3. A macro's IF(Tc>x), IF(Tc<x) and IF(T>x) replace the matching default; dT/dt and
+# Defaults of docs/zuml-2.0.md §3. A macro's IF(Tc>x), IF(Tc<x) and IF(T>x) replace the matching default; dT/dt and
 # the 1.5 x capacity guard cannot be written in ZUML and always apply.
 DEFAULT_TC_PAUSE = 70
 DEFAULT_TC_CONTINUE = 60
@@ -127,7 +127,7 @@ class PhaseResult:
     @property
     def full_by_dtdt(self) -> bool:
         """A charge the dT/dt default ended once the pack was full. ZUML cannot write dT/dt; with a
-        sensor the charger always watches it (spec §3), and a nickel pack charged at about 1C warms
+        sensor the charger always watches it (docs/zuml-2.0.md §3), and a nickel pack charged at about 1C warms
         by 1 °C/min as it becomes full, minutes before its -dV (the dT/dt method): the charger's
         normal end of a fast charge, not something the user must act on."""
         return (self.section == "charge" and read(self.reason).code is EndCode.DEFAULT_DTDT
