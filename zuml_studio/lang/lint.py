@@ -74,7 +74,7 @@ class Context:
     def charge_rate(self, raw: int) -> float | None:
         """``c_rate``, and for a current entered at start the value entered, when both are known."""
         if raw == INPUT_U16:
-            return self.current_a * 1000 / self.capacity_mah if self.current_a and self.capacity_mah else None
+            return self.current_a * MAH_PER_AH / self.capacity_mah if self.current_a and self.capacity_mah else None
         return self.c_rate(raw)
 
 def _context(macro: Macro, charger=None, given_series: int | None = None,
