@@ -462,7 +462,8 @@ def conflicts(passport: Passport, record: bytes, start, *, charger_max_a: float 
                            else _("the charger's limit, no current entered"))
                     add(_("the macro charges at up to {amps:.2f} A ({where}: {statement} limited to {how}); the "
                           "battery allows {limit} A").format(amps=amps, where=where,
-                                                             statement=text(by_op[ops.CONSTANT_V]), how=how, limit=a_lim))
+                                                             statement=text(by_op[ops.CONSTANT_V]), how=how,
+                                                             limit=a_lim))
         if v_lim:
             checks = []
             if ops.CONSTANT_V in by_op:

@@ -49,7 +49,8 @@ _CC, _CV, _PULSE, _TRICKLE = range(4)
 # The conditions' codes as plain ints, from the one opcode table: the hot loop compares them every tick.
 _T_GT, _V_LT, _V_GT, _I_LT, _TF_GT, _DPEAK_GT = (op.code for op in (ops.IF_T_GT, ops.IF_V_LT, ops.IF_V_GT,
                                                                    ops.IF_I_LT, ops.IF_TF_GT, ops.IF_DPEAK_GT))
-_TIMERS = (ops.IF_TM_GT.code, _TF_GT)  # tm, tf: a charge they end is checked against the pack's state (timer before full)
+# tm, tf: a charge they end is checked against the pack's state (timer before full)
+_TIMERS = (ops.IF_TM_GT.code, _TF_GT)
 # A pack the model holds at this state of charge or more is full: a timer ending a charge there did
 # not cut it short, and the dT/dt default ending it there is the normal end of a fast nickel charge.
 FULL_SOC = 0.95
@@ -495,7 +496,8 @@ class Interpreter:
             reason = None
             for c, x, text in conds:
                 if (c == _V_GT and v > x) or (c == _V_LT and v < x) or (c == _TF_GT and a.t_phase > x) or \
-                        (c == _I_LT and round(abs(i), 6) < x and not self.paused) or (c == _T_GT and sensor and temp > x):
+                        (c == _I_LT and round(abs(i), 6) < x and not self.paused) or \
+                        (c == _T_GT and sensor and temp > x):
                     reason = text
                     a.by_timer = c == _TF_GT
                     break
