@@ -23,7 +23,7 @@ class EndCode(Enum):
     STOPPED = "stopped"                # by the user
     CANCELLED = "cancelled"            # a simulation the user cancelled
     DEVICE_ERROR = "device error"      # the virtual charger's injected fault
-    NEW_MACRO = "stopped: a new macro was started"
+    NEW_MACRO = "stopped: a new macro was started"   # made no more (a START while running is BUSY); still read
     DEFAULT_T = "default: T>{limit_c:g}"                        # the charger's own limits (docs/zuml-2.0.md §3)
     DEFAULT_DTDT = "default: dT/dt>{rate:g}C/min"
     DEFAULT_CAPACITY = "default: capacity {factor:g}x"
