@@ -24,6 +24,7 @@ import numpy as np
 
 from cv_tail_cells import section as cells_tail_section   # beside this script (tools/)
 from cv_tail_realdata import section as cv_tail_section
+from zuml_studio.domain.units import MAH_PER_AH
 from zuml_studio.logs.rest_steps import rest_steps
 from zuml_studio.sim.chemistry import load_chemistry
 from zuml_studio.sim.curve import Curve, read_curve
@@ -440,7 +441,7 @@ def _ultramat_resistance(samples: Path, answers: dict, default) -> str:
 def _model_step(result, after_s: float = 1.0) -> float:
     """The model's fall per cell and ampere `after_s` after the current stops: R0 and that much of R1."""
     b = result.battery
-    scale = b.chem.ref_capacity_ah * 1000.0 / b.capacity_mah
+    scale = b.chem.ref_capacity_ah * MAH_PER_AH / b.capacity_mah
     return scale * (b.chem.r0_ohm + b.chem.r1_ohm * (1.0 - np.exp(-after_s / b.chem.tau1_s)))
 
 

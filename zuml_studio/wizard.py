@@ -1,5 +1,5 @@
 """New macros from a few answers (chemistry, cells, capacity, rate, sensor): the logic behind
-``zuml new`` and the GUI's wizard. Limits come from the chemistry data (spec §5), the choices
+``zuml new`` and the GUI's wizard. Limits come from the chemistry data (docs/zuml-2.0.md §5), the choices
 around them from the package's data/templates.toml. The result is text; it is checked like any macro."""
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
 /* The interpreter: the walk through the sections (tasks, CYCLE, commands), a phase's action each
- * tick, its conditions and the charger's defaults (spec section 3, docs/simulator.md).
+ * tick, its conditions and the charger's defaults (docs/zuml-2.0.md section 3, docs/simulator.md).
  * zuml_studio/sim/interpreter.py is the reference; the differential test in
  * tests/firmware/ runs both on the same battery model and compares every phase. */
 #include <stddef.h>
@@ -74,7 +74,7 @@ int32_t zc_voltage_uv(const zc_run_t *r, uint16_t raw)
 
 int32_t zc_chemistry_end_uv(uint8_t akk_type)
 {
-    /* spec section 5, discharge end per cell: Undef, Pb, NiCd, NiMh, LiPo, LiIon, LiS, LiFe, New */
+    /* docs/zuml-2.0.md section 5, discharge end per cell: Undef, Pb, NiCd, NiMh, LiPo, LiIon, LiS, LiFe, New */
     static const uint16_t end_mv[9] PROGMEM = {0, 1750, 850, 1000, 3000, 2500, 0, 2500, 0};
     uint16_t mv = 0;
     if (akk_type < 9)

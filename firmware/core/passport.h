@@ -1,4 +1,4 @@
-/* The battery passport (spec section 4, seed 003) and the lockout: a macro whose chemistry or
+/* The battery passport (docs/zuml-2.0.md section 4, seed 003) and the lockout: a macro whose chemistry or
  * limits do not match the battery must not start. */
 #ifndef ZUML_PASSPORT_H
 #define ZUML_PASSPORT_H

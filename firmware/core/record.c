@@ -1,4 +1,4 @@
-/* The record as stored (spec section 2): instruction sizes, operand ranges and the structural check
+/* The record as stored (docs/zuml-2.0.md section 2): instruction sizes, operand ranges and the structural check
  * a record passes before it runs. The PC's checker does the rest (lint, units); the firmware only
  * makes sure that the walk through the bytes can never leave the record or meet a phase with no
  * action. */

@@ -1,4 +1,4 @@
-/* Opcodes of ZUML 2.0 (spec section 1; zuml_studio/lang/opcodes.py is the table they mirror). */
+/* Opcodes of ZUML 2.0 (docs/zuml-2.0.md section 1; zuml_studio/lang/opcodes.py is the table they mirror). */
 #ifndef ZUML_RECORD_H
 #define ZUML_RECORD_H
 

@@ -1,4 +1,4 @@
-/* The macro store: the EEPROM holds the PC's image (records back to back, spec section 2), then the
+/* The macro store: the EEPROM holds the PC's image (records back to back, docs/zuml-2.0.md section 2), then the
  * staging copy of a write transaction, then the 16 start templates (each with a check byte); the byte before the last marks
  * the templates as set up, the last is a journal flag, so a COMMIT cut off by a power loss is
  * finished at the next start, never left mixed. */

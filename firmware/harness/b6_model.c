@@ -201,7 +201,7 @@ double b6_model_quantity(const b6_model_t *m, b6_quantity_t q)
     case B6_Q_CELL3: case B6_Q_CELL4: case B6_Q_CELL5: case B6_Q_CELL6:
         return tap_cell(m, 2 + (q - B6_Q_CELL3));
     case B6_Q_TEXTERN:
-        /* an unplugged probe reads 0: the stock firmware reports 0 with no sensor (realdata imaxb6_serial.md) */
+        /* an unplugged probe reads 0: the stock firmware reports 0 with no sensor (docs/formats/imaxb6_serial.md) */
         return m->fault[B6_FAULT_SENSOR_OPEN] ? 0 : m->t_pack_c;
     default:
         return 0;

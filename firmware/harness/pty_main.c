@@ -41,7 +41,7 @@ static void seal(uint8_t *p)
     p[0x1F] = (uint8_t)(check >> 8);
 }
 
-/* spec section 4: MAGIC, version, SERIAL, VENDOR, TYPE, ERR, CRIT, V_LIMIT, A_LIMIT, TEMP, check */
+/* docs/zuml-2.0.md section 4: MAGIC, version, SERIAL, VENDOR, TYPE, ERR, CRIT, V_LIMIT, A_LIMIT, TEMP, check */
 static void make_passport(int type, int v_limit, int a_limit, int crit)
 {
     memset(passport, 0, sizeof passport);

@@ -18,6 +18,7 @@ from ..device.drivers import AUTO, DRIVERS, LISTEN, ZUML
 from ..device.errors import (CommitUncertain, CommitUnverified, DeviceError, DeviceLinkError, ImageTooLarge,
                              NotACharger)
 from ..device.passport import FACTORY_WRITABLE, WRITABLE, Passport, PassportError, fitness_warnings, printable
+from ..domain.csv_columns import MONITOR_COLUMNS
 from ..lang.decoder import decode_record
 from ..lang.eeprom import ImageError, Slot, records, slots, used_bytes
 from ..lang.record import DecodeError
@@ -518,10 +519,6 @@ def event_line(e: msg.DeviceEvent) -> str:
     return f"* {_hms(e.time_s):>9}  {e.kind}{where}{rep}{detail}"
 
 
-CSV_COLUMNS = ("time_s", "running", "paused", "section", "repetition", "cycle", "phase", "run", "voltage_v",
-               "current_a", "temp_c", "heatsink_c", "mah_in", "mah_out", "event")
-
-
 @_device_errors
 def cmd_monitor(args: argparse.Namespace) -> int:
     if args.samples is not None and args.samples < 1:
@@ -531,7 +528,7 @@ def cmd_monitor(args: argparse.Namespace) -> int:
     if args.rate is not None and not 1 <= args.rate <= 50:
         raise CliError(_("--rate must be 1 to 50 Hz"))
     from .csv_sink import CsvSink
-    sink = CsvSink(args.csv, CSV_COLUMNS) if args.csv else None
+    sink = CsvSink(args.csv, MONITOR_COLUMNS) if args.csv else None
     client = None
     try:
         client = _connect(args)

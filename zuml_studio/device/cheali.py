@@ -1,6 +1,6 @@
 """cheali-charger (iMAX B6 clones with the open firmware): ``$1;…`` lines on the UART.
 
-Layout by field count (docs/real-chargers.md; /shared/realdata/cheali.md):
+Layout by field count (docs/real-chargers.md; docs/formats/cheali.md):
 
 * 25 fields (before the checksum): firmware 0.2x–0.33, 6 cells, no percent/ETA, field 1 is
   ``programState`` (0 None … 9 Storage);

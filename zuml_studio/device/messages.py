@@ -113,7 +113,7 @@ MESSAGE_TYPES: tuple[MessageType, ...] = (
     MessageType(0x17, "SET_TEMPLATE", _f(_TEMPLATE), _f(_TEMPLATE),
                 "store start template n (1..16); answers what is stored"),
     MessageType(0x20, "PASSPORT", _f("request:s*"), _f("answer:s*"),
-                "pass an 8-byte passport request (spec §4) to the battery; answers its 32 bytes"),
+                "pass an 8-byte passport request (docs/zuml-2.0.md §4) to the battery; answers its 32 bytes"),
     MessageType(0x30, "CAL_READ", (), _f("source:B block:s*"),
                 "the calibration block (source 1: the EEPROM's, 0: not calibrated, the nominal one)"),
     MessageType(0x31, "CAL_WRITE", _f("block:s*"), _f("source:B block:s*"), "store a calibration block"),

@@ -1,4 +1,4 @@
-"""The battery passport of spec §4 (seed 003): an 8-byte request, a 32-byte answer.
+"""The battery passport of docs/zuml-2.0.md §4 (seed 003): an 8-byte request, a 32-byte answer.
 
 Request: ``A7 | RW_INDEX | PAGE | DATA0..3 | XOR of bytes 0..6`` where RW_INDEX is 0x00
 (whole passport), 0x1X (read page X) or 0x2X (write page X) and PAGE repeats X.
@@ -28,6 +28,7 @@ import struct
 from dataclasses import dataclass, replace
 from typing import Callable
 
+from ..domain.units import MAH_PER_AH
 from ..lang import opcodes as ops
 from ..lang.formatter import format_args
 from ..lang.opcodes import canonical_text
@@ -377,7 +378,7 @@ def default_passport(chemistry: str, capacity_mah: float, series: int, serial: s
         v_limit = min(255, math.ceil(chem.max_v * series - 1e-9))
     except KeyError:
         v_limit = 0
-    a_limit = min(255, max(1, math.ceil(2 * capacity_mah / 1000.0 - 1e-9)))
+    a_limit = min(255, max(1, math.ceil(2 * capacity_mah / MAH_PER_AH - 1e-9)))
     return Passport(serial, "ZUML", code, 0, 0, v_limit, a_limit, 25)
 
 
@@ -435,44 +436,45 @@ def conflicts(passport: Passport, record: bytes, start, *, charger_max_a: float 
     for step in program.steps(start.task, 1):
         if isinstance(step, DefaultDischarge) or not isinstance(step, PhaseCode):
             continue
-        by_code = {a.op.code: a for a in step.actions}
-        charging = step.section == "charge" or 62 in by_code or 63 in by_code
+        by_op = {a.op: a for a in step.actions}
+        charging = step.section == "charge" or ops.CHARGE_EX in by_op or ops.TRICKLE in by_op
         if not charging:
             continue
         where = (_("charge phase {index}") if step.section == "charge"
                  else _("discharge phase {index}")).format(index=step.index)
         if a_lim:
             charge_currents = []
-            if 62 in by_code:
-                charge_currents.append((by_code[62].raws[1], by_code[62]))
-            elif 63 in by_code:
-                charge_currents.append((by_code[63].raws[0], by_code[63]))
-            elif 60 in by_code:
-                charge_currents.append((by_code[60].raws[0], by_code[60]))
+            if ops.CHARGE_EX in by_op:
+                charge_currents.append((by_op[ops.CHARGE_EX].raws[1], by_op[ops.CHARGE_EX]))
+            elif ops.TRICKLE in by_op:
+                charge_currents.append((by_op[ops.TRICKLE].raws[0], by_op[ops.TRICKLE]))
+            elif ops.CONSTANT_I in by_op:
+                charge_currents.append((by_op[ops.CONSTANT_I].raws[0], by_op[ops.CONSTANT_I]))
             for raw, ins in charge_currents:
                 amps = current(raw)
                 if amps is not None and amps > a_lim + 1e-9:
                     add(_("the macro charges at {amps:.2f} A ({where}: {statement}); the battery allows {limit} "
                           "A").format(amps=amps, where=where, statement=text(ins), limit=a_lim))
-            if 61 in by_code and 60 not in by_code:
+            if ops.CONSTANT_V in by_op and ops.CONSTANT_I not in by_op:
                 amps = start.current_a if start.current_a else charger_max_a
                 if amps is not None and amps > a_lim + 1e-9:
                     how = (_("the current entered at start") if start.current_a
                            else _("the charger's limit, no current entered"))
                     add(_("the macro charges at up to {amps:.2f} A ({where}: {statement} limited to {how}); the "
-                          "battery allows {limit} A").format(amps=amps, where=where, statement=text(by_code[61]),
-                                                             how=how, limit=a_lim))
+                          "battery allows {limit} A").format(amps=amps, where=where,
+                                                             statement=text(by_op[ops.CONSTANT_V]), how=how,
+                                                             limit=a_lim))
         if v_lim:
             checks = []
-            if 61 in by_code:
-                checks.append((by_code[61].raws[0], by_code[61],
+            if ops.CONSTANT_V in by_op:
+                checks.append((by_op[ops.CONSTANT_V].raws[0], by_op[ops.CONSTANT_V],
                                _("the macro holds {volts:.2f} V ({where}: {statement}); the battery allows {limit} V")))
-            if 63 in by_code:
-                checks.append((by_code[63].raws[2], by_code[63],
+            if ops.TRICKLE in by_op:
+                checks.append((by_op[ops.TRICKLE].raws[2], by_op[ops.TRICKLE],
                                _("the macro tops up to {volts:.2f} V ({where}: {statement}); the battery allows "
                                  "{limit} V")))
             for ins in step.conditions:
-                if ins.op.code == 83:
+                if ins.op is ops.IF_V_GT:
                     checks.append((ins.raws[0], ins, _("the macro lets the voltage rise to {volts:.2f} V ({where}: "
                                                        "{statement}); the battery allows {limit} V")))
             for raw, ins, sentence in checks:

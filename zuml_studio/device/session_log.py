@@ -5,7 +5,7 @@ them on a queue: they never wait for the disk); a writer thread writes them and 
 at least every ``flush_s`` (0.5 s), so a crash loses at most that much. ``close`` writes
 what is left and joins the thread.
 
-Columns are the simulator's CSV (``sim.samples.COLUMNS``) plus ``event``: a telemetry row
+Columns are the simulator's CSV plus ``event`` (``domain.csv_columns.SESSION_COLUMNS``): a telemetry row
 leaves it empty, an event row fills it ("phase_end charge 1: IF(DELTA_PEAK>0.01S) STOP_FAZE")
 and leaves the measurements empty. ``time_s`` is the macro's clock, ``phase`` the phase's
 run number (1-based; 0: none), as in the simulator's CSV. A charger that measures its cells
@@ -28,10 +28,10 @@ import threading
 import time
 from pathlib import Path
 
-from ..sim.samples import COLUMNS as SIM_COLUMNS
+from ..domain.csv_columns import SESSION_COLUMNS, cell_columns
 from ..i18n import _
 
-COLUMNS = tuple(SIM_COLUMNS) + ("event",)
+COLUMNS = SESSION_COLUMNS
 FLUSH_S = 0.5
 IDLE_LOG_S = 10.0
 _STOP = object()
@@ -51,10 +51,6 @@ def session_path(folder: str | Path, when: _dt.datetime | None = None) -> Path:
 
 def _num(value, fmt: str) -> str:
     return "" if value is None else format(value, fmt)
-
-
-def cell_columns(cells: int) -> tuple[str, ...]:
-    return tuple(f"cell{k}_v" for k in range(1, cells + 1))
 
 
 def telemetry_row(t, cells: int = 0) -> tuple:

@@ -4,7 +4,7 @@ chars + ``0x0D``, 9600 baud, sent unsolicited.
 The checksum is the sum of the ASCII payload characters; some firmwares add a constant
 (Ultramat18 +0x180, Ultra Duo Plus 45 +0x480, as DataExplorer learns it): only a model's
 known offset is accepted, never one learned from the line. Field layouts (``LAYOUTS``, indices
-into the frame counting the 0x0C, as ``shared/realdata/ultramat.md`` and DataExplorer's
+into the frame counting the 0x0C, as ``docs/formats/ultramat.md`` and DataExplorer's
 ``Ultramat18``/``UltraDuoPlus45.convertDataBytes`` give them):
 
 * 52 bytes (Ultramat 12/16/16S): Vin, V, I, capacity, 6 cells; no state, so no direction:

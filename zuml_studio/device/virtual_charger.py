@@ -15,7 +15,7 @@ What lives in the device:
 - a battery (``BatterySpec``: chemistry, capacity, cells) and the charger's power stage,
   both persistent across runs (the battery keeps its charge and heat, and relaxes while idle);
 - the interpreter, advanced in real time × ``speed`` by the device thread in small chunks;
-- the battery's passport chip (spec §4) with a live TEMP byte;
+- the battery's passport chip (docs/zuml-2.0.md §4) with a live TEMP byte;
 - the start templates (START_SHABLON=n), the factory table at first, kept in memory and changed
   with SET_TEMPLATE;
 - telemetry at 1..50 Hz (coalesced: a slow host gets the newest), events (queued, never
@@ -32,6 +32,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Sequence
 
+from ..domain.end_reasons import EndCode, EndReason
 from ..lang.eeprom import DEFAULT_SIZE, ImageError, slots
 from ..sim.battery import AMBIENT_MAX_C, AMBIENT_MIN_C, ambient_error
 from ..sim.cell_pack import CellSpec, build_pack
@@ -568,7 +569,7 @@ class VirtualCharger:
         with self._lock:
             run = self._run
             if run is not None and not run.interpreter.finished:
-                run.interpreter.stop("stopped")
+                run.interpreter.stop()
                 self._flush_events(run)
                 self._next_telemetry = self._idle_wall = time.monotonic()
             return m.encode_response("STOP", state=m.STATES.index(self._state()))
@@ -642,7 +643,7 @@ class VirtualCharger:
             except Exception:      # noqa: BLE001 - keep the device alive; the run is lost
                 with self._lock:
                     if self._run is not None and not self._run.interpreter.finished:
-                        self._run.interpreter.stop("device error")
+                        self._run.interpreter.stop(EndReason(EndCode.DEVICE_ERROR))
                         self._flush_events(self._run)
             self._stop.wait(max(0.0, STEP_S - (time.monotonic() - started)))
 

@@ -1,4 +1,4 @@
-"""EEPROM image: records back to back (spec §2), ending at a record whose first
+"""EEPROM image: records back to back (docs/zuml-2.0.md §2), ending at a record whose first
 byte is 0x00 or 0xFF, or at the end of memory. Free space is written 0xFF, the
 erased state, so a later write changes as few bytes as possible."""
 from __future__ import annotations

@@ -2,7 +2,7 @@
 
 Each rule is a function over the checked AST that reports Findings (warnings,
 or errors where a value is plainly dangerous). Limits come from the chemistry
-data files (spec §5 values, resources/chemistries/*.toml), from the thesis
+data files (docs/zuml-2.0.md §5 values, resources/chemistries/*.toml), from the thesis
 seed 001 (-dV needs a fast enough charge; a timer alone is no end for a fast one;
 trickle at most 0.1C; a 0.1C charge takes 14-16 h; lithium charges within 0-45 °C;
 NiMH is not ended by a voltage cut-off), and, when one is given, from the charger
@@ -13,6 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Callable, Iterator
 
+from ..domain.units import MAH_PER_AH
 from . import opcodes as ops
 from .ast import Cycle, Macro, Phase, Statement
 from .checker import Finding
@@ -21,7 +22,7 @@ from .opcodes import Role
 from .operands import DISPLAY_NAMES, INPUT_U16, RELATIVE_FLAG, TIME, relative_value
 from ..i18n import _
 
-# -dV per cell that a charger can tell from noise, and that a cell really shows (seed 001; spec §5).
+# -dV per cell that a charger can tell from noise, and that a cell really shows (seed 001; docs/zuml-2.0.md §5).
 DPEAK_MIN_V = 0.003
 DPEAK_MAX_V = 0.02
 # Slowest charge whose -dV is reliable (seed 001: NiCd from about 0.5C, NiMH from 0.2-0.3C).
@@ -68,12 +69,12 @@ class Context:
 
     def c_rate(self, raw: int) -> float | None:
         """A stored current as a multiple of the capacity, when it can be known before start."""
-        return relative_value(raw, self.capacity_mah / 1000 if self.capacity_mah else None)
+        return relative_value(raw, self.capacity_mah / MAH_PER_AH if self.capacity_mah else None)
 
     def charge_rate(self, raw: int) -> float | None:
         """``c_rate``, and for a current entered at start the value entered, when both are known."""
         if raw == INPUT_U16:
-            return self.current_a * 1000 / self.capacity_mah if self.current_a and self.capacity_mah else None
+            return self.current_a * MAH_PER_AH / self.capacity_mah if self.current_a and self.capacity_mah else None
         return self.c_rate(raw)
 
 def _context(macro: Macro, charger=None, given_series: int | None = None,
@@ -121,10 +122,6 @@ def _find(phase: Phase, op: ops.Op) -> Statement | None:
     return next((s for s in phase.statements if s.op is op), None)
 
 
-def _code(phase: Phase, code: int) -> Statement | None:
-    return next((s for s in phase.statements if s.op.code == code), None)
-
-
 def _charge_current(phase: Phase) -> Statement | None:
     return _find(phase, ops.CONSTANT_I) or _find(phase, ops.CHARGE_EX) or _find(phase, ops.TRICKLE)
 
@@ -169,7 +166,7 @@ def _voltage_limits(ctx: Context) -> Iterator[tuple[Statement, int, str]]:
         for st in phase.statements:
             if st.op is ops.CONSTANT_V:
                 yield st, st.args[0].raw, _("holds")
-            elif st.op.code == 83:
+            elif st.op is ops.IF_V_GT:
                 yield st, st.args[0].raw, _("charges to")
             elif st.op is ops.TRICKLE:
                 yield st, st.args[2].raw, _("tops up to")
@@ -201,7 +198,7 @@ def rule_discharge_voltage(ctx: Context) -> Iterator[Finding]:
         return
     lim = ctx.limits
     for phase in _phases(ctx.macro.discharge.items):
-        st = _code(phase, 82)
+        st = _find(phase, ops.IF_V_LT)
         v = ctx.per_cell(st.args[0].raw) if st else None
         if v is not None and v < lim.discharge_end_v - 1e-9:
             message = _("Discharging to {v:.2f} V per cell goes below {name}'s minimum, "
@@ -218,7 +215,7 @@ def _current_raw(st: Statement) -> int:
 
 def rule_delta_peak(ctx: Context) -> Iterator[Finding]:
     for phase in _phases(ctx.macro.charge.items):
-        st = _code(phase, 89)
+        st = _find(phase, ops.IF_DPEAK_GT)
         if st is None:
             continue
         v = ctx.per_cell(st.args[0].raw)
@@ -249,7 +246,7 @@ def _dpeak_rate(ctx: Context, st: Statement, raw: int, min_rate: float) -> Itera
         return
     if raw == INPUT_U16:
         if ctx.capacity_mah:
-            amps = min_rate * ctx.capacity_mah / 1000
+            amps = min_rate * ctx.capacity_mah / MAH_PER_AH
             message = _("The current is entered at start: below {amps:.2f} A ({min_rate:g}C of the declared "
                         "{capacity_mah} mAh) a {name} cell shows no reliable -dV").format(
                 amps=amps, min_rate=min_rate, capacity_mah=ctx.capacity_mah, name=name)
@@ -299,7 +296,7 @@ def rule_nickel_temperature(ctx: Context) -> Iterator[Finding]:
             hint = _("connect the sensor and start with it on, or charge at {top:g}C or less").format(
                 top=NICKEL_NO_SENSOR_MAX_RATE)
             yield Finding(st, Severity.ERROR, "E320", message, hint)
-        elif _code(phase, 81) is None:
+        elif _find(phase, ops.IF_T_GT) is None:
             message = _("This {rate:g}C {chem_name} charge has no temperature limit: a fast nickel charge that "
                         "misses its -dV overheats the cells until the charger's default stops at 60 °C").format(
                 rate=rate, chem_name=ctx.chem_name)
@@ -313,7 +310,7 @@ def rule_timer_only(ctx: Context) -> Iterator[Finding]:
         conditions = [s for s in phase.statements if s.op.role is Role.CONDITION]
         current = _find(phase, ops.CONSTANT_I)
         rate = ctx.c_rate(current.args[0].raw) if current else None
-        if conditions and all(s.op.code == 88 for s in conditions) and rate is not None \
+        if conditions and all(s.op is ops.IF_TF_GT for s in conditions) and rate is not None \
                 and rate > TIMER_ONLY_MAX_RATE and not _find(phase, ops.CONSTANT_V):
             message = _("Only a timer ends this {rate:g}C charge: above {timer_only_max_rate:g}C the battery "
                         "needs a voltage, -dV or temperature end").format(
@@ -368,11 +365,11 @@ def rule_trickle_lithium(ctx: Context) -> Iterator[Finding]:
 
 
 def rule_unreachable_phase(ctx: Context) -> Iterator[Finding]:
-    for section, code, better in ((ctx.macro.charge, 83, lambda new, old: new <= old),
-                                  (ctx.macro.discharge, 82, lambda new, old: new >= old)):
+    for section, limit, better in ((ctx.macro.charge, ops.IF_V_GT, lambda new, old: new <= old),
+                                   (ctx.macro.discharge, ops.IF_V_LT, lambda new, old: new >= old)):
         previous = None
         for phase in _phases(section.items):
-            st = _code(phase, code)
+            st = _find(phase, limit)
             actions = {s.op for s in phase.statements if s.op.role is Role.ACTION}
             if st and previous and actions == {ops.CONSTANT_I} and _same_unit(st, previous) \
                     and better(st.args[0].raw & 0x7FFF, previous.args[0].raw & 0x7FFF):
@@ -382,10 +379,10 @@ def rule_unreachable_phase(ctx: Context) -> Iterator[Finding]:
                 yield _warn(phase, "W312", message, hint)
             previous = st if st is not None else previous
     for st in ctx.macro.intro:
-        if st.op.code == 87 and st.args[0].raw == 0:
+        if st.op is ops.IF_TM_GT and st.args[0].raw == 0:
             yield _warn(st, "W312", _("IF(tm>0) stops the macro before any phase can run"))
     for phase in _phases(ctx.macro.discharge.items + ctx.macro.charge.items):
-        st = _code(phase, 88)
+        st = _find(phase, ops.IF_TF_GT)
         if st is not None and st.args[0].raw == 0:
             yield _warn(st, "W312", _("IF(tf>0) ends this phase before it does anything"))
 
@@ -418,7 +415,7 @@ def rule_slow_charge_time(ctx: Context) -> Iterator[Finding]:
         rate = ctx.c_rate(current.args[0].raw) if current else None
         if rate is None or rate > NORMAL_RATE + 1e-9:
             continue
-        timer = _code(phase, 88)
+        timer = _find(phase, ops.IF_TF_GT)
         if timer is None or timer.args[0].raw > NORMAL_MAX_S * 10:
             what = (_("its timer allows {time}").format(time=TIME.format(timer.args[0].raw)) if timer
                     else _("no timer ends it"))
@@ -431,7 +428,7 @@ def rule_lithium_temperature(ctx: Context) -> Iterator[Finding]:
     if ctx.chemistry not in LITHIUM:
         return
     for phase in _phases(ctx.macro.charge.items):
-        t_max = _code(phase, 81)
+        t_max = _find(phase, ops.IF_T_GT)
         if t_max is None or t_max.args[0].raw > LITHIUM_T_MAX:
             message = _("This lithium charge has no temperature limit at or below {lithium_t_max} °C: the "
                         "charger's default stops only at 60 °C").format(lithium_t_max=LITHIUM_T_MAX)
@@ -442,13 +439,13 @@ def rule_lithium_temperature(ctx: Context) -> Iterator[Finding]:
 
 def rule_delta_peak_misplaced(ctx: Context) -> Iterator[Finding]:
     for phase in _phases(ctx.macro.discharge.items):
-        st = _code(phase, 89)
+        st = _find(phase, ops.IF_DPEAK_GT)
         if st is not None:
             yield _warn(st, "W316", _("-dV in a discharge phase: a discharging cell shows no -dV peak, so this "
                                       "never ends the phase as meant"), _("end a discharge with IF(V<…)"))
     if ctx.chemistry in LITHIUM:
         for phase in _phases(ctx.macro.charge.items):
-            st = _code(phase, 89)
+            st = _find(phase, ops.IF_DPEAK_GT)
             if st is not None:
                 message = _("-dV on {chem_name}: lithium cells show no -dV at full charge").format(
                     chem_name=ctx.chem_name)
@@ -461,9 +458,9 @@ def rule_nimh_voltage_only(ctx: Context) -> Iterator[Finding]:
     if ctx.chemistry != "NIMH":
         return
     for phase in _phases(ctx.macro.charge.items):
-        cut_off = _code(phase, 83)
-        if cut_off is not None and _charge_current(phase) is not None and not _code(phase, 89) \
-                and not _code(phase, 81) and not _code(phase, 88):
+        cut_off = _find(phase, ops.IF_V_GT)
+        if cut_off is not None and _charge_current(phase) is not None and not _find(phase, ops.IF_DPEAK_GT) \
+                and not _find(phase, ops.IF_T_GT) and not _find(phase, ops.IF_TF_GT):
             yield _warn(cut_off, "W317", _("NiMh charged to a voltage limit only: its voltage at full charge "
                                            "moves with current and temperature, so the limit ends it early or "
                                            "late"),
@@ -508,7 +505,7 @@ def rule_pack_voltage_without_balancer(ctx: Context) -> Iterator[Finding]:
             or ctx.series == 1:
         return
     for phase in _phases(ctx.macro.charge.items):
-        st = _find(phase, ops.CONSTANT_V) or _code(phase, 83)
+        st = _find(phase, ops.CONSTANT_V) or _find(phase, ops.IF_V_GT)
         if st is not None:
             message = _("This {chem_name} charge of more than one cell ends on the pack's voltage, and the {name} "
                         "has no balancer: a weak cell can pass its limit while the pack is below its own").format(
@@ -523,7 +520,7 @@ def _amps(ctx: Context, raw: int) -> float | None:
     if raw == INPUT_U16:
         return None
     if raw & RELATIVE_FLAG:
-        return ctx.c_rate(raw) * ctx.capacity_mah / 1000 if ctx.capacity_mah else None
+        return ctx.c_rate(raw) * ctx.capacity_mah / MAH_PER_AH if ctx.capacity_mah else None
     return raw / 100
 
 

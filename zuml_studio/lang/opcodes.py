@@ -1,4 +1,4 @@
-"""The one table of ZUML 2.0 commands (spec §1, "Commands and their codes").
+"""The one table of ZUML 2.0 commands (docs/zuml-2.0.md §1, "Commands and their codes").
 
 The parser, checker, encoder, decoder, listing, interpreter, highlighter, linter
 and the generated docs all read this table; nothing else lists opcodes.
@@ -182,6 +182,9 @@ MACRO, END_MACRO, DISCHARGE_SECTION, CHARGE_SECTION, END_SECTION = (BY_CODE[c] f
 CYCLE, END_CYCLE, FAZE, END_FAZE = (BY_CODE[c] for c in (6, 7, 8, 9))
 CONSTANT_I, CONSTANT_V, CHARGE_EX, TRICKLE = (BY_CODE[c] for c in (60, 61, 62, 63))
 START_SHABLON, AKK_TYPE, SERIES, CAPACITY = BY_CODE[20], BY_CODE[21], BY_CODE[22], BY_CODE[23]
+IF_T_GT, IF_V_LT, IF_V_GT, IF_I_LT, IF_TC_GT, IF_TC_LT, IF_TM_GT, IF_TF_GT, IF_DPEAK_GT = (
+    BY_CODE[c] for c in range(81, 90))
+MUSIC, LIGHT = BY_CODE[100], BY_CODE[101]
 
 
 @lru_cache(maxsize=1)

@@ -13,7 +13,7 @@ import re
 from typing import Callable, Mapping
 from ..i18n import N_, _
 
-INPUT_U16 = 0xFFFF          # current/voltage entered at start (spec §2 decision)
+INPUT_U16 = 0xFFFF          # current/voltage entered at start (docs/zuml-2.0.md §2 decision)
 RELATIVE_FLAG = 0x8000      # C for currents, S for voltages
 CAPACITY_INPUT = 0x0000
 CAPACITY_AUTO = 0xFFFF

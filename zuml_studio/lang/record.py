@@ -1,4 +1,4 @@
-"""The byte record (spec §2): one instruction codec, the encoder, the check byte.
+"""The byte record (docs/zuml-2.0.md §2): one instruction codec, the encoder, the check byte.
 
 ``read_instruction`` is the only place that turns bytes into an instruction;
 the decoder, the listing and the interpreter all call it.
@@ -46,7 +46,7 @@ class Instruction:
 
 
 def check_byte(data: bytes) -> int:
-    """XOR of every byte given (spec §2 decision)."""
+    """XOR of every byte given (docs/zuml-2.0.md §2 decision)."""
     return reduce(xor, data, 0)
 
 

@@ -9,8 +9,8 @@ from collections.abc import Sequence
 import numpy as np
 
 from ..device.charge_counter import ChargeCounter
+from ..domain.units import MAH_PER_AH, SECONDS_PER_HOUR
 
-SECONDS_PER_HOUR = 3600.0
 # A gap longer than this is not integrated over: the log was interrupted, the charger
 # was not necessarily still pushing current.
 MAX_STEP_S = 60.0
@@ -45,8 +45,8 @@ def integrate_current(times_s: Sequence[float] | np.ndarray,
         pos = np.where(same, np.maximum(area, 0.0), np.maximum(a1, 0.0) + np.maximum(a2, 0.0))
         neg = np.where(same, np.maximum(-area, 0.0), -np.minimum(a1, 0.0) - np.minimum(a2, 0.0))
         ok = (dt > 0.0) & (dt <= MAX_STEP_S)
-        step_in = np.cumsum(np.where(ok, pos, 0.0) * (1000.0 / SECONDS_PER_HOUR)) + q_in
-        step_out = np.cumsum(np.where(ok, neg, 0.0) * (1000.0 / SECONDS_PER_HOUR)) + q_out
+        step_in = np.cumsum(np.where(ok, pos, 0.0) * (MAH_PER_AH / SECONDS_PER_HOUR)) + q_in
+        step_out = np.cumsum(np.where(ok, neg, 0.0) * (MAH_PER_AH / SECONDS_PER_HOUR)) + q_out
         ins[lo + 1:hi + 1], outs[lo + 1:hi + 1] = step_in, step_out
         q_in, q_out = float(step_in[-1]), float(step_out[-1])
     return ins, outs

@@ -1,4 +1,4 @@
-"""DataExplorer's CSV export (``realdata/samples/dataexplorer/AkkuMasterC4_*.csv``): a first
+"""DataExplorer's CSV export (``tests/data/logs/AkkuMasterC4_*.csv``): a first
 line naming the device (``AkkuMasterC4`` or ``device;configuration``), a header line
 ``Zeit [sec];Spannung [V];Strom [A];Ladung [mAh]`` (``Time [sec]`` in English), then one row
 per point, ``;``-separated, the decimal point or comma as the user's settings had it.

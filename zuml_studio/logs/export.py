@@ -8,7 +8,7 @@ import csv
 import datetime as dt
 from typing import TextIO
 
-from ..device.session_log import cell_columns
+from ..domain.csv_columns import EXPORT_COLUMNS, cell_columns
 import numpy as np
 
 from .model import STATES, Log
@@ -33,7 +33,7 @@ def start_ms(log: Log) -> float:
         return when.timestamp() * 1000.0
     return EPOCH_MS
 
-COLUMNS = ("t_s", "voltage_v", "current_a", "temp_c", "charge_in_mah", "charge_out_mah", "state")
+COLUMNS = EXPORT_COLUMNS
 
 
 def header(log: Log) -> list[str]:

@@ -1,4 +1,4 @@
-"""Junsi iCharger DUO/X/S text logs written to SD card or PC (``../shared/realdata/
+"""Junsi iCharger DUO/X/S text logs written to SD card or PC (``docs/formats/
 icharger_logview.md``), with their header, battery type and internal-resistance records. The records are decoded by the live driver, ``device/icharger_logview.py`` (which
 also reads the older serial models' lines in raw captures and ``.lov`` files): what it counts
 as bad (checksum, a field that is not an integer or out of its range, a field count that fits

@@ -1,4 +1,4 @@
-"""LogView ``.lov`` files (``LogView-Stream:V5``), as far as ``dataexplorer.md`` describes them.
+"""LogView ``.lov`` files (``LogView-Stream:V5``), as far as ``docs/formats/dataexplorer.md`` describes them.
 
 The header is u32-length-prefixed strings, then the LogView device .ini (``Name=…``), chart
 settings, then the records, each holding the raw bytes the charger sent. LogView itself is

@@ -1,4 +1,4 @@
-"""DataExplorer ``.osd`` files (``../shared/realdata/dataexplorer.md``).
+"""DataExplorer ``.osd`` files (``docs/formats/dataexplorer.md``).
 
 A Java ``DataOutputStream`` (big-endian), optionally inside a one-entry ZIP: header lines
 written with ``writeUTF`` up to ``NumberRecordSets : N``, then N record-set descriptors

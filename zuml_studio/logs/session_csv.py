@@ -11,13 +11,14 @@ import csv
 import io
 import math
 
-from ..sim.samples import COLUMNS as SIM_COLUMNS
-from . import export
+from ..domain.csv_columns import (CHARGE_IN_MAH, CHARGE_OUT_MAH, CURRENT_A, EVENT, EXPORT_COLUMNS, HEATSINK_C, MAH_IN,
+                                  MAH_OUT, SAMPLE_COLUMNS, SECTION, STATE, T_S, TEMP_C, TIME_S, VOLTAGE_V,
+                                  is_cell_column)
 from .model import STATES, Log, LogFormatError, SampleBuilder
 from ..i18n import _
 
-SESSION_HEAD = ",".join(SIM_COLUMNS)          # the session CSV adds "event" and the cells after these
-EXPORT_HEAD = ",".join(export.COLUMNS)
+SESSION_HEAD = ",".join(SAMPLE_COLUMNS)         # the session CSV adds "event" and the cells after these
+EXPORT_HEAD = ",".join(EXPORT_COLUMNS)
 _SECTION_STATE = {"charge": "charge", "discharge": "discharge", "": "idle"}
 
 
@@ -62,7 +63,7 @@ def read(data: bytes) -> Log:
 
 
 def _cell_columns(header: list[str]) -> list[int]:
-    cols = [k for k, name in enumerate(header) if name.startswith("cell") and name.endswith("_v")]
+    cols = [k for k, name in enumerate(header) if is_cell_column(name)]
     return cols
 
 
@@ -83,28 +84,28 @@ def _read_rows(rows, header: list[str], session: bool) -> Log:
                 continue
             try:
                 if session:
-                    if "event" in index and row[index["event"]]:
+                    if EVENT in index and row[index[EVENT]]:
                         events += 1
                         continue
-                    state = _SECTION_STATE.get(row[index["section"]])
-                    t = _num(row[index["time_s"]], False)
+                    state = _SECTION_STATE.get(row[index[SECTION]])
+                    t = _num(row[index[TIME_S]], False)
                     if run_t is not None and t < run_t - 1e-6:
                         offset = last_t
                     run_t = t
                     t += offset
-                    q_in, q_out = _num(row[index["mah_in"]], False), _num(row[index["mah_out"]], False)
+                    q_in, q_out = _num(row[index[MAH_IN]], False), _num(row[index[MAH_OUT]], False)
                 else:
-                    state = row[index["state"]] if row[index["state"]] in STATES else None
-                    t = _num(row[index["t_s"]], False)
-                    q_in = _num(row[index["charge_in_mah"]], True)
-                    q_out = _num(row[index["charge_out_mah"]], True)
+                    state = row[index[STATE]] if row[index[STATE]] in STATES else None
+                    t = _num(row[index[T_S]], False)
+                    q_in = _num(row[index[CHARGE_IN_MAH]], True)
+                    q_out = _num(row[index[CHARGE_OUT_MAH]], True)
                 if state is None:
                     bad += 1
                     continue
-                v = _num(row[index["voltage_v"]], False)
-                i = _num(row[index["current_a"]], False)
-                temp = _num(row[index["temp_c"]], True)
-                heatsink = _num(row[index["heatsink_c"]], True) if "heatsink_c" in index else None
+                v = _num(row[index[VOLTAGE_V]], False)
+                i = _num(row[index[CURRENT_A]], False)
+                temp = _num(row[index[TEMP_C]], True)
+                heatsink = _num(row[index[HEATSINK_C]], True) if HEATSINK_C in index else None
                 cell_v = [_num(row[k], True) or 0.0 for k in cells]
             except ValueError:
                 bad += 1

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..domain.units import SECONDS_PER_HOUR
 from . import gaps
 from .model import Log
 
@@ -138,5 +139,5 @@ def _energy(t: np.ndarray, v: np.ndarray, i: np.ndarray, gap_s: float) -> tuple[
     step = np.where(dt <= gap_s, dt, 0.0)
     pos = (np.maximum(p[:-1], 0) + np.maximum(p[1:], 0)) / 2 * step
     neg = (np.maximum(-p[:-1], 0) + np.maximum(-p[1:], 0)) / 2 * step
-    return float(np.nansum(pos) / 3600.0), float(np.nansum(neg) / 3600.0)
+    return float(np.nansum(pos) / SECONDS_PER_HOUR), float(np.nansum(neg) / SECONDS_PER_HOUR)
 

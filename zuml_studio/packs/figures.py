@@ -7,6 +7,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from ..domain.units import SECONDS_PER_HOUR
 from ..logs.charge import MAX_STEP_S
 from ..logs.model import STATES, Columns, Log
 from ..logs.rest_steps import resistance_mohm_per_cell
@@ -79,7 +80,7 @@ def _energy_wh(t: np.ndarray, v: np.ndarray, i: np.ndarray) -> tuple[float, floa
     p = v * i
     mean = (p[1:] + p[:-1]) / 2.0
     ok = (dt > 0) & (dt <= MAX_STEP_S)
-    step = np.where(ok, mean * dt, 0.0) / 3600.0
+    step = np.where(ok, mean * dt, 0.0) / SECONDS_PER_HOUR
     return float(step[step > 0].sum()), float(abs(step[step < 0].sum()))
 
 

@@ -3,7 +3,7 @@
 The limits are the hobby's rules of thumb the issue names: a pack is worn when it holds less than 80 %
 of its rated capacity, when its resistance has grown to 1.5 times its first measured value, or when a
 cell ends a charge more than 30 mV off the others (a drifting cell); and, where a live run read the
-battery's passport, when it counts a critical error (spec §4: not fit for use)."""
+battery's passport, when it counts a critical error (docs/zuml-2.0.md §4: not fit for use)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -100,7 +100,7 @@ def health(pack: Pack, sessions: list[Session]) -> Health:
             passed.append(text)
     read = [s for s in sessions if s.passport_errors is not None or s.passport_critical is not None]
     if read:
-        # spec §4: CRIT > 0 is a battery not fit for use (the charger refuses it); ERR > 0 a warning.
+        # docs/zuml-2.0.md §4: CRIT > 0 is a battery not fit for use (the charger refuses it); ERR > 0 a warning.
         last = read[-1]
         if last.passport_critical:
             failed.append(_("the passport counts {n} critical errors on {date}: not fit for use").format(

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..domain.units import SECONDS_PER_HOUR
 from ..logs import LogFormatError, read_log_file
 from ..sim.fit_predict import prediction_line, trust_words
 from ..sim.fit_report import quality_lines
@@ -51,7 +52,7 @@ def session_curves(pack: Pack, sessions: list[Session]) -> tuple[list[SessionCur
         read = np.isfinite(cells).sum(axis=1) >= 2
         if read.any():
             spread[read] = (np.nanmax(cells[read], axis=1) - np.nanmin(cells[read], axis=1)) * 1000.0
-        curves.append(SessionCurve(s.recorded[:10], (c.t[::step] - c.t[0]) / 3600.0,
+        curves.append(SessionCurve(s.recorded[:10], (c.t[::step] - c.t[0]) / SECONDS_PER_HOUR,
                                    c.voltage[::step] / max(pack.cells, 1), spread))
     return curves, missing
 

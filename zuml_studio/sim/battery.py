@@ -57,6 +57,7 @@ from __future__ import annotations
 from bisect import bisect_right
 from math import exp, isfinite
 
+from ..domain.units import MAH_PER_AH, SECONDS_PER_HOUR
 from .chemistry import Chemistry
 from ..i18n import _
 
@@ -110,10 +111,10 @@ class Pack:
         self._h = 1.0
         self._surf = 0.0      # x: the particles' surface ahead of their bulk (state of charge)
 
-        q_ah = self.capacity_mah / 1000.0
+        q_ah = self.capacity_mah / MAH_PER_AH
         scale_r = chem.ref_capacity_ah / q_ah * r_scale    # R x Ah is constant within a family [N11]
         scale_th = q_ah / chem.ref_capacity_ah
-        self._q_as = 3600.0 * q_ah
+        self._q_as = SECONDS_PER_HOUR * q_ah
         self._r0 = chem.r0_ohm * scale_r
         self._r1 = chem.r1_ohm * scale_r
         self._r2 = chem.r2_ohm * scale_r

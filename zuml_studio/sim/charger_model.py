@@ -21,6 +21,7 @@ from math import exp
 
 from .. import data
 from ..data import DataFileError
+from ..domain.end_reasons import EndCode, EndReason
 from ..i18n import _
 
 
@@ -139,7 +140,7 @@ class BalancerSpec:
         return mask
 
     def ceiling_reason(self, chemistry: str, cell_voltages, current_a: float, own_a: float,
-                       bleed_a=None) -> str | None:
+                       bleed_a=None) -> EndReason | None:
         """The end reason of a charge held at the ceiling: a cell read (to 1 mV) at the chemistry's ceiling
         and the charge the cells keep (``current_a`` less the mean of the cells' bleeds, ``bleed_a``), which the
         charger lowers to hold that cell there, fallen to a tenth of ``own_a``: a constant-current phase's own
@@ -152,7 +153,7 @@ class BalancerSpec:
         net = current_a - (sum(bleed_a) / len(bleed_a) if bleed_a else 0.0)
         if ceiling is None or own_a < 0.0 or net * 10.0 > own_a or round(top, 3) < ceiling:
             return None
-        return f"balancer: cell {at + 1} reached {ceiling:.2f}V (ceiling)"
+        return EndReason(EndCode.CEILING, cell=at + 1, volts=ceiling)
 
 
 @dataclass

@@ -14,7 +14,7 @@ from .. import data
 from ..data import DataFileError
 from ..i18n import _
 
-# ZUML AKK_TYPE names with a model; LiS/New/Undef deliberately have none (spec §5).
+# ZUML AKK_TYPE names with a model; LiS/New/Undef deliberately have none (docs/zuml-2.0.md §5).
 _NAMES = ("Pb", "NiCd", "NiMh", "LiPo", "LiIon", "LiFe")
 
 
@@ -23,7 +23,7 @@ class Chemistry:
     """One cell of a chemistry at `ref_capacity_ah`; see battery-models.md §2.2 for the equations."""
 
     name: str
-    # [limits], V per cell (spec §5)
+    # [limits], V per cell (docs/zuml-2.0.md §5)
     nominal_v: float
     charge_end_v: float
     max_v: float

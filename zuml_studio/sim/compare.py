@@ -6,6 +6,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ..domain.csv_columns import CURRENT_A, MAH_IN, TEMP_C, TIME_S, VOLTAGE_V
+from ..domain.units import AS_PER_MAH
 from .charger_model import ChargerLimits, load_charger
 from .curve import Curve, require_charge, require_discharge
 from .fit import (NI, Run, cc_current, charging, cv_mask, figures, has_cc_phase, measured, peak, soc_at_ocv,
@@ -67,10 +69,10 @@ def _model_peak(sim: SimResult, series: int, i_cc: float) -> tuple[float, float]
     """The simulation's own peak (mAh) and -dV (mV per cell) over its whole charge: a model that
     runs on past the log's end peaks where the log no longer is."""
     a = sim.log.arrays()
-    use = charging(a["current_a"], i_cc)
+    use = charging(a[CURRENT_A], i_cc)
     if use.sum() < 2:
         return 0.0, 0.0
-    return peak(a["time_s"][use], a["voltage_v"][use], a["mah_in"][use], series)
+    return peak(a[TIME_S][use], a[VOLTAGE_V][use], a[MAH_IN][use], series)
 
 
 def log_charger(curve: Curve, base: str) -> ChargerLimits:
@@ -97,7 +99,7 @@ def _chemistry(record: bytes, chemistry: str | None, battery: str | None) -> str
 def _resampled(curve: Curve, sim: SimResult) -> tuple[Curve, Run, np.ndarray]:
     """The part of the log the simulation covers, the simulation on its samples, and its own temperature."""
     a = sim.log.arrays()
-    m_t, m_v, m_i, m_temp = a["time_s"], a["voltage_v"], a["current_a"], a["temp_c"]
+    m_t, m_v, m_i, m_temp = a[TIME_S], a[VOLTAGE_V], a[CURRENT_A], a[TEMP_C]
     over = curve.t <= (m_t[-1] if len(m_t) else 0.0)
     if over.sum() < 10:
         raise ValueError(_("the simulation ended within the log's first samples: nothing to compare"))
@@ -119,7 +121,7 @@ def _simulate(record: bytes, params: StartParams, setup: BatterySetup,
 def _model_end(sim: SimResult, mah: float) -> dict:
     a = sim.log.arrays()
     last = sim.phases[-1] if sim.phases else None
-    return {"time_s": round(float(a["time_s"][-1]), 1) if len(a["time_s"]) else 0.0, "mah": round(mah, 1),
+    return {"time_s": round(float(a[TIME_S][-1]), 1) if len(a[TIME_S]) else 0.0, "mah": round(mah, 1),
             "why": (last.reason if last else "") or sim.interpreter.end_reason}
 
 
@@ -137,13 +139,13 @@ def _compare_discharge(curve: Curve, record: bytes, chemistry: str | None, serie
     sim, said = _simulate(record, params, BatterySetup(chem_name, soc, ambient, log_charger(curve, charger), battery),
                           measured_r)
     part, run, m_temp = _resampled(curve, sim)
-    delivered = sim.interpreter.q_out / 3.6
+    delivered = sim.interpreter.q_out / AS_PER_MAH
     report = discharge_figures(part, run, series, delivered)
     report["capacity"]["real_mah"] = round(float(curve.delivered_mah[-1]), 1)     # each over its whole run
     if report["temp_rise"] is not None:
         report["temp_rise"] = {"real_c": temp_rise(curve.temp), "model_c": temp_rise(m_temp),
                                "real_window_s": [round(float(curve.t[0]), 1), round(float(curve.t[-1]), 1)],
-                               "model_window_s": [0.0, round(float(sim.log.arrays()["time_s"][-1]), 1)]}
+                               "model_window_s": [0.0, round(float(sim.log.arrays()[TIME_S][-1]), 1)]}
     report["ends"] = {"real": real_end(curve, sim.chemistry, series), "model": _model_end(sim, delivered)}
     report["resistance"] = said
     return Comparison(sim, part.t, run, np.zeros(len(part.t), bool), report)
@@ -169,7 +171,7 @@ def compare(curve: Curve, record: bytes, chemistry: str | None, series: int, cap
                           measured_r)
     part, run, m_temp = _resampled(curve, sim)
     run.i = np.clip(run.i, 0.0, None)
-    m_t = sim.log.arrays()["time_s"]
+    m_t = sim.log.arrays()[TIME_S]
     part_cv = cv[:len(part.t)]
     report = figures(part, run, part_cv, series, sim.chemistry)
     if report["peak"] is not None:
@@ -186,6 +188,6 @@ def compare(curve: Curve, record: bytes, chemistry: str | None, series: int, cap
                                "real_window_s": [round(float(curve.t[0]), 1), round(float(curve.t[-1]), 1)],
                                "model_window_s": [0.0, round(float(m_t[-1]), 1)]}
     report["ends"] = {"real": real_end(curve, sim.chemistry, series),
-                      "model": _model_end(sim, sim.interpreter.q_in / 3.6)}
+                      "model": _model_end(sim, sim.interpreter.q_in / AS_PER_MAH)}
     report["resistance"] = said
     return Comparison(sim, part.t, run, part_cv, report)

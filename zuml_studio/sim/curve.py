@@ -14,8 +14,10 @@ from pathlib import Path
 
 import numpy as np
 
+from ..domain.units import AS_PER_MAH
 from ..file_errors import read_file_bytes
 from .battery import AMBIENT_MAX_C, AMBIENT_MIN_C
+from ..domain.csv_columns import CURRENT_A, CURVE_COLUMNS, TEMP_C, TIME_S, VOLTAGE_V
 from ..logs import Log, LogFormatError, read_log
 from ..logs.model import MAX_MEASURED, STATES
 from ..i18n import _
@@ -24,13 +26,12 @@ from ..i18n import _
 # long are part of the same charge.
 _MERGE_GAP_S = 120.0
 _DROPOUT_C = 5.0             # a sensor sample this far from both neighbours is a dropout
-_CSV_COLUMNS = ("time_s", "voltage_v", "current_a")
 _SHOWN_FIELD = 24           # characters of a bad line's field an error shows
 # Beyond these no charger measures: a value past them is a damaged or hostile file, refused before
 # the model's arithmetic overflows on it (1e308 A made the fit's residuals infinite). A year of
 # log; 2 kV covers the longest pack a logging charger takes; the sensors' own ranges for °C.
-_LIMITS = {"time_s": (0.0, 3.2e7), "voltage_v": (-MAX_MEASURED, MAX_MEASURED),
-           "current_a": (-MAX_MEASURED, MAX_MEASURED), "temp_c": (-100.0, 400.0)}
+_LIMITS = {TIME_S: (0.0, 3.2e7), VOLTAGE_V: (-MAX_MEASURED, MAX_MEASURED),
+           CURRENT_A: (-MAX_MEASURED, MAX_MEASURED), TEMP_C: (-100.0, 400.0)}
 # A charge puts at least this much in; a voltage that ends this fraction below its start and never
 # climbs this fraction above it falls all the way: a discharge read as a charge (a log without a
 # direction column: an AkkuMaster "Entladen" file, 5.13 V to 3.21 V at +0.15 A).
@@ -64,7 +65,7 @@ class Curve:
         name = self.name or "curve"
         if len(self.t) < 10:
             raise CurveError(_("{value}: only {n_t} samples of charge").format(value=name, n_t=len(self.t)))
-        _check_values(name, {"time_s": self.t, "voltage_v": self.v, "current_a": self.i, "temp_c": self.temp},
+        _check_values(name, {TIME_S: self.t, VOLTAGE_V: self.v, CURRENT_A: self.i, TEMP_C: self.temp},
                       lambda k: _("sample {k}").format(k=k + 1))
 
     @property
@@ -79,14 +80,14 @@ class Curve:
         """Charge put in since the start, mAh (trapezoid on the log's own current)."""
         dt = np.diff(self.t, prepend=self.t[0])
         i_mid = np.concatenate(([self.i[0]], (self.i[1:] + self.i[:-1]) / 2))
-        return np.cumsum(np.clip(i_mid, 0.0, None) * dt) / 3.6
+        return np.cumsum(np.clip(i_mid, 0.0, None) * dt) / AS_PER_MAH
 
     @property
     def delivered_mah(self) -> np.ndarray:
         """Charge taken out since the start, mAh (a discharge's capacity figure)."""
         dt = np.diff(self.t, prepend=self.t[0])
         i_mid = np.concatenate(([self.i[0]], (self.i[1:] + self.i[:-1]) / 2))
-        return np.cumsum(np.clip(-i_mid, 0.0, None) * dt) / 3.6
+        return np.cumsum(np.clip(-i_mid, 0.0, None) * dt) / AS_PER_MAH
 
     @property
     def direction(self) -> str:
@@ -118,7 +119,7 @@ class Curve:
 
     def to_csv(self) -> str:
         out = io.StringIO()
-        out.write(",".join(_CSV_COLUMNS + (("temp_c",) if self.temp is not None else ())) + "\n")
+        out.write(",".join(CURVE_COLUMNS + ((TEMP_C,) if self.temp is not None else ())) + "\n")
         for k in range(len(self.t)):
             row = [f"{self.t[k]:.1f}", f"{self.v[k]:.4f}", f"{self.i[k]:.4f}"]
             if self.temp is not None:
@@ -136,7 +137,7 @@ def _check_values(name: str, columns: dict[str, np.ndarray | None], where) -> No
             k = int(np.flatnonzero(~np.isfinite(values))[0])
             raise CurveError(_("{value}: {where}: {column} is not a finite number").format(
                     value=name, where=where(k), column=column))
-    t = present["time_s"]
+    t = present[TIME_S]
     back = np.flatnonzero(np.diff(t) <= 0)
     if len(back):
         k = int(back[0]) + 1
@@ -145,7 +146,7 @@ def _check_values(name: str, columns: dict[str, np.ndarray | None], where) -> No
                                                       before=float(t[k - 1])))
     for column, values in present.items():
         lo, hi = _LIMITS[column]
-        if column == "time_s" and len(values):
+        if column == TIME_S and len(values):
             values = values - values[0]         # a log's clock may start anywhere: its length counts
         outside = (values < lo) | (values > hi)
         if outside.any():
@@ -304,10 +305,10 @@ def read_curve_csv(text: str, name: str = "") -> Curve:
     except csv.Error as exc:           # a field past the csv module's limit (128 KiB)
         raise CurveError(_("{name}: data line {n}: {error}").format(name=name, n=kept[reader.line_num - 1][0],
                                                                     error=exc)) from None
-    if not rows or tuple(c.strip() for c in rows[0][:3]) != _CSV_COLUMNS:
+    if not rows or tuple(c.strip() for c in rows[0][:3]) != CURVE_COLUMNS:
         raise CurveError(_("{name}: a curve CSV starts with the header {csv_columns}[,temp_c]").format(
-                name=name, csv_columns=','.join(_CSV_COLUMNS)))
-    has_temp = len(rows[0]) > 3 and rows[0][3].strip() == "temp_c"
+                name=name, csv_columns=','.join(CURVE_COLUMNS)))
+    has_temp = len(rows[0]) > 3 and rows[0][3].strip() == TEMP_C
     cols: list[list[float]] = [[], [], [], []]
     for n, row in zip(at[1:], rows[1:]):
         try:
@@ -323,8 +324,8 @@ def read_curve_csv(text: str, name: str = "") -> Curve:
         for c, x in zip(cols, values):
             c.append(x)
     t = np.array(cols[0])
-    _check_values(name, {"time_s": t, "voltage_v": np.array(cols[1]),
-                         "current_a": np.array(cols[2]), "temp_c": np.array(cols[3]) if has_temp else None},
+    _check_values(name, {TIME_S: t, VOLTAGE_V: np.array(cols[1]),
+                         CURRENT_A: np.array(cols[2]), TEMP_C: np.array(cols[3]) if has_temp else None},
                   lambda k: _("data line {n}").format(n=at[k + 1]))
     return Curve(t - t[0] if len(t) else t, np.array(cols[1]), np.array(cols[2]),
                  np.array(cols[3]) if has_temp else None, 0, name)
@@ -342,7 +343,7 @@ def read_curve_and_log(path: str | Path, direction: str | None = None) -> tuple[
     data = read_file_bytes(p)
     text = data.decode("utf-8", "replace")
     first = next((ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")), "")
-    if first.lstrip().startswith("time_s"):
+    if first.lstrip().startswith(TIME_S):
         # The plain curve CSV is read as itself, strictly (a bad value is its line), before the
         # log readers' general CSV import would guess its columns and leave bad samples out.
         return read_curve_csv(text, p.name), None
@@ -351,4 +352,4 @@ def read_curve_and_log(path: str | Path, direction: str | None = None) -> tuple[
         return curve_from_log(log, p.name, direction), log
     except LogFormatError as exc:
         raise CurveError(_("{name}: {reason}; nor a curve CSV (its header: {csv_columns}[,temp_c])").format(
-                name=p.name, reason=exc, csv_columns=",".join(_CSV_COLUMNS))) from None
+                name=p.name, reason=exc, csv_columns=",".join(CURVE_COLUMNS))) from None

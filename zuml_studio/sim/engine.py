@@ -19,9 +19,14 @@ from typing import Callable, Mapping
 import numpy as np
 
 from ..device import messages
+from ..domain import end_reasons
+from ..domain.end_reasons import EndCode, EndReason
+from ..domain.units import SECONDS_PER_HOUR
+from ..lang import opcodes as ops
 from .battery import Pack
 from .cell_pack import CellPack
-from .interpreter import FULL_SOC, Event, Interpreter, PhaseResult
+from .interpreter import (DEFAULT_CAPACITY_FACTOR, DEFAULT_DTDT_C_PER_MIN, DEFAULT_T_MAX, FULL_SOC, Event, Interpreter,
+                          PhaseResult)
 from . import samples
 from .samples import BALANCE_MASK, COLUMNS
 from .start_templates import StartTemplate, factory_templates
@@ -34,8 +39,10 @@ _NONE = -1
 (_EV_SECTION, _EV_PHASE_START, _EV_PHASE_END, _EV_PAUSE, _EV_RESUME, _EV_MUSIC, _EV_LIGHT,
  _EV_FINISH) = range(1, 9)
 _EV_LIMIT = 100
-_R_CONDITION, _R_STOP_MACRO = 1, 6
-_IF_TF_GT = 88                     # its byte code: a timer, like the macro's IF(tm>x) STOP_MACRO
+# enum zc_reason (firmware/core/zuml.h)
+(_R_CONDITION, _R_DEFAULT_T, _R_DEFAULT_DTDT, _R_DEFAULT_CAPACITY, _R_DEFAULT_EMPTY, _R_STOP_MACRO, _R_STOPPED,
+ _R_END, _R_BALANCER) = range(1, 10)
+_IF_TF_GT = ops.IF_TF_GT.code       # its byte code: a timer, like the macro's IF(tm>x) STOP_MACRO
 _SECTIONS = ("discharge", "charge")
 _EVENTS_CAP = 1024                 # engine.c returns early while fewer than 300 are free
 _PHASE_ENDS = 256                  # a phase end's cells per ze_run (it returns early as they fill)
@@ -263,7 +270,7 @@ class _Buffers:
 
 
 def run(interpreter: Interpreter, templates: Mapping[int, StartTemplate] | None = None,
-        on_chunk: Callable[[float], str | None] | None = None) -> None:
+        on_chunk: Callable[[float], EndReason | None] | None = None) -> None:
     """Runs a freshly built interpreter's simulation to its end in C and fills its results as its own
     ``run()`` would (check `unavailable` first). ``on_chunk(time_s)``, after every chunk of ticks, may
     return a reason to stop the run with, as ``Interpreter.stop(reason)`` does. RuntimeError when the
@@ -276,7 +283,7 @@ def run(interpreter: Interpreter, templates: Mapping[int, StartTemplate] | None 
 
 
 def _run(lib: ctypes.CDLL, it: Interpreter, templates: Mapping[int, StartTemplate],
-         on_chunk: Callable[[float], str | None] | None) -> None:
+         on_chunk: Callable[[float], EndReason | None] | None) -> None:
     keep: list = []
     pack, charger, p = it.pack, it.charger, it.params
     c_pack, c_charger, c_balancer = _c_pack(pack, it.tick_s, keep), _c_charger(charger), _c_balancer(it)
@@ -383,7 +390,7 @@ class _Reader:
         self.it, self.record, self.buffers = it, record, buffers
         self.paused = False
 
-    def events(self, n: int, stopped: str | None = None) -> None:
+    def events(self, n: int, stopped: EndReason | None = None) -> None:
         """The first n events of the buffer; ``stopped``: the reason the run was stopped with (the
         core's "stopped" is the user's stop)."""
         it = self.it
@@ -402,7 +409,8 @@ class _Reader:
                 it.events.append(Event(t, "phase_start", section=r.section, index=r.index,
                                        repetition=r.repetition, offset=r.offset))
             elif kind in (_EV_PHASE_END, _EV_LIMIT):
-                reason = text if kind == _EV_PHASE_END else f"limit: simulation stopped after {it.limit_s / 3600:g}h"
+                reason = (stopped or self._reason(ev, text) if kind == _EV_PHASE_END
+                          else EndReason(EndCode.SIM_LIMIT, hours=it.limit_s / SECONDS_PER_HOUR))
                 self._end_phase(ev, reason)
                 if kind == _EV_LIMIT:
                     self._finish(t, reason)
@@ -417,7 +425,32 @@ class _Reader:
             elif kind in (_EV_MUSIC, _EV_LIGHT):
                 it.events.append(Event(t, "music" if kind == _EV_MUSIC else "light", offset=ev.offset, detail=text))
             elif kind == _EV_FINISH:
-                self._finish(t, text)
+                self._finish(t, stopped or self._reason(ev, text))
+
+    def _reason(self, ev: _Event, text: str) -> EndReason:
+        """The end reason the core's code says, worded from the code; the core's own text must say the same."""
+        code, it = ev.reason, self.it
+        if code in (_R_CONDITION, _R_STOP_MACRO):
+            reason = end_reasons.condition(text)        # the condition's ZUML, as the core writes it
+        elif code == _R_DEFAULT_T:
+            reason = EndReason(EndCode.DEFAULT_T, limit_c=DEFAULT_T_MAX)
+        elif code == _R_DEFAULT_DTDT:
+            reason = EndReason(EndCode.DEFAULT_DTDT, rate=DEFAULT_DTDT_C_PER_MIN)
+        elif code == _R_DEFAULT_CAPACITY:
+            reason = EndReason(EndCode.DEFAULT_CAPACITY, factor=DEFAULT_CAPACITY_FACTOR)
+        elif code == _R_DEFAULT_EMPTY:
+            reason = EndReason(EndCode.DEFAULT_EMPTY_DISCHARGE, end_v=it._chemistry_end_v())
+        elif code == _R_BALANCER:
+            reason = EndReason(EndCode.CEILING, cell=ev.reason_offset, volts=it._balancer.ceiling_v[it.pack.chem.name])
+        elif code == _R_STOPPED:
+            reason = end_reasons.STOPPED
+        elif code == _R_END:
+            reason = end_reasons.END_OF_MACRO
+        else:
+            raise RuntimeError(f"the C core ended with an unknown reason {code} ({text!r})")
+        if reason != text:
+            raise RuntimeError(f"the C core says {text!r} where its reason {code} says {reason!r}")
+        return reason
 
     def _end_phase(self, ev: _Event, reason: str) -> None:
         it = self.it

@@ -12,6 +12,7 @@ import math
 
 import numpy as np
 
+from ..domain.units import AS_PER_MAH
 from . import engine
 from .cell_pack import CellSpec
 from .chemistry import Chemistry, load_chemistry
@@ -122,7 +123,7 @@ class Delivery:
         # The run-on in steps of the curve's own (a decimated curve's are coarser): in 10 s steps a 10 h lead-acid
         # discharge driven on for hours cost 24 s a fit.
         self.step_s = max(_RUN_ON_STEP_S, float(np.median(np.diff(curve.t)))) if len(curve.t) > 1 else _RUN_ON_STEP_S
-        self.step_mah = -self.i_end * self.step_s / 3.6
+        self.step_mah = -self.i_end * self.step_s / AS_PER_MAH
         taken = float(self.mah[-1])
         limit = taken + _RUN_ON * max(taken, 1.0)
         # The run-on's running sums, as a loop adding step_mah to the log's charge makes them (cumsum adds in

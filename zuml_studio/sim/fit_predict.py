@@ -9,6 +9,8 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..domain.end_reasons import read
+from ..domain.units import AS_PER_MAH
 from .compare import log_charger, real_end
 from .curve import Curve
 from .fit import LI, NI, FitResult, cc_current, cv_mask, measured, smooth
@@ -120,7 +122,7 @@ def predict_own(result: FitResult, sensor: bool | None = None) -> dict | None:
     it = sim.interpreter
     discharge = curve.direction == "discharge"
     real_mah = float(curve.delivered_mah[-1] if discharge else curve.mah[-1])
-    model_mah = (it.q_out if discharge else it.q_in) / 3.6
+    model_mah = (it.q_out if discharge else it.q_in) / AS_PER_MAH
     real_s, model_s = float(curve.t[-1] - curve.t[0]), float(it.time_s)
     charge_off = (model_mah / real_mah - 1.0) * 100.0 if real_mah else 0.0
     time_off = (model_s / real_s - 1.0) * 100.0 if real_s else 0.0
@@ -128,7 +130,7 @@ def predict_own(result: FitResult, sensor: bool | None = None) -> dict | None:
     why = (last.reason if last else "") or it.end_reason
     # What ended it: the log's own end, the program's backup timer (the model never got there), or a limit of
     # the charger's own (its dT/dt, capacity or temperature end: "default: ...").
-    ended_by = "backup" if why.startswith("IF(tf>") else "charger" if why.startswith("default") else "own_end"
+    ended_by = "backup" if why.startswith("IF(tf>") else "charger" if read(why).code.charger_default else "own_end"
     return {"real_mah": round(real_mah, 1), "model_mah": round(model_mah, 1), "charge_error_pct": round(charge_off, 1),
             "real_s": round(real_s, 1), "model_s": round(model_s, 1), "time_error_pct": round(time_off, 1),
             "trusted": bool(abs(charge_off) <= TRUST_PCT), "why": why, "ended_by": ended_by}

@@ -3,6 +3,7 @@
 their ``--json``, which stays English (a contract for scripts, like the phase-end reasons)."""
 from __future__ import annotations
 
+from ..domain.units import MAH_PER_AH
 from ..i18n import N_, _
 from .reasons import shown_reason
 
@@ -175,7 +176,7 @@ def param_lines(params: dict, battery, report: dict | None = None) -> list[str]:
     fit's ``report`` withholds (fit_checks.withheld: said by ``claim_lines``) left out."""
     from .fit_checks import withheld
     params = {k: v for k, v in params.items() if k not in withheld(report or {})}
-    chem, q_ah = battery.chem, battery.capacity_mah / 1000.0
+    chem, q_ah = battery.chem, battery.capacity_mah / MAH_PER_AH
     r_cell = (chem.r0_ohm + chem.r1_ohm) * chem.ref_capacity_ah / max(q_ah, 1e-6) * 1000.0
     text = {
         "capacity_mah": lambda v: _("capacity {n} mAh").format(n=f"{v:.0f}"),

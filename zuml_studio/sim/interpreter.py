@@ -1,5 +1,5 @@
 """The charger's interpreter, emulated: runs a record's byte code tick by tick
-against a battery pack and a power stage (spec §3).
+against a battery pack and a power stage (docs/zuml-2.0.md §3).
 
 No wall-clock time and no I/O: ``advance(n)`` runs at most n ticks and returns;
 the simulator calls it until the macro ends, the virtual charger calls it in
@@ -11,6 +11,9 @@ import random
 from dataclasses import dataclass, field, replace
 from typing import Iterator, Mapping
 
+from ..domain import end_reasons
+from ..domain.end_reasons import EndCode, EndReason, read
+from ..domain.units import AS_PER_MAH, SECONDS_PER_HOUR
 from ..lang import opcodes as ops
 from ..lang.formatter import format_args
 from ..lang.opcodes import canonical_text
@@ -24,7 +27,7 @@ from .samples import SampleLog
 from .start_templates import StartTemplate, apply_template, chosen_template, factory_templates
 from ..i18n import _
 
-# Defaults of spec §3. A macro's IF(Tc>x), IF(Tc<x) and IF(T>x) replace the matching default; dT/dt and
+# Defaults of docs/zuml-2.0.md §3. A macro's IF(Tc>x), IF(Tc<x) and IF(T>x) replace the matching default; dT/dt and
 # the 1.5 x capacity guard cannot be written in ZUML and always apply.
 DEFAULT_TC_PAUSE = 70
 DEFAULT_TC_CONTINUE = 60
@@ -40,10 +43,14 @@ DTDT_HOLDOFF_S = 120.0
 # charger sets no limit of its own (cheali's time limit defaults to unlimited; tm and tf are
 # u32 tenths of a second, 119 304 h), so the bound is the simulator's: 1000 h holds a 10-cycle
 # training of a 10 Ah pack at 0.1C (~200 h) five times over, at 30 bytes a tick (~108 MB at 1 s).
-DEFAULT_LIMIT_S = 1000 * 3600.0
+DEFAULT_LIMIT_S = 1000 * SECONDS_PER_HOUR
 
 _CC, _CV, _PULSE, _TRICKLE = range(4)
-_TIMERS = (87, 88)          # tm, tf: a charge they end is checked against the pack's state (timer before full)
+# The conditions' codes as plain ints, from the one opcode table: the hot loop compares them every tick.
+_T_GT, _V_LT, _V_GT, _I_LT, _TF_GT, _DPEAK_GT = (op.code for op in (ops.IF_T_GT, ops.IF_V_LT, ops.IF_V_GT,
+                                                                   ops.IF_I_LT, ops.IF_TF_GT, ops.IF_DPEAK_GT))
+# tm, tf: a charge they end is checked against the pack's state (timer before full)
+_TIMERS = (ops.IF_TM_GT.code, _TF_GT)
 # A pack the model holds at this state of charge or more is full: a timer ending a charge there did
 # not cut it short, and the dT/dt default ending it there is the normal end of a fast nickel charge.
 FULL_SOC = 0.95
@@ -116,15 +123,16 @@ class PhaseResult:
     @property
     def by_default(self) -> bool:
         """Ended by one of the charger's default safety conditions (or its balancer), not by the macro's own."""
-        return self.reason.startswith(("default:", "limit:", "balancer:"))
+        return read(self.reason).by_default
 
     @property
     def full_by_dtdt(self) -> bool:
         """A charge the dT/dt default ended once the pack was full. ZUML cannot write dT/dt; with a
-        sensor the charger always watches it (spec §3), and a nickel pack charged at about 1C warms
+        sensor the charger always watches it (docs/zuml-2.0.md §3), and a nickel pack charged at about 1C warms
         by 1 °C/min as it becomes full, minutes before its -dV (the dT/dt method): the charger's
         normal end of a fast charge, not something the user must act on."""
-        return self.section == "charge" and self.reason.startswith("default: dT/dt") and self.soc_end >= FULL_SOC
+        return (self.section == "charge" and read(self.reason).code is EndCode.DEFAULT_DTDT
+                and self.soc_end >= FULL_SOC)
 
     @property
     def warns(self) -> bool:
@@ -234,9 +242,10 @@ class Interpreter:
         self.series = self.program.intro.series(p.series)
         self.akk_type = decl.get(ops.AKK_TYPE.code, 0)
         cond = self.program.intro.conditions
-        self.tc_pause = cond[85].raws[0] if 85 in cond else DEFAULT_TC_PAUSE
-        self.tc_continue = cond[86].raws[0] if 86 in cond else DEFAULT_TC_CONTINUE
-        self.tm_stop = (cond[87].raws[0] / 10.0, _reason(cond[87])) if 87 in cond else None
+        tc_gt, tc_lt, tm_gt = ops.IF_TC_GT.code, ops.IF_TC_LT.code, ops.IF_TM_GT.code
+        self.tc_pause = cond[tc_gt].raws[0] if tc_gt in cond else DEFAULT_TC_PAUSE
+        self.tc_continue = cond[tc_lt].raws[0] if tc_lt in cond else DEFAULT_TC_CONTINUE
+        self.tm_stop = (cond[tm_gt].raws[0] / 10.0, _reason(cond[tm_gt])) if tm_gt in cond else None
         if p.repetitions < 1:
             raise StartError(_("training needs at least 1 repetition"))
         # As the charger asks for every INPUT value at start: a missing one is an error now, not mid-run.
@@ -263,7 +272,7 @@ class Interpreter:
                          else _("a voltage per cell (S) needs the cell count: declare SERIES or give it at start"))
 
     # -- running ----------------------------------------------------------------------------
-    def stop(self, reason: str = "stopped") -> None:
+    def stop(self, reason: EndReason = end_reasons.STOPPED) -> None:
         if self._active:
             self._end_phase(self._active, reason)
         self._finish(reason)
@@ -291,13 +300,13 @@ class Interpreter:
                 self._section, self._repetition = step.section, step.repetition
                 self._event("section", section=step.section, repetition=step.repetition)
             elif isinstance(step, CommandStep):
-                kind = "music" if step.op.code == 100 else "light"
+                kind = "music" if step.op is ops.MUSIC else "light"
                 self._event(kind, offset=step.offset,
                             detail=canonical_text(step.op, format_args(step.op, step.raws)))
             elif isinstance(step, (PhaseCode, DefaultDischarge)):
                 self._active = self._start_phase(step)
                 return True
-        self._finish(self._stop_reason or "end of macro")
+        self._finish(self._stop_reason or end_reasons.END_OF_MACRO)
         return False
 
     def _start_phase(self, code: PhaseCode | DefaultDischarge) -> _Active:
@@ -314,7 +323,8 @@ class Interpreter:
         if isinstance(code, DefaultDischarge):
             end_v = self._chemistry_end_v()
             active = _Active(result, _CC, False, i_set=-DEFAULT_DISCHARGE_A, default_end_v=end_v * (self.series or 1))
-            active.conditions.append((82, active.default_end_v, f"default: empty discharge section, V<{end_v:.2f}V/cell"))
+            active.conditions.append((_V_LT, active.default_end_v,
+                                      EndReason(EndCode.DEFAULT_EMPTY_DISCHARGE, end_v=end_v)))
         else:
             active = self._compile(code, result, charging)
         if self._per_cell:
@@ -334,40 +344,40 @@ class Interpreter:
             return self.pack.chem.discharge_end_v
 
     def _compile(self, code: PhaseCode, result: PhaseResult, charging: bool) -> _Active:
-        by_code = {a.op.code: a for a in code.actions}
+        by_op = {a.op: a for a in code.actions}
         sign = 1.0 if charging else -1.0
         limits = self.charger.limits
-        if 62 in by_code:
-            tch, ich, tdis, idis, tv = by_code[62].raws
+        if ops.CHARGE_EX in by_op:
+            tch, ich, tdis, idis, tv = by_op[ops.CHARGE_EX].raws
             active = _Active(result, _PULSE, True, pulse=(float(tch), self.current(ich), float(tdis),
                                                           self.current(idis), tv))
-        elif 63 in by_code:
-            i, v1, v2 = by_code[63].raws
+        elif ops.TRICKLE in by_op:
+            i, v1, v2 = by_op[ops.TRICKLE].raws
             active = _Active(result, _TRICKLE, True, trickle=(self.current(i), self.voltage(v1), self.voltage(v2)))
-        elif 60 in by_code and 61 in by_code:
+        elif ops.CONSTANT_I in by_op and ops.CONSTANT_V in by_op:
             # CC-CV: the voltage is held with the current limited to CONSTANT_I, in either direction.
-            i = self.current(by_code[60].raws[0])
-            active = _Active(result, _CV, charging, v_set=self.voltage(by_code[61].raws[0]), i_max=i)
-        elif 61 in by_code:
+            i = self.current(by_op[ops.CONSTANT_I].raws[0])
+            active = _Active(result, _CV, charging, v_set=self.voltage(by_op[ops.CONSTANT_V].raws[0]), i_max=i)
+        elif ops.CONSTANT_V in by_op:
             fallback = limits.max_charge_a if charging else limits.max_discharge_a
             i_max = self.params.current_a if self.params.current_a else fallback
-            active = _Active(result, _CV, charging, v_set=self.voltage(by_code[61].raws[0]), i_max=i_max)
+            active = _Active(result, _CV, charging, v_set=self.voltage(by_op[ops.CONSTANT_V].raws[0]), i_max=i_max)
         else:
-            active = _Active(result, _CC, charging, i_set=sign * self.current(by_code[60].raws[0]))
+            active = _Active(result, _CC, charging, i_set=sign * self.current(by_op[ops.CONSTANT_I].raws[0]))
         for ins in code.conditions:
             c = ins.op.code
             raw = ins.raws[0]
             reason = _reason(ins)
-            if c == 81:
+            if c == _T_GT:
                 active.own_t = True
                 threshold = float(raw)
-            elif c in (82, 83, 89):
+            elif c in (_V_LT, _V_GT, _DPEAK_GT):
                 threshold = self.voltage(raw)
-            elif c == 84:
+            elif c == _I_LT:
                 threshold = self.current(raw)
-            else:   # 88: tf, tenths of a second
+            else:   # IF(tf>x): tenths of a second
                 threshold = raw / 10.0
-            if c == 89:
+            if c == _DPEAK_GT:
                 active.detector = DeltaPeakDetector(limits.dpeak_window_s, limits.dpeak_holdoff_s)
                 active.dpeak = (threshold, reason)
             else:
@@ -389,7 +399,8 @@ class Interpreter:
         dpeak = a.dpeak
         # Rounded to µA·s (and the count to nA·s below): 1.5 × 0.3 Ah is 1619.9999999999998 A·s in
         # floats, and 36 × 0.3 A·s sums to a hair over 10.8; the charger's integer count is exact.
-        cap_limit = round(DEFAULT_CAPACITY_FACTOR * self.capacity_ah * 3600.0, 6) if self.capacity_ah else None
+        cap_limit = (round(DEFAULT_CAPACITY_FACTOR * self.capacity_ah * SECONDS_PER_HOUR, 6) if self.capacity_ah
+                     else None)
         check_defaults = a.result.section == "charge"
         t_max_default = not a.own_t
         tm_stop = self.tm_stop
@@ -473,7 +484,8 @@ class Interpreter:
                 v = self._pulse_measurement(a, v)
             a.measured_v = v
             temp = pack.temp_c
-            log.append(self.time_s, section_code, run_no, v, i, temp, hs, self.q_in / 3.6, self.q_out / 3.6)
+            log.append(self.time_s, section_code, run_no, v, i, temp, hs, self.q_in / AS_PER_MAH,
+                       self.q_out / AS_PER_MAH)
             if per_cell:
                 log.append_cells(pack.cell_voltages, mask)
                 if mask:
@@ -483,10 +495,11 @@ class Interpreter:
             # -- end conditions: the macro's own first, then the defaults ------------------
             reason = None
             for c, x, text in conds:
-                if (c == 83 and v > x) or (c == 82 and v < x) or (c == 88 and a.t_phase > x) or \
-                        (c == 84 and round(abs(i), 6) < x and not self.paused) or (c == 81 and sensor and temp > x):
+                if (c == _V_GT and v > x) or (c == _V_LT and v < x) or (c == _TF_GT and a.t_phase > x) or \
+                        (c == _I_LT and round(abs(i), 6) < x and not self.paused) or \
+                        (c == _T_GT and sensor and temp > x):
                     reason = text
-                    a.by_timer = c == 88
+                    a.by_timer = c == _TF_GT
                     break
             if reason is None and detector is not None and not self.paused:
                 if detector.update(a.t_phase, v) > dpeak[0]:
@@ -496,14 +509,14 @@ class Interpreter:
             if reason is None:
                 if sensor:
                     if t_max_default and temp > DEFAULT_T_MAX:
-                        reason = f"default: T>{DEFAULT_T_MAX:g}"
+                        reason = EndReason(EndCode.DEFAULT_T, limit_c=DEFAULT_T_MAX)
                     elif check_defaults and a.t_phase >= a.dtdt_next:
                         rate = (temp - a.dtdt_t0) * 60.0 / DTDT_WINDOW_S
                         a.dtdt_t0, a.dtdt_next = temp, a.dtdt_next + DTDT_WINDOW_S
                         if a.t_phase > DTDT_HOLDOFF_S and rate > DEFAULT_DTDT_C_PER_MIN:
-                            reason = f"default: dT/dt>{DEFAULT_DTDT_C_PER_MIN:g}C/min"
+                            reason = EndReason(EndCode.DEFAULT_DTDT, rate=DEFAULT_DTDT_C_PER_MIN)
                 elif check_defaults and cap_limit is not None and round(a.q_in, 9) > cap_limit:
-                    reason = f"default: capacity {DEFAULT_CAPACITY_FACTOR:g}x"
+                    reason = EndReason(EndCode.DEFAULT_CAPACITY, factor=DEFAULT_CAPACITY_FACTOR)
             if reason is None and tm_stop is not None and self.time_s > tm_stop[0]:
                 # STOP_MACRO: the remaining phases and sections are skipped; the conclusion still runs.
                 a.by_timer = True
@@ -512,7 +525,7 @@ class Interpreter:
                 self._steps = self.program.conclusion_steps()
                 return ticks
             if reason is None and self.time_s >= self.limit_s:
-                reason = f"limit: simulation stopped after {self.limit_s / 3600:g}h"
+                reason = EndReason(EndCode.SIM_LIMIT, hours=self.limit_s / SECONDS_PER_HOUR)
                 self._end_phase(a, reason)
                 self._finish(reason)
                 return ticks
@@ -541,12 +554,12 @@ class Interpreter:
             return self.pack.open_circuit_voltage()          # power stage off
         return a.measured_v
 
-    def _end_phase(self, a: _Active, reason: str) -> None:
+    def _end_phase(self, a: _Active, reason: EndReason) -> None:
         r = a.result
         r.end_s = self.time_s
         r.reason = reason
-        r.mah_in = a.q_in / 3.6
-        r.mah_out = a.q_out / 3.6
+        r.mah_in = a.q_in / AS_PER_MAH
+        r.mah_out = a.q_out / AS_PER_MAH
         r.v_end = a.measured_v
         r.temp_end = self.pack.temp_c
         r.soc_end = self.pack.soc
@@ -564,7 +577,7 @@ class Interpreter:
         self._event("phase_end", section=r.section, index=r.index, repetition=r.repetition, offset=r.offset,
                     detail=reason)
 
-    def _finish(self, reason: str) -> None:
+    def _finish(self, reason: EndReason) -> None:
         if not self.finished:
             self.finished = True
             self.end_reason = reason
@@ -592,7 +605,7 @@ def with_template(program: Program, params: StartParams,
     return replace(apply_template(params, template), template=number)
 
 
-def _reason(ins) -> str:
-    """A condition's canonical text, the way phase end reasons are reported."""
-    return canonical_text(ins.op, format_args(ins.op, ins.raws))
+def _reason(ins) -> EndReason:
+    """A condition's end reason: its canonical text."""
+    return end_reasons.condition(canonical_text(ins.op, format_args(ins.op, ins.raws)))
 

@@ -10,6 +10,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ..domain.units import MAH_PER_AH
 from ..logs import Log
 from ..logs.rest_steps import RestStep, rest_steps
 from .chemistry import Chemistry, load_chemistry
@@ -111,7 +112,7 @@ def _median(steps: list[RestStep], cells: int, delay: float) -> MeasuredR:
 def model_step(chem: Chemistry, capacity_mah: float, after_s: float) -> float:
     """The model's fall per cell and ampere ``after_s`` after the current stops: R0 and that much of R1,
     at the capacity's scale (R × Ah is constant within a chemistry)."""
-    scale = chem.ref_capacity_ah * 1000.0 / capacity_mah
+    scale = chem.ref_capacity_ah * MAH_PER_AH / capacity_mah
     return scale * (chem.r0_ohm + chem.r1_ohm * (1.0 - math.exp(-after_s / chem.tau1_s)))
 
 

@@ -8,6 +8,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Iterator
 
+from ..domain.units import MAH_PER_AH
 from ..lang import opcodes as ops
 from ..lang.decoder import decode_record
 from ..lang.opcodes import Op, Role
@@ -65,8 +66,8 @@ class Introduction:
         one entered at start; None when neither is known."""
         cap = self.declarations.get(ops.CAPACITY.code)
         if cap is not None and cap not in (CAPACITY_INPUT, CAPACITY_AUTO):
-            return cap / 1000.0
-        return entered_mah / 1000.0 if entered_mah else None
+            return cap / MAH_PER_AH
+        return entered_mah / MAH_PER_AH if entered_mah else None
 
     def series(self, entered: int | None) -> int | None:
         """The cell count S units refer to: the macro's SERIES, else the one entered at start."""

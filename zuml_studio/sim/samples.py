@@ -28,19 +28,21 @@ from dataclasses import dataclass
 from typing import Mapping, NamedTuple, TextIO
 
 import numpy as np
+from ..domain import csv_columns
+from ..domain.csv_columns import (BALANCE_MASK, CURRENT_A, HEATSINK_C, MAH_IN, MAH_OUT, PHASE, SAMPLE_COLUMNS, SECTION,
+                                  TEMP_C, TIME_S, VOLTAGE_V)
 from ..i18n import _
 
-COLUMNS = ("time_s", "section", "phase", "voltage_v", "current_a", "temp_c", "heatsink_c", "mah_in", "mah_out")
+COLUMNS = SAMPLE_COLUMNS
 SECTION_NAMES = ("discharge", "charge")
 MEASURED = COLUMNS[3:]
 CHUNK = 16_384           # ticks per sealed chunk: < 65 536 (uint16 phase offsets)
-BALANCE_MASK = "balance_mask"
 _TYPES = {"d": np.float64, "b": np.int8, "q": np.int64, "f": np.float32, "I": np.uint32}   # of the staging arrays
 
 
 def cell_columns(cells: int) -> tuple[str, ...]:
     """``cell1_v`` … ``cellN_v`` and ``balance_mask`` for a pack of more than one cell, else ()."""
-    return tuple(f"cell{k}_v" for k in range(1, cells + 1)) + (BALANCE_MASK,) if cells > 1 else ()
+    return csv_columns.cell_columns(cells) + (BALANCE_MASK,) if cells > 1 else ()
 
 
 class Sample(NamedTuple):
@@ -79,7 +81,7 @@ class SampleLog:
         self.columns = COLUMNS + extra
         self.per_cell = bool(per_cell and extra)     # False: every cell reads the pack's voltage / cells
         self._stored = MEASURED + (extra if per_cell else ())
-        self._stage = {"time_s": array("d"), "section": array("b"), "phase": array("q"),
+        self._stage = {TIME_S: array("d"), SECTION: array("b"), PHASE: array("q"),
                        **{name: array("I" if name == BALANCE_MASK else "f") for name in self._stored}}
         if per_cell and extra:
             cell_appends = [self._stage[name].append for name in extra[:-1]]
@@ -101,7 +103,7 @@ class SampleLog:
         self.append = append
 
     def __len__(self) -> int:
-        return self._sealed + len(self._stage["time_s"])
+        return self._sealed + len(self._stage[TIME_S])
 
     # -- writing -----------------------------------------------------------------------------
     def append_block(self, columns: Mapping[str, np.ndarray]) -> None:
@@ -113,22 +115,22 @@ class SampleLog:
     @property
     def room(self) -> int:
         """Ticks that still fit in the staging chunk (at least 1)."""
-        return max(1, CHUNK - len(self._stage["time_s"]))
+        return max(1, CHUNK - len(self._stage[TIME_S]))
 
     def seal_if_full(self) -> None:
-        if len(self._stage["time_s"]) >= CHUNK:
+        if len(self._stage[TIME_S]) >= CHUNK:
             self.seal()
 
     def seal(self) -> None:
         """Store the staged samples compactly now (a run that has ended appends no more)."""
         stage = self._stage
-        n = len(stage["time_s"])
+        n = len(stage[TIME_S])
         if not n:
             return
         # copies: a staging array cannot be emptied while numpy views of it live
-        t = np.array(stage["time_s"], np.float64)
-        phase = np.array(stage["phase"], np.int64)
-        section = np.array(stage["section"], np.int8)
+        t = np.array(stage[TIME_S], np.float64)
+        phase = np.array(stage[PHASE], np.int64)
+        section = np.array(stage[SECTION], np.int8)
         spans = [(a, min(n, a + CHUNK)) for a in range(0, n, CHUNK)]
         if any(int(np.ptp(phase[a:b])) > np.iinfo(np.uint16).max for a, b in spans):
             raise ValueError(_("more than 65 536 phase numbers in one chunk of samples"))
@@ -170,7 +172,7 @@ class SampleLog:
     def last(self) -> Sample:
         """The newest sample (IndexError if there is none)."""
         stage = self._stage
-        if len(stage["time_s"]):
+        if len(stage[TIME_S]):
             return Sample(*(stage[name][-1] for name in COLUMNS))
         c = self._chunks[-1]
         phase = c.phase0 + int(c.phase_off[-1])
@@ -180,31 +182,31 @@ class SampleLog:
     def arrays(self, start: int = 0, stop: int | None = None) -> dict[str, np.ndarray]:
         """Every column for samples ``start`` to ``stop``: float64, section, phase and balance_mask as integers."""
         stage = self._stage
-        self._learn_sections(np.frombuffer(stage["phase"], np.int64), np.frombuffer(stage["section"], np.int8))
+        self._learn_sections(np.frombuffer(stage[PHASE], np.int64), np.frombuffer(stage[SECTION], np.int8))
         stop = len(self) if stop is None else min(stop, len(self))
-        parts: dict[str, list[np.ndarray]] = {name: [] for name in ("time_s", "phase") + self._stored}
+        parts: dict[str, list[np.ndarray]] = {name: [] for name in (TIME_S, PHASE) + self._stored}
         at = 0
         for c in self._chunks:
             a, b = max(0, start - at), min(len(c), stop - at)
             at += len(c)
             if a >= b:
                 continue
-            parts["time_s"].append(c.t0 + c.t_off[a:b].astype(np.float64))
-            parts["phase"].append(c.phase0 + c.phase_off[a:b].astype(np.int64))
+            parts[TIME_S].append(c.t0 + c.t_off[a:b].astype(np.float64))
+            parts[PHASE].append(c.phase0 + c.phase_off[a:b].astype(np.int64))
             for name in self._stored:
                 parts[name].append(c.measured[name][a:b].astype(np.float64))
         a, b = max(0, start - at), max(0, stop - at)
-        parts["time_s"].append(np.frombuffer(stage["time_s"], np.float64)[a:b].copy())
-        parts["phase"].append(np.frombuffer(stage["phase"], np.int64)[a:b].copy())
+        parts[TIME_S].append(np.frombuffer(stage[TIME_S], np.float64)[a:b].copy())
+        parts[PHASE].append(np.frombuffer(stage[PHASE], np.int64)[a:b].copy())
         for name in self._stored:
             parts[name].append(_view(stage[name])[a:b].astype(np.float64))
         out = {name: np.concatenate(chunks) for name, chunks in parts.items()}
-        out["section"] = self._section_of(out["phase"])
+        out[SECTION] = self._section_of(out[PHASE])
         if self.cells and BALANCE_MASK not in out:
             # identical cells: each is the pack's share, and nothing bleeds
             for name in self.columns[len(COLUMNS):-1]:
-                out[name] = out["voltage_v"] / self.cells
-            out[BALANCE_MASK] = np.zeros(len(out["phase"]))
+                out[name] = out[VOLTAGE_V] / self.cells
+            out[BALANCE_MASK] = np.zeros(len(out[PHASE]))
         if self.cells:
             out[BALANCE_MASK] = out[BALANCE_MASK].astype(np.int64)
         return {name: out[name] for name in self.columns}
@@ -220,15 +222,15 @@ class SampleLog:
     def column(self, name: str) -> np.ndarray:
         return self.arrays()[name]
 
-    time_s = property(lambda self: self.column("time_s"))
-    section = property(lambda self: self.column("section"))
-    phase = property(lambda self: self.column("phase"))
-    voltage_v = property(lambda self: self.column("voltage_v"))
-    current_a = property(lambda self: self.column("current_a"))
-    temp_c = property(lambda self: self.column("temp_c"))
-    heatsink_c = property(lambda self: self.column("heatsink_c"))
-    mah_in = property(lambda self: self.column("mah_in"))
-    mah_out = property(lambda self: self.column("mah_out"))
+    time_s = property(lambda self: self.column(TIME_S))
+    section = property(lambda self: self.column(SECTION))
+    phase = property(lambda self: self.column(PHASE))
+    voltage_v = property(lambda self: self.column(VOLTAGE_V))
+    current_a = property(lambda self: self.column(CURRENT_A))
+    temp_c = property(lambda self: self.column(TEMP_C))
+    heatsink_c = property(lambda self: self.column(HEATSINK_C))
+    mah_in = property(lambda self: self.column(MAH_IN))
+    mah_out = property(lambda self: self.column(MAH_OUT))
 
     def nbytes(self) -> int:
         """Bytes the samples take (sealed chunks and the staging chunk)."""

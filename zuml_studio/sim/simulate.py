@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from typing import Mapping
 
+from ..domain.units import AS_PER_MAH, MAH_PER_AH
 from ..lang import opcodes as ops
 from ..lang.record import DecodeError
 from .battery import Pack
@@ -74,8 +75,8 @@ class SimResult:
 
     def totals(self) -> dict:
         it = self.interpreter
-        return {"duration_s": round(it.time_s, 1), "mah_in": round(it.q_in / 3.6, 1),
-                "mah_out": round(it.q_out / 3.6, 1), "end": it.end_reason}
+        return {"duration_s": round(it.time_s, 1), "mah_in": round(it.q_in / AS_PER_MAH, 1),
+                "mah_out": round(it.q_out / AS_PER_MAH, 1), "end": it.end_reason}
 
     def repetitions(self) -> list[dict]:
         """Per training repetition: what the discharge took out (the measured capacity) and the charge put in."""
@@ -144,7 +145,7 @@ def start_values(record: bytes, params: StartParams,
                 offset=exc.offset, message=exc.message)) from None
     params = with_template(program, params, templates)
     declared_ah = program.intro.capacity_ah(None)
-    capacity = params.capacity_mah or (round(declared_ah * 1000) if declared_ah else None)
+    capacity = params.capacity_mah or (round(declared_ah * MAH_PER_AH) if declared_ah else None)
     if not capacity:
         raise StartError(_("the battery's capacity is needed: the macro takes it at start (give --capacity MAH)"))
     series = program.intro.series(params.series)

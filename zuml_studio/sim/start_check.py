@@ -4,6 +4,7 @@ limits cut a current that is too large). The simulator panel, ``zuml simulate`` 
 panel show them; none stops a start."""
 from __future__ import annotations
 
+from ..domain.units import MAH_PER_AH
 from ..lang import opcodes as ops
 from ..lang.lint import DPEAK_MIN_RATE
 from ..lang.operands import DISPLAY_NAMES, absolute_value
@@ -29,24 +30,24 @@ def start_warnings(record: bytes, params: StartParams, charger: ChargerLimits | 
     for step in program.steps(params.task):
         if not isinstance(step, PhaseCode):
             continue
-        by_code = {a.op.code: a for a in step.actions}
+        by_op = {a.op: a for a in step.actions}
         where = (_("charge phase {index}") if step.section == "charge"
                  else _("discharge phase {index}")).format(index=step.index)
-        if 62 in by_code:
-            raw = by_code[62].raws[1]
-        elif 60 in by_code:
-            raw = by_code[60].raws[0]
+        if ops.CHARGE_EX in by_op:
+            raw = by_op[ops.CHARGE_EX].raws[1]
+        elif ops.CONSTANT_I in by_op:
+            raw = by_op[ops.CONSTANT_I].raws[0]
         else:
             continue
         amps = absolute_value(raw, params.current_a, capacity_ah)
         if amps is None:
             continue
-        charging = step.section == "charge" or 62 in by_code
-        has_dpeak = any(c.op.code == 89 for c in step.conditions)
+        charging = step.section == "charge" or ops.CHARGE_EX in by_op
+        has_dpeak = any(c.op is ops.IF_DPEAK_GT for c in step.conditions)
         if charging and has_dpeak and min_rate and capacity_ah and amps / capacity_ah < min_rate - 1e-9:
             out.append(_("{where}: {amps:.2f} A is {rate:.2f}C of {capacity:g} mAh; {chemistry} shows no reliable -dV "
                          "below {min_rate:g}C ({min_amps:.2f} A): a timer or a default will end this charge").format(
-                where=where, amps=amps, rate=amps / capacity_ah, capacity=capacity_ah * 1000,
+                where=where, amps=amps, rate=amps / capacity_ah, capacity=capacity_ah * MAH_PER_AH,
                 chemistry=DISPLAY_NAMES[akk], min_rate=min_rate, min_amps=min_rate * capacity_ah))
         if charger is not None:
             top = charger.max_charge_a if charging else charger.max_discharge_a

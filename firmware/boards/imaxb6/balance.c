@@ -3,7 +3,7 @@
 
 uint16_t balance_ceiling_mv(uint8_t akk_type)
 {
-    /* LiPo, LiIon, LiS, LiFe: cheali ProgramData.cpp Vc (LiPo 4.200, LiFe 3.600); LiIon 4.20, spec section
+    /* LiPo, LiIon, LiS, LiFe: cheali ProgramData.cpp Vc (LiPo 4.200, LiFe 3.600); LiIon 4.20, docs/zuml-2.0.md section
      * 5's end voltage of our LiIon; LiS none (the protections' limit only); the simulator's B6 the same */
     static const uint16_t charge_mv[4] PROGMEM = {4200, 4200, 0, 3600};
     uint16_t mv = 0;

@@ -19,7 +19,7 @@ int32_t protect_sink_sum = (int32_t)SINK_AMBIENT_C100 * SINK_STEPS;
 
 uint16_t protect_cell_max_mv(uint8_t akk_type)
 {
-    /* Undef, Pb, NiCd, NiMh, LiPo, LiIon, LiS, LiFe, New: spec section 5's absolute maxima; LiS 2.80 V
+    /* Undef, Pb, NiCd, NiMh, LiPo, LiIon, LiS, LiFe, New: docs/zuml-2.0.md section 5's absolute maxima; LiS 2.80 V
      * and Undef/New at the highest of any chemistry are the firmware's decisions (docs/firmware.md) */
     static const uint16_t max_mv[9] PROGMEM = {4350, 2500, 1800, 1800, 4350, 4250, 2800, 3700, 4350};
     uint16_t mv = 4350;
@@ -68,7 +68,7 @@ uint16_t protect_time_limit_min(const uint8_t *rec)
     uint8_t at, size, has_tm = 0;
     uint32_t run = 0, phases = 0, x;
     for (at = rec[1]; at < rec[0] - 1; at = (uint8_t)(at + size)) {   /* rec[1]: the first instruction */
-        /* IF(tm>x) (87) bounds the run, IF(tf>x) (88) its phase: x in tenths of a second (spec section 3),
+        /* IF(tm>x) (87) bounds the run, IF(tf>x) (88) its phase: x in tenths of a second (docs/zuml-2.0.md section 3),
          * taken at most up to the ceiling, so the sum of 50 of them still fits */
         if (rec[at] == 87 || rec[at] == 88) {
             x = zc_u32(rec + at + 1);

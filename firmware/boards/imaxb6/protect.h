@@ -71,7 +71,7 @@ extern volatile int16_t protect_latest[13];   /* each input's last reading: mV, 
 extern volatile int16_t protect_cell_mv[6];
 extern int32_t protect_sink_sum;       /* the heat sink's estimate x SINK_STEPS (the B6 has no sensor) */
 
-/* Absolute maximum per cell of AKK_TYPE `akk_type` (spec section 5; firmware decisions for LiS,
+/* Absolute maximum per cell of AKK_TYPE `akk_type` (docs/zuml-2.0.md section 5; firmware decisions for LiS,
  * Undef, New), mV. */
 uint16_t protect_cell_max_mv(uint8_t akk_type);
 uint8_t protect_is_li(uint8_t akk_type);

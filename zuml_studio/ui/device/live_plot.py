@@ -32,6 +32,7 @@ import numpy as np
 import pyqtgraph as pg
 from PySide6.QtCore import Qt, QTimer, Signal
 
+from ...domain.end_reasons import EndCode, read
 from ...i18n import _
 from ...logs import gaps
 from ...sim.interpreter import PhaseResult
@@ -50,7 +51,6 @@ DEFAULT_FOLLOW_MIN = 30
 MIN_VIEW_S = 60.0
 PERIOD_SAMPLES = 4097               # the first samples give the session's sample period
 CELL_ABSENT_V = 0.05               # a balance-port reading below this is no cell there (chargers send 0)
-PROTECTION = "protection: "        # the prefix of a protection's end reason (docs/protocol.md)
 
 
 @dataclass
@@ -69,7 +69,7 @@ class LivePhase(PhaseResult):
     @property
     def by_default(self) -> bool:
         # A charger's protection ends a phase too, and the user must look at it as at a default.
-        return super().by_default or self.reason.startswith(PROTECTION)
+        return super().by_default or read(self.reason).code is EndCode.PROTECTION
 
     def measure(self, x: float, tel) -> None:
         """A telemetry frame of this phase."""
@@ -179,10 +179,12 @@ class LiveSeries:
                         if p.last_x is None and self.last_telemetry is not None and self.last_telemetry.running:
                             p.measure(x, self.last_telemetry)      # a phase shorter than a frame: the pack now
                         self._end_pause(p, x)
-                        p.end_s, p.reason, p.closed = max(x, p.start_s), ev.detail or _("ended"), True
+                        # the protocol carries the reason as its text (docs/protocol.md): read back to its code
+                        p.end_s, p.closed = max(x, p.start_s), True
+                        p.reason = read(ev.detail) if ev.detail else _("ended")
                         break
             elif ev.kind == "finish":
-                self.end_reason = ev.detail or _("finished")
+                self.end_reason = read(ev.detail) if ev.detail else _("finished")
                 self._close_open(x, self.end_reason)
                 self._ended = self.phases[-1] if self.phases else None
             elif ev.kind in ("pause", "resume") and self.phases and not self.phases[-1].closed:

@@ -1,4 +1,4 @@
-"""The battery's passport (spec §4): serial and vendor, type and temperature, limits and the
+"""The battery's passport (docs/zuml-2.0.md §4): serial and vendor, type and temperature, limits and the
 error counts, as the charger last read them (on connecting, on ⟳, and every few seconds)."""
 from __future__ import annotations
 

@@ -16,10 +16,12 @@ from typing import Mapping
 import numpy as np
 
 from ..device.envelope import Envelope
+from ...domain import csv_columns
+from ...domain.csv_columns import BALANCE_MASK, CURRENT_A, HEATSINK_C, TEMP_C, TIME_S, VOLTAGE_V
 
-CLOCK = "time_s"
-CURVES = {"voltage": "voltage_v", "current": "current_a", "temp": "temp_c", "heatsink": "heatsink_c"}
-MASK = "balance_mask"
+CLOCK = TIME_S
+CURVES = {"voltage": VOLTAGE_V, "current": CURRENT_A, "temp": TEMP_C, "heatsink": HEATSINK_C}
+MASK = BALANCE_MASK
 MAX_EACH = 8                    # cells drawn one by one; more are drawn as their lowest and highest
 LOWEST, HIGHEST, BLEEDING = "cells_min", "cells_max", "cells_bleed"
 _CELL = re.compile(r"cell(\d+)_v")
@@ -50,7 +52,7 @@ def cell_columns(data: Mapping[str, np.ndarray]) -> tuple[str, ...]:
     count = 0
     while count + 1 in numbers:
         count += 1
-    return tuple(f"cell{k}_v" for k in range(1, count + 1)) if count > 1 else ()
+    return csv_columns.cell_columns(count) if count > 1 else ()
 
 
 def cell_curves(data: dict[str, np.ndarray], cells: tuple[str, ...]) -> tuple[CellCurve, ...]:

@@ -22,6 +22,7 @@ from multiprocessing.connection import Connection
 
 from ... import i18n
 from ...data import DataFileError
+from ...domain.end_reasons import EndCode, EndReason
 from ...i18n import _
 from ...sim import engine as c_engine
 from ...sim.batteries import BatteryFileError
@@ -33,6 +34,7 @@ log = logging.getLogger(__name__)
 
 CANCEL = b"cancel"
 PROGRESS, DONE, CANCELLED, FAILED = "progress", "done", "cancelled", "failed"
+CANCELLED_REASON = EndReason(EndCode.CANCELLED)
 
 
 @dataclass(frozen=True)
@@ -110,16 +112,16 @@ def _run(conn: Connection, request: SimRequest, chunk: int) -> tuple:
         it = result.interpreter
         conn.send_bytes(dumps((PROGRESS, 0.0)))
         if c_engine.unavailable(it) is None:
-            def chunk_done(time_s: float) -> str | None:
+            def chunk_done(time_s: float) -> EndReason | None:
                 conn.send_bytes(dumps((PROGRESS, time_s)))
-                return "cancelled" if conn.poll() and conn.recv_bytes() == CANCEL else None
+                return CANCELLED_REASON if conn.poll() and conn.recv_bytes() == CANCEL else None
 
             c_engine.run(it, on_chunk=chunk_done)
             result.engine = "c"
-            return (CANCELLED if it.end_reason == "cancelled" else DONE), result
+            return (CANCELLED if it.end_reason == CANCELLED_REASON else DONE), result
         while not it.finished:
             if conn.poll() and conn.recv_bytes() == CANCEL:
-                it.stop("cancelled")
+                it.stop(CANCELLED_REASON)
                 return CANCELLED, result
             it.advance(chunk)
             conn.send_bytes(dumps((PROGRESS, it.time_s)))
