@@ -105,7 +105,7 @@ def commands(pool: Pool) -> dict[str, tuple]:
     """command: (argv maker, share of N, time limit in s)."""
     num, word = number, lambda rng: rng.choice(WORDS)
     out = pool.output
-    task = lambda rng: rng.choice(["charge", "discharge", "train"] * 8 + ["x", ""])  # noqa: E731
+    task = lambda rng: rng.choice(["charge", "discharge", "train"] * 8 + ["x", ""])
     port = ["--port", "socket://127.0.0.1:9", "--timeout", "0.05"]
     start = {"--task": task, "--cycles": value("1", "2"), "--capacity": value("500", "2000"),
              "--current": value("0.5", "2"), "--voltage": value("4.2", "8.4"), "--series": value("1", "3", "4")}

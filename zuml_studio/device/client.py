@@ -289,7 +289,7 @@ class ChargerClient:
     def _dispatch_safely(self, frame) -> None:
         try:
             self._dispatch(frame)
-        except Exception:   # noqa: BLE001 - a callback's bug never kills the link
+        except Exception:   # a callback's bug never kills the link
             log.exception("charger client: handling a frame failed")
 
     def _suspect(self) -> None:
@@ -306,7 +306,7 @@ class ChargerClient:
         for cb in list(self._disconnect_cbs):
             try:
                 cb(exc)
-            except Exception:   # noqa: BLE001
+            except Exception:
                 log.exception("charger client: disconnect callback failed")
         self._publish(("disconnected", exc))
 

@@ -10,7 +10,7 @@ from dataclasses import replace
 import numpy as np
 
 from .compare import log_charger, real_end
-from .fit import LI, NI, FitResult, cc_current, cv_mask
+from .fit import FitResult, cc_current, cv_mask
 from .fit_discharge import discharge_current, end_voltage, hold_mask
 from .interpreter import StartError, StartParams
 from .simulate import BatterySetup, simulate

@@ -66,7 +66,7 @@ class SlotTable(QTableWidget):
     layout gives it whatever room is left, and a preferred height of its own would make the
     controls scroll in a 380 px dock."""
 
-    def sizeHint(self):  # noqa: N802
+    def sizeHint(self):
         hint = super().sizeHint()
         rows = self.verticalHeader().defaultSectionSize()
         hint.setHeight(self.horizontalHeader().sizeHint().height() + 3 * rows + 2 * self.frameWidth())
