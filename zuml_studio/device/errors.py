@@ -1,7 +1,8 @@
 """What can go wrong on the device link, each with a message a user can act on.
 
 Every error is a ``DeviceLinkError`` and says itself (``ZumlError.words``): the CLI prints it on one
-line, the GUI shows it in a dialog (both through ``error_words.describe_error``). None of them carries a traceback-worthy surprise.
+line, the GUI shows it in a dialog, both through ``error_words.describe_error``. None of them carries
+a traceback-worthy surprise.
 """
 from __future__ import annotations
 
