@@ -22,10 +22,10 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from fuzz_common import HOSTILE_NUMBERS, Campaign, mutate_bytes  # noqa: E402
-from zuml_studio.cli.main import main as zuml  # noqa: E402
-from zuml_studio.lang.compiler import compile_source  # noqa: E402
-from zuml_studio.lang.eeprom import pack  # noqa: E402
+from fuzz_common import HOSTILE_NUMBERS, Campaign, mutate_bytes
+from zuml_studio.cli.main import main as zuml
+from zuml_studio.lang.compiler import compile_source
+from zuml_studio.lang.eeprom import pack
 
 DATA = ROOT / "tests" / "data"
 MACRO_FILES = sorted((ROOT / "macros").glob("*.zuml"))

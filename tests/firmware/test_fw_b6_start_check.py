@@ -7,7 +7,7 @@ import ctypes
 import pytest
 
 from helpers import compiled
-from test_fw_b6_protect import AKK, IDIS, ISMPS, VIN, VOUT, VOUT_MINUS, arm, feed, lib, pack, text  # noqa: F401
+from test_fw_b6_protect import AKK, IDIS, ISMPS, VIN, VOUT, VOUT_MINUS, arm, feed, lib, pack, text  # noqa: F401 - lib: a fixture
 
 TRIP_DISCONNECTED = 11
 

@@ -215,13 +215,13 @@ class ChargerClient:
         self._closing = True
         try:
             self._serial.cancel_read()
-        except Exception:   # noqa: BLE001
+        except Exception:   # noqa: BLE001 - closing: whatever a dying port raises, it is being closed
             pass
         if self._reader.is_alive() and self._reader is not threading.current_thread():
             self._reader.join(timeout=2)
         try:
             self._serial.close()
-        except Exception:   # noqa: BLE001
+        except Exception:   # noqa: BLE001 - closing: whatever a dying port raises, it is closed
             pass
         with self._cv:
             if self._disconnected is None:
@@ -479,7 +479,7 @@ class ChargerClient:
     def _write(self, frame: bytes) -> None:
         try:
             self._serial.write(frame)
-        except Exception as exc:   # noqa: BLE001
+        except Exception as exc:   # noqa: BLE001 - pyserial on a port gone under it: SerialException, OSError, TypeError
             import serial
             if isinstance(exc, serial.SerialTimeoutException):
                 raise DeviceTimeout(_("{url}: the port does not take data (flow control?)").format(

@@ -104,5 +104,5 @@ class HidPort:
     def close(self) -> None:
         try:
             self._dev.close()
-        except Exception:   # noqa: BLE001
+        except Exception:   # noqa: BLE001 - closing: whatever hidapi raises for a device gone, it is closed
             pass

@@ -369,7 +369,7 @@ class ChargerSlots(QWidget):
                 count = len(slots(image))
                 text = ngettext("Saved the charger's EEPROM ({size} bytes, {n} macro) to {path}.",
                                 "Saved the charger's EEPROM ({size} bytes, {n} macros) to {path}.", count)
-            except Exception:   # noqa: BLE001
+            except ImageError:
                 count, text = 0, _("Saved the charger's EEPROM ({size} bytes, a broken record list) to {path}.")
             text = text.format(size=len(image), n=count, path=path)
             self.progress_done()
