@@ -13,9 +13,9 @@ import timeit
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
 
-from zuml_studio.sim.battery import Pack  # noqa: E402
-from zuml_studio.sim.cell_pack import CellPack, spread_cells  # noqa: E402
-from zuml_studio.sim.chemistry import chemistry_names, load_chemistry  # noqa: E402
+from zuml_studio.sim.battery import Pack
+from zuml_studio.sim.cell_pack import CellPack, spread_cells
+from zuml_studio.sim.chemistry import chemistry_names, load_chemistry
 
 STEPS = 7200
 

@@ -21,13 +21,13 @@ from pathlib import Path
 os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from PySide6.QtCore import Qt, qInstallMessageHandler  # noqa: E402
-from PySide6.QtGui import QTextCursor  # noqa: E402
-from PySide6.QtTest import QTest  # noqa: E402
-from PySide6.QtWidgets import QApplication  # noqa: E402
+from PySide6.QtCore import Qt, qInstallMessageHandler
+from PySide6.QtGui import QTextCursor
+from PySide6.QtTest import QTest
+from PySide6.QtWidgets import QApplication
 
-from zuml_studio.lang.compiler import compile_source  # noqa: E402
-from zuml_studio.ui.editor.code_editor import EditorWithFind  # noqa: E402
+from zuml_studio.lang.compiler import compile_source
+from zuml_studio.ui.editor.code_editor import EditorWithFind
 
 KEYS = 200
 

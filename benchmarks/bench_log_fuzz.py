@@ -20,7 +20,7 @@ from pathlib import Path
 from zuml_studio.logs import FORMATS, LogFormatError, read_log
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from fuzz_common import LIMIT_S, Campaign  # noqa: E402
+from fuzz_common import LIMIT_S, Campaign
 
 DATA = Path(__file__).resolve().parents[1] / "tests" / "data" / "logs"
 RAW = DATA.parent / "realdata"

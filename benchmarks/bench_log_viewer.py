@@ -12,8 +12,8 @@ from pathlib import Path
 
 os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
 
-from PySide6.QtCore import Qt, QTimer  # noqa: E402
-from PySide6.QtWidgets import QApplication  # noqa: E402
+from PySide6.QtCore import Qt, QTimer
+from PySide6.QtWidgets import QApplication
 
 LOG = Path(__file__).resolve().parents[1] / "tests" / "data" / "logs" / "UltramatACDCEQ_2014-09-16_4S_NiMH_cycle.osd"
 PROBE_MS = 2

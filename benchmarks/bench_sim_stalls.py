@@ -26,9 +26,9 @@ import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import bench_gui  # noqa: E402  (sets the offscreen platform and a scratch config directory)
-from PySide6.QtCore import Qt, QTimer  # noqa: E402
-from PySide6.QtWidgets import QApplication  # noqa: E402
+import bench_gui  # sets the offscreen platform and a scratch config directory
+from PySide6.QtCore import Qt, QTimer
+from PySide6.QtWidgets import QApplication
 
 TOGGLE_MS = 700
 CAPACITIES = (2000, 2100)

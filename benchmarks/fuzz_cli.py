@@ -22,10 +22,10 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from fuzz_common import HOSTILE_NUMBERS, Campaign, mutate_bytes  # noqa: E402
-from zuml_studio.cli.main import main as zuml  # noqa: E402
-from zuml_studio.lang.compiler import compile_source  # noqa: E402
-from zuml_studio.lang.eeprom import pack  # noqa: E402
+from fuzz_common import HOSTILE_NUMBERS, Campaign, mutate_bytes
+from zuml_studio.cli.main import main as zuml
+from zuml_studio.lang.compiler import compile_source
+from zuml_studio.lang.eeprom import pack
 
 DATA = ROOT / "tests" / "data"
 MACRO_FILES = sorted((ROOT / "macros").glob("*.zuml"))
@@ -105,7 +105,7 @@ def commands(pool: Pool) -> dict[str, tuple]:
     """command: (argv maker, share of N, time limit in s)."""
     num, word = number, lambda rng: rng.choice(WORDS)
     out = pool.output
-    task = lambda rng: rng.choice(["charge", "discharge", "train"] * 8 + ["x", ""])  # noqa: E731
+    task = lambda rng: rng.choice(["charge", "discharge", "train"] * 8 + ["x", ""])
     port = ["--port", "socket://127.0.0.1:9", "--timeout", "0.05"]
     start = {"--task": task, "--cycles": value("1", "2"), "--capacity": value("500", "2000"),
              "--current": value("0.5", "2"), "--voltage": value("4.2", "8.4"), "--series": value("1", "3", "4")}

@@ -21,10 +21,10 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tests" / "device"))
 
-from realdata import (ICHARGER_HID_REPORT, IMAXB6_README_FRAME, dollar_lines, imaxb6_frames,  # noqa: E402
+from realdata import (ICHARGER_HID_REPORT, IMAXB6_README_FRAME, dollar_lines, imaxb6_frames,
                       isdt_frames, raw, skyrc_reply, ultramat_sections)
-from zuml_studio.device.drivers import DRIVERS  # noqa: E402
-from fuzz_common import LIMIT_S, Campaign  # noqa: E402
+from zuml_studio.device.drivers import DRIVERS
+from fuzz_common import LIMIT_S, Campaign
 
 SEEDS = [
     b"".join(line + b"\r\n" for line in dollar_lines("cheali_captured_lines_from_issues.txt")),

@@ -27,7 +27,7 @@ from zuml_studio.lang.record import DecodeError
 from zuml_studio.safety import judge
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from fuzz_common import Campaign, mutate_bytes  # noqa: E402
+from fuzz_common import Campaign, mutate_bytes
 
 ROOT = Path(__file__).resolve().parent.parent
 TEXTS = [p.read_text("utf-8-sig") for p in sorted([*(ROOT / "macros").glob("*.zuml"),

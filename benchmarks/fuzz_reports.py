@@ -33,8 +33,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from fuzz_common import HOSTILE_NUMBERS, LIMIT_S, Campaign, mutate_bytes, number_swap  # noqa: E402
-from zuml_studio.cli.main import main as zuml  # noqa: E402
+from fuzz_common import HOSTILE_NUMBERS, LIMIT_S, Campaign, mutate_bytes, number_swap
+from zuml_studio.cli.main import main as zuml
 
 DATA = ROOT / "tests" / "data"
 FIT_LIMIT_S = 20.0

@@ -12,11 +12,11 @@ os.environ["ZUML_STUDIO_CONFIG_DIR"] = tempfile.mkdtemp(prefix="zuml-studio-test
 # Nor the user's pack logbook.
 os.environ["ZUML_STUDIO_DATA_DIR"] = tempfile.mkdtemp(prefix="zuml-studio-tests-data-")
 
-import before_workers  # noqa: E402
-import pytest  # noqa: E402
-from chargers import KINDS  # noqa: E402
-from tools import INSTALL  # noqa: E402
-from hypothesis import HealthCheck, settings  # noqa: E402
+import before_workers
+import pytest
+from chargers import KINDS
+from tools import INSTALL
+from hypothesis import HealthCheck, settings
 
 # Reproducible in CI: the same examples every run, no flaky deadlines on a loaded 2-core machine.
 settings.register_profile("ci", derandomize=True, deadline=None, max_examples=200,

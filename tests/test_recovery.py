@@ -116,8 +116,8 @@ def test_the_background_saver_hands_a_failure_over_and_goes_on(tmp_path):
     assert len(errors) == 2 and all(isinstance(e, OSError) for e in errors)
 
 
-from hypothesis import given, settings  # noqa: E402
-from hypothesis import strategies as st  # noqa: E402
+from hypothesis import given, settings  # noqa: E402 - the property tests' own imports
+from hypothesis import strategies as st  # noqa: E402 - the property tests' own imports
 
 JSON = st.recursive(st.none() | st.booleans() | st.integers() | st.floats() | st.text(max_size=5),
                     lambda inner: st.lists(inner, max_size=3) | st.dictionaries(

@@ -127,9 +127,9 @@ def test_notes_are_never_asked_before_a_flash():
 
 
 # -- raw bytes typed by hand (the serial monitor) ---------------------------------------------------
-from zuml_studio.device.frames import encode_frame  # noqa: E402
-from zuml_studio.device.messages import encode_request  # noqa: E402
-from zuml_studio.safety import RAW_ALLOWED, RawSendGuard  # noqa: E402
+from zuml_studio.device.frames import encode_frame  # noqa: E402 - this section's own imports
+from zuml_studio.device.messages import encode_request  # noqa: E402 - this section's own imports
+from zuml_studio.safety import RAW_ALLOWED, RawSendGuard  # noqa: E402 - this section's own imports
 
 CHANGING_REQUESTS = {
     "BEGIN_WRITE": {"nonce": 0x1234ABCD},

@@ -28,7 +28,7 @@ from zuml_studio.domain.units import MAH_PER_AH
 from zuml_studio.logs.rest_steps import rest_steps
 from zuml_studio.sim.chemistry import load_chemistry
 from zuml_studio.sim.curve import Curve, read_curve
-from zuml_studio.sim.fit import LI, NI, cc_current, fit, measured, simulate_curve, smooth
+from zuml_studio.sim.fit import LI, NI, cc_current, measured, simulate_curve, smooth
 from zuml_studio.sim.fit_discharge import discharging, end_voltage, fit_curve
 from zuml_studio.sim.measured_r import MeasuredR, fit_with_measured_r
 

@@ -17,7 +17,7 @@ import tomllib
 from importlib import resources
 from pathlib import Path
 
-from . import macros as MACROS, resources as RESOURCES
+from . import macros as MACROS, resources as RESOURCES  # noqa: N812 - `resources` is importlib's here
 from .data_error import DataFileError
 from .i18n import _
 from .macro_file import EXTENSION

@@ -4,11 +4,15 @@ from __future__ import annotations
 
 import stat
 from pathlib import Path
+from .domain.errors import ZumlError, error_text
 from .i18n import _
 
 
-class FileReadError(Exception):
-    pass
+class FileReadError(ZumlError):
+    def words(self, action: str = "") -> str:
+        if action in ("flash", "restore"):
+            return _("Nothing was written: {error}").format(error=error_text(self))
+        return super().words(action)
 
 
 def read_file_bytes(path: str | Path, pipes: bool = True) -> bytes:

@@ -39,7 +39,7 @@ def ngettext(singular: str, plural: str, n: int) -> str:
     return _translation.ngettext(singular, plural, n)
 
 
-def N_(message: str) -> str:
+def N_(message: str) -> str:  # noqa: N802 - gettext's marker, the name pybabel -k N_ looks for
     """Marks ``message`` for the catalogue without translating it yet (translate it with `_` where
     it is shown)."""
     return message

@@ -232,5 +232,5 @@ class BackgroundSaver:
     def _said(self, exc: OSError) -> None:
         try:
             self._on_error(exc)
-        except Exception:  # noqa: BLE001 - the receiver is gone (its window closed): the saver goes on
+        except Exception:  # the receiver is gone (its window closed): the saver goes on
             log.exception("reporting a failed recovery write failed")

@@ -6,6 +6,6 @@ import sys
 # must then be that child, not a second application (PyInstaller's hook answers here).
 multiprocessing.freeze_support()
 
-from zuml_studio.ui.app import main  # noqa: E402
+from zuml_studio.ui.app import main
 
 sys.exit(main())

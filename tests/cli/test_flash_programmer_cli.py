@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from chargers import NEEDS_FIRMWARE_SIM
-from helpers import HOT_LIION, compiled
+from helpers import HOT_LIION
 from stk500_chip import Atmega32, Stk500Programmer
 from tools import AVRDUDE, needs
 from zuml_studio.device import messages

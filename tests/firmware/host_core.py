@@ -168,7 +168,7 @@ def python_run(record: bytes, params: StartParams, setup: BatterySetup, tick_s: 
         it.pack, it.charger = script.scripted(it.pack, it.charger)
     it.limit_s = limit_s
     it.run()
-    tick = lambda s: round(s / tick_s)  # noqa: E731
+    tick = lambda s: round(s / tick_s)
     phases = [Phase(p.section, p.index, p.repetition, p.cycle_pass, p.offset, tick(p.start_s), tick(p.end_s),
                     p.reason, p.mah_in, p.mah_out) for p in it.phases]
     signals = [(e.kind, tick(e.time_s), e.offset if e.kind in ("music", "light") else -1, e.detail)

@@ -13,7 +13,7 @@ AKK = {"Undef": 0, "Pb": 1, "NiCd": 2, "NiMh": 3, "LiPo": 4, "LiIon": 5, "LiS": 
 
 
 @pytest.fixture(scope="module")
-def lib(logic):
+def lib(logic):  # noqa: F811 - the fixture imported above
     so = logic
     so.balance_ceiling_mv.restype = ctypes.c_uint16
     so.balance_bleeders.restype = ctypes.c_uint8

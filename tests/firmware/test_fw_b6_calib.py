@@ -8,7 +8,7 @@ import ctypes
 import pytest
 
 from test_fw_b6_protect import IDIS, ISMPS, TEXTERN, VB1, VB2, VOUT, sealed
-from test_fw_b6_protect import lib as logic
+from test_fw_b6_protect import lib as logic  # noqa: F401 - the host build, a fixture
 
 NOMINAL = [(0, 29902), (0, 30826), (26, 1646), (233, 6042), (0, 19154), (0, 5022), (0, 4985), (0, 9761),
            (0, 4899), (0, 5016), (0, 4993), (0, 4924), (0, 25395)]
@@ -19,7 +19,7 @@ OK, BAD_FORM, OUT_OF_WINDOW = 0, 1, 2
 
 
 @pytest.fixture(scope="module")
-def lib(logic):
+def lib(logic):  # noqa: F811 - the fixture imported above
     logic.duty_top.restype = ctypes.c_uint16
     logic.duty_top.argtypes = [ctypes.c_int32, ctypes.c_int32]
     logic.cal_block_check.restype = ctypes.c_uint8

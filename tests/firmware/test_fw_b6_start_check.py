@@ -7,7 +7,7 @@ import ctypes
 import pytest
 
 from helpers import compiled
-from test_fw_b6_protect import AKK, IDIS, ISMPS, VIN, VOUT, VOUT_MINUS, arm, feed, lib, pack, text  # noqa: F401
+from test_fw_b6_protect import AKK, IDIS, ISMPS, VIN, VOUT, VOUT_MINUS, arm, feed, lib, pack, text  # noqa: F401 - lib: a fixture
 
 TRIP_DISCONNECTED = 11
 
@@ -24,7 +24,7 @@ def b6(lib):  # noqa: F811 - the fixture imported above
     return lib
 
 
-def refusal(lib, akk, cells, **readings):
+def refusal(lib, akk, cells, **readings):  # noqa: F811 - the fixture imported above, passed in
     """START on these readings: (the display's text, the PC's sentence or the text when there is none)."""
     lib.protect_disarm()
     feed(lib, pack(lib, **readings))

@@ -12,7 +12,7 @@ from zuml_studio.logs import read_log_file
 from zuml_studio.packs.db import Logbook, LogbookError
 from zuml_studio.packs.live import record_run
 from zuml_studio.packs.register import add_pack, get_pack
-from zuml_studio.packs.sessions import import_files, pack_sessions
+from zuml_studio.packs.sessions import pack_sessions
 from zuml_studio.packs.text import path_of, printable, storable
 
 DATA = __import__("pathlib").Path(__file__).resolve().parents[1] / "data" / "logs"

@@ -86,7 +86,7 @@ def test_two_instances_writing_at_once_lose_nothing(tmp_path):
         try:
             for n in range(25):
                 add_pack(book, f"{prefix}{n}", "NiMh", 4, 2000)
-        except Exception as exc:          # noqa: BLE001 (the test reports whatever a writer met)
+        except Exception as exc:          # noqa: BLE001 - the test reports whatever a writer met
             errors.append(exc)
         finally:
             book.close()

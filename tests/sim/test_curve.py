@@ -50,8 +50,8 @@ def test_a_curve_csv_with_a_field_past_the_csv_limit_names_its_line():
         read_curve_csv(text, "x.csv")
 
 
-from hypothesis import given, settings  # noqa: E402
-from hypothesis import strategies as st  # noqa: E402
+from hypothesis import given, settings  # noqa: E402 - the property tests' own imports
+from hypothesis import strategies as st  # noqa: E402 - the property tests' own imports
 
 CELLS = st.sampled_from(["0", "1.5", "nan", "inf", "-1e999", "", "x", "1e400", '"', "9" * 30, " 2 "])
 

@@ -17,7 +17,7 @@ DATA = Path(__file__).resolve().parents[1] / "data"
 PYBAMM = json.loads((DATA / "pybamm_cv_chen2020.json").read_text())
 REAL = json.loads((DATA / "cv_tail" / "figures.json").read_text())
 sys.path.append(str(DATA.parents[1] / "tools"))
-from cv_tail_realdata import cc_cv  # noqa: E402  (the tool's run, the one docs/validation.md shows)
+from cv_tail_realdata import cc_cv  # noqa: E402 - the tool's run, the one docs/validation.md shows
 
 
 @pytest.mark.parametrize("rate", PYBAMM["rates"])

@@ -9,10 +9,11 @@ from pathlib import Path
 
 from ..file_errors import FileReadError, read_file_bytes
 from ..recovery import atomic_write
+from ..domain.errors import ZumlError
 from ..i18n import _, ngettext
 
 
-class CliError(Exception):
+class CliError(ZumlError):
     """A failure shown as one line on stderr, with a non-zero exit."""
 
     def __init__(self, message: str, code: int = 2):

@@ -17,6 +17,7 @@ from ..device.client import DEFAULT_BAUD, ChargerClient, DeviceInfo, check_image
 from ..device.drivers import AUTO, DRIVERS, LISTEN, ZUML
 from ..device.errors import (CommitUncertain, CommitUnverified, DeviceError, DeviceLinkError, ImageTooLarge,
                              NotACharger)
+from ..error_words import describe_error
 from ..device.passport import FACTORY_WRITABLE, WRITABLE, Passport, PassportError, fitness_warnings, printable
 from ..domain.csv_columns import MONITOR_COLUMNS
 from ..lang.decoder import decode_record
@@ -153,19 +154,13 @@ def _device_errors(fn):
     def run(args: argparse.Namespace) -> int:
         try:
             return fn(args)
-        except DeviceError as exc:
-            raise CliError(_("the charger refused: {exc}").format(exc=exc), 1) from None
         except NotACharger as exc:        # most often a charger with its own firmware, which is only watched
             raise CliError(_("{exc}; a charger without ZUML firmware (cheali, iCharger, iMAX B6, Ultramat…), or a "
                              "B6 with it heard on its TX alone, is only monitored: zuml monitor --port {port} "
                              "--driver auto").format(
                     exc=exc, port=args.port), 1) from None
-        except DeviceLinkError as exc:
-            raise CliError(str(exc), 1) from None
-        except ImageError as exc:
-            raise CliError(_("EEPROM image: {exc}").format(exc=exc), 1) from None
-        except PassportError as exc:
-            raise CliError(f"passport: {exc}", 2) from None
+        except (DeviceLinkError, ImageError, PassportError) as exc:
+            raise CliError(describe_error(exc, sentence=False), 2 if isinstance(exc, PassportError) else 1) from None
     return run
 
 

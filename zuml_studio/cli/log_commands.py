@@ -66,7 +66,7 @@ def cmd_info(args: argparse.Namespace) -> int:
     if args.json:
         out_json(info, ensure_ascii=False)
         return 0
-    _num = lambda v, fmt: "–" if v is None else format(v, fmt)  # noqa: E731
+    _num = lambda v, fmt: "–" if v is None else format(v, fmt)
     out(f"{args.file}: {info['format']}, {info['device']}")
     if "csv_columns" in info:
         out(_("  columns      {spec} (--columns changes them)").format(spec=info["csv_columns"]))

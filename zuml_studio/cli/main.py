@@ -13,6 +13,8 @@ import sys
 
 from .. import i18n
 from ..data import DataFileError
+from ..domain.errors import ZumlError
+from ..error_words import describe_error
 from ..i18n import N_, _
 from .common import CliError, GuardedOutput, OutputError, silence
 
@@ -112,8 +114,8 @@ def main(argv: list[str] | None = None) -> int:
     except CliError as exc:
         sys.stderr.write(_("zuml: error: {exc}\n").format(exc=exc))
         return exc.code
-    except DataFileError as exc:
-        sys.stderr.write(_("zuml: error: {exc}\n").format(exc=exc))
+    except ZumlError as exc:        # a broken installation, or any failure a command left unworded: one line
+        sys.stderr.write(_("zuml: error: {exc}\n").format(exc=describe_error(exc, sentence=False)))
         return 2
     except KeyboardInterrupt:
         sys.stderr.write(_("zuml: interrupted\n"))

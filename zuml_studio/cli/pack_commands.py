@@ -100,7 +100,7 @@ def cmd_show(args: argparse.Namespace) -> int:
     if args.json:
         out_json(info, ensure_ascii=False)
         return 0
-    _num = lambda v, fmt: "–" if v is None else format(v, fmt)  # noqa: E731
+    _num = lambda v, fmt: "–" if v is None else format(v, fmt)
     out(_("{name}: {chemistry}, {cells} cells, {capacity:g} mAh rated").format(
             name=printable(info["name"]), chemistry=info["chemistry"], cells=info["cells"], capacity=info["capacity_mah"]))
     for key, label in (("bought", _("bought")), ("serial", _("serial")), ("notes", _("notes"))):

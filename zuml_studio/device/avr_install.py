@@ -36,7 +36,7 @@ from pathlib import Path
 
 from ..i18n import _
 from ..user_dirs import config_dir
-from .avrdude import AvrdudeStopped, Programmer, ProgrammerError, avrdude_path, read_file_written, run_avrdude
+from .avrdude import Programmer, ProgrammerError, avrdude_path, read_file_written, run_avrdude
 
 PART = "m32"
 SIGNATURE = "1e9502"                    # ATmega32

@@ -115,7 +115,7 @@ def _watched(argv: list[str]) -> tuple[int | str, str, str]:
                 break
     for reader in readers:
         reader.join()
-    text = lambda key: b"".join(parts[key]).decode(errors="replace")  # noqa: E731
+    text = lambda key: b"".join(parts[key]).decode(errors="replace")
     return returncode, text("out"), text("err")
 
 

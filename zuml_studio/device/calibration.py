@@ -13,6 +13,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Protocol
 
+from ..domain.errors import ZumlError
 from ..i18n import _
 from .messages import BY_NAME, decode_response
 
@@ -44,7 +45,7 @@ EXTRA_S = 1.0                   # seconds added to each request's wait for its a
 POLL_S = 0.1                    # how often the charger's clock is asked while waiting for a second to end
 
 
-class CalibrationError(Exception):
+class CalibrationError(ZumlError):
     """A one-line reason the calibration stopped (nothing was written unless it says so)."""
 
 

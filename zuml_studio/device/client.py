@@ -215,13 +215,13 @@ class ChargerClient:
         self._closing = True
         try:
             self._serial.cancel_read()
-        except Exception:   # noqa: BLE001
+        except Exception:   # noqa: BLE001 - closing: whatever a dying port raises, it is being closed
             pass
         if self._reader.is_alive() and self._reader is not threading.current_thread():
             self._reader.join(timeout=2)
         try:
             self._serial.close()
-        except Exception:   # noqa: BLE001
+        except Exception:   # noqa: BLE001 - closing: whatever a dying port raises, it is closed
             pass
         with self._cv:
             if self._disconnected is None:
@@ -289,7 +289,7 @@ class ChargerClient:
     def _dispatch_safely(self, frame) -> None:
         try:
             self._dispatch(frame)
-        except Exception:   # noqa: BLE001 - a callback's bug never kills the link
+        except Exception:   # a callback's bug never kills the link
             log.exception("charger client: handling a frame failed")
 
     def _suspect(self) -> None:
@@ -306,7 +306,7 @@ class ChargerClient:
         for cb in list(self._disconnect_cbs):
             try:
                 cb(exc)
-            except Exception:   # noqa: BLE001
+            except Exception:
                 log.exception("charger client: disconnect callback failed")
         self._publish(("disconnected", exc))
 
@@ -479,7 +479,7 @@ class ChargerClient:
     def _write(self, frame: bytes) -> None:
         try:
             self._serial.write(frame)
-        except Exception as exc:   # noqa: BLE001
+        except Exception as exc:   # noqa: BLE001 - pyserial on a port gone under it: SerialException, OSError, TypeError
             import serial
             if isinstance(exc, serial.SerialTimeoutException):
                 raise DeviceTimeout(_("{url}: the port does not take data (flow control?)").format(

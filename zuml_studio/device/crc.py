@@ -8,6 +8,8 @@ use, ~15 ms) that consumes two bytes per step; the frame parser runs on the latt
 """
 from __future__ import annotations
 
+import sys as _sys
+
 POLY = 0xA001
 INIT = 0xFFFF
 
@@ -61,7 +63,5 @@ def crc16(data, crc: int = INIT) -> int:
         crc = (crc >> 8) ^ TABLE[(crc ^ data[n - 1]) & 0xFF]
     return crc
 
-
-import sys as _sys  # noqa: E402
 
 _LITTLE = _sys.byteorder == "little"

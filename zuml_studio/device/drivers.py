@@ -13,6 +13,7 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from ..domain.errors import ZumlError
 from ..i18n import N_, _
 from .messages import Telemetry
 from .stream_decoder import StreamDecoder
@@ -57,7 +58,7 @@ SERIAL_DRIVERS = tuple(d for d in DRIVERS.values() if d.transport == "serial")
 HID_DRIVERS = tuple(d for d in DRIVERS.values() if d.transport == "hid")
 
 
-class CaptureError(ValueError):
+class CaptureError(ZumlError, ValueError):
     """A capture no driver recognises (the message names what was tried)."""
 
 

@@ -1,18 +1,25 @@
 """What can go wrong on the device link, each with a message a user can act on.
 
-Every error is a ``DeviceLinkError``; the CLI prints ``str(exc)`` on one line, the GUI
-shows it in a dialog. None of them carries a traceback-worthy surprise.
+Every error is a ``DeviceLinkError`` and says itself (``ZumlError.words``): the CLI prints it on one
+line, the GUI shows it in a dialog, both through ``error_words.describe_error``. None of them carries
+a traceback-worthy surprise.
 """
 from __future__ import annotations
 
 import errno
 
 from .port_access import refused_advice
+from ..domain.errors import ZumlError, error_text
 from ..i18n import _
 
 
-class DeviceLinkError(Exception):
+class DeviceLinkError(ZumlError):
     """Base class of every device-link failure."""
+
+    def words(self, action: str = "") -> str:
+        if action == "connect":
+            return _("Cannot connect: {error}").format(error=error_text(self))
+        return super().words(action)
 
 
 class PortNotFound(DeviceLinkError):
@@ -50,9 +57,33 @@ class NoisyLine(DeviceLinkError):
 class DeviceTimeout(DeviceLinkError):
     """A request got no valid answer after every retry."""
 
+    def words(self, action: str = "") -> str:
+        text = error_text(self)
+        if action == "flash":
+            return _("The charger stopped answering while flashing: nothing was written, the charger keeps its "
+                     "previous image. ({error})").format(error=text)
+        if action == "restore":
+            return _("The charger stopped answering while restoring: nothing was written, the charger keeps its "
+                     "previous image. ({error})").format(error=text)
+        if action == "connect":
+            return super().words(action)
+        return _("the charger does not answer: {error}").format(error=text)
+
 
 class Disconnected(DeviceLinkError):
     """The link went away (cable pulled, the virtual charger stopped, the port closed)."""
+
+    def words(self, action: str = "") -> str:
+        text = error_text(self)
+        if action == "flash":
+            return _("The connection was lost while flashing: nothing was written, the charger keeps its "
+                     "previous image. ({error})").format(error=text)
+        if action == "restore":
+            return _("The connection was lost while restoring: nothing was written, the charger keeps its "
+                     "previous image. ({error})").format(error=text)
+        if action == "connect":
+            return super().words(action)
+        return _("not connected: {error}").format(error=text)
 
 
 class _AfterCommit(DeviceLinkError):
@@ -83,12 +114,26 @@ class CommitUncertain(_AfterCommit):
     all or nothing, so the charger holds either the new image or its previous one; which, only
     a fresh read can tell."""
 
+    def words(self, action: str = "") -> str:
+        if action in ("flash", "restore"):
+            return _("The connection was lost just as the charger committed the new image: it holds either the "
+                     "new image or its previous one, never a mix. Reconnect: the image is read back then and "
+                     "which one said. ({error})").format(error=error_text(self))
+        return super().words(action)
+
 
 class CommitUnverified(_AfterCommit):
     """The charger confirmed COMMIT (it holds the new image), then the link failed during the
     read-back that verifies it."""
 
     holds = "new"
+
+    def words(self, action: str = "") -> str:
+        if action in ("flash", "restore"):
+            return _("The charger confirmed the new image, then the connection was lost while reading it back to "
+                     "verify it. Reconnect: the image is read back then and the result said. ({error})").format(
+                         error=error_text(self))
+        return super().words(action)
 
 
 class ImageTooLarge(DeviceLinkError):
@@ -100,13 +145,30 @@ class ImageTooLarge(DeviceLinkError):
         self.size = size
         self.eeprom_size = eeprom_size
 
+    def words(self, action: str = "") -> str:
+        if action in ("flash", "restore"):
+            return _("The image needs {needed} bytes; the charger has {size}. Nothing was written.").format(
+                needed=self.size, size=self.eeprom_size)
+        return super().words(action)
+
 
 class InvalidImage(DeviceLinkError):
     """An image whose records do not decode (refused before anything is written)."""
 
+    def words(self, action: str = "") -> str:
+        if action in ("flash", "restore"):
+            return _("Nothing was written: {error}").format(error=error_text(self))
+        return super().words(action)
+
 
 class VerifyFailed(DeviceLinkError):
     """The EEPROM read back after a write differs from the image written."""
+
+    def words(self, action: str = "") -> str:
+        if action in ("flash", "restore"):
+            return _("The write did not verify: {error}. Flash again, or restore a backup.").format(
+                error=error_text(self))
+        return super().words(action)
 
 
 class DeviceError(DeviceLinkError):
@@ -122,6 +184,16 @@ class DeviceError(DeviceLinkError):
         self.request_type = request_type
         self.lines = [line for line in message.split("\n") if line]
         super().__init__("; ".join(self.lines) or _("device error {code}").format(code=code))
+
+    def words(self, action: str = "") -> str:
+        text = error_text(self)
+        if action in ("flash", "restore"):
+            return _("The charger refused the write: {error}. Nothing was written.").format(error=text)
+        if action == "start":
+            return _("The charger refused to start:") + "\n" + "\n".join(f"• {line}" for line in self.lines or [text])
+        if action == "connect":
+            return super().words(action)
+        return _("the charger refused: {exc}").format(exc=text)
 
     @property
     def code_name(self) -> str:

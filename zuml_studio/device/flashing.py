@@ -10,10 +10,11 @@ from dataclasses import dataclass
 
 from ..lang.decoder import decode_record
 from ..lang.eeprom import pack, slots
+from ..domain.errors import ZumlError, error_text
 from ..i18n import _, ngettext
 
 
-class MergeError(ValueError):
+class MergeError(ZumlError, ValueError):
     """The record cannot go into the image as asked."""
 
 
@@ -24,6 +25,11 @@ class SlotOutOfRange(MergeError):
         super().__init__(_("slot {slot}: the charger has slots 0..{last} ({count} appends)").format(
                 slot=slot, last=count - 1, count=count) if count
                          else _("slot {slot}: the charger has no macros yet (0 appends)").format(slot=slot))
+
+    def words(self, action: str = "") -> str:
+        if action in ("flash", "restore"):
+            return _("Cannot flash: {error}").format(error=error_text(self))
+        return super().words(action)
 
 
 class ImageFull(MergeError):
@@ -37,6 +43,12 @@ class ImageFull(MergeError):
         super().__init__(ngettext("{count} record needs {needed} bytes; the EEPROM has {size}",
                                   "{count} records need {needed} bytes; the EEPROM has {size}", count).format(
                 count=count, needed=needed, size=size))
+
+    def words(self, action: str = "") -> str:
+        if action in ("flash", "restore"):
+            return _("The image needs {needed} bytes; the charger has {size}. Nothing was written.").format(
+                needed=self.needed, size=self.size)
+        return super().words(action)
 
 
 @dataclass(frozen=True)

@@ -91,7 +91,7 @@ class HidPort:
     def read(self, timeout_s: float) -> bytes:
         try:
             return bytes(self._dev.read(REPORT, max(1, int(timeout_s * 1000))))
-        except (OSError, IOError, ValueError) as exc:
+        except (OSError, IOError, ValueError):
             # hidapi's words ("read error") say nothing more: the same sentence as every other link.
             raise DeviceLinkError(f"{self.port}: {line_closed()}") from None
 
@@ -104,5 +104,5 @@ class HidPort:
     def close(self) -> None:
         try:
             self._dev.close()
-        except Exception:   # noqa: BLE001
+        except Exception:   # noqa: BLE001 - closing: whatever hidapi raises for a device gone, it is closed
             pass

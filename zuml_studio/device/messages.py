@@ -13,6 +13,7 @@ from __future__ import annotations
 import enum
 import struct
 from dataclasses import dataclass
+from ..domain.errors import ZumlError
 from ..i18n import _, ngettext
 
 PROTOCOL_VERSION = 1
@@ -28,7 +29,7 @@ SECTIONS = ("discharge", "charge")
 SECTION_NONE = 0xFF
 
 
-class PayloadError(ValueError):
+class PayloadError(ZumlError, ValueError):
     pass
 
 

@@ -125,7 +125,7 @@ class MonitorLink:
         finally:
             try:
                 self._dev.close()
-            except Exception:       # noqa: BLE001
+            except Exception:       # noqa: BLE001 - closing: whatever a dying port raises, it is closed
                 pass
         self.error = error
         self._on_closed(error)

@@ -33,6 +33,7 @@ from ..lang import opcodes as ops
 from ..lang.formatter import format_args
 from ..lang.opcodes import canonical_text
 from ..lang.operands import AKK_TYPE as AKK_KIND, AKK_TYPE_ALIASES, DISPLAY_NAMES, absolute_value
+from ..domain.errors import ZumlError, error_text
 from ..i18n import N_, _
 
 MAGIC = 0xA7
@@ -79,8 +80,9 @@ _ERROR_SECTION = frozenset(range(0x17, 0x1B))      # ERR, CRIT
 _BODY = struct.Struct("<BB16s4sBHHBBb")
 
 
-class PassportError(ValueError):
-    pass
+class PassportError(ZumlError, ValueError):
+    def words(self, action: str = "") -> str:
+        return f"passport: {error_text(self)}"
 
 
 def akk_name(code: int) -> str:

@@ -5,13 +5,14 @@ from __future__ import annotations
 
 import re
 
+from ..domain.errors import ZumlError
 from ..i18n import _
 
 ENDINGS = {"none": b"", "lf": b"\n", "cr": b"\r", "crlf": b"\r\n"}
 _ESCAPES = {"n": b"\n", "r": b"\r", "t": b"\t", "\\": b"\\", "0": b"\0"}
 
 
-class SendLineError(ValueError):
+class SendLineError(ZumlError, ValueError):
     """A send line that is not what its mode expects; the message is for the user."""
 
 

@@ -210,7 +210,7 @@ class _Link:
                         continue
                     self.sent += n
                     view = view[n:]
-        except Exception:       # noqa: BLE001
+        except Exception:       # noqa: BLE001 - any failure of the writer takes the link down, said as lost
             self._down()
 
 

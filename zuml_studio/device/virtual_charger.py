@@ -46,6 +46,7 @@ from . import messages as m
 from .crc import crc16
 from .frames import Frame, FrameParser, encode_frame
 from .passport import Passport, PassportChip, PassportError, akk_code, default_passport
+from ..domain.errors import ZumlError
 from ..i18n import _, ngettext
 
 FIRMWARE = "zuml-virtual 1.0"
@@ -58,7 +59,7 @@ MAX_EEPROM_WRITE_MS = 100.0    # per byte: a real EEPROM takes about 3.4 ms
 MAX_QUEUED_FRAMES = 20000      # output frames queued while no host reads (then the oldest go)
 
 
-class DeviceSetupError(ValueError):
+class DeviceSetupError(ZumlError, ValueError):
     """A virtual charger that cannot be built as asked (bad battery spec, speed, EEPROM file)."""
 
 
@@ -804,7 +805,7 @@ class VirtualCharger:
             return bytes(out)
 
 
-class _Refused(Exception):
+class _Refused(ZumlError):
     def __init__(self, code: int, message: str):
         super().__init__(message)
         self.code = code

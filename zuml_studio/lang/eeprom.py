@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 from .decoder import Decoded, decode_record
 from .record import MIN_RECORD, DecodeError
+from ..domain.errors import ZumlError, error_text
 from ..i18n import _, ngettext
 
 DEFAULT_SIZE = 1024
@@ -14,12 +15,18 @@ ERASED = 0xFF
 END_MARKERS = (0x00, 0xFF)
 
 
-class ImageError(Exception):
+class ImageError(ZumlError):
     def __init__(self, offset: int, message: str):
         super().__init__(_("offset {offset}: {message}").format(
                 offset=offset, message=message) if offset >= 0 else message)
         self.offset = offset
         self.message = message
+
+    def words(self, action: str = "") -> str:
+        if action in ("flash", "restore"):
+            return _("The charger's record list is broken ({error}): restore a backup of its EEPROM, then flash "
+                     "again.").format(error=error_text(self))
+        return _("EEPROM image: {exc}").format(exc=error_text(self))
 
 
 @dataclass(frozen=True)

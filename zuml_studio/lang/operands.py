@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 from decimal import ROUND_HALF_UP, Decimal, InvalidOperation
 import re
 from typing import Callable, Mapping
+from ..domain.errors import ZumlError
 from ..i18n import N_, _
 
 INPUT_U16 = 0xFFFF          # current/voltage entered at start (docs/zuml-2.0.md §2 decision)
@@ -27,7 +28,7 @@ _NUMBER = re.compile(r"^(-?(?:\d+(?:\.\d*)?|\.\d+))([A-Za-z]*)$")
 MAX_NUMERAL_CHARS = 40
 
 
-class ValueProblem(Exception):
+class ValueProblem(ZumlError):
     """A value in the text that cannot be stored. ``code`` is the diagnostic code."""
 
     def __init__(self, code: str, message: str, hint: str = "", warning_raw: int | None = None):

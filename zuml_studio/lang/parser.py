@@ -22,6 +22,7 @@ from .ast import Span
 from .diagnostics import Diagnostic, Severity
 from .opcodes import CONDITION_OUTCOMES
 from .record import MAX_RECORD
+from ..domain.errors import ZumlError
 from ..i18n import N_, _
 
 
@@ -68,7 +69,7 @@ class RawMacro:
     end: tuple[int, int]           # position just past the text, for "missing END_MACRO"
 
 
-class SyntaxProblem(Exception):
+class SyntaxProblem(ZumlError):
     def __init__(self, diagnostic: Diagnostic):
         super().__init__(diagnostic.message)
         self.diagnostic = diagnostic

@@ -12,6 +12,7 @@ from operator import xor
 from . import opcodes as ops
 from .ast import Cycle, Macro, Phase
 from .opcodes import Op
+from ..domain.errors import ZumlError, error_text
 from ..i18n import _, ngettext
 
 HEADER_SIZE = 4
@@ -20,7 +21,7 @@ MIN_RECORD = 10
 MAX_NAME = 16
 
 
-class DecodeError(Exception):
+class DecodeError(ZumlError):
     """Bytes that are not a valid record: where, and what was expected."""
 
     def __init__(self, offset: int, message: str):
@@ -28,8 +29,13 @@ class DecodeError(Exception):
         self.offset = offset
         self.message = message
 
+    def words(self, action: str = "") -> str:
+        if action in ("flash", "restore"):
+            return _("Nothing was written: the compiled macro does not decode ({error}).").format(error=error_text(self))
+        return super().words(action)
 
-class RecordTooLarge(Exception):
+
+class RecordTooLarge(ZumlError):
     def __init__(self, size: int, node: object):
         super().__init__(_("the macro needs {size} bytes; a record holds at most {max_record}").format(
             size=size, max_record=MAX_RECORD))

@@ -18,6 +18,7 @@ import re
 from collections import Counter
 from dataclasses import dataclass
 
+from ..domain.errors import ZumlError
 from ..i18n import N_, _
 from . import opcodes as ops
 from .ast import Arg, Cycle, Macro, Phase, Section, Span, Statement
@@ -27,7 +28,7 @@ from .operands import (AKK_TYPE, CELSIUS, CURRENT, INPUT_U16, RELATIVE_FLAG, TIM
                        ValueProblem, format_scaled, parse_akk_type)
 
 
-class EditError(ValueError):
+class EditError(ZumlError, ValueError):
     """An edit that cannot be made; the message is for the user."""
 
 

@@ -511,7 +511,7 @@ def read(data: bytes, g: CsvGuess | None = None, progress: Callable[[int, int], 
         lo = part.first
         if hi <= lo:
             continue
-        column = lambda role: values[lo:hi, col[at[role]]] if role in at else None    # noqa: E731
+        column = lambda role: values[lo:hi, col[at[role]]] if role in at else None
         times = column("time")                  # the rows' own array, worked in place: no copy
         times -= times[0]
         placed, note = in_time_order(times)

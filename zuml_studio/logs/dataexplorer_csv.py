@@ -75,7 +75,7 @@ def read(data: bytes) -> Log:
     if not rows:
         raise LogFormatError(_("no data row ({bad} bad rows)").format(bad=bad))
     cols = list(zip(*rows))
-    pick = lambda k: None if k is None else cols[k + 1]        # noqa: E731
+    pick = lambda k: None if k is None else cols[k + 1]
     mah = pick(r.mah) if r.mah is not None else (None if r.ah is None else [x * 1000.0 for x in cols[r.ah + 1]])
     builder = SampleBuilder()
     record_sets.add_set(builder, "", cols[0], pick(r.voltage), pick(r.current), mah, temp=pick(r.temp),

@@ -13,6 +13,7 @@ import numpy as np
 
 from ..device.messages import Telemetry
 from .charge import charge_from_counter, counter_totals, disagreement, integrate_current
+from ..domain.errors import ZumlError
 from ..i18n import _, ngettext
 
 # Volts and amperes beyond any charger (as sim.curve's limits): a sample past them is left out.
@@ -24,7 +25,7 @@ STATES = ("charge", "discharge", "pause", "idle")
 SECTION_OF = {"charge": "charge", "discharge": "discharge"}
 
 
-class LogFormatError(ValueError):
+class LogFormatError(ZumlError, ValueError):
     """The bytes are not a log this reader understands; the message says where and why."""
 
 
@@ -395,7 +396,7 @@ class SampleBuilder:
             count, first = self.out_of_range
             self.out_of_range = (count + len(bad), first or self._count + count + int(bad[0]) + 1)
             keep = np.flatnonzero(ok)
-            pick = lambda a: None if a is None else a[keep]           # noqa: E731
+            pick = lambda a: None if a is None else a[keep]
             t, v, i, state = t[keep], v[keep], i[keep], state[keep]
             temp, heatsink, cells, counter = pick(temp), pick(heatsink), pick(cells), pick(counter)
         if not len(t):

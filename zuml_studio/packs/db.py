@@ -11,6 +11,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from ..user_dirs import data_dir
+from ..domain.errors import ZumlError
 from ..i18n import _
 
 FILE_NAME = "packs.sqlite3"
@@ -73,7 +74,7 @@ MIGRATIONS: tuple[str, ...] = (
 SCHEMA_VERSION = len(MIGRATIONS)
 
 
-class LogbookError(Exception):
+class LogbookError(ZumlError):
     """The logbook cannot be opened or written; the message names the file and what to do."""
 
 

@@ -4,7 +4,6 @@ pack 'Turnigy 4S #2'")."""
 from __future__ import annotations
 
 import re
-from pathlib import Path
 
 from ..logs import LogFormatError, read_log_file
 from .text import path_of

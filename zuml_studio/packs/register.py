@@ -9,6 +9,7 @@ from dataclasses import dataclass
 from ..sim.chemistry import load_chemistry
 from .text import storable
 from .db import Logbook, LogbookError
+from ..domain.errors import ZumlError
 from ..i18n import _
 
 _NAME = re.compile(r"^\S(.{0,78}\S)?$")
@@ -31,7 +32,7 @@ class Pack:
                 "serial": self.serial}
 
 
-class PackError(ValueError):
+class PackError(ZumlError, ValueError):
     """A pack that does not exist, or values a pack cannot have; the message says which."""
 
 

@@ -15,13 +15,14 @@ from ..user_dirs import config_dir
 from .cell_pack import CellSpec, check_cells
 from .chemistry import Chemistry, _check, load_chemistry
 from .fit import Battery
+from ..domain.errors import ZumlError
 from ..i18n import _
 
 _NAME = re.compile(r"^[\w][\w .,+()-]{0,79}$")
 _FORMAT = 1
 
 
-class BatteryFileError(ValueError):
+class BatteryFileError(ZumlError, ValueError):
     """A named battery that does not exist or whose file is not one we wrote; the message says which."""
 
 

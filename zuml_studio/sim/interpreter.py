@@ -25,6 +25,7 @@ from .delta_peak import DeltaPeakDetector
 from .program import CommandStep, DefaultDischarge, PhaseCode, Program, SectionStart
 from .samples import SampleLog
 from .start_templates import StartTemplate, apply_template, chosen_template, factory_templates
+from ..domain.errors import ZumlError
 from ..i18n import _
 
 # Defaults of docs/zuml-2.0.md §3. A macro's IF(Tc>x), IF(Tc<x) and IF(T>x) replace the matching default; dT/dt and
@@ -57,7 +58,7 @@ FULL_SOC = 0.95
 AKK_NAMES = {code: name for name, code in ops.AKK_TYPE.operands[0].kind.names.items()}
 
 
-class StartError(Exception):
+class StartError(ZumlError):
     """The macro cannot start with these parameters (an INPUT value not given, ...)."""
 
 

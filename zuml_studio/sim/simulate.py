@@ -16,6 +16,7 @@ from .chemistry import Chemistry, load_chemistry
 from .interpreter import AKK_NAMES, Interpreter, Measurement, PhaseResult, StartError, StartParams, with_template
 from .program import Program
 from .start_templates import StartTemplate
+from ..domain.errors import ZumlError
 from ..i18n import _
 
 
@@ -52,7 +53,7 @@ class BatterySetup:
 ENGINES = ("auto", "c", "python")
 
 
-class EngineError(Exception):
+class EngineError(ZumlError):
     """The C engine was asked for and cannot run this simulation (one line: why)."""
 
 

@@ -13,6 +13,7 @@ from typing import Mapping
 
 from .. import data
 from ..data import DataFileError
+from ..domain.errors import ZumlError
 from ..i18n import _, ngettext
 from .program import TASK_WORDS, TASKS
 
@@ -20,7 +21,7 @@ TEMPLATE_COUNT = 16
 TEMPLATES_FILE = "start_templates.toml"
 
 
-class TemplateError(ValueError):
+class TemplateError(ZumlError, ValueError):
     """A template that cannot be stored (a value out of range, an unknown task)."""
 
 

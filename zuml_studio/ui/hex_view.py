@@ -121,7 +121,7 @@ class HexView(QWidget):
             items.append(item)
         self.tree.addTopLevelItems(items)
 
-    def changeEvent(self, event) -> None:  # noqa: N802
+    def changeEvent(self, event) -> None:
         super().changeEvent(event)
         if event.type() == QEvent.Type.PaletteChange and self._rows:
             self._fill()             # the labelled rows' tints follow a light or dark palette

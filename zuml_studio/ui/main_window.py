@@ -310,7 +310,7 @@ class MainWindow(DocumentFiles, QMainWindow):
             self._borrowed = (below[0], below[0].height())
             self.resizeDocks(below[:1], [max(1, below[0].height() - missing)], Qt.Orientation.Vertical)
 
-    def resizeEvent(self, event) -> None:  # noqa: N802
+    def resizeEvent(self, event) -> None:
         super().resizeEvent(event)
         self._refit_docks()             # now: what a test or the user sees after a resize is the layout
 
@@ -453,7 +453,7 @@ class MainWindow(DocumentFiles, QMainWindow):
         self.prefs.font_size = points
         self.prefs.save(self.settings)
 
-    def changeEvent(self, event) -> None:  # noqa: N802
+    def changeEvent(self, event) -> None:
         super().changeEvent(event)
         if event.type() == QEvent.Type.PaletteChange and hasattr(self, "toolbar"):
             window_actions.refresh_icons(self, self.actions_by_name, self.action_specs)

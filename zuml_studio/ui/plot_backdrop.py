@@ -42,7 +42,7 @@ class BackdropItem(pg.GraphicsObject):
         self.setAcceptHoverEvents(bool(self._tips))
         self.update()
 
-    def hoverMoveEvent(self, ev) -> None:  # noqa: N802
+    def hoverMoveEvent(self, ev) -> None:
         x = ev.pos().x()
         tip = next((tip for (x0, x1, _, _), tip in zip(self._bands, self._tips) if x0 <= x <= x1), "")
         if tip != self.toolTip():
@@ -56,14 +56,14 @@ class BackdropItem(pg.GraphicsObject):
     def spans(self) -> list[tuple[float, float]]:
         return [(a, b) for a, b, _, _ in self._bands]
 
-    def boundingRect(self) -> QRectF:  # noqa: N802
+    def boundingRect(self) -> QRectF:
         vr = self.viewRect()
         return QRectF() if vr is None else vr
 
-    def viewRangeChanged(self) -> None:  # noqa: N802
+    def viewRangeChanged(self) -> None:
         self.prepareGeometryChange()
 
-    def dataBounds(self, axis, frac=1.0, orthoRange=None):  # noqa: N802
+    def dataBounds(self, axis, frac=1.0, orthoRange=None):
         return None
 
     @staticmethod

@@ -19,7 +19,7 @@ class _WrappingDelegate(QStyledItemDelegate):
     """A message's row as high as its text wrapped to the column's width (a tree view asks its
     delegate with no width, so Qt's own word wrap never grows a row)."""
 
-    def sizeHint(self, option, index):  # noqa: N802
+    def sizeHint(self, option, index):
         hint = super().sizeHint(option, index)
         if index.column() != MESSAGE:
             return hint
@@ -84,7 +84,7 @@ class ProblemsView(QTreeWidget):
                 item.setForeground(3, QColor(theme.colours(self.palette()).warning))
             self.addTopLevelItem(item)
 
-    def resizeEvent(self, event) -> None:  # noqa: N802
+    def resizeEvent(self, event) -> None:
         super().resizeEvent(event)
         # Once the resize is over: a column hidden within it left the tree painting rows of the
         # old columns, and Qt crashed (a segmentation fault shrinking the window to 1100 px).

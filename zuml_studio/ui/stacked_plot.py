@@ -181,7 +181,7 @@ class TidyAxisItem(pg.AxisItem):
         super().__init__(orientation)
         self.setStyle(hideOverlappingLabels=True)
 
-    def generateDrawSpecs(self, p):  # noqa: N802
+    def generateDrawSpecs(self, p):
         specs = super().generateDrawSpecs(p)
         if specs is None:
             return None
@@ -270,7 +270,7 @@ class StackedPlot(pg.GraphicsLayoutWidget):
         self.tplot.setLimits(minYRange=MIN_SPAN["temp"])
 
     # -- colours ----------------------------------------------------------------------------
-    def changeEvent(self, event) -> None:  # noqa: N802
+    def changeEvent(self, event) -> None:
         super().changeEvent(event)
         if event.type() == QEvent.Type.PaletteChange and hasattr(self, "legends"):
             colours = theme.colours(self.palette())
@@ -369,7 +369,7 @@ class StackedPlot(pg.GraphicsLayoutWidget):
         return (self.vplot.getAxis("left"), self.vplot.getAxis("right"), self.iplot.getAxis("left"),
                 self.tplot.getAxis("left"))
 
-    def resizeEvent(self, event) -> None:  # noqa: N802
+    def resizeEvent(self, event) -> None:
         super().resizeEvent(event)
         if not hasattr(self, "legends"):        # pyqtgraph resizes during construction
             return

@@ -91,7 +91,7 @@ class TimeAxisItem(pg.AxisItem):
         self.enableAutoSIPrefix(False)
         self.setStyle(maxTextLevel=0)      # labels on the round steps only, minor ticks unlabelled
 
-    def tickSpacing(self, minVal, maxVal, size):  # noqa: N802 (pyqtgraph's name)
+    def tickSpacing(self, minVal, maxVal, size):  # pyqtgraph's name
         span = abs(maxVal - minVal)
         if span == 0:
             return []
@@ -99,7 +99,7 @@ class TimeAxisItem(pg.AxisItem):
         minor = _MINOR.get(int(major), major / 4)
         return [(major, 0.0), (minor, 0.0)]
 
-    def tickStrings(self, values, scale, spacing):  # noqa: N802
+    def tickStrings(self, values, scale, spacing):
         self.set_format(tick_format(spacing))
         return [tick_label(v, spacing) for v in values]
 

@@ -47,7 +47,7 @@ class Validator(QObject):
         self.runs += 1
         try:
             result = compile_source(self._text)
-        except Exception as exc:   # noqa: BLE001 - a checker bug must not leave the last result standing
+        except Exception as exc:   # a checker bug must not leave the last result standing
             log.exception("checking the macro failed")
             result = CompileResult(None, [Diagnostic(
                 Severity.ERROR, 1, 1, (1, 1), "E000", _("The check itself failed ({error}); nothing can be compiled or flashed until it "

@@ -3,7 +3,7 @@ test folders when the whole suite runs)."""
 import threading
 import time
 
-from helpers import WAIT_MS, compiled  # noqa: F401 - WAIT_MS: the device tests take it from here
+from helpers import WAIT_MS, compiled  # WAIT_MS: the device tests take it from here
 
 
 def python_threads() -> set:

@@ -208,6 +208,19 @@ def test_flash_into_a_chosen_slot_and_backup_restore(qtbot, make_panel, editor, 
         assert panel.slot_names() == ["NiMh-dV", "LiPo"]
 
 
+def test_a_backup_of_a_broken_record_list_is_saved_and_said_so(qtbot, make_panel, tmp_path):
+    panel = make_panel()
+    connect(qtbot, panel)
+    device = panel.connection.virtual_device
+    with device._eeprom_lock:
+        device.eeprom[:5] = b"\x05\x01\x02\x03\x04"           # record 0 says it is 5 bytes long
+    backup = tmp_path / "backup.bin"
+    with qtbot.waitSignal(panel.operationFinished, timeout=WAIT_MS) as saved:
+        panel.backup(backup)
+    assert saved.args[:2] == ["backup", True] and "a broken record list" in saved.args[2]
+    assert backup.read_bytes() == device.eeprom_image
+
+
 def test_port_scans_run_off_the_gui_thread(qtbot, tmp_path, editor):
     from zuml_studio.ui.device import DevicePanel
 

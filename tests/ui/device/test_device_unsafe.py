@@ -13,7 +13,7 @@ from helpers import compiled
 from zuml_studio.cli.main import main
 from zuml_studio.data import standard_macros_dir
 from zuml_studio.device.client import ChargerClient
-from zuml_studio.lang.eeprom import pack, slots
+from zuml_studio.lang.eeprom import pack
 from zuml_studio.sim.start_templates import StartTemplate
 from zuml_studio.ui.device import unsafe_dialog as dp
 

@@ -11,7 +11,7 @@ from zuml_studio.logs import read_log
 from zuml_studio.ui.device.live_view import LiveView
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "logs"))
-from logdata import GAP_AFTER_LINE, GAP_S, gapped_3010b_lov  # noqa: E402
+from logdata import GAP_AFTER_LINE, GAP_S, gapped_3010b_lov
 
 BEFORE = 2.0 * GAP_AFTER_LINE
 AFTER = 2.0 * (GAP_AFTER_LINE + 1) + int(GAP_S)

@@ -110,7 +110,7 @@ def test_after_an_equals_sign_only_that_operands_values_are_offered(editor, qtbo
 
 
 def test_contexts_come_from_the_opcode_table():
-    texts = lambda line, col=None: [i.text for i in items_at(line, len(line) if col is None else col)]  # noqa: E731
+    texts = lambda line, col=None: [i.text for i in items_at(line, len(line) if col is None else col)]
     assert "LIGHT(" in texts("  LI") and "LiPo" not in texts("  LI")      # a statement at the line start
     assert texts("CONSTANT_I=") == ["INPUT"]                                  # a current: INPUT, never LiPo
     assert texts("CAPACITY=") == ["INPUT", "AUTO"]

@@ -10,7 +10,7 @@ import pytest
 from zuml_studio.ui.logs import LogWindow
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "logs"))
-from logdata import GAP_AFTER_LINE, GAP_S, gapped_3010b_lov  # noqa: E402
+from logdata import GAP_AFTER_LINE, GAP_S, gapped_3010b_lov
 
 READ_MS = 30_000
 BEFORE = 2.0 * GAP_AFTER_LINE                       # the last sample before the hole

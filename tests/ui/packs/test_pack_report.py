@@ -28,7 +28,7 @@ class _Recording(QPainter):
         super().__init__(device)
         self.texts = []
 
-    def drawText(self, *args):  # noqa: N802
+    def drawText(self, *args):
         self.texts.append(args[-1])
         return super().drawText(*args)
 

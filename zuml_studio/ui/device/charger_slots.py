@@ -66,7 +66,7 @@ class SlotTable(QTableWidget):
     layout gives it whatever room is left, and a preferred height of its own would make the
     controls scroll in a 380 px dock."""
 
-    def sizeHint(self):  # noqa: N802
+    def sizeHint(self):
         hint = super().sizeHint()
         rows = self.verticalHeader().defaultSectionSize()
         hint.setHeight(self.horizontalHeader().sizeHint().height() + 3 * rows + 2 * self.frameWidth())
@@ -369,7 +369,7 @@ class ChargerSlots(QWidget):
                 count = len(slots(image))
                 text = ngettext("Saved the charger's EEPROM ({size} bytes, {n} macro) to {path}.",
                                 "Saved the charger's EEPROM ({size} bytes, {n} macros) to {path}.", count)
-            except Exception:   # noqa: BLE001
+            except ImageError:
                 count, text = 0, _("Saved the charger's EEPROM ({size} bytes, a broken record list) to {path}.")
             text = text.format(size=len(image), n=count, path=path)
             self.progress_done()

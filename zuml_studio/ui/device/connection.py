@@ -26,15 +26,12 @@ from typing import Callable
 from PySide6.QtCore import QObject, QThread, Signal, Slot
 
 from ...device.client import ChargerClient, DeviceInfo
-from ...device.errors import (CommitUncertain, CommitUnverified, DeviceError, DeviceLinkError, DeviceTimeout, Disconnected, ImageTooLarge,
-                              InvalidImage, NotACharger, PermissionDenied, PortBusy, PortNotFound, VerifyFailed)
-from ...device.flashing import ImageFull, SlotOutOfRange
+from ...device.errors import DeviceError, Disconnected
 from ...device.ports import SIMULATED_B6
 from ...device.isp_store import ProgrammerClient, programmer_of
-from ...file_errors import FileReadError
+from ...domain.errors import ZumlError
+from ...error_words import describe_error
 from ...i18n import _
-from ...lang.eeprom import ImageError
-from ...lang.record import DecodeError
 
 log = logging.getLogger(__name__)
 
@@ -93,8 +90,8 @@ class _Worker(QObject):
             self.progress.emit(job_id, stage, int(done), int(total))
         try:
             result = fn(progress)
-        except BaseException as exc:            # noqa: BLE001 - every failure goes back to the GUI
-            if not isinstance(exc, (DeviceLinkError, ImageError, DecodeError, ValueError, OSError)):
+        except BaseException as exc:            # every failure goes back to the GUI
+            if not isinstance(exc, (ZumlError, ValueError, OSError)):   # a bug, not a failure to word
                 log.exception("device job failed")
             self.failed.emit(job_id, exc)
         else:
@@ -331,7 +328,7 @@ class DeviceConnection(QObject):
         if client is not None:
             try:
                 client.close()
-            except Exception:   # noqa: BLE001
+            except Exception:
                 log.exception("closing the charger client failed")
         self._drop_virtual()
 
@@ -344,7 +341,7 @@ class DeviceConnection(QObject):
         if stop is not None:
             try:
                 stop()
-            except Exception:   # noqa: BLE001
+            except Exception:
                 log.exception("stopping the virtual charger's port failed")
         if device is not None:
             device.close()
@@ -417,74 +414,3 @@ def _shutdown_all() -> None:
             connection.shutdown(wait_ms=3000)
         except RuntimeError:        # its Qt object is gone already
             pass
-
-
-# -- messages a user can act on -------------------------------------------------------------------
-
-
-def describe_error(exc: BaseException, action: str = "") -> str:
-    """One clear sentence (or a few lines) for an error, never a traceback.
-
-    ``action``: connect, flash, restore, backup, start, stop, passport, link, slots."""
-    text = str(exc).strip() or type(exc).__name__
-    if action == "connect":
-        if isinstance(exc, (PortNotFound, PermissionDenied, PortBusy, NotACharger, DeviceLinkError)):
-            return _("Cannot connect: {error}").format(error=text)
-        if isinstance(exc, ValueError):       # a virtual charger set up wrong (battery, speed)
-            return _("Cannot start the virtual charger: {error}").format(error=text)
-        if isinstance(exc, OSError):
-            return _("Cannot connect: {error}").format(error=exc.strerror or text)
-    if action in ("flash", "restore"):
-        flash = action == "flash"
-        if isinstance(exc, (ImageFull, ImageTooLarge)):
-            needed = getattr(exc, "needed", None) or getattr(exc, "size", 0)
-            size = exc.size if isinstance(exc, ImageFull) else exc.eeprom_size
-            return _("The image needs {needed} bytes; the charger has {size}. Nothing was written.").format(
-                needed=needed, size=size)
-        if isinstance(exc, SlotOutOfRange):
-            return _("Cannot flash: {error}").format(error=text)
-        if isinstance(exc, DecodeError):
-            return _("Nothing was written: the compiled macro does not decode ({error}).").format(error=text)
-        if isinstance(exc, CommitUnverified):
-            return _("The charger confirmed the new image, then the connection was lost while reading it back to "
-                     "verify it. Reconnect: the image is read back then and the result said. ({error})").format(
-                         error=text)
-        if isinstance(exc, CommitUncertain):
-            return _("The connection was lost just as the charger committed the new image: it holds either the "
-                     "new image or its previous one, never a mix. Reconnect: the image is read back then and "
-                     "which one said. ({error})").format(error=text)
-        if isinstance(exc, Disconnected):
-            return (_("The connection was lost while flashing: nothing was written, the charger keeps its "
-                      "previous image. ({error})") if flash else
-                    _("The connection was lost while restoring: nothing was written, the charger keeps its "
-                      "previous image. ({error})")).format(error=text)
-        if isinstance(exc, DeviceTimeout):
-            return (_("The charger stopped answering while flashing: nothing was written, the charger keeps its "
-                      "previous image. ({error})") if flash else
-                    _("The charger stopped answering while restoring: nothing was written, the charger keeps its "
-                      "previous image. ({error})")).format(error=text)
-        if isinstance(exc, VerifyFailed):
-            return _("The write did not verify: {error}. Flash again, or restore a backup.").format(error=text)
-        if isinstance(exc, (InvalidImage, FileReadError)):
-            return _("Nothing was written: {error}").format(error=text)
-        if isinstance(exc, ImageError):
-            return _("The charger's record list is broken ({error}): restore a backup of its EEPROM, then flash "
-                     "again.").format(error=text)
-        if isinstance(exc, DeviceError):
-            return _("The charger refused the write: {error}. Nothing was written.").format(error=text)
-    if action == "start" and isinstance(exc, DeviceError):
-        lines = exc.lines or [text]
-        return _("The charger refused to start:") + "\n" + "\n".join(f"• {line}" for line in lines)
-    if action == "link":
-        return _("Disconnected: {error}").format(error=text)
-    if isinstance(exc, Disconnected):
-        return _("Not connected: {error}").format(error=text)
-    if isinstance(exc, DeviceTimeout):
-        return _("The charger does not answer: {error}").format(error=text)
-    if isinstance(exc, DeviceError):
-        return _("The charger refused: {error}").format(error=text)
-    if isinstance(exc, (DeviceLinkError, ImageError, ValueError)):
-        return text[:1].upper() + text[1:]
-    if isinstance(exc, OSError):
-        return f"{getattr(exc, 'filename', '') or ''} {exc.strerror or text}".strip()
-    return _("Internal error: {error}").format(error=f"{type(exc).__name__}: {text}")

@@ -230,7 +230,7 @@ class DevicePanel(QWidget):
             self._update_enabled()
         return ok
 
-    def disconnect(self, *args, **kw):  # noqa: A003 - the panel's verb
+    def disconnect(self, *args, **kw):  # the panel's verb
         """Close the link (and the built-in virtual charger). The plot and the session CSV stay.
         (With arguments it is QObject.disconnect, for signal connections.)"""
         if args or kw:

@@ -110,10 +110,10 @@ class ElidedCombo(QComboBox):
         self._size_texts = tuple(texts)
         self.updateGeometry()
 
-    def sizeHint(self) -> QSize:  # noqa: N802
+    def sizeHint(self) -> QSize:
         return self._capped(super().sizeHint())
 
-    def minimumSizeHint(self) -> QSize:  # noqa: N802
+    def minimumSizeHint(self) -> QSize:
         return self._capped(super().minimumSizeHint())
 
     def _capped(self, hint: QSize) -> QSize:
@@ -138,7 +138,7 @@ class ElidedCombo(QComboBox):
         shown = self.fontMetrics().elidedText(text, Qt.TextElideMode.ElideRight, max(10, room - 2))
         return shown, shown != text
 
-    def paintEvent(self, event) -> None:  # noqa: N802
+    def paintEvent(self, event) -> None:
         painter = QStylePainter(self)
         opt = QStyleOptionComboBox()
         self.initStyleOption(opt)
@@ -146,7 +146,7 @@ class ElidedCombo(QComboBox):
         painter.drawComplexControl(QStyle.ComplexControl.CC_ComboBox, opt)
         painter.drawControl(QStyle.ControlElement.CE_ComboBoxLabel, opt)
 
-    def event(self, event) -> bool:  # noqa: A003
+    def event(self, event) -> bool:
         if event.type() == QEvent.Type.ToolTip and self.elided():
             tip = self.toolTip()
             QToolTip.showText(event.globalPos(), self.currentText() + ("\n\n" + tip if tip else ""), self)
@@ -174,13 +174,13 @@ class ElidedLabel(QLabel):
     def full_text(self) -> str:
         return self._full
 
-    def sizeHint(self) -> QSize:  # noqa: N802
+    def sizeHint(self) -> QSize:
         """The whole text's width: a layout that respects the hint (Preferred) gives it that where
         the row has room, and elides it only down to the minimum width where it has not."""
         hint = super().sizeHint()
         return QSize(self.fontMetrics().horizontalAdvance(self._full) + 2 * self.margin() + 4, hint.height())
 
-    def resizeEvent(self, event) -> None:  # noqa: N802
+    def resizeEvent(self, event) -> None:
         super().resizeEvent(event)
         self._elide()
 
@@ -232,7 +232,7 @@ class ControlsScroll(QScrollArea):
     def is_stacked(self) -> bool:
         return self._cols.direction() == QBoxLayout.Direction.TopToBottom
 
-    def showEvent(self, event) -> None:  # noqa: N802
+    def showEvent(self, event) -> None:
         super().showEvent(event)
         self._guard_wheel()
 
@@ -245,14 +245,14 @@ class ControlsScroll(QScrollArea):
                 box.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
                 box.installEventFilter(self)
 
-    def eventFilter(self, watched, event) -> bool:  # noqa: N802
+    def eventFilter(self, watched, event) -> bool:
         if event.type() == QEvent.Type.Wheel and isinstance(watched, (QComboBox, QAbstractSpinBox)) \
                 and watched.property("wheelGuarded") and not watched.hasFocus():
             QApplication.sendEvent(self.verticalScrollBar(), event)
             return True
         return super().eventFilter(watched, event)
 
-    def resizeEvent(self, event) -> None:  # noqa: N802
+    def resizeEvent(self, event) -> None:
         super().resizeEvent(event)
         self._stack(self.height() >= STACK_PX)
 
@@ -282,7 +282,7 @@ class ControlsScroll(QScrollArea):
         self._run_layout.insertWidget(2, widget, 1)
         widget.show()
 
-    def sizeHint(self):  # noqa: N802
+    def sizeHint(self):
         hint = super().sizeHint()
         widget = self.widget()
         if widget is not None:

@@ -605,7 +605,7 @@ class LivePlot(StackedPlot):
                         return
                 return
 
-    def paintEvent(self, event) -> None:  # noqa: N802
+    def paintEvent(self, event) -> None:
         clock = time.perf_counter()
         super().paintEvent(event)
         self._paint_ms = (time.perf_counter() - clock) * 1000.0

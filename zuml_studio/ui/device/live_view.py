@@ -216,7 +216,7 @@ class LiveView(QWidget):
             data.update({name: RowsFrom(cells[name], first_row) for name in table.names[1:1 + count]})
         return cols["t"], data
 
-    def resizeEvent(self, event) -> None:  # noqa: N802
+    def resizeEvent(self, event) -> None:
         super().resizeEvent(event)
         self._place_controls()
         self._size_body()
@@ -251,7 +251,7 @@ class LiveView(QWidget):
             v=f"{tel.voltage_v:.3f}", a=f"{tel.current_a:+.3f}", t=t, tc=tc, amounts=amounts))
         self._place_controls()             # the readings grew or shrank: the controls may move
 
-    def changeEvent(self, event) -> None:  # noqa: N802
+    def changeEvent(self, event) -> None:
         super().changeEvent(event)
         if event.type() == QEvent.Type.PaletteChange and self._shown is not None:
             self.show_readings(self._shown)
@@ -368,7 +368,7 @@ class LivePhaseTable(PhaseTable):
             "T end": _("battery temperature at the phase's last telemetry frame (— without a sensor)"),
             "notes": _("heat-sink pauses, how long the balancer bled each cell")})
 
-    def sizeHint(self) -> QSize:  # noqa: N802
+    def sizeHint(self) -> QSize:
         hint = super().sizeHint()
         rows = self.verticalHeader().defaultSectionSize() * PHASE_ROWS
         scroll = self.horizontalScrollBar().sizeHint().height()

@@ -42,7 +42,7 @@ class _Scan(QRunnable):
     def run(self) -> None:
         try:
             found = [p for p in self.lister() if not p.virtual and p.device not in (VIRTUAL, SIMULATED_B6)]
-        except Exception:   # noqa: BLE001 - a platform quirk must not break the chooser
+        except Exception:   # a platform quirk must not break the chooser
             log.exception("port scan failed")
             found = []
         self.signals.done.emit(found)
@@ -183,13 +183,13 @@ class PortChooser(QWidget):
                 self.changed.emit()
         self.portsScanned.emit(len(found))
 
-    def showEvent(self, event) -> None:  # noqa: N802
+    def showEvent(self, event) -> None:
         super().showEvent(event)
         if not self._closed:
             self.refresh()
             self._timer.start()
 
-    def hideEvent(self, event) -> None:  # noqa: N802
+    def hideEvent(self, event) -> None:
         super().hideEvent(event)
         self._timer.stop()
 

@@ -231,11 +231,11 @@ class SerialMonitor(QDialog):
     def text(self) -> str:
         return self.view.toPlainText()
 
-    def closeEvent(self, event) -> None:  # noqa: N802
+    def closeEvent(self, event) -> None:
         self.close_port()
         super().closeEvent(event)
 
-    def keyPressEvent(self, event) -> None:  # noqa: N802
+    def keyPressEvent(self, event) -> None:
         # Esc would close a dialog; the monitor is a window: it closes by its title bar.
         if event.key() != Qt.Key.Key_Escape:
             super().keyPressEvent(event)

@@ -50,7 +50,7 @@ class _BlockLayout(QPlainTextDocumentLayout):
         super().__init__(document)
         self._blocks = document.blockCount()
 
-    def documentChanged(self, position: int, removed: int, added: int) -> None:  # noqa: N802
+    def documentChanged(self, position: int, removed: int, added: int) -> None:
         doc = self.document()
         count = doc.blockCount()
         if count == self._blocks:
@@ -242,7 +242,7 @@ class CodeEditor(QPlainTextEdit):
         """Ctrl+= / Ctrl+- / Ctrl+wheel: one point per step."""
         self.set_font_size(self.font_size() + steps)
 
-    def wheelEvent(self, event) -> None:  # noqa: N802
+    def wheelEvent(self, event) -> None:
         if event.modifiers() & Qt.KeyboardModifier.ControlModifier:
             steps = event.angleDelta().y() // 120
             if steps:
@@ -275,7 +275,7 @@ class CodeEditor(QPlainTextEdit):
         self.setTextCursor(edit)
         return True
 
-    def contextMenuEvent(self, event) -> None:  # noqa: N802
+    def contextMenuEvent(self, event) -> None:
         menu = self.createStandardContextMenu(event.pos())
         position = self.cursorForPosition(event.pos()).position()
         found = self.fix_at(position)
@@ -341,7 +341,7 @@ class CodeEditor(QPlainTextEdit):
                 return block.position() + column
         return None
 
-    def viewportEvent(self, event) -> bool:  # noqa: N802
+    def viewportEvent(self, event) -> bool:
         if event.type() == QEvent.Type.ToolTip:
             position = self.position_at(event.pos())
             text = self.tooltip_at(position) if position is not None else ""
@@ -417,12 +417,12 @@ class CodeEditor(QPlainTextEdit):
                 area.update()
             self._update_gutter_width()
 
-    def resizeEvent(self, event) -> None:  # noqa: N802
+    def resizeEvent(self, event) -> None:
         super().resizeEvent(event)
         cr = self.contentsRect()
         self.line_number_area.setGeometry(QRect(cr.left(), cr.top(), self.line_number_area.area_width(), cr.height()))
 
-    def changeEvent(self, event) -> None:  # noqa: N802
+    def changeEvent(self, event) -> None:
         super().changeEvent(event)
         if not hasattr(self, "line_number_area"):
             return                          # the font set in __init__
@@ -481,7 +481,7 @@ class CodeEditor(QPlainTextEdit):
         return cursor
 
     # -- keys -----------------------------------------------------------------------------------
-    def keyPressEvent(self, event) -> None:  # noqa: N802
+    def keyPressEvent(self, event) -> None:
         key, mods = event.key(), event.modifiers()
         K, M = Qt.Key, Qt.KeyboardModifier
         if self.completer.handle_key(key, mods):

@@ -247,7 +247,7 @@ class ZumlHighlighter(QSyntaxHighlighter):
             self.formats = make_formats(scheme)
             self.rehighlight()
 
-    def highlightBlock(self, text: str) -> None:  # noqa: N802 (Qt's name)
+    def highlightBlock(self, text: str) -> None:  # Qt's name
         formats = self.formats
         for span in classify_line(text):
             self.setFormat(span.start, span.end - span.start, formats[span.category])

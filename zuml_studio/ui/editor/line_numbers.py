@@ -32,7 +32,7 @@ class LineNumberArea(QWidget):
         digits = max(2, len(str(max(1, self.editor.blockCount()))))
         return self.MARKER_SPACE + self.editor.fontMetrics().horizontalAdvance("9") * digits + self.RIGHT_PAD
 
-    def sizeHint(self) -> QSize:  # noqa: N802
+    def sizeHint(self) -> QSize:
         return QSize(self.area_width(), 0)
 
     def _colours(self) -> tuple[QColor, QColor, QColor, QColor]:
@@ -42,7 +42,7 @@ class LineNumberArea(QWidget):
             return QColor("#f6f7f9"), QColor("#e3e5e8"), QColor("#9aa0a6"), QColor("#3c4043")
         return base.lighter(115), base.lighter(160), QColor("#858a90"), QColor("#e8eaed")
 
-    def paintEvent(self, event) -> None:  # noqa: N802
+    def paintEvent(self, event) -> None:
         editor = self.editor
         background, separator, number, current_number = self._colours()
         painter = QPainter(self)
@@ -83,7 +83,7 @@ class LineNumberArea(QWidget):
             return True
         return super().event(event)
 
-    def mousePressEvent(self, event) -> None:  # noqa: N802
+    def mousePressEvent(self, event) -> None:
         """A click on a number puts the cursor at the start of that line."""
         line = self.editor.line_at_y(int(event.position().y()))
         if line:

@@ -11,7 +11,7 @@ from PySide6.QtCore import QEvent, QSettings, Qt, Signal
 from PySide6.QtWidgets import (QCheckBox, QFrame, QHBoxLayout, QLabel, QListWidget, QListWidgetItem, QPushButton,
                                QScrollArea, QSizePolicy, QVBoxLayout, QWidget)
 
-from ...i18n import N_, _, ngettext
+from ...i18n import _, ngettext
 from ...logs import Log
 from ...logs.model import Phase, charge_check_text, time_order_text
 from ...logs.cycles import split_cycles
@@ -241,7 +241,7 @@ class LogDocument(QWidget):
     def _show_totals(self) -> None:
         self.totals.setText(totals_html(self.name, self.summary, theme.colours(self.palette()).key_text))
 
-    def changeEvent(self, event) -> None:  # noqa: N802
+    def changeEvent(self, event) -> None:
         super().changeEvent(event)
         if event.type() == QEvent.Type.PaletteChange and hasattr(self, "summary"):
             self._show_totals()

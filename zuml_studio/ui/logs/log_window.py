@@ -216,7 +216,7 @@ class LogWindow(QMainWindow):
         self.show_error(message)
         self.readFailed.emit(message)
 
-    def closeEvent(self, event) -> None:  # noqa: N802 - Qt's name
+    def closeEvent(self, event) -> None:  # Qt's name
         self._queue.clear()             # what was not started yet is not wanted any more
         super().closeEvent(event)
 

@@ -182,7 +182,7 @@ class PacksPanel(QWidget):
             self._data_version = version
             self.refresh()
 
-    def showEvent(self, event) -> None:  # noqa: N802
+    def showEvent(self, event) -> None:
         """Shown again: another instance (or `zuml pack import`) may have written the logbook meanwhile."""
         super().showEvent(event)
         if self._job is None:

@@ -13,6 +13,7 @@ from ...packs.health import TrendPoint
 from ...packs.report_data import SessionCurve
 from ...packs.summary import DATED_MARK, capacity_note, capacity_text, dates_note
 from .trend_plot import PackTrendPlot
+from ...domain.errors import ZumlError
 from ...i18n import _
 
 PAGE = (800, 1131)                 # A4's proportions, in drawing units
@@ -20,7 +21,7 @@ PNG_SCALE = 1.5                    # 1200 × 1697 pixels
 _MARGIN = 40
 
 
-class ReportError(Exception):
+class ReportError(ZumlError):
     """The report could not be written; the message names the file."""
 
 

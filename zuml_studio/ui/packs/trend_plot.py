@@ -88,7 +88,7 @@ class PackTrendPlot(pg.GraphicsLayoutWidget):
             pad = max(86400.0 * 15, (max(stamps) - min(stamps)) * 0.05)
             self.plots[ROWS[0][0]].setXRange(min(stamps) - pad, max(stamps) + pad, padding=0)
 
-    def changeEvent(self, event) -> None:  # noqa: N802
+    def changeEvent(self, event) -> None:
         super().changeEvent(event)
         if event.type() == QEvent.Type.PaletteChange and hasattr(self, "plots"):
             look = theme.colours(self.palette())

@@ -221,7 +221,7 @@ class ChargePlot(StackedPlot):
     def _add_labels(self) -> None:
         """Labels for the phases, at most LABELS_PER_TURN new ones per turn of the event loop
         (a label costs about a millisecond to make; a long training has hundreds of phases)."""
-        for _ in range(min(LABELS_PER_TURN, len(self._phases) - len(self.labels))):
+        for __ in range(min(LABELS_PER_TURN, len(self._phases) - len(self.labels))):
             self._new_label()
         self._colour_labels()
         self._place_labels()

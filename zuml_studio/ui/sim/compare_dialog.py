@@ -217,7 +217,7 @@ class CompareDialog(QDialog):
         self.save_button.setEnabled(self.fitted is not None)
         self.workDone.emit()
 
-    def closeEvent(self, event) -> None:  # noqa: N802
+    def closeEvent(self, event) -> None:
         if self._job is not None:       # a fit cannot be interrupted; it ends in seconds
             self._job.wait()
         super().closeEvent(event)

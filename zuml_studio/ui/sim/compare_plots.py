@@ -68,7 +68,7 @@ class ComparePlots(pg.GraphicsLayoutWidget):
         self.legend.setBrush(*look.legend_fill)
         self.legend.setPen(look.readout_border)
 
-    def changeEvent(self, event) -> None:  # noqa: N802
+    def changeEvent(self, event) -> None:
         super().changeEvent(event)
         if event.type() == QEvent.Type.PaletteChange and hasattr(self, "legend"):
             colours = theme.colours(self.palette())

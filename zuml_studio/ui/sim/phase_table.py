@@ -70,13 +70,13 @@ class PhaseModel(QAbstractTableModel):
         elif phases:
             self.dataChanged.emit(self.index(0, 0), self.index(len(phases) - 1, len(COLUMNS) - 1))
 
-    def rowCount(self, parent=QModelIndex()) -> int:  # noqa: N802 - Qt's name
+    def rowCount(self, parent=QModelIndex()) -> int:  # Qt's name
         return 0 if parent.isValid() else len(self._phases)
 
-    def columnCount(self, parent=QModelIndex()) -> int:  # noqa: N802 - Qt's name
+    def columnCount(self, parent=QModelIndex()) -> int:  # Qt's name
         return 0 if parent.isValid() else len(COLUMNS)
 
-    def headerData(self, section: int, orientation, role=Qt.ItemDataRole.DisplayRole):  # noqa: N802 - Qt's name
+    def headerData(self, section: int, orientation, role=Qt.ItemDataRole.DisplayRole):  # Qt's name
         if orientation != Qt.Orientation.Horizontal or not 0 <= section < len(COLUMNS):
             return None
         if role == Qt.ItemDataRole.DisplayRole:
@@ -192,7 +192,7 @@ class PhaseTable(QTableView):
         self.selectionModel().selectionChanged.connect(self._selection_changed)
         self.setToolTip(_("Double-click a phase to show its FAZE in the editor"))
 
-    def changeEvent(self, event) -> None:  # noqa: N802
+    def changeEvent(self, event) -> None:
         super().changeEvent(event)
         if event.type() == QEvent.Type.PaletteChange and theme.colours(self.palette()) is not self.phases.colours:
             self.phases.set_colours(theme.colours(self.palette()))

@@ -414,7 +414,7 @@ class SimulatorPanel(QWidget):
         self.run_label.setStyleSheet(f"color:{c.muted};")
         self.hint.setStyleSheet(f"color:{c.muted}; font-style:italic;")
 
-    def changeEvent(self, event) -> None:  # noqa: N802
+    def changeEvent(self, event) -> None:
         super().changeEvent(event)
         if event.type() == QEvent.Type.PaletteChange:
             self._style_texts()
@@ -435,7 +435,7 @@ class SimulatorPanel(QWidget):
             self._split_sizes()
             QTimer.singleShot(WARM_UP_MS, self, warm_up)
 
-    def resizeEvent(self, event) -> None:  # noqa: N802
+    def resizeEvent(self, event) -> None:
         super().resizeEvent(event)
         self._arrange(self.height() >= TALL_PX)
 

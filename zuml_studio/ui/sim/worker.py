@@ -62,7 +62,7 @@ class SimWorker(QObject):
         jid = self.job_id
         try:
             self._run()
-        except Exception as exc:            # a bug: say so in the panel, never take the IDE down
+        except Exception as exc:            # noqa: BLE001 - a bug: say so in the panel, never take the IDE down
             self.failed.emit(jid, _("internal error in the simulator: {error}").format(
                 error=f"{type(exc).__name__}: {exc}"))
         finally:

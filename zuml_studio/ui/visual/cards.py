@@ -81,14 +81,14 @@ class DragSource:
         """Whether a press there may start a drag (a box is dragged by its header only)."""
         return True
 
-    def mousePressEvent(self, event) -> None:  # noqa: N802
+    def mousePressEvent(self, event) -> None:
         if event.button() == Qt.MouseButton.LeftButton and self.grabbed_at(event.position().toPoint()):
             self._press = event.position().toPoint()
             event.accept()
             return
         super().mousePressEvent(event)
 
-    def mouseMoveEvent(self, event) -> None:  # noqa: N802
+    def mouseMoveEvent(self, event) -> None:
         if self._press is not None and (event.buttons() & Qt.MouseButton.LeftButton):
             if (event.position().toPoint() - self._press).manhattanLength() >= QApplication.startDragDistance():
                 self._press = None
@@ -96,7 +96,7 @@ class DragSource:
                 return
         super().mouseMoveEvent(event)
 
-    def mouseReleaseEvent(self, event) -> None:  # noqa: N802
+    def mouseReleaseEvent(self, event) -> None:
         if self._press is not None and event.button() == Qt.MouseButton.LeftButton:
             self._press = None
             self.clicked()
@@ -193,13 +193,13 @@ class DropZone(QFrame):
                 return top
         return ys[-1][2] if ys else y
 
-    def dragEnterEvent(self, event) -> None:  # noqa: N802
+    def dragEnterEvent(self, event) -> None:
         if self._source(event) is not None:
             event.acceptProposedAction()
         else:
             event.ignore()
 
-    def dragMoveEvent(self, event) -> None:  # noqa: N802
+    def dragMoveEvent(self, event) -> None:
         if self._source(event) is None:
             event.ignore()
             return
@@ -207,11 +207,11 @@ class DropZone(QFrame):
         self._indicator = self._indicator_y(event.position().toPoint().y())
         self.update()
 
-    def dragLeaveEvent(self, event) -> None:  # noqa: N802
+    def dragLeaveEvent(self, event) -> None:
         self._indicator = None
         self.update()
 
-    def dropEvent(self, event) -> None:  # noqa: N802
+    def dropEvent(self, event) -> None:
         source = self._source(event)
         self._indicator = None
         self.update()
@@ -222,7 +222,7 @@ class DropZone(QFrame):
         to = self.drop_index(event.position().toPoint().y(), source)
         self.host.drop_item(tuple(self.path), source[-1], to)
 
-    def paintEvent(self, event) -> None:  # noqa: N802
+    def paintEvent(self, event) -> None:
         super().paintEvent(event)
         if self._indicator is not None:
             painter = QPainter(self)
@@ -396,7 +396,7 @@ class PhaseCard(DraggableFrame):
     def _menu(self) -> QMenu:
         return _item_menu(self.host, self.path, self, self.first, self.last, self.in_cycle, True)
 
-    def contextMenuEvent(self, event) -> None:  # noqa: N802
+    def contextMenuEvent(self, event) -> None:
         self._menu().exec(event.globalPos())
 
 
@@ -479,7 +479,7 @@ class CycleBox(DragSource, DropZone):
         menu.addAction(_("Delete cycle and its phases"), lambda: self.host.delete_item(self.path))
         return menu
 
-    def contextMenuEvent(self, event) -> None:  # noqa: N802
+    def contextMenuEvent(self, event) -> None:
         self._menu().exec(event.globalPos())
 
     def grabbed_at(self, pos: QPoint) -> bool:
@@ -519,7 +519,7 @@ class CommandChip(DraggableFrame):
         if self.movable:
             super().start_drag()
 
-    def contextMenuEvent(self, event) -> None:  # noqa: N802
+    def contextMenuEvent(self, event) -> None:
         if not self.movable:
             return
         menu = QMenu(self)

@@ -338,7 +338,7 @@ class VisualEditor(QWidget):
         layout.addWidget(self.status)
         self._set_editable(False)
 
-    def eventFilter(self, watched, event) -> bool:  # noqa: N802
+    def eventFilter(self, watched, event) -> bool:
         if watched is self.scroll.viewport() and event.type() == QEvent.Type.Resize:
             self._fit_columns()
         return super().eventFilter(watched, event)
@@ -617,7 +617,7 @@ class VisualEditor(QWidget):
             self.editor.setTextCursor(cursor)
 
     # -- keys --------------------------------------------------------------------------------
-    def keyPressEvent(self, event) -> None:  # noqa: N802
+    def keyPressEvent(self, event) -> None:
         """Ctrl+Z / Ctrl+Shift+Z here undo and redo in the document (one history for both views)."""
         if event.matches(QKeySequence.StandardKey.Undo):
             self.editor.undo()

@@ -37,7 +37,7 @@ class PlotFocus(QObject):
     def maximised(self) -> QWidget | None:
         return self._saved[0] if self._saved else None
 
-    def eventFilter(self, obj: QObject, event: QEvent) -> bool:  # noqa: N802
+    def eventFilter(self, obj: QObject, event: QEvent) -> bool:
         if (event.type() == QEvent.Type.MouseButtonDblClick and obj in self._watched
                 and not event.modifiers() & Qt.KeyboardModifier.ControlModifier):
             plot, dock, keep = self._watched[obj]
