@@ -13,7 +13,7 @@ from ..domain.end_reasons import read
 from ..domain.units import AS_PER_MAH
 from .compare import log_charger, real_end
 from .curve import Curve
-from .fit import LI, NI, FitResult, cc_current, cv_mask, measured, smooth
+from .fit import FitResult, cc_current, cv_mask, measured, smooth
 from .fit_discharge import discharge_current, end_voltage, hold_mask
 from .interpreter import StartError, StartParams
 from .simulate import BatterySetup, simulate
