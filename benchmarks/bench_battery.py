@@ -15,7 +15,7 @@ sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
 
 from zuml_studio.sim.battery import Pack
 from zuml_studio.sim.cell_pack import CellPack, spread_cells
-from zuml_studio.sim.chemistry import chemistry_names, load_chemistry
+from zuml_studio.domain.chemistry import chemistry_names, load_chemistry
 
 STEPS = 7200
 

@@ -4,7 +4,7 @@ import importlib
 import pkgutil
 
 import zuml_studio
-from zuml_studio.device.passport import PassportError
+from zuml_studio.protocol.passport import PassportError
 from zuml_studio.domain.errors import ZumlError, error_text
 from zuml_studio.logs.model import LogFormatError
 

@@ -17,8 +17,8 @@ from pathlib import Path
 
 from tools import SIMAVR, skip_unless
 from host_core import FIRMWARE
-from zuml_studio.device import messages as m
-from zuml_studio.device.frames import FrameParser, encode_frame
+from zuml_studio.protocol import messages as m
+from zuml_studio.protocol.frames import FrameParser, encode_frame
 
 B6_SIM = FIRMWARE / "build" / "simavr" / "zuml_b6_sim"
 LINE_WAIT_S = 120.0        # a bound on a wait for a line, far above any run here: a hang fails, it does not wait

@@ -1,4 +1,4 @@
-"""The protocol's one table (zuml_studio/device/messages.py) and its C side: firmware/core/protocol.h is what
+"""The protocol's one table (zuml_studio/protocol/messages.py) and its C side: firmware/core/protocol.h is what
 tools/protocol_header.py writes from the table, and no C file gives a message type, an error code or a frame's
 field a value of its own (issue 36 §3)."""
 import importlib.util
@@ -7,7 +7,7 @@ import sys
 
 from host_core import ROOT
 
-from zuml_studio.device.messages import MESSAGE_TYPES, ErrorCode, Telemetry
+from zuml_studio.protocol.messages import MESSAGE_TYPES, ErrorCode, Telemetry
 
 spec = importlib.util.spec_from_file_location("protocol_header", ROOT / "tools" / "protocol_header.py")
 generator = sys.modules.setdefault("protocol_header", importlib.util.module_from_spec(spec))

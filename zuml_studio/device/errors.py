@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import errno
 
-from .port_access import refused_advice
+from .links.port_access import refused_advice
 from ..domain.errors import ZumlError, error_text
 from ..i18n import _
 
@@ -197,7 +197,7 @@ class DeviceError(DeviceLinkError):
 
     @property
     def code_name(self) -> str:
-        from .messages import ErrorCode
+        from ..protocol.messages import ErrorCode
         try:
             return ErrorCode(self.code).name
         except ValueError:

@@ -1,4 +1,4 @@
-"""ZUML Studio's own CSV files: the device panel's session CSV (``device/session_log.py``:
+"""ZUML Studio's own CSV files: the device panel's session CSV (``logs/session_log.py``:
 the simulator's columns plus ``event``), the simulator's sample CSV (the same columns
 without ``event``) and ``zuml log export``'s CSV (``export.py``), so an export reads back.
 

@@ -11,7 +11,7 @@ from ..domain.units import SECONDS_PER_HOUR
 from ..logs.charge import MAX_STEP_S
 from ..logs.model import STATES, Columns, Log
 from ..logs.rest_steps import resistance_mohm_per_cell
-from ..sim.chemistry import load_chemistry
+from ..domain.chemistry import load_chemistry
 
 
 @dataclass(frozen=True)

@@ -58,7 +58,7 @@ from bisect import bisect_right
 from math import exp, isfinite
 
 from ..domain.units import MAH_PER_AH, SECONDS_PER_HOUR
-from .chemistry import Chemistry
+from ..domain.chemistry import Chemistry
 from ..i18n import _
 
 _GAS_R = 8.314462618          # J/(mol K), physical constant

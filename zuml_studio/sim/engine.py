@@ -18,7 +18,7 @@ from typing import Callable, Mapping
 
 import numpy as np
 
-from ..device import messages
+from ..protocol import messages
 from ..domain import end_reasons
 from ..domain.end_reasons import EndCode, EndReason
 from ..domain.units import SECONDS_PER_HOUR
@@ -27,9 +27,9 @@ from .battery import Pack
 from .cell_pack import CellPack
 from .interpreter import (DEFAULT_CAPACITY_FACTOR, DEFAULT_DTDT_C_PER_MIN, DEFAULT_T_MAX, FULL_SOC, Event, Interpreter,
                           PhaseResult)
-from . import samples
-from .samples import BALANCE_MASK, COLUMNS
-from .start_templates import StartTemplate, factory_templates
+from ..domain import samples
+from ..domain.samples import BALANCE_MASK, COLUMNS
+from ..domain.start_templates import StartTemplate, factory_templates
 from ..i18n import _
 
 LIBRARY = Path(__file__).with_name("_engine") / "libzuml_engine.so"

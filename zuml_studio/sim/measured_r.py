@@ -13,7 +13,7 @@ import numpy as np
 from ..domain.units import MAH_PER_AH
 from ..logs import Log
 from ..logs.rest_steps import RestStep, rest_steps
-from .chemistry import Chemistry, load_chemistry
+from ..domain.chemistry import Chemistry, load_chemistry
 from .curve import Curve
 from .fit import FitResult
 from .fit_discharge import fit_curve
