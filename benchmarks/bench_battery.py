@@ -15,7 +15,7 @@ sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
 
 from zuml_studio.sim.battery import Pack  # noqa: E402
 from zuml_studio.sim.cell_pack import CellPack, spread_cells  # noqa: E402
-from zuml_studio.sim.chemistry import chemistry_names, load_chemistry  # noqa: E402
+from zuml_studio.domain.chemistry import chemistry_names, load_chemistry  # noqa: E402
 
 STEPS = 7200
 

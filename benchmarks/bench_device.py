@@ -16,11 +16,11 @@ import statistics
 import sys
 import time
 
-from zuml_studio.device import messages as m
-from zuml_studio.device.client import ChargerClient
-from zuml_studio.device.frames import FrameParser, encode_frame
-from zuml_studio.device.transport import serve_pty
-from zuml_studio.device.virtual_charger import VirtualCharger
+from zuml_studio.protocol import messages as m
+from zuml_studio.device.zuml.client import ChargerClient
+from zuml_studio.protocol.frames import FrameParser, encode_frame
+from zuml_studio.virtual.transport import serve_pty
+from zuml_studio.virtual.virtual_charger import VirtualCharger
 
 BAUD = 115200
 SIZE = 1024

@@ -17,11 +17,11 @@ import collections
 import sys
 import time
 
-from zuml_studio.device.client import ChargerClient
+from zuml_studio.device.zuml.client import ChargerClient
 from zuml_studio.device.errors import CommitUncertain, DeviceLinkError
-from zuml_studio.device.flashing import merge_record
-from zuml_studio.device.transport import serve_pty
-from zuml_studio.device.virtual_charger import Faults, VirtualCharger
+from zuml_studio.device.zuml.flashing import merge_record
+from zuml_studio.virtual.transport import serve_pty
+from zuml_studio.virtual.virtual_charger import Faults, VirtualCharger
 from zuml_studio.lang.compiler import compile_source
 from zuml_studio.lang.eeprom import pack
 

@@ -23,7 +23,7 @@ sys.path.insert(0, str(ROOT / "tests" / "device"))
 
 from realdata import (ICHARGER_HID_REPORT, IMAXB6_README_FRAME, dollar_lines, imaxb6_frames,  # noqa: E402
                       isdt_frames, raw, skyrc_reply, ultramat_sections)
-from zuml_studio.device.drivers import DRIVERS  # noqa: E402
+from zuml_studio.streams.drivers import DRIVERS  # noqa: E402
 from fuzz_common import LIMIT_S, Campaign  # noqa: E402
 
 SEEDS = [

@@ -25,15 +25,15 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from fuzz_common import Campaign, mutate_bytes, number_swap  # noqa: E402
-from zuml_studio.device.drivers import CaptureError  # noqa: E402
-from zuml_studio.device.replay import load_recording  # noqa: E402
+from zuml_studio.streams.drivers import CaptureError  # noqa: E402
+from zuml_studio.virtual.replay import load_recording  # noqa: E402
 from zuml_studio.file_errors import FileReadError  # noqa: E402
 from zuml_studio.lang.compiler import compile_source  # noqa: E402
 from zuml_studio.logs import LogFormatError  # noqa: E402
 from zuml_studio.macro_file import MacroFileError, read_macro_file  # noqa: E402
 from zuml_studio.recovery import RecoveryStore  # noqa: E402
 from zuml_studio.sim.batteries import BatteryFileError, battery_names, load_battery  # noqa: E402
-from zuml_studio.sim.chemistry import Chemistry  # noqa: E402
+from zuml_studio.domain.chemistry import Chemistry  # noqa: E402
 from zuml_studio.sim.curve import CurveError, read_curve, read_curve_csv  # noqa: E402
 from zuml_studio.sim.fit import guess_series  # noqa: E402
 from zuml_studio.sim.fit_discharge import fit_curve  # noqa: E402

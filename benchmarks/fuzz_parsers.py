@@ -16,10 +16,10 @@ import random
 import sys
 from pathlib import Path
 
-from zuml_studio.device import messages as m
-from zuml_studio.device import passport as pp
-from zuml_studio.device.frames import FrameParser, encode_frame
-from zuml_studio.device.port_url import BadPortUrl, check_port_url
+from zuml_studio.protocol import messages as m
+from zuml_studio.protocol import passport as pp
+from zuml_studio.protocol.frames import FrameParser, encode_frame
+from zuml_studio.device.links.port_url import BadPortUrl, check_port_url
 from zuml_studio.lang.compiler import compile_source
 from zuml_studio.lang.decoder import decode_record
 from zuml_studio.lang.eeprom import ImageError, pack, slots
@@ -120,7 +120,7 @@ def main() -> int:
                            "socket://[::1]:7777?logging=debug", "loop://"])
         return mutate_text(rng, base)
 
-    from zuml_studio.device.virtual_charger import VirtualCharger
+    from zuml_studio.virtual.virtual_charger import VirtualCharger
     charger = [VirtualCharger(), 0]
     requests = sorted(m.HOST_TYPES)
     good = [encode_frame(m.BY_NAME[name].code, 1, m.encode_request(name, **fields)) for name, fields in (

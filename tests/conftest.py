@@ -61,8 +61,8 @@ def pytest_collection_modifyitems(config, items):
 def make_charger():
     """make_charger(baud=None, tcp=False, **VirtualCharger kwargs) -> (device, port_or_url): a
     virtual charger served on a pty (or TCP), unpaced unless ``baud`` is given."""
-    from zuml_studio.device.transport import serve_pty, serve_tcp
-    from zuml_studio.device.virtual_charger import VirtualCharger
+    from zuml_studio.virtual.transport import serve_pty, serve_tcp
+    from zuml_studio.virtual.virtual_charger import VirtualCharger
 
     made = []
 

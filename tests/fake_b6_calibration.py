@@ -1,6 +1,6 @@
 """A stand-in for the iMAX B6's calibration requests (CAL_READ, CAL_OUTPUT; CAL_MEASURE's readings given
 directly) for tests of the host's checks without the simulated board: a 3S pack at rest at 11.4 V."""
-from zuml_studio.device.calibration import OFF, Block, Reading
+from zuml_studio.device.zuml.calibration import OFF, Block, Reading
 
 NOMINAL = Block(((0, 29902), (0, 30826), (26, 1646), (233, 6042), (0, 19154), (0, 5022), (0, 4985), (0, 9761),
                  (0, 4899), (0, 5016), (0, 4993), (0, 4924), (0, 25395)))
@@ -40,6 +40,6 @@ class FakeB6:
 
 def patch_calibrator(monkeypatch) -> None:
     """Calibrator's timed reads answered at once: the pack's readings, the current FakeB6 holds."""
-    from zuml_studio.device.calibration import Calibrator
+    from zuml_studio.device.zuml.calibration import Calibrator
     monkeypatch.setattr(Calibrator, "after_next_second", lambda self: readings())
     monkeypatch.setattr(Calibrator, "settled", lambda self, input_no: self.client.settled(input_no))

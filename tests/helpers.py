@@ -62,7 +62,7 @@ def unsafe_record(text: str = HOT_LIION) -> bytes:
 
 def lose_link_after_commit(monkeypatch, commit_arrives=True, confirmed=True):
     """Once: the link fails right after COMMIT (its answer lost or not), as a pulled cable would."""
-    from zuml_studio.device.client import ChargerClient
+    from zuml_studio.device.zuml.client import ChargerClient
     from zuml_studio.device.errors import Disconnected
     real = ChargerClient.request
     state = {"done": False, "committed": False}

@@ -193,7 +193,7 @@ def main(argv: list[str] | None = None) -> int:
     from pathlib import Path
 
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-    from zuml_studio.device.avr_install import ihex_bytes
+    from zuml_studio.device.install.avr_install import ihex_bytes
 
     parser = argparse.ArgumentParser(description="an emulated STK500v1 programmer holding an iMAX B6's ATmega32")
     parser.add_argument("--flash", type=Path, help="an Intel HEX image in the flash (firmware/build/imaxb6/zuml.hex)")

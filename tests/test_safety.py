@@ -1,6 +1,6 @@
 """The one safety check on bytes bound for a charger (zuml_studio/safety.py)."""
 from helpers import HOT_LIION, compiled, unsafe_record
-from zuml_studio.device.passport import default_passport
+from zuml_studio.protocol.passport import default_passport
 from zuml_studio.lang.compiler import compile_source
 from zuml_studio.lang.eeprom import pack
 from zuml_studio.safety import judge, judge_image
@@ -95,7 +95,7 @@ END_MACRO
 
 
 def test_a_macro_naming_a_start_template_is_judged_with_the_templates_values():
-    from zuml_studio.sim.start_templates import StartTemplate
+    from zuml_studio.domain.start_templates import StartTemplate
     record = compiled(TEMPLATE_LIPO)
     typed = StartParams(series=3, capacity_mah=2000, current_a=1.0)
     assert judge(record, start=typed, templates={5: StartTemplate(series=3)}).safe
@@ -127,8 +127,8 @@ def test_notes_are_never_asked_before_a_flash():
 
 
 # -- raw bytes typed by hand (the serial monitor) ---------------------------------------------------
-from zuml_studio.device.frames import encode_frame  # noqa: E402
-from zuml_studio.device.messages import encode_request  # noqa: E402
+from zuml_studio.protocol.frames import encode_frame  # noqa: E402
+from zuml_studio.protocol.messages import encode_request  # noqa: E402
 from zuml_studio.safety import RAW_ALLOWED, RawSendGuard  # noqa: E402
 
 CHANGING_REQUESTS = {
@@ -147,7 +147,7 @@ GARBAGE = b"AT\r\n\xa5\x05\x10\x01\xa5\xa5\x00\xff"     # false starts: sync byt
 
 
 def _frame(name: str, seq: int = 3) -> bytes:
-    from zuml_studio.device.messages import BY_NAME
+    from zuml_studio.protocol.messages import BY_NAME
     return encode_frame(BY_NAME[name].code, seq, encode_request(name, **CHANGING_REQUESTS[name]))
 
 
@@ -176,7 +176,7 @@ def test_a_request_sent_a_byte_at_a_time_is_refused_at_its_last_byte():
 
 
 def test_a_refused_send_is_not_remembered_and_reading_requests_pass():
-    from zuml_studio.device.messages import BY_NAME
+    from zuml_studio.protocol.messages import BY_NAME
     guard = RawSendGuard()
     frame = _frame("COMMIT")
     guard.sent(frame[:4])

@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from zuml_studio.logs import LogFormatError, read_log
-from zuml_studio.sim.chemistry import load_chemistry
+from zuml_studio.domain.chemistry import load_chemistry
 from zuml_studio.sim.curve import charge_from_log
 from zuml_studio.sim.fit import Battery, fit, soc_at_ocv
 from zuml_studio.sim.fit_cells import fit_cells

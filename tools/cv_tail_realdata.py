@@ -17,7 +17,7 @@ import numpy as np
 
 from zuml_studio.logs import read_log
 from zuml_studio.sim.battery import Pack
-from zuml_studio.sim.chemistry import load_chemistry
+from zuml_studio.domain.chemistry import load_chemistry
 from zuml_studio.sim.curve import charge_from_log, read_curve
 from zuml_studio.sim.fit import cv_mask, fit
 

@@ -25,7 +25,7 @@ import numpy as np
 from cv_tail_cells import section as cells_tail_section   # beside this script (tools/)
 from cv_tail_realdata import section as cv_tail_section
 from zuml_studio.logs.rest_steps import rest_steps
-from zuml_studio.sim.chemistry import load_chemistry
+from zuml_studio.domain.chemistry import load_chemistry
 from zuml_studio.sim.curve import Curve, read_curve
 from zuml_studio.sim.fit import LI, NI, cc_current, fit, measured, simulate_curve, smooth
 from zuml_studio.sim.fit_discharge import discharging, end_voltage, fit_curve

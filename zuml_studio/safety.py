@@ -2,7 +2,7 @@
 
 Every path that puts a macro on a charger or starts one calls it (or ``judge_image`` for a whole
 EEPROM image): ``zuml flash`` of a .zuml or .bin and ``zuml restore`` (over a serial line or through
-an iMAX B6's ISP programmer, device/isp_store.py), ``zuml image``, ``zuml run``,
+an iMAX B6's ISP programmer, device/install/isp_store.py), ``zuml image``, ``zuml run``,
 ``zuml templates set``; the Device panel's Compile & Flash (the toolbar's Upload), Restore and
 Start; the virtual charger's START as a last line; the slot lists (panel and ``zuml slots``, and
 ``zuml image --list`` offline) mark what it refuses, judged again on the bytes read back. Raw bytes
@@ -19,10 +19,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Mapping
 
-from .device import messages as m
-from .device.crc import crc16
-from .device.frames import MAX_FRAME, MAX_PAYLOAD, OVERHEAD, SYNC
-from .device.passport import Passport, conflicts
+from .protocol import messages as m
+from .protocol.crc import crc16
+from .protocol.frames import MAX_FRAME, MAX_PAYLOAD, OVERHEAD, SYNC
+from .protocol.passport import Passport, conflicts
 from .lang import opcodes as ops
 from .lang.decoder import decode_record
 from .lang.diagnostics import Severity
@@ -30,7 +30,7 @@ from .lang.eeprom import Slot, slots
 from .lang.lint import lint
 from .sim.interpreter import StartError, StartParams, with_template
 from .sim.program import Program
-from .sim.start_templates import StartTemplate, factory_templates
+from .domain.start_templates import StartTemplate, factory_templates
 from .i18n import _
 
 UNCHECKABLE = "W301"        # the lint's "no chemistry to check against": refused like an error
@@ -113,7 +113,7 @@ def judge_image(image: bytes, passport: Passport | None = None, *,
 
 
 def judge_slots(client, found: list[Slot]) -> list[Verdict | None]:
-    """``judge`` of each slot read back from a charger (``client``: a ``device.client.ChargerClient``)
+    """``judge`` of each slot read back from a charger (``client``: a ``device.zuml.client.ChargerClient``)
     with its battery's passport and its own start templates; None for a slot that does not decode.
     The slot lists show this, so a macro forced onto a charger is marked on every later read."""
     passport = client.passport_if_any()

@@ -8,7 +8,7 @@ from decimal import Decimal
 
 from . import data
 from .lang.lint import NICKEL_FAST_RATE, NICKEL_NO_SENSOR_MAX_RATE
-from .sim.chemistry import Chemistry, chemistry_names, load_chemistry
+from .domain.chemistry import Chemistry, chemistry_names, load_chemistry
 from .i18n import _
 
 TEMPLATES = "templates.toml"

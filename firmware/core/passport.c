@@ -1,4 +1,4 @@
-/* The lockout follows device/passport.py `conflicts`: the battery type; every charge current above
+/* The lockout follows protocol/passport.py `conflicts`: the battery type; every charge current above
  * A_LIMIT; every voltage above V_LIMIT in a charging phase (the charge section, or any CHARGE_EX or
  * TRICKLE phase); only the sections the task runs; 0 limits mean "not set"; a value that does not
  * resolve is skipped (the start fails on it anyway). CRIT > 0 refuses the start too (spec section 4). */

@@ -14,7 +14,7 @@ import pytest
 
 from helpers import MACROS, compiled, until
 from tests_cli_util import run_zuml
-from zuml_studio.device.client import ChargerClient
+from zuml_studio.device.zuml.client import ChargerClient
 from zuml_studio.lang.eeprom import slots
 
 pytestmark = pytest.mark.skipif(os.name != "posix", reason="ptys need POSIX")

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from zuml_studio.device import avr_install, avrdude
+from zuml_studio.device.install import avr_install, avrdude
 
 FAKE = Path(__file__).resolve().parents[1] / "fake_avrdude.py"
 ORIGINAL = b"ORIGINAL-IMAX-B6-FIRMWARE" * 1000 + b"\xff" * (32768 - 25000)

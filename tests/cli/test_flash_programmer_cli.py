@@ -11,13 +11,13 @@ from chargers import NEEDS_FIRMWARE_SIM
 from helpers import HOT_LIION, compiled
 from stk500_chip import Atmega32, Stk500Programmer
 from tools import AVRDUDE, needs
-from zuml_studio.device import messages
-from zuml_studio.device.avr_install import FLASH_SIZE, IMAGE, ihex_bytes
-from zuml_studio.device.calibration import INPUTS, Block
-from zuml_studio.device.client import ChargerClient
-from zuml_studio.device.isp_store import IMAGE_SIZE, TEMPLATES_AT, TEMPLATES_FLAG_AT, TEMPLATES_READY
+from zuml_studio.protocol import messages
+from zuml_studio.device.install.avr_install import FLASH_SIZE, IMAGE, ihex_bytes
+from zuml_studio.device.zuml.calibration import INPUTS, Block
+from zuml_studio.device.zuml.client import ChargerClient
+from zuml_studio.device.install.isp_store import IMAGE_SIZE, TEMPLATES_AT, TEMPLATES_FLAG_AT, TEMPLATES_READY
 from zuml_studio.lang.eeprom import pack, slots
-from zuml_studio.sim.start_templates import StartTemplate, factory_templates
+from zuml_studio.domain.start_templates import StartTemplate, factory_templates
 
 pytestmark = needs(AVRDUDE)
 MACROS = Path(__file__).resolve().parents[2] / "macros"

@@ -1,6 +1,6 @@
 """`zuml log info/export` on raw captures: the drivers' recordings (tests/data/realdata) read
 through the raw-capture log format give the counts the driver tests assert
-(tests/device/test_drivers_realdata.py)."""
+(tests/streams/test_drivers_realdata.py)."""
 import csv
 import json
 from pathlib import Path

@@ -37,5 +37,5 @@ def _modules_after(*argv: str) -> set[str]:
 def test_help_and_check_import_neither_numpy_nor_the_simulator_nor_the_device_code():
     for argv in (["--help"], ["check", str(MACROS / "NiMh.zuml")]):
         loaded = _modules_after(*argv)
-        assert not {"numpy", "serial", "zuml_studio.sim.interpreter", "zuml_studio.device.client",
+        assert not {"numpy", "serial", "zuml_studio.sim.interpreter", "zuml_studio.device.zuml.client",
                     "zuml_studio.cli.sim_commands", "zuml_studio.cli.device_commands"} & loaded, argv

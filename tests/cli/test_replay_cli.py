@@ -9,7 +9,7 @@ import sys
 import pytest
 
 from tests_cli_util import run_zuml
-from zuml_studio.device.drivers import DRIVERS
+from zuml_studio.streams.drivers import DRIVERS
 
 DATA = os.path.join(os.path.dirname(__file__), "..", "data", "realdata")
 pytestmark = pytest.mark.skipif(os.name != "posix", reason="zuml replay needs a pty")

@@ -83,6 +83,6 @@ def test_run_is_refused_by_the_host_and_then_by_the_charger(liion, zuml, hot_fil
     code, out, err = zuml("run", "--port", port, "--slot", "0", "--force-unsafe")
     assert code == 1 and "Traceback" not in err
     assert "refused to start slot 0 (PASSPORT_CONFLICT)" in err and "E303" in err
-    from zuml_studio.device.client import ChargerClient
+    from zuml_studio.device.zuml.client import ChargerClient
     with ChargerClient(port) as client:
         assert client.status().state == "idle"

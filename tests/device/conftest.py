@@ -2,7 +2,7 @@
 suite's, in ``tests/conftest.py``)."""
 import pytest
 
-from zuml_studio.device.client import ChargerClient
+from zuml_studio.device.zuml.client import ChargerClient
 
 
 @pytest.fixture

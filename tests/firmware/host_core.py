@@ -17,7 +17,7 @@ from zuml_studio.sim.charger_model import load_charger
 from zuml_studio.sim.engine import ZcBoard, ZcStart, template_bytes
 from zuml_studio.sim.interpreter import Measurement, StartError, StartParams
 from zuml_studio.sim.simulate import BatterySetup, models, prepare
-from zuml_studio.sim.start_templates import factory_templates
+from zuml_studio.domain.start_templates import factory_templates
 
 ROOT = Path(__file__).resolve().parents[2]
 # tools/mutate_firmware.py points the firmware tests at a worker's mutated copy of firmware/

@@ -9,7 +9,7 @@ import pytest
 
 from b6_harness import B6, read_trace
 from helpers import compiled
-from zuml_studio.device.client import ChargerClient
+from zuml_studio.device.zuml.client import ChargerClient
 from zuml_studio.lang import eeprom
 
 BENCH = """MACRO Bench
@@ -183,7 +183,7 @@ def test_a_weak_cell_pack_ends_the_same_way_on_the_simulated_b6_and_in_the_simul
     # the pack cannot reach 4.25 V per cell while its cells are held at 4.20 V, so the phase ends by the
     # balancer's held end (a tenth of 1 A) on both sides, with the same reason, and no cell past the ceiling
     import dataclasses
-    from zuml_studio.sim.chemistry import load_chemistry
+    from zuml_studio.domain.chemistry import load_chemistry
     from zuml_studio.sim.simulate import BatterySetup, simulate
     from zuml_studio.sim.interpreter import StartParams
     store = eeprom.pack([compiled(HELD)], STORE_SIZE)

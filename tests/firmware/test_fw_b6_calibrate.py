@@ -7,8 +7,8 @@ import pytest
 
 from b6_sim import B6_BAUD, uncalibrated_b6
 from zuml_studio.cli.main import main
-from zuml_studio.device.calibration import CHARGE, ISMPS, OFF, VOUT, Calibrator
-from zuml_studio.device.client import ChargerClient
+from zuml_studio.device.zuml.calibration import CHARGE, ISMPS, OFF, VOUT, Calibrator
+from zuml_studio.device.zuml.client import ChargerClient
 
 b6 = pytest.fixture(uncalibrated_b6)
 

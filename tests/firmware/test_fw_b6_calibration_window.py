@@ -9,8 +9,8 @@ import pytest
 from b6_harness import read_trace
 from fake_b6_calibration import NOMINAL
 from helpers import compiled, until
-from zuml_studio.device.calibration import INPUTS, ISMPS, VIN, VOUT, VOUT_MINUS, Block, Calibrator
-from zuml_studio.device.client import ChargerClient
+from zuml_studio.device.zuml.calibration import INPUTS, ISMPS, VIN, VOUT, VOUT_MINUS, Block, Calibrator
+from zuml_studio.device.zuml.client import ChargerClient
 from zuml_studio.device.errors import DeviceError
 from zuml_studio.lang import eeprom
 

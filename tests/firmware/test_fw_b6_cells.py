@@ -5,8 +5,8 @@ import pytest
 
 from b6_harness import read_trace
 from helpers import compiled
-from zuml_studio.device import messages as m
-from zuml_studio.device.client import ChargerClient
+from zuml_studio.protocol import messages as m
+from zuml_studio.device.zuml.client import ChargerClient
 from zuml_studio.device.errors import DeviceError
 from zuml_studio.lang import eeprom
 

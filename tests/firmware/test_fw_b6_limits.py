@@ -9,8 +9,8 @@ import pytest
 
 from b6_harness import LINE_WAIT_S, Row, read_trace
 from helpers import compiled, until
-from zuml_studio.device.calibration import Calibrator
-from zuml_studio.device.client import ChargerClient, DeviceError
+from zuml_studio.device.zuml.calibration import Calibrator
+from zuml_studio.device.zuml.client import ChargerClient, DeviceError
 from zuml_studio.lang import eeprom
 
 STORE_SIZE = 404                    # IDENTIFY's eeprom_size on the B6 (docs/firmware.md, Calibration)

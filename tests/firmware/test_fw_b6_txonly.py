@@ -16,9 +16,9 @@ from helpers import HOT_LIION
 from host_core import FIRMWARE
 from test_fw_b6_acceptance import BENCH        # CC to 4.1 V per cell, then CV to 0.1 A
 from tools import AVRDUDE, needs
-from zuml_studio.device import messages as m
-from zuml_studio.device.client import ChargerClient
-from zuml_studio.device.frames import FrameParser, encode_frame
+from zuml_studio.protocol import messages as m
+from zuml_studio.device.zuml.client import ChargerClient
+from zuml_studio.protocol.frames import FrameParser, encode_frame
 
 ROOT = FIRMWARE.parent
 
@@ -162,8 +162,8 @@ def test_macros_flashed_through_the_programmer_run_from_the_buttons_and_are_watc
     calibration byte-identical; the simulated B6 without a receive wire, started on that EEPROM, runs the first
     macro from its buttons while `zuml monitor` (listen-only) shows its curve and its end reason."""
     from stk500_chip import Atmega32, Stk500Programmer
-    from zuml_studio.device.avr_install import FLASH_SIZE, ihex_bytes
-    from zuml_studio.device.isp_store import TEMPLATES_AT
+    from zuml_studio.device.install.avr_install import FLASH_SIZE, ihex_bytes
+    from zuml_studio.device.install.isp_store import TEMPLATES_AT
 
     # the EEPROM as the firmware leaves it (its templates stored, the simulated board's calibration)
     first = tmp_path / "first.bin"

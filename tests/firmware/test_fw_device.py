@@ -7,13 +7,13 @@ import tty
 import pytest
 
 from helpers import compiled, needs_pty, unsafe_record, until
-from zuml_studio.device import messages as m
-from zuml_studio.device import passport as pp
-from zuml_studio.device.client import ChargerClient
+from zuml_studio.protocol import messages as m
+from zuml_studio.protocol import passport as pp
+from zuml_studio.device.zuml.client import ChargerClient
 from zuml_studio.device.errors import DeviceError
-from zuml_studio.device.frames import FrameParser, encode_frame
+from zuml_studio.protocol.frames import FrameParser, encode_frame
 from zuml_studio.lang import eeprom
-from zuml_studio.sim.start_templates import StartTemplate, factory_templates
+from zuml_studio.domain.start_templates import StartTemplate, factory_templates
 
 pytestmark = needs_pty
 

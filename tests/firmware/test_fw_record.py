@@ -5,7 +5,7 @@ from helpers import SEED_MACROS, compiled
 from strategies import macros
 from zuml_studio.lang.decoder import decode_record
 from zuml_studio.lang.record import DecodeError, RecordTooLarge, check_byte, encode
-from zuml_studio.sim.chemistry import load_chemistry
+from zuml_studio.domain.chemistry import load_chemistry
 from zuml_studio.sim.interpreter import AKK_NAMES
 
 SEED_RECORDS = [compiled(n) for n in SEED_MACROS]

@@ -5,7 +5,7 @@ import pytest
 from logdata import data
 
 from zuml_studio.logs import LogFormatError, read_log
-from zuml_studio.device.stream_decoder import xor8
+from zuml_studio.streams.stream_decoder import xor8
 
 # file: (samples, cells, IR readings, mAh in at the end, duration s, device)
 DUO = {

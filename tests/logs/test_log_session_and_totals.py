@@ -3,12 +3,12 @@ import io
 
 import pytest
 
-from zuml_studio.device.messages import DeviceEvent, Telemetry
+from zuml_studio.protocol.messages import DeviceEvent, Telemetry
 from zuml_studio.logs import LogFormatError, read_log
 from zuml_studio.logs.charge import charge_from_counter, integrate_current
 from zuml_studio.logs.export import write_csv
 from zuml_studio.logs.summary import summarize
-from zuml_studio.device.session_log import SessionLog
+from zuml_studio.logs.session_log import SessionLog
 
 
 def tel(t, v, i, section="charge", temp=25.0, q_in=0.0, q_out=0.0):

@@ -4,7 +4,7 @@ import json
 import pytest
 
 from zuml_studio.sim.batteries import BatteryFileError, load_battery, save_battery
-from zuml_studio.sim.chemistry import load_chemistry
+from zuml_studio.domain.chemistry import load_chemistry
 from zuml_studio.sim.fit import Battery
 
 

@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 
 from zuml_studio.sim.battery import Pack
 from zuml_studio import data
-from zuml_studio.sim.chemistry import chemistry_names, load_chemistry
+from zuml_studio.domain.chemistry import chemistry_names, load_chemistry
 from zuml_studio.sim.delta_peak import DeltaPeakDetector
 
 DT = 1.0

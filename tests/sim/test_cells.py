@@ -8,7 +8,7 @@ import pytest
 from simhelp import record_of
 from zuml_studio.sim.battery import Pack
 from zuml_studio.sim.cell_pack import CellPack, CellSpec, spread_cells
-from zuml_studio.sim.chemistry import load_chemistry
+from zuml_studio.domain.chemistry import load_chemistry
 from zuml_studio.sim.interpreter import StartError, StartParams
 from zuml_studio.sim.simulate import BatterySetup, prepare, simulate
 

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from zuml_studio.sim.battery import Pack
-from zuml_studio.sim.chemistry import load_chemistry
+from zuml_studio.domain.chemistry import load_chemistry
 from zuml_studio.sim.curve import read_curve
 from zuml_studio.sim.fit import fit
 

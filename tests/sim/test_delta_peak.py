@@ -6,7 +6,7 @@ import random
 import pytest
 
 from zuml_studio.sim.battery import Pack
-from zuml_studio.sim.chemistry import load_chemistry
+from zuml_studio.domain.chemistry import load_chemistry
 from zuml_studio.sim.delta_peak import DeltaPeakDetector
 
 

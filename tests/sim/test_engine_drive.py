@@ -10,7 +10,7 @@ import pytest
 from helpers import ROOT
 from zuml_studio.sim import engine
 from zuml_studio.sim.cell_pack import CellSpec
-from zuml_studio.sim.chemistry import load_chemistry
+from zuml_studio.domain.chemistry import load_chemistry
 from zuml_studio.sim.curve import Curve, read_curve
 from zuml_studio.sim.fit import Battery, cv_mask, fit_samples, simulate_curve
 from zuml_studio.sim.fit_discharge import hold_mask, model_delivered

@@ -7,7 +7,7 @@ import pytest
 
 from helpers import ROOT
 from zuml_studio.sim.batteries import BatteryFileError, battery_names, load_battery, save_battery
-from zuml_studio.sim.chemistry import load_chemistry
+from zuml_studio.domain.chemistry import load_chemistry
 from zuml_studio.sim.curve import Curve, CurveError, read_curve, read_curve_csv
 from zuml_studio.sim.fit import Battery, cc_current, cv_mask, fit, guess_series, simulate_curve
 

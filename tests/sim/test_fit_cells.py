@@ -10,7 +10,7 @@ from helpers import ROOT
 from zuml_studio.logs import read_log
 from zuml_studio.sim.batteries import load_battery, save_battery
 from zuml_studio.sim.cell_pack import CellSpec
-from zuml_studio.sim.chemistry import load_chemistry
+from zuml_studio.domain.chemistry import load_chemistry
 from zuml_studio.sim.curve import Curve, read_curve
 from zuml_studio.sim.fit import Battery, fit
 from zuml_studio.sim.fit_cells import fit_cells, taps_per_cell

@@ -5,7 +5,7 @@ import pytest
 
 from helpers import ROOT
 from zuml_studio.logs import read_log_file
-from zuml_studio.sim.chemistry import load_chemistry
+from zuml_studio.domain.chemistry import load_chemistry
 from zuml_studio.sim.curve import (Curve, CurveError, curve_from_log, discharge_from_log, log_directions,
                                    read_curve)
 from zuml_studio.sim.batteries import load_battery_cells, save_battery

@@ -6,7 +6,7 @@ import tomllib
 import pytest
 
 from helpers import ROOT
-from zuml_studio.sim.chemistry import load_chemistry
+from zuml_studio.domain.chemistry import load_chemistry
 from zuml_studio.sim.curve import read_curve
 from zuml_studio.sim.fit import fit
 from zuml_studio.sim.fit_checks import HEAT_PARAMS

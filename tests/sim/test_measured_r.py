@@ -3,7 +3,7 @@ issue 26 decision (a))."""
 import numpy as np
 import pytest
 
-from zuml_studio.sim.chemistry import load_chemistry
+from zuml_studio.domain.chemistry import load_chemistry
 from zuml_studio.sim.measured_r import MeasuredR, measure, model_step, with_measured_r
 
 

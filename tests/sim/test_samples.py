@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from simhelp import run
-from zuml_studio.sim import samples
-from zuml_studio.sim.samples import COLUMNS, SampleLog
+from zuml_studio.domain import samples
+from zuml_studio.domain.samples import COLUMNS, SampleLog
 
 
 def _rows(n: int, tick: float = 1.0, per_phase: int = 7):

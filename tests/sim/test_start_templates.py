@@ -4,7 +4,7 @@ import pytest
 from simhelp import macro, record_of
 from zuml_studio.sim.interpreter import StartError, StartParams
 from zuml_studio.sim.simulate import simulate
-from zuml_studio.sim.start_templates import StartTemplate, TemplateError, factory_templates
+from zuml_studio.domain.start_templates import StartTemplate, TemplateError, factory_templates
 
 BODY = "FAZE CONSTANT_I=INPUT IF(DELTA_PEAK>0.01S) STOP_FAZE IF(tf>10min) STOP_FAZE END_FAZE"
 

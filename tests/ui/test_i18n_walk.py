@@ -20,11 +20,11 @@ from test_truncation import _cut_labels
 from zuml_studio import data, i18n
 from zuml_studio.lang import opcodes
 from zuml_studio.lang.operands import AKK_TYPE, DISPLAY_NAMES
-from zuml_studio.device.drivers import DRIVERS
+from zuml_studio.streams.drivers import DRIVERS
 from zuml_studio.ui.device import confirm_dialogs, unsafe_dialog
 from zuml_studio.ui.device.device_style import ElidedCombo, ElidedLabel
 from zuml_studio.sim.charger_model import load_charger
-from zuml_studio.sim.chemistry import chemistry_names
+from zuml_studio.domain.chemistry import chemistry_names
 
 
 

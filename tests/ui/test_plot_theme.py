@@ -14,7 +14,7 @@ from PySide6.QtWidgets import QApplication
 
 from helpers import MACROS, contrast_ratio
 from zuml_studio import i18n
-from zuml_studio.device.messages import DeviceEvent, Telemetry
+from zuml_studio.protocol.messages import DeviceEvent, Telemetry
 from zuml_studio.ui import theme
 
 DATA = Path(__file__).resolve().parents[1] / "data"

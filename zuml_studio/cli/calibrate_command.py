@@ -33,7 +33,7 @@ def volts(text: str, what: str) -> float:
 
 def cells(text: str, what: str = "--cells-v") -> list[float] | None:
     """The cells in mV (None: keep)."""
-    from ..device.calibration import CalibrationError, parse_cells
+    from ..device.zuml.calibration import CalibrationError, parse_cells
     try:
         return parse_cells(text)
     except CalibrationError as exc:
@@ -72,7 +72,7 @@ class PromptMeter:
                      _("the cells"))
 
     def current_ma(self, mode: int, asked_ma: int) -> float:
-        from ..device.calibration import CHARGE
+        from ..device.zuml.calibration import CHARGE
         what = _("charging") if mode == CHARGE else _("discharging")
         text = ask(_("The charger is {what} at about {ma} mA: what does the ammeter in series read (mA)? ").format(
             what=what, ma=asked_ma))
@@ -87,7 +87,7 @@ class PromptMeter:
 
 @_device_errors
 def cmd_calibrate(args: argparse.Namespace) -> int:
-    from ..device.calibration import INPUTS, CalibrationError, Calibrator
+    from ..device.zuml.calibration import INPUTS, CalibrationError, Calibrator
     if args.pack_v is not None:
         volts(str(args.pack_v), "--pack-v")
     if args.cells_v is not None:

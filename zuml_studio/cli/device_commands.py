@@ -12,12 +12,12 @@ import threading
 import time
 from typing import Iterator
 
-from ..device import messages as msg
-from ..device.client import DEFAULT_BAUD, ChargerClient, DeviceInfo, check_image
-from ..device.drivers import AUTO, DRIVERS, LISTEN, ZUML
+from ..protocol import messages as msg
+from ..device.zuml.client import DEFAULT_BAUD, ChargerClient, DeviceInfo, check_image
+from ..streams.drivers import AUTO, DRIVERS, LISTEN, ZUML
 from ..device.errors import (CommitUncertain, CommitUnverified, DeviceError, DeviceLinkError, ImageTooLarge,
                              NotACharger)
-from ..device.passport import FACTORY_WRITABLE, WRITABLE, Passport, PassportError, fitness_warnings, printable
+from ..protocol.passport import FACTORY_WRITABLE, WRITABLE, Passport, PassportError, fitness_warnings, printable
 from ..lang.decoder import decode_record
 from ..lang.eeprom import ImageError, Slot, records, slots, used_bytes
 from ..lang.record import DecodeError
@@ -192,7 +192,7 @@ def _chemistry(slot: Slot) -> str:
 
 
 def cmd_ports(args: argparse.Namespace) -> int:
-    from ..device.ports import list_ports
+    from ..device.links.ports import list_ports
     found = list_ports(include_virtual=False)
     if not found:
         out(_("no serial ports found"))
@@ -237,14 +237,14 @@ def _progress(line: str) -> None:
 
 def _read_chip(args: argparse.Namespace):
     """The B6's EEPROM through its programmer (the ZUML image checked in its flash first)."""
-    from ..device.isp_store import disconnect_warning, read_chip
+    from ..device.install.isp_store import disconnect_warning, read_chip
     from .firmware_install_command import programmer
     sys.stderr.write(_("zuml: warning: {line}\n").format(line=disconnect_warning()))
     return read_chip(programmer(args), _progress)
 
 
 def _write_chip(args: argparse.Namespace, chip, image: bytes) -> int:
-    from ..device.isp_store import write_image
+    from ..device.install.isp_store import write_image
     from .firmware_install_command import programmer
     return write_image(programmer(args), chip, image, _progress)
 
@@ -290,7 +290,7 @@ def _judged(records: list[tuple[str, bytes]], charger, force: bool) -> None:
 
 def _merged(current: bytes, records: list[tuple[str, bytes]], slot: int | None):
     """The image with each record put in, in turn; the merges (what each did)."""
-    from ..device.flashing import ImageFull, SlotOutOfRange, merge_record
+    from ..device.zuml.flashing import ImageFull, SlotOutOfRange, merge_record
     _slots_or_error(current)
     merges, image = [], current
     for __, record in records:
@@ -609,8 +609,8 @@ def _until(feed: queue.SimpleQueue, end: float | None, flush) -> Iterator[tuple[
 
 def _monitor_charger(args: argparse.Namespace) -> int:
     """A monitor-only charger: its samples as lines and, with --csv, the session CSV."""
-    from ..device.monitor_link import MonitorLink
-    from ..device.session_log import SessionLog
+    from ..device.links.monitor_link import MonitorLink
+    from ..logs.session_log import SessionLog
     if args.driver not in (AUTO,) + tuple(DRIVERS):
         raise CliError(_("--driver {driver}: choose {zuml}, {auto} or one of {drivers}").format(
                 driver=args.driver, zuml=ZUML, auto=AUTO, drivers=', '.join(DRIVERS)))
@@ -708,8 +708,8 @@ def _cells_text(t: msg.Telemetry) -> str:
 
 
 def cmd_replay(args: argparse.Namespace) -> int:
-    from ..device.drivers import CaptureError
-    from ..device.replay import load_recording, serve_replay
+    from ..streams.drivers import CaptureError
+    from ..virtual.replay import load_recording, serve_replay
     if not 0 < args.speed <= 100000:
         raise CliError(_("--speed must be more than 0 and at most 100000"))
     if os.name != "posix":
@@ -781,8 +781,8 @@ def cmd_passport(args: argparse.Namespace) -> int:
 
 
 def cmd_virtual_charger(args: argparse.Namespace) -> int:
-    from ..device.transport import serve_pty, serve_tcp
-    from ..device.virtual_charger import BatterySpec, DeviceSetupError, Faults, VirtualCharger
+    from ..virtual.transport import serve_pty, serve_tcp
+    from ..virtual.virtual_charger import BatterySpec, DeviceSetupError, Faults, VirtualCharger
     from ..sim.interpreter import StartError
     from ..sim.simulate import BatterySetup, pack_cells
     from .sim_commands import _spread, weak_cell

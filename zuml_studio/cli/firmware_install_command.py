@@ -43,7 +43,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def programmer(args: argparse.Namespace):
-    from ..device.avrdude import Programmer
+    from ..device.install.avrdude import Programmer
     if args.baud is not None and not 300 <= args.baud <= 2_000_000:
         raise CliError(_("--baud is 300..2000000"))
     return Programmer(args.programmer, args.port, args.baud)
@@ -54,7 +54,7 @@ def say(line: str) -> None:
 
 
 def confirmed(yes: bool) -> bool:
-    from ..device.avr_install import warnings
+    from ..device.install.avr_install import warnings
     for line in warnings():
         sys.stderr.write(_("warning: {line}\n").format(line=line))
     if yes:
@@ -65,8 +65,8 @@ def confirmed(yes: bool) -> bool:
 
 
 def cmd_install(args: argparse.Namespace) -> int:
-    from ..device import avr_install
-    from ..device.avrdude import ProgrammerError, avrdude_path
+    from ..device.install import avr_install
+    from ..device.install.avrdude import ProgrammerError, avrdude_path
     chosen = programmer(args)
     try:
         avrdude_path()
@@ -85,8 +85,8 @@ def cmd_install(args: argparse.Namespace) -> int:
 
 
 def cmd_restore(args: argparse.Namespace) -> int:
-    from ..device import avr_install
-    from ..device.avrdude import ProgrammerError
+    from ..device.install import avr_install
+    from ..device.install.avrdude import ProgrammerError
     chosen = programmer(args)
     try:
         avr_install.restore(chosen, args.backup, say)

@@ -7,7 +7,7 @@ from ..file_errors import FileReadError
 from ..logs import LogFormatError
 from ..lang.record import DecodeError
 from ..sim.batteries import BatteryFileError, save_battery
-from ..sim.chemistry import load_chemistry
+from ..domain.chemistry import load_chemistry
 from ..logs import Log
 from ..sim.curve import DIRECTIONS, Curve, CurveError, log_directions, read_curve_and_log
 from ..sim.fit import guess_series

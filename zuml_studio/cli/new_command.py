@@ -7,7 +7,7 @@ from pathlib import Path
 
 from ..lang.compiler import compile_source
 from ..recovery import atomic_write
-from ..sim.chemistry import chemistry_names
+from ..domain.chemistry import chemistry_names
 from ..wizard import Answers, WizardError, new_macro
 from .common import CliError, out
 from ..i18n import _

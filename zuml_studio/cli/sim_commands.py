@@ -13,7 +13,7 @@ from ..sim.reasons import end_advice, shown_reason
 from ..sim.engine import missing_text as engine_missing_text
 from ..sim.simulate import ENGINES, SPREAD_MAX_PCT, BatterySetup, EngineError, SimResult, parse_spread, simulate
 from ..sim.start_check import start_warnings
-from ..sim.start_templates import TEMPLATE_COUNT
+from ..domain.start_templates import TEMPLATE_COUNT
 from .common import CliError, check_start_options, out, out_json, read_bytes
 from .lang_commands import compile_file
 from ..i18n import _, ngettext

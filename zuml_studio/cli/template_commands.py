@@ -3,8 +3,8 @@ from __future__ import annotations
 
 import argparse
 
-from ..device import messages as msg
-from ..sim.start_templates import TEMPLATE_COUNT, StartTemplate, TemplateError
+from ..protocol import messages as msg
+from ..domain.start_templates import TEMPLATE_COUNT, StartTemplate, TemplateError
 from .common import CliError, add_force_unsafe, out, refuse_unsafe
 from .device_commands import _connect, _device_errors, _with_port
 from ..i18n import _

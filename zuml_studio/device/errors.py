@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import errno
 
-from .port_access import refused_advice
+from .links.port_access import refused_advice
 from ..i18n import _
 
 
@@ -125,7 +125,7 @@ class DeviceError(DeviceLinkError):
 
     @property
     def code_name(self) -> str:
-        from .messages import ErrorCode
+        from ..protocol.messages import ErrorCode
         try:
             return ErrorCode(self.code).name
         except ValueError:

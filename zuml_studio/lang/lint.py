@@ -50,7 +50,7 @@ NO_DEFAULTS = ("UNDEF", "LIS", "NEW")
 class Context:
     macro: Macro
     chemistry: str                     # AKK_TYPE name upper case, "UNDEF" when absent
-    limits: object | None              # sim.chemistry.Chemistry, None without data
+    limits: object | None              # domain.chemistry.Chemistry, None without data
     series: int | None
     capacity_mah: int | None
     charger: object | None = None      # sim.charger_model.ChargerLimits, when the charger is known
@@ -83,7 +83,7 @@ def _context(macro: Macro, charger=None, given_series: int | None = None,
     name = ops.AKK_TYPE.operands[0].kind.name_of(akk.args[0].raw) if akk else None
     limits = None
     if name and name not in NO_DEFAULTS:
-        from ..sim.chemistry import load_chemistry   # data files: resources/chemistries
+        from ..domain.chemistry import load_chemistry   # data files: resources/chemistries
         # No handler: a missing or broken data file (DataFileError) must stop the check, never
         # let it pass without the chemistry's limits.
         limits = load_chemistry(name)

@@ -364,7 +364,7 @@ def chemistry_of(macro: Macro | None):
     st = macro.declared(ops.AKK_TYPE)
     if st is None:
         return None
-    from ..sim.chemistry import load_chemistry   # late: sim imports lang, lang never sim at import time
+    from ..domain.chemistry import load_chemistry   # late: sim imports lang, lang never sim at import time
     try:
         return load_chemistry(AKK_TYPE.format(st.args[0].raw))
     except KeyError:    # LiS, New, Undef: no model; a broken data file raises DataFileError

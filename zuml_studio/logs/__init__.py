@@ -2,7 +2,7 @@
 
 ``read_log(data, name)`` recognises the format from the bytes (``registry.detect``) and
 returns a ``Log``: the samples as numpy columns (``model.Columns``; ``log.samples`` makes each a
-``device.messages.Telemetry`` when asked for), the bad-record count and what the file says about the charger."""
+``protocol.messages.Telemetry`` when asked for), the bad-record count and what the file says about the charger."""
 from .model import Log, LogFormatError, Phase
 from .registry import FORMATS, LogReader, detect, read_log, read_log_file
 

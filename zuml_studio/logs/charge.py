@@ -8,7 +8,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..device.charge_counter import ChargeCounter
+from ..streams.charge_counter import ChargeCounter
 
 SECONDS_PER_HOUR = 3600.0
 # A gap longer than this is not integrated over: the log was interrupted, the charger
@@ -54,7 +54,7 @@ def integrate_current(times_s: Sequence[float] | np.ndarray,
 
 def charge_from_counter(counter_mah: Sequence[float]) -> tuple[list[float], list[float]]:
     """Cumulative mAh in and out from a charger's signed, per-phase capacity counter
-    (``device.charge_counter``: the live drivers count the same way), counted from its first value:
+    (``streams.charge_counter``: the live drivers count the same way), counted from its first value:
     a log that begins with the counter at 1 867 mAh has moved no charge yet."""
     counter = ChargeCounter()
     ins: list[float] = []

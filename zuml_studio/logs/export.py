@@ -8,7 +8,7 @@ import csv
 import datetime as dt
 from typing import TextIO
 
-from ..device.session_log import cell_columns
+from .session_log import cell_columns
 import numpy as np
 
 from .model import STATES, Log

@@ -1,5 +1,5 @@
 """Junsi iCharger DUO/X/S text logs written to SD card or PC (``../shared/realdata/
-icharger_logview.md``), with their header, battery type and internal-resistance records. The records are decoded by the live driver, ``device/icharger_logview.py`` (which
+icharger_logview.md``), with their header, battery type and internal-resistance records. The records are decoded by the live driver, ``streams/icharger_logview.py`` (which
 also reads the older serial models' lines in raw captures and ``.lov`` files): what it counts
 as bad (checksum, a field that is not an integer or out of its range, a field count that fits
 no layout, garbage) is the log's ``bad_records``."""
@@ -7,8 +7,8 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from ..device.icharger_logview import IChargerLineDecoder
-from ..device.stream_decoder import Reading, integers
+from ..streams.icharger_logview import IChargerLineDecoder
+from ..streams.stream_decoder import Reading, integers
 from .model import Log, LogFormatError, from_samples
 from ..i18n import _
 

@@ -3,7 +3,7 @@
 The header is u32-length-prefixed strings, then the LogView device .ini (``Name=…``), chart
 settings, then the records, each holding the raw bytes the charger sent. LogView itself is
 closed and no layout of the records is published, so records are found as the notes do and
-their bytes go to the live driver of the charger the .ini names (``device/drivers.py``):
+their bytes go to the live driver of the charger the .ini names (``streams/drivers.py``):
 
 * text devices (Junsi iCharger serial models, cheali-charger): ``u32 length`` then
   ``<spaces><seconds>;<raw line>\\r\\n`` (the length counts up to 16 bytes more than the
@@ -20,8 +20,8 @@ import datetime as dt
 import re
 from dataclasses import replace
 
-from ..device.drivers import DRIVERS
-from ..device.messages import Telemetry
+from ..streams.drivers import DRIVERS
+from ..protocol.messages import Telemetry
 from .model import Log, LogFormatError, from_samples
 from ..i18n import _
 

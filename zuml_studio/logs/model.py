@@ -11,7 +11,7 @@ from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
-from ..device.messages import Telemetry
+from ..protocol.messages import Telemetry
 from .charge import charge_from_counter, counter_totals, disagreement, integrate_current
 from ..i18n import _, ngettext
 

@@ -1,6 +1,6 @@
 """Raw captures of a monitor-only charger's stream (``$`` lines, ``{…}`` frames, Ultramat
 frames, HID report dumps, the text forms of the shared samples): decoded by the live
-drivers (``device.drivers.decode_recording``), so a file and a port read the same.
+drivers (``streams.drivers.decode_recording``), so a file and a port read the same.
 
 Sniffed on the first bytes: a capture is recognised when a driver finds more records in them
 that pass their checksum (decoded, or well-formed without a measurement: the first frames
@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from ..device.drivers import DRIVERS, CaptureError, capture_streams, decode_recording
+from ..streams.drivers import DRIVERS, CaptureError, capture_streams, decode_recording
 from .model import Log, LogFormatError, from_samples
 
 FORMAT = "raw-capture"

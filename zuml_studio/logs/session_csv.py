@@ -1,4 +1,4 @@
-"""ZUML Studio's own CSV files: the device panel's session CSV (``device/session_log.py``:
+"""ZUML Studio's own CSV files: the device panel's session CSV (``logs/session_log.py``:
 the simulator's columns plus ``event``), the simulator's sample CSV (the same columns
 without ``event``) and ``zuml log export``'s CSV (``export.py``), so an export reads back.
 
@@ -11,7 +11,7 @@ import csv
 import io
 import math
 
-from ..sim.samples import COLUMNS as SIM_COLUMNS
+from ..domain.samples import COLUMNS as SIM_COLUMNS
 from . import export
 from .model import STATES, Log, LogFormatError, SampleBuilder
 from ..i18n import _

@@ -10,7 +10,7 @@ import numpy as np
 from ..logs.charge import MAX_STEP_S
 from ..logs.model import STATES, Columns, Log
 from ..logs.rest_steps import resistance_mohm_per_cell
-from ..sim.chemistry import load_chemistry
+from ..domain.chemistry import load_chemistry
 
 
 @dataclass(frozen=True)

@@ -8,7 +8,7 @@ import re
 import threading
 from pathlib import Path
 
-from ..device.messages import Telemetry
+from ..protocol.messages import Telemetry
 from ..logs.export import write_csv
 from ..logs.model import from_samples
 from ..user_dirs import data_dir

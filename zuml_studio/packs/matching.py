@@ -13,12 +13,12 @@ import re
 import numpy as np
 
 from ..logs.model import STATES, Log
-from ..sim.chemistry import load_chemistry
+from ..domain.chemistry import load_chemistry
 from ..sim.fit import DISCHARGE_SERIES_TOLERANCE, SERIES_TOLERANCE
 from .register import Pack
 from ..i18n import _
 
-# Words that name a chemistry (lower case, whole words) -> the chemistry's name in sim.chemistry.
+# Words that name a chemistry (lower case, whole words) -> the chemistry's name in domain.chemistry.
 _WORDS = {"lipo": "LiPo", "lipoly": "LiPo", "lihv": "LiPo", "liion": "LiIon", "li-ion": "LiIon", "liio": "LiIon",
           "life": "LiFe", "lifepo4": "LiFe", "lfp": "LiFe", "nimh": "NiMh", "nicd": "NiCd", "pb": "Pb",
           "lead": "Pb", "agm": "Pb"}

@@ -6,7 +6,7 @@ import datetime as dt
 import re
 from dataclasses import dataclass
 
-from ..sim.chemistry import load_chemistry
+from ..domain.chemistry import load_chemistry
 from .text import storable
 from .db import Logbook, LogbookError
 from ..i18n import _

@@ -2,7 +2,7 @@
 to print: the logbook (SQLite, UTF-8) cannot hold a file name's undecodable bytes (Python gives them as
 lone surrogates, ``\\udcfc`` for a Latin-1 "ü"), and a terminal obeys control characters (an ESC sequence
 clears the screen). Both are written ``\\xNN`` (``\\uNNNN`` above 0xFF), as the battery passport's
-strings are (``device.passport.printable``), while readable text (Cyrillic, accents) stays as it is."""
+strings are (``protocol.passport.printable``), while readable text (Cyrillic, accents) stays as it is."""
 from __future__ import annotations
 
 import os

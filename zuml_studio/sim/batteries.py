@@ -13,7 +13,7 @@ from typing import Sequence
 from ..recovery import atomic_write
 from ..user_dirs import config_dir
 from .cell_pack import CellSpec, check_cells
-from .chemistry import Chemistry, _check, load_chemistry
+from ..domain.chemistry import Chemistry, _check, load_chemistry
 from .fit import Battery
 from ..i18n import _
 

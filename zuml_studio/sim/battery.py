@@ -57,7 +57,7 @@ from __future__ import annotations
 from bisect import bisect_right
 from math import exp, isfinite
 
-from .chemistry import Chemistry
+from ..domain.chemistry import Chemistry
 from ..i18n import _
 
 _GAS_R = 8.314462618          # J/(mol K), physical constant

@@ -20,7 +20,7 @@ from math import inf
 from typing import Sequence
 
 from .battery import _COLLAPSE_V_PER_SOC, _SOC_FLOOR, Pack
-from .chemistry import Chemistry
+from ..domain.chemistry import Chemistry
 from ..i18n import _
 
 _CV_TOLERANCE_V = 1e-9        # per pack: the interpreter measures to 1 µV

@@ -12,7 +12,7 @@ from .fit import (NI, Run, cc_current, charging, cv_mask, figures, has_cc_phase,
                   temp_rise)
 from .fit_discharge import discharge_current, discharge_figures, end_voltage
 from .fit_report import real_end_why
-from .chemistry import load_chemistry
+from ..domain.chemistry import load_chemistry
 from .interpreter import StartParams
 from .measured_r import MeasuredR, with_measured_r
 from .simulate import BatterySetup, SimResult, model_chemistry, simulate

@@ -18,13 +18,13 @@ from typing import Callable, Mapping
 
 import numpy as np
 
-from ..device import messages
+from ..protocol import messages
 from .battery import Pack
 from .cell_pack import CellPack
 from .interpreter import FULL_SOC, Event, Interpreter, PhaseResult
-from . import samples
-from .samples import BALANCE_MASK, COLUMNS
-from .start_templates import StartTemplate, factory_templates
+from ..domain import samples
+from ..domain.samples import BALANCE_MASK, COLUMNS
+from ..domain.start_templates import StartTemplate, factory_templates
 from ..i18n import _
 
 LIBRARY = Path(__file__).with_name("_engine") / "libzuml_engine.so"

@@ -16,7 +16,7 @@ import numpy as np
 from . import engine
 from .battery import Pack
 from .cell_pack import CellPack, CellSpec, build_pack
-from .chemistry import Chemistry, load_chemistry
+from ..domain.chemistry import Chemistry, load_chemistry
 from .curve import Curve, CurveError, require_charge
 from .fit_checks import HEAT_PARAMS, coverage, heat_check
 from ..i18n import _

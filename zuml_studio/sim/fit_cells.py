@@ -16,7 +16,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .cell_pack import CellSpec
-from .chemistry import Chemistry
+from ..domain.chemistry import Chemistry
 from .curve import Curve, CurveError
 from .fit import LI, Battery, FitResult, simulate_curve, solver
 from .fit_checks import cells_plausible, coverage

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .chemistry import Chemistry
+from ..domain.chemistry import Chemistry
 
 # A window that moves the state of charge by less than this share of the capacity does not fix the capacity:
 # the capacity is its charge over that share, and the share comes from the OCV table, whose error (a few

@@ -14,7 +14,7 @@ import numpy as np
 
 from . import engine
 from .cell_pack import CellSpec
-from .chemistry import Chemistry, load_chemistry
+from ..domain.chemistry import Chemistry, load_chemistry
 from .curve import Curve, require_discharge
 from .fit_checks import coverage, delivered_check, heat_check
 from .fit import (COMMON_PARAMS, DIFFUSION, LI, NI, Battery, FitResult, Param, Run, at_bounds, check_series, fit,

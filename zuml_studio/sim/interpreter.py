@@ -17,11 +17,11 @@ from ..lang.opcodes import canonical_text
 from ..lang.operands import CURRENT, INPUT_U16, VOLTAGE, absolute_value
 from .battery import Pack
 from .charger_model import BalanceWindow, Charger
-from .chemistry import load_chemistry
+from ..domain.chemistry import load_chemistry
 from .delta_peak import DeltaPeakDetector
 from .program import CommandStep, DefaultDischarge, PhaseCode, Program, SectionStart
-from .samples import SampleLog
-from .start_templates import StartTemplate, apply_template, chosen_template, factory_templates
+from ..domain.samples import SampleLog
+from ..domain.start_templates import StartTemplate, apply_template, chosen_template, factory_templates
 from ..i18n import _
 
 # Defaults of spec §3. A macro's IF(Tc>x), IF(Tc<x) and IF(T>x) replace the matching default; dT/dt and

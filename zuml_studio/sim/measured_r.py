@@ -12,7 +12,7 @@ import numpy as np
 
 from ..logs import Log
 from ..logs.rest_steps import RestStep, rest_steps
-from .chemistry import Chemistry, load_chemistry
+from ..domain.chemistry import Chemistry, load_chemistry
 from .curve import Curve
 from .fit import FitResult
 from .fit_discharge import fit_curve

@@ -11,10 +11,10 @@ from .battery import Pack
 from .cell_pack import CellPack, CellSpec, build_pack, check_cells, spread_cells, weaken
 from .charger_model import Charger, ChargerLimits, load_charger
 from . import engine as c_engine
-from .chemistry import Chemistry, load_chemistry
+from ..domain.chemistry import Chemistry, load_chemistry
 from .interpreter import AKK_NAMES, Interpreter, Measurement, PhaseResult, StartError, StartParams, with_template
 from .program import Program
-from .start_templates import StartTemplate
+from ..domain.start_templates import StartTemplate
 from ..i18n import _
 
 

@@ -109,7 +109,7 @@ void hal_eeprom_write(uint16_t addr, uint8_t value)
 }
 void hal_buzzer(uint8_t melody) { (void)melody; }
 void hal_led(uint8_t pattern) { (void)pattern; }
-/* The battery's passport chip as device/passport.py's PassportChip (production, seed 003): 32 bytes
+/* The battery's passport chip as protocol/passport.py's PassportChip (production, seed 003): 32 bytes
  * to every request, the passport or an error answer (MAGIC, 0xEE, code, RW_INDEX, PAGE, zeros,
  * check); pages 0..6; the charger may change only ERR and CRIT (0x17..0x1A). */
 uint8_t hal_passport_exchange(const uint8_t *request, uint8_t len, uint8_t answer[32])

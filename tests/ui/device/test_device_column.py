@@ -64,7 +64,7 @@ def test_balance_lead_is_said_with_the_cells_entered_or_declared():
 def test_a_run_ended_by_the_balance_lead_says_the_cells_entered(qtbot, make_panel):
     """A live end reason from the charger ("protection: balance lead 3 cells") in the device panel's
     message says what the user entered at start, in words."""
-    from zuml_studio.device.messages import DeviceEvent
+    from zuml_studio.protocol.messages import DeviceEvent
     panel = make_panel((1366, 360))
     said = []
     panel.run.message.connect(lambda text, _kind: said.append(text))

@@ -11,8 +11,8 @@ import pytest
 
 from device_helpers import WAIT_MS, connect, flash_and_start
 from helpers import until
-from zuml_studio.device.client import ChargerClient
-from zuml_studio.device.ports import PortInfo
+from zuml_studio.device.zuml.client import ChargerClient
+from zuml_studio.device.links.ports import PortInfo
 
 pytestmark = pytest.mark.skipif(os.name != "posix", reason="the virtual chargers use ptys here")
 
@@ -304,7 +304,7 @@ def test_every_error_reads_as_a_sentence():
 
 
 def _set_passport(device, **fields):
-    from zuml_studio.device import passport as pp
+    from zuml_studio.protocol import passport as pp
     old = device.chip.image
     new = pp.Passport.from_bytes(old)
     for key, value in fields.items():

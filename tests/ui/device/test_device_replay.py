@@ -5,8 +5,8 @@ import csv
 from pathlib import Path
 
 from device_helpers import WAIT_MS
-from zuml_studio.device.drivers import DRIVERS
-from zuml_studio.device.ports import PortInfo
+from zuml_studio.streams.drivers import DRIVERS
+from zuml_studio.device.links.ports import PortInfo
 
 DATA = Path(__file__).resolve().parents[2] / "data" / "realdata"
 

@@ -9,7 +9,7 @@ from PySide6.QtCore import Qt
 from chargers import NEEDS_FIRMWARE_SIM
 from device_helpers import WAIT_MS, click_flash, connect
 from helpers import compiled
-from zuml_studio.device.ports import SIMULATED_B6
+from zuml_studio.device.links.ports import SIMULATED_B6
 
 pytestmark = NEEDS_FIRMWARE_SIM
 
@@ -97,7 +97,7 @@ def test_the_b6_workflow_on_the_simulated_b6_in_the_window(qtbot, make_panel, ed
 
 
 def test_a_simulated_b6_that_cannot_start_says_why(qtbot, make_panel, monkeypatch):
-    from zuml_studio.device import simulated_b6
+    from zuml_studio.virtual import simulated_b6
 
     def broken(board):
         from zuml_studio.cli.common import CliError

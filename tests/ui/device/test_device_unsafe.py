@@ -12,9 +12,9 @@ from device_helpers import WAIT_MS, connect
 from helpers import compiled
 from zuml_studio.cli.main import main
 from zuml_studio.data import standard_macros_dir
-from zuml_studio.device.client import ChargerClient
+from zuml_studio.device.zuml.client import ChargerClient
 from zuml_studio.lang.eeprom import pack, slots
-from zuml_studio.sim.start_templates import StartTemplate
+from zuml_studio.domain.start_templates import StartTemplate
 from zuml_studio.ui.device import unsafe_dialog as dp
 
 REAL_CONFIRM_WARNINGS = dp.confirm_warnings     # taken before tests/ui/conftest.py replaces it per test

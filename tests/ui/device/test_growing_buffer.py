@@ -12,7 +12,7 @@ from zuml_studio.ui.device.growing_buffer import GrowingBuffer
 
 def test_no_qt_is_imported():
     code = ("import sys; import zuml_studio.ui.device.growing_buffer, zuml_studio.ui.device.envelope, "
-            "zuml_studio.device.session_log; "
+            "zuml_studio.logs.session_log; "
             "print(any(m.startswith(('PySide6', 'pyqtgraph')) for m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "False"

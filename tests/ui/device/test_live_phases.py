@@ -7,7 +7,7 @@ import os
 import pytest
 
 from device_helpers import WAIT_MS, connect
-from zuml_studio.device.messages import DeviceEvent, Telemetry
+from zuml_studio.protocol.messages import DeviceEvent, Telemetry
 from zuml_studio.sim.reasons import shown_reason
 from zuml_studio.ui.device.live_view import LiveView
 

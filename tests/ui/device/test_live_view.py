@@ -6,7 +6,7 @@ from PySide6.QtGui import QColor
 from PySide6.QtWidgets import QApplication
 
 from helpers import contrast_ratio
-from zuml_studio.device.messages import Telemetry
+from zuml_studio.protocol.messages import Telemetry
 from zuml_studio.ui import theme
 from zuml_studio.ui.device.live_view import LiveView
 from zuml_studio.ui.stacked_plot import covered

@@ -56,8 +56,8 @@ def test_the_monitor_is_off_while_the_device_panel_owns_the_port(make_window, qt
 def test_a_zuml_request_typed_by_hand_is_not_sent(make_window, qtbot, pty_port):
     """The one safety check guards every path to a charger: a hand-made START (or any request) from the
     monitor's send line would pass it by."""
-    from zuml_studio.device.frames import encode_frame
-    from zuml_studio.device.messages import START
+    from zuml_studio.protocol.frames import encode_frame
+    from zuml_studio.protocol.messages import START
     device, path = pty_port
     w = make_window()
     w.device_panel.ports.set_target(path)
@@ -76,8 +76,8 @@ def test_a_request_split_over_sends_and_modes_is_refused_where_it_would_complete
     """The charger's parser keeps a frame's first bytes until the rest comes: garbage, then a COMMIT's
     first bytes in hex, the rest typed as text escapes, is a COMMIT all the same. Nothing of the
     completing line reaches the port, while bytes that complete nothing still go."""
-    from zuml_studio.device.frames import encode_frame
-    from zuml_studio.device.messages import COMMIT, encode_request
+    from zuml_studio.protocol.frames import encode_frame
+    from zuml_studio.protocol.messages import COMMIT, encode_request
     device, path = pty_port
     frame = encode_frame(COMMIT, 9, encode_request("COMMIT", token=1, crc=0xBEEF))
     w = make_window()

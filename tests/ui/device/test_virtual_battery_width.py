@@ -5,7 +5,7 @@ import pytest
 
 from zuml_studio import i18n
 from zuml_studio.sim.batteries import save_battery
-from zuml_studio.sim.chemistry import load_chemistry
+from zuml_studio.domain.chemistry import load_chemistry
 from zuml_studio.sim.fit import Battery
 
 LONG_NAME = "Turnigy nano-tech 4S 2200 mAh 45-90C cells, bought 2023 (fitted from the bench log)"[:80]

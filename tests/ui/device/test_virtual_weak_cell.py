@@ -3,7 +3,7 @@ so the live view gets cell voltages that differ; a weak cell that does not fit i
 import pytest
 
 from device_helpers import connect
-from zuml_studio.device.virtual_charger import DeviceSetupError
+from zuml_studio.virtual.virtual_charger import DeviceSetupError
 from zuml_studio.ui.device.connection import VirtualSpec
 
 

@@ -164,7 +164,7 @@ def test_the_readout_and_the_cycles_are_named_in_the_users_language(viewer, qtbo
 
 def test_a_long_raw_capture_shows_how_far_its_reading_is(viewer, qtbot, monkeypatch, tmp_path):
     """Issue 27: a day-long capture is megabytes; its decoding reports its progress to the bar."""
-    from zuml_studio.device.drivers import CHOOSE_ON
+    from zuml_studio.streams.drivers import CHOOSE_ON
     from zuml_studio.ui.logs import log_window
     lines = (LOGS.parent / "realdata" / "icharger306B_RB_1000_lines_head300.txt").read_bytes()
     capture = tmp_path / "day.txt"

@@ -82,8 +82,8 @@ def test_no_pack_is_remembered_and_a_closed_question_asks_again(qtbot, panel):
 
 def _b6_on_its_tx() -> bytes:
     """What a B6 with the ZUML firmware sends on its TX alone during a short run started on its buttons."""
-    from zuml_studio.device import messages as m
-    from zuml_studio.device.frames import encode_frame
+    from zuml_studio.protocol import messages as m
+    from zuml_studio.protocol.frames import encode_frame
 
     def tel(t, running, mah):
         return encode_frame(m.TELEMETRY, 0, m.Telemetry(

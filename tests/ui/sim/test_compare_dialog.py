@@ -82,9 +82,9 @@ def test_main_window_has_the_menu_entry(make_window):
 
 def test_a_saved_battery_reaches_the_virtual_charger_box_and_the_charger(make_window, monkeypatch, tmp_path, qtbot):
     monkeypatch.setenv("ZUML_STUDIO_CONFIG_DIR", str(tmp_path))
-    from zuml_studio.device.virtual_charger import BatterySpec
+    from zuml_studio.virtual.virtual_charger import BatterySpec
     from zuml_studio.sim.batteries import save_battery
-    from zuml_studio.sim.chemistry import load_chemistry
+    from zuml_studio.domain.chemistry import load_chemistry
     from zuml_studio.sim.fit import Battery
 
     window = make_window()

@@ -2,7 +2,7 @@
 import pytest
 
 from zuml_studio.lang.compiler import compile_source
-from zuml_studio.sim.chemistry import chemistry_names
+from zuml_studio.domain.chemistry import chemistry_names
 from zuml_studio.ui.visual.wizard_dialog import NewMacroWizard, default_rate, parse_rate
 from zuml_studio.wizard import Answers, WizardError, new_macro
 

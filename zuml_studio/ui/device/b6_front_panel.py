@@ -1,5 +1,5 @@
 """The iMAX B6's front panel in the device panel: its 16×2 display as the ZUML firmware writes it, and,
-for the simulated B6 (``device.simulated_b6``), its four buttons, which press the simulated ones live:
+for the simulated B6 (``virtual.simulated_b6``), its four buttons, which press the simulated ones live:
 a button is down while the mouse holds it, so a short press and START held 0.5 s both work as on the
 charger. A real B6 heard on its TX alone (driver zuml-tx) shows its display only: its buttons are its own.
 """

@@ -1,5 +1,5 @@
 """The device panel's Calibrate…: the procedure of docs/firmware.md (*Calibration*) for an iMAX B6 running
-the ZUML firmware, driven by device/calibration.py on the panel's connection. The voltages are entered
+the ZUML firmware, driven by device/zuml/calibration.py on the panel's connection. The voltages are entered
 first; each current is asked while the charger holds it (the worker waits for the user's reading)."""
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from PySide6.QtCore import Signal
 from PySide6.QtWidgets import (QDialog, QDialogButtonBox, QDoubleSpinBox, QFormLayout, QHBoxLayout, QLabel,
                                QLineEdit, QPlainTextEdit, QPushButton, QVBoxLayout, QWidget)
 
-from ...device.calibration import CHARGE, INPUTS, CalibrationError, Calibrator, parse_cells
+from ...device.zuml.calibration import CHARGE, INPUTS, CalibrationError, Calibrator, parse_cells
 from ...i18n import _
 
 MAX_MA = 5000.0

@@ -1,4 +1,4 @@
-"""The device panel's link to a monitor-only charger: ``device.monitor_link.MonitorLink`` (a
+"""The device panel's link to a monitor-only charger: ``device.links.monitor_link.MonitorLink`` (a
 reader thread) with its status and end turned into Qt signals and the messages that say them.
 Samples go straight from the reader thread to ``on_sample`` (the live series and the session
 CSV are thread-safe), as with the ZUML connection's telemetry. A recording replayed onto a pty
@@ -10,9 +10,9 @@ from typing import Callable
 
 from PySide6.QtCore import QObject, Signal
 
-from ...device.drivers import AUTO, DRIVERS, LISTEN
+from ...streams.drivers import AUTO, DRIVERS, LISTEN
 from ...device.errors import DeviceLinkError
-from ...device.monitor_link import MonitorLink
+from ...device.links.monitor_link import MonitorLink
 from ...file_errors import FileReadError, read_file_bytes
 from ...i18n import _
 from ...logs import LogFormatError, lov
@@ -110,7 +110,7 @@ class ChargerMonitor(QObject):
                 status=text[:1].upper() + text[1:], port=link.port, why=monitor_reason(_(link.driver.title))), "ok")
         else:
             # A sweep of every baud that found nothing names the port first, in any language
-            # (device.autodetect); "listening at …" does not.
+            # (streams.autodetect); "listening at …" does not.
             self.message.emit(text, "warn" if text.startswith(f"{link.port}:") else "info")
 
     def _closed(self, error: str) -> None:
@@ -129,8 +129,8 @@ class ChargerMonitor(QObject):
     def serve_replay(self, path: Path, speed: float):
         """Play the recording at ``path`` onto a pty at ``speed`` × its pace; returns (port, the
         recording), or None after saying why not."""
-        from ...device.drivers import CaptureError
-        from ...device.replay import load_recording, serve_replay
+        from ...streams.drivers import CaptureError
+        from ...virtual.replay import load_recording, serve_replay
         try:
             data = read_file_bytes(path)
             if lov.sniff(data[:64], path.name):        # a LogView file: the charger's records in it

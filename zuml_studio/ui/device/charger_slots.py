@@ -14,7 +14,7 @@ from PySide6.QtWidgets import (QAbstractItemView, QComboBox, QFileDialog, QHBoxL
                                QWidget)
 
 from ...device.errors import CommitUncertain, CommitUnverified, ImageTooLarge
-from ...device.flashing import merge_record
+from ...device.zuml.flashing import merge_record
 from ...file_errors import FileReadError, read_file_bytes
 from ...i18n import N_, _, ngettext
 from ...lang.eeprom import ImageError, Slot, slots, used_bytes
@@ -388,7 +388,7 @@ class ChargerSlots(QWidget):
         path = Path(path)
 
         def job(client, progress):
-            from ...device.client import check_image
+            from ...device.zuml.client import check_image
             image = read_file_bytes(path)
             check_image(image)
             if len(image) > client.info.eeprom_size:

@@ -73,7 +73,7 @@ def ask_close_during_run(parent: QWidget | None, run: str, virtual: bool) -> str
 
 def confirm_programmer(parent: QWidget | None) -> bool:
     """Before the window reaches a B6 through its ISP programmer: the battery must be off the charger."""
-    from ...device.isp_store import disconnect_warning
+    from ...device.install.isp_store import disconnect_warning
     return ask_warning(parent, _("iMAX B6 through the programmer"), disconnect_warning(),
                        _("Every read and write through the programmer resets the charger. Is the battery "
                          "disconnected?"), _("The battery is disconnected"), QMessageBox.ButtonRole.AcceptRole)

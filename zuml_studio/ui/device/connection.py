@@ -25,12 +25,12 @@ from typing import Callable
 
 from PySide6.QtCore import QObject, QThread, Signal, Slot
 
-from ...device.client import ChargerClient, DeviceInfo
+from ...device.zuml.client import ChargerClient, DeviceInfo
 from ...device.errors import (CommitUncertain, CommitUnverified, DeviceError, DeviceLinkError, DeviceTimeout, Disconnected, ImageTooLarge,
                               InvalidImage, NotACharger, PermissionDenied, PortBusy, PortNotFound, VerifyFailed)
-from ...device.flashing import ImageFull, SlotOutOfRange
-from ...device.ports import SIMULATED_B6
-from ...device.isp_store import ProgrammerClient, programmer_of
+from ...device.zuml.flashing import ImageFull, SlotOutOfRange
+from ...device.links.ports import SIMULATED_B6
+from ...device.install.isp_store import ProgrammerClient, programmer_of
 from ...file_errors import FileReadError
 from ...i18n import _
 from ...lang.eeprom import ImageError
@@ -59,7 +59,7 @@ class VirtualSpec:
         battery's own; DeviceSetupError says why the cells asked for do not fit the battery."""
         if not self.weak_cell_pct and not self.cell_spread:
             return None
-        from ...device.virtual_charger import BatterySpec, DeviceSetupError
+        from ...virtual.virtual_charger import BatterySpec, DeviceSetupError
         from ...sim.interpreter import StartError
         from ...sim.simulate import BatterySetup, pack_cells
         spec = BatterySpec.parse(self.battery)
@@ -122,7 +122,7 @@ class DeviceConnection(QObject):
         self._client: ChargerClient | None = None
         self._device = None             # the built-in VirtualCharger
         self._stop_virtual: Callable[[], None] | None = None
-        self._b6 = None                 # the simulated iMAX B6 (device.simulated_b6.SimulatedB6)
+        self._b6 = None                 # the simulated iMAX B6 (virtual.simulated_b6.SimulatedB6)
         self._jobs: dict[int, tuple[Callable | None, Callable | None]] = {}
         self._ids = itertools.count(1)
         self._closing = False
@@ -232,7 +232,7 @@ class DeviceConnection(QObject):
         device = stop = None
         simulated = url == SIMULATED_B6
         if simulated:
-            from ...device.simulated_b6 import BAUD, SimulatedB6
+            from ...virtual.simulated_b6 import BAUD, SimulatedB6
             if b6_eeprom is None:
                 raise ValueError(_("the simulated iMAX B6 needs a file for its EEPROM"))
             b6 = SimulatedB6(b6_eeprom, on_lcd=self.lcdChanged.emit)
@@ -240,9 +240,9 @@ class DeviceConnection(QObject):
                 self._b6 = b6
             url, baud = b6.port, BAUD
         if virtual is not None:
-            from ...device.transport import serve
-            from ...device.virtual_charger import VirtualCharger
-            from ...device.virtual_charger import DeviceSetupError
+            from ...virtual.transport import serve
+            from ...virtual.virtual_charger import VirtualCharger
+            from ...virtual.virtual_charger import DeviceSetupError
             cells = virtual.cells()
             try:
                 device = VirtualCharger(virtual.battery, speed=virtual.speed, passport=virtual.passport,

@@ -10,9 +10,9 @@ from PySide6.QtCore import Qt
 from PySide6.QtWidgets import (QComboBox, QFileDialog, QGridLayout, QHBoxLayout, QLabel, QMenu, QPushButton,
                                QSizePolicy, QStyle, QToolButton, QVBoxLayout, QWidget, QWidgetAction)
 
-from ...device.drivers import AUTO, DRIVERS, ZUML
-from ...device.passport import akk_name
-from ...device.ports import VIRTUAL
+from ...streams.drivers import AUTO, DRIVERS, ZUML
+from ...protocol.passport import akk_name
+from ...device.links.ports import VIRTUAL
 from ...i18n import _
 from ..cell_fields import CellFields
 from ..number_boxes import form_field
@@ -26,7 +26,7 @@ MATCH = "match"
 
 
 def chemistry_names() -> list[str]:
-    from ...sim.chemistry import chemistry_names as names
+    from ...domain.chemistry import chemistry_names as names
     return names()
 
 
@@ -288,7 +288,7 @@ class ConnectionBar(QWidget):
             + _("{hz} telemetry frames/s").format(hz=opened.telemetry_hz))
 
     def show_monitor(self, link) -> None:
-        """A monitor-only charger's link (``device.monitor_link.MonitorLink``, None: none): what it
+        """A monitor-only charger's link (``device.links.monitor_link.MonitorLink``, None: none): what it
         is, its counts."""
         if link is None:
             return

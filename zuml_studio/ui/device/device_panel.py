@@ -10,7 +10,7 @@ module opens and closes the link (a ZUML charger through ``connection``, a monit
 through ``charger_monitor``), routes the parts' signals and says which control is enabled when.
 
 A port's driver is "Auto" by default: a ZUML charger (it answers IDENTIFY), else a monitor-only charger
-recognised from what it sends (``device.drivers``), plotted and logged like ours, Flash and Start off.
+recognised from what it sends (``streams.drivers``), plotted and logged like ours, Flash and Start off.
 
 Nothing here waits for the charger: requests run on the connection's worker thread and come back as
 signals; telemetry goes from the reader thread into the live series and the session CSV without Qt.
@@ -24,10 +24,10 @@ from PySide6.QtCore import Qt, QTimer, Signal
 from PySide6.QtGui import QKeySequence, QShortcut
 from PySide6.QtWidgets import QHBoxLayout, QPushButton, QSplitter, QVBoxLayout, QWidget
 
-from ...device.drivers import AUTO
+from ...streams.drivers import AUTO
 from ...device.errors import NotACharger
-from ...device.isp_store import ProgrammerClient, no_run_text
-from ...device.ports import SIMULATED_B6, VIRTUAL
+from ...device.install.isp_store import ProgrammerClient, no_run_text
+from ...device.links.ports import SIMULATED_B6, VIRTUAL
 from ...i18n import _
 from ...user_dirs import data_dir
 from .b6_front_panel import B6FrontPanel

@@ -1,5 +1,5 @@
 """Device ▸ Install Firmware on an iMAX B6…: the warnings a user must read, then the same steps as
-`zuml firmware install` (device/avr_install.py) off the GUI thread, each step shown as it happens, with the
+`zuml firmware install` (device/install/avr_install.py) off the GUI thread, each step shown as it happens, with the
 same rules: a new backup folder each time, a locked original said before anything is written (installed over
 only after the user says yes to "no way back"), the fuses checked and set only when asked; Restore puts a
 saved backup back."""
@@ -11,8 +11,8 @@ from PySide6.QtCore import Qt, Signal
 from PySide6.QtWidgets import (QCheckBox, QComboBox, QDialog, QDialogButtonBox, QFileDialog, QFormLayout,
                                QHBoxLayout, QLabel, QLineEdit, QPlainTextEdit, QPushButton, QVBoxLayout, QWidget)
 
-from ...device import avr_install
-from ...device.avrdude import Programmer
+from ...device.install import avr_install
+from ...device.install.avrdude import Programmer
 from ...i18n import _
 from ..background import BackgroundCall
 from .confirm_dialogs import ask_warning

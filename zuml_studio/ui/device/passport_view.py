@@ -5,9 +5,9 @@ from __future__ import annotations
 from PySide6.QtCore import Qt, QTimer, Signal
 from PySide6.QtWidgets import QGridLayout, QLabel, QToolButton, QVBoxLayout, QWidget
 
-from ...device import messages as msg
+from ...protocol import messages as msg
 from ...device.errors import DeviceError
-from ...device.passport import printable
+from ...protocol.passport import printable
 from ...i18n import _
 from .connection import DeviceConnection, describe_error
 from .device_style import heading_row, tint

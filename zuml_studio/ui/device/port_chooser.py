@@ -13,8 +13,8 @@ from typing import Callable
 from PySide6.QtCore import QObject, QRunnable, QThreadPool, QTimer, Signal
 from PySide6.QtWidgets import QComboBox, QHBoxLayout, QLineEdit, QSizePolicy, QWidget
 
-from ...device.isp_store import SCHEME as ISP_SCHEME, USBASP
-from ...device.ports import SIMULATED_B6, VIRTUAL, PortInfo, list_ports
+from ...device.install.isp_store import SCHEME as ISP_SCHEME, USBASP
+from ...device.links.ports import SIMULATED_B6, VIRTUAL, PortInfo, list_ports
 from ...i18n import N_, _
 from .device_style import ElidedCombo
 

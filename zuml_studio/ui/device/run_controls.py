@@ -6,7 +6,7 @@ from PySide6.QtCore import QEventLoop, QTimer, Signal
 from PySide6.QtWidgets import QCheckBox, QComboBox, QGridLayout, QHBoxLayout, QLabel, QPushButton, QVBoxLayout, QWidget
 
 from ...device.errors import DeviceError
-from ...device.passport import fitness_warnings
+from ...protocol.passport import fitness_warnings
 from ...i18n import N_, _
 from ...lang.eeprom import Slot
 from ...safety import judge, named_template

@@ -12,11 +12,11 @@ from PySide6.QtGui import QFontDatabase, QTextCursor
 from PySide6.QtWidgets import (QButtonGroup, QCheckBox, QComboBox, QDialog, QHBoxLayout, QLabel, QLineEdit, QPlainTextEdit,
                                QPushButton, QRadioButton, QVBoxLayout, QWidget)
 
-from ...device.client import open_serial
+from ...device.zuml.client import open_serial
 from ...device.errors import DeviceLinkError
-from ...device.ports import VIRTUAL
-from ...device.serial_lines import MonitorLines
-from ...device.serial_text import SendLineError, parse_send
+from ...device.links.ports import VIRTUAL
+from ...device.links.serial_lines import MonitorLines
+from ...device.links.serial_text import SendLineError, parse_send
 from ...i18n import _, ngettext
 from ...safety import RawSendGuard
 

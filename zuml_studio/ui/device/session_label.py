@@ -1,4 +1,4 @@
-"""The session CSV (``device.session_log``: every frame and event the charger sent, written by
+"""The session CSV (``logs.session_log``: every frame and event the charger sent, written by
 the reader thread) and the line under the plot that names it, its rows and its trouble."""
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ from pathlib import Path
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QWidget
 
-from ...device.session_log import IDLE_LOG_S, SessionLog, display_path, session_path
+from ...logs.session_log import IDLE_LOG_S, SessionLog, display_path, session_path
 from ...i18n import _, ngettext
 from .device_style import ElidedLabel, tint
 

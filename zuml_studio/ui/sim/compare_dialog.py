@@ -14,7 +14,7 @@ from ...file_errors import FileReadError
 from ...i18n import _
 from ...logs import LogFormatError, gaps
 from ...sim.batteries import BatteryFileError, save_battery
-from ...sim.chemistry import chemistry_names
+from ...domain.chemistry import chemistry_names
 from ...sim.curve import DIRECTIONS, Curve, CurveError, log_directions, read_curve_and_log
 from ...sim.fit import FitResult, guess_series
 from ...sim.fit_cells import taps_per_cell

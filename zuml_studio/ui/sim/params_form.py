@@ -11,12 +11,12 @@ from ... import data
 from ...i18n import N_, _
 from ...sim.batteries import battery_names
 from ...sim.battery import AMBIENT_MAX_C, AMBIENT_MIN_C
-from ...sim.chemistry import chemistry_names
+from ...domain.chemistry import chemistry_names
 from ...sim.interpreter import StartParams
 from ...sim.program import TASK_LABELS
 from ...sim.charger_model import load_charger
 from ...sim.simulate import BatterySetup
-from ...sim.start_templates import factory_templates
+from ...domain.start_templates import factory_templates
 from ..cell_fields import DEFAULT_SEED, CellFields
 from ..number_boxes import double_spin_box, form_field, spin_box
 from ..timefmt import elapsed

@@ -26,7 +26,7 @@ from ...i18n import _
 from ...sim import engine as c_engine
 from ...sim.batteries import BatteryFileError
 from ...sim.interpreter import Interpreter, StartError, StartParams
-from ...sim.samples import SampleLog
+from ...domain.samples import SampleLog
 from ...sim.simulate import BatterySetup, prepare
 
 log = logging.getLogger(__name__)

@@ -9,7 +9,7 @@ from PySide6.QtWidgets import (QCheckBox, QComboBox, QDialog, QDialogButtonBox, 
 
 from ...i18n import _, ngettext
 from ...lang.compiler import compile_source
-from ...sim.chemistry import chemistry_names
+from ...domain.chemistry import chemistry_names
 from ...wizard import Answers, WizardError, choices, new_macro
 
 

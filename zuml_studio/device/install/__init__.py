@@ -1,0 +1,1 @@
+"""zuml_studio.device.install (issue 36: see docs/architecture.md)."""

@@ -1,0 +1,1 @@
+"""zuml_studio.protocol (issue 36: see docs/architecture.md)."""

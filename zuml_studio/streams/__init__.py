@@ -1,0 +1,1 @@
+"""zuml_studio.streams (issue 36: see docs/architecture.md)."""
