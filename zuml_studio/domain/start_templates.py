@@ -14,7 +14,7 @@ from typing import Mapping
 from .. import data
 from ..data import DataFileError
 from ..i18n import _, ngettext
-from ..sim.program import TASK_WORDS, TASKS
+from .tasks import TASK_WORDS, TASKS
 
 TEMPLATE_COUNT = 16
 TEMPLATES_FILE = "start_templates.toml"
