@@ -174,7 +174,7 @@ class MonitorLink:
 
     def _run_hid(self) -> None:
         import importlib
-        mod = importlib.import_module(f"{__package__}.{self.driver.module}")
+        mod = importlib.import_module(f"{Driver.__module__.rpartition('.')[0]}.{self.driver.module}")   # streams/
         poll = getattr(mod, "POLL", None)
         if poll is None and hasattr(mod, "poll_request"):
             poll = mod.poll_request(0)
