@@ -88,7 +88,7 @@ class MonitorLink:
             return dev
         # A HID driver on a serial port reads a replayed report dump (``zuml replay``): the reports
         # come as a byte stream and nothing is polled.
-        from ..zuml.client import open_serial
+        from .serial_port import open_serial
         if self.driver is None:
             self._detector = Detector()
             self._sweep = BaudSweep(first=self.baud)
