@@ -1,7 +1,7 @@
 """The package's modules import each other without a circle (issue 25): a reader can follow any
 module's imports down to the leaves; and its packages import each other one way only, in the order
-``LAYERS`` below writes down (issue 36, docs/architecture.md). Imports inside functions count too, since a lazy import only
-hides a circle; those under ``if TYPE_CHECKING:`` do not run, and do not count."""
+``LAYERS`` below writes down (issue 36, docs/architecture.md). Imports inside functions count too,
+since a lazy import only hides a circle; those under ``if TYPE_CHECKING:`` do not run, and do not count."""
 import ast
 from pathlib import Path
 
