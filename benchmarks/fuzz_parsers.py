@@ -25,6 +25,7 @@ from zuml_studio.lang.decoder import decode_record
 from zuml_studio.lang.eeprom import ImageError, pack, slots
 from zuml_studio.lang.record import DecodeError
 from zuml_studio.safety import judge
+from zuml_studio.virtual.passport_chip import default_passport
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from fuzz_common import Campaign, mutate_bytes
@@ -68,7 +69,7 @@ def fix_check(record: bytes) -> bytes:
 
 def main() -> int:
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 100_000
-    passport = pp.default_passport("LiPo", 2000, 3)
+    passport = default_passport("LiPo", 2000, 3)
     frames = [encode_frame(code, seq, m.encode_response("STATUS", state=1, slot=0, task=0, uptime_ms=5, run_ms=5,
                                                           events=0, speed=1, name="x", end_reason=""))
               for code, seq in ((0x80 | m.BY_NAME["STATUS"].code, 3),)]

@@ -1,6 +1,7 @@
 """The package's modules import each other without a circle (issue 25): a reader can follow any
-module's imports down to the leaves. Imports inside functions count too, since a lazy import only
-hides a circle; those under ``if TYPE_CHECKING:`` do not run, and do not count."""
+module's imports down to the leaves; and its packages import each other one way only, in the order
+``LAYERS`` below writes down (issue 36, docs/architecture.md). Imports inside functions count too,
+since a lazy import only hides a circle; those under ``if TYPE_CHECKING:`` do not run, and do not count."""
 import ast
 from pathlib import Path
 
@@ -92,3 +93,73 @@ def test_no_module_imports_itself_through_others():
 
 def test_the_graph_sees_a_circle():
     assert _cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
+
+
+# The package order (issue 36, docs/architecture.md), bottom first: a module may import modules of
+# its own unit and of the units of the layers below; the units of one layer do not import each other.
+# A unit is a package or a top-level module of zuml_studio; zuml_studio.ui is one top unit here (the
+# order of its own packages is tested on its own).
+LAYERS = [
+    ("errors",),
+    ("data_error",),
+    ("i18n",),
+    ("file_errors", "user_dirs", "error_words"),
+    ("recovery",),
+    ("macro_file",),
+    ("data",),
+    ("domain",),
+    ("lang",),
+    ("protocol", "wizard"),
+    ("streams",),
+    ("logs",),
+    ("sim",),
+    ("safety",),
+    ("device", "packs"),
+    ("virtual",),
+    ("cli", "ui"),
+]
+_LAYER_OF = {unit: level for level, units in enumerate(LAYERS) for unit in units}
+
+
+def _unit(module: str) -> str | None:
+    """The unit of a module below zuml_studio; None for the package's own __init__."""
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 else None
+
+
+def _against_the_order(graph: dict[str, set[str]]) -> list[str]:
+    found = []
+    for module, targets in sorted(graph.items()):
+        unit = _unit(module)
+        if unit is None:
+            continue
+        for target in sorted(targets):
+            other = _unit(target)
+            if other is None or other == unit:
+                continue
+            if _LAYER_OF[other] >= _LAYER_OF[unit]:
+                found.append(f"{module} imports {target}: {unit} (layer {_LAYER_OF[unit]}) may not import "
+                             f"{other} (layer {_LAYER_OF[other]})")
+    return found
+
+
+def test_every_package_and_top_level_module_has_a_place_in_the_order():
+    units = {_unit(name) for name in _graph()} - {None}
+    assert sorted(units - set(_LAYER_OF)) == [], "add them to LAYERS (and to docs/architecture.md)"
+    assert sorted(set(_LAYER_OF) - units) == [], "LAYERS names a unit that is not there"
+
+
+def test_every_import_goes_down_the_package_order():
+    assert _against_the_order(_graph()) == []
+
+
+def test_the_order_sees_an_import_upwards_and_sideways():
+    graph = {"zuml_studio.sim.engine": {"zuml_studio.protocol.messages", "zuml_studio.sim.battery"},
+             "zuml_studio.lang.lint": {"zuml_studio.sim.interpreter"},
+             "zuml_studio.device.zuml.client": {"zuml_studio.packs.db"}}
+    device, lang, sim = _LAYER_OF["device"], _LAYER_OF["lang"], _LAYER_OF["sim"]
+    assert _against_the_order(graph) == [
+        f"zuml_studio.device.zuml.client imports zuml_studio.packs.db: device (layer {device}) may not import packs "
+        f"(layer {device})",
+        f"zuml_studio.lang.lint imports zuml_studio.sim.interpreter: lang (layer {lang}) may not import sim "
+        f"(layer {sim})"]

@@ -1,6 +1,6 @@
 """The one safety check on bytes bound for a charger (zuml_studio/safety.py)."""
 from helpers import HOT_LIION, compiled, unsafe_record
-from zuml_studio.protocol.passport import default_passport
+from zuml_studio.virtual.passport_chip import default_passport
 from zuml_studio.lang.compiler import compile_source
 from zuml_studio.lang.eeprom import pack
 from zuml_studio.safety import judge, judge_image

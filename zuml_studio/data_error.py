@@ -1,7 +1,7 @@
 """The one error of a broken installation, in a module of its own: both `data` and `i18n` raise it,
 and `data` itself translates its messages, so neither may own it."""
 
-from .domain.errors import ZumlError
+from .errors import ZumlError
 
 
 class DataFileError(ZumlError):

@@ -1,13 +1,13 @@
 """The one wording of any error for a user, shared by the window and the command line (no Qt).
 
-ZUML Studio's own errors (`domain.errors.ZumlError`) carry their words; this module adds only what
+ZUML Studio's own errors (`errors.ZumlError`) carry their words; this module adds only what
 concerns every error alike and those of other libraries: Python's OSError (pyserial's
 ``SerialException`` and hidapi's failures are OSErrors too), a ValueError, and anything else, which is
 a bug and said as one. It sits just above `i18n` (which it needs for its words) and knows no package
 that raises the errors, so that every package's user interface may call it."""
 from __future__ import annotations
 
-from .domain.errors import ZumlError, error_text
+from .errors import ZumlError, error_text
 from .i18n import _
 
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import stat
 from pathlib import Path
-from .domain.errors import ZumlError, error_text
+from .errors import ZumlError, error_text
 from .i18n import _
 
 

@@ -12,7 +12,8 @@ The check judges the values the charger will run with: a macro that names a star
 (START_SHABLON=n) runs with the template's values, not the ones typed, so the caller passes the
 charger's own templates (read from it). A macro the check cannot judge (no AKK_TYPE, or one with no
 reference limits) counts as one that failed it. Errors refuse; warnings ask (the window asks once,
-Cancel the default; the command line prints them).
+Cancel the default; the command line prints them). A battery's passport refuses a macro through
+``conflicts`` (the lockout) at the end of this module.
 """
 from __future__ import annotations
 
@@ -22,14 +23,17 @@ from typing import Mapping
 from .protocol import messages as m
 from .protocol.crc import crc16
 from .protocol.frames import MAX_FRAME, MAX_PAYLOAD, OVERHEAD, SYNC
-from .protocol.passport import Passport, conflicts
+from .protocol.passport import Passport, akk_name
 from .lang import opcodes as ops
 from .lang.decoder import decode_record
 from .lang.diagnostics import Severity
 from .lang.eeprom import Slot, slots
+from .lang.formatter import format_args
 from .lang.lint import lint
+from .lang.opcodes import canonical_text
+from .lang.operands import absolute_value
 from .sim.interpreter import StartError, StartParams, with_template
-from .sim.program import Program
+from .sim.program import DefaultDischarge, PhaseCode, Program
 from .domain.start_templates import StartTemplate, factory_templates
 from .i18n import _
 
@@ -198,3 +202,97 @@ class RawSendGuard:
 
     def sent(self, data: bytes) -> None:
         self._tail = (self._tail + bytes(data))[-(MAX_FRAME - 1):]
+
+
+# -- the battery passport's lockout (docs/protocol.md, *Battery passport*) ---------------------
+
+def conflicts(passport: Passport, record: bytes, start, *, charger_max_a: float | None = None) -> list[str]:
+    """Why the macro in ``record`` must not run on the battery this passport describes.
+
+    ``start`` is a ``sim.interpreter.StartParams``. Values are resolved by the interpreter's
+    rules (C with the capacity, S with the series, INPUT with the start values); a value that
+    cannot be resolved is skipped (the start itself will fail on it). ``charger_max_a`` is the
+    current a CONSTANT_V phase alone may reach when no current was entered.
+    """
+    program = Program(record)          # DecodeError for bytes that are not a record
+    out: list[str] = []
+    if passport.crit:
+        out.append(_("the battery reports {n} critical error(s) (CRIT={n}): it is not fit for use").format(
+            n=passport.crit))
+    akk = program.intro.declarations.get(ops.AKK_TYPE.code, 0)
+    if akk != passport.type:
+        if akk == 0:
+            out.append(_("the macro sets no battery type (AKK_TYPE Undef); the battery is {battery}").format(
+                battery=akk_name(passport.type)))
+        else:
+            out.append(_("the macro is for {macro}; the battery is {battery}").format(
+                macro=akk_name(akk), battery=akk_name(passport.type)))
+    capacity_ah = program.intro.capacity_ah(start.capacity_mah)
+    series = program.intro.series(start.series)
+
+    def current(raw: int) -> float | None:
+        return absolute_value(raw, start.current_a, capacity_ah)
+
+    def voltage(raw: int) -> float | None:
+        return absolute_value(raw, start.voltage_v, series)
+
+    a_lim, v_lim = passport.a_limit, passport.v_limit
+    seen: set[str] = set()
+
+    def add(text: str) -> None:
+        if text not in seen:
+            seen.add(text)
+            out.append(text)
+
+    def text(ins) -> str:
+        return canonical_text(ins.op, format_args(ins.op, ins.raws))
+
+    for step in program.steps(start.task, 1):
+        if isinstance(step, DefaultDischarge) or not isinstance(step, PhaseCode):
+            continue
+        by_op = {a.op: a for a in step.actions}
+        charging = step.section == "charge" or ops.CHARGE_EX in by_op or ops.TRICKLE in by_op
+        if not charging:
+            continue
+        where = (_("charge phase {index}") if step.section == "charge"
+                 else _("discharge phase {index}")).format(index=step.index)
+        if a_lim:
+            charge_currents = []
+            if ops.CHARGE_EX in by_op:
+                charge_currents.append((by_op[ops.CHARGE_EX].raws[1], by_op[ops.CHARGE_EX]))
+            elif ops.TRICKLE in by_op:
+                charge_currents.append((by_op[ops.TRICKLE].raws[0], by_op[ops.TRICKLE]))
+            elif ops.CONSTANT_I in by_op:
+                charge_currents.append((by_op[ops.CONSTANT_I].raws[0], by_op[ops.CONSTANT_I]))
+            for raw, ins in charge_currents:
+                amps = current(raw)
+                if amps is not None and amps > a_lim + 1e-9:
+                    add(_("the macro charges at {amps:.2f} A ({where}: {statement}); the battery allows {limit} "
+                          "A").format(amps=amps, where=where, statement=text(ins), limit=a_lim))
+            if ops.CONSTANT_V in by_op and ops.CONSTANT_I not in by_op:
+                amps = start.current_a if start.current_a else charger_max_a
+                if amps is not None and amps > a_lim + 1e-9:
+                    how = (_("the current entered at start") if start.current_a
+                           else _("the charger's limit, no current entered"))
+                    add(_("the macro charges at up to {amps:.2f} A ({where}: {statement} limited to {how}); the "
+                          "battery allows {limit} A").format(amps=amps, where=where,
+                                                             statement=text(by_op[ops.CONSTANT_V]), how=how,
+                                                             limit=a_lim))
+        if v_lim:
+            checks = []
+            if ops.CONSTANT_V in by_op:
+                checks.append((by_op[ops.CONSTANT_V].raws[0], by_op[ops.CONSTANT_V],
+                               _("the macro holds {volts:.2f} V ({where}: {statement}); the battery allows {limit} V")))
+            if ops.TRICKLE in by_op:
+                checks.append((by_op[ops.TRICKLE].raws[2], by_op[ops.TRICKLE],
+                               _("the macro tops up to {volts:.2f} V ({where}: {statement}); the battery allows "
+                                 "{limit} V")))
+            for ins in step.conditions:
+                if ins.op is ops.IF_V_GT:
+                    checks.append((ins.raws[0], ins, _("the macro lets the voltage rise to {volts:.2f} V ({where}: "
+                                                       "{statement}); the battery allows {limit} V")))
+            for raw, ins, sentence in checks:
+                volts = voltage(raw)
+                if volts is not None and volts > v_lim + 1e-9:
+                    add(sentence.format(volts=volts, where=where, statement=text(ins), limit=v_lim))
+    return out

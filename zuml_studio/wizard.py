@@ -9,7 +9,7 @@ from decimal import Decimal
 from . import data
 from .lang.lint import NICKEL_FAST_RATE, NICKEL_NO_SENSOR_MAX_RATE
 from .domain.chemistry import Chemistry, chemistry_names, load_chemistry
-from .domain.errors import ZumlError
+from .errors import ZumlError
 from .i18n import _
 
 TEMPLATES = "templates.toml"

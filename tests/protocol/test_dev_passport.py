@@ -3,7 +3,9 @@ import pytest
 
 from zuml_studio.protocol import passport as pp
 from zuml_studio.lang.compiler import compile_source
+from zuml_studio.safety import conflicts
 from zuml_studio.sim.interpreter import StartParams
+from zuml_studio.virtual.passport_chip import PassportChip
 
 from helpers import compiled
 
@@ -69,7 +71,7 @@ def _request(*body) -> bytes:
     (_request(0xA7, 0x12, 3, 0, 0, 0, 0), pp.AnswerError.BAD_PAGE),
     (_request(0xA7, 0x25, 5, 0, 0, 9, 0), pp.AnswerError.READ_ONLY)])      # TYPE (0x16) on page 5
 def test_every_request_even_a_malformed_one_gets_32_bytes_with_an_error_code(request_, code):
-    chip = pp.PassportChip(pp.Passport("SER", "ZUML", 3, 0, 0, 8, 4))
+    chip = PassportChip(pp.Passport("SER", "ZUML", 3, 0, 0, 8, 4))
     before = chip.image
     answer = chip.answer(request_)
     assert len(answer) == 32 and answer[0] == 0xA7 and answer[1] == pp.ERROR_MARK and answer[2] == code
@@ -81,7 +83,7 @@ def test_every_request_even_a_malformed_one_gets_32_bytes_with_an_error_code(req
 
 def test_chip_keeps_temp_and_check_and_lets_a_production_charger_write_only_err_and_crit():
     temp = [31.6]
-    chip = pp.PassportChip(pp.Passport("SER", "ZUML", 3, 0, 0, 8, 4), lambda: temp[0])
+    chip = PassportChip(pp.Passport("SER", "ZUML", 3, 0, 0, 8, 4), lambda: temp[0])
     answer = chip.answer(pp.read_all_request())
     assert answer[0x1D] == 32 and pp.check_ok(answer)
     temp[0] = -5.2
@@ -100,7 +102,7 @@ def test_chip_keeps_temp_and_check_and_lets_a_production_charger_write_only_err_
 
 def test_a_factory_chip_takes_type_serial_vendor_and_v_limit():
     old = pp.Passport("SER", "ZUML", 3, 0, 0, 8, 4)
-    chip = pp.PassportChip(old, factory=True)
+    chip = PassportChip(old, factory=True)
     new = pp.Passport("NEW-1", "ROGA", 4, 0, 0, 13, 4)
     for req in pp.page_writes(old.to_bytes(), new.to_bytes()):
         assert pp.answer_error(chip.answer(req)) is None
@@ -132,20 +134,20 @@ START = StartParams("charge", 1, 2000, 2.0, None, 4, False)
 
 
 def test_matching_battery_has_no_conflicts():
-    assert pp.conflicts(NIMH, compiled("NiMh-dV"), START) == []
+    assert conflicts(NIMH, compiled("NiMh-dV"), START) == []
 
 
 def test_chemistry_mismatch_and_undef():
     lipo = pp.Passport("S", "V", 4, 0, 0, 20, 10)
-    assert pp.conflicts(lipo, compiled("NiMh-dV"), START) == ["the macro is for NiMh; the battery is LiPo"]
+    assert conflicts(lipo, compiled("NiMh-dV"), START) == ["the macro is for NiMh; the battery is LiPo"]
     undef = compile_source("MACRO U\nCHARGE_SECTION\nFAZE\nCONSTANT_I=1A\nIF(V>8V) STOP_FAZE\nEND_FAZE\n"
                            "END_SECTION\nEND_MACRO\n").record
-    assert "no battery type" in pp.conflicts(NIMH, undef, START)[0]
-    assert pp.conflicts(pp.Passport("S", "V", 0, 0, 0, 8, 4), undef, START) == []
+    assert "no battery type" in conflicts(NIMH, undef, START)[0]
+    assert conflicts(pp.Passport("S", "V", 0, 0, 0, 8, 4), undef, START) == []
 
 
 def test_current_and_voltage_limits_name_value_and_limit():
-    found = pp.conflicts(NIMH, compiled("NiMh-dV"), StartParams("charge", 1, 2000, 5.0, None, 6, False))
+    found = conflicts(NIMH, compiled("NiMh-dV"), StartParams("charge", 1, 2000, 5.0, None, 6, False))
     assert "the macro charges at 5.00 A" in found[0] and found[0].endswith("the battery allows 4 A")
     assert "10.80 V" in found[1] and found[1].endswith("the battery allows 8 V")
 
@@ -154,6 +156,6 @@ def test_cv_alone_counts_its_current_limit_and_limits_of_zero_are_unset():
     lipo_rec = compiled("LiPo")
     lipo = pp.Passport("S", "V", 4, 0, 0, 13, 2)
     start = StartParams("charge", 1, 2000, None, None, 3, True)
-    found = pp.conflicts(lipo, lipo_rec, start, charger_max_a=5.0)
+    found = conflicts(lipo, lipo_rec, start, charger_max_a=5.0)
     assert any("up to 5.00 A" in f and "charger's limit" in f for f in found)
-    assert pp.conflicts(pp.Passport("S", "V", 4, 0, 0, 0, 0), lipo_rec, start, charger_max_a=5.0) == []
+    assert conflicts(pp.Passport("S", "V", 4, 0, 0, 0, 0), lipo_rec, start, charger_max_a=5.0) == []

@@ -192,9 +192,10 @@ def test_drivers_import_neither_qt_nor_hidapi():
     """Everything but ui/ is Qt-free, and hidapi loads only when a HID port is listed or opened."""
     import subprocess
     import sys
-    mods = ", ".join(f"zuml_studio.device.{m}" for m in (
-        "drivers", "autodetect", "monitor_link", "replay", "hid_link", "session_log", "cheali", "icharger_logview",
-        "imaxb6_serial", "ultramat", "skyrc_hid", "icharger_hid", "isdt_hid"))
+    mods = ", ".join(f"zuml_studio.{m}" for m in (
+        "streams.drivers", "streams.autodetect", "device.links.monitor_link", "virtual.replay", "device.links.hid_link",
+        "logs.session_log", "streams.cheali", "streams.icharger_logview", "streams.imaxb6_serial", "streams.ultramat",
+        "streams.skyrc_hid", "streams.icharger_hid", "streams.isdt_hid"))
     code = (f"import sys; import {mods}; "
             "print(any(m.split('.')[0] in ('PySide6', 'pyqtgraph', 'hid') for m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout

@@ -9,7 +9,7 @@ from pathlib import Path
 
 from ..file_errors import FileReadError, read_file_bytes
 from ..recovery import atomic_write
-from ..domain.errors import ZumlError
+from ..errors import ZumlError
 from ..i18n import _, ngettext
 
 

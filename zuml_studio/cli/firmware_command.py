@@ -4,25 +4,13 @@ from __future__ import annotations
 
 import argparse
 import os
-import shutil
-import subprocess
 import sys
 from pathlib import Path
 
 from .common import CliError
+from ..virtual.firmware_sim import BOARDS, FirmwareBuildError, build_device
 from ..i18n import _
 
-FIRMWARE = Path(__file__).resolve().parents[2] / "firmware"
-BUILD = FIRMWARE / "build"
-INSTALL = "apt-get install -y make gcc gcc-avr avr-libc binutils-avr simavr libsimavr-dev libelf-dev"
-# per board: make targets, the tools they need, the command that runs the device
-BOARDS = {
-    "atmega32": (("atmega32", "simavr"), ("make", "gcc", "avr-gcc", "avr-size"),
-                 [str(BUILD / "simavr" / "zuml_avr_sim"), str(BUILD / "atmega32" / "zuml.elf")]),
-    "imaxb6": (("imaxb6", "simavr-imaxb6"), ("make", "gcc", "avr-gcc", "avr-size"),
-               [str(BUILD / "simavr" / "zuml_b6_sim"), str(BUILD / "imaxb6" / "zuml.elf")]),
-    "host": (("host",), ("make", "gcc"), [str(BUILD / "host" / "zuml_host")]),
-}
 FAULTS = ("disconnect", "reverse", "cell-high", "sensor-open", "sink-hot", "input-low", "hang", "slow-loop",
           "input-sag")
 BUTTONS = ("start", "stop", "inc", "dec")
@@ -63,22 +51,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     b6.add_argument("--speed", type=float, metavar="X",
                     help=_("simulated seconds per wall-clock second (default 1; 0: as fast as this PC can)"))
     p.set_defaults(run=cmd_firmware_sim)
-
-
-def build_device(board: str) -> list[str]:
-    """`make` the board's targets in firmware/ (a no-op when up to date); the device's command."""
-    targets, tools, command = BOARDS[board]
-    if not (FIRMWARE / "Makefile").is_file():
-        raise CliError(_("the firmware sources are not here ({firmware}): run from a ZUML Studio checkout").format(
-                firmware=FIRMWARE))
-    missing = [tool for tool in tools if shutil.which(tool) is None]
-    if missing:
-        raise CliError(_("{missing} not found: the firmware cannot be built ({install})").format(
-                missing=', '.join(missing), install=INSTALL))
-    done = subprocess.run(["make", "-s", "-C", str(FIRMWARE), *targets], capture_output=True, text=True)
-    if done.returncode != 0:
-        raise CliError(f"the firmware did not build ({INSTALL}?):\n{done.stdout}{done.stderr}".rstrip())
-    return list(command)
 
 
 def timed_events(values: list[str] | None, names: tuple[str, ...], option: str, hold: bool) -> list[str]:
@@ -131,8 +103,11 @@ def cmd_firmware_sim(args: argparse.Namespace) -> int:
     if not 1 <= args.cells <= 8 or args.capacity <= 0 or not 0.0 <= args.soc <= 1.0:
         raise CliError(_("--cells is 1..8, --capacity above 0, --soc 0..1"))
     b6 = b6_arguments(args)
-    argv = build_device(args.board) + ["--cells", str(args.cells), "--capacity", str(args.capacity),
-                                       "--soc", str(args.soc)] + b6
+    try:
+        argv = build_device(args.board)
+    except FirmwareBuildError as exc:
+        raise CliError(str(exc)) from None
+    argv += ["--cells", str(args.cells), "--capacity", str(args.capacity), "--soc", str(args.soc)] + b6
     if args.eeprom:
         argv += ["--eeprom", str(args.eeprom)]
     sys.stdout.flush()

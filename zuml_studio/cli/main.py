@@ -13,7 +13,7 @@ import sys
 
 from .. import i18n
 from ..data import DataFileError
-from ..domain.errors import ZumlError
+from ..errors import ZumlError
 from ..error_words import describe_error
 from ..i18n import N_, _
 from .common import CliError, GuardedOutput, OutputError, silence

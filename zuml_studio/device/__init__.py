@@ -1,12 +1,13 @@
-"""The device link: ZUML Studio <-> a charger over a serial line (docs/protocol.md).
+"""Real chargers on this PC's ports (docs/protocol.md, docs/real-chargers.md), in three jobs:
 
-No Qt here. Layers, bottom up:
+- ``links``: which ports there are (serial, USB-HID), their names checked, what to tell a user refused
+  one, and the monitor link that reads a monitor-only charger through its driver;
+- ``zuml``: the host side of a charger running the ZUML firmware: ``ChargerClient``, calibration, the
+  EEPROM rule of Compile & Flash;
+- ``install``: the ISP programmer (avrdude): the firmware install and the macro store through it.
 
-- ``crc``: CRC-16/MODBUS, as cheali-charger uses for its EEPROM blocks.
-- ``frames``: ``A5 LEN TYPE SEQ PAYLOAD CRC16`` and an incremental parser that resyncs.
-- ``messages``: the one table of message types and their payload layouts.
-- ``passport``: the battery passport of docs/zuml-2.0.md §4 (8-byte request, 32-byte answer) and the lockout.
-- ``virtual_charger`` + ``transport``: a charger that runs the simulator behind a pty or TCP port.
-- ``client``: ``ChargerClient``, used by the CLI and the GUI.
-- ``errors``, ``ports``.
-"""
+``errors`` is the link's errors, shared by the three. The wire protocol is ``protocol``; the decoders of
+monitor-only chargers ``streams``; chargers that are not there ``virtual``.
+
+May import: ``safety``, ``sim``, ``logs``, ``streams``, ``protocol``, ``lang``, ``domain`` and the top-level
+modules below; not ``packs`` (beside it) nor ``virtual``, ``cli``, ``ui`` (above). No Qt."""

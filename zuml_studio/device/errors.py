@@ -9,7 +9,7 @@ from __future__ import annotations
 import errno
 
 from .links.port_access import refused_advice
-from ..domain.errors import ZumlError, error_text
+from ..errors import ZumlError, error_text
 from ..i18n import _
 
 

@@ -13,9 +13,9 @@ from typing import Mapping
 
 from .. import data
 from ..data import DataFileError
-from .errors import ZumlError
+from ..errors import ZumlError
 from ..i18n import _, ngettext
-from ..sim.program import TASK_WORDS, TASKS
+from .tasks import TASK_WORDS, TASKS
 
 TEMPLATE_COUNT = 16
 TEMPLATES_FILE = "start_templates.toml"

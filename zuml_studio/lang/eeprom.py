@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 from .decoder import Decoded, decode_record
 from .record import MIN_RECORD, DecodeError
-from ..domain.errors import ZumlError, error_text
+from ..errors import ZumlError, error_text
 from ..i18n import _, ngettext
 
 DEFAULT_SIZE = 1024

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 from decimal import ROUND_HALF_UP, Decimal, InvalidOperation
 import re
 from typing import Callable, Mapping
-from ..domain.errors import ZumlError
+from ..errors import ZumlError
 from ..i18n import N_, _
 
 INPUT_U16 = 0xFFFF          # current/voltage entered at start (docs/zuml-2.0.md §2 decision)

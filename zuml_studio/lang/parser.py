@@ -22,7 +22,7 @@ from .ast import Span
 from .diagnostics import Diagnostic, Severity
 from .opcodes import CONDITION_OUTCOMES
 from .record import MAX_RECORD
-from ..domain.errors import ZumlError
+from ..errors import ZumlError
 from ..i18n import N_, _
 
 

@@ -12,7 +12,7 @@ from operator import xor
 from . import opcodes as ops
 from .ast import Cycle, Macro, Phase
 from .opcodes import Op
-from ..domain.errors import ZumlError, error_text
+from ..errors import ZumlError, error_text
 from ..i18n import _, ngettext
 
 HEADER_SIZE = 4

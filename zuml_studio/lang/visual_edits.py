@@ -18,7 +18,7 @@ import re
 from collections import Counter
 from dataclasses import dataclass
 
-from ..domain.errors import ZumlError
+from ..errors import ZumlError
 from ..i18n import N_, _
 from . import opcodes as ops
 from .ast import Arg, Cycle, Macro, Phase, Section, Span, Statement

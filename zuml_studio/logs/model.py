@@ -13,7 +13,7 @@ import numpy as np
 
 from ..protocol.messages import Telemetry
 from .charge import charge_from_counter, counter_totals, disagreement, integrate_current
-from ..domain.errors import ZumlError
+from ..errors import ZumlError
 from ..i18n import _, ngettext
 
 # Volts and amperes beyond any charger (as sim.curve's limits): a sample past them is left out.

@@ -11,7 +11,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from ..user_dirs import data_dir
-from ..domain.errors import ZumlError
+from ..errors import ZumlError
 from ..i18n import _
 
 FILE_NAME = "packs.sqlite3"

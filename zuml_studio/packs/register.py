@@ -9,7 +9,7 @@ from dataclasses import dataclass
 from ..domain.chemistry import load_chemistry
 from .text import storable
 from .db import Logbook, LogbookError
-from ..domain.errors import ZumlError
+from ..errors import ZumlError
 from ..i18n import _
 
 _NAME = re.compile(r"^\S(.{0,78}\S)?$")

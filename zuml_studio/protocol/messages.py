@@ -13,7 +13,8 @@ from __future__ import annotations
 import enum
 import struct
 from dataclasses import dataclass
-from ..domain.errors import ZumlError
+from ..errors import ZumlError
+from ..domain.tasks import TASKS
 from ..i18n import _, ngettext
 
 PROTOCOL_VERSION = 1
@@ -22,7 +23,6 @@ MAX_DATA = 240                # EEPROM bytes per READ_EEPROM / WRITE_STAGE
 NO_SLOT = 0xFF
 NO_OFFSET = 0xFFFF
 TEMP_UNKNOWN = 0x7FFF         # i16 0.01 °C: no sensor
-TASKS = ("charge", "discharge", "train")
 STATES = ("idle", "running", "paused", "finished")
 EVENT_KINDS = ("section", "phase_start", "phase_end", "pause", "resume", "music", "light", "finish")
 SECTIONS = ("discharge", "charge")

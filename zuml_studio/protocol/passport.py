@@ -19,21 +19,17 @@ RW_INDEX or page, or a write to a read-only byte) gets an *error answer*: 32 byt
 0xEE where the layout version stands, an error code (``AnswerError``), the request's RW_INDEX and
 PAGE, zeros, and the same check word; a refused write changes nothing. The battery keeps MAGIC,
 version, TEMP and the check itself (written bytes there are ignored); a limit of 0 means "not
-set". ``conflicts`` is the lockout: what a charger must refuse to start on this battery.
+set". The lockout (what a charger must refuse to start on this battery) is ``safety.conflicts``; the
+battery's side of the exchange, ``virtual.passport_chip``.
 """
 from __future__ import annotations
 
 import enum
 import struct
 from dataclasses import dataclass, replace
-from typing import Callable
 
-from ..domain.units import MAH_PER_AH
-from ..lang import opcodes as ops
-from ..lang.formatter import format_args
-from ..lang.opcodes import canonical_text
-from ..lang.operands import AKK_TYPE as AKK_KIND, AKK_TYPE_ALIASES, DISPLAY_NAMES, absolute_value
-from ..domain.errors import ZumlError, error_text
+from ..errors import ZumlError, error_text
+from ..lang.operands import AKK_TYPE as AKK_KIND, AKK_TYPE_ALIASES, DISPLAY_NAMES
 from ..i18n import N_, _
 
 MAGIC = 0xA7
@@ -75,8 +71,8 @@ FIELDS = ("serial", "vendor", "type", "err", "crit", "v_limit", "a_limit")
 WRITABLE = ("err", "crit")               # through the charger, on a production battery
 FACTORY_WRITABLE = ("serial", "vendor", "type", "err", "crit", "v_limit")   # pages 0..6
 # Bytes the battery maintains itself.
-_OWN_BYTES = frozenset((0x00, 0x01, 0x1D, 0x1E, 0x1F))
-_ERROR_SECTION = frozenset(range(0x17, 0x1B))      # ERR, CRIT
+OWN_BYTES = frozenset((0x00, 0x01, 0x1D, 0x1E, 0x1F))   # the battery keeps these itself
+ERROR_SECTION = frozenset(range(0x17, 0x1B))      # ERR, CRIT
 _BODY = struct.Struct("<BB16s4sBHHBBb")
 
 
@@ -311,176 +307,22 @@ def page_of(answer: bytes, page: int) -> bytes:
 def page_writes(old: bytes, new: bytes) -> list[bytes]:
     """The write requests that turn passport ``old`` into ``new`` (pages that differ in bytes the host owns).
     PassportError when a differing byte lies beyond page 6 (A_LIMIT: no request reaches it)."""
-    beyond = [i for i in range(PAGES * PAGE_SIZE, SIZE) if i not in _OWN_BYTES and old[i] != new[i]]
+    beyond = [i for i in range(PAGES * PAGE_SIZE, SIZE) if i not in OWN_BYTES and old[i] != new[i]]
     if beyond:
         raise PassportError(_("A_LIMIT lies on page 7, which no passport request addresses (pages 0..6): it is "
                               "set when the battery is made"))
     out = []
     for page in range(PAGES):
         lo = PAGE_SIZE * page
-        if any(old[i] != new[i] for i in range(lo, lo + PAGE_SIZE) if i not in _OWN_BYTES):
+        if any(old[i] != new[i] for i in range(lo, lo + PAGE_SIZE) if i not in OWN_BYTES):
             out.append(write_page_request(page, new[lo:lo + PAGE_SIZE]))
     return out
 
 
-class PassportChip:
-    """The battery's side: holds the 32 bytes, keeps TEMP live and the check right, and lets the
-    charger write only the error section (``factory``: SERIAL, VENDOR, TYPE and V_LIMIT too)."""
-
-    def __init__(self, passport: Passport, temp_source: Callable[[], float] | None = None, *,
-                 factory: bool = False):
-        self._image = bytearray(passport.to_bytes())
-        self._temp_source = temp_source
-        self.factory = factory
-        self.writes = 0
-
-    def _refresh(self) -> None:
-        if self._temp_source is not None:
-            t = round(self._temp_source())
-            self._image[0x1D] = max(-128, min(127, t)) & 0xFF
-        self._image[0] = MAGIC
-        self._image[1] = VERSION
-        self._image[0x1E:0x20] = check_word(self._image).to_bytes(2, "little")
-
-    @property
-    def image(self) -> bytes:
-        self._refresh()
-        return bytes(self._image)
-
-    @property
-    def passport(self) -> Passport:
-        return Passport.from_bytes(self.image)
-
-    def answer(self, request: bytes) -> bytes:
-        """32 bytes, always: the passport, or an error answer."""
-        try:
-            op, page, data = parse_request(request)
-        except BadRequest as exc:
-            return error_answer(exc.code, request)
-        if op == "write":
-            lo = PAGE_SIZE * page
-            changes = [(lo + k, data[k]) for k in range(PAGE_SIZE)
-                       if lo + k not in _OWN_BYTES and self._image[lo + k] != data[k]]
-            if not self.factory and any(at not in _ERROR_SECTION for at, _ in changes):
-                return error_answer(AnswerError.READ_ONLY, request)
-            for at, value in changes:
-                self._image[at] = value
-            self.writes += 1
-        return self.image
-
-
-def default_passport(chemistry: str, capacity_mah: float, series: int, serial: str = "ZUML-VIRT-0001") -> Passport:
-    """What the virtual charger's battery carries: its chemistry, V_LIMIT = the chemistry's absolute
-    maximum per cell × cells (rounded up), A_LIMIT = 2C (rounded up, at least 1 A)."""
-    import math
-    from ..domain.chemistry import load_chemistry
-    code = akk_code(chemistry)
-    try:
-        chem = load_chemistry(akk_name(code))
-        v_limit = min(255, math.ceil(chem.max_v * series - 1e-9))
-    except KeyError:
-        v_limit = 0
-    a_limit = min(255, max(1, math.ceil(2 * capacity_mah / MAH_PER_AH - 1e-9)))
-    return Passport(serial, "ZUML", code, 0, 0, v_limit, a_limit, 25)
-
-
-# -- the lockout -------------------------------------------------------------------------
+# -- the fitness --------------------------------------------------------------------------
 
 def fitness_warnings(passport: Passport) -> list[str]:
     """What a charger shows before a start without refusing it: errors (ERR) the battery counted."""
     if passport.err:
         return [_("the battery reports {n} error(s) (ERR={n})").format(n=passport.err)]
     return []
-
-
-def conflicts(passport: Passport, record: bytes, start, *, charger_max_a: float | None = None) -> list[str]:
-    """Why the macro in ``record`` must not run on the battery this passport describes.
-
-    ``start`` is a ``sim.interpreter.StartParams``. Values are resolved by the interpreter's
-    rules (C with the capacity, S with the series, INPUT with the start values); a value that
-    cannot be resolved is skipped (the start itself will fail on it). ``charger_max_a`` is the
-    current a CONSTANT_V phase alone may reach when no current was entered.
-    """
-    from ..sim.program import DefaultDischarge, PhaseCode, Program
-    program = Program(record)          # DecodeError for bytes that are not a record
-    out: list[str] = []
-    if passport.crit:
-        out.append(_("the battery reports {n} critical error(s) (CRIT={n}): it is not fit for use").format(
-            n=passport.crit))
-    akk = program.intro.declarations.get(ops.AKK_TYPE.code, 0)
-    if akk != passport.type:
-        if akk == 0:
-            out.append(_("the macro sets no battery type (AKK_TYPE Undef); the battery is {battery}").format(
-                battery=akk_name(passport.type)))
-        else:
-            out.append(_("the macro is for {macro}; the battery is {battery}").format(
-                macro=akk_name(akk), battery=akk_name(passport.type)))
-    capacity_ah = program.intro.capacity_ah(start.capacity_mah)
-    series = program.intro.series(start.series)
-
-    def current(raw: int) -> float | None:
-        return absolute_value(raw, start.current_a, capacity_ah)
-
-    def voltage(raw: int) -> float | None:
-        return absolute_value(raw, start.voltage_v, series)
-
-    a_lim, v_lim = passport.a_limit, passport.v_limit
-    seen: set[str] = set()
-
-    def add(text: str) -> None:
-        if text not in seen:
-            seen.add(text)
-            out.append(text)
-
-    def text(ins) -> str:
-        return canonical_text(ins.op, format_args(ins.op, ins.raws))
-
-    for step in program.steps(start.task, 1):
-        if isinstance(step, DefaultDischarge) or not isinstance(step, PhaseCode):
-            continue
-        by_op = {a.op: a for a in step.actions}
-        charging = step.section == "charge" or ops.CHARGE_EX in by_op or ops.TRICKLE in by_op
-        if not charging:
-            continue
-        where = (_("charge phase {index}") if step.section == "charge"
-                 else _("discharge phase {index}")).format(index=step.index)
-        if a_lim:
-            charge_currents = []
-            if ops.CHARGE_EX in by_op:
-                charge_currents.append((by_op[ops.CHARGE_EX].raws[1], by_op[ops.CHARGE_EX]))
-            elif ops.TRICKLE in by_op:
-                charge_currents.append((by_op[ops.TRICKLE].raws[0], by_op[ops.TRICKLE]))
-            elif ops.CONSTANT_I in by_op:
-                charge_currents.append((by_op[ops.CONSTANT_I].raws[0], by_op[ops.CONSTANT_I]))
-            for raw, ins in charge_currents:
-                amps = current(raw)
-                if amps is not None and amps > a_lim + 1e-9:
-                    add(_("the macro charges at {amps:.2f} A ({where}: {statement}); the battery allows {limit} "
-                          "A").format(amps=amps, where=where, statement=text(ins), limit=a_lim))
-            if ops.CONSTANT_V in by_op and ops.CONSTANT_I not in by_op:
-                amps = start.current_a if start.current_a else charger_max_a
-                if amps is not None and amps > a_lim + 1e-9:
-                    how = (_("the current entered at start") if start.current_a
-                           else _("the charger's limit, no current entered"))
-                    add(_("the macro charges at up to {amps:.2f} A ({where}: {statement} limited to {how}); the "
-                          "battery allows {limit} A").format(amps=amps, where=where,
-                                                             statement=text(by_op[ops.CONSTANT_V]), how=how,
-                                                             limit=a_lim))
-        if v_lim:
-            checks = []
-            if ops.CONSTANT_V in by_op:
-                checks.append((by_op[ops.CONSTANT_V].raws[0], by_op[ops.CONSTANT_V],
-                               _("the macro holds {volts:.2f} V ({where}: {statement}); the battery allows {limit} V")))
-            if ops.TRICKLE in by_op:
-                checks.append((by_op[ops.TRICKLE].raws[2], by_op[ops.TRICKLE],
-                               _("the macro tops up to {volts:.2f} V ({where}: {statement}); the battery allows "
-                                 "{limit} V")))
-            for ins in step.conditions:
-                if ins.op is ops.IF_V_GT:
-                    checks.append((ins.raws[0], ins, _("the macro lets the voltage rise to {volts:.2f} V ({where}: "
-                                                       "{statement}); the battery allows {limit} V")))
-            for raw, ins, sentence in checks:
-                volts = voltage(raw)
-                if volts is not None and volts > v_lim + 1e-9:
-                    add(sentence.format(volts=volts, where=where, statement=text(ins), limit=v_lim))
-    return out

@@ -15,7 +15,7 @@ from ..user_dirs import config_dir
 from .cell_pack import CellSpec, check_cells
 from ..domain.chemistry import Chemistry, _check, load_chemistry
 from .fit import Battery
-from ..domain.errors import ZumlError
+from ..errors import ZumlError
 from ..i18n import _
 
 _NAME = re.compile(r"^[\w][\w .,+()-]{0,79}$")

@@ -20,7 +20,7 @@ from .battery import AMBIENT_MAX_C, AMBIENT_MIN_C
 from ..domain.csv_columns import CURRENT_A, CURVE_COLUMNS, TEMP_C, TIME_S, VOLTAGE_V
 from ..logs import Log, LogFormatError, read_log
 from ..logs.model import MAX_MEASURED, STATES
-from ..domain.errors import ZumlError
+from ..errors import ZumlError
 from ..i18n import _
 
 # Chargers drop out of "charge" for a sample or two (a measurement pause); gaps up to this

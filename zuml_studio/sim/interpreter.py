@@ -25,7 +25,7 @@ from .delta_peak import DeltaPeakDetector
 from .program import CommandStep, DefaultDischarge, PhaseCode, Program, SectionStart
 from ..domain.samples import SampleLog
 from ..domain.start_templates import StartTemplate, apply_template, chosen_template, factory_templates
-from ..domain.errors import ZumlError
+from ..errors import ZumlError
 from ..i18n import _
 
 # Defaults of docs/zuml-2.0.md §3. A macro's IF(Tc>x), IF(Tc<x) and IF(T>x) replace the matching default; dT/dt and

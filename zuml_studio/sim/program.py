@@ -14,12 +14,8 @@ from ..lang.decoder import decode_record
 from ..lang.opcodes import Op, Role
 from ..lang.operands import CAPACITY_AUTO, CAPACITY_INPUT
 from ..lang.record import HEADER_SIZE, Instruction, read_instruction
-from ..i18n import N_, _
-
-TASKS = ("charge", "discharge", "train")
-# How a task is named: as a choice (a combo box item) and within a sentence.
-TASK_LABELS = {"charge": N_("Charge"), "discharge": N_("Discharge"), "train": N_("Train")}
-TASK_WORDS = {"charge": N_("charge"), "discharge": N_("discharge"), "train": N_("train")}
+from ..domain.tasks import TASKS
+from ..i18n import _
 
 
 @dataclass(frozen=True)

@@ -16,7 +16,7 @@ from ..domain.chemistry import Chemistry, load_chemistry
 from .interpreter import AKK_NAMES, Interpreter, Measurement, PhaseResult, StartError, StartParams, with_template
 from .program import Program
 from ..domain.start_templates import StartTemplate
-from ..domain.errors import ZumlError
+from ..errors import ZumlError
 from ..i18n import _
 
 

@@ -13,7 +13,7 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from ..domain.errors import ZumlError
+from ..errors import ZumlError
 from ..i18n import N_, _
 from ..protocol.messages import Telemetry
 from .stream_decoder import StreamDecoder

@@ -14,6 +14,7 @@ from typing import Callable
 
 from ..i18n import _
 from ..device.errors import DeviceLinkError
+from . import firmware_sim
 
 BAUD = 57600               # the B6's line (docs/firmware.md, Line); a pty ignores it
 BUTTONS = ("start", "stop", "inc", "dec")
@@ -27,11 +28,9 @@ class SimulatedB6:
 
     def __init__(self, eeprom: Path, *, speed: float = 1.0,
                  on_lcd: Callable[[str, str], None] | None = None) -> None:
-        from ..cli.common import CliError
-        from ..cli.firmware_command import build_device
         try:
-            argv = build_device("imaxb6")
-        except CliError as exc:
+            argv = firmware_sim.build_device("imaxb6")
+        except firmware_sim.FirmwareBuildError as exc:
             raise DeviceLinkError(str(exc)) from None
         eeprom.parent.mkdir(parents=True, exist_ok=True)
         self._on_lcd = on_lcd or (lambda line1, line2: None)

@@ -45,8 +45,9 @@ from ..domain.start_templates import TemplateError, check_number, factory_templa
 from ..protocol import messages as m
 from ..protocol.crc import crc16
 from ..protocol.frames import Frame, FrameParser, encode_frame
-from ..protocol.passport import Passport, PassportChip, PassportError, akk_code, default_passport
-from ..domain.errors import ZumlError
+from ..errors import ZumlError
+from ..protocol.passport import Passport, PassportError, akk_code
+from .passport_chip import PassportChip, default_passport
 from ..i18n import _, ngettext
 
 FIRMWARE = "zuml-virtual 1.0"

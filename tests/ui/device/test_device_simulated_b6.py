@@ -100,10 +100,10 @@ def test_a_simulated_b6_that_cannot_start_says_why(qtbot, make_panel, monkeypatc
     from zuml_studio.virtual import simulated_b6
 
     def broken(board):
-        from zuml_studio.cli.common import CliError
-        raise CliError("avr-gcc not found: the firmware cannot be built (apt-get install …)")
+        from zuml_studio.virtual.firmware_sim import FirmwareBuildError
+        raise FirmwareBuildError("avr-gcc not found: the firmware cannot be built (apt-get install …)")
 
-    monkeypatch.setattr("zuml_studio.cli.firmware_command.build_device", broken)
+    monkeypatch.setattr("zuml_studio.virtual.firmware_sim.build_device", broken)
     assert simulated_b6.SimulatedB6                          # the module the panel starts it with
     panel = make_panel()
     with qtbot.waitSignal(panel.connectedChanged, timeout=WAIT_MS) as failed:

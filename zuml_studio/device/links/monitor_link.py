@@ -88,7 +88,7 @@ class MonitorLink:
             return dev
         # A HID driver on a serial port reads a replayed report dump (``zuml replay``): the reports
         # come as a byte stream and nothing is polled.
-        from ..zuml.client import open_serial
+        from .serial_port import open_serial
         if self.driver is None:
             self._detector = Detector()
             self._sweep = BaudSweep(first=self.baud)
@@ -174,7 +174,7 @@ class MonitorLink:
 
     def _run_hid(self) -> None:
         import importlib
-        mod = importlib.import_module(f"{__package__}.{self.driver.module}")
+        mod = importlib.import_module(f"{Driver.__module__.rpartition('.')[0]}.{self.driver.module}")   # streams/
         poll = getattr(mod, "POLL", None)
         if poll is None and hasattr(mod, "poll_request"):
             poll = mod.poll_request(0)

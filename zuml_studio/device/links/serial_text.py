@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import re
 
-from ...domain.errors import ZumlError
+from ...errors import ZumlError
 from ...i18n import _
 
 ENDINGS = {"none": b"", "lf": b"\n", "cr": b"\r", "crlf": b"\r\n"}

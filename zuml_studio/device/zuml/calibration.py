@@ -13,7 +13,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Protocol
 
-from ...domain.errors import ZumlError
+from ...errors import ZumlError
 from ...i18n import _
 from ...protocol.messages import BY_NAME, decode_response
 

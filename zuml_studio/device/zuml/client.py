@@ -12,7 +12,6 @@ run on the reader thread and must return quickly (a GUI emits a signal there).
 """
 from __future__ import annotations
 
-import errno
 import logging
 import queue
 import random
@@ -27,10 +26,9 @@ from ...protocol import messages as m
 from ...protocol import passport as pp
 from ...protocol.crc import crc16
 from ..errors import (CommitUncertain, CommitUnverified, DeviceError, DeviceLinkError, DeviceTimeout, Disconnected, ImageTooLarge,
-                     InvalidImage, NoisyLine, NotACharger, PermissionDenied, PortBusy, PortNotFound, VerifyFailed,
-                     why_lost)
+                     InvalidImage, NoisyLine, NotACharger, VerifyFailed, why_lost)
 from ...protocol.frames import MAX_FRAME, OVERHEAD, FrameParser, encode_frame
-from ..links.port_access import vanished_hint
+from ..links.serial_port import open_serial
 from ...i18n import _, ngettext
 
 log = logging.getLogger(__name__)
@@ -48,7 +46,6 @@ TIMEOUT_MARGIN_S = 0.1        # device processing and OS latency on top of the w
 # charger on a loaded machine, a Bluetooth bridge) gets the time it takes. A try that timed out waits
 # twice as long the next time, up to TIMEOUT_MAX_S.
 TIMEOUT_MAX_S = 5.0
-READ_POLL_S = 0.02
 
 
 @dataclass(frozen=True)
@@ -99,41 +96,6 @@ class _Pending:
         self.error: tuple[int, int, str] | None = None
         self.suspect = 0.0      # when garbage or a NAK arrived while waiting (0: none)
         self.nak = False        # the device said a frame reached it broken: resend at once
-
-
-def open_serial(url: str, baudrate: int = DEFAULT_BAUD, exclusive: bool = True):
-    """``serial.serial_for_url`` with its failures turned into DeviceLinkErrors."""
-    import serial
-    from ..links.port_url import check_port_url
-    check_port_url(url)
-    kwargs = dict(baudrate=baudrate, timeout=READ_POLL_S, write_timeout=5)
-    try:
-        try:
-            return serial.serial_for_url(url, exclusive=exclusive, **kwargs)
-        except TypeError:             # a URL handler without the exclusive option
-            return serial.serial_for_url(url, **kwargs)
-    except serial.SerialException as exc:
-        raise _open_error(url, exc) from None
-    except (ValueError, OSError) as exc:
-        raise DeviceLinkError(_("{url}: cannot open: {exc}").format(url=url, exc=exc)) from None
-
-
-def _open_error(url: str, exc: Exception) -> DeviceLinkError:
-    code = getattr(exc, "errno", None)
-    text = str(exc)
-    low = text.lower()
-    if "access is denied" in low:                       # Windows: another program has the port
-        return PortBusy(url, text)
-    if code == errno.EACCES or "permission denied" in low or "errno 13" in low:
-        return PermissionDenied(url, text)
-    if code in (errno.EBUSY, errno.EAGAIN) or "busy" in low or "exclusively lock" in low or "errno 16" in low:
-        return PortBusy(url, text)
-    if code == errno.ENOENT or "no such file" in low or "errno 2]" in low or "filenotfound" in low:
-        return PortNotFound(_("{url}: no such port (unplugged? run `zuml ports`).{vanished_hint}").format(
-                url=url, vanished_hint=vanished_hint(url)))
-    if "refused" in low or code == errno.ECONNREFUSED:
-        return PortNotFound(_("{url}: nothing listens there (is the virtual charger running?)").format(url=url))
-    return DeviceLinkError(_("{url}: cannot open: {text}").format(url=url, text=text))
 
 
 class ChargerClient:

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 from ...lang.decoder import decode_record
 from ...lang.eeprom import pack, slots
-from ...domain.errors import ZumlError, error_text
+from ...errors import ZumlError, error_text
 from ...i18n import _, ngettext
 
 

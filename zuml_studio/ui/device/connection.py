@@ -29,7 +29,7 @@ from ...device.zuml.client import ChargerClient, DeviceInfo
 from ...device.errors import DeviceError, Disconnected
 from ...device.links.ports import SIMULATED_B6
 from ...device.install.isp_store import ProgrammerClient, programmer_of
-from ...domain.errors import ZumlError
+from ...errors import ZumlError
 from ...error_words import describe_error
 from ...i18n import _
 

@@ -10,7 +10,8 @@ from ...protocol.passport import fitness_warnings
 from ...i18n import N_, _
 from ...lang.eeprom import Slot
 from ...safety import judge, named_template
-from ...sim.program import TASK_LABELS, TASK_WORDS, Program
+from ...domain.tasks import TASK_LABELS, TASK_WORDS
+from ...sim.program import Program
 from ...sim.reasons import lead_cells_text, shown_reason
 from ...sim.start_check import start_warnings
 from ..stacked_plot import band_label

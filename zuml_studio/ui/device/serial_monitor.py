@@ -12,7 +12,7 @@ from PySide6.QtGui import QFontDatabase, QTextCursor
 from PySide6.QtWidgets import (QButtonGroup, QCheckBox, QComboBox, QDialog, QHBoxLayout, QLabel, QLineEdit, QPlainTextEdit,
                                QPushButton, QRadioButton, QVBoxLayout, QWidget)
 
-from ...device.zuml.client import open_serial
+from ...device.links.serial_port import open_serial
 from ...device.errors import DeviceLinkError
 from ...device.links.ports import VIRTUAL
 from ...device.links.serial_lines import MonitorLines

@@ -13,7 +13,7 @@ from ...packs.health import TrendPoint
 from ...packs.report_data import SessionCurve
 from ...packs.summary import DATED_MARK, capacity_note, capacity_text, dates_note
 from .trend_plot import PackTrendPlot
-from ...domain.errors import ZumlError
+from ...errors import ZumlError
 from ...i18n import _
 
 PAGE = (800, 1131)                 # A4's proportions, in drawing units

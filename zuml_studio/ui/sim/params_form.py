@@ -13,7 +13,7 @@ from ...sim.batteries import battery_names
 from ...sim.battery import AMBIENT_MAX_C, AMBIENT_MIN_C
 from ...domain.chemistry import chemistry_names
 from ...sim.interpreter import StartParams
-from ...sim.program import TASK_LABELS
+from ...domain.tasks import TASK_LABELS
 from ...sim.charger_model import load_charger
 from ...sim.simulate import BatterySetup
 from ...domain.start_templates import factory_templates

@@ -10,7 +10,7 @@ from PySide6.QtWidgets import (QApplication, QHBoxLayout, QLabel, QScrollArea, Q
 
 from ...i18n import N_, _, ngettext
 from ...sim.charger_model import load_charger
-from ...sim.program import TASK_WORDS
+from ...domain.tasks import TASK_WORDS
 from ...sim.start_check import start_warnings
 from .. import theme
 from ..plot_export import render_with_header

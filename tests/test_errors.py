@@ -5,7 +5,7 @@ import pkgutil
 
 import zuml_studio
 from zuml_studio.protocol.passport import PassportError
-from zuml_studio.domain.errors import ZumlError, error_text
+from zuml_studio.errors import ZumlError, error_text
 from zuml_studio.logs.model import LogFormatError
 
 
