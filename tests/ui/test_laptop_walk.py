@@ -9,8 +9,7 @@ import pytest
 from PySide6.QtWidgets import QApplication
 
 from helpers import MACROS
-from test_truncation import _cut_controls, _cut_labels, _settle
-from test_window_modes import WATCHED_SHARE, share
+from window_checks import WATCHED_SHARE, _cut_controls, _cut_labels, _settle, share
 
 LAPTOP = (1366, 768)
 READABLE = {"problems": 240}    # px: narrower, the Problems list reads a word or two a line

@@ -2,114 +2,11 @@
 cell of the editor side's lists shows its whole text or has a tooltip that does; no control is
 squeezed below the size it needs or hidden behind its neighbours (in every mode), and no two
 tick labels of a plot overlap. (The device panel is checked by its own tests.)"""
-import pyqtgraph as pg
 import pytest
-from PySide6.QtCore import QEventLoop, QTimer
-from PySide6.QtGui import QImage, QPainter
-from PySide6.QtWidgets import (QAbstractButton, QAbstractItemView, QAbstractScrollArea, QAbstractSpinBox, QComboBox,
-                               QDockWidget, QLabel, QLineEdit, QTableView, QTabBar, QTreeWidget, QWidget)
+from PySide6.QtWidgets import QTableView, QTreeWidget
 
 from helpers import MACROS
-
-PADDING_PX = 6          # a cell's margins (the focus frame's on each side)
-
-
-def _settle():
-    loop = QEventLoop()
-    QTimer.singleShot(200, loop.quit)
-    loop.exec()
-
-
-def _cut_labels(root):
-    out = []
-    for label in root.findChildren(QLabel):
-        if not label.isVisible() or label.wordWrap() or label.toolTip() or not label.text():
-            continue
-        if label.textFormat() != label.textFormat().PlainText and "<" in label.text():
-            continue
-        needed = label.fontMetrics().horizontalAdvance(label.text())
-        if needed > label.contentsRect().width() + 1:
-            out.append(f"label {label.objectName() or label.text()!r}: {needed} px in {label.contentsRect().width()}")
-    return out
-
-
-CONTROLS = (QAbstractButton, QComboBox, QAbstractSpinBox, QLineEdit)
-
-
-def _scrolled(widget: QWidget) -> bool:
-    """Inside a scroll area's page (it may stand partly out of view: the area scrolls to it)."""
-    parent = widget.parentWidget()
-    while parent is not None:
-        if isinstance(parent, QAbstractScrollArea) and parent.viewport().isAncestorOf(widget):
-            return True
-        parent = parent.parentWidget()
-    return False
-
-
-def _cut_controls(root):
-    """Buttons, boxes and fields smaller than they need, or partly covered by their parents'
-    edges (a button clipped to a strip); a dock's and a tab bar's own buttons are the style's."""
-    out = []
-    for widget in root.findChildren(QWidget):
-        if not isinstance(widget, CONTROLS) or not widget.isVisible() or widget.isWindow():
-            continue
-        if isinstance(widget.parentWidget(), (QDockWidget, QTabBar, *CONTROLS)) \
-                or isinstance(widget, QAbstractButton) and isinstance(widget.parentWidget(), QAbstractScrollArea):
-            continue
-        name = widget.objectName() or getattr(widget, "text", lambda: "")() or type(widget).__name__
-        scrolled = _scrolled(widget)
-        shown = widget.visibleRegion().boundingRect()
-        if shown.isEmpty() and not scrolled:     # a dock behind another's tab: not on screen at all
-            continue
-        need = widget.minimumSizeHint()
-        if widget.height() < min(need.height(), widget.maximumHeight()) - 1:
-            out.append(f"{name!r}: {widget.height()} px high, needs {need.height()}")
-        if scrolled:
-            continue
-        if shown.height() < widget.height() - 1 or shown.width() < widget.width() - 1:
-            out.append(f"{name!r}: {shown.width()}x{shown.height()} of {widget.width()}x{widget.height()} px shown")
-    return out
-
-
-def _overlapping_ticks(plot: pg.GraphicsLayoutWidget):
-    """Tick labels of a plot's axes (all of them: a stacked plot's neighbours too) that overlap."""
-    image = QImage(8, 8, QImage.Format.Format_ARGB32)
-    painter = QPainter(image)
-    labels = []
-    for item in plot.scene().items():
-        if isinstance(item, pg.AxisItem) and item.isVisible() and item.style["showValues"]:
-            specs = item.generateDrawSpecs(painter)
-            for rect, _flags, text in (specs[2] if specs else []):
-                labels.append((item.mapRectToScene(rect), text))
-    painter.end()
-    out = []
-    for i, (a, text_a) in enumerate(labels):
-        for b, text_b in labels[i + 1:]:
-            both = a.intersected(b)
-            if both.width() > 1 and both.height() > 1:
-                out.append(f"{plot.objectName()}: tick labels {text_a!r} and {text_b!r} overlap")
-    return out
-
-
-def _cut_cells(view: QAbstractItemView):
-    out = []
-    model = view.model()
-    metrics = view.fontMetrics()
-    header = view.header() if isinstance(view, QTreeWidget) else view.horizontalHeader()
-    for row in range(model.rowCount()):
-        for col in range(model.columnCount()):
-            if header.isSectionHidden(col):
-                continue
-            index = model.index(row, col)
-            text = index.data() or ""
-            if not text or index.data(3):              # 3: the tooltip role
-                continue
-            icon = 20 if index.data(1) is not None else 0
-            width = header.sectionSize(col)
-            visible = view.viewport().width() - header.sectionViewportPosition(col)
-            if metrics.horizontalAdvance(text) + icon + PADDING_PX > min(width, max(visible, 0)):
-                out.append(f"{view.objectName()} row {row} col {col}: {text!r}")
-    return out
+from window_checks import _cut_cells, _cut_controls, _cut_labels, _overlapping_ticks, _settle
 
 
 @pytest.mark.parametrize("macro", ["NiMh", "LiPo"])

@@ -6,7 +6,7 @@ from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QLabel, QPushButton, QVBoxLayout, QWidget
 
 from helpers import MACROS
-from test_truncation import _cut_controls, _overlapping_ticks, _settle
+from window_checks import _cut_controls, _overlapping_ticks, _settle
 
 
 def test_a_button_clipped_to_a_strip_is_found(qtbot):

@@ -6,12 +6,7 @@ from PySide6.QtCore import QPoint, Qt
 from PySide6.QtGui import QColor, QPalette
 
 from helpers import MACROS, contrast_ratio
-
-WATCHED_SHARE = 0.60
-
-
-def share(widget, window) -> float:
-    return widget.width() * widget.height() / (window.width() * window.height())
+from window_checks import WATCHED_SHARE, share
 
 
 def double_click(qtbot, widget):

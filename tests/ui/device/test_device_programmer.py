@@ -7,7 +7,7 @@ from PySide6.QtCore import Qt
 
 from device_helpers import WAIT_MS, connect
 from stk500_chip import Atmega32, Stk500Programmer
-from test_flash_programmer_cli import ZUML_FLASH, b6_eeprom
+from b6_eeprom import ZUML_FLASH, b6_eeprom
 from tools import AVRDUDE, needs
 from zuml_studio.device.isp_store import IMAGE_SIZE, TEMPLATES_AT
 from zuml_studio.lang.eeprom import slots

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from device_helpers import WAIT_MS, connect, flash_and_start
-from test_i18n_walk import clipped, english, untranslated, walk
+from window_checks import clipped, english, untranslated, walk
 from zuml_studio import i18n
 from zuml_studio.ui.device.confirm_dialogs import restore_text
 from zuml_studio.ui.device.unsafe_dialog import warnings_dialog
