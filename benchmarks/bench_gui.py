@@ -307,7 +307,7 @@ def main() -> None:
     quick = "--quick" in sys.argv
     app = QApplication.instance() or QApplication(sys.argv[:1])
     from zuml_studio.ui import create_main_window
-    from zuml_studio.ui.gui_thread_gc import collect_on_gui_thread
+    from zuml_studio.ui.base.gui_thread_gc import collect_on_gui_thread
 
     collector = collect_on_gui_thread()         # as the application does (ui/app.py)
     collections = _CollectionTimes()

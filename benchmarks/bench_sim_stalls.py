@@ -130,7 +130,7 @@ def main() -> None:
     toggle_ms = int(sys.argv[sys.argv.index("--toggle-ms") + 1]) if "--toggle-ms" in sys.argv else TOGGLE_MS
     app = QApplication.instance() or QApplication(sys.argv[:1])
     from zuml_studio.ui import create_main_window
-    from zuml_studio.ui.gui_thread_gc import collect_on_gui_thread
+    from zuml_studio.ui.base.gui_thread_gc import collect_on_gui_thread
 
     collector = collect_on_gui_thread()         # as the application does (ui/app.py)
     painted = Slices.watch_paints() if "--slices" in sys.argv else {}

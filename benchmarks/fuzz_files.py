@@ -245,10 +245,10 @@ def settings_fuzz(c: Campaign, n: int, tmp: Path) -> int:
     """settings.ini as a user may have edited it: every value the window reads, garbled."""
     from PySide6.QtCore import QSettings
     from PySide6.QtWidgets import QApplication, QMainWindow
-    from zuml_studio.ui.language import saved_preference
-    from zuml_studio.ui.main_window import MainWindow
-    from zuml_studio.ui.preferences import Preferences
-    from zuml_studio.ui.settings_values import bytes_value, text_value
+    from zuml_studio.ui.base.language import saved_preference
+    from zuml_studio.ui.window.main_window import MainWindow
+    from zuml_studio.ui.window.preferences import Preferences
+    from zuml_studio.ui.base.settings_values import bytes_value, text_value
 
     app = QApplication.instance() or QApplication([])
     window = QMainWindow()

@@ -38,14 +38,14 @@ def _application():
     from PySide6.QtWidgets import QApplication
 
     from zuml_studio import i18n
-    from zuml_studio.ui.gui_thread_gc import collect_on_gui_thread
-    from zuml_studio.ui.language import install_qt_catalogue
+    from zuml_studio.ui.base.gui_thread_gc import collect_on_gui_thread
+    from zuml_studio.ui.base.language import install_qt_catalogue
 
     i18n.install(i18n.choose_language())
     app = QApplication.instance() or QApplication([])
     install_qt_catalogue(i18n.current_language())
     if os.environ.get(THEME_ENV):
-        from zuml_studio.ui.theme import apply_theme
+        from zuml_studio.ui.base.theme import apply_theme
 
         apply_theme(os.environ[THEME_ENV])
     return app, collect_on_gui_thread()
@@ -56,7 +56,7 @@ def _visual_shot(out: Path) -> None:
     app, collector = _application()
     from zuml_studio import data
     from zuml_studio.ui.editor.code_editor import CodeEditor
-    from zuml_studio.ui.validation import Validator
+    from zuml_studio.ui.editor.validation import Validator
     from zuml_studio.ui.visual import VisualEditor
 
     editor = CodeEditor()

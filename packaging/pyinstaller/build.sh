@@ -40,7 +40,7 @@ step "installing it into a clean venv (dependencies pinned by requirements.lock)
 "$WORK/venv/bin/python" -m pip install "${PIP[@]}" --constraint "$ROOT/requirements.lock" "$WHEEL" \
     -r "$HERE/requirements.txt"
 
-if ! lacking="$("$WORK/venv/bin/python" -m zuml_studio.ui.qt_platform_libs)"; then
+if ! lacking="$("$WORK/venv/bin/python" -m zuml_studio.ui.base.qt_platform_libs)"; then
     # PyInstaller bundles the X11 libraries it finds here; those missing here, users will need.
     printf 'warning: the bundle will lack what this machine lacks; install it here and rebuild:\n%s\n' \
         "$lacking" >&2

@@ -116,7 +116,7 @@ def test_scipy_is_imported_only_when_a_fit_runs():
     import subprocess
     import sys
     code = ("import sys, zuml_studio.cli.main, zuml_studio.sim.fit, zuml_studio.sim.compare, "
-            "zuml_studio.ui.main_window, zuml_studio.ui.sim.compare_dialog; print('scipy' in sys.modules)")
+            "zuml_studio.ui.window.main_window, zuml_studio.ui.sim.compare_dialog; print('scipy' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert out.stdout.strip() == "False", out.stderr
 

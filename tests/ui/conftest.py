@@ -4,11 +4,11 @@ import pytest
 
 @pytest.fixture(scope="session", autouse=True)
 def gc_on_the_gui_thread(qapp):
-    """As the application does (ui/gui_thread_gc.py): a worker thread must never collect a
+    """As the application does (ui/base/gui_thread_gc.py): a worker thread must never collect a
     previous test's widgets."""
     import gc
 
-    from zuml_studio.ui.gui_thread_gc import collect_on_gui_thread
+    from zuml_studio.ui.base.gui_thread_gc import collect_on_gui_thread
 
     collector = collect_on_gui_thread()
     yield collector
@@ -75,7 +75,7 @@ def no_unexpected_restore_question(monkeypatch):
 @pytest.fixture
 def system_theme():
     """Give the application back the desktop's palette after a test chose one."""
-    from zuml_studio.ui import theme
+    from zuml_studio.ui.base import theme
 
     yield
     theme.apply_theme("system")

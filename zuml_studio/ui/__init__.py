@@ -13,7 +13,7 @@ GIL_SWITCH_S = 0.0005
 def create_main_window(path: str | None = None, config: Path | None = None):
     """The ready main window, with ``path`` open if given, else the file open when it last
     closed; needs a QApplication, not its event loop."""
-    from .main_window import MainWindow
+    from .window.main_window import MainWindow
 
     sys.setswitchinterval(GIL_SWITCH_S)
     window = MainWindow(config)

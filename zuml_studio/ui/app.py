@@ -55,7 +55,7 @@ def _install_language() -> str:
     """Our language, before the command line is parsed (its help is translated) and before any
     window is built (every text is translated where it is made)."""
     from ..user_dirs import config_dir
-    from .language import install_language, saved_preference
+    from .base.language import install_language, saved_preference
 
     return install_language(saved_preference(config_dir()))
 
@@ -72,7 +72,7 @@ def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     if args.screenshot:
         os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
-    from .qt_platform_libs import check
+    from .base.qt_platform_libs import check
 
     lacking = check()
     if lacking:          # Qt would abort with a misleading message; say what is wrong instead
@@ -83,8 +83,8 @@ def main(argv: list[str] | None = None) -> int:
 
     from .. import APP_ID, data
     from . import create_main_window
-    from .gui_thread_gc import collect_on_gui_thread
-    from .language import install_qt_catalogue
+    from .base.gui_thread_gc import collect_on_gui_thread
+    from .base.language import install_qt_catalogue
 
     app = QApplication.instance() or QApplication(sys.argv[:1])
     app.setApplicationName("ZUML Studio")
@@ -129,7 +129,7 @@ def _rebuilt(path: str | None):
     """The window built again after Restart Now, in the language now chosen."""
     from ..user_dirs import config_dir
     from . import create_main_window
-    from .language import reinstall
+    from .base.language import reinstall
 
     reinstall(config_dir())
     window = create_main_window(path)

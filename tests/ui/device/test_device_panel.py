@@ -178,7 +178,7 @@ def test_layout_fits_a_small_dock(qtbot, make_panel):
 @pytest.mark.parametrize("choice", ["dark", "light"])
 def test_the_panel_s_coloured_texts_follow_the_palette(qtbot, make_panel, choice):
     from PySide6.QtWidgets import QApplication
-    from zuml_studio.ui import theme
+    from zuml_studio.ui.base import theme
     panel = make_panel()
     panel.show_message("Flashed", "ok")
     try:

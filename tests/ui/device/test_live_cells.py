@@ -6,7 +6,7 @@ from dataclasses import dataclass
 import numpy as np
 import pytest
 
-from zuml_studio.ui.cell_curves import cell_hue
+from zuml_studio.ui.plots.cell_curves import cell_hue
 from zuml_studio.ui.device.live_view import LiveView
 
 

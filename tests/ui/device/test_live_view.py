@@ -7,9 +7,9 @@ from PySide6.QtWidgets import QApplication
 
 from helpers import contrast_ratio
 from zuml_studio.device.messages import Telemetry
-from zuml_studio.ui import theme
+from zuml_studio.ui.base import theme
 from zuml_studio.ui.device.live_view import LiveView
-from zuml_studio.ui.stacked_plot import covered
+from zuml_studio.ui.plots.stacked_plot import covered
 
 
 def frame(t, v, i, temp=25.0, heatsink=30.0):

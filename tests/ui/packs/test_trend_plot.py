@@ -1,7 +1,7 @@
 """The trend plots (issue 33 §2): unknown resistance draws no line and says "–", the axis reads
 "mΩ/cell" without a scale factor, and the plots follow the light and dark themes."""
 from zuml_studio.packs.health import TrendPoint
-from zuml_studio.ui import theme
+from zuml_studio.ui.base import theme
 from zuml_studio.ui.packs.trend_plot import PackTrendPlot
 
 POINTS = [TrendPoint("2024-01-01", "a.lov", 95.0, None, 10.0), TrendPoint("2024-06-01", "b.lov", 92.0, None, 12.0)]

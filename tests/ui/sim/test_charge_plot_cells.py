@@ -6,10 +6,10 @@ import pytest
 from PySide6.QtWidgets import QVBoxLayout, QWidget
 
 from cell_logs import WEAK_CELL, lipo_run
-from zuml_studio.ui import theme
-from zuml_studio.ui.cell_curves import cell_hue
+from zuml_studio.ui.base import theme
+from zuml_studio.ui.plots.cell_curves import cell_hue
 from zuml_studio.ui.sim.charge_plot import ChargePlot
-from zuml_studio.ui.sim.plot_data import HIGHEST, LOWEST, cell_columns, prepare_plot
+from zuml_studio.ui.plots.plot_data import HIGHEST, LOWEST, cell_columns, prepare_plot
 
 
 @pytest.fixture

@@ -225,7 +225,7 @@ def test_a_cycle_logs_discharge_is_chosen_and_fitted_on_its_own(dialog, qtbot):
 
 
 def test_a_log_with_a_balance_tap_per_cell_shows_its_cells_in_the_pack_cells_hues(dialog, qtbot):
-    from zuml_studio.ui import theme
+    from zuml_studio.ui.base import theme
     logs = helpers.ROOT / "tests" / "data" / "logs"
     assert dialog.load_log(str(logs / "406DUO_Turnigy_4S_1500_A_Charge_0_CH1.txt"))
     assert dialog.cells.value() == 4

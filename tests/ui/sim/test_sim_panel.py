@@ -9,7 +9,7 @@ from PySide6.QtCore import QPoint, Qt
 from helpers import WAIT_MS
 from zuml_studio.sim.samples import COLUMNS
 from zuml_studio.ui.sim.params_form import FROM_AKK
-from zuml_studio.ui.sim.phase_table import DEFAULT_TIP, NOTES_COLUMN, REASON_COLUMN, TIMER_TIP
+from zuml_studio.ui.plots.phase_table import DEFAULT_TIP, NOTES_COLUMN, REASON_COLUMN, TIMER_TIP
 from zuml_studio.ui.sim.sim_panel import STALE_HINT
 
 LIPO = dict(capacity_mah=2000, current_a=2.0, series=3)

@@ -11,7 +11,7 @@ from helpers import bare_seed
 def visual(qtbot):
     """A CodeEditor, a Validator (short debounce) and the VisualEditor, wired as the window does."""
     from zuml_studio.ui.editor.code_editor import CodeEditor
-    from zuml_studio.ui.validation import Validator
+    from zuml_studio.ui.editor.validation import Validator
     from zuml_studio.ui.visual import VisualEditor
 
     def make(text=None, size=(800, 650)):

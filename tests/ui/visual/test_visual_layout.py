@@ -5,7 +5,7 @@ from PySide6.QtGui import QColor
 from PySide6.QtWidgets import QApplication, QBoxLayout
 
 from helpers import MACROS
-from zuml_studio.ui import theme
+from zuml_studio.ui.base import theme
 from zuml_studio.ui.visual import style
 from zuml_studio.ui.visual.cards import PhaseCard
 

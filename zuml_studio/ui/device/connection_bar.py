@@ -14,8 +14,8 @@ from ...device.drivers import AUTO, DRIVERS, ZUML
 from ...device.passport import akk_name
 from ...device.ports import VIRTUAL
 from ...i18n import _
-from ..cell_fields import CellFields
-from ..number_boxes import form_field
+from ..base.cell_fields import CellFields
+from ..base.number_boxes import form_field
 from .connection import VirtualSpec
 from .device_style import DEFAULT_BATTERY, FIELD_WIDTH, ElidedCombo, ElidedLabel, field_spin, tint
 from .port_chooser import PortChooser

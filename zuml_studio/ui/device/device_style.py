@@ -10,8 +10,8 @@ from PySide6.QtWidgets import (QAbstractSpinBox, QApplication, QBoxLayout, QComb
                                QHBoxLayout, QLabel, QScrollArea, QSizePolicy, QSpinBox, QSplitter, QStyle, QStyleOptionComboBox,
                                QStylePainter, QToolTip, QVBoxLayout, QWidget)
 
-from .. import theme
-from ..number_boxes import double_spin_box, form_field, spin_box
+from ..base import theme
+from ..base.number_boxes import double_spin_box, form_field, spin_box
 
 FIELD_WIDTH = 92
 DEFAULT_BATTERY = ("NiMh", 2000, 4)

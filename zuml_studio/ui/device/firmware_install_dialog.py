@@ -14,7 +14,7 @@ from PySide6.QtWidgets import (QCheckBox, QComboBox, QDialog, QDialogButtonBox, 
 from ...device import avr_install
 from ...device.avrdude import Programmer
 from ...i18n import _
-from ..background import BackgroundCall
+from ..base.background import BackgroundCall
 from .confirm_dialogs import ask_warning
 
 PROGRAMMERS = ("usbasp", "stk500v1", "avrisp", "arduino", "usbtiny")

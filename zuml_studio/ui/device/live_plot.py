@@ -1,6 +1,6 @@
 """The live plot of a charger's telemetry: pack voltage, signed current, battery and heat-sink
 temperature stacked over one h:mm time axis, with the phases as bands from the device's
-EVENT frames, in the simulator plot's look (``ui/stacked_plot.py``).
+EVENT frames, in the simulator plot's look (``ui/plots/stacked_plot.py``).
 
 Data path (ide.md §3, §7): the client's reader thread calls ``LiveSeries.add_telemetry`` /
 ``add_event`` (no Qt there: numpy buffers under a lock); a QTimer at about 30 Hz takes
@@ -14,7 +14,7 @@ than once per frame), antialiasing off.
 Per-cell voltages (``Telemetry.cells_v``, where the charger measures them at the balance port)
 go to a second table, made at the first frame that has any and row for row with the first from
 then on, so a session without them costs nothing; they are drawn as the simulator draws a pack's
-cells (``ui/cell_curves.py``).
+cells (``ui/plots/cell_curves.py``).
 
 The x axis is the macro's clock. Telemetry is plotted while a macro runs; a new run (its
 clock starts again) continues after the previous one, so the session stays one
@@ -35,12 +35,12 @@ from PySide6.QtCore import Qt, QTimer, Signal
 from ...i18n import _
 from ...logs import gaps
 from ...sim.interpreter import PhaseResult
-from ..cell_curves import CellCurves
-from ..plot_backdrop import BackdropItem
-from ..sim.plot_data import cell_curves
-from ..stacked_plot import StackedPlot, band_label, curve_pen
-from .envelope import FANOUT, Envelope
-from .growing_buffer import GrowingBuffer
+from ..plots.cell_curves import CellCurves
+from ..plots.plot_backdrop import BackdropItem
+from ..plots.plot_data import cell_curves
+from ..plots.stacked_plot import StackedPlot, band_label, curve_pen
+from ..plots.envelope import FANOUT, Envelope
+from ..plots.growing_buffer import GrowingBuffer
 
 COLUMNS = ("t", "voltage", "current", "temp", "heatsink")
 REDRAW_MS = 33                     # ~30 Hz

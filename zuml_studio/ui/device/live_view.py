@@ -13,10 +13,10 @@ from PySide6.QtWidgets import (QCheckBox, QComboBox, QGridLayout, QHBoxLayout, Q
                                QSplitter, QStyle, QToolButton, QVBoxLayout, QWidget)
 
 from ...i18n import N_, _
-from .. import theme
-from ..plot_cursor import CursorReadout
-from ..sim.phase_table import COLUMNS as PHASE_COLUMNS
-from ..sim.phase_table import PhaseTable, run_summary
+from ..base import theme
+from ..plots.plot_cursor import CursorReadout
+from ..plots.phase_table import COLUMNS as PHASE_COLUMNS
+from ..plots.phase_table import PhaseTable, run_summary
 from .device_style import ElidedCombo, field_spin
 from .live_plot import DEFAULT_FOLLOW_MIN, LivePlot, LiveSeries
 

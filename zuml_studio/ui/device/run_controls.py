@@ -13,8 +13,8 @@ from ...safety import judge, named_template
 from ...sim.program import TASK_LABELS, TASK_WORDS, Program
 from ...sim.reasons import lead_cells_text, shown_reason
 from ...sim.start_check import start_warnings
-from ..stacked_plot import band_label
-from ..timefmt import hmmss
+from ..plots.stacked_plot import band_label
+from ..base.timefmt import hmmss
 from . import unsafe_dialog
 from .connection import DeviceConnection, describe_error
 from .device_style import DEFAULT_BATTERY, ElidedCombo, ElidedLabel, field_double, field_spin, heading

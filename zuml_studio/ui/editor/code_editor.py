@@ -20,7 +20,7 @@ from PySide6.QtWidgets import QPlainTextDocumentLayout, QPlainTextEdit, QTextEdi
 
 from ...i18n import _
 from ...lang.diagnostics import RANK, Diagnostic, Severity
-from .. import theme
+from ..base import theme
 from . import indent
 from .completion import ZumlCompleter
 from .find_bar import FindBar

@@ -15,7 +15,7 @@ from PySide6.QtGui import QColor, QFont, QSyntaxHighlighter, QTextCharFormat, QT
 from ...i18n import _
 from ...lang import opcodes, operands
 from ...lang.opcodes import Role
-from ..theme import LIGHT, Colours
+from ..base.theme import LIGHT, Colours
 
 # -- what the words mean (built once, at import) ------------------------------------------
 

@@ -17,8 +17,8 @@ from ...logs.model import Phase, charge_check_text, time_order_text
 from ...logs.cycles import split_cycles
 from ...logs.summary import summarize
 from ...logs.window_stats import Between, between
-from .. import theme
-from ..timefmt import duration, hmmss
+from ..base import theme
+from ..base.timefmt import duration, hmmss
 from .log_plot import STATE_WORDS, LogPlot
 
 SIDE_WIDTH = 250

@@ -1,5 +1,5 @@
 """A log file in the stacked V/I/T plot the simulator and the live view share
-(``ui/stacked_plot.py``): phase bands from the log's states, per-cell voltages on the
+(``ui/plots/stacked_plot.py``): phase bands from the log's states, per-cell voltages on the
 per-cell axis, other logs or cycles laid over in their own colours, and a crosshair whose
 readout names time, V, I, T and phase at the cursor.
 
@@ -27,9 +27,9 @@ from ...i18n import N_, _
 from ...logs import Log, gaps
 from ...logs.model import Phase, state_of
 from ...logs.window_stats import deviation_mv
-from ..plot_backdrop import BackdropItem
-from ..stacked_plot import StackedPlot, curve_pen
-from ..timefmt import hmmss
+from ..plots.plot_backdrop import BackdropItem
+from ..plots.stacked_plot import StackedPlot, curve_pen
+from ..base.timefmt import hmmss
 
 BAND_STATES = ("charge", "discharge", "pause")
 DEVIATION_HUE = 4                 # the grey of the overlay hues: apart from both temperatures' hues

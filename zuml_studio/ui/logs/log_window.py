@@ -11,9 +11,9 @@ from ...i18n import N_, _, ngettext
 from ...file_errors import FileReadError, read_file_bytes
 from ...logs import Log, LogFormatError, csv_import, read_log_file
 from ...logs.export import write_csv
-from ..background import BackgroundCall
-from ..settings_values import text_value
-from ..window_geometry import place_on_screen
+from ..base.background import BackgroundCall
+from ..base.settings_values import text_value
+from ..base.window_geometry import place_on_screen
 from .csv_dialog import CsvChoices, CsvDialog, key_hash
 from .log_document import HiddenCurves, LogDocument, Prepared, prepare
 

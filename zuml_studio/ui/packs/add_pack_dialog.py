@@ -7,7 +7,7 @@ from PySide6.QtWidgets import (QCheckBox, QComboBox, QDateEdit, QDialog, QDialog
 
 from ...packs.db import Logbook, LogbookError
 from ...packs.register import Pack, PackError, add_pack
-from .. import theme
+from ..base import theme
 from ...i18n import _
 
 CHEMISTRIES = ("LiPo", "LiIon", "LiFe", "NiMh", "NiCd", "Pb")

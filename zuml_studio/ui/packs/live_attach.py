@@ -13,7 +13,7 @@ from ...packs.live import RunCollector, record_run
 from ...packs.register import Pack, attach, attachment, attachment_key, list_packs
 from ...packs.sessions import ImportResult
 from ...i18n import _
-from ..background import BackgroundCall
+from ..base.background import BackgroundCall
 
 CANCELLED = object()        # ask_pack's answer when the user closed the question: neither attach nor remember
 

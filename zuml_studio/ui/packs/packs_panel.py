@@ -20,8 +20,8 @@ from ...sim.fit_predict import trust_words
 from ...packs.register import Pack, PackError, forget_attachments, get_pack, list_packs, remove_pack
 from ...packs.sessions import ImportResult, import_files, pack_sessions, remove_session
 from ...packs.summary import capacity_note, capacity_text, pack_summary, write_sessions_csv
-from .. import theme
-from ..background import BackgroundCall
+from ..base import theme
+from ..base.background import BackgroundCall
 from ..device.confirm_dialogs import documents_folder
 from .add_pack_dialog import AddPackDialog
 from .report import ReportError, write_report

@@ -9,8 +9,8 @@ import pyqtgraph as pg
 from PySide6.QtCore import QEvent, Qt
 
 from ...packs.health import CAPACITY_MIN_SHARE, CELL_DEVIATION_MAX_MV, RESISTANCE_MAX_GROWTH, TrendPoint
-from .. import theme
-from ..stacked_plot import colour_axes, curve_pen
+from ..base import theme
+from ..plots.stacked_plot import colour_axes, curve_pen
 from ...i18n import N_, _
 
 # (field, axis title, the quantity hue it borrows)

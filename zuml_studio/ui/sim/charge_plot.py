@@ -1,7 +1,7 @@
 """The simulated run as a charger's display would draw it, only better: voltage,
 current and temperature stacked over one h:mm time axis, with the phases as shaded
 bands labelled by what ended them, and the heat-sink pauses as grey bands over them
-(the look is ``ui/stacked_plot.py``'s).
+(the look is ``ui/plots/stacked_plot.py``'s).
 
 The GUI thread's share stays small whatever the run's length: the worker hands over the
 run with its arrays and min/max envelopes ready (``plot_data.py``), each view is drawn
@@ -20,12 +20,12 @@ from PySide6.QtGui import QPainter, QPicture
 
 from ...i18n import _
 from ...logs import gaps
-from ..cell_curves import CellCurves
-from ..plot_backdrop import BackdropItem
-from ..plot_cursor import CursorReadout
-from ..stacked_plot import StackedPlot, band_label, band_warns, curve_pen
-from ..timefmt import hmmss
-from .plot_data import CLOCK, CURVES, HIGHEST, LOWEST, PlotData
+from ..plots.cell_curves import CellCurves
+from ..plots.plot_backdrop import BackdropItem
+from ..plots.plot_cursor import CursorReadout
+from ..plots.stacked_plot import StackedPlot, band_label, band_warns, curve_pen
+from ..base.timefmt import hmmss
+from ..plots.plot_data import CLOCK, CURVES, HIGHEST, LOWEST, PlotData
 
 LABELS_PER_TURN = 8
 

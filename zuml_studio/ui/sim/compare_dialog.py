@@ -22,11 +22,11 @@ from ...sim.fit_discharge import fit_curve
 from ...sim.fit_predict import predict_own, prediction_line, trust_words
 from ...sim.fit_report import figure_lines, param_lines, resistance_words
 from ...sim.interpreter import StartError
-from .. import theme
-from ..background import BackgroundCall
-from ..cell_curves import legend_name
+from ..base import theme
+from ..base.background import BackgroundCall
+from ..plots.cell_curves import legend_name
 from .compare_plots import ComparePlots, cell_role
-from .plot_data import cell_curves
+from ..plots.plot_data import cell_curves
 
 
 CELLS_DIFFER_V = 0.002     # cells within this of each other all along: one line would do

@@ -9,10 +9,10 @@ from PySide6.QtCore import QEvent
 
 from ...i18n import _
 from ...logs import gaps
-from .. import theme
-from ..cell_curves import CELL_WIDTH, HIGHEST_HUE, LOWEST_HUE, cell_hue
-from ..stacked_plot import colour_axes, curve_pen
-from .plot_data import CellCurve
+from ..base import theme
+from ..plots.cell_curves import CELL_WIDTH, HIGHEST_HUE, LOWEST_HUE, cell_hue
+from ..plots.stacked_plot import colour_axes, curve_pen
+from ..plots.plot_data import CellCurve
 
 LINE_WIDTH = 1.5
 CELL_ROLE = "cell:"

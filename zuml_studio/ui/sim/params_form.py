@@ -17,9 +17,9 @@ from ...sim.program import TASK_LABELS
 from ...sim.charger_model import load_charger
 from ...sim.simulate import BatterySetup
 from ...sim.start_templates import factory_templates
-from ..cell_fields import DEFAULT_SEED, CellFields
-from ..number_boxes import double_spin_box, form_field, spin_box
-from ..timefmt import elapsed
+from ..base.cell_fields import DEFAULT_SEED, CellFields
+from ..base.number_boxes import double_spin_box, form_field, spin_box
+from ..base.timefmt import elapsed
 
 FROM_AKK = N_("from AKK_TYPE")
 NAMED = "battery:"      # Model box data of a saved fitted battery

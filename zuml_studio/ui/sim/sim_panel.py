@@ -12,12 +12,12 @@ from ...i18n import N_, _, ngettext
 from ...sim.charger_model import load_charger
 from ...sim.program import TASK_WORDS
 from ...sim.start_check import start_warnings
-from .. import theme
-from ..plot_export import render_with_header
-from ..timefmt import elapsed
+from ..base import theme
+from ..plots.plot_export import render_with_header
+from ..base.timefmt import elapsed
 from .charge_plot import ChargePlot
 from .params_form import ParamsForm
-from .phase_table import PhaseTable, totals_text
+from ..plots.phase_table import PhaseTable, totals_text
 from .worker import SimJob, SimRequest, warm_up
 
 DEBOUNCE_MS = 300

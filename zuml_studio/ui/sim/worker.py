@@ -22,7 +22,7 @@ from PySide6.QtCore import QObject, Qt, QThread, Signal, Slot
 from ...i18n import _, current_language
 from . import sim_process
 from .sim_process import SimRequest
-from .plot_data import prepare_plot
+from ..plots.plot_data import prepare_plot
 
 CHUNK_TICKS = 20_000          # about 0.1–0.2 s of work: a cancel is seen that quickly
 POLL_S = 0.02                 # how often the worker looks for a cancel while the child computes

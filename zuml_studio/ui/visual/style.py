@@ -6,7 +6,7 @@ from string import Template
 
 from PySide6.QtGui import QPalette
 
-from .. import theme
+from ..base import theme
 from ...i18n import N_
 
 SECTION_TITLES = {"discharge": N_("Discharge"), "charge": N_("Charge")}

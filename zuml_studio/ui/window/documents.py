@@ -16,8 +16,8 @@ from ... import data
 from ...i18n import _, ngettext
 from ...macro_file import EXTENSION, MacroFile, MacroFileError, read_macro_file, write_macro_file
 from ...recovery import Recovered, RecoveryStore, atomic_write
-from ..plot_export import PlotExportDialog
-from ..settings_values import text_value
+from ..plots.plot_export import PlotExportDialog
+from ..base.settings_values import text_value
 from ..visual import NewMacroWizard
 
 APP_NAME = "ZUML Studio"

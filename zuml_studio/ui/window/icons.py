@@ -7,7 +7,7 @@ from __future__ import annotations
 from PySide6.QtCore import QPointF, QRectF, Qt
 from PySide6.QtGui import QColor, QIcon, QPainter, QPainterPath, QPalette, QPen, QPixmap, QPolygonF
 
-from .. import theme
+from ..base import theme
 
 SIZE = 24           # the icon's logical size; drawn at twice that for scaled screens
 SCALE = 2

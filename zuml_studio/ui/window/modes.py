@@ -9,7 +9,7 @@ from collections.abc import Callable
 from PySide6.QtCore import QObject, QSettings, QTimer, Signal
 from PySide6.QtWidgets import QMainWindow, QWidget
 
-from ..settings_values import bytes_value, text_value
+from ..base.settings_values import bytes_value, text_value
 from .docks import CHARGE, MODES, WRITE
 
 MODE_KEY = "layout/mode"

@@ -1,0 +1,1 @@
+"""The foundations of the window, below every other ui package."""
