@@ -1,8 +1,9 @@
 """The Device panel: connect to a charger (or the built-in virtual one), flash the editor's
-macro, start and stop it, watch its telemetry live.
+macro, start and stop it, watch its telemetry live; the serial monitor, calibration and
+firmware install dialogs, and the questions asked before what cannot be undone. Imports only
+ui.plots and ui.base.
 
-Qt-free parts (``growing_buffer``, ``envelope``) import without Qt; ``DevicePanel`` is
-loaded on first use."""
+``DevicePanel`` is loaded on first use."""
 from __future__ import annotations
 
 

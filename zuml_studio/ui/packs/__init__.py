@@ -1,4 +1,6 @@
-"""The Packs dock (the battery logbook's view) and how the main window takes it in."""
+"""The Packs dock (the battery logbook's view) and how the main window takes it in. Imports
+ui.sim (the simulator form's named batteries), ui.device (the folder backups start in),
+ui.plots and ui.base."""
 from __future__ import annotations
 
 from PySide6.QtWidgets import QDockWidget

@@ -5,7 +5,7 @@ line, colour and legend entry (cell k the k-th from the pack's negative end, the
 both plots); more are drawn as the lowest and the highest cell with the spread between them
 shaded. While a balancer bleeds a cell, its line is drawn again wide and translucent over it.
 
-Which curves to draw comes from ``sim.plot_data.CellCurve`` (the simulator's columns, or the live
+Which curves to draw comes from ``plot_data.CellCurve`` (the simulator's columns, or the live
 view's): this module only draws them."""
 from __future__ import annotations
 

@@ -1,4 +1,5 @@
-"""The visual macro editor (phase cards over the same text) and the new-macro wizard dialog."""
+"""The visual macro editor (phase cards over the same text) and the new-macro wizard dialog.
+Imports only ui.base."""
 from .visual_editor import VisualEditor
 
 __all__ = ["VisualEditor", "NewMacroWizard"]

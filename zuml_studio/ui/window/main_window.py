@@ -1,6 +1,6 @@
 """ZUML Studio's main window: the editor in the centre, the library on the left, the bytes on
 the right, problems and the simulator below, in one of three modes (Write, Simulate, Charge).
-It builds itself from its parts (``ui/window/``: the actions and menus, the docks, the modes,
+It builds itself from its parts (the other modules of ``ui/window/``: the actions and menus, the docks, the modes,
 a maximised plot, the document's files) and wires the panels together."""
 from __future__ import annotations
 
