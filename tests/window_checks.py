@@ -20,7 +20,7 @@ from zuml_studio.lang.operands import AKK_TYPE, DISPLAY_NAMES
 from zuml_studio.streams.drivers import DRIVERS
 from zuml_studio.ui.device.device_style import ElidedCombo, ElidedLabel
 from zuml_studio.sim.charger_model import load_charger
-from zuml_studio.sim.chemistry import chemistry_names
+from zuml_studio.domain.chemistry import chemistry_names
 
 # -- a widget's share of the window (test_window_modes) ---------------------------------------------
 

@@ -5,7 +5,7 @@ import random
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from realdata import (ICHARGER_HID_REPORT, IMAXB6_README_FRAME, dollar_lines, imaxb6_frames, isdt_frames, raw,
+from realdata_samples import (ICHARGER_HID_REPORT, IMAXB6_README_FRAME, dollar_lines, imaxb6_frames, isdt_frames, raw,
                       skyrc_reply, ultramat_sections)
 from zuml_studio.streams.autodetect import BaudSweep, Detector, usual_bauds
 from zuml_studio.streams.drivers import DRIVERS, CaptureError, decode_capture, hex_dump_reports

@@ -4,7 +4,7 @@ import csv
 
 import pytest
 
-from realdata import (ICHARGER_HID_REPORT, IMAXB6_README_FRAME, dollar_lines, imaxb6_frames, isdt_frames, path,
+from realdata_samples import (ICHARGER_HID_REPORT, IMAXB6_README_FRAME, dollar_lines, imaxb6_frames, isdt_frames, path,
                       raw, skyrc_reply, ultramat_sections)
 from zuml_studio.streams import cheali, icharger_hid, icharger_logview, imaxb6_serial, isdt_hid, skyrc_hid, ultramat
 

@@ -6,7 +6,7 @@ import types
 
 import pytest
 
-from realdata import ICHARGER_HID_REPORT, isdt_frames
+from realdata_samples import ICHARGER_HID_REPORT, isdt_frames
 from zuml_studio.streams import isdt_hid
 from zuml_studio.device.errors import DeviceLinkError
 from zuml_studio.device.links.hid_link import list_hid_chargers, parse_port

@@ -2,7 +2,7 @@
 their text forms."""
 from pathlib import Path
 
-DATA = Path(__file__).resolve().parents[1] / "data" / "realdata"
+DATA = Path(__file__).resolve().parent / "data" / "realdata"
 
 
 def path(name: str) -> Path:
