@@ -99,7 +99,7 @@ def test_monitor_names_what_it_tried_on_a_port_of_junk(tmp_path):
 def test_a_hid_report_dump_replays_to_its_driver(tmp_path):
     """HID report dumps play onto a pty too; `--driver NAME` reads them (auto is for serial chargers)."""
     sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "device"))
-    from realdata import ICHARGER_HID_REPORT
+    from realdata_samples import ICHARGER_HID_REPORT
     dump = tmp_path / "icharger-hid.txt"
     dump.write_text("# three log reports\n" + "".join(f"RX {ICHARGER_HID_REPORT[:44].hex(' ')}\n" for _ in range(3)))
     proc, port = _replay(str(dump), "--speed", "100")

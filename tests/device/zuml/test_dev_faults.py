@@ -149,7 +149,7 @@ def test_a_monitor_only_charger_whose_cable_is_pulled_says_the_zuml_links_senten
     # issue 27: pyserial's "device reports readiness to read but returned no data ..." was shown
     import os
     import threading
-    from realdata import dollar_lines
+    from realdata_samples import dollar_lines
     from zuml_studio.device.links.monitor_link import MonitorLink
     master, slave = os.openpty()
     sampled, closed, why = threading.Event(), threading.Event(), []
