@@ -57,6 +57,7 @@ DEFINES = {"board.c": re.compile(r"LIMIT|CAPACITY|CAL_OUTPUT|SLOW_MS|SINK")}
 # thresholds compared with readings: an LSB matters, so they get +-1 too
 LSB_DEFINES = re.compile(r"^(TRIP_|CELL_|PROBE_|PROTECT_DEBOUNCE)")
 REMOVABLE_CALLS = {"stage_off", "protect_raise", "condition", "condition_after", "counted", "cells", "cell"}
+KILLERS_FIRST = 4        # at most this many of a file's earlier killers run first
 KINDS = ("compare", "constant", "literal", "call", "guard")
 TARGET_KINDS = ("compare", "constant", "literal")     # every one of these should be killed
 BOUNDARY = {">": ">=", ">=": ">", "<": "<=", "<=": "<"}
@@ -218,12 +219,19 @@ def all_mutants(firmware: Path, only: list[str] | None = None, kinds: tuple[str,
     return out
 
 
+def first_tests(killers: list[str], tests: list[str]) -> list[str]:
+    """The tests that killed earlier mutants of the same file, most recent first, that belong to this step's tests:
+    a mutant is most often killed by what killed its neighbours, so these run before the step's whole set."""
+    return [k for k in killers if any(k.startswith(t) if "::" in t else k.split("::")[0] == t for t in tests)]
+
+
 class Worker:
     """A copy of firmware/ with its own build directory, kept across mutants."""
 
-    def __init__(self, root: Path, timeout_s: float):
+    def __init__(self, root: Path, timeout_s: float, killers: dict[str, list[str]] | None = None):
         self.firmware = root / "firmware"
         self.timeout_s = timeout_s
+        self.killers = killers if killers is not None else {}    # per file, shared by the workers
         if not self.firmware.exists():
             shutil.copytree(ROOT / "firmware", self.firmware, ignore=shutil.ignore_patterns("build"))
         else:                      # a kept work directory: the sources as they are now, the build kept
@@ -266,7 +274,15 @@ class Worker:
             for targets, tests in SELECTION[mutant.file]:
                 if not self.build(targets):
                     return "not viable", "does not compile", time.monotonic() - started
-                verdict, why = self.tests(tests)
+                first = first_tests(self.killers.get(mutant.file, []), tests)[:KILLERS_FIRST]
+                verdict, why = self.tests(first) if first else ("survived", "")
+                if verdict == "survived":
+                    verdict, why = self.tests(tests + [f"--deselect={k}" for k in first])
+                if verdict == "killed" and "::" in why:
+                    known = self.killers.setdefault(mutant.file, [])
+                    if why in known:
+                        known.remove(why)
+                    known.insert(0, why)
                 if verdict != "survived":
                     break
             return verdict, why, time.monotonic() - started
@@ -292,7 +308,8 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     workdir = args.workdir or Path(tempfile.mkdtemp(prefix="zuml-mutants-"))
     jobs = max(1, min(args.jobs, len(mutants)))
-    workers = [Worker(workdir / f"w{n}", args.timeout) for n in range(jobs)]
+    killers: dict[str, list[str]] = {}
+    workers = [Worker(workdir / f"w{n}", args.timeout, killers) for n in range(jobs)]
     print(f"{len(mutants)} mutants, {jobs} workers in {workdir}", flush=True)
     steps = (HOST, SIM)
     every = sorted({t for targets, tests in steps for t in tests})
