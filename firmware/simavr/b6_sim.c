@@ -52,7 +52,7 @@
 static const char usage[] =
     "usage: zuml_b6_sim ELF [--eeprom FILE] [--cells N] [--capacity MAH] [--soc F] [--cell-spread MV] [--weak-cell PCT]\n"
     "       [--seed N] [--uncalibrated] [--fault KIND@S]... [--press BUTTON@S[:HOLD]]... [--trace FILE] [--lcd]\n"
-    "       [--speed X] [--no-rx] [--end-with-stdin]\n"
+    "       [--speed X] [--no-rx] [--no-balance-lead] [--end-with-stdin]\n"
     "KIND: disconnect reverse cell-high sensor-open sink-hot input-low input-sag hang slow-loop; BUTTON: start stop inc dec\n";
 
 static const char *const button_names[4] = {"start", "stop", "inc", "dec"};   /* as b6_button[] */
@@ -485,7 +485,7 @@ static int timed(const char *text, const char *const *names, int n, int hold_all
 }
 
 typedef struct {
-    int cells, calibrated;
+    int cells, calibrated, no_lead;
     double capacity_mah, soc, spread_mv, weak_pct, speed;
     uint64_t seed;
 } options_t;
@@ -509,6 +509,10 @@ static int parse(int argc, char **argv, options_t *o)
         }
         if (!strcmp(name, "--no-rx")) {
             rx_wire = 0;
+            continue;
+        }
+        if (!strcmp(name, "--no-balance-lead")) {
+            o->no_lead = 1;
             continue;
         }
         if (!strcmp(name, "--end-with-stdin")) {
@@ -720,6 +724,7 @@ int main(int argc, char **argv)
         b6_calibration_erase(eeprom, EEPROM_SIZE);
     else if (!b6_calibration_valid(eeprom, EEPROM_SIZE))
         b6_calibration_write(&model, eeprom, EEPROM_SIZE);
+    model.no_lead = o.no_lead;              /* after the calibration: the board was calibrated with its lead */
     /* simavr talks on stdout; the first line of ours is the port alone */
     fflush(stdout);
     out_fd = dup(1);
