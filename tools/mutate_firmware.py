@@ -1,7 +1,7 @@
 """Mutation testing of the iMAX B6 firmware's protections (docs/firmware.md, *Mutation testing*).
 
     .venv/bin/python tools/mutate_firmware.py [--jobs N] [--only FILE[:FIRST-LAST]]... [--kind KIND]...
-                                              [--list] [--workdir DIR] [--timeout S]
+                                              [--skip TEXT]... [--list] [--workdir DIR] [--timeout S]
 
 Each mutant changes one thing in firmware/boards/imaxb6/{protect.c,protect.h,adc.c,stage.c,calib.c} or in
 board.c's limits: a comparison (`>` <-> `>=`, `<` <-> `<=`, or negated), a limit constant (a #define: x2, /2,
@@ -33,7 +33,8 @@ HOST_TESTS = ["tests/firmware/test_fw_b6_protect.py", "tests/firmware/test_fw_b6
               "tests/firmware/test_fw_b6_calib.py"]
 # the simulated B6's tests of limits and faults; not its 40 s runs to a macro's end nor `zuml calibrate`'s
 ACCEPTANCE = "tests/firmware/test_fw_b6_acceptance.py::test_a_"
-SIM_TESTS = ["tests/firmware/test_fw_b6_limits.py", "tests/firmware/test_fw_b6_cells.py",
+SIM_TESTS = ["tests/firmware/test_fw_b6_limits.py", "tests/firmware/test_fw_b6_set_points.py",
+             "tests/firmware/test_fw_b6_cells.py",
              ACCEPTANCE + "fault_switches_the_output_off_within_100_ms_and_ends_the_run_with_its_reason",
              ACCEPTANCE + "hang_switches_the_output_off_within_100_ms_and_the_watchdog_reports_it"]
 HOST = (["build/host/libzuml_b6_logic.so"], HOST_TESTS)
@@ -296,11 +297,15 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--only", action="append", metavar="FILE[:FIRST-LAST]",
                    help=f"only this file (one of {', '.join(SELECTION)}), or these lines of it; repeatable")
     p.add_argument("--kind", action="append", choices=KINDS, help="only this kind of mutant; repeatable")
+    p.add_argument("--skip", action="append", metavar="TEXT", default=[],
+                   help="leave out the mutants whose description (as --list prints it) holds TEXT, e.g. ones judged "
+                        "equivalent by reading (docs/firmware.md says which); repeatable")
     p.add_argument("--list", action="store_true", help="list the mutants and stop")
     p.add_argument("--workdir", type=Path, help="keep the workers' copies here (default: a temporary directory)")
     p.add_argument("--timeout", type=float, default=600, help="a mutant's tests longer than this count as killed")
     args = p.parse_args(argv)
-    mutants = all_mutants(ROOT / "firmware", args.only, tuple(args.kind or KINDS))
+    mutants = [m for m in all_mutants(ROOT / "firmware", args.only, tuple(args.kind or KINDS))
+               if not any(text in m.describe() for text in args.skip)]
     if args.list:
         for m in mutants:
             print(m.describe())
