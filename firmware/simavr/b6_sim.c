@@ -160,7 +160,7 @@ static void sample_drive(void)
  * charge from a wrong address first, reads a lower input too high. */
 #define MUX_RISE_S 10e-6
 #define MUX_FALL_S 5e-3
-#define MUX_WATCH_CYCLES 64             /* 4 us: the firmware drives PA6 for a conversion (52 us) */
+#define MUX_WATCH_CYCLES 256            /* 16 us: the firmware drives PA6 for a conversion (52 us) */
 static double mux_node_v;
 static avr_cycle_count_t mux_node_at;
 static int mux_node_address, mux_node_driven = -1;      /* the pins since mux_node_at; driven: -1 no, 0 low, 1 high */
