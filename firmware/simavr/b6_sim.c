@@ -154,12 +154,13 @@ static void sample_drive(void)
 /* ---- ADC ---- */
 
 /* The multiplexer's output (PA6) holds a charge, its own and the ADC's sample capacitance: it follows an input
- * above it within MUX_RISE_S but one below it only within MUX_FALL_S, as behind the B6's simplified Vb0..Vb2
- * circuit, which sources current and does not sink it. Assumed values: cheali empties the node (PA6 driven low)
- * before each reading behind the mux and gives none. A reading that skips the emptying, or that lets the node
- * charge from a wrong address first, reads a lower input too high. */
-#define MUX_RISE_S 10e-6
-#define MUX_FALL_S 5e-3
+ * within MUX_SETTLE_S, but falls no faster than MUX_FALL_V_PER_S, as behind the B6's simplified Vb0..Vb2
+ * circuit, a follower that sources current and sinks only a small bias current: a small ripple is followed, a
+ * step down from another input's volts takes milliseconds. Assumed values: cheali empties the node (PA6 driven
+ * low) before each reading behind the mux and gives none. A reading that skips the emptying, or that lets the
+ * node charge from a wrong address first, reads a lower input too high. */
+#define MUX_SETTLE_S 10e-6
+#define MUX_FALL_V_PER_S 400.0          /* 2 V in 5 ms */
 #define MUX_WATCH_CYCLES 256            /* 16 us: the firmware drives PA6 for a conversion (52 us) */
 static double mux_node_v;
 static avr_cycle_count_t mux_node_at;
@@ -188,8 +189,11 @@ static void mux_node_follow(void)
     if (mux_node_driven >= 0) {
         mux_node_v = mux_node_driven ? B6_AVCC_V : 0;
     } else {
+        double slewed = mux_node_v - MUX_FALL_V_PER_S * dt;
         target = mux_input_v(mux_node_address);
-        mux_node_v += (target - mux_node_v) * (1 - exp(-dt / (target > mux_node_v ? MUX_RISE_S : MUX_FALL_S)));
+        mux_node_v += (target - mux_node_v) * (1 - exp(-dt / MUX_SETTLE_S));
+        if (mux_node_v < slewed)
+            mux_node_v = slewed;
     }
     mux_node_address = mux_address();
     mux_node_driven = driven(B6_MUX_Z) ? driven_high(B6_MUX_Z) : -1;
