@@ -31,12 +31,15 @@ ROOT = Path(__file__).resolve().parents[1]
 BOARD = "boards/imaxb6"
 HOST_TESTS = ["tests/firmware/test_fw_b6_protect.py", "tests/firmware/test_fw_b6_start_check.py",
               "tests/firmware/test_fw_b6_calib.py"]
-# the simulated B6's tests of limits and faults; not its 40 s runs to a macro's end nor `zuml calibrate`'s
+# the simulated B6's tests of limits and faults; of its runs to a macro's end the two the balancer's hold ends, not
+# `zuml calibrate`'s
 ACCEPTANCE = "tests/firmware/test_fw_b6_acceptance.py::test_a_"
 SIM_TESTS = ["tests/firmware/test_fw_b6_limits.py", "tests/firmware/test_fw_b6_set_points.py",
              "tests/firmware/test_fw_b6_cells.py",
              ACCEPTANCE + "fault_switches_the_output_off_within_100_ms_and_ends_the_run_with_its_reason",
-             ACCEPTANCE + "hang_switches_the_output_off_within_100_ms_and_the_watchdog_reports_it"]
+             ACCEPTANCE + "hang_switches_the_output_off_within_100_ms_and_the_watchdog_reports_it",
+             ACCEPTANCE + "3s_lipo_60_mv_apart_ends_its_cv_with_the_cells_within_10_mv",        # the balancer's
+             ACCEPTANCE + "3s_pack_200_mv_apart_ends_normally_with_its_highest_cell_held_at_the_ceiling"]  # hold
 HOST = (["build/host/libzuml_b6_logic.so"], HOST_TESTS)
 BALANCE_HOST = (["build/host/libzuml_b6_logic.so"], ["tests/firmware/test_fw_b6_balance.py"])
 SIM = (["imaxb6", "simavr-imaxb6"], SIM_TESTS)
