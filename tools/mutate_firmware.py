@@ -1,7 +1,7 @@
 """Mutation testing of the iMAX B6 firmware's protections (docs/firmware.md, *Mutation testing*).
 
     .venv/bin/python tools/mutate_firmware.py [--jobs N] [--only FILE[:FIRST-LAST]]... [--kind KIND]...
-                                              [--list] [--workdir DIR] [--timeout S]
+                                              [--skip TEXT]... [--list] [--workdir DIR] [--timeout S]
 
 Each mutant changes one thing in firmware/boards/imaxb6/{protect.c,protect.h,adc.c,stage.c,calib.c} or in
 board.c's limits: a comparison (`>` <-> `>=`, `<` <-> `<=`, or negated), a limit constant (a #define: x2, /2,
@@ -31,11 +31,15 @@ ROOT = Path(__file__).resolve().parents[1]
 BOARD = "boards/imaxb6"
 HOST_TESTS = ["tests/firmware/test_fw_b6_protect.py", "tests/firmware/test_fw_b6_start_check.py",
               "tests/firmware/test_fw_b6_calib.py"]
-# the simulated B6's tests of limits and faults; not its 40 s runs to a macro's end nor `zuml calibrate`'s
+# the simulated B6's tests of limits and faults; of its runs to a macro's end the two the balancer's hold ends, not
+# `zuml calibrate`'s
 ACCEPTANCE = "tests/firmware/test_fw_b6_acceptance.py::test_a_"
-SIM_TESTS = ["tests/firmware/test_fw_b6_limits.py", "tests/firmware/test_fw_b6_cells.py",
+SIM_TESTS = ["tests/firmware/test_fw_b6_limits.py", "tests/firmware/test_fw_b6_set_points.py",
+             "tests/firmware/test_fw_b6_cells.py",
              ACCEPTANCE + "fault_switches_the_output_off_within_100_ms_and_ends_the_run_with_its_reason",
-             ACCEPTANCE + "hang_switches_the_output_off_within_100_ms_and_the_watchdog_reports_it"]
+             ACCEPTANCE + "hang_switches_the_output_off_within_100_ms_and_the_watchdog_reports_it",
+             ACCEPTANCE + "3s_lipo_60_mv_apart_ends_its_cv_with_the_cells_within_10_mv",        # the balancer's
+             ACCEPTANCE + "3s_pack_200_mv_apart_ends_normally_with_its_highest_cell_held_at_the_ceiling"]  # hold
 HOST = (["build/host/libzuml_b6_logic.so"], HOST_TESTS)
 BALANCE_HOST = (["build/host/libzuml_b6_logic.so"], ["tests/firmware/test_fw_b6_balance.py"])
 SIM = (["imaxb6", "simavr-imaxb6"], SIM_TESTS)
@@ -57,6 +61,7 @@ DEFINES = {"board.c": re.compile(r"LIMIT|CAPACITY|CAL_OUTPUT|SLOW_MS|SINK")}
 # thresholds compared with readings: an LSB matters, so they get +-1 too
 LSB_DEFINES = re.compile(r"^(TRIP_|CELL_|PROBE_|PROTECT_DEBOUNCE)")
 REMOVABLE_CALLS = {"stage_off", "protect_raise", "condition", "condition_after", "counted", "cells", "cell"}
+KILLERS_FIRST = 4        # at most this many of a file's earlier killers run first
 KINDS = ("compare", "constant", "literal", "call", "guard")
 TARGET_KINDS = ("compare", "constant", "literal")     # every one of these should be killed
 BOUNDARY = {">": ">=", ">=": ">", "<": "<=", "<=": "<"}
@@ -218,12 +223,19 @@ def all_mutants(firmware: Path, only: list[str] | None = None, kinds: tuple[str,
     return out
 
 
+def first_tests(killers: list[str], tests: list[str]) -> list[str]:
+    """The tests that killed earlier mutants of the same file, most recent first, that belong to this step's tests:
+    a mutant is most often killed by what killed its neighbours, so these run before the step's whole set."""
+    return [k for k in killers if any(k.startswith(t) if "::" in t else k.split("::")[0] == t for t in tests)]
+
+
 class Worker:
     """A copy of firmware/ with its own build directory, kept across mutants."""
 
-    def __init__(self, root: Path, timeout_s: float):
+    def __init__(self, root: Path, timeout_s: float, killers: dict[str, list[str]] | None = None):
         self.firmware = root / "firmware"
         self.timeout_s = timeout_s
+        self.killers = killers if killers is not None else {}    # per file, shared by the workers
         if not self.firmware.exists():
             shutil.copytree(ROOT / "firmware", self.firmware, ignore=shutil.ignore_patterns("build"))
         else:                      # a kept work directory: the sources as they are now, the build kept
@@ -266,7 +278,15 @@ class Worker:
             for targets, tests in SELECTION[mutant.file]:
                 if not self.build(targets):
                     return "not viable", "does not compile", time.monotonic() - started
-                verdict, why = self.tests(tests)
+                first = first_tests(self.killers.get(mutant.file, []), tests)[:KILLERS_FIRST]
+                verdict, why = self.tests(first) if first else ("survived", "")
+                if verdict == "survived":
+                    verdict, why = self.tests(tests + [f"--deselect={k}" for k in first])
+                if verdict == "killed" and "::" in why:
+                    known = self.killers.setdefault(mutant.file, [])
+                    if why in known:
+                        known.remove(why)
+                    known.insert(0, why)
                 if verdict != "survived":
                     break
             return verdict, why, time.monotonic() - started
@@ -280,11 +300,15 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--only", action="append", metavar="FILE[:FIRST-LAST]",
                    help=f"only this file (one of {', '.join(SELECTION)}), or these lines of it; repeatable")
     p.add_argument("--kind", action="append", choices=KINDS, help="only this kind of mutant; repeatable")
+    p.add_argument("--skip", action="append", metavar="TEXT", default=[],
+                   help="leave out the mutants whose description (as --list prints it) holds TEXT, e.g. ones judged "
+                        "equivalent by reading (docs/firmware.md says which); repeatable")
     p.add_argument("--list", action="store_true", help="list the mutants and stop")
     p.add_argument("--workdir", type=Path, help="keep the workers' copies here (default: a temporary directory)")
     p.add_argument("--timeout", type=float, default=600, help="a mutant's tests longer than this count as killed")
     args = p.parse_args(argv)
-    mutants = all_mutants(ROOT / "firmware", args.only, tuple(args.kind or KINDS))
+    mutants = [m for m in all_mutants(ROOT / "firmware", args.only, tuple(args.kind or KINDS))
+               if not any(text in m.describe() for text in args.skip)]
     if args.list:
         for m in mutants:
             print(m.describe())
@@ -292,7 +316,8 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     workdir = args.workdir or Path(tempfile.mkdtemp(prefix="zuml-mutants-"))
     jobs = max(1, min(args.jobs, len(mutants)))
-    workers = [Worker(workdir / f"w{n}", args.timeout) for n in range(jobs)]
+    killers: dict[str, list[str]] = {}
+    workers = [Worker(workdir / f"w{n}", args.timeout, killers) for n in range(jobs)]
     print(f"{len(mutants)} mutants, {jobs} workers in {workdir}", flush=True)
     steps = (HOST, SIM)
     every = sorted({t for targets, tests in steps for t in tests})

@@ -169,10 +169,11 @@ void b6_model_step(b6_model_t *m, double dt)
     }
 }
 
-/* What the balance lead's taps carry: the true cells, one replaced by the cell-high fault (the last). */
+/* What the balance lead's taps carry: the true cells, one replaced by the cell-high fault (the last); nothing
+ * when the lead is unplugged. */
 static double tap_cell(const b6_model_t *m, int k)
 {
-    if (k >= m->cells)
+    if (k >= m->cells || m->no_lead)
         return 0;
     if (m->fault[B6_FAULT_CELL_HIGH] && k == m->cells - 1)
         return CELL_HIGH_V;

@@ -32,6 +32,7 @@ typedef struct {
     double inductor_h, vin_v;
     /* the pack */
     int cells;
+    int no_lead;                    /* the balance lead unplugged: every tap reads 0 (a pack on its main leads only) */
     double soc[B6_MAX_CELLS], capacity_as[B6_MAX_CELLS], r_cell[B6_MAX_CELLS];
     /* state */
     double il_a, vc_v, i_batt_a, v_term_v, i_dis_a, t_sink_c, t_pack_c;

@@ -55,7 +55,7 @@
 static const char usage[] =
     "usage: zuml_b6_sim ELF [--eeprom FILE] [--cells N] [--capacity MAH] [--soc F] [--cell-spread MV] [--weak-cell PCT]\n"
     "       [--seed N] [--uncalibrated] [--fault KIND@S]... [--press BUTTON@S[:HOLD]]... [--trace FILE] [--lcd]\n"
-    "       [--speed X] [--no-rx] [--rx HEX@S]... [--end-with-stdin]\n"
+    "       [--speed X] [--no-rx] [--rx HEX@S]... [--no-balance-lead] [--end-with-stdin]\n"
     "KIND: disconnect reverse cell-high sensor-open sink-hot input-low input-sag hang slow-loop; BUTTON: start stop inc dec\n";
 
 static const char *const button_names[4] = {"start", "stop", "inc", "dec"};   /* as b6_button[] */
@@ -171,13 +171,77 @@ static void sample_drive(void)
 
 /* ---- ADC ---- */
 
+/* The multiplexer's output (PA6) holds a charge, its own and the ADC's sample capacitance: it follows an input
+ * within MUX_SETTLE_S, but falls no faster than MUX_FALL_V_PER_S, as behind the B6's simplified Vb0..Vb2
+ * circuit, a follower that sources current and sinks only a small bias current: a small ripple is followed, a
+ * step down from another input's volts takes milliseconds. Assumed values: cheali empties the node (PA6 driven
+ * low) before each reading behind the mux and gives none. A reading that skips the emptying, or that lets the
+ * node charge from a wrong address first, reads a lower input too high. */
+#define MUX_SETTLE_S 10e-6
+#define MUX_FALL_V_PER_S 400.0          /* 2 V in 5 ms */
+#define MUX_WATCH_CYCLES 256            /* 16 us: the firmware drives PA6 for a conversion (52 us) */
+static double mux_node_v;
+static avr_cycle_count_t mux_node_at;
+static int mux_node_address, mux_node_driven = -1;      /* the pins since mux_node_at; driven: -1 no, 0 low, 1 high */
+
+static int mux_address(void)
+{
+    return driven_high(B6_MUX_ADR0) | driven_high(B6_MUX_ADR1) << 1 | driven_high(B6_MUX_ADR2) << 2;
+}
+
+/* The input's true pin voltage (no noise) */
+static double mux_input_v(int address)
+{
+    const b6_input_t *in = &b6_mux_input[address];
+    double v = b6_model_adc16(&model, in, b6_model_quantity(&model, in->quantity)) / 65536 * model.aref_v;
+    return v < 0 ? 0 : v;
+}
+
+/* The node since its last update under the pins as they were, then the pins as they are now: called at every
+ * write to PORTB (the address), within MUX_WATCH_CYCLES of a change of PA6's direction (simavr reports no DDR
+ * write), every model step and every conversion */
+static void mux_node_follow(void)
+{
+    double dt = avr->cycle > mux_node_at ? (double)(avr->cycle - mux_node_at) / F_CPU : 0, target;
+    mux_node_at = avr->cycle;
+    if (mux_node_driven >= 0) {
+        mux_node_v = mux_node_driven ? B6_AVCC_V : 0;
+    } else {
+        double slewed = mux_node_v - MUX_FALL_V_PER_S * dt;
+        target = mux_input_v(mux_node_address);
+        mux_node_v += (target - mux_node_v) * (1 - exp(-dt / MUX_SETTLE_S));
+        if (mux_node_v < slewed)
+            mux_node_v = slewed;
+    }
+    mux_node_address = mux_address();
+    mux_node_driven = driven(B6_MUX_Z) ? driven_high(B6_MUX_Z) : -1;
+    if (mux_node_driven >= 0)
+        mux_node_v = mux_node_driven ? B6_AVCC_V : 0;
+}
+
+static void mux_pins_written(struct avr_irq_t *irq, uint32_t value, void *param)
+{
+    (void)irq; (void)value; (void)param;
+    mux_node_follow();
+}
+
+static avr_cycle_count_t mux_watch(struct avr_t *a, avr_cycle_count_t when, void *param)
+{
+    (void)a; (void)param;
+    if ((driven(B6_MUX_Z) ? driven_high(B6_MUX_Z) : -1) != mux_node_driven)
+        mux_node_follow();
+    return when + MUX_WATCH_CYCLES;
+}
+
 static double input_pin_v(int channel)
 {
     if (channel == B6_MUX_ADC_CHANNEL) {
-        int address = driven_high(B6_MUX_ADR0) | driven_high(B6_MUX_ADR1) << 1 | driven_high(B6_MUX_ADR2) << 2;
-        if (driven(B6_MUX_Z))           /* cheali empties the sample capacitor through PA6 as an output */
-            return driven_high(B6_MUX_Z) ? B6_AVCC_V : 0;
-        return b6_model_pin_v(&model, &b6_mux_input[address]);
+        int address = mux_address();
+        mux_node_follow();
+        if (driven(B6_MUX_Z))
+            return mux_node_v;
+        /* the input's noise as before, on the node's charge */
+        return b6_model_pin_v(&model, &b6_mux_input[address]) - mux_input_v(address) + mux_node_v;
     }
     if (channel < 8 && b6_adc_channel[channel].quantity != B6_Q_NONE)
         return b6_model_pin_v(&model, &b6_adc_channel[channel]);
@@ -442,6 +506,7 @@ static avr_cycle_count_t step(struct avr_t *a, avr_cycle_count_t when, void *par
     double t = now_s();
     (void)a; (void)param;
     sample_drive();
+    mux_node_follow();
     b6_model_step(&model, (double)STEP_CYCLES / F_CPU);
     apply_faults(t);
     apply_rxs(t);
@@ -554,7 +619,7 @@ static int rx_at(const char *text, rx_t *out)
 }
 
 typedef struct {
-    int cells, calibrated;
+    int cells, calibrated, no_lead;
     double capacity_mah, soc, spread_mv, weak_pct, speed;
     uint64_t seed;
 } options_t;
@@ -578,6 +643,10 @@ static int parse(int argc, char **argv, options_t *o)
         }
         if (!strcmp(name, "--no-rx")) {
             rx_wire = 0;
+            continue;
+        }
+        if (!strcmp(name, "--no-balance-lead")) {
+            o->no_lead = 1;
             continue;
         }
         if (!strcmp(name, "--end-with-stdin")) {
@@ -690,6 +759,7 @@ static void after_reset(void)
     if (by_watchdog)
         watchdog_off();
     avr_cycle_timer_register(avr, STEP_CYCLES, step, NULL);
+    avr_cycle_timer_register(avr, MUX_WATCH_CYCLES, mux_watch, NULL);
     set_buttons(now_s(), 1);
     set_rxd(1);
     fprintf(stderr, "RESET|%s|%.3f\n", by_watchdog ? "watchdog" : "other", now_s());
@@ -799,6 +869,7 @@ int main(int argc, char **argv)
         b6_calibration_erase(eeprom, EEPROM_SIZE);
     else if (!b6_calibration_valid(eeprom, EEPROM_SIZE))
         b6_calibration_write(&model, eeprom, EEPROM_SIZE);
+    model.no_lead = o.no_lead;              /* after the calibration: the board was calibrated with its lead */
     /* simavr talks on stdout; the first line of ours is the port alone */
     fflush(stdout);
     out_fd = dup(1);
@@ -826,6 +897,10 @@ int main(int argc, char **argv)
     avr_load_firmware(avr, &fw);
     avr_ioctl(avr, AVR_IOCTL_EEPROM_SET, &d);
     avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_ADC_GETIRQ, ADC_IRQ_OUT_TRIGGER), adc_trigger, NULL);
+    avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(B6_PORT_LETTER(B6_MUX_ADR0.port)),
+                                          IOPORT_IRQ_REG_PORT), mux_pins_written, NULL);
+    avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(B6_PORT_LETTER(B6_MUX_Z.port)),
+                                          IOPORT_IRQ_DIRECTION_ALL), mux_pins_written, NULL);
     avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(B6_PORT_LETTER(B6_LCD_E.port)),
                                           B6_LCD_E.bit), lcd_enable, NULL);
     for (k = 0; k < 8; k++)
@@ -836,6 +911,7 @@ int main(int argc, char **argv)
     uart_in = avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_INPUT);
     rxd_pin = avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(B6_PORT_LETTER(B6_BAL4_LOAD.port)), B6_BAL4_LOAD.bit);
     avr_cycle_timer_register(avr, STEP_CYCLES, step, NULL);
+    avr_cycle_timer_register(avr, MUX_WATCH_CYCLES, mux_watch, NULL);
     set_buttons(0, 1);
     set_rxd(1);
     uart_pty_init(avr, &uart);

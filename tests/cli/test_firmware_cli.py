@@ -1,4 +1,5 @@
 """`zuml firmware-sim`: the C firmware behind a pty, driven by the device commands as a charger is."""
+import argparse
 import os
 import subprocess
 import sys
@@ -7,6 +8,7 @@ import pytest
 
 from tools import HOST, SIMAVR, needs
 from helpers import MACROS
+from zuml_studio.cli.firmware_command import b6_arguments
 
 pytestmark = pytest.mark.skipif(os.name != "posix", reason="ptys need POSIX")
 
@@ -58,6 +60,7 @@ def test_a_start_the_firmware_refuses_is_one_line(firmware_port, zuml):
     (["--board", "atmega32", "--lcd"], "--lcd is for --board imaxb6"),
     (["--board", "host", "--fault", "hang@1"], "--fault is for --board imaxb6"),
     (["--board", "atmega32", "--no-rx"], "--no-rx is for --board imaxb6"),
+    (["--board", "host", "--no-balance-lead"], "--no-balance-lead is for --board imaxb6"),
     (["--board", "imaxb6", "--fault", "melt@1"], "--fault melt@1: expected NAME@SECONDS, NAME one of disconnect"),
     (["--board", "imaxb6", "--fault", "hang@1:2"], "--fault hang@1:2: expected NAME@SECONDS,"),
     (["--board", "imaxb6", "--press", "start@1:x"], "--press start@1:x: expected NAME@SECONDS[:HOLD]"),
@@ -68,6 +71,13 @@ def test_a_start_the_firmware_refuses_is_one_line(firmware_port, zuml):
 def test_the_simulated_b6s_options_are_checked_before_anything_is_built(zuml, args, message):
     code, out, err = zuml("firmware-sim", *args)
     assert code != 0 and out == "" and message in err and len(err.strip().splitlines()) == 1
+
+
+def test_no_balance_lead_reaches_the_simulated_b6():
+    args = argparse.Namespace(board="imaxb6", cells=3, cell_spread=None, weak_cell=None, seed=None, fault=None,
+                              press=None, trace=None, speed=None, uncalibrated=False, lcd=False, no_rx=False,
+                              no_balance_lead=True)
+    assert b6_arguments(args) == ["--no-balance-lead"]
 
 
 @needs(SIMAVR)

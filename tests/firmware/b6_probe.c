@@ -176,7 +176,11 @@ int main(void)
                 put_number(prefix, adc_sum((uint8_t)(n - '0')));
             } else if (c == 'm' && n >= '0' && n <= '7') {
                 char prefix[4] = {'m', (char)n, '=', 0};
+                /* the mux's output holds the last input's charge: emptied first (PA6 driven low), as the firmware does */
+                DDRA |= _BV(6);
+                _delay_us(50);
                 PORTB = (uint8_t)((PORTB & 0x1F) | (n - '0') << 5);
+                DDRA &= (uint8_t)~_BV(6);
                 put_number(prefix, adc_sum(6));
             } else if (c == 'b' && (a = get()) >= '0' && (b = get()) >= '0') {
                 buck((uint16_t)((n - '0') * 100 + (a - '0') * 10 + (b - '0')));

@@ -20,6 +20,8 @@ def b6(lib):  # noqa: F811 - the fixture imported above
     lib.protect_time_limit_min.argtypes = [ctypes.c_char_p]
     lib.protect_capacity_limit_uah.restype = ctypes.c_uint32
     lib.protect_capacity_limit_uah.argtypes = [ctypes.c_int32]
+    lib.protect_run_limits.restype = ctypes.c_uint8
+    lib.protect_run_limits.argtypes = [ctypes.c_uint32, ctypes.c_uint16, ctypes.c_uint32, ctypes.c_uint32]
     lib.protect_disarm()
     return lib
 
@@ -167,3 +169,18 @@ def test_pb_float_s_16_h_absorption_and_6_h_float_fit_its_time_limit(b6):
                                       (25_000, 50_000_000), (25_001, 50_000_000), (65_535, 50_000_000)])
 def test_the_capacity_limit_is_twice_the_capacity_and_never_past_50_ah(b6, mah, uah):
     assert b6.protect_capacity_limit_uah(mah) == uah
+
+
+@pytest.mark.parametrize("minutes", [720, 1440])
+def test_a_run_goes_on_at_its_time_limit_and_trips_a_millisecond_past_it(b6, minutes):
+    # the main loop's check (board.c slow_limits); 12 h and more of simulated time is no test on the simulated B6
+    limit_ms = minutes * 60_000
+    assert b6.protect_run_limits(limit_ms, minutes, 0, 1) == 0
+    assert text(b6, b6.protect_run_limits(limit_ms + 1, minutes, 0, 1)) == "time limit"
+    assert text(b6, b6.protect_run_limits(limit_ms + 1, minutes, 5, 1)) == "time limit"     # the time's first
+
+
+@pytest.mark.parametrize("uah", [1, 4_000_000, 50_000_000])
+def test_a_run_goes_on_at_its_capacity_limit_and_trips_a_microamp_hour_past_it(b6, uah):
+    assert b6.protect_run_limits(0, 720, uah, uah) == 0
+    assert text(b6, b6.protect_run_limits(0, 720, uah + 1, uah)) == "capacity limit"

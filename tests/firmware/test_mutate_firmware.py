@@ -75,3 +75,12 @@ def test_only_picks_files_and_line_ranges():
     assert all(m.file == "stage.c" or m.line <= 40 or 100 <= m.line <= 120 for m in picked)
     assert len([m for m in every if m.file == "stage.c" and m.kind == "compare"]) == \
            len([m for m in picked if m.file == "stage.c"])
+
+
+def test_the_tests_that_killed_a_file_s_mutants_run_first_when_they_belong_to_the_step():
+    killers = ["tests/firmware/test_fw_b6_limits.py::test_x", "tests/firmware/test_fw_b6_protect.py::test_y",
+               "tests/firmware/test_fw_b6_acceptance.py::test_a_hang_ends[1]",
+               "tests/firmware/test_fw_b6_acceptance.py::test_b_run"]
+    assert mutate.first_tests(killers, mutate.SIM_TESTS[:2] + ["tests/firmware/test_fw_b6_acceptance.py::test_a_hang"]) \
+        == [killers[0], killers[2]]
+    assert mutate.first_tests(killers, mutate.HOST_TESTS) == [killers[1]]

@@ -48,6 +48,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     b6.add_argument("--no-rx", action="store_true",
                     help=_("no receive wire: the PC's bytes reach nothing and the firmware only sends over TX (the "
                            "B6's 3-pin port); PD0 is then cell 4's balancer"))
+    b6.add_argument("--no-balance-lead", action="store_true",
+                    help=_("the pack's balance lead unplugged: every tap reads 0 V (a pack on its main leads only)"))
     b6.add_argument("--speed", type=float, metavar="X",
                     help=_("simulated seconds per wall-clock second (default 1; 0: as fast as this PC can)"))
     p.set_defaults(run=cmd_firmware_sim)
@@ -72,7 +74,8 @@ def timed_events(values: list[str] | None, names: tuple[str, ...], option: str, 
 def b6_arguments(args: argparse.Namespace) -> list[str]:
     """The simulated B6's own options, as zuml_b6_sim takes them; refused for the other boards."""
     given = [name for name in ("cell_spread", "weak_cell", "seed", "fault", "press", "trace", "speed")
-             if getattr(args, name) is not None] + [name for name in ("uncalibrated", "lcd", "no_rx") if getattr(args, name)]
+             if getattr(args, name) is not None] + [name for name in ("uncalibrated", "lcd", "no_rx", "no_balance_lead")
+                                                 if getattr(args, name)]
     if args.board != "imaxb6":
         if given:
             raise CliError(_("--{option} is for --board imaxb6 (the simulated iMAX B6)").format(
@@ -94,7 +97,8 @@ def b6_arguments(args: argparse.Namespace) -> list[str]:
     argv += [item for value in timed_events(args.press, BUTTONS, "--press", True) for item in ("--press", value)]
     if args.trace:
         argv += ["--trace", str(args.trace)]
-    return argv + ["--uncalibrated"] * args.uncalibrated + ["--lcd"] * args.lcd + ["--no-rx"] * args.no_rx
+    return argv + ["--uncalibrated"] * args.uncalibrated + ["--lcd"] * args.lcd + ["--no-rx"] * args.no_rx \
+        + ["--no-balance-lead"] * args.no_balance_lead
 
 
 def cmd_firmware_sim(args: argparse.Namespace) -> int:

@@ -96,9 +96,9 @@ static void empty_mux(void)
     if (conversion == 1) {
         PORTB = (uint8_t)((PORTB & ~B6_MUX_MASK) | (EMPTY_ADDRESS << B6_MUX_SHIFT));
         DDRA |= _BV(B6_ADC_MUX);     /* PORTA's bit stays 0: driven low */
-    } else {
-        DDRA &= (uint8_t)~_BV(B6_ADC_MUX);
+    } else {                         /* the address first: released on Vb6, the node would take its charge */
         PORTB = (uint8_t)((PORTB & ~B6_MUX_MASK) | ((channel & 7) << B6_MUX_SHIFT));
+        DDRA &= (uint8_t)~_BV(B6_ADC_MUX);
     }
 }
 

@@ -501,10 +501,9 @@ static void slow_limits(void)
     const zc_run_t *r = app_run();
     protect_sink_step(stage_loss_mw());
     if (app_running()) {
-        if (r->time_ms > run_time_limit_min * 60000UL)
-            protect_raise(TRIP_TIME);
-        if (r->total_in.uah > run_capacity_uah)
-            protect_raise(TRIP_CAPACITY);
+        uint8_t trip = protect_run_limits(r->time_ms, run_time_limit_min, r->total_in.uah, run_capacity_uah);
+        if (trip)
+            protect_raise(trip);
     }
     if (cal_output_end_ms && (int32_t)(hal_millis() - cal_output_end_ms) >= 0) {
         cal_output_end_ms = 0;

@@ -94,6 +94,13 @@ uint32_t protect_capacity_limit_uah(int32_t capacity_mah)
     return uah > CAPACITY_CEILING_UAH ? CAPACITY_CEILING_UAH : uah;
 }
 
+uint8_t protect_run_limits(uint32_t time_ms, uint16_t time_limit_min, uint32_t in_uah, uint32_t capacity_limit_uah)
+{
+    if (time_ms > time_limit_min * 60000UL)
+        return TRIP_TIME;
+    return in_uah > capacity_limit_uah ? TRIP_CAPACITY : TRIP_NONE;
+}
+
 static char *put_mv(char *p, int16_t mv) { return zc_put_P(zc_put_2f(p, (uint32_t)mv * 1000UL), PSTR(" V")); }
 
 const char *protect_arm(uint8_t akk_type, int16_t cells, uint8_t *trip, char *sentence)

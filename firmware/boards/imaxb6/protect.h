@@ -88,6 +88,9 @@ uint16_t protect_time_limit_min(const uint8_t *rec);
 /* The charge a run may put in (uAh): 2 x `capacity_mah` (declared or entered), CAPACITY_LIMIT_UAH without
  * one (<= 0), never past CAPACITY_CEILING_UAH. */
 uint32_t protect_capacity_limit_uah(int32_t capacity_mah);
+/* The trip a running run's time (ms) and charge put in (uAh) are past their limits by (the time's first), or
+ * TRIP_NONE: at a limit exactly the run goes on. The main loop asks every 100 ms. */
+uint8_t protect_run_limits(uint32_t time_ms, uint16_t time_limit_min, uint32_t in_uah, uint32_t capacity_limit_uah);
 /* Why a run may not start on what the inputs read now (text in flash), NULL when it may; then the
  * limits are armed for `akk_type` and `cells` (0: not given: the balance lead's, else counted from the
  * rest voltage). The sentence the PC gets, with its volts, goes to `sentence` (HAL_SENTENCE_MAX bytes;
