@@ -19,6 +19,7 @@ from tools import SIMAVR, skip_unless
 from host_core import FIRMWARE
 from zuml_studio.protocol import messages as m
 from zuml_studio.protocol.frames import FrameParser, encode_frame
+from zuml_studio.device.zuml.client import ChargerClient
 
 B6_SIM = FIRMWARE / "build" / "simavr" / "zuml_b6_sim"
 LINE_WAIT_S = 120.0        # a bound on a wait for a line, far above any run here: a hang fails, it does not wait
@@ -166,3 +167,23 @@ class B6:
             self.proc.terminate()
         self.proc.wait(timeout=30)
         self.reader.join(timeout=30)
+
+def switched_on(line: str) -> bool:
+    """The stage switched on by the firmware (not the instant at power-up before its first instructions)."""
+    return line.startswith("OUTPUT|on|") and float(line.split("|")[2]) > 0.01
+
+
+def started(sim, task: str, cells: int, capacity_mah: int = 2000) -> None:
+    """The macro in slot 1 started from the PC."""
+    client = ChargerClient(sim.port, timeout=10)
+    try:
+        client.start(0, task, capacity_mah=capacity_mah, series=cells)
+    finally:
+        client.close()
+
+
+def trace_rows(sim) -> list[Row]:
+    """The trace's complete rows so far (the harness writes it while the test reads)."""
+    lines = sim.trace.read_text().splitlines()[1:]
+    return [Row(int(r[0]), *map(float, r[1:3]), int(r[3]), *map(float, r[4:7]))
+            for r in (line.split(",") for line in lines[:-1])]

@@ -6,6 +6,8 @@ import pytest
 from b6_harness import B6, build
 from host_core import FIRMWARE, LIBRARY, load
 from tools import HOST, skip_unless
+from helpers import compiled
+from zuml_studio.lang import eeprom
 
 HOST_DEVICE = FIRMWARE / "build" / "host" / "zuml_host"
 
@@ -65,3 +67,12 @@ def b6_on(image, tmp_path):
     yield run
     for sim in started:
         sim.stop()
+
+
+STORE_SIZE = 404                    # IDENTIFY's eeprom_size on the B6 (docs/firmware.md, Calibration)
+
+
+@pytest.fixture
+def b6(b6_on):
+    """start(macro, *args): the image on the simulated B6 with `macro` in slot 1 (an EEPROM file per start)."""
+    return lambda macro, *args: b6_on(eeprom.pack([compiled(macro)], STORE_SIZE), *args)

@@ -7,13 +7,11 @@ loop is not a hang; a start with SERIES above the balance lead's count is refuse
 happen at simulated times the test chose; the test waits for the harness's lines, never for a time."""
 import pytest
 
-from b6_harness import LINE_WAIT_S, Row, read_trace, start_at
-from helpers import compiled, until
+from b6_harness import LINE_WAIT_S, read_trace, start_at, started, switched_on, trace_rows
+from helpers import until
 from zuml_studio.device.zuml.calibration import Calibrator
 from zuml_studio.device.zuml.client import ChargerClient, DeviceError
-from zuml_studio.lang import eeprom
 
-STORE_SIZE = 404                    # IDENTIFY's eeprom_size on the B6 (docs/firmware.md, Calibration)
 START = "start@0.3:0.7"             # START held 0.7 s (the panel wants 0.5 s)
 CHARGE_20A = """MACRO Twenty
   AKK_TYPE=LiPo
@@ -38,15 +36,8 @@ END_MACRO
 CAPACITY_FACTOR = 2                 # a run stops at twice the capacity it was started with (docs/firmware.md)
 
 
-@pytest.fixture
-def b6(b6_on):
-    """start(macro, *args): the image on the simulated B6 with `macro` in slot 1 (an EEPROM file per start)."""
-    return lambda macro, *args: b6_on(eeprom.pack([compiled(macro)], STORE_SIZE), *args)
 
 
-def switched_on(line: str) -> bool:
-    """The stage switched on by the firmware (not the instant at power-up before its first instructions)."""
-    return line.startswith("OUTPUT|on|") and float(line.split("|")[2]) > 0.01
 
 
 def on_and_off(sim):
@@ -64,20 +55,8 @@ def end_reason(sim) -> str:
         client.close()
 
 
-def started(sim, task: str, cells: int, capacity_mah: int = 2000) -> None:
-    """The macro in slot 1 started from the PC."""
-    client = ChargerClient(sim.port, timeout=10)
-    try:
-        client.start(0, task, capacity_mah=capacity_mah, series=cells)
-    finally:
-        client.close()
 
 
-def trace_rows(sim) -> list[Row]:
-    """The trace's complete rows so far (the harness writes it while the test reads)."""
-    lines = sim.trace.read_text().splitlines()[1:]
-    return [Row(int(r[0]), *map(float, r[1:3]), int(r[3]), *map(float, r[4:7]))
-            for r in (line.split(",") for line in lines[:-1])]
 
 
 @pytest.mark.parametrize("macro, task, cells, limit_a, limit_w", [

@@ -5,9 +5,8 @@ tools/mutate_firmware.py makes of hal_output's unit conversions (issue 31, secti
 testing*). Runs are started from the PC; the tests wait for the harness's lines and the trace, never for a time."""
 import pytest
 
-from b6_harness import LINE_WAIT_S, read_trace
+from b6_harness import LINE_WAIT_S, read_trace, started, switched_on, trace_rows
 from helpers import until
-from test_fw_b6_limits import b6, started, switched_on, trace_rows  # noqa: F401 (b6: the fixture)
 
 
 def _macro(chemistry: str, section: str, current: str, volts: str = "") -> str:
