@@ -283,10 +283,12 @@ class Worker:
                 if verdict == "survived":
                     verdict, why = self.tests(tests + [f"--deselect={k}" for k in first])
                 if verdict == "killed" and "::" in why:
+                    # The test function, all its cases: a case's id may hold spaces, which `FAILED (\S+)` cuts.
+                    killer = why.split("[")[0]
                     known = self.killers.setdefault(mutant.file, [])
-                    if why in known:
-                        known.remove(why)
-                    known.insert(0, why)
+                    if killer in known:
+                        known.remove(killer)
+                    known.insert(0, killer)
                 if verdict != "survived":
                     break
             return verdict, why, time.monotonic() - started
