@@ -161,6 +161,19 @@ def test_the_time_limit_is_the_macros_own_bound_and_an_hour_between_12_and_24_h(
     assert b6.protect_time_limit_min(record(intro, *tfs)) == minutes
 
 
+def test_the_time_limit_reads_the_record_and_nothing_after_it(b6):
+    # a record whose check byte (its last) reads as IF(tf>x), with 0xFF bytes lying after the record: neither
+    # the check byte nor what follows is an instruction (read as one, the limit would be 24 h)
+    rec = next(r for r in (record("", str(tf)) for tf in range(36000, 37000)) if r[r[0] - 1] in (87, 88))
+    assert b6.protect_time_limit_min(rec + b"\xff" * 4) == b6.protect_time_limit_min(rec) == 720
+
+
+@pytest.mark.parametrize("akk", [9, 12, 17, 18, 255])
+def test_a_chemistry_code_past_the_table_has_no_cells_at_rest(b6, akk):
+    # the host build traps on an index past the table of rest windows
+    assert b6.protect_cells_at_rest(akk, 3800) == 0
+
+
 def test_pb_float_s_16_h_absorption_and_6_h_float_fit_its_time_limit(b6):
     assert b6.protect_time_limit_min(compiled("Pb-float")) == 23 * 60
 

@@ -68,17 +68,17 @@ uint16_t protect_time_limit_min(const uint8_t *rec)
     uint8_t at, size, has_tm = 0;
     uint32_t run = 0, phases = 0, x;
     for (at = rec[1]; at < rec[0] - 1; at = (uint8_t)(at + size)) {   /* rec[1]: the first instruction */
-        /* IF(tm>x) (87) bounds the run, IF(tf>x) (88) its phase: x in tenths of a second (docs/zuml-2.0.md section 3),
+        /* IF(tm>x) bounds the run, IF(tf>x) its phase: x in tenths of a second (docs/zuml-2.0.md section 3),
          * taken at most up to the ceiling, so the sum of 50 of them still fits */
-        if (rec[at] == 87 || rec[at] == 88) {
+        if (rec[at] == OP_IF_TM_GT || rec[at] == OP_IF_TF_GT) {
             x = zc_u32(rec + at + 1);
             if (x > TIME_CEILING_MIN * 600UL)
                 x = TIME_CEILING_MIN * 600UL;
-            if (rec[at] == 88)
+            if (rec[at] == OP_IF_TF_GT)
                 phases += x;
             else if (x > run)
                 run = x;
-            has_tm |= rec[at] == 87;
+            has_tm |= rec[at] == OP_IF_TM_GT;
         }
         size = zc_op_size(rec[at]);
         if (!size)
