@@ -50,6 +50,9 @@ def test_lithium_is_a_cell_above_2_50_v_pbs_maximum_below_it_the_cell_is_over_th
     # a lithium macro on cells above its own maximum: over it, not "lithium"
     assert refusal(b6, "LiFe", 0, cells_mv=[4140] * 3) == (
         "cell 1 over max", "the balance lead shows 3 cells up to 4.14 V: over LiFe's 3.65 V a cell")
+    # the sentence for each cell of the lead, the sixth too
+    assert refusal(b6, "LiFe", 0, cells_mv=[3300] * 5 + [3700]) == (
+        "cell 6 over max", "the balance lead shows 6 cells up to 3.70 V: over LiFe's 3.65 V a cell")
 
 
 @pytest.mark.parametrize("akk, ceiling_mv", [("NiMh", 1750), ("NiCd", 1750), ("Pb", 2450), ("LiFe", 3650),
