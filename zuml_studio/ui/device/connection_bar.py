@@ -113,7 +113,7 @@ class ConnectionBar(QWidget):
         for name in chemistry_names():
             self.v_passport.addItem(name, name)
         self.v_passport.addItem(_("none"), "none")
-        self.v_passport.setToolTip(_("The battery passport chip (spec §4): its chemistry as the battery's, "
+        self.v_passport.setToolTip(_("The battery passport chip (ZUML 2.0 §4): its chemistry as the battery's, "
                                      "another one (to see the lockout), or no chip"))
         self.v_speed = field_spin(1, 100000, 60, "×", _("the virtual charger runs the macro this many times "
                                                            "faster than real time (changes at once)"))
