@@ -414,3 +414,11 @@ def test_a_trip_number_past_the_table_reads_as_no_trip(lib):
     assert lib.protect_text(30).decode() == "pack above twice the input"
     row = ctypes.CFUNCTYPE(ctypes.c_void_p, ctypes.c_uint8)(("protect_text", lib))
     assert row(31) == row(255) == row(0)
+
+
+def test_a_lone_nickel_cell_is_lost_below_half_a_volt(lib):
+    # a 1S NiMH pack's quarter of its ceiling (437 mV) is below the 500 mV of "no battery": that threshold decides
+    armed(lib, "NiMh", (1300,))
+    assert feed(lib, {VOUT: 500}, 40) == 0
+    assert feed(lib, {VOUT: 499}, 2) == 0
+    assert text(lib, feed(lib, {VOUT: 499})) == "battery disconnected"
