@@ -76,6 +76,16 @@ def test_each_input_s_full_scale_is_refused_one_unit_past_its_window(lib, k, sid
 
 
 @pytest.mark.parametrize("k", range(13))
+def test_a_refusal_names_the_reading_at_the_adc_code_nearest_the_point(lib, k):
+    # a full scale of 65535 makes one ADC code worth a unit or more, so the code the nominal calibration reads
+    # the point at (rounded to the nearest, not up) shows in the reading named
+    zero = NOMINAL[k][0]
+    verdict, miss = check(lib, with_pair(k, (zero, 65535)))
+    assert verdict == OUT_OF_WINDOW and miss.input == k
+    assert miss.reads == value(zero, 65535, at_point(k))
+
+
+@pytest.mark.parametrize("k", range(13))
 def test_each_input_s_zero_is_refused_one_unit_past_a_quarter_of_its_window(lib, k):
     point, pct = WINDOW[k]
     zero, full = NOMINAL[k]

@@ -244,6 +244,16 @@ def test_the_lead_check_holds_without_a_lead_and_names_a_lead_that_comes_off(lib
     assert text(lib, feed(lib, pack(lib, [3900] * 3), 4)) == "balance lead 3 cells"
 
 
+def test_the_lead_s_cell_count_is_judged_once_a_scan_of_its_taps(lib):
+    # at the scan's last tap (Vb6), when every tap is fresh: a count judged at each tap would see a lead half
+    # read, and four taps of one scan would pass for four scans in a row
+    armed(lib, cells_mv=[3900] * 4)
+    two = pack(lib, [3900, 3900])                                         # a 2S pack where a 4S one was
+    assert list(two)[-1] == VB6                                           # the ADC's order: Vb6 ends a scan
+    assert feed(lib, two, 3) == 0
+    assert text(lib, feed(lib, two)) == "balance lead 2 cells"
+
+
 @pytest.mark.parametrize("start, cells, why", [
     (dict(cells_mv=[3900] * 3), 4, "balance lead 3 cells"),                 # SERIES above the balance count
     (dict(cells_mv=[3900] * 3), 2, "balance lead 3 cells"),                 # ... and below it

@@ -48,8 +48,8 @@ static uint8_t rest_window(uint8_t akk_type, uint16_t w[2])
         {0, 0},
     };
     w[1] = 0;
-    if (akk_type < 9)
-        memcpy_P(w, rest_mv[akk_type], 2 * sizeof *w);
+    if (akk_type < 9)   /* a row's first element, not the row: the host build traps on the row past the table */
+        memcpy_P(w, &rest_mv[akk_type][0], 2 * sizeof *w);
     return w[1] != 0;
 }
 
