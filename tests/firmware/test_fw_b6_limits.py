@@ -216,6 +216,7 @@ def test_a_boost_at_its_top_that_a_rising_pack_starves_switches_off_half_a_secon
     # (0.51 s) and twice (1.26 s) fall outside
     sim = b6(CHARGE_20A, "--cells", "6", "--soc", "0.6", "--capacity", "20", "--press", START)
     on_s, off_s, k = on_and_off(sim)
+    sim.wait_line("LCD|end Twenty|", k)         # the interrupt switched off; the main loop then ends the run
     assert end_reason(sim) == "protection: pack above twice the input"
     sim.stop()
     rows = [r for r in read_trace(sim.trace) if r.output_enabled]

@@ -290,21 +290,98 @@ def sink_steps(lib, loss_mw, steps):
     return None
 
 
+STAGE_OFF, STAGE_CHARGE, STAGE_DISCHARGE = range(3)          # stage.h
+
+
+def loss_mw(lib, mode, v_mv, i_ma):
+    lib.protect_loss_mw.restype = ctypes.c_int32
+    lib.protect_loss_mw.argtypes = [ctypes.c_uint8, ctypes.c_int16, ctypes.c_int16]
+    return lib.protect_loss_mw(mode, v_mv, i_ma)
+
+
+def test_the_stage_loses_a_tenth_of_a_charge_all_of_a_discharge_and_nothing_off(lib):
+    # 12.6 V x 5 A = 63 W: the converter's 10 % of a charge, all of it in the discharge load
+    assert loss_mw(lib, STAGE_CHARGE, 12600, 5000) == 6300
+    assert loss_mw(lib, STAGE_DISCHARGE, 12600, 5000) == 63000
+    assert loss_mw(lib, STAGE_OFF, 12600, 5000) == 0
+
+
 def test_the_heat_sink_estimate_trips_from_the_stages_own_losses(lib):
     # The stock B6 has no heat-sink sensor (cheali: Tintern {0,0}): this estimate is the protection, and a sink
     # heated from outside is not seen (docs/firmware.md, Heat sink).
     sink = ctypes.c_int32.in_dll(lib, "protect_sink_sum")                  # the estimate x 600 steps
     armed(lib)
     sink.value = 2500 * 600
-    # the B6's largest losses (10 % of 50 W charging, or the whole 5 W discharging): 25 + 2 x 5 = 35 degC, no trip
-    assert sink_steps(lib, 5000, 6000) is None and sink.value // 600 == 3500
-    # 40 W of losses: from 35 towards 105 degC with 60 s of time constant, over 80 degC after 60 ln(70/25) = 62 s
-    n = sink_steps(lib, 40000, 1200)
+    # the B6's largest losses within its clamps, a 50 W charge (10 V x 5 A) or a 5 W discharge (5 V x 1 A):
+    # 25 + 2 x 5 = 35 degC, no trip
+    for mode, v_mv, i_ma in ((STAGE_CHARGE, 10000, 5000), (STAGE_DISCHARGE, 5000, 1000)):
+        assert sink_steps(lib, loss_mw(lib, mode, v_mv, i_ma), 6000) is None and sink.value // 600 == 3500
+    # a discharge dissipating 40 W (20 V x 2 A, were the 5 W clamp to fail): from 35 towards 105 degC with 60 s
+    # of time constant, over 80 degC after 60 ln(70/25) = 62 s
+    n = sink_steps(lib, loss_mw(lib, STAGE_DISCHARGE, 20000, 2000), 1200)
     assert n is not None and 590 <= n <= 650, n
     assert text(lib, ctypes.c_uint8.in_dll(lib, "protect_trip").value) == "heat sink over 80C"
     sink.value = 8100 * 600                    # cools back to the room's 25 degC with no losses
     lib.protect_disarm()
-    assert sink_steps(lib, 0, 6000) is None and sink.value // 600 == 2500
+    assert sink_steps(lib, loss_mw(lib, STAGE_OFF, 20000, 2000), 6000) is None and sink.value // 600 == 2500
+
+
+def starved(lib, run, i_ma, set_ma=4000, boosting=0, v_mv=12600, vin_mv=12000, times=1):
+    """protect_starved's answer to `times` readings of `i_ma` at the top duty (its trip's text, "" for none)."""
+    lib.protect_starved.argtypes = [ctypes.POINTER(ctypes.c_uint16), ctypes.c_int16, ctypes.c_int16, ctypes.c_uint8,
+                                    ctypes.c_int16, ctypes.c_int16]
+    trip = 0
+    for _ in range(times):
+        trip = lib.protect_starved(ctypes.byref(run), i_ma, set_ma, boosting, v_mv, vin_mv)
+    return text(lib, trip)
+
+
+def test_the_top_duty_is_starved_under_a_quarter_of_its_current_not_at_it(lib):
+    run = ctypes.c_uint16(0)
+    assert starved(lib, run, 999) == "" and run.value == 1          # 4 A set: under 1 A is starved
+    assert starved(lib, run, 1000) == "" and run.value == 0         # exactly a quarter: the row starts again
+    assert starved(lib, run, 999, times=399) == "" and run.value == 399
+    assert starved(lib, run, 1000) == "" and run.value == 0         # a reading at a quarter after 399 holds it
+    assert starved(lib, run, 999, times=400) == "battery disconnected"
+
+
+def test_a_starved_duty_trips_on_its_400th_reading_in_a_row(lib):
+    run = ctypes.c_uint16(0)
+    assert starved(lib, run, 0, times=399) == "" and run.value == 399
+    assert starved(lib, run, 0) == "battery disconnected" and run.value == 400
+
+
+@pytest.mark.parametrize("boosting, v_mv, why", [
+    (1, 23500, "battery disconnected"),            # 2 x 12 V - 0.5 V exactly: within the boost's reach
+    (1, 23501, "pack above twice the input"),      # 1 mV above it
+    (0, 23501, "battery disconnected"),            # the buck reaches no higher than its input: a lost pack
+    (0, 27000, "battery disconnected"),
+])
+def test_a_starved_boost_names_a_pack_out_of_its_reach_only_above_twice_the_input(lib, boosting, v_mv, why):
+    run = ctypes.c_uint16(399)
+    assert starved(lib, run, 0, boosting=boosting, v_mv=v_mv, vin_mv=12000) == why
+
+
+def loop_slots(lib, loop_ran, times):
+    """protect_loop_slot's answer to `times` ADC slots; the slot it first returned 1 at (None without)."""
+    lib.protect_loop_slot.argtypes = [ctypes.c_uint8]
+    for n in range(times):
+        if lib.protect_loop_slot(loop_ran):
+            return n + 1
+    return None
+
+
+def test_the_main_loop_hangs_after_160_adc_slots_without_it_not_159(lib):
+    armed(lib)
+    trip = ctypes.c_uint8.in_dll(lib, "protect_trip")
+    assert loop_slots(lib, 1, 1) is None                 # the loop ran: the count starts from 0
+    assert loop_slots(lib, 0, 159) is None and trip.value == 0
+    assert loop_slots(lib, 1, 1) is None                 # a slot with the loop starts it again
+    assert loop_slots(lib, 0, 159) is None and trip.value == 0
+    assert loop_slots(lib, 0, 1) == 1 and text(lib, trip.value) == "main loop hang"
+    assert loop_slots(lib, 0, 1) == 1                    # hung it stays: the stage is held off each slot
+    assert loop_slots(lib, 1, 1) is None
+    lib.protect_disarm()
 
 
 def test_an_unknown_chemistry_gets_the_highest_ceiling_and_only_li_types_are_li(lib):

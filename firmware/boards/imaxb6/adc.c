@@ -16,7 +16,6 @@
 #define SLOW 10
 #define MUX 0x80                 /* an input behind the multiplexer: address in the low bits */
 #define EMPTY_ADDRESS 6          /* cheali's ADC_CAPACITOR_DISCHARGE_ADDRESS: MADDR_V_BALANSER6 */
-#define HANG_READINGS 160        /* ~50 ms of slots (312 us each) without the main loop */
 
 static const uint8_t fast[FAST][2] PROGMEM = {
     {B6_ADC_ISMPS, CAL_ISMPS}, {B6_ADC_VOUT, CAL_VOUT}, {B6_ADC_ISMPS, CAL_ISMPS}, {B6_ADC_IDIS, CAL_IDIS},
@@ -28,7 +27,7 @@ static const uint8_t slow[SLOW][2] PROGMEM = {
 };
 
 volatile uint8_t adc_heartbeat, adc_main_alive;
-static uint8_t conversion, slot, next_fast, next_slow, input, hang;
+static uint8_t conversion, slot, next_fast, next_slow, input;
 static uint16_t burst;
 static uint32_t sum[CAL_INPUTS];
 static uint16_t count[CAL_INPUTS];
@@ -74,14 +73,9 @@ static void reading(uint8_t input, uint16_t adc16)
              (input == CAL_IDIS && stage_mode() == STAGE_DISCHARGE))
         stage_current(value);
     adc_heartbeat++;
-    if (adc_main_alive) {
-        adc_main_alive = 0;
-        hang = 0;
-    } else if (++hang >= HANG_READINGS) {
-        hang = HANG_READINGS;
-        protect_raise(TRIP_HANG);
+    if (protect_loop_slot(adc_main_alive))
         stage_off();
-    }
+    adc_main_alive = 0;
 }
 
 /* Before each reading behind the multiplexer (during the fast slot before it), as cheali does for the

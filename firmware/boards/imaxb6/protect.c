@@ -1,6 +1,7 @@
 #include <string.h>
 #include "protect.h"
 #include "calib.h"
+#include "stage.h"
 #include "../../core/pgm.h"
 #include "../../core/record.h"
 #include "../../core/text.h"
@@ -14,6 +15,7 @@ volatile int16_t protect_cell_mv[6];
  * (the discharge's over-current would never trip). */
 #define DISCHARGE_COUNT TRIP_TIME
 static uint8_t count[TRIP_TIME + 1];
+static uint8_t hang;                 /* ADC slots in a row without the main loop */
 static volatile uint8_t refine;      /* Vout- readings left that may name the trip "battery reversed" */
 int32_t protect_sink_sum = (int32_t)SINK_AMBIENT_C100 * SINK_STEPS;
 
@@ -321,3 +323,34 @@ void protect_sink_step(int32_t loss_mw)
 }
 
 int32_t protect_sink_c100(void) { return protect_sink_sum / SINK_STEPS; }
+
+int32_t protect_loss_mw(uint8_t mode, int16_t v_mv, int16_t i_ma)
+{
+    int32_t p = (int32_t)v_mv * i_ma / 1000;
+    return mode == STAGE_CHARGE ? p / 10 : (mode == STAGE_DISCHARGE ? p : 0);
+}
+
+uint8_t protect_starved(volatile uint16_t *run, int16_t i_ma, int16_t set_ma, uint8_t boosting, int16_t v_mv,
+                        int16_t vin_mv)
+{
+    if (i_ma < set_ma / 4) {
+        if (++*run >= STARVED_READINGS)   /* a pack the boost cannot reach takes nothing either */
+            return boosting && (int32_t)v_mv > (int32_t)vin_mv * BOOST_REACH - REACH_MARGIN_MV ? TRIP_OUT_OF_REACH
+                                                                                               : TRIP_DISCONNECTED;
+    } else {
+        *run = 0;
+    }
+    return TRIP_NONE;
+}
+
+uint8_t protect_loop_slot(uint8_t loop_ran)
+{
+    if (loop_ran) {
+        hang = 0;
+    } else if (++hang >= HANG_READINGS) {
+        hang = HANG_READINGS;             /* held there: the count cannot wrap round to a live loop */
+        protect_raise(TRIP_HANG);
+        return 1;
+    }
+    return 0;
+}

@@ -54,6 +54,9 @@ enum {
                                     * maximum, the highest of the lead and nickel chemistries */
 #define BOOST_REACH 2              /* the stage reaches at most twice its input (50 % boost, cheali) */
 #define REACH_MARGIN_MV 500        /* ... less the charge current's drop in the leads and the stage */
+#define STARVED_READINGS 400       /* the regulator's duty at its top with less than a quarter of its current:
+                                    * no battery takes it (0.5 s of current readings at ~800/s) */
+#define HANG_READINGS 160          /* ~50 ms of ADC slots (312 us each) without the main loop */
 
 /* The inputs protect_reading knows (calib.h's order; the cells are computed from the taps). */
 typedef struct {
@@ -109,5 +112,17 @@ const char *protect_text(uint8_t trip);
  * TRIP_SINK_C100 it trips (armed only). */
 void protect_sink_step(int32_t loss_mw);
 int32_t protect_sink_c100(void);      /* the estimate, 0.01 degC */
+/* The stage's losses (mW) for the estimate at `v_mv` and `i_ma` in `mode` (stage.h's STAGE_*): a tenth of a
+ * charge's power (the converter's), all of a discharge's (the load burns it), none when off. */
+int32_t protect_loss_mw(uint8_t mode, int16_t v_mv, int16_t i_ma);
+/* One current reading `i_ma` of a regulator at its top duty, set to `set_ma`: under a quarter of it the
+ * reading is starved, one more in *run (else *run starts again); the STARVED_READINGS-th in a row returns
+ * its trip (TRIP_NONE before): the pack out of the boost's reach when `boosting` and `v_mv` is above what
+ * `vin_mv` reaches, else a lost pack. */
+uint8_t protect_starved(volatile uint16_t *run, int16_t i_ma, int16_t set_ma, uint8_t boosting, int16_t v_mv,
+                        int16_t vin_mv);
+/* One ADC slot: `loop_ran` when the main loop showed life since the last one. After HANG_READINGS slots in a
+ * row without it TRIP_HANG is raised and 1 returned (the caller switches the stage off); 0 else. */
+uint8_t protect_loop_slot(uint8_t loop_ran);
 
 #endif

@@ -14,16 +14,13 @@
 #define FRAC 6
 #define BUCK_FULL ((uint32_t)DUTY_BUCK_FULL)           /* (TOP + 1) << FRAC */
 #define DISCHARGE_MAX BUCK_FULL
-/* The duty at its top with less than a quarter of the current: no battery takes it (0.5 s of
- * current readings at ~800/s). */
-#define STARVED_READINGS 400
 
 static volatile uint8_t mode;
 static volatile int16_t i_set, i_cap, v_set, v_now, i_now;
 static volatile uint32_t duty;
 static volatile uint16_t pwm_whole;
 static volatile uint8_t pwm_frac, pwm_acc, boosting;
-static volatile uint16_t starved, charge_top;
+static volatile uint16_t starved, charge_top;   /* starved: protect_starved's readings in a row */
 
 void stage_off(void)
 {
@@ -154,10 +151,10 @@ static void step(void)
         d = (int32_t)top;
     duty = (uint32_t)d;
     apply();
-    if ((uint32_t)d == top && i_now < set / 4) {
-        if (++starved >= STARVED_READINGS)   /* a pack the boost cannot reach takes nothing either */
-            protect_raise(boosting && (int32_t)v_now > (int32_t)protect_latest[CAL_VIN] * BOOST_REACH - REACH_MARGIN_MV
-                          ? TRIP_OUT_OF_REACH : TRIP_DISCONNECTED);
+    if ((uint32_t)d == top) {
+        uint8_t trip = protect_starved(&starved, i_now, set, boosting, v_now, protect_latest[CAL_VIN]);
+        if (trip)
+            protect_raise(trip);
     } else {
         starved = 0;
     }
@@ -183,6 +180,5 @@ int16_t stage_battery_ma(int16_t inductor_ma)
 
 int32_t stage_loss_mw(void)
 {
-    int32_t p = (int32_t)v_now * i_now / 1000;
-    return mode == STAGE_CHARGE ? p / 10 : (mode == STAGE_DISCHARGE ? p : 0);
+    return protect_loss_mw(mode, v_now, i_now);
 }

@@ -24,7 +24,7 @@ int16_t stage_battery_ma(int16_t inductor_ma);
 /* From the ADC interrupt: a new reading of the charge current, discharge current or output voltage. */
 void stage_current(int16_t ma);
 void stage_voltage(int16_t mv);
-/* The charger's losses now (mW), for the heat-sink estimate. */
+/* The charger's losses now (mW), for the heat-sink estimate: protect_loss_mw of its mode, V and I. */
 int32_t stage_loss_mw(void);
 
 #endif
