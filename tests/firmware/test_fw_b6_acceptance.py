@@ -1,8 +1,8 @@
 """The imaxb6 image on the simulated iMAX B6 (issue 23's acceptance): every fault switches the output off within
-100 ms and ends the run with its reason as an event; a macro started with the buttons alone runs to its end; a 3S
-LiPo pack whose cells start 60 mV apart ends its CV with the cells within 10 mV. Runs are started from the front
-panel (--press), so everything happens at a simulated time the test chose, and the test waits for the harness's
-lines (LCD, OUTPUT, FAULT), never for a time."""
+100 ms, beeps 3 times and ends the run with its reason as an event; a macro started with the buttons alone runs
+to its end; a 3S LiPo pack whose cells start 60 mV apart ends its CV with the cells within 10 mV. Runs are started
+from the front panel (--press), so everything happens at a simulated time the test chose, and the test waits for
+the harness's lines (LCD, OUTPUT, FAULT, BEEP), never for a time."""
 import re
 
 import pytest
