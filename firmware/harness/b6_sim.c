@@ -92,6 +92,7 @@ static long slow_from_ms = -1;
 static int parked;
 static avr_flashaddr_t parked_pc;
 static unsigned balancer_was;
+static int buzzer_was;                  /* the level last seen on the buzzer's pin (PB4) */
 static FILE *trace;
 static avr_irq_t *adc_in[8], *button_pin[4], *rxd_pin, *uart_in;   /* looked up once: simavr walks its modules on every lookup */
 /* simavr clears its cycle timers at a reset (a watchdog's) and may zero its cycle count: the model's
@@ -501,6 +502,17 @@ static void report_output(double t)
     fflush(stderr);
 }
 
+/* BEEP|T when the buzzer's pin (PB4) rises: a beep begins (the image times its length and the pause with Timer0) */
+static void buzzer_pin(struct avr_irq_t *irq, uint32_t value, void *param)
+{
+    (void)irq; (void)param;
+    if (value && !buzzer_was) {
+        fprintf(stderr, "BEEP|%.3f\n", now_s());
+        fflush(stderr);
+    }
+    buzzer_was = value != 0;
+}
+
 static avr_cycle_count_t step(struct avr_t *a, avr_cycle_count_t when, void *param)
 {
     double t = now_s();
@@ -754,6 +766,7 @@ static void after_reset(void)
     parked = 0;                         /* the reset moved the PC */
     sei_seen = 0;                       /* the image starts again with its interrupts off */
     off_since = 0;
+    buzzer_was = 0;                     /* the reset made PB4 an input again: the next beep is an edge */
     if (avr->cycle < cycle_at_reset)
         cycle_base += cycle_at_reset;
     if (by_watchdog)
@@ -903,6 +916,8 @@ int main(int argc, char **argv)
                                           IOPORT_IRQ_DIRECTION_ALL), mux_pins_written, NULL);
     avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(B6_PORT_LETTER(B6_LCD_E.port)),
                                           B6_LCD_E.bit), lcd_enable, NULL);
+    avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(B6_PORT_LETTER(B6_BUZZER.port)),
+                                          B6_BUZZER.bit), buzzer_pin, NULL);
     for (k = 0; k < 8; k++)
         adc_in[k] = avr_io_getirq(avr, AVR_IOCTL_ADC_GETIRQ, ADC_IRQ_ADC0 + k);
     for (k = 0; k < 4; k++)

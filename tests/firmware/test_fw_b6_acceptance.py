@@ -1,14 +1,14 @@
 """The imaxb6 image on the simulated iMAX B6 (issue 23's acceptance): every fault switches the output off within
-100 ms and ends the run with its reason as an event; a macro started with the buttons alone runs to its end; a 3S
-LiPo pack whose cells start 60 mV apart ends its CV with the cells within 10 mV. Runs are started from the front
-panel (--press), so everything happens at a simulated time the test chose, and the test waits for the harness's
-lines (LCD, OUTPUT, FAULT), never for a time."""
+100 ms, beeps 3 times and ends the run with its reason as an event; a macro started with the buttons alone runs
+to its end; a 3S LiPo pack whose cells start 60 mV apart ends its CV with the cells within 10 mV. Runs are started
+from the front panel (--press), so everything happens at a simulated time the test chose, and the test waits for
+the harness's lines (LCD, OUTPUT, FAULT, BEEP), never for a time."""
 import re
 
 import pytest
 
-from b6_harness import B6, read_trace
-from helpers import compiled
+from b6_harness import B6, LINE_WAIT_S, read_trace, trace_rows
+from helpers import compiled, until
 from zuml_studio.device.zuml.client import ChargerClient
 from zuml_studio.lang import eeprom
 
@@ -28,6 +28,8 @@ END_MACRO
 """
 STORE_SIZE = 404                    # IDENTIFY's eeprom_size on the B6 (docs/firmware.md, Calibration)
 FAULT_AT_S = 1.5
+TRIP_BEEPS = 3                      # board.c's watch(): hal_buzzer(3) once a trip has switched the output off
+BEEP_PERIOD_S = 0.160               # 80 ms on, 80 ms off, timed by Timer0
 START = "start@0.3:0.7"             # START held 0.7 s (the panel wants 0.5 s)
 
 
@@ -60,14 +62,21 @@ def test_a_fault_switches_the_output_off_within_100_ms_and_ends_the_run_with_its
     k, _ = sim.wait_line("OUTPUT|on|")
     k, _ = sim.wait_line(f"FAULT|{fault}|", k)
     k, off = sim.wait_line("OUTPUT|off|", k)
-    assert float(off.split("|")[2]) - FAULT_AT_S <= 0.100
+    off_s = float(off.split("|")[2])
+    assert off_s - FAULT_AT_S <= 0.100
     sim.wait_line("LCD|end Bench|", k)
     reason, finish = end_reason_and_finish(sim)
     assert reason == f"protection: {text}"
     assert finish is not None and finish.kind == "finish" and finish.detail == f"protection: {text}"
+    # a second past the trip: a fourth beep (of twice as many) would have begun by then
+    assert until(lambda: any(r.t_ms >= (off_s + 1.0) * 1000 for r in trace_rows(sim)), LINE_WAIT_S)
     sim.stop()
     rows = read_trace(sim.trace)
     assert all(not r.output_enabled and abs(r.current_a) < 0.01 for r in rows if r.t_ms >= FAULT_AT_S * 1000 + 100)
+    # the trip's beeps, and only those (Bench plays no MUSIC): 3 after the switch-off, 160 ms apart, then none
+    beeps = [float(line.split("|")[1]) for line in sim.lines if line.startswith("BEEP|")]
+    assert len(beeps) == TRIP_BEEPS and off_s < beeps[0] <= off_s + 0.100, (off_s, beeps)
+    assert all(b - a == pytest.approx(BEEP_PERIOD_S, abs=0.002) for a, b in zip(beeps, beeps[1:])), beeps
 
 
 def test_a_hang_switches_the_output_off_within_100_ms_and_the_watchdog_reports_it(b6):
