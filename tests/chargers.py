@@ -35,13 +35,16 @@ class FirmwareSims:
 
     def start(self, *args: str) -> str:
         eeprom = self.tmp_path / f"fw-ee-{len(self.procs)}.bin"
-        proc = subprocess.Popen([sys.executable, "-m", "zuml_studio.cli.main", "firmware-sim", "--eeprom", str(eeprom),
-                                 *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        # its events go to a file: a pipe nobody reads would fill and stop the simulator mid-run
+        events = self.tmp_path / f"fw-{len(self.procs)}.stderr"
+        with open(events, "w") as err:
+            proc = subprocess.Popen([sys.executable, "-m", "zuml_studio.cli.main", "firmware-sim", "--eeprom",
+                                     str(eeprom), *args], stdout=subprocess.PIPE, stderr=err, text=True)
         self.procs.append(proc)
         port = proc.stdout.readline().strip()
         if not port.startswith("/dev/"):
             proc.wait(timeout=10)
-            raise AssertionError(f"firmware-sim did not start: {port} {proc.stderr.read()}")
+            raise AssertionError(f"firmware-sim did not start: {port} {events.read_text()}")
         return port
 
     def stop(self) -> None:
@@ -53,4 +56,3 @@ class FirmwareSims:
                 proc.kill()
                 proc.wait()
             proc.stdout.close()
-            proc.stderr.close()
