@@ -3,6 +3,7 @@ as evidence for every chemistry, the cell count counted from the rest voltage, t
 reason of a trip refined once the output is off, and the run's time and capacity limits. Each comparison is held
 on both sides of its limit and each limit constant by its value, so a mutant of either fails here."""
 import ctypes
+import threading
 
 import pytest
 
@@ -146,6 +147,17 @@ def test_a_reversed_pack_behind_the_open_switch_names_the_first_trip(b6):
     assert text(b6, feed(b6, {VOUT_MINUS: 500})) == "battery disconnected"
 
 
+def test_a_reversed_pack_counted_before_its_trip_names_it_even_when_gone_after_it(b6):
+    # a limit that trips while Vout- has already shown the pack reversed names it "battery reversed" at once:
+    # the readings behind the open switch only refine, and a pack pulled off as it trips shows nothing there
+    assert refusal(b6, "LiPo", 3, cells_mv=[3900] * 3) == (None, None)
+    feed(b6, {VOUT_MINUS: 11000})                     # one reversed reading: counted, not yet a trip
+    assert feed(b6, {ISMPS: 6000}, 3) == 0            # the short's current
+    assert text(b6, feed(b6, {ISMPS: 6000})) == "battery reversed"     # over current's 4th reading names it
+    feed(b6, {VOUT_MINUS: 0}, 4)                      # the pack off the leads: nothing to refine it with
+    assert b6.protect_settled() and text(b6, feed(b6, {VOUT_MINUS: 0})) == "battery reversed"
+
+
 def record(intro="", *tfs):
     phases = "".join("    FAZE\n      CONSTANT_I=1A\n" + (f"      IF(tf>{tf}) STOP_FAZE\n" if tf else "") +
                      "    END_FAZE\n" for tf in tfs or (None,))
@@ -169,6 +181,20 @@ def test_the_time_limit_reads_the_record_and_nothing_after_it(b6):
     # the check byte nor what follows is an instruction (read as one, the limit would be 24 h)
     rec = next(r for r in (record("", str(tf)) for tf in range(36000, 37000)) if r[r[0] - 1] in (87, 88))
     assert b6.protect_time_limit_min(rec + b"\xff" * 4) == b6.protect_time_limit_min(rec) == 720
+
+
+def test_the_time_limit_stops_at_a_byte_that_is_no_instruction(b6):
+    # a record the core has not validated (zc_op_size 0): the scan ends there instead of standing on it for
+    # ever. The call runs beside the test so that a scan that never ends fails it instead of hanging the suite.
+    rec = bytearray(record("IF(tm>20h) STOP_MACRO"))
+    first = rec[1]
+    assert b6.zc_op_size(0xEE) == 0
+    rec[first] = 0xEE                                 # no opcode: the IF(tm>20h) after it is never read
+    answer = []
+    scan = threading.Thread(target=lambda: answer.append(b6.protect_time_limit_min(bytes(rec))), daemon=True)
+    scan.start()
+    scan.join(60)
+    assert answer == [720]
 
 
 @pytest.mark.parametrize("akk", [9, 12, 17, 18, 255])
