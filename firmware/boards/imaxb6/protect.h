@@ -56,7 +56,8 @@ enum {
 #define REACH_MARGIN_MV 500        /* ... less the charge current's drop in the leads and the stage */
 #define STARVED_READINGS 400       /* the regulator's duty at its top with less than a quarter of its current:
                                     * no battery takes it (0.5 s of current readings at ~800/s) */
-#define HANG_READINGS 160          /* ~50 ms of ADC slots (312 us each) without the main loop */
+#define HANG_READINGS 160          /* ADC slots without the main loop: 62 ms on the simulated B6 (6 conversions
+                                    * of 52 us a slot, and the interrupts between), ahead of the watchdog */
 
 /* The inputs protect_reading knows (calib.h's order; the cells are computed from the taps). */
 typedef struct {
