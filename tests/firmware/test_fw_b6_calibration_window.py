@@ -6,7 +6,7 @@ import re
 
 import pytest
 
-from b6_harness import read_trace
+from b6_harness import read_trace, start_at, switched_on
 from fake_b6_calibration import NOMINAL
 from helpers import compiled, until
 from zuml_studio.device.zuml.calibration import INPUTS, ISMPS, VIN, VOUT, VOUT_MINUS, Block, Calibrator
@@ -119,10 +119,10 @@ def test_the_charge_duty_stays_under_the_pack_ceiling_s_bound_when_no_current_fl
     """The main leads come off during a 5 A charge of a 2S pack: the current reads 0 and the regulator opens
     the stage; its duty stops where the output would be 2 x 4.35 V + 1.5 V from the 12 V input (duty.c), never
     the 50 % boost, until the protections end the run."""
-    sim = b6(None, "--cells", "2", "--soc", "0.3", "--fault", "disconnect@2.5")
-    with ChargerClient(sim.port, timeout=10) as client:
-        client.start(0, series=2)
-    k, _ = sim.wait_line("FAULT|disconnect|")
+    # the START at a simulated time of its own: sent from here, a loaded host could deliver it after the fault
+    sim = b6(None, "--cells", "2", "--soc", "0.3", *start_at(1.0, cells=2), "--fault", "disconnect@2.5")
+    k, _ = sim.wait_line(switched_on)
+    k, _ = sim.wait_line("FAULT|disconnect|", k)
     k, off = sim.wait_line("OUTPUT|off|", k)
     sim.stop()
     rows = [r for r in read_trace(sim.trace) if 2500 <= r.t_ms <= float(off.split("|")[2]) * 1000]
