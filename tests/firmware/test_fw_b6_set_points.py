@@ -59,3 +59,13 @@ def test_a_charge_from_off_starts_at_the_duty_that_puts_its_current_on_at_once(b
     rows = _window(sim, 0, 100)
     mean_a = sum(r.current_a for r in rows) / len(rows)
     assert 0.7 <= mean_a <= 1.05, mean_a
+
+
+def test_a_charge_whose_voltage_is_below_the_pack_s_holds_the_stage_shut(b6):
+    # 1S at 4.1 V told CC-CV to 3.9 V: the voltage's error drives the duty down past zero, where it must stay at
+    # zero (step's floor); a duty that wrapped below zero would read as the stage's top and push amps into the cell
+    sim = b6(_macro("LiPo", "CHARGE", "1A", "3.9S"), "--cells", "1", "--soc", "0.9")
+    started(sim, "charge", 1)
+    rows = _window(sim, 500, 1500)
+    assert max(r.current_a for r in rows) <= 0.05, max(r.current_a for r in rows)
+    assert max(r.buck_duty for r in rows) == 0 and max(r.boost_duty for r in rows) == 0
